@@ -1,0 +1,37 @@
+"""Small helpers shared by the sub-commands: JSON output and unit conversion at the edge."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import KMH
+
+
+def speed_from_kmh(speed_kmh: float, option: str = "--speed-kmh") -> float:
+    """Convert a speed given in km/h on the command line to m/s, rejecting nonsense."""
+    if not math.isfinite(speed_kmh) or speed_kmh <= 0:
+        raise WheelrailError(f"{option} must be a positive speed in km/h, got {speed_kmh}")
+    return speed_kmh * KMH
+
+
+def _plain(value):
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_plain(v) for v in value]
+    return value
+
+
+def print_json(summary: dict) -> None:
+    """Print a machine-readable summary on stdout (SI units; non-SI keys carry their unit)."""
+    json.dump(_plain(summary), sys.stdout, indent=2)
+    sys.stdout.write("\n")

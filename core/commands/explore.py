@@ -1,0 +1,22 @@
+"""``wheelrail explore``: the browser GUI (explorer issue)."""
+
+from __future__ import annotations
+
+from wheelrail.core.errors import WheelrailError
+
+
+def add_parser(sub):
+    parser = sub.add_parser("explore", help="start the browser GUI (default http://127.0.0.1:8080)")
+    parser.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1)")
+    parser.add_argument("--port", type=int, default=8080, help="port (default 8080)")
+    return parser
+
+
+def run(args) -> int:
+    try:
+        from wheelrail.explorer.app import serve  # noqa: PLC0415 - the GUI is optional at import time
+    except ImportError:
+        raise WheelrailError(
+            "the explorer GUI is not built yet in this version; use `wheelrail track` meanwhile"
+        ) from None
+    return serve(host=args.host, port=args.port)

@@ -1,0 +1,1 @@
+"""Bundled roughness sets (synthetic; see README.md in this folder for provenance)."""
