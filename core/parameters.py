@@ -177,6 +177,8 @@ class TrackNumerics:
     max_speed : float
         Highest train speed the cached stationary responses cover, m/s (the stored response is the
         wedge of points a wheel at up to this speed can reach).
+    store_every : int
+        Store every n-th integration step (2: responses kept at 10 us, i.e. 50 kHz sampling).
     """
 
     elements_per_bay: int = 16
@@ -184,9 +186,11 @@ class TrackNumerics:
     time_step: float = 5e-6
     duration: float = 0.05
     max_speed: float = 300.0 * KMH
+    store_every: int = 2
 
     def __post_init__(self) -> None:
         _check_int(self, "elements_per_bay", 2)
+        _check_int(self, "store_every", 1)
         _check_int(self, "positions_per_bay", 1)
         _check(self, "time_step", "s")
         _check(self, "duration", "s")

@@ -1,0 +1,146 @@
+"""Two-degree-of-freedom wheel (paper section 2.1, Figure 1): receptance and Green's function.
+
+Degrees of freedom (z positive downwards, into the rail, as in the paper): the unsprung mass M_W,
+held by the primary suspension (k_S, c_S) to the bogie at rest, and the small contact mass m_W, joined
+to M_W by (k_W, c_W). The contact force acts on m_W. The preload P acts through the suspension and only
+sets the static position xi_S(P); the dynamics around it are linear.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import WheelParameters
+
+
+def wheel_matrices(wheel: WheelParameters) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mass, damping and stiffness matrices of the 2-DOF wheel, DOFs (M_W, m_W).
+
+    Returns
+    -------
+    M, C, K : ndarray, shape (2, 2)
+        In kg, N s/m and N/m.
+    """
+    M = np.diag([wheel.unsprung_mass, wheel.contact_mass])
+    C = np.array(
+        [
+            [wheel.suspension_damping + wheel.wheel_damping, -wheel.wheel_damping],
+            [-wheel.wheel_damping, wheel.wheel_damping],
+        ]
+    )
+    K = np.array(
+        [
+            [wheel.suspension_stiffness + wheel.wheel_stiffness, -wheel.wheel_stiffness],
+            [-wheel.wheel_stiffness, wheel.wheel_stiffness],
+        ]
+    )
+    return M, C, K
+
+
+def wheel_receptance(wheel: WheelParameters, frequency) -> np.ndarray:
+    """Point receptance of the wheel at the contact point (displacement of m_W per force on m_W).
+
+    Parameters
+    ----------
+    wheel : WheelParameters
+    frequency : array_like
+        Frequencies f, Hz (>= 0).
+
+    Returns
+    -------
+    ndarray of complex
+        alpha_W(f) in m/N, convention x(t) = Re(X e^{i 2 pi f t}).
+    """
+    f = np.asarray(frequency, dtype=float)
+    if not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise WheelrailError("wheel_receptance: frequencies must be finite and >= 0 Hz")
+    M, C, K = wheel_matrices(wheel)
+    w = 2 * np.pi * f[..., None, None]
+    D = K - w**2 * M + 1j * w * C
+    # alpha_22 = D_11 / det(D) for a 2 x 2 dynamic stiffness
+    det = D[..., 0, 0] * D[..., 1, 1] - D[..., 0, 1] * D[..., 1, 0]
+    return D[..., 0, 0] / det
+
+
+def _wheel_state_space(wheel: WheelParameters) -> tuple[np.ndarray, np.ndarray]:
+    M, C, K = wheel_matrices(wheel)
+    Minv = np.linalg.inv(M)
+    A = np.block([[np.zeros((2, 2)), np.eye(2)], [-Minv @ K, -Minv @ C]])
+    B = np.concatenate([np.zeros(2), Minv[:, 1]])  # unit force on m_W
+    return A, B
+
+
+def wheel_green_function(wheel: WheelParameters, time) -> np.ndarray:
+    """Green's function g_W(t) of eq. (1): displacement of m_W after a unit impulse on m_W.
+
+    Evaluated exactly from the eigen-decomposition of the 4 x 4 state matrix (the model is linear
+    and time invariant).
+
+    Parameters
+    ----------
+    wheel : WheelParameters
+    time : array_like
+        Times t >= 0 after the impulse, s.
+
+    Returns
+    -------
+    ndarray
+        g_W(t) in m/(N s). ``xi_W(t) = -int F(tau) g_W(t - tau) dtau + xi_S(P)`` (eq. 1).
+    """
+    t = np.asarray(time, dtype=float)
+    if not np.all(np.isfinite(t)) or np.any(t < 0):
+        raise WheelrailError("wheel_green_function: times must be finite and >= 0 s")
+    A, B = _wheel_state_space(wheel)
+    lam, V = np.linalg.eig(A)
+    coeff = np.linalg.solve(V, B)
+    # displacement of m_W is state 1: sum_n V[1, n] coeff[n] exp(lam_n t)
+    g = (V[1, :] * coeff) @ np.exp(np.multiply.outer(lam, t))
+    return g.real
+
+
+def wheel_static_compliance(wheel: WheelParameters) -> float:
+    """Static compliance of the wheel at the contact point, 1/k_S + 1/k_W, m/N."""
+    return 1.0 / wheel.suspension_stiffness + 1.0 / wheel.wheel_stiffness
+
+
+def wheel_discrete_system(wheel: WheelParameters, time_step: float):
+    """Exact discrete-time form of the wheel for a force linear between samples (first-order hold).
+
+    For the state s = (x_M, x_m, v_M, v_m) and a contact force F_n at t_n (unit impulse response of
+    eq. 1), ``s_{n+1} = Phi s_n + Gamma0 F_n + Gamma1 F_{n+1}`` holds exactly when F varies linearly
+    over each step. The interaction loop uses it instead of convolving with g_W: same result, no
+    truncation of the slowly decaying suspension mode.
+
+    Parameters
+    ----------
+    wheel : WheelParameters
+    time_step : float
+        dt, s.
+
+    Returns
+    -------
+    Phi : ndarray (4, 4)
+    Gamma0, Gamma1 : ndarray (4,)
+        Response to the force at the start and at the end of the step, per N.
+    """
+    from scipy.linalg import expm
+
+    if not np.isfinite(time_step) or time_step <= 0:
+        raise WheelrailError(f"wheel_discrete_system: time_step must be positive (s), got {time_step}")
+    A, B = _wheel_state_space(wheel)
+    n = A.shape[0]
+    # Van Loan block exponential: [[A, B, 0], [0, 0, 1/dt], [0, 0, 0]] gives the FOH integrals.
+    big = np.zeros((n + 2, n + 2))
+    big[:n, :n] = A * time_step
+    big[:n, n] = B * time_step
+    big[n, n + 1] = 1.0
+    E = expm(big)
+    Phi = E[:n, :n]
+    G1 = E[:n, n]  # int_0^dt e^{A s} B ds
+    G2 = E[:n, n + 1]  # int_0^dt e^{A u} B (1 - u/dt) du
+    # The state at t_{n+1} integrates e^{A u} B F(t_{n+1} - u) du with
+    # F(t_{n+1} - u) = F_{n+1} (1 - u/dt) + F_n u/dt: G2 is the weight of F_{n+1}.
+    Gamma1 = G2
+    Gamma0 = G1 - G2
+    return Phi, Gamma0, Gamma1
