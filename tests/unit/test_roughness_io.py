@@ -231,8 +231,10 @@ def test_corrupt_npz(tmp_path):
 
 # ----------------------------------------------------------------------------- load_roughness
 def test_unknown_name_lists_bundled_sets():
-    with pytest.raises(WheelrailError, match=r"unknown roughness set 'no-such-set'; bundled sets: "):
+    with pytest.raises(WheelrailError, match=r"unknown roughness set 'no-such-set'; bundled sets: ") as info:
         load_roughness("no-such-set")
+    for name in ("cast-iron-wheel", "corrugated-rail", "sinter-wheel-1", "sinter-wheel-2"):
+        assert name in str(info.value)
 
 
 def test_missing_file_and_unknown_suffix(tmp_path):
