@@ -18,6 +18,8 @@ from wheelrail.core.errors import WheelrailError
 # name -> module under wheelrail.core.commands; add one line per command.
 COMMANDS = {
     "explore": "explore",
+    "datasets": "datasets",
+    "roughness": "roughness",
 }
 
 
