@@ -1,0 +1,187 @@
+"""Track model (paper section 2.2): FE beam, supports, receptance, moving Green's functions (eq. 2)."""
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import (
+    RailParameters,
+    SupportParameters,
+    TrackNumerics,
+    TrackParameters,
+)
+from wheelrail.core.track import (
+    assemble_track,
+    moving_from_stationary,
+    receptance_peaks,
+    stationary_track_response,
+    timoshenko_element_matrices,
+    track_receptance,
+)
+
+TRACK = TrackParameters()
+L_S = TRACK.support.sleeper_spacing
+# Small numerics keep the suite fast: 30 ms, 4 excitation points per bay, speeds up to 160 km/h.
+FAST = TrackNumerics(duration=0.03, positions_per_bay=4, max_speed=160 / 3.6)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return assemble_track(TRACK)
+
+
+@pytest.fixture(scope="module")
+def response():
+    return stationary_track_response(TRACK, FAST)
+
+
+def test_element_matches_rayleigh_timoshenko_theory():
+    # A simply supported Rayleigh-Timoshenko beam (the paper's UIC60, 3 m, 60 elements): mode n has
+    # k = n pi / l and EI k^4 - m w^2 - (rho I + EI m / kGA) k^2 w^2 + (rho I m / kGA) w^4 = 0.
+    # Tolerance 0.3 %: cubic elements with >= 10 elements per half wavelength.
+    rail = RailParameters()
+    n_el, length = 60, 3.0
+    Ke, Me = timoshenko_element_matrices(rail, length / n_el)
+    n = 2 * (n_el + 1)
+    K, M = np.zeros((n, n)), np.zeros((n, n))
+    for e in range(n_el):
+        s = slice(2 * e, 2 * e + 4)
+        K[s, s] += Ke
+        M[s, s] += Me
+    free = [i for i in range(n) if i not in (0, n - 2)]  # pin w at both ends
+    w2 = scipy.linalg.eigh(K[np.ix_(free, free)], M[np.ix_(free, free)], eigvals_only=True)[:6]
+    EI, kGA = rail.bending_stiffness, rail.shear_stiffness
+    m, rI = rail.mass_per_length, rail.rotary_inertia_per_length
+    for mode, computed in enumerate(np.sqrt(w2), start=1):
+        k = mode * np.pi / length
+        a, b, c = rI * m / kGA, -(m + (rI + EI * m / kGA) * k**2), EI * k**4
+        exact = np.sqrt((-b - np.sqrt(b * b - 4 * a * c)) / (2 * a))
+        assert computed == pytest.approx(exact, rel=3e-3), mode
+
+
+def test_supports_give_the_two_bounce_frequencies_of_a_rigid_rail():
+    # With a (nearly) rigid rail, the bounce of rail mass on pads and sleepers on ballast is an exact
+    # 2-DOF system: masses m' l and N m_SL, springs N k_P and N k_B. The FE model must contain both
+    # frequencies. Tolerance 0.2 %: the rail is 1e5 times stiffer than UIC60, not infinitely stiff.
+    rail = RailParameters(bending_stiffness=6.4e11, shear_stiffness=2.5e13)
+    sup = SupportParameters()
+    track = TrackParameters(rail=rail, support=sup, n_bays=8)
+    fe = assemble_track(track, elements_per_bay=2)
+    w2 = scipy.linalg.eigh(fe.K.toarray(), fe.M.toarray(), eigvals_only=True)
+    fe_freqs = np.sqrt(np.abs(w2)) / (2 * np.pi)
+    n_sup = track.n_bays + 1
+    Mr, Ms = rail.mass_per_length * track.length, n_sup * sup.sleeper_mass
+    kp, kb = n_sup * sup.pad_stiffness, n_sup * sup.ballast_stiffness
+    K2 = np.array([[kp, -kp], [-kp, kp + kb]])
+    exact = np.sqrt(scipy.linalg.eigh(K2, np.diag([Mr, Ms]), eigvals_only=True)) / (2 * np.pi)
+    for f in exact:
+        assert np.min(np.abs(fe_freqs - f)) / f < 2e-3, f
+
+
+def test_pinned_pinned_and_support_resonances(model):
+    # Paper: pinned-pinned resonance at 943 Hz for these parameters; within +-3 % (issue target).
+    peaks = receptance_peaks(model)
+    assert peaks["pinned_pinned_hz"] == pytest.approx(943.0, rel=0.03)
+    # The support resonances of a UIC60 track on these pads and ballast: the sleeper-on-ballast mode
+    # in the 80-160 Hz range and the rail-on-pad mode between it and the pinned-pinned resonance.
+    assert 80 < peaks["sleeper_on_ballast_hz"] < 160
+    assert 1.5 * peaks["sleeper_on_ballast_hz"] < peaks["rail_on_pad_hz"] < 600
+
+
+def test_midspan_receptance_peaks_at_pinned_pinned_while_above_sleeper_dips(model):
+    # Discrete support signature: at 943 Hz the midspan receptance is several times the one above a
+    # sleeper (the sleeper is a node of the pinned-pinned mode). Factor 3 is well inside what the
+    # model gives (about 10).
+    x_s = (TRACK.n_bays // 2) * L_S
+    f = np.array([941.0])
+    ratio = abs(track_receptance(model, f, x_s + L_S / 2)[0]) / abs(track_receptance(model, f, x_s)[0])
+    assert ratio > 3.0
+
+
+def _band_levels(values, dt, centres):
+    t = np.arange(values.shape[-1]) * dt
+    out = []
+    for fc in centres:
+        f = np.linspace(fc * 2 ** (-1 / 6), fc * 2 ** (1 / 6), 40)
+        spectrum = np.exp(-2j * np.pi * np.outer(f, t)) @ values * dt
+        out.append(10 * np.log10(np.mean(np.abs(spectrum) ** 2)))
+    return np.array(out)
+
+
+def test_slow_moving_green_function_equals_stationary_receptance(model, response):
+    # At a walking pace the moving Green's function is the stationary point impulse response, whose
+    # Fourier transform is the point receptance solved directly in the frequency domain. Above a
+    # sleeper the 30 ms truncation costs < 0.1 dB; Newmark with 5 us steps shifts frequencies by
+    # (w dt)^2/12 (0.5 % at 8 kHz). Tolerance 0.3 dB per third-octave band from 63 Hz to 5 kHz.
+    g = moving_from_stationary(response, 0.05 / 3.6)
+    x_e = (TRACK.n_bays // 2) * L_S
+    centres = np.array([63, 125, 250, 500, 1000, 2000, 4000, 5000.0])
+    ours = _band_levels(g.values[0], g.time_step, centres)
+    ref = []
+    for fc in centres:
+        f = np.linspace(fc * 2 ** (-1 / 6), fc * 2 ** (1 / 6), 40)
+        ref.append(10 * np.log10(np.mean(np.abs(track_receptance(model, f, x_e)) ** 2)))
+    np.testing.assert_allclose(ours, ref, atol=0.3)
+
+
+def test_moving_green_functions_show_pinned_pinned_at_midspan(response):
+    # Paper Fig. 4: excitation at midspan gives extra oscillation at the pinned-pinned frequency.
+    # Energy of g in 850-1050 Hz relative to 50 Hz-8 kHz is ~9 dB higher at midspan than above a
+    # sleeper at 50-150 km/h (default numerics); require > 5 dB with the short test numerics.
+    for kmh in (50, 100, 150):
+        g = moving_from_stationary(response, kmh / 3.6)
+        f = np.fft.rfftfreq(g.values.shape[1], g.time_step)
+        band, ref = (f > 850) & (f < 1050), (f > 50) & (f < 8000)
+        share = []
+        for p in (0, 2):  # above the sleeper, midspan (4 positions per bay)
+            power = np.abs(np.fft.rfft(g.values[p])) ** 2
+            share.append(power[band].sum() / power[ref].sum())
+        assert 10 * np.log10(share[1] / share[0]) > 5.0, kmh
+
+
+def test_green_functions_decay_and_truncation_error_is_small(response):
+    # Above a sleeper the response decays to < 1 % of its peak within 10 ms and the static moving
+    # compliance (integral of g) changes by < 0.2 % between 20 and 30 ms truncation, so the
+    # truncation hardly matters for the quasi-static load (benchmarks/track_green.py shows the
+    # band-level error of the default 50 ms truncation: <= 0.27 dB in the 1 kHz band at midspan).
+    g = moving_from_stationary(response, 100 / 3.6)
+    values = g.values[0]
+    k10 = int(round(0.010 / g.time_step))
+    assert np.abs(values[k10:]).max() < 0.01 * np.abs(values).max()
+    k20 = int(round(0.020 / g.time_step))
+    i20, i30 = np.trapezoid(values[:k20 + 1], dx=g.time_step), np.trapezoid(values, dx=g.time_step)
+    assert abs(i20 / i30 - 1) < 2e-3
+
+
+def test_weights_conserve_the_integral_and_make_the_loop_implicit(response):
+    # First-order-hold weights integrate g exactly: their sum is the trapezoid integral of g (to
+    # round-off), and w_0 > 0 (the current force moves the rail now).
+    g = moving_from_stationary(response, 100 / 3.6)
+    for dt in (3.6e-5, 1.8e-5, 7.7e-5):
+        w = g.weights(dt)
+        np.testing.assert_allclose(w.sum(axis=1), np.trapezoid(g.values, dx=g.time_step, axis=1), rtol=1e-9)
+        assert np.all(w[:, 0] > 0)
+
+
+def test_interpolation_between_excitation_positions(response):
+    g = moving_from_stationary(response, 100 / 3.6)
+    np.testing.assert_allclose(g.at(g.excitation_positions[1]), g.values[1])
+    np.testing.assert_allclose(g.at(L_S + g.excitation_positions[1]), g.values[1])  # periodic in L_S
+    mid = 0.5 * (g.excitation_positions[1] + g.excitation_positions[2])
+    np.testing.assert_allclose(g.at(mid), 0.5 * (g.values[1] + g.values[2]))
+
+
+def test_speed_limits(response):
+    with pytest.raises(WheelrailError, match="exceeds"):
+        moving_from_stationary(response, 200 / 3.6)
+    from wheelrail.core.track import moving_green_functions
+
+    for bad in (0.0, -5.0, float("nan")):
+        with pytest.raises(WheelrailError, match="speed"):
+            moving_green_functions(bad)
+
+
+def test_track_too_short_for_the_wedge():
+    with pytest.raises(WheelrailError, match="too short"):
+        stationary_track_response(TrackParameters(n_bays=4), TrackNumerics(duration=0.2), use_cache=False)
