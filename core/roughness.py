@@ -98,14 +98,10 @@ class RoughnessSet:
             raise WheelrailError(f"{where}.heights must be 2-D (lines x samples), got shape {heights.shape}")
         n_lines, n_samples = heights.shape
         if n_lines < 1 or n_samples < 2:
-            raise WheelrailError(
-                f"{where}.heights needs at least 1 line and 2 samples, got shape {heights.shape}"
-            )
+            raise WheelrailError(f"{where}.heights needs at least 1 line and 2 samples, got shape {heights.shape}")
         if not np.all(np.isfinite(heights)):
             row, col = np.argwhere(~np.isfinite(heights))[0]
-            raise WheelrailError(
-                f"{where}.heights must be finite, got {heights[row, col]} at row {row}, sample {col}"
-            )
+            raise WheelrailError(f"{where}.heights must be finite, got {heights[row, col]} at row {row}, sample {col}")
         peak = float(np.max(np.abs(heights)))
         if peak > MAX_HEIGHT:
             raise WheelrailError(
@@ -116,9 +112,7 @@ class RoughnessSet:
         if not np.all(np.isfinite(y)):
             raise WheelrailError(f"{where}.y must be finite lateral positions in m, got {y.tolist()}")
         if n_lines > 1 and not np.all(np.diff(y) > 0):
-            raise WheelrailError(
-                f"{where}.y must be strictly increasing without duplicates (m), got {y.tolist()}"
-            )
+            raise WheelrailError(f"{where}.y must be strictly increasing without duplicates (m), got {y.tolist()}")
         heights.setflags(write=False)
         y.setflags(write=False)
         object.__setattr__(self, "heights", heights)
@@ -174,9 +168,7 @@ class RoughnessSet:
         row = self.centre_row + int(line)
         if not 0 <= row < self.n_lines:
             numbers = self.line_numbers
-            raise WheelrailError(
-                f"line {line} is not in this set; lines run from {numbers[0]} to {numbers[-1]}"
-            )
+            raise WheelrailError(f"line {line} is not in this set; lines run from {numbers[0]} to {numbers[-1]}")
         return row
 
     def line_of_row(self, row: int) -> int:
@@ -315,9 +307,7 @@ def read_csv(path: str | os.PathLike, *, kind: str | None = None) -> RoughnessSe
                 if not text:
                     continue
                 if text.startswith("#"):
-                    raise WheelrailError(
-                        f"{name}, line {number}: comment lines are allowed only before the header"
-                    )
+                    raise WheelrailError(f"{name}, line {number}: comment lines are allowed only before the header")
                 rows.append((number, next(csv.reader([text]))))
     except UnicodeDecodeError:
         raise WheelrailError(f"{name}: not a text CSV file (cannot decode as UTF-8)") from None
@@ -336,9 +326,7 @@ def read_csv(path: str | os.PathLike, *, kind: str | None = None) -> RoughnessSe
     for column, cell in enumerate(header[1:], start=2):
         key, sep, value = cell.partition("=")
         if key.strip() != "y_mm" or not sep:
-            raise WheelrailError(
-                f"{where}, column {column}: expected 'y_mm=<lateral position in mm>', got {cell!r}"
-            )
+            raise WheelrailError(f"{where}, column {column}: expected 'y_mm=<lateral position in mm>', got {cell!r}")
         position = _parse_float(value, f"{where}, column {column}", "the lateral position y_mm")
         if not math.isfinite(position):
             raise WheelrailError(f"{where}, column {column}: lateral position must be finite, got {value!r}")
@@ -347,8 +335,7 @@ def read_csv(path: str | os.PathLike, *, kind: str | None = None) -> RoughnessSe
     for column, position in enumerate(y_mm, start=2):
         if position in seen:
             raise WheelrailError(
-                f"{where}: duplicate lateral position y_mm={position:g} "
-                f"in columns {seen[position]} and {column}"
+                f"{where}: duplicate lateral position y_mm={position:g} in columns {seen[position]} and {column}"
             )
         seen[position] = column
 
@@ -358,9 +345,7 @@ def read_csv(path: str | os.PathLike, *, kind: str | None = None) -> RoughnessSe
     values = np.empty((len(rows), n_cols))
     for index, (number, cells) in enumerate(rows):
         if len(cells) != n_cols:
-            raise WheelrailError(
-                f"{name}, line {number}: ragged row with {len(cells)} cells, header has {n_cols}"
-            )
+            raise WheelrailError(f"{name}, line {number}: ragged row with {len(cells)} cells, header has {n_cols}")
         for column, cell in enumerate(cells):
             what = "x_m" if column == 0 else f"height (µm) in column {column + 1}"
             value = _parse_float(cell, f"{name}, line {number}", what)
@@ -444,9 +429,7 @@ def read_npz(path: str | os.PathLike) -> RoughnessSet:
     if kind not in KINDS:
         raise WheelrailError(f"{name}: unknown kind {kind!r}, allowed: {', '.join(KINDS)}")
     if y.ndim != 1 or y.shape[0] != z.shape[0]:
-        raise WheelrailError(
-            f"{name}: y_m must hold one lateral position per line ({z.shape[0]}), got {y.shape}"
-        )
+        raise WheelrailError(f"{name}: y_m must hold one lateral position per line ({z.shape[0]}), got {y.shape}")
     if z.shape[1] < 2:
         raise WheelrailError(f"{name}: needs at least 2 samples per line, got {z.shape[1]}")
     if not np.all(np.isfinite(z)):
@@ -492,7 +475,8 @@ def load_roughness(name_or_path: str | os.PathLike) -> RoughnessSet:
     path = Path(text)
     if path.suffix.lower() in (".csv", ".npz") or path.exists():
         if not path.is_file():
-            raise WheelrailError(f"{text}: roughness file not found (bundled sets: {', '.join(names)})")
+            problem = "is a folder, not a roughness file" if path.is_dir() else "roughness file not found"
+            raise WheelrailError(f"{text}: {problem} (bundled sets: {', '.join(names)})")
         return read_roughness(path)
     raise WheelrailError(
         f"unknown roughness set {text!r}; bundled sets: {', '.join(names) or 'none'}; "
@@ -604,9 +588,7 @@ def remove_spikes(
             else float(curvature_limit)
         )
         if not limit > 0:
-            raise WheelrailError(
-                f"remove_spikes: curvature_limit must be positive (1/m), got {curvature_limit}"
-            )
+            raise WheelrailError(f"remove_spikes: curvature_limit must be positive (1/m), got {curvature_limit}")
         for _ in range(max_passes):
             c = curvature(line, roughness.dx, periodic=roughness.periodic)[0]
             flagged = np.abs(c) > limit
@@ -622,8 +604,7 @@ def remove_spikes(
             good = ~flagged
             if good.sum() < 2:
                 raise WheelrailError(
-                    f"remove_spikes: line {roughness.line_of_row(row)} is all spikes "
-                    f"at curvature limit {limit:g} 1/m"
+                    f"remove_spikes: line {roughness.line_of_row(row)} is all spikes at curvature limit {limit:g} 1/m"
                 )
             removed += int(flagged.sum())
             if roughness.periodic:
@@ -666,20 +647,16 @@ def highpass(roughness: RoughnessSet, cutoff_wavelength: float, *, order: int = 
     """
     if not (math.isfinite(cutoff_wavelength) and cutoff_wavelength > 2 * roughness.dx):
         raise WheelrailError(
-            f"high-pass cut-off wavelength must exceed 2 dx = {2 * roughness.dx:g} m, "
-            f"got {cutoff_wavelength!r}"
+            f"high-pass cut-off wavelength must exceed 2 dx = {2 * roughness.dx:g} m, got {cutoff_wavelength!r}"
         )
     if cutoff_wavelength > roughness.length:
         raise WheelrailError(
-            f"high-pass cut-off wavelength {cutoff_wavelength:g} m exceeds "
-            f"the data length {roughness.length:g} m"
+            f"high-pass cut-off wavelength {cutoff_wavelength:g} m exceeds the data length {roughness.length:g} m"
         )
     z = roughness.heights
     if roughness.periodic:
         k = np.fft.rfftfreq(roughness.n_samples, d=roughness.dx)
-        out = np.fft.irfft(
-            np.fft.rfft(z, axis=1) * highpass_gain(k, cutoff_wavelength, order), n=z.shape[1], axis=1
-        )
+        out = np.fft.irfft(np.fft.rfft(z, axis=1) * highpass_gain(k, cutoff_wavelength, order), n=z.shape[1], axis=1)
     else:
         kc = _butterworth_cutoff_for_zero_phase(1.0 / cutoff_wavelength, order)
         sos = scipy.signal.butter(order, kc, btype="highpass", fs=1.0 / roughness.dx, output="sos")
@@ -769,11 +746,7 @@ def resample_lateral(roughness: RoughnessSet, dy: float) -> RoughnessSet:
 
 def to_model_grid(roughness: RoughnessSet, dx: float, dy: float | None = None) -> RoughnessSet:
     """Interpolate to the model grid: longitudinal ``dx`` and, for the 3D model, lateral ``dy`` (m)."""
-    out = (
-        resample_longitudinal(roughness, dx)
-        if not math.isclose(dx, roughness.dx, rel_tol=1e-12)
-        else roughness
-    )
+    out = resample_longitudinal(roughness, dx) if not math.isclose(dx, roughness.dx, rel_tol=1e-12) else roughness
     if dy is not None and not (
         roughness.n_lines > 1 and np.allclose(np.diff(out.y), dy, rtol=1e-9) and np.any(np.isclose(out.y, 0))
     ):
@@ -796,9 +769,7 @@ def lines_along_track(roughness: RoughnessSet, lines, length: float, dx: float |
     x = np.arange(n) * dx
     rows = [roughness.row_of_line(line) for line in lines]
     if roughness.periodic:
-        return np.stack(
-            [np.interp(x, roughness.x, roughness.heights[r], period=roughness.length) for r in rows]
-        )
+        return np.stack([np.interp(x, roughness.x, roughness.heights[r], period=roughness.length) for r in rows])
     available = roughness.x[-1]
     if x[-1] > available * (1 + 1e-12):
         raise WheelrailError(
@@ -808,9 +779,7 @@ def lines_along_track(roughness: RoughnessSet, lines, length: float, dx: float |
     return np.stack([np.interp(x, roughness.x, roughness.heights[r]) for r in rows])
 
 
-def line_along_track(
-    roughness: RoughnessSet, line: int, length: float, dx: float | None = None
-) -> np.ndarray:
+def line_along_track(roughness: RoughnessSet, line: int, length: float, dx: float | None = None) -> np.ndarray:
     """Heights of one line over a run of ``length`` m at spacing ``dx`` m (see :func:`lines_along_track`)."""
     return lines_along_track(roughness, [line], length, dx)[0]
 
@@ -867,9 +836,7 @@ def _check_speed(speed: float) -> float:
 
 
 def _spatial_levels(roughness: RoughnessSet, rows, k_lower, k_upper) -> np.ndarray:
-    levels = third_octave_levels(
-        roughness.heights[rows], 1.0 / roughness.dx, k_lower, k_upper, ROUGHNESS_REFERENCE
-    )
+    levels = third_octave_levels(roughness.heights[rows], 1.0 / roughness.dx, k_lower, k_upper, ROUGHNESS_REFERENCE)
     # A band is only resolved when it lies between the record's fundamental and the Nyquist wavenumber.
     resolved = (k_lower >= 1.0 / roughness.length) & (k_upper <= 0.5 / roughness.dx)
     return np.where(resolved, levels, np.nan)
@@ -954,9 +921,7 @@ def lateral_coherence(
     """
     speed = _check_speed(speed)
     if isinstance(half_lines, bool) or int(half_lines) != half_lines or half_lines < 1:
-        raise WheelrailError(
-            f"M (half the number of other lines) must be an integer >= 1, got {half_lines!r}"
-        )
+        raise WheelrailError(f"M (half the number of other lines) must be an integer >= 1, got {half_lines!r}")
     others = [m for m in range(-int(half_lines), int(half_lines) + 1) if m != 0]
     centre_row = roughness.row_of_line(0)
     other_rows = _rows(roughness, others)

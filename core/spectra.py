@@ -35,9 +35,7 @@ def third_octave_bands(lowest: float, highest: float) -> tuple[np.ndarray, np.nd
         Band centres ``10^(n/10)`` in increasing order and their edges ``centre x 10^(∓1/20)``.
     """
     if not (math.isfinite(lowest) and math.isfinite(highest) and 0 < lowest <= highest):
-        raise WheelrailError(
-            f"third-octave range must satisfy 0 < lowest <= highest, got {lowest!r} .. {highest!r}"
-        )
+        raise WheelrailError(f"third-octave range must satisfy 0 < lowest <= highest, got {lowest!r} .. {highest!r}")
     first = math.ceil(10 * math.log10(lowest) - 0.05)
     last = math.floor(10 * math.log10(highest) + 0.05)
     centres = 10.0 ** (np.arange(first, last + 1) / 10.0)
@@ -81,9 +79,7 @@ def narrowband_spectrum(signal: np.ndarray, sample_rate: float) -> tuple[np.ndar
     signal = np.asarray(signal, dtype=float)
     if signal.shape[-1] < 2:
         raise WheelrailError(f"spectrum needs at least 2 samples, got {signal.shape[-1]}")
-    return scipy.signal.periodogram(
-        signal, fs=sample_rate, window="hann", detrend=False, scaling="density", axis=-1
-    )
+    return scipy.signal.periodogram(signal, fs=sample_rate, window="hann", detrend=False, scaling="density", axis=-1)
 
 
 def band_power(frequencies: np.ndarray, psd: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
@@ -131,6 +127,31 @@ def third_octave_levels(
     return level_db(band_power(frequencies, psd, lower, upper).mean(axis=0), reference)
 
 
+def third_octave_spectrum(
+    signals: np.ndarray,
+    sample_rate: float,
+    band_range: tuple[float, float],
+    reference: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Bands and levels in one call: :func:`third_octave_bands` then :func:`third_octave_levels`.
+
+    E.g. a contact-force time signal ``force`` (N) sampled every ``dt`` s:
+    ``third_octave_spectrum(force, 1 / dt, (50, 8000), 1.0)`` gives the band centres (Hz) and the
+    levels in dB re 1 N of SPEC.md §4.
+
+    Returns
+    -------
+    centres : numpy.ndarray
+        Exact base-10 band centres, unit of ``sample_rate``.
+    levels : numpy.ndarray
+        dB re ``reference``, averaged energetically over rows; NaN where a band holds no bin.
+    """
+    centres, lower, upper = third_octave_bands(*band_range)
+    levels = third_octave_levels(signals, sample_rate, lower, upper, reference)
+    nyquist = 0.5 * sample_rate
+    return centres, np.where(upper <= nyquist, levels, np.nan)
+
+
 def block_spectra(
     centre: np.ndarray, others: np.ndarray, sample_rate: float, blocks: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -158,8 +179,7 @@ def block_spectra(
     segment = centre.shape[-1] // int(blocks)
     if segment < 8:
         raise WheelrailError(
-            f"B = {blocks} blocks leave {segment} samples per block (at least 8 needed) "
-            f"for {centre.shape[-1]} samples"
+            f"B = {blocks} blocks leave {segment} samples per block (at least 8 needed) for {centre.shape[-1]} samples"
         )
     options = dict(fs=sample_rate, window="hann", nperseg=segment, noverlap=0, detrend="constant")
     frequencies, s00 = scipy.signal.welch(centre, **options)

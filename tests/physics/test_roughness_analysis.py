@@ -28,6 +28,7 @@ from wheelrail.core.spectra import (
     narrowband_spectrum,
     nominal_band_label,
     third_octave_bands,
+    third_octave_spectrum,
 )
 
 V = 100 / 3.6  # m/s, the paper's speed
@@ -77,9 +78,7 @@ def test_sinusoid_gives_expected_band_and_level():
     by_wavelength = roughness_spectrum(s, lines=[0])  # EN 15610 wavelength bands, long to short
     assert by_wavelength.band_centres[0] > by_wavelength.band_centres[-1]
     i = int(np.nanargmax(by_wavelength.levels_db))
-    assert (
-        by_wavelength.band_centres[i] / BAND_RATIO <= wavelength <= by_wavelength.band_centres[i] * BAND_RATIO
-    )
+    assert by_wavelength.band_centres[i] / BAND_RATIO <= wavelength <= by_wavelength.band_centres[i] * BAND_RATIO
     assert by_wavelength.levels_db[i] == pytest.approx(expected, abs=0.05)  # same reason as above
 
 
@@ -152,9 +151,7 @@ def test_generator_spectrum_is_recovered(synthetic):
 
 
 def test_generator_coherence_is_recovered(synthetic):
-    centres, gamma2 = lateral_coherence(
-        synthetic, V, half_lines=3, blocks=20, frequency_range=(400.0, 8000.0)
-    )
+    centres, gamma2 = lateral_coherence(synthetic, V, half_lines=3, blocks=20, frequency_range=(400.0, 8000.0))
     _, lower, upper = third_octave_bands(400.0, 8000.0)
     expected = expected_coherence(TARGET, CORRELATION, 1e-3, lower / V, upper / V, half_lines=3)
     assert expected.max() > 0.9 and expected.min() < 0.05  # the target spans high to low coherence
@@ -256,3 +253,15 @@ def test_sinter_wheel_traits(bundled, name):
 def test_sinter_wheels_differ(bundled):
     a, b = bundled["sinter-wheel-1"], bundled["sinter-wheel-2"]
     assert abs(np.corrcoef(a.line(0), b.line(0))[0, 1]) < 0.1  # different seeds: unrelated profiles
+
+
+def test_time_signal_spectrum_for_forces():
+    # Generic use (later: contact-force spectra in dB re 1 N): a 1 kHz tone of 100 N amplitude sampled
+    # at 27.78 kHz (dt = 1 mm / 100 km/h) for 0.5 s.
+    fs = 100 / 3.6 / 1e-3
+    t = np.arange(int(0.5 * fs)) / fs
+    force = 100.0 * np.cos(2 * np.pi * 1000.0 * t)
+    centres, levels = third_octave_spectrum(force, fs, (50.0, 8000.0), 1.0)
+    assert nominal_band_label(centres[int(np.nanargmax(levels))]) == "1000"
+    # 0.05 dB: Hann main lobe (3 bins of 2 Hz) well inside the 230 Hz wide band
+    assert np.nanmax(levels) == pytest.approx(20 * math.log10(100 / math.sqrt(2)), abs=0.05)
