@@ -1,0 +1,35 @@
+"""Contact models of paper section 2.3: Hertz spring, Winkler bedding, 3D elastic half-space, prefilters.
+
+Sign convention throughout (z positive downwards into the rail, as in the paper): the approach
+delta = xi_W - xi_R is positive when wheel and rail are pressed together; the combined roughness
+r = r_W - r_R is positive when it pushes the surfaces together; the 3D gap is h = z_R - z_W - r, positive
+where the surfaces are apart. All quantities are SI.
+"""
+
+from wheelrail.core.contact.halfspace import (
+    NormalContactResult,
+    influence_kernel,
+    solve_coupled_contact,
+    solve_normal_contact,
+)
+from wheelrail.core.contact.hertz import hertz_approach, hertz_constant, hertz_force, hertz_stiffness
+from wheelrail.core.contact.prefilter import average_roughness, averaging_weights, winkler_equivalent_roughness
+from wheelrail.core.contact.winkler import WinklerContact, bedding_stiffness, wheel_profile, winkler_contact
+
+__all__ = [
+    "NormalContactResult",
+    "WinklerContact",
+    "average_roughness",
+    "averaging_weights",
+    "bedding_stiffness",
+    "hertz_approach",
+    "hertz_constant",
+    "hertz_force",
+    "hertz_stiffness",
+    "influence_kernel",
+    "solve_coupled_contact",
+    "solve_normal_contact",
+    "wheel_profile",
+    "winkler_contact",
+    "winkler_equivalent_roughness",
+]

@@ -1,0 +1,213 @@
+"""2D Winkler bedding between wheel and rail (paper section 2.3.1, eqs. 3-6; Ford & Thompson).
+
+Sign convention (z positive downwards into the rail, as in the paper)
+---------------------------------------------------------------------
+For the wheel centre at x, the spring at x' (relative to the wheel centre) is compressed by eq. (3)
+
+    Delta zeta(x') = delta + r(x') - x'^2 / (2 R_m),      delta = xi_W - xi_R,
+
+where ``r = r_W - r_R`` is the combined roughness under the wheel (r_W and r_R positive downwards, so a
+positive r pushes the surfaces together: a bump on the wheel, r_W > 0, or on the rail, r_R < 0) and
+``z_W(x') = -x'^2 / (2 R_m)`` is the wheel profile with the modified radius R_m = R / 2 of eq. (6).
+Springs with Delta zeta < 0 carry nothing; the others have the stiffness per unit length
+k = E / (2 (1 - nu^2)) of eq. (5). The force of eq. (4) is integrated with one spring per roughness
+sample (midpoint rule on the grid of spacing dx):
+
+    F = k dx sum(max(Delta zeta_j, 0)),   dF/d delta = k dx n_c,   contact length = n_c dx,
+
+with n_c the number of compressed springs. For smooth surfaces the continuous bedding gives exactly
+Hertz: F = (4/3) k sqrt(2 R_m) delta^1.5 = C_H delta^1.5 and contact length 2 sqrt(R delta) = 2a.
+
+The ``_``-prefixed numba kernels are for the time-stepping loop (no checks); the public functions check.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from wheelrail.core.errors import WheelrailError
+
+__all__ = ["WinklerContact", "bedding_stiffness", "wheel_profile", "winkler_contact"]
+
+
+@dataclass(frozen=True, eq=False)
+class WinklerContact:
+    """Result of :func:`winkler_contact` (arrays of the shape of ``approach``).
+
+    Attributes
+    ----------
+    force : ndarray
+        F_n of eq. (4), N.
+    contact_length : ndarray
+        Length of the compressed part of the bedding, n_c dx, m.
+    stiffness : ndarray
+        dF/d delta = k dx n_c, N/m (the Newton derivative; piecewise constant in delta).
+    """
+
+    force: np.ndarray
+    contact_length: np.ndarray
+    stiffness: np.ndarray
+
+
+@njit(cache=True)
+def _winkler_force(approach, roughness, profile, stiffness_dx):
+    """Bedding force of eqs. (3)-(5) for one wheel position.
+
+    approach : delta, m; roughness : r(x'_j) under the wheel, m; profile : x'_j^2 / (2 R_m), m;
+    stiffness_dx : k dx, N/m. Returns (force N, dF/d delta N/m, number of compressed springs,
+    True if an end spring of the segment is compressed).
+    """
+    force = 0.0
+    count = 0
+    m = roughness.shape[0]
+    for j in range(m):
+        compression = approach + roughness[j] - profile[j]
+        if compression > 0.0:
+            force += compression
+            count += 1
+    edge = (approach + roughness[0] - profile[0] > 0.0) or (approach + roughness[m - 1] - profile[m - 1] > 0.0)
+    return stiffness_dx * force, stiffness_dx * count, count, edge
+
+
+def bedding_stiffness(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3) -> float:
+    """Stiffness per unit length of the bedding, k = E / (2 (1 - nu^2)) of eq. (5), N/m^2.
+
+    Parameters
+    ----------
+    youngs_modulus : float
+        E, Pa.
+    poisson_ratio : float
+        nu, 0 <= nu < 0.5.
+
+    Returns
+    -------
+    float
+        k in N/m per m of bedding (= E*, Pa).
+    """
+    youngs_modulus = _positive("bedding_stiffness", "youngs_modulus", youngs_modulus, "Pa")
+    nu = _poisson("bedding_stiffness", poisson_ratio)
+    return youngs_modulus / (2.0 * (1.0 - nu**2))
+
+
+def wheel_profile(n_samples: int, element_size: float, radius: float = 0.39) -> np.ndarray:
+    """Height of the wheel above its lowest point at the bedding springs, x'^2 / (2 R_m), R_m = R / 2.
+
+    Parameters
+    ----------
+    n_samples : int
+        Number of springs (>= 3); spring j sits at x'_j = (j - (n_samples - 1) / 2) dx.
+    element_size : float
+        dx, m.
+    radius : float
+        R (not R_m), m; the modified radius R_m = R / 2 of eq. (6) is applied here.
+
+    Returns
+    -------
+    ndarray, shape (n_samples,)
+        -z_W(x'_j) in m.
+    """
+    where = "wheel_profile"
+    if isinstance(n_samples, bool) or not isinstance(n_samples, int | np.integer) or n_samples < 3:
+        raise WheelrailError(f"{where}: n_samples must be an integer >= 3, got {n_samples!r}")
+    element_size = _positive(where, "element_size", element_size, "m")
+    radius = _positive(where, "radius", radius, "m")
+    x = (np.arange(n_samples) - (n_samples - 1) / 2.0) * element_size
+    return x**2 / (2.0 * (radius / 2.0))
+
+
+def winkler_contact(
+    approach,
+    roughness,
+    element_size: float,
+    *,
+    radius: float = 0.39,
+    youngs_modulus: float = 210e9,
+    poisson_ratio: float = 0.3,
+) -> WinklerContact:
+    """Force, contact length and dF/d delta of the Winkler bedding, eqs. (3)-(6).
+
+    Parameters
+    ----------
+    approach : float or array_like
+        delta = xi_W - xi_R, m (positive = wheel pressed into the rail).
+    roughness : array_like, shape (m,)
+        Combined roughness r = r_W - r_R under the wheel, m, sampled every ``element_size`` and centred
+        on the wheel (sample j at x'_j = (j - (m - 1) / 2) dx). Must be long enough that the end springs
+        stay uncompressed (the integration domain [-a', a'] of eq. 4).
+    element_size : float
+        dx, m (1e-3 in the paper).
+    radius : float
+        R, m; the bedding uses R_m = R / 2 (eq. 6).
+    youngs_modulus, poisson_ratio : float
+        E in Pa and nu (eq. 5).
+
+    Returns
+    -------
+    WinklerContact
+        force (N), contact_length (m), stiffness (N/m), each of the shape of ``approach``.
+    """
+    where = "winkler_contact"
+    delta = np.asarray(approach, dtype=float) if _numeric(approach) else None
+    if delta is None or not np.all(np.isfinite(delta)):
+        raise WheelrailError(f"{where}: approach must be finite numbers in m, got {approach!r}")
+    r = _roughness(where, roughness)
+    element_size = _positive(where, "element_size", element_size, "m")
+    k_dx = bedding_stiffness(youngs_modulus, poisson_ratio) * element_size
+    profile = wheel_profile(r.size, element_size, radius)
+    force = np.empty(delta.shape)
+    stiffness = np.empty(delta.shape)
+    length = np.empty(delta.shape)
+    for i, value in np.ndenumerate(delta):
+        f, s, count, edge = _winkler_force(float(value), r, profile, k_dx)
+        if edge:
+            raise WheelrailError(
+                f"{where}: contact reaches the end of the {r.size}-sample roughness segment at approach "
+                f"{float(value):.4g} m; pass a longer segment"
+            )
+        force[i], stiffness[i], length[i] = f, s, count * element_size
+    return WinklerContact(force=force, contact_length=length, stiffness=stiffness)
+
+
+def _numeric(value) -> bool:
+    try:
+        np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+def _roughness(where: str, roughness) -> np.ndarray:
+    if not _numeric(roughness):
+        raise WheelrailError(f"{where}: roughness must be a 1D array of numbers in m")
+    r = np.ascontiguousarray(roughness, dtype=float)
+    if r.ndim != 1 or r.size < 3:
+        raise WheelrailError(f"{where}: roughness must be a 1D array of at least 3 samples, got shape {r.shape}")
+    if not np.all(np.isfinite(r)):
+        raise WheelrailError(
+            f"{where}: roughness must be finite (m), got a NaN or infinity at sample {int(np.argmin(np.isfinite(r)))}"
+        )
+    return r
+
+
+def _positive(where: str, name: str, value, unit: str) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise WheelrailError(f"{where}: {name} must be a number in {unit}, got {value!r}") from None
+    if not math.isfinite(number) or number <= 0.0:
+        raise WheelrailError(f"{where}: {name} must be positive and finite ({unit}), got {value!r}")
+    return number
+
+
+def _poisson(where: str, value) -> float:
+    try:
+        nu = float(value)
+    except (TypeError, ValueError):
+        raise WheelrailError(f"{where}: poisson_ratio must be a number, got {value!r}") from None
+    if not (math.isfinite(nu) and 0.0 <= nu < 0.5):
+        raise WheelrailError(f"{where}: poisson_ratio must be in [0, 0.5), got {value!r}")
+    return nu
