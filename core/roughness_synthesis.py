@@ -48,9 +48,7 @@ class PowerLaw:
 
     def band_power(self, wavelength: np.ndarray) -> np.ndarray:
         """Third-octave band mean square at ``wavelength`` (m), µm²."""
-        return 10.0 ** (
-            (self.level_db + self.slope_db_per_decade * np.log10(wavelength / self.wavelength)) / 10
-        )
+        return 10.0 ** ((self.level_db + self.slope_db_per_decade * np.log10(wavelength / self.wavelength)) / 10)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -79,14 +77,27 @@ class Peak:
 
 @dataclass(frozen=True, kw_only=True)
 class SpectrumTarget:
-    """Target third-octave roughness spectrum: the power sum of its components (dB re 1 µm)."""
+    """Target third-octave roughness spectrum: the power sum of its components (dB re 1 µm).
+
+    Attributes
+    ----------
+    components : tuple of PowerLaw or Peak
+        Band powers added together.
+    rolloff_wavelength : float, optional
+        Below this wavelength (m) the power falls by 40 dB per decade (factor ``1 / (1 + (λr / λ)^4)``),
+        as measured roughness does at wavelengths of a few mm and below (stylus size, running-in).
+    """
 
     components: tuple = ()
+    rolloff_wavelength: float | None = None
 
     def level_db(self, wavelength: np.ndarray) -> np.ndarray:
         """Target third-octave level at ``wavelength`` (m), dB re 1 µm."""
         wavelength = np.asarray(wavelength, dtype=float)
-        return 10 * np.log10(sum(c.band_power(wavelength) for c in self.components))
+        power = sum(c.band_power(wavelength) for c in self.components)
+        if self.rolloff_wavelength is not None:
+            power = power / (1.0 + (self.rolloff_wavelength / wavelength) ** 4)
+        return 10 * np.log10(power)
 
     def psd(self, wavenumber: np.ndarray) -> np.ndarray:
         """One-sided PSD at ``wavenumber`` k = 1/λ (cycles/m), m² per (cycle/m); 0 at k = 0."""
@@ -284,7 +295,8 @@ BUNDLED_RECIPES = (
             components=(
                 PowerLaw(level_db=-2.0, wavelength=0.1, slope_db_per_decade=12.0),
                 Peak(level_db=18.0, wavelength=0.0556, width_decades=0.04),
-            )
+            ),
+            rolloff_wavelength=2.5e-3,
         ),
         correlation=LateralCorrelation(length=4e-3, wavelength=0.018, exponent=4.0, minimum=2e-4),
         seed=20110301,
@@ -306,7 +318,8 @@ BUNDLED_RECIPES = (
             components=(
                 PowerLaw(level_db=-6.0, wavelength=0.1, slope_db_per_decade=6.0),
                 Peak(level_db=8.0, wavelength=0.09, width_decades=0.15),
-            )
+            ),
+            rolloff_wavelength=2.5e-3,
         ),
         correlation=LateralCorrelation(length=8e-3, wavelength=0.018, exponent=3.0),
         seed=20110302,
@@ -326,7 +339,8 @@ BUNDLED_RECIPES = (
             components=(
                 PowerLaw(level_db=-9.0, wavelength=0.1, slope_db_per_decade=4.0),
                 PowerLaw(level_db=-12.0, wavelength=0.005, slope_db_per_decade=-15.0),
-            )
+            ),
+            rolloff_wavelength=2.5e-3,
         ),
         correlation=LateralCorrelation(length=1.5e-3, wavelength=0.018, exponent=0.5, maximum=3e-3),
         seed=20110303,
@@ -346,14 +360,12 @@ BUNDLED_RECIPES = (
             components=(
                 PowerLaw(level_db=-8.0, wavelength=0.1, slope_db_per_decade=3.0),
                 PowerLaw(level_db=-11.0, wavelength=0.004, slope_db_per_decade=-14.0),
-            )
+            ),
+            rolloff_wavelength=2.5e-3,
         ),
         correlation=LateralCorrelation(length=1.2e-3, wavelength=0.018, exponent=0.3, maximum=2.5e-3),
         seed=20110304,
-        imitates=(
-            "wheel 2 with sinter block brakes: like wheel 1 with a slightly different spectrum and "
-            "another seed"
-        ),
+        imitates=("wheel 2 with sinter block brakes: like wheel 1 with a slightly different spectrum and another seed"),
     ),
 )
 
