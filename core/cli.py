@@ -18,6 +18,7 @@ from wheelrail.core.errors import WheelrailError
 # name -> module under wheelrail.core.commands; add one line per command.
 COMMANDS = {
     "explore": "explore",
+    "track": "track",
     "datasets": "datasets",
     "roughness": "roughness",
 }

@@ -495,6 +495,13 @@ def _track_key(track: TrackParameters, numerics: TrackNumerics) -> str:
     return cache_key("track-wedge", {"track": asdict(track), "numerics": asdict(numerics)})
 
 
+def track_cache_path(track: TrackParameters, numerics: TrackNumerics):
+    """Path of the disk-cache entry for these parameters (it may not exist yet)."""
+    from wheelrail.core.cache import entry_path
+
+    return entry_path("track-wedge", _track_key(track, numerics))
+
+
 _MEMORY: dict[str, StationaryTrackResponse] = {}
 
 

@@ -1,0 +1,173 @@
+"""``wheelrail track``: receptance peaks of the track and its cached moving Green's functions."""
+
+from __future__ import annotations
+
+import csv
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from wheelrail.core.commands._common import print_json, speed_from_kmh
+from wheelrail.core.errors import WheelrailError
+
+
+def add_parser(sub):
+    parser = sub.add_parser(
+        "track",
+        help="track receptance peaks (sleeper-on-ballast, rail-on-pad, pinned-pinned) and Green's function cache",
+        description=(
+            "Print the resonances of the discretely supported track (paper section 2.2), prepare its moving "
+            "Green's functions for a speed (computed once, then cached on disk) and say where they are cached."
+        ),
+    )
+    parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
+    parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
+    parser.add_argument(
+        "--csv", metavar="FILE", help="write the point receptance above a sleeper and at midspan, 20 Hz-5 kHz"
+    )
+    parser.add_argument("--df-hz", type=float, default=5.0, help="frequency step of --csv and --plot, Hz (default 5)")
+    parser.add_argument("--plot", metavar="FILE.png", help="plot receptances and moving Green's functions (Fig. 4)")
+    return parser
+
+
+def _check_writable(path: str, option: str) -> Path:
+    target = Path(path)
+    folder = target.parent if str(target.parent) else Path(".")
+    if not folder.is_dir():
+        raise WheelrailError(f"{option} {path}: folder {folder} does not exist")
+    if not os.access(folder, os.W_OK):
+        raise WheelrailError(f"{option} {path}: folder {folder} is not writable")
+    return target
+
+
+def run(args) -> int:
+    from wheelrail.core.parameters import TrackNumerics, TrackParameters
+    from wheelrail.core.track import (
+        assemble_track,
+        moving_from_stationary,
+        receptance_peaks,
+        stationary_track_response,
+        track_cache_path,
+        track_receptance,
+    )
+
+    speed = speed_from_kmh(args.speed_kmh)
+    if not np.isfinite(args.df_hz) or not 0 < args.df_hz <= 100:
+        raise WheelrailError(f"--df-hz must be in (0, 100] Hz, got {args.df_hz}")
+    csv_path = _check_writable(args.csv, "--csv") if args.csv else None
+    plot_path = _check_writable(args.plot, "--plot") if args.plot else None
+
+    track = TrackParameters()
+    numerics = TrackNumerics()
+    model = assemble_track(track, numerics.elements_per_bay)
+    peaks = receptance_peaks(model)
+
+    if speed > numerics.max_speed:
+        from dataclasses import replace
+
+        numerics = replace(numerics, max_speed=speed)
+    cached_before = track_cache_path(track, numerics).exists()
+    start = time.perf_counter()
+    response = stationary_track_response(track, numerics)
+    t_stationary = time.perf_counter() - start
+    start = time.perf_counter()
+    green = moving_from_stationary(response, speed)
+    t_speed = time.perf_counter() - start
+    weights = green.weights(1e-3 / speed)
+    static = weights.sum(axis=1)
+    cache_size = Path(response.cache_path).stat().st_size if response.cache_path else 0
+
+    L = track.support.sleeper_spacing
+    x_sleeper = (track.n_bays // 2) * L
+    if csv_path or plot_path:
+        freq = np.arange(20.0, 5000.0 + 1e-9, args.df_hz)
+        above = track_receptance(model, freq, x_sleeper)
+        midspan = track_receptance(model, freq, x_sleeper + L / 2)
+    if csv_path:
+        with open(csv_path, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(["frequency_hz", "above_sleeper_abs_m_per_n", "above_sleeper_phase_rad",
+                             "midspan_abs_m_per_n", "midspan_phase_rad"])
+            for row in zip(freq, np.abs(above), np.angle(above), np.abs(midspan), np.angle(midspan), strict=True):
+                writer.writerow([f"{row[0]:.6g}"] + [f"{v:.9e}" for v in row[1:]])
+    if plot_path:
+        _plot(plot_path, freq, above, midspan, response, peaks)
+
+    summary = {
+        "speed_m_per_s": speed,
+        "speed_kmh": args.speed_kmh,
+        "resonances_hz": peaks,
+        "sleeper_passing_frequency_hz": speed / L,
+        "static_moving_compliance_m_per_n": {"above_sleeper": float(static[0]),
+                                             "midspan": float(static[len(static) // 2])},
+        "green_functions": {
+            "duration_s": green.duration,
+            "time_step_s": green.time_step,
+            "excitation_positions_per_bay": len(green.excitation_positions),
+            "max_speed_m_per_s": numerics.max_speed,
+        },
+        "cache": {
+            "path": response.cache_path,
+            "size_bytes": cache_size,
+            "was_cached": bool(cached_before),
+            "stationary_time_s": t_stationary,
+            "speed_time_s": t_speed,
+        },
+    }
+    if csv_path:
+        summary["csv"] = str(csv_path)
+    if plot_path:
+        summary["plot"] = str(plot_path)
+    if args.json:
+        print_json(summary)
+        return 0
+    print(f"Track: UIC60 Rayleigh-Timoshenko rail, {track.n_bays} bays of {L} m (paper section 2.2)")
+    print(f"  sleeper-on-ballast resonance  {peaks['sleeper_on_ballast_hz']:7.1f} Hz")
+    print(f"  rail-on-pad resonance         {peaks['rail_on_pad_hz']:7.1f} Hz")
+    print(f"  pinned-pinned resonance       {peaks['pinned_pinned_hz']:7.1f} Hz  (paper: 943 Hz)")
+    print(f"  sleeper-passing frequency     {speed / L:7.1f} Hz  at {args.speed_kmh:g} km/h")
+    print(f"Moving Green's functions at {args.speed_kmh:g} km/h: {green.duration * 1e3:.0f} ms, "
+          f"{len(green.excitation_positions)} excitation positions per bay")
+    print(f"  static compliance {static[0] * 1e9:.3f} nm/N above a sleeper, "
+          f"{static[len(static) // 2] * 1e9:.3f} nm/N at midspan")
+    how = "loaded from cache" if cached_before else "computed and cached"
+    print(f"  stationary responses {how} in {t_stationary:.2f} s; this speed in {t_speed * 1e3:.1f} ms")
+    print(f"  cache: {response.cache_path} ({cache_size / 1e6:.1f} MB)")
+    if csv_path:
+        print(f"  receptance written to {csv_path}")
+    if plot_path:
+        print(f"  plot written to {plot_path}")
+    return 0
+
+
+def _plot(path, freq, above, midspan, response, peaks) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from wheelrail.core.track import moving_from_stationary
+
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    ax = axes[0]
+    ax.loglog(freq, np.abs(above), label="above sleeper")
+    ax.loglog(freq, np.abs(midspan), label="midspan")
+    ax.axvline(peaks["pinned_pinned_hz"], color="grey", lw=0.8, ls=":")
+    ax.set(xlabel="frequency (Hz)", ylabel="|receptance| (m/N)", title="Rail point receptance")
+    ax.legend()
+    positions = response.excitation_positions
+    for ax, index, title in ((axes[1], 0, "(a) excitation above a sleeper"),
+                             (axes[2], len(positions) // 2, "(b) excitation at midspan")):
+        for kmh, style in ((50, "--"), (100, "-."), (150, "-")):
+            if kmh / 3.6 > response.numerics.max_speed:
+                continue
+            green = moving_from_stationary(response, kmh / 3.6)
+            keep = green.time <= 0.02
+            ax.plot(green.time[keep] * 1e3, green.values[index, keep], style, label=f"{kmh} km/h")
+        ax.set(xlabel="time (ms)", ylabel="g (m/(N s))", title=f"Moving Green's function {title}")
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
