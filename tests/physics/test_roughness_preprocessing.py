@@ -141,3 +141,16 @@ def test_rail_run_longer_than_data_is_an_error():
     assert line_along_track(s, 0, 1.0).shape == (1001,)
     with pytest.raises(WheelrailError, match="exceeds the rail roughness data"):
         line_along_track(s, 0, 1.5)
+
+
+@pytest.mark.parametrize("name", ["corrugated-rail", "cast-iron-wheel", "sinter-wheel-1", "sinter-wheel-2"])
+def test_preprocessing_leaves_clean_bundled_data_nearly_unchanged(name):
+    from wheelrail.core.roughness import load_roughness
+
+    s = load_roughness(name)  # synthetic: no drift, no spikes, zero mean
+    np.testing.assert_array_equal(remove_spikes(s).heights, s.heights)  # no false spike detections
+    out = preprocess(s)
+    step = np.std(np.diff(s.heights, axis=1))
+    # Detrending drift-free data may only tilt a line by about one sample-to-sample step (wheels: seam
+    # extrapolation error; rail: least-squares projection of the long waves); 4 steps is the bound.
+    assert np.max(np.abs(out.heights - s.heights)) < 4 * step
