@@ -13,7 +13,8 @@ half-bandwidth 4; all solves are banded.
 Moving Green's functions (eq. 2)
 --------------------------------
 The stationary track does not depend on speed. For ``positions_per_bay`` excitation points x_e in
-the central bay, the impulse response h(x, x_e, t) of the FE model is integrated once in time
+the central bay (FE nodes: a load between nodes has a poorly converged early response), the impulse
+response h(x, x_e, t) of the FE model is integrated once in time
 (Newmark, average acceleration, step ``TrackNumerics.time_step``) and stored on the wedge
 x_e <= x <= x_e + v_max t that a wheel at up to ``max_speed`` can reach. The moving Green's function
 for any speed v <= v_max is then read off that wedge, g_{R,v}^{x_e}(t) = h(x_e + v t, x_e, t), with
@@ -458,7 +459,7 @@ def compute_stationary_response(track: TrackParameters, numerics: TrackNumerics)
     bay_start = (track.n_bays // 2) * L
     positions = np.arange(numerics.positions_per_bay) * (L / numerics.positions_per_bay)
     x_e = bay_start + positions
-    first_node = np.floor(x_e / h + 1e-9).astype(np.int64)
+    first_node = np.rint(x_e / h).astype(np.int64)  # the positions are nodes (TrackNumerics checks)
     wedge_nodes, offsets, n_steps = _wedge_layout(numerics, h)
     last_node = first_node.max() + wedge_nodes[-1] - 1
     if last_node >= len(model.node_x) - 1:
