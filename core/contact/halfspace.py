@@ -331,7 +331,8 @@ def _grow(upper, order, m, needed):
     """Reallocate the factor buffer when the contact set outgrows it."""
     if needed <= upper.shape[0]:
         return upper
-    bigger = np.empty((max(needed, 2 * upper.shape[0]), max(needed, 2 * upper.shape[0])))
+    size = needed + needed // 4 + 8
+    bigger = np.empty((size, size))
     bigger[:m, :m] = upper[:m, :m]
     return bigger
 
@@ -364,7 +365,7 @@ def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target,
     for a in range(m):
         order[a] = order0[a]
         active[order0[a]] = True
-    capacity = min(n, max(2 * m + 32, 64))
+    capacity = min(n, m + 8 + m // 8)  # no larger than needed: a big buffer costs page faults per call
     upper = np.empty((capacity, capacity))
     factored = factor0.shape[0] == m and m > 0
     if factored:
@@ -481,7 +482,21 @@ def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target,
     final = np.empty((0, 0))
     if status == _STATUS_CONVERGED and factored and m > 0:
         final = upper[:m, :m].copy()
-    return pressure, separation, delta, iterations, status, final, order[:m].copy()
+    # summary: eq. (9), the smallest pressure and gap, and whether the set touches the window's border
+    total = 0.0
+    min_pressure = 0.0
+    min_separation = 0.0
+    for i in range(n):
+        total += pressure[i]
+        min_pressure = min(min_pressure, pressure[i])
+        min_separation = min(min_separation, separation[i])
+    at_edge = False
+    for a in range(m):
+        j = order[a]
+        if rows[j] == 0 or rows[j] == ny - 1 or columns[j] == 0 or columns[j] == nx - 1:
+            at_edge = True
+    summary = (total * area, min_pressure, -min_separation, at_edge)
+    return pressure, separation, delta, iterations, status, final, order[:m].copy(), active, summary
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -603,7 +618,7 @@ def _solve(
     if order is None:
         reduced_modulus = youngs_modulus / (2.0 * (1.0 - poisson_ratio**2))
         order = np.flatnonzero(_cold_start_set(flat, area, reduced_modulus, coupled, float(target), float(compliance)))
-    pressure, separation, delta, iterations, status, upper, order = _active_set_solve(
+    pressure, separation, delta, iterations, status, upper, order, contact, summary = _active_set_solve(
         kernel,
         ny,
         nx,
@@ -618,27 +633,25 @@ def _solve(
         tolerance,
         int(max_iterations),
     )
-    contact = np.zeros(ny * nx, dtype=bool)
-    contact[order] = True
     contact = contact.reshape(ny, nx)
     pressure = pressure.reshape(ny, nx)
     separation = separation.reshape(ny, nx)
     for array in (contact, pressure, separation, upper, order):
         array.setflags(write=False)
-    at_edge = bool(contact[0].any() or contact[-1].any() or contact[:, 0].any() or contact[:, -1].any())
+    force, min_pressure, max_gap_violation, at_edge = summary
     converged = status == _STATUS_CONVERGED
     warm = (key, upper, order) if converged and order.size > 0 and upper.shape[0] == order.size else None
     result = NormalContactResult(
         pressure=pressure,
         contact=contact,
-        force=float(pressure.sum() * area),
-        approach=float(delta),
+        force=force,
+        approach=delta,
         separation=separation,
-        iterations=int(iterations),
+        iterations=iterations,
         converged=converged,
         at_edge=at_edge,
-        max_gap_violation=float(max(0.0, -separation.min())),
-        min_pressure=float(pressure.min()),
+        max_gap_violation=max_gap_violation,
+        min_pressure=min_pressure,
         element_size=element_size,
         _warm=warm,
     )
