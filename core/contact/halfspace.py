@@ -9,7 +9,7 @@ The potential contact area is a window of ``ny x nx`` square elements of side ``
 
 in m, positive where the surfaces are apart. For crossed cylinders of equal radius R (the paper's wheel
 and railhead) ``z_Re - z_We = (x'^2 + y'^2) / (2 R)``: a sphere of radius R on a flat. ``r = r_W - r_R`` is the
-combined roughness, positive downwards, so roughness that sticks out of the wheel (or a dip in the rail)
+combined roughness (r_W, r_R positive downwards), so a bump on the wheel (r_W > 0) or on the rail (r_R < 0)
 *reduces* the gap. With the approach ``delta = xi_W - xi_R`` (m, positive when wheel and rail move
 towards each other) the deformed gap of eq. (11) is
 
@@ -32,12 +32,14 @@ Solver
 ------
 An exact active-set method (Kalker's scheme with the load as an extra equation): on the current set A of
 contact elements it solves the dense system ``C_AA p_A = delta - h_A`` together with the load equation
-(given load, or ``delta = delta_known - c F`` in the coupled form) through one Cholesky factorisation of
-``C_AA``; then it drops elements with negative pressure, or else adds elements that penetrate, until
-neither happens. A warm start (the previous contact set) usually needs one or two factorisations.
-The kernel is compiled with numba and uses LAPACK (``np.linalg.cholesky``); choosing this over FFT-based
-conjugate gradients was done by measurement (see ``benchmarks/contact_solver.py``): on the 1 mm window
-(~95 contact elements) a direct solve is exact and much faster than any iterative scheme.
+(given load, or ``delta = delta_known - c F`` in the coupled form) with one Cholesky factor of ``C_AA``;
+then it drops all elements in tension or, if none, adds all elements that penetrate, until neither
+happens. The factor is updated rather than recomputed when few elements change (O(m^2) per element:
+a new row for an added element, a rank-1 update for a dropped one), and a result carries it to the next
+solve, so a warm start from the previous time step typically costs one or two triangular solves and one
+or two passes of u = C p. Everything runs in numba; the Cholesky loops are hand-written (measured faster
+than numba's LAPACK call at these sizes). A direct solve was chosen over FFT-based conjugate gradients
+(Polonsky-Keer) by measurement: ``benchmarks/contact_solver.py`` compares with tamaas' PKR solver.
 
 Failures are reported: by default a solve that does not converge within ``max_iterations`` or whose
 contact set reaches the window edge raises :class:`WheelrailError`; with ``raise_on_failure=False``
@@ -81,8 +83,6 @@ class NormalContactResult:
         Total normal force F_n = A_e sum(p), eq. (9), N.
     approach : float
         Rigid-body approach delta = xi_W - xi_R, m (positive = bodies pressed together).
-    separation : ndarray, shape (ny, nx)
-        Deformed gap d = h - delta + C p, eq. (11), m (zero, up to round-off, where in contact).
     iterations : int
         Number of active-set iterations (linear solves).
     converged : bool
@@ -96,13 +96,15 @@ class NormalContactResult:
         Smallest element pressure, Pa (negative only within the tolerance).
     element_size : float
         Side of the square elements, m.
+    separation : ndarray, shape (ny, nx)
+        Deformed gap d = h - delta + C p, eq. (11), m (zero, up to round-off, where in contact). Computed
+        on first access (the solver itself only needs it where the surfaces overlap).
     """
 
     pressure: np.ndarray
     contact: np.ndarray
     force: float
     approach: float
-    separation: np.ndarray
     iterations: int
     converged: bool
     at_edge: bool
@@ -110,6 +112,21 @@ class NormalContactResult:
     min_pressure: float
     element_size: float
     _warm: object = field(default=None, repr=False)
+    _gap: np.ndarray | None = field(default=None, repr=False)
+    _kernel: np.ndarray | None = field(default=None, repr=False)
+
+    @functools.cached_property
+    def separation(self) -> np.ndarray:
+        """Deformed gap d = h - delta + C p of eq. (11) on the whole window, m."""
+        ny, nx = self.pressure.shape
+        rows, columns = _coordinates(ny, nx)
+        flat = self.pressure.ravel()
+        order = np.flatnonzero(flat)
+        u = np.empty(ny * nx)
+        _displacement(self._kernel, ny, nx, rows, columns, order, order.size, flat, u)
+        separation = (self._gap - self.approach + u).reshape(ny, nx)
+        separation.setflags(write=False)
+        return separation
 
     @property
     def contact_area(self) -> float:
@@ -326,6 +343,36 @@ def _displacement(kernel, ny, nx, rows, columns, order, m, pressure, out):
                 out[base + xi] += krow[xi + off] * pj
 
 
+@njit(cache=True, fastmath=True)
+def _candidate_separation(kernel, ny, nx, rows, columns, order, m, pressure, gap, delta, margin, candidates, values):
+    """Deformed gap d = h - delta + C p (eq. 11) on the elements that can penetrate; returns their count.
+
+    With p >= 0 the displacement u = C p is >= 0, so d >= h - delta: only elements with h - delta below a
+    small ``margin`` (which covers pressures that are negative within the tolerance) can have d < 0. For a
+    Hertz-like patch these are about twice the contact area, a third of the 1 mm window.
+    """
+    active_rows = np.empty(m, dtype=np.int64)
+    active_columns = np.empty(m, dtype=np.int64)
+    active_pressure = np.empty(m)
+    for a in range(m):
+        j = order[a]
+        active_rows[a] = rows[j]
+        active_columns[a] = columns[j]
+        active_pressure[a] = pressure[j]
+    count = 0
+    for i in range(ny * nx):
+        if gap[i] - delta < margin:
+            ri = rows[i] + ny - 1
+            ci = columns[i] + nx - 1
+            u = 0.0
+            for a in range(m):
+                u += kernel[ri - active_rows[a], ci - active_columns[a]] * active_pressure[a]
+            candidates[count] = i
+            values[count] = gap[i] - delta + u
+            count += 1
+    return count
+
+
 @njit(cache=True)
 def _grow(upper, order, m, needed):
     """Reallocate the factor buffer when the contact set outgrows it."""
@@ -352,13 +399,12 @@ def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target,
     if none, all penetrating elements are added. The factor is updated (O(m^2) per element) rather than
     recomputed when few elements change.
 
-    Returns (pressure (flat, Pa), separation (flat, m), approach (m), iterations, status, factor of the
-    final set (m x m), final set in factor order).
+    Returns (pressure (flat, Pa), approach (m), iterations, status, factor of the final set (m x m), final
+    set in factor order, contact mask (flat), (force N, min pressure Pa, max penetration m, at edge)).
     """
     n = ny * nx
     rows, columns = _coordinates(ny, nx)
     pressure = np.zeros(n)
-    separation = np.empty(n)
     active = np.zeros(n, dtype=np.bool_)
     order = np.empty(n, dtype=np.int64)
     m = m0
@@ -370,6 +416,9 @@ def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target,
     factored = factor0.shape[0] == m and m > 0
     if factored:
         upper[:m, :m] = factor0
+    candidates = np.empty(n, dtype=np.int64)
+    values = np.empty(n)
+    n_candidates = 0
     removals = np.empty(n, dtype=np.int64)
     additions = np.empty(n, dtype=np.int64)
     x1 = np.empty(n)
@@ -447,14 +496,16 @@ def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target,
                         _factor_remove(order, m, upper, removals[r])
                         m -= 1
                 continue
-        # deformed gap everywhere (eq. 11); add penetrating elements (eq. 10: d >= 0)
-        _displacement(kernel, ny, nx, rows, columns, order, m, pressure, separation)
-        glimit = -tol * max(delta - gap_min, 1e-30)
+        # deformed gap where it can be negative (eq. 11); add penetrating elements (eq. 10: d >= 0)
+        scale = max(delta - gap_min, 1e-30)
+        glimit = -tol * scale
+        n_candidates = _candidate_separation(
+            kernel, ny, nx, rows, columns, order, m, pressure, gap, delta, 1e-6 * scale, candidates, values
+        )
         n_add = 0
-        for i in range(n):
-            d = gap[i] - delta + separation[i]
-            separation[i] = d
-            if not active[i] and d < glimit:
+        for c in range(n_candidates):
+            i = candidates[c]
+            if not active[i] and values[c] < glimit:
                 additions[n_add] = i
                 n_add += 1
         if n_add == 0:
@@ -475,10 +526,11 @@ def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target,
                 m += 1
             factored = False
     if status != _STATUS_CONVERGED:
-        # make separation consistent with the returned pressure
-        _displacement(kernel, ny, nx, rows, columns, order, m, pressure, separation)
-        for i in range(n):
-            separation[i] += gap[i] - delta
+        # the gaps of the returned pressure (the last iteration may have changed it after its gap pass)
+        scale = max(delta - gap_min, 1e-30)
+        n_candidates = _candidate_separation(
+            kernel, ny, nx, rows, columns, order, m, pressure, gap, delta, 1e-6 * scale, candidates, values
+        )
     final = np.empty((0, 0))
     if status == _STATUS_CONVERGED and factored and m > 0:
         final = upper[:m, :m].copy()
@@ -489,14 +541,15 @@ def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target,
     for i in range(n):
         total += pressure[i]
         min_pressure = min(min_pressure, pressure[i])
-        min_separation = min(min_separation, separation[i])
+    for c in range(n_candidates):
+        min_separation = min(min_separation, values[c])
     at_edge = False
     for a in range(m):
         j = order[a]
         if rows[j] == 0 or rows[j] == ny - 1 or columns[j] == 0 or columns[j] == nx - 1:
             at_edge = True
     summary = (total * area, min_pressure, -min_separation, at_edge)
-    return pressure, separation, delta, iterations, status, final, order[:m].copy(), active, summary
+    return pressure, delta, iterations, status, final, order[:m].copy(), active, summary
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -618,7 +671,7 @@ def _solve(
     if order is None:
         reduced_modulus = youngs_modulus / (2.0 * (1.0 - poisson_ratio**2))
         order = np.flatnonzero(_cold_start_set(flat, area, reduced_modulus, coupled, float(target), float(compliance)))
-    pressure, separation, delta, iterations, status, upper, order, contact, summary = _active_set_solve(
+    pressure, delta, iterations, status, upper, order, contact, summary = _active_set_solve(
         kernel,
         ny,
         nx,
@@ -635,8 +688,7 @@ def _solve(
     )
     contact = contact.reshape(ny, nx)
     pressure = pressure.reshape(ny, nx)
-    separation = separation.reshape(ny, nx)
-    for array in (contact, pressure, separation, upper, order):
+    for array in (contact, pressure, upper, order):
         array.setflags(write=False)
     force, min_pressure, max_gap_violation, at_edge = summary
     converged = status == _STATUS_CONVERGED
@@ -646,7 +698,6 @@ def _solve(
         contact=contact,
         force=force,
         approach=delta,
-        separation=separation,
         iterations=iterations,
         converged=converged,
         at_edge=at_edge,
@@ -654,6 +705,8 @@ def _solve(
         min_pressure=min_pressure,
         element_size=element_size,
         _warm=warm,
+        _gap=flat.copy(),  # the caller may reuse its gap array; separation is computed later
+        _kernel=kernel,
     )
     if raise_on_failure:
         if not converged:
