@@ -34,7 +34,8 @@ An exact active-set method (Kalker's scheme with the load as an extra equation):
 contact elements it solves the dense system ``C_AA p_A = delta - h_A`` together with the load equation
 (given load, or ``delta = delta_known - c F`` in the coupled form) with one Cholesky factor of ``C_AA``;
 then it drops all elements in tension or, if none, adds all elements that penetrate, until neither
-happens. The factor is updated rather than recomputed when few elements change (O(m^2) per element:
+happens (after 30 iterations one element at a time, the worst, against cycling). The factor is updated
+rather than recomputed when few elements change (O(m^2) per element:
 a new row for an added element, a rank-1 update for a dropped one), and a result carries it to the next
 solve, so a warm start from the previous time step typically costs one or two triangular solves and one
 or two passes of u = C p. Everything runs in numba; the Cholesky loops are hand-written (measured faster
@@ -67,6 +68,7 @@ __all__ = [
 _STATUS_CONVERGED = 0
 _STATUS_MAX_ITER = 1
 _STATUS_NOT_DEFINITE = 2
+_CAUTIOUS_AFTER = 30  # iterations; then one element at a time (guards against add/drop cycling)
 
 
 @dataclass(frozen=True, eq=False)
@@ -385,14 +387,17 @@ def _grow(upper, order, m, needed):
 
 
 @njit(cache=True)
-def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target, compliance, area, tol, max_iter):
+def _active_set_solve(
+    kernel, ny, nx, gap, order0, m0, factor0, coupled, target, compliance, area, tol, max_iter, cautious_after
+):
     """Active-set solution of eqs. (8)-(11) on a window (no input checks: the wrapper does them).
 
     kernel : (2ny-1, 2nx-1) influence kernel, m/Pa; gap : flat (ny*nx) undeformed gap h, m;
     order0[:m0] : initial contact set (element indices); factor0 : its upper Cholesky factor in that order
     (m0 x m0), or a 0 x 0 array to factor from scratch; coupled : False -> ``target`` is the load F (N);
     True -> ``target`` is delta_known (m) and delta = delta_known - compliance * F; area : A_e, m^2;
-    tol : relative tolerance of eq. (10).
+    tol : relative tolerance of eq. (10); cautious_after : iterations after which one element at a time
+    is added or dropped (anti-cycling).
 
     Each iteration solves C_AA p_A = delta - h_A with the load (or coupled) equation using one Cholesky
     factor: p = delta x1 - x2 with C_AA x1 = 1, C_AA x2 = h_A. Then all elements in tension are dropped or,
@@ -473,11 +478,18 @@ def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target,
             # drop elements in tension (eq. 10: p >= 0)
             plimit = -tol * pmax
             n_remove = 0
+            worst = 0.0
             for a in range(m):
                 value = pressure[order[a]]
                 if value < plimit or (pmax <= 0.0 and value <= 0.0):
-                    removals[n_remove] = a
-                    n_remove += 1
+                    if iterations <= cautious_after:
+                        removals[n_remove] = a
+                        n_remove += 1
+                    elif n_remove == 0 or value < worst:
+                        # anti-cycling: one element at a time, the one in most tension
+                        removals[0] = a
+                        n_remove = 1
+                        worst = value
             if n_remove > 0:
                 for r in range(n_remove):
                     active[order[removals[r]]] = False
@@ -503,11 +515,18 @@ def _active_set_solve(kernel, ny, nx, gap, order0, m0, factor0, coupled, target,
             kernel, ny, nx, rows, columns, order, m, pressure, gap, delta, 1e-6 * scale, candidates, values
         )
         n_add = 0
+        worst = 0.0
         for c in range(n_candidates):
             i = candidates[c]
             if not active[i] and values[c] < glimit:
-                additions[n_add] = i
-                n_add += 1
+                if iterations <= cautious_after:
+                    additions[n_add] = i
+                    n_add += 1
+                elif n_add == 0 or values[c] < worst:
+                    # anti-cycling: one element at a time, the most penetrating
+                    additions[0] = i
+                    n_add = 1
+                    worst = values[c]
         if n_add == 0:
             status = _STATUS_CONVERGED
             break
@@ -685,6 +704,7 @@ def _solve(
         area,
         tolerance,
         int(max_iterations),
+        _CAUTIOUS_AFTER,
     )
     contact = contact.reshape(ny, nx)
     pressure = pressure.reshape(ny, nx)

@@ -145,9 +145,7 @@ def test_coupled_form_is_consistent():
     assert loaded.approach == pytest.approx(result.approach, rel=1e-9)
     np.testing.assert_allclose(loaded.pressure, result.pressure, rtol=0, atol=1e-9 * result.pressure.max())
     # warm start of the coupled form from a slightly different step
-    again = solve_coupled_contact(
-        gap, dx, approach_known=approach_known * 1.01, compliance=compliance, initial=result
-    )
+    again = solve_coupled_contact(gap, dx, approach_known=approach_known * 1.01, compliance=compliance, initial=result)
     assert again.approach == pytest.approx(1.01 * approach_known - compliance * again.force, rel=1e-10)
     assert again.force > result.force
 
@@ -183,3 +181,23 @@ def test_window_edge_is_reported():
         solve_normal_contact(gap, dx, load=LOAD)
     result = solve_normal_contact(gap, dx, load=LOAD, raise_on_failure=False)
     assert result.at_edge
+
+
+def test_one_element_at_a_time_mode_reaches_the_same_answer():
+    # the anti-cycling mode (used after 30 iterations) adds / drops only the worst element per iteration;
+    # forced from the start here it must still end at the same solution, only in more iterations
+    from wheelrail.core.contact.halfspace import _NO_FACTOR, _active_set_solve, _cached_kernel
+
+    dx, n = 1e-3, 24
+    gap = rough_gap(n, dx, seed=21)
+    reference = solve_normal_contact(gap, dx, load=LOAD)
+    kernel = _cached_kernel(n, n, dx, CONTACT.youngs_modulus, CONTACT.poisson_ratio)
+    start = np.array([int(np.argmin(gap))], dtype=np.int64)
+    pressure, approach, iterations, status, *_ = _active_set_solve(
+        kernel, n, n, gap.ravel(), start, 1, _NO_FACTOR, False, LOAD, 0.0, dx * dx, 1e-9, 1000, 0
+    )
+    assert status == 0
+    assert iterations > reference.iterations
+    # same solution up to round-off of different factorisation histories (allow 1e-9 relative)
+    np.testing.assert_allclose(pressure.reshape(n, n), reference.pressure, rtol=0, atol=1e-9 * reference.pressure.max())
+    assert approach == pytest.approx(reference.approach, rel=1e-9)
