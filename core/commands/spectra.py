@@ -1,0 +1,111 @@
+"""``wheelrail spectra FILE``: third-octave contact-force spectrum of a saved run (SPEC.md §4, §5).
+
+FILE is a ``.npz`` written by ``wheelrail run --out`` (``RunResult.save_npz``) or a ``.rrd`` recording
+(read back with rerun's own reader, :func:`wheelrail.core.recording.read_recording`); both give the same
+levels because both hold the run's force exactly. The spectrum is
+:func:`wheelrail.core.spectra.force_spectrum`: start-up skipped, mean removed, one Hann-windowed FFT,
+third-octave bands 50 Hz-8 kHz, dB re 1 N.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from wheelrail.core.commands._common import print_json
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, nominal_band_label
+
+
+def add_parser(sub):
+    parser = sub.add_parser(
+        "spectra",
+        help="third-octave contact-force spectrum of a saved run (.npz or .rrd)",
+        description=(
+            "Third-octave band levels of the dynamic contact force (50 Hz-8 kHz, dB re 1 N; start-up skipped, "
+            "mean removed, Hann window) of a run saved with 'wheelrail run --out F.npz' or '--rrd F.rrd'."
+        ),
+    )
+    parser.add_argument("file", metavar="FILE", help="a run saved as .npz (wheelrail run --out) or .rrd (--rrd)")
+    parser.add_argument(
+        "--skip-ms",
+        type=float,
+        default=FORCE_SKIP * 1e3,
+        help=f"start of the run left out, ms (default {FORCE_SKIP * 1e3:g})",
+    )
+    parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
+    return parser
+
+
+def load_force(path: str | Path) -> dict:
+    """Force (N), time step (s) and run metadata of a saved run (.npz from ``save_npz`` or .rrd)."""
+    source = Path(path)
+    if not source.is_file():
+        raise WheelrailError(f"run file {source} does not exist or is not a file")
+    suffix = source.suffix.lower()
+    if suffix == ".rrd":
+        from wheelrail.core.recording import read_recording
+
+        result = read_recording(source)
+        return {"force": result.force, "time_step": result.time_step, "model": result.model, "line": result.line,
+                "speed": result.speed, "roughness": result.roughness_name}
+    if suffix != ".npz":
+        raise WheelrailError(f"run file {source} must be a .npz (wheelrail run --out) or a .rrd recording")
+    if not zipfile.is_zipfile(source):
+        raise WheelrailError(f"cannot read run file {source}: not a NumPy .npz archive (corrupt or another format)")
+    try:
+        with np.load(source, allow_pickle=False) as data:
+            if "force" not in data.files:
+                raise WheelrailError(f"{source} holds no 'force' array: not a run saved by wheelrail run --out")
+            force = np.asarray(data["force"], dtype=float)
+            meta = json.loads(str(data["metadata"])) if "metadata" in data.files else {}
+            time = np.asarray(data["time"], dtype=float) if "time" in data.files else None
+    except WheelrailError:
+        raise
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError, KeyError) as error:
+        reason = str(error).splitlines()[0] if str(error) else type(error).__name__
+        raise WheelrailError(f"cannot read run file {source}: {reason}") from None
+    time_step = meta.get("time_step_s")
+    if time_step is None and time is not None and len(time) > 1:
+        time_step = float(time[1] - time[0])
+    if time_step is None:
+        raise WheelrailError(f"{source} gives no time step (no metadata and no time array)")
+    return {"force": force, "time_step": float(time_step), "model": meta.get("model"), "line": meta.get("line"),
+            "speed": meta.get("speed_m_per_s"), "roughness": meta.get("roughness")}
+
+
+def run(args) -> int:
+    skip_ms = args.skip_ms
+    if not (math.isfinite(skip_ms) and skip_ms >= 0):
+        raise WheelrailError(f"--skip-ms must be zero or a positive number of milliseconds, got {skip_ms}")
+    saved = load_force(args.file)
+    centres, levels = force_spectrum(saved["force"], saved["time_step"], skip=skip_ms * 1e-3)
+    dynamic = saved["force"][int(math.ceil(skip_ms * 1e-3 / saved["time_step"] - 1e-9)):]
+    rms = float(np.std(dynamic))
+    if args.json:
+        print_json({
+            "file": str(args.file),
+            "model": saved["model"],
+            "line": saved["line"],
+            "speed_m_s": saved["speed"],
+            "roughness": saved["roughness"],
+            "time_step_s": saved["time_step"],
+            "steps": int(len(saved["force"])),
+            "skip_s": skip_ms * 1e-3,
+            "dynamic_force_rms_n": rms,
+            "band_centres_hz": centres.tolist(),
+            "band_labels": [nominal_band_label(c) for c in centres],
+            "levels_db": [None if not math.isfinite(v) else float(v) for v in levels],
+        })
+        return 0
+    print(f"{args.file}: model {saved['model']}, line {saved['line']}, {len(saved['force'])} steps of "
+          f"{saved['time_step'] * 1e6:.4g} us; first {skip_ms:g} ms skipped; dynamic force rms {rms:.4g} N")
+    print(f"{'band (Hz)':>10} {'level (dB re 1 N)':>18}")
+    for centre, level in zip(centres, levels, strict=True):
+        text = "-" if not math.isfinite(level) else f"{level:.1f}"
+        print(f"{nominal_band_label(centre):>10} {text:>18}")
+    return 0

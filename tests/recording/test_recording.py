@@ -1,0 +1,278 @@
+"""Rerun recordings: what is written is read back exactly by rerun's own reader (rerun.chunk.RrdReader)."""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+import numpy as np
+import pytest
+from rerun.chunk import RrdReader
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import ContactParameters, ModelParameters, as_dict
+from wheelrail.core.recording import (
+    ENTITY_PATHS,
+    RecordingSink,
+    add_recording_arguments,
+    check_recording_path,
+    read_recording,
+    record_result,
+    sink_from_args,
+)
+from wheelrail.core.results import RunResult, StepState
+from wheelrail.core.spectra import force_spectrum
+
+DT = 1e-3 / (100 / 3.6)  # s, 1 mm at 100 km/h
+N_STEPS = 700  # 25 ms: enough for a force spectrum after the 20 ms start-up skip
+
+
+def synthetic_result(n: int = N_STEPS, model: str = "3d", preload: float = 65e3) -> RunResult:
+    """A 3D-like run: sine force on the preload, Hertz pressure (scaled with the force) on a 25 x 25 window."""
+    t = np.arange(n) * DT
+    force = preload + 3e3 * np.sin(2 * np.pi * 500 * t) + 50 * np.sin(2 * np.pi * 3100 * t)
+    contact = ContactParameters(preload=preload)
+    window = np.arange(-12, 13) * 1e-3
+    r2 = window[None, :] ** 2 + window[:, None] ** 2
+    pressure = None
+    if model == "3d":
+        radius = contact.hertz_radius(force)[:, None, None]
+        peak = contact.hertz_peak_pressure(force)[:, None, None]
+        pressure = (peak * np.sqrt(np.clip(1 - r2 / radius**2, 0, None))).astype(np.float32)
+    roughness = 1e-5 * np.sin(2 * np.pi * t / 2e-3)
+    return RunResult(
+        model=model, line=0, speed=100 / 3.6, element_size=1e-3, time_step=DT, roughness_name="corrugated-rail",
+        time=t, x=0.016 + np.arange(n) * 1e-3, force=force, xi_wheel=8e-5 + 1e-6 * np.cos(t * 3e3),
+        xi_rail=3e-5 + 1e-6 * np.sin(t * 3e3), roughness=roughness,
+        contact_length=np.full(n, 0.011), contact_area=np.full(n, 9.4e-5) if model != "2d" else np.full(n, np.nan),
+        equivalent_roughness=roughness if model != "hertz-average" else 0.5 * roughness, pressure=pressure,
+        window_x=window if model == "3d" else None, window_y=window if model == "3d" else None,
+        loss_of_contact_steps=0, run_in_length=1.0, parameters=as_dict(ModelParameters(contact=contact)),
+    )
+
+
+def chunks_of(path, entity: str, *, static: bool | None = None):
+    """The chunks of one entity in a file, straight from rerun's reader."""
+    return [c for c in RrdReader(path).stream() if c.entity_path == "/" + entity
+            and (static is None or c.is_static == static)]
+
+
+def scalar_column(path, entity: str) -> tuple[np.ndarray, np.ndarray]:
+    """(steps, values) of a Scalars entity, ordered by step, decoded from the Arrow record batches."""
+    steps, values = [], []
+    for chunk in chunks_of(path, entity, static=False):
+        batch = chunk.to_record_batch()
+        steps.append(batch.column("step").to_numpy())
+        rows = batch.column("Scalars:scalars")
+        values.append(rows.flatten().to_numpy().reshape(len(rows), -1))  # one row per step, 1+ series
+    steps, values = np.concatenate(steps), np.concatenate(values)
+    order = np.argsort(steps, kind="stable")
+    return steps[order], values[order].squeeze(axis=1) if values.shape[1] == 1 else values[order]
+
+
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory):
+    result = synthetic_result()
+    path = tmp_path_factory.mktemp("rec") / "run.rrd"
+    assert record_result(result, path) == path
+    return result, path
+
+
+def test_force_column_equals_the_run_force(recorded):
+    result, path = recorded
+    steps, force = scalar_column(path, "contact/force")
+    np.testing.assert_array_equal(steps, np.arange(result.n_steps))
+    # exact: rerun stores Scalars as float64, the dtype of the run's force
+    np.testing.assert_array_equal(force, result.force)
+
+
+def test_pressure_map_at_a_step_equals_the_original(recorded):
+    result, path = recorded
+    chosen = 123
+    (static,) = chunks_of(path, "contact/pressure", static=True)
+    image_format = static.to_record_batch().column("DepthImage:format")[0].as_py()[0]
+    assert (image_format["width"], image_format["height"]) == (25, 25)
+    for chunk in chunks_of(path, "contact/pressure", static=False):
+        batch = chunk.to_record_batch()
+        steps = batch.column("step").to_numpy()
+        if chosen in steps:
+            row = int(np.nonzero(steps == chosen)[0][0])
+            raw = batch.column("DepthImage:buffer")[row].values[0].values.to_numpy(zero_copy_only=False)
+            stored = np.asarray(raw, dtype=np.uint8).view(np.float32).reshape(25, 25)
+            # exact: the map is stored as its float32 bytes
+            np.testing.assert_array_equal(stored, result.pressure[chosen])
+            assert stored.max() > 1e9  # a real Hertz map (p0 ~ 1.03 GPa at 65 kN), not zeros
+            return
+    pytest.fail(f"step {chosen} has no pressure map in the recording")
+
+
+def test_blueprint_is_in_the_file(recorded):
+    _, path = recorded
+    reader = RrdReader(path)
+    (blueprint,) = reader.blueprints()
+    summary = reader.store(store=blueprint).summary()
+    # the default blueprint: 5 time series, pressure map, pressure surface, bar chart, text = 9 views
+    assert summary.count("ViewBlueprint:class_identifier") == 9
+    assert "ViewportBlueprint:root_container" in summary
+
+
+def test_entity_tree_and_timelines(recorded):
+    _, path = recorded
+    chunks = list(RrdReader(path).stream())
+    paths = {c.entity_path.lstrip("/") for c in chunks}
+    expected = set(ENTITY_PATHS) - {"roughness/equivalent"}  # r_eq = r here, so not repeated
+    assert expected <= paths, expected - paths
+    temporal = [c for c in chunks if not c.is_static and not c.entity_path.startswith("/__")]
+    assert all(set(c.timeline_names) == {"step", "time", "position_um"} for c in temporal)
+
+
+def test_nominal_circle_is_the_hertz_radius(tmp_path):
+    for preload, radius in ((65e3, 5.482e-3), (130e3, 5.482e-3 * 2 ** (1 / 3))):  # a ∝ P^(1/3)
+        path = record_result(synthetic_result(model="hertz", preload=preload), tmp_path / f"c{preload:.0f}.rrd")
+        (chunk,) = [c for c in chunks_of(path, "contact/nominal_circle", static=True)
+                    if "LineStrips3D:strips" in c.to_record_batch().schema.names]
+        strip = np.array(chunk.to_record_batch().column("LineStrips3D:strips")[0].as_py()[0])
+        # 1 µm: the paper's a = 5.48 mm is given to 10 µm; the circle is stored in float32 (~1e-9 m)
+        assert np.hypot(strip[:, 0], strip[:, 1]) == pytest.approx(radius, abs=1e-6)
+
+
+def test_force_spectrum_is_recorded(recorded):
+    result, path = recorded
+    (chunk,) = chunks_of(path, "spectra/force", static=True)
+    batch = chunk.to_record_batch()
+    levels = np.array(batch.column("BarChart:values")[0].as_py()[0]["buffer"]).view(np.float64)
+    centres, expected = force_spectrum(result)
+    # exact: the same function on the same force; NaN (unresolved bands) is recorded as 0
+    np.testing.assert_array_equal(levels, np.nan_to_num(expected, nan=0.0))
+    assert len(centres) == len(levels) == 23  # 50 Hz .. 8 kHz
+
+
+def test_read_recording_round_trip(recorded):
+    result, path = recorded
+    back = read_recording(path)
+    for name in ("x", "force", "xi_wheel", "xi_rail", "roughness", "contact_length", "contact_area",
+                 "equivalent_roughness", "window_x", "window_y"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(result, name), err_msg=name)  # exact (float64)
+    np.testing.assert_allclose(back.time, result.time, rtol=0, atol=0.5e-9)  # timeline in whole ns
+    np.testing.assert_array_equal(back.pressure, result.pressure)
+    assert (back.model, back.line, back.time_step, back.speed) == ("3d", 0, DT, 100 / 3.6)
+    assert back.parameters == result.parameters
+
+
+def test_decimated_pressure_and_streaming_sink_copy_the_maps(tmp_path):
+    """The per-step sink, with the loop reusing one pressure buffer, record_every=5, small chunks."""
+    result = synthetic_result(n=203)
+    path = tmp_path / "stream.rrd"
+    buffer = np.zeros((25, 25), dtype=np.float32)  # the loop may hand out the same array every step
+    with RecordingSink(rrd=path, record_every=5, chunk_steps=64) as sink:
+        sink.start(result)
+        for k in range(result.n_steps):
+            state = result.state(k)
+            buffer[:] = state.pressure
+            sink(StepState(**{**{f: getattr(state, f) for f in state.__slots__}, "pressure": buffer}))
+        sink.finish(result)
+    assert not list(tmp_path.glob("*.partial")) and path.is_file()
+    back = read_recording(path)
+    np.testing.assert_array_equal(back.force, result.force)
+    assert back.pressure is None  # not every step has a map
+    maps = {}
+    for chunk in chunks_of(path, "contact/pressure", static=False):
+        batch = chunk.to_record_batch()
+        raw = batch.column("DepthImage:buffer").flatten().flatten().to_numpy(zero_copy_only=False)
+        images = np.asarray(raw, np.uint8).view(np.float32).reshape(-1, 25, 25)
+        for k, image in zip(batch.column("step").to_numpy(), images, strict=True):
+            maps[int(k)] = image
+    assert sorted(maps) == list(range(0, 203, 5))
+    for k, image in maps.items():
+        np.testing.assert_array_equal(image, result.pressure[k])  # each its own step, not the last buffer
+
+
+def test_unwritable_or_bad_paths_fail_before_the_run(tmp_path):
+    parser = argparse.ArgumentParser()
+    add_recording_arguments(parser)
+    with pytest.raises(WheelrailError, match="does not exist"):
+        sink_from_args(parser.parse_args(["--rrd", str(tmp_path / "missing" / "a.rrd")]))
+    a_file = tmp_path / "file.txt"
+    a_file.write_text("x")
+    with pytest.raises(WheelrailError, match="not writable|does not exist"):
+        check_recording_path(a_file / "a.rrd")
+    with pytest.raises(WheelrailError, match="must end in .rrd"):
+        check_recording_path(tmp_path / "a.npz")
+    (tmp_path / "dir.rrd").mkdir()
+    with pytest.raises(WheelrailError, match="is a folder"):
+        check_recording_path(tmp_path / "dir.rrd")
+    with pytest.raises(WheelrailError, match="--record-every"):
+        sink_from_args(parser.parse_args(["--rrd", str(tmp_path / "a.rrd"), "--record-every", "0"]))
+    with pytest.raises(WheelrailError, match="--connect"):
+        sink_from_args(parser.parse_args(["--connect", "nonsense"]))
+    assert sink_from_args(parser.parse_args([])) is None
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dir.rrd", "file.txt"]  # nothing written
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
+def test_read_only_folder_is_reported(tmp_path):
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o500)
+    try:
+        with pytest.raises(WheelrailError, match="is not writable"):
+            check_recording_path(folder / "a.rrd")
+    finally:
+        folder.chmod(0o700)
+
+
+def test_read_only_file_system_is_reported():
+    if not os.path.isdir("/proc/self"):
+        pytest.skip("no /proc")
+    with pytest.raises(WheelrailError, match="cannot write recording"):  # /proc refuses new files, even to root
+        check_recording_path("/proc/self/run.rrd")
+
+
+def test_failed_run_leaves_no_file(tmp_path):
+    path = tmp_path / "failed.rrd"
+    with pytest.raises(RuntimeError), RecordingSink(rrd=path) as sink:
+        sink(synthetic_result(n=10).state(0))
+        raise RuntimeError("the loop failed")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_corrupt_and_foreign_files_are_clear_errors(tmp_path):
+    bad = tmp_path / "bad.rrd"
+    bad.write_bytes(b"not a recording at all")
+    with pytest.raises(WheelrailError, match="cannot read recording"):
+        read_recording(bad)
+    with pytest.raises(WheelrailError, match="does not exist"):
+        read_recording(tmp_path / "none.rrd")
+    import rerun as rr
+
+    foreign = tmp_path / "foreign.rrd"
+    stream = rr.RecordingStream("someone-else")
+    stream.save(foreign)
+    stream.log("x", rr.Scalars(1.0))
+    stream.disconnect()
+    with pytest.raises(WheelrailError, match="no wheelrail recording"):
+        read_recording(foreign)
+
+
+@pytest.mark.parametrize("model", ["hertz", "3d"])
+def test_real_short_run_streams_exactly(tmp_path, model):
+    from wheelrail.core.interaction import prepare_run
+
+    run = prepare_run("corrugated-rail", model=model, length=0.05)
+    path = tmp_path / f"{model}.rrd"
+    sink = RecordingSink(rrd=path, chunk_steps=16)
+    sink.start(run)
+    result = run.run(sink)
+    sink.finish(result)
+    back = read_recording(path)
+    assert back.n_steps == result.n_steps == 50
+    for name in ("x", "force", "xi_wheel", "xi_rail", "roughness", "contact_length"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(result, name), err_msg=name)  # exact
+    if model == "3d":
+        np.testing.assert_array_equal(back.pressure, result.pressure)
+        np.testing.assert_array_equal(back.contact_area, result.contact_area)
+        assert back.pressure.max() > 5e8  # a loaded contact (p0 ~ 1 GPa), not an empty window
+    # roughness/lines: the set's lines -3..3 at the wheel positions; line 0 is the run's own line
+    steps, lines = scalar_column(path, "roughness/lines")
+    assert lines.shape == (result.n_steps, 7)
+    np.testing.assert_allclose(lines[:, 3], result.roughness, rtol=0, atol=1e-12)  # same samples, 1 pm
