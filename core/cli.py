@@ -21,6 +21,7 @@ COMMANDS = {
     "track": "track",
     "datasets": "datasets",
     "roughness": "roughness",
+    "spectra": "spectra",
 }
 
 
