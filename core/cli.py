@@ -19,14 +19,22 @@ from wheelrail.core.errors import WheelrailError
 COMMANDS = {
     "explore": "explore",
     "track": "track",
+    "run": "run",
     "datasets": "datasets",
     "roughness": "roughness",
     "spectra": "spectra",
 }
 
 
+class _OneLineErrors(argparse.ArgumentParser):
+    """Usage errors as one line on stderr (SPEC.md §5), not argparse's usage block."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _OneLineErrors(
         prog="wheelrail",
         description=(
             "Time-domain vertical wheel/rail interaction and the dynamic contact filter "
@@ -50,6 +58,9 @@ def main(argv: list[str] | None = None) -> int:
     except WheelrailError as error:
         print(f"wheelrail {args.command}: error: {error}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into a closed reader (e.g. `| head`): not an error
+        sys.stderr = open(os.devnull, "w")  # noqa: SIM115 - silence the interpreter's flush at exit
+        return 0
     except KeyboardInterrupt:
         print(f"wheelrail {args.command}: interrupted", file=sys.stderr)
         return 130

@@ -54,25 +54,41 @@ CHUNK = 2048  # steps per compiled chunk of the 1D models (streaming and cancell
 
 
 @njit(cache=True)
-def _history(j, force, lo, hi, frac, weights, phi, gamma0, gamma1, state, preload, xi_w0):
-    """Known part of the approach at history index j: returns (delta_known, compliance, q_rail, w0, s_pred)."""
-    n_lags = weights.shape[1]
-    q = 0.0
-    m_max = min(n_lags - 1, j)
-    for m in range(1, m_max + 1):
-        k = j - m
-        f = frac[k]
-        q += force[k] * ((1.0 - f) * weights[lo[k], m] + f * weights[hi[k], m])
+def _history(j, force, lo, hi, frac, weights, acc, phi, gamma0, gamma1, state, preload, xi_w0):
+    """Known part of the approach at history index j: returns (delta_known, compliance, q_rail, w0, s_pred).
+
+    ``acc[j]`` already holds the rail displacement due to all earlier forces (see ``_scatter``).
+    """
+    q = acc[j]
     w0 = (1.0 - frac[j]) * weights[lo[j], 0] + frac[j] * weights[hi[j], 0]
     s_pred = np.empty(4)
     df = force[j - 1] - preload
     for a in range(4):
-        acc = gamma0[a] * df
+        v = gamma0[a] * df
         for b in range(4):
-            acc += phi[a, b] * state[b]
-        s_pred[a] = acc
+            v += phi[a, b] * state[b]
+        s_pred[a] = v
     delta_known = xi_w0 - s_pred[1] + gamma1[1] * preload - q
     return delta_known, gamma1[1] + w0, q, w0, s_pred
+
+
+@njit(cache=True, fastmath=True)
+def _scatter(j, f, lo, hi, frac, weights, acc):
+    """Add the rail displacement that force f at index j causes at the later steps (eq. 2, scattered
+    forward: contiguous memory, so the n_lags multiply-adds vectorise)."""
+    n_lags = weights.shape[1]
+    a = (1.0 - frac[j]) * f
+    b = frac[j] * f
+    row_lo = weights[lo[j]]
+    row_hi = weights[hi[j]]
+    for m in range(1, n_lags):
+        acc[j + m] += a * row_lo[m] + b * row_hi[m]
+
+
+@njit(cache=True)
+def _scatter_range(j0, j1, force, lo, hi, frac, weights, acc):
+    for j in range(j0, j1):
+        _scatter(j, force[j], lo, hi, frac, weights, acc)
 
 
 @njit(cache=True)
@@ -121,7 +137,7 @@ def _winkler_solve(a, c, window, profile, k_dx):
 
 
 @njit(cache=True)
-def _run_1d(law, j0, j1, force, lo, hi, frac, weights, phi, gamma0, gamma1, state, preload, xi_w0,
+def _run_1d(law, j0, j1, force, lo, hi, frac, weights, acc, phi, gamma0, gamma1, state, preload, xi_w0,
             r_eq, r_window, profile, constant, k_dx, radius, out_xiw, out_xir, out_length):
     """Advance a one-line model over history indices j0..j1-1 (law 0: Hertz on r_eq; 1: Winkler).
 
@@ -129,7 +145,7 @@ def _run_1d(law, j0, j1, force, lo, hi, frac, weights, phi, gamma0, gamma1, stat
     """
     offset = force.shape[0] - r_eq.shape[0]
     for j in range(j0, j1):
-        delta_known, c, q, w0, s_pred = _history(j, force, lo, hi, frac, weights, phi, gamma0, gamma1,
+        delta_known, c, q, w0, s_pred = _history(j, force, lo, hi, frac, weights, acc, phi, gamma0, gamma1,
                                                  state, preload, xi_w0)
         s = j - offset
         if law == 0:
@@ -142,6 +158,7 @@ def _run_1d(law, j0, j1, force, lo, hi, frac, weights, phi, gamma0, gamma1, stat
                 return j
             out_length[s] = count
         force[j] = f
+        _scatter(j, f, lo, hi, frac, weights, acc)
         for i in range(4):
             state[i] = s_pred[i] + gamma1[i] * (f - preload)
         out_xiw[s] = xi_w0 - state[1]
@@ -150,8 +167,9 @@ def _run_1d(law, j0, j1, force, lo, hi, frac, weights, phi, gamma0, gamma1, stat
 
 
 @njit(cache=True)
-def _commit(j, f, force, gamma1, s_pred, state, preload):
+def _commit(j, f, force, lo, hi, frac, weights, acc, gamma1, s_pred, state, preload):
     force[j] = f
+    _scatter(j, f, lo, hi, frac, weights, acc)
     for i in range(4):
         state[i] = s_pred[i] + gamma1[i] * (f - preload)
 
@@ -172,6 +190,7 @@ class _Loop:
     n_run_in: int
     n_hist: int  # lags before the first step (history prefilled with P)
     force: np.ndarray  # (n_hist + n_run_in + n_steps,)
+    acc: np.ndarray  # rail displacement due to earlier forces, per history index (+ n_lags spare)
     lo: np.ndarray
     hi: np.ndarray
     frac: np.ndarray
@@ -222,7 +241,7 @@ class _HertzVariant(ContactVariant):
         loop = run.loop
         r_eq = self.r_eq
         status = _run_1d(0, loop.n_hist + s0, loop.n_hist + s1, loop.force, loop.lo, loop.hi, loop.frac,
-                         loop.weights, loop.phi, loop.gamma0, loop.gamma1, loop.state,
+                         loop.weights, loop.acc, loop.phi, loop.gamma0, loop.gamma1, loop.state,
                          run.params.contact.preload, loop.xi_w0, r_eq, _EMPTY2, _EMPTY1, self.constant,
                          0.0, run.params.contact.radius, run.xi_wheel, run.xi_rail, run.contact_length)
         assert status == -1
@@ -280,7 +299,7 @@ class _Winkler2D(ContactVariant):
     def advance(self, run, s0, s1):
         loop = run.loop
         status = _run_1d(1, loop.n_hist + s0, loop.n_hist + s1, loop.force, loop.lo, loop.hi, loop.frac,
-                         loop.weights, loop.phi, loop.gamma0, loop.gamma1, loop.state,
+                         loop.weights, loop.acc, loop.phi, loop.gamma0, loop.gamma1, loop.state,
                          run.params.contact.preload, loop.xi_w0, self.no_r_eq, self.r_window,
                          self.profile, 0.0, self.k_dx, run.params.contact.radius, run.xi_wheel,
                          run.xi_rail, run.contact_length)
@@ -326,8 +345,8 @@ class _HalfSpace3D(ContactVariant):
         for s in range(s0, s1):
             j = loop.n_hist + s
             delta_known, comp, q, w0, s_pred = _history(j, loop.force, loop.lo, loop.hi, loop.frac, loop.weights,
-                                                        loop.phi, loop.gamma0, loop.gamma1, loop.state, preload,
-                                                        loop.xi_w0)
+                                                        loop.acc, loop.phi, loop.gamma0, loop.gamma1, loop.state,
+                                                        preload, loop.xi_w0)
             i = loop.start_index[s]
             gap = self.base_gap - loop.ramp[s] * run.window_lines[:, i - hx:i + hx + 1]
             result = solve_coupled_contact(gap, run.dx, approach_known=delta_known, compliance=comp,
@@ -341,7 +360,8 @@ class _HalfSpace3D(ContactVariant):
             if not result.converged:
                 raise WheelrailError(f"3d: the contact solve did not converge at x = {run.position_of(s):.4f} m")
             f = float(result.force)
-            _commit(j, f, loop.force, loop.gamma1, s_pred, loop.state, preload)
+            _commit(j, f, loop.force, loop.lo, loop.hi, loop.frac, loop.weights, loop.acc, loop.gamma1, s_pred,
+                    loop.state, preload)
             run.xi_wheel[s] = loop.xi_w0 - loop.state[1]
             run.xi_rail[s] = q + w0 * f
             mask = result.contact
@@ -403,14 +423,16 @@ class InteractionRun:
     def n_steps(self) -> int:
         return self.loop.n_steps
 
-    def _advance_to(self, s_end: int) -> None:
+    def _advance_to(self, s_end: int, progress: Callable[[int, int], None] | None = None) -> None:
+        chunk = CHUNK if self.model != "3d" else 1
         while self._done < s_end:
             if self._cancel.is_set():
                 return
-            chunk = CHUNK if self.model != "3d" else 1
             stop = min(s_end, self._done + chunk)
             self.variant.advance(self, self._done, stop)
             self._done = stop
+            if progress is not None and (chunk > 1 or stop % 64 == 0 or stop == s_end):
+                progress(max(0, stop - self.loop.n_run_in), self.loop.n_steps)
 
     def _state(self, s: int) -> StepState:
         loop = self.loop
@@ -444,13 +466,23 @@ class InteractionRun:
                 yield self._state(t)
             s = stop
 
-    def run(self, callback: Callable[[StepState], None] | None = None) -> RunResult:
-        """Run to the end (or until cancelled), calling ``callback`` per step; return :meth:`result`."""
+    def run(
+        self,
+        callback: Callable[[StepState], None] | None = None,
+        progress: Callable[[int, int], None] | None = None,
+    ) -> RunResult:
+        """Run to the end (or until cancelled); return :meth:`result`.
+
+        ``callback(state)`` is called for every step (streaming); ``progress(done, total)`` is called now
+        and then with the number of steps done (cheap: use it for progress bars).
+        """
         if callback is None:
-            self._advance_to(self.loop.n_total)
+            self._advance_to(self.loop.n_total, progress)
         else:
             for state in self.steps():
                 callback(state)
+                if progress is not None and (state.step % 256 == 0 or state.step == self.loop.n_steps - 1):
+                    progress(state.step + 1, self.loop.n_steps)
         return self.result()
 
     def result(self) -> RunResult:
@@ -626,8 +658,11 @@ def prepare_run(
         fade = np.arange(n_run_in) / max(1, n_run_in // 2)
         ramp[:n_run_in] = np.where(fade < 1, 0.5 - 0.5 * np.cos(np.pi * np.minimum(fade, 1)), 1.0)
     start_index = np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64)
+    weights = np.ascontiguousarray(weights)
+    acc = np.zeros(n_hist + n_total + n_lags)
+    _scatter_range(0, n_hist, force, lo, hi, frac, weights, acc)  # the preload's history
     run.loop = _Loop(params=params, dx=dx, dt=dt, n_steps=n_steps, n_run_in=n_run_in, n_hist=n_hist,
-                     force=force, lo=lo, hi=hi, frac=frac, weights=np.ascontiguousarray(weights), phi=phi,
+                     force=force, acc=acc, lo=lo, hi=hi, frac=frac, weights=weights, phi=phi,
                      gamma0=gamma0, gamma1=gamma1, state=np.zeros(4), xi_w0=0.0, ramp=ramp,
                      start_index=start_index)
     run.xi_wheel = np.zeros(n_total)
@@ -656,14 +691,15 @@ def simulate(
     length: float | None = None,
     callback: Callable[[StepState], None] | None = None,
     cancel: threading.Event | None = None,
+    progress: Callable[[int, int], None] | None = None,
     **options,
 ) -> RunResult:
     """Run the wheel/rail interaction and return the whole-run result (see :func:`prepare_run`).
 
     ``callback(state)`` is called for every step; setting the ``cancel`` event stops the run between
-    steps and returns the steps done so far.
+    steps and returns the steps done so far; ``progress(done, total)`` is called now and then.
     """
     run = prepare_run(roughness, model=model, line=line, params=params, length=length, **options)
     if cancel is not None:
         run._cancel = cancel
-    return run.run(callback)
+    return run.run(callback, progress)

@@ -1,0 +1,152 @@
+"""``wheelrail run``: one wheel/rail interaction run on a roughness line (SPEC.md §5)."""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from wheelrail.core.commands._common import print_json, speed_from_kmh
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.results import MODELS
+
+
+def add_parser(sub):
+    parser = sub.add_parser(
+        "run",
+        help="simulate the wheel rolling over a roughness set with one contact model",
+        description=(
+            "Time-domain vertical wheel/rail interaction (paper eqs. 1-14). Prints a summary and the "
+            "third-octave force spectrum; --out writes the arrays (time, x, force, xi_wheel, xi_rail, and "
+            "pressure for 3d) to an .npz file."
+        ),
+    )
+    parser.add_argument("--set", required=True, metavar="SET",
+                        help="bundled roughness set name (see `wheelrail datasets`) or a CSV/NPZ file")
+    parser.add_argument("--line", type=int, default=0, help="roughness line -M..M (3d: window centre), default 0")
+    parser.add_argument("--model", default="hertz", choices=MODELS, help="contact model (default hertz)")
+    parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
+    parser.add_argument("--preload-kn", type=float, default=65.0, help="static wheel load, kN (default 65)")
+    parser.add_argument("--length-m", type=float, default=None,
+                        help="run length, m (default: the whole set: rail data less margins, one wheel turn)")
+    parser.add_argument("--out", metavar="F.npz", help="write the run's arrays to this .npz file")
+    parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
+    _recording_arguments(parser)
+    return parser
+
+
+def _recording_arguments(parser) -> None:
+    try:
+        from wheelrail.core.recording import add_recording_arguments
+    except ImportError:
+        return
+    add_recording_arguments(parser)
+
+
+def _check_out(path: str) -> Path:
+    target = Path(path)
+    if target.suffix != ".npz":
+        raise WheelrailError(f"--out {path}: the file name must end in .npz")
+    folder = target.parent if str(target.parent) else Path(".")
+    if not folder.is_dir():
+        raise WheelrailError(f"--out {path}: folder {folder} does not exist")
+    if not os.access(folder, os.W_OK):
+        raise WheelrailError(f"--out {path}: folder {folder} is not writable")
+    return target
+
+
+def run(args) -> int:
+    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
+    from wheelrail.core.spectra import force_spectrum
+
+    speed = speed_from_kmh(args.speed_kmh)
+    if not math.isfinite(args.preload_kn) or args.preload_kn <= 0:
+        raise WheelrailError(f"--preload-kn must be a positive load in kN, got {args.preload_kn}")
+    if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
+        raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
+    out = _check_out(args.out) if args.out else None
+    params = ModelParameters(contact=ContactParameters(preload=args.preload_kn * 1e3), run=RunParameters(speed=speed))
+    sink = None
+    if hasattr(args, "rrd"):
+        from wheelrail.core.recording import sink_from_args
+
+        sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}")
+
+    start = time.perf_counter()
+    interaction = prepare_run(args.set, model=args.model, line=args.line, params=params, length=args.length_m)
+    prepared = time.perf_counter()
+    from tqdm import tqdm
+
+    bar = tqdm(total=interaction.n_steps, unit="step", disable=args.json or not sys.stderr.isatty(),
+               desc=f"{args.model} {args.speed_kmh:g} km/h", file=sys.stderr)
+
+    def progress(done, total):
+        bar.update(done - bar.n)
+
+    try:
+        result = interaction.run(callback=sink.log_step if sink is not None else None, progress=progress)
+    finally:
+        bar.close()
+    finished = time.perf_counter()
+    if sink is not None:
+        sink.finish(result)
+    if out is not None:
+        result.save_npz(out)
+    try:
+        centres, levels = force_spectrum(result)
+        spectrum_note = ""
+    except WheelrailError as error:  # a run shorter than the spectrum's start-up skip: no spectrum
+        centres, levels = np.array([]), np.array([])
+        spectrum_note = str(error)
+    force = result.force
+    summary = {
+        "model": result.model,
+        "set": args.set,
+        "line": result.line,
+        "speed_m_per_s": result.speed,
+        "speed_kmh": args.speed_kmh,
+        "preload_n": params.contact.preload,
+        "steps": result.n_steps,
+        "length_m": result.n_steps * result.element_size,
+        "time_step_s": result.time_step,
+        "force_mean_n": float(force.mean()),
+        "force_std_n": float(force.std()),
+        "force_min_n": float(force.min()),
+        "force_max_n": float(force.max()),
+        "loss_of_contact_steps": result.loss_of_contact_steps,
+        "run_in_length_m": result.run_in_length,
+        "prepare_time_s": prepared - start,
+        "run_time_s": finished - prepared,
+        "steps_per_s": result.n_steps / max(finished - prepared, 1e-9),
+        "band_centres_hz": centres,
+        "levels_db": [None if not np.isfinite(v) else float(v) for v in levels],
+    }
+    if spectrum_note:
+        summary["spectrum_note"] = spectrum_note
+    if out is not None:
+        summary["out"] = str(out)
+    if args.json:
+        print_json(summary)
+        return 0
+    print(f"{result.model} on {args.set} line {result.line}, {args.speed_kmh:g} km/h, "
+          f"{params.contact.preload / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m")
+    print(f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
+          f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN")
+    print(f"  loss of contact: {result.loss_of_contact_steps} steps")
+    print(f"  {summary['steps_per_s']:.0f} steps/s (prepare {summary['prepare_time_s']:.2f} s, "
+          f"run {summary['run_time_s']:.2f} s)")
+    if spectrum_note:
+        print(f"  no force spectrum: {spectrum_note}")
+    else:
+        print("  third-octave force levels, dB re 1 N:")
+    for fc, level in zip(centres, levels, strict=True):
+        text = "   n/a" if not np.isfinite(level) else f"{level:6.1f}"
+        print(f"    {fc:7.0f} Hz {text}")
+    if out is not None:
+        print(f"  arrays written to {out}")
+    return 0

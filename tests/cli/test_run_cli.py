@@ -1,0 +1,83 @@
+"""`wheelrail run`: every model on a bundled set and a user CSV, --out arrays, --json, bad input."""
+
+import json
+
+import numpy as np
+import pytest
+
+from wheelrail.core.cli import main
+from wheelrail.core.roughness import load_roughness, write_csv
+
+
+@pytest.mark.parametrize("model", ["3d", "2d", "hertz", "hertz-winkler", "hertz-average"])
+def test_run_every_model_writes_npz(model, tmp_path, capsys):
+    out = tmp_path / "run.npz"
+    argv = ["run", "--set", "cast-iron-wheel", "--line", "1", "--model", model, "--speed-kmh", "80",
+            "--length-m", "0.05", "--out", str(out), "--json"]
+    assert main(argv) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["steps"] == 50 and summary["model"] == model
+    assert summary["speed_m_per_s"] == pytest.approx(80 / 3.6)
+    data = np.load(out)
+    for name in ("time", "x", "force", "xi_wheel", "xi_rail"):
+        assert data[name].shape == (50,)
+    assert np.allclose(np.diff(data["time"]), 1e-3 / (80 / 3.6))
+    assert np.all(data["force"] > 0)
+    if model == "3d":
+        assert data["pressure"].shape == (50, 25, 25)
+        # the pressure integrates to the force (eq. 9, 1 mm elements)
+        assert np.allclose(data["pressure"].sum(axis=(1, 2)) * 1e-6, data["force"], rtol=1e-5)
+    else:
+        assert "pressure" not in data
+
+
+def test_run_on_a_user_csv(tmp_path, capsys):
+    # a user's own data works like a bundled set: export three lines of the rail set to CSV and run
+    rail = load_roughness("corrugated-rail")
+    path = tmp_path / "mine.csv"
+    write_csv(rail, path)
+    assert main(["run", "--set", str(path), "--model", "2d", "--length-m", "0.2", "--json"]) == 0
+    mine = json.loads(capsys.readouterr().out)
+    assert main(["run", "--set", "corrugated-rail", "--model", "2d", "--length-m", "0.2", "--json"]) == 0
+    bundled = json.loads(capsys.readouterr().out)
+    # the CSV stores heights in um with 6+ significant digits: same forces to 1e-6 relative
+    assert mine["force_std_n"] == pytest.approx(bundled["force_std_n"], rel=1e-4)
+
+
+def test_human_output(capsys):
+    assert main(["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "1.0"]) == 0
+    out = capsys.readouterr().out
+    assert "contact force: mean" in out and "dB re 1 N" in out
+    assert main(["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "0.1"]) == 0
+    assert "no force spectrum" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragment"),
+    [
+        (["run", "--set", "no-such-set"], "unknown roughness set"),
+        (["run", "--set", "corrugated-rail", "--line", "30"], "line 30 is not in the roughness set"),
+        (["run", "--set", "corrugated-rail", "--model", "4d"], "invalid choice: '4d'"),
+        (["run", "--set", "corrugated-rail", "--speed-kmh", "0"], "--speed-kmh must be a positive speed"),
+        (["run", "--set", "corrugated-rail", "--preload-kn", "-5"], "--preload-kn"),
+        (["run", "--set", "corrugated-rail", "--length-m", "20"], "exceeds"),
+        (["run", "--set", "corrugated-rail", "--out", "/no/such/dir/r.npz"], "does not exist"),
+        (["run", "--set", "corrugated-rail", "--out", "result.txt"], "must end in .npz"),
+    ],
+)
+def test_bad_input_is_one_line(argv, fragment, capsys):
+    with pytest.raises(SystemExit) if "4d" in argv else _no_raise() as info:
+        code = main(argv)
+    if info is not None and hasattr(info, "value"):
+        code = info.value.code
+    assert code == 2
+    err = capsys.readouterr().err
+    assert fragment in err and err.count("\n") == 1
+
+
+class _no_raise:
+    def __enter__(self):
+        return None
+
+    def __exit__(self, *exc):
+        return False
