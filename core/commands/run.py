@@ -78,7 +78,14 @@ def run(args) -> int:
         sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}")
 
     start = time.perf_counter()
-    interaction = prepare_run(args.set, model=args.model, line=args.line, params=params, length=args.length_m)
+    try:
+        interaction = prepare_run(args.set, model=args.model, line=args.line, params=params, length=args.length_m)
+        if sink is not None:
+            sink.start(interaction)
+    except BaseException:
+        if sink is not None:
+            sink.abort()
+        raise
     prepared = time.perf_counter()
     from tqdm import tqdm
 
@@ -89,7 +96,11 @@ def run(args) -> int:
         bar.update(done - bar.n)
 
     try:
-        result = interaction.run(callback=sink.log_step if sink is not None else None, progress=progress)
+        result = interaction.run(callback=sink, progress=progress)
+    except BaseException:
+        if sink is not None:
+            sink.abort()
+        raise
     finally:
         bar.close()
     finished = time.perf_counter()
@@ -149,4 +160,6 @@ def run(args) -> int:
         print(f"    {fc:7.0f} Hz {text}")
     if out is not None:
         print(f"  arrays written to {out}")
+    if sink is not None and sink.path is not None:
+        print(f"  recording written to {sink.path}")
     return 0

@@ -44,6 +44,18 @@ def test_run_on_a_user_csv(tmp_path, capsys):
     assert mine["force_std_n"] == pytest.approx(bundled["force_std_n"], rel=1e-4)
 
 
+def test_run_records_to_rrd_and_spectra_reads_it(tmp_path, capsys):
+    rrd = tmp_path / "run.rrd"
+    argv = ["run", "--set", "corrugated-rail", "--model", "3d", "--length-m", "0.06", "--rrd", str(rrd), "--json"]
+    assert main(argv) == 0
+    capsys.readouterr()
+    from wheelrail.core.recording import read_recording
+
+    back = read_recording(rrd)
+    assert back.n_steps == 60
+    assert np.all(back.force > 0)
+
+
 def test_human_output(capsys):
     assert main(["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "1.0"]) == 0
     out = capsys.readouterr().out
