@@ -685,6 +685,8 @@ def _solve(
     key = (ny, nx, element_size, youngs_modulus, poisson_ratio)
     kernel = _cached_kernel(*key)
     flat = gap.ravel()
+    if not flat.flags.writeable:
+        flat = flat.copy()  # one numba specialisation for all callers
     area = element_size**2
     order, factor = _initial_set(where, initial, gap.shape, key)
     if order is None:
@@ -708,7 +710,9 @@ def _solve(
     )
     contact = contact.reshape(ny, nx)
     pressure = pressure.reshape(ny, nx)
-    for array in (contact, pressure, upper, order):
+    # the factor and its order stay writable (private to the result): read-only arrays would make numba
+    # compile a second specialisation of the kernel for warm starts
+    for array in (contact, pressure):
         array.setflags(write=False)
     force, min_pressure, max_gap_violation, at_edge = summary
     converged = status == _STATUS_CONVERGED
