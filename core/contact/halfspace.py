@@ -733,6 +733,11 @@ def _solve(
         _kernel=kernel,
     )
     if raise_on_failure:
+        if status == _STATUS_NOT_DEFINITE:
+            raise WheelrailError(
+                f"{where}: the influence matrix of the contact set lost positive definiteness in round-off "
+                f"after {iterations} iterations; the solve failed"
+            )
         if not converged:
             raise WheelrailError(
                 f"{where}: active-set solver did not converge in {iterations} iterations "
