@@ -46,6 +46,7 @@ import os
 import tempfile
 import uuid
 import warnings
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -343,6 +344,8 @@ class RecordingSink:
             fd, temporary = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".partial", dir=self.path.parent)
             os.close(fd)
             self._temporary = Path(temporary)
+            # a sink dropped without finish() or abort() (e.g. the run raised) leaves no partial file behind
+            self._finalizer = weakref.finalize(self, _remove, self._temporary)
             sinks.append(rr.FileSink(str(self._temporary)))
         if spawn:
             try:
@@ -368,6 +371,7 @@ class RecordingSink:
         self._window: tuple[np.ndarray, np.ndarray] | None = None
         self._geometry: tuple[float, float] | None = None
         self._roughness = None  # (line numbers, rows of the set, RoughnessSet) for roughness/lines
+        self._roughness_tried = False
         self._buffer: list[StepState] = []
         self._pressure_format_sent = False
         self._steps_recorded = 0
@@ -427,7 +431,8 @@ class RecordingSink:
         if roughness is None:
             name = self._meta.get("roughness_name")
             if not name:
-                return
+                return  # not known yet: finish(result) tries again
+            self._roughness_tried = True
             from wheelrail.core.roughness import bundled_names, load_roughness
 
             try:
@@ -437,6 +442,7 @@ class RecordingSink:
                 roughness = None
             if roughness is None:
                 return
+        self._roughness_tried = True
         line = int(self._meta.get("line", 0))
         numbers = [int(k) for k in roughness.line_numbers]
         shown = [k for k in range(line - ROUGHNESS_LINES_SHOWN, line + ROUGHNESS_LINES_SHOWN + 1) if k in numbers]
@@ -525,6 +531,8 @@ class RecordingSink:
         if len(self._buffer) >= self.chunk_steps:
             self.flush()
 
+    log_step = __call__  # the same, under a name that reads well as ``callback=sink.log_step``
+
     def flush(self) -> None:
         """Send the buffered steps as one block of columns."""
         if not self._buffer:
@@ -573,15 +581,19 @@ class RecordingSink:
                 strict=True,
             )
         if self._roughness is not None:
-            numbers, rows, rough = self._roughness
-            period = rough.length if rough.periodic else None
-            heights = np.stack([np.interp(x, rough.x, rough.heights[r], period=period) for r in rows], axis=1)
-            self.stream.send_columns(
-                "roughness/lines", self._indexes(steps, time, x), rr.Scalars.columns(scalars=heights), strict=True,
-            )
+            self._send_roughness_lines(steps, time, x)
         self._steps_recorded += len(steps)
         if pressure is not None and len(pressure):
             self._send_pressure(steps, time, x, pressure_steps, pressure)
+
+    def _send_roughness_lines(self, steps, time, x) -> None:
+        """Heights of the shown lines of the set at the wheel positions x (periodic for a wheel), m."""
+        _, rows, rough = self._roughness
+        period = rough.length if rough.periodic else None
+        heights = np.stack([np.interp(x, rough.x, rough.heights[r], period=period) for r in rows], axis=1)
+        self.stream.send_columns(
+            "roughness/lines", self._indexes(steps, time, x), self._rr.Scalars.columns(scalars=heights), strict=True,
+        )
 
     def _indexes(self, steps, time, x) -> list:
         rr = self._rr
@@ -673,6 +685,17 @@ class RecordingSink:
                 self._meta.update(_run_metadata(result))
                 if self._window is None and result.window_x is not None and result.window_y is not None:
                     self._window = (np.asarray(result.window_x, float), np.asarray(result.window_y, float))
+                geometry = _hertz_geometry(self._meta.get("parameters", {}))
+                if geometry != self._geometry:  # started without the run's parameters: correct the circle
+                    self._geometry = geometry
+                    self._log_nominal_circle()
+                if self._roughness is None and not self._roughness_tried:
+                    self._set_roughness(None)  # sent once here, over the whole run
+                    if self._roughness is not None:
+                        for first in range(0, result.n_steps, self.chunk_steps):
+                            block = slice(first, first + self.chunk_steps)
+                            self._send_roughness_lines(np.arange(result.n_steps)[block], result.time[block],
+                                                       result.x[block])
             if self._geometry is None:
                 self._geometry = _hertz_geometry(self._meta.get("parameters", {}))
             self._log_parameters()
@@ -683,6 +706,7 @@ class RecordingSink:
             raise
         self._close()
         if self._temporary is not None:
+            self._finalizer.detach()
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(self._temporary, 0o666 & ~umask)  # mkstemp made it private; a recording is a normal file
@@ -727,6 +751,10 @@ class RecordingSink:
         if self._temporary is not None:
             self._temporary.unlink(missing_ok=True)
             self._temporary = None
+
+
+def _remove(path: Path) -> None:
+    path.unlink(missing_ok=True)
 
 
 def _run_metadata(run) -> dict:

@@ -276,3 +276,37 @@ def test_real_short_run_streams_exactly(tmp_path, model):
     steps, lines = scalar_column(path, "roughness/lines")
     assert lines.shape == (result.n_steps, 7)
     np.testing.assert_allclose(lines[:, 3], result.roughness, rtol=0, atol=1e-12)  # same samples, 1 pm
+
+
+def test_sink_used_without_start_is_completed_by_finish(tmp_path):
+    """As ``wheelrail run`` may use it: callback=sink.log_step, then finish(result), no start()."""
+    result = synthetic_result(n=120, preload=130e3)
+    path = tmp_path / "late.rrd"
+    sink = RecordingSink(rrd=path, chunk_steps=50)
+    for k in range(result.n_steps):
+        sink.log_step(result.state(k))
+    sink.finish(result)
+    back = read_recording(path)
+    np.testing.assert_array_equal(back.pressure, result.pressure)
+    np.testing.assert_array_equal(back.window_x, result.window_x)  # the centred 1 mm grid
+    assert back.parameters["contact"]["preload"] == 130e3
+    strips = [c.to_record_batch() for c in chunks_of(path, "contact/nominal_circle", static=True)]
+    last = [b for b in strips if "LineStrips3D:strips" in b.schema.names][-1]
+    column = last.column("LineStrips3D:strips")
+    circle = np.array(column[len(column) - 1].as_py()[0])  # rows of a static entity: the last one counts
+    # the circle logged at the end (the latest static value) has the run's radius, not the 65 kN default
+    assert np.hypot(circle[:, 0], circle[:, 1]) == pytest.approx(5.482e-3 * 2 ** (1 / 3), abs=1e-6)
+    steps, lines = scalar_column(path, "roughness/lines")  # sent once at the end, over the whole run
+    np.testing.assert_array_equal(steps, np.arange(result.n_steps))
+    assert lines.shape == (result.n_steps, 7) and np.all(np.abs(lines) < 1e-3)  # heights in m (µm-scale)
+
+
+def test_dropped_sink_leaves_no_partial_file(tmp_path):
+    import gc
+
+    sink = RecordingSink(rrd=tmp_path / "dropped.rrd")
+    sink(synthetic_result(n=5).state(0))
+    assert len(list(tmp_path.glob(".dropped.rrd.*.partial"))) == 1
+    del sink
+    gc.collect()
+    assert list(tmp_path.iterdir()) == []
