@@ -370,11 +370,11 @@ class _HalfSpace3D(ContactVariant):
             if run.pressure is not None and s >= loop.n_run_in:
                 run.pressure[s - loop.n_run_in] = result.pressure
             run.last_pressure = result.pressure
-            # warm start: the window moves one element forward, so the contact set shifts back by one
-            shifted = np.empty_like(mask)
-            shifted[:, :-1] = mask[:, 1:]
-            shifted[:, -1] = mask[:, -1]
-            self.warm = shifted if shifted.any() else self.warm
+            # warm start from the previous result itself (its contact set and Cholesky factor): the window
+            # moves with the wheel, so the patch stays centred; this took 1.8 instead of 5 active-set
+            # iterations per step compared with shifting the contact set by one element
+            if result.force > 0:
+                self.warm = result
 
 
 VARIANTS: dict[str, type[ContactVariant]] = {
