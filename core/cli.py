@@ -23,6 +23,7 @@ COMMANDS = {
     "datasets": "datasets",
     "roughness": "roughness",
     "spectra": "spectra",
+    "study": "study",
 }
 
 
