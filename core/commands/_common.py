@@ -19,6 +19,23 @@ def speed_from_kmh(speed_kmh: float, option: str = "--speed-kmh") -> float:
     return speed_kmh * KMH
 
 
+def writable_output(path: str, option: str, suffix: str | None = None):
+    """Check, before any work, that ``path`` can be written: its folder exists and is writable, and
+    its name ends in ``suffix`` when given. Returns it as a Path; else a one-line WheelrailError."""
+    import os
+    from pathlib import Path
+
+    target = Path(path)
+    if suffix is not None and target.suffix != suffix:
+        raise WheelrailError(f"{option} {path}: the file name must end in {suffix}")
+    folder = target.parent if str(target.parent) else Path(".")
+    if not folder.is_dir():
+        raise WheelrailError(f"{option} {path}: folder {folder} does not exist")
+    if not os.access(folder, os.W_OK):
+        raise WheelrailError(f"{option} {path}: folder {folder} is not writable")
+    return target
+
+
 def _plain(value):
     if isinstance(value, np.ndarray):
         return value.tolist()

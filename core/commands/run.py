@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 import math
-import os
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.commands._common import print_json, speed_from_kmh
+from wheelrail.core.commands._common import print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.results import MODELS
 
@@ -47,18 +45,6 @@ def _recording_arguments(parser) -> None:
     add_recording_arguments(parser)
 
 
-def _check_out(path: str) -> Path:
-    target = Path(path)
-    if target.suffix != ".npz":
-        raise WheelrailError(f"--out {path}: the file name must end in .npz")
-    folder = target.parent if str(target.parent) else Path(".")
-    if not folder.is_dir():
-        raise WheelrailError(f"--out {path}: folder {folder} does not exist")
-    if not os.access(folder, os.W_OK):
-        raise WheelrailError(f"--out {path}: folder {folder} is not writable")
-    return target
-
-
 def run(args) -> int:
     from wheelrail.core.interaction import prepare_run
     from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
@@ -69,7 +55,7 @@ def run(args) -> int:
         raise WheelrailError(f"--preload-kn must be a positive load in kN, got {args.preload_kn}")
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
-    out = _check_out(args.out) if args.out else None
+    out = writable_output(args.out, "--out", ".npz") if args.out else None
     params = ModelParameters(contact=ContactParameters(preload=args.preload_kn * 1e3), run=RunParameters(speed=speed))
     sink = None
     if hasattr(args, "rrd"):

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import csv
-import os
 import time
 from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.commands._common import print_json, speed_from_kmh
+from wheelrail.core.commands._common import print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
 
 
@@ -32,16 +31,6 @@ def add_parser(sub):
     return parser
 
 
-def _check_writable(path: str, option: str) -> Path:
-    target = Path(path)
-    folder = target.parent if str(target.parent) else Path(".")
-    if not folder.is_dir():
-        raise WheelrailError(f"{option} {path}: folder {folder} does not exist")
-    if not os.access(folder, os.W_OK):
-        raise WheelrailError(f"{option} {path}: folder {folder} is not writable")
-    return target
-
-
 def run(args) -> int:
     from wheelrail.core.parameters import TrackNumerics, TrackParameters
     from wheelrail.core.track import (
@@ -56,8 +45,8 @@ def run(args) -> int:
     speed = speed_from_kmh(args.speed_kmh)
     if not np.isfinite(args.df_hz) or not 0 < args.df_hz <= 100:
         raise WheelrailError(f"--df-hz must be in (0, 100] Hz, got {args.df_hz}")
-    csv_path = _check_writable(args.csv, "--csv") if args.csv else None
-    plot_path = _check_writable(args.plot, "--plot") if args.plot else None
+    csv_path = writable_output(args.csv, "--csv") if args.csv else None
+    plot_path = writable_output(args.plot, "--plot") if args.plot else None
 
     track = TrackParameters()
     numerics = TrackNumerics()

@@ -56,6 +56,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
+from wheelrail.core.contact._checks import poisson_ratio as _poisson
+from wheelrail.core.contact._checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
 
 __all__ = [
@@ -576,25 +578,8 @@ def _active_set_solve(
 # ---------------------------------------------------------------------------------------------------
 
 
-def _positive(where: str, name: str, value, unit: str) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{where}: {name} must be a number in {unit}, got {value!r}") from None
-    if not math.isfinite(number) or number <= 0.0:
-        raise WheelrailError(f"{where}: {name} must be positive and finite ({unit}), got {value!r}")
-    return number
-
-
 def _material(where: str, youngs_modulus, poisson_ratio) -> tuple[float, float]:
-    youngs_modulus = _positive(where, "youngs_modulus", youngs_modulus, "Pa")
-    try:
-        nu = float(poisson_ratio)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{where}: poisson_ratio must be a number, got {poisson_ratio!r}") from None
-    if not (math.isfinite(nu) and 0.0 <= nu < 0.5):
-        raise WheelrailError(f"{where}: poisson_ratio must be in [0, 0.5), got {poisson_ratio!r}")
-    return youngs_modulus, nu
+    return _positive(where, "youngs_modulus", youngs_modulus, "Pa"), _poisson(where, poisson_ratio)
 
 
 def _check_gap(where: str, gap) -> np.ndarray:

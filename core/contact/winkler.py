@@ -23,12 +23,13 @@ The ``_``-prefixed numba kernels are for the time-stepping loop (no checks); the
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
+from wheelrail.core.contact._checks import poisson_ratio as _poisson
+from wheelrail.core.contact._checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
 
 __all__ = ["WinklerContact", "bedding_stiffness", "wheel_profile", "winkler_contact"]
@@ -191,23 +192,3 @@ def _roughness(where: str, roughness) -> np.ndarray:
             f"{where}: roughness must be finite (m), got a NaN or infinity at sample {int(np.argmin(np.isfinite(r)))}"
         )
     return r
-
-
-def _positive(where: str, name: str, value, unit: str) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{where}: {name} must be a number in {unit}, got {value!r}") from None
-    if not math.isfinite(number) or number <= 0.0:
-        raise WheelrailError(f"{where}: {name} must be positive and finite ({unit}), got {value!r}")
-    return number
-
-
-def _poisson(where: str, value) -> float:
-    try:
-        nu = float(value)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{where}: poisson_ratio must be a number, got {value!r}") from None
-    if not (math.isfinite(nu) and 0.0 <= nu < 0.5):
-        raise WheelrailError(f"{where}: poisson_ratio must be in [0, 0.5), got {value!r}")
-    return nu
