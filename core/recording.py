@@ -23,7 +23,8 @@ Entity tree (mirrors the physical system; SI units, m, s, N, Pa)::
     contact/pressure           DepthImage (float32, Pa, colour map 0..2 p0), 3D model only; rows = y',
                                columns = x', pixel (i, j) = element (row i, column j) of the window
     contact/pressure_surface   Mesh3D: the window raised by pressure, z = a p / p0 (the Hertz peak p0
-                               rises to the Hertz radius a), coloured by pressure; x', y' in m
+                               rises to the Hertz radius a), coloured by pressure; x', y' in m; at every
+                               ``surface_every``-th recorded map (see below)
     contact/nominal_circle     Hertz circle of radius a at the preload (5.48 mm at 65 kN), computed from the
                                contact parameters: LineStrips2D in the image's pixels and LineStrips3D in m
     spectra/force              BarChart, third-octave contact-force levels 50 Hz-8 kHz, dB re 1 N, abscissa
@@ -35,7 +36,10 @@ duration or timestamp), so a position in metres cannot be a timeline; micrometre
 and say their unit. The exact x is the ``wheel/position`` series.
 
 Scalars are sent as columns (``rr.send_columns``) in blocks of ``chunk_steps`` steps; pressure maps are
-sent as a column of image buffers (one static ``ImageFormat``), decimated with ``record_every``.
+sent as a column of image buffers (one static ``ImageFormat``), decimated with ``record_every``. The
+pressure surface is a visual aid and costs ~4x the image (rerun encodes its vertices at ~50 µs a mesh),
+so it is recorded at every ``surface_every``-th recorded map only (default 4, i.e. every 4 mm at 1 mm
+steps); the exact maps are the images.
 """
 
 from __future__ import annotations
@@ -70,6 +74,7 @@ APPLICATION_ID = "wheelrail"
 DEFAULT_CHUNK_STEPS = 500  # steps buffered before one columnar send (a few ms of work per block)
 DEFAULT_VIEWER_PORT = 9876  # rerun's default gRPC port
 PRESSURE_RANGE_P0 = 2.0  # colour map of the pressure image spans 0 .. 2 p0 (rough contacts exceed p0)
+SURFACE_EVERY = 4  # the pressure surface mesh is recorded at every 4th recorded pressure map
 ROUGHNESS_LINES_SHOWN = 3  # roughness/lines shows the set's lines k-3 .. k+3 around the run's line k
 
 SCALAR_PATHS = {
@@ -270,16 +275,22 @@ def _hertz_geometry(parameters: dict) -> tuple[float, float]:
     return contact.hertz_radius(), contact.hertz_peak_pressure()
 
 
-def _colours(values: np.ndarray, top: float) -> np.ndarray:
-    """RGBA uint8 colours of ``values`` on a viridis ramp over 0..top, shape values.shape + (4,)."""
-    u = np.clip(values / top, 0.0, 1.0) * (len(_VIRIDIS) - 1)
+def _colour_table(levels: int = 256) -> np.ndarray:
+    """Viridis ramp as packed 0xRRGGBBAA colours (rerun's Rgba32), ``levels`` entries."""
+    u = np.linspace(0.0, len(_VIRIDIS) - 1, levels)
     low = np.minimum(u.astype(np.int64), len(_VIRIDIS) - 2)
-    frac = (u - low)[..., None]
-    rgb = _VIRIDIS[low] * (1.0 - frac) + _VIRIDIS[low + 1] * frac
-    out = np.empty(values.shape + (4,), dtype=np.uint8)
-    out[..., :3] = np.round(rgb)
-    out[..., 3] = 255
-    return out
+    frac = (u - low)[:, None]
+    rgb = np.round(_VIRIDIS[low] * (1.0 - frac) + _VIRIDIS[low + 1] * frac).astype(np.uint32)
+    return (rgb[:, 0] << 24) | (rgb[:, 1] << 16) | (rgb[:, 2] << 8) | np.uint32(0xFF)
+
+
+_COLOUR_TABLE = _colour_table()
+
+
+def _colours(values: np.ndarray, top: float) -> np.ndarray:
+    """Packed RGBA colours of ``values`` on the viridis ramp over 0..top (a table look-up: ~1 ns a value)."""
+    index = np.clip(values * np.float32((len(_COLOUR_TABLE) - 1) / top), 0, len(_COLOUR_TABLE) - 1)
+    return _COLOUR_TABLE[index.astype(np.uint8)]
 
 
 class RecordingSink:
@@ -306,7 +317,9 @@ class RecordingSink:
     connect : str, optional
         Address of a running viewer, ``HOST:PORT`` or a ``rerun+http://HOST:PORT/proxy`` URL.
     record_every : int
-        Record the pressure map (image and surface) of every N-th step; scalars are recorded every step.
+        Record the pressure map (image) of every N-th step; scalars are recorded every step.
+    surface_every : int
+        Record the pressure surface mesh at every M-th recorded map, i.e. every ``record_every * M`` steps.
     chunk_steps : int
         Steps per columnar send.
     description : str
@@ -320,10 +333,12 @@ class RecordingSink:
         spawn: bool = False,
         connect: str | None = None,
         record_every: int = 1,
+        surface_every: int = SURFACE_EVERY,
         chunk_steps: int = DEFAULT_CHUNK_STEPS,
         description: str = "",
     ) -> None:
-        for name, value in (("record_every", record_every), ("chunk_steps", chunk_steps)):
+        checks = (("record_every", record_every), ("surface_every", surface_every), ("chunk_steps", chunk_steps))
+        for name, value in checks:
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
                 option = "--record-every" if name == "record_every" else name
                 raise WheelrailError(f"{option} must be a whole number >= 1, got {value!r}")
@@ -332,6 +347,7 @@ class RecordingSink:
         self.path = None if rrd is None else check_recording_path(rrd)
         url = None if connect is None else _grpc_url(connect)
         self.record_every = int(record_every)
+        self.surface_every = int(surface_every)
         self.chunk_steps = int(chunk_steps)
         self.description = description
         rr = _rr()
@@ -372,7 +388,8 @@ class RecordingSink:
         self._geometry: tuple[float, float] | None = None
         self._roughness = None  # (line numbers, rows of the set, RoughnessSet) for roughness/lines
         self._roughness_tried = False
-        self._buffer: list[StepState] = []
+        self._rows: list[tuple] = []  # buffered steps: the scalar fields of StepState, in _ROW_FIELDS order
+        self._maps: list[tuple[int, np.ndarray]] = []  # buffered (step, pressure map) to record
         self._pressure_format_sent = False
         self._steps_recorded = 0
         self._pressure_maps_recorded = 0
@@ -469,6 +486,7 @@ class RecordingSink:
             "loss_of_contact_steps": meta.get("loss_of_contact_steps"),
             "run_in_length_m": meta.get("run_in_length"),
             "record_every": self.record_every,
+            "surface_every": self.surface_every,
             "window_x_m": None if self._window is None else self._window[0],
             "window_y_m": None if self._window is None else self._window[1],
             "hertz_radius_m": None if self._geometry is None else self._geometry[0],
@@ -515,38 +533,28 @@ class RecordingSink:
         """Buffer one step (the loop's callback); sends a block every ``chunk_steps`` steps."""
         if self._closed:
             raise WheelrailError("the recording is already finished")
+        self._rows.append((state.step, state.time, state.position, state.force, state.xi_wheel, state.xi_rail,
+                           state.roughness, state.contact_length, state.contact_area))
         if state.pressure is not None and state.step % self.record_every == 0:
             # the loop may reuse its pressure buffer: keep a float32 copy
-            state = StepState(
-                state.step, state.time, state.position, state.force, state.xi_wheel, state.xi_rail,
-                state.roughness, state.contact_length, state.contact_area,
-                np.array(state.pressure, dtype=np.float32),
-            )
-        elif state.pressure is not None:
-            state = StepState(
-                state.step, state.time, state.position, state.force, state.xi_wheel, state.xi_rail,
-                state.roughness, state.contact_length, state.contact_area, None,
-            )
-        self._buffer.append(state)
-        if len(self._buffer) >= self.chunk_steps:
+            self._maps.append((state.step, np.array(state.pressure, dtype=np.float32)))
+        if len(self._rows) >= self.chunk_steps:
             self.flush()
 
     log_step = __call__  # the same, under a name that reads well as ``callback=sink.log_step``
 
+    _ROW_FIELDS = ("step", "time", "x", "force", "xi_wheel", "xi_rail", "roughness", "contact_length",
+                   "contact_area")
+
     def flush(self) -> None:
         """Send the buffered steps as one block of columns."""
-        if not self._buffer:
+        if not self._rows:
             return
-        block = self._buffer
-        self._buffer = []
-        steps = np.fromiter((s.step for s in block), np.int64, len(block))
-        columns = {
-            name: np.fromiter((getattr(s, name) for s in block), float, len(block))
-            for name in ("time", "position", "force", "xi_wheel", "xi_rail", "roughness", "contact_length",
-                         "contact_area")
-        }
-        columns["x"] = columns.pop("position")
-        maps = [(s.step, s.pressure) for s in block if s.pressure is not None]
+        table = np.array(self._rows, dtype=float)  # (steps, fields): one conversion for the whole block
+        maps = self._maps
+        self._rows, self._maps = [], []
+        columns = {name: np.ascontiguousarray(table[:, i]) for i, name in enumerate(self._ROW_FIELDS)}
+        steps = columns.pop("step").astype(np.int64)
         pressure_steps = np.array([k for k, _ in maps], dtype=np.int64)
         pressure = np.stack([p for _, p in maps]) if maps else None
         self._send_block(steps, columns, pressure_steps, pressure)
@@ -565,34 +573,34 @@ class RecordingSink:
         if self._steps_recorded == 0:
             for path, (name, colour) in _SERIES.items():
                 self.stream.log(path, rr.SeriesLines(names=[name], colors=[colour]), static=True, strict=True)
+        indexes = self._indexes(steps, time, x)  # shared by every entity of the block
         for name, path in SCALAR_PATHS.items():
             values = columns[name]
             finite = np.isfinite(values)
-            if not finite.any():
-                continue
-            keep = slice(None) if finite.all() else finite
-            self.stream.send_columns(
-                path, self._indexes(steps[keep], time[keep], x[keep]), rr.Scalars.columns(scalars=values[keep]),
-                strict=True,
-            )
+            if finite.all():
+                self.stream.send_columns(path, indexes, rr.Scalars.columns(scalars=values), strict=True)
+            elif finite.any():  # e.g. no contact area in 2D: leave those steps out rather than log NaN
+                self.stream.send_columns(
+                    path, self._indexes(steps[finite], time[finite], x[finite]),
+                    rr.Scalars.columns(scalars=values[finite]), strict=True,
+                )
         if equivalent is not None:
-            self.stream.send_columns(
-                "roughness/equivalent", self._indexes(steps, time, x), rr.Scalars.columns(scalars=equivalent),
-                strict=True,
-            )
+            self.stream.send_columns("roughness/equivalent", indexes, rr.Scalars.columns(scalars=equivalent),
+                                     strict=True)
         if self._roughness is not None:
-            self._send_roughness_lines(steps, time, x)
+            self._send_roughness_lines(steps, time, x, indexes)
         self._steps_recorded += len(steps)
         if pressure is not None and len(pressure):
             self._send_pressure(steps, time, x, pressure_steps, pressure)
 
-    def _send_roughness_lines(self, steps, time, x) -> None:
+    def _send_roughness_lines(self, steps, time, x, indexes=None) -> None:
         """Heights of the shown lines of the set at the wheel positions x (periodic for a wheel), m."""
         _, rows, rough = self._roughness
         period = rough.length if rough.periodic else None
         heights = np.stack([np.interp(x, rough.x, rough.heights[r], period=period) for r in rows], axis=1)
         self.stream.send_columns(
-            "roughness/lines", self._indexes(steps, time, x), self._rr.Scalars.columns(scalars=heights), strict=True,
+            "roughness/lines", indexes or self._indexes(steps, time, x), self._rr.Scalars.columns(scalars=heights),
+            strict=True,
         )
 
     def _indexes(self, steps, time, x) -> list:
@@ -651,16 +659,26 @@ class RecordingSink:
             "contact/pressure", indexes, rr.DepthImage.columns(buffer=pressure.reshape(n, -1).view(np.uint8)),
             strict=True,
         )
+        surface = pressure_steps % (self.record_every * self.surface_every) == 0
+        if surface.any():
+            self._send_surface(pressure[surface], indexes if surface.all() else self._indexes(
+                pressure_steps[surface], time[where][surface], x[where][surface]))
+        self._pressure_maps_recorded += n
+
+    def _send_surface(self, pressure: np.ndarray, indexes: list) -> None:
+        """The pressure surface meshes (z = a p / p0, viridis colours) of the given maps."""
+        rr = self._rr
+        n, ny, nx = pressure.shape
+        a, p0 = self._geometry
         vertices = np.empty((n, ny * nx, 3), dtype=np.float32)
         vertices[:, :, :2] = self._surface_xy
         vertices[:, :, 2] = pressure.reshape(n, -1) * (a / p0)
         colours = _colours(pressure.reshape(n, -1), PRESSURE_RANGE_P0 * p0)
         lengths = np.full(n, ny * nx)
-        surface = rr.Mesh3D.columns(vertex_positions=vertices.reshape(-1, 3), vertex_colors=colours.reshape(-1, 4))
+        surface = rr.Mesh3D.columns(vertex_positions=vertices.reshape(-1, 3), vertex_colors=colours.reshape(-1))
         self.stream.send_columns(
             "contact/pressure_surface", indexes, [column.partition(lengths) for column in surface], strict=True
         )
-        self._pressure_maps_recorded += n
 
     # -- end --------------------------------------------------------------------------------------------------
     def finish(self, result: RunResult | None = None) -> Path | None:
@@ -736,7 +754,7 @@ class RecordingSink:
         """Stop recording after a failure or cancellation: close the streams and delete the partial file."""
         if self._closed:
             return
-        self._buffer = []
+        self._rows, self._maps = [], []
         self._close()
         self._discard()
 
@@ -807,6 +825,7 @@ def record_result(
     *,
     roughness=None,
     record_every: int = 1,
+    surface_every: int = SURFACE_EVERY,
     spawn: bool = False,
     connect: str | None = None,
     description: str = "",
@@ -822,7 +841,7 @@ def record_result(
         ``.rrd`` file to write (atomically: temporary name, then rename).
     roughness : RoughnessSet, optional
         For ``roughness/lines`` (default: loaded from ``result.roughness_name`` when possible).
-    record_every, spawn, connect, description, chunk_steps
+    record_every, surface_every, spawn, connect, description, chunk_steps
         As for :class:`RecordingSink`.
 
     Returns
@@ -833,7 +852,8 @@ def record_result(
     if not isinstance(result, RunResult):
         raise WheelrailError(f"record_result needs a RunResult, got {type(result).__name__}")
     sink = RecordingSink(
-        rrd=path, spawn=spawn, connect=connect, record_every=record_every, chunk_steps=chunk_steps,
+        rrd=path, spawn=spawn, connect=connect, record_every=record_every, surface_every=surface_every,
+        chunk_steps=chunk_steps,
         description=description,
     )
     try:

@@ -185,6 +185,19 @@ def test_decimated_pressure_and_streaming_sink_copy_the_maps(tmp_path):
     assert sorted(maps) == list(range(0, 203, 5))
     for k, image in maps.items():
         np.testing.assert_array_equal(image, result.pressure[k])  # each its own step, not the last buffer
+    # the surface mesh: every 4th recorded map (steps 0, 20, 40, ...), z = a p / p0 over the window
+    a, p0 = ContactParameters().hertz_radius(), ContactParameters().hertz_peak_pressure()
+    surfaces = {}
+    for chunk in chunks_of(path, "contact/pressure_surface", static=False):
+        batch = chunk.to_record_batch()
+        column = batch.column("Mesh3D:vertex_positions")
+        vertices = np.asarray(column.flatten().flatten().to_numpy(zero_copy_only=False)).reshape(len(column), -1, 3)
+        surfaces.update(zip(batch.column("step").to_numpy().tolist(), vertices, strict=True))
+    assert sorted(surfaces) == list(range(0, 203, 20))
+    k = 140
+    # float32 vertices: 1e-7 relative
+    np.testing.assert_allclose(surfaces[k][:, 2], result.pressure[k].ravel() * a / p0, rtol=1e-6, atol=1e-12)
+    np.testing.assert_allclose(surfaces[k][:, 0].reshape(25, 25)[0], result.window_x, atol=1e-9)
 
 
 def test_unwritable_or_bad_paths_fail_before_the_run(tmp_path):

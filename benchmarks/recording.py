@@ -1,0 +1,151 @@
+"""Cost of rerun recordings: time per step and file size, synthetic 3D-like states and the real 3D run.
+
+    python3 benchmarks/recording.py [--steps N] [--length-m L] [--repeat R] [--skip-real]
+
+Part 1 streams N synthetic 3D-like states (a Hertz pressure map on the 25 x 25 window of 1 mm elements,
+scaled with a sine force, as the 3D model produces) through a RecordingSink into a .rrd file, with every
+pressure map recorded and with every 10th; and writes the same run in one go with record_result. It prints
+the time per step against passing the states to a no-op callback, and the file size per 1 000 steps.
+
+Part 2 runs the real 3D model on the corrugated rail (line 0, 100 km/h, paper defaults) over L m, without
+recording, with a no-op per-step callback, and recording every step to a .rrd file (SPEC.md §6 target:
+recording adds < 30 %). Green's functions come from the disk cache (the first run ever precomputes them).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import resource
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from wheelrail.core.parameters import ContactParameters, ModelParameters, as_dict
+from wheelrail.core.recording import RecordingSink, read_recording, record_result
+from wheelrail.core.results import RunResult
+
+DT = 1e-3 / (100 / 3.6)  # s: 1 mm at 100 km/h
+
+
+def synthetic_run(n: int) -> RunResult:
+    """n steps of a 3D-like run: 65 kN + a 500 Hz force, Hertz pressure maps (float32, Pa) scaled with it."""
+    contact = ContactParameters()
+    t = np.arange(n) * DT
+    force = contact.preload + 8e3 * np.sin(2 * np.pi * 500 * t)
+    window = np.arange(-12, 13) * 1e-3
+    r2 = window[None, :] ** 2 + window[:, None] ** 2
+    radius = contact.hertz_radius(force)[:, None, None]
+    peak = contact.hertz_peak_pressure(force)[:, None, None]
+    pressure = (peak * np.sqrt(np.clip(1 - r2 / radius**2, 0, None))).astype(np.float32)
+    small = 1e-6 * np.sin(2 * np.pi * 300 * t)
+    return RunResult(
+        model="3d", line=0, speed=100 / 3.6, element_size=1e-3, time_step=DT, roughness_name="corrugated-rail",
+        time=t, x=0.016 + np.arange(n) * 1e-3, force=force, xi_wheel=8e-5 + small, xi_rail=3e-5 + small,
+        roughness=small, contact_length=np.full(n, 0.011), contact_area=np.full(n, 9.4e-5),
+        equivalent_roughness=small, pressure=pressure, window_x=window, window_y=window,
+        parameters=as_dict(ModelParameters()),
+    )
+
+
+def stream(result: RunResult, path: Path | None, record_every: int = 1) -> float:
+    """Seconds to pass every step's StepState to a sink (or to a no-op callback when path is None)."""
+    states = [result.state(k) for k in range(result.n_steps)]  # made beforehand: the loop makes them anyway
+    start = time.perf_counter()
+    if path is None:
+        sink = lambda state: None  # noqa: E731 - the baseline: a callback that does nothing
+        for state in states:
+            sink(state)
+    else:
+        sink = RecordingSink(rrd=path, record_every=record_every)
+        sink.start(result)
+        for state in states:
+            sink(state)
+        sink.finish(result)
+    return time.perf_counter() - start
+
+
+def part_synthetic(n: int, folder: Path) -> None:
+    result = synthetic_run(n)
+    RecordingSink(rrd=folder / "warm.rrd").finish()  # import rerun and start its threads once
+    base = stream(result, None)
+    print(f"synthetic 3D-like states, {n} steps, 25 x 25 pressure maps (float32)")
+    print(f"  no-op callback                     {base / n * 1e6:8.2f} us/step")
+    for every in (1, 10):
+        path = folder / f"stream{every}.rrd"
+        seconds = stream(result, path, every)
+        size = path.stat().st_size
+        print(f"  RecordingSink, pressure every {every:<3d}   {seconds / n * 1e6:8.2f} us/step   "
+              f"{size / n * 1e3 / 1e6:6.2f} MB per 1 000 steps")
+    start = time.perf_counter()
+    path = record_result(result, folder / "whole.rrd")
+    seconds = time.perf_counter() - start
+    print(f"  record_result (whole run at once)  {seconds / n * 1e6:8.2f} us/step   "
+          f"{path.stat().st_size / n * 1e3 / 1e6:6.2f} MB per 1 000 steps")
+    start = time.perf_counter()
+    back = read_recording(path)
+    print(f"  read_recording                     {(time.perf_counter() - start) / n * 1e6:8.2f} us/step "
+          f"(force identical: {np.array_equal(back.force, result.force)})")
+    raw = result.pressure.nbytes + 9 * 8 * n
+    print(f"  (raw arrays: {raw / n * 1e3 / 1e6:.2f} MB per 1 000 steps; surface mesh every 4th map)")
+
+
+def part_real(length: float, folder: Path, repeat: int) -> None:
+    from wheelrail.core.interaction import prepare_run
+
+    def timed(callback_kind: str) -> tuple[float, int]:
+        run = prepare_run("corrugated-rail", model="3d", length=length)
+        sink = None
+        if callback_kind == "record":
+            sink = RecordingSink(rrd=folder / "real.rrd", description="3d corrugated-rail line 0 (benchmark)")
+        start = time.perf_counter()
+        if sink is not None:
+            sink.start(run)
+            result = run.run(sink)
+            sink.finish(result)
+        elif callback_kind == "noop":
+            result = run.run(lambda state: None)
+        else:
+            result = run.run()
+        return time.perf_counter() - start, result.n_steps
+
+    timed("none")  # compile / load the kernels and the Green's functions once
+    print(f"real 3D run, corrugated rail, line 0, 100 km/h, {length:g} m (best of {repeat})")
+    best = {"none": math.inf, "noop": math.inf, "record": math.inf}
+    for _ in range(repeat):  # round robin, so that a busy spell of the machine hits every case alike
+        for kind in best:
+            seconds, n = timed(kind)
+            best[kind] = min(best[kind], seconds)
+    plain, noop, recorded = best["none"], best["noop"], best["record"]
+    print(f"  without recording                  {plain:7.2f} s   {n / plain:7.0f} steps/s")
+    print(f"  per-step no-op callback            {noop:7.2f} s   ({(noop / plain - 1) * 100:+5.1f} %)")
+    size = (folder / "real.rrd").stat().st_size
+    print(f"  recording every step to .rrd       {recorded:7.2f} s   ({(recorded / plain - 1) * 100:+5.1f} %; "
+          f"target < 30 %; {(recorded / noop - 1) * 100:+5.1f} % against the no-op callback)\n"
+          f"  file                               {size / n * 1e3 / 1e6:.2f} MB per 1 000 steps, "
+          f"{size / 1e6:.1f} MB in all")
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # KiB on Linux
+    print(f"  peak memory of this process        {peak:7.0f} MB (target < 1 GB)")
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--steps", type=int, default=8000, help="synthetic steps (default 8000 = 8 m)")
+    parser.add_argument("--length-m", type=float, default=7.9, help="real 3D run length, m (default 7.9)")
+    parser.add_argument("--repeat", type=int, default=3, help="real runs per case, the fastest counts (default 3)")
+    parser.add_argument("--skip-real", action="store_true", help="only the synthetic part")
+    args = parser.parse_args()
+    print(f"{os.cpu_count()} CPUs, Python {sys.version.split()[0]}")
+    with tempfile.TemporaryDirectory() as folder:
+        part_synthetic(args.steps, Path(folder))
+        if not args.skip_real:
+            part_real(args.length_m, Path(folder), args.repeat)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
