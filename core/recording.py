@@ -363,6 +363,7 @@ class RecordingSink:
             # a sink dropped without finish() or abort() (e.g. the run raised) leaves no partial file behind
             self._finalizer = weakref.finalize(self, _remove, self._temporary)
             sinks.append(rr.FileSink(str(self._temporary)))
+        self._spawned = bool(spawn)
         if spawn:
             try:
                 self.stream.spawn(port=DEFAULT_VIEWER_PORT, connect=False)
@@ -718,11 +719,10 @@ class RecordingSink:
                 self._geometry = _hertz_geometry(self._meta.get("parameters", {}))
             self._log_parameters()
             self._log_spectrum(result)
-            self.stream.flush()
         except BaseException:
             self.abort()
             raise
-        self._close()
+        unreachable = self._close()
         if self._temporary is not None:
             self._finalizer.detach()
             umask = os.umask(0)
@@ -730,6 +730,10 @@ class RecordingSink:
             os.chmod(self._temporary, 0o666 & ~umask)  # mkstemp made it private; a recording is a normal file
             os.replace(self._temporary, self.path)
             self._temporary = None
+        if unreachable:
+            written = f"the recording was written to {self.path}, but " if self.path is not None else ""
+            hint = " (--spawn needs a desktop session for the viewer window)" if self._spawned else ""
+            raise WheelrailError(f"{written}the rerun viewer could not be reached{hint}: {unreachable}")
         return self.path
 
     def _log_spectrum(self, result: RunResult | None) -> None:
@@ -758,12 +762,17 @@ class RecordingSink:
         self._close()
         self._discard()
 
-    def _close(self) -> None:
+    def _close(self) -> str:
+        """Flush and close every sink; returns why a viewer could not be reached ('' if all went out)."""
         self._closed = True
+        problem = ""
         try:
             self.stream.flush()
+        except RuntimeError as error:  # rerun gives up on an unreachable viewer after ~7 s
+            problem = str(error).splitlines()[0] if str(error) else type(error).__name__
         finally:
             self.stream.disconnect()  # drops the file sink: the file is completed (footer) and closed
+        return problem
 
     def _discard(self) -> None:
         if self._temporary is not None:

@@ -323,3 +323,27 @@ def test_dropped_sink_leaves_no_partial_file(tmp_path):
     del sink
     gc.collect()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_connect_streams_to_a_running_viewer_server(tmp_path):
+    """--connect: a rerun gRPC server (what a viewer hosts) in another process receives the run."""
+    import socket
+    import subprocess
+    import sys
+
+    with socket.socket() as probe:  # a free port
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    server = subprocess.Popen(
+        [sys.executable, "-c", "import rerun as rr, sys, time; rr.init('viewer'); "
+         f"print(rr.serve_grpc(grpc_port={port}), flush=True); time.sleep(60)"],
+        stdout=subprocess.PIPE, text=True,
+    )
+    try:
+        assert server.stdout.readline().strip() == f"rerun+http://127.0.0.1:{port}/proxy"  # listening
+        path = record_result(synthetic_result(n=100), tmp_path / "both.rrd", connect=f"127.0.0.1:{port}")
+        # no error: every message reached the server (an unreachable one raises after ~7 s, file kept)
+        np.testing.assert_array_equal(read_recording(path).force, synthetic_result(n=100).force)
+    finally:
+        server.kill()
+        server.wait()
