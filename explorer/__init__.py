@@ -1,4 +1,5 @@
 """wheelrail.explorer: the viser browser GUI (built on wheelrail.core's public API only).
 
-Placeholder until the explorer issue lands: `wheelrail explore` reports that it is not available yet.
+Start it with ``wheelrail explore`` or :func:`wheelrail.explorer.app.serve`;
+:class:`~wheelrail.explorer.app.ExplorerApp` is the app itself (testable without a browser).
 """
