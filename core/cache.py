@@ -12,12 +12,13 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import tempfile
 import warnings
 import zipfile
 from pathlib import Path
 
 import numpy as np
+
+from wheelrail.core.atomic import atomic_write
 
 FORMAT_VERSION = 1
 
@@ -71,15 +72,5 @@ def load_entry(kind: str, key: str, required: tuple[str, ...]) -> dict[str, np.n
 def save_entry(kind: str, key: str, arrays: dict[str, np.ndarray]) -> Path:
     """Write a cache entry atomically; returns its path."""
     path = entry_path(kind, key)
-    fd, tmp = tempfile.mkstemp(prefix=path.stem + ".", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            np.savez(handle, cache_key=np.array(key), **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    atomic_write(path, lambda handle: np.savez(handle, cache_key=np.array(key), **arrays))
     return path

@@ -55,6 +55,7 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.atomic import publish, temporary_beside
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.results import MODELS, RunResult, StepState
 
@@ -357,9 +358,7 @@ class RecordingSink:
         sinks = []
         self._temporary = None
         if self.path is not None:
-            fd, temporary = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".partial", dir=self.path.parent)
-            os.close(fd)
-            self._temporary = Path(temporary)
+            self._temporary = temporary_beside(self.path, suffix=".partial")
             # a sink dropped without finish() or abort() (e.g. the run raised) leaves no partial file behind
             self._finalizer = weakref.finalize(self, _remove, self._temporary)
             sinks.append(rr.FileSink(str(self._temporary)))
@@ -725,10 +724,7 @@ class RecordingSink:
         unreachable = self._close()
         if self._temporary is not None:
             self._finalizer.detach()
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(self._temporary, 0o666 & ~umask)  # mkstemp made it private; a recording is a normal file
-            os.replace(self._temporary, self.path)
+            publish(self._temporary, self.path)
             self._temporary = None
         if unreachable:
             written = f"the recording was written to {self.path}, but " if self.path is not None else ""

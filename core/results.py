@@ -7,12 +7,12 @@ consumers: the recording sink (rerun), the command line, studies and the explore
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
 
 MODELS = ("3d", "2d", "hertz", "hertz-winkler", "hertz-average")
@@ -154,12 +154,4 @@ class RunResult:
             "roughness": self.roughness_name, "loss_of_contact_steps": self.loss_of_contact_steps,
             "run_in_length_m": self.run_in_length, "parameters": self.parameters,
         }
-        fd, tmp = tempfile.mkstemp(prefix=target.name + ".", suffix=".tmp", dir=target.parent)
-        try:
-            with os.fdopen(fd, "wb") as handle:
-                np.savez(handle, metadata=np.array(json.dumps(meta)), **arrays)
-            os.replace(tmp, target)
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
-        return target
+        return atomic_write(target, lambda handle: np.savez(handle, metadata=np.array(json.dumps(meta)), **arrays))

@@ -22,7 +22,6 @@ from __future__ import annotations
 import csv
 import math
 import os
-import tempfile
 import zipfile
 from dataclasses import dataclass, replace
 from importlib import resources
@@ -31,6 +30,7 @@ from pathlib import Path
 import numpy as np
 import scipy.signal
 
+from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.spectra import band_coherence, third_octave_bands, third_octave_levels
 
@@ -198,21 +198,6 @@ class RoughnessSet:
 # --------------------------------------------------------------------------------------------------
 # Import / export
 # --------------------------------------------------------------------------------------------------
-def _atomic_write(path: Path, write) -> None:
-    path = Path(path)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent or ".")
-    os.close(handle)
-    try:
-        write(temporary)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)  # mkstemp makes 0600; give the file ordinary permissions
-        os.replace(temporary, path)
-    finally:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-
-
 def write_csv(roughness: RoughnessSet, path: str | os.PathLike) -> Path:
     """Write a set in the CSV format of SPEC.md §3 (x in m, heights in µm, lateral positions in mm).
 
@@ -221,19 +206,18 @@ def write_csv(roughness: RoughnessSet, path: str | os.PathLike) -> Path:
     """
     path = Path(path)
 
-    def write(temporary: str) -> None:
-        with open(temporary, "w", newline="", encoding="utf-8") as stream:
-            stream.write(f"# kind: {roughness.kind}\n")
-            description = " ".join(roughness.description.split())
-            if description:
-                stream.write(f"# description: {description}\n")
-            writer = csv.writer(stream, lineterminator="\n")
-            writer.writerow(["x_m"] + [f"y_mm={repr(float(y / _MM))}" for y in roughness.y])
-            heights_um = roughness.heights / _UM
-            for i in range(roughness.n_samples):
-                writer.writerow([repr(float(i * roughness.dx))] + [repr(float(v)) for v in heights_um[:, i]])
+    def write(stream) -> None:
+        stream.write(f"# kind: {roughness.kind}\n")
+        description = " ".join(roughness.description.split())
+        if description:
+            stream.write(f"# description: {description}\n")
+        writer = csv.writer(stream, lineterminator="\n")
+        writer.writerow(["x_m"] + [f"y_mm={repr(float(y / _MM))}" for y in roughness.y])
+        heights_um = roughness.heights / _UM
+        for i in range(roughness.n_samples):
+            writer.writerow([repr(float(i * roughness.dx))] + [repr(float(v)) for v in heights_um[:, i]])
 
-    _atomic_write(path, write)
+    atomic_write(path, write, "w", newline="", encoding="utf-8")
     return path
 
 
@@ -244,18 +228,17 @@ def write_npz(roughness: RoughnessSet, path: str | os.PathLike, *, dtype=np.floa
     """
     path = Path(path)
 
-    def write(temporary: str) -> None:
-        with open(temporary, "wb") as stream:
-            np.savez_compressed(
-                stream,
-                z_m=roughness.heights.astype(dtype),
-                dx_m=np.float64(roughness.dx),
-                y_m=roughness.y.astype(np.float64),
-                kind=np.str_(roughness.kind),
-                description=np.str_(roughness.description),
-            )
+    def write(stream) -> None:
+        np.savez_compressed(
+            stream,
+            z_m=roughness.heights.astype(dtype),
+            dx_m=np.float64(roughness.dx),
+            y_m=roughness.y.astype(np.float64),
+            kind=np.str_(roughness.kind),
+            description=np.str_(roughness.description),
+        )
 
-    _atomic_write(path, write)
+    atomic_write(path, write)
     return path
 
 

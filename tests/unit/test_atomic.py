@@ -1,0 +1,41 @@
+"""Atomic writes: complete file or nothing under the final name, ordinary permissions."""
+
+import os
+
+import numpy as np
+import pytest
+
+from wheelrail.core.atomic import atomic_write
+from wheelrail.core.roughness import load_roughness, write_csv
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def test_written_file_has_ordinary_permissions(tmp_path):
+    path = atomic_write(tmp_path / "a.npz", lambda handle: np.savez(handle, x=np.arange(3)))
+    assert (path.stat().st_mode & 0o777) == (0o666 & ~_umask())  # not mkstemp's private 0600
+    assert np.load(path)["x"].tolist() == [0, 1, 2]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.npz"]
+
+
+def test_failed_write_leaves_nothing(tmp_path):
+    target = tmp_path / "b.csv"
+    target.write_text("old")
+
+    def broken(handle):
+        handle.write("half")
+        raise RuntimeError("disk full")
+
+    with pytest.raises(RuntimeError):
+        atomic_write(target, broken, "w")
+    assert target.read_text() == "old"  # the previous complete file is untouched
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.csv"]
+
+
+def test_exports_use_it(tmp_path):
+    path = write_csv(load_roughness("sinter-wheel-2"), tmp_path / "w.csv")
+    assert (path.stat().st_mode & 0o777) == (0o666 & ~_umask())
