@@ -34,6 +34,8 @@ and spectrum settings). An interrupted study therefore resumes and only computes
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import hashlib
 import json
 import math
@@ -45,6 +47,7 @@ import time
 import zipfile
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -58,7 +61,7 @@ __all__ = [
     "STUDIES", "PAPER_LINES", "ONE_LINE_MODELS", "RunSpec", "RunSummary", "Table", "StudyPlan",
     "StudyResult", "ExecutionReport", "roughness_digest", "study_roughness", "compute_run", "execute",
     "contact_filter", "mean_level", "level_difference", "plan_study", "run_study", "write_table",
-    "parse_dask_address",
+    "parse_dask_address", "shutdown_pools",
 ]
 
 STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds")
@@ -304,6 +307,7 @@ def _save_cached(cache: Path, summary: RunSummary) -> None:
     _atomic_write(_cache_path(cache, summary.key), lambda handle: np.savez(handle, **summary.to_arrays()))
 
 
+DASK_CONNECT_TIMEOUT = "10s"  # how long to try reaching a Dask scheduler before giving up
 _ADDRESS = re.compile(r"^(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?$")
 
 
@@ -403,7 +407,7 @@ def execute(
             for spec in missing:
                 finished(compute_run(spec))
         else:
-            backend = f"process pool ({min(workers, len(missing))} workers)"
+            backend = f"process pool ({int(workers)} workers)"
             _execute_pool(missing, int(workers), finished)
     finally:
         bar.close()
@@ -411,23 +415,82 @@ def execute(
                            wall_time=time.perf_counter() - start, backend=backend)
 
 
-def _execute_pool(missing: list[RunSpec], workers: int, finished: Callable[[RunSummary], None]) -> None:
+_BLAS_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+@contextlib.contextmanager
+def _single_threaded_blas():
+    """One BLAS thread in worker processes started inside this block (unless the user set a number).
+
+    The workers already run in parallel; OpenBLAS's own threads on top oversubscribe the cores, and the
+    3D solver's many small factorisations then run several times slower (measured 3x with 2 workers on
+    2 cores). Dask's nanny sets the same variables for its workers. The variables are read when the
+    library loads, so they are set in this process while the pool spawns its workers, then restored.
+    """
+    saved = {name: os.environ.get(name) for name in _BLAS_THREAD_VARIABLES}
+    for name, value in saved.items():
+        if value is None:
+            os.environ[name] = "1"
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+
+
+_POOLS: dict[int, ProcessPoolExecutor] = {}
+
+
+def _pool(workers: int) -> ProcessPoolExecutor:
+    """The process pool of ``workers`` workers, kept for later studies in this process (their start-up,
+    about 1-2 s per worker for imports and numba's cached kernels, is paid once)."""
     import multiprocessing
 
-    # spawn, not fork: the parent may hold threads (tqdm monitor, a Dask client, numba's pool) that a
-    # forked child would inherit in an undefined state
-    context = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=min(workers, len(missing)), mp_context=context)
+    pool = _POOLS.get(workers)
+    if pool is None or getattr(pool, "_broken", False):
+        # spawn, not fork: the parent may hold threads (tqdm monitor, a Dask client, the GUI's server)
+        # that a forked child would inherit in an undefined state
+        pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+        _POOLS[workers] = pool
+    return pool
+
+
+def shutdown_pools() -> None:
+    """Stop the worker processes kept by :func:`execute` (also done at interpreter exit)."""
+    while _POOLS:
+        _, pool = _POOLS.popitem()
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+atexit.register(shutdown_pools)
+
+
+def _execute_pool(missing: list[RunSpec], workers: int, finished: Callable[[RunSummary], None]) -> None:
+    pool = _pool(workers)
+    pending = set()
     try:
-        pending = {pool.submit(compute_run, spec) for spec in missing}
+        with _single_threaded_blas():  # new workers start (and read these variables) on the first submits
+            pending = {pool.submit(compute_run, spec) for spec in missing}
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
             for future in done:
                 finished(future.result())
-    except BaseException:
+    except BrokenProcessPool:
+        _POOLS.pop(workers, None)
         pool.shutdown(wait=False, cancel_futures=True)
+        raise WheelrailError(
+            "a study worker process died; in a script, call the study API under "
+            "`if __name__ == '__main__':` (workers are spawned and import the main module)"
+        ) from None
+    except BaseException:
+        # interrupted or a run failed: drop the queued runs; the finished ones are already cached
+        for future in pending:
+            future.cancel()
+        if not isinstance(sys.exc_info()[1], Exception):  # KeyboardInterrupt: stop the workers too
+            _POOLS.pop(workers, None)
+            pool.shutdown(wait=False, cancel_futures=True)
         raise
-    pool.shutdown(wait=True)
 
 
 def _execute_dask(missing: list[RunSpec], address: str, finished: Callable[[RunSummary], None]) -> None:
@@ -437,7 +500,7 @@ def _execute_dask(missing: list[RunSpec], address: str, finished: Callable[[RunS
         raise WheelrailError("--dask needs dask.distributed: pip install 'dask[distributed]'") from None
     address = parse_dask_address(address)
     try:
-        client = Client(address, timeout="10s")
+        client = Client(address, timeout=DASK_CONNECT_TIMEOUT)
     except (OSError, TimeoutError, ValueError) as error:
         first = str(error).splitlines()[0] if str(error) else type(error).__name__
         raise WheelrailError(f"cannot reach the Dask scheduler at {address}: {first}") from None
@@ -565,13 +628,17 @@ def _set_info(source, length: float | None) -> SetInfo:
     label = re.sub(r"[^A-Za-z0-9_.-]+", "-", label).strip("-") or "roughness"
     numbers = tuple(int(v) for v in rough.line_numbers)
     lines = tuple(v for v in PAPER_LINES if v in numbers)
-    if length is None and not rough.periodic:
+    if not rough.periodic:
         # one common length for every model: the longest window margin (hertz-winkler's) on both sides
         dx = 1e-3
-        usable = (rough.n_samples - 1) * rough.dx - 2 * _MARGIN - 2 * dx
-        length = math.floor(usable / dx + 1e-9) * dx
-        if length <= 0:
+        usable = math.floor(((rough.n_samples - 1) * rough.dx - 2 * _MARGIN - 2 * dx) / dx + 1e-9) * dx
+        if usable <= 0:
             raise WheelrailError(f"{label}: rail data of {rough.length:g} m is too short for a study run")
+        if length is None:
+            length = usable
+        elif length > usable + 1e-9:
+            raise WheelrailError(f"run length {length:g} m exceeds the {usable:g} m of {label} usable by every model "
+                                 f"(rail data less {_MARGIN * 1e3:g} mm margins)")
     return SetInfo(source=source, label=label, digest=roughness_digest(rough), kind=rough.kind,
                    line_numbers=numbers, lines=lines, length=length)
 
@@ -623,7 +690,29 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
         raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")
     builder = _BUILDERS[name]
     specs, tabulate = builder(infos, speed)
+    _check_durations(specs, infos)
     return StudyPlan(name=name, sets=infos, specs=tuple(specs), tabulate=tabulate, speed=speed, length=length)
+
+
+def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:
+    """Every run must outlast the force spectrum's start-up skip by 16 steps (``force_spectrum``)."""
+    from wheelrail.core.roughness import RoughnessSet, load_roughness
+    from wheelrail.core.spectra import FORCE_SKIP
+
+    circumference = {}
+    for info in infos:
+        if info.length is None:
+            rough = info.source if isinstance(info.source, RoughnessSet) else load_roughness(info.source)
+            circumference[info.label] = rough.length
+    for spec in specs:
+        length = spec.length if spec.length is not None else circumference[spec.set_label]
+        dx = spec.params.run.element_size
+        needed = FORCE_SKIP * spec.params.run.speed + 16 * dx
+        if length < needed:
+            raise WheelrailError(
+                f"run length {length:g} m at {spec.speed_kmh:g} km/h is too short for a force spectrum, which "
+                f"skips the first {FORCE_SKIP:g} s; use at least {math.ceil(needed * 100) / 100:g} m"
+            )
 
 
 def _levels(summaries, spec: RunSpec) -> np.ndarray:
@@ -913,6 +1002,7 @@ def run_study(
     dask_address: str | None = None,
     cache: str | os.PathLike | None = None,
     progress: bool = True,
+    figures: bool = True,
 ) -> StudyResult:
     """Plan, execute and tabulate a named study; write its CSV tables, PNG figure(s) and JSON summary.
 
@@ -936,6 +1026,8 @@ def run_study(
         Folder of finished runs (default ``out/runs``), so an interrupted study resumes.
     progress : bool
         tqdm bar of runs done on stderr.
+    figures : bool
+        Draw the PNG figure(s) (about 1 s each with matplotlib); the CSV tables and JSON are always written.
 
     Returns
     -------
@@ -949,7 +1041,8 @@ def run_study(
                      dask_address=dask_address, progress=progress, description=f"study {name}")
     tables = plan.tabulate(report.summaries)
     files = [write_table(table, folder) for table in tables]
-    files += plot_study(name, tables, folder)
+    if figures:
+        files += plot_study(name, tables, folder)
     summaries = [report.summaries[spec.key] for spec in plan.specs]
     summary = {
         "study": name,

@@ -1,0 +1,181 @@
+"""`wheelrail study` and the study runner: files written, resume from cached runs, Dask = process pool, errors."""
+
+import json
+
+import numpy as np
+import pytest
+
+from wheelrail.core import study as study_module
+from wheelrail.core.cli import main
+from wheelrail.core.roughness import load_roughness, write_csv
+from wheelrail.core.study import STUDIES, RunSpec, execute, plan_study, roughness_digest, run_study, study_roughness
+
+
+def _run_json(argv, capsys):
+    code = main(argv)
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    return json.loads(captured.out)
+
+
+def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys):
+    out = tmp_path / "filters"
+    argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(out), "--length-m", "0.8", "--json"]
+    summary = _run_json(argv, capsys)
+    assert summary["study"] == "filters" and summary["sets"] == ["sinter-wheel-1"]
+    assert summary["runs"] == 29 and summary["runs_computed"] == 29 and summary["runs_cached"] == 0
+    assert summary["speed_m_per_s"] == pytest.approx(100 / 3.6)
+    # one CSV per figure table: band centres in Hz, one column per model in dB
+    levels = out / "fig10_sinter-wheel-1_force_levels.csv"
+    filters = out / "fig10_sinter-wheel-1_contact_filters.csv"
+    header = levels.read_text().splitlines()[0].split(",")
+    assert header == ["band_centre_hz", "3d_db", "2d_db", "hertz_db", "hertz_winkler_db", "hertz_average_db"]
+    assert filters.read_text().splitlines()[0].split(",") == ["band_centre_hz", "3d_db", "2d_db", "hertz_winkler_db",
+                                                              "hertz_average_db"]
+    data = np.genfromtxt(filters, delimiter=",", names=True)
+    assert data["band_centre_hz"][0] == pytest.approx(50.12, abs=0.01) and data["band_centre_hz"][-1] == pytest.approx(
+        7943.28, abs=0.01)
+    # the 2D filter is L_2D - L_hertz: small (|.| < 1 dB) where the wavelength is long (< 500 Hz: > 5.5 cm)
+    # and strongly negative at 8 kHz (3.5 mm waves fill the contact: measured about -20 dB)
+    low = np.isfinite(data["2d_db"]) & (data["band_centre_hz"] < 450)
+    assert low.sum() >= 3 and np.all(np.abs(data["2d_db"][low]) < 1.0)
+    assert data["2d_db"][-1] < -10.0
+    png = out / "fig10_filters.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    saved = json.loads((out / "filters_summary.json").read_text())
+    assert saved["tables"]["fig10_sinter-wheel-1_contact_filters"]["2d_db"] == summary["tables"][
+        "fig10_sinter-wheel-1_contact_filters"]["2d_db"]
+    assert len(list((out / "runs").glob("run-*.npz"))) == 29
+    # the same study again: every run comes from the cache, the tables are identical
+    again = _run_json(argv, capsys)
+    assert again["runs_computed"] == 0 and again["runs_cached"] == 29
+    assert again["tables"] == summary["tables"]
+
+
+def test_interrupted_study_recomputes_only_missing_runs(tmp_path):
+    # an interrupted study = some runs cached, some not (each finished run is written at once); also a
+    # half-written temporary file and a truncated entry, as a kill during a write could leave them
+    plan = plan_study("filters", ["cast-iron-wheel"], length=0.8)
+    cache = tmp_path / "runs"
+    first = execute(plan.specs[:11], cache=cache, workers=2, progress=False)
+    assert first.computed == 11 and first.cached == 0
+    (cache / "run-0123456789abcdef.npz.x1.tmp").write_bytes(b"partial")
+    victim = sorted(cache.glob("run-*.npz"))[0]
+    victim.write_bytes(victim.read_bytes()[:100])
+    result = run_study("filters", ["cast-iron-wheel"], tmp_path, length=0.8, progress=False, figures=False)
+    assert result.report.cached == 10  # the truncated one is not trusted
+    assert result.report.computed == 29 - 10
+
+
+def test_run_keys_hash_the_full_spec():
+    rail = load_roughness("corrugated-rail")
+    digest = roughness_digest(rail)
+    base = RunSpec(source="corrugated-rail", set_label="a", set_digest=digest, model="2d", line=1, length=1.0)
+    same = RunSpec(source=rail, set_label="b", set_digest=digest, model="2d", line=1, length=1.0)
+    assert base.key == same.key  # where the set came from and its label do not change the result
+    changed = rail.with_heights(rail.heights * 1.001)
+    others = [
+        RunSpec(source=changed, set_label="a", set_digest=roughness_digest(changed), model="2d", line=1, length=1.0),
+        RunSpec(source=rail, set_label="a", set_digest=digest, model="2d", line=2, length=1.0),
+        RunSpec(source=rail, set_label="a", set_digest=digest, model="2d", line=1, length=1.1),
+        RunSpec(source=rail, set_label="a", set_digest=digest, model="hertz", line=1, length=1.0),
+        RunSpec(source=rail, set_label="a", set_digest=digest, model="2d", line=1, length=1.0,
+                averaged_lines=(-3, -2, -1, 0, 1, 2, 3)),
+        RunSpec(source=rail, set_label="a", set_digest=digest, model="2d", line=1, length=1.0,
+                params=plan_study("speeds", [rail]).specs[0].params),
+    ]
+    keys = {base.key} | {spec.key for spec in others}
+    assert len(keys) == 1 + len(others)
+
+
+def test_study_inputs_averaged_and_reduced_lateral_resolution():
+    wheel = load_roughness("cast-iron-wheel")
+    digest = roughness_digest(wheel)
+    averaged, line = study_roughness(RunSpec(source=wheel, set_label="w", set_digest=digest, model="2d",
+                                             averaged_lines=range(-3, 4)))
+    assert line == 0 and averaged.n_lines == 1
+    np.testing.assert_allclose(averaged.line(0), wheel.heights[wheel.centre_row - 3: wheel.centre_row + 4].mean(axis=0))
+    # Fig. 17, 4 mm: the paper's lines -4, -2, 0, 2, 4 of 2 mm spacing are this set's own lines (exact copies)
+    low, _ = study_roughness(RunSpec(source=wheel, set_label="w", set_digest=digest, model="3d",
+                                     lateral_lines_mm=(-8, -4, 0, 4, 8)))
+    np.testing.assert_allclose(low.y, np.array([-8, -4, 0, 4, 8]) * 1e-3)
+    np.testing.assert_array_equal(low.heights, wheel.heights[[wheel.row_of_line(n) for n in (-4, -2, 0, 2, 4)]])
+    # lines between measured ones are interpolated linearly across the track
+    odd, _ = study_roughness(RunSpec(source=wheel, set_label="w", set_digest=digest, model="3d",
+                                     lateral_lines_mm=(-1, 1)))
+    np.testing.assert_allclose(odd.heights[1], 0.5 * (wheel.line(0) + wheel.line(1)), atol=1e-15)
+
+
+def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    pool = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "pool", length=0.6, progress=False,
+                     figures=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        dask = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "dask", length=0.6, progress=False,
+                         figures=False, dask_address=cluster.scheduler_address)
+    assert dask.report.backend.startswith("dask") and dask.report.computed == 2
+    assert pool.report.backend.startswith("process pool") and pool.report.computed == 2
+    for a, b in zip(pool.tables, dask.tables, strict=True):
+        assert a.name == b.name and list(a.columns) == list(b.columns)
+        for column in a.columns:
+            # the runs are deterministic (same code, inputs and machine): equal to rounding, 1e-9 dB
+            np.testing.assert_allclose(a.columns[column], b.columns[column], atol=1e-9, equal_nan=True)
+
+
+def test_user_csv_set_and_human_output(tmp_path, capsys):
+    wheel = load_roughness("sinter-wheel-2")
+    path = tmp_path / "my wheel.csv"
+    write_csv(wheel, path)
+    code = main(["study", "averaged-input", "--set", str(path), "--set", "cast-iron-wheel", "--out",
+                 str(tmp_path / "o"), "--length-m", "0.6", "--workers", "1"])
+    text = capsys.readouterr().out
+    assert code == 0
+    assert "4 runs (4 computed, 0 from" in text and "in-process" in text
+    header = (tmp_path / "o" / "fig16_3d_minus_2d_averaged_input.csv").read_text().splitlines()[0]
+    assert header == "band_centre_hz,my-wheel_db,cast-iron-wheel_db"
+    assert (tmp_path / "o" / "fig16_averaged-input.png").exists()
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["study", "bogus", "--set", "corrugated-rail"], "unknown study 'bogus'"),
+        (["study", "filters", "--set", "no-such-set"], "unknown roughness set 'no-such-set'"),
+        (["study", "filters", "--set", "corrugated-rail", "--dask", "not an address"], "not a scheduler address"),
+        (["study", "filters", "--set", "corrugated-rail", "--dask", "tcp://127.0.0.1:99999"], "not a scheduler"),
+        (["study", "filters", "--set", "corrugated-rail", "--workers", "0"], "--workers must be at least 1"),
+        (["study", "filters", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh must be a positive"),
+        (["study", "filters", "--set", "corrugated-rail", "--length-m", "99"], "exceeds"),
+        (["study", "speeds", "--set", "corrugated-rail", "--length-m", "0.5"], "too short for a force spectrum"),
+    ],
+)
+def test_bad_input_is_one_line_on_stderr(argv, message, tmp_path, capsys):
+    code = main([*argv, "--out", str(tmp_path / "o")])
+    captured = capsys.readouterr()
+    assert code != 0 and captured.out == ""
+    assert captured.err.count("\n") == 1 and message in captured.err, captured.err
+
+
+def test_unwritable_output_folder(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    for out in (blocker, blocker / "sub"):
+        code = main(["study", "filters", "--set", "corrugated-rail", "--out", str(out)])
+        err = capsys.readouterr().err
+        assert code != 0 and err.count("\n") == 1 and str(out) in err, err
+
+
+def test_unreachable_dask_scheduler(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(study_module, "DASK_CONNECT_TIMEOUT", "1s")
+    code = main(["study", "speeds", "--set", "corrugated-rail", "--out", str(tmp_path), "--length-m", "1.5",
+                 "--dask", "tcp://127.0.0.1:9"])
+    err = capsys.readouterr().err
+    assert code != 0 and err.count("\n") == 1 and "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in err, err
+
+
+def test_every_named_study_is_known_to_the_cli(capsys):
+    with pytest.raises(SystemExit):
+        main(["study", "--help"])
+    text = capsys.readouterr().out
+    for name in STUDIES:
+        assert name in text
