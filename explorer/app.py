@@ -228,7 +228,8 @@ class ExplorerApp:
         self._plot("displacement", (np.zeros(0),) * 3, ("position (m)", "wheel (um)", "rail (um)"),
                    title="Wheel and rail displacement (downwards)")
         self._plot("spectra", empty, ("band (Hz)", "no run yet"), title="Force spectra, dB re 1 N", log_x=True)
-        self._plot("filters", empty, ("band (Hz)", "needs hertz"), title="Contact filter: model - hertz, dB",
+        self._plot("filters", empty, ("band (Hz)", "run hertz too (or compare)"),
+                   title="Contact filter: model - hertz, dB",
                    log_x=True)
         self._plot("roughness", empty, ("band (Hz)", "roughness"), title="Roughness spectrum, dB re 1 um",
                    log_x=True)
@@ -250,7 +251,7 @@ class ExplorerApp:
                                                              client_for_error=event.client))
 
     def _plot(self, key: str, data: tuple, labels: tuple, *, title: str | None = None, log_x: bool = False,
-              colours: tuple | None = None) -> None:
+              colours: tuple | None = None, ylabel: str | None = None) -> None:
         """Create or update the uPlot chart ``key``; a new set of series re-creates it in place."""
         handle = self._plots.get(key)
         if handle is not None and self._plot_series.get(key) == labels:
@@ -261,7 +262,7 @@ class ExplorerApp:
         series += [{"label": label, "stroke": colours[i % len(colours)], "width": 1.5}
                    for i, label in enumerate(labels[1:])]
         scales = {"x": {"time": False, **({"distr": 3} if log_x else {})}}
-        axes = [{"label": labels[0]}, {"label": labels[1] if len(labels) == 2 else None}]
+        axes = [{"label": labels[0]}, {"label": ylabel or (labels[1] if len(labels) == 2 else "")}]
         if handle is not None:
             order = self._plot_order[key]
             title = title or handle.title
@@ -282,7 +283,7 @@ class ExplorerApp:
     def _build_scene(self) -> None:
         scene = self.server.scene
         scene.set_up_direction("+z")
-        self.server.initial_camera.position = (3.2, -4.2, 3.0)
+        self.server.initial_camera.position = (1.5, -2.1, 1.4)
         self.server.initial_camera.look_at = (0.0, 0.0, 0.0)
         scene.add_light_ambient("/light/ambient", intensity=0.6)
         scene.add_light_directional("/light/sun", intensity=1.6, position=(2.0, -3.0, 6.0))
@@ -375,12 +376,19 @@ class ExplorerApp:
             vertices = (np.stack([x, y, z], axis=-1).reshape(-1, 3) * s).astype(np.float32)
             top = 1.5 * contact.hertz_peak_pressure()
             colours = self._colours[np.clip((pressure / top * 255).astype(np.int64), 0, 255)].reshape(-1, 3).copy()
-            colours[pressure.reshape(-1) <= 0] = (200, 200, 200)
+            # elements out of contact: their points are stacked on the peak's point (a fixed point count keeps
+            # the handle's arrays in step), so only the contact shows as coloured squares on the raised mesh
+            points = vertices + np.float32([0, 0, 0.002])
+            flat = pressure.reshape(-1)
+            outside = flat <= 0
+            peak = int(np.argmax(flat))
+            points[outside] = points[peak]
+            colours[outside] = colours[peak]
             if self._patch_shape != (ny, nx):
                 self.patch_mesh.faces = _grid_faces(ny, nx)
                 self._patch_shape = (ny, nx)
             self.patch_mesh.vertices = vertices
-            self.patch_points.points = vertices + np.float32([0, 0, 0.002])
+            self.patch_points.points = points
             self.patch_points.colors = colours
             self.patch_mesh.visible = self.patch_points.visible = True
             self.strip_mesh.visible = self.force_circle.visible = False
@@ -426,6 +434,7 @@ class ExplorerApp:
         if self.line_slider.value not in numbers:
             self.line_slider.value = 0
         desc = rough.description.splitlines()[0] if rough.description else ""
+        desc = desc if len(desc) <= 140 else desc[:137].rstrip() + "..."
         self.roughness_md.content = (
             f"{rough.kind}, {rough.n_lines} lines {rough.lateral_spacing * 1e3:.3g} mm apart, "
             f"{rough.length:.3g} m at {rough.dx * 1e3:.3g} mm. {desc}")
@@ -481,12 +490,14 @@ class ExplorerApp:
         lines = [k for k in range(-3, 4) if k in rough.line_numbers] or [0]
         spectrum = roughness_spectrum(rough, speed=speed, lines=lines)
         centres, levels = _finite_bands(spectrum.band_centres, [spectrum.levels_db])
-        self._plot("roughness", (centres, levels), ("band (Hz)", f"lines {lines[0]}..{lines[-1]}"), log_x=True)
+        self._plot("roughness", (centres, levels), ("band (Hz)", f"lines {lines[0]}..{lines[-1]}"), log_x=True,
+                   ylabel="dB re 1 um")
         half = min(3, int(rough.line_numbers[-1]), -int(rough.line_numbers[0]))
         if half >= 1:
             centres, gamma2 = lateral_coherence(rough, speed, half_lines=half)
             centres, gamma2 = _finite_bands(centres, [gamma2])
-            self._plot("coherence", (centres, gamma2), ("band (Hz)", f"gamma^2, M = {half}"), log_x=True)
+            self._plot("coherence", (centres, gamma2), ("band (Hz)", f"gamma^2, M = {half}"), log_x=True,
+                       ylabel="gamma^2")
         else:
             self._plot("coherence", (np.zeros(0), np.zeros(0)), ("band (Hz)", "one line only"), log_x=True)
 
@@ -744,13 +755,13 @@ class ExplorerApp:
             centres = spectra[models[0]][0]
             cols = [spectra[m][1] for m in models]
             self._plot("spectra", _finite_bands(centres, cols), ("band (Hz)", *models), log_x=True,
-                       colours=tuple(MODEL_COLOURS[m] for m in models))
+                       colours=tuple(MODEL_COLOURS[m] for m in models), ylabel="dB re 1 N")
         filters = self.contact_filters()
         if filters:
             names = [m for m in MODELS if m in filters]
             centres = filters[names[0]][0]
             self._plot("filters", _finite_bands(centres, [filters[m][1] for m in names]), ("band (Hz)", *names),
-                       log_x=True, colours=tuple(MODEL_COLOURS[m] for m in names))
+                       log_x=True, colours=tuple(MODEL_COLOURS[m] for m in names), ylabel="dB")
 
     def scrub(self, step: int) -> None:
         """Show step ``step`` of the finished run (the Step slider)."""
