@@ -4,8 +4,8 @@ The script reads top to bottom like a viser example: :class:`ExplorerApp` create
 controls in folders, attaches small callbacks that call into ``wheelrail.core`` and draws what comes back.
 It never computes physics or spectra itself: runs come from :func:`wheelrail.core.interaction.prepare_run`,
 spectra from :func:`wheelrail.core.spectra.force_spectrum` and the roughness analyses of
-:mod:`wheelrail.core.roughness`; the only arithmetic here is unit conversion, scaling for display and the
-contact filter as the difference of two core spectra (model minus ``hertz``, SPEC.md §4).
+:mod:`wheelrail.core.roughness`, contact filters (model minus ``hertz``, SPEC.md §4) from
+:func:`wheelrail.core.study.contact_filter`; the only arithmetic here is unit conversion and display scaling.
 
 Threads: a run goes in a background thread (one at a time; a new run cancels the old one through
 :meth:`InteractionRun.cancel` and a generation counter keeps a superseded run from drawing). The GUI and the
@@ -40,6 +40,7 @@ from wheelrail.core.roughness import (
     roughness_spectrum,
 )
 from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.study import contact_filter
 
 __all__ = ["ExplorerApp", "RunConfig", "serve"]
 
@@ -744,7 +745,7 @@ class ExplorerApp:
         if "hertz" not in spectra:
             return {}
         centres, reference = spectra["hertz"]
-        return {model: (centres, levels - reference) for model, (c, levels) in spectra.items()
+        return {model: (centres, contact_filter(levels, reference)) for model, (c, levels) in spectra.items()
                 if model != "hertz" and np.array_equal(c, centres)}
 
     def _spectra_plots(self) -> None:

@@ -1,0 +1,117 @@
+"""Explorer responsiveness: time from pressing Run to the first frame, and the live patch's frame rate.
+
+Run: python3 benchmarks/explorer.py [--repeats 5] [--length-m 7.9] [--browser]
+
+Server side (always): an ExplorerApp on a free port; Run is pressed programmatically (the function the
+button's callback calls); "first frame" is the moment the first step's patch has been handed to viser for
+sending (ExplorerApp.time_to_first_frame). After a warm-up run, so the Green's functions are cached and
+numba's compiled code is loaded, as for a user's second run. Frame rate: frames drawn per second of a
+3D run on the corrugated rail (the explorer draws at most 20 per second), and the run's steps/s with the
+explorer drawing, to compare with benchmarks/interaction.py.
+
+--browser (needs /usr/bin/chromium and playwright): the same press in a headless Chromium page, timed in
+the page from the click to the moment the page's scene holds a new patch (received, before WebGL draws
+it; headless Chromium renders WebGL in software, slowly, so the figure is pessimistic).
+Target (SPEC.md §6): press Run to first frame < 1 s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import socket
+import statistics
+import time
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _press(app, model: str, length: float) -> tuple[float, float, int, int, float]:
+    app.model_dropdown.value = model
+    app.length_number.value = length
+    start = time.perf_counter()
+    assert app.start_run(), app.last_error
+    app.wait()
+    elapsed = time.perf_counter() - start
+    if app.last_error:
+        raise SystemExit(app.last_error)
+    return app.time_to_first_frame, elapsed, app.frames_drawn, app.last_result.n_steps, start
+
+
+def server_side(app, repeats: int, length: float) -> None:
+    _press(app, "3d", 0.6)  # warm-up: Green's functions at this speed, compiled code
+    _press(app, "hertz", 0.6)
+    print("press Run -> first frame drawn (server side, warm), median of", repeats)
+    for model in ("3d", "2d", "hertz"):
+        firsts = [_press(app, model, 1.0)[0] for _ in range(repeats)]
+        print(f"  {model:6s} {statistics.median(firsts) * 1e3:7.0f} ms   (min {min(firsts) * 1e3:.0f}, "
+              f"max {max(firsts) * 1e3:.0f} ms; includes the 1 m run-in)")
+    first, elapsed, frames, steps, _ = _press(app, "3d", length)
+    live = elapsed - first
+    print(f"3d live patch, {length:g} m corrugated rail at 100 km/h: {frames} frames in {live:.2f} s after the first "
+          f"= {frames / live:.1f} frames/s (cap 20); run incl. preparation and run-in {elapsed:.2f} s, "
+          f"{steps / elapsed:.0f} steps/s overall")
+
+
+PRESS_AND_WAIT = """async () => {
+    const tree = window.__viserSceneTree;
+    // a new update message brings a new vertex array (a repeated run ends on the same numbers)
+    const before = tree.getState()['/contact/patch'].message.props.vertices;
+    const button = [...document.querySelectorAll('button')].find(b => b.textContent.trim() === 'Run');
+    const t0 = performance.now();
+    button.click();
+    while (performance.now() - t0 < 60000) {
+        await new Promise(r => requestAnimationFrame(r));
+        const now = tree.getState()['/contact/patch'].message.props.vertices;
+        if (now !== before) return performance.now() - t0;
+    }
+    return -1;
+}"""
+
+
+def browser_side(app, repeats: int) -> None:
+    from playwright.sync_api import sync_playwright
+
+    args = ["--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-sandbox",
+            "--disable-gpu"]
+    app.model_dropdown.value = "3d"
+    app.length_number.value = 1.0
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path="/usr/bin/chromium", args=args)
+        page = browser.new_page(viewport={"width": 1200, "height": 800})
+        page.goto(f"http://127.0.0.1:{app.port}")
+        page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
+        time.sleep(5.0)
+        times = []
+        for _ in range(repeats):
+            ms = page.evaluate(PRESS_AND_WAIT)
+            app.wait()
+            times.append(ms)
+            time.sleep(1.0)
+        browser.close()
+    print(f"press Run in the page -> new patch in the page (headless Chromium, software WebGL): median "
+          f"{statistics.median(times):.0f} ms (min {min(times):.0f}, max {max(times):.0f} ms) of {repeats}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--length-m", type=float, default=7.9)
+    parser.add_argument("--browser", action="store_true", help="also time the press in headless Chromium")
+    args = parser.parse_args()
+    from wheelrail.explorer.app import ExplorerApp
+
+    app = ExplorerApp(port=_free_port())
+    try:
+        server_side(app, args.repeats, args.length_m)
+        if args.browser:
+            browser_side(app, args.repeats)
+    finally:
+        app.close()
+
+
+if __name__ == "__main__":
+    main()
