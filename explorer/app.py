@@ -61,6 +61,7 @@ ROUGHNESS_EXAGGERATION = 200.0  # roughness drawn 200 times its size (10 um -> 2
 SURFACE_GAP = 1.5  # mm: rail and wheel surfaces drawn this far below/above the patch (exploded view)
 SURFACE_HALF_LENGTH = 40.0  # mm of rail and wheel surface drawn either side of the contact
 STRIP_WIDTH = 1.0  # mm: width of the contact-length strip of the one-line models
+NO_SHADOW = {"cast_shadow": False, "receive_shadow": False}
 MODEL_COLOURS = {
     "3d": "#d62728", "2d": "#1f77b4", "hertz": "#2ca02c", "hertz-winkler": "#9467bd", "hertz-average": "#ff7f0e",
 }
@@ -286,14 +287,15 @@ class ExplorerApp:
         scene.set_up_direction("+z")
         self.server.initial_camera.position = (1.5, -2.1, 1.4)
         self.server.initial_camera.look_at = (0.0, 0.0, 0.0)
-        scene.add_light_ambient("/light/ambient", intensity=0.6)
-        scene.add_light_directional("/light/sun", intensity=1.6, position=(2.0, -3.0, 6.0))
+        # no shadows: nothing here needs them, and they cost most of a frame in software WebGL
+        scene.configure_default_lights(cast_shadow=False)
+        scene.configure_environment_map(None)
         s = SCENE_PER_MM
         # contact patch (3d): one mesh raised by pressure + the same vertices as coloured points
         self._patch_shape = (1, 1)
         self.patch_mesh = scene.add_mesh_simple("/contact/patch", np.zeros((3, 3), np.float32),
                                                 np.array([[0, 1, 2]], np.uint32), color=(120, 160, 200),
-                                                side="double", opacity=0.55, visible=False)
+                                                side="double", opacity=0.55, visible=False, **NO_SHADOW)
         self.patch_points = scene.add_point_cloud("/contact/pressure", np.zeros((1, 3), np.float32),
                                                   np.zeros((1, 3), np.uint8), point_size=0.9 * s,
                                                   point_shape="square", precision="float32",
@@ -301,7 +303,7 @@ class ExplorerApp:
         # one-line models: contact length as a strip, Hertz circle of the current force
         strip = np.array([[-1, -0.5, 0], [1, -0.5, 0], [1, 0.5, 0], [-1, 0.5, 0]], np.float32) * s
         self.strip_mesh = scene.add_mesh_simple("/contact/strip", strip, np.array([[0, 1, 2], [0, 2, 3]], np.uint32),
-                                                color=(214, 39, 40), side="double", visible=False)
+                                                color=(214, 39, 40), side="double", visible=False, **NO_SHADOW)
         self.force_circle = scene.add_line_segments("/contact/hertz_at_force", _circle(0.5, 0.01),
                                                     (214, 39, 40), thickness=0.02, visible=False)
         self.nominal_circle = scene.add_line_segments("/contact/hertz_nominal", _circle(0.548, 0.005),
@@ -346,9 +348,9 @@ class ExplorerApp:
                 handle.remove()
         scene = self.server.scene
         self.rail_mesh = scene.add_mesh_simple("/rail/surface", rail, faces, color=(150, 150, 160), side="double",
-                                               flat_shading=False)
+                                               **NO_SHADOW)
         self.wheel_mesh = scene.add_mesh_simple("/wheel/surface", wheel, faces, color=(120, 90, 60), side="double",
-                                                opacity=0.35)
+                                                opacity=0.35, **NO_SHADOW)
         self._surface_rows = ny
 
     def _start_position(self) -> float:
