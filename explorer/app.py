@@ -116,6 +116,11 @@ def _finite_bands(centres: np.ndarray, columns: list[np.ndarray]) -> tuple[np.nd
     return (centres[keep], *(column[keep] for column in columns))
 
 
+def _size(n_bytes: int) -> str:
+    """A file size for people: kB below 1 MB, else MB (binary units)."""
+    return f"{n_bytes / 1024:.0f} kB" if n_bytes < 2**20 else f"{n_bytes / 2**20:.3g} MB"
+
+
 def _safe_label(name: str) -> str:
     """A file name from a browser, reduced to a harmless display label (never used as a path)."""
     base = re.split(r"[\\/]", str(name))[-1]
@@ -192,7 +197,7 @@ class ExplorerApp:
             self.set_dropdown = gui.add_dropdown("Set", names, initial_value=roughness if roughness in names
                                                  else names[0])
             self.upload_button = gui.add_upload_button(
-                f"Upload CSV/NPZ (<= {self.max_upload_bytes / 2**20:g} MB)", icon=viser.Icon.UPLOAD,
+                f"Upload CSV/NPZ (<= {_size(self.max_upload_bytes)})", icon=viser.Icon.UPLOAD,
                 hint="A roughness file in the CSV or NPZ format of the README; read in memory, never from a path.")
             self.line_slider = gui.add_slider("Line", min=-1, max=1, step=1, initial_value=0)
             self.line_map = gui.add_image(np.full((10, 10, 3), 255, dtype=np.uint8), label="Lines across the rail",
@@ -255,6 +260,10 @@ class ExplorerApp:
     def _plot(self, key: str, data: tuple, labels: tuple, *, title: str | None = None, log_x: bool = False,
               colours: tuple | None = None, ylabel: str | None = None) -> None:
         """Create or update the uPlot chart ``key``; a new set of series re-creates it in place."""
+        with self._lock:  # the run's thread and the callbacks both plot
+            self._plot_locked(key, data, labels, title=title, log_x=log_x, colours=colours, ylabel=ylabel)
+
+    def _plot_locked(self, key, data, labels, *, title, log_x, colours, ylabel) -> None:
         handle = self._plots.get(key)
         if handle is not None and self._plot_series.get(key) == labels:
             handle.data = tuple(np.asarray(d, dtype=np.float64) for d in data)
@@ -323,13 +332,12 @@ class ExplorerApp:
             idx = np.clip(idx, 0, rough.n_samples - 1)
         return rough.heights[rows][:, idx]
 
-    def _surface_vertices(self, position: float, line: int) -> tuple[np.ndarray, np.ndarray]:
-        rough = self.roughness
+    def _surface_vertices(self, rough: RoughnessSet, position: float, line: int) -> tuple[np.ndarray, np.ndarray]:
         y_line = float(rough.y[rough.row_of_line(line)])
         ylat = (rough.y - y_line) * 1e3  # mm, relative to the chosen line
         rows = np.nonzero(np.abs(ylat) <= 15.0)[0]
         x, y = np.meshgrid(self._surface_x, ylat[rows])
-        radius_mm = self._contact_parameters().radius * 1e3
+        radius_mm = ContactParameters().radius * 1e3
         heights = self._surface_heights(rough, rows, position) * 1e3 * ROUGHNESS_EXAGGERATION  # mm drawn
         # crossed cylinders: the rail head curves across (y), the wheel along (x); both radius R (SPEC §2)
         rail_z = -SURFACE_GAP - y**2 / (2 * radius_mm) + (heights if rough.kind == "rail" else 0.0)
@@ -338,31 +346,28 @@ class ExplorerApp:
         wheel = np.stack([x, y, wheel_z], axis=-1).reshape(-1, 3) * SCENE_PER_MM
         return rail.astype(np.float32), wheel.astype(np.float32)
 
-    def _reset_surfaces(self, line: int) -> None:
-        """(Re)create the surface meshes for a new set (their vertex count changes with the set)."""
-        rail, wheel = self._surface_vertices(self._start_position(), line)
-        ny = rail.shape[0] // self._surface_x.size
-        faces = _grid_faces(ny, self._surface_x.size)
-        for handle in (self.rail_mesh, self.wheel_mesh):
-            if handle is not None:
-                handle.remove()
-        scene = self.server.scene
-        self.rail_mesh = scene.add_mesh_simple("/rail/surface", rail, faces, color=(150, 150, 160), side="double",
-                                               **NO_SHADOW)
-        self.wheel_mesh = scene.add_mesh_simple("/wheel/surface", wheel, faces, color=(120, 90, 60), side="double",
-                                                opacity=0.35, **NO_SHADOW)
-        self._surface_rows = ny
+    def _draw_surfaces(self, rough: RoughnessSet, position: float | None, line: int) -> None:
+        """Rail and wheel surfaces of ``rough`` around ``position`` (None: the start of the data).
 
-    def _start_position(self) -> float:
-        return 0.0 if self.roughness is None or self.roughness.periodic else 0.05
-
-    def _draw_surfaces(self, position: float, line: int) -> None:
-        rail, wheel = self._surface_vertices(position, line)
-        if self.rail_mesh is None or rail.shape[0] != self._surface_rows * self._surface_x.size:
-            self._reset_surfaces(line)
-            return
-        self.rail_mesh.vertices = rail
-        self.wheel_mesh.vertices = wheel
+        Updated in place; re-created only when the number of lines drawn changes (another set or line).
+        """
+        if position is None:
+            position = 0.0 if rough.periodic else 0.05
+        rail, wheel = self._surface_vertices(rough, position, line)
+        with self._lock:  # the run's thread and the callbacks both draw
+            if self.rail_mesh is not None and rail.shape == self.rail_mesh.vertices.shape:
+                self.rail_mesh.vertices = rail
+                self.wheel_mesh.vertices = wheel
+                return
+            faces = _grid_faces(rail.shape[0] // self._surface_x.size, self._surface_x.size)
+            for handle in (self.rail_mesh, self.wheel_mesh):
+                if handle is not None:
+                    handle.remove()
+            scene = self.server.scene
+            self.rail_mesh = scene.add_mesh_simple("/rail/surface", rail, faces, color=(150, 150, 160),
+                                                   side="double", **NO_SHADOW)
+            self.wheel_mesh = scene.add_mesh_simple("/wheel/surface", wheel, faces, color=(120, 90, 60),
+                                                    side="double", opacity=0.35, **NO_SHADOW)
 
     def draw_state(self, state, result_like) -> None:
         """Draw one step: the patch (3d) or strip and Hertz circle (one-line models) and the surfaces.
@@ -405,7 +410,7 @@ class ExplorerApp:
             self.force_circle.points = _circle(radius * s, 0.01)
             self.strip_mesh.visible = self.force_circle.visible = True
             self.patch_mesh.visible = self.patch_points.visible = False
-        self._draw_surfaces(state.position, result_like.line)
+        self._draw_surfaces(result_like.roughness, state.position, result_like.line)
         self.position_label.text = (f"{result_like.model}: x = {state.position:.3f} m, "
                                     f"F = {state.force / 1e3:.1f} kN")
         with self._lock:
@@ -441,7 +446,7 @@ class ExplorerApp:
         self.roughness_md.content = (
             f"{rough.kind}, {rough.n_lines} lines {rough.lateral_spacing * 1e3:.3g} mm apart, "
             f"{rough.length:.3g} m at {rough.dx * 1e3:.3g} mm. {desc}")
-        self._reset_surfaces(self._current_line_or_zero())
+        self._draw_surfaces(rough, None, self._current_line_or_zero())
         self._update_line_map()
         self._update_roughness_plots()
 
@@ -515,8 +520,8 @@ class ExplorerApp:
         The bytes go to a temporary file of our own naming; the browser's file name is only shown.
         """
         if len(content) > self.max_upload_bytes:
-            raise WheelrailError(f"upload {_safe_label(name)!r} is {len(content) / 2**20:.1f} MB; the limit is "
-                                 f"{self.max_upload_bytes / 2**20:g} MB")
+            raise WheelrailError(f"upload {_safe_label(name)!r} ({_size(len(content))}) is over the "
+                                 f"{_size(self.max_upload_bytes)} limit")
         suffix = Path(str(name)).suffix.lower()
         if suffix not in UPLOAD_SUFFIXES:
             raise WheelrailError(f"upload {_safe_label(name)!r}: expected a .csv or .npz roughness file")
@@ -543,7 +548,7 @@ class ExplorerApp:
 
         viser 1.1 has no public size limit; its upload state lives in ``GuiApi._current_file_upload_states``,
         and our handler runs after viser's for the same start message. If these private names change, the
-        size is still checked when the upload completes (:meth:`load_upload`).
+        size is still checked when the upload completes (:meth:`load_upload`), after viser has buffered it.
         """
         from viser import _messages
 
@@ -556,10 +561,15 @@ class ExplorerApp:
         def refuse(client_id, message) -> None:
             if message.size_bytes <= self.max_upload_bytes:
                 return
-            states.pop(message.transfer_uuid, None)
+            states.pop(message.transfer_uuid, None)  # its parts are now ignored by viser
+            # tell the page the transfer is over, so that its upload button works again
+            server.queue_message(_messages.FileTransferPartAck(
+                source_component_uuid=message.source_component_uuid, transfer_uuid=message.transfer_uuid,
+                transferred_bytes=message.size_bytes, total_bytes=message.size_bytes))
             self._report_error(
-                f"upload {_safe_label(message.filename)!r} is {message.size_bytes / 2**20:.1f} MB; the limit is "
-                f"{self.max_upload_bytes / 2**20:g} MB", client=self.server.get_clients().get(client_id))
+                f"upload {_safe_label(message.filename)!r} ({_size(message.size_bytes)}) is over the "
+                f"{_size(self.max_upload_bytes)} limit; refused before sending",
+                client=self.server.get_clients().get(client_id))
 
         server.register_handler(_messages.FileTransferStartUpload, refuse)
 
@@ -663,7 +673,7 @@ class ExplorerApp:
                     self._run = run
                 self._set_status(f"Running {model} ({number + 1}/{len(models)}), line {config.line}, "
                                  f"{config.speed / KMH:g} km/h, {config.preload / 1e3:g} kN ...")
-                view = _View(model=model, line=config.line, preload=config.preload, window_x=None, window_y=None)
+                view = _View(model=model, line=config.line, preload=config.preload, roughness=roughness)
                 if model == "3d":
                     view.window_x, view.window_y = run.window_x, run.window_y
                 last_draw = last_plot = 0.0
@@ -774,8 +784,10 @@ class ExplorerApp:
             return
         step = int(min(max(step, 0), result.n_steps - 1))
         state = result.state(step)
+        with self._lock:
+            roughness = self.last_roughness
         view = _View(model=result.model, line=result.line, preload=result.parameters["contact"]["preload"],
-                     window_x=result.window_x, window_y=result.window_y)
+                     roughness=roughness, window_x=result.window_x, window_y=result.window_y)
         self.draw_state(state, view)
         self.readout_md.content = (
             f"step {step}: x = {state.position:.4f} m, t = {state.time * 1e3:.2f} ms, F = {state.force / 1e3:.2f} kN, "
@@ -882,8 +894,9 @@ class _View:
     model: str
     line: int
     preload: float
-    window_x: np.ndarray | None
-    window_y: np.ndarray | None
+    roughness: RoughnessSet
+    window_x: np.ndarray | None = None
+    window_y: np.ndarray | None = None
 
 
 def serve(host: str = "127.0.0.1", port: int = 8080, *, roughness: str = DEFAULT_SET,

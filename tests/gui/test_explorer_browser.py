@@ -133,3 +133,32 @@ def test_run_from_the_page(app, browser):
     second.close()
     page.close()
     assert not errors, errors
+
+
+def test_bad_uploads_in_the_page(app, browser):
+    """A malformed CSV and a file over the size limit, uploaded through the page: a message, no harm done."""
+    errors = []
+    page = browser.new_page(viewport={"width": 1200, "height": 900})
+    page.on("pageerror", lambda error: errors.append(str(error)))
+    page.goto(f"http://127.0.0.1:{app.port}")
+    page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
+    before = app.last_result
+    upload = page.locator("input[type=file]")
+    upload.set_input_files(files=[{"name": "broken.csv", "mimeType": "text/csv", "buffer": b"x_m,heights\n0,abc\n"}])
+    _wait_for(lambda: (app.last_error or "").startswith("upload 'broken.csv'"), 60, "the malformed-CSV message")
+    page.get_by_text("Error: upload 'broken.csv'", exact=False).first.wait_for(timeout=60_000)
+
+    limit = app.max_upload_bytes
+    app.max_upload_bytes = 100_000  # keep the test's upload small
+    try:
+        upload.set_input_files(files=[{"name": "huge.csv", "mimeType": "text/csv", "buffer": b"0" * 150_000}])
+        _wait_for(lambda: "huge.csv" in (app.last_error or ""), 60, "the over-limit message")
+        # refused when announced, before its bytes were buffered
+        assert app.last_error == "upload 'huge.csv' (146 kB) is over the 98 kB limit; refused before sending"
+        page.get_by_text("Error: upload 'huge.csv'", exact=False).first.wait_for(timeout=60_000)
+    finally:
+        app.max_upload_bytes = limit
+    page.screenshot(path=str(ARTIFACTS / "explorer-bad-upload.png"))
+    assert app.roughness_label == "corrugated-rail" and app.last_result is before
+    assert not errors, errors
+    page.close()

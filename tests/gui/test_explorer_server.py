@@ -147,7 +147,7 @@ def test_bad_inputs_give_a_message_and_keep_the_results(app):
     big = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="big.csv", content=b"0" * 1_200_000)),
                           client=None)
     app._on_upload(big)
-    assert "limit is" in app.last_error and "big.csv" in app.last_error
+    assert app.last_error == "upload 'big.csv' (1.14 MB) is over the 977 kB limit"
     # not a roughness file; a browser-supplied path is only a label
     app._on_upload(SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="../../etc/passwd",
                                                                                 content=b"root")), client=None))
@@ -181,10 +181,15 @@ def test_stop_cancels_and_a_new_run_replaces_an_old_one(app):
     while app.frames_drawn == 0 and time.monotonic() < deadline:
         time.sleep(0.01)
     assert app.frames_drawn > 0
+    # choosing another set during a run changes the page, not the run
+    app.set_dropdown.value = "sinter-wheel-1"
+    time.sleep(0.3)
+    assert app.running and app.last_error is None
     app.stop()
     assert app.wait(30)
     assert not app.running and app.status.startswith("Stopped 3d")
-    assert 0 < app.last_result.n_steps < 7500
+    assert 0 < app.last_result.n_steps < 7500 and app.last_result.roughness_name == "corrugated-rail"
+    app.set_dropdown.value = "corrugated-rail"
     # pressing Run again while a run goes on replaces it cleanly
     assert app.start_run()
     while app.frames_drawn == 0 and time.monotonic() < deadline + 60:
