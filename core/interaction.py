@@ -223,6 +223,14 @@ class ContactVariant:
 
 
 class _HertzVariant(ContactVariant):
+    """Hertz spring (eqs. 12-14) on an equivalent roughness r_eq of the line.
+
+    The pre-filters run on the line along the track (wheel data already repeated around the
+    circumference); the run's margins (>= 16 mm) exceed their half-lengths (3a = 16.4 mm for the bedding
+    is covered by the 20 mm margin of ``hertz-winkler``; a + 1 mm for the average), so their default end
+    treatment never reaches a step of the run.
+    """
+
     name = "hertz"
 
     def equivalent_roughness(self, run: InteractionRun, line: np.ndarray) -> np.ndarray:
@@ -261,8 +269,7 @@ class _HertzWinkler(_HertzVariant):
 
         c = run.params.contact
         return winkler_equivalent_roughness(line, run.dx, preload=c.preload, radius=c.radius,
-                                            youngs_modulus=c.youngs_modulus, poisson_ratio=c.poisson_ratio,
-                                            boundary="wrap" if run.periodic else "nearest")
+                                            youngs_modulus=c.youngs_modulus, poisson_ratio=c.poisson_ratio)
 
 
 class _HertzAverage(_HertzVariant):
@@ -272,8 +279,7 @@ class _HertzAverage(_HertzVariant):
         from wheelrail.core.contact import average_roughness
 
         c = run.params.contact
-        return average_roughness(line, run.dx, contact_length=2 * c.hertz_radius(),
-                                 boundary="wrap" if run.periodic else "nearest")
+        return average_roughness(line, run.dx, contact_length=2 * c.hertz_radius())
 
 
 class _Winkler2D(ContactVariant):
@@ -398,7 +404,6 @@ class InteractionRun:
     model: str
     line: int
     roughness_name: str
-    periodic: bool
     dx: float
     lines: np.ndarray  # (rows, samples) roughness on the model grid along the track
     centre_row: int
@@ -588,7 +593,6 @@ def prepare_run(
     dt = params.run.time_step
     run = InteractionRun()
     run.params, run.model, run.line, run.roughness_name = params, model, int(line), name
-    run.periodic = rough.periodic
     run.dx = dx
     half_x = int(round(WINDOW_HALF_WIDTH / dx))
     run.half_x = half_x
