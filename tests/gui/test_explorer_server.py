@@ -201,3 +201,46 @@ def test_stop_cancels_and_a_new_run_replaces_an_old_one(app):
     assert app.last_error is None
     assert app.last_result.model == "hertz" and app.last_result.n_steps == 1000
     assert app.config.model == "hertz"
+
+
+def test_wheelrail_explore_serves_the_page_on_localhost():
+    import subprocess
+    import sys
+    import urllib.request
+
+    port = _free_port()
+    process = subprocess.Popen([sys.executable, "-m", "wheelrail.core.cli", "explore", "--port", str(port), "--set",
+                                "sinter-wheel-1"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        for line in process.stdout:  # viser's banner, then ours once the app is built
+            if line.startswith("wheelrail explorer: "):
+                assert line.split()[2] == f"http://127.0.0.1:{port}"
+                break
+        else:
+            raise AssertionError(f"wheelrail explore exited with {process.wait()}")
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=10) as response:
+            assert response.status == 200 and b"<html" in response.read().lower()
+        # bound to the loopback address only: another address of this machine does not answer
+        others = {info[4][0] for info in socket.getaddrinfo(socket.gethostname(), None, socket.AF_INET)}
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:  # the outward interface's address
+            try:
+                probe.connect(("192.0.2.123", 9))  # UDP connect sends nothing
+                others.add(probe.getsockname()[0])
+            except OSError:
+                pass
+        for address in others - {"127.0.0.1"}:
+            if not address.startswith("127."):
+                with socket.socket() as s:
+                    s.settimeout(1)
+                    assert s.connect_ex((address, port)) != 0
+    finally:
+        process.terminate()
+        process.wait(10)
+
+
+def test_wheelrail_explore_rejects_an_unknown_set(capsys):
+    from wheelrail.core.cli import main
+
+    assert main(["explore", "--set", "nope"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("wheelrail explore: error: --set 'nope' is not a bundled set") and "\n" not in err
