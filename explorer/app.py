@@ -176,10 +176,14 @@ class ExplorerApp:
         self.last_download: tuple[str, int] | None = None
         self.runs_finished = 0
 
-        self._build_gui(roughness, length)
-        self._build_scene()
-        self._refuse_large_uploads_early()
-        self.select_set(roughness)
+        try:
+            self._build_gui(roughness, length)
+            self._build_scene()
+            self._refuse_large_uploads_early()
+            self.select_set(roughness)
+        except BaseException:
+            self.server.stop()
+            raise
         self._set_status("Ready: choose a set, a line and a model, then press **Run**.")
 
     # ----------------------------------------------------------------------------------------------
@@ -425,10 +429,12 @@ class ExplorerApp:
         """Make ``name`` (a bundled set or an uploaded file's label) the current roughness set."""
         if name in self._uploads:
             rough = self._uploads[name]
-        else:
+        elif name in bundled_names():  # only names: a value sent by a browser is never opened as a path
             if name not in self._sets:
                 self._sets[name] = load_roughness(name)
             rough = self._sets[name]
+        else:
+            raise WheelrailError(f"unknown roughness set {name!r}; choose a bundled set or upload a file")
         self.roughness = rough
         self.roughness_label = name
         if self.set_dropdown.value != name:

@@ -152,6 +152,11 @@ def test_bad_inputs_give_a_message_and_keep_the_results(app):
     app._on_upload(SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="../../etc/passwd",
                                                                                 content=b"root")), client=None))
     assert "expected a .csv or .npz" in app.last_error and "passwd" in app.last_error
+    # a set name sent by a page is never opened as a server path
+    app.set_dropdown.value = "/etc/passwd"
+    assert app.last_error == "unknown roughness set '/etc/passwd'; choose a bundled set or upload a file"
+    assert app.roughness_label == "corrugated-rail"
+    app.set_dropdown.value = "corrugated-rail"
     # nothing computed is lost and the server keeps working
     assert app.last_result is result and "hertz" in app.spectra
     again = _run(app)
