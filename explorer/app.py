@@ -152,6 +152,7 @@ class ExplorerApp:
         self.max_upload_bytes = int(max_upload_bytes)
         self._lock = threading.RLock()
         self._generation = 0
+        self._stop_generation = -1
         self._worker: threading.Thread | None = None
         self._run = None
         self._pressed_at = 0.0
@@ -640,6 +641,7 @@ class ExplorerApp:
         """What the Stop button does: cancel the current run (it keeps the steps done so far)."""
         with self._lock:
             run = self._run
+            self._stop_generation = self._generation  # also stops a run still being prepared
         if run is not None:
             run.cancel()
 
@@ -677,6 +679,8 @@ class ExplorerApp:
                     if not self._current(generation):
                         return
                     self._run = run
+                    if self._stop_generation == generation:
+                        run.cancel()
                 self._set_status(f"Running {model} ({number + 1}/{len(models)}), line {config.line}, "
                                  f"{config.speed / KMH:g} km/h, {config.preload / 1e3:g} kN ...")
                 view = _View(model=model, line=config.line, preload=config.preload, roughness=roughness)

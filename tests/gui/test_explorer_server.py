@@ -195,6 +195,13 @@ def test_stop_cancels_and_a_new_run_replaces_an_old_one(app):
     assert not app.running and app.status.startswith("Stopped 3d")
     assert 0 < app.last_result.n_steps < 7500 and app.last_result.roughness_name == "corrugated-rail"
     app.set_dropdown.value = "corrugated-rail"
+    # Stop pressed while the run is still being prepared stops it before its first step
+    app.length_number.value = 1.0
+    assert app.start_run()
+    app.stop()
+    assert app.wait(30)
+    assert app.status.startswith("Stopped 3d") and app.last_result.n_steps < 1000
+    app.length_number.value = 7.5
     # pressing Run again while a run goes on replaces it cleanly
     assert app.start_run()
     while app.frames_drawn == 0 and time.monotonic() < deadline + 60:
