@@ -42,7 +42,6 @@ import math
 import os
 import re
 import sys
-import tempfile
 import time
 import zipfile
 from collections.abc import Callable, Iterable, Sequence
@@ -53,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters, WheelParameters, as_dict
 from wheelrail.core.results import MODELS
@@ -292,19 +292,8 @@ def _load_cached(cache: Path, spec: RunSpec) -> RunSummary | None:
     return summary if summary.key == spec.key else None
 
 
-def _atomic_write(path: Path, write: Callable[[object], None], mode: str = "wb") -> None:
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, mode) as handle:
-            write(handle)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
 def _save_cached(cache: Path, summary: RunSummary) -> None:
-    _atomic_write(_cache_path(cache, summary.key), lambda handle: np.savez(handle, **summary.to_arrays()))
+    atomic_write(_cache_path(cache, summary.key), lambda handle: np.savez(handle, **summary.to_arrays()))
 
 
 DASK_CONNECT_TIMEOUT = "10s"  # how long to try reaching a Dask scheduler before giving up
@@ -587,7 +576,7 @@ def write_table(table: Table, folder: Path) -> Path:
                                          for v in table.columns.values()]
             handle.write(",".join(cells) + "\n")
 
-    _atomic_write(path, write, mode="w")
+    atomic_write(path, write, mode="w", encoding="utf-8")
     return path
 
 
@@ -954,7 +943,7 @@ def plot_study(name: str, tables: list[Table], folder: Path) -> list[Path]:
                 ax.legend(fontsize=7)
         figure.suptitle(f"wheelrail study {name}: paper Fig. {figure_id}", fontsize=10)
         path = folder / f"fig{figure_id}_{name}.png"
-        _atomic_write(path, lambda handle, fig=figure: fig.savefig(handle, format="png", dpi=110))
+        atomic_write(path, lambda handle, fig=figure: fig.savefig(handle, format="png", dpi=110))
         paths.append(path)
     return paths
 
@@ -1071,7 +1060,7 @@ def run_study(
         },
     }
     summary_path = folder / f"{name}_summary.json"
-    _atomic_write(summary_path, lambda handle: json.dump(_json_ready(summary), handle, indent=2), mode="w")
+    atomic_write(summary_path, lambda handle: json.dump(_json_ready(summary), handle, indent=2), mode="w")
     files.append(summary_path)
     summary["files"].append(str(summary_path))
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
