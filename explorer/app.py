@@ -205,8 +205,8 @@ class ExplorerApp:
                 f"Upload CSV/NPZ (<= {_size(self.max_upload_bytes)})", icon=viser.Icon.UPLOAD,
                 hint="A roughness file in the CSV or NPZ format of the README; read in memory, never from a path.")
             self.line_slider = gui.add_slider("Line", min=-1, max=1, step=1, initial_value=0)
-            self.line_map = gui.add_image(np.full((10, 10, 3), 255, dtype=np.uint8), label="Lines across the rail",
-                                          format="png")
+            self.line_map = gui.add_image(np.full((10, 10, 3), 255, dtype=np.uint8),
+                                          label="Lines across the running surface", format="png")
             self.roughness_md = gui.add_markdown("")
 
         with gui.add_folder("Run"):
