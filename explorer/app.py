@@ -238,7 +238,7 @@ class ExplorerApp:
         empty = (np.zeros(0), np.zeros(0))
         self._plot("force", empty, ("position (m)", "force (kN)"), title="Contact force")
         self._plot("displacement", (np.zeros(0),) * 3, ("position (m)", "wheel (um)", "rail (um)"),
-                   title="Wheel and rail displacement (downwards)")
+                   title="Wheel and rail displacement (downwards)", ylabel="displacement (um)")
         self._plot("spectra", empty, ("band (Hz)", "no run yet"), title="Force spectra, dB re 1 N", log_x=True)
         self._plot("filters", empty, ("band (Hz)", "run hertz too (or compare)"),
                    title="Contact filter: model - hertz, dB",
