@@ -47,7 +47,7 @@ import zipfile
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -482,6 +482,19 @@ def _execute_pool(missing: list[RunSpec], workers: int, finished: Callable[[RunS
         raise
 
 
+def _portable(spec: RunSpec, loaded: dict) -> RunSpec:
+    """The spec with a user file's roughness loaded into it: Dask workers may run on other machines that
+    see the installed bundled sets but not this machine's files (the key is unchanged: it hashes content)."""
+    from wheelrail.core.roughness import bundled_names, load_roughness
+
+    if isinstance(spec.source, str | os.PathLike) and str(spec.source) not in bundled_names():
+        key = str(spec.source)
+        if key not in loaded:
+            loaded[key] = load_roughness(spec.source)
+        return replace(spec, source=loaded[key])
+    return spec
+
+
 def _execute_dask(missing: list[RunSpec], address: str, finished: Callable[[RunSummary], None]) -> None:
     try:
         from distributed import Client, as_completed
@@ -496,6 +509,8 @@ def _execute_dask(missing: list[RunSpec], address: str, finished: Callable[[RunS
     try:
         if not missing:
             return
+        loaded: dict = {}
+        missing = [_portable(spec, loaded) for spec in missing]
         keys = [f"wheelrail-run-{spec.key[:32]}" for spec in missing]
         futures = client.map(compute_run, missing, key=keys, pure=False)
         for future in as_completed(futures):
