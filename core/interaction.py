@@ -392,6 +392,11 @@ class InteractionRun:
     """One prepared run: iterate :meth:`steps` (streaming) or call :meth:`run`; then :meth:`result`.
 
     Create it with :func:`prepare_run`. :meth:`cancel` (from any thread) stops it between steps.
+
+    Public attributes (read-only by convention): ``model``, ``line``, ``params`` (ModelParameters),
+    ``roughness_name``, ``dx`` (m), ``x_start`` (m, wheel position of step 0), ``n_steps``, and for the 3D
+    model ``window_x`` / ``window_y``: the element centres of the contact window relative to the wheel
+    centre, m (columns along the rail, rows across it), the grid of every ``StepState.pressure``.
     """
 
     def __init__(self) -> None:
@@ -411,6 +416,8 @@ class InteractionRun:
     x_start: float
     loop: _Loop
     variant: ContactVariant
+    window_x: np.ndarray | None  # 3D: element centres along the rail relative to the wheel, m
+    window_y: np.ndarray  # 3D: element centres across the rail relative to the chosen line, m
 
     def position_of(self, s: int) -> float:
         """Wheel position of step s (run-in included: s = n_run_in is step 0), m."""
