@@ -46,6 +46,7 @@ __all__ = ["MODELS", "InteractionRun", "prepare_run", "simulate"]
 
 WINDOW_HALF_WIDTH = 0.012  # m: half side of the 3D window and of the 2D bedding (2.2 a at 65 kN)
 DEFAULT_RUN_IN = 1.0  # m of smooth run-in before step 0 (discarded)
+RUN_MARGIN = 0.020  # m of roughness kept before the first and after the last wheel position
 CHUNK = 2048  # steps per compiled chunk of the 1D models (streaming and cancellation granularity)
 
 # --------------------------------------------------------------------------------------------------
@@ -603,7 +604,9 @@ def prepare_run(
     run.dx = dx
     half_x = int(round(WINDOW_HALF_WIDTH / dx))
     run.half_x = half_x
-    margin = (half_x + 4) * dx if model != "hertz-winkler" else max(half_x + 4, 20) * dx
+    # one margin for every model (the 3D window's half-width, the bedding pre-filter's 3a = 16.4 mm), so
+    # that runs of different models on the same data start at the same position and compare sample by sample
+    margin = max(half_x + 4, int(math.ceil(RUN_MARGIN / dx))) * dx
 
     # roughness on the model grid along the track ------------------------------------------------------
     y_line = float(rough.y[rough.row_of_line(int(line))])
