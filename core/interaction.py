@@ -36,6 +36,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from numba import njit
 
+from wheelrail.core.contact.winkler import _winkler_force
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import MODELS, RunResult, StepState
@@ -115,25 +116,18 @@ def _hertz_solve(a, c, constant):
 @njit(cache=True)
 def _winkler_solve(a, c, window, profile, k_dx):
     """Solve delta + c F(delta) = a for the bedding (F piecewise linear, convex): Newton from delta = a.
-    Returns (delta, force, n_compressed, edge)."""
+
+    F, dF/d delta and the edge flag are those of ``contact.winkler._winkler_force`` (eqs. 3-5).
+    Returns (delta, force, n_compressed, edge).
+    """
     delta = a
-    force = 0.0
-    count = 0
+    force, stiffness, count, edge = _winkler_force(delta, window, profile, k_dx)
     for _ in range(200):
-        force = 0.0
-        count = 0
-        for i in range(window.shape[0]):
-            comp = delta + window[i] - profile[i]
-            if comp > 0.0:
-                force += comp
-                count += 1
-        force *= k_dx
         phi = delta + c * force - a
         if phi <= 1e-18 * (abs(a) + 1e-9) and phi >= -1e-18:
             break
-        delta -= phi / (1.0 + c * k_dx * count)
-    m = window.shape[0]
-    edge = (delta + window[0] - profile[0] > 0.0) or (delta + window[m - 1] - profile[m - 1] > 0.0)
+        delta -= phi / (1.0 + c * stiffness)
+        force, stiffness, count, edge = _winkler_force(delta, window, profile, k_dx)
     return delta, force, count, edge
 
 
