@@ -57,6 +57,7 @@ import numpy as np
 
 from wheelrail.core.atomic import publish, temporary_beside
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.jsonready import json_ready
 from wheelrail.core.results import MODELS, RunResult, StepState
 
 __all__ = [
@@ -496,7 +497,7 @@ class RecordingSink:
         text = (
             f"# wheelrail run{': ' + self.description if self.description else ''}\n\n"
             "SI units (m, s, N, Pa, kg) unless a key names its unit.\n\n"
-            f"```json\n{json.dumps(_plain(document), indent=2)}\n```\n"
+            f"```json\n{json.dumps(json_ready(document), indent=2)}\n```\n"
         )
         self.stream.log("parameters", rr.TextDocument(text, media_type="text/markdown"), static=True, strict=True)
 
@@ -803,20 +804,6 @@ def _run_metadata(run) -> dict:
     if "element_size" not in meta and getattr(run, "dx", None) is not None:
         meta["element_size"] = run.dx
     return meta
-
-
-def _plain(value):
-    if isinstance(value, np.ndarray):
-        return [_plain(v) for v in value.tolist()]
-    if isinstance(value, np.generic):
-        return _plain(value.item())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_plain(v) for v in value]
-    return value
 
 
 # --------------------------------------------------------------------------------------------------

@@ -54,6 +54,7 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.jsonready import json_ready
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters, WheelParameters, as_dict
 from wheelrail.core.results import MODELS
 
@@ -1075,21 +1076,7 @@ def run_study(
         },
     }
     summary_path = folder / f"{name}_summary.json"
-    atomic_write(summary_path, lambda handle: json.dump(_json_ready(summary), handle, indent=2), mode="w")
+    atomic_write(summary_path, lambda handle: json.dump(json_ready(summary), handle, indent=2), mode="w")
     files.append(summary_path)
     summary["files"].append(str(summary_path))
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
-
-
-
-def _json_ready(value):
-    """Plain JSON types (arrays to lists, numpy scalars to Python numbers, NaN to null)."""
-    if isinstance(value, dict):
-        return {str(k): _json_ready(v) for k, v in value.items()}
-    if isinstance(value, np.ndarray | list | tuple):
-        return [_json_ready(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

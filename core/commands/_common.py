@@ -6,9 +6,8 @@ import json
 import math
 import sys
 
-import numpy as np
-
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.jsonready import json_ready
 from wheelrail.core.parameters import KMH
 
 
@@ -36,19 +35,7 @@ def writable_output(path: str, option: str, suffix: str | None = None):
     return target
 
 
-def _plain(value):
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_plain(v) for v in value]
-    return value
-
-
 def print_json(summary: dict) -> None:
-    """Print a machine-readable summary on stdout (SI units; non-SI keys carry their unit)."""
-    json.dump(_plain(summary), sys.stdout, indent=2)
+    """Print a machine-readable summary on stdout (SI units; non-SI keys carry their unit; NaN as null)."""
+    json.dump(json_ready(summary), sys.stdout, indent=2)
     sys.stdout.write("\n")

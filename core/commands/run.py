@@ -121,7 +121,7 @@ def run(args) -> int:
         "run_time_s": finished - prepared,
         "steps_per_s": result.n_steps / max(finished - prepared, 1e-9),
         "band_centres_hz": centres,
-        "levels_db": [None if not np.isfinite(v) else float(v) for v in levels],
+        "levels_db": levels,
     }
     if spectrum_note:
         summary["spectrum_note"] = spectrum_note

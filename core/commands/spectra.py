@@ -99,7 +99,7 @@ def run(args) -> int:
             "dynamic_force_rms_n": rms,
             "band_centres_hz": centres.tolist(),
             "band_labels": [nominal_band_label(c) for c in centres],
-            "levels_db": [None if not math.isfinite(v) else float(v) for v in levels],
+            "levels_db": levels,
         })
         return 0
     print(f"{args.file}: model {saved['model']}, line {saved['line']}, {len(saved['force'])} steps of "
