@@ -178,8 +178,6 @@ def _commit(j, f, force, lo, hi, frac, weights, acc, gamma1, s_pred, state, prel
 class _Loop:
     """Everything the loop needs, resolved and in SI (built by ``prepare_run``)."""
 
-    params: ModelParameters
-    dx: float
     dt: float
     n_steps: int
     n_run_in: int
@@ -349,7 +347,7 @@ class _HalfSpace3D(ContactVariant):
                                                         loop.acc, loop.phi, loop.gamma0, loop.gamma1, loop.state,
                                                         preload, loop.xi_w0)
             i = loop.start_index[s]
-            gap = self.base_gap - loop.ramp[s] * run.window_lines[:, i - hx:i + hx + 1]
+            gap = self.base_gap - loop.ramp[s] * run.lines[:, i - hx:i + hx + 1]
             result = solve_coupled_contact(gap, run.dx, approach_known=delta_known, compliance=comp,
                                            initial=self.warm, youngs_modulus=c.youngs_modulus,
                                            poisson_ratio=c.poisson_ratio, raise_on_failure=False)
@@ -637,7 +635,6 @@ def prepare_run(
         raise WheelrailError("roughness contains NaN or infinite heights")
     run.lines = lines
     run.centre_row = run.centre_window_row if model == "3d" else 0
-    run.window_lines = lines
     first = int(round(margin / dx))
     run.x_start = first * dx
 
@@ -669,7 +666,7 @@ def prepare_run(
     weights = np.ascontiguousarray(weights)
     acc = np.zeros(n_hist + n_total + n_lags)
     _scatter_range(0, n_hist, force, lo, hi, frac, weights, acc)  # the preload's history
-    run.loop = _Loop(params=params, dx=dx, dt=dt, n_steps=n_steps, n_run_in=n_run_in, n_hist=n_hist,
+    run.loop = _Loop(dt=dt, n_steps=n_steps, n_run_in=n_run_in, n_hist=n_hist,
                      force=force, acc=acc, lo=lo, hi=hi, frac=frac, weights=weights, phi=phi,
                      gamma0=gamma0, gamma1=gamma1, state=np.zeros(4), xi_w0=0.0, ramp=ramp,
                      start_index=start_index)
