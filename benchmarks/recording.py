@@ -25,9 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.parameters import ContactParameters, ModelParameters, as_dict
+from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.recording import RecordingSink, read_recording, record_result
-from wheelrail.core.results import RunResult
+from wheelrail.core.results import RunHeader, RunResult
 
 DT = 1e-3 / (100 / 3.6)  # s: 1 mm at 100 km/h
 
@@ -44,11 +44,10 @@ def synthetic_run(n: int) -> RunResult:
     pressure = (peak * np.sqrt(np.clip(1 - r2 / radius**2, 0, None))).astype(np.float32)
     small = 1e-6 * np.sin(2 * np.pi * 300 * t)
     return RunResult(
-        model="3d", line=0, speed=100 / 3.6, element_size=1e-3, time_step=DT, roughness_name="corrugated-rail",
+        header=RunHeader(model="3d", line=0, roughness_name="corrugated-rail", params=ModelParameters()),
         time=t, x=0.016 + np.arange(n) * 1e-3, force=force, xi_wheel=8e-5 + small, xi_rail=3e-5 + small,
         roughness=small, contact_length=np.full(n, 0.011), contact_area=np.full(n, 9.4e-5),
         equivalent_roughness=small, pressure=pressure, window_x=window, window_y=window,
-        parameters=as_dict(ModelParameters()),
     )
 
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 import threading
 from collections.abc import Callable, Iterator
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -39,11 +39,11 @@ from numba import njit
 from wheelrail.core.contact.winkler import _winkler_force
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
-from wheelrail.core.results import MODELS, RunResult, StepState
+from wheelrail.core.results import MODELS, RunHeader, RunResult, StepState
 from wheelrail.core.track import moving_green_functions
 from wheelrail.core.wheel import wheel_discrete_system
 
-__all__ = ["MODELS", "InteractionRun", "prepare_run", "simulate"]
+__all__ = ["MODELS", "InteractionRun", "prepare_run", "run_margin", "simulate", "usable_length"]
 
 WINDOW_HALF_WIDTH = 0.012  # m: half side of the 3D window and of the 2D bedding (2.2 a at 65 kN)
 DEFAULT_RUN_IN = 1.0  # m of smooth run-in before step 0 (discarded)
@@ -499,12 +499,7 @@ class InteractionRun:
         force = loop.force[loop.n_hist + loop.n_run_in: loop.n_hist + loop.n_run_in + done].copy()
         idx = loop.start_index[sl]
         return RunResult(
-            model=self.model,
-            line=self.line,
-            speed=self.params.run.speed,
-            element_size=self.dx,
-            time_step=loop.dt,
-            roughness_name=self.roughness_name,
+            header=self.header,
             time=k * loop.dt,
             x=self.x_start + k * self.dx,
             force=force,
@@ -518,9 +513,42 @@ class InteractionRun:
             window_x=getattr(self.variant, "x", None),
             window_y=self.window_y if self.model == "3d" else None,
             loss_of_contact_steps=int(np.count_nonzero(force <= 0.0)),
-            run_in_length=loop.n_run_in * self.dx,
-            parameters=asdict(self.params),
         )
+
+    @property
+    def header(self) -> RunHeader:
+        """What produced this run (model, line, roughness, parameters, run-in)."""
+        return RunHeader(model=self.model, line=self.line, roughness_name=self.roughness_name, params=self.params,
+                         run_in_length=self.loop.n_run_in * self.dx)
+
+
+def run_margin(element_size: float) -> float:
+    """Roughness kept before the first and after the last wheel position, m.
+
+    One margin for every model (the 3D window's half-width plus 4 elements, the bedding pre-filter's
+    3a = 16.4 mm within ``RUN_MARGIN``), so that runs of different models on the same data start at the same
+    position and compare sample by sample.
+    """
+    half_x = int(round(WINDOW_HALF_WIDTH / element_size))
+    return max(half_x + 4, int(math.ceil(RUN_MARGIN / element_size))) * element_size
+
+
+def usable_length(roughness, element_size: float) -> float:
+    """Longest run on a roughness set, m: the rail data less a ``run_margin`` at each end (every model can
+    run it), or one circumference for wheel data (it repeats). The default run length of :func:`prepare_run`
+    and of the studies.
+
+    Raises WheelrailError when rail data are too short for one element beyond the margins.
+    """
+    if roughness.periodic:
+        return float(roughness.length)
+    margin = run_margin(element_size)
+    span = (roughness.n_samples - 1) * roughness.dx
+    n_steps = math.floor((span - 2 * margin) / element_size + 1e-9)
+    if n_steps < 1:
+        raise WheelrailError(f"rail data of {span:g} m are too short for a run: the model keeps "
+                             f"{margin * 1e3:g} mm of roughness before and after the wheel")
+    return n_steps * element_size
 
 
 def _resolve_roughness(roughness):
@@ -596,9 +624,7 @@ def prepare_run(
     run.dx = dx
     half_x = int(round(WINDOW_HALF_WIDTH / dx))
     run.half_x = half_x
-    # one margin for every model (the 3D window's half-width, the bedding pre-filter's 3a = 16.4 mm), so
-    # that runs of different models on the same data start at the same position and compare sample by sample
-    margin = max(half_x + 4, int(math.ceil(RUN_MARGIN / dx))) * dx
+    margin = run_margin(dx)
 
     # roughness on the model grid along the track ------------------------------------------------------
     y_line = float(rough.y[rough.row_of_line(int(line))])
@@ -618,7 +644,7 @@ def prepare_run(
         wanted = [int(line)]
         run.window_y = np.zeros(1)
     if length is None:
-        length = grid.length if grid.periodic else grid.length - 2 * margin - dx
+        length = usable_length(rough, dx)
     if not (isinstance(length, int | float) and math.isfinite(length) and length > 0):
         raise WheelrailError(f"run length must be positive (m), got {length!r}")
     n_steps = int(round(length / dx))

@@ -9,11 +9,26 @@ sections 2.1-2.3 and 3, and SPEC.md §2.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field, fields
+import typing
+from dataclasses import asdict, dataclass, field, fields, is_dataclass
 
 from wheelrail.core.errors import WheelrailError
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
+
+
+def reduced_modulus(youngs_modulus: float, poisson_ratio: float) -> float:
+    """E* = E / (2 (1 - nu^2)) of two bodies of the same material, Pa.
+
+    The one place this formula lives: the Hertz law, the Winkler bedding (whose stiffness per unit
+    length, eq. 5, equals E*) and the half-space influence coefficients all use it.
+    """
+    return youngs_modulus / (2.0 * (1.0 - poisson_ratio**2))
+
+
+def hertz_constant(youngs_modulus: float, poisson_ratio: float, radius: float) -> float:
+    """C_H = (2/3) E / (1 - nu^2) sqrt(R) = (4/3) E* sqrt(R) of eq. (13), N/m^1.5 (9.608e10 at the defaults)."""
+    return 4.0 / 3.0 * reduced_modulus(youngs_modulus, poisson_ratio) * math.sqrt(radius)
 
 
 def _check(owner: object, name: str, unit: str, *, allow_zero: bool = False) -> None:
@@ -243,12 +258,12 @@ class ContactParameters:
     @property
     def reduced_modulus(self) -> float:
         """E* = E / (2 (1 - nu^2)) for two bodies of the same material, Pa."""
-        return self.youngs_modulus / (2.0 * (1.0 - self.poisson_ratio**2))
+        return reduced_modulus(self.youngs_modulus, self.poisson_ratio)
 
     @property
     def hertz_constant(self) -> float:
         """C_H = (2/3) E / (1 - nu^2) sqrt(R) of eq. (13), N/m^1.5."""
-        return 2.0 / 3.0 * self.youngs_modulus / (1.0 - self.poisson_ratio**2) * math.sqrt(self.radius)
+        return hertz_constant(self.youngs_modulus, self.poisson_ratio, self.radius)
 
     def hertz_radius(self, load: float | None = None) -> float:
         """Hertz contact radius a = (3 P R / (4 E*))^(1/3), m (5.48 mm at the defaults)."""
@@ -309,3 +324,23 @@ def as_dict(params: object) -> dict:
 def field_names(cls: type) -> list[str]:
     """Names of a parameter dataclass's fields, in declaration order."""
     return [f.name for f in fields(cls)]
+
+
+def from_dict(cls: type, values: dict):
+    """Rebuild a parameter dataclass (nested ones too) from :func:`as_dict`'s plain dict, validated.
+
+    Unknown keys and values of the wrong kind are one-line :class:`WheelrailError`s; missing keys take
+    their defaults (files written before a parameter existed).
+    """
+    if not isinstance(values, dict):
+        raise WheelrailError(f"{cls.__name__}: expected a mapping of parameters, got {type(values).__name__}")
+    hints = typing.get_type_hints(cls)
+    known = {f.name for f in fields(cls)}
+    unknown = sorted(set(values) - known)
+    if unknown:
+        raise WheelrailError(f"{cls.__name__}: unknown parameter(s) {', '.join(unknown)}")
+    kwargs = {}
+    for name, value in values.items():
+        kind = hints.get(name)
+        kwargs[name] = from_dict(kind, value) if is_dataclass(kind) else value
+    return cls(**kwargs)

@@ -58,7 +58,7 @@ import numpy as np
 from wheelrail.core.atomic import publish, temporary_beside
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.jsonready import json_ready
-from wheelrail.core.results import MODELS, RunResult, StepState
+from wheelrail.core.results import RunHeader, RunResult, StepState
 
 __all__ = [
     "APPLICATION_ID",
@@ -989,13 +989,12 @@ def read_recording(path: str | os.PathLike) -> RunResult:
         value = meta.get(key)
         return default if value is None else value
 
+    try:
+        header = RunHeader.from_dict(meta)
+    except WheelrailError as error:
+        raise WheelrailError(f"{source}: {error}") from None
     return RunResult(
-        model=meta.get("model") if meta.get("model") in MODELS else str(meta.get("model")),
-        line=int(number("line", 0)),
-        speed=float(number("speed_m_per_s")),
-        element_size=float(number("element_size_m")),
-        time_step=float(number("time_step_s")),
-        roughness_name=str(meta.get("roughness") or ""),
+        header=header,
         time=time,
         x=series("wheel/position"),
         force=series("contact/force"),
@@ -1009,6 +1008,4 @@ def read_recording(path: str | os.PathLike) -> RunResult:
         window_x=window_x,
         window_y=window_y,
         loss_of_contact_steps=int(number("loss_of_contact_steps", 0)),
-        run_in_length=float(number("run_in_length_m", 0.0)),
-        parameters=meta.get("parameters") or {},
     )

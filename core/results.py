@@ -6,6 +6,7 @@ consumers: the recording sink (rerun), the command line, studies and the explore
 
 from __future__ import annotations
 
+import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -14,8 +15,69 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import ModelParameters, as_dict, from_dict
 
 MODELS = ("3d", "2d", "hertz", "hertz-winkler", "hertz-average")
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunHeader:
+    """What produced a run: the configuration every result, recording and plot carries.
+
+    Attributes
+    ----------
+    model : str
+        Contact model name (the registry in ``wheelrail.core.contact.models``).
+    line : int
+        Roughness line number (-M..M; for a model with a lateral window the line it is centred on).
+    roughness_name : str
+        Bundled set name or file path the roughness came from.
+    params : ModelParameters
+        Every model parameter (SI): speed and element size are ``params.run``.
+    run_in_length : float
+        Length run before step 0 on smooth surfaces (discarded), m.
+    """
+
+    model: str
+    line: int
+    roughness_name: str
+    params: ModelParameters = field(default_factory=ModelParameters)
+    run_in_length: float = 0.0
+
+    @property
+    def speed(self) -> float:
+        """Train speed v, m/s."""
+        return self.params.run.speed
+
+    @property
+    def element_size(self) -> float:
+        """Element length Delta x (the step along the rail), m."""
+        return self.params.run.element_size
+
+    @property
+    def time_step(self) -> float:
+        """dt = Delta x / v, s."""
+        return self.params.run.time_step
+
+    def to_dict(self) -> dict:
+        """Plain, JSON-ready view (keys carry their unit where it is not obvious)."""
+        return {
+            "model": self.model, "line": self.line, "roughness": self.roughness_name,
+            "speed_m_per_s": self.speed, "element_size_m": self.element_size, "time_step_s": self.time_step,
+            "run_in_length_m": self.run_in_length, "parameters": as_dict(self.params),
+        }
+
+    @classmethod
+    def from_dict(cls, values: dict) -> RunHeader:
+        """Inverse of :meth:`to_dict` (parameters validated again); a damaged header is a WheelrailError."""
+        try:
+            return cls(
+                model=str(values["model"]), line=int(values["line"]), roughness_name=str(values["roughness"]),
+                params=from_dict(ModelParameters, values.get("parameters", {})),
+                run_in_length=float(values.get("run_in_length_m", 0.0)),
+            )
+        except (KeyError, TypeError, ValueError) as error:
+            raise WheelrailError(f"run header is incomplete or damaged ({error!r})") from None
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,36 +127,23 @@ class RunResult:
 
     Attributes
     ----------
-    model : str
-        One of ``MODELS``.
-    line : int
-        Roughness line number (-M..M; for 3D the line the window is centred on).
-    speed, element_size, time_step : float
-        v (m/s), Delta x (m), dt = Delta x / v (s).
-    roughness_name : str
-        Bundled set name or file path the roughness came from.
+    header : RunHeader
+        What produced the run (model, line, roughness, every parameter); ``model``, ``line``, ``speed``,
+        ``element_size``, ``time_step``, ``roughness_name``, ``run_in_length`` and ``parameters`` (a plain
+        nested dict) read it.
     time, x, force, xi_wheel, xi_rail, roughness, contact_length, contact_area : ndarray (steps,)
         As in :class:`StepState`.
     equivalent_roughness : ndarray (steps,)
         Roughness the contact model actually saw on the line (Hertz variants: r_eq; 2D/3D: r).
     pressure : ndarray (steps, ny, nx) float32 or None
-        3D pressure maps, Pa (None for other models, or when not kept).
+        Pressure maps of a model with a lateral window (3D), Pa (None for other models, or when not kept).
     window_x, window_y : ndarray or None
-        3D window element centres relative to the wheel centre, m.
+        Window element centres relative to the wheel centre, m (3D).
     loss_of_contact_steps : int
         Number of steps with F = 0.
-    run_in_length : float
-        Length run before step 0 on smooth surfaces to reach dynamic equilibrium (discarded), m.
-    parameters : dict
-        All model parameters (nested, SI), for provenance.
     """
 
-    model: str
-    line: int
-    speed: float
-    element_size: float
-    time_step: float
-    roughness_name: str
+    header: RunHeader
     time: np.ndarray
     x: np.ndarray
     force: np.ndarray
@@ -108,8 +157,39 @@ class RunResult:
     window_x: np.ndarray | None = None
     window_y: np.ndarray | None = None
     loss_of_contact_steps: int = 0
-    run_in_length: float = 0.0
-    parameters: dict = field(default_factory=dict)
+
+    @property
+    def model(self) -> str:
+        return self.header.model
+
+    @property
+    def line(self) -> int:
+        return self.header.line
+
+    @property
+    def speed(self) -> float:
+        return self.header.speed
+
+    @property
+    def element_size(self) -> float:
+        return self.header.element_size
+
+    @property
+    def time_step(self) -> float:
+        return self.header.time_step
+
+    @property
+    def roughness_name(self) -> str:
+        return self.header.roughness_name
+
+    @property
+    def run_in_length(self) -> float:
+        return self.header.run_in_length
+
+    @property
+    def parameters(self) -> dict:
+        """All model parameters as a nested plain dict (SI), for provenance."""
+        return as_dict(self.header.params)
 
     @property
     def n_steps(self) -> int:
@@ -133,25 +213,42 @@ class RunResult:
         )
 
     def save_npz(self, path: str | os.PathLike) -> Path:
-        """Write the arrays (SPEC.md §4: time, x, force, xi_wheel, xi_rail, pressure for 3D) atomically."""
-        import json
-
+        """Write the arrays (time, x, force, xi_wheel, xi_rail, pressure for 3D) and the header atomically."""
         target = Path(path)
         if not target.parent.is_dir():
             raise WheelrailError(f"cannot write {target}: folder {target.parent} does not exist")
-        arrays = {
-            "time": self.time, "x": self.x, "force": self.force, "xi_wheel": self.xi_wheel,
-            "xi_rail": self.xi_rail, "roughness": self.roughness, "contact_length": self.contact_length,
-            "contact_area": self.contact_area, "equivalent_roughness": self.equivalent_roughness,
-        }
+        arrays = {name: getattr(self, name) for name in _STEP_ARRAYS}
         if self.pressure is not None:
             arrays["pressure"] = self.pressure
             arrays["window_x"] = self.window_x
             arrays["window_y"] = self.window_y
-        meta = {
-            "model": self.model, "line": self.line, "speed_m_per_s": self.speed,
-            "element_size_m": self.element_size, "time_step_s": self.time_step,
-            "roughness": self.roughness_name, "loss_of_contact_steps": self.loss_of_contact_steps,
-            "run_in_length_m": self.run_in_length, "parameters": self.parameters,
-        }
+        meta = {**self.header.to_dict(), "loss_of_contact_steps": self.loss_of_contact_steps}
         return atomic_write(target, lambda handle: np.savez(handle, metadata=np.array(json.dumps(meta)), **arrays))
+
+    @classmethod
+    def load_npz(cls, path: str | os.PathLike) -> RunResult:
+        """Read a file written by :meth:`save_npz`; anything else is one WheelrailError naming the file."""
+        target = Path(path)
+        try:
+            with np.load(target, allow_pickle=False) as data:
+                meta = json.loads(str(data["metadata"]))
+                arrays = {name: np.asarray(data[name], dtype=float) for name in _STEP_ARRAYS}
+                optional = {name: np.asarray(data[name]) for name in ("pressure", "window_x", "window_y")
+                            if name in data.files}
+        except WheelrailError:
+            raise
+        except Exception as error:  # noqa: BLE001 - any unreadable file is the user's, named in one line
+            raise WheelrailError(f"{target}: not a wheelrail run file ({type(error).__name__}: {error})") from None
+        lengths = {array.shape for array in arrays.values()}
+        if len(lengths) != 1 or len(next(iter(lengths))) != 1:
+            raise WheelrailError(f"{target}: the run's arrays have different lengths or are not 1D")
+        try:
+            header = RunHeader.from_dict(meta)
+        except WheelrailError as error:
+            raise WheelrailError(f"{target}: {error}") from None
+        return cls(header=header, loss_of_contact_steps=int(meta.get("loss_of_contact_steps", 0)),
+                   **arrays, **optional)
+
+
+_STEP_ARRAYS = ("time", "x", "force", "xi_wheel", "xi_rail", "roughness", "contact_length", "contact_area",
+                "equivalent_roughness")

@@ -59,6 +59,7 @@ from numba import njit
 from wheelrail.core.contact._checks import poisson_ratio as _poisson
 from wheelrail.core.contact._checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import reduced_modulus
 
 __all__ = [
     "NormalContactResult",
@@ -167,8 +168,7 @@ def _cached_kernel(ny: int, nx: int, element_size: float, youngs_modulus: float,
         - _rect_integral(ox - half, oy + half)
         + _rect_integral(ox - half, oy - half)
     )
-    reduced_modulus = youngs_modulus / (2.0 * (1.0 - poisson_ratio**2))
-    kernel = np.ascontiguousarray(integral / (math.pi * reduced_modulus))
+    kernel = np.ascontiguousarray(integral / (math.pi * reduced_modulus(youngs_modulus, poisson_ratio)))
     kernel.setflags(write=False)
     return kernel
 
@@ -620,7 +620,7 @@ _NO_FACTOR = np.empty((0, 0))
 
 
 def _cold_start_set(
-    flat: np.ndarray, area: float, reduced_modulus: float, coupled: bool, target: float, compliance: float
+    flat: np.ndarray, area: float, modulus: float, coupled: bool, target: float, compliance: float
 ) -> np.ndarray:
     """First guess of the contact set: the rigid overlap at half the approach, as for Hertz.
 
@@ -633,7 +633,7 @@ def _cold_start_set(
     order = np.sort(flat - flat.min())
     count = np.arange(1, order.size + 1)
     # test depth t = order[k]: overlap count k+1 (approximately), estimated force and approach
-    force = (4.0 / 3.0) * reduced_modulus * np.sqrt(count * area / np.pi) * 2.0 * order
+    force = (4.0 / 3.0) * modulus * np.sqrt(count * area / np.pi) * 2.0 * order
     if coupled:
         lhs = 2.0 * order + compliance * force
         available = target - flat.min()
@@ -675,8 +675,8 @@ def _solve(
     area = element_size**2
     order, factor = _initial_set(where, initial, gap.shape, key)
     if order is None:
-        reduced_modulus = youngs_modulus / (2.0 * (1.0 - poisson_ratio**2))
-        order = np.flatnonzero(_cold_start_set(flat, area, reduced_modulus, coupled, float(target), float(compliance)))
+        modulus = reduced_modulus(youngs_modulus, poisson_ratio)
+        order = np.flatnonzero(_cold_start_set(flat, area, modulus, coupled, float(target), float(compliance)))
     pressure, delta, iterations, status, upper, order, contact, summary = _active_set_solve(
         kernel,
         ny,

@@ -31,6 +31,7 @@ from numba import njit
 from wheelrail.core.contact._checks import poisson_ratio as _poisson
 from wheelrail.core.contact._checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import reduced_modulus
 
 __all__ = ["WinklerContact", "bedding_stiffness", "wheel_profile", "winkler_contact"]
 
@@ -91,7 +92,7 @@ def bedding_stiffness(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3)
     """
     youngs_modulus = _positive("bedding_stiffness", "youngs_modulus", youngs_modulus, "Pa")
     nu = _poisson("bedding_stiffness", poisson_ratio)
-    return youngs_modulus / (2.0 * (1.0 - nu**2))
+    return reduced_modulus(youngs_modulus, nu)
 
 
 def wheel_profile(n_samples: int, element_size: float, radius: float = 0.39) -> np.ndarray:

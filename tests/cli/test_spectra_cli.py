@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from wheelrail.core.cli import main
-from wheelrail.core.parameters import ModelParameters, as_dict
+from wheelrail.core.parameters import ModelParameters
 from wheelrail.core.recording import record_result
-from wheelrail.core.results import RunResult
+from wheelrail.core.results import RunHeader, RunResult
 
 DT = 1e-3 / (100 / 3.6)  # s
 
@@ -21,10 +21,9 @@ def _result(n: int = 2000) -> RunResult:
     force = 65e3 + 2e3 * np.sin(2 * np.pi * 501.187 * t) + rng.normal(0, 30, n)  # 500 Hz tone + noise
     zeros = np.zeros(n)
     return RunResult(
-        model="hertz", line=0, speed=100 / 3.6, element_size=1e-3, time_step=DT, roughness_name="corrugated-rail",
+        header=RunHeader(model="hertz", line=0, roughness_name="corrugated-rail", params=ModelParameters()),
         time=t, x=np.arange(n) * 1e-3, force=force, xi_wheel=zeros, xi_rail=zeros, roughness=zeros,
         contact_length=np.full(n, 0.011), contact_area=np.full(n, 9.4e-5), equivalent_roughness=zeros,
-        parameters=as_dict(ModelParameters()),
     )
 
 

@@ -10,7 +10,7 @@ import pytest
 from rerun.chunk import RrdReader
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import ContactParameters, ModelParameters, as_dict
+from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.recording import (
     ENTITY_PATHS,
     RecordingSink,
@@ -20,7 +20,7 @@ from wheelrail.core.recording import (
     record_result,
     sink_from_args,
 )
-from wheelrail.core.results import RunResult, StepState
+from wheelrail.core.results import RunHeader, RunResult, StepState
 from wheelrail.core.spectra import force_spectrum
 
 DT = 1e-3 / (100 / 3.6)  # s, 1 mm at 100 km/h
@@ -41,13 +41,14 @@ def synthetic_result(n: int = N_STEPS, model: str = "3d", preload: float = 65e3)
         pressure = (peak * np.sqrt(np.clip(1 - r2 / radius**2, 0, None))).astype(np.float32)
     roughness = 1e-5 * np.sin(2 * np.pi * t / 2e-3)
     return RunResult(
-        model=model, line=0, speed=100 / 3.6, element_size=1e-3, time_step=DT, roughness_name="corrugated-rail",
+        header=RunHeader(model=model, line=0, roughness_name="corrugated-rail", params=ModelParameters(contact=contact),
+                         run_in_length=1.0),
         time=t, x=0.016 + np.arange(n) * 1e-3, force=force, xi_wheel=8e-5 + 1e-6 * np.cos(t * 3e3),
         xi_rail=3e-5 + 1e-6 * np.sin(t * 3e3), roughness=roughness,
         contact_length=np.full(n, 0.011), contact_area=np.full(n, 9.4e-5) if model != "2d" else np.full(n, np.nan),
         equivalent_roughness=roughness if model != "hertz-average" else 0.5 * roughness, pressure=pressure,
         window_x=window if model == "3d" else None, window_y=window if model == "3d" else None,
-        loss_of_contact_steps=0, run_in_length=1.0, parameters=as_dict(ModelParameters(contact=contact)),
+        loss_of_contact_steps=0,
     )
 
 
