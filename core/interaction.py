@@ -49,11 +49,12 @@ from wheelrail.core.run_setup import (
     run_margin,
     static_equilibrium,
     usable_length,
+    window_lines,
 )
 
 __all__ = [
     "DEFAULT_RUN_IN", "MODELS", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "InteractionRun", "prepare_run", "run_margin",
-    "simulate", "usable_length",
+    "simulate", "usable_length", "window_lines",
 ]
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
@@ -392,7 +393,7 @@ def prepare_run(
     entry, params, line = checked_inputs(model, line, params, run_in_length)
     rough, name = resolve_roughness(roughness)
     dx = params.run.element_size
-    track = roughness_along_track(rough, entry.traits, line, dx, length)
+    track = roughness_along_track(rough, entry.traits, line, params, length)
     history = history_arrays(track, params, run_in_length, track_numerics)
     header = RunHeader(model=entry.name, line=line, roughness_name=name, params=params,
                        run_in_length=history.n_run_in * dx)

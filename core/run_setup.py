@@ -17,13 +17,14 @@ from functools import cached_property
 
 import numpy as np
 
+from wheelrail.core.checks import real
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ModelEntry, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
 __all__ = [
     "DEFAULT_RUN_IN", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "History", "TrackRoughness", "checked_inputs",
-    "history_arrays", "roughness_along_track", "run_margin", "static_equilibrium", "usable_length",
+    "history_arrays", "roughness_along_track", "run_margin", "static_equilibrium", "usable_length", "window_lines",
 ]
 
 WINDOW_HALF_WIDTH = 0.012  # m: half side of the 3D window and of the 2D bedding (2.2 a at 65 kN)
@@ -69,8 +70,7 @@ def checked_inputs(model: str, line, params: ModelParameters | None, run_in_leng
         raise WheelrailError("params must be a wheelrail.core.parameters.ModelParameters")
     if isinstance(line, bool) or not isinstance(line, int | np.integer):
         raise WheelrailError(f"line must be an integer line number, got {line!r}")
-    if not (isinstance(run_in_length, int | float) and math.isfinite(run_in_length) and run_in_length >= 0):
-        raise WheelrailError(f"run_in_length must be zero or positive (m), got {run_in_length!r}")
+    real("run_in_length", run_in_length, "m", sign="nonnegative")
     return entry, params, int(line)
 
 
@@ -106,6 +106,40 @@ class TrackRoughness:
         return self.first * self.element_size
 
 
+def _lateral_room(grid, y_line: float) -> float:
+    """Data across the rail on the narrower side of a line, m."""
+    return float(min(y_line - grid.y.min(), grid.y.max() - y_line))
+
+
+def _patch_room(params: ModelParameters, element_size: float) -> float:
+    """Data needed on each side of a line by a lateral window: the Hertz semi-axis at the preload rounded up
+    to the grid, plus one element that stays out of contact (the roughness widens the patch)."""
+    return (math.ceil(params.contact.hertz_radius() / element_size - 1e-9) + 1) * element_size
+
+
+def window_lines(roughness, params: ModelParameters | None = None) -> tuple[int, ...]:
+    """The lines a model with a lateral window (``3d``) can be centred on for this set and these parameters.
+
+    A line must fall on the lateral model grid (``element_size`` apart) and have data for the Hertz
+    semi-axis at the preload plus one element on both sides: nearer the edge of the set the window is cut
+    and the patch, widened by the roughness, reaches its edge mid-run (the bundled corrugated rail, 19 lines
+    over +-9 mm, allows lines -2..2 at 65 kN). The explorer and the command line offer only these.
+    """
+    from wheelrail.core.roughness import to_model_grid
+
+    params = ModelParameters() if params is None else params
+    dx = params.run.element_size
+    grid = to_model_grid(roughness, dx, dx)
+    need = _patch_room(params, dx)
+    usable = []
+    for line in roughness.line_numbers:
+        y_line = float(roughness.y[roughness.row_of_line(int(line))])
+        on_grid = np.any(np.abs(grid.y - y_line) <= 1e-9)
+        if on_grid and _lateral_room(grid, y_line) >= need - 1e-9:
+            usable.append(int(line))
+    return tuple(usable)
+
+
 def _window_rows(grid, y_line: float, line: int) -> tuple[list[int], np.ndarray, int]:
     """Lines of the model grid within the lateral window around ``y_line``; their offsets; the centre row."""
     keep = np.abs(grid.y - y_line) <= WINDOW_HALF_WIDTH + 1e-9
@@ -119,7 +153,7 @@ def _window_rows(grid, y_line: float, line: int) -> tuple[list[int], np.ndarray,
     return [grid.line_of_row(int(r)) for r in rows], window_y, centre
 
 
-def roughness_along_track(rough, traits: ModelTraits, line: int, element_size: float,
+def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelParameters,
                           length: float | None) -> TrackRoughness:
     """Step 2: the chosen line (or lateral window) on the model grid, long enough for the run and its margins."""
     from wheelrail.core.roughness import lines_along_track, to_model_grid
@@ -127,19 +161,28 @@ def roughness_along_track(rough, traits: ModelTraits, line: int, element_size: f
     numbers = list(rough.line_numbers)
     if line not in numbers:
         raise WheelrailError(f"line {line} is not in the roughness set (lines {min(numbers)}..{max(numbers)})")
-    dx = element_size
+    dx = params.run.element_size
     margin = run_margin(dx)
     y_line = float(rough.y[rough.row_of_line(line)])
     if traits.lateral_window:
         grid = to_model_grid(rough, dx, dx)
+        usable = window_lines(rough, params)
+        if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):
+            contiguous = usable and usable[-1] - usable[0] == len(usable) - 1
+            allowed = (f"lines {usable[0]}..{usable[-1]}" if contiguous else
+                       f"lines {', '.join(map(str, usable))}" if usable else "no line")
+            raise WheelrailError(
+                f"3d: line {line} is too close to the side of the roughness data: the contact patch needs "
+                f"{_patch_room(params, dx) * 1e3:g} mm of data on each side of its line; this set allows "
+                f"{allowed} at {params.contact.preload / 1e3:g} kN"
+            )
         wanted, window_y, centre_row = _window_rows(grid, y_line, line)
     else:
         grid = to_model_grid(rough, dx)
         wanted, window_y, centre_row = [line], np.zeros(1), 0
     if length is None:
         length = usable_length(rough, dx)
-    if not (isinstance(length, int | float) and math.isfinite(length) and length > 0):
-        raise WheelrailError(f"run length must be positive (m), got {length!r}")
+    length = real("run length", length, "m")
     n_steps = int(round(length / dx))
     if n_steps < 1:
         raise WheelrailError(f"run length {length} m is shorter than one element ({dx} m)")

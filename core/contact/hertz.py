@@ -15,6 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
+from wheelrail.core import checks
+from wheelrail.core.checks import finite_array
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
 from wheelrail.core.parameters import hertz_constant as _hertz_constant
@@ -115,27 +117,6 @@ class HertzAverageModel(HertzModel):
         return average_roughness(line, inputs.element_size, contact_length=2 * inputs.params.contact.hertz_radius())
 
 
-def _as_float(where: str, name: str, value, unit: str, *, positive: bool) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{where}: {name} must be a number in {unit}, got {value!r}") from None
-    if not math.isfinite(number) or (positive and number <= 0.0):
-        allowed = "positive and finite" if positive else "finite"
-        raise WheelrailError(f"{where}: {name} must be {allowed} ({unit}), got {value!r}")
-    return number
-
-
-def _as_array(where: str, name: str, value, unit: str) -> np.ndarray:
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{where}: {name} must be numbers in {unit}") from None
-    if not np.all(np.isfinite(array)):
-        raise WheelrailError(f"{where}: {name} must be finite ({unit}), got a NaN or infinity")
-    return array
-
-
 def hertz_constant(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3, radius: float = 0.39) -> float:
     """Hertzian constant C_H = (2/3) E / (1 - nu^2) sqrt(R) of eq. (13), N/m^1.5.
 
@@ -154,11 +135,9 @@ def hertz_constant(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3, ra
         C_H in N/m^1.5 (9.608e10 at the paper's values).
     """
     where = "hertz_constant"
-    youngs_modulus = _as_float(where, "youngs_modulus", youngs_modulus, "Pa", positive=True)
-    radius = _as_float(where, "radius", radius, "m", positive=True)
-    nu = _as_float(where, "poisson_ratio", poisson_ratio, "-", positive=False)
-    if not 0.0 <= nu < 0.5:
-        raise WheelrailError(f"{where}: poisson_ratio must be in [0, 0.5), got {poisson_ratio!r}")
+    youngs_modulus = checks.positive(where, "youngs_modulus", youngs_modulus, "Pa")
+    radius = checks.positive(where, "radius", radius, "m")
+    nu = checks.poisson_ratio(where, poisson_ratio)
     return _hertz_constant(youngs_modulus, nu, radius)
 
 
@@ -177,8 +156,8 @@ def hertz_force(compression, constant: float) -> np.ndarray:
     ndarray
         F_n in N, same shape as ``compression``; 0 where compression < 0.
     """
-    compression = _as_array("hertz_force", "compression", compression, "m")
-    constant = _as_float("hertz_force", "constant", constant, "N/m^1.5", positive=True)
+    compression = finite_array("hertz_force: compression", compression, "m")
+    constant = checks.positive("hertz_force", "constant", constant, "N/m^1.5")
     positive = np.maximum(compression, 0.0)
     return constant * positive * np.sqrt(positive)
 
@@ -198,8 +177,8 @@ def hertz_stiffness(compression, constant: float) -> np.ndarray:
     ndarray
         N/m, same shape as ``compression``.
     """
-    compression = _as_array("hertz_stiffness", "compression", compression, "m")
-    constant = _as_float("hertz_stiffness", "constant", constant, "N/m^1.5", positive=True)
+    compression = finite_array("hertz_stiffness: compression", compression, "m")
+    constant = checks.positive("hertz_stiffness", "constant", constant, "N/m^1.5")
     return 1.5 * constant * np.sqrt(np.maximum(compression, 0.0))
 
 
@@ -218,8 +197,8 @@ def hertz_approach(force, constant: float) -> np.ndarray:
     ndarray
         Delta zeta in m (77.07 um at 65 kN with the paper's values).
     """
-    force = _as_array("hertz_approach", "force", force, "N")
-    constant = _as_float("hertz_approach", "constant", constant, "N/m^1.5", positive=True)
+    force = finite_array("hertz_approach: force", force, "N")
+    constant = checks.positive("hertz_approach", "constant", constant, "N/m^1.5")
     if np.any(force < 0.0):
         raise WheelrailError(f"hertz_approach: force must be >= 0 N, got minimum {force.min()!r}")
     return (force / constant) ** (2.0 / 3.0)
