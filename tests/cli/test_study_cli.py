@@ -270,3 +270,15 @@ def test_every_named_study_is_known_to_the_cli(capsys):
     text = capsys.readouterr().out
     for name in STUDIES:
         assert name in text
+
+
+def test_explorer_does_not_load_the_study_package():
+    # the explorer's contact filters come from core.spectra; importing the study package would load the
+    # process-pool and Dask machinery into the GUI for nothing
+    import subprocess
+    import sys
+
+    code = ("import sys, wheelrail.explorer.app; "
+            "print(sorted(m for m in sys.modules if m.startswith('wheelrail.core.study')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]", out
