@@ -5,7 +5,7 @@ controls in folders, attaches small callbacks that call into ``wheelrail.core`` 
 It never computes physics or spectra itself: runs come from :func:`wheelrail.core.interaction.prepare_run`,
 spectra from :func:`wheelrail.core.spectra.force_spectrum` and the roughness analyses of
 :mod:`wheelrail.core.roughness`, contact filters (model minus ``hertz``, SPEC.md §4) from
-:func:`wheelrail.core.study.contact_filter`; the only arithmetic here is unit conversion and display scaling.
+:func:`wheelrail.core.spectra.contact_filter`; the only arithmetic here is unit conversion and display scaling.
 
 Threads: a run goes in a background thread (one at a time; a new run cancels the old one through
 :meth:`InteractionRun.cancel` and a generation counter keeps a superseded run from drawing). The GUI and the
@@ -40,8 +40,7 @@ from wheelrail.core.roughness import (
     read_roughness,
     roughness_spectrum,
 )
-from wheelrail.core.spectra import force_spectrum
-from wheelrail.core.study import contact_filter
+from wheelrail.core.spectra import contact_filter, force_spectrum
 
 __all__ = ["ExplorerApp", "RunConfig", "serve"]
 
