@@ -25,6 +25,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import model_entry
 from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
 from wheelrail.core.study.store import load_cached, save_cached
 
@@ -61,8 +62,9 @@ class ExecutionReport:
 
 
 def _cost(spec: RunSpec) -> float:
-    """Rough relative cost, to start the long runs first (3D ~50x slower per step than one line)."""
-    return (50.0 if spec.model == "3d" else 1.0) * (spec.length or 3.0)
+    """Rough relative cost, to start the long runs first (a per-step law such as 3D's is ~50x slower per
+    step than a compiled one-line law)."""
+    return (1.0 if model_entry(spec.model).traits.compiled else 50.0) * (spec.length or 3.0)
 
 
 def execute(

@@ -15,6 +15,15 @@ _STYLES = {  # Fig. 10's legend: thick grey 3D, then the one-line models
                          "label": "Hertz, Winkler pre-filter"},
     "hertz_average_db": {"color": "tab:green", "linewidth": 1.0, "linestyle": "-.",
                          "label": "Hertz, averaging pre-filter"},
+    # reference filters for the runs' load and wheel (dashed, thin), beside the dynamic ones
+    "ref_cnossos_db": {"color": "tab:purple", "linewidth": 1.0, "linestyle": (0, (5, 2)),
+                       "label": "CNOSSOS-EU A3"},
+    "ref_averaging_db": {"color": "0.3", "linewidth": 0.8, "linestyle": (0, (3, 2)),
+                         "label": "analytic: averaging over 2a"},
+    "ref_patch_correlated_db": {"color": "tab:olive", "linewidth": 0.8, "linestyle": (0, (3, 2)),
+                                "label": "analytic: circular patch, correlated"},
+    "ref_patch_incoherent_db": {"color": "tab:cyan", "linewidth": 0.8, "linestyle": (0, (3, 2)),
+                                "label": "analytic: circular patch, incoherent"},
 }
 _SET_STYLES = ("-", "--", "-.", ":")
 
@@ -56,6 +65,7 @@ def _draw_filters(group: list[Table]):
             _frequency_axis(ax, table, ylabel)
             ax.set_title(panel, fontsize=9)
         axes[row, 0].legend(fontsize=7)
+        axes[row, 1].legend(fontsize=6)
     return figure
 
 

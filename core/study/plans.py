@@ -21,6 +21,7 @@ from wheelrail.core.study.specs import (
     ONE_LINE_MODELS,
     PAPER_LINES,
     PAPER_SPEEDS_KMH,
+    REFERENCE_MODEL,
     STUDIES,
     RunSpec,
     RunSummary,
@@ -172,6 +173,20 @@ def _centres(summaries, spec: RunSpec) -> np.ndarray:
     return summaries[spec.key].band_centres
 
 
+def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str, np.ndarray]:
+    """The reference filters (CNOSSOS-EU A3, analytic) for the runs' load, wheel and speed on the bands of the
+    force spectra, as ``ref_<name>_db`` columns (NaN where a filter is not defined)."""
+    from wheelrail.core.reference_filters import reference_filters
+
+    contact = params.contact
+    refs = reference_filters(contact.preload, contact.radius, params.run.speed, contact=contact,
+                             frequency_range=(float(centres[0]), float(centres[-1])))
+    if not np.allclose(refs.frequency_bands.centres, centres, rtol=1e-9):
+        raise WheelrailError("reference filters: the bands differ from those of the force spectra")
+    return {f"ref_{name.replace('-', '_')}_db": np.asarray(values, dtype=float)
+            for name, values in refs.by_frequency.items()}
+
+
 def _plan_filters(infos, speed):
     params = _params(speed)
     specs, layout = [], {}
@@ -190,16 +205,18 @@ def _plan_filters(infos, speed):
                      for model in ONE_LINE_MODELS}
             l3d = _levels(summaries, three_d)
             spectra = {"3d_db": l3d, **{f"{m.replace('-', '_')}_db": mean_level(level[m]) for m in ONE_LINE_MODELS}}
-            filters = {"3d_db": mean_level([contact_filter(l3d, h) for h in level["hertz"]])}
+            filters = {"3d_db": mean_level([contact_filter(l3d, h) for h in level[REFERENCE_MODEL]])}
             for model in ("2d", "hertz-winkler", "hertz-average"):
                 filters[f"{model.replace('-', '_')}_db"] = mean_level(
-                    [contact_filter(v, h) for v, h in zip(level[model], level["hertz"], strict=True)])
+                    [contact_filter(v, h) for v, h in zip(level[model], level[REFERENCE_MODEL], strict=True)])
+            filters.update(_reference_columns(params, centres))
             lines = f"lines {info.lines[0]}..{info.lines[-1]}"
             tables.append(Table(name=f"fig10_{label}_force_levels", figure="10", panel=label, columns=spectra,
                                 title=f"{label}: contact-force levels, dB re 1 N (one-line models: mean of {lines})",
                                 band_centres=centres))
             tables.append(Table(name=f"fig10_{label}_contact_filters", figure="10", panel=label, columns=filters,
-                                title=f"{label}: contact filter L - L_hertz, dB (mean over {lines})",
+                                title=f"{label}: contact filter L - L_hertz, dB (mean over {lines}); ref_*: "
+                                      f"CNOSSOS-EU A3 and analytic filters for the run's load and wheel",
                                 band_centres=centres))
         return tables
 

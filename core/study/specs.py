@@ -11,13 +11,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry  # noqa: F401 - REFERENCE_MODEL re-exported
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
-from wheelrail.core.results import MODELS
 
 STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds")
 PAPER_LINES = tuple(range(-3, 4))  # the seven lines -3..3 the paper averages over (section 3.3)
-ONE_LINE_MODELS = ("2d", "hertz", "hertz-winkler", "hertz-average")
-REFERENCE_MODEL = "hertz"  # no roughness filtering: the reference of the contact filter (section 3.3)
+# the built-in models that see one line (the paper averages them over PAPER_LINES), from the registry
+ONE_LINE_MODELS = tuple(name for name in MODELS if not model_entry(name).traits.lateral_window)
 LOW_RESOLUTION_LINES_MM = {  # Fig. 17: lateral offsets from line 0 kept, mm
     4: (-8.0, -4.0, 0.0, 4.0, 8.0),
     8: (-8.0, 0.0, 8.0),

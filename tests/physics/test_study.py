@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
+from wheelrail.core.reference_filters import reference_filters
 from wheelrail.core.roughness import RoughnessSet
 from wheelrail.core.spectra import BAND_HALF_WIDTH
 from wheelrail.core.study import (
@@ -103,6 +104,11 @@ def test_2d_filter_dips_at_eq19_and_3d_dips_are_shallower(white_set, tmp_path):
     low = centres < 450
     for column in ("2d_db", "3d_db", "hertz_winkler_db", "hertz_average_db"):
         assert np.nanmax(np.abs(filters.columns[column][low])) < 0.5, column
+    # the reference filters for the runs' load and wheel sit beside the dynamic ones (issue 14), the same
+    # values as wheelrail.core.reference_filters gives for 65 kN, R = 0.39 m, 100 km/h
+    refs = reference_filters(P.contact.preload, P.contact.radius, P.run.speed)
+    for name, values in refs.by_frequency.items():
+        np.testing.assert_array_equal(filters.columns[f"ref_{name.replace('-', '_')}_db"], values)
 
 
 def test_eq19_dips_move_with_speed(white_set, tmp_path):
