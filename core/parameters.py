@@ -204,7 +204,8 @@ class TrackNumerics:
         wavelength up to 8 kHz).
     positions_per_bay : int
         Excitation positions x0 per bay at which Green's functions are computed, on FE nodes (it must
-        divide ``elements_per_bay``); positions in between are interpolated linearly (16: every 40.6 mm).
+        divide ``elements_per_bay``; 16: every 40.6 mm); in between they are interpolated trigonometrically
+        (refined 4 times, ``track.BAY_REFINEMENT``), then linearly.
         A load between nodes is not used: its early response converges slowly with the mesh (at 16
         elements per bay the first-step compliance of a mid-element load is 42 % below the converged
         value, a node's 1.5 %), which would modulate the contact at the element-passing frequency.
