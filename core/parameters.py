@@ -17,6 +17,26 @@ from wheelrail.core.errors import WheelrailError
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
 
+# Accepted train speeds (``RunParameters.speed``): the range over which the interaction loop is shown stable
+# (FOH_MAX_STEP; smooth-rail speed scans in tests/physics/test_stability.py and benchmarks/speed_scan.py).
+# Below MIN_SPEED_KMH steps get so long (7.2 ms at 0.5 km/h: 8 lags) that the 50 ms truncation of the
+# trapezoidal weights matters and the loop chattered again at 0.5 km/h. MAX_SPEED_KMH is the reach of the
+# cached track responses (``TrackNumerics.max_speed``).
+MIN_SPEED_KMH = 5.0
+MAX_SPEED_KMH = 400.0
+
+# Longest loop time step (s) at which wheel (eq. 1) and rail (eq. 2) are discretised with a first-order hold
+# (exact for a force linear between steps). A longer step (below 14.4 km/h at 1 mm) uses the trapezoidal rule
+# (Newmark average acceleration) for both instead: the first-order hold's sampled compliance at the Nyquist
+# frequency 1/(2 dt) is a positive mix of the receptance's real part there, which is negative (mass-like)
+# above the track's resonances, and when it outweighs the contact's own compliance the implicit contact
+# update diverges with period two steps (2.6-3.5 and 6.8-6.9 km/h on the paper's track: Nyquist frequency
+# just above the rail-on-pad and the pinned-pinned resonances). The trapezoidal rule maps the continuous
+# coupled system onto the discrete one conformally (s = 2/dt (z - 1)/(z + 1)), so the discrete loop is
+# stable wherever the physical system is; at the Nyquist frequency its compliance is that at infinite
+# frequency, zero.
+FOH_MAX_STEP = 0.25e-3
+
 
 def reduced_modulus(youngs_modulus: float, poisson_ratio: float) -> float:
     """E* = E / (2 (1 - nu^2)) of two bodies of the same material, Pa.
@@ -173,7 +193,8 @@ class TrackNumerics:
         wavelength up to 8 kHz).
     positions_per_bay : int
         Excitation positions x0 per bay at which Green's functions are computed, on FE nodes (it must
-        divide ``elements_per_bay``); positions in between are interpolated linearly (16: every 40.6 mm).
+        divide ``elements_per_bay``; 16: every 40.6 mm); in between they are interpolated trigonometrically
+        (refined 4 times, ``track.BAY_REFINEMENT``), then linearly.
         A load between nodes is not used: its early response converges slowly with the mesh (at 16
         elements per bay the first-step compliance of a mid-element load is 42 % below the converged
         value, a node's 1.5 %), which would modulate the contact at the element-passing frequency.
@@ -192,7 +213,7 @@ class TrackNumerics:
     positions_per_bay: int = 16
     time_step: float = 5e-6
     duration: float = 0.05
-    max_speed: float = 300.0 * KMH
+    max_speed: float = MAX_SPEED_KMH * KMH
     store_every: int = 2
 
     def __post_init__(self) -> None:
@@ -277,7 +298,7 @@ class RunParameters:
     Attributes
     ----------
     speed : float
-        v, train speed, m/s (100 km/h in the paper).
+        v, train speed, m/s (100 km/h in the paper); MIN_SPEED_KMH to MAX_SPEED_KMH.
     element_size : float
         Delta x, contact element length and step length along the rail, m (1 mm).
     """
@@ -288,6 +309,12 @@ class RunParameters:
     def __post_init__(self) -> None:
         _check(self, "speed", "m/s")
         _check(self, "element_size", "m")
+        kmh = float(self.speed) / KMH
+        if not MIN_SPEED_KMH * (1 - 1e-12) <= kmh <= MAX_SPEED_KMH * (1 + 1e-12):
+            raise WheelrailError(
+                f"train speed {kmh:.6g} km/h is outside the accepted {MIN_SPEED_KMH:g}-{MAX_SPEED_KMH:g} km/h "
+                f"(RunParameters.speed {float(self.speed):.6g} m/s)"
+            )
 
     @property
     def time_step(self) -> float:

@@ -31,7 +31,14 @@ import viser
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.interaction import prepare_run
 from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
-from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
+from wheelrail.core.parameters import (
+    KMH,
+    MAX_SPEED_KMH,
+    MIN_SPEED_KMH,
+    ContactParameters,
+    ModelParameters,
+    RunParameters,
+)
 from wheelrail.core.roughness import (
     RoughnessSet,
     bundled_names,
@@ -214,7 +221,8 @@ class ExplorerApp:
             self.model_dropdown = gui.add_dropdown("Contact model", MODEL_CHOICES, initial_value="3d",
                                                    hint="compare: hertz, hertz-average, hertz-winkler, 2d "
                                                         "and 3d one after another")
-            self.speed_number = gui.add_number("Speed (km/h)", 100.0, min=0.0, max=300.0, step=1.0)
+            self.speed_number = gui.add_number("Speed (km/h)", 100.0, min=MIN_SPEED_KMH, max=MAX_SPEED_KMH,
+                                                step=1.0)
             self.preload_number = gui.add_number("Preload (kN)", 65.0, min=0.0, max=500.0, step=1.0)
             self.length_number = gui.add_number("Run length (m)", float(length), min=0.0, max=100.0, step=0.1)
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
@@ -590,8 +598,8 @@ class ExplorerApp:
         if model not in MODEL_CHOICES:
             raise WheelrailError(f"unknown contact model {model!r}; choose one of {', '.join(MODEL_CHOICES)}")
         speed_kmh = float(self.speed_number.value)
-        if not (math.isfinite(speed_kmh) and 0 < speed_kmh <= 300):
-            raise WheelrailError(f"speed must be above 0 and at most 300 km/h, got {speed_kmh:g} km/h")
+        if not (math.isfinite(speed_kmh) and MIN_SPEED_KMH <= speed_kmh <= MAX_SPEED_KMH):
+            raise WheelrailError(f"speed must be {MIN_SPEED_KMH:g}-{MAX_SPEED_KMH:g} km/h, got {speed_kmh:g} km/h")
         preload_kn = float(self.preload_number.value)
         if not (math.isfinite(preload_kn) and preload_kn > 0):
             raise WheelrailError(f"preload must be a positive load in kN, got {preload_kn:g} kN")
