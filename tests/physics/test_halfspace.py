@@ -186,15 +186,17 @@ def test_window_edge_is_reported():
 def test_one_element_at_a_time_mode_reaches_the_same_answer():
     # the anti-cycling mode (used after 30 iterations) adds / drops only the worst element per iteration;
     # forced from the start here it must still end at the same solution, only in more iterations
-    from wheelrail.core.contact.halfspace import _NO_FACTOR, _active_set_solve, _cached_kernel
+    from wheelrail.core.contact.halfspace_kernel import _cached_kernel
+    from wheelrail.core.contact.halfspace_solver import _NO_FACTOR, _active_set_solve
 
     dx, n = 1e-3, 24
     gap = rough_gap(n, dx, seed=21)
     reference = solve_normal_contact(gap, dx, load=LOAD)
     kernel = _cached_kernel(n, n, dx, CONTACT.youngs_modulus, CONTACT.poisson_ratio)
     start = np.array([int(np.argmin(gap))], dtype=np.int64)
+    # law (load-controlled, F, no compliance, A_e); limits (tolerance, iterations, cautious from the start)
     pressure, approach, iterations, status, *_ = _active_set_solve(
-        kernel, n, n, gap.ravel(), start, 1, _NO_FACTOR, False, LOAD, 0.0, dx * dx, 1e-9, 1000, 0
+        kernel, gap.ravel(), start, _NO_FACTOR, (False, LOAD, 0.0, dx * dx), (1e-9, 1000, 0)
     )
     assert status == 0
     assert iterations > reference.iterations
