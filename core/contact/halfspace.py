@@ -260,6 +260,14 @@ class HalfSpaceWindow:
         self._warm = None
         self._last = None
 
+    def start_from(self, contact) -> None:
+        """Make ``contact`` (bool mask of the window's shape, e.g. a set shifted by the caller) the warm state.
+
+        The next solve starts from that set and factors it afresh, as ``initial=mask`` of the one-off
+        functions does.
+        """
+        self._warm = _initial_set("HalfSpaceWindow.start_from", np.asarray(contact), self.shape, self._key, "contact")
+
     # solves ------------------------------------------------------------------------------------------
     def solve(self, gap, *, load: float, raise_on_failure: bool = True) -> NormalContactResult:
         """Load-controlled normal contact, eqs. (8)-(11): p >= 0 and delta with A_e sum(p) = load.
@@ -431,7 +439,7 @@ def _coupling(where: str, approach_known, compliance) -> tuple[float, float]:
     return approach_known, compliance
 
 
-def _initial_set(where: str, initial, shape, key):
+def _initial_set(where: str, initial, shape, key, name: str = "initial"):
     """Warm start (set, factor): the contact set (element indices) and, for a result of the same problem
     class (shape, element size, material), its Cholesky factor in the same order; None for a cold start."""
     if initial is None:
@@ -442,7 +450,7 @@ def _initial_set(where: str, initial, shape, key):
     mask = np.asarray(mask)
     if mask.shape != shape or mask.dtype != bool:
         raise WheelrailError(
-            f"{where}: initial must be a NormalContactResult or bool mask of shape {shape}, "
+            f"{where}: {name} must be a NormalContactResult or bool mask of shape {shape}, "
             f"got {type(initial).__name__} of shape {mask.shape}"
         )
     return np.flatnonzero(mask), _NO_FACTOR
