@@ -24,6 +24,7 @@ COMMANDS = {
     "roughness": "roughness",
     "spectra": "spectra",
     "study": "study",
+    "filters": "filters",
 }
 
 

@@ -56,7 +56,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wheelrail.core.contact._checks import positive as _positive
+from wheelrail.core.checks import integer as _integer
+from wheelrail.core.checks import positive as _positive
 from wheelrail.core.contact.halfspace_kernel import _cached_kernel, _material, influence_kernel
 from wheelrail.core.contact.halfspace_solver import (
     _CAUTIOUS_AFTER,
@@ -194,9 +195,7 @@ class HalfSpaceWindow:
         element_size = _positive(where, "element_size", element_size, "m")
         youngs_modulus, poisson_ratio = _material(where, youngs_modulus, poisson_ratio)
         self._tolerance = _positive(where, "tolerance", tolerance, "relative")
-        if isinstance(max_iterations, bool) or not isinstance(max_iterations, int | np.integer) or max_iterations < 1:
-            raise WheelrailError(f"{where}: max_iterations must be an integer >= 1, got {max_iterations!r}")
-        self._max_iterations = int(max_iterations)
+        self._max_iterations = _integer(f"{where}: max_iterations", max_iterations, 1)
         self._key = (shape[0], shape[1], element_size, youngs_modulus, poisson_ratio)
         self._kernel = _cached_kernel(*self._key)
         self._warm = None  # (contact set in factor order, its upper Cholesky factor or 0 x 0)

@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from wheelrail.core.contact._checks import poisson_ratio as _poisson
-from wheelrail.core.contact._checks import positive as _positive
+from wheelrail.core.checks import poisson_ratio as _poisson
+from wheelrail.core.checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import reduced_modulus
 
