@@ -24,8 +24,8 @@ the upper Cholesky factor ``upper[:m, :m]``, C_AA = U^T U) and ``active`` its ma
 Every function that :func:`_active_set_solve` calls lives in this one module on purpose: numba's on-disk
 cache (``cache=True``) is invalidated by a change to the file of the cached function only, not by a change
 to a function it calls in another module. The steps of the active set (and ``_window_shape``) are inlined
-by numba (``inline="always"``): as separate compiled functions they cost 6 us of a 93 us warm-started
-1 mm solve (measured); inlined they cost nothing, and since neither they nor :func:`_active_set_solve` use
+by numba (``inline="always"``): as separate compiled functions they cost 4-6 us of a 95 us warm-started
+1 mm solve (measured); inlined they cost nothing measurable, and since neither they nor :func:`_active_set_solve` use
 fastmath, inlining does not change their arithmetic (the results are bit-identical to the single function
 they were cut from). The fastmath kernels (Cholesky, u = C p) stay separate functions: inlining them
 into a non-fastmath caller would drop their fastmath flag.
