@@ -21,6 +21,7 @@ from wheelrail.core.recording import (
     sink_from_args,
 )
 from wheelrail.core.results import RunHeader, RunResult, StepState
+from wheelrail.core.roughness import load_roughness
 from wheelrail.core.spectra import force_spectrum
 
 DT = 1e-3 / (100 / 3.6)  # s, 1 mm at 100 km/h
@@ -75,7 +76,7 @@ def scalar_column(path, entity: str) -> tuple[np.ndarray, np.ndarray]:
 def recorded(tmp_path_factory):
     result = synthetic_result()
     path = tmp_path_factory.mktemp("rec") / "run.rrd"
-    assert record_result(result, path) == path
+    assert record_result(result, path, roughness=load_roughness("corrugated-rail")) == path
     return result, path
 
 
@@ -275,7 +276,7 @@ def test_real_short_run_streams_exactly(tmp_path, model):
     run = prepare_run("corrugated-rail", model=model, length=0.05)
     path = tmp_path / f"{model}.rrd"
     sink = RecordingSink(rrd=path, chunk_steps=16)
-    sink.start(run)
+    sink.start(run, roughness=load_roughness("corrugated-rail"))
     result = run.run(sink)
     sink.finish(result)
     back = read_recording(path)
@@ -299,7 +300,7 @@ def test_sink_used_without_start_is_completed_by_finish(tmp_path):
     sink = RecordingSink(rrd=path, chunk_steps=50)
     for k in range(result.n_steps):
         sink.log_step(result.state(k))
-    sink.finish(result)
+    sink.finish(result, roughness=load_roughness("corrugated-rail"))
     back = read_recording(path)
     np.testing.assert_array_equal(back.pressure, result.pressure)
     np.testing.assert_array_equal(back.window_x, result.window_x)  # the centred 1 mm grid
