@@ -349,3 +349,17 @@ def test_connect_streams_to_a_running_viewer_server(tmp_path):
     finally:
         server.kill()
         server.wait()
+
+
+def test_sink_records_only_the_roughness_it_is_given(tmp_path):
+    """The run names a bundled set, but without the set itself no roughness/lines is written (nothing loaded)."""
+    result = synthetic_result(n=60, model="hertz")
+    assert result.roughness_name == "corrugated-rail"
+    path = record_result(result, tmp_path / "plain.rrd")
+    paths = {c.entity_path.lstrip("/") for c in RrdReader(path).stream()}
+    assert "roughness/lines" not in paths and "contact/force" in paths
+    rough = load_roughness("corrugated-rail")
+    steps, lines = scalar_column(record_result(result, tmp_path / "lines.rrd", roughness=rough), "roughness/lines")
+    assert lines.shape == (60, 7)
+    # exact: the same interpolation of the set's line 2 (row centre + 2) at the wheel positions
+    np.testing.assert_array_equal(lines[:, 5], np.interp(result.x, rough.x, rough.heights[rough.row_of_line(2)]))
