@@ -11,7 +11,6 @@ sent as a column of image buffers (one static ``ImageFormat``), decimated with `
 from __future__ import annotations
 
 import os
-from operator import attrgetter
 from pathlib import Path
 
 import numpy as np
@@ -40,8 +39,13 @@ __all__ = ["RecordingSink", "record_result"]
 DEFAULT_CHUNK_STEPS = 500  # steps buffered before one columnar send (a few ms of work per block)
 SURFACE_EVERY = 4  # the pressure surface mesh is recorded at every 4th recorded pressure map
 
-_ROW = attrgetter("step", "time", *(field.state for field in STEP_FIELDS))  # one StepState -> one buffered row
 _ROW_NAMES = ("step", "time", *(field.name for field in STEP_FIELDS))
+# one StepState -> one buffered row, in _ROW_NAMES order. Compiled from the field list: attribute reads
+# in a function are specialised by Python 3.11+, so this takes 0.30 us a step where operator.attrgetter
+# takes 0.45 us (measured on the 8 000 synthetic steps of benchmarks/recording.py)
+_ROW = eval(  # noqa: S307 - the source is built from this package's own constant field names
+    "lambda state: (state.step, state.time, " + ", ".join(f"state.{field.state}" for field in STEP_FIELDS) + ")"
+)
 
 
 def _check_counts(record_every, surface_every, chunk_steps) -> None:
