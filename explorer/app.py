@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 import viser
 
+from wheelrail.core.drawing import circle_segments, colour_table, grid_triangles, table_colours
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.interaction import prepare_run
 from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
@@ -95,27 +96,6 @@ class RunConfig:
                 "preload_kn": self.preload / 1e3, "length_m": self.length}
 
 
-def _colour_table() -> np.ndarray:
-    """256 x 3 uint8 colour map for pressures (matplotlib's viridis)."""
-    from matplotlib import colormaps
-
-    return (colormaps["viridis"](np.linspace(0.0, 1.0, 256))[:, :3] * 255).astype(np.uint8)
-
-
-def _grid_faces(ny: int, nx: int) -> np.ndarray:
-    """Triangles of a ny x nx vertex grid (row-major vertices)."""
-    idx = np.arange(ny * nx).reshape(ny, nx)
-    a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel()
-    return np.concatenate([np.stack([a, b, d], axis=1), np.stack([a, d, c], axis=1)]).astype(np.uint32)
-
-
-def _circle(radius: float, z: float, n: int = 96) -> np.ndarray:
-    """Line segments (n, 2, 3) of a circle of ``radius`` at height ``z`` (scene units)."""
-    t = np.linspace(0.0, 2.0 * np.pi, n + 1)
-    pts = np.stack([radius * np.cos(t), radius * np.sin(t), np.full_like(t, z)], axis=1)
-    return np.stack([pts[:-1], pts[1:]], axis=1).astype(np.float32)
-
-
 def _finite_bands(centres: np.ndarray, columns: list[np.ndarray]) -> tuple[np.ndarray, ...]:
     """Keep the bands where every column is finite (uPlot draws numbers only)."""
     keep = np.ones(centres.shape, dtype=bool)
@@ -164,7 +144,7 @@ class ExplorerApp:
         self._worker: threading.Thread | None = None
         self._run = None
         self._pressed_at = 0.0
-        self._colours = _colour_table()
+        self._colours = colour_table()
         self._uploads: dict[str, RoughnessSet] = {}
         self._sets: dict[str, RoughnessSet] = {}
 
@@ -327,9 +307,9 @@ class ExplorerApp:
         strip = np.array([[-1, -0.5, 0], [1, -0.5, 0], [1, 0.5, 0], [-1, 0.5, 0]], np.float32) * s
         self.strip_mesh = scene.add_mesh_simple("/contact/strip", strip, np.array([[0, 1, 2], [0, 2, 3]], np.uint32),
                                                 color=(214, 39, 40), side="double", visible=False, **NO_SHADOW)
-        self.force_circle = scene.add_line_segments("/contact/hertz_at_force", _circle(0.5, 0.01),
+        self.force_circle = scene.add_line_segments("/contact/hertz_at_force", circle_segments(0.5, 0.01),
                                                     (214, 39, 40), thickness=0.02, visible=False)
-        self.nominal_circle = scene.add_line_segments("/contact/hertz_nominal", _circle(0.548, 0.005),
+        self.nominal_circle = scene.add_line_segments("/contact/hertz_nominal", circle_segments(0.548, 0.005),
                                                       (240, 200, 0), thickness=0.03)
         # rail and wheel surfaces with their roughness (exaggerated), moved with the wheel
         self._surface_x = np.arange(-SURFACE_HALF_LENGTH, SURFACE_HALF_LENGTH + 0.5, 1.0)  # mm
@@ -373,7 +353,7 @@ class ExplorerApp:
                 self.rail_mesh.vertices = rail
                 self.wheel_mesh.vertices = wheel
                 return
-            faces = _grid_faces(rail.shape[0] // self._surface_x.size, self._surface_x.size)
+            faces = grid_triangles(rail.shape[0] // self._surface_x.size, self._surface_x.size)
             for handle in (self.rail_mesh, self.wheel_mesh):
                 if handle is not None:
                     handle.remove()
@@ -397,7 +377,7 @@ class ExplorerApp:
             z = pressure / 1e9 * PRESSURE_HEIGHT
             vertices = (np.stack([x, y, z], axis=-1).reshape(-1, 3) * s).astype(np.float32)
             top = 1.5 * contact.hertz_peak_pressure()
-            colours = self._colours[np.clip((pressure / top * 255).astype(np.int64), 0, 255)].reshape(-1, 3).copy()
+            colours = table_colours(pressure, top, self._colours).reshape(-1, 3)
             # elements out of contact: their points are stacked on the peak's point (a fixed point count keeps
             # the handle's arrays in step), so only the contact shows as coloured squares on the raised mesh
             points = vertices + np.float32([0, 0, 0.002])
@@ -407,7 +387,7 @@ class ExplorerApp:
             points[outside] = points[peak]
             colours[outside] = colours[peak]
             if self._patch_shape != (ny, nx):
-                self.patch_mesh.faces = _grid_faces(ny, nx)
+                self.patch_mesh.faces = grid_triangles(ny, nx)
                 self._patch_shape = (ny, nx)
             self.patch_mesh.vertices = vertices
             self.patch_points.points = points
@@ -421,7 +401,7 @@ class ExplorerApp:
                 [[-half, -STRIP_WIDTH / 2, height], [half, -STRIP_WIDTH / 2, height],
                  [half, STRIP_WIDTH / 2, height], [-half, STRIP_WIDTH / 2, height]]) * s).astype(np.float32)
             radius = contact.hertz_radius(max(state.force, 0.0)) * 1e3 if state.force > 0 else 0.0
-            self.force_circle.points = _circle(radius * s, 0.01)
+            self.force_circle.points = circle_segments(radius * s, 0.01)
             self.strip_mesh.visible = self.force_circle.visible = True
             self.patch_mesh.visible = self.patch_points.visible = False
         self._draw_surfaces(result_like.roughness, state.position, result_like.line)
@@ -478,7 +458,7 @@ class ExplorerApp:
 
     def _on_preload(self) -> None:
         a = self._contact_parameters().hertz_radius()
-        self.nominal_circle.points = _circle(a * 1e3 * SCENE_PER_MM, 0.005)
+        self.nominal_circle.points = circle_segments(a * 1e3 * SCENE_PER_MM, 0.005)
         self._update_line_map()
 
     def _update_line_map(self) -> None:

@@ -67,7 +67,11 @@ def run(args) -> int:
     try:
         interaction = prepare_run(args.set, model=args.model, line=args.line, params=params, length=args.length_m)
         if sink is not None:
-            sink.start(interaction)
+            from wheelrail.core.roughness import load_roughness
+
+            # the recording shows the set's lines around the run's line (roughness/lines); the sink records
+            # what it is given and loads nothing itself
+            sink.start(interaction, roughness=load_roughness(args.set))
     except BaseException:
         if sink is not None:
             sink.abort()

@@ -21,6 +21,7 @@ from wheelrail.core.recording import (
     sink_from_args,
 )
 from wheelrail.core.results import RunHeader, RunResult, StepState
+from wheelrail.core.roughness import load_roughness
 from wheelrail.core.spectra import force_spectrum
 
 DT = 1e-3 / (100 / 3.6)  # s, 1 mm at 100 km/h
@@ -75,7 +76,7 @@ def scalar_column(path, entity: str) -> tuple[np.ndarray, np.ndarray]:
 def recorded(tmp_path_factory):
     result = synthetic_result()
     path = tmp_path_factory.mktemp("rec") / "run.rrd"
-    assert record_result(result, path) == path
+    assert record_result(result, path, roughness=load_roughness("corrugated-rail")) == path
     return result, path
 
 
@@ -275,7 +276,7 @@ def test_real_short_run_streams_exactly(tmp_path, model):
     run = prepare_run("corrugated-rail", model=model, length=0.05)
     path = tmp_path / f"{model}.rrd"
     sink = RecordingSink(rrd=path, chunk_steps=16)
-    sink.start(run)
+    sink.start(run, roughness=load_roughness("corrugated-rail"))
     result = run.run(sink)
     sink.finish(result)
     back = read_recording(path)
@@ -299,7 +300,7 @@ def test_sink_used_without_start_is_completed_by_finish(tmp_path):
     sink = RecordingSink(rrd=path, chunk_steps=50)
     for k in range(result.n_steps):
         sink.log_step(result.state(k))
-    sink.finish(result)
+    sink.finish(result, roughness=load_roughness("corrugated-rail"))
     back = read_recording(path)
     np.testing.assert_array_equal(back.pressure, result.pressure)
     np.testing.assert_array_equal(back.window_x, result.window_x)  # the centred 1 mm grid
@@ -348,3 +349,17 @@ def test_connect_streams_to_a_running_viewer_server(tmp_path):
     finally:
         server.kill()
         server.wait()
+
+
+def test_sink_records_only_the_roughness_it_is_given(tmp_path):
+    """The run names a bundled set, but without the set itself no roughness/lines is written (nothing loaded)."""
+    result = synthetic_result(n=60, model="hertz")
+    assert result.roughness_name == "corrugated-rail"
+    path = record_result(result, tmp_path / "plain.rrd")
+    paths = {c.entity_path.lstrip("/") for c in RrdReader(path).stream()}
+    assert "roughness/lines" not in paths and "contact/force" in paths
+    rough = load_roughness("corrugated-rail")
+    steps, lines = scalar_column(record_result(result, tmp_path / "lines.rrd", roughness=rough), "roughness/lines")
+    assert lines.shape == (60, 7)
+    # exact: the same interpolation of the set's line 2 (row centre + 2) at the wheel positions
+    np.testing.assert_array_equal(lines[:, 5], np.interp(result.x, rough.x, rough.heights[rough.row_of_line(2)]))
