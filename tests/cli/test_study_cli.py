@@ -32,8 +32,9 @@ def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys)
     filters = out / "fig10_sinter-wheel-1_contact_filters.csv"
     header = levels.read_text().splitlines()[0].split(",")
     assert header == ["band_centre_hz", "3d_db", "2d_db", "hertz_db", "hertz_winkler_db", "hertz_average_db"]
-    assert filters.read_text().splitlines()[0].split(",") == ["band_centre_hz", "3d_db", "2d_db", "hertz_winkler_db",
-                                                              "hertz_average_db"]
+    assert filters.read_text().splitlines()[0].split(",") == [
+        "band_centre_hz", "3d_db", "2d_db", "hertz_winkler_db", "hertz_average_db",
+        "ref_cnossos_db", "ref_averaging_db", "ref_patch_correlated_db", "ref_patch_incoherent_db"]
     data = np.genfromtxt(filters, delimiter=",", names=True)
     assert data["band_centre_hz"][0] == pytest.approx(50.12, abs=0.01) and data["band_centre_hz"][-1] == pytest.approx(
         7943.28, abs=0.01)
