@@ -49,6 +49,7 @@ from wheelrail.core.run_setup import (
     run_margin,
     static_equilibrium,
     usable_length,
+    window_half_elements,
     window_lines,
 )
 
@@ -126,7 +127,8 @@ def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
 def _law(law, approach_known, compliance, roughness, s, shape, constants):
     """A compiled law (models.LAW_*) at step s: (F, contact length, contact area, reached the window's end)."""
     if law == LAW_HERTZ:
-        f, length, area = _hertz_law(approach_known, compliance, roughness[s, 0], constants[0], constants[1])
+        f, length, area = _hertz_law(approach_known, compliance, roughness[s, 0], constants[0], constants[1],
+                                     constants[2])
         return f, length, area, False
     return _bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
 
@@ -404,7 +406,7 @@ def prepare_run(
 
     static_approach = contact.prepare(ModelInputs(
         params=params, element_size=dx, lines=track.lines, centre_row=track.centre_row, window_y=track.window_y,
-        half_x=int(round(WINDOW_HALF_WIDTH / dx)), start_index=history.start_index, ramp=history.ramp,
+        half_x=window_half_elements(params)[0], start_index=history.start_index, ramp=history.ramp,
         position_of=position_of,
     ))
     history.xi_w0 = static_equilibrium(static_approach, params.contact.preload, history.weights)

@@ -385,6 +385,14 @@ class ContactParameters:
             return hertz_constant(self.youngs_modulus, self.poisson_ratio, self.radius_along)
         return self.hertz().constant
 
+    def patch_radii(self) -> tuple[float, float]:
+        """(rho_x, rho_y) with the Hertz semi-axes a = sqrt(rho_x delta), b = sqrt(rho_y delta) at any approach
+        delta, m: (R, R) for the paper's circle, a^2 / delta and b^2 / delta of :func:`elliptic_hertz` else."""
+        if self.circular:
+            return self.radius_along, self.radius_along
+        contact = self.hertz()
+        return contact.radius_along, contact.radius_across
+
     def hertz_semi_axes(self, load: float | None = None) -> tuple[float, float]:
         """Hertz semi-axes (a along the rail, b across it), m (5.48 mm each at the defaults)."""
         contact = self.hertz(load)
