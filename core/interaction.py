@@ -215,6 +215,10 @@ class InteractionRun:
         return self.header.roughness_name
 
     @property
+    def wheel_roughness_name(self) -> str | None:
+        return self.header.wheel_roughness_name
+
+    @property
     def dx(self) -> float:
         return self.header.element_size
 
@@ -356,6 +360,7 @@ class InteractionRun:
 def prepare_run(
     roughness,
     *,
+    wheel_roughness=None,
     model: str = "hertz",
     line: int = 0,
     params: ModelParameters | None = None,
@@ -369,9 +374,14 @@ def prepare_run(
     Parameters
     ----------
     roughness : RoughnessSet, str or path
-        Combined roughness r = r_W - r_R as a set of lines (a bundled set name, a CSV/NPZ path, or a
-        ``RoughnessSet``); one set is used at a time, the other surface being smooth (paper 3.3). Heights
-        are taken positive where the surface stands out, so for either kind r = height.
+        Roughness as a set of lines (a bundled set name, a CSV/NPZ path, or a ``RoughnessSet``): a rail set
+        or a wheel set, the other surface smooth (paper 3.3), or the rail set when ``wheel_roughness`` is
+        given. Heights are taken positive where the surface stands out, so for either kind r = height.
+    wheel_roughness : RoughnessSet, str or path, optional
+        A wheel set on the same wheel: the combined roughness r = r_rail + r_wheel (paper eq. 3's
+        r = r_W - r_R with z downwards). Each set on the model grid at its own lateral positions, centred on
+        its own ``line``; the wheel's lines repeat with its circumference. ``roughness`` must then be a rail
+        set and this a wheel set (else one WheelrailError).
     model : str
         A registered contact model (``wheelrail.core.models.model_names()``).
     line : int
@@ -394,11 +404,12 @@ def prepare_run(
     """
     entry, params, line = checked_inputs(model, line, params, run_in_length)
     rough, name = resolve_roughness(roughness)
+    wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
     dx = params.run.element_size
-    track = roughness_along_track(rough, entry.traits, line, params, length)
+    track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     history = history_arrays(track, params, run_in_length, track_numerics)
     header = RunHeader(model=entry.name, line=line, roughness_name=name, params=params,
-                       run_in_length=history.n_run_in * dx)
+                       run_in_length=history.n_run_in * dx, wheel_roughness_name=wheel_name)
     contact = entry.create()
 
     def position_of(s: int) -> float:

@@ -24,8 +24,8 @@ from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
 __all__ = [
     "DEFAULT_RUN_IN", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "WINDOW_SEMI_AXES", "History", "TrackRoughness",
-    "checked_inputs", "history_arrays", "roughness_along_track", "run_margin", "static_equilibrium",
-    "usable_length", "window_half_elements", "window_lines",
+    "check_roughness_pair", "checked_inputs", "history_arrays", "roughness_along_track", "run_margin",
+    "static_equilibrium", "usable_length", "window_half_elements", "window_lines",
 ]
 
 WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
@@ -176,33 +176,65 @@ def _window_rows(grid, y_line: float, line: int, half_width: float) -> tuple[lis
     return [grid.line_of_row(int(r)) for r in rows], window_y, centre
 
 
-def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelParameters,
-                          length: float | None) -> TrackRoughness:
-    """Step 2: the chosen line (or lateral window) on the model grid, long enough for the run and its margins."""
-    from wheelrail.core.roughness import lines_along_track, to_model_grid
+def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters, what: str):
+    """The model grid of one set and its rows for ``line``: (grid, line numbers, offsets across, centre row)."""
+    from wheelrail.core.roughness import to_model_grid
 
     numbers = list(rough.line_numbers)
     if line not in numbers:
-        raise WheelrailError(f"line {line} is not in the roughness set (lines {min(numbers)}..{max(numbers)})")
+        raise WheelrailError(f"line {line} is not in the {what} (lines {min(numbers)}..{max(numbers)})")
+    dx = params.run.element_size
+    y_line = float(rough.y[rough.row_of_line(line)])
+    if not traits.lateral_window:
+        return (to_model_grid(rough, dx), [line], np.zeros(1), 0)
+    grid = to_model_grid(rough, dx, dx)
+    usable = window_lines(rough, params)
+    if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):
+        contiguous = usable and usable[-1] - usable[0] == len(usable) - 1
+        allowed = (f"lines {usable[0]}..{usable[-1]}" if contiguous else
+                   f"lines {', '.join(map(str, usable))}" if usable else "no line")
+        raise WheelrailError(
+            f"3d: line {line} is too close to the side of the {'wheel ' if what.startswith('wheel') else ''}"
+            f"roughness data: the contact patch needs {_patch_room(params, dx) * 1e3:g} mm of data on each side "
+            f"of its line; this set allows {allowed} at {params.contact.preload / 1e3:g} kN"
+        )
+    return (grid, *_window_rows(grid, y_line, line, window_half_elements(params)[1] * dx))
+
+
+def check_roughness_pair(rail, wheel) -> None:
+    """Combined roughness takes a rail set and a wheel set: a set of the other kind is one WheelrailError."""
+    if wheel.kind != "wheel":
+        raise WheelrailError(f"the wheel roughness is a {wheel.kind} set (kind: {wheel.kind}); give a wheel set, "
+                             "or give this set as the rail roughness")
+    if rail.kind != "rail":
+        raise WheelrailError(f"with a wheel roughness, the rail roughness must be a rail set, got a {rail.kind} "
+                             "set (kind: wheel); give it as the wheel roughness")
+
+
+def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelParameters,
+                          length: float | None, wheel=None) -> TrackRoughness:
+    """Step 2: the chosen line (or lateral window) on the model grid, long enough for the run and its margins.
+
+    ``wheel`` (a wheel set, optional) is added to the rail set ``rough``: r = r_rail + r_wheel, heights
+    positive where a surface stands out (so a bump on either pushes wheel and rail together). Each set is
+    interpolated to the model grid at its own lateral positions, centred on its own line ``line``; the wheel's
+    lines repeat with its circumference along the track (its sample 0 at the start of the rail data). A 3D
+    window keeps the offsets both sets have data for.
+    """
+    from wheelrail.core.roughness import lines_along_track
+
     dx = params.run.element_size
     margin = run_margin(dx, params)
-    y_line = float(rough.y[rough.row_of_line(line)])
-    if traits.lateral_window:
-        grid = to_model_grid(rough, dx, dx)
-        usable = window_lines(rough, params)
-        if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):
-            contiguous = usable and usable[-1] - usable[0] == len(usable) - 1
-            allowed = (f"lines {usable[0]}..{usable[-1]}" if contiguous else
-                       f"lines {', '.join(map(str, usable))}" if usable else "no line")
-            raise WheelrailError(
-                f"3d: line {line} is too close to the side of the roughness data: the contact patch needs "
-                f"{_patch_room(params, dx) * 1e3:g} mm of data on each side of its line; this set allows "
-                f"{allowed} at {params.contact.preload / 1e3:g} kN"
-            )
-        wanted, window_y, centre_row = _window_rows(grid, y_line, line, window_half_elements(params)[1] * dx)
-    else:
-        grid = to_model_grid(rough, dx)
-        wanted, window_y, centre_row = [line], np.zeros(1), 0
+    if wheel is not None:
+        check_roughness_pair(rough, wheel)
+    grid, wanted, window_y, centre_row = _rows_of(rough, traits, line, params, "roughness set")
+    if wheel is not None:
+        wheel_grid, wheel_wanted, wheel_y, _ = _rows_of(wheel, traits, line, params, "wheel roughness set")
+        common, rail_keep, wheel_keep = np.intersect1d(np.round(window_y / dx).astype(np.int64),
+                                                       np.round(wheel_y / dx).astype(np.int64), return_indices=True)
+        wanted, window_y = [wanted[i] for i in rail_keep], window_y[rail_keep]
+        wheel_wanted = [wheel_wanted[i] for i in wheel_keep]
+        centre_row = int(np.flatnonzero(common == 0)[0])
     if length is None:
         length = usable_length(rough, dx, params)
     length = real("run length", length, "m")
@@ -216,6 +248,8 @@ def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelPa
             f"{grid.x[-1]:g} m of rail roughness data; use --length-m <= {grid.x[-1] - 2 * margin:.3f}"
         )
     lines = lines_along_track(grid, wanted, total_length, dx)
+    if wheel is not None:
+        lines = lines + lines_along_track(wheel_grid, wheel_wanted, total_length, dx)
     if not np.all(np.isfinite(lines)):
         raise WheelrailError("roughness contains NaN or infinite heights")
     return TrackRoughness(lines=lines, centre_row=centre_row, window_y=window_y, first=int(round(margin / dx)),
