@@ -2,7 +2,9 @@
 
 The window (2 half_x + 1 elements along the rail, the rows of ``ModelInputs.lines`` across it) moves with
 the wheel. Each step solves the coupled contact of ``contact.halfspace`` on the undeformed gap
-h = (x^2 + y^2) / (2 R) - r (two crossed cylinders of radius R) with delta = delta_known - c F.
+h = x^2 / (2 R_x) + y^2 / (2 R_y) - r with the relative radii of ``ContactParameters`` (along: the wheel's
+rolling radius; across: rail crown and tread), (x^2 + y^2) / (2 R) for the paper's crossed cylinders, with
+delta = delta_known - c F.
 """
 
 from __future__ import annotations
@@ -24,7 +26,11 @@ class HalfSpaceModel(ContactModel):
         dx, hx = inputs.element_size, inputs.half_x
         x = np.arange(-hx, hx + 1) * dx
         y = inputs.window_y
-        self._base_gap = (x[None, :] ** 2 + y[:, None] ** 2) / (2 * contact.radius)
+        if contact.circular:  # the paper's expression, kept as it was (results unchanged to the bit)
+            self._base_gap = (x[None, :] ** 2 + y[:, None] ** 2) / (2 * contact.radius_along)
+        else:
+            rx, ry = contact.radius_along, contact.radius_across
+            self._base_gap = x[None, :] ** 2 / (2 * rx) + y[:, None] ** 2 / (2 * ry)
         self._inputs = inputs
         self.window_x = x
         self.equivalent_line = inputs.centre_line
