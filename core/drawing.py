@@ -62,10 +62,11 @@ def grid_triangles(ny: int, nx: int) -> np.ndarray:
     return np.stack([first, second], axis=1).reshape(-1, 3).astype(np.uint32)
 
 
-def circle_points(radius: float, n: int = 96) -> np.ndarray:
-    """Closed polyline (n + 1, 2) of a circle of ``radius`` about the origin (first point repeated last)."""
+def circle_points(radius: float, n: int = 96, radius_y: float | None = None) -> np.ndarray:
+    """Closed polyline (n + 1, 2) of a circle of ``radius`` about the origin (first point repeated last), or of
+    the ellipse of semi-axes ``radius`` along x and ``radius_y`` along y."""
     angle = np.linspace(0.0, 2 * np.pi, n + 1)
-    return np.c_[radius * np.cos(angle), radius * np.sin(angle)]
+    return np.c_[radius * np.cos(angle), (radius if radius_y is None else radius_y) * np.sin(angle)]
 
 
 def circle_segments(radius: float, z: float, n: int = 96) -> np.ndarray:

@@ -21,7 +21,7 @@ from wheelrail.core.recording.schema import (
     time_columns,
 )
 
-__all__ = ["ContactPatch", "hertz_geometry"]
+__all__ = ["ContactPatch", "hertz_geometry", "hertz_semi_axes"]
 
 _COLOUR_TABLE = packed_rgba(colour_table())  # viridis as rerun's packed Rgba32
 
@@ -29,6 +29,11 @@ _COLOUR_TABLE = packed_rgba(colour_table())  # viridis as rerun's packed Rgba32
 def hertz_geometry(contact: ContactParameters) -> tuple[float, float]:
     """(Hertz radius a in m, Hertz peak pressure p0 in Pa) at the preload."""
     return contact.hertz_radius(), contact.hertz_peak_pressure()
+
+
+def hertz_semi_axes(contact: ContactParameters) -> tuple[float, float] | None:
+    """Semi-axes (along, across the rail) of an elliptic Hertz patch at the preload, m; None for a circle."""
+    return None if contact.circular else contact.hertz_semi_axes()
 
 
 class ContactPatch:
@@ -48,6 +53,7 @@ class ContactPatch:
         self.surface_period = record_every * surface_every
         self.window: tuple[np.ndarray, np.ndarray] | None = None  # element centres x', y' (m)
         self.geometry: tuple[float, float] | None = None  # (a, p0) at the preload
+        self.semi_axes: tuple[float, float] | None = None  # Hertz semi-axes along/across (elliptic patch)
         self._surface_xy: np.ndarray | None = None  # (ny nx, 2) float32 vertices of the window
         self.maps_recorded = 0
 
@@ -56,10 +62,13 @@ class ContactPatch:
         if self.window is None and window_x is not None and window_y is not None:
             self.window = (np.asarray(window_x, float), np.asarray(window_y, float))
 
-    def set_geometry(self, geometry: tuple[float, float], *, log: bool = True) -> None:
-        """Hertz radius and peak pressure; the nominal circle is logged again when they changed."""
-        changed = geometry != self.geometry
+    def set_geometry(self, geometry: tuple[float, float], *, log: bool = True,
+                     semi_axes: tuple[float, float] | None = None) -> None:
+        """Hertz radius and peak pressure (and the semi-axes of an elliptic patch); the nominal circle or
+        ellipse is logged again when they changed."""
+        changed = geometry != self.geometry or semi_axes != self.semi_axes
         self.geometry = geometry
+        self.semi_axes = semi_axes
         if log and changed:
             self.log_circle()
 
@@ -69,6 +78,10 @@ class ContactPatch:
         a = self.geometry[0]
         circle = circle_points(a)
         label = f"Hertz circle a = {a * 1e3:.2f} mm"
+        if self.semi_axes is not None:  # elliptic patch (issue 16): a along the rail, b across
+            along, across = self.semi_axes
+            circle = circle_points(along, radius_y=across)
+            label = f"Hertz ellipse a = {along * 1e3:.2f} mm, b = {across * 1e3:.2f} mm"
         self.stream.log(
             NOMINAL_CIRCLE,
             rr.LineStrips3D([np.c_[circle, np.zeros(len(circle))]], colors=[(255, 255, 255)], labels=[label]),
@@ -101,7 +114,8 @@ class ContactPatch:
         n, ny, nx = pressure.shape
         if self.window is None:  # no window given: element centres of a grid centred on the wheel
             self.window = ((np.arange(nx) - (nx - 1) / 2) * element_size, (np.arange(ny) - (ny - 1) / 2) * element_size)
-            self._log_circle_pixels(circle_points(self.geometry[0]))
+            self._log_circle_pixels(circle_points(self.geometry[0]) if self.semi_axes is None else
+                                    circle_points(self.semi_axes[0], radius_y=self.semi_axes[1]))
         wx, wy = self.window
         if (len(wy), len(wx)) != (ny, nx):
             raise WheelrailError(f"pressure maps are {ny} x {nx} but the window is {len(wy)} x {len(wx)}")

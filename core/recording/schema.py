@@ -156,6 +156,7 @@ def parameters_document(
         "element_size_m": head.get("element_size_m"),
         "time_step_s": head.get("time_step_s", time_step),
         "roughness": head.get("roughness"),
+        **({"wheel_roughness": head["wheel_roughness"]} if "wheel_roughness" in head else {}),
         "loss_of_contact_steps": loss_of_contact_steps,
         "run_in_length_m": head.get("run_in_length_m"),
         "record_every": decimation[0],

@@ -18,7 +18,7 @@ import numpy as np
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.outputs import Outputs
-from wheelrail.core.recording.pressure import ContactPatch, hertz_geometry
+from wheelrail.core.recording.pressure import ContactPatch, hertz_geometry, hertz_semi_axes
 from wheelrail.core.recording.schema import (
     EQUIVALENT,
     FORCE_SPECTRUM,
@@ -192,11 +192,16 @@ class RecordingSink:
                 self._patch.set_window(run.window_x, run.window_y)
             if isinstance(run, RunResult):
                 self._loss_of_contact_steps = run.loss_of_contact_steps
-        self._patch.set_geometry(self._geometry(), log=False)
+        self._patch.set_geometry(self._geometry(), log=False, semi_axes=self._semi_axes())
+
+    def _contact(self) -> ContactParameters:
+        return self._header.params.contact if self._header is not None else ContactParameters()
 
     def _geometry(self) -> tuple[float, float]:
-        contact = self._header.params.contact if self._header is not None else ContactParameters()
-        return hertz_geometry(contact)
+        return hertz_geometry(self._contact())
+
+    def _semi_axes(self) -> tuple[float, float] | None:
+        return hertz_semi_axes(self._contact())
 
     def _set_roughness(self, roughness) -> None:
         if roughness is None or self._lines is not None:
@@ -315,7 +320,7 @@ class RecordingSink:
             if result is not None:
                 self._complete(result, roughness)
             elif self._patch.geometry is None:
-                self._patch.set_geometry(self._geometry(), log=False)
+                self._patch.set_geometry(self._geometry(), log=False, semi_axes=self._semi_axes())
             self._log_parameters()
             self._log_spectrum(result)
         except BaseException:
@@ -336,7 +341,8 @@ class RecordingSink:
         self._header = result.header
         self._loss_of_contact_steps = result.loss_of_contact_steps
         self._patch.set_window(result.window_x, result.window_y)
-        self._patch.set_geometry(self._geometry())  # started without the run's parameters: correct the circle
+        # started without the run's parameters: correct the circle
+        self._patch.set_geometry(self._geometry(), semi_axes=self._semi_axes())
         if roughness is not None and self._lines is None:
             self._set_roughness(roughness)
             if self._lines is not None:

@@ -138,6 +138,27 @@ def test_nominal_circle_is_the_hertz_radius(tmp_path):
         assert np.hypot(strip[:, 0], strip[:, 1]) == pytest.approx(radius, abs=1e-6)
 
 
+def test_elliptic_patch_and_wheel_set_are_recorded(tmp_path):
+    """Issue 16: a 0.46 m wheel on a 0.30 m crown draws Hertz's ellipse (a = 6.20 mm along the rail, b = 4.67 mm
+    across), and a run on rail and wheel roughness together names both sets, read back in the header."""
+    from wheelrail.core.interaction import simulate
+
+    contact = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)
+    result = simulate("corrugated-rail", wheel_roughness="sinter-wheel-1", model="hertz", length=0.05,
+                      params=ModelParameters(contact=contact))
+    path = record_result(result, tmp_path / "ellipse.rrd", roughness=load_roughness("corrugated-rail"))
+    (chunk,) = [c for c in chunks_of(path, "contact/nominal_circle", static=True)
+                if "LineStrips3D:strips" in c.to_record_batch().schema.names]
+    strip = np.array(chunk.to_record_batch().column("LineStrips3D:strips")[0].as_py()[0])
+    a, b = contact.hertz_semi_axes()
+    # float32 storage: 1e-9 m; the ellipse (x/a)^2 + (y/b)^2 = 1 through every point
+    assert np.abs(np.max(np.abs(strip[:, 0])) - a) < 1e-8 and np.abs(np.max(np.abs(strip[:, 1])) - b) < 1e-8
+    assert np.allclose((strip[:, 0] / a) ** 2 + (strip[:, 1] / b) ** 2, 1.0, atol=1e-5)
+    back = read_recording(path)
+    assert back.header.wheel_roughness_name == "sinter-wheel-1" and back.header.roughness_name == "corrugated-rail"
+    assert back.header.params.contact.rail_crown_radius == pytest.approx(0.30)
+
+
 def test_force_spectrum_is_recorded(recorded):
     result, path = recorded
     (chunk,) = chunks_of(path, "spectra/force", static=True)
