@@ -7,13 +7,13 @@ import math
 import os
 import re
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import KMH, ModelParameters, RunParameters, WheelParameters
+from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters, WheelParameters
 from wheelrail.core.spectra import contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
@@ -53,9 +53,10 @@ class StudyPlan:
     tabulate: Callable[[dict[str, RunSummary]], list[Table]]
     speed: float
     length: float | None
+    contact: ContactParameters = field(default_factory=ContactParameters)
 
 
-def _set_info(source, length: float | None) -> SetInfo:
+def _set_info(source, length: float | None, contact: ContactParameters) -> SetInfo:
     from wheelrail.core.roughness import RoughnessSet, load_roughness
 
     rough = source if isinstance(source, RoughnessSet) else load_roughness(source)
@@ -67,12 +68,12 @@ def _set_info(source, length: float | None) -> SetInfo:
     label = re.sub(r"[^A-Za-z0-9_.-]+", "-", label).strip("-") or "roughness"
     numbers = tuple(int(v) for v in rough.line_numbers)
     lines = tuple(v for v in PAPER_LINES if v in numbers)
-    length = _run_length(rough, label, length)
+    length = _run_length(rough, label, length, contact)
     return SetInfo(source=source, label=label, digest=roughness_digest(rough), kind=rough.kind,
                    line_numbers=numbers, lines=lines, length=length)
 
 
-def _run_length(rough, label: str, length: float | None) -> float | None:
+def _run_length(rough, label: str, length: float | None, contact: ContactParameters) -> float | None:
     """The run length of a set: ``length`` checked against the rail data every model can run (the
     interaction's :func:`~wheelrail.core.interaction.usable_length` at the study's element size), or by
     default all of it; wheel data (periodic): ``length`` as given, None for one circumference."""
@@ -82,20 +83,21 @@ def _run_length(rough, label: str, length: float | None) -> float | None:
         return length
     element_size = RunParameters().element_size  # the studies keep the default 1 mm elements
     try:
-        usable = usable_length(rough, element_size)
+        usable = usable_length(rough, element_size, ModelParameters(contact=contact))
     except WheelrailError as error:
         raise WheelrailError(f"{label}: {error}") from None
     if length is None:
         return usable
     if length > usable + 1e-9:
         raise WheelrailError(f"run length {length:g} m exceeds the {usable:g} m of {label} usable by every model "
-                             f"(rail data less {run_margin(element_size) * 1e3:g} mm margins)")
+                             f"(rail data less {run_margin(element_size, ModelParameters(contact=contact)) * 1e3:g} "
+                             "mm margins)")
     return length
 
 
-def _params(speed: float, wheel_mass: float | None = None) -> ModelParameters:
+def _params(speed: float, contact: ContactParameters, wheel_mass: float | None = None) -> ModelParameters:
     wheel = WheelParameters() if wheel_mass is None else WheelParameters(unsprung_mass=wheel_mass)
-    return ModelParameters(wheel=wheel, run=RunParameters(speed=speed))
+    return ModelParameters(wheel=wheel, contact=contact, run=RunParameters(speed=speed))
 
 
 def _spec(info: SetInfo, model: str, params: ModelParameters, line: int = 0, **extra) -> RunSpec:
@@ -107,7 +109,8 @@ def _column(line: int) -> str:
     return f"line_{line}_db"
 
 
-def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length: float | None = None) -> StudyPlan:
+def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length: float | None = None,
+               contact: ContactParameters | None = None) -> StudyPlan:
     """Build a named study's run specs and table builder.
 
     Parameters
@@ -121,6 +124,10 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
     length : float, optional
         Run length, m. Default: the whole set (rail: the data less the largest window margin, the same for
         every model; wheel: one circumference).
+    contact : ContactParameters, optional
+        Contact material, preload and geometry of every run (default: the paper's: 65 kN, crossed cylinders
+        of R = 0.39 m); e.g. ``ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)`` for an
+        elliptic patch.
 
     Returns
     -------
@@ -134,14 +141,18 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
         raise WheelrailError(f"length must be a positive number of m, got {length!r}")
     if not sets:
         raise WheelrailError("a study needs at least one roughness set")
-    infos = tuple(_set_info(source, length) for source in sets)
+    contact = ContactParameters() if contact is None else contact
+    if not isinstance(contact, ContactParameters):
+        raise WheelrailError("contact must be a wheelrail.core.parameters.ContactParameters")
+    infos = tuple(_set_info(source, length, contact) for source in sets)
     labels = [info.label for info in infos]
     if len(set(labels)) != len(labels):
         raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")
     builder = _BUILDERS[name]
-    specs, tabulate = builder(infos, speed)
+    specs, tabulate = builder(infos, speed, contact)
     _check_durations(specs, infos)
-    return StudyPlan(name=name, sets=infos, specs=tuple(specs), tabulate=tabulate, speed=speed, length=length)
+    return StudyPlan(name=name, sets=infos, specs=tuple(specs), tabulate=tabulate, speed=speed, length=length,
+                     contact=contact)
 
 
 def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:
@@ -179,7 +190,7 @@ def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str
     from wheelrail.core.reference_filters import reference_filters
 
     contact = params.contact
-    refs = reference_filters(contact.preload, contact.radius, params.run.speed, contact=contact,
+    refs = reference_filters(contact.preload, contact.radius_along, params.run.speed, contact=contact,
                              frequency_range=(float(centres[0]), float(centres[-1])))
     if not np.allclose(refs.frequency_bands.centres, centres, rtol=1e-9):
         raise WheelrailError("reference filters: the bands differ from those of the force spectra")
@@ -187,8 +198,8 @@ def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str
             for name, values in refs.by_frequency.items()}
 
 
-def _plan_filters(infos, speed):
-    params = _params(speed)
+def _plan_filters(infos, speed, contact):
+    params = _params(speed, contact)
     specs, layout = [], {}
     for info in infos:
         one_line = {(model, line): _spec(info, model, params, line) for model in ONE_LINE_MODELS
@@ -230,8 +241,8 @@ _PAIRS = (  # Figs 12-14: (figure, model a, model b)
 )
 
 
-def _plan_line_spread(infos, speed):
-    params = _params(speed)
+def _plan_line_spread(infos, speed, contact):
+    params = _params(speed, contact)
     specs, layout = [], {}
     for info in infos:
         runs = {(model, line): _spec(info, model, params, line) for model in ("2d", "hertz-winkler", "hertz-average")
@@ -259,8 +270,8 @@ def _plan_line_spread(infos, speed):
     return specs, tabulate
 
 
-def _plan_averaged_input(infos, speed):
-    params = _params(speed)
+def _plan_averaged_input(infos, speed, contact):
+    params = _params(speed, contact)
     layout = {info.label: (_spec(info, "3d", params, 0), _spec(info, "2d", params, 0, averaged_lines=info.lines))
               for info in infos}
 
@@ -279,8 +290,8 @@ def _mm(values) -> str:
     return ", ".join(f"{v:g}" for v in values)
 
 
-def _plan_lateral_resolution(infos, speed):
-    params = _params(speed)
+def _plan_lateral_resolution(infos, speed, contact):
+    params = _params(speed, contact)
     layout = {}
     for info in infos:
         runs = {"original": _spec(info, "3d", params, 0)}
@@ -310,8 +321,9 @@ def _speed_cases(speed):
     return cases
 
 
-def _plan_speeds(infos, speed):
-    layout = {info.label: {column: _spec(info, "2d", _params(v, mass), 0) for column, v, mass in _speed_cases(speed)}
+def _plan_speeds(infos, speed, contact):
+    layout = {info.label: {column: _spec(info, "2d", _params(v, contact, mass), 0)
+                          for column, v, mass in _speed_cases(speed)}
               for info in infos}
 
     def tabulate(summaries):

@@ -13,7 +13,7 @@ import numpy as np
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.jsonready import json_ready
-from wheelrail.core.parameters import KMH
+from wheelrail.core.parameters import KMH, ContactParameters, as_dict
 from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_address
 from wheelrail.core.study.figures import plot_study
 from wheelrail.core.study.plans import StudyPlan, plan_study
@@ -56,7 +56,7 @@ def run_study(
     length: float | None = None,
     workers: int = 2,
     dask_address: str | None = None,
-    cache: str | os.PathLike | None = None,
+    contact: ContactParameters | None = None,
     progress: bool = True,
     figures: bool = True,
 ) -> StudyResult:
@@ -78,8 +78,8 @@ def run_study(
         Local worker processes (1: in this process).
     dask_address : str, optional
         Dask scheduler address; runs go to that cluster instead of the local pool.
-    cache : path, optional
-        Folder of finished runs (default ``out/runs``), so an interrupted study resumes.
+    contact : ContactParameters, optional
+        Contact material, preload and geometry of every run (default: the paper's); see :func:`plan_study`.
     progress : bool
         tqdm bar of runs done on stderr.
     figures : bool
@@ -92,8 +92,8 @@ def run_study(
     folder = check_output_folder(out)
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
-    plan = plan_study(name, sets, speed=speed, length=length)
-    report = execute(plan.specs, cache=folder / "runs" if cache is None else Path(cache), workers=workers,
+    plan = plan_study(name, sets, speed=speed, length=length, contact=contact)
+    report = execute(plan.specs, cache=folder / "runs", workers=workers,
                      dask_address=dask_address, progress=progress, description=f"study {name}")
     tables = plan.tabulate(report.summaries)
     files = [write_table(table, folder) for table in tables]
@@ -117,6 +117,7 @@ def _summary_document(name: str, plan: StudyPlan, report: ExecutionReport, table
         "speed_m_per_s": speed,
         "speed_kmh": speed / KMH,
         "length_m": {info.label: info.length for info in plan.sets},
+        "contact": as_dict(plan.contact),
         "runs": len({spec.key for spec in plan.specs}),
         "runs_computed": report.computed,
         "runs_cached": report.cached,

@@ -283,3 +283,22 @@ def test_explorer_does_not_load_the_study_package():
             "print(sorted(m for m in sys.modules if m.startswith('wheelrail.core.study')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]", out
+
+
+def test_study_on_an_elliptic_patch(tmp_path, capsys):
+    """Issue 16: the study's runs take the contact geometry; its summary carries it; the reference filters
+    follow Hertz's semi-axis a along the rail (6.20 mm for a 0.46 m wheel on a 0.30 m crown)."""
+    argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(tmp_path), "--length-m", "0.6", "--json",
+            "--workers", "1", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300"]
+    summary = _run_json(argv, capsys)
+    contact = summary["contact"]
+    assert contact["wheel_radius"] == pytest.approx(0.46) and contact["rail_crown_radius"] == pytest.approx(0.30)
+    from wheelrail.core.parameters import ContactParameters
+    from wheelrail.core.reference_filters import reference_filters
+
+    ellipse = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)
+    refs = reference_filters(65e3, 0.46, 100 / 3.6, contact=ellipse)
+    table = summary["tables"]["fig10_sinter-wheel-1_contact_filters"]
+    expected = [None if not np.isfinite(v) else pytest.approx(round(float(v), 3), abs=1e-3)
+                for v in refs.by_frequency["averaging"]]
+    assert table["ref_averaging_db"] == expected
