@@ -317,9 +317,10 @@ class ContactParameters:
     Attributes
     ----------
     youngs_modulus : float
-        E of wheel and rail (same material), Pa.
+        E of wheel and rail (same material), Pa. 210 GPa (steel): the paper gives neither E nor nu; these
+        common values for steel reproduce its stated a = 5.48 mm at 65 kN with R = 0.39 m.
     poisson_ratio : float
-        nu, dimensionless, 0 <= nu < 0.5.
+        nu, dimensionless, 0 <= nu < 0.5; 0.3 (steel; see ``youngs_modulus``).
     radius : float
         R, the paper's single radius, m: the default of ``wheel_radius`` and ``rail_crown_radius`` (files
         written before those existed carry only this one).
