@@ -8,7 +8,7 @@ pressure map recorded and with every 10th; and writes the same run in one go wit
 the time per step against passing the states to a no-op callback, and the file size per 1 000 steps.
 
 Part 2 runs the real 3D model on the corrugated rail (line 0, 100 km/h, paper defaults) over L m, without
-recording, with a no-op per-step callback, and recording every step to a .rrd file (SPEC.md §6 target:
+recording, with a no-op per-step callback, and recording every step to a .rrd file (target:
 recording adds < 30 %). Green's functions come from the disk cache (the first run ever precomputes them).
 """
 

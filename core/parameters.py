@@ -3,7 +3,7 @@
 Every class validates itself on construction (``__post_init__``) and rejects a non-positive or
 non-finite mass, stiffness, damping, speed, preload or element size with a :class:`WheelrailError`
 that names the parameter and its unit. Defaults are those of Pieringer, Kropp & Thompson (2011),
-sections 2.1-2.3 and 3, and SPEC.md §2.
+sections 2.1-2.3 and 3.
 """
 
 from __future__ import annotations
@@ -444,7 +444,7 @@ class ContactParameters:
 
 @dataclass(frozen=True, kw_only=True)
 class RunParameters:
-    """Stepping of a run: train speed and element size (dt = element_size / speed, SPEC.md §2).
+    """Stepping of a run: train speed and element size (dt = element_size / speed).
 
     Attributes
     ----------

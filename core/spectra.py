@@ -137,7 +137,7 @@ def third_octave_spectrum(
 
     E.g. a contact-force time signal ``force`` (N) sampled every ``dt`` s:
     ``third_octave_spectrum(force, 1 / dt, (50, 8000), 1.0)`` gives the band centres (Hz) and the
-    levels in dB re 1 N of SPEC.md §4.
+    levels in dB re 1 N.
 
     Returns
     -------
@@ -239,7 +239,7 @@ def band_coherence(
     return out
 
 
-FORCE_REFERENCE = 1.0  # N: contact-force levels are in dB re 1 N (SPEC.md §4)
+FORCE_REFERENCE = 1.0  # N: contact-force levels are in dB re 1 N
 FORCE_BAND_RANGE = (50.0, 8000.0)  # Hz, band centres of the paper's force spectra (Figs 10-17)
 FORCE_SKIP = 0.02  # s, start of a run left out of force spectra (see force_spectrum)
 
@@ -251,7 +251,7 @@ def force_spectrum(
     skip: float = FORCE_SKIP,
     band_range: tuple[float, float] = FORCE_BAND_RANGE,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Third-octave band levels of the dynamic contact force, dB re 1 N (paper Figs 10-17, SPEC.md §4).
+    """Third-octave band levels of the dynamic contact force, dB re 1 N (paper Figs 10-17).
 
     Steps: (1) the first ``skip`` seconds are dropped (start-up); (2) the mean of the rest is removed, so
     only the dynamic part around the (pre)load is analysed; (3) one Hann-windowed FFT of the whole

@@ -1,7 +1,7 @@
 """Studies: batches of independent runs, their force spectra, contact filters and model differences.
 
 This reproduces the paper's section 3.3-3.5 on any roughness set (Pieringer, Kropp & Thompson, Wear 271,
-2011; SPEC.md §4-§6). A study is a list of independent :class:`RunSpec` (set, line, model, speed, wheel
+2011). A study is a list of independent :class:`RunSpec` (set, line, model, speed, wheel
 mass, length, input transform) -> one :class:`RunSummary` each (third-octave force spectrum of
 :func:`wheelrail.core.spectra.force_spectrum` plus a few force statistics, no pressure maps) -> tables of
 levels and level differences in dB -> CSV files, a figure laid out like the paper's, a JSON summary.

@@ -1,4 +1,4 @@
-"""Bad input to the contact models gives one clear WheelrailError line (SPEC.md §7)."""
+"""Bad input to the contact models gives one clear WheelrailError line (README, Errors)."""
 
 import numpy as np
 import pytest
