@@ -60,7 +60,8 @@ def browser():
 
 
 PLOTS_IN_PAGE = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(t => ({
-    title: String((t.chart.root.querySelector('.u-title') || {}).textContent || ''), labels: t.chart.series.slice(1).map(s => String(s.label)),
+    title: String((t.chart.root.querySelector('.u-title') || {}).textContent || ''),
+    labels: t.chart.series.slice(1).map(s => String(s.label)),
     n: t.chart.data[0].length}))"""
 
 FRAMES_RENDERED = "() => (window.__viserTestpoints && window.__viserTestpoints.rendererInfo.render.frame) || 0"
@@ -82,7 +83,7 @@ def _text_field(page, label):
 
 def _options(page, label):
     page.get_by_label(label, exact=True).click()
-    names = [o.inner_text() for o in page.get_by_role("option").all()]
+    names = page.get_by_role("option").all_inner_texts()  # one read: the list re-renders meanwhile
     page.keyboard.press("Escape")
     return names
 
@@ -135,7 +136,7 @@ def test_3d_offers_only_the_lines_its_window_fits(app, browser):
     page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
     _choose(page, "Contact model", "hertz")
     _wait_for(lambda: len(app.line_dropdown.options) == 19, 30, "every line for hertz")
-    assert _options(page, "Line") == [str(n) for n in range(-9, 10)]
+    _wait_for(lambda: _options(page, "Line") == [str(n) for n in range(-9, 10)], 30, "every line in the page")
     _choose(page, "Line", "7")
     _choose(page, "Contact model", "3d")
     _wait_for(lambda: app.model_dropdown.value == "3d", 30, "3d to reach the server")
