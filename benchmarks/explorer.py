@@ -4,7 +4,7 @@ Run: python3 benchmarks/explorer.py [--repeats 5] [--length-m 7.9] [--browser]
 
 Server side (always): an ExplorerApp on a free port; Run is pressed programmatically (the function the
 button's callback calls); "first frame" is the moment the first step's patch has been handed to viser for
-sending (ExplorerApp.time_to_first_frame). After a warm-up run, so the Green's functions are cached and
+sending (timed around the app's frame listener). After a warm-up run, so the Green's functions are cached and
 numba's compiled code is loaded, as for a user's second run. Frame rate: frames drawn per second of a
 3D run on the corrugated rail (the explorer draws at most 20 per second), and the run's steps/s with the
 explorer drawing, to compare with benchmarks/interaction.py.
@@ -31,14 +31,26 @@ def _free_port() -> int:
 
 def _press(app, model: str, length: float) -> tuple[float, float, int, int, float]:
     app.model_dropdown.value = model
-    app.length_number.value = length
+    app.length_text.value = f"{length:g}"
+    first = []
+    draw = type(app).frame  # the benchmark times the listener's first frame (the app keeps no timer)
+
+    def timed(state, view):
+        draw(app, state, view)
+        if not first:
+            first.append(time.perf_counter())
+
+    app.frame = timed
     start = time.perf_counter()
-    assert app.start_run(), app.last_error
-    app.wait()
+    try:
+        assert app.start_run(), app.last_error
+        app.controller.wait()
+    finally:
+        del app.frame
     elapsed = time.perf_counter() - start
     if app.last_error:
         raise SystemExit(app.last_error)
-    return app.time_to_first_frame, elapsed, app.frames_drawn, app.last_result.n_steps, start
+    return first[0] - start, elapsed, app.scene.frames_drawn, app.replay.result.n_steps, start
 
 
 def server_side(app, repeats: int, length: float) -> None:
@@ -59,13 +71,13 @@ def server_side(app, repeats: int, length: float) -> None:
 PRESS_AND_WAIT = """async () => {
     const tree = window.__viserSceneTree;
     // a new update message brings a new vertex array (a repeated run ends on the same numbers)
-    const before = tree.getState()['/contact/patch'].message.props.vertices;
+    const before = tree.getState()['/contact/heatmap'].message.props._data;
     const button = [...document.querySelectorAll('button')].find(b => b.textContent.trim() === 'Run');
     const t0 = performance.now();
     button.click();
     while (performance.now() - t0 < 60000) {
         await new Promise(r => requestAnimationFrame(r));
-        const now = tree.getState()['/contact/patch'].message.props.vertices;
+        const now = tree.getState()['/contact/heatmap'].message.props._data;
         if (now !== before) return performance.now() - t0;
     }
     return -1;
@@ -78,7 +90,7 @@ def browser_side(app, repeats: int) -> None:
     args = ["--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-sandbox",
             "--disable-gpu"]
     app.model_dropdown.value = "3d"
-    app.length_number.value = 1.0
+    app.length_text.value = "1"
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path="/usr/bin/chromium", args=args)
         page = browser.new_page(viewport={"width": 1200, "height": 800})
@@ -88,7 +100,7 @@ def browser_side(app, repeats: int) -> None:
         times = []
         for _ in range(repeats):
             ms = page.evaluate(PRESS_AND_WAIT)
-            app.wait()
+            app.controller.wait()
             times.append(ms)
             time.sleep(1.0)
         browser.close()

@@ -1,8 +1,8 @@
 """Explorer in a real browser: headless Chromium (Debian's /usr/bin/chromium) driven by Playwright.
 
-The test loads the page, changes the model and the speed in the page, clicks Run, waits for the run to
-finish (polling the app's state), then checks in the page that the force plot and the 3D contact patch
-hold the run's data, and saves screenshots to ``test-artifacts/``. Software WebGL in headless Chromium is
+The tests load the page, choose in it, click Run and read the page's plots and menus: a compare's contact
+filters go when the speed changes (issue 15.1), the Line menu for 3d lists only core's window_lines (15.2),
+bad uploads give a message; screenshots go to ``test-artifacts/``. Software WebGL in headless Chromium is
 slow to draw its first frames, hence the generous timeouts.
 """
 
@@ -10,7 +10,6 @@ import socket
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 CHROMIUM = Path("/usr/bin/chromium")
@@ -46,8 +45,8 @@ def app():
     from wheelrail.explorer.app import ExplorerApp
 
     explorer = ExplorerApp(port=_free_port())
-    explorer.model_dropdown.value = "hertz"  # the page changes it to 3d
-    explorer.length_number.value = 1.0
+    explorer.model_dropdown.value = "hertz"  # the page changes it
+    explorer.length_text.value = "0.8"
     yield explorer
     explorer.close()
 
@@ -60,22 +59,37 @@ def browser():
         chromium.close()
 
 
-PATCH_IN_PAGE = """() => {
-    const node = window.__viserSceneTree.getState()['/contact/patch'];
-    return node ? {vertices: Array.from(node.message.props.vertices), visible: node.visibility} : null;
-}"""
-
-FORCE_PLOT_IN_PAGE = """() => {
-    const plots = Object.values((window.__viserTestpoints || {}).uplots || {});
-    const force = plots.find(t => t.chart.series.some(s => String(s.label).endsWith('force (kN)')));
-    return force ? {label: force.chart.series[1].label, x: Array.from(force.chart.data[0]),
-                    y: Array.from(force.chart.data[1])} : null;
-}"""
+PLOTS_IN_PAGE = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(t => ({
+    title: String((t.chart.root.querySelector('.u-title') || {}).textContent || ''),
+    labels: t.chart.series.slice(1).map(s => String(s.label)),
+    n: t.chart.data[0].length}))"""
 
 FRAMES_RENDERED = "() => (window.__viserTestpoints && window.__viserTestpoints.rendererInfo.render.frame) || 0"
 
 
-def test_run_from_the_page(app, browser):
+def _plot(page, title_start):
+    return next((p for p in page.evaluate(PLOTS_IN_PAGE) if p["title"].startswith(title_start)), None)
+
+
+def _choose(page, label, option):
+    page.get_by_label(label, exact=True).click()
+    page.get_by_role("option", name=option, exact=True).click()
+
+
+def _text_field(page, label):
+    """viser 1.1's text inputs carry no label element: the input nearest the label's text."""
+    return page.get_by_text(label, exact=True).first.locator("xpath=following::input[1]")
+
+
+def _options(page, label):
+    page.get_by_label(label, exact=True).click()
+    names = page.get_by_role("option").all_inner_texts()  # one read: the list re-renders meanwhile
+    page.keyboard.press("Escape")
+    return names
+
+
+def test_compare_in_the_page_then_change_speed_the_old_filters_go(app, browser):
+    """Issue 15.1 in the page: the contact filters of a compare disappear when the speed changes."""
     ARTIFACTS.mkdir(exist_ok=True)
     errors = []
     page = browser.new_page(viewport={"width": 1400, "height": 1000})
@@ -83,56 +97,64 @@ def test_run_from_the_page(app, browser):
     page.goto(f"http://127.0.0.1:{app.port}")
     run_button = page.get_by_role("button", name="Run", exact=True)
     run_button.wait_for(timeout=90_000)
+    _choose(page, "Contact model", "compare")
+    _wait_for(lambda: app.model_dropdown.value == "compare", 30, "the page's model to reach the server")
+    run_button.click()
+    page.get_by_text("Done: compare on corrugated-rail, line 0, 100 km/h", exact=False).wait_for(timeout=300_000)
+    assert app.last_error is None
+    page.get_by_role("tab", name="Spectra and filters").click()
+    _wait_for(lambda: "3d - hertz" in (_plot(page, "Contact filters") or {}).get("labels", []), 60,
+              "the contact filters in the page")
+    filters = _plot(page, "Contact filters")
+    assert filters["title"] == "Contact filters: corrugated-rail, line 0, 100 km/h, 65 kN, 0.8 m"
+    assert filters["labels"] == ["3d - hertz", "2d - hertz", "hertz-winkler - hertz", "hertz-average - hertz",
+                                 "cnossos", "averaging", "patch-correlated", "patch-incoherent"]
+    time.sleep(1.0)
+    page.screenshot(path=str(ARTIFACTS / "explorer-filters.png"))
 
-    # change the model and the speed in the page
-    page.get_by_label("Contact model").click()
-    page.get_by_role("option", name="3d", exact=True).click()
-    speed = page.get_by_label("Speed (km/h)")
+    speed = _text_field(page, "Speed (km/h)")
     speed.fill("80")
     speed.press("Enter")
-    _wait_for(lambda: app.model_dropdown.value == "3d" and app.speed_number.value == 80.0, 30,
-              "the page's model and speed to reach the server")
-
-    finished = app.runs_finished
-    run_button.click()
-    _wait_for(lambda: app.runs_finished > finished and not app.running, 120, "the run to finish")
-    assert app.last_error is None
-    result = app.last_result
-    assert result.model == "3d" and result.speed == pytest.approx(80 / 3.6) and result.n_steps == 1000
-    assert app.frames_drawn > 0
-
-    # the force plot in the page holds this run
-    _wait_for(lambda: (page.evaluate(FORCE_PLOT_IN_PAGE) or {}).get("label") == "3d force (kN)" and
-              len(page.evaluate(FORCE_PLOT_IN_PAGE)["x"]) == result.n_steps, 60, "the force plot to update")
-    plot = page.evaluate(FORCE_PLOT_IN_PAGE)
-    assert np.allclose(plot["x"], result.x) and np.allclose(plot["y"], result.force / 1e3)
-
-    # the 3D patch in the page is the last step's pressure (raised 3 mm per GPa, 1 unit = 10 mm)
-    patch = page.evaluate(PATCH_IN_PAGE)
-    assert patch is not None and patch["visible"]
-    vertices = np.array(patch["vertices"]).reshape(-1, 3)
-    ny, nx = result.pressure.shape[1:]
-    assert vertices.shape == (ny * nx, 3)
-    assert np.allclose(vertices[:, 2] / 0.1, result.pressure[-1].reshape(-1) / 1e9 * 3.0, atol=1e-3)
-    assert vertices[:, 2].max() > 0.1  # a raised patch: about 1 GPa at the centre
-
-    # WebGL has drawn frames; then a screenshot for a person to look at
-    _wait_for(lambda: page.evaluate(FRAMES_RENDERED) > 2, 90, "WebGL frames")
-    time.sleep(2.0)
-    page.screenshot(path=str(ARTIFACTS / "explorer-3d-run.png"))
-
-    # a second tab sees the same state (the finished run's status) without errors
-    second = browser.new_page(viewport={"width": 1400, "height": 1000})
-    second.on("pageerror", lambda error: errors.append(str(error)))
-    second.goto(f"http://127.0.0.1:{app.port}")
-    second.get_by_text("Done: 3d on line 0, 80 km/h").wait_for(timeout=90_000)
-    # scrolling the control panel shows the plots
-    second.evaluate("() => document.querySelector('.u-title').scrollIntoView()")
-    time.sleep(2.0)
-    second.screenshot(path=str(ARTIFACTS / "explorer-plots.png"))
-    second.close()
-    page.close()
+    _wait_for(lambda: (_plot(page, "Contact filters") or {}).get("title", "").endswith("80 km/h, 65 kN, 0.8 m"), 60,
+              "the contact-filter plot of the new configuration")
+    filters = _plot(page, "Contact filters")
+    assert filters["labels"] == ["cnossos", "averaging", "patch-correlated", "patch-incoherent"]
+    assert _plot(page, "Force spectra")["labels"] == ["no spectrum of this configuration yet"]
     assert not errors, errors
+    page.close()
+
+
+def test_3d_offers_only_the_lines_its_window_fits(app, browser):
+    """Issue 15.2 in the page: the Line menu for 3d lists core's window_lines (-2..2 on the corrugated rail)."""
+    from wheelrail.core.roughness import load_roughness
+    from wheelrail.core.run_setup import window_lines
+
+    errors = []
+    page = browser.new_page(viewport={"width": 1400, "height": 1000})
+    page.on("pageerror", lambda error: errors.append(str(error)))
+    page.goto(f"http://127.0.0.1:{app.port}")
+    page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
+    _choose(page, "Contact model", "hertz")
+    _wait_for(lambda: len(app.line_dropdown.options) == 19, 30, "every line for hertz")
+    _wait_for(lambda: _options(page, "Line") == [str(n) for n in range(-9, 10)], 30, "every line in the page")
+    _choose(page, "Line", "7")
+    _choose(page, "Contact model", "3d")
+    _wait_for(lambda: app.model_dropdown.value == "3d", 30, "3d to reach the server")
+    expected = [str(n) for n in window_lines(load_roughness("corrugated-rail"))]
+    assert expected == ["-2", "-1", "0", "1", "2"]
+    _wait_for(lambda: _options(page, "Line") == expected, 30, "the 3d lines in the page")
+    page.get_by_text("Line 7 is not offered for 3d on corrugated-rail; line 2 is chosen").wait_for(timeout=30_000)
+    # a 3d run on an offered line runs and draws its heat map in the page
+    speed = _text_field(page, "Speed (km/h)")
+    speed.fill("100")
+    speed.press("Enter")
+    page.get_by_role("button", name="Run", exact=True).click()
+    page.get_by_text("Done: 3d on corrugated-rail, line 2", exact=False).wait_for(timeout=300_000)
+    _wait_for(lambda: page.evaluate(FRAMES_RENDERED) > 2, 90, "WebGL frames")
+    time.sleep(1.0)
+    page.screenshot(path=str(ARTIFACTS / "explorer-3d-run.png"))
+    assert not errors, errors
+    page.close()
 
 
 def test_bad_uploads_in_the_page(app, browser):
@@ -142,7 +164,7 @@ def test_bad_uploads_in_the_page(app, browser):
     page.on("pageerror", lambda error: errors.append(str(error)))
     page.goto(f"http://127.0.0.1:{app.port}")
     page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
-    before = app.last_result
+    before = app.replay
     upload = page.locator("input[type=file]")
     upload.set_input_files(files=[{"name": "broken.csv", "mimeType": "text/csv", "buffer": b"x_m,heights\n0,abc\n"}])
     _wait_for(lambda: (app.last_error or "").startswith("upload 'broken.csv'"), 60, "the malformed-CSV message")
@@ -159,6 +181,6 @@ def test_bad_uploads_in_the_page(app, browser):
     finally:
         app.max_upload_bytes = limit
     page.screenshot(path=str(ARTIFACTS / "explorer-bad-upload.png"))
-    assert app.roughness_label == "corrugated-rail" and app.last_result is before
+    assert app.roughness_label == "corrugated-rail" and app.replay is before
     assert not errors, errors
     page.close()

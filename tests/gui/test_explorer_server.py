@@ -1,21 +1,25 @@
 """Explorer, server side: the controls drive real runs, bad input gives a message and the server keeps going.
 
-Each test sets the controls as a browser would (``handle.value = ...``) and presses Run by calling what the
-button's callback calls (``ExplorerApp.start_run``); the runs themselves are wheelrail.core's.
+Each test sets the controls as a browser would (``handle.value = ...``, which runs the callbacks) and presses
+Run by calling what the button's callback calls (``ExplorerApp.start_run``); the runs are wheelrail.core's.
+Stop, replace and compare are tested without a server in test_explorer_controller.py.
 """
 
 import socket
-import threading
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from wheelrail.core.parameters import KMH
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters
 from wheelrail.core.recording import read_recording
+from wheelrail.core.reference_filters import reference_filters
 from wheelrail.core.roughness import load_roughness, write_csv
+from wheelrail.core.run_setup import window_lines
 from wheelrail.core.spectra import force_spectrum
 from wheelrail.explorer.app import ExplorerApp
+from wheelrail.explorer.config import read_config
 
 
 def _free_port() -> int:
@@ -33,18 +37,18 @@ def app():
 
 def _run(app, timeout=300.0):
     assert app.start_run(), app.last_error
-    assert app.wait(timeout), "run did not finish"
-    assert not app.running
-    return app.last_result
+    assert app.controller.wait(timeout), "run did not finish"
+    return app.replay.result
 
 
-def _reset(app, *, set_name="corrugated-rail", line=0, model="hertz", speed=100.0, preload=65.0, length=0.3):
+def _reset(app, *, set_name="corrugated-rail", line=0, model="hertz", speed=100.0, preload=65.0, length=0.6):
     app.set_dropdown.value = set_name
-    app.line_slider.value = line
     app.model_dropdown.value = model
-    app.speed_number.value = speed
-    app.preload_number.value = preload
-    app.length_number.value = length
+    app.line_dropdown.value = str(line)
+    app.speed_text.value = f"{speed:g}"
+    app.preload_text.value = f"{preload:g}"
+    app.length_text.value = f"{length:g}"
+    app.last_error = None
 
 
 def test_binds_localhost_by_default(app):
@@ -60,95 +64,115 @@ def test_controls_define_the_run(app):
     assert result.parameters["contact"]["preload"] == pytest.approx(50e3)
     assert result.force.shape == (1000,) and np.all(np.isfinite(result.force))
     assert abs(result.force.mean() - 50e3) < 0.1 * 50e3  # the wheel carries the preload chosen in the page
-    assert app.config.as_dict() == {"model": "2d", "set": "cast-iron-wheel", "line": 2, "speed_kmh": 80.0,
-                                    "preload_kn": 50.0, "length_m": 1.0}
-    assert app.frames_drawn > 0 and app.progress == 1.0
+    assert app.replay.config.as_dict() == {"model": "2d", "set": "cast-iron-wheel", "line": 2, "speed_kmh": 80.0,
+                                           "preload_kn": 50.0, "length_m": 1.0}
+    assert app.status_md.content.startswith("Done: 2d on cast-iron-wheel, line 2, 80 km/h, 50 kN, 1 m")
     # one-line model: the strip (contact length) and the Hertz circle at the current force are shown
-    assert app.strip_mesh.visible and app.force_circle.visible and not app.patch_mesh.visible
-    half_length = np.ptp(app.strip_mesh.vertices[:, 0]) / 2 / 0.1 * 1e-3  # scene units (cm) -> m
+    assert app.scene.strip.visible and app.scene.force_circle.visible and not app.scene.heatmap.visible
+    half_length = np.ptp(app.scene.strip.vertices[:, 0]) / 2 / 0.1 * 1e-3  # scene units (cm) -> m
     assert half_length == pytest.approx(result.contact_length[-1] / 2, rel=1e-5)
-    # the force plot holds this run
-    plot = app._plots["force"]
+    # the force plot holds this run and is titled with its configuration
+    plot = app.plots.force.handle
     assert np.allclose(plot.data[1], result.force / 1e3)
-    # spectra of the run come from core
+    assert plot.title == "Contact force: cast-iron-wheel, line 2, 80 km/h, 50 kN, 1 m"
     centres, levels = force_spectrum(result)
-    assert np.array_equal(app.spectra["2d"][1], levels, equal_nan=True)
+    assert np.array_equal(app.store.spectra(app.shown.case())["2d"][1], levels, equal_nan=True)
 
 
-def test_3d_run_draws_the_pressure_patch_and_replays(app):
+def test_3d_run_draws_the_pressure_heat_map_and_replays(app):
     _reset(app, model="3d", length=0.8)
     result = _run(app)
     assert result.model == "3d" and result.pressure is not None
-    assert app.frames_drawn > 0 and app.time_to_first_frame is not None
+    assert app.scene.frames_drawn > 0 and app.scene.heatmap.visible and not app.scene.strip.visible
     ny, nx = result.pressure.shape[1:]
-    vertices = app.patch_mesh.vertices
-    assert vertices.shape == (ny * nx, 3) and app.patch_mesh.visible
-    # the last frame shows the last step: heights are the pressure at the stated scale (3 mm per GPa)
-    z_mm = vertices[:, 2] / 0.1
-    assert np.allclose(z_mm, result.pressure[-1].reshape(-1) / 1e9 * 3.0, atol=1e-4)
-    assert app.patch_points.colors.shape == (ny * nx, 3)
-    # scrubbing (the Step slider) shows an earlier step
-    app.time_slider.value = 10
-    assert np.allclose(app.patch_mesh.vertices[:, 2] / 0.1, result.pressure[10].reshape(-1) / 1e9 * 3.0, atol=1e-4)
-    assert "step 10" in app.readout_md.content
+    assert app.scene.heatmap.image.shape == (ny, nx, 3)
+    app.time_slider.value = 10  # scrubbing shows an earlier step
+    assert "step 10:" in app.readout_md.content
+    assert f"F = {result.force[10] / 1e3:.2f} kN" in app.readout_md.content
 
 
-def test_compare_runs_every_model_and_gives_contact_filters(app):
+def test_stale_contact_filters_disappear_when_the_configuration_changes(app):
+    """Issue 15.1: after a compare, changing the speed left its contact filters on the plot and in the CSV."""
     _reset(app, model="compare", length=0.8)
     _run(app)
-    assert set(app.results) == {"3d", "2d", "hertz", "hertz-winkler", "hertz-average"}
-    filters = app.contact_filters()
+    filters = app.store.contact_filters(app.shown.case())
     assert set(filters) == {"3d", "2d", "hertz-winkler", "hertz-average"}
-    _, hertz = force_spectrum(app.results["hertz"])
-    _, two_d = force_spectrum(app.results["2d"])
-    assert np.allclose(filters["2d"][1], two_d - hertz, equal_nan=True)
-    assert app._plot_series["spectra"][1:] == ("3d", "2d", "hertz", "hertz-winkler", "hertz-average")
-    assert app._plot_series["filters"][1:] == ("3d", "2d", "hertz-winkler", "hertz-average")
-    text = app.spectra_csv().splitlines()
-    assert text[0].startswith("band_centre_hz,3d_level_db") and "2d_contact_filter_db" in text[0]
-    assert len(text) == 1 + len(hertz)
+    labels = [label for label, _, _ in app.plots.filters.series]
+    assert labels[:4] == ["3d - hertz", "2d - hertz", "hertz-winkler - hertz", "hertz-average - hertz"]
+    assert labels[4:] == ["cnossos", "averaging", "patch-correlated", "patch-incoherent"]  # dashed references
+    assert app.plots.filters.handle.title.endswith("line 0, 100 km/h, 65 kN, 0.8 m")
+    app.speed_text.value = "80"
+    assert [label for label, _, _ in app.plots.filters.series] == labels[4:]  # the old filters are gone
+    assert app.plots.filters.handle.title.endswith("line 0, 80 km/h, 65 kN, 0.8 m")
+    assert app.csv_button.disabled and app.rrd_button.disabled
+    with pytest.raises(WheelrailError, match="no force spectrum yet for corrugated-rail, line 0, 80 km/h"):
+        app.download_spectra_csv()
+    # the references follow the speed: on the force bands at 80 km/h
+    references = reference_filters(65e3, 0.39, 80 * KMH).by_frequency["cnossos"]
+    assert np.allclose(app.plots.filters.handle.data[1], references[np.isfinite(references)])
+    app.speed_text.value = "100"  # back: that configuration's runs show again
+    assert [label for label, _, _ in app.plots.filters.series] == labels
+    name, content = app.download_spectra_csv()
+    assert name == "wheelrail-spectra-corrugated-rail-line0-100kmh-65kN-0.8m.csv"
+    text = content.decode().splitlines()
+    assert text[0] == "# wheelrail explorer: corrugated-rail, line 0, 100 km/h, 65 kN, 0.8 m"
+    assert text[1].startswith("band_centre_hz,3d_level_db") and "reference_cnossos_db" in text[1]
 
 
-def test_downloads(app, tmp_path):
+def test_downloads_are_named_after_the_configuration(app, tmp_path):
     _reset(app, model="3d", length=0.6)
     result = _run(app)
     name, content = app.download_rrd()
-    assert name == "wheelrail-3d-line0.rrd" and app.last_download == (name, len(content))
+    assert name == "wheelrail-3d-corrugated-rail-line0-100kmh-65kN-0.6m.rrd"
+    assert app.last_download == (name, len(content))
     path = tmp_path / name
     path.write_bytes(content)
-    back = read_recording(path)
-    assert np.allclose(back.force, result.force)
-    name, content = app.download_spectra_csv()
-    assert name.endswith(".csv") and content.decode().startswith("band_centre_hz")
+    assert np.allclose(read_recording(path).force, result.force)
 
 
-def test_bad_inputs_give_a_message_and_keep_the_results(app):
+def test_only_valid_choices_are_offered_and_bad_values_are_refused(app):
     _reset(app, model="hertz", length=1.0)
     result = _run(app)
-    # speed of 0
-    app.speed_number.value = 0.0
-    assert not app.start_run()
-    assert "speed" in app.last_error and "0 km/h" in app.last_error
-    assert "Error" in app.status_md.content
-    assert app.last_result is result
-    # a line outside the set (the corrugated rail has lines -9..9)
-    app.speed_number.value = 100.0
-    app.line_slider.value = 12
-    assert not app.start_run()
-    assert "line 12" in app.last_error and "-9" in app.last_error
-    app.line_slider.value = 0
+    assert app.line_dropdown.options == tuple(str(n) for n in range(-9, 10))
+    # 3d: only the lines whose window fits the set (core's window_lines)
+    app.line_dropdown.value = "7"
+    app.model_dropdown.value = "3d"
+    rough = load_roughness("corrugated-rail")
+    expected = window_lines(rough, ModelParameters(contact=ContactParameters(preload=65e3)))
+    assert app.line_dropdown.options == tuple(map(str, expected)) and expected == (-2, -1, 0, 1, 2)
+    assert app.line_dropdown.value == "2" and "Line 7 is not offered for 3d" in app.status_md.content
+    for field, value, message in [
+        (app.speed_text, "450", "Speed must be between 5 and 400 km/h; got 450 km/h"),
+        (app.speed_text, "abc", "Speed must be a number in km/h; got 'abc'"),
+        (app.preload_text, "0", "Preload must be between 1 and 500 kN; got 0 kN"),
+        (app.length_text, "9", "Run length must be between 0.572 and 7.959 m on corrugated-rail at 100 km/h"),
+        (app.length_text, "0.1", "Run length must be between 0.572 and 7.959 m"),
+    ]:
+        old = field.value
+        field.value = value
+        assert message in app.check_md.content
+        assert not app.start_run()
+        assert message in app.last_error and "--" not in app.last_error
+        field.value = old
+    # a line sent by a page that was not offered moves to the nearest offered one, saying so
+    app.line_dropdown.value = "9"
+    assert app.line_dropdown.value == "2" and "Line 9 is not offered for 3d" in app.status_md.content
+    with pytest.raises(WheelrailError, match="Line 9 is too near the edge of corrugated-rail for the 3d contact "
+                                             "patch at 65 kN; choose a line from -2 to 2"):
+        read_config(rough, "corrugated-rail", line="9", model="3d", speed_kmh="100", preload_kn="65",
+                    length_m="1")
+    app.model_dropdown.value = "hertz"
+    app.line_dropdown.value = "0"
     # a malformed CSV upload
     bad = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="bad.csv", content=b"x_m,z\n0,abc\n")),
                           client=None)
     app._on_upload(bad)
     assert app.last_error.startswith("upload 'bad.csv'")
     assert app.roughness_label == "corrugated-rail"
-    # an upload over the size limit (this app: 1 MB)
     big = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="big.csv", content=b"0" * 1_200_000)),
                           client=None)
     app._on_upload(big)
     assert app.last_error == "upload 'big.csv' (1.14 MB) is over the 977 kB limit"
-    # not a roughness file; a browser-supplied path is only a label
     app._on_upload(SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="../../etc/passwd",
                                                                                 content=b"root")), client=None))
     assert "expected a .csv or .npz" in app.last_error and "passwd" in app.last_error
@@ -156,11 +180,10 @@ def test_bad_inputs_give_a_message_and_keep_the_results(app):
     app.set_dropdown.value = "/etc/passwd"
     assert app.last_error == "unknown roughness set '/etc/passwd'; choose a bundled set or upload a file"
     assert app.roughness_label == "corrugated-rail"
-    app.set_dropdown.value = "corrugated-rail"
     # nothing computed is lost and the server keeps working
-    assert app.last_result is result and "hertz" in app.spectra
+    assert app.store.entries(app.shown.case())["hertz"].result is result
     again = _run(app)
-    assert app.last_error is None and again.model == "hertz"
+    assert again.model == "hertz" and app.status_md.content.startswith("Done: hertz")
 
 
 def test_upload_a_user_csv_and_run_on_it(app, tmp_path):
@@ -170,58 +193,15 @@ def test_upload_a_user_csv_and_run_on_it(app, tmp_path):
     write_csv(small, path)
     event = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="C:\\data\\mine.csv",
                                                                          content=path.read_bytes())), client=None)
+    app.model_dropdown.value = "2d"
     app._on_upload(event)
     assert app.roughness_label == "upload: mine.csv"
     assert "upload: mine.csv" in app.set_dropdown.options and app.set_dropdown.value == "upload: mine.csv"
-    assert (app.line_slider.min, app.line_slider.max) == (-3, 3)
+    assert app.line_dropdown.options == ("-3", "-2", "-1", "0", "1", "2", "3")
+    assert "Run length 0.572 to 1.459 m" in app.check_md.content  # the bound of this file, shown
     _reset(app, set_name="upload: mine.csv", line=1, model="2d", length=1.0)
     result = _run(app)
     assert app.last_error is None and result.line == 1 and result.n_steps == 1000
-
-
-def test_stop_cancels_and_a_new_run_replaces_an_old_one(app, monkeypatch):
-    # A 3d run is held at each frame it draws until it is cancelled, so "still running" never depends on how
-    # fast the machine is (a 7.5 m 3d run takes well under a second on some).
-    drawn = threading.Event()
-    draw = app.draw_state
-
-    def held_draw(state, view):
-        draw(state, view)
-        drawn.set()
-        if view.model == "3d":
-            while not (app._run is None or app._run.cancelled):
-                drawn.wait(0.005)  # re-check the condition; the outcome never depends on this interval
-
-    monkeypatch.setattr(app, "draw_state", held_draw)
-    _reset(app, model="3d", length=7.5)
-    assert app.start_run()
-    assert drawn.wait(60)
-    # choosing another set during a run changes the page, not the run
-    app.set_dropdown.value = "sinter-wheel-1"
-    assert app.running and app.last_error is None
-    app.stop()
-    assert app.wait(30)
-    assert not app.running and app.status.startswith("Stopped 3d")
-    assert 0 < app.last_result.n_steps < 7500 and app.last_result.roughness_name == "corrugated-rail"
-    app.set_dropdown.value = "corrugated-rail"
-    # Stop pressed while the run is still being prepared stops it before its first step
-    app.length_number.value = 1.0
-    assert app.start_run()
-    app.stop()
-    assert app.wait(30)
-    assert app.status.startswith("Stopped 3d") and app.last_result.n_steps < 1000
-    app.length_number.value = 7.5
-    # pressing Run again while a run goes on replaces it cleanly
-    drawn.clear()
-    assert app.start_run()
-    assert drawn.wait(60) and app.running
-    app.model_dropdown.value = "hertz"
-    app.length_number.value = 1.0
-    assert app.start_run()
-    assert app.wait(60)
-    assert app.last_error is None
-    assert app.last_result.model == "hertz" and app.last_result.n_steps == 1000
-    assert app.config.model == "hertz"
 
 
 def test_wheelrail_explore_serves_the_page_on_localhost():

@@ -1,0 +1,166 @@
+"""What one press of Run asks for, checked in the page's own words (no viser here).
+
+A :class:`RunConfig` is the full configuration of a run (set, line, model, speed, preload, length); its
+:meth:`RunConfig.case` (everything but the model) keys every result the page shows, so that a plot, a
+contact filter or a download never mixes configurations. :func:`read_config` turns the page's fields (text
+as typed) into a config or one :class:`~wheelrail.core.errors.WheelrailError` line a user can act on; the
+choices it allows come from core (:func:`wheelrail.core.run_setup.window_lines`,
+:func:`wheelrail.core.run_setup.usable_length`, ``MIN_SPEED_KMH``/``MAX_SPEED_KMH``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, replace
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
+from wheelrail.core.parameters import (
+    KMH,
+    MAX_SPEED_KMH,
+    MIN_SPEED_KMH,
+    ContactParameters,
+    ModelParameters,
+    RunParameters,
+)
+from wheelrail.core.run_setup import usable_length, window_lines
+from wheelrail.core.spectra import FORCE_SKIP
+
+__all__ = [
+    "COMPARE", "COMPARE_ORDER", "MODEL_CHOICES", "PRELOAD_RANGE_KN", "RunConfig", "in_page_words",
+    "length_range", "models_of", "offered_lines", "read_config",
+]
+
+COMPARE = "compare"
+# the reference first (every contact filter needs it), then the others from the cheapest to the costliest
+COMPARE_ORDER = (REFERENCE_MODEL, *(m for m in reversed(MODELS) if m != REFERENCE_MODEL))
+MODEL_CHOICES = (*MODELS, COMPARE)
+PRELOAD_RANGE_KN = (1.0, 500.0)  # wheel loads the page accepts (paper: 65 kN)
+SPECTRUM_MIN_STEPS = 16  # force_spectrum needs this many steps after its start-up skip
+MAX_WHEEL_RUN_M = 100.0  # wheel data repeat around the circumference: longest run offered on a wheel set
+
+
+@dataclass(frozen=True)
+class RunConfig:
+    """The full configuration of one run (SI inside; the page shows km/h, kN, m)."""
+
+    set_label: str
+    line: int
+    model: str
+    speed: float  # m/s
+    preload: float  # N
+    length: float  # m
+
+    def case(self) -> tuple:
+        """Everything but the model: results of one case compare (spectra, contact filters)."""
+        return (self.set_label, self.line, round(self.speed, 9), round(self.preload, 6), round(self.length, 9))
+
+    def for_model(self, model: str) -> RunConfig:
+        return replace(self, model=model)
+
+    def params(self) -> ModelParameters:
+        return ModelParameters(contact=ContactParameters(preload=self.preload), run=RunParameters(speed=self.speed))
+
+    def case_label(self) -> str:
+        """The case as people read it: 'corrugated-rail, line 0, 100 km/h, 65 kN, 3 m'."""
+        return (f"{self.set_label}, line {self.line}, {self.speed / KMH:g} km/h, {self.preload / 1e3:g} kN, "
+                f"{self.length:g} m")
+
+    def label(self) -> str:
+        return f"{self.model} on {self.case_label()}"
+
+    def file_stem(self) -> str:
+        """A file name for downloads: 'wheelrail-3d-corrugated-rail-line0-100kmh-65kN-3m'."""
+        parts = ["wheelrail", self.model, self.set_label, f"line{self.line}", f"{self.speed / KMH:g}kmh",
+                 f"{self.preload / 1e3:g}kN", f"{self.length:g}m"]
+        return re.sub(r"[^A-Za-z0-9.+-]+", "_", "-".join(parts)).replace("_-", "-").strip("_")
+
+    def as_dict(self) -> dict:
+        return {"model": self.model, "set": self.set_label, "line": self.line, "speed_kmh": self.speed / KMH,
+                "preload_kn": self.preload / 1e3, "length_m": self.length}
+
+
+def models_of(model_choice: str) -> tuple[str, ...]:
+    """The models one choice of the menu runs (``compare``: all, the reference first)."""
+    return COMPARE_ORDER if model_choice == COMPARE else (model_choice,)
+
+
+def offered_lines(roughness, model_choice: str, preload: float) -> tuple[int, ...]:
+    """Lines the page offers: every line of the set, or for a model with a lateral window (``3d``, and
+    ``compare``, which runs it) the lines whose window fits the set at this preload (core's rule)."""
+    if any(model_entry(m).traits.lateral_window for m in models_of(model_choice)):
+        return window_lines(roughness, ModelParameters(contact=ContactParameters(preload=preload)))
+    return tuple(int(n) for n in roughness.line_numbers)
+
+
+def length_range(roughness, speed: float, element_size: float | None = None) -> tuple[float, float]:
+    """Shortest run with a force spectrum at this speed, longest run the set allows, m."""
+    dx = RunParameters().element_size if element_size is None else element_size
+    shortest = math.ceil((FORCE_SKIP * speed + SPECTRUM_MIN_STEPS * dx) / dx) * dx
+    longest = MAX_WHEEL_RUN_M if roughness.periodic else usable_length(roughness, dx)
+    return round(shortest, 6), math.floor(longest / dx + 1e-9) * dx
+
+
+def _number(text, what: str, unit: str) -> float:
+    try:
+        value = float(str(text).strip().replace(",", "."))
+    except ValueError:
+        raise WheelrailError(f"{what} must be a number in {unit}; got '{text}'") from None
+    if not math.isfinite(value):
+        raise WheelrailError(f"{what} must be a number in {unit}; got '{text}'")
+    return value
+
+
+def _span(lines: tuple[int, ...]) -> str:
+    if not lines:
+        return "no line"
+    if lines[-1] - lines[0] == len(lines) - 1:
+        return f"a line from {lines[0]} to {lines[-1]}"
+    return "one of lines " + ", ".join(map(str, lines))
+
+
+def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, preload_kn, length_m) -> RunConfig:
+    """The run the page's fields ask for, or one WheelrailError in the page's words (what to type instead)."""
+    if model not in MODEL_CHOICES:
+        raise WheelrailError(f"unknown contact model '{model}'; choose one of {', '.join(MODEL_CHOICES)}")
+    speed_kmh = _number(speed_kmh, "Speed", "km/h")
+    if not MIN_SPEED_KMH <= speed_kmh <= MAX_SPEED_KMH:
+        raise WheelrailError(f"Speed must be between {MIN_SPEED_KMH:g} and {MAX_SPEED_KMH:g} km/h; "
+                             f"got {speed_kmh:g} km/h")
+    preload_kn = _number(preload_kn, "Preload", "kN")
+    lo, hi = PRELOAD_RANGE_KN
+    if not lo <= preload_kn <= hi:
+        raise WheelrailError(f"Preload must be between {lo:g} and {hi:g} kN; got {preload_kn:g} kN")
+    try:
+        line = int(str(line).strip())
+    except ValueError:
+        raise WheelrailError(f"Line must be a whole number; got '{line}'") from None
+    allowed = offered_lines(roughness, model, preload_kn * 1e3)
+    if line not in allowed:
+        if line in roughness.line_numbers:
+            raise WheelrailError(f"Line {line} is too near the edge of {set_label} for the 3d contact patch at "
+                                 f"{preload_kn:g} kN; choose {_span(allowed)}")
+        raise WheelrailError(f"Line {line} is not in {set_label}; choose {_span(allowed)}")
+    length = _number(length_m, "Run length", "m")
+    shortest, longest = length_range(roughness, speed_kmh * KMH)
+    if not shortest - 1e-9 <= length <= longest + 1e-9:
+        raise WheelrailError(f"Run length must be between {shortest:g} and {longest:g} m on {set_label} at "
+                             f"{speed_kmh:g} km/h; got {length:g} m")
+    return RunConfig(set_label=set_label, line=line, model=model, speed=speed_kmh * KMH, preload=preload_kn * 1e3,
+                     length=length)
+
+
+_CLI_HINTS = (
+    (re.compile(r"use --length-m <= ([0-9.]+)"), r"choose a run length of at most \1 m"),
+    (re.compile(r"use --speed-kmh[^;,.]*"), "choose another speed"),
+    (re.compile(r"use --line[^;,.]*"), "choose another line"),
+    (re.compile(r"--([a-z]+)-[a-z]+"), r"\1"),
+)
+
+
+def in_page_words(message: str) -> str:
+    """A core message as the page says it: command-line options replaced by what to do in the page."""
+    for pattern, words in _CLI_HINTS:
+        message = pattern.sub(words, message)
+    return message

@@ -1,0 +1,210 @@
+"""The run controller: one background run at a time, stop, replace, compare (no viser here).
+
+:class:`RunController` runs a :class:`~wheelrail.explorer.config.RunConfig` (one model, or every model of a
+compare, the reference first) in a daemon thread and reports to a :class:`RunListener` (the page, or a test):
+status lines, progress, frames (thinned to ``frame_interval``), each model's result with its force spectrum,
+errors and the end of the run. A generation counter keeps a replaced run from reporting anything once a new
+one has started; :meth:`stop` cancels the current run (the steps done so far are kept). Results go to a
+:class:`~wheelrail.explorer.results.ResultStore` keyed by configuration. Runs come from ``prepare`` (default
+:func:`wheelrail.core.interaction.prepare_run`), spectra from :func:`wheelrail.core.spectra.force_spectrum`.
+Every run and error is logged to the ``wheelrail.explorer`` logger (the terminal, under ``wheelrail explore``).
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Protocol
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import KMH
+from wheelrail.core.spectra import force_spectrum
+from wheelrail.explorer.config import RunConfig, in_page_words, models_of
+from wheelrail.explorer.results import Entry, ResultStore
+
+__all__ = ["FRAME_INTERVAL", "FIRST_RUN_SECONDS", "RunController", "RunListener", "RunView"]
+
+LOG = logging.getLogger("wheelrail.explorer")
+FRAME_INTERVAL = 0.05  # s between live frames handed to the page (<= 20 per second)
+PLOT_INTERVAL = 0.25  # s between live plot and progress updates
+FIRST_RUN_SECONDS = "5-15"  # usual one-off preparation on a 2-core machine (benchmarks/explorer.py)
+
+
+@dataclass(frozen=True)
+class RunView:
+    """What a listener needs to draw a state of a run: its configuration, roughness and window."""
+
+    config: RunConfig
+    roughness: object
+    window_x: object = None
+    window_y: object = None
+
+
+class RunListener(Protocol):
+    """What the controller tells the page. Called from the run's thread."""
+
+    def status(self, text: str) -> None: ...
+    def progress(self, fraction: float) -> None: ...
+    def frame(self, state, view: RunView) -> None: ...
+    def live(self, result, view: RunView) -> None: ...
+    def model_done(self, entry: Entry, view: RunView) -> None: ...
+    def error(self, message: str) -> None: ...
+    def finished(self, config: RunConfig, outcome: str) -> None: ...
+
+
+class RunController:
+    """Starts, stops and replaces runs; one at a time."""
+
+    def __init__(self, listener: RunListener, store: ResultStore | None = None, *,
+                 prepare: Callable | None = None, frame_interval: float = FRAME_INTERVAL) -> None:
+        if prepare is None:
+            from wheelrail.core.interaction import prepare_run as prepare
+        self.listener = listener
+        self.store = ResultStore() if store is None else store
+        self._prepare = prepare
+        self._frame_interval = float(frame_interval)
+        self._lock = threading.Lock()
+        self._generation = 0
+        self._stopped_generation = -1
+        self._run = None
+        self._worker: threading.Thread | None = None
+        self._prepared_speeds: set[float] = set()
+
+    @property
+    def running(self) -> bool:
+        worker = self._worker
+        return worker is not None and worker.is_alive()
+
+    def start(self, config: RunConfig, roughness) -> int:
+        """Run ``config`` on ``roughness`` in the background, replacing any current run; its generation."""
+        self.cancel_current()
+        with self._lock:
+            self._generation += 1
+            generation = self._generation
+            first = round(config.speed, 6) not in self._prepared_speeds
+            worker = threading.Thread(target=self._work, args=(generation, config, roughness, first), daemon=True,
+                                      name=f"wheelrail-explorer-run-{generation}")
+            self._worker = worker
+        if first:
+            self.listener.status(f"Preparing the track for {config.speed / KMH:g} km/h (done once per speed; the "
+                                 f"first run also compiles the solver: usually {FIRST_RUN_SECONDS} s) ...")
+        else:
+            self.listener.status(f"Preparing {config.label()} ...")
+        LOG.info("run %d: %s", generation, config.label())
+        worker.start()
+        return generation
+
+    def stop(self) -> None:
+        """Cancel the current run, also one still being prepared (its steps so far are kept)."""
+        with self._lock:
+            self._stopped_generation = self._generation
+            run = self._run
+        if run is not None:
+            run.cancel()
+
+    def cancel_current(self) -> None:
+        """Supersede the current run: it stops at its next step (or once prepared) and reports nothing more.
+
+        Not joined: a run still being prepared (the one-off track precompute) would hold up the page.
+        """
+        with self._lock:
+            self._generation += 1
+            run = self._run
+        if run is not None:
+            run.cancel()
+
+    def wait(self, timeout: float | None = None) -> bool:
+        """Wait for the current run to end; True if it did within ``timeout`` s."""
+        worker = self._worker
+        if worker is not None:
+            worker.join(timeout)
+            return not worker.is_alive()
+        return True
+
+    def _current(self, generation: int) -> bool:
+        return generation == self._generation
+
+    def _work(self, generation: int, config: RunConfig, roughness, first: bool) -> None:
+        started = time.perf_counter()
+        models = models_of(config.model)
+        outcome = "failed"
+        try:
+            for number, model in enumerate(models):
+                outcome = self._one_model(generation, config.for_model(model), roughness, (number, len(models)))
+                if outcome != "done":
+                    break
+                self._prepared_speeds.add(round(config.speed, 6))
+        except WheelrailError as error:
+            outcome = self._failed(generation, in_page_words(str(error)))
+        except Exception as error:  # keep serving after anything: report it in the page
+            LOG.exception("run %d failed", generation)
+            outcome = self._failed(generation, f"unexpected error: {type(error).__name__}: {error}")
+        finally:
+            with self._lock:
+                if self._current(generation):
+                    self._run = None
+        if self._current(generation):
+            LOG.info("run %d %s after %.1f s: %s", generation, outcome, time.perf_counter() - started, config.label())
+            self.listener.finished(config, outcome)
+
+    def _failed(self, generation: int, message: str) -> str:
+        LOG.error("run %d: %s", generation, message)
+        if self._current(generation):
+            self.listener.error(message)
+        return "failed"
+
+    def _one_model(self, generation: int, config: RunConfig, roughness, position: tuple[int, int]) -> str:
+        """Prepare, stream and finish one model; 'done', 'stopped', 'failed' or 'replaced'."""
+        number, count = position
+        run = self._prepare(roughness, model=config.model, line=config.line, params=config.params(),
+                            length=config.length)
+        with self._lock:
+            if not self._current(generation):
+                return "replaced"
+            self._run = run
+            if self._stopped_generation == generation:
+                run.cancel()
+        view = RunView(config=config, roughness=roughness, window_x=getattr(run, "window_x", None),
+                       window_y=getattr(run, "window_y", None))
+        self.listener.status(f"Running {config.model} ({number + 1}/{count}) on {config.case_label()} ...")
+        state = None
+        last_frame = last_plot = -float("inf")
+        for state in run.steps():
+            if not self._current(generation):
+                run.cancel()
+                return "replaced"
+            now = time.perf_counter()
+            if now - last_frame >= self._frame_interval:
+                self.listener.frame(state, view)
+                last_frame = now
+            if now - last_plot >= PLOT_INTERVAL:
+                self.listener.live(run.result(), view)
+                self.listener.progress((number + (state.step + 1) / run.n_steps) / count)
+                last_plot = now
+        result = run.result()
+        if not self._current(generation):
+            return "replaced"
+        if state is not None:
+            self.listener.frame(state, view)
+        if run.cancelled:
+            problem = f"stopped after {result.n_steps} of {run.n_steps} steps"
+            self.store.add(Entry(config, result, None, problem))
+            self.listener.model_done(self.store.entries(config.case())[config.model], view)
+            self.listener.status(f"Stopped {config.model} after {result.n_steps} of {run.n_steps} steps "
+                                 f"({config.case_label()}); no spectrum for a stopped run.")
+            return "stopped"
+        try:
+            spectrum = force_spectrum(result)
+        except WheelrailError as error:
+            message = f"{config.model}: no force spectrum: {in_page_words(str(error))}"
+            self.store.add(Entry(config, result, None, message))
+            self.listener.model_done(self.store.entries(config.case())[config.model], view)
+            self._failed(generation, message)
+            return "failed"
+        self.store.add(Entry(config, result, spectrum))
+        self.listener.model_done(self.store.entries(config.case())[config.model], view)
+        self.listener.progress((number + 1) / count)
+        return "done"

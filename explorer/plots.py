@@ -1,0 +1,141 @@
+"""uPlot charts of the explorer, each titled with the configuration it shows.
+
+:class:`Plot` wraps one ``viser`` uPlot handle: new data with the same series updates it in place; other
+series re-create it at the same place in its tab. :class:`CasePlots` draws one case's results (force
+history of every model overlaid, force spectra, contact filters with the CNOSSOS-EU A3 and analytic
+reference filters dashed) from a :class:`~wheelrail.explorer.results.ResultStore`; nothing of another case.
+"""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+from wheelrail.core.models import REFERENCE_MODEL, model_names
+from wheelrail.explorer.config import RunConfig
+from wheelrail.explorer.results import ResultStore, case_reference_filters
+
+__all__ = ["REFERENCE_STYLE", "CasePlots", "Plot", "finite_bands", "model_colour"]
+
+_PALETTE = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf")
+REFERENCE_STYLE = {"cnossos": "#000000", "averaging": "#7f7f7f", "patch-correlated": "#bcbd22",
+                   "patch-incoherent": "#17becf"}
+MAX_POINTS = 4000  # points per line sent to the page
+_CONTAINER_LOCK = threading.Lock()  # a viser container is entered by one thread at a time (run and callbacks)
+
+
+def model_colour(model: str) -> str:
+    """One colour per registered model, in registry order."""
+    names = model_names()
+    return _PALETTE[names.index(model) % len(_PALETTE)] if model in names else _PALETTE[-1]
+
+
+def finite_bands(centres: np.ndarray, columns: list[np.ndarray]) -> tuple[np.ndarray, ...]:
+    """Keep the bands where every column is finite (uPlot draws numbers only)."""
+    keep = np.ones(centres.shape, dtype=bool)
+    for column in columns:
+        keep &= np.isfinite(column)
+    return (centres[keep], *(np.asarray(column)[keep] for column in columns))
+
+
+class Plot:
+    """One uPlot chart in a GUI container; ``series``: (label, colour, dashed) after the x label."""
+
+    def __init__(self, gui, container, title: str, x_label: str, y_label: str, *, log_x: bool = False) -> None:
+        self._gui, self._container = gui, container
+        self.title, self.x_label, self.y_label, self.log_x = title, x_label, y_label, log_x
+        self.series: tuple = ()
+        self.handle = None
+        self.show((np.zeros(0), np.zeros(0)), (("no run yet", "#999999", False),))
+
+    def show(self, data: tuple, series: tuple, title: str | None = None) -> None:
+        data = tuple(np.asarray(d, dtype=np.float64) for d in data)
+        title = self.title if title is None else title
+        if self.handle is not None and series == self.series and title == self.handle.title:
+            self.handle.data = data
+            return
+        specs = [{"label": self.x_label}]
+        specs += [{"label": label, "stroke": colour, "width": 1.5, **({"dash": (6.0, 4.0)} if dashed else {})}
+                  for label, colour, dashed in series]
+        scales = {"x": {"time": False, **({"distr": 3} if self.log_x else {})}}
+        axes = ({"label": self.x_label}, {"label": self.y_label})
+        with _CONTAINER_LOCK:
+            order = None
+            if self.handle is not None:
+                order = self.handle.order
+                self.handle.remove()
+            with self._container:
+                self.handle = self._gui.add_uplot(data, tuple(specs), title=title, scales=scales, axes=axes,
+                                                  aspect=1.5, order=order)
+            self.series = series
+
+    def clear(self, why: str, title: str | None = None) -> None:
+        self.show((np.zeros(0), np.zeros(0)), ((why, "#999999", False),), title=title)
+
+
+class CasePlots:
+    """Force history, displacement, force spectra and contact filters of one case."""
+
+    def __init__(self, gui, patch_tab, spectra_tab) -> None:
+        self.force = Plot(gui, patch_tab, "Contact force", "position (m)", "force (kN)")
+        self.displacement = Plot(gui, patch_tab, "Wheel and rail displacement (downwards)", "position (m)",
+                                 "displacement (um)")
+        self.spectra = Plot(gui, spectra_tab, "Force spectra", "band (Hz)", "dB re 1 N", log_x=True)
+        self.filters = Plot(gui, spectra_tab, "Contact filters", "band (Hz)", "dB", log_x=True)
+
+    def live(self, result, config: RunConfig) -> None:
+        """A running model's force and displacement so far."""
+        step = max(1, result.n_steps // MAX_POINTS)
+        x = result.x[::step]
+        self.force.show((x, result.force[::step] / 1e3), ((f"{result.model} (running)", model_colour(result.model),
+                                                          False),), title=f"Contact force: {config.case_label()}")
+        self.displacement.show((x, result.xi_wheel[::step] * 1e6, result.xi_rail[::step] * 1e6),
+                               (("wheel", "#1f77b4", False), ("rail", "#d62728", False)),
+                               title=f"Displacement, {result.model}: {config.case_label()}")
+
+    def show_case(self, config: RunConfig | None, store: ResultStore) -> None:
+        """Everything of ``config``'s case (None: the controls are not a valid configuration)."""
+        if config is None:
+            for plot in (self.force, self.displacement, self.spectra, self.filters):
+                plot.clear("fix the settings above")
+            return
+        label = config.case_label()
+        entries = store.entries(config.case())
+        finished = {m: e for m, e in entries.items() if e.result.n_steps}
+        if finished:
+            n = min(e.result.n_steps for e in finished.values())
+            step = max(1, n // MAX_POINTS)
+            first = next(iter(finished.values())).result
+            self.force.show((first.x[:n:step], *(e.result.force[:n:step] / 1e3 for e in finished.values())),
+                            tuple((m, model_colour(m), False) for m in finished), title=f"Contact force: {label}")
+            last = finished[config.model].result if config.model in finished else first
+            self.displacement.show((last.x[::step], last.xi_wheel[::step] * 1e6, last.xi_rail[::step] * 1e6),
+                                   (("wheel", "#1f77b4", False), ("rail", "#d62728", False)),
+                                   title=f"Displacement, {last.model}: {label}")
+        else:
+            self.force.clear("no run of this configuration yet", title=f"Contact force: {label}")
+            self.displacement.clear("no run of this configuration yet", title=f"Displacement: {label}")
+        spectra = store.spectra(config.case())
+        if spectra:
+            centres = next(iter(spectra.values()))[0]
+            self.spectra.show(finite_bands(centres, [levels for _, levels in spectra.values()]),
+                              tuple((m, model_colour(m), False) for m in spectra), title=f"Force spectra: {label}")
+        else:
+            self.spectra.clear("no spectrum of this configuration yet", title=f"Force spectra: {label}")
+        self._filters(config, store)
+
+    def _filters(self, config: RunConfig, store: ResultStore) -> None:
+        """Dynamic contact filters of the case (solid) beside the reference filters at its preload and speed
+        (dashed; they need no run)."""
+        references = case_reference_filters(config)
+        centres = next(iter(references.values()))[0]
+        filters = store.contact_filters(config.case())
+        columns = [levels for _, levels in filters.values()] + [levels for _, levels in references.values()]
+        series = tuple((f"{m} - {REFERENCE_MODEL}", model_colour(m), False) for m in filters)
+        series += tuple((name, REFERENCE_STYLE.get(name, "#555555"), True) for name in references)
+        if filters and not all(np.array_equal(c, centres) for c, _ in filters.values()):
+            filters, columns = {}, [levels for _, levels in references.values()]
+            series = tuple((name, REFERENCE_STYLE.get(name, "#555555"), True) for name in references)
+        data = finite_bands(centres, columns)
+        self.filters.show(data, series, title=f"Contact filters: {config.case_label()}")

@@ -1,0 +1,166 @@
+"""The explorer's 3D view: the contact patch as a pressure heat map with the Hertz circle on top.
+
+Scale: 1 scene unit = 10 mm (``SCENE_PER_MM``); +z up, x along the rail, y across. The camera looks down at
+the patch. For ``3d`` (a model with a pressure map) the window's pressure is a heat map (viridis, 0 to 1.5
+times the Hertz peak pressure p0 at the preload, the colour bar of :func:`colour_bar_image`) and, when
+switched on, the same pressure as a raised surface; for the one-line models the contact length is a strip
+and the Hertz circle at the current force is drawn. The nominal Hertz circle at the preload lies on top.
+Rail and wheel surfaces with their roughness (exaggerated) are off unless switched on.
+Handles are created once and updated in place; nothing is sent that did not change.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import viser
+
+from wheelrail.core.drawing import circle_segments, colour_table, grid_triangles, table_colours
+from wheelrail.core.parameters import ContactParameters
+
+__all__ = ["PRESSURE_TOP", "SCENE_PER_MM", "PatchScene", "colour_bar_image"]
+
+SCENE_PER_MM = 0.1
+PRESSURE_TOP = 1.5  # colour scale top, times the Hertz peak pressure p0 at the preload
+PRESSURE_HEIGHT = 3.0  # mm of raised surface per GPa
+ROUGHNESS_EXAGGERATION = 200.0  # roughness surfaces drawn 200 times their size (10 um -> 2 mm)
+SURFACE_GAP = 1.5  # mm: rail and wheel surfaces drawn this far below/above the patch
+SURFACE_HALF_LENGTH = 40.0  # mm of rail and wheel surface drawn either side of the contact
+STRIP_WIDTH = 1.0  # mm: width of the contact-length strip of the one-line models
+NO_SHADOW = {"cast_shadow": False, "receive_shadow": False}
+HERTZ_COLOUR = (255, 60, 60)
+
+
+def colour_bar_image(top_mpa: float) -> np.ndarray:
+    """The pressure colour bar, 0 .. ``top_mpa`` MPa, as an RGB image (matplotlib, drawn once per preload)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(3.6, 0.7), dpi=100)
+    FigureCanvasAgg(fig)
+    ax = fig.add_axes((0.05, 0.55, 0.9, 0.3))
+    ax.imshow(np.linspace(0, top_mpa, 256)[None, :], aspect="auto", extent=(0, top_mpa, 0, 1),
+              cmap=ListedColormap(colour_table() / 255.0))
+    ax.set_yticks([])
+    ax.tick_params(labelsize=7, length=2)
+    ax.set_xlabel("contact pressure (MPa)", fontsize=7, labelpad=1)
+    fig.canvas.draw()
+    return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+
+
+class PatchScene:
+    """The scene's handles and how a run state is drawn on them."""
+
+    def __init__(self, server: viser.ViserServer) -> None:
+        scene = server.scene
+        self._scene = scene
+        self._table = colour_table()
+        scene.set_up_direction("+z")
+        server.initial_camera.position = (0.0, -2.4, 2.6)  # framed on the +-12 mm window
+        server.initial_camera.look_at = (0.0, 0.0, 0.0)
+        scene.configure_default_lights(cast_shadow=False)  # shadows cost most of a frame in software WebGL
+        scene.configure_environment_map(None)
+        self._patch_shape = (2, 2)
+        self.heatmap = scene.add_image("/contact/heatmap", np.zeros((2, 2, 3), np.uint8), 2.4, 2.4, format="png",
+                                       visible=False, **NO_SHADOW)
+        self.surface = scene.add_mesh_simple("/contact/surface", np.zeros((4, 3), np.float32), grid_triangles(2, 2),
+                                             color=(120, 160, 200), side="double", opacity=0.45, visible=False,
+                                             **NO_SHADOW)
+        strip = np.array([[-1, -0.5, 0], [1, -0.5, 0], [1, 0.5, 0], [-1, 0.5, 0]], np.float32) * SCENE_PER_MM
+        self.strip = scene.add_mesh_simple("/contact/strip", strip, np.array([[0, 1, 2], [0, 2, 3]], np.uint32),
+                                           color=(214, 39, 40), side="double", visible=False, **NO_SHADOW)
+        self.force_circle = scene.add_line_segments("/contact/hertz_at_force", circle_segments(0.5, 0.02),
+                                                    (214, 39, 40), thickness=0.02, visible=False)
+        self.nominal_circle = scene.add_line_segments("/contact/hertz_nominal", circle_segments(0.548, 0.03),
+                                                      HERTZ_COLOUR, thickness=0.03)
+        self._surface_x = np.arange(-SURFACE_HALF_LENGTH, SURFACE_HALF_LENGTH + 0.5, 1.0)  # mm
+        self.rail_mesh = self.wheel_mesh = None
+        self.show_surfaces = False
+        self.show_raised = False
+        self.frames_drawn = 0
+
+    def set_preload(self, preload: float) -> None:
+        """The nominal Hertz circle (radius a at the preload) on top of the patch."""
+        a_mm = ContactParameters(preload=preload).hertz_radius() * 1e3
+        self.nominal_circle.points = circle_segments(a_mm * SCENE_PER_MM, 0.03)
+
+    def draw(self, state, view) -> None:
+        """One step of a run: heat map (and raised surface) or strip and force circle; the surfaces if shown."""
+        contact = ContactParameters(preload=view.config.preload)
+        if state.pressure is not None:
+            self._draw_pressure(np.asarray(state.pressure, dtype=np.float64), view, contact)
+        else:
+            half = 0.5 * state.contact_length * 1e3  # mm
+            self.strip.vertices = (np.array(
+                [[-half, -STRIP_WIDTH / 2, 0.01], [half, -STRIP_WIDTH / 2, 0.01],
+                 [half, STRIP_WIDTH / 2, 0.01], [-half, STRIP_WIDTH / 2, 0.01]]) * SCENE_PER_MM).astype(np.float32)
+            radius = contact.hertz_radius(state.force) * 1e3 if state.force > 0 else 0.0
+            self.force_circle.points = circle_segments(radius * SCENE_PER_MM, 0.02)
+            self._visible(strip=True)
+        if self.show_surfaces:
+            self.draw_surfaces(view.roughness, state.position, view.config.line)
+        self.frames_drawn += 1
+
+    def _draw_pressure(self, pressure: np.ndarray, view, contact: ContactParameters) -> None:
+        ny, nx = pressure.shape
+        wx, wy = np.asarray(view.window_x) * 1e3, np.asarray(view.window_y) * 1e3  # mm
+        colours = table_colours(pressure, PRESSURE_TOP * contact.hertz_peak_pressure(), self._table)
+        self.heatmap.image = np.ascontiguousarray(colours[::-1])  # image rows run top (+y) to bottom
+        if self._patch_shape != (ny, nx):
+            dx, dy = (wx[-1] - wx[0]) / max(nx - 1, 1), (wy[-1] - wy[0]) / max(ny - 1, 1)
+            self.heatmap.render_width = (wx[-1] - wx[0] + dx) * SCENE_PER_MM
+            self.heatmap.render_height = (wy[-1] - wy[0] + dy) * SCENE_PER_MM
+            self.heatmap.position = (0.5 * (wx[0] + wx[-1]) * SCENE_PER_MM, 0.5 * (wy[0] + wy[-1]) * SCENE_PER_MM, 0)
+            self.surface.faces = grid_triangles(ny, nx)
+            self._patch_shape = (ny, nx)
+        if self.show_raised:
+            x, y = np.meshgrid(wx, wy)
+            z = pressure / 1e9 * PRESSURE_HEIGHT
+            self.surface.vertices = (np.stack([x, y, z], axis=-1).reshape(-1, 3) * SCENE_PER_MM).astype(np.float32)
+        self._visible(strip=False)
+
+    def _visible(self, *, strip: bool) -> None:
+        """Switch between the 3d patch and the one-line strip, sending only a change."""
+        wanted = ((self.strip, strip), (self.force_circle, strip), (self.heatmap, not strip),
+                  (self.surface, not strip and self.show_raised))
+        for handle, visible in wanted:
+            if handle.visible != visible:
+                handle.visible = visible
+
+    def draw_surfaces(self, rough, position: float | None, line: int) -> None:
+        """Rail and wheel surfaces of ``rough`` around ``position`` (None: the start of the data)."""
+        if not self.show_surfaces:
+            for handle in (self.rail_mesh, self.wheel_mesh):
+                if handle is not None and handle.visible:
+                    handle.visible = False
+            return
+        if position is None:
+            position = 0.0 if rough.periodic else 0.05
+        rail, wheel = self._surface_vertices(rough, position, line)
+        if self.rail_mesh is not None and rail.shape == self.rail_mesh.vertices.shape:
+            self.rail_mesh.vertices, self.wheel_mesh.vertices = rail, wheel
+            self.rail_mesh.visible = self.wheel_mesh.visible = True
+            return
+        faces = grid_triangles(rail.shape[0] // self._surface_x.size, self._surface_x.size)
+        for handle in (self.rail_mesh, self.wheel_mesh):
+            if handle is not None:
+                handle.remove()
+        self.rail_mesh = self._scene.add_mesh_simple("/rail/surface", rail, faces, color=(150, 150, 160),
+                                                     side="double", opacity=0.6, **NO_SHADOW)
+        self.wheel_mesh = self._scene.add_mesh_simple("/wheel/surface", wheel, faces, color=(120, 90, 60),
+                                                      side="double", opacity=0.3, **NO_SHADOW)
+
+    def _surface_vertices(self, rough, position: float, line: int) -> tuple[np.ndarray, np.ndarray]:
+        ylat = (rough.y - float(rough.y[rough.row_of_line(line)])) * 1e3  # mm, relative to the chosen line
+        rows = np.nonzero(np.abs(ylat) <= 15.0)[0]
+        idx = np.rint((position + self._surface_x * 1e-3) / rough.dx).astype(np.int64)
+        idx = idx % rough.n_samples if rough.periodic else np.clip(idx, 0, rough.n_samples - 1)
+        heights = rough.heights[rows][:, idx] * 1e3 * ROUGHNESS_EXAGGERATION  # mm drawn
+        x, y = np.meshgrid(self._surface_x, ylat[rows])
+        radius_mm = ContactParameters().radius * 1e3
+        # crossed cylinders: the rail head curves across (y), the wheel along (x); both radius R
+        rail_z = -SURFACE_GAP - y**2 / (2 * radius_mm) + (heights if rough.kind == "rail" else 0.0)
+        wheel_z = SURFACE_GAP + x**2 / (2 * radius_mm) + (heights if rough.kind == "wheel" else 0.0)
+        rail = np.stack([x, y, rail_z], axis=-1).reshape(-1, 3) * SCENE_PER_MM
+        wheel = np.stack([x, y, wheel_z], axis=-1).reshape(-1, 3) * SCENE_PER_MM
+        return rail.astype(np.float32), wheel.astype(np.float32)

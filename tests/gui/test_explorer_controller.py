@@ -1,0 +1,199 @@
+"""The explorer's run controller without a server: stop, replace, compare, failures, keyed results.
+
+Runs are stand-ins with the interface of ``InteractionRun`` whose steps wait on events, so that "still
+running" never depends on how fast the machine is; no test sleeps.
+"""
+
+import threading
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import REFERENCE_MODEL
+from wheelrail.core.parameters import KMH
+from wheelrail.core.spectra import contact_filter, force_spectrum
+from wheelrail.explorer.config import COMPARE_ORDER, RunConfig
+from wheelrail.explorer.controller import RunController
+
+WAIT = 60.0  # s: only a bound on a hung thread, never reached when the code works
+
+
+class FakeRun:
+    """n steps of a force record; step ``hold_at`` waits until ``release`` is set (or the run is cancelled)."""
+
+    def __init__(self, model, n, *, hold_at=None, amplitude=1.0):
+        self.model, self.n_steps, self.hold_at = model, n, hold_at
+        self.reached = threading.Event()
+        self.release = threading.Event()
+        self._cancel = threading.Event()
+        self.done = 0
+        rng = np.random.default_rng(len(model))
+        self.force = 65e3 + amplitude * rng.standard_normal(n)
+        self.window_x = self.window_y = None
+
+    def steps(self):
+        for s in range(self.n_steps):
+            if self._cancel.is_set():
+                return
+            if s == self.hold_at:
+                self.reached.set()
+                while not (self.release.is_set() or self._cancel.is_set()):
+                    self.release.wait(WAIT)
+                if self._cancel.is_set():
+                    return
+            self.done = s + 1
+            yield SimpleNamespace(step=s, position=s * 1e-3, force=self.force[s], pressure=None)
+
+    def cancel(self):
+        self._cancel.set()
+        self.release.set()
+
+    @property
+    def cancelled(self):
+        return self._cancel.is_set()
+
+    def result(self):
+        return SimpleNamespace(model=self.model, n_steps=self.done, force=self.force[:self.done],
+                               time_step=1e-3 / (100 * KMH))
+
+
+class Recorder:
+    """A listener that records what the controller said; ``ended`` is set when a run reports its end."""
+
+    def __init__(self):
+        self.statuses, self.errors, self.done, self.outcomes, self.frames = [], [], [], [], 0
+        self.ended = threading.Event()
+
+    def status(self, text):
+        self.statuses.append(text)
+
+    def progress(self, fraction):
+        pass
+
+    def frame(self, state, view):
+        self.frames += 1
+
+    def live(self, result, view):
+        pass
+
+    def model_done(self, entry, view):
+        self.done.append(entry)
+
+    def error(self, message):
+        self.errors.append(message)
+
+    def finished(self, config, outcome):
+        self.outcomes.append((config, outcome))
+        self.ended.set()
+
+
+def _config(model="3d", speed_kmh=100.0, line=0):
+    return RunConfig(set_label="corrugated-rail", line=line, model=model, speed=speed_kmh * KMH, preload=65e3,
+                     length=1.0)
+
+
+def _controller(runs):
+    """A controller whose prepare hands out the given FakeRuns by model (a list per model, in order)."""
+    listener = Recorder()
+    handed = []
+
+    def prepare(roughness, *, model, line, params, length):
+        run = runs[model].pop(0)
+        handed.append(run)
+        return run
+
+    return RunController(listener, prepare=prepare, frame_interval=0.0), listener, handed
+
+
+def test_a_run_reports_frames_spectrum_and_done():
+    run = FakeRun("2d", 2000)
+    controller, listener, _ = _controller({"2d": [run]})
+    config = _config("2d")
+    controller.start(config, roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert listener.outcomes == [(config, "done")] and not listener.errors
+    assert "Preparing the track for 100 km/h" in listener.statuses[0]  # the first run says why it waits
+    assert listener.frames == 2000 + 1  # every step (interval 0) and the last one again
+    entry = controller.store.entries(config.case())["2d"]
+    assert np.array_equal(entry.spectrum[1], force_spectrum(entry.result)[1], equal_nan=True)
+
+
+def test_stop_keeps_the_steps_done_and_gives_no_spectrum():
+    run = FakeRun("3d", 5000, hold_at=300)
+    controller, listener, _ = _controller({"3d": [run]})
+    controller.start(_config("3d"), roughness=None)
+    assert run.reached.wait(WAIT)
+    controller.stop()
+    assert listener.ended.wait(WAIT)
+    assert listener.outcomes[-1][1] == "stopped"
+    entry = listener.done[-1]
+    assert entry.result.n_steps == 300 and entry.spectrum is None and "stopped after 300" in entry.problem
+    assert listener.statuses[-1].startswith("Stopped 3d after 300 of 5000 steps")
+
+
+def test_a_new_run_replaces_an_old_one_which_reports_nothing_more():
+    old = FakeRun("3d", 5000, hold_at=100)
+    new = FakeRun("hertz", 1000)
+    controller, listener, _ = _controller({"3d": [old], "hertz": [new]})
+    controller.start(_config("3d"), roughness=None)
+    assert old.reached.wait(WAIT)
+    controller.start(_config("hertz"), roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert controller.wait(WAIT)
+    assert old.cancelled and old.done == 100
+    assert [outcome for _, outcome in listener.outcomes] == ["done"]  # the replaced run said nothing
+    assert [e.config.model for e in listener.done] == ["hertz"]
+
+
+def test_compare_runs_every_model_reference_first_and_gives_contact_filters():
+    runs = {m: [FakeRun(m, 3000, amplitude=1.0 + i)] for i, m in enumerate(COMPARE_ORDER)}
+    controller, listener, handed = _controller(runs)
+    config = _config("compare")
+    controller.start(config, roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert listener.outcomes == [(config, "done")]
+    assert [run.model for run in handed] == list(COMPARE_ORDER) and COMPARE_ORDER[0] == REFERENCE_MODEL
+    filters = controller.store.contact_filters(config.case())
+    assert set(filters) == set(COMPARE_ORDER) - {REFERENCE_MODEL}
+    spectra = controller.store.spectra(config.case())
+    assert np.allclose(filters["2d"][1], contact_filter(spectra["2d"][1], spectra[REFERENCE_MODEL][1]),
+                       equal_nan=True)
+
+
+def test_a_run_too_short_for_a_spectrum_is_an_error_not_done():
+    controller, listener, _ = _controller({"hertz": [FakeRun("hertz", 20)]})
+    controller.start(_config("hertz"), roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert listener.outcomes[-1][1] == "failed"
+    assert listener.errors and listener.errors[0].startswith("hertz: no force spectrum")
+
+
+def test_core_errors_reach_the_page_in_its_words():
+    listener = Recorder()
+
+    def prepare(roughness, **kwargs):
+        raise WheelrailError("run length 9 m plus the 20 mm window margins exceeds the 2.999 m of rail roughness "
+                             "data; use --length-m <= 2.959")
+
+    controller = RunController(listener, prepare=prepare)
+    controller.start(_config("hertz"), roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert listener.errors == ["run length 9 m plus the 20 mm window margins exceeds the 2.999 m of rail roughness "
+                               "data; choose a run length of at most 2.959 m"]
+
+
+def test_results_are_kept_per_configuration():
+    runs = {"hertz": [FakeRun("hertz", 3000), FakeRun("hertz", 3000, amplitude=3.0)]}
+    controller, listener, _ = _controller(runs)
+    first, second = _config("hertz", speed_kmh=100.0), _config("hertz", speed_kmh=80.0)
+    for config in (first, second):
+        listener.ended.clear()
+        controller.start(config, roughness=None)
+        assert listener.ended.wait(WAIT)
+    assert controller.store.entries(first.case())["hertz"].config == first
+    assert controller.store.entries(second.case())["hertz"].config == second
+    assert controller.store.contact_filters(second.case()) == {}  # no other model of that case yet
+    with pytest.raises(WheelrailError, match="no force spectrum yet"):
+        controller.store.csv_text(_config("hertz", line=3))
