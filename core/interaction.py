@@ -38,6 +38,7 @@ from numba import njit
 
 from wheelrail.core.contact.winkler import _winkler_force
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.limits import check_run_memory
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import MODELS, RunHeader, RunResult, StepState
 from wheelrail.core.track import moving_green_functions
@@ -647,6 +648,8 @@ def prepare_run(
         length = usable_length(rough, dx)
     if not (isinstance(length, int | float) and math.isfinite(length) and length > 0):
         raise WheelrailError(f"run length must be positive (m), got {length!r}")
+    check_run_memory(model, n_elements=(length + 2 * margin + run_in_length) / dx, n_steps=length / dx,
+                     n_lines=len(wanted), window_columns=2 * half_x + 1, keep_pressure=keep_pressure)
     n_steps = int(round(length / dx))
     if n_steps < 1:
         raise WheelrailError(f"run length {length} m is shorter than one element ({dx} m)")
