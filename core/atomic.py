@@ -1,14 +1,15 @@
 """Atomic file writes: a temporary file in the target folder, renamed over the target when complete.
 
 An interrupted write never leaves a half-written file under the final name that a later run would trust
-(SPEC.md §7: caches, study results, exported data). The published file gets ordinary permissions
-(0666 less the umask), not the private 0600 that ``tempfile.mkstemp`` creates.
+(caches, study results, exported data). The published file gets ordinary permissions (0666 less the
+umask): the temporary file is created with mode 0666 and the kernel applies the umask, as for any new file.
+The umask is never read or changed (``os.umask`` sets it for the whole process: racy when threads write).
 """
 
 from __future__ import annotations
 
 import os
-import tempfile
+import secrets
 from collections.abc import Callable
 from pathlib import Path
 
@@ -16,16 +17,19 @@ from pathlib import Path
 def temporary_beside(path: str | os.PathLike, suffix: str = ".tmp") -> Path:
     """Create an empty temporary file in the folder of ``path`` (hidden, named after it) and return it."""
     path = Path(path)
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
-    os.close(fd)
-    return Path(temporary)
+    for _ in range(100):
+        temporary = path.parent / f".{path.name}.{secrets.token_hex(4)}{suffix}"
+        try:
+            fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)  # the kernel applies the umask
+        except FileExistsError:
+            continue
+        os.close(fd)
+        return temporary
+    raise FileExistsError(f"no free temporary name beside {path}")
 
 
 def publish(temporary: str | os.PathLike, path: str | os.PathLike) -> Path:
-    """Give ``temporary`` ordinary permissions and rename it over ``path`` (atomic on one filesystem)."""
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(temporary, 0o666 & ~umask)
+    """Rename ``temporary`` (made by :func:`temporary_beside`) over ``path`` (atomic on one filesystem)."""
     os.replace(temporary, path)
     return Path(path)
 

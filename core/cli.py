@@ -27,6 +27,7 @@ COMMANDS = {
     "roughness": "third-octave roughness spectra and lateral coherence of a roughness set",
     "spectra": "third-octave contact-force spectrum of a saved run (.npz or .rrd)",
     "study": "run one of the paper's studies (force spectra, contact filters, model differences)",
+    "filters": "reference contact filters (CNOSSOS-EU A3, analytic) by wavelength and frequency band",
 }
 
 class _OneLineErrors(argparse.ArgumentParser):

@@ -11,9 +11,10 @@ The estimate (bytes, per element of the run: run-in and the two margins included
   indices and weights), the per-step outputs, the result's copies and the set-up's temporaries;
 * ``2 x 8`` bytes per roughness line held (the lines along the track and their interpolation temporary;
   25 lines for ``3d``, 1 otherwise);
-* ``2d``: ``2 x 8`` bytes per window column (the bedding window of each step and its temporary);
-* ``3d`` keeping its pressure maps: ``4`` bytes (float32) per window element per step; without them the
-  run keeps only the last map.
+* a bedding law (``2d``): ``2 x 8`` bytes per window column (the bedding window of each step and its
+  temporary);
+* a pressure-map model (``3d``) keeping its maps: ``4`` bytes (float32) per window element per step;
+  without them the run keeps only the last map.
 
 ``tests/unit/test_limits.py`` checks it against the peak traced with ``tracemalloc``: measured growth of
 the peak per element 192 B (``hertz``), 512 B (``2d``) and 2804 B (``3d`` keeping its maps) against the
@@ -62,48 +63,67 @@ def memory_limit() -> int:
     return int(gib * 1024**3)
 
 
-def run_memory_bytes(model: str, *, n_elements: float, n_steps: float, n_lines: int, window_columns: int,
-                     keep_pressure: bool) -> float:
+def run_memory_bytes(*, n_elements: float, n_steps: float, n_lines: int, window_columns: int,
+                     pressure_elements: int) -> float:
     """Estimated peak memory of a run that grows with its length, bytes (see the module docstring).
 
     Parameters
     ----------
-    model : str
-        Contact model name.
     n_elements : float
         Elements the run holds: run-in, steps and margins (a float, so that an absurd length gives a
         huge or infinite estimate instead of an overflow).
     n_steps : float
         Steps whose results are kept.
     n_lines : int
-        Roughness lines held (3d: the window's lines).
+        Roughness lines held (a lateral window's lines, else 1).
     window_columns : int
-        Elements of the contact window along the rail.
-    keep_pressure : bool
-        3d: every pressure map is kept in the result.
+        Columns of the bedding window held for each step (the ``2d`` model), else 0.
+    pressure_elements : int
+        Elements of each pressure map kept in the result (0 when none are kept).
     """
-    per_element = STEP_BYTES + LINE_BYTES * n_lines
-    if model == "2d":
-        per_element += WINDOW_COLUMN_BYTES * window_columns
-    total = per_element * n_elements
-    if model == "3d" and keep_pressure:
-        total += PRESSURE_BYTES * n_lines * window_columns * n_steps
-    return float(total)
+    per_element = STEP_BYTES + LINE_BYTES * n_lines + WINDOW_COLUMN_BYTES * window_columns
+    return float(per_element * n_elements + PRESSURE_BYTES * pressure_elements * n_steps)
 
 
-def check_run_memory(model: str, *, n_elements: float, n_steps: float, n_lines: int, window_columns: int,
-                     keep_pressure: bool) -> float:
-    """:func:`run_memory_bytes`, or a WheelrailError with the figure when it exceeds :func:`memory_limit`."""
-    needed = run_memory_bytes(model, n_elements=n_elements, n_steps=n_steps, n_lines=n_lines,
-                              window_columns=window_columns, keep_pressure=keep_pressure)
+def check_run_memory(entry, params, length, run_in_length, keep_pressure: bool) -> float:
+    """Estimate a run's memory before anything is allocated; WheelrailError with the figure over the limit.
+
+    Parameters
+    ----------
+    entry : wheelrail.core.models.ModelEntry
+        The contact model (its ``name`` and ``traits``).
+    params : ModelParameters
+        The run's parameters (element size).
+    length, run_in_length : float
+        Run and run-in lengths, m. A length that is no positive number is left to the run's own checks.
+    keep_pressure : bool
+        Every pressure map of a model that has them is kept in the result.
+
+    Returns
+    -------
+    float
+        The estimate, bytes (upper bound: the window counted at its full 25 lines).
+    """
+    from wheelrail.core.models import LAW_BEDDING
+    from wheelrail.core.run_setup import WINDOW_HALF_WIDTH, run_margin
+
+    if isinstance(length, bool) or not isinstance(length, int | float) or not length > 0:
+        return 0.0
+    dx = params.run.element_size
+    width = 2 * int(round(WINDOW_HALF_WIDTH / dx)) + 1
+    traits = entry.traits
+    n_lines = width if traits.lateral_window else 1
+    n_steps = length / dx
+    maps = n_lines * width if traits.pressure_map and keep_pressure else 0
+    needed = run_memory_bytes(n_elements=(length + 2 * run_margin(dx) + run_in_length) / dx, n_steps=n_steps,
+                              n_lines=n_lines, window_columns=width if traits.law == LAW_BEDDING else 0,
+                              pressure_elements=maps)
     limit = memory_limit()
     if needed > limit:
-        maps = ""
-        if model == "3d" and keep_pressure:
-            maps_bytes = PRESSURE_BYTES * n_lines * window_columns * n_steps
-            maps = f", of which {_gib(maps_bytes)} are the pressure maps kept for the result"
+        kept = (f", of which {_gib(PRESSURE_BYTES * maps * n_steps)} are the pressure maps kept for the result"
+                if maps else "")
         raise WheelrailError(
-            f"a {model} run of {_count(n_steps)} steps needs about {_gib(needed)} of memory{maps}, over the "
+            f"a {entry.name} run of {_count(n_steps)} steps needs about {_gib(needed)} of memory{kept}, over the "
             f"{_gib(limit)} limit ({MEMORY_LIMIT_ENV} sets it); shorten the run"
         )
     return needed

@@ -12,6 +12,7 @@ import math
 import typing
 from dataclasses import asdict, dataclass, field, fields, is_dataclass
 
+from wheelrail.core.checks import integer, real
 from wheelrail.core.errors import WheelrailError
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
@@ -32,23 +33,11 @@ def hertz_constant(youngs_modulus: float, poisson_ratio: float, radius: float) -
 
 
 def _check(owner: object, name: str, unit: str, *, allow_zero: bool = False) -> None:
-    value = getattr(owner, name)
-    label = f"{type(owner).__name__}.{name}"
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{label} must be a number in {unit}, got {value!r}") from None
-    if not math.isfinite(number):
-        raise WheelrailError(f"{label} must be finite ({unit}), got {value!r}")
-    if number < 0 or (number == 0 and not allow_zero):
-        allowed = "zero or positive" if allow_zero else "positive"
-        raise WheelrailError(f"{label} must be {allowed} ({unit}), got {value!r}")
+    real(f"{type(owner).__name__}.{name}", getattr(owner, name), unit, sign="nonnegative" if allow_zero else "positive")
 
 
 def _check_int(owner: object, name: str, minimum: int) -> None:
-    value = getattr(owner, name)
-    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-        raise WheelrailError(f"{type(owner).__name__}.{name} must be an integer >= {minimum}, got {value!r}")
+    integer(f"{type(owner).__name__}.{name}", getattr(owner, name), minimum)
 
 
 @dataclass(frozen=True, kw_only=True)

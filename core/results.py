@@ -15,9 +15,8 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import MODELS  # noqa: F401 - re-exported: the registry holds the one list
 from wheelrail.core.parameters import ModelParameters, as_dict, from_dict
-
-MODELS = ("3d", "2d", "hertz", "hertz-winkler", "hertz-average")
 
 
 @dataclass(frozen=True, kw_only=True)

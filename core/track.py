@@ -456,8 +456,8 @@ def _wedge_layout(numerics: TrackNumerics, element_length: float) -> tuple[np.nd
     t_stored = np.arange(0, n_steps, stride) * dt
     reach = numerics.max_speed * numerics.duration
     if not reach < 1e6:  # m (1000 km): beyond it the node counts below would overflow int64 (issue 13: --speed-kmh 1e308)
-        raise WheelrailError(f"a wheel at {numerics.max_speed * 3.6:.3g} km/h travels {reach:.3g} m within the "
-                             f"{numerics.duration} s Green's functions, beyond any track model")
+        raise WheelrailError(f"a wheel at {numerics.max_speed * 3.6:.3g} km/h travels {reach:.3g} m within "
+                             f"the {numerics.duration} s Green's functions, beyond any track model")
     # nodes from the one at or before x_e up to the first at or beyond x_e + v_max t, plus one spare
     wedge_nodes = np.ceil(numerics.max_speed * t_stored / element_length).astype(np.int64) + 2
     offsets = np.concatenate([[0], np.cumsum(wedge_nodes)[:-1]]).astype(np.int64)

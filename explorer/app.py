@@ -29,7 +29,8 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.interaction import MODELS, prepare_run
+from wheelrail.core.interaction import prepare_run
+from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.roughness import (
     RoughnessSet,
@@ -45,7 +46,8 @@ from wheelrail.core.study import contact_filter
 __all__ = ["ExplorerApp", "RunConfig", "serve"]
 
 COMPARE = "compare"
-COMPARE_ORDER = ("hertz", "hertz-average", "hertz-winkler", "2d", "3d")  # hertz first: filters need it
+# the reference first (every contact filter needs it), then the others from the cheapest to the costliest
+COMPARE_ORDER = (REFERENCE_MODEL, *(m for m in reversed(MODELS) if m != REFERENCE_MODEL))
 MODEL_CHOICES = (*MODELS, COMPARE)
 DRAW_INTERVAL = 0.05  # s between live 3D frames (<= 20 fps)
 PLOT_INTERVAL = 0.25  # s between live plot updates
@@ -684,7 +686,7 @@ class ExplorerApp:
                 self._set_status(f"Running {model} ({number + 1}/{len(models)}), line {config.line}, "
                                  f"{config.speed / KMH:g} km/h, {config.preload / 1e3:g} kN ...")
                 view = _View(model=model, line=config.line, preload=config.preload, roughness=roughness)
-                if model == "3d":
+                if model_entry(model).traits.pressure_map:
                     view.window_x, view.window_y = run.window_x, run.window_y
                 last_draw = last_plot = 0.0
                 state = None
@@ -764,11 +766,11 @@ class ExplorerApp:
         """Contact filter of every model run on the current configuration: its level minus hertz's, dB."""
         with self._lock:
             spectra = dict(self.spectra)
-        if "hertz" not in spectra:
+        if REFERENCE_MODEL not in spectra:
             return {}
-        centres, reference = spectra["hertz"]
+        centres, reference = spectra[REFERENCE_MODEL]
         return {model: (centres, contact_filter(levels, reference)) for model, (c, levels) in spectra.items()
-                if model != "hertz" and np.array_equal(c, centres)}
+                if model != REFERENCE_MODEL and np.array_equal(c, centres)}
 
     def _spectra_plots(self) -> None:
         with self._lock:

@@ -2,7 +2,10 @@
 
 Spectra as in the paper's Fig. 6 (single Hann FFT per line, third-octave bands, energetic average over the
 chosen lines, dB re 1 µm) against frequency at the given speed and against wavelength (EN 15610 bands);
-coherence parameter γ² of eqs. (15)-(18) as in Fig. 9.
+coherence parameter γ² of eqs. (15)-(18) as in Fig. 9. For rail sets the wavelength spectrum is compared
+with the ISO 3095:2013 rail roughness limit (:mod:`wheelrail.core.roughness_limits`): the limit and the
+margin to it per band (limit - level; negative where the rail exceeds it) in ``--json`` and the table,
+and the limit as a reference line in ``--plot``.
 """
 
 from __future__ import annotations
@@ -11,6 +14,7 @@ import math
 
 import numpy as np
 
+from wheelrail.core.bands import Bands
 from wheelrail.core.commands._common import input_files, print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness import (
@@ -19,6 +23,7 @@ from wheelrail.core.roughness import (
     load_roughness,
     roughness_spectrum,
 )
+from wheelrail.core.roughness_limits import iso3095_limit, iso3095_margin
 from wheelrail.core.spectra import nominal_band_label
 
 
@@ -60,6 +65,15 @@ def analyse(set_name: str, speed: float, lines, half_lines: int, blocks: int) ->
     by_frequency = roughness_spectrum(roughness, speed=speed, lines=lines)
     by_wavelength = roughness_spectrum(roughness, lines=lines)
     centres, gamma2 = lateral_coherence(roughness, speed, half_lines=half_lines, blocks=blocks)
+    wavelength_bands = {
+        "band_centres_m": by_wavelength.band_centres.tolist(),
+        "band_labels_mm": [nominal_band_label(c * 1e3) for c in by_wavelength.band_centres],
+        "levels_db": _nan_to_none(by_wavelength.levels_db),
+    }
+    if roughness.kind == "rail":
+        bands = Bands(centres=by_wavelength.band_centres, axis="wavelength")
+        wavelength_bands["iso3095_limit_db"] = _nan_to_none(iso3095_limit(bands)[1])
+        wavelength_bands["iso3095_margin_db"] = _nan_to_none(iso3095_margin(by_wavelength.levels_db, bands))
     return {
         "set": set_name,
         "kind": roughness.kind,
@@ -74,12 +88,11 @@ def analyse(set_name: str, speed: float, lines, half_lines: int, blocks: int) ->
         "wavelengths_m": by_frequency.wavelengths.tolist(),
         "levels_db": _nan_to_none(by_frequency.levels_db),
         "coherence": _nan_to_none(gamma2),
-        "wavelength_bands": {
-            "band_centres_m": by_wavelength.band_centres.tolist(),
-            "band_labels_mm": [nominal_band_label(c * 1e3) for c in by_wavelength.band_centres],
-            "levels_db": _nan_to_none(by_wavelength.levels_db),
-        },
-        "reference": "levels in dB re 1 µm; coherence is gamma^2 of eqs. (15)-(18), null where unresolved",
+        "wavelength_bands": wavelength_bands,
+        "reference": (
+            "levels in dB re 1 µm; coherence is gamma^2 of eqs. (15)-(18), null where unresolved; rail sets: "
+            "ISO 3095:2013 rail roughness limit (400-3.15 mm) and margin = limit - level per band"
+        ),
     }
 
 
@@ -103,10 +116,14 @@ def _print_table(result: dict) -> None:
         print(f"{label:>8} {wavelength * 1e3:>14.3g} {_cell(level, '.1f'):>16} {_cell(gamma2, '.3f'):>22}")
     print()
     print("EN 15610 wavelength bands")
-    print(f"{'wavelength mm':>14} {'level dB re 1um':>16}")
     bands = result["wavelength_bands"]
-    for label, level in zip(bands["band_labels_mm"], bands["levels_db"], strict=True):
-        print(f"{label:>14} {_cell(level, '.1f'):>16}")
+    margins = bands.get("iso3095_margin_db")
+    print(f"{'wavelength mm':>14} {'level dB re 1um':>16}" + (f" {'ISO 3095 margin dB':>19}" if margins else ""))
+    for i, (label, level) in enumerate(zip(bands["band_labels_mm"], bands["levels_db"], strict=True)):
+        margin = f" {_cell(margins[i], '.1f'):>19}" if margins else ""
+        print(f"{label:>14} {_cell(level, '.1f'):>16}{margin}")
+    if margins:
+        print("(ISO 3095 margin = ISO 3095:2013 limit - level: negative where the rail exceeds the limit)")
     print("('-': band not resolved by the record length or block length)")
 
 
@@ -129,7 +146,11 @@ def _plot(result: dict, path: str) -> None:
     ax_coh.semilogx(centres, arr(result["coherence"]), "s-")
     ax_coh.set(xlabel="frequency (Hz)", ylabel="γ² (eqs. 15-18)", ylim=(0, 1.05))
     bands = result["wavelength_bands"]
-    ax_wl.semilogx(np.array(bands["band_centres_m"]) * 1e3, arr(bands["levels_db"]), "o-")
+    ax_wl.semilogx(np.array(bands["band_centres_m"]) * 1e3, arr(bands["levels_db"]), "o-", label=result["set"])
+    if "iso3095_limit_db" in bands:
+        ax_wl.semilogx(np.array(bands["band_centres_m"]) * 1e3, arr(bands["iso3095_limit_db"]), "k--",
+                       label="ISO 3095:2013 limit")
+        ax_wl.legend(fontsize=8)
     ax_wl.invert_xaxis()
     ax_wl.set(xlabel="wavelength (mm)", ylabel="roughness level (dB re 1 µm)")
     for ax in (ax_level, ax_coh, ax_wl):

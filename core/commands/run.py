@@ -10,7 +10,7 @@ import time
 
 from wheelrail.core.commands._common import input_files, print_json, same_file, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.results import MODELS
+from wheelrail.core.models import MODELS
 
 
 def add_parser(sub):

@@ -56,8 +56,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
-from wheelrail.core.contact._checks import poisson_ratio as _poisson
-from wheelrail.core.contact._checks import positive as _positive
+from wheelrail.core.checks import poisson_ratio as _poisson
+from wheelrail.core.checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import reduced_modulus
 

@@ -15,10 +15,14 @@ import math
 import numpy as np
 from numba import njit
 
+from wheelrail.core import checks
+from wheelrail.core.checks import finite_array
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
 from wheelrail.core.parameters import hertz_constant as _hertz_constant
 
-__all__ = ["hertz_approach", "hertz_constant", "hertz_force", "hertz_stiffness"]
+__all__ = ["HertzAverageModel", "HertzModel", "HertzWinklerModel", "hertz_approach", "hertz_constant", "hertz_force",
+           "hertz_stiffness"]
 
 
 @njit(cache=True)
@@ -38,25 +42,79 @@ def _hertz_force_and_stiffness(compression, constant):
     return constant * compression * root, 1.5 * constant * root
 
 
-def _as_float(where: str, name: str, value, unit: str, *, positive: bool) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{where}: {name} must be a number in {unit}, got {value!r}") from None
-    if not math.isfinite(number) or (positive and number <= 0.0):
-        allowed = "positive and finite" if positive else "finite"
-        raise WheelrailError(f"{where}: {name} must be {allowed} ({unit}), got {value!r}")
-    return number
+@njit(cache=True)
+def _hertz_compression(target, compliance, constant):
+    """Solve u + c C_H u^1.5 = target for the compression u >= 0 (target <= 0: no contact). Newton from
+    u = target, monotone for this increasing convex function."""
+    if target <= 0.0:
+        return 0.0
+    u = target
+    for _ in range(60):
+        root = math.sqrt(u)
+        residual = u + compliance * constant * u * root - target
+        step = residual / (1.0 + 1.5 * compliance * constant * root)
+        u -= step
+        if u <= 0.0:
+            u = 1e-300
+        if abs(step) <= 1e-15 * target + 1e-22:
+            break
+    return u
 
 
-def _as_array(where: str, name: str, value, unit: str) -> np.ndarray:
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{where}: {name} must be numbers in {unit}") from None
-    if not np.all(np.isfinite(array)):
-        raise WheelrailError(f"{where}: {name} must be finite ({unit}), got a NaN or infinity")
-    return array
+@njit(cache=True, inline="always")
+def _hertz_law(approach_known, compliance, roughness, constant, radius):
+    """The interaction loop's Hertz law (eqs. 12-14 coupled with delta = delta_known - c F).
+
+    The compression is u = delta + r_eq, so u + c C_H u^1.5 = delta_known + r_eq. Returns (F = C_H u^1.5,
+    contact length 2a = 2 sqrt(R u), area pi a^2) for the equivalent roughness r_eq at this step, R the radius.
+    """
+    u = _hertz_compression(approach_known + roughness, compliance, constant)
+    length = 2.0 * math.sqrt(radius * u)
+    half = length / 2.0
+    return _hertz_force(u, constant), length, math.pi * (half * half)
+
+
+class HertzModel(ContactModel):
+    """``hertz``: the Hertz spring on the roughness of the line itself (r_eq = r)."""
+
+    def equivalent_roughness(self, inputs: ModelInputs, line: np.ndarray) -> np.ndarray:
+        """r_eq along the track for the line r (here r itself)."""
+        return line
+
+    def prepare(self, inputs: ModelInputs) -> float:
+        contact = inputs.params.contact
+        self.equivalent_line = self.equivalent_roughness(inputs, inputs.centre_line)
+        r_eq = np.ascontiguousarray(self.equivalent_line[inputs.start_index] * inputs.ramp)
+        self._law = LawInputs(roughness=r_eq.reshape(-1, 1), shape=np.zeros(1),
+                              constants=np.array([contact.hertz_constant, contact.radius]))
+        return contact.hertz_approach()
+
+    def law_inputs(self) -> LawInputs:
+        return self._law
+
+
+class HertzWinklerModel(HertzModel):
+    """``hertz-winkler``: r_eq from the Ford & Thompson bedding pre-filter (``contact.prefilter``).
+
+    The pre-filter runs on the line along the track; the run's margins (``run_setup.run_margin``, 20 mm at
+    1 mm elements) exceed its half-length 3a = 16.4 mm, so its end treatment never reaches a step of the run.
+    """
+
+    def equivalent_roughness(self, inputs, line):
+        from wheelrail.core.contact.prefilter import winkler_equivalent_roughness
+
+        c = inputs.params.contact
+        return winkler_equivalent_roughness(line, inputs.element_size, preload=c.preload, radius=c.radius,
+                                            youngs_modulus=c.youngs_modulus, poisson_ratio=c.poisson_ratio)
+
+
+class HertzAverageModel(HertzModel):
+    """``hertz-average``: r_eq = mean of r over the nominal contact length 2a (a + 1 mm < the run margin)."""
+
+    def equivalent_roughness(self, inputs, line):
+        from wheelrail.core.contact.prefilter import average_roughness
+
+        return average_roughness(line, inputs.element_size, contact_length=2 * inputs.params.contact.hertz_radius())
 
 
 def hertz_constant(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3, radius: float = 0.39) -> float:
@@ -77,11 +135,9 @@ def hertz_constant(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3, ra
         C_H in N/m^1.5 (9.608e10 at the paper's values).
     """
     where = "hertz_constant"
-    youngs_modulus = _as_float(where, "youngs_modulus", youngs_modulus, "Pa", positive=True)
-    radius = _as_float(where, "radius", radius, "m", positive=True)
-    nu = _as_float(where, "poisson_ratio", poisson_ratio, "-", positive=False)
-    if not 0.0 <= nu < 0.5:
-        raise WheelrailError(f"{where}: poisson_ratio must be in [0, 0.5), got {poisson_ratio!r}")
+    youngs_modulus = checks.positive(where, "youngs_modulus", youngs_modulus, "Pa")
+    radius = checks.positive(where, "radius", radius, "m")
+    nu = checks.poisson_ratio(where, poisson_ratio)
     return _hertz_constant(youngs_modulus, nu, radius)
 
 
@@ -100,8 +156,8 @@ def hertz_force(compression, constant: float) -> np.ndarray:
     ndarray
         F_n in N, same shape as ``compression``; 0 where compression < 0.
     """
-    compression = _as_array("hertz_force", "compression", compression, "m")
-    constant = _as_float("hertz_force", "constant", constant, "N/m^1.5", positive=True)
+    compression = finite_array("hertz_force: compression", compression, "m")
+    constant = checks.positive("hertz_force", "constant", constant, "N/m^1.5")
     positive = np.maximum(compression, 0.0)
     return constant * positive * np.sqrt(positive)
 
@@ -121,8 +177,8 @@ def hertz_stiffness(compression, constant: float) -> np.ndarray:
     ndarray
         N/m, same shape as ``compression``.
     """
-    compression = _as_array("hertz_stiffness", "compression", compression, "m")
-    constant = _as_float("hertz_stiffness", "constant", constant, "N/m^1.5", positive=True)
+    compression = finite_array("hertz_stiffness: compression", compression, "m")
+    constant = checks.positive("hertz_stiffness", "constant", constant, "N/m^1.5")
     return 1.5 * constant * np.sqrt(np.maximum(compression, 0.0))
 
 
@@ -141,8 +197,8 @@ def hertz_approach(force, constant: float) -> np.ndarray:
     ndarray
         Delta zeta in m (77.07 um at 65 kN with the paper's values).
     """
-    force = _as_array("hertz_approach", "force", force, "N")
-    constant = _as_float("hertz_approach", "constant", constant, "N/m^1.5", positive=True)
+    force = finite_array("hertz_approach: force", force, "N")
+    constant = checks.positive("hertz_approach", "constant", constant, "N/m^1.5")
     if np.any(force < 0.0):
         raise WheelrailError(f"hertz_approach: force must be >= 0 N, got minimum {force.min()!r}")
     return (force / constant) ** (2.0 / 3.0)

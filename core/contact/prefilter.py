@@ -34,7 +34,8 @@ import math
 import numpy as np
 from numba import njit
 
-from wheelrail.core.contact.winkler import _positive, _roughness, bedding_stiffness, wheel_profile
+from wheelrail.core.checks import positive as _positive
+from wheelrail.core.contact.winkler import _roughness, bedding_stiffness, wheel_profile
 from wheelrail.core.errors import WheelrailError
 
 __all__ = ["average_roughness", "averaging_weights", "winkler_equivalent_roughness"]

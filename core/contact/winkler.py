@@ -23,17 +23,19 @@ The ``_``-prefixed numba kernels are for the time-stepping loop (no checks); the
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
-from wheelrail.core.contact._checks import poisson_ratio as _poisson
-from wheelrail.core.contact._checks import positive as _positive
+from wheelrail.core.checks import poisson_ratio as _poisson
+from wheelrail.core.checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
 from wheelrail.core.parameters import reduced_modulus
 
-__all__ = ["WinklerContact", "bedding_stiffness", "wheel_profile", "winkler_contact"]
+__all__ = ["BeddingModel", "WinklerContact", "bedding_stiffness", "wheel_profile", "winkler_contact"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,6 +75,53 @@ def _winkler_force(approach, roughness, profile, stiffness_dx):
             count += 1
     edge = (approach + roughness[0] - profile[0] > 0.0) or (approach + roughness[m - 1] - profile[m - 1] > 0.0)
     return stiffness_dx * force, stiffness_dx * count, count, edge
+
+
+@njit(cache=True, inline="always")
+def _bedding_law(approach_known, compliance, roughness, profile, stiffness_dx, element_size):
+    """The interaction loop's bedding law: solve delta + c F(delta) = delta_known (eqs. 3-5 coupled with
+    delta = delta_known - c F). F is piecewise linear and convex in delta: Newton from delta = delta_known.
+
+    Returns (F N, contact length n_c dx m, area NaN (a line model has none), True if an end spring of the
+    bedding is compressed: the contact reached the end of the window and the answer is not valid).
+    """
+    delta = approach_known
+    force, stiffness, count, edge = _winkler_force(delta, roughness, profile, stiffness_dx)
+    for _ in range(200):
+        residual = delta + compliance * force - approach_known
+        if residual <= 1e-18 * (abs(approach_known) + 1e-9) and residual >= -1e-18:
+            break
+        delta -= residual / (1.0 + compliance * stiffness)
+        force, stiffness, count, edge = _winkler_force(delta, roughness, profile, stiffness_dx)
+    return force, count * element_size, math.nan, edge
+
+
+class BeddingModel(ContactModel):
+    """``2d``: the Winkler bedding of 2 half_x + 1 springs under the wheel on the chosen line."""
+
+    def prepare(self, inputs: ModelInputs) -> float:
+        from wheelrail.core.contact.prefilter import _bedding_approach
+
+        contact = inputs.params.contact
+        dx, half = inputs.element_size, inputs.half_x
+        profile = wheel_profile(2 * half + 1, dx, contact.radius)
+        k_dx = bedding_stiffness(contact.youngs_modulus, contact.poisson_ratio) * dx
+        line = inputs.centre_line
+        self.equivalent_line = line
+        offsets = np.arange(-half, half + 1)
+        window = np.ascontiguousarray(line[inputs.start_index[:, None] + offsets[None, :]] * inputs.ramp[:, None])
+        self._law = LawInputs(roughness=window, shape=profile, constants=np.array([k_dx, dx]))
+        self._half, self._dx, self._position_of = half, dx, inputs.position_of
+        delta, _ = _bedding_approach(-profile, k_dx, contact.preload)
+        return float(delta)
+
+    def law_inputs(self) -> LawInputs:
+        return self._law
+
+    def edge_message(self, s: int) -> str:
+        return (f"2d: the contact reaches the end of the {2 * self._half + 1}-element bedding at "
+                f"x = {self._position_of(s):.4f} m (roughness too large for the "
+                f"+-{self._half * self._dx * 1e3:.0f} mm bedding)")
 
 
 def bedding_stiffness(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3) -> float:

@@ -130,3 +130,14 @@ def test_module_entry_point_reports_one_line(tmp_path):
     )
     assert proc.returncode != 0 and proc.stdout == ""
     assert proc.stderr.count("\n") == 1 and "roughness file not found" in proc.stderr
+
+
+@pytest.mark.parametrize("model", ["hertz", "3d"])
+def test_run_refuses_roughness_whose_model_grid_would_need_gigabytes(capsys, tmp_path, model):
+    # Two samples 1e6 m apart: the 1 mm model grid needs 1e9 heights (8 GB) a line; this was a MemoryError
+    # after trying to allocate them. Now one line with the figure, before allocating.
+    coarse = tmp_path / "coarse.csv"
+    coarse.write_text("x_m,y_mm=-1,y_mm=0,y_mm=1\n0,1,2,3\n1000000,2,3,4\n")
+    code, out, err = _run(capsys, "run", "--set", str(coarse), "--model", model)
+    assert code != 0 and out == ""
+    assert err.count("\n") == 1 and "would hold 3e+09 heights (24 GB as float64), more than the limit" in err

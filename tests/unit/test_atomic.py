@@ -22,6 +22,17 @@ def test_written_file_has_ordinary_permissions(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.npz"]
 
 
+def test_no_write_changes_the_process_umask(tmp_path, monkeypatch):
+    # os.umask sets the mask of the whole process: a writer calling it races with every other thread
+    def forbidden(mask):
+        raise AssertionError("atomic_write must not call os.umask")
+
+    expected = 0o666 & ~_umask()
+    monkeypatch.setattr(os, "umask", forbidden)
+    path = atomic_write(tmp_path / "c.txt", lambda handle: handle.write("x"), "w")
+    assert (path.stat().st_mode & 0o777) == expected
+
+
 def test_failed_write_leaves_nothing(tmp_path):
     target = tmp_path / "b.csv"
     target.write_text("old")

@@ -26,8 +26,9 @@ def test_estimate_bounds_the_traced_growth(model, short, long):
 
     def estimate(length):
         n = length / 1e-3
-        return limits.run_memory_bytes(model, n_elements=n, n_steps=n, n_lines=n_lines, window_columns=25,
-                                       keep_pressure=True)
+        return limits.run_memory_bytes(n_elements=n, n_steps=n, n_lines=n_lines,
+                                       window_columns=25 if model == "2d" else 0,
+                                       pressure_elements=625 if model == "3d" else 0)
 
     per_element = (estimate(long) - estimate(short)) / ((long - short) / 1e-3)
     # an estimate must never be below what the run takes, and not so far above that it refuses
@@ -44,18 +45,17 @@ def test_absurd_lengths_are_refused_with_the_figure(model, length, keep):
 
 def test_pressure_maps_count_only_when_kept(monkeypatch):
     # 3d over 1000 m: 25 x 25 float32 maps are 2.3 GiB, over the 2 GiB default; without them 0.6 GiB
-    kept = limits.run_memory_bytes("3d", n_elements=1e6, n_steps=1e6, n_lines=25, window_columns=25,
-                                   keep_pressure=True)
-    dropped = limits.run_memory_bytes("3d", n_elements=1e6, n_steps=1e6, n_lines=25, window_columns=25,
-                                      keep_pressure=False)
-    assert kept - dropped == 4 * 25 * 25 * 1e6
-    with pytest.raises(WheelrailError, match="pressure maps kept"):
-        limits.check_run_memory("3d", n_elements=1e6, n_steps=1e6, n_lines=25, window_columns=25,
-                                keep_pressure=True)
-    assert limits.check_run_memory("3d", n_elements=1e6, n_steps=1e6, n_lines=25, window_columns=25,
-                                   keep_pressure=False) == dropped
+    from wheelrail.core.models import model_entry
+    from wheelrail.core.parameters import ModelParameters
+
+    entry, params = model_entry("3d"), ModelParameters()
+    with pytest.raises(WheelrailError, match="2.33 GiB are the pressure maps kept"):
+        limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=True)
+    dropped = limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=False)
+    assert dropped == pytest.approx((1000 + 0.032 + 1.0) / 1e-3 * (200 + 16 * 25))
     monkeypatch.setenv(limits.MEMORY_LIMIT_ENV, "8")
     assert limits.memory_limit() == 8 * 1024**3
+    assert limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=True) > dropped
     monkeypatch.setenv(limits.MEMORY_LIMIT_ENV, "lots")
     with pytest.raises(WheelrailError, match=limits.MEMORY_LIMIT_ENV):
         limits.memory_limit()

@@ -1,0 +1,138 @@
+"""Third-octave bands both ways: wavelength bands (EN 15610 / CNOSSOS-EU) and frequency bands at a speed.
+
+Railway roughness and contact filters are tabulated by wavelength (EN 15610; CNOSSOS-EU, Commission
+Directive (EU) 2015/996 Appendix G as replaced by Delegated Directive (EU) 2021/1226, uses the 35 bands
+2000 mm .. 0.8 mm), force and sound spectra by frequency. A band of wavelengths [l_lo, l_hi] is the band
+of spatial frequencies (wavenumbers, cycles/m) [1/l_hi, 1/l_lo]; at train speed v a frequency band
+[f_lo, f_hi] is the wavenumber band [f_lo / v, f_hi / v] (f = v / lambda). Both kinds are the exact
+base-10 bands of :func:`wheelrail.core.spectra.third_octave_bands`, so every band is one tenth of a decade
+wide in wavenumber and a band of one kind generally straddles two of the other.
+
+:func:`map_levels` moves band levels from one set of bands to another by the rule CNOSSOS-EU prescribes
+for its roughness (Directive 2015/996 Annex II, 2.3.2: the two corresponding wavelength bands "averaged
+energetically and proportionally"): each source band's mean square is spread uniformly over its width in
+log wavenumber and every target band collects the part that falls inside it. For equal (third-octave)
+widths this is both energy-conserving for spectra (band powers) and a weighted energetic mean for
+transfer functions (filters), so roughness spectra and contact filters use the same function.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.spectra import BAND_HALF_WIDTH, FORCE_BAND_RANGE, nominal_band_label, third_octave_bands
+
+CNOSSOS_WAVELENGTH_RANGE = (2.0, 0.0008)  # m: the 35 bands 2000 mm .. 0.8 mm of CNOSSOS-EU Tables G-1, G-2
+AXES = ("wavelength", "frequency")
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Bands:
+    """A set of exact base-10 third-octave bands on a wavelength or a frequency axis.
+
+    Attributes
+    ----------
+    centres : numpy.ndarray
+        Band centres: m (``axis == "wavelength"``, long to short, as EN 15610 lists them) or Hz
+        (``axis == "frequency"``, low to high).
+    axis : str
+        ``"wavelength"`` or ``"frequency"``.
+    speed : float or None
+        Train speed v, m/s, that ties a frequency band to wavenumbers (f = v k). None for wavelength
+        bands, and for frequency bands that are never mapped.
+    """
+
+    centres: np.ndarray
+    axis: str
+    speed: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.axis not in AXES:
+            raise WheelrailError(f"band axis must be one of {', '.join(AXES)}, got {self.axis!r}")
+        if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0):
+            raise WheelrailError(f"band speed must be a positive number in m/s, got {self.speed!r}")
+
+    @property
+    def lower(self) -> np.ndarray:
+        """Lower band edges in the unit of the centres."""
+        return np.asarray(self.centres) / BAND_HALF_WIDTH
+
+    @property
+    def upper(self) -> np.ndarray:
+        """Upper band edges in the unit of the centres."""
+        return np.asarray(self.centres) * BAND_HALF_WIDTH
+
+    def wavenumber_edges(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper edge of every band as a spatial frequency k = 1 / lambda, cycles/m."""
+        if self.axis == "wavelength":
+            return 1.0 / self.upper, 1.0 / self.lower
+        if self.speed is None:
+            raise WheelrailError("frequency bands need a train speed (m/s) to be expressed in wavenumber")
+        return self.lower / self.speed, self.upper / self.speed
+
+    def labels(self) -> list[str]:
+        """Nominal band names: mm for wavelength bands (``'31.5'``), Hz for frequency bands (``'500'``)."""
+        scale = 1e3 if self.axis == "wavelength" else 1.0
+        return [nominal_band_label(c * scale) for c in np.asarray(self.centres)]
+
+
+def wavelength_bands(
+    longest: float = CNOSSOS_WAVELENGTH_RANGE[0], shortest: float = CNOSSOS_WAVELENGTH_RANGE[1]
+) -> Bands:
+    """Wavelength bands from ``longest`` to ``shortest`` (m), long first; default the 35 CNOSSOS-EU bands.
+
+    The EN 15610 roughness range 800 .. 3.15 mm is ``wavelength_bands(0.8, 0.00315)`` (24 bands).
+    """
+    if not (math.isfinite(longest) and math.isfinite(shortest) and 0 < shortest <= longest):
+        raise WheelrailError(
+            f"wavelength range must satisfy 0 < shortest <= longest (m), got {longest!r} .. {shortest!r}"
+        )
+    centres, _, _ = third_octave_bands(shortest, longest)
+    return Bands(centres=centres[::-1].copy(), axis="wavelength")
+
+
+def frequency_bands(speed: float | None, band_range: tuple[float, float] = FORCE_BAND_RANGE) -> Bands:
+    """Frequency bands (Hz) with centres in ``band_range`` (default 50 Hz .. 8 kHz) at train speed ``speed`` (m/s)."""
+    centres, _, _ = third_octave_bands(*band_range)
+    return Bands(centres=centres, axis="frequency", speed=speed)
+
+
+def map_levels(levels_db, source: Bands, target: Bands) -> np.ndarray:
+    """Band levels on ``source`` bands expressed on ``target`` bands (wavelength <-> frequency at a speed).
+
+    Each source band's mean square ``10^(L/10)`` is spread uniformly over its width in log wavenumber;
+    a target band takes the share of every source band that overlaps it (the CNOSSOS-EU "energetically
+    and proportionally" rule, see the module docstring). A target band that the source bands do not cover
+    completely, or that overlaps a source band whose level is NaN, is NaN. Mapping a band onto bands that
+    coincide with it returns its level unchanged.
+
+    Parameters
+    ----------
+    levels_db : array_like
+        One level per source band, dB (any reference: spectra in dB re 1 um, filters in dB).
+    source, target : Bands
+        The bands of ``levels_db`` and the bands wanted; a frequency side needs its ``speed``.
+
+    Returns
+    -------
+    numpy.ndarray
+        One level per target band, dB, same reference as ``levels_db``.
+    """
+    levels = np.asarray(levels_db, dtype=float)
+    if levels.shape != np.shape(source.centres):
+        raise WheelrailError(f"map_levels: {levels.size} levels for {np.size(source.centres)} source bands")
+    s_lo, s_hi = (np.log10(edge) for edge in source.wavenumber_edges())
+    t_lo, t_hi = (np.log10(edge) for edge in target.wavenumber_edges())
+    overlap = np.clip(np.minimum(s_hi[:, None], t_hi[None, :]) - np.maximum(s_lo[:, None], t_lo[None, :]), 0.0, None)
+    share = overlap / (s_hi - s_lo)[:, None]  # fraction of each source band inside each target band
+    covered = overlap.sum(axis=0) / (t_hi - t_lo)
+    used = overlap > 1e-12
+    power = np.where(np.isfinite(levels), 10.0 ** (levels / 10.0), 0.0)
+    with np.errstate(divide="ignore"):
+        out = 10.0 * np.log10(share.T @ power)
+    bad = (covered < 1.0 - 1e-9) | (used & ~np.isfinite(levels)[:, None]).any(axis=0)
+    return np.where(bad, np.nan, out)

@@ -1,0 +1,168 @@
+"""``wheelrail filters``: the reference contact filters (CNOSSOS-EU A3 and the analytic ones) by band.
+
+Every filter of :func:`wheelrail.core.reference_filters.reference_filters` for a wheel load, wheel radius
+and speed, by the 35 wavelength bands 2000 .. 0.8 mm and by frequency band (50 Hz .. 8 kHz) at the speed;
+levels in dB, null where a filter is undefined.
+"""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+
+from wheelrail.core.atomic import atomic_write
+from wheelrail.core.commands._common import print_json, speed_from_kmh, writable_output
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import ContactParameters
+from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
+
+_DEFAULTS = ContactParameters()
+
+
+def add_parser(sub):
+    parser = sub.add_parser(
+        "filters",
+        help="reference contact filters (CNOSSOS-EU A3, analytic) by wavelength and frequency band",
+        description=(
+            "Reference contact filters in dB by wavelength band (2000-0.8 mm) and by frequency band (50 Hz-8 kHz) "
+            "at the speed: CNOSSOS-EU A3 (Directive 2015/996 Table G-2 as replaced by 2021/1226), averaging over "
+            "the contact length, circular patch with roughness correlated / incoherent across its width."
+        ),
+    )
+    parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
+    parser.add_argument(
+        "--preload-kn", type=float, default=_DEFAULTS.preload / 1e3, help="static wheel load, kN (default 65)"
+    )
+    parser.add_argument(
+        "--wheel-radius-mm",
+        type=float,
+        default=_DEFAULTS.radius * 1e3,
+        help="wheel rolling radius, mm (default 390; the CNOSSOS diameter is twice it)",
+    )
+    parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
+    parser.add_argument("--csv", metavar="FILE.csv", help="write the bands and levels as a CSV table")
+    parser.add_argument("--plot", metavar="FILE.png", help="save a figure of the filters")
+    return parser
+
+
+def _positive(value: float, option: str, unit: str) -> float:
+    if not (np.isfinite(value) and value > 0):
+        raise WheelrailError(f"{option} must be a positive number in {unit}, got {value}")
+    return float(value)
+
+
+def summary(load: float, wheel_radius: float, speed: float) -> dict:
+    """The filters as a JSON-ready dict (issue 14 layout; SI except keys that carry their unit)."""
+    filters = reference_filters(load, wheel_radius, speed)
+    return {
+        "wavelength_mm": filters.wavelength_bands.centres * 1e3,
+        "wavelength_labels_mm": filters.wavelength_bands.labels(),
+        "by_wavelength": filters.by_wavelength,
+        "band_centres_hz": filters.frequency_bands.centres,
+        "band_labels_hz": filters.frequency_bands.labels(),
+        "by_frequency": filters.by_frequency,
+        "semi_axes_m": list(filters.semi_axes),
+        "preload_n": load,
+        "wheel_radius_m": wheel_radius,
+        "speed_m_s": speed,
+        "reference": (
+            "levels in dB (10 log10 |H|^2, averaged over each band); cnossos: Directive (EU) 2015/996 Appendix G "
+            "Table G-2 as replaced by (EU) 2021/1226, other loads/diameters by the Hertz semi-axis rule; "
+            "null where undefined"
+        ),
+    }
+
+
+def _cell(value: float) -> str:
+    return "" if not np.isfinite(value) else f"{value:.2f}"
+
+
+def _write_csv(result: dict, path) -> None:
+    def write(handle):
+        writer = csv.writer(handle)
+        writer.writerow(["axis", "band", "centre", "unit", *(f"{name}_db" for name in REFERENCE_FILTERS)])
+        for axis, centres, labels, unit, levels in (
+            ("wavelength", result["wavelength_mm"], result["wavelength_labels_mm"], "mm", result["by_wavelength"]),
+            ("frequency", result["band_centres_hz"], result["band_labels_hz"], "Hz", result["by_frequency"]),
+        ):
+            for i, (centre, label) in enumerate(zip(centres, labels, strict=True)):
+                writer.writerow([axis, label, f"{centre:.6g}", unit, *(_cell(levels[n][i]) for n in REFERENCE_FILTERS)])
+
+    try:
+        atomic_write(path, write, mode="w", newline="", encoding="utf-8")
+    except OSError as error:
+        raise WheelrailError(f"--csv {path}: cannot write the table ({error})") from None
+
+
+def _plot(result: dict, path) -> None:
+    import matplotlib  # noqa: PLC0415 - plotting is optional, keep the CLI import light
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: PLC0415
+
+    fig, (ax_wl, ax_f) = plt.subplots(2, 1, figsize=(7, 7.5), constrained_layout=True)
+    styles = {"cnossos": "k-o", "averaging": "C0--", "patch-correlated": "C1--", "patch-incoherent": "C2--"}
+    for name in REFERENCE_FILTERS:
+        ax_wl.semilogx(result["wavelength_mm"], result["by_wavelength"][name], styles[name], label=name, ms=3)
+        ax_f.semilogx(result["band_centres_hz"], result["by_frequency"][name], styles[name], label=name, ms=3)
+    ax_wl.invert_xaxis()
+    ax_wl.set(xlabel="wavelength (mm)", ylabel="contact filter (dB)")
+    ax_f.set(xlabel="frequency (Hz)", ylabel="contact filter (dB)")
+    a, b = result["semi_axes_m"]
+    ax_wl.set_title(
+        f"P = {result['preload_n'] / 1e3:g} kN, R = {result['wheel_radius_m'] * 1e3:g} mm, a = {a * 1e3:.2f} mm, "
+        f"b = {b * 1e3:.2f} mm; {result['speed_m_s'] * 3.6:g} km/h"
+    )
+    for ax in (ax_wl, ax_f):
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+
+    def write(handle):
+        fig.savefig(handle, format="png", dpi=100)
+
+    try:
+        atomic_write(path, write)
+    except (OSError, ValueError) as error:
+        raise WheelrailError(f"--plot {path}: cannot write the figure ({error})") from None
+    finally:
+        plt.close(fig)
+
+
+def _print_table(result: dict) -> None:
+    a, b = result["semi_axes_m"]
+    print(
+        f"reference contact filters, dB: wheel load {result['preload_n'] / 1e3:g} kN, wheel radius "
+        f"{result['wheel_radius_m'] * 1e3:g} mm, Hertz semi-axes a = {a * 1e3:.2f} mm, b = {b * 1e3:.2f} mm"
+    )
+    header = "".join(f"{name:>18}" for name in REFERENCE_FILTERS)
+    print(f"{'wavelength mm':>14}{header}")
+    for i, label in enumerate(result["wavelength_labels_mm"]):
+        print(f"{label:>14}" + "".join(f"{_cell(result['by_wavelength'][n][i]) or '-':>18}" for n in REFERENCE_FILTERS))
+    print()
+    print(f"at {result['speed_m_s'] * 3.6:g} km/h")
+    print(f"{'band Hz':>14}{header}")
+    for i, label in enumerate(result["band_labels_hz"]):
+        print(f"{label:>14}" + "".join(f"{_cell(result['by_frequency'][n][i]) or '-':>18}" for n in REFERENCE_FILTERS))
+    print("('-': undefined, e.g. CNOSSOS beyond the table's 0.8 mm after scaling)")
+
+
+def run(args) -> int:
+    speed = speed_from_kmh(args.speed_kmh)
+    load = _positive(args.preload_kn, "--preload-kn", "kN") * 1e3
+    wheel_radius = _positive(args.wheel_radius_mm, "--wheel-radius-mm", "mm") * 1e-3
+    csv_path = writable_output(args.csv, "--csv", ".csv") if args.csv is not None else None
+    plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
+    result = summary(load, wheel_radius, speed)
+    if csv_path is not None:
+        _write_csv(result, csv_path)
+    if plot_path is not None:
+        _plot(result, plot_path)
+    if args.json:
+        print_json(result)
+        return 0
+    _print_table(result)
+    for option, path in (("table", csv_path), ("figure", plot_path)):
+        if path is not None:
+            print(f"{option} written to {path}")
+    return 0

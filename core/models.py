@@ -1,0 +1,244 @@
+"""The contact models: one registry, one interface (paper section 2.3).
+
+The interaction loop (``wheelrail.core.interaction``) owns the wheel and track of eqs. 1-2 and asks a contact
+model only for its law: given the part of the approach known from the history, delta_known, and the
+instantaneous compliance c (delta = delta_known - c F), return the force and the contact state. A model
+declares what the loop must know about it as :class:`ModelTraits` in its registry entry; nothing outside this
+registry tests a model's name.
+
+Two kinds of law:
+
+* **compiled**: the law is one of the numba kernels the loop's compiled chunk loop knows (``LAW_HERTZ``,
+  ``LAW_BEDDING``); the model only prepares the kernel's inputs (:class:`LawInputs`). numba caches compiled
+  code on disk only when no jitted function is passed as an argument, hence named constants, not callables;
+* **per step**: the model's Python ``solve`` is called once per step (the 3D half-space, whose solve costs far
+  more than the call, and any model registered from outside, e.g. in a test).
+
+This module is cheap to import (no numba, no SciPy): the command line, the studies and the explorer read the
+model names and traits from it; the implementation is imported on first use.
+
+Adding a model: write its class (a :class:`ContactModel`) in one module and add one :class:`ModelEntry` to
+``_BUILTIN`` below, or call :func:`register` at run time.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import ModelParameters
+
+__all__ = [
+    "LAW_BEDDING", "LAW_HERTZ", "MODELS", "REFERENCE_MODEL", "ContactModel", "ContactState", "LawInputs",
+    "ModelEntry", "ModelInputs", "ModelTraits", "model_entry", "model_names", "register", "unregister",
+]
+
+LAW_HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz._hertz_law
+LAW_BEDDING = 1  # Winkler bedding on the line under the wheel (eqs. 3-6): contact.winkler._bedding_law
+_LAWS = (None, LAW_HERTZ, LAW_BEDDING)
+
+
+@dataclass(frozen=True, kw_only=True)
+class ModelTraits:
+    """What the loop must know about a contact model.
+
+    Attributes
+    ----------
+    lateral_window : bool
+        The model sees a window of roughness lines across the rail (1 mm apart, centred on the chosen line)
+        instead of the chosen line alone.
+    law : int or None
+        ``LAW_HERTZ`` / ``LAW_BEDDING``: the law runs in the loop's compiled chunk loop; None: the model's
+        ``solve`` is called from Python once per step (streamed step by step).
+    pressure_map : bool
+        Every step has a pressure map on the window (``StepState.pressure``); needs ``lateral_window``.
+    """
+
+    lateral_window: bool = False
+    law: int | None = None
+    pressure_map: bool = False
+
+    def __post_init__(self) -> None:
+        if self.law not in _LAWS:
+            raise WheelrailError(f"ModelTraits.law must be one of LAW_HERTZ, LAW_BEDDING or None, got {self.law!r}")
+        if self.pressure_map and not self.lateral_window:
+            raise WheelrailError("ModelTraits: a pressure map needs a lateral window")
+
+    @property
+    def compiled(self) -> bool:
+        """The law runs in the compiled chunk loop (else per step from Python)."""
+        return self.law is not None
+
+
+@dataclass(frozen=True, kw_only=True)
+class ModelInputs:
+    """What a model is given to prepare a run (built by ``wheelrail.core.run_setup``).
+
+    Step index s counts the run-in too: s = 0 is the first run-in step, ``n_total`` steps in all.
+
+    Attributes
+    ----------
+    params : ModelParameters
+    element_size : float
+        Delta x, m (also the lateral spacing of ``lines`` for a lateral window).
+    lines : ndarray (rows, samples)
+        Roughness along the track on the model grid, m (one row, or the window's rows).
+    centre_row : int
+        Row of ``lines`` that is the chosen line.
+    window_y : ndarray (rows,)
+        Lateral position of each row relative to the chosen line, m.
+    half_x : int
+        Half-width of the window along the rail (and of the bedding), elements.
+    start_index : ndarray (n_total,) int
+        Sample of ``lines`` under the wheel centre at each step.
+    ramp : ndarray (n_total,)
+        Fade-in factor of the roughness over the run-in (1 afterwards).
+    position_of : callable
+        Wheel position of step s, m (for messages).
+    """
+
+    params: ModelParameters
+    element_size: float
+    lines: np.ndarray
+    centre_row: int
+    window_y: np.ndarray
+    half_x: int
+    start_index: np.ndarray
+    ramp: np.ndarray
+    position_of: Callable[[int], float]
+
+    @property
+    def n_total(self) -> int:
+        return int(self.start_index.shape[0])
+
+    @property
+    def centre_line(self) -> np.ndarray:
+        """The chosen line along the track, m."""
+        return self.lines[self.centre_row]
+
+
+@dataclass(frozen=True)
+class LawInputs:
+    """Inputs of a compiled law for every step: ``roughness[s]`` (row of floats), ``shape``, ``constants``.
+
+    LAW_HERTZ: roughness (n_total, 1) = r_eq faded in; shape unused; constants = (C_H, R).
+    LAW_BEDDING: roughness (n_total, 2 half_x + 1) = r under the bedding; shape = wheel profile x'^2/(2 R_m);
+    constants = (k dx, dx).
+    """
+
+    roughness: np.ndarray
+    shape: np.ndarray
+    constants: np.ndarray
+
+
+class ContactState(NamedTuple):
+    """A per-step law's answer: force F (N), contact length along the chosen line (m), contact area (m^2,
+    NaN where the model has none), pressure map on the window (Pa, or None). (A NamedTuple: one is made per
+    step.)"""
+
+    force: float
+    contact_length: float
+    contact_area: float
+    pressure: np.ndarray | None = None
+
+
+class ContactModel:
+    """A contact model inside the loop. Subclasses implement :meth:`prepare` and, by their traits, either
+    :meth:`law_inputs` (compiled law) or :meth:`solve` (per step).
+
+    After :meth:`prepare`, ``equivalent_line`` is the roughness the model sees on the chosen line along the
+    track (r_eq for the Hertz variants, r otherwise) and ``window_x`` the element centres of its window
+    along the rail relative to the wheel (m), or None.
+    """
+
+    equivalent_line: np.ndarray
+    window_x: np.ndarray | None = None
+
+    def prepare(self, inputs: ModelInputs) -> float:
+        """Precompute; return the static approach delta(P) on smooth surfaces under the preload, m."""
+        raise NotImplementedError
+
+    def law_inputs(self) -> LawInputs:
+        """Compiled law: the kernel's inputs for every step."""
+        raise NotImplementedError
+
+    def solve(self, s: int, approach_known: float, compliance: float) -> ContactState:
+        """Per-step law: solve the contact with delta = approach_known - compliance F at step s."""
+        raise NotImplementedError
+
+    def edge_message(self, s: int) -> str:
+        """Why the compiled law stopped at step s (it reached the end of its window)."""
+        return f"the contact reached the edge of the {type(self).__name__} window at step {s}"
+
+
+@dataclass(frozen=True, kw_only=True)
+class ModelEntry:
+    """One registered model: name (as typed by users), one-line label, traits and the implementation
+    (a :class:`ContactModel` subclass, or ``"module:Class"`` imported on first use)."""
+
+    name: str
+    label: str
+    traits: ModelTraits
+    implementation: str | type
+
+    def create(self) -> ContactModel:
+        """A fresh model instance for one run."""
+        target = self.implementation
+        if isinstance(target, str):
+            module, _, attribute = target.partition(":")
+            target = getattr(importlib.import_module(module), attribute)
+        return target()
+
+
+_BUILTIN = (
+    ModelEntry(name="3d", label="3D elastic half-space on a window of lines (eqs. 8-11)",
+               traits=ModelTraits(lateral_window=True, pressure_map=True),
+               implementation="wheelrail.core.contact.halfspace_model:HalfSpaceModel"),
+    ModelEntry(name="2d", label="2D Winkler bedding on one line (eqs. 3-6)", traits=ModelTraits(law=LAW_BEDDING),
+               implementation="wheelrail.core.contact.winkler:BeddingModel"),
+    ModelEntry(name="hertz", label="Hertz spring, unfiltered roughness (eqs. 12-14)",
+               traits=ModelTraits(law=LAW_HERTZ), implementation="wheelrail.core.contact.hertz:HertzModel"),
+    ModelEntry(name="hertz-winkler", label="Hertz spring, roughness pre-filtered by the Winkler bedding",
+               traits=ModelTraits(law=LAW_HERTZ), implementation="wheelrail.core.contact.hertz:HertzWinklerModel"),
+    ModelEntry(name="hertz-average", label="Hertz spring, roughness averaged over the contact length 2a",
+               traits=ModelTraits(law=LAW_HERTZ), implementation="wheelrail.core.contact.hertz:HertzAverageModel"),
+)
+
+MODELS: tuple[str, ...] = tuple(entry.name for entry in _BUILTIN)  # the built-in models, in menu order
+REFERENCE_MODEL = "hertz"  # no roughness filtering: the reference of every contact filter (paper section 3.3)
+_REGISTRY: dict[str, ModelEntry] = {entry.name: entry for entry in _BUILTIN}
+
+
+def register(entry: ModelEntry) -> ModelEntry:
+    """Add a model (e.g. from a test or a plug-in); its name must be new."""
+    if not isinstance(entry, ModelEntry):
+        raise WheelrailError(f"register() takes a ModelEntry, got {type(entry).__name__}")
+    if not entry.name or entry.name in _REGISTRY:
+        raise WheelrailError(f"a contact model named {entry.name!r} is already registered (or the name is empty)")
+    _REGISTRY[entry.name] = entry
+    return entry
+
+
+def unregister(name: str) -> None:
+    """Remove a model added with :func:`register` (the built-in ones stay)."""
+    if name in MODELS:
+        raise WheelrailError(f"the built-in model {name!r} cannot be removed")
+    _REGISTRY.pop(name, None)
+
+
+def model_names() -> tuple[str, ...]:
+    """Every registered model, built-in first."""
+    return tuple(_REGISTRY)
+
+
+def model_entry(name: str) -> ModelEntry:
+    """The registry entry of a model; an unknown name is one WheelrailError listing the choices."""
+    try:
+        return _REGISTRY[name]
+    except (KeyError, TypeError):
+        raise WheelrailError(f"unknown contact model {name!r}; choose one of {', '.join(_REGISTRY)}") from None

@@ -1,0 +1,113 @@
+"""Roughness on the model grid: longitudinal and lateral interpolation, and lines along the track.
+
+Every function here estimates the size of its result first and refuses, with the figure, a grid of more
+than :data:`~wheelrail.core.roughness.model.MAX_VALUES` heights (e.g. a set sampled every 1 km
+interpolated to 1 mm) before allocating it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.roughness.model import RoughnessSet, check_value_count
+
+
+def resample_longitudinal(roughness: RoughnessSet, dx: float) -> RoughnessSet:
+    """Linear interpolation of every line to spacing ``dx`` (m), e.g. 0.5 mm -> 1 mm (paper section 3).
+
+    Rail: samples at ``0, dx, ...`` up to the last original position. Wheel: the circumference is kept
+    exactly; ``dx`` is adjusted to ``length / round(length / dx)`` and interpolation wraps around.
+    No anti-alias filter is applied, as in the paper (linear interpolation only).
+    """
+    dx = float(dx)
+    if not (math.isfinite(dx) and dx > 0):
+        raise WheelrailError(f"resample: longitudinal spacing must be positive (m), got {dx!r}")
+    x_old = roughness.x
+    if roughness.periodic:
+        what = f"{roughness.length:g} m of roughness at dx {dx:g} m"
+        check_value_count(roughness.n_lines * (roughness.length / dx), what)
+        n = max(2, round(roughness.length / dx))
+        dx = roughness.length / n
+        x_new = np.arange(n) * dx
+        z = np.stack([np.interp(x_new, x_old, line, period=roughness.length) for line in roughness.heights])
+    else:
+        check_value_count(roughness.n_lines * (x_old[-1] / dx + 1), f"{x_old[-1]:g} m of roughness at dx {dx:g} m")
+        n = int(math.floor(x_old[-1] / dx + 1e-9)) + 1
+        if n < 2:
+            raise WheelrailError(f"resample: spacing {dx:g} m leaves fewer than 2 samples in {x_old[-1]:g} m")
+        x_new = np.arange(n) * dx
+        z = np.stack([np.interp(x_new, x_old, line) for line in roughness.heights])
+    return roughness.with_heights(z, dx=dx, note=f"interpolated to dx {dx * 1e3:g} mm")
+
+
+def resample_lateral(roughness: RoughnessSet, dy: float) -> RoughnessSet:
+    """Linear interpolation across the lines to lateral spacing ``dy`` (m), e.g. 2 mm -> 1 mm for 3D.
+
+    New lines are at integer multiples of ``dy`` (so y = 0 stays a line) within the original lateral
+    extent.
+    """
+    dy = float(dy)
+    if not (math.isfinite(dy) and dy > 0):
+        raise WheelrailError(f"resample: lateral spacing must be positive (m), got {dy!r}")
+    if roughness.n_lines < 2:
+        raise WheelrailError("resample: lateral interpolation needs at least 2 lines")
+    y = roughness.y
+    what = f"{y[-1] - y[0]:g} m of roughness width at lines {dy:g} m apart"
+    check_value_count(((y[-1] - y[0]) / dy + 1) * roughness.n_samples, what)
+    tol = 1e-9 * max(1.0, abs(y).max() / dy)
+    first = math.ceil(y[0] / dy - tol)
+    last = math.floor(y[-1] / dy + tol)
+    y_new = np.arange(first, last + 1) * dy
+    if y_new.size < 1:
+        raise WheelrailError(f"resample: lateral spacing {dy:g} m leaves no line in [{y[0]:g}, {y[-1]:g}] m")
+    # interpolate each sample column across y (vectorised through index/weight arrays)
+    idx = np.clip(np.searchsorted(y, y_new, side="right") - 1, 0, y.size - 2)
+    w = np.clip((y_new - y[idx]) / (y[idx + 1] - y[idx]), 0.0, 1.0)
+    z = roughness.heights
+    z_new = (1 - w)[:, None] * z[idx] + w[:, None] * z[idx + 1]
+    return roughness.with_heights(z_new, y=y_new, note=f"interpolated to {dy * 1e3:g} mm lines")
+
+
+def to_model_grid(roughness: RoughnessSet, dx: float, dy: float | None = None) -> RoughnessSet:
+    """Interpolate to the model grid: longitudinal ``dx`` and, for the 3D model, lateral ``dy`` (m)."""
+    out = resample_longitudinal(roughness, dx) if not math.isclose(dx, roughness.dx, rel_tol=1e-12) else roughness
+    if dy is not None and not (
+        roughness.n_lines > 1 and np.allclose(np.diff(out.y), dy, rtol=1e-9) and np.any(np.isclose(out.y, 0))
+    ):
+        out = resample_lateral(out, dy)
+    return out
+
+
+def lines_along_track(roughness: RoughnessSet, lines, length: float, dx: float | None = None) -> np.ndarray:
+    """Heights of several lines covering a run of ``length`` m at spacing ``dx`` m, shape (lines, samples).
+
+    Sample ``i`` is at ``x = i dx`` for ``i = 0 .. round(length / dx)``. Wheel data is repeated around the
+    circumference as often as needed (periodic linear interpolation); rail data must be long enough.
+    """
+    dx = roughness.dx if dx is None else float(dx)
+    if not (math.isfinite(dx) and dx > 0):
+        raise WheelrailError(f"spacing dx must be positive (m), got {dx!r}")
+    if not (math.isfinite(length) and length >= 0):
+        raise WheelrailError(f"run length must be zero or positive (m), got {length!r}")
+    rows = [roughness.row_of_line(line) for line in lines]
+    check_value_count(len(rows) * (length / dx + 1), f"roughness along a run of {length:g} m at dx {dx:g} m")
+    n = int(round(length / dx)) + 1
+    x = np.arange(n) * dx
+    if roughness.periodic:
+        return np.stack([np.interp(x, roughness.x, roughness.heights[r], period=roughness.length) for r in rows])
+    available = roughness.x[-1]
+    if x[-1] > available * (1 + 1e-12):
+        raise WheelrailError(
+            f"run length {length:g} m exceeds the rail roughness data ({available:g} m); "
+            "shorten the run or use longer data"
+        )
+    return np.stack([np.interp(x, roughness.x, roughness.heights[r]) for r in rows])
+
+
+def line_along_track(roughness: RoughnessSet, line: int, length: float, dx: float | None = None) -> np.ndarray:
+    """Heights of one line over a run of ``length`` m at spacing ``dx`` m (see :func:`lines_along_track`)."""
+    return lines_along_track(roughness, [line], length, dx)[0]
+

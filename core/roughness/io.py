@@ -1,0 +1,55 @@
+"""Roughness files by name or path: the bundled sets of ``wheelrail.sample_data`` and a user's ``.csv`` or
+``.npz`` file, which works everywhere a bundled set does."""
+
+from __future__ import annotations
+
+import os
+from importlib import resources
+from pathlib import Path
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.roughness.csv_io import read_csv
+from wheelrail.core.roughness.model import RoughnessSet
+from wheelrail.core.roughness.npz_io import read_npz
+
+SAMPLE_DATA_PACKAGE = "wheelrail.sample_data"
+
+
+def read_roughness(path: str | os.PathLike, *, kind: str | None = None) -> RoughnessSet:
+    """Read a ``.csv`` or ``.npz`` roughness file, chosen by its suffix."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".csv":
+        return read_csv(path, kind=kind)
+    if suffix == ".npz":
+        return read_npz(path)
+    raise WheelrailError(f"{path}: unknown roughness file type {path.suffix!r}, allowed: .csv, .npz")
+
+
+def bundled_names() -> list[str]:
+    """Names of the bundled roughness sets (the ``.npz`` files of ``wheelrail.sample_data``)."""
+    folder = resources.files(SAMPLE_DATA_PACKAGE)
+    return sorted(entry.name[:-4] for entry in folder.iterdir() if entry.name.endswith(".npz"))
+
+
+def load_roughness(name_or_path: str | os.PathLike) -> RoughnessSet:
+    """A bundled set by name (see :func:`bundled_names`) or a user's ``.csv``/``.npz`` file by path.
+
+    A user file works everywhere a bundled set does.
+    """
+    text = str(name_or_path)
+    names = bundled_names()
+    if text in names:
+        resource = resources.files(SAMPLE_DATA_PACKAGE).joinpath(f"{text}.npz")
+        with resources.as_file(resource) as path:
+            return read_npz(path)
+    path = Path(text)
+    if path.suffix.lower() in (".csv", ".npz") or path.exists():
+        if not path.is_file():
+            problem = "is a folder, not a roughness file" if path.is_dir() else "roughness file not found"
+            raise WheelrailError(f"{text}: {problem} (bundled sets: {', '.join(names)})")
+        return read_roughness(path)
+    raise WheelrailError(
+        f"unknown roughness set {text!r}; bundled sets: {', '.join(names) or 'none'}; "
+        "or give the path of a .csv or .npz file"
+    )

@@ -1,0 +1,286 @@
+"""Building a run, in named steps: inputs checked, roughness along the track, history arrays, static equilibrium.
+
+``interaction.prepare_run`` composes them; each step is a function of what the previous ones returned, so
+a study or a test can reuse one (``usable_length`` is the one rule for margins and default lengths).
+
+Start-up (paper section 3.1 leaves it open): before step 0 the history is filled with the preload P, the
+wheel sits at the static approach of the chosen contact model plus the bay-averaged static rail deflection,
+and a run-in on smooth surfaces (``DEFAULT_RUN_IN``) lets the sleeper-passing response settle; the
+roughness is faded in over the first half of the run-in with a raised cosine and the run-in is discarded.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from wheelrail.core.checks import real
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import ModelEntry, ModelTraits, model_entry
+from wheelrail.core.parameters import ModelParameters, TrackNumerics
+
+__all__ = [
+    "DEFAULT_RUN_IN", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "History", "TrackRoughness", "checked_inputs",
+    "history_arrays", "roughness_along_track", "run_margin", "static_equilibrium", "usable_length", "window_lines",
+]
+
+WINDOW_HALF_WIDTH = 0.012  # m: half side of the 3D window and of the 2D bedding (2.2 a at 65 kN)
+DEFAULT_RUN_IN = 1.0  # m of smooth run-in before step 0 (discarded)
+RUN_MARGIN = 0.020  # m of roughness kept before the first and after the last wheel position
+
+
+def run_margin(element_size: float) -> float:
+    """Roughness kept before the first and after the last wheel position, m.
+
+    One margin for every model (the 3D window's half-width plus 4 elements, the bedding pre-filter's
+    3a = 16.4 mm within ``RUN_MARGIN``), so that runs of different models on the same data start at the same
+    position and compare sample by sample.
+    """
+    half_x = int(round(WINDOW_HALF_WIDTH / element_size))
+    return max(half_x + 4, int(math.ceil(RUN_MARGIN / element_size))) * element_size
+
+
+def usable_length(roughness, element_size: float) -> float:
+    """Longest run on a roughness set, m: the rail data less a ``run_margin`` at each end (every model can
+    run it), or one circumference for wheel data (it repeats). The default run length of ``prepare_run``
+    and of the studies.
+
+    Raises WheelrailError when rail data are too short for one element beyond the margins.
+    """
+    if roughness.periodic:
+        return float(roughness.length)
+    margin = run_margin(element_size)
+    span = (roughness.n_samples - 1) * roughness.dx
+    n_steps = math.floor((span - 2 * margin) / element_size + 1e-9)
+    if n_steps < 1:
+        raise WheelrailError(f"rail data of {span:g} m are too short for a run: the model keeps "
+                             f"{margin * 1e3:g} mm of roughness before and after the wheel")
+    return n_steps * element_size
+
+
+def checked_inputs(model: str, line, params: ModelParameters | None, run_in_length) -> tuple[ModelEntry,
+                                                                                          ModelParameters, int]:
+    """Step 1: the model's registry entry, the parameters (default: the paper's) and the line number."""
+    entry = model_entry(model)
+    params = ModelParameters() if params is None else params
+    if not isinstance(params, ModelParameters):
+        raise WheelrailError("params must be a wheelrail.core.parameters.ModelParameters")
+    if isinstance(line, bool) or not isinstance(line, int | np.integer):
+        raise WheelrailError(f"line must be an integer line number, got {line!r}")
+    real("run_in_length", run_in_length, "m", sign="nonnegative")
+    return entry, params, int(line)
+
+
+def resolve_roughness(roughness):
+    """A RoughnessSet and its name from a set, a bundled set name or a file path."""
+    from wheelrail.core.roughness import RoughnessSet, load_roughness
+
+    if isinstance(roughness, RoughnessSet):
+        return roughness, roughness.description.splitlines()[0] if roughness.description else "roughness"
+    if isinstance(roughness, str) or hasattr(roughness, "__fspath__"):
+        return load_roughness(roughness), str(roughness)
+    raise WheelrailError(f"roughness must be a RoughnessSet, a bundled set name or a file path, got {roughness!r}")
+
+
+@dataclass(frozen=True)
+class TrackRoughness:
+    """Step 2: the roughness the wheel meets, on the model grid along the track.
+
+    lines (rows, samples): the chosen line (one row) or the rows of a lateral window; ``centre_row`` is the
+    chosen line; ``window_y`` the rows' lateral offsets from it, m; sample ``first`` is under the wheel at
+    step 0, at ``x_start`` (m) from the start of the data; ``n_steps`` steps follow.
+    """
+
+    lines: np.ndarray
+    centre_row: int
+    window_y: np.ndarray
+    first: int
+    n_steps: int
+    element_size: float
+
+    @property
+    def x_start(self) -> float:
+        return self.first * self.element_size
+
+
+def _lateral_room(grid, y_line: float) -> float:
+    """Data across the rail on the narrower side of a line, m."""
+    return float(min(y_line - grid.y.min(), grid.y.max() - y_line))
+
+
+def _patch_room(params: ModelParameters, element_size: float) -> float:
+    """Data needed on each side of a line by a lateral window: the Hertz semi-axis at the preload rounded up
+    to the grid, plus one element that stays out of contact (the roughness widens the patch)."""
+    return (math.ceil(params.contact.hertz_radius() / element_size - 1e-9) + 1) * element_size
+
+
+def window_lines(roughness, params: ModelParameters | None = None) -> tuple[int, ...]:
+    """The lines a model with a lateral window (``3d``) can be centred on for this set and these parameters.
+
+    A line must fall on the lateral model grid (``element_size`` apart) and have data for the Hertz
+    semi-axis at the preload plus one element on both sides: nearer the edge of the set the window is cut
+    and the patch, widened by the roughness, reaches its edge mid-run (the bundled corrugated rail, 19 lines
+    over +-9 mm, allows lines -2..2 at 65 kN). The explorer and the command line offer only these.
+    """
+    from wheelrail.core.roughness import to_model_grid
+
+    params = ModelParameters() if params is None else params
+    dx = params.run.element_size
+    grid = to_model_grid(roughness, dx, dx)
+    need = _patch_room(params, dx)
+    usable = []
+    for line in roughness.line_numbers:
+        y_line = float(roughness.y[roughness.row_of_line(int(line))])
+        on_grid = np.any(np.abs(grid.y - y_line) <= 1e-9)
+        if on_grid and _lateral_room(grid, y_line) >= need - 1e-9:
+            usable.append(int(line))
+    return tuple(usable)
+
+
+def _window_rows(grid, y_line: float, line: int) -> tuple[list[int], np.ndarray, int]:
+    """Lines of the model grid within the lateral window around ``y_line``; their offsets; the centre row."""
+    keep = np.abs(grid.y - y_line) <= WINDOW_HALF_WIDTH + 1e-9
+    rows = np.nonzero(keep)[0]
+    if rows.size < 3:
+        raise WheelrailError("3d: the roughness set is too narrow for the contact window")
+    window_y = grid.y[rows] - y_line
+    centre = int(np.argmin(np.abs(window_y)))
+    if abs(window_y[centre]) > 1e-9:
+        raise WheelrailError(f"3d: line {line} does not fall on the 1 mm lateral grid")
+    return [grid.line_of_row(int(r)) for r in rows], window_y, centre
+
+
+def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelParameters,
+                          length: float | None) -> TrackRoughness:
+    """Step 2: the chosen line (or lateral window) on the model grid, long enough for the run and its margins."""
+    from wheelrail.core.roughness import lines_along_track, to_model_grid
+
+    numbers = list(rough.line_numbers)
+    if line not in numbers:
+        raise WheelrailError(f"line {line} is not in the roughness set (lines {min(numbers)}..{max(numbers)})")
+    dx = params.run.element_size
+    margin = run_margin(dx)
+    y_line = float(rough.y[rough.row_of_line(line)])
+    if traits.lateral_window:
+        grid = to_model_grid(rough, dx, dx)
+        usable = window_lines(rough, params)
+        if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):
+            contiguous = usable and usable[-1] - usable[0] == len(usable) - 1
+            allowed = (f"lines {usable[0]}..{usable[-1]}" if contiguous else
+                       f"lines {', '.join(map(str, usable))}" if usable else "no line")
+            raise WheelrailError(
+                f"3d: line {line} is too close to the side of the roughness data: the contact patch needs "
+                f"{_patch_room(params, dx) * 1e3:g} mm of data on each side of its line; this set allows "
+                f"{allowed} at {params.contact.preload / 1e3:g} kN"
+            )
+        wanted, window_y, centre_row = _window_rows(grid, y_line, line)
+    else:
+        grid = to_model_grid(rough, dx)
+        wanted, window_y, centre_row = [line], np.zeros(1), 0
+    if length is None:
+        length = usable_length(rough, dx)
+    length = real("run length", length, "m")
+    n_steps = int(round(length / dx))
+    if n_steps < 1:
+        raise WheelrailError(f"run length {length} m is shorter than one element ({dx} m)")
+    total_length = margin + n_steps * dx + margin
+    if not grid.periodic and total_length > grid.x[-1] + 1e-12:
+        raise WheelrailError(
+            f"run length {length:g} m plus the {margin * 1e3:.0f} mm window margins exceeds the "
+            f"{grid.x[-1]:g} m of rail roughness data; use --length-m <= {grid.x[-1] - 2 * margin:.3f}"
+        )
+    lines = lines_along_track(grid, wanted, total_length, dx)
+    if not np.all(np.isfinite(lines)):
+        raise WheelrailError("roughness contains NaN or infinite heights")
+    return TrackRoughness(lines=lines, centre_row=centre_row, window_y=window_y, first=int(round(margin / dx)),
+                          n_steps=n_steps, element_size=dx)
+
+
+@dataclass
+class History:
+    """Step 3: the loop's arrays (history index j = n_hist + s; s counts the run-in too).
+
+    The track part (``force``, ``lo``, ``hi``, ``frac``, ``weights``, ``acc``) and the wheel part (``phi``,
+    ``gamma0``, ``gamma1``, ``state``) are also held as the tuples ``track`` and ``wheel`` that the compiled
+    kernels take. ``xi_w0`` (static equilibrium, step 4) is set last.
+    """
+
+    dt: float
+    n_steps: int
+    n_run_in: int
+    n_hist: int  # lags before the first step (history prefilled with P)
+    force: np.ndarray  # (n_hist + n_run_in + n_steps,)
+    acc: np.ndarray  # rail displacement due to earlier forces, per history index (+ n_lags spare)
+    lo: np.ndarray  # excitation positions below and above each history index's rail position
+    hi: np.ndarray
+    frac: np.ndarray
+    weights: np.ndarray  # (positions, lags) first-order-hold weights of the moving Green's functions
+    phi: np.ndarray  # wheel's discrete-time system (wheel_discrete_system)
+    gamma0: np.ndarray
+    gamma1: np.ndarray
+    state: np.ndarray
+    ramp: np.ndarray  # (n_total,) roughness fade-in factor
+    start_index: np.ndarray  # (n_total,) sample index of the wheel centre in the roughness lines
+    xi_w0: float = 0.0
+
+    @property
+    def n_total(self) -> int:
+        return self.n_run_in + self.n_steps
+
+    @cached_property
+    def track(self) -> tuple:
+        return (self.force, self.lo, self.hi, self.frac, self.weights, self.acc)
+
+    @cached_property
+    def wheel(self) -> tuple:
+        return (self.phi, self.gamma0, self.gamma1, self.state)
+
+
+def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
+    ramp = np.ones(n_total)
+    if n_run_in:
+        fade = np.arange(n_run_in) / max(1, n_run_in // 2)
+        ramp[:n_run_in] = np.where(fade < 1, 0.5 - 0.5 * np.cos(np.pi * np.minimum(fade, 1)), 1.0)
+    return ramp
+
+
+def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run_in_length: float,
+                   track_numerics: TrackNumerics | None = None) -> History:
+    """Step 3: Green's functions and wheel system, positions in the bay, the preload's history (eqs. 1-2)."""
+    from wheelrail.core.interaction import _scatter_range
+    from wheelrail.core.track import moving_green_functions
+    from wheelrail.core.wheel import wheel_discrete_system
+
+    dx, dt = params.run.element_size, params.run.time_step
+    green = moving_green_functions(params.run.speed, params.track, track_numerics)
+    weights = np.ascontiguousarray(green.weights(dt))
+    n_lags = weights.shape[1]
+    phi, gamma0, gamma1 = wheel_discrete_system(params.wheel, dt)
+    n_steps = track_roughness.n_steps
+    n_run_in = int(round(run_in_length / dx))
+    n_hist = n_lags
+    n_total = n_run_in + n_steps
+    # rail position of history index j (sleeper at x = 0 of the roughness data)
+    x_hist = track_roughness.x_start + (np.arange(n_hist + n_total) - n_hist - n_run_in) * dx
+    n_positions = len(green.excitation_positions)
+    pos = np.mod(x_hist, green.sleeper_spacing) / green.sleeper_spacing * n_positions
+    lo = np.floor(pos).astype(np.int64) % n_positions
+    first = track_roughness.first
+    history = History(
+        dt=dt, n_steps=n_steps, n_run_in=n_run_in, n_hist=n_hist,
+        force=np.full(n_hist + n_total, params.contact.preload), acc=np.zeros(n_hist + n_total + n_lags),
+        lo=lo, hi=(lo + 1) % n_positions, frac=pos - np.floor(pos), weights=weights,
+        phi=phi, gamma0=gamma0, gamma1=gamma1, state=np.zeros(4), ramp=_fade_in(n_run_in, n_total),
+        start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
+    )
+    _scatter_range(0, n_hist, history.track)  # the preload's history
+    return history
+
+
+def static_equilibrium(static_approach: float, preload: float, weights: np.ndarray) -> float:
+    """Step 4: wheel position xi_W0 at rest: the model's static approach delta(P) above the bay-averaged
+    static rail deflection under the preload (eq. 1's xi_S(P)), m."""
+    return static_approach + preload * float(np.mean(weights.sum(axis=1)))

@@ -1,0 +1,80 @@
+"""``wheelrail filters`` (issue 14) and the ISO 3095 limit of ``wheelrail roughness``."""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from wheelrail.core.cli import main
+from wheelrail.core.reference_filters import CNOSSOS_A3, reference_filters
+
+
+def _run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_filters_json_layout(capsys):
+    code, out, err = _run(capsys, "filters", "--json", "--preload-kn", "50", "--wheel-radius-mm", "460")
+    assert code == 0 and err == ""
+    result = json.loads(out)  # strict JSON: undefined levels are null
+    assert len(result["wavelength_mm"]) == 35
+    assert result["wavelength_mm"][0] == pytest.approx(1995.26, rel=1e-5)  # nominal 2000 mm, exact base-10 centre
+    assert set(result["by_wavelength"]) == set(result["by_frequency"]) == {
+        "cnossos", "averaging", "patch-correlated", "patch-incoherent"}
+    # a tabulated case (50 kN, 920 mm) prints its CNOSSOS column exactly
+    assert result["by_wavelength"]["cnossos"] == pytest.approx(list(CNOSSOS_A3[(50e3, 0.92)]))
+    assert len(result["band_centres_hz"]) == 23 == len(result["by_frequency"]["averaging"])
+    a, b = result["semi_axes_m"]
+    assert a == pytest.approx(b) and a == pytest.approx(reference_filters(50e3, 0.46).semi_axes[0])
+    assert result["speed_m_s"] == pytest.approx(100 / 3.6)
+
+
+def test_filters_null_where_undefined(capsys):
+    code, out, _ = _run(capsys, "filters", "--json")  # the paper's 65 kN, R = 390 mm: interpolated CNOSSOS
+    assert code == 0
+    cnossos = json.loads(out)["by_wavelength"]["cnossos"]
+    assert cnossos[-1] is None and all(v is not None for v in cnossos[:-1])
+
+
+def test_filters_table_csv_and_plot(capsys, tmp_path):
+    table, figure = tmp_path / "f.csv", tmp_path / "f.png"
+    code, out, err = _run(capsys, "filters", "--speed-kmh", "140", "--csv", str(table), "--plot", str(figure))
+    assert code == 0 and err == "" and "at 140 km/h" in out and "patch-incoherent" in out
+    with open(table, newline="", encoding="utf-8") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [r["axis"] for r in rows].count("wavelength") == 35 and [r["axis"] for r in rows].count("frequency") == 23
+    assert rows[-1]["cnossos_db"] != "" and rows[34]["cnossos_db"] == ""  # 0.8 mm undefined after scaling
+    assert figure.stat().st_size > 10_000
+    assert not list(tmp_path.glob(".*"))  # atomic writes leave no temporary file
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--preload-kn", "0"], "--preload-kn must be a positive number in kN"),
+        (["--wheel-radius-mm", "nan"], "--wheel-radius-mm must be a positive number in mm"),
+        (["--speed-kmh", "-5"], "--speed-kmh must be a positive speed"),
+        (["--csv", "out.txt"], "must end in .csv"),
+        (["--plot", "/no/such/folder/f.png"], "does not exist"),
+    ],
+)
+def test_filters_bad_input_is_one_line(capsys, argv, message):
+    code, out, err = _run(capsys, "filters", *argv)
+    assert code == 2 and out == "" and message in err and err.count("\n") == 1
+
+
+def test_roughness_iso3095_margin_for_rail_sets(capsys, tmp_path):
+    code, out, _ = _run(capsys, "roughness", "--set", "corrugated-rail", "--json", "--plot", str(tmp_path / "r.png"))
+    assert code == 0
+    bands = json.loads(out)["wavelength_bands"]
+    labels, limit, margin = bands["band_labels_mm"], bands["iso3095_limit_db"], bands["iso3095_margin_db"]
+    assert labels[3] == "400" and limit[3] == pytest.approx(17.1) and limit[-1] == pytest.approx(-11.0)
+    assert limit[:3] == [None, None, None]  # 800 .. 500 mm: outside the standard's 400 .. 3.15 mm
+    levels = np.array([np.nan if v is None else v for v in bands["levels_db"]])
+    expected = np.array(limit[3:], dtype=float) - levels[3:]
+    np.testing.assert_allclose(np.array(margin[3:], dtype=float), expected, atol=1e-9)
+    code, out, _ = _run(capsys, "roughness", "--set", "cast-iron-wheel", "--json")
+    assert code == 0 and "iso3095_margin_db" not in json.loads(out)["wavelength_bands"]  # a rail limit only
