@@ -82,7 +82,8 @@ def run_memory_bytes(*, n_elements: float, n_steps: float, n_lines: int, window_
         Elements of each pressure map kept in the result (0 when none are kept).
     """
     per_element = STEP_BYTES + LINE_BYTES * n_lines + WINDOW_COLUMN_BYTES * window_columns
-    return float(per_element * n_elements + PRESSURE_BYTES * pressure_elements * n_steps)
+    maps = PRESSURE_BYTES * pressure_elements * n_steps if pressure_elements else 0.0  # no 0 * inf = nan
+    return float(per_element * n_elements + maps)
 
 
 def check_run_memory(entry, params, length, run_in_length, keep_pressure: bool) -> float:
@@ -119,7 +120,7 @@ def check_run_memory(entry, params, length, run_in_length, keep_pressure: bool) 
                               n_lines=n_lines, window_columns=width if traits.law == LAW_BEDDING else 0,
                               pressure_elements=maps)
     limit = memory_limit()
-    if needed > limit:
+    if not needed <= limit:
         kept = (f", of which {_gib(PRESSURE_BYTES * maps * n_steps)} are the pressure maps kept for the result"
                 if maps else "")
         raise WheelrailError(

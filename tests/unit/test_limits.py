@@ -51,8 +51,8 @@ def test_pressure_maps_count_only_when_kept(monkeypatch):
     entry, params = model_entry("3d"), ModelParameters()
     with pytest.raises(WheelrailError, match="2.33 GiB are the pressure maps kept"):
         limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=True)
-    dropped = limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=False)
-    assert dropped == pytest.approx((1000 + 0.032 + 1.0) / 1e-3 * (200 + 16 * 25))
+    dropped = limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=False)  # 20 mm margins, 1 m run-in
+    assert dropped == pytest.approx((1000 + 2 * 0.020 + 1.0) / 1e-3 * (200 + 16 * 25))
     monkeypatch.setenv(limits.MEMORY_LIMIT_ENV, "8")
     assert limits.memory_limit() == 8 * 1024**3
     assert limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=True) > dropped
