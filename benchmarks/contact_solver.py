@@ -1,4 +1,4 @@
-"""Speed of one static 3D normal-contact solve: wheelrail vs tamaas vs Hertz (SPEC.md §6).
+"""Speed of one static 3D normal-contact solve: wheelrail vs tamaas vs Hertz.
 
 Problem: crossed cylinders of equal radius R = 0.39 m (sphere on a flat), E = 210 GPa, nu = 0.3, 65 kN,
 on the 1 mm window (24 x 24) and the 0.5 mm window (48 x 48). For each window:

@@ -12,7 +12,7 @@ explorer drawing, to compare with benchmarks/interaction.py.
 --browser (needs /usr/bin/chromium and playwright): the same press in a headless Chromium page, timed in
 the page from the click to the moment the page's scene holds a new patch (received, before WebGL draws
 it; headless Chromium renders WebGL in software, slowly, so the figure is pessimistic).
-Target (SPEC.md §6): press Run to first frame < 1 s.
+Target: press Run to first frame < 1 s.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ pressure map recorded and with every 10th; and writes the same run in one go wit
 the time per step against passing the states to a no-op callback, and the file size per 1 000 steps.
 
 Part 2 runs the real 3D model on the corrugated rail (line 0, 100 km/h, paper defaults) over L m, without
-recording, with a no-op per-step callback, and recording every step to a .rrd file (SPEC.md §6 target:
+recording, with a no-op per-step callback, and recording every step to a .rrd file (target:
 recording adds < 30 %). Green's functions come from the disk cache (the first run ever precomputes them).
 """
 
@@ -28,6 +28,7 @@ import numpy as np
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.recording import RecordingSink, read_recording, record_result
 from wheelrail.core.results import RunHeader, RunResult
+from wheelrail.core.roughness import load_roughness
 
 DT = 1e-3 / (100 / 3.6)  # s: 1 mm at 100 km/h
 
@@ -52,8 +53,13 @@ def synthetic_run(n: int) -> RunResult:
 
 
 def stream(result: RunResult, path: Path | None, record_every: int = 1) -> float:
-    """Seconds to pass every step's StepState to a sink (or to a no-op callback when path is None)."""
+    """Seconds to pass every step's StepState to a sink (or to a no-op callback when path is None).
+
+    The sink records roughness/lines of the run's set, as ``wheelrail run`` does (the set is loaded before
+    the clock starts, as the command has it before the run).
+    """
     states = [result.state(k) for k in range(result.n_steps)]  # made beforehand: the loop makes them anyway
+    roughness = load_roughness(result.roughness_name)
     start = time.perf_counter()
     if path is None:
         sink = lambda state: None  # noqa: E731 - the baseline: a callback that does nothing
@@ -61,7 +67,7 @@ def stream(result: RunResult, path: Path | None, record_every: int = 1) -> float
             sink(state)
     else:
         sink = RecordingSink(rrd=path, record_every=record_every)
-        sink.start(result)
+        sink.start(result, roughness=roughness)
         for state in states:
             sink(state)
         sink.finish(result)
@@ -80,8 +86,9 @@ def part_synthetic(n: int, folder: Path) -> None:
         size = path.stat().st_size
         print(f"  RecordingSink, pressure every {every:<3d}   {seconds / n * 1e6:8.2f} us/step   "
               f"{size / n * 1e3 / 1e6:6.2f} MB per 1 000 steps")
+    roughness = load_roughness(result.roughness_name)
     start = time.perf_counter()
-    path = record_result(result, folder / "whole.rrd")
+    path = record_result(result, folder / "whole.rrd", roughness=roughness)
     seconds = time.perf_counter() - start
     print(f"  record_result (whole run at once)  {seconds / n * 1e6:8.2f} us/step   "
           f"{path.stat().st_size / n * 1e3 / 1e6:6.2f} MB per 1 000 steps")
@@ -96,6 +103,8 @@ def part_synthetic(n: int, folder: Path) -> None:
 def part_real(length: float, folder: Path, repeat: int) -> None:
     from wheelrail.core.interaction import prepare_run
 
+    roughness = load_roughness("corrugated-rail")
+
     def timed(callback_kind: str) -> tuple[float, int]:
         run = prepare_run("corrugated-rail", model="3d", length=length)
         sink = None
@@ -103,7 +112,7 @@ def part_real(length: float, folder: Path, repeat: int) -> None:
             sink = RecordingSink(rrd=folder / "real.rrd", description="3d corrugated-rail line 0 (benchmark)")
         start = time.perf_counter()
         if sink is not None:
-            sink.start(run)
+            sink.start(run, roughness=roughness)
             result = run.run(sink)
             sink.finish(result)
         elif callback_kind == "noop":

@@ -1,7 +1,7 @@
 """The `filters` study (paper Fig. 10): wall time per set and for all four bundled sets, 1 vs 2 workers.
 
 Run: python3 benchmarks/study_filters.py
-Target (SPEC.md §6): the `filters` study on all four bundled sets < 60 s on 2 cores.
+Target: the `filters` study on all four bundled sets < 60 s on 2 cores.
 
 Each set: 7 lines (-3..3) x 4 one-line models + one 3D run, all over the whole set (rail 7.96 m, wheels
 one 2.9 m turn) at 100 km/h; 116 runs for the four sets. Every measurement writes into a fresh folder,

@@ -1,4 +1,4 @@
-"""The one error type users see: a clear, one-line message (SPEC.md §7)."""
+"""The one error type users see: a clear, one-line message (README, Errors)."""
 
 
 class WheelrailError(ValueError):

@@ -50,6 +50,7 @@ from wheelrail.core.run_setup import (
     run_margin,
     static_equilibrium,
     usable_length,
+    window_half_elements,
     window_lines,
 )
 
@@ -127,7 +128,8 @@ def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
 def _law(law, approach_known, compliance, roughness, s, shape, constants):
     """A compiled law (models.LAW_*) at step s: (F, contact length, contact area, reached the window's end)."""
     if law == LAW_HERTZ:
-        f, length, area = _hertz_law(approach_known, compliance, roughness[s, 0], constants[0], constants[1])
+        f, length, area = _hertz_law(approach_known, compliance, roughness[s, 0], constants[0], constants[1],
+                                     constants[2])
         return f, length, area, False
     return _bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
 
@@ -212,6 +214,10 @@ class InteractionRun:
     @property
     def roughness_name(self) -> str:
         return self.header.roughness_name
+
+    @property
+    def wheel_roughness_name(self) -> str | None:
+        return self.header.wheel_roughness_name
 
     @property
     def dx(self) -> float:
@@ -355,6 +361,7 @@ class InteractionRun:
 def prepare_run(
     roughness,
     *,
+    wheel_roughness=None,
     model: str = "hertz",
     line: int = 0,
     params: ModelParameters | None = None,
@@ -368,9 +375,14 @@ def prepare_run(
     Parameters
     ----------
     roughness : RoughnessSet, str or path
-        Combined roughness r = r_W - r_R as a set of lines (a bundled set name, a CSV/NPZ path, or a
-        ``RoughnessSet``); one set is used at a time, the other surface being smooth (paper 3.3). Heights
-        are taken positive where the surface stands out, so for either kind r = height.
+        Roughness as a set of lines (a bundled set name, a CSV/NPZ path, or a ``RoughnessSet``): a rail set
+        or a wheel set, the other surface smooth (paper 3.3), or the rail set when ``wheel_roughness`` is
+        given. Heights are taken positive where the surface stands out, so for either kind r = height.
+    wheel_roughness : RoughnessSet, str or path, optional
+        A wheel set on the same wheel: the combined roughness r = r_rail + r_wheel (paper eq. 3's
+        r = r_W - r_R with z downwards). Each set on the model grid at its own lateral positions, centred on
+        its own ``line``; the wheel's lines repeat with its circumference. ``roughness`` must then be a rail
+        set and this a wheel set (else one WheelrailError).
     model : str
         A registered contact model (``wheelrail.core.models.model_names()``).
     line : int
@@ -393,13 +405,14 @@ def prepare_run(
     """
     entry, params, line = checked_inputs(model, line, params, run_in_length)
     rough, name = resolve_roughness(roughness)
+    wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
     dx = params.run.element_size
     check_run_memory(entry, params, usable_length(rough, dx) if length is None else length, run_in_length,
                      keep_pressure)
-    track = roughness_along_track(rough, entry.traits, line, params, length)
+    track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     history = history_arrays(track, params, run_in_length, track_numerics)
     header = RunHeader(model=entry.name, line=line, roughness_name=name, params=params,
-                       run_in_length=history.n_run_in * dx)
+                       run_in_length=history.n_run_in * dx, wheel_roughness_name=wheel_name)
     contact = entry.create()
 
     def position_of(s: int) -> float:
@@ -407,7 +420,7 @@ def prepare_run(
 
     static_approach = contact.prepare(ModelInputs(
         params=params, element_size=dx, lines=track.lines, centre_row=track.centre_row, window_y=track.window_y,
-        half_x=int(round(WINDOW_HALF_WIDTH / dx)), start_index=history.start_index, ramp=history.ramp,
+        half_x=window_half_elements(params)[0], start_index=history.start_index, ramp=history.ramp,
         position_of=position_of,
     ))
     history.xi_w0 = static_equilibrium(static_approach, params.contact.preload, history.weights)

@@ -126,9 +126,10 @@ class ModelInputs:
 class LawInputs:
     """Inputs of a compiled law for every step: ``roughness[s]`` (row of floats), ``shape``, ``constants``.
 
-    LAW_HERTZ: roughness (n_total, 1) = r_eq faded in; shape unused; constants = (C_H, R).
+    LAW_HERTZ: roughness (n_total, 1) = r_eq faded in; shape unused; constants = (C, rho_x, rho_y) (the Hertz
+    constant and ``ContactParameters.patch_radii``: (C_H, R, R) for the paper's circle).
     LAW_BEDDING: roughness (n_total, 2 half_x + 1) = r under the bedding; shape = wheel profile x'^2/(2 R_m);
-    constants = (k dx, dx).
+    constants = (k dx, dx) (``contact.winkler.calibrated_bedding``).
     """
 
     roughness: np.ndarray

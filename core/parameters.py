@@ -3,7 +3,7 @@
 Every class validates itself on construction (``__post_init__``) and rejects a non-positive or
 non-finite mass, stiffness, damping, speed, preload or element size with a :class:`WheelrailError`
 that names the parameter and its unit. Defaults are those of Pieringer, Kropp & Thompson (2011),
-sections 2.1-2.3 and 3, and SPEC.md §2.
+sections 2.1-2.3 and 3.
 """
 
 from __future__ import annotations
@@ -16,6 +16,26 @@ from wheelrail.core.checks import integer, real
 from wheelrail.core.errors import WheelrailError
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
+
+# Accepted train speeds (``RunParameters.speed``): the range over which the interaction loop is shown stable
+# (FOH_MAX_STEP; smooth-rail speed scans in tests/physics/test_stability.py and benchmarks/speed_scan.py).
+# Below MIN_SPEED_KMH steps get so long (7.2 ms at 0.5 km/h: 8 lags) that the 50 ms truncation of the
+# trapezoidal weights matters and the loop chattered again at 0.5 km/h. MAX_SPEED_KMH is the reach of the
+# cached track responses (``TrackNumerics.max_speed``).
+MIN_SPEED_KMH = 5.0
+MAX_SPEED_KMH = 400.0
+
+# Longest loop time step (s) at which wheel (eq. 1) and rail (eq. 2) are discretised with a first-order hold
+# (exact for a force linear between steps). A longer step (below 14.4 km/h at 1 mm) uses the trapezoidal rule
+# (Newmark average acceleration) for both instead: the first-order hold's sampled compliance at the Nyquist
+# frequency 1/(2 dt) is a positive mix of the receptance's real part there, which is negative (mass-like)
+# above the track's resonances, and when it outweighs the contact's own compliance the implicit contact
+# update diverges with period two steps (2.6-3.5 and 6.8-6.9 km/h on the paper's track: Nyquist frequency
+# just above the rail-on-pad and the pinned-pinned resonances). The trapezoidal rule maps the continuous
+# coupled system onto the discrete one conformally (s = 2/dt (z - 1)/(z + 1)), so the discrete loop is
+# stable wherever the physical system is; at the Nyquist frequency its compliance is that at infinite
+# frequency, zero.
+FOH_MAX_STEP = 0.25e-3
 
 
 def reduced_modulus(youngs_modulus: float, poisson_ratio: float) -> float:
@@ -30,6 +50,75 @@ def reduced_modulus(youngs_modulus: float, poisson_ratio: float) -> float:
 def hertz_constant(youngs_modulus: float, poisson_ratio: float, radius: float) -> float:
     """C_H = (2/3) E / (1 - nu^2) sqrt(R) = (4/3) E* sqrt(R) of eq. (13), N/m^1.5 (9.608e10 at the defaults)."""
     return 4.0 / 3.0 * reduced_modulus(youngs_modulus, poisson_ratio) * math.sqrt(radius)
+
+
+class HertzContact(typing.NamedTuple):
+    """Hertz's solution for two bodies whose undeformed gap is x^2 / (2 R_x) + y^2 / (2 R_y).
+
+    ``semi_axis_along`` a (along x, the rail) and ``semi_axis_across`` b (across, y), m; ``peak_pressure``
+    p0, Pa; ``approach`` delta, m; ``constant`` C of F = C delta^1.5, N/m^1.5. Both semi-axes grow as
+    sqrt(delta), so ``radius_along`` = a^2 / delta and ``radius_across`` = b^2 / delta (m) give them at any
+    approach (both are R for a circle: a = sqrt(R delta)).
+    """
+
+    semi_axis_along: float
+    semi_axis_across: float
+    peak_pressure: float
+    approach: float
+    constant: float
+
+    @property
+    def radius_along(self) -> float:
+        return self.semi_axis_along**2 / self.approach
+
+    @property
+    def radius_across(self) -> float:
+        return self.semi_axis_across**2 / self.approach
+
+
+def _ellipse_eccentricity(ratio: float) -> float:
+    """m = e^2 = 1 - (b/a)^2 of the ellipse whose curvature ratio is ``ratio`` = B / A >= 1 (Johnson, Contact
+    Mechanics, eq. 4.39a: B/A = ((a/b)^2 E(e) - K(e)) / (K(e) - E(e)), a >= b). Written with Carlson's R_D,
+    (K - E)/m = R_D(0, 1-m, 1)/3 and (E - (1-m) K)/m = (1-m) R_D(0, 1, 1-m)/3, which do not cancel near
+    the circle; solved for k = b/a by Brent's method to round-off."""
+    from scipy.optimize import brentq
+    from scipy.special import elliprd
+
+    def excess(k: float) -> float:  # B/A - ratio as a function of k = b/a (1 at k = 1, growing as k falls)
+        k2 = k * k
+        return elliprd(0.0, 1.0, k2) / elliprd(0.0, k2, 1.0) - ratio
+
+    k = brentq(excess, 1e-9, 1.0, xtol=1e-17, rtol=1e-15, maxiter=200)
+    return 1.0 - float(k) * float(k)
+
+
+def elliptic_hertz(load: float, radius_x: float, radius_y: float, modulus: float) -> HertzContact:
+    """Hertz's elliptic contact (Johnson, Contact Mechanics, section 4.2) under ``load`` (N) for the relative
+    radii of curvature ``radius_x`` along the rail and ``radius_y`` across it (m) and E* = ``modulus`` (Pa).
+
+    With A = 1/(2 R) the smaller and B the larger relative curvature, the major semi-axis a lies along A's
+    direction and, for m = e^2 = 1 - (b/a)^2 (eq. 4.39a fixes it from B/A),
+    a^3 = 3 P (K - E) / (2 pi m A E*),  p0 = 3 P / (2 pi a b),  delta = p0 b K(e) / E*  (eqs. 4.36-4.38),
+    and C = P / delta^1.5. Equal radii give the circle, a = b = (3 P R / (4 E*))^(1/3), delta = a^2 / R,
+    C = (4/3) E* sqrt(R) (computed with those closed forms, so the paper's case is unchanged to the bit).
+    """
+    if radius_x == radius_y:
+        a = (3.0 * load * radius_x / (4.0 * modulus)) ** (1.0 / 3.0)
+        constant = 4.0 / 3.0 * modulus * math.sqrt(radius_x)
+        return HertzContact(a, a, 3.0 * load / (2.0 * math.pi * a**2), (load / constant) ** (2.0 / 3.0), constant)
+    from scipy.special import ellipk, elliprd
+
+    r_major, r_minor = max(radius_x, radius_y), min(radius_x, radius_y)
+    m = _ellipse_eccentricity(r_major / r_minor)
+    curvature = 1.0 / (2.0 * r_major)
+    k_minus_e_over_m = elliprd(0.0, 1.0 - m, 1.0) / 3.0
+    major = (3.0 * load * k_minus_e_over_m / (2.0 * math.pi * curvature * modulus)) ** (1.0 / 3.0)
+    major = float(major)
+    minor = major * math.sqrt(1.0 - m)
+    p0 = 3.0 * load / (2.0 * math.pi * major * minor)
+    approach = p0 * minor * float(ellipk(m)) / modulus
+    a, b = (major, minor) if radius_x >= radius_y else (minor, major)
+    return HertzContact(a, b, p0, approach, load / approach**1.5)
 
 
 def _check(owner: object, name: str, unit: str, *, allow_zero: bool = False) -> None:
@@ -173,7 +262,8 @@ class TrackNumerics:
         wavelength up to 8 kHz).
     positions_per_bay : int
         Excitation positions x0 per bay at which Green's functions are computed, on FE nodes (it must
-        divide ``elements_per_bay``); positions in between are interpolated linearly (16: every 40.6 mm).
+        divide ``elements_per_bay``; 16: every 40.6 mm); in between they are interpolated trigonometrically
+        (refined 4 times, ``track.BAY_REFINEMENT``), then linearly.
         A load between nodes is not used: its early response converges slowly with the mesh (at 16
         elements per bay the first-step compliance of a mid-element load is 42 % below the converged
         value, a node's 1.5 %), which would modulate the contact at the element-passing frequency.
@@ -192,7 +282,7 @@ class TrackNumerics:
     positions_per_bay: int = 16
     time_step: float = 5e-6
     duration: float = 0.05
-    max_speed: float = 300.0 * KMH
+    max_speed: float = MAX_SPEED_KMH * KMH
     store_every: int = 2
 
     def __post_init__(self) -> None:
@@ -218,23 +308,41 @@ class TrackNumerics:
 class ContactParameters:
     """Contact material and geometry (paper sections 2.3 and 3).
 
+    The undeformed gap between wheel and rail near the contact point is x^2 / (2 R_x) + y^2 / (2 R_y)
+    (x along the rail, y across it), with the relative radii R_x = ``wheel_radius`` (the rail is straight)
+    and 1 / R_y = 1 / ``rail_crown_radius`` + 1 / ``wheel_transverse_radius``. The paper's case is the
+    default: both radii R = ``radius`` and a cylindrical tread (a sphere of radius R on a flat, a circular
+    patch).
+
     Attributes
     ----------
     youngs_modulus : float
-        E of wheel and rail (same material), Pa.
+        E of wheel and rail (same material), Pa. 210 GPa (steel): the paper gives neither E nor nu; these
+        common values for steel reproduce its stated a = 5.48 mm at 65 kN with R = 0.39 m.
     poisson_ratio : float
-        nu, dimensionless, 0 <= nu < 0.5.
+        nu, dimensionless, 0 <= nu < 0.5; 0.3 (steel; see ``youngs_modulus``).
     radius : float
-        R, wheel rolling radius = transverse radius of the railhead, m. Crossed cylinders of equal
-        radius R have the gap (x^2 + y^2) / (2R): a sphere of radius R on a flat.
+        R, the paper's single radius, m: the default of ``wheel_radius`` and ``rail_crown_radius`` (files
+        written before those existed carry only this one).
     preload : float
         P, static wheel load, N.
+    wheel_radius : float or None
+        Wheel rolling radius (curvature along the rail), m; None: ``radius``.
+    rail_crown_radius : float or None
+        Transverse radius of the rail head (curvature across, convex), m; None: ``radius``.
+    wheel_transverse_radius : float
+        Transverse radius of the wheel tread, m: infinite (a cylindrical/conical tread, the default; None
+        reads as infinite), negative for a concave (worn, hollow) tread. The relative curvature across,
+        1 / rail_crown_radius + 1 / wheel_transverse_radius, must stay positive.
     """
 
     youngs_modulus: float = 210e9
     poisson_ratio: float = 0.3
     radius: float = 0.39
     preload: float = 65e3
+    wheel_radius: float | None = None
+    rail_crown_radius: float | None = None
+    wheel_transverse_radius: float | None = math.inf
 
     def __post_init__(self) -> None:
         _check(self, "youngs_modulus", "Pa")
@@ -243,41 +351,105 @@ class ContactParameters:
         nu = self.poisson_ratio
         if not (isinstance(nu, int | float) and math.isfinite(nu) and 0.0 <= nu < 0.5):
             raise WheelrailError(f"ContactParameters.poisson_ratio must be in [0, 0.5), got {nu!r}")
+        for name in ("wheel_radius", "rail_crown_radius"):
+            if getattr(self, name) is not None:
+                _check(self, name, "m")
+        transverse = self.wheel_transverse_radius
+        if transverse is None:  # JSON has no infinity: a written file says null
+            object.__setattr__(self, "wheel_transverse_radius", math.inf)
+        elif not (isinstance(transverse, int | float) and not isinstance(transverse, bool)
+                  and not math.isnan(transverse) and transverse != 0.0):
+            raise WheelrailError(
+                "ContactParameters.wheel_transverse_radius must be a non-zero radius in m (inf: cylindrical "
+                f"tread, negative: concave), got {transverse!r}"
+            )
+        crown = self.rail_crown_radius if self.rail_crown_radius is not None else self.radius
+        if math.isfinite(self.wheel_transverse_radius) and 1.0 / crown + 1.0 / self.wheel_transverse_radius <= 0.0:
+            raise WheelrailError(
+                f"ContactParameters: a concave wheel tread of radius {-self.wheel_transverse_radius:g} m on a rail "
+                f"crown of radius {crown:g} m conforms (or overlaps) across the rail: the relative curvature "
+                "1/rail_crown_radius + 1/wheel_transverse_radius must be positive (the tread's radius larger "
+                "than the crown's)"
+            )
+
+    @property
+    def radius_along(self) -> float:
+        """R_x, relative radius of curvature along the rail: the wheel's rolling radius, m."""
+        return self.radius if self.wheel_radius is None else float(self.wheel_radius)
+
+    @property
+    def radius_across(self) -> float:
+        """R_y, relative radius of curvature across the rail, 1 / (1/R_crown + 1/R_tread), m."""
+        crown = self.radius if self.rail_crown_radius is None else float(self.rail_crown_radius)
+        if math.isinf(self.wheel_transverse_radius):
+            return crown
+        return 1.0 / (1.0 / crown + 1.0 / self.wheel_transverse_radius)
+
+    @property
+    def circular(self) -> bool:
+        """The patch is a circle (R_x = R_y, the paper's case)."""
+        return self.radius_along == self.radius_across
 
     @property
     def reduced_modulus(self) -> float:
         """E* = E / (2 (1 - nu^2)) for two bodies of the same material, Pa."""
         return reduced_modulus(self.youngs_modulus, self.poisson_ratio)
 
+    def hertz(self, load: float | None = None) -> HertzContact:
+        """Hertz's (elliptic) contact of these radii under ``load`` (default the preload): :func:`elliptic_hertz`."""
+        load = self.preload if load is None else load
+        return elliptic_hertz(load, self.radius_along, self.radius_across, self.reduced_modulus)
+
     @property
     def hertz_constant(self) -> float:
-        """C_H = (2/3) E / (1 - nu^2) sqrt(R) of eq. (13), N/m^1.5."""
-        return hertz_constant(self.youngs_modulus, self.poisson_ratio, self.radius)
+        """C of F = C delta^1.5, N/m^1.5: (2/3) E / (1 - nu^2) sqrt(R) of eq. (13) for the paper's circle."""
+        if self.circular:
+            return hertz_constant(self.youngs_modulus, self.poisson_ratio, self.radius_along)
+        return self.hertz().constant
+
+    def patch_radii(self) -> tuple[float, float]:
+        """(rho_x, rho_y) with the Hertz semi-axes a = sqrt(rho_x delta), b = sqrt(rho_y delta) at any approach
+        delta, m: (R, R) for the paper's circle, a^2 / delta and b^2 / delta of :func:`elliptic_hertz` else."""
+        if self.circular:
+            return self.radius_along, self.radius_along
+        contact = self.hertz()
+        return contact.radius_along, contact.radius_across
+
+    def hertz_semi_axes(self, load: float | None = None) -> tuple[float, float]:
+        """Hertz semi-axes (a along the rail, b across it), m (5.48 mm each at the defaults)."""
+        contact = self.hertz(load)
+        return contact.semi_axis_along, contact.semi_axis_across
 
     def hertz_radius(self, load: float | None = None) -> float:
-        """Hertz contact radius a = (3 P R / (4 E*))^(1/3), m (5.48 mm at the defaults)."""
+        """Hertz contact radius a = (3 P R / (4 E*))^(1/3), m (5.48 mm at the defaults); for an elliptic patch
+        the radius of the circle of the same area, sqrt(a b)."""
         load = self.preload if load is None else load
-        return (3.0 * load * self.radius / (4.0 * self.reduced_modulus)) ** (1.0 / 3.0)
+        if self.circular:
+            return (3.0 * load * self.radius_along / (4.0 * self.reduced_modulus)) ** (1.0 / 3.0)
+        a, b = self.hertz_semi_axes(load)
+        return math.sqrt(a * b)
 
     def hertz_approach(self, load: float | None = None) -> float:
-        """Hertz approach delta = (P / C_H)^(2/3), m (77.07 um at the defaults)."""
+        """Hertz approach delta = (P / C)^(2/3), m (77.07 um at the defaults)."""
         load = self.preload if load is None else load
         return (load / self.hertz_constant) ** (2.0 / 3.0)
 
     def hertz_peak_pressure(self, load: float | None = None) -> float:
-        """Hertz peak pressure p0 = 3 P / (2 pi a^2), Pa (1032.6 MPa at the defaults)."""
+        """Hertz peak pressure p0 = 3 P / (2 pi a b), Pa (1032.6 MPa at the defaults)."""
         load = self.preload if load is None else load
-        return 3.0 * load / (2.0 * math.pi * self.hertz_radius(load) ** 2)
+        if self.circular:
+            return 3.0 * load / (2.0 * math.pi * self.hertz_radius(load) ** 2)
+        return self.hertz(load).peak_pressure
 
 
 @dataclass(frozen=True, kw_only=True)
 class RunParameters:
-    """Stepping of a run: train speed and element size (dt = element_size / speed, SPEC.md §2).
+    """Stepping of a run: train speed and element size (dt = element_size / speed).
 
     Attributes
     ----------
     speed : float
-        v, train speed, m/s (100 km/h in the paper).
+        v, train speed, m/s (100 km/h in the paper); MIN_SPEED_KMH to MAX_SPEED_KMH.
     element_size : float
         Delta x, contact element length and step length along the rail, m (1 mm).
     """
@@ -288,6 +460,12 @@ class RunParameters:
     def __post_init__(self) -> None:
         _check(self, "speed", "m/s")
         _check(self, "element_size", "m")
+        kmh = float(self.speed) / KMH
+        if not MIN_SPEED_KMH * (1 - 1e-12) <= kmh <= MAX_SPEED_KMH * (1 + 1e-12):
+            raise WheelrailError(
+                f"train speed {kmh:.6g} km/h is outside the accepted {MIN_SPEED_KMH:g}-{MAX_SPEED_KMH:g} km/h "
+                f"(RunParameters.speed {float(self.speed):.6g} m/s)"
+            )
 
     @property
     def time_step(self) -> float:

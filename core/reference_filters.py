@@ -105,16 +105,17 @@ def _positive(value, name: str, unit: str) -> float:
 def hertz_semi_axes(contact: ContactParameters, load: float | None = None) -> tuple[float, float]:
     """Contact semi-axes (a along the rail, b across), m, of the Hertz contact of ``contact`` at ``load`` N.
 
-    ``ContactParameters`` describes a circular contact (wheel rolling radius = transverse railhead radius,
-    a sphere of radius R on a flat), so a = b = :meth:`ContactParameters.hertz_radius` (5.48 mm at the
-    paper's 65 kN and R = 0.39 m).
+    :meth:`ContactParameters.hertz_semi_axes`: a follows the wheel's rolling radius, b the relative radius
+    across (rail crown and tread); the paper's circle (both radii 0.39 m) gives a = b = 5.48 mm at 65 kN.
     """
-    radius = contact.hertz_radius(contact.preload if load is None else _positive(load, "load", "N"))
-    return radius, radius
+    return contact.hertz_semi_axes(contact.preload if load is None else _positive(load, "load", "N"))
 
 
 def _column_semi_axis(load: float, diameter: float, contact: ContactParameters) -> float:
-    return replace(contact, radius=0.5 * diameter, preload=load).hertz_radius()
+    """The rule's semi-axis of a column: the circular contact of radius D/2 (whatever ``contact``'s geometry)."""
+    circle = replace(contact, radius=0.5 * diameter, wheel_radius=None, rail_crown_radius=None,
+                     wheel_transverse_radius=math.inf, preload=load)
+    return circle.hertz_radius()
 
 
 def _shifted(column: tuple[float, ...], ratio: float) -> np.ndarray:
@@ -283,13 +284,17 @@ def reference_filters(
     speed : float, optional
         Train speed, m/s; omitted: wavelength bands only.
     contact : ContactParameters, optional
-        Material (E, nu) for the Hertz semi-axes (paper defaults); radius and preload are replaced.
+        Material (E, nu) and geometry across the rail for the Hertz semi-axes (paper defaults); its preload
+        and rolling radius are replaced by ``load`` and ``wheel_radius`` (and ``radius``, so that a rail
+        crown left unset follows the wheel: the circle of radius R); set ``rail_crown_radius`` (and
+        ``wheel_transverse_radius``) for the elliptic patch of a real wheel on a real rail.
     frequency_range : (float, float)
         Lowest and highest frequency band centre, Hz.
     """
     load = _positive(load, "wheel load", "N")
     wheel_radius = _positive(wheel_radius, "wheel radius", "m")
-    contact = replace(ContactParameters() if contact is None else contact, radius=wheel_radius, preload=load)
+    contact = replace(ContactParameters() if contact is None else contact, radius=wheel_radius,
+                      wheel_radius=wheel_radius, preload=load)
     a, b = hertz_semi_axes(contact)
     by_wavelength = {"cnossos": cnossos_filter(load, 2.0 * wheel_radius, contact)}
     lambda_bands = wavelength_bands()

@@ -35,6 +35,8 @@ class RunHeader:
         Every model parameter (SI): speed and element size are ``params.run``.
     run_in_length : float
         Length run before step 0 on smooth surfaces (discarded), m.
+    wheel_roughness_name : str or None
+        The wheel set added to the rail set ``roughness_name`` (combined roughness), or None: one set.
     """
 
     model: str
@@ -42,6 +44,7 @@ class RunHeader:
     roughness_name: str
     params: ModelParameters = field(default_factory=ModelParameters)
     run_in_length: float = 0.0
+    wheel_roughness_name: str | None = None
 
     @property
     def speed(self) -> float:
@@ -60,20 +63,26 @@ class RunHeader:
 
     def to_dict(self) -> dict:
         """Plain, JSON-ready view (keys carry their unit where it is not obvious)."""
-        return {
+        values = {
             "model": self.model, "line": self.line, "roughness": self.roughness_name,
             "speed_m_per_s": self.speed, "element_size_m": self.element_size, "time_step_s": self.time_step,
             "run_in_length_m": self.run_in_length, "parameters": as_dict(self.params),
         }
+        if self.wheel_roughness_name is not None:
+            values["wheel_roughness"] = self.wheel_roughness_name
+        return values
 
     @classmethod
     def from_dict(cls, values: dict) -> RunHeader:
-        """Inverse of :meth:`to_dict` (parameters validated again); a damaged header is a WheelrailError."""
+        """Inverse of :meth:`to_dict` (parameters validated again; headers written before a field existed read
+        with its default); a damaged header is a WheelrailError."""
+        wheel = values.get("wheel_roughness") if isinstance(values, dict) else None
         try:
             return cls(
                 model=str(values["model"]), line=int(values["line"]), roughness_name=str(values["roughness"]),
                 params=from_dict(ModelParameters, values.get("parameters", {})),
                 run_in_length=float(values.get("run_in_length_m", 0.0)),
+                wheel_roughness_name=None if wheel is None else str(wheel),
             )
         except (KeyError, TypeError, ValueError) as error:
             raise WheelrailError(f"run header is incomplete or damaged ({error!r})") from None
@@ -184,6 +193,10 @@ class RunResult:
     @property
     def run_in_length(self) -> float:
         return self.header.run_in_length
+
+    @property
+    def wheel_roughness_name(self) -> str | None:
+        return self.header.wheel_roughness_name
 
     @property
     def parameters(self) -> dict:

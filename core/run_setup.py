@@ -12,7 +12,7 @@ roughness is faded in over the first half of the run-in with a raised cosine and
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
@@ -23,27 +23,48 @@ from wheelrail.core.models import ModelEntry, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
 __all__ = [
-    "DEFAULT_RUN_IN", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "History", "TrackRoughness", "checked_inputs",
-    "history_arrays", "roughness_along_track", "run_margin", "static_equilibrium", "usable_length", "window_lines",
+    "DEFAULT_RUN_IN", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "WINDOW_SEMI_AXES", "History", "TrackRoughness",
+    "check_roughness_pair", "checked_inputs", "history_arrays", "roughness_along_track", "run_margin",
+    "static_equilibrium", "usable_length", "window_half_elements", "window_lines",
 ]
 
-WINDOW_HALF_WIDTH = 0.012  # m: half side of the 3D window and of the 2D bedding (2.2 a at 65 kN)
+WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
+WINDOW_SEMI_AXES = 2.2  # half side of the window in Hertz semi-axes at the preload (along and across)
 DEFAULT_RUN_IN = 1.0  # m of smooth run-in before step 0 (discarded)
 RUN_MARGIN = 0.020  # m of roughness kept before the first and after the last wheel position
 
 
-def run_margin(element_size: float) -> float:
+def window_half_elements(params: ModelParameters | None = None) -> tuple[int, int]:
+    """Half sides of the 3D window (and, along the rail, of the 2D bedding), elements: (along, across).
+
+    ``WINDOW_SEMI_AXES`` Hertz semi-axes at the preload (a along the rail, b across), never less than the
+    paper's window ``WINDOW_HALF_WIDTH`` (12 mm: the roughness widens the patch and the dynamic load
+    exceeds the preload; a light wheel keeps that room), so a long or a wide elliptic patch gets its own room.
+    """
+    params = ModelParameters() if params is None else params
+    dx = params.run.element_size
+    least = int(round(WINDOW_HALF_WIDTH / dx))
+    a, b = params.contact.hertz_semi_axes()
+    return max(least, int(round(WINDOW_SEMI_AXES * a / dx))), max(least, int(round(WINDOW_SEMI_AXES * b / dx)))
+
+
+def run_margin(element_size: float, params: ModelParameters | None = None) -> float:
     """Roughness kept before the first and after the last wheel position, m.
 
-    One margin for every model (the 3D window's half-width plus 4 elements, the bedding pre-filter's
-    3a = 16.4 mm within ``RUN_MARGIN``), so that runs of different models on the same data start at the same
-    position and compare sample by sample.
+    One margin for every model (the 3D window's half-width along the rail plus 4 elements, and the bedding
+    pre-filter's 3a (16.4 mm at the defaults), within ``RUN_MARGIN`` for the paper's geometry), so that runs of
+    different models on the same data start at the same position and compare sample by sample. ``params``
+    (default: the paper's, at this element size) sizes the window and a.
     """
-    half_x = int(round(WINDOW_HALF_WIDTH / element_size))
-    return max(half_x + 4, int(math.ceil(RUN_MARGIN / element_size))) * element_size
+    params = ModelParameters() if params is None else params
+    if params.run.element_size != element_size:
+        params = replace(params, run=replace(params.run, element_size=element_size))
+    half_x, _ = window_half_elements(params)
+    prefilter = int(math.ceil(3.0 * params.contact.hertz_semi_axes()[0] / element_size - 1e-9))
+    return max(half_x + 4, prefilter, int(math.ceil(RUN_MARGIN / element_size))) * element_size
 
 
-def usable_length(roughness, element_size: float) -> float:
+def usable_length(roughness, element_size: float, params: ModelParameters | None = None) -> float:
     """Longest run on a roughness set, m: the rail data less a ``run_margin`` at each end (every model can
     run it), or one circumference for wheel data (it repeats). The default run length of ``prepare_run``
     and of the studies.
@@ -52,7 +73,7 @@ def usable_length(roughness, element_size: float) -> float:
     """
     if roughness.periodic:
         return float(roughness.length)
-    margin = run_margin(element_size)
+    margin = run_margin(element_size, params)
     span = (roughness.n_samples - 1) * roughness.dx
     n_steps = math.floor((span - 2 * margin) / element_size + 1e-9)
     if n_steps < 1:
@@ -112,18 +133,20 @@ def _lateral_room(grid, y_line: float) -> float:
 
 
 def _patch_room(params: ModelParameters, element_size: float) -> float:
-    """Data needed on each side of a line by a lateral window: the Hertz semi-axis at the preload rounded up
-    to the grid, plus one element that stays out of contact (the roughness widens the patch)."""
-    return (math.ceil(params.contact.hertz_radius() / element_size - 1e-9) + 1) * element_size
+    """Data needed on each side of a line by a lateral window: the Hertz semi-axis across the rail (b) at the
+    preload rounded up to the grid, plus one element that stays out of contact (the roughness widens the patch)."""
+    _, b = params.contact.hertz_semi_axes()
+    return (math.ceil(b / element_size - 1e-9) + 1) * element_size
 
 
 def window_lines(roughness, params: ModelParameters | None = None) -> tuple[int, ...]:
     """The lines a model with a lateral window (``3d``) can be centred on for this set and these parameters.
 
     A line must fall on the lateral model grid (``element_size`` apart) and have data for the Hertz
-    semi-axis at the preload plus one element on both sides: nearer the edge of the set the window is cut
-    and the patch, widened by the roughness, reaches its edge mid-run (the bundled corrugated rail, 19 lines
-    over +-9 mm, allows lines -2..2 at 65 kN). The explorer and the command line offer only these.
+    semi-axis across the rail (b) at the preload plus one element on both sides: nearer the edge of the set
+    the window is cut and the patch, widened by the roughness, reaches its edge mid-run (the bundled
+    corrugated rail, 19 lines over +-9 mm, allows lines -2..2 at 65 kN). The explorer and the command line
+    offer only these.
     """
     from wheelrail.core.roughness import to_model_grid
 
@@ -140,9 +163,9 @@ def window_lines(roughness, params: ModelParameters | None = None) -> tuple[int,
     return tuple(usable)
 
 
-def _window_rows(grid, y_line: float, line: int) -> tuple[list[int], np.ndarray, int]:
-    """Lines of the model grid within the lateral window around ``y_line``; their offsets; the centre row."""
-    keep = np.abs(grid.y - y_line) <= WINDOW_HALF_WIDTH + 1e-9
+def _window_rows(grid, y_line: float, line: int, half_width: float) -> tuple[list[int], np.ndarray, int]:
+    """Lines of the model grid within ``half_width`` (m) across ``y_line``; their offsets; the centre row."""
+    keep = np.abs(grid.y - y_line) <= half_width + 1e-9
     rows = np.nonzero(keep)[0]
     if rows.size < 3:
         raise WheelrailError("3d: the roughness set is too narrow for the contact window")
@@ -153,35 +176,67 @@ def _window_rows(grid, y_line: float, line: int) -> tuple[list[int], np.ndarray,
     return [grid.line_of_row(int(r)) for r in rows], window_y, centre
 
 
-def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelParameters,
-                          length: float | None) -> TrackRoughness:
-    """Step 2: the chosen line (or lateral window) on the model grid, long enough for the run and its margins."""
-    from wheelrail.core.roughness import lines_along_track, to_model_grid
+def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters, what: str):
+    """The model grid of one set and its rows for ``line``: (grid, line numbers, offsets across, centre row)."""
+    from wheelrail.core.roughness import to_model_grid
 
     numbers = list(rough.line_numbers)
     if line not in numbers:
-        raise WheelrailError(f"line {line} is not in the roughness set (lines {min(numbers)}..{max(numbers)})")
+        raise WheelrailError(f"line {line} is not in the {what} (lines {min(numbers)}..{max(numbers)})")
     dx = params.run.element_size
-    margin = run_margin(dx)
     y_line = float(rough.y[rough.row_of_line(line)])
-    if traits.lateral_window:
-        grid = to_model_grid(rough, dx, dx)
-        usable = window_lines(rough, params)
-        if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):
-            contiguous = usable and usable[-1] - usable[0] == len(usable) - 1
-            allowed = (f"lines {usable[0]}..{usable[-1]}" if contiguous else
-                       f"lines {', '.join(map(str, usable))}" if usable else "no line")
-            raise WheelrailError(
-                f"3d: line {line} is too close to the side of the roughness data: the contact patch needs "
-                f"{_patch_room(params, dx) * 1e3:g} mm of data on each side of its line; this set allows "
-                f"{allowed} at {params.contact.preload / 1e3:g} kN"
-            )
-        wanted, window_y, centre_row = _window_rows(grid, y_line, line)
-    else:
-        grid = to_model_grid(rough, dx)
-        wanted, window_y, centre_row = [line], np.zeros(1), 0
+    if not traits.lateral_window:
+        return (to_model_grid(rough, dx), [line], np.zeros(1), 0)
+    grid = to_model_grid(rough, dx, dx)
+    usable = window_lines(rough, params)
+    if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):
+        contiguous = usable and usable[-1] - usable[0] == len(usable) - 1
+        allowed = (f"lines {usable[0]}..{usable[-1]}" if contiguous else
+                   f"lines {', '.join(map(str, usable))}" if usable else "no line")
+        raise WheelrailError(
+            f"3d: line {line} is too close to the side of the {'wheel ' if what.startswith('wheel') else ''}"
+            f"roughness data: the contact patch needs {_patch_room(params, dx) * 1e3:g} mm of data on each side "
+            f"of its line; this set allows {allowed} at {params.contact.preload / 1e3:g} kN"
+        )
+    return (grid, *_window_rows(grid, y_line, line, window_half_elements(params)[1] * dx))
+
+
+def check_roughness_pair(rail, wheel) -> None:
+    """Combined roughness takes a rail set and a wheel set: a set of the other kind is one WheelrailError."""
+    if wheel.kind != "wheel":
+        raise WheelrailError(f"the wheel roughness is a {wheel.kind} set (kind: {wheel.kind}); give a wheel set, "
+                             "or give this set as the rail roughness")
+    if rail.kind != "rail":
+        raise WheelrailError(f"with a wheel roughness, the rail roughness must be a rail set, got a {rail.kind} "
+                             "set (kind: wheel); give it as the wheel roughness")
+
+
+def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelParameters,
+                          length: float | None, wheel=None) -> TrackRoughness:
+    """Step 2: the chosen line (or lateral window) on the model grid, long enough for the run and its margins.
+
+    ``wheel`` (a wheel set, optional) is added to the rail set ``rough``: r = r_rail + r_wheel, heights
+    positive where a surface stands out (so a bump on either pushes wheel and rail together). Each set is
+    interpolated to the model grid at its own lateral positions, centred on its own line ``line``; the wheel's
+    lines repeat with its circumference along the track (its sample 0 at the start of the rail data). A 3D
+    window keeps the offsets both sets have data for.
+    """
+    from wheelrail.core.roughness import lines_along_track
+
+    dx = params.run.element_size
+    margin = run_margin(dx, params)
+    if wheel is not None:
+        check_roughness_pair(rough, wheel)
+    grid, wanted, window_y, centre_row = _rows_of(rough, traits, line, params, "roughness set")
+    if wheel is not None:
+        wheel_grid, wheel_wanted, wheel_y, _ = _rows_of(wheel, traits, line, params, "wheel roughness set")
+        common, rail_keep, wheel_keep = np.intersect1d(np.round(window_y / dx).astype(np.int64),
+                                                       np.round(wheel_y / dx).astype(np.int64), return_indices=True)
+        wanted, window_y = [wanted[i] for i in rail_keep], window_y[rail_keep]
+        wheel_wanted = [wheel_wanted[i] for i in wheel_keep]
+        centre_row = int(np.flatnonzero(common == 0)[0])
     if length is None:
-        length = usable_length(rough, dx)
+        length = usable_length(rough, dx, params)
     length = real("run length", length, "m")
     n_steps = int(round(length / dx))
     if n_steps < 1:
@@ -193,6 +248,8 @@ def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelPa
             f"{grid.x[-1]:g} m of rail roughness data; use --length-m <= {grid.x[-1] - 2 * margin:.3f}"
         )
     lines = lines_along_track(grid, wanted, total_length, dx)
+    if wheel is not None:
+        lines = lines + lines_along_track(wheel_grid, wheel_wanted, total_length, dx)
     if not np.all(np.isfinite(lines)):
         raise WheelrailError("roughness contains NaN or infinite heights")
     return TrackRoughness(lines=lines, centre_row=centre_row, window_y=window_y, first=int(round(margin / dx)),

@@ -137,7 +137,7 @@ def third_octave_spectrum(
 
     E.g. a contact-force time signal ``force`` (N) sampled every ``dt`` s:
     ``third_octave_spectrum(force, 1 / dt, (50, 8000), 1.0)`` gives the band centres (Hz) and the
-    levels in dB re 1 N of SPEC.md §4.
+    levels in dB re 1 N.
 
     Returns
     -------
@@ -239,7 +239,7 @@ def band_coherence(
     return out
 
 
-FORCE_REFERENCE = 1.0  # N: contact-force levels are in dB re 1 N (SPEC.md §4)
+FORCE_REFERENCE = 1.0  # N: contact-force levels are in dB re 1 N
 FORCE_BAND_RANGE = (50.0, 8000.0)  # Hz, band centres of the paper's force spectra (Figs 10-17)
 FORCE_SKIP = 0.02  # s, start of a run left out of force spectra (see force_spectrum)
 
@@ -251,7 +251,7 @@ def force_spectrum(
     skip: float = FORCE_SKIP,
     band_range: tuple[float, float] = FORCE_BAND_RANGE,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Third-octave band levels of the dynamic contact force, dB re 1 N (paper Figs 10-17, SPEC.md §4).
+    """Third-octave band levels of the dynamic contact force, dB re 1 N (paper Figs 10-17).
 
     Steps: (1) the first ``skip`` seconds are dropped (start-up); (2) the mean of the rest is removed, so
     only the dynamic part around the (pre)load is analysed; (3) one Hann-windowed FFT of the whole
@@ -319,3 +319,64 @@ def force_spectrum(
         )
     dynamic = force[first:] - force[first:].mean()
     return third_octave_spectrum(dynamic, 1.0 / time_step, band_range, FORCE_REFERENCE)
+
+
+def resolved_force_bands(
+    n_steps: int,
+    time_step: float,
+    *,
+    skip: float = FORCE_SKIP,
+    band_range: tuple[float, float] = FORCE_BAND_RANGE,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Which bands :func:`force_spectrum` resolves for a record of ``n_steps`` samples every ``time_step`` s.
+
+    A band is resolved when it holds at least one FFT bin of the record left after ``skip`` and lies below
+    the Nyquist frequency; :func:`force_spectrum` gives NaN exactly in the other bands. Used to check a
+    stored spectrum (a NaN in a resolved band, or a number in an unresolved one, means a damaged file).
+
+    Returns
+    -------
+    centres : numpy.ndarray
+        Exact base-10 band centres, Hz.
+    resolved : numpy.ndarray of bool
+        True where the band has an estimate.
+    """
+    centres, lower, upper = third_octave_bands(*band_range)
+    kept = int(n_steps) - int(math.ceil(skip / time_step - 1e-9))
+    if kept < 2:
+        return centres, np.zeros(centres.shape, dtype=bool)
+    frequencies, _ = narrowband_spectrum(np.zeros(kept), 1.0 / time_step)  # the bins force_spectrum integrates
+    holds_bin = np.array([np.any((frequencies >= lo) & (frequencies < hi)) for lo, hi in zip(lower, upper,
+                                                                                              strict=True)])
+    return centres, holds_bin & (upper <= 0.5 / time_step)
+
+
+# --------------------------------------------------------------------------------------------------
+# Level arithmetic (paper section 3.3)
+# --------------------------------------------------------------------------------------------------
+
+
+def mean_level(levels) -> np.ndarray:
+    """Arithmetic mean of band levels in dB over runs (the paper's averaged spectra of Fig. 10), dB.
+
+    A choice: the mean is taken of the levels in dB, not of the band powers (an energetic mean). Section
+    3.3 says only "an average of the seven spectra" for the force levels and "the average of the filter
+    curves" for the contact filters, which are level differences in dB; averaging in dB keeps the two
+    consistent (the mean filter equals the difference of the mean levels).
+    """
+    stack = np.vstack([np.asarray(v, dtype=float) for v in levels])
+    return stack.mean(axis=0)
+
+
+def level_difference(levels_a: np.ndarray, levels_b: np.ndarray) -> np.ndarray:
+    """L_a - L_b per band, dB (Figs 12-14, 16, 17)."""
+    return np.asarray(levels_a, dtype=float) - np.asarray(levels_b, dtype=float)
+
+
+def contact_filter(levels_model: np.ndarray, levels_hertz: np.ndarray) -> np.ndarray:
+    """Contact filter of a model: its level minus that of ``hertz`` (r_eq = r) on the same line, dB.
+
+    Section 3.3: the Hertz spring without roughness pre-filtering has no contact filtering, so the level
+    difference characterises the filtering of the other models (Fig. 10, right column).
+    """
+    return level_difference(levels_model, levels_hertz)

@@ -19,9 +19,11 @@ response h(x, x_e, t) of the FE model is integrated once in time
 x_e <= x <= x_e + v_max t that a wheel at up to ``max_speed`` can reach. The moving Green's function
 for any speed v <= v_max is then read off that wedge, g_{R,v}^{x_e}(t) = h(x_e + v t, x_e, t), with
 the element's own shape functions between nodes: no new integration, a few milliseconds per speed.
-Between the x_e the functions are interpolated linearly (they vary smoothly within a bay, with
-period L_S). Truncation: the functions are cut at ``TrackNumerics.duration``; the test suite and
-``benchmarks/track_green.py`` show the truncation error.
+Between the x_e the functions vary smoothly, with period L_S: they are refined ``BAY_REFINEMENT`` times
+across the bay by trigonometric interpolation and then interpolated linearly (the loop's two-row mix).
+Steps longer than ``parameters.FOH_MAX_STEP`` use weights of the trapezoidal rule integrated at the
+loop's own step (``trapezoidal_weights``). Truncation: the functions are cut at
+``TrackNumerics.duration``; the test suite and ``benchmarks/track_green.py`` show the truncation error.
 """
 
 from __future__ import annotations
@@ -37,9 +39,15 @@ if TYPE_CHECKING:
     import scipy.sparse as sp
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import TrackNumerics, TrackParameters
+from wheelrail.core.parameters import FOH_MAX_STEP, TrackNumerics, TrackParameters
 
 HALF_BANDWIDTH = 4
+# The moving Green's functions of the FE excitation positions are refined this many times across the bay by
+# trigonometric interpolation (they are periodic in x0 with period L_S) before the loop interpolates linearly
+# between them. Linear interpolation straight between the 16 positions put tones of 32 N at (16 +- 1) v/L_S
+# (641 and 727 Hz at 100 km/h) on a smooth rail; refined 4 times they are 0.07 and 0.02 N
+# (tests/physics/test_track.py).
+BAY_REFINEMENT = 4
 
 
 def timoshenko_element_matrices(rail, length: float) -> tuple[np.ndarray, np.ndarray]:
@@ -347,26 +355,34 @@ def _band_cho_solve(ab, b):
 
 @njit(cache=True, fastmath=True)
 def _newmark_block(mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, first_node,
-                   wedge_nodes, offsets, out):
-    """Newmark (average acceleration) responses to the unit impulses in the columns of ``load``.
+                   wedge_nodes, offsets, out, impulse):
+    """Newmark (average acceleration) responses to the loads in the columns of ``load``.
 
+    ``impulse``: a unit impulse at t = 0 (the continuous impulse response, sampled); otherwise a unit
+    force at step 0 only, the track at rest before (the discrete impulse response of the trapezoidal rule).
     Recorded on the wedge: stored step s = k / stride keeps, for column e, w and theta of the nodes
     first_node[e] .. first_node[e] + wedge_nodes[s] - 1 in out[e, offsets[s] + r, 0:2].
     """
     n, m = load.shape
-    u = np.zeros((n, m))
-    v = load.copy()
-    _band_cho_solve(m_chol, v)  # the impulse sets the initial velocity: M v0 = f
-    a = np.empty((n, m))
-    _band_matvec(cb, v, a)
-    _band_cho_solve(m_chol, a)
-    a *= -1.0  # M a0 = -C v0 - K u0 with u0 = 0
-    tmp = np.empty((n, m))
-    rhs = np.empty((n, m))
-    damp = np.empty((n, m))
     c1 = 4.0 / dt**2
     c2 = 4.0 / dt
     c3 = 2.0 / dt
+    a = np.empty((n, m))
+    if impulse:
+        u = np.zeros((n, m))
+        v = load.copy()
+        _band_cho_solve(m_chol, v)  # the impulse sets the initial velocity: M v0 = f
+        _band_matvec(cb, v, a)
+        _band_cho_solve(m_chol, a)
+        a *= -1.0  # M a0 = -C v0 - K u0 with u0 = 0
+    else:
+        u = load.copy()
+        _band_cho_solve(k_chol, u)  # one step from rest: K_eff u0 = f
+        v = c3 * u
+        a[:, :] = c1 * u
+    tmp = np.empty((n, m))
+    rhs = np.empty((n, m))
+    damp = np.empty((n, m))
     for k in range(n_steps):
         if k > 0:
             for i in range(n):
@@ -464,32 +480,48 @@ def _wedge_layout(numerics: TrackNumerics, element_length: float) -> tuple[np.nd
     return wedge_nodes, offsets, n_steps
 
 
+def _excitation_nodes(model: TrackFEModel, numerics: TrackNumerics):
+    """Excitation positions within the central bay (m from its first sleeper), on the track (m), and
+    their FE nodes (the positions are nodes: TrackNumerics checks)."""
+    track = model.params
+    L = track.support.sleeper_spacing
+    positions = np.arange(numerics.positions_per_bay) * (L / numerics.positions_per_bay)
+    x_e = (track.n_bays // 2) * L + positions
+    return positions, x_e, np.rint(x_e / model.element_length).astype(np.int64)
+
+
+def _check_reach(model: TrackFEModel, first_node, wedge_nodes, speed: float, duration: float) -> None:
+    if first_node.max() + wedge_nodes[-1] - 1 >= len(model.node_x) - 1:
+        raise WheelrailError(
+            f"track model too short: a wheel at {speed * 3.6:.0f} km/h travels {speed * duration:.2f} m "
+            f"within the {duration} s Green's functions, beyond the end of the "
+            f"{model.params.n_bays}-bay track; use more bays or a shorter duration"
+        )
+
+
+def _integrate(model: TrackFEModel, x_e, first_node, dt: float, n_steps: int, stride: int, wedge_nodes, offsets,
+               *, impulse: bool) -> np.ndarray:
+    """Newmark responses to unit loads at x_e, stored on the wedge from ``first_node`` (see _newmark_block)."""
+    mb, cb, k_chol, m_chol = _upper_band_arrays(model, dt)
+    loads = np.stack([model.load_vector(float(x)) for x in x_e], axis=1)
+    out = np.zeros((len(first_node), int(wedge_nodes.sum()), 2))
+    _newmark_block(mb, cb, k_chol, m_chol, loads, dt, n_steps, stride, model.w_dof, model.theta_dof, first_node,
+                   wedge_nodes, offsets, out, impulse)
+    return out
+
+
 def compute_stationary_response(track: TrackParameters, numerics: TrackNumerics) -> StationaryTrackResponse:
     """Integrate the impulse responses of the FE track for all excitation points of the central bay.
 
     See the module docstring for the method; takes about 10 s with the defaults.
     """
     model = assemble_track(track, numerics.elements_per_bay)
-    L = track.support.sleeper_spacing
     h = model.element_length
-    bay_start = (track.n_bays // 2) * L
-    positions = np.arange(numerics.positions_per_bay) * (L / numerics.positions_per_bay)
-    x_e = bay_start + positions
-    first_node = np.rint(x_e / h).astype(np.int64)  # the positions are nodes (TrackNumerics checks)
+    positions, x_e, first_node = _excitation_nodes(model, numerics)
     wedge_nodes, offsets, n_steps = _wedge_layout(numerics, h)
-    last_node = first_node.max() + wedge_nodes[-1] - 1
-    if last_node >= len(model.node_x) - 1:
-        reach = numerics.max_speed * numerics.duration
-        raise WheelrailError(
-            f"track model too short: a wheel at {numerics.max_speed * 3.6:.0f} km/h travels {reach:.2f} m "
-            f"within the {numerics.duration} s Green's functions, beyond the end of the "
-            f"{track.n_bays}-bay track; use more bays or a shorter duration"
-        )
-    mb, cb, k_chol, m_chol = _upper_band_arrays(model, numerics.time_step)
-    loads = np.stack([model.load_vector(float(x)) for x in x_e], axis=1)
-    out = np.zeros((len(x_e), int(wedge_nodes.sum()), 2))
-    _newmark_block(mb, cb, k_chol, m_chol, loads, numerics.time_step, n_steps, numerics.store_every,
-                   model.w_dof, model.theta_dof, first_node, wedge_nodes, offsets, out)
+    _check_reach(model, first_node, wedge_nodes, numerics.max_speed, numerics.duration)
+    out = _integrate(model, x_e, first_node, numerics.time_step, n_steps, numerics.store_every, wedge_nodes,
+                     offsets, impulse=True)
     return StationaryTrackResponse(
         track=track,
         numerics=numerics,
@@ -616,6 +648,8 @@ class MovingGreenFunctions:
         Sample spacing of ``values``, s.
     values : ndarray (P, S)
         g(t_s) in m/(N s): rail displacement at x0 + v t per unit impulse at x0 at t = 0.
+    track, numerics : optional
+        The track they come from (needed by ``weights`` for steps longer than ``FOH_MAX_STEP``).
     """
 
     speed: float
@@ -623,6 +657,8 @@ class MovingGreenFunctions:
     excitation_positions: np.ndarray
     time_step: float
     values: np.ndarray
+    track: TrackParameters | None = None
+    numerics: TrackNumerics | None = None
 
     @property
     def duration(self) -> float:
@@ -637,6 +673,10 @@ class MovingGreenFunctions:
         pos = np.mod(np.asarray(x0, dtype=float), self.sleeper_spacing) / self.sleeper_spacing * P
         lo = np.floor(pos).astype(int) % P
         return lo, (lo + 1) % P, pos - np.floor(pos)
+
+    def _across_bay(self, values: np.ndarray, x0) -> np.ndarray:
+        lo, hi, frac = self._bay_interpolation(np.atleast_1d(x0))
+        return (1 - frac)[..., None] * values[lo] + frac[..., None] * values[hi]
 
     def at(self, x0) -> np.ndarray:
         """g^{x0}(t_s) for excitation positions x0 (m, any value; periodic in L_S), shape (..., S).
@@ -655,13 +695,17 @@ class MovingGreenFunctions:
         t = np.arange(n_samples) * time_step
         return np.stack([np.interp(t, self.time, row, right=0.0) for row in values])
 
-    def weights(self, time_step: float, n_lags: int | None = None, x0=None) -> np.ndarray:
-        """Convolution weights for a force varying linearly between samples (first-order hold).
+    def weights(self, time_step: float, n_lags: int | None = None, x0=None, method: str = "auto") -> np.ndarray:
+        """Convolution weights w_m^{x0} of eq. (2) at the loop's time step: ``xi_R(t_n) = sum_m F(t_{n-m})
+        w_m^{x(t_{n-m})}``, with w_0 > 0 (the current force acts on the current displacement, so an
+        interaction loop using these weights is implicit).
 
-        ``xi_R(t_n) = sum_m F(t_{n-m}) w_m^{x(t_{n-m})}`` with
-        ``w_m = int g(tau) Lambda(tau / dt - m) dtau`` (Lambda the unit hat), evaluated exactly for
-        the piecewise-linear g between its stored samples. ``w_0 > 0``: the current force acts on the
-        current displacement, so an interaction loop using these weights is implicit.
+        ``method="foh"`` (first-order hold, used up to ``FOH_MAX_STEP``): exact for a force varying linearly
+        between samples, ``w_m = int g(tau) Lambda(tau / dt - m) dtau`` (Lambda the unit hat), evaluated
+        exactly for the piecewise-linear g between its stored samples. ``"trapezoidal"`` (used above
+        ``FOH_MAX_STEP``): the discrete impulse responses of the FE track integrated by the trapezoidal rule
+        at this step (:func:`trapezoidal_weights`), which keeps the coupled loop stable at long steps (see
+        ``parameters.FOH_MAX_STEP``). ``"auto"`` chooses by the step.
 
         Parameters
         ----------
@@ -671,6 +715,7 @@ class MovingGreenFunctions:
             Number of weights; default enough to cover the duration.
         x0 : array_like, optional
             Excitation positions, m (default: the stored ones).
+        method : {"auto", "foh", "trapezoidal"}
 
         Returns
         -------
@@ -678,8 +723,16 @@ class MovingGreenFunctions:
         """
         if not np.isfinite(time_step) or time_step <= 0:
             raise WheelrailError(f"time_step must be positive (s), got {time_step}")
+        if method not in ("auto", "foh", "trapezoidal"):
+            raise WheelrailError(f"weights: method must be auto, foh or trapezoidal, got {method!r}")
         if n_lags is None:
             n_lags = int(math.ceil(self.duration / time_step)) + 1
+        if method == "trapezoidal" or (method == "auto" and time_step > FOH_MAX_STEP):
+            if self.track is None or self.numerics is None:
+                raise WheelrailError("trapezoidal weights need the track these Green's functions come from")
+            values = trapezoidal_weights(self.track, self.numerics, self.speed, time_step, n_lags)
+            values = refine_across_bay(values, len(self.excitation_positions) // len(values))
+            return values if x0 is None else self._across_bay(values, x0)
         values = self.values if x0 is None else self.at(np.atleast_1d(x0))
         edges = (np.arange(-1, n_lags + 1)) * time_step
         G1, G2 = _piecewise_linear_moments(values, self.time_step, edges)
@@ -690,6 +743,59 @@ class MovingGreenFunctions:
         rise = (G2[:, mid] - G2[:, left]) - edges[left] * (G1[:, mid] - G1[:, left])
         fall = edges[right] * (G1[:, right] - G1[:, mid]) - (G2[:, right] - G2[:, mid])
         return (rise + fall) / time_step
+
+
+_MODELS: dict[tuple, TrackFEModel] = {}
+
+
+def refine_across_bay(values: np.ndarray, factor: int = BAY_REFINEMENT) -> np.ndarray:
+    """Rows at P equally spaced positions of a period -> rows at factor * P positions (the first P * k kept).
+
+    Trigonometric (band-limited) interpolation along axis 0: exact for the harmonics of the bay up to P/2,
+    the P/2 one split evenly between +-P/2. Returns ``values`` itself for ``factor == 1``.
+    """
+    if factor == 1:
+        return values
+    P = values.shape[0]
+    spectrum = np.fft.rfft(values, axis=0)
+    fine = np.zeros((factor * P // 2 + 1,) + values.shape[1:], dtype=complex)
+    fine[: P // 2 + 1] = spectrum
+    if P % 2 == 0:
+        fine[P // 2] *= 0.5
+    return np.fft.irfft(fine, n=factor * P, axis=0) * factor
+
+
+def trapezoidal_weights(track: TrackParameters, numerics: TrackNumerics, speed: float, time_step: float,
+                        n_lags: int) -> np.ndarray:
+    """Convolution weights of eq. (2) from the FE track integrated by the trapezoidal rule at ``time_step``.
+
+    Newmark's average-acceleration rule (the trapezoidal rule) at the loop's own step: w_m^{x_e} is the rail
+    displacement at x_e + v m dt at step m after a unit force at x_e at step 0 only, the track at rest
+    before. Its transfer function is the track's receptance at s = 2/dt (z - 1)/(z + 1), so the coupled
+    loop keeps the physical system's stability at any step (``parameters.FOH_MAX_STEP``). Cost: n_lags
+    banded steps of the FE model for the ``numerics.positions_per_bay`` positions (tens of ms for the
+    200 lags of 0.25 ms steps).
+
+    Returns
+    -------
+    ndarray (positions_per_bay, n_lags), m/N.
+    """
+    key = (track, numerics.elements_per_bay)
+    if key not in _MODELS:
+        _MODELS.clear()
+        _MODELS[key] = assemble_track(track, numerics.elements_per_bay)
+    model = _MODELS[key]
+    h = model.element_length
+    positions, x_e, first_node = _excitation_nodes(model, numerics)
+    t = np.arange(n_lags) * time_step
+    wedge_nodes = np.ceil(speed * t / h).astype(np.int64) + 2
+    offsets = np.concatenate([[0], np.cumsum(wedge_nodes)[:-1]]).astype(np.int64)
+    _check_reach(model, first_node, wedge_nodes, speed, float(t[-1]))
+    out = _integrate(model, x_e, first_node, time_step, n_lags, 1, wedge_nodes, offsets, impulse=False)
+    values = np.empty((len(positions), n_lags))
+    _read_wedge(out, wedge_nodes, offsets, model.node_x[first_node] - x_e, h, model.shear_parameter, time_step,
+                float(speed), values)
+    return values
 
 
 def _piecewise_linear_moments(values: np.ndarray, step: float, tau: np.ndarray):
@@ -755,12 +861,16 @@ def moving_from_stationary(response: StationaryTrackResponse, speed: float) -> M
     values = np.empty((len(response.excitation_positions), response.n_samples))
     _read_wedge(response.data, response.wedge_nodes, response.offsets, response.first_node_offsets,
                 response.element_length, response.shear_parameter, response.time_step, float(speed), values)
+    L = response.track.support.sleeper_spacing
+    n_fine = BAY_REFINEMENT * len(values)
     return MovingGreenFunctions(
         speed=float(speed),
-        sleeper_spacing=response.track.support.sleeper_spacing,
-        excitation_positions=response.excitation_positions,
+        sleeper_spacing=L,
+        excitation_positions=np.arange(n_fine) * (L / n_fine),
         time_step=response.time_step,
-        values=values,
+        values=refine_across_bay(values, BAY_REFINEMENT),
+        track=response.track,
+        numerics=response.numerics,
     )
 
 

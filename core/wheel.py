@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import WheelParameters
+from wheelrail.core.parameters import FOH_MAX_STEP, WheelParameters
 
 
 def wheel_matrices(wheel: WheelParameters) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -104,19 +104,23 @@ def wheel_static_compliance(wheel: WheelParameters) -> float:
     return 1.0 / wheel.suspension_stiffness + 1.0 / wheel.wheel_stiffness
 
 
-def wheel_discrete_system(wheel: WheelParameters, time_step: float):
-    """Exact discrete-time form of the wheel for a force linear between samples (first-order hold).
+def wheel_discrete_system(wheel: WheelParameters, time_step: float, method: str = "auto"):
+    """Discrete-time form of the wheel: ``s_{n+1} = Phi s_n + Gamma0 F_n + Gamma1 F_{n+1}``.
 
-    For the state s = (x_M, x_m, v_M, v_m) and a contact force F_n at t_n (unit impulse response of
-    eq. 1), ``s_{n+1} = Phi s_n + Gamma0 F_n + Gamma1 F_{n+1}`` holds exactly when F varies linearly
-    over each step. The interaction loop uses it instead of convolving with g_W: same result, no
-    truncation of the slowly decaying suspension mode.
+    For the state s = (x_M, x_m, v_M, v_m) and a contact force F_n at t_n (unit impulse response of eq. 1).
+    ``method="foh"`` (first-order hold, used up to ``FOH_MAX_STEP``): exact when F varies linearly over each
+    step; the interaction loop uses it instead of convolving with g_W: same result, no truncation of the
+    slowly decaying suspension mode. ``"trapezoidal"`` (used above ``FOH_MAX_STEP``, like the track's
+    weights): the trapezoidal rule, Phi = (I - A dt/2)^-1 (I + A dt/2), Gamma0 = Gamma1 = (I - A dt/2)^-1 B
+    dt/2, which keeps the coupled loop stable at long steps (see ``parameters.FOH_MAX_STEP``). ``"auto"``
+    chooses by the step.
 
     Parameters
     ----------
     wheel : WheelParameters
     time_step : float
         dt, s.
+    method : {"auto", "foh", "trapezoidal"}
 
     Returns
     -------
@@ -128,8 +132,15 @@ def wheel_discrete_system(wheel: WheelParameters, time_step: float):
 
     if not np.isfinite(time_step) or time_step <= 0:
         raise WheelrailError(f"wheel_discrete_system: time_step must be positive (s), got {time_step}")
+    if method not in ("auto", "foh", "trapezoidal"):
+        raise WheelrailError(f"wheel_discrete_system: method must be auto, foh or trapezoidal, got {method!r}")
     A, B = _wheel_state_space(wheel)
     n = A.shape[0]
+    if method == "trapezoidal" or (method == "auto" and time_step > FOH_MAX_STEP):
+        left = np.eye(n) - 0.5 * time_step * A
+        Phi = np.linalg.solve(left, np.eye(n) + 0.5 * time_step * A)
+        Gamma = np.linalg.solve(left, 0.5 * time_step * B)
+        return Phi, Gamma, Gamma.copy()
     # Van Loan block exponential: [[A, B, 0], [0, 0, 1/dt], [0, 0, 0]] gives the FOH integrals.
     big = np.zeros((n + 2, n + 2))
     big[:n, :n] = A * time_step

@@ -5,7 +5,7 @@ controls in folders, attaches small callbacks that call into ``wheelrail.core`` 
 It never computes physics or spectra itself: runs come from :func:`wheelrail.core.interaction.prepare_run`,
 spectra from :func:`wheelrail.core.spectra.force_spectrum` and the roughness analyses of
 :mod:`wheelrail.core.roughness`, contact filters (model minus ``hertz``, SPEC.md §4) from
-:func:`wheelrail.core.study.contact_filter`; the only arithmetic here is unit conversion and display scaling.
+:func:`wheelrail.core.spectra.contact_filter`; the only arithmetic here is unit conversion and display scaling.
 
 Threads: a run goes in a background thread (one at a time; a new run cancels the old one through
 :meth:`InteractionRun.cancel` and a generation counter keeps a superseded run from drawing). The GUI and the
@@ -28,10 +28,18 @@ from pathlib import Path
 import numpy as np
 import viser
 
+from wheelrail.core.drawing import circle_segments, colour_table, grid_triangles, table_colours
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.interaction import prepare_run
 from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
-from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
+from wheelrail.core.parameters import (
+    KMH,
+    MAX_SPEED_KMH,
+    MIN_SPEED_KMH,
+    ContactParameters,
+    ModelParameters,
+    RunParameters,
+)
 from wheelrail.core.roughness import (
     RoughnessSet,
     bundled_names,
@@ -40,8 +48,7 @@ from wheelrail.core.roughness import (
     read_roughness,
     roughness_spectrum,
 )
-from wheelrail.core.spectra import force_spectrum
-from wheelrail.core.study import contact_filter
+from wheelrail.core.spectra import contact_filter, force_spectrum
 
 __all__ = ["ExplorerApp", "RunConfig", "serve"]
 
@@ -87,27 +94,6 @@ class RunConfig:
     def as_dict(self) -> dict:
         return {"model": self.model, "set": self.set_label, "line": self.line, "speed_kmh": self.speed / KMH,
                 "preload_kn": self.preload / 1e3, "length_m": self.length}
-
-
-def _colour_table() -> np.ndarray:
-    """256 x 3 uint8 colour map for pressures (matplotlib's viridis)."""
-    from matplotlib import colormaps
-
-    return (colormaps["viridis"](np.linspace(0.0, 1.0, 256))[:, :3] * 255).astype(np.uint8)
-
-
-def _grid_faces(ny: int, nx: int) -> np.ndarray:
-    """Triangles of a ny x nx vertex grid (row-major vertices)."""
-    idx = np.arange(ny * nx).reshape(ny, nx)
-    a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel()
-    return np.concatenate([np.stack([a, b, d], axis=1), np.stack([a, d, c], axis=1)]).astype(np.uint32)
-
-
-def _circle(radius: float, z: float, n: int = 96) -> np.ndarray:
-    """Line segments (n, 2, 3) of a circle of ``radius`` at height ``z`` (scene units)."""
-    t = np.linspace(0.0, 2.0 * np.pi, n + 1)
-    pts = np.stack([radius * np.cos(t), radius * np.sin(t), np.full_like(t, z)], axis=1)
-    return np.stack([pts[:-1], pts[1:]], axis=1).astype(np.float32)
 
 
 def _finite_bands(centres: np.ndarray, columns: list[np.ndarray]) -> tuple[np.ndarray, ...]:
@@ -158,7 +144,7 @@ class ExplorerApp:
         self._worker: threading.Thread | None = None
         self._run = None
         self._pressed_at = 0.0
-        self._colours = _colour_table()
+        self._colours = colour_table()
         self._uploads: dict[str, RoughnessSet] = {}
         self._sets: dict[str, RoughnessSet] = {}
 
@@ -215,7 +201,8 @@ class ExplorerApp:
             self.model_dropdown = gui.add_dropdown("Contact model", MODEL_CHOICES, initial_value="3d",
                                                    hint="compare: hertz, hertz-average, hertz-winkler, 2d "
                                                         "and 3d one after another")
-            self.speed_number = gui.add_number("Speed (km/h)", 100.0, min=0.0, max=300.0, step=1.0)
+            self.speed_number = gui.add_number("Speed (km/h)", 100.0, min=MIN_SPEED_KMH, max=MAX_SPEED_KMH,
+                                                step=1.0)
             self.preload_number = gui.add_number("Preload (kN)", 65.0, min=0.0, max=500.0, step=1.0)
             self.length_number = gui.add_number("Run length (m)", float(length), min=0.0, max=100.0, step=0.1)
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
@@ -320,9 +307,9 @@ class ExplorerApp:
         strip = np.array([[-1, -0.5, 0], [1, -0.5, 0], [1, 0.5, 0], [-1, 0.5, 0]], np.float32) * s
         self.strip_mesh = scene.add_mesh_simple("/contact/strip", strip, np.array([[0, 1, 2], [0, 2, 3]], np.uint32),
                                                 color=(214, 39, 40), side="double", visible=False, **NO_SHADOW)
-        self.force_circle = scene.add_line_segments("/contact/hertz_at_force", _circle(0.5, 0.01),
+        self.force_circle = scene.add_line_segments("/contact/hertz_at_force", circle_segments(0.5, 0.01),
                                                     (214, 39, 40), thickness=0.02, visible=False)
-        self.nominal_circle = scene.add_line_segments("/contact/hertz_nominal", _circle(0.548, 0.005),
+        self.nominal_circle = scene.add_line_segments("/contact/hertz_nominal", circle_segments(0.548, 0.005),
                                                       (240, 200, 0), thickness=0.03)
         # rail and wheel surfaces with their roughness (exaggerated), moved with the wheel
         self._surface_x = np.arange(-SURFACE_HALF_LENGTH, SURFACE_HALF_LENGTH + 0.5, 1.0)  # mm
@@ -366,7 +353,7 @@ class ExplorerApp:
                 self.rail_mesh.vertices = rail
                 self.wheel_mesh.vertices = wheel
                 return
-            faces = _grid_faces(rail.shape[0] // self._surface_x.size, self._surface_x.size)
+            faces = grid_triangles(rail.shape[0] // self._surface_x.size, self._surface_x.size)
             for handle in (self.rail_mesh, self.wheel_mesh):
                 if handle is not None:
                     handle.remove()
@@ -390,7 +377,7 @@ class ExplorerApp:
             z = pressure / 1e9 * PRESSURE_HEIGHT
             vertices = (np.stack([x, y, z], axis=-1).reshape(-1, 3) * s).astype(np.float32)
             top = 1.5 * contact.hertz_peak_pressure()
-            colours = self._colours[np.clip((pressure / top * 255).astype(np.int64), 0, 255)].reshape(-1, 3).copy()
+            colours = table_colours(pressure, top, self._colours).reshape(-1, 3)
             # elements out of contact: their points are stacked on the peak's point (a fixed point count keeps
             # the handle's arrays in step), so only the contact shows as coloured squares on the raised mesh
             points = vertices + np.float32([0, 0, 0.002])
@@ -400,7 +387,7 @@ class ExplorerApp:
             points[outside] = points[peak]
             colours[outside] = colours[peak]
             if self._patch_shape != (ny, nx):
-                self.patch_mesh.faces = _grid_faces(ny, nx)
+                self.patch_mesh.faces = grid_triangles(ny, nx)
                 self._patch_shape = (ny, nx)
             self.patch_mesh.vertices = vertices
             self.patch_points.points = points
@@ -414,7 +401,7 @@ class ExplorerApp:
                 [[-half, -STRIP_WIDTH / 2, height], [half, -STRIP_WIDTH / 2, height],
                  [half, STRIP_WIDTH / 2, height], [-half, STRIP_WIDTH / 2, height]]) * s).astype(np.float32)
             radius = contact.hertz_radius(max(state.force, 0.0)) * 1e3 if state.force > 0 else 0.0
-            self.force_circle.points = _circle(radius * s, 0.01)
+            self.force_circle.points = circle_segments(radius * s, 0.01)
             self.strip_mesh.visible = self.force_circle.visible = True
             self.patch_mesh.visible = self.patch_points.visible = False
         self._draw_surfaces(result_like.roughness, state.position, result_like.line)
@@ -471,7 +458,7 @@ class ExplorerApp:
 
     def _on_preload(self) -> None:
         a = self._contact_parameters().hertz_radius()
-        self.nominal_circle.points = _circle(a * 1e3 * SCENE_PER_MM, 0.005)
+        self.nominal_circle.points = circle_segments(a * 1e3 * SCENE_PER_MM, 0.005)
         self._update_line_map()
 
     def _update_line_map(self) -> None:
@@ -591,8 +578,8 @@ class ExplorerApp:
         if model not in MODEL_CHOICES:
             raise WheelrailError(f"unknown contact model {model!r}; choose one of {', '.join(MODEL_CHOICES)}")
         speed_kmh = float(self.speed_number.value)
-        if not (math.isfinite(speed_kmh) and 0 < speed_kmh <= 300):
-            raise WheelrailError(f"speed must be above 0 and at most 300 km/h, got {speed_kmh:g} km/h")
+        if not (math.isfinite(speed_kmh) and MIN_SPEED_KMH <= speed_kmh <= MAX_SPEED_KMH):
+            raise WheelrailError(f"speed must be {MIN_SPEED_KMH:g}-{MAX_SPEED_KMH:g} km/h, got {speed_kmh:g} km/h")
         preload_kn = float(self.preload_number.value)
         if not (math.isfinite(preload_kn) and preload_kn > 0):
             raise WheelrailError(f"preload must be a positive load in kN, got {preload_kn:g} kN")

@@ -20,6 +20,27 @@ def speed_from_kmh(speed_kmh: float, option: str = "--speed-kmh") -> float:
     return speed_kmh * KMH
 
 
+_GEOMETRY_OPTIONS = {"wheel_radius_mm": "wheel_radius", "rail_crown_radius_mm": "rail_crown_radius",
+                     "wheel_transverse_radius_mm": "wheel_transverse_radius"}
+
+
+def geometry_from_mm(args) -> dict:
+    """``ContactParameters`` geometry keywords (m) from the ``--wheel-radius-mm``, ``--rail-crown-radius-mm`` and
+    ``--wheel-transverse-radius-mm`` options a command has (unset ones omitted: the paper's defaults)."""
+    geometry = {}
+    for option, name in _GEOMETRY_OPTIONS.items():
+        value = getattr(args, option, None)
+        if value is None:
+            continue
+        flag = "--" + option.replace("_", "-")
+        if not math.isfinite(value) or value == 0 or (value < 0 and name != "wheel_transverse_radius"):
+            words = "a non-zero radius in mm (negative: concave)" if name == "wheel_transverse_radius" else (
+                "a positive radius in mm")
+            raise WheelrailError(f"{flag} must be {words}, got {value}")
+        geometry[name] = value * 1e-3
+    return geometry
+
+
 def same_file(a, b) -> bool:
     """Whether paths ``a`` and ``b`` name the same file (any spelling, links followed)."""
     try:

@@ -12,7 +12,7 @@ import csv
 import numpy as np
 
 from wheelrail.core.atomic import atomic_write
-from wheelrail.core.commands._common import print_json, speed_from_kmh, writable_output
+from wheelrail.core.commands._common import geometry_from_mm, print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
@@ -40,6 +40,10 @@ def add_parser(sub):
         default=_DEFAULTS.radius * 1e3,
         help="wheel rolling radius, mm (default 390; the CNOSSOS diameter is twice it)",
     )
+    parser.add_argument("--rail-crown-radius-mm", type=float, default=None,
+                        help="rail head (crown) radius across the rail, mm (default: the wheel radius, a circle)")
+    parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
+                        help="wheel tread radius across, mm (default: flat tread; negative: concave, worn)")
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     parser.add_argument("--csv", metavar="FILE.csv", help="write the bands and levels as a CSV table")
     parser.add_argument("--plot", metavar="FILE.png", help="save a figure of the filters")
@@ -52,9 +56,11 @@ def _positive(value: float, option: str, unit: str) -> float:
     return float(value)
 
 
-def summary(load: float, wheel_radius: float, speed: float) -> dict:
-    """The filters as a JSON-ready dict (issue 14 layout; SI except keys that carry their unit)."""
-    filters = reference_filters(load, wheel_radius, speed)
+def summary(load: float, wheel_radius: float, speed: float, contact: ContactParameters | None = None) -> dict:
+    """The filters as a JSON-ready dict (issue 14 layout; SI except keys that carry their unit). ``contact``
+    carries the geometry across the rail (crown and tread radii); the analytic filters use the semi-axis a
+    along the rail, the CNOSSOS columns stay the table's (circles of the wheel diameter)."""
+    filters = reference_filters(load, wheel_radius, speed, contact=contact)
     return {
         "wavelength_mm": filters.wavelength_bands.centres * 1e3,
         "wavelength_labels_mm": filters.wavelength_bands.labels(),
@@ -65,6 +71,8 @@ def summary(load: float, wheel_radius: float, speed: float) -> dict:
         "semi_axes_m": list(filters.semi_axes),
         "preload_n": load,
         "wheel_radius_m": wheel_radius,
+        "rail_crown_radius_m": None if contact is None else contact.rail_crown_radius,
+        "wheel_transverse_radius_m": None if contact is None else contact.wheel_transverse_radius,
         "speed_m_s": speed,
         "reference": (
             "levels in dB (10 log10 |H|^2, averaged over each band); cnossos: Directive (EU) 2015/996 Appendix G "
@@ -153,7 +161,9 @@ def run(args) -> int:
     wheel_radius = _positive(args.wheel_radius_mm, "--wheel-radius-mm", "mm") * 1e-3
     csv_path = writable_output(args.csv, "--csv", ".csv") if args.csv is not None else None
     plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
-    result = summary(load, wheel_radius, speed)
+    across = {name: value for name, value in geometry_from_mm(args).items() if name != "wheel_radius"}
+    contact = ContactParameters(**across) if across else None
+    result = summary(load, wheel_radius, speed, contact)
     if csv_path is not None:
         _write_csv(result, csv_path)
     if plot_path is not None:

@@ -8,7 +8,14 @@ import sys
 import threading
 import time
 
-from wheelrail.core.commands._common import input_files, print_json, same_file, speed_from_kmh, writable_output
+from wheelrail.core.commands._common import (
+    geometry_from_mm,
+    input_files,
+    print_json,
+    same_file,
+    speed_from_kmh,
+    writable_output,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import MODELS
 
@@ -25,6 +32,15 @@ def add_parser(sub):
     )
     parser.add_argument("--set", required=True, metavar="SET",
                         help="bundled roughness set name (see `wheelrail datasets`) or a CSV/NPZ file")
+    parser.add_argument("--wheel-set", metavar="WHEEL_SET", default=None,
+                        help="a wheel roughness set added to the rail set --set (combined roughness r_rail + "
+                             "r_wheel; its lines repeat with the circumference); default none")
+    parser.add_argument("--wheel-radius-mm", type=float, default=None,
+                        help="wheel rolling radius, mm (default 390: the paper's R)")
+    parser.add_argument("--rail-crown-radius-mm", type=float, default=None,
+                        help="rail head crown (transverse) radius, mm (default 390: the paper's R)")
+    parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
+                        help="wheel tread transverse radius, mm; negative: concave (worn); default infinite")
     parser.add_argument("--line", type=int, default=0, help="roughness line -M..M (3d: window centre), default 0")
     parser.add_argument("--model", default="hertz", choices=MODELS, help="contact model (default hertz)")
     parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
@@ -90,14 +106,15 @@ def run(args) -> int:
         raise WheelrailError(f"--preload-kn must be a positive load in kN, got {args.preload_kn}")
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
-    inputs = input_files(args.set)
+    inputs = input_files(args.set, args.wheel_set)
     out = writable_output(args.out, "--out", ".npz", inputs) if args.out else None
     rrd = getattr(args, "rrd", None)
     for source in inputs:
         if rrd is not None and same_file(rrd, source):
             raise WheelrailError(f"--rrd {rrd} is the input file {source}: writing it would destroy the input; "
                                  "choose another output name")
-    params = ModelParameters(contact=ContactParameters(preload=args.preload_kn * 1e3), run=RunParameters(speed=speed))
+    params = ModelParameters(contact=ContactParameters(preload=args.preload_kn * 1e3, **geometry_from_mm(args)),
+                             run=RunParameters(speed=speed))
     sink = None
     if hasattr(args, "rrd"):
         from wheelrail.core.recording import sink_from_args
@@ -107,12 +124,16 @@ def run(args) -> int:
     start = time.perf_counter()
     try:
         # 3d: every pressure map is kept only for --out (a recording takes them step by step)
-        interaction = prepare_run(args.set, model=args.model, line=args.line, params=params, length=args.length_m,
-                                  keep_pressure=out is not None)
+        interaction = prepare_run(args.set, wheel_roughness=args.wheel_set, model=args.model, line=args.line,
+                                  params=params, length=args.length_m, keep_pressure=out is not None)
         if sink is not None and sink.record_every > interaction.n_steps:
             raise WheelrailError(f"--record-every {sink.record_every} exceeds the run's {interaction.n_steps} steps")
         if sink is not None:
-            sink.start(interaction)
+            from wheelrail.core.roughness import load_roughness
+
+            # the recording shows the set's lines around the run's line (roughness/lines); the sink records
+            # what it is given and loads nothing itself
+            sink.start(interaction, roughness=load_roughness(args.set))
     except BaseException:
         if sink is not None:
             sink.abort()
@@ -150,6 +171,7 @@ def run(args) -> int:
     summary = {
         "model": result.model,
         "set": args.set,
+        "wheel_set": args.wheel_set,
         "line": result.line,
         "speed_m_per_s": result.speed,
         "speed_kmh": args.speed_kmh,
@@ -176,7 +198,8 @@ def run(args) -> int:
     if args.json:
         print_json(summary)
         return 0
-    print(f"{result.model} on {args.set} line {result.line}, {args.speed_kmh:g} km/h, "
+    wheel_set = f" + wheel {args.wheel_set}" if args.wheel_set else ""
+    print(f"{result.model} on {args.set}{wheel_set} line {result.line}, {args.speed_kmh:g} km/h, "
           f"{params.contact.preload / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m")
     print(f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
           f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN")

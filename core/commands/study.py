@@ -5,8 +5,9 @@ from __future__ import annotations
 import math
 import sys
 
-from wheelrail.core.commands._common import print_json, speed_from_kmh
+from wheelrail.core.commands._common import geometry_from_mm, print_json, speed_from_kmh
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.study import STUDIES
 
 
@@ -31,9 +32,17 @@ def add_parser(sub):
     parser.add_argument("--speed-kmh", type=float, default=100.0,
                         help="train speed, km/h (default 100; for `speeds` the speed of the half-mass case)")
     where = parser.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
+    # default None, not 2: argparse lets an option of a mutually exclusive group through when its value
+    # equals the default, so `--dask ADDR --workers 2` would be accepted
+    where.add_argument("--workers", type=int, default=None, help="local worker processes (default 2)")
     where.add_argument("--dask", metavar="ADDR", default=None,
                        help="run on a Dask cluster: scheduler address tcp://HOST:PORT")
+    parser.add_argument("--wheel-radius-mm", type=float, default=None,
+                        help="wheel rolling radius, mm (default 390: the paper's crossed cylinders)")
+    parser.add_argument("--rail-crown-radius-mm", type=float, default=None,
+                        help="rail head radius across the rail, mm (default: the wheel radius)")
+    parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
+                        help="wheel tread radius across, mm (default: flat; negative: concave, worn)")
     parser.add_argument("--json", action="store_true", help="print the machine-readable summary (SI units)")
     return parser
 
@@ -46,10 +55,14 @@ def run(args) -> int:
     speed = speed_from_kmh(args.speed_kmh)
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
-    if args.workers < 1:
-        raise WheelrailError(f"--workers must be at least 1, got {args.workers}")
+    workers = 2 if args.workers is None else args.workers
+    if workers < 1:
+        raise WheelrailError(f"--workers must be at least 1, got {workers}")
     address = parse_dask_address(args.dask) if args.dask is not None else None
-    result = run_study(args.name, args.sets, args.out, speed=speed, length=args.length_m, workers=args.workers,
+    geometry = geometry_from_mm(args)
+    contact = ContactParameters(**geometry) if geometry else None
+    result = run_study(args.name, args.sets, args.out, speed=speed, length=args.length_m, workers=workers,
+                       contact=contact,
                        dask_address=address, progress=not args.json and sys.stderr.isatty())
     summary = result.summary
     if args.json:

@@ -7,6 +7,7 @@ where the surfaces are apart. All quantities are SI.
 """
 
 from wheelrail.core.contact.halfspace import (
+    HalfSpaceWindow,
     NormalContactResult,
     influence_kernel,
     solve_coupled_contact,
@@ -17,6 +18,7 @@ from wheelrail.core.contact.prefilter import average_roughness, averaging_weight
 from wheelrail.core.contact.winkler import WinklerContact, bedding_stiffness, wheel_profile, winkler_contact
 
 __all__ = [
+    "HalfSpaceWindow",
     "NormalContactResult",
     "WinklerContact",
     "average_roughness",

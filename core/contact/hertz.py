@@ -62,20 +62,22 @@ def _hertz_compression(target, compliance, constant):
 
 
 @njit(cache=True, inline="always")
-def _hertz_law(approach_known, compliance, roughness, constant, radius):
+def _hertz_law(approach_known, compliance, roughness, constant, radius_along, radius_across):
     """The interaction loop's Hertz law (eqs. 12-14 coupled with delta = delta_known - c F).
 
-    The compression is u = delta + r_eq, so u + c C_H u^1.5 = delta_known + r_eq. Returns (F = C_H u^1.5,
-    contact length 2a = 2 sqrt(R u), area pi a^2) for the equivalent roughness r_eq at this step, R the radius.
+    The compression is u = delta + r_eq, so u + c C u^1.5 = delta_known + r_eq. Returns (F = C u^1.5,
+    contact length 2a = 2 sqrt(rho_x u), area pi a b with b = sqrt(rho_y u)) for the equivalent roughness
+    r_eq at this step; rho_x, rho_y: ``ContactParameters.patch_radii`` (both R for the paper's circle).
     """
     u = _hertz_compression(approach_known + roughness, compliance, constant)
-    length = 2.0 * math.sqrt(radius * u)
+    length = 2.0 * math.sqrt(radius_along * u)
     half = length / 2.0
-    return _hertz_force(u, constant), length, math.pi * (half * half)
+    return _hertz_force(u, constant), length, math.pi * (half * math.sqrt(radius_across * u))
 
 
 class HertzModel(ContactModel):
-    """``hertz``: the Hertz spring on the roughness of the line itself (r_eq = r)."""
+    """``hertz``: the Hertz spring on the roughness of the line itself (r_eq = r); elliptic for unequal radii
+    (``ContactParameters.hertz``: C of F = C delta^1.5, contact length 2a along the rail, area pi a b)."""
 
     def equivalent_roughness(self, inputs: ModelInputs, line: np.ndarray) -> np.ndarray:
         """r_eq along the track for the line r (here r itself)."""
@@ -86,7 +88,7 @@ class HertzModel(ContactModel):
         self.equivalent_line = self.equivalent_roughness(inputs, inputs.centre_line)
         r_eq = np.ascontiguousarray(self.equivalent_line[inputs.start_index] * inputs.ramp)
         self._law = LawInputs(roughness=r_eq.reshape(-1, 1), shape=np.zeros(1),
-                              constants=np.array([contact.hertz_constant, contact.radius]))
+                              constants=np.array([contact.hertz_constant, *contact.patch_radii()]))
         return contact.hertz_approach()
 
     def law_inputs(self) -> LawInputs:
@@ -96,25 +98,32 @@ class HertzModel(ContactModel):
 class HertzWinklerModel(HertzModel):
     """``hertz-winkler``: r_eq from the Ford & Thompson bedding pre-filter (``contact.prefilter``).
 
+    The bedding is the ``2d`` model's (``contact.winkler.calibrated_bedding``: the paper's for the circle).
     The pre-filter runs on the line along the track; the run's margins (``run_setup.run_margin``, 20 mm at
-    1 mm elements) exceed its half-length 3a = 16.4 mm, so its end treatment never reaches a step of the run.
+    1 mm elements, at least 3a) cover its half-length 3a (16.4 mm at the defaults), so its end treatment never
+    reaches a step of the run.
     """
 
     def equivalent_roughness(self, inputs, line):
         from wheelrail.core.contact.prefilter import winkler_equivalent_roughness
+        from wheelrail.core.contact.winkler import calibrated_bedding
 
         c = inputs.params.contact
-        return winkler_equivalent_roughness(line, inputs.element_size, preload=c.preload, radius=c.radius,
-                                            youngs_modulus=c.youngs_modulus, poisson_ratio=c.poisson_ratio)
+        stiffness, radius = calibrated_bedding(c)
+        return winkler_equivalent_roughness(line, inputs.element_size, preload=c.preload, radius=radius,
+                                            youngs_modulus=c.youngs_modulus, poisson_ratio=c.poisson_ratio,
+                                            stiffness=stiffness)
 
 
 class HertzAverageModel(HertzModel):
-    """``hertz-average``: r_eq = mean of r over the nominal contact length 2a (a + 1 mm < the run margin)."""
+    """``hertz-average``: r_eq = mean of r over the nominal contact length 2a along the rail (a the Hertz
+    semi-axis along the rail at the preload; a + 1 mm < the run margin)."""
 
     def equivalent_roughness(self, inputs, line):
         from wheelrail.core.contact.prefilter import average_roughness
 
-        return average_roughness(line, inputs.element_size, contact_length=2 * inputs.params.contact.hertz_radius())
+        a, _ = inputs.params.contact.hertz_semi_axes()
+        return average_roughness(line, inputs.element_size, contact_length=2 * a)
 
 
 def hertz_constant(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3, radius: float = 0.39) -> float:

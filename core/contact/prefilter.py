@@ -127,6 +127,7 @@ def winkler_equivalent_roughness(
     poisson_ratio: float = 0.3,
     half_window: float | None = None,
     boundary: str = "nearest",
+    stiffness: float | None = None,
 ) -> np.ndarray:
     """Ford & Thompson equivalent roughness r_eq for the Hertzian spring (eqs. 3-6, 12-14).
 
@@ -148,6 +149,9 @@ def winkler_equivalent_roughness(
         preload), which holds roughness up to ~8 a^2 / R (0.6 mm at the defaults) without reaching the end.
     boundary : {"nearest", "wrap"}
         How the line is extended beyond its ends.
+    stiffness : float, optional
+        k of the bedding, N/m^2; default E / (2 (1 - nu^2)) of eq. (5). An elliptic patch passes the
+        calibrated k and R of ``contact.winkler.calibrated_bedding``.
 
     Returns
     -------
@@ -166,7 +170,8 @@ def winkler_equivalent_roughness(
     preload = _positive(where, "preload", preload, "N")
     radius = _positive(where, "radius", radius, "m")
     boundary = _check_boundary(where, boundary)
-    k = bedding_stiffness(youngs_modulus, poisson_ratio)
+    k = bedding_stiffness(youngs_modulus, poisson_ratio) if stiffness is None else _positive(
+        where, "stiffness", stiffness, "N/m^2")
     a = (3.0 * preload * radius / (4.0 * k)) ** (1.0 / 3.0)
     half_window = 3.0 * a if half_window is None else _positive(where, "half_window", half_window, "m")
     half = max(2, int(math.ceil(half_window / element_size)))

@@ -18,6 +18,15 @@ sample (midpoint rule on the grid of spacing dx):
 with n_c the number of compressed springs. For smooth surfaces the continuous bedding gives exactly
 Hertz: F = (4/3) k sqrt(2 R_m) delta^1.5 = C_H delta^1.5 and contact length 2 sqrt(R delta) = 2a.
 
+Elliptic patches (``calibrated_bedding``): the rule the paper takes from Ford & Thompson (2006) for eq. 6
+(choose the bedding so that, on smooth surfaces, contact length, load and deflection are Hertz's) applied
+to the elliptic Hertz contact of ``ContactParameters.hertz``: its semi-axis along the rail grows as
+a = sqrt(rho_x delta) and its load as F = C delta^1.5, so 2 R_m = rho_x and (4/3) k sqrt(rho_x) = C, i.e.
+R_m = rho_x / 2, k = 3 C / (4 sqrt(rho_x)). Both laws go as delta^1.5 and a as delta^0.5, so the continuous
+bedding then equals Hertz at every approach, not only at the preload (load-approach slope included); what
+is left is the midpoint rule on the 1 mm grid, as for the circle (``tests/physics/test_contact_models.py``
+states it over 40-150 um). The circle gives back eqs. 5-6 exactly (rho_x = R, k = E*).
+
 The ``_``-prefixed numba kernels are for the time-stepping loop (no checks); the public functions check.
 """
 
@@ -35,7 +44,8 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
 from wheelrail.core.parameters import reduced_modulus
 
-__all__ = ["BeddingModel", "WinklerContact", "bedding_stiffness", "wheel_profile", "winkler_contact"]
+__all__ = ["BeddingModel", "WinklerContact", "bedding_stiffness", "calibrated_bedding", "wheel_profile",
+           "winkler_contact"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -96,16 +106,28 @@ def _bedding_law(approach_known, compliance, roughness, profile, stiffness_dx, e
     return force, count * element_size, math.nan, edge
 
 
+def calibrated_bedding(contact) -> tuple[float, float]:
+    """(k, R) of the bedding for a ``ContactParameters``: stiffness per unit length k (N/m^2) and the radius R
+    whose half is the modified radius R_m of eq. 6 (m). The paper's circle: (E*, R), eqs. 5-6 exactly; an
+    elliptic patch: (3 C / (4 sqrt(rho_x)), rho_x), the module docstring's rule."""
+    if contact.circular:
+        return bedding_stiffness(contact.youngs_modulus, contact.poisson_ratio), contact.radius_along
+    rho_x, _ = contact.patch_radii()
+    return 3.0 * contact.hertz_constant / (4.0 * math.sqrt(rho_x)), rho_x
+
+
 class BeddingModel(ContactModel):
-    """``2d``: the Winkler bedding of 2 half_x + 1 springs under the wheel on the chosen line."""
+    """``2d``: the Winkler bedding of 2 half_x + 1 springs under the wheel on the chosen line
+    (:func:`calibrated_bedding`: the paper's eqs. 5-6, or its calibration for an elliptic patch)."""
 
     def prepare(self, inputs: ModelInputs) -> float:
         from wheelrail.core.contact.prefilter import _bedding_approach
 
         contact = inputs.params.contact
         dx, half = inputs.element_size, inputs.half_x
-        profile = wheel_profile(2 * half + 1, dx, contact.radius)
-        k_dx = bedding_stiffness(contact.youngs_modulus, contact.poisson_ratio) * dx
+        stiffness, radius = calibrated_bedding(contact)
+        profile = wheel_profile(2 * half + 1, dx, radius)
+        k_dx = stiffness * dx
         line = inputs.centre_line
         self.equivalent_line = line
         offsets = np.arange(-half, half + 1)

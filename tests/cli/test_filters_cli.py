@@ -32,6 +32,23 @@ def test_filters_json_layout(capsys):
     assert result["speed_m_s"] == pytest.approx(100 / 3.6)
 
 
+def test_filters_on_an_elliptic_patch(capsys):
+    """A 0.46 m wheel on a 0.30 m crown (issue 16): Hertz's ellipse, a = 6.20 mm along the rail and b = 4.67 mm
+    across (Johnson 4.2); the analytic filters follow a, the CNOSSOS column stays the table's for D = 920 mm."""
+    code, out, err = _run(capsys, "filters", "--json", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300")
+    assert code == 0 and err == ""
+    result = json.loads(out)
+    a, b = result["semi_axes_m"]
+    assert a == pytest.approx(6.20e-3, abs=0.01e-3) and b == pytest.approx(4.67e-3, abs=0.01e-3)
+    assert result["rail_crown_radius_m"] == pytest.approx(0.30)
+    circle = reference_filters(65e3, 0.46, 100 / 3.6)
+    expected = [None if not np.isfinite(v) else pytest.approx(v) for v in circle.by_wavelength["cnossos"]]
+    assert result["by_wavelength"]["cnossos"] == expected
+    assert result["by_wavelength"]["averaging"] != pytest.approx(list(circle.by_wavelength["averaging"]))
+    code, _, err = _run(capsys, "filters", "--wheel-transverse-radius-mm", "-300")
+    assert code != 0 and "conforms" in err and len(err.strip().splitlines()) == 1
+
+
 def test_filters_null_where_undefined(capsys):
     code, out, _ = _run(capsys, "filters", "--json")  # the paper's 65 kN, R = 390 mm: interpolated CNOSSOS
     assert code == 0

@@ -1,14 +1,16 @@
 """`wheelrail study` and the study runner: files written, resume from cached runs, Dask = process pool, errors."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
 
-from wheelrail.core import study as study_module
 from wheelrail.core.cli import main
 from wheelrail.core.roughness import load_roughness, write_csv
 from wheelrail.core.study import STUDIES, RunSpec, execute, plan_study, roughness_digest, run_study, study_roughness
+from wheelrail.core.study import execution as study_execution
+from wheelrail.core.study.store import cache_path
 
 
 def _run_json(argv, capsys):
@@ -30,8 +32,9 @@ def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys)
     filters = out / "fig10_sinter-wheel-1_contact_filters.csv"
     header = levels.read_text().splitlines()[0].split(",")
     assert header == ["band_centre_hz", "3d_db", "2d_db", "hertz_db", "hertz_winkler_db", "hertz_average_db"]
-    assert filters.read_text().splitlines()[0].split(",") == ["band_centre_hz", "3d_db", "2d_db", "hertz_winkler_db",
-                                                              "hertz_average_db"]
+    assert filters.read_text().splitlines()[0].split(",") == [
+        "band_centre_hz", "3d_db", "2d_db", "hertz_winkler_db", "hertz_average_db",
+        "ref_cnossos_db", "ref_averaging_db", "ref_patch_correlated_db", "ref_patch_incoherent_db"]
     data = np.genfromtxt(filters, delimiter=",", names=True)
     assert data["band_centre_hz"][0] == pytest.approx(50.12, abs=0.01) and data["band_centre_hz"][-1] == pytest.approx(
         7943.28, abs=0.01)
@@ -62,9 +65,87 @@ def test_interrupted_study_recomputes_only_missing_runs(tmp_path):
     (cache / "run-0123456789abcdef.npz.x1.tmp").write_bytes(b"partial")
     victim = sorted(cache.glob("run-*.npz"))[0]
     victim.write_bytes(victim.read_bytes()[:100])
-    result = run_study("filters", ["cast-iron-wheel"], tmp_path, length=0.8, progress=False, figures=False)
+    with pytest.warns(UserWarning, match="unusable study run file .*BadZipFile"):
+        result = run_study("filters", ["cast-iron-wheel"], tmp_path, length=0.8, progress=False, figures=False)
     assert result.report.cached == 10  # the truncated one is not trusted
     assert result.report.computed == 29 - 10
+
+
+@pytest.fixture(scope="module")
+def stored_run(tmp_path_factory):
+    """One short run (1 m at 100 km/h: its 50 Hz band is legitimately NaN) and the bytes of its run file."""
+    wheel = load_roughness("sinter-wheel-1")
+    spec = RunSpec(source="sinter-wheel-1", set_label="w", set_digest=roughness_digest(wheel), model="hertz",
+                   length=1.0)
+    cache = tmp_path_factory.mktemp("runs")
+    report = execute([spec], cache=cache, workers=1, progress=False)
+    summary = report.summaries[spec.key]
+    assert np.isnan(summary.levels[0]) and np.isfinite(summary.levels[-1])
+    return spec, summary, cache_path(cache, spec.key).read_bytes()
+
+
+def _damage_zip_byte(raw: bytes, offset: int, value: int) -> bytes:
+    """Set one byte of the first entry of the ZIP's central directory (offset from its signature)."""
+    at = raw.index(b"PK\x01\x02") + offset
+    return raw[:at] + bytes([value]) + raw[at + 1:]
+
+
+def _change_arrays(raw: bytes, change) -> bytes:
+    import io
+
+    with np.load(io.BytesIO(raw)) as data:
+        arrays = {name: data[name] for name in data.files}
+    change(arrays)
+    out = io.BytesIO()
+    np.savez(out, **arrays)
+    return out.getvalue()
+
+
+def _set(name, value):
+    def change(arrays):
+        arrays[name] = value(arrays[name])
+    return change
+
+
+def test_an_intact_run_file_is_used(stored_run, tmp_path):
+    spec, summary, raw = stored_run
+    cache_path(tmp_path, spec.key).write_bytes(raw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        report = execute([spec], cache=tmp_path, workers=1, progress=False)
+    assert report.cached == 1 and report.computed == 0
+    np.testing.assert_array_equal(report.summaries[spec.key].levels, summary.levels)
+
+
+@pytest.mark.parametrize(
+    "damage",
+    [
+        # one byte of the ZIP: zipfile raised RuntimeError (encrypted) / NotImplementedError on every later run
+        lambda raw: _damage_zip_byte(raw, 8, 0x01),  # general-purpose flag: "encrypted"
+        lambda raw: _damage_zip_byte(raw, 10, 99),  # compression method
+        lambda raw: _damage_zip_byte(raw, 6, 99),  # version needed to extract
+        # readable, but not this run's summary
+        lambda raw: _change_arrays(raw, _set("levels_db", lambda v: v[:-1])),
+        lambda raw: _change_arrays(raw, _set("band_centres_hz", lambda v: np.stack([v, v]))),
+        lambda raw: _change_arrays(raw, _set("levels_db", lambda v: np.append(v[:-1], np.nan))),
+        lambda raw: _change_arrays(raw, _set("levels_db", lambda v: np.nan_to_num(v, nan=60.0))),
+        lambda raw: _change_arrays(raw, _set("force_mean", lambda v: np.array(np.nan))),
+        lambda raw: _change_arrays(raw, _set("n_steps", lambda v: np.array([v, v]))),
+        lambda raw: _change_arrays(raw, lambda arrays: arrays.pop("force_std")),
+    ],
+    ids=["zip-flag", "zip-method", "zip-version", "short-levels", "2d-centres", "nan-level", "level-in-nan-band",
+         "nan-force", "array-step-count", "missing-array"],
+)
+def test_a_damaged_run_file_is_recomputed_with_a_warning(stored_run, tmp_path, damage):
+    spec, summary, raw = stored_run
+    path = cache_path(tmp_path, spec.key)
+    path.write_bytes(damage(raw))
+    with pytest.warns(UserWarning, match="unusable study run file"):
+        report = execute([spec], cache=tmp_path, workers=1, progress=False)
+    assert report.cached == 0 and report.computed == 1
+    # the same run again, deterministic: equal to the bit, and its file replaced by a good one
+    np.testing.assert_array_equal(report.summaries[spec.key].levels, summary.levels)
+    assert execute([spec], cache=tmp_path, workers=1, progress=False).cached == 1
 
 
 def test_run_keys_hash_the_full_spec():
@@ -156,6 +237,17 @@ def test_bad_input_is_one_line_on_stderr(argv, message, tmp_path, capsys):
     assert captured.err.count("\n") == 1 and message in captured.err, captured.err
 
 
+@pytest.mark.parametrize("workers", ["2", "1"])
+def test_dask_and_workers_exclude_each_other(workers, tmp_path, capsys):
+    # `--workers 2` (the default value) used to slip through argparse's exclusive group
+    with pytest.raises(SystemExit) as stopped:
+        main(["study", "filters", "--set", "corrugated-rail", "--out", str(tmp_path), "--dask", "tcp://127.0.0.1:8786",
+              "--workers", workers])
+    err = capsys.readouterr().err
+    assert stopped.value.code == 2 and err.count("\n") == 1
+    assert "argument --workers: not allowed with argument --dask" in err, err
+
+
 def test_unwritable_output_folder(tmp_path, capsys):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
@@ -166,7 +258,7 @@ def test_unwritable_output_folder(tmp_path, capsys):
 
 
 def test_unreachable_dask_scheduler(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(study_module, "DASK_CONNECT_TIMEOUT", "1s")
+    monkeypatch.setattr(study_execution, "DASK_CONNECT_TIMEOUT", "1s")
     code = main(["study", "speeds", "--set", "corrugated-rail", "--out", str(tmp_path), "--length-m", "1.5",
                  "--dask", "tcp://127.0.0.1:9"])
     err = capsys.readouterr().err
@@ -179,3 +271,34 @@ def test_every_named_study_is_known_to_the_cli(capsys):
     text = capsys.readouterr().out
     for name in STUDIES:
         assert name in text
+
+
+def test_explorer_does_not_load_the_study_package():
+    # the explorer's contact filters come from core.spectra; importing the study package would load the
+    # process-pool and Dask machinery into the GUI for nothing
+    import subprocess
+    import sys
+
+    code = ("import sys, wheelrail.explorer.app; "
+            "print(sorted(m for m in sys.modules if m.startswith('wheelrail.core.study')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]", out
+
+
+def test_study_on_an_elliptic_patch(tmp_path, capsys):
+    """Issue 16: the study's runs take the contact geometry; its summary carries it; the reference filters
+    follow Hertz's semi-axis a along the rail (6.20 mm for a 0.46 m wheel on a 0.30 m crown)."""
+    argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(tmp_path), "--length-m", "0.6", "--json",
+            "--workers", "1", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300"]
+    summary = _run_json(argv, capsys)
+    contact = summary["contact"]
+    assert contact["wheel_radius"] == pytest.approx(0.46) and contact["rail_crown_radius"] == pytest.approx(0.30)
+    from wheelrail.core.parameters import ContactParameters
+    from wheelrail.core.reference_filters import reference_filters
+
+    ellipse = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)
+    refs = reference_filters(65e3, 0.46, 100 / 3.6, contact=ellipse)
+    table = summary["tables"]["fig10_sinter-wheel-1_contact_filters"]
+    expected = [None if not np.isfinite(v) else pytest.approx(round(float(v), 3), abs=1e-3)
+                for v in refs.by_frequency["averaging"]]
+    assert table["ref_averaging_db"] == expected

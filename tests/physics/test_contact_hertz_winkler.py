@@ -24,7 +24,7 @@ A = CONTACT.hertz_radius()
 def test_hertz_spring_matches_parameters_and_kernels():
     assert C_H == pytest.approx(CONTACT.hertz_constant, rel=1e-14)  # same formula, round-off only
     delta = CONTACT.hertz_approach()
-    assert delta == pytest.approx(77.07e-6, abs=0.01e-6)  # the value quoted in SPEC.md §2
+    assert delta == pytest.approx(77.07e-6, abs=0.01e-6)  # Hertz at the paper's 65 kN, R = 0.39 m
     assert hertz_force(delta, C_H) == pytest.approx(65e3, rel=1e-12)
     assert hertz_approach(65e3, C_H) == pytest.approx(delta, rel=1e-12)
     compression = np.array([-1e-6, 0.0, 20e-6, delta])

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, third_octave_bands
+from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, resolved_force_bands, third_octave_bands
 
 DT = 1e-3 / (100 / 3.6)  # s: one 1 mm element at 100 km/h, the paper's step (36 µs)
 
@@ -86,3 +86,17 @@ def test_too_short_run_and_bad_input_are_clear_errors():
         force_spectrum(np.full(3000, np.nan), DT)
     with pytest.raises(WheelrailError, match="skip"):
         force_spectrum(np.ones(3000), DT, skip=-1.0)
+
+
+@pytest.mark.parametrize(("n_steps", "time_step"), [(572, DT), (600, DT), (1000, DT), (4096, DT), (30000, DT),
+                                                    (2000, 1e-4), (5000, 2e-4), (800, 5e-5)])
+def test_resolved_bands_are_exactly_where_the_spectrum_has_a_level(n_steps, time_step):
+    # resolved_force_bands predicts force_spectrum's NaN bands (no FFT bin in the band, or above Nyquist)
+    # from the record's size alone; run files are checked against it, so it must agree band for band
+    force = 65e3 + np.random.default_rng(n_steps).normal(0.0, 100.0, n_steps)
+    centres, levels = force_spectrum(force, time_step)
+    expected_centres, resolved = resolved_force_bands(n_steps, time_step)
+    np.testing.assert_array_equal(centres, expected_centres)
+    np.testing.assert_array_equal(np.isfinite(levels), resolved)
+    assert resolved.any()
+

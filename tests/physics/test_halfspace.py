@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from wheelrail.core.contact import influence_kernel, solve_coupled_contact, solve_normal_contact
+from wheelrail.core.contact import HalfSpaceWindow, influence_kernel, solve_coupled_contact, solve_normal_contact
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 
@@ -186,18 +186,90 @@ def test_window_edge_is_reported():
 def test_one_element_at_a_time_mode_reaches_the_same_answer():
     # the anti-cycling mode (used after 30 iterations) adds / drops only the worst element per iteration;
     # forced from the start here it must still end at the same solution, only in more iterations
-    from wheelrail.core.contact.halfspace import _NO_FACTOR, _active_set_solve, _cached_kernel
+    from wheelrail.core.contact.halfspace_kernel import _cached_kernel
+    from wheelrail.core.contact.halfspace_solver import _NO_FACTOR, _active_set_solve
 
     dx, n = 1e-3, 24
     gap = rough_gap(n, dx, seed=21)
     reference = solve_normal_contact(gap, dx, load=LOAD)
     kernel = _cached_kernel(n, n, dx, CONTACT.youngs_modulus, CONTACT.poisson_ratio)
     start = np.array([int(np.argmin(gap))], dtype=np.int64)
+    # law (load-controlled, F, no compliance, A_e); limits (tolerance, iterations, cautious from the start)
     pressure, approach, iterations, status, *_ = _active_set_solve(
-        kernel, n, n, gap.ravel(), start, 1, _NO_FACTOR, False, LOAD, 0.0, dx * dx, 1e-9, 1000, 0
+        kernel, gap.ravel(), start, _NO_FACTOR, (False, LOAD, 0.0, dx * dx), (1e-9, 1000, 0)
     )
     assert status == 0
     assert iterations > reference.iterations
     # same solution up to round-off of different factorisation histories (allow 1e-9 relative)
     np.testing.assert_allclose(pressure.reshape(n, n), reference.pressure, rtol=0, atol=1e-9 * reference.pressure.max())
     assert approach == pytest.approx(reference.approach, rel=1e-9)
+
+
+def assert_same_result(first, second):
+    """Bit-identical: the same solve from the same start (no tolerance: same arithmetic in the same order)."""
+    assert np.array_equal(first.pressure, second.pressure)
+    assert np.array_equal(first.contact, second.contact)
+    assert (first.force, first.approach, first.iterations) == (second.force, second.approach, second.iterations)
+    assert (first.converged, first.at_edge) == (second.converged, second.at_edge)
+
+
+def rolling_steps(n: int, dx: float):
+    """Gaps and known approaches of a short rolling run: roughness moving one element per step, one lift-off."""
+    sphere = sphere_gap(n, dx)[0]
+    roughness = sphere - rough_gap(n, dx, seed=5, rms=2e-6)
+    factors = (1.4, 1.45, -0.05, 1.5, 1.3)  # x the Hertz approach; step 2 lifts off (no contact)
+    return [(sphere + np.roll(roughness, k, 1), f * CONTACT.hertz_approach()) for k, f in enumerate(factors)]
+
+
+def test_window_reproduces_the_one_off_solves_and_keeps_the_last_loaded_state():
+    dx, n = 1e-3, 24
+    compliance = 1.0 / 5e8  # m/N
+    window = HalfSpaceWindow((n, n), dx)
+    assert not window.warm and window.last is None
+    warm = None  # the interaction loop's rule before the window: keep a result only if it carries load
+    for step, (gap, approach_known) in enumerate(rolling_steps(n, dx)):
+        result = window.solve_coupled(gap, approach_known=approach_known, compliance=compliance)
+        expected = solve_coupled_contact(gap, dx, approach_known=approach_known, compliance=compliance, initial=warm)
+        assert_same_result(result, expected)
+        assert window.last is result
+        if step == 2:
+            assert result.force == 0.0  # the lift-off step really lifts off
+            # the window did not take the empty set as its warm state: from it, the next step would differ
+            gap3, approach3 = rolling_steps(n, dx)[3]
+            following = {"approach_known": approach3, "compliance": compliance}
+            from_empty = solve_coupled_contact(gap3, dx, initial=result, **following)
+            from_loaded = solve_coupled_contact(gap3, dx, initial=warm, **following)
+            assert from_empty.iterations != from_loaded.iterations
+        if result.force > 0:
+            warm = result
+        assert window.warm
+    # load-controlled solves go through the same warm state
+    gap = rolling_steps(n, dx)[0][0]
+    assert_same_result(window.solve(gap, load=LOAD), solve_normal_contact(gap, dx, load=LOAD, initial=warm))
+    # reset: cold again, as a one-off solve without initial
+    window.reset()
+    assert not window.warm and window.last is None
+    assert_same_result(window.solve(gap, load=LOAD), solve_normal_contact(gap, dx, load=LOAD))
+    # a given contact set (here a poor one) as the start, as initial=mask does
+    mask = gap < gap.min() + 2e-6
+    window.start_from(mask)
+    assert_same_result(window.solve(gap, load=LOAD), solve_normal_contact(gap, dx, load=LOAD, initial=mask))
+
+
+def test_window_hertz_and_failed_solve_leaves_state():
+    dx, n = 1e-3, 24
+    window = HalfSpaceWindow((n, n), dx, youngs_modulus=CONTACT.youngs_modulus, poisson_ratio=CONTACT.poisson_ratio)
+    gap, r2 = sphere_gap(n, dx)
+    smooth = window.solve(gap, load=LOAD)
+    # Hertz through the window as through solve_normal_contact (tolerances of test_hertz_sphere_on_flat...)
+    assert np.sqrt(smooth.contact_area / np.pi) == pytest.approx(CONTACT.hertz_radius(), rel=0.03)  # 5.48 mm
+    assert smooth.approach == pytest.approx(CONTACT.hertz_approach(), rel=0.002)
+    assert window.kernel is influence_kernel((n, n), dx)  # the one cached kernel of eq. 8
+    # a solve that raises (here: 10 x the load pushes the patch to the window's edge) changes nothing
+    with pytest.raises(WheelrailError, match="edge of the 24 x 24 window"):
+        window.solve(gap, load=10 * LOAD)
+    assert window.last is smooth
+    assert_same_result(window.solve(gap, load=LOAD), solve_normal_contact(gap, dx, load=LOAD, initial=smooth))
+    # without raising, the failed result is returned and kept as the last one (the caller checks it)
+    edge = window.solve(gap, load=10 * LOAD, raise_on_failure=False)
+    assert edge.at_edge and window.last is edge

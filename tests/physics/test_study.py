@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
+from wheelrail.core.reference_filters import reference_filters
 from wheelrail.core.roughness import RoughnessSet
 from wheelrail.core.spectra import BAND_HALF_WIDTH
 from wheelrail.core.study import (
@@ -99,10 +100,24 @@ def test_2d_filter_dips_at_eq19_and_3d_dips_are_shallower(white_set, tmp_path):
         # in 3D the dip is at least 3 dB shallower (measured: none at f_1, 3 dB at f_2), since the contact
         # length varies across the patch (section 3.4)
         assert _dip_depth(three_d, band) < _dip_depth(two_d, band) - 3.0, (n, three_d)
-    # below 500 Hz no filter acts on any model: the wavelengths exceed 5 cm (> 4 x 2a), within 0.5 dB
+    # below 500 Hz no along-track filter acts: the wavelengths exceed 5 cm (> 4 x 2a), within 0.5 dB
     low = centres < 450
-    for column in ("2d_db", "3d_db", "hertz_winkler_db", "hertz_average_db"):
+    for column in ("2d_db", "hertz_winkler_db", "hertz_average_db"):
         assert np.nanmax(np.abs(filters.columns[column][low])) < 0.5, column
+    # The 3D patch also averages the laterally uncorrelated lines of this roughness, at any wavelength. Below
+    # 350 Hz the sleeper-passing harmonics (the same in every model) outweigh this 0.3 um roughness and the
+    # 3D filter reads 0 within 0.5 dB (measured < 0.1 dB); in the 400 Hz band the roughness response leads
+    # and the 3D force is lower (measured -3.1 dB). Before issue 13 item 12 this was hidden: linear
+    # interpolation between the excitation positions put spurious sleeper-passing tones of 26-29 dB re 1 N
+    # into the 400-630 Hz bands of every model (15 to -17 dB once refined).
+    three_d = filters.columns["3d_db"]
+    assert np.nanmax(np.abs(three_d[centres < 350])) < 0.5
+    assert np.nanmax(three_d[low]) < 0.5
+    # the reference filters for the runs' load and wheel sit beside the dynamic ones (issue 14), the same
+    # values as wheelrail.core.reference_filters gives for 65 kN, R = 0.39 m, 100 km/h
+    refs = reference_filters(P.contact.preload, P.contact.radius, P.run.speed)
+    for name, values in refs.by_frequency.items():
+        np.testing.assert_array_equal(filters.columns[f"ref_{name.replace('-', '_')}_db"], values)
 
 
 def test_eq19_dips_move_with_speed(white_set, tmp_path):

@@ -21,6 +21,7 @@ from wheelrail.core.recording import (
     sink_from_args,
 )
 from wheelrail.core.results import RunHeader, RunResult, StepState
+from wheelrail.core.roughness import load_roughness
 from wheelrail.core.spectra import force_spectrum
 
 DT = 1e-3 / (100 / 3.6)  # s, 1 mm at 100 km/h
@@ -75,7 +76,7 @@ def scalar_column(path, entity: str) -> tuple[np.ndarray, np.ndarray]:
 def recorded(tmp_path_factory):
     result = synthetic_result()
     path = tmp_path_factory.mktemp("rec") / "run.rrd"
-    assert record_result(result, path) == path
+    assert record_result(result, path, roughness=load_roughness("corrugated-rail")) == path
     return result, path
 
 
@@ -135,6 +136,27 @@ def test_nominal_circle_is_the_hertz_radius(tmp_path):
         strip = np.array(chunk.to_record_batch().column("LineStrips3D:strips")[0].as_py()[0])
         # 1 µm: the paper's a = 5.48 mm is given to 10 µm; the circle is stored in float32 (~1e-9 m)
         assert np.hypot(strip[:, 0], strip[:, 1]) == pytest.approx(radius, abs=1e-6)
+
+
+def test_elliptic_patch_and_wheel_set_are_recorded(tmp_path):
+    """Issue 16: a 0.46 m wheel on a 0.30 m crown draws Hertz's ellipse (a = 6.20 mm along the rail, b = 4.67 mm
+    across), and a run on rail and wheel roughness together names both sets, read back in the header."""
+    from wheelrail.core.interaction import simulate
+
+    contact = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)
+    result = simulate("corrugated-rail", wheel_roughness="sinter-wheel-1", model="hertz", length=0.05,
+                      params=ModelParameters(contact=contact))
+    path = record_result(result, tmp_path / "ellipse.rrd", roughness=load_roughness("corrugated-rail"))
+    (chunk,) = [c for c in chunks_of(path, "contact/nominal_circle", static=True)
+                if "LineStrips3D:strips" in c.to_record_batch().schema.names]
+    strip = np.array(chunk.to_record_batch().column("LineStrips3D:strips")[0].as_py()[0])
+    a, b = contact.hertz_semi_axes()
+    # float32 storage: 1e-9 m; the ellipse (x/a)^2 + (y/b)^2 = 1 through every point
+    assert np.abs(np.max(np.abs(strip[:, 0])) - a) < 1e-8 and np.abs(np.max(np.abs(strip[:, 1])) - b) < 1e-8
+    assert np.allclose((strip[:, 0] / a) ** 2 + (strip[:, 1] / b) ** 2, 1.0, atol=1e-5)
+    back = read_recording(path)
+    assert back.header.wheel_roughness_name == "sinter-wheel-1" and back.header.roughness_name == "corrugated-rail"
+    assert back.header.params.contact.rail_crown_radius == pytest.approx(0.30)
 
 
 def test_force_spectrum_is_recorded(recorded):
@@ -275,7 +297,7 @@ def test_real_short_run_streams_exactly(tmp_path, model):
     run = prepare_run("corrugated-rail", model=model, length=0.05)
     path = tmp_path / f"{model}.rrd"
     sink = RecordingSink(rrd=path, chunk_steps=16)
-    sink.start(run)
+    sink.start(run, roughness=load_roughness("corrugated-rail"))
     result = run.run(sink)
     sink.finish(result)
     back = read_recording(path)
@@ -299,7 +321,7 @@ def test_sink_used_without_start_is_completed_by_finish(tmp_path):
     sink = RecordingSink(rrd=path, chunk_steps=50)
     for k in range(result.n_steps):
         sink.log_step(result.state(k))
-    sink.finish(result)
+    sink.finish(result, roughness=load_roughness("corrugated-rail"))
     back = read_recording(path)
     np.testing.assert_array_equal(back.pressure, result.pressure)
     np.testing.assert_array_equal(back.window_x, result.window_x)  # the centred 1 mm grid
@@ -348,3 +370,17 @@ def test_connect_streams_to_a_running_viewer_server(tmp_path):
     finally:
         server.kill()
         server.wait()
+
+
+def test_sink_records_only_the_roughness_it_is_given(tmp_path):
+    """The run names a bundled set, but without the set itself no roughness/lines is written (nothing loaded)."""
+    result = synthetic_result(n=60, model="hertz")
+    assert result.roughness_name == "corrugated-rail"
+    path = record_result(result, tmp_path / "plain.rrd")
+    paths = {c.entity_path.lstrip("/") for c in RrdReader(path).stream()}
+    assert "roughness/lines" not in paths and "contact/force" in paths
+    rough = load_roughness("corrugated-rail")
+    steps, lines = scalar_column(record_result(result, tmp_path / "lines.rrd", roughness=rough), "roughness/lines")
+    assert lines.shape == (60, 7)
+    # exact: the same interpolation of the set's line 2 (row centre + 2) at the wheel positions
+    np.testing.assert_array_equal(lines[:, 5], np.interp(result.x, rough.x, rough.heights[rough.row_of_line(2)]))

@@ -1,9 +1,10 @@
-"""Bad input to the contact models gives one clear WheelrailError line (SPEC.md §7)."""
+"""Bad input to the contact models gives one clear WheelrailError line (README, Errors)."""
 
 import numpy as np
 import pytest
 
 from wheelrail.core.contact import (
+    HalfSpaceWindow,
     average_roughness,
     hertz_approach,
     hertz_constant,
@@ -92,3 +93,25 @@ def test_hertz_and_winkler_inputs():
     with pytest.raises(WheelrailError, match="too large"):
         # a 2 mm half window under a 5.5 mm wide nominal contact: the bedding contact must reach the end
         winkler_equivalent_roughness(np.zeros(100), 1e-3, half_window=2e-3)
+
+
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: HalfSpaceWindow((1, 24), 1e-3), "at least 2 x 2"),
+        (lambda: HalfSpaceWindow(24, 1e-3), "shape must be two integers"),
+        (lambda: HalfSpaceWindow((24, 24), 0.0), "element_size must be positive"),
+        (lambda: HalfSpaceWindow((24, 24), 1e-3, max_iterations=0), "max_iterations"),
+        (lambda: HalfSpaceWindow((24, 24), 1e-3).solve(sphere(12), load=65e3), r"window's shape \(24, 24\)"),
+        (lambda: HalfSpaceWindow((24, 24), 1e-3).solve(sphere(), load=-1.0), "load must be positive"),
+        (
+            lambda: HalfSpaceWindow((24, 24), 1e-3).solve_coupled(sphere(), approach_known=1e-5, compliance=-1.0),
+            "compliance must be finite and >= 0",
+        ),
+        (lambda: HalfSpaceWindow((24, 24), 1e-3).start_from(np.ones((3, 3), dtype=bool)), "contact must be"),
+    ],
+)
+def test_half_space_window_inputs(make, match):
+    with pytest.raises(WheelrailError, match=match) as excinfo:
+        make()
+    one_line(excinfo)

@@ -1,4 +1,4 @@
-"""Roughness data model and the two file formats of SPEC.md §3 (CSV, NPZ), including every bad input."""
+"""Roughness data model and its two file formats (CSV, NPZ; README, Roughness data), every bad input."""
 
 import numpy as np
 import pytest

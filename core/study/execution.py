@@ -1,0 +1,320 @@
+"""Running a study's runs: read back the cached ones, compute the missing ones in this process, on a local
+process pool (``concurrent.futures.ProcessPoolExecutor``, spawned workers) or on a Dask cluster
+(``dask.distributed``), and write each finished run at once (:mod:`wheelrail.core.study.store`).
+
+Shutdown: pool workers exit by themselves within ``PARENT_POLL_INTERVAL`` when the process that started
+them dies (even by kill -9), so no worker and no multiprocessing resource tracker outlives a study; a
+SIGTERM during :func:`execute` is handled like Ctrl-C (queued runs dropped, workers stopped, finished runs
+kept) unless the program installed its own SIGTERM handler.
+"""
+
+from __future__ import annotations
+
+import atexit
+import contextlib
+import os
+import re
+import signal
+import sys
+import threading
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import model_entry
+from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
+from wheelrail.core.study.store import load_cached, save_cached
+
+DASK_CONNECT_TIMEOUT = "10s"  # how long to try reaching a Dask scheduler before giving up
+PARENT_POLL_INTERVAL = 0.5  # s, how often a pool worker checks that the process that started it lives
+_ADDRESS = re.compile(r"^(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?$")
+
+
+class StudyTerminated(KeyboardInterrupt):
+    """SIGTERM arrived while a study ran: unwinds like Ctrl-C (the CLI reports ``interrupted``)."""
+
+
+def parse_dask_address(address: str) -> str:
+    """Check a Dask scheduler address (``tcp://HOST:PORT``); returns it or raises WheelrailError."""
+    text = str(address).strip()
+    if "://" not in text:
+        text = f"tcp://{text}"
+    match = _ADDRESS.match(text)
+    port = match.group(2) if match else None
+    if match is None or (port is not None and not 0 < int(port[1:]) < 65536):
+        raise WheelrailError(f"--dask {address!r} is not a scheduler address; expected tcp://HOST:PORT")
+    return text
+
+
+@dataclass(frozen=True)
+class ExecutionReport:
+    """What :func:`execute` did: summaries by run key, and how many runs were computed vs read back."""
+
+    summaries: dict[str, RunSummary]
+    computed: int
+    cached: int
+    wall_time: float
+    backend: str
+
+
+def _cost(spec: RunSpec) -> float:
+    """Rough relative cost, to start the long runs first (a per-step law such as 3D's is ~50x slower per
+    step than a compiled one-line law)."""
+    return (1.0 if model_entry(spec.model).traits.compiled else 50.0) * (spec.length or 3.0)
+
+
+def execute(
+    specs: Sequence[RunSpec],
+    *,
+    cache: str | os.PathLike,
+    workers: int = 2,
+    dask_address: str | None = None,
+    progress: bool = True,
+    description: str = "runs",
+) -> ExecutionReport:
+    """Run every spec not yet in ``cache`` and return all summaries.
+
+    Parameters
+    ----------
+    specs : sequence of RunSpec
+        Independent runs; duplicates (same key) run once.
+    cache : path
+        Folder of finished runs (``run-<key>.npz``, written atomically as each run finishes; an unusable
+        file is recomputed with a warning).
+    workers : int
+        Local worker processes (``ProcessPoolExecutor``); 1 runs in this process. Ignored with Dask.
+    dask_address : str, optional
+        Scheduler address of a running Dask cluster (``tcp://HOST:PORT``); runs are submitted there with
+        ``dask.distributed.Client(address)``. Results come back to this process, which writes the cache.
+    progress : bool
+        Show a tqdm bar of runs done on stderr.
+
+    Returns
+    -------
+    ExecutionReport
+    """
+    from tqdm import tqdm
+
+    if isinstance(workers, bool) or int(workers) != workers or workers < 1:
+        raise WheelrailError(f"workers must be a positive integer, got {workers!r}")
+    cache = Path(cache)
+    cache.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
+    unique: dict[str, RunSpec] = {}
+    for spec in specs:
+        unique.setdefault(spec.key, spec)
+    summaries = {key: found for key, spec in unique.items() if (found := load_cached(cache, spec)) is not None}
+    missing = sorted((spec for key, spec in unique.items() if key not in summaries), key=_cost, reverse=True)
+    n_cached = len(summaries)
+    bar = tqdm(total=len(unique), initial=n_cached, unit="run", desc=description, disable=not progress,
+               file=sys.stderr)
+
+    def finished(summary: RunSummary) -> None:
+        save_cached(cache, summary)
+        summaries[summary.key] = summary
+        bar.update(1)
+
+    try:
+        backend = _dispatch(missing, int(workers), dask_address, finished)
+    finally:
+        bar.close()
+    return ExecutionReport(summaries=summaries, computed=len(summaries) - n_cached, cached=n_cached,
+                           wall_time=time.perf_counter() - start, backend=backend)
+
+
+def _dispatch(missing: list[RunSpec], workers: int, dask_address: str | None,
+              finished: Callable[[RunSummary], None]) -> str:
+    """Compute the missing runs where asked; returns the backend's name for the report."""
+    if dask_address is not None:  # connect even when all runs are cached: a bad address is an error
+        _execute_dask(missing, dask_address, finished)
+        return f"dask {dask_address}"
+    if not missing:
+        return "cache"
+    if workers == 1 or len(missing) == 1:
+        for spec in missing:
+            finished(compute_run(spec))
+        return "in-process"
+    with _terminate_as_interrupt():
+        _execute_pool(missing, workers, finished)
+    return f"process pool ({workers} workers)"
+
+
+# --------------------------------------------------------------------------------------------------
+# Local process pool
+# --------------------------------------------------------------------------------------------------
+
+_BLAS_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+@contextlib.contextmanager
+def _single_threaded_blas():
+    """One BLAS thread in worker processes started inside this block (unless the user set a number).
+
+    The workers already run in parallel; OpenBLAS's own threads on top oversubscribe the cores, and the
+    3D solver's many small factorisations then run several times slower (measured 3x with 2 workers on
+    2 cores). Dask's nanny sets the same variables for its workers. The variables are read when the
+    library loads, so they are set in this process while the pool spawns its workers, then restored.
+    """
+    saved = {name: os.environ.get(name) for name in _BLAS_THREAD_VARIABLES}
+    for name, value in saved.items():
+        if value is None:
+            os.environ[name] = "1"
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+
+
+def _raise_terminated(signum, frame):
+    raise StudyTerminated()
+
+
+@contextlib.contextmanager
+def _terminate_as_interrupt():
+    """Turn SIGTERM into :class:`StudyTerminated` while the block runs, so it unwinds like Ctrl-C.
+
+    Only in the main thread (where Python runs signal handlers) and only over the default action (which
+    would end the process without stopping the workers); a handler the program installed is left alone.
+    """
+    if threading.current_thread() is not threading.main_thread() or \
+            signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL:
+        yield
+        return
+    signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+def _watch_parent(parent_pid: int) -> None:
+    """Worker side: end this process as soon as its parent is gone (its parent pid changes)."""
+    while os.getppid() == parent_pid:
+        time.sleep(PARENT_POLL_INTERVAL)
+    os._exit(1)  # no clean-up to do: the run in progress is lost anyway and its parent wrote the rest
+
+
+def _start_worker(parent_pid: int) -> None:
+    """Pool initializer: a daemon thread watches the parent, so that the worker does not outlive it.
+
+    A spawned worker is a child of the process that submitted the runs; when that process dies without
+    stopping the pool (kill -9, a crash), the worker would otherwise wait for tasks forever, keeping
+    ~250 MB and the multiprocessing resource tracker (which waits for every holder of its pipe) alive.
+    Polling ``os.getppid()`` works on every POSIX system; Linux's ``PR_SET_PDEATHSIG`` is not used because it
+    fires when the parent *thread* that spawned the worker ends, which in a threaded program (the
+    explorer) is not the end of the process.
+    """
+    threading.Thread(target=_watch_parent, args=(parent_pid,), name="wheelrail-parent-watch", daemon=True).start()
+
+
+_POOLS: dict[int, ProcessPoolExecutor] = {}
+
+
+def _pool(workers: int) -> ProcessPoolExecutor:
+    """The process pool of ``workers`` workers, kept for later studies in this process (their start-up,
+    about 1-2 s per worker for imports and numba's cached kernels, is paid once)."""
+    import multiprocessing
+
+    pool = _POOLS.get(workers)
+    if pool is None or getattr(pool, "_broken", False):
+        # spawn, not fork: the parent may hold threads (tqdm monitor, a Dask client, the GUI's server)
+        # that a forked child would inherit in an undefined state
+        pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=_start_worker, initargs=(os.getpid(),))
+        _POOLS[workers] = pool
+    return pool
+
+
+def _stop_pool(workers: int, pool: ProcessPoolExecutor) -> None:
+    """Drop the pool and end its workers now, including those in the middle of a run."""
+    _POOLS.pop(workers, None)
+    # the executor has no public way to end a running task: its worker processes are stopped directly
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        process.terminate()
+    for process in processes:
+        process.join()
+
+
+def shutdown_pools() -> None:
+    """Stop the worker processes kept by :func:`execute` (also done at interpreter exit)."""
+    while _POOLS:
+        _, pool = _POOLS.popitem()
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+atexit.register(shutdown_pools)
+
+
+def _execute_pool(missing: list[RunSpec], workers: int, finished: Callable[[RunSummary], None]) -> None:
+    pool = _pool(workers)
+    pending = set()
+    try:
+        with _single_threaded_blas():  # new workers start (and read these variables) on the first submits
+            pending = {pool.submit(compute_run, spec) for spec in missing}
+        while pending:
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for future in done:
+                finished(future.result())
+    except BrokenProcessPool:
+        _stop_pool(workers, pool)
+        raise WheelrailError(
+            "a study worker process died; in a script, call the study API under "
+            "`if __name__ == '__main__':` (workers are spawned and import the main module)"
+        ) from None
+    except BaseException:
+        # interrupted or a run failed: drop the queued runs; the finished ones are already cached
+        for future in pending:
+            future.cancel()
+        if not isinstance(sys.exc_info()[1], Exception):  # Ctrl-C or SIGTERM: stop the workers too
+            _stop_pool(workers, pool)
+        raise
+
+
+# --------------------------------------------------------------------------------------------------
+# Dask
+# --------------------------------------------------------------------------------------------------
+
+
+def _portable(spec: RunSpec, loaded: dict) -> RunSpec:
+    """The spec with a user file's roughness loaded into it: Dask workers may run on other machines that
+    see the installed bundled sets but not this machine's files (the key is unchanged: it hashes content)."""
+    from wheelrail.core.roughness import bundled_names, load_roughness
+
+    if isinstance(spec.source, str | os.PathLike) and str(spec.source) not in bundled_names():
+        key = str(spec.source)
+        if key not in loaded:
+            loaded[key] = load_roughness(spec.source)
+        return replace(spec, source=loaded[key])
+    return spec
+
+
+def _execute_dask(missing: list[RunSpec], address: str, finished: Callable[[RunSummary], None]) -> None:
+    try:
+        from distributed import Client, as_completed
+    except ImportError:
+        raise WheelrailError("--dask needs dask.distributed: pip install 'dask[distributed]'") from None
+    address = parse_dask_address(address)
+    try:
+        client = Client(address, timeout=DASK_CONNECT_TIMEOUT)
+    except (OSError, TimeoutError, ValueError) as error:
+        first = str(error).splitlines()[0] if str(error) else type(error).__name__
+        raise WheelrailError(f"cannot reach the Dask scheduler at {address}: {first}") from None
+    try:
+        if not missing:
+            return
+        loaded: dict = {}
+        missing = [_portable(spec, loaded) for spec in missing]
+        keys = [f"wheelrail-run-{spec.key[:32]}" for spec in missing]
+        futures = client.map(compute_run, missing, key=keys, pure=False)
+        for future in as_completed(futures):
+            finished(future.result())
+    finally:
+        client.close()

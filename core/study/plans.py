@@ -1,0 +1,350 @@
+"""Study plans: the named studies (``STUDIES``) as lists of :class:`RunSpec` and the function that turns
+their summaries into :class:`Table` objects (paper Figs 10-14, 16, 17 and 11)."""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters, WheelParameters
+from wheelrail.core.spectra import contact_filter, level_difference, mean_level
+from wheelrail.core.study.specs import (
+    HALF_WHEEL_MASS,
+    LOW_RESOLUTION_LINES_MM,
+    ONE_LINE_MODELS,
+    PAPER_LINES,
+    PAPER_SPEEDS_KMH,
+    REFERENCE_MODEL,
+    STUDIES,
+    RunSpec,
+    RunSummary,
+    roughness_digest,
+)
+from wheelrail.core.study.tables import Table
+
+
+@dataclass(frozen=True, kw_only=True)
+class SetInfo:
+    """A roughness set as used by a study: source, label, digest, lines, default length."""
+
+    source: object
+    label: str
+    digest: str
+    kind: str
+    line_numbers: tuple[int, ...]
+    lines: tuple[int, ...]  # the paper's lines -3..3 present in the set
+    length: float | None
+
+
+@dataclass(frozen=True, kw_only=True)
+class StudyPlan:
+    """A named study: its run specs, and how to turn their summaries into tables and figures."""
+
+    name: str
+    sets: tuple[SetInfo, ...]
+    specs: tuple[RunSpec, ...]
+    tabulate: Callable[[dict[str, RunSummary]], list[Table]]
+    speed: float
+    length: float | None
+    contact: ContactParameters = field(default_factory=ContactParameters)
+
+
+def _set_info(source, length: float | None, contact: ContactParameters) -> SetInfo:
+    from wheelrail.core.roughness import RoughnessSet, load_roughness
+
+    rough = source if isinstance(source, RoughnessSet) else load_roughness(source)
+    if isinstance(source, RoughnessSet):
+        label = (rough.description.splitlines()[0][:40] if rough.description else "roughness") or "roughness"
+    else:
+        text = str(source)
+        label = Path(text).stem if (os.sep in text or text.endswith((".csv", ".npz"))) else text
+    label = re.sub(r"[^A-Za-z0-9_.-]+", "-", label).strip("-") or "roughness"
+    numbers = tuple(int(v) for v in rough.line_numbers)
+    lines = tuple(v for v in PAPER_LINES if v in numbers)
+    length = _run_length(rough, label, length, contact)
+    return SetInfo(source=source, label=label, digest=roughness_digest(rough), kind=rough.kind,
+                   line_numbers=numbers, lines=lines, length=length)
+
+
+def _run_length(rough, label: str, length: float | None, contact: ContactParameters) -> float | None:
+    """The run length of a set: ``length`` checked against the rail data every model can run (the
+    interaction's :func:`~wheelrail.core.interaction.usable_length` at the study's element size), or by
+    default all of it; wheel data (periodic): ``length`` as given, None for one circumference."""
+    from wheelrail.core.interaction import run_margin, usable_length
+
+    if rough.periodic:
+        return length
+    element_size = RunParameters().element_size  # the studies keep the default 1 mm elements
+    try:
+        usable = usable_length(rough, element_size, ModelParameters(contact=contact))
+    except WheelrailError as error:
+        raise WheelrailError(f"{label}: {error}") from None
+    if length is None:
+        return usable
+    if length > usable + 1e-9:
+        raise WheelrailError(f"run length {length:g} m exceeds the {usable:g} m of {label} usable by every model "
+                             f"(rail data less {run_margin(element_size, ModelParameters(contact=contact)) * 1e3:g} "
+                             "mm margins)")
+    return length
+
+
+def _params(speed: float, contact: ContactParameters, wheel_mass: float | None = None) -> ModelParameters:
+    wheel = WheelParameters() if wheel_mass is None else WheelParameters(unsprung_mass=wheel_mass)
+    return ModelParameters(wheel=wheel, contact=contact, run=RunParameters(speed=speed))
+
+
+def _spec(info: SetInfo, model: str, params: ModelParameters, line: int = 0, **extra) -> RunSpec:
+    return RunSpec(source=info.source, set_label=info.label, set_digest=info.digest, model=model, line=line,
+                   params=params, length=info.length, **extra)
+
+
+def _column(line: int) -> str:
+    return f"line_{line}_db"
+
+
+def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length: float | None = None,
+               contact: ContactParameters | None = None) -> StudyPlan:
+    """Build a named study's run specs and table builder.
+
+    Parameters
+    ----------
+    name : str
+        One of ``STUDIES``.
+    sets : sequence
+        Roughness sets (bundled names, CSV/NPZ paths or ``RoughnessSet``); each gives its own panel.
+    speed : float
+        Train speed v, m/s (paper: 100 km/h). For ``speeds`` the reference speed of the half-mass case.
+    length : float, optional
+        Run length, m. Default: the whole set (rail: the data less the largest window margin, the same for
+        every model; wheel: one circumference).
+    contact : ContactParameters, optional
+        Contact material, preload and geometry of every run (default: the paper's: 65 kN, crossed cylinders
+        of R = 0.39 m); e.g. ``ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)`` for an
+        elliptic patch.
+
+    Returns
+    -------
+    StudyPlan
+    """
+    if name not in STUDIES:
+        raise WheelrailError(f"unknown study {name!r}; choose one of {', '.join(STUDIES)}")
+    if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
+        raise WheelrailError(f"speed must be a positive number of m/s, got {speed!r}")
+    if length is not None and not (isinstance(length, int | float) and math.isfinite(length) and length > 0):
+        raise WheelrailError(f"length must be a positive number of m, got {length!r}")
+    if not sets:
+        raise WheelrailError("a study needs at least one roughness set")
+    contact = ContactParameters() if contact is None else contact
+    if not isinstance(contact, ContactParameters):
+        raise WheelrailError("contact must be a wheelrail.core.parameters.ContactParameters")
+    infos = tuple(_set_info(source, length, contact) for source in sets)
+    labels = [info.label for info in infos]
+    if len(set(labels)) != len(labels):
+        raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")
+    builder = _BUILDERS[name]
+    specs, tabulate = builder(infos, speed, contact)
+    _check_durations(specs, infos)
+    return StudyPlan(name=name, sets=infos, specs=tuple(specs), tabulate=tabulate, speed=speed, length=length,
+                     contact=contact)
+
+
+def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:
+    """Every run must outlast the force spectrum's start-up skip by 16 steps (``force_spectrum``)."""
+    from wheelrail.core.roughness import RoughnessSet, load_roughness
+    from wheelrail.core.spectra import FORCE_SKIP
+
+    circumference = {}
+    for info in infos:
+        if info.length is None:
+            rough = info.source if isinstance(info.source, RoughnessSet) else load_roughness(info.source)
+            circumference[info.label] = rough.length
+    for spec in specs:
+        length = spec.length if spec.length is not None else circumference[spec.set_label]
+        dx = spec.params.run.element_size
+        needed = FORCE_SKIP * spec.params.run.speed + 16 * dx
+        if length < needed:
+            raise WheelrailError(
+                f"run length {length:g} m at {spec.speed_kmh:g} km/h is too short for a force spectrum, which "
+                f"skips the first {FORCE_SKIP:g} s; use at least {math.ceil(needed * 100) / 100:g} m"
+            )
+
+
+def _levels(summaries, spec: RunSpec) -> np.ndarray:
+    return summaries[spec.key].levels
+
+
+def _centres(summaries, spec: RunSpec) -> np.ndarray:
+    return summaries[spec.key].band_centres
+
+
+def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str, np.ndarray]:
+    """The reference filters (CNOSSOS-EU A3, analytic) for the runs' load, wheel and speed on the bands of the
+    force spectra, as ``ref_<name>_db`` columns (NaN where a filter is not defined)."""
+    from wheelrail.core.reference_filters import reference_filters
+
+    contact = params.contact
+    refs = reference_filters(contact.preload, contact.radius_along, params.run.speed, contact=contact,
+                             frequency_range=(float(centres[0]), float(centres[-1])))
+    if not np.allclose(refs.frequency_bands.centres, centres, rtol=1e-9):
+        raise WheelrailError("reference filters: the bands differ from those of the force spectra")
+    return {f"ref_{name.replace('-', '_')}_db": np.asarray(values, dtype=float)
+            for name, values in refs.by_frequency.items()}
+
+
+def _plan_filters(infos, speed, contact):
+    params = _params(speed, contact)
+    specs, layout = [], {}
+    for info in infos:
+        one_line = {(model, line): _spec(info, model, params, line) for model in ONE_LINE_MODELS
+                    for line in info.lines}
+        three_d = _spec(info, "3d", params, 0)
+        layout[info.label] = (info, one_line, three_d)
+        specs += [*one_line.values(), three_d]
+
+    def tabulate(summaries):
+        tables = []
+        for label, (info, one_line, three_d) in layout.items():
+            centres = _centres(summaries, three_d)
+            level = {model: [_levels(summaries, one_line[model, line]) for line in info.lines]
+                     for model in ONE_LINE_MODELS}
+            l3d = _levels(summaries, three_d)
+            spectra = {"3d_db": l3d, **{f"{m.replace('-', '_')}_db": mean_level(level[m]) for m in ONE_LINE_MODELS}}
+            filters = {"3d_db": mean_level([contact_filter(l3d, h) for h in level[REFERENCE_MODEL]])}
+            for model in ("2d", "hertz-winkler", "hertz-average"):
+                filters[f"{model.replace('-', '_')}_db"] = mean_level(
+                    [contact_filter(v, h) for v, h in zip(level[model], level[REFERENCE_MODEL], strict=True)])
+            filters.update(_reference_columns(params, centres))
+            lines = f"lines {info.lines[0]}..{info.lines[-1]}"
+            tables.append(Table(name=f"fig10_{label}_force_levels", figure="10", panel=label, columns=spectra,
+                                title=f"{label}: contact-force levels, dB re 1 N (one-line models: mean of {lines})",
+                                band_centres=centres))
+            tables.append(Table(name=f"fig10_{label}_contact_filters", figure="10", panel=label, columns=filters,
+                                title=f"{label}: contact filter L - L_hertz, dB (mean over {lines}); ref_*: "
+                                      f"CNOSSOS-EU A3 and analytic filters for the run's load and wheel",
+                                band_centres=centres))
+        return tables
+
+    return specs, tabulate
+
+
+_PAIRS = (  # Figs 12-14: (figure, model a, model b)
+    ("12", "3d", "2d"),
+    ("13", "2d", "hertz-winkler"),
+    ("14", "2d", "hertz-average"),
+)
+
+
+def _plan_line_spread(infos, speed, contact):
+    params = _params(speed, contact)
+    specs, layout = [], {}
+    for info in infos:
+        runs = {(model, line): _spec(info, model, params, line) for model in ("2d", "hertz-winkler", "hertz-average")
+                for line in info.lines}
+        runs["3d", None] = _spec(info, "3d", params, 0)
+        layout[info.label] = (info, runs)
+        specs += list(runs.values())
+
+    def tabulate(summaries):
+        tables = []
+        for label, (info, runs) in layout.items():
+            centres = _centres(summaries, runs["3d", None])
+            for figure, a, b in _PAIRS:
+                columns = {}
+                for line in info.lines:
+                    la = _levels(summaries, runs[a, None if a == "3d" else line])
+                    columns[_column(line)] = level_difference(la, _levels(summaries, runs[b, line]))
+                columns["mean_db"] = mean_level(columns.values())
+                stem = f"{a}_minus_{b}".replace("-", "_")
+                tables.append(Table(name=f"fig{figure}_{label}_{stem}", figure=figure, panel=label,
+                                    title=f"{label}: L_{a} - L_{b} per line and mean, dB",
+                                    band_centres=centres, columns=columns))
+        return tables
+
+    return specs, tabulate
+
+
+def _plan_averaged_input(infos, speed, contact):
+    params = _params(speed, contact)
+    layout = {info.label: (_spec(info, "3d", params, 0), _spec(info, "2d", params, 0, averaged_lines=info.lines))
+              for info in infos}
+
+    def tabulate(summaries):
+        columns, centres = {}, None
+        for label, (three_d, averaged) in layout.items():
+            centres = _centres(summaries, three_d)
+            columns[f"{label}_db"] = level_difference(_levels(summaries, three_d), _levels(summaries, averaged))
+        return [Table(name="fig16_3d_minus_2d_averaged_input", figure="16", band_centres=centres, columns=columns,
+                      title="L_3D - L_2D,av: 2D fed with the mean of lines -3..3, dB")]
+
+    return [spec for pair in layout.values() for spec in pair], tabulate
+
+
+def _mm(values) -> str:
+    return ", ".join(f"{v:g}" for v in values)
+
+
+def _plan_lateral_resolution(infos, speed, contact):
+    params = _params(speed, contact)
+    layout = {}
+    for info in infos:
+        runs = {"original": _spec(info, "3d", params, 0)}
+        for resolution, kept in LOW_RESOLUTION_LINES_MM.items():
+            runs[resolution] = _spec(info, "3d", params, 0, lateral_lines_mm=kept)
+        layout[info.label] = runs
+
+    def tabulate(summaries):
+        tables = []
+        for resolution, kept in LOW_RESOLUTION_LINES_MM.items():
+            columns, centres = {}, None
+            for label, runs in layout.items():
+                centres = _centres(summaries, runs["original"])
+                columns[f"{label}_db"] = level_difference(_levels(summaries, runs["original"]),
+                                                          _levels(summaries, runs[resolution]))
+            tables.append(Table(name=f"fig17_3d_minus_3d_{resolution}mm", figure="17", band_centres=centres,
+                                columns=columns, panel=f"{resolution} mm",
+                                title=f"L_3D - L_3D,{resolution}mm (lines at {_mm(kept)} mm), dB"))
+        return tables
+
+    return [spec for runs in layout.values() for spec in runs.values()], tabulate
+
+
+def _speed_cases(speed):
+    cases = [(f"{v:g}_kmh_db", v * KMH, None) for v in PAPER_SPEEDS_KMH]
+    cases.append((f"{speed / KMH:g}_kmh_half_mass_db", speed, HALF_WHEEL_MASS))
+    return cases
+
+
+def _plan_speeds(infos, speed, contact):
+    layout = {info.label: {column: _spec(info, "2d", _params(v, contact, mass), 0)
+                          for column, v, mass in _speed_cases(speed)}
+              for info in infos}
+
+    def tabulate(summaries):
+        tables = []
+        for label, runs in layout.items():
+            columns = {column: _levels(summaries, spec) for column, spec in runs.items()}
+            centres = _centres(summaries, next(iter(runs.values())))
+            tables.append(Table(name=f"fig11_{label}_speeds", figure="11", panel=label, band_centres=centres,
+                                columns=columns,
+                                title=f"{label}: 2D on line 0, contact-force levels at several speeds, dB re 1 N"))
+        return tables
+
+    return [spec for runs in layout.values() for spec in runs.values()], tabulate
+
+
+_BUILDERS = {
+    "filters": _plan_filters,
+    "line-spread": _plan_line_spread,
+    "averaged-input": _plan_averaged_input,
+    "lateral-resolution": _plan_lateral_resolution,
+    "speeds": _plan_speeds,
+}
+
+

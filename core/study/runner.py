@@ -1,0 +1,141 @@
+"""A whole study: plan, execute, tabulate, then write the CSV tables, PNG figure(s) and JSON summary."""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from wheelrail.core.atomic import atomic_write
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.jsonready import json_ready
+from wheelrail.core.parameters import KMH, ContactParameters, as_dict
+from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_address
+from wheelrail.core.study.figures import plot_study
+from wheelrail.core.study.plans import StudyPlan, plan_study
+from wheelrail.core.study.tables import Table, write_table
+
+
+@dataclass(frozen=True)
+class StudyResult:
+    """A finished study: its tables, the files written and how the runs were obtained."""
+
+    name: str
+    tables: list[Table]
+    files: list[Path]
+    report: ExecutionReport
+    summary: dict
+
+
+def check_output_folder(out: str | os.PathLike) -> Path:
+    """Create ``out`` if needed and check it is a writable folder (WheelrailError otherwise)."""
+    folder = Path(out)
+    if folder.exists() and not folder.is_dir():
+        raise WheelrailError(f"output {folder} exists and is not a folder")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise WheelrailError(f"cannot create output folder {folder}: {error.strerror or error}") from None
+    if not folder.is_dir():
+        raise WheelrailError(f"output {folder} is not a folder")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise WheelrailError(f"output folder {folder} is not writable")
+    return folder
+
+
+def run_study(
+    name: str,
+    sets: Sequence,
+    out: str | os.PathLike,
+    *,
+    speed: float = 100.0 * KMH,
+    length: float | None = None,
+    workers: int = 2,
+    dask_address: str | None = None,
+    contact: ContactParameters | None = None,
+    progress: bool = True,
+    figures: bool = True,
+) -> StudyResult:
+    """Plan, execute and tabulate a named study; write its CSV tables, PNG figure(s) and JSON summary.
+
+    Parameters
+    ----------
+    name : str
+        One of ``STUDIES``.
+    sets : sequence
+        Roughness sets (bundled names, CSV/NPZ paths or ``RoughnessSet``).
+    out : path
+        Output folder (created if missing): ``<table>.csv``, ``fig<N>_<study>.png``, ``<study>_summary.json``.
+    speed : float
+        Train speed, m/s (100 km/h).
+    length : float, optional
+        Run length, m (default: the whole set).
+    workers : int
+        Local worker processes (1: in this process).
+    dask_address : str, optional
+        Dask scheduler address; runs go to that cluster instead of the local pool.
+    contact : ContactParameters, optional
+        Contact material, preload and geometry of every run (default: the paper's); see :func:`plan_study`.
+    progress : bool
+        tqdm bar of runs done on stderr.
+    figures : bool
+        Draw the PNG figure(s) (about 1 s each with matplotlib); the CSV tables and JSON are always written.
+
+    Returns
+    -------
+    StudyResult
+    """
+    folder = check_output_folder(out)
+    if dask_address is not None:
+        dask_address = parse_dask_address(dask_address)
+    plan = plan_study(name, sets, speed=speed, length=length, contact=contact)
+    report = execute(plan.specs, cache=folder / "runs", workers=workers,
+                     dask_address=dask_address, progress=progress, description=f"study {name}")
+    tables = plan.tabulate(report.summaries)
+    files = [write_table(table, folder) for table in tables]
+    if figures:
+        files += plot_study(name, tables, folder)
+    summary = _summary_document(name, plan, report, tables, speed=speed, folder=folder, files=files)
+    summary_path = folder / f"{name}_summary.json"
+    atomic_write(summary_path, lambda handle: json.dump(json_ready(summary), handle, indent=2), mode="w")
+    files.append(summary_path)
+    summary["files"].append(str(summary_path))
+    return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
+
+
+def _summary_document(name: str, plan: StudyPlan, report: ExecutionReport, tables: list[Table], *, speed: float,
+                      folder: Path, files: list[Path]) -> dict:
+    """The JSON summary of a study (SI units; what ``wheelrail study --json`` prints)."""
+    summaries = [report.summaries[spec.key] for spec in plan.specs]
+    summary = {
+        "study": name,
+        "sets": [info.label for info in plan.sets],
+        "speed_m_per_s": speed,
+        "speed_kmh": speed / KMH,
+        "length_m": {info.label: info.length for info in plan.sets},
+        "contact": as_dict(plan.contact),
+        "runs": len({spec.key for spec in plan.specs}),
+        "runs_computed": report.computed,
+        "runs_cached": report.cached,
+        "backend": report.backend,
+        "wall_time_s": report.wall_time,
+        "worker_run_time_s": float(sum(s.run_time for s in summaries)),
+        "loss_of_contact_steps": int(sum(s.loss_of_contact_steps for s in summaries)),
+        "out": str(folder),
+        "files": [str(path) for path in files],
+        "tables": {
+            table.name: {
+                "figure": table.figure,
+                "title": table.title,
+                "band_centres_hz": table.band_centres,
+                **{column: [None if not np.isfinite(v) else round(float(v), 3) for v in values]
+                   for column, values in table.columns.items()},
+            }
+            for table in tables
+        },
+    }
+    return summary

@@ -1,0 +1,215 @@
+"""Study run specs: what one run of a study is (:class:`RunSpec`), what it gives back (:class:`RunSummary`),
+the roughness it uses (:func:`study_roughness`) and the worker task (:func:`compute_run`)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry  # noqa: F401 - REFERENCE_MODEL re-exported
+from wheelrail.core.parameters import KMH, ModelParameters, as_dict
+
+STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds")
+PAPER_LINES = tuple(range(-3, 4))  # the seven lines -3..3 the paper averages over (section 3.3)
+# the built-in models that see one line (the paper averages them over PAPER_LINES), from the registry
+ONE_LINE_MODELS = tuple(name for name in MODELS if not model_entry(name).traits.lateral_window)
+LOW_RESOLUTION_LINES_MM = {  # Fig. 17: lateral offsets from line 0 kept, mm
+    4: (-8.0, -4.0, 0.0, 4.0, 8.0),
+    8: (-8.0, 0.0, 8.0),
+}
+PAPER_SPEEDS_KMH = (75.0, 100.0, 140.0, 200.0)  # Fig. 11
+HALF_WHEEL_MASS = 296.3  # kg, Fig. 11: half of M_W = 592.5 kg
+STUDY_FORMAT_VERSION = 1  # part of every run key: bump when a run's summary changes meaning
+SUMMARY_SCALARS = ("force_mean", "force_std", "force_min", "force_max", "loss_of_contact_steps", "n_steps",
+                   "run_time")
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class RunSpec:
+    """One independent run of a study.
+
+    Attributes
+    ----------
+    source : str or RoughnessSet
+        Bundled set name, CSV/NPZ path, or the set itself (as accepted by ``simulate``).
+    set_label : str
+        Short name of the set in tables (bundled name or file stem).
+    set_digest : str
+        SHA-256 of the set's content (:func:`roughness_digest`); part of the run key, so a changed file
+        is never matched with an old result.
+    model : str
+        One of ``MODELS``.
+    line : int
+        Roughness line (-M..M); for ``3d`` the line the window is centred on. Ignored (0) with
+        ``averaged_lines``.
+    params : ModelParameters
+        All model parameters (speed in ``params.run.speed``, m/s; wheel mass in
+        ``params.wheel.unsprung_mass``, kg).
+    length : float or None
+        Run length, m (None: the whole set, see ``prepare_run``).
+    averaged_lines : tuple of int
+        If not empty, the model runs on one line: the mean of these lines (paper Fig. 16).
+    lateral_lines_mm : tuple of float
+        If not empty, only lines at these lateral offsets from line 0 (mm) are kept, linearly interpolated
+        across the track from the original lines when they do not fall on one (paper Fig. 17).
+    run_in_length : float
+        Smooth run-in before the first step, m.
+    """
+
+    source: object
+    set_label: str
+    set_digest: str
+    model: str
+    line: int = 0
+    params: ModelParameters = field(default_factory=ModelParameters)
+    length: float | None = None
+    averaged_lines: tuple[int, ...] = ()
+    lateral_lines_mm: tuple[float, ...] = ()
+    run_in_length: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.model not in MODELS:
+            raise WheelrailError(f"unknown contact model {self.model!r}; choose one of {', '.join(MODELS)}")
+        object.__setattr__(self, "averaged_lines", tuple(int(v) for v in self.averaged_lines))
+        object.__setattr__(self, "lateral_lines_mm", tuple(float(v) for v in self.lateral_lines_mm))
+
+    def description(self) -> dict:
+        """Everything that determines the run's summary (JSON-able); the key hashes this."""
+        from wheelrail.core.spectra import FORCE_BAND_RANGE, FORCE_SKIP
+
+        return {
+            "version": STUDY_FORMAT_VERSION,
+            "set_digest": self.set_digest,
+            "model": self.model,
+            "line": int(self.line),
+            "length_m": None if self.length is None else float(self.length),
+            "averaged_lines": list(self.averaged_lines),
+            "lateral_lines_mm": list(self.lateral_lines_mm),
+            "run_in_length_m": float(self.run_in_length),
+            "params": as_dict(self.params),
+            "spectrum": {"skip_s": FORCE_SKIP, "band_range_hz": list(FORCE_BAND_RANGE)},
+        }
+
+    @property
+    def key(self) -> str:
+        """SHA-256 hex digest of :meth:`description` (sorted keys, floats by repr)."""
+        text = json.dumps(self.description(), sort_keys=True, default=repr)
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    @property
+    def speed_kmh(self) -> float:
+        return self.params.run.speed / KMH
+
+    def label(self) -> str:
+        """Human-readable one-liner (progress messages and errors)."""
+        what = f"{self.model} on {self.set_label}"
+        if self.averaged_lines:
+            what += f" mean of lines {self.averaged_lines[0]}..{self.averaged_lines[-1]}"
+        elif self.lateral_lines_mm:
+            what += f" lines at {', '.join(f'{v:g}' for v in self.lateral_lines_mm)} mm"
+        else:
+            what += f" line {self.line}"
+        return f"{what}, {self.speed_kmh:g} km/h, M_W {self.params.wheel.unsprung_mass:g} kg"
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunSummary:
+    """What a worker sends back for one run: the force spectrum and a few numbers (no time series).
+
+    Attributes
+    ----------
+    key : str
+        The run's :attr:`RunSpec.key`.
+    band_centres : ndarray
+        Exact third-octave band centres, Hz (50 Hz - 8 kHz).
+    levels : ndarray
+        Dynamic contact-force levels, dB re 1 N (NaN where a band is not resolved).
+    force_mean, force_std, force_min, force_max : float
+        Contact-force statistics over the run, N.
+    loss_of_contact_steps, n_steps : int
+        Steps with F = 0; steps in the run.
+    run_time : float
+        Wall time of the run in its worker, s (preparation included).
+    """
+
+    key: str
+    band_centres: np.ndarray
+    levels: np.ndarray
+    force_mean: float
+    force_std: float
+    force_min: float
+    force_max: float
+    loss_of_contact_steps: int
+    n_steps: int
+    run_time: float
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        arrays = {"run_key": np.array(self.key), "band_centres_hz": self.band_centres, "levels_db": self.levels}
+        arrays.update({name: np.array(getattr(self, name)) for name in SUMMARY_SCALARS})
+        return arrays
+
+    @classmethod
+    def from_arrays(cls, arrays) -> RunSummary:
+        scalars = {name: arrays[name].item() for name in SUMMARY_SCALARS}
+        return cls(key=str(arrays["run_key"]), band_centres=np.asarray(arrays["band_centres_hz"], dtype=float),
+                   levels=np.asarray(arrays["levels_db"], dtype=float), **scalars)
+
+
+def roughness_digest(roughness) -> str:
+    """SHA-256 of a roughness set's content (heights, dx, y, kind), hex."""
+    digest = hashlib.sha256()
+    digest.update(np.ascontiguousarray(roughness.heights, dtype="<f8").tobytes())
+    digest.update(np.ascontiguousarray(roughness.y, dtype="<f8").tobytes())
+    digest.update(f"{roughness.dx!r} {roughness.kind}".encode())
+    return digest.hexdigest()
+
+
+def study_roughness(spec: RunSpec):
+    """The roughness set a run actually uses: the source, or its line mean (Fig. 16), or its lines at
+    the ``lateral_lines_mm`` offsets (Fig. 17). Returns ``(roughness, line)`` for ``simulate``."""
+    from wheelrail.core.roughness import RoughnessSet, load_roughness
+
+    rough = spec.source if isinstance(spec.source, RoughnessSet) else load_roughness(spec.source)
+    if spec.averaged_lines:
+        rows = [rough.row_of_line(line) for line in spec.averaged_lines]
+        mean = rough.heights[rows].mean(axis=0)
+        note = f"mean of lines {', '.join(str(v) for v in spec.averaged_lines)}"
+        return rough.with_heights(mean[np.newaxis, :], y=np.zeros(1), note=note), 0
+    if spec.lateral_lines_mm:
+        offsets = np.asarray(spec.lateral_lines_mm) * 1e-3
+        y_wanted = float(rough.y[rough.centre_row]) + offsets
+        tol = 1e-9
+        if rough.n_lines < 2 or y_wanted.min() < rough.y[0] - tol or y_wanted.max() > rough.y[-1] + tol:
+            raise WheelrailError(
+                f"{spec.set_label}: lines at {', '.join(f'{v:g}' for v in spec.lateral_lines_mm)} mm from line 0 "
+                f"need lateral data over that range; the set spans {rough.y[0] * 1e3:g} .. {rough.y[-1] * 1e3:g} mm"
+            )
+        # linear interpolation across the lines (exact selection where a wanted line exists)
+        idx = np.clip(np.searchsorted(rough.y, y_wanted - tol, side="right") - 1, 0, rough.n_lines - 2)
+        w = np.clip((y_wanted - rough.y[idx]) / (rough.y[idx + 1] - rough.y[idx]), 0.0, 1.0)
+        heights = (1 - w)[:, None] * rough.heights[idx] + w[:, None] * rough.heights[idx + 1]
+        note = f"only lines at {', '.join(f'{v:g}' for v in spec.lateral_lines_mm)} mm"
+        return rough.with_heights(heights, y=offsets, note=note), 0
+    return rough, spec.line
+
+
+def compute_run(spec: RunSpec) -> RunSummary:
+    """Run one spec (``keep_pressure=False``) and reduce it to its :class:`RunSummary` (the worker task)."""
+    from wheelrail.core.interaction import simulate
+    from wheelrail.core.spectra import force_spectrum
+
+    start = time.perf_counter()
+    rough, line = study_roughness(spec)
+    result = simulate(rough, model=spec.model, line=line, params=spec.params, length=spec.length,
+                      run_in_length=spec.run_in_length, keep_pressure=False)
+    centres, levels = force_spectrum(result)
+    force = result.force
+    return RunSummary(key=spec.key, band_centres=centres, levels=levels, force_mean=float(force.mean()),
+                      force_std=float(force.std()), force_min=float(force.min()), force_max=float(force.max()),
+                      loss_of_contact_steps=int(result.loss_of_contact_steps), n_steps=int(result.n_steps),
+                      run_time=time.perf_counter() - start)
