@@ -17,8 +17,9 @@ The estimate (bytes, per element of the run: run-in and the two margins included
   without them the run keeps only the last map.
 
 ``tests/unit/test_limits.py`` checks it against the peak traced with ``tracemalloc``: measured growth of
-the peak per element 192 B (``hertz``), 512 B (``2d``) and 2804 B (``3d`` keeping its maps) against the
-estimated 216, 616 and 3100 B; the test asks for an estimate between 1 and 2 times the measured growth. Fixed costs (the
+the peak per element 192 B (``hertz``), 200 B (``hertz-winkler``), 464 B (``2d``) and 2819 B (``3d`` keeping
+its maps) against the estimated 216, 216, 616 and 3100 B; the test asks for an estimate between 1 and 2 times
+the measured growth. Fixed costs (the
 Green's functions, about 35 MB of stationary responses, and their weights, under 1 MB at any accepted
 speed) are left out: they do not grow with the run.
 """

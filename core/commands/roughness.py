@@ -172,6 +172,8 @@ def run(args) -> int:
     if args.half_lines < 1:
         raise WheelrailError(f"--m must be a positive integer, got {args.half_lines}")
     if args.plot is not None:
+        if not args.plot.lower().endswith(".png"):
+            raise WheelrailError(f"--plot must name a .png file, got {args.plot!r}")
         writable_output(args.plot, "--plot", ".png", input_files(args.set))
     result = analyse(args.set, speed, args.lines, args.half_lines, args.blocks)
     if args.plot is not None:
