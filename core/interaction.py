@@ -33,6 +33,7 @@ from numba import njit
 from wheelrail.core.contact.hertz import _hertz_law
 from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.limits import check_run_memory
 from wheelrail.core.models import LAW_HERTZ, MODELS, ContactModel, ModelInputs, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import RunHeader, RunResult, StepState
@@ -406,6 +407,8 @@ def prepare_run(
     rough, name = resolve_roughness(roughness)
     wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
     dx = params.run.element_size
+    check_run_memory(entry, params, usable_length(rough, dx) if length is None else length, run_in_length,
+                     keep_pressure)
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     history = history_arrays(track, params, run_in_length, track_numerics)
     header = RunHeader(model=entry.name, line=line, roughness_name=name, params=params,

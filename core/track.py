@@ -30,11 +30,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
 from numba import njit
-from scipy.linalg import cholesky_banded, solve_banded
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import FOH_MAX_STEP, TrackNumerics, TrackParameters
@@ -170,6 +172,8 @@ class TrackFEModel:
 
 
 def _to_band(matrix, lower: int, upper: int) -> np.ndarray:
+    import scipy.sparse as sp  # scipy imported where used: a cached `wheelrail track` never needs it
+
     A = sp.coo_matrix(matrix)
     n = A.shape[0]
     ab = np.zeros((lower + upper + 1, n), dtype=A.dtype)
@@ -181,6 +185,8 @@ def _to_band(matrix, lower: int, upper: int) -> np.ndarray:
 
 def _to_upper_band(matrix, upper: int) -> np.ndarray:
     """Symmetric matrix in LAPACK upper band form (for ``cholesky_banded``)."""
+    import scipy.sparse as sp
+
     return _to_band(sp.triu(matrix), 0, upper)
 
 
@@ -197,6 +203,8 @@ def assemble_track(track: TrackParameters, elements_per_bay: int = 16) -> TrackF
     -------
     TrackFEModel
     """
+    import scipy.sparse as sp
+
     rail, sup = track.rail, track.support
     n_el = track.n_bays * elements_per_bay
     h = sup.sleeper_spacing / elements_per_bay
@@ -266,6 +274,8 @@ def track_receptance(model: TrackFEModel, frequency, x_excitation: float, x_resp
     ndarray of complex, shape (len(frequency),) + shape(x_response)
         alpha_R in m/N, convention x(t) = Re(X e^{i 2 pi f t}).
     """
+    from scipy.linalg import solve_banded
+
     f = np.atleast_1d(np.asarray(frequency, dtype=float))
     if not np.all(np.isfinite(f)) or np.any(f < 0):
         raise WheelrailError("track_receptance: frequencies must be finite and >= 0 Hz")
@@ -291,6 +301,8 @@ def track_receptance(model: TrackFEModel, frequency, x_excitation: float, x_resp
 
 def _upper_band_arrays(model: TrackFEModel, time_step: float):
     """Upper band forms of M, C and the Cholesky factor of the Newmark effective stiffness."""
+    from scipy.linalg import cholesky_banded
+
     dt = time_step
     keff = model.K + (2.0 / dt) * model.C + (4.0 / dt**2) * model.M
     mb = _to_upper_band(model.M, HALF_BANDWIDTH)
@@ -458,6 +470,10 @@ def _wedge_layout(numerics: TrackNumerics, element_length: float) -> tuple[np.nd
     n_steps = int(round(numerics.duration / dt)) + 1
     stride = numerics.store_every
     t_stored = np.arange(0, n_steps, stride) * dt
+    reach = numerics.max_speed * numerics.duration
+    if not reach < 1e6:  # m: beyond 1000 km the node counts below overflow int64 (issue 13: 1e308 km/h)
+        raise WheelrailError(f"a wheel at {numerics.max_speed * 3.6:.3g} km/h travels {reach:.3g} m within "
+                             f"the {numerics.duration} s Green's functions, beyond any track model")
     # nodes from the one at or before x_e up to the first at or beyond x_e + v_max t, plus one spare
     wedge_nodes = np.ceil(numerics.max_speed * t_stored / element_length).astype(np.int64) + 2
     offsets = np.concatenate([[0], np.cumsum(wedge_nodes)[:-1]]).astype(np.int64)

@@ -4,17 +4,19 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
+from pathlib import Path
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.jsonready import json_ready
-from wheelrail.core.parameters import KMH
 
 
 def speed_from_kmh(speed_kmh: float, option: str = "--speed-kmh") -> float:
     """Convert a speed given in km/h on the command line to m/s, rejecting nonsense."""
     if not math.isfinite(speed_kmh) or speed_kmh <= 0:
         raise WheelrailError(f"{option} must be a positive speed in km/h, got {speed_kmh}")
+    from wheelrail.core.parameters import KMH
+
     return speed_kmh * KMH
 
 
@@ -39,24 +41,51 @@ def geometry_from_mm(args) -> dict:
     return geometry
 
 
-def writable_output(path: str, option: str, suffix: str | None = None):
-    """Check, before any work, that ``path`` can be written: its folder exists and is writable, and
-    its name ends in ``suffix`` when given. Returns it as a Path; else a one-line WheelrailError."""
-    import os
-    from pathlib import Path
+def same_file(a, b) -> bool:
+    """Whether paths ``a`` and ``b`` name the same file (any spelling, links followed)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist (yet): compare where they would be
+        return Path(a).resolve() == Path(b).resolve()
+
+
+def input_files(*names) -> list[Path]:
+    """The arguments that name existing files (a roughness set may also be a bundled name)."""
+    return [Path(name) for name in names if name is not None and Path(name).is_file()]
+
+
+def writable_output(path: str, option: str, suffix: str | None = None, inputs=()) -> Path:
+    """Check, before any work, that ``path`` can be written and is none of ``inputs``.
+
+    Its name ends in ``suffix`` when given, it is not a folder nor the same file as one of ``inputs``
+    (an output written over its own input would destroy it), and a file can be created in its folder
+    (tried with a temporary file, so /proc or a read-only mount fails now, not after the run).
+    Returns it as a Path; else a one-line WheelrailError.
+    """
+    from wheelrail.core.atomic import temporary_beside
 
     target = Path(path)
-    if suffix is not None and target.suffix != suffix:
+    if suffix is not None and target.suffix.lower() != suffix:
         raise WheelrailError(f"{option} {path}: the file name must end in {suffix}")
     folder = target.parent if str(target.parent) else Path(".")
     if not folder.is_dir():
         raise WheelrailError(f"{option} {path}: folder {folder} does not exist")
-    if not os.access(folder, os.W_OK):
-        raise WheelrailError(f"{option} {path}: folder {folder} is not writable")
+    if target.is_dir():
+        raise WheelrailError(f"{option} {path} is a folder; give a file name")
+    for source in inputs:
+        if same_file(target, source):
+            raise WheelrailError(f"{option} {path} is the input file {source}: writing it would destroy the "
+                                 "input; choose another output name")
+    try:
+        temporary_beside(target).unlink()
+    except OSError as error:
+        raise WheelrailError(f"{option} {path}: cannot write in folder {folder} ({error.strerror})") from None
     return target
 
 
 def print_json(summary: dict) -> None:
     """Print a machine-readable summary on stdout (SI units; non-SI keys carry their unit; NaN as null)."""
+    from wheelrail.core.jsonready import json_ready
+
     json.dump(json_ready(summary), sys.stdout, indent=2)
     sys.stdout.write("\n")

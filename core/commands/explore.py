@@ -14,7 +14,27 @@ def add_parser(sub):
     return parser
 
 
+def check_address(host: str, port: int) -> None:
+    """Refuse, before any server starts, a port outside 1..65535 or a host that does not resolve to an
+    address of this machine (issue 13: the server thread printed a traceback and never exited, or hung)."""
+    import socket
+
+    if not 1 <= port <= 65535:
+        raise WheelrailError(f"--port must be in 1..65535, got {port}")
+    try:
+        infos = socket.getaddrinfo(host, None, type=socket.SOCK_STREAM)
+    except (OSError, UnicodeError) as error:
+        raise WheelrailError(f"--host {host!r} is not an address or a known host name ({error})") from None
+    family, _, _, _, address = infos[0]
+    try:
+        with socket.socket(family, socket.SOCK_STREAM) as probe:
+            probe.bind((address[0], 0))  # any free port: only whether the address is this machine's
+    except OSError as error:
+        raise WheelrailError(f"--host {host!r}: cannot listen on {address[0]} ({error.strerror})") from None
+
+
 def run(args) -> int:
+    check_address(args.host, args.port)
     try:
         from wheelrail.explorer.app import serve  # noqa: PLC0415 - the GUI is optional at import time
     except ImportError:

@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from wheelrail.core.bands import Bands
-from wheelrail.core.commands._common import print_json, speed_from_kmh
+from wheelrail.core.commands._common import input_files, print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness import (
     DEFAULT_LINES,
@@ -155,8 +155,10 @@ def _plot(result: dict, path: str) -> None:
     ax_wl.set(xlabel="wavelength (mm)", ylabel="roughness level (dB re 1 µm)")
     for ax in (ax_level, ax_coh, ax_wl):
         ax.grid(True, which="both", alpha=0.3)
+    from wheelrail.core.atomic import atomic_write
+
     try:
-        fig.savefig(path, dpi=100)
+        atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=100))
     except (OSError, ValueError) as error:
         raise WheelrailError(f"--plot {path}: cannot write the figure ({error})") from None
     finally:
@@ -169,8 +171,10 @@ def run(args) -> int:
         raise WheelrailError(f"--blocks must be a positive integer, got {args.blocks}")
     if args.half_lines < 1:
         raise WheelrailError(f"--m must be a positive integer, got {args.half_lines}")
-    if args.plot is not None and not args.plot.lower().endswith(".png"):
-        raise WheelrailError(f"--plot must name a .png file, got {args.plot!r}")
+    if args.plot is not None:
+        if not args.plot.lower().endswith(".png"):
+            raise WheelrailError(f"--plot must name a .png file, got {args.plot!r}")
+        writable_output(args.plot, "--plot", ".png", input_files(args.set))
     result = analyse(args.set, speed, args.lines, args.half_lines, args.blocks)
     if args.plot is not None:
         _plot(result, args.plot)

@@ -3,12 +3,19 @@
 from __future__ import annotations
 
 import math
+import signal
 import sys
+import threading
 import time
 
-import numpy as np
-
-from wheelrail.core.commands._common import geometry_from_mm, print_json, speed_from_kmh, writable_output
+from wheelrail.core.commands._common import (
+    geometry_from_mm,
+    input_files,
+    print_json,
+    same_file,
+    speed_from_kmh,
+    writable_output,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import MODELS
 
@@ -40,7 +47,9 @@ def add_parser(sub):
     parser.add_argument("--preload-kn", type=float, default=65.0, help="static wheel load, kN (default 65)")
     parser.add_argument("--length-m", type=float, default=None,
                         help="run length, m (default: the whole set: rail data less margins, one wheel turn)")
-    parser.add_argument("--out", metavar="F.npz", help="write the run's arrays to this .npz file")
+    parser.add_argument("--out", metavar="F.npz",
+                        help="write the run's arrays to this .npz file (3d: with every pressure map, so it is "
+                             "held in memory for the whole run; --rrd records the maps without that)")
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     _recording_arguments(parser)
     return parser
@@ -54,7 +63,40 @@ def _recording_arguments(parser) -> None:
     add_recording_arguments(parser)
 
 
+class _StopOnCtrlC:
+    """Ctrl-C during the run asks it to stop between steps, then raises KeyboardInterrupt.
+
+    The default handler raises KeyboardInterrupt wherever the interpreter is, also inside numba-compiled
+    code calling back into Python, which turns it into a ``SystemError`` (issue 13: `3d` runs reported
+    `internal error: SystemError: CPUDispatcher(...)`). A second Ctrl-C interrupts at once.
+    """
+
+    def __init__(self, interaction) -> None:
+        self.interaction = interaction
+        self.pressed = False
+        self.previous = None
+
+    def _handler(self, signum, frame) -> None:
+        self.pressed = True
+        self.interaction.cancel()
+        signal.signal(signal.SIGINT, self.previous)
+
+    def __enter__(self):
+        if (threading.current_thread() is threading.main_thread()
+                and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
+            self.previous = signal.signal(signal.SIGINT, self._handler)
+        return self
+
+    def __exit__(self, exc_type, exc, traceback) -> None:
+        if self.previous is not None:
+            signal.signal(signal.SIGINT, self.previous)
+        if self.pressed and exc_type is None:
+            raise KeyboardInterrupt
+
+
 def run(args) -> int:
+    import numpy as np
+
     from wheelrail.core.interaction import prepare_run
     from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
     from wheelrail.core.spectra import force_spectrum
@@ -64,7 +106,13 @@ def run(args) -> int:
         raise WheelrailError(f"--preload-kn must be a positive load in kN, got {args.preload_kn}")
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
-    out = writable_output(args.out, "--out", ".npz") if args.out else None
+    inputs = input_files(args.set, args.wheel_set)
+    out = writable_output(args.out, "--out", ".npz", inputs) if args.out else None
+    rrd = getattr(args, "rrd", None)
+    for source in inputs:
+        if rrd is not None and same_file(rrd, source):
+            raise WheelrailError(f"--rrd {rrd} is the input file {source}: writing it would destroy the input; "
+                                 "choose another output name")
     params = ModelParameters(contact=ContactParameters(preload=args.preload_kn * 1e3, **geometry_from_mm(args)),
                              run=RunParameters(speed=speed))
     sink = None
@@ -75,8 +123,11 @@ def run(args) -> int:
 
     start = time.perf_counter()
     try:
+        # 3d: every pressure map is kept only for --out (a recording takes them step by step)
         interaction = prepare_run(args.set, wheel_roughness=args.wheel_set, model=args.model, line=args.line,
-                                  params=params, length=args.length_m)
+                                  params=params, length=args.length_m, keep_pressure=out is not None)
+        if sink is not None and sink.record_every > interaction.n_steps:
+            raise WheelrailError(f"--record-every {sink.record_every} exceeds the run's {interaction.n_steps} steps")
         if sink is not None:
             from wheelrail.core.roughness import load_roughness
 
@@ -97,7 +148,8 @@ def run(args) -> int:
         bar.update(done - bar.n)
 
     try:
-        result = interaction.run(callback=sink, progress=progress)
+        with _StopOnCtrlC(interaction):
+            result = interaction.run(callback=sink, progress=progress)
     except BaseException:
         if sink is not None:
             sink.abort()
@@ -114,7 +166,7 @@ def run(args) -> int:
         spectrum_note = ""
     except WheelrailError as error:  # a run shorter than the spectrum's start-up skip: no spectrum
         centres, levels = np.array([]), np.array([])
-        spectrum_note = str(error)
+        spectrum_note = str(error).replace("use a longer run or a smaller skip", "use a longer --length-m")
     force = result.force
     summary = {
         "model": result.model,

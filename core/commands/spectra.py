@@ -9,7 +9,6 @@ third-octave bands 50 Hz-8 kHz, dB re 1 N.
 
 from __future__ import annotations
 
-import json
 import math
 import zipfile
 from pathlib import Path
@@ -18,6 +17,7 @@ import numpy as np
 
 from wheelrail.core.commands._common import print_json
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.results import RunResult
 from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, nominal_band_label
 
 
@@ -58,24 +58,20 @@ def load_force(path: str | Path) -> dict:
     if not zipfile.is_zipfile(source):
         raise WheelrailError(f"cannot read run file {source}: not a NumPy .npz archive (corrupt or another format)")
     try:
-        with np.load(source, allow_pickle=False) as data:
-            if "force" not in data.files:
-                raise WheelrailError(f"{source} holds no 'force' array: not a run saved by wheelrail run --out")
-            force = np.asarray(data["force"], dtype=float)
-            meta = json.loads(str(data["metadata"])) if "metadata" in data.files else {}
-            time = np.asarray(data["time"], dtype=float) if "time" in data.files else None
-    except WheelrailError:
-        raise
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError, KeyError) as error:
-        reason = str(error).splitlines()[0] if str(error) else type(error).__name__
-        raise WheelrailError(f"cannot read run file {source}: {reason}") from None
-    time_step = meta.get("time_step_s")
-    if time_step is None and time is not None and len(time) > 1:
-        time_step = float(time[1] - time[0])
-    if time_step is None:
-        raise WheelrailError(f"{source} gives no time step (no metadata and no time array)")
-    return {"force": force, "time_step": float(time_step), "model": meta.get("model"), "line": meta.get("line"),
-            "speed": meta.get("speed_m_per_s"), "roughness": meta.get("roughness")}
+        with zipfile.ZipFile(source) as archive:
+            members = archive.namelist()
+    except (OSError, zipfile.BadZipFile, ValueError) as error:
+        raise WheelrailError(f"cannot read run file {source}: {error}") from None
+    if "force.npy" not in members:
+        raise WheelrailError(f"{source} holds no 'force' array: not a run saved by wheelrail run --out")
+    try:
+        result = RunResult.load_npz(source)  # every array 1D, one length, a valid header; else one line
+    except WheelrailError as error:
+        raise WheelrailError(f"cannot read run file {error}") from None
+    if not np.all(np.isfinite(result.force)):
+        raise WheelrailError(f"cannot read run file {source}: the force holds NaN or infinite values")
+    return {"force": result.force, "time_step": result.time_step, "model": result.model, "line": result.line,
+            "speed": result.speed, "roughness": result.roughness_name}
 
 
 def run(args) -> int:

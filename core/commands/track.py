@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import csv
+import math
 import time
 from pathlib import Path
 
-import numpy as np
-
 from wheelrail.core.commands._common import print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
+
+MIN_DF_HZ = 0.05
+"""Finest --df-hz: 99 601 frequencies over 20 Hz-5 kHz, a few minutes of FE solves (issue 13: 1e-9 Hz asked
+for 5e12 frequencies and ended in MemoryError)."""
 
 
 def add_parser(sub):
@@ -26,32 +29,61 @@ def add_parser(sub):
     parser.add_argument(
         "--csv", metavar="FILE", help="write the point receptance above a sleeper and at midspan, 20 Hz-5 kHz"
     )
-    parser.add_argument("--df-hz", type=float, default=5.0, help="frequency step of --csv and --plot, Hz (default 5)")
+    parser.add_argument("--df-hz", type=float, default=5.0,
+                        help=f"frequency step of --csv and --plot, Hz ({MIN_DF_HZ:g}-100, default 5)")
     parser.add_argument("--plot", metavar="FILE.png", help="plot receptances and moving Green's functions (Fig. 4)")
     return parser
 
 
+def _peaks(track, numerics) -> dict[str, float]:
+    """``receptance_peaks`` of the track, kept in the disk cache: 2300 FE solves and importing
+    scipy.signal made most of a cached ``wheelrail track``'s 2 s (issue 13). The key holds the source
+    of the functions that compute them, so a change of method recomputes."""
+    import hashlib
+    import inspect
+    from dataclasses import asdict
+
+    import numpy as np
+
+    from wheelrail.core import cache
+    from wheelrail.core import track as track_module
+
+    code = "".join(inspect.getsource(f) for f in (track_module.assemble_track, track_module.track_receptance,
+                                                    track_module.receptance_peaks))
+    key = cache.cache_key("track-peaks", {"track": asdict(track), "elements_per_bay": numerics.elements_per_bay,
+                                          "code": hashlib.sha256(code.encode()).hexdigest()})
+    names = ("sleeper_on_ballast_hz", "rail_on_pad_hz", "pinned_pinned_hz")
+    arrays = cache.load_entry("track-peaks", key, names)
+    if arrays is not None and all(arrays[name].shape == () and np.isfinite(arrays[name]) for name in names):
+        return {name: float(arrays[name]) for name in names}
+    peaks = track_module.receptance_peaks(track_module.assemble_track(track, numerics.elements_per_bay))
+    cache.save_entry("track-peaks", key, {name: np.array(peaks[name]) for name in names})
+    return peaks
+
+
 def run(args) -> int:
+    import numpy as np
+
     from wheelrail.core.parameters import TrackNumerics, TrackParameters
     from wheelrail.core.track import (
         assemble_track,
         moving_from_stationary,
-        receptance_peaks,
         stationary_track_response,
         track_cache_path,
         track_receptance,
     )
 
     speed = speed_from_kmh(args.speed_kmh)
-    if not np.isfinite(args.df_hz) or not 0 < args.df_hz <= 100:
-        raise WheelrailError(f"--df-hz must be in (0, 100] Hz, got {args.df_hz}")
+    if not math.isfinite(args.df_hz) or not MIN_DF_HZ <= args.df_hz <= 100:
+        raise WheelrailError(f"--df-hz must be in [{MIN_DF_HZ:g}, 100] Hz, got {args.df_hz:g}")
     csv_path = writable_output(args.csv, "--csv") if args.csv else None
-    plot_path = writable_output(args.plot, "--plot") if args.plot else None
+    plot_path = writable_output(args.plot, "--plot", ".png") if args.plot else None
+    if csv_path and plot_path and csv_path.resolve() == plot_path.resolve():
+        raise WheelrailError("--csv and --plot name the same file")
 
     track = TrackParameters()
     numerics = TrackNumerics()
-    model = assemble_track(track, numerics.elements_per_bay)
-    peaks = receptance_peaks(model)
+    peaks = _peaks(track, numerics)
 
     if speed > numerics.max_speed:
         from dataclasses import replace
@@ -71,16 +103,21 @@ def run(args) -> int:
     L = track.support.sleeper_spacing
     x_sleeper = (track.n_bays // 2) * L
     if csv_path or plot_path:
+        model = assemble_track(track, numerics.elements_per_bay)
         freq = np.arange(20.0, 5000.0 + 1e-9, args.df_hz)
         above = track_receptance(model, freq, x_sleeper)
         midspan = track_receptance(model, freq, x_sleeper + L / 2)
     if csv_path:
-        with open(csv_path, "w", newline="") as handle:
+        from wheelrail.core.atomic import atomic_write
+
+        def write_csv(handle) -> None:
             writer = csv.writer(handle)
             writer.writerow(["frequency_hz", "above_sleeper_abs_m_per_n", "above_sleeper_phase_rad",
                              "midspan_abs_m_per_n", "midspan_phase_rad"])
             for row in zip(freq, np.abs(above), np.angle(above), np.abs(midspan), np.angle(midspan), strict=True):
                 writer.writerow([f"{row[0]:.6g}"] + [f"{v:.9e}" for v in row[1:]])
+
+        atomic_write(csv_path, write_csv, mode="w", newline="")
     if plot_path:
         _plot(plot_path, freq, above, midspan, response, peaks)
 
@@ -133,6 +170,9 @@ def run(args) -> int:
 
 def _plot(path, freq, above, midspan, response, peaks) -> None:
     import matplotlib
+    import numpy as np
+
+    from wheelrail.core.atomic import atomic_write
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -158,5 +198,7 @@ def _plot(path, freq, above, midspan, response, peaks) -> None:
         ax.set(xlabel="time (ms)", ylabel="g (m/(N s))", title=f"Moving Green's function {title}")
         ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=110))
+    finally:
+        plt.close(fig)

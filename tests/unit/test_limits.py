@@ -1,0 +1,63 @@
+"""Memory bounds of a run (core/limits.py): the estimate bounds the traced peak, absurd runs are refused."""
+
+import tracemalloc
+
+import pytest
+
+from wheelrail.core import limits
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.interaction import prepare_run
+
+
+def _peak(model, length):
+    tracemalloc.start()
+    try:
+        prepare_run("cast-iron-wheel", model=model, length=length, run_in_length=0.1).run()
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+@pytest.mark.parametrize(("model", "short", "long"), [("hertz", 200.0, 600.0), ("2d", 200.0, 600.0),
+                                                    ("3d", 8.0, 16.0)])
+def test_estimate_bounds_the_traced_growth(model, short, long):
+    # lengths long enough that the run's arrays outgrow the set-up's fixed peak (~18 MB: Green's functions)
+    _peak(model, 0.01)  # Green's functions into memory, kernels compiled: fixed costs out of the way
+    measured = (_peak(model, long) - _peak(model, short)) / ((long - short) / 1e-3)
+    n_lines = 25 if model == "3d" else 1  # cast-iron-wheel: 25 lines in the 3d window
+
+    def estimate(length):
+        n = length / 1e-3
+        return limits.run_memory_bytes(n_elements=n, n_steps=n, n_lines=n_lines,
+                                       window_columns=25 if model == "2d" else 0,
+                                       pressure_elements=625 if model == "3d" else 0)
+
+    per_element = (estimate(long) - estimate(short)) / ((long - short) / 1e-3)
+    # an estimate must never be below what the run takes, and not so far above that it refuses
+    # reasonable runs: within a factor of two of the growth tracemalloc sees
+    assert measured <= per_element <= 2 * measured
+
+
+@pytest.mark.parametrize(("model", "length", "keep"), [("hertz", 1e9, True), ("3d", 1e5, True), ("3d", 1e5, False),
+                                                      ("hertz", 1e306, True)])
+def test_absurd_lengths_are_refused_with_the_figure(model, length, keep):
+    with pytest.raises(WheelrailError, match=r"needs about .*iB of memory.*, over the 2 GiB limit"):
+        prepare_run("cast-iron-wheel", model=model, length=length, keep_pressure=keep)
+
+
+def test_pressure_maps_count_only_when_kept(monkeypatch):
+    # 3d over 1000 m: 25 x 25 float32 maps are 2.3 GiB, over the 2 GiB default; without them 0.6 GiB
+    from wheelrail.core.models import model_entry
+    from wheelrail.core.parameters import ModelParameters
+
+    entry, params = model_entry("3d"), ModelParameters()
+    with pytest.raises(WheelrailError, match="2.33 GiB are the pressure maps kept"):
+        limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=True)
+    dropped = limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=False)  # 20 mm margins, 1 m run-in
+    assert dropped == pytest.approx((1000 + 2 * 0.020 + 1.0) / 1e-3 * (200 + 16 * 25))
+    monkeypatch.setenv(limits.MEMORY_LIMIT_ENV, "8")
+    assert limits.memory_limit() == 8 * 1024**3
+    assert limits.check_run_memory(entry, params, 1000.0, 1.0, keep_pressure=True) > dropped
+    monkeypatch.setenv(limits.MEMORY_LIMIT_ENV, "lots")
+    with pytest.raises(WheelrailError, match=limits.MEMORY_LIMIT_ENV):
+        limits.memory_limit()
