@@ -94,12 +94,9 @@ class _StopOnCtrlC:
             raise KeyboardInterrupt
 
 
-def run(args) -> int:
-    import numpy as np
-
-    from wheelrail.core.interaction import prepare_run
+def _checked_args(args):
+    """The run's parameters and output paths, checked before any work: (params, out)."""
     from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
-    from wheelrail.core.spectra import force_spectrum
 
     speed = speed_from_kmh(args.speed_kmh)
     if not math.isfinite(args.preload_kn) or args.preload_kn <= 0:
@@ -115,13 +112,13 @@ def run(args) -> int:
                                  "choose another output name")
     params = ModelParameters(contact=ContactParameters(preload=args.preload_kn * 1e3, **geometry_from_mm(args)),
                              run=RunParameters(speed=speed))
-    sink = None
-    if hasattr(args, "rrd"):
-        from wheelrail.core.recording import sink_from_args
+    return params, out
 
-        sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}")
 
-    start = time.perf_counter()
+def _prepare(args, params, out, sink):
+    """The prepared run, and the recording started on it (aborted if preparing fails)."""
+    from wheelrail.core.interaction import prepare_run
+
     try:
         # 3d: every pressure map is kept only for --out (a recording takes them step by step)
         interaction = prepare_run(args.set, wheel_roughness=args.wheel_set, model=args.model, line=args.line,
@@ -138,7 +135,11 @@ def run(args) -> int:
         if sink is not None:
             sink.abort()
         raise
-    prepared = time.perf_counter()
+    return interaction
+
+
+def _execute(args, interaction, sink):
+    """Run with a progress bar on a terminal; Ctrl-C stops between steps (the recording aborted on any error)."""
     from tqdm import tqdm
 
     bar = tqdm(total=interaction.n_steps, unit="step", disable=args.json or not sys.stderr.isatty(),
@@ -156,11 +157,16 @@ def run(args) -> int:
         raise
     finally:
         bar.close()
-    finished = time.perf_counter()
-    if sink is not None:
-        sink.finish(result)
-    if out is not None:
-        result.save_npz(out)
+    return result
+
+
+def _summary(args, result, params, times) -> dict:
+    """What ``--json`` prints (SI; keys name their unit), the force spectrum included when the run allows one."""
+    import numpy as np
+
+    from wheelrail.core.spectra import force_spectrum
+
+    start, prepared, finished = times
     try:
         centres, levels = force_spectrum(result)
         spectrum_note = ""
@@ -169,52 +175,67 @@ def run(args) -> int:
         spectrum_note = str(error).replace("use a longer run or a smaller skip", "use a longer --length-m")
     force = result.force
     summary = {
-        "model": result.model,
-        "set": args.set,
-        "wheel_set": args.wheel_set,
-        "line": result.line,
-        "speed_m_per_s": result.speed,
-        "speed_kmh": args.speed_kmh,
-        "preload_n": params.contact.preload,
-        "steps": result.n_steps,
-        "length_m": result.n_steps * result.element_size,
-        "time_step_s": result.time_step,
-        "force_mean_n": float(force.mean()),
-        "force_std_n": float(force.std()),
-        "force_min_n": float(force.min()),
-        "force_max_n": float(force.max()),
-        "loss_of_contact_steps": result.loss_of_contact_steps,
-        "run_in_length_m": result.run_in_length,
-        "prepare_time_s": prepared - start,
-        "run_time_s": finished - prepared,
+        "model": result.model, "set": args.set, "wheel_set": args.wheel_set, "line": result.line,
+        "speed_m_per_s": result.speed, "speed_kmh": args.speed_kmh, "preload_n": params.contact.preload,
+        "steps": result.n_steps, "length_m": result.n_steps * result.element_size, "time_step_s": result.time_step,
+        "force_mean_n": float(force.mean()), "force_std_n": float(force.std()),
+        "force_min_n": float(force.min()), "force_max_n": float(force.max()),
+        "loss_of_contact_steps": result.loss_of_contact_steps, "run_in_length_m": result.run_in_length,
+        "prepare_time_s": prepared - start, "run_time_s": finished - prepared,
         "steps_per_s": result.n_steps / max(finished - prepared, 1e-9),
-        "band_centres_hz": centres,
-        "levels_db": levels,
+        "band_centres_hz": centres, "levels_db": levels,
     }
     if spectrum_note:
         summary["spectrum_note"] = spectrum_note
-    if out is not None:
-        summary["out"] = str(out)
-    if args.json:
-        print_json(summary)
-        return 0
+    return summary
+
+
+def _print_summary(args, result, summary, sink) -> None:
+    import numpy as np
+
+    force = result.force
     wheel_set = f" + wheel {args.wheel_set}" if args.wheel_set else ""
     print(f"{result.model} on {args.set}{wheel_set} line {result.line}, {args.speed_kmh:g} km/h, "
-          f"{params.contact.preload / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m")
+          f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m")
     print(f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
           f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN")
     print(f"  loss of contact: {result.loss_of_contact_steps} steps")
     print(f"  {summary['steps_per_s']:.0f} steps/s (prepare {summary['prepare_time_s']:.2f} s, "
           f"run {summary['run_time_s']:.2f} s)")
-    if spectrum_note:
-        print(f"  no force spectrum: {spectrum_note}")
+    if "spectrum_note" in summary:
+        print(f"  no force spectrum: {summary['spectrum_note']}")
     else:
         print("  third-octave force levels, dB re 1 N:")
-    for fc, level in zip(centres, levels, strict=True):
+    for fc, level in zip(summary["band_centres_hz"], summary["levels_db"], strict=True):
         text = "   n/a" if not np.isfinite(level) else f"{level:6.1f}"
         print(f"    {fc:7.0f} Hz {text}")
-    if out is not None:
-        print(f"  arrays written to {out}")
+    if "out" in summary:
+        print(f"  arrays written to {summary['out']}")
     if sink is not None and sink.path is not None:
         print(f"  recording written to {sink.path}")
+
+
+def run(args) -> int:
+    params, out = _checked_args(args)
+    sink = None
+    if hasattr(args, "rrd"):
+        from wheelrail.core.recording import sink_from_args
+
+        sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}")
+    start = time.perf_counter()
+    interaction = _prepare(args, params, out, sink)
+    prepared = time.perf_counter()
+    result = _execute(args, interaction, sink)
+    finished = time.perf_counter()
+    if sink is not None:
+        sink.finish(result)
+    if out is not None:
+        result.save_npz(out)
+    summary = _summary(args, result, params, (start, prepared, finished))
+    if out is not None:
+        summary["out"] = str(out)
+    if args.json:
+        print_json(summary)
+        return 0
+    _print_summary(args, result, summary, sink)
     return 0

@@ -61,52 +61,18 @@ def _peaks(track, numerics) -> dict[str, float]:
     return peaks
 
 
-def run(args) -> int:
+def _receptance_outputs(track, numerics, csv_path, plot_path, df_hz, response, peaks) -> None:
+    """``--csv`` and ``--plot``: the point receptance above a sleeper and at midspan, 20 Hz-5 kHz."""
     import numpy as np
 
-    from wheelrail.core.parameters import TrackNumerics, TrackParameters
-    from wheelrail.core.track import (
-        assemble_track,
-        moving_from_stationary,
-        stationary_track_response,
-        track_cache_path,
-        track_receptance,
-    )
-
-    speed = speed_from_kmh(args.speed_kmh)
-    if not math.isfinite(args.df_hz) or not MIN_DF_HZ <= args.df_hz <= 100:
-        raise WheelrailError(f"--df-hz must be in [{MIN_DF_HZ:g}, 100] Hz, got {args.df_hz:g}")
-    csv_path = writable_output(args.csv, "--csv") if args.csv else None
-    plot_path = writable_output(args.plot, "--plot", ".png") if args.plot else None
-    if csv_path and plot_path and csv_path.resolve() == plot_path.resolve():
-        raise WheelrailError("--csv and --plot name the same file")
-
-    track = TrackParameters()
-    numerics = TrackNumerics()
-    peaks = _peaks(track, numerics)
-
-    if speed > numerics.max_speed:
-        from dataclasses import replace
-
-        numerics = replace(numerics, max_speed=speed)
-    cached_before = track_cache_path(track, numerics).exists()
-    start = time.perf_counter()
-    response = stationary_track_response(track, numerics)
-    t_stationary = time.perf_counter() - start
-    start = time.perf_counter()
-    green = moving_from_stationary(response, speed)
-    t_speed = time.perf_counter() - start
-    weights = green.weights(1e-3 / speed)
-    static = weights.sum(axis=1)
-    cache_size = Path(response.cache_path).stat().st_size if response.cache_path else 0
+    from wheelrail.core.track import assemble_track, track_receptance
 
     L = track.support.sleeper_spacing
     x_sleeper = (track.n_bays // 2) * L
-    if csv_path or plot_path:
-        model = assemble_track(track, numerics.elements_per_bay)
-        freq = np.arange(20.0, 5000.0 + 1e-9, args.df_hz)
-        above = track_receptance(model, freq, x_sleeper)
-        midspan = track_receptance(model, freq, x_sleeper + L / 2)
+    model = assemble_track(track, numerics.elements_per_bay)
+    freq = np.arange(20.0, 5000.0 + 1e-9, df_hz)
+    above = track_receptance(model, freq, x_sleeper)
+    midspan = track_receptance(model, freq, x_sleeper + L / 2)
     if csv_path:
         from wheelrail.core.atomic import atomic_write
 
@@ -121,11 +87,75 @@ def run(args) -> int:
     if plot_path:
         _plot(plot_path, freq, above, midspan, response, peaks)
 
+
+def _green_functions(track, numerics, speed: float) -> dict:
+    """The stationary responses (from the cache or computed) and the moving Green's functions at ``speed``."""
+    from wheelrail.core.track import moving_from_stationary, stationary_track_response, track_cache_path
+
+    cached_before = track_cache_path(track, numerics).exists()
+    start = time.perf_counter()
+    response = stationary_track_response(track, numerics)
+    t_stationary = time.perf_counter() - start
+    start = time.perf_counter()
+    green = moving_from_stationary(response, speed)
+    t_speed = time.perf_counter() - start
+    cache_size = Path(response.cache_path).stat().st_size if response.cache_path else 0
+    return {"response": response, "green": green, "static": green.weights(1e-3 / speed).sum(axis=1),
+            "cache": {"path": response.cache_path, "size_bytes": cache_size, "was_cached": bool(cached_before),
+                      "stationary_time_s": t_stationary, "speed_time_s": t_speed}}
+
+
+def _print_summary(track, summary: dict) -> None:
+    peaks, cache = summary["resonances_hz"], summary["cache"]
+    green, static = summary["green_functions"], summary["static_moving_compliance_m_per_n"]
+    speed_kmh = summary["speed_kmh"]
+    print(f"Track: UIC60 Rayleigh-Timoshenko rail, {track.n_bays} bays of {track.support.sleeper_spacing} m "
+          "(paper section 2.2)")
+    print(f"  sleeper-on-ballast resonance  {peaks['sleeper_on_ballast_hz']:7.1f} Hz")
+    print(f"  rail-on-pad resonance         {peaks['rail_on_pad_hz']:7.1f} Hz")
+    print(f"  pinned-pinned resonance       {peaks['pinned_pinned_hz']:7.1f} Hz  (paper: 943 Hz)")
+    print(f"  sleeper-passing frequency     {summary['sleeper_passing_frequency_hz']:7.1f} Hz  at {speed_kmh:g} km/h")
+    print(f"Moving Green's functions at {speed_kmh:g} km/h: {green['duration_s'] * 1e3:.0f} ms, "
+          f"{green['excitation_positions_per_bay']} excitation positions per bay")
+    print(f"  static compliance {static['above_sleeper'] * 1e9:.3f} nm/N above a sleeper, "
+          f"{static['midspan'] * 1e9:.3f} nm/N at midspan")
+    how = "loaded from cache" if cache["was_cached"] else "computed and cached"
+    print(f"  stationary responses {how} in {cache['stationary_time_s']:.2f} s; this speed in "
+          f"{cache['speed_time_s'] * 1e3:.1f} ms")
+    print(f"  cache: {cache['path']} ({cache['size_bytes'] / 1e6:.1f} MB)")
+    if "csv" in summary:
+        print(f"  receptance written to {summary['csv']}")
+    if "plot" in summary:
+        print(f"  plot written to {summary['plot']}")
+
+
+def run(args) -> int:
+    from wheelrail.core.parameters import TrackNumerics, TrackParameters
+
+    speed = speed_from_kmh(args.speed_kmh)
+    if not math.isfinite(args.df_hz) or not MIN_DF_HZ <= args.df_hz <= 100:
+        raise WheelrailError(f"--df-hz must be in [{MIN_DF_HZ:g}, 100] Hz, got {args.df_hz:g}")
+    csv_path = writable_output(args.csv, "--csv") if args.csv else None
+    plot_path = writable_output(args.plot, "--plot", ".png") if args.plot else None
+    if csv_path and plot_path and csv_path.resolve() == plot_path.resolve():
+        raise WheelrailError("--csv and --plot name the same file")
+
+    track = TrackParameters()
+    numerics = TrackNumerics()
+    peaks = _peaks(track, numerics)
+    if speed > numerics.max_speed:
+        from dataclasses import replace
+
+        numerics = replace(numerics, max_speed=speed)
+    built = _green_functions(track, numerics, speed)
+    green, static = built["green"], built["static"]
+    if csv_path or plot_path:
+        _receptance_outputs(track, numerics, csv_path, plot_path, args.df_hz, built["response"], peaks)
     summary = {
         "speed_m_per_s": speed,
         "speed_kmh": args.speed_kmh,
         "resonances_hz": peaks,
-        "sleeper_passing_frequency_hz": speed / L,
+        "sleeper_passing_frequency_hz": speed / track.support.sleeper_spacing,
         "static_moving_compliance_m_per_n": {"above_sleeper": float(static[0]),
                                              "midspan": float(static[len(static) // 2])},
         "green_functions": {
@@ -134,13 +164,7 @@ def run(args) -> int:
             "excitation_positions_per_bay": len(green.excitation_positions),
             "max_speed_m_per_s": numerics.max_speed,
         },
-        "cache": {
-            "path": response.cache_path,
-            "size_bytes": cache_size,
-            "was_cached": bool(cached_before),
-            "stationary_time_s": t_stationary,
-            "speed_time_s": t_speed,
-        },
+        "cache": built["cache"],
     }
     if csv_path:
         summary["csv"] = str(csv_path)
@@ -149,22 +173,7 @@ def run(args) -> int:
     if args.json:
         print_json(summary)
         return 0
-    print(f"Track: UIC60 Rayleigh-Timoshenko rail, {track.n_bays} bays of {L} m (paper section 2.2)")
-    print(f"  sleeper-on-ballast resonance  {peaks['sleeper_on_ballast_hz']:7.1f} Hz")
-    print(f"  rail-on-pad resonance         {peaks['rail_on_pad_hz']:7.1f} Hz")
-    print(f"  pinned-pinned resonance       {peaks['pinned_pinned_hz']:7.1f} Hz  (paper: 943 Hz)")
-    print(f"  sleeper-passing frequency     {speed / L:7.1f} Hz  at {args.speed_kmh:g} km/h")
-    print(f"Moving Green's functions at {args.speed_kmh:g} km/h: {green.duration * 1e3:.0f} ms, "
-          f"{len(green.excitation_positions)} excitation positions per bay")
-    print(f"  static compliance {static[0] * 1e9:.3f} nm/N above a sleeper, "
-          f"{static[len(static) // 2] * 1e9:.3f} nm/N at midspan")
-    how = "loaded from cache" if cached_before else "computed and cached"
-    print(f"  stationary responses {how} in {t_stationary:.2f} s; this speed in {t_speed * 1e3:.1f} ms")
-    print(f"  cache: {response.cache_path} ({cache_size / 1e6:.1f} MB)")
-    if csv_path:
-        print(f"  receptance written to {csv_path}")
-    if plot_path:
-        print(f"  plot written to {plot_path}")
+    _print_summary(track, summary)
     return 0
 
 
