@@ -6,7 +6,7 @@ every parameter), hold that key inside, and are written atomically (temporary fi
 interrupted write never leaves a file a later run would trust. An entry that cannot be read (any
 failure: a damaged ZIP flag, method or version byte gives RuntimeError or NotImplementedError, not only
 OSError), whose stored key differs or whose arrays are missing is treated as absent, with a warning,
-and rebuilt (SPEC.md §7).
+and rebuilt.
 
 A write killed half-way (kill -9 during a Green's-function build) leaves its temporary file, up to
 35 MB, hidden beside the entries. Temporaries are named after the process that writes them

@@ -2,7 +2,7 @@
 
 Each sub-command lives in its own module under ``wheelrail.core.commands`` that defines
 ``add_parser(subparsers)`` and ``run(args) -> int``; this module only dispatches. Every error ends as
-one line on stderr and a non-zero exit code (SPEC.md §5, §7); set ``WHEELRAIL_DEBUG=1`` to see the
+one line on stderr and a non-zero exit code; set ``WHEELRAIL_DEBUG=1`` to see the
 traceback of an unexpected failure.
 """
 
@@ -31,7 +31,7 @@ COMMANDS = {
 }
 
 class _OneLineErrors(argparse.ArgumentParser):
-    """Usage errors as one line on stderr (SPEC.md §5), not argparse's usage block."""
+    """Usage errors as one line on stderr, not argparse's usage block."""
 
     def error(self, message: str):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")

@@ -1,4 +1,4 @@
-"""Memory bounds of a run: estimate before allocating, refuse with the figure (SPEC.md §7).
+"""Memory bounds of a run: estimate before allocating, refuse with the figure.
 
 A run holds its arrays in memory for its whole length, so its size grows with the number of steps:
 a 1e9 m run would try to allocate terabytes and end in a ``MemoryError`` half-way through the set-up.

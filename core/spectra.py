@@ -242,6 +242,7 @@ def band_coherence(
 FORCE_REFERENCE = 1.0  # N: contact-force levels are in dB re 1 N
 FORCE_BAND_RANGE = (50.0, 8000.0)  # Hz, band centres of the paper's force spectra (Figs 10-17)
 FORCE_SKIP = 0.02  # s, start of a run left out of force spectra (see force_spectrum)
+FORCE_MIN_STEPS = 16  # steps a force spectrum needs after FORCE_SKIP
 
 
 def force_spectrum(
@@ -312,10 +313,10 @@ def force_spectrum(
         raise WheelrailError("force_spectrum: force contains NaN or infinity")
     first = int(math.ceil(skip / time_step - 1e-9))
     kept = force.size - first
-    if kept < 16:
+    if kept < FORCE_MIN_STEPS:
         raise WheelrailError(
             f"force_spectrum: {force.size} steps ({force.size * time_step:.4g} s) leave {max(kept, 0)} after "
-            f"skipping the first {skip:g} s (at least 16 needed); use a longer run or a smaller skip"
+            f"skipping the first {skip:g} s (at least {FORCE_MIN_STEPS} needed); use a longer run or a smaller skip"
         )
     dynamic = force[first:] - force[first:].mean()
     return third_octave_spectrum(dynamic, 1.0 / time_step, band_range, FORCE_REFERENCE)

@@ -25,7 +25,7 @@ from wheelrail.core.parameters import (
     RunParameters,
 )
 from wheelrail.core.run_setup import usable_length, window_lines
-from wheelrail.core.spectra import FORCE_SKIP
+from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP
 
 __all__ = [
     "COMPARE", "COMPARE_ORDER", "MODEL_CHOICES", "PRELOAD_RANGE_KN", "RunConfig", "in_page_words",
@@ -37,7 +37,6 @@ COMPARE = "compare"
 COMPARE_ORDER = (REFERENCE_MODEL, *(m for m in reversed(MODELS) if m != REFERENCE_MODEL))
 MODEL_CHOICES = (*MODELS, COMPARE)
 PRELOAD_RANGE_KN = (1.0, 500.0)  # wheel loads the page accepts (paper: 65 kN)
-SPECTRUM_MIN_STEPS = 16  # force_spectrum needs this many steps after its start-up skip
 MAX_WHEEL_RUN_M = 100.0  # wheel data repeat around the circumference: longest run offered on a wheel set
 
 
@@ -97,7 +96,7 @@ def offered_lines(roughness, model_choice: str, preload: float) -> tuple[int, ..
 def length_range(roughness, speed: float, element_size: float | None = None) -> tuple[float, float]:
     """Shortest run with a force spectrum at this speed, longest run the set allows, m."""
     dx = RunParameters().element_size if element_size is None else element_size
-    shortest = math.ceil((FORCE_SKIP * speed + SPECTRUM_MIN_STEPS * dx) / dx) * dx
+    shortest = math.ceil((FORCE_SKIP * speed + FORCE_MIN_STEPS * dx) / dx) * dx
     longest = MAX_WHEEL_RUN_M if roughness.periodic else usable_length(roughness, dx)
     return round(shortest, 6), math.floor(longest / dx + 1e-9) * dx
 

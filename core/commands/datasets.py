@@ -1,4 +1,4 @@
-"""``wheelrail datasets``: list the bundled roughness sets (SPEC.md §3, §5)."""
+"""``wheelrail datasets``: list the bundled roughness sets."""
 
 from __future__ import annotations
 

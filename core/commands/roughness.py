@@ -1,4 +1,4 @@
-"""``wheelrail roughness``: third-octave roughness spectra and lateral coherence of a set (SPEC.md §5).
+"""``wheelrail roughness``: third-octave roughness spectra and lateral coherence of a set.
 
 Spectra as in the paper's Fig. 6 (single Hann FFT per line, third-octave bands, energetic average over the
 chosen lines, dB re 1 µm) against frequency at the given speed and against wavelength (EN 15610 bands);

@@ -1,4 +1,4 @@
-"""``wheelrail run``: one wheel/rail interaction run on a roughness line (SPEC.md §5)."""
+"""``wheelrail run``: one wheel/rail interaction run on a roughness line."""
 
 from __future__ import annotations
 

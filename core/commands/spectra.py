@@ -1,4 +1,4 @@
-"""``wheelrail spectra FILE``: third-octave contact-force spectrum of a saved run (SPEC.md §4, §5).
+"""``wheelrail spectra FILE``: third-octave contact-force spectrum of a saved run.
 
 FILE is a ``.npz`` written by ``wheelrail run --out`` (``RunResult.save_npz``) or a ``.rrd`` recording
 (read back with rerun's own reader, :func:`wheelrail.core.recording.read_recording`); both give the same

@@ -1,4 +1,4 @@
-"""``wheelrail study``: the paper's studies (Figs 10-14, 16, 17, 11) as batches of runs (SPEC.md §4-§5)."""
+"""``wheelrail study``: the paper's studies (Figs 10-14, 16, 17, 11) as batches of runs."""
 
 from __future__ import annotations
 

@@ -158,7 +158,7 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
 def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:
     """Every run must outlast the force spectrum's start-up skip by 16 steps (``force_spectrum``)."""
     from wheelrail.core.roughness import RoughnessSet, load_roughness
-    from wheelrail.core.spectra import FORCE_SKIP
+    from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP
 
     circumference = {}
     for info in infos:
@@ -168,7 +168,7 @@ def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None
     for spec in specs:
         length = spec.length if spec.length is not None else circumference[spec.set_label]
         dx = spec.params.run.element_size
-        needed = FORCE_SKIP * spec.params.run.speed + 16 * dx
+        needed = FORCE_SKIP * spec.params.run.speed + FORCE_MIN_STEPS * dx
         if length < needed:
             raise WheelrailError(
                 f"run length {length:g} m at {spec.speed_kmh:g} km/h is too short for a force spectrum, which "

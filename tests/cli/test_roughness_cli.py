@@ -1,4 +1,4 @@
-"""``wheelrail datasets`` and ``wheelrail roughness`` (SPEC.md §5, §7)."""
+"""``wheelrail datasets`` and ``wheelrail roughness``."""
 
 import json
 import subprocess

@@ -1,4 +1,4 @@
-"""``wheelrail spectra FILE``: force spectrum of a saved run, .npz and .rrd agree (SPEC.md §5, §7)."""
+"""``wheelrail spectra FILE``: force spectrum of a saved run, .npz and .rrd agree."""
 
 from __future__ import annotations
 
