@@ -36,7 +36,7 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
 from wheelrail.core.models import LAW_HERTZ, MODELS, ContactModel, ModelInputs, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
-from wheelrail.core.results import RunHeader, RunResult, StepState
+from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
 from wheelrail.core.run_setup import (
     DEFAULT_RUN_IN,
     RUN_MARGIN,
@@ -162,7 +162,7 @@ def _run_chunk(law, j0, j1, track, wheel, preload, xi_w0, law_inputs, out):
 # --------------------------------------------------------------------------------------------------
 
 
-class InteractionRun:
+class InteractionRun(HeaderView):
     """One prepared run: iterate :meth:`steps` (streaming) or call :meth:`run`; then :meth:`result`.
 
     Built by :func:`prepare_run` from its steps (``wheelrail.core.run_setup``). :meth:`cancel` (from any
@@ -200,24 +200,8 @@ class InteractionRun:
 
     # what produced the run ------------------------------------------------------------------------------
     @property
-    def model(self) -> str:
-        return self.header.model
-
-    @property
-    def line(self) -> int:
-        return self.header.line
-
-    @property
     def params(self) -> ModelParameters:
         return self.header.params
-
-    @property
-    def roughness_name(self) -> str:
-        return self.header.roughness_name
-
-    @property
-    def wheel_roughness_name(self) -> str | None:
-        return self.header.wheel_roughness_name
 
     @property
     def dx(self) -> float:

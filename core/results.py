@@ -129,8 +129,47 @@ class StepState:
     pressure: np.ndarray | None = None
 
 
+class HeaderView:
+    """What produced a run, read from its ``header`` (a :class:`RunHeader`): shared by ``RunResult`` and the
+    interaction's ``InteractionRun``."""
+
+    header: RunHeader
+
+    @property
+    def model(self) -> str:
+        return self.header.model
+
+    @property
+    def line(self) -> int:
+        return self.header.line
+
+    @property
+    def roughness_name(self) -> str:
+        return self.header.roughness_name
+
+    @property
+    def wheel_roughness_name(self) -> str | None:
+        return self.header.wheel_roughness_name
+
+    @property
+    def speed(self) -> float:
+        return self.header.speed
+
+    @property
+    def element_size(self) -> float:
+        return self.header.element_size
+
+    @property
+    def time_step(self) -> float:
+        return self.header.time_step
+
+    @property
+    def run_in_length(self) -> float:
+        return self.header.run_in_length
+
+
 @dataclass(frozen=True, eq=False)
-class RunResult:
+class RunResult(HeaderView):
     """Whole-run result of the interaction loop (arrays over steps, SI units).
 
     Attributes
@@ -165,38 +204,6 @@ class RunResult:
     window_x: np.ndarray | None = None
     window_y: np.ndarray | None = None
     loss_of_contact_steps: int = 0
-
-    @property
-    def model(self) -> str:
-        return self.header.model
-
-    @property
-    def line(self) -> int:
-        return self.header.line
-
-    @property
-    def speed(self) -> float:
-        return self.header.speed
-
-    @property
-    def element_size(self) -> float:
-        return self.header.element_size
-
-    @property
-    def time_step(self) -> float:
-        return self.header.time_step
-
-    @property
-    def roughness_name(self) -> str:
-        return self.header.roughness_name
-
-    @property
-    def run_in_length(self) -> float:
-        return self.header.run_in_length
-
-    @property
-    def wheel_roughness_name(self) -> str | None:
-        return self.header.wheel_roughness_name
 
     @property
     def parameters(self) -> dict:
