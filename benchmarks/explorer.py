@@ -84,6 +84,38 @@ PRESS_AND_WAIT = """async () => {
 }"""
 
 
+COUNT_PATCHES = """async () => {
+    // frames reaching the page: distinct heat-map updates the page's scene receives during one run
+    const tree = window.__viserSceneTree;
+    const data = () => tree.getState()['/contact/heatmap'].message.props._data;
+    let last = data();
+    const button = [...document.querySelectorAll('button')].find(b => b.textContent.trim() === 'Run');
+    const t0 = performance.now();
+    button.click();
+    let first = -1, latest = -1, frames = 0;
+    while (performance.now() - t0 < 120000) {
+        await new Promise(r => requestAnimationFrame(r));
+        const now = data();
+        if (now !== last) {
+            last = now; frames += 1; latest = performance.now();
+            if (first < 0) first = latest;
+        } else if (latest > 0 && performance.now() - latest > 2000) {
+            break;  // nothing new for 2 s: the run has ended
+        }
+    }
+    return [frames, first - t0, latest - t0];
+}"""
+
+
+def browser_frames(page, app, length: float) -> None:
+    app.length_text.value = f"{length:g}"
+    frames, first, latest = page.evaluate(COUNT_PATCHES)
+    app.controller.wait()
+    rate = (frames - 1) / ((latest - first) / 1e3) if frames > 1 and latest > first else float("nan")
+    print(f"3d live patch in the page (headless Chromium, software WebGL), {length:g} m: {frames} patches reached "
+          f"the page over {(latest - first) / 1e3:.2f} s = {rate:.1f} frames/s")
+
+
 def browser_side(app, repeats: int) -> None:
     from playwright.sync_api import sync_playwright
 
@@ -103,6 +135,8 @@ def browser_side(app, repeats: int) -> None:
             app.controller.wait()
             times.append(ms)
             time.sleep(1.0)
+        for length in (3.0, 7.9):
+            browser_frames(page, app, length)
         browser.close()
     print(f"press Run in the page -> new patch in the page (headless Chromium, software WebGL): median "
           f"{statistics.median(times):.0f} ms (min {min(times):.0f}, max {max(times):.0f} ms) of {repeats}")
