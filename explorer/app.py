@@ -41,6 +41,9 @@ from wheelrail.explorer.uploads import MAX_UPLOAD_BYTES, read_upload, refuse_lar
 
 __all__ = ["ExplorerApp", "main", "serve"]
 
+PNG_PLOTS = ("contact force", "displacement", "force spectra", "contact filters", "roughness spectrum",
+             "lateral coherence")
+
 LOG = logging.getLogger("wheelrail.explorer")
 DEFAULT_SET = "corrugated-rail"
 DEFAULT_LENGTH = 3.0  # m
@@ -149,6 +152,8 @@ class ExplorerApp:
         self.plots = CasePlots(gui, patch, spectra)
         with spectra:
             self.csv_button = gui.add_button("Download spectra (.csv)", icon=viser.Icon.DOWNLOAD, disabled=True)
+            self.png_choice = gui.add_dropdown("Plot as PNG", PNG_PLOTS, initial_value=PNG_PLOTS[3])
+            self.png_button = gui.add_button("Download plot (.png)", icon=viser.Icon.PHOTO)
             gui.add_markdown("Contact filter: model level minus `hertz` (solid, needs a `hertz` run of the same "
                              "configuration: use `compare`); dashed: reference filters at this preload and speed.")
         with rough:
@@ -166,6 +171,8 @@ class ExplorerApp:
         self.rrd_button.on_click(lambda event: self._guarded(self.download_rrd, event.client, client=event.client))
         self.csv_button.on_click(lambda event: self._guarded(self.download_spectra_csv, event.client,
                                                              client=event.client))
+        self.png_button.on_click(lambda event: self._guarded(self.download_plot_png, self.png_choice.value,
+                                                             event.client, client=event.client))
 
     # ------------------------------------------------------------------ set, line, configuration
     def select_set(self, name: str) -> None:
@@ -437,6 +444,18 @@ class ExplorerApp:
             raise WheelrailError("the settings are not a valid configuration: fix them first")
         content = self.store.csv_text(self.shown).encode()
         name = self.shown.for_model("spectra").file_stem() + ".csv"
+        self._send(name, content, client)
+        return name, content
+
+    def download_plot_png(self, which: str, client=None) -> tuple[str, bytes]:
+        """One plot as shown (its title names the configuration), as a PNG named after the configuration."""
+        plots = {**self.plots.by_name(), "roughness spectrum": self.roughness_plot,
+                 "lateral coherence": self.coherence_plot}
+        if which not in plots:
+            raise WheelrailError(f"unknown plot {which!r}; choose one of {', '.join(plots)}")
+        stem = self.shown.for_model("plot").file_stem() if self.shown is not None else "wheelrail-plot"
+        name = f"{stem}-{which.replace(' ', '-')}.png"
+        content = plots[which].png()
         self._send(name, content, client)
         return name, content
 

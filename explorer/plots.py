@@ -46,12 +46,14 @@ class Plot:
         self._gui, self._container = gui, container
         self.title, self.x_label, self.y_label, self.log_x = title, x_label, y_label, log_x
         self.series: tuple = ()
+        self.data: tuple = ()
         self.handle = None
         self.show((np.zeros(0), np.zeros(0)), (("no run yet", "#999999", False),))
 
     def show(self, data: tuple, series: tuple, title: str | None = None) -> None:
         data = tuple(np.asarray(d, dtype=np.float64) for d in data)
         title = self.title if title is None else title
+        self.data = data
         if self.handle is not None and series == self.series and title == self.handle.title:
             self.handle.data = data
             return
@@ -70,6 +72,30 @@ class Plot:
                                                   aspect=1.5, order=order)
             self.series = series
 
+    def png(self) -> bytes:
+        """The chart as shown (title, series, dashes, axes) drawn with matplotlib, as PNG bytes."""
+        import io
+
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        figure = Figure(figsize=(7.0, 4.2), layout="constrained")
+        FigureCanvasAgg(figure)
+        ax = figure.subplots()
+        x = self.data[0] if self.data else np.zeros(0)
+        for (label, colour, dashed), y in zip(self.series, self.data[1:], strict=False):
+            ax.plot(x, y, color=colour, linestyle="--" if dashed else "-", linewidth=1.3, label=label)
+        if self.log_x and x.size and np.all(x > 0):
+            ax.set_xscale("log")
+        ax.set(xlabel=self.x_label, ylabel=self.y_label)
+        ax.set_title(self.handle.title if self.handle is not None else self.title, fontsize=9)
+        ax.grid(True, alpha=0.3)
+        if self.series:
+            ax.legend(fontsize=7)
+        buffer = io.BytesIO()
+        figure.savefig(buffer, format="png", dpi=110)
+        return buffer.getvalue()
+
     def clear(self, why: str, title: str | None = None) -> None:
         self.show((np.zeros(0), np.zeros(0)), ((why, "#999999", False),), title=title)
 
@@ -83,6 +109,11 @@ class CasePlots:
                                  "displacement (um)")
         self.spectra = Plot(gui, spectra_tab, "Force spectra", "band (Hz)", "dB re 1 N", log_x=True)
         self.filters = Plot(gui, spectra_tab, "Contact filters", "band (Hz)", "dB", log_x=True)
+
+    def by_name(self) -> dict[str, Plot]:
+        """The plots by the names the export menu shows."""
+        return {"contact force": self.force, "displacement": self.displacement, "force spectra": self.spectra,
+                "contact filters": self.filters}
 
     def live(self, result, config: RunConfig) -> None:
         """A running model's force and displacement so far."""

@@ -5,6 +5,7 @@ Run by calling what the button's callback calls (``ExplorerApp.start_run``); the
 Stop, replace and compare are tested without a server in test_explorer_controller.py.
 """
 
+import io
 import socket
 from types import SimpleNamespace
 
@@ -128,6 +129,18 @@ def test_downloads_are_named_after_the_configuration(app, tmp_path):
     path = tmp_path / name
     path.write_bytes(content)
     assert np.allclose(read_recording(path).force, result.force)
+    # every plot exports as a PNG named after the configuration and titled with it (issue 15, item 4)
+    name, content = app.download_plot_png("contact force")
+    assert name == "wheelrail-plot-corrugated-rail-line0-100kmh-65kN-0.6m-contact-force.png"
+    assert content[:8] == b"\x89PNG\r\n\x1a\n" and len(content) > 5000
+    from PIL import Image
+
+    image = Image.open(io.BytesIO(content))
+    assert image.size[0] > 500 and len(np.unique(np.asarray(image.convert("L")))) > 10  # a drawn chart, not a blank
+    for which in ("displacement", "force spectra", "contact filters", "roughness spectrum", "lateral coherence"):
+        assert app.download_plot_png(which)[1][:4] == b"\x89PNG"
+    with pytest.raises(WheelrailError, match="unknown plot 'pie'"):
+        app.download_plot_png("pie")
 
 
 def test_only_valid_choices_are_offered_and_bad_values_are_refused(app):
