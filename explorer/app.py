@@ -405,7 +405,12 @@ class ExplorerApp:
     # ------------------------------------------------------------------ uploads and downloads
     def _on_upload(self, event) -> None:
         uploaded = event.target.value
-        self._guarded(self.load_upload, uploaded.name, uploaded.content, event.client, client=event.client)
+        try:
+            self.load_upload(uploaded.name, uploaded.content, event.client)
+        except WheelrailError as error:
+            # viser's own notice "File uploaded successfully" only means the bytes arrived: say plainly
+            # beside it that the file was not loaded, and why
+            self.report_error(str(error), event.client, title="File received but not loaded")
 
     def load_upload(self, name: str, content: bytes, client=None) -> str:
         label, rough = read_upload(name, content, self.max_upload_bytes)
@@ -476,13 +481,13 @@ class ExplorerApp:
             self.report_error(f"unexpected error: {type(error).__name__}: {error}", client)
         return None
 
-    def report_error(self, message: str, client=None) -> None:
+    def report_error(self, message: str, client=None, title: str = "wheelrail") -> None:
         self.last_error = message
         LOG.warning("error shown in the page: %s", message)
         self.status(f"**Error:** {message}")
         for target in [client] if client is not None else list(self.server.get_clients().values()):
             try:
-                target.add_notification("wheelrail", message, color="red", auto_close_seconds=None)
+                target.add_notification(title, message, color="red", auto_close_seconds=None)
             except Exception:  # a tab that closed meanwhile
                 pass
 
