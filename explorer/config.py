@@ -203,6 +203,10 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
     contact = ContactParameters(preload=preload_kn * 1e3, **dict(geometry))
     allowed = offered_lines(roughness, model, contact, wheel)
     sets = set_label if wheel is None else f"{set_label} + {wheel_label}"
+    if not allowed:
+        raise WheelrailError(f"The 3d contact patch at {preload_kn:g} kN is {2e3 * contact.hertz_semi_axes()[1]:.1f} "
+                             f"mm wide across the rail: no line of {sets} leaves room for it; choose another "
+                             "geometry or a one-line model")
     if line not in allowed:
         if line in roughness.line_numbers and (wheel is None or line in wheel.line_numbers):
             raise WheelrailError(f"Line {line} is too near the edge of {sets} for the 3d contact patch at "

@@ -223,6 +223,12 @@ def test_geometry_fields_refuse_bad_values_in_words(app):
         assert not app.start_run()
         assert message in app.last_error and "--" not in app.last_error and "ContactParameters" not in app.last_error
         field.value = ""
+    # a patch too wide across for the set: said in words, no line offered is pretended
+    app.crown_radius_text.value, app.tread_radius_text.value = "800", "-1000"
+    assert "The 3d contact patch at 65 kN is 32.3 mm wide across the rail: no line of corrugated-rail" in (
+        app.check_md.content)
+    assert not app.start_run()
+    app.crown_radius_text.value = app.tread_radius_text.value = ""
     # a wheel set is added to a rail set only
     _reset(app, set_name="cast-iron-wheel", wheel_set="sinter-wheel-1")
     assert not app.start_run()
