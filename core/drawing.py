@@ -69,7 +69,7 @@ def circle_points(radius: float, n: int = 96, radius_y: float | None = None) -> 
     return np.c_[radius * np.cos(angle), (radius if radius_y is None else radius_y) * np.sin(angle)]
 
 
-def circle_segments(radius: float, z: float, n: int = 96) -> np.ndarray:
-    """The circle of :func:`circle_points` as n line segments (n, 2, 3) float32 at height ``z``."""
-    points = np.c_[circle_points(radius, n), np.full(n + 1, z)]
+def circle_segments(radius: float, z: float, n: int = 96, radius_y: float | None = None) -> np.ndarray:
+    """The circle (or ellipse) of :func:`circle_points` as n line segments (n, 2, 3) float32 at height ``z``."""
+    points = np.c_[circle_points(radius, n, radius_y), np.full(n + 1, z)]
     return np.stack([points[:-1], points[1:]], axis=1).astype(np.float32)

@@ -6,8 +6,9 @@ contact patch), :mod:`.plots` (uPlot charts), :mod:`.uploads` (roughness files f
 wires them to the controls, like a viser example: :func:`serve` creates the app and waits; the app declares
 its controls in a folder and four tabs and attaches small callbacks. Everything computed comes from core.
 
-The page always shows the results of the configuration its controls describe (set, line, speed, preload,
-length; every model of it): change one and the plots show that configuration's runs, or none yet.
+The page always shows the results of the configuration its controls describe (set, wheel set, line, speed,
+preload, length, contact geometry; every model of it): change one and the plots show that configuration's
+runs, or none yet.
 """
 
 from __future__ import annotations
@@ -27,11 +28,13 @@ from wheelrail.core.roughness import bundled_names, lateral_coherence, load_roug
 from wheelrail.explorer.config import (
     COMPARE,
     MODEL_CHOICES,
+    NO_WHEEL_SET,
     PRELOAD_RANGE_KN,
     RunConfig,
     length_range,
     offered_lines,
     read_config,
+    read_geometry,
 )
 from wheelrail.explorer.controller import RunController, RunView
 from wheelrail.explorer.plots import CasePlots, Plot, finite_bands
@@ -62,6 +65,12 @@ def _help_text() -> str:
         "third-octave band: 0 dB means no filtering, negative values show how much the patch attenuates. "
         "Dashed: reference filters for the same load and speed (CNOSSOS-EU A3 of noise mapping, and the "
         "analytic averaging and circular-patch filters).\n\n"
+        "**Contact geometry**: wheel radius (rolling, along the rail), rail crown radius (across) and wheel "
+        "tread radius across (empty: a cylindrical tread; negative: a concave, worn tread, which must stay "
+        "flatter than the crown), in mm; empty fields keep the paper's crossed cylinders of 390 mm (a circular "
+        "patch). Otherwise the patch is an ellipse, drawn with its Hertz semi-axes.\n\n"
+        "**Wheel roughness**: a bundled wheel set added to a rail set (r = r_rail + r_wheel, the wheel's lines "
+        "repeating with its circumference); `none`: a smooth wheel, as in the paper.\n\n"
         "**Run length**: at least long enough for a force spectrum at the chosen speed, at most what the "
         "roughness set holds; the page shows the range.")
 
@@ -107,6 +116,9 @@ class ExplorerApp:
             names = bundled_names()
             self.set_dropdown = gui.add_dropdown("Roughness set", names,
                                                  initial_value=roughness if roughness in names else names[0])
+            self.wheel_set_dropdown = gui.add_dropdown(
+                "Wheel roughness", (NO_WHEEL_SET, *self._wheel_set_names()), initial_value=NO_WHEEL_SET,
+                hint="A wheel set added to the rail set (combined roughness); none: a smooth wheel.")
             self.upload_button = gui.add_upload_button(
                 f"Upload CSV/NPZ (<= {size_text(self.max_upload_bytes)})", icon=viser.Icon.UPLOAD,
                 hint="A roughness file in the CSV or NPZ format of the README; read in memory.")
@@ -119,6 +131,13 @@ class ExplorerApp:
             self.preload_text = gui.add_text("Preload (kN)", "65",
                                              hint=f"{PRELOAD_RANGE_KN[0]:g} to {PRELOAD_RANGE_KN[1]:g} kN")
             self.length_text = gui.add_text("Run length (m)", f"{length:g}")
+            radius_mm = f"{ContactParameters().radius * 1e3:g}"
+            self.wheel_radius_text = gui.add_text("Wheel radius (mm)", "",
+                                                  hint=f"Rolling radius, along the rail; empty: {radius_mm} mm")
+            self.crown_radius_text = gui.add_text("Rail crown radius (mm)", "",
+                                                  hint=f"Rail head, across the rail; empty: {radius_mm} mm")
+            self.tread_radius_text = gui.add_text("Wheel tread radius across (mm)", "",
+                                                  hint="Empty: a cylindrical tread; negative: concave (worn)")
             self.check_md = gui.add_markdown("")
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
             self.stop_button = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, color="red", disabled=True)
@@ -126,8 +145,9 @@ class ExplorerApp:
         self.set_dropdown.on_update(lambda event: self._guarded(self.select_set, self.set_dropdown.value,
                                                                 client=event.client))
         for handle in (self.model_dropdown, self.line_dropdown, self.speed_text, self.preload_text,
-                       self.length_text):
+                       self.length_text, self.wheel_radius_text, self.crown_radius_text, self.tread_radius_text):
             handle.on_update(lambda event: self._guarded(self.refresh))
+        self.wheel_set_dropdown.on_update(lambda event: self._guarded(self.select_wheel_set, client=event.client))
         self.upload_button.on_upload(self._on_upload)
         self.run_button.on_click(lambda event: self.start_run(client=event.client))
         self.stop_button.on_click(lambda event: self.controller.stop())
@@ -199,10 +219,55 @@ class ExplorerApp:
         lo, hi = PRELOAD_RANGE_KN
         return kn * 1e3 if lo <= kn <= hi else ContactParameters().preload
 
+    def _geometry(self) -> tuple:
+        """The geometry fields read (one WheelrailError in the page's words if one is bad)."""
+        return read_geometry(wheel_radius_mm=self.wheel_radius_text.value,
+                             rail_crown_radius_mm=self.crown_radius_text.value,
+                             wheel_transverse_radius_mm=self.tread_radius_text.value)
+
+    def _contact_or_default(self) -> ContactParameters:
+        """The contact the fields describe; a field not valid yet counts as its default (the check line says)."""
+        try:
+            geometry = self._geometry()
+        except WheelrailError:
+            geometry = ()
+        return ContactParameters(preload=self._preload_or_default(), **dict(geometry))
+
+    def _wheel_set_names(self) -> tuple[str, ...]:
+        """The bundled wheel sets (the wheel-set picker's choices besides none)."""
+        names = []
+        for name in bundled_names():
+            if name not in self._sets:
+                self._sets[name] = load_roughness(name)
+            if self._sets[name].kind == "wheel":
+                names.append(name)
+        return tuple(names)
+
+    def select_wheel_set(self) -> None:
+        """After the wheel-set picker changed: a name that is no bundled wheel set is refused (back to none)."""
+        try:
+            self._wheel()
+        finally:
+            self.refresh()
+
+    def _wheel(self) -> tuple[object, str | None]:
+        """The chosen wheel set and its name, or (None, None); only a bundled wheel set is ever opened."""
+        name = self.wheel_set_dropdown.value
+        if name == NO_WHEEL_SET:
+            return None, None
+        if name not in self._wheel_set_names():
+            self.wheel_set_dropdown.value = NO_WHEEL_SET
+            raise WheelrailError(f"unknown wheel set {name!r}; choose a bundled wheel set or {NO_WHEEL_SET}")
+        return self._sets[name], name
+
     def _offer_lines(self) -> None:
         """The Line menu: the lines the model can run on (core's rule); a line no longer offered moves to the
         nearest one offered, and the page says so."""
-        lines = offered_lines(self.roughness, self.model_dropdown.value, self._preload_or_default())
+        try:
+            wheel = self._wheel()[0] if self.roughness.kind == "rail" else None
+        except WheelrailError:
+            wheel = None
+        lines = offered_lines(self.roughness, self.model_dropdown.value, self._contact_or_default(), wheel)
         if not lines:
             lines = tuple(int(n) for n in self.roughness.line_numbers)
         options = tuple(str(n) for n in lines)
@@ -225,9 +290,11 @@ class ExplorerApp:
 
     def read_config(self) -> RunConfig:
         """The configuration the controls describe, or one WheelrailError in the page's words."""
+        wheel, wheel_label = self._wheel()
         return read_config(self.roughness, self.roughness_label, line=self.line_dropdown.value,
                            model=self.model_dropdown.value, speed_kmh=self.speed_text.value,
-                           preload_kn=self.preload_text.value, length_m=self.length_text.value)
+                           preload_kn=self.preload_text.value, length_m=self.length_text.value,
+                           geometry=self._geometry(), wheel=wheel, wheel_label=wheel_label)
 
     def refresh(self) -> None:
         """After any control changed: offered lines, the check line, and the plots of that configuration."""
@@ -285,7 +352,8 @@ class ExplorerApp:
         self.progress_bar.value, self.progress_bar.animated = 0.0, True
         self.stop_button.disabled = False
         self.time_slider.disabled = True
-        self.controller.start(config, self.roughness)
+        wheel = None if config.wheel_set_label is None else self._sets[config.wheel_set_label]
+        self.controller.start(config, self.roughness, wheel)
         return True
 
     def status(self, text: str) -> None:
@@ -336,8 +404,10 @@ class ExplorerApp:
             return
         result = entry.result
         step = int(min(max(step, 0), result.n_steps - 1))
+        wheel = entry.config.wheel_set_label
         view = RunView(config=entry.config, roughness=self._sets.get(entry.config.set_label, self.roughness),
-                       window_x=result.window_x, window_y=result.window_y)
+                       window_x=result.window_x, window_y=result.window_y,
+                       wheel_roughness=None if wheel is None else self._sets[wheel])
         self.frame(result.state(step), view)
 
     def toggle_play(self) -> None:
@@ -367,19 +437,23 @@ class ExplorerApp:
     # ------------------------------------------------------------------ scene options, roughness views
     def _on_surfaces(self) -> None:
         self.scene.show_surfaces = bool(self.surfaces_box.value)
-        self.scene.draw_surfaces(self.roughness, None, int(self.line_dropdown.value))
+        try:
+            wheel = self._wheel()[0] if self.roughness.kind == "rail" else None
+        except WheelrailError:
+            wheel = None
+        self.scene.draw_surfaces(self.roughness, None, int(self.line_dropdown.value), self._contact_or_default(),
+                                 wheel)
 
     def _on_raised(self) -> None:
         self.scene.show_raised = bool(self.raised_box.value)
         self.scene.surface.visible = self.scene.show_raised and self.scene.heatmap.visible
 
     def _update_preload_views(self) -> None:
-        preload = self._preload_or_default()
-        self.scene.set_preload(preload)
-        top = PRESSURE_TOP * ContactParameters(preload=preload).hertz_peak_pressure() / 1e6
+        contact = self._contact_or_default()
+        self.scene.set_contact(contact)
+        top = PRESSURE_TOP * contact.hertz_peak_pressure() / 1e6
         self.colour_bar.image = colour_bar_image(round(top))
-        self.line_map.image = _line_map(self.roughness, int(self.line_dropdown.value),
-                                        ContactParameters(preload=preload).hertz_radius())
+        self.line_map.image = _line_map(self.roughness, int(self.line_dropdown.value), contact.hertz_semi_axes()[1])
 
     def _update_roughness_views(self) -> None:
         rough = self.roughness
@@ -499,7 +573,8 @@ class ExplorerApp:
 
 
 def _line_map(rough, line: int, hertz_radius: float) -> np.ndarray:
-    """Small map of the lines across the rail with the chosen line and the nominal contact width 2a."""
+    """Small map of the lines across the rail with the chosen line and the nominal contact width across
+    (2 ``hertz_radius``: 2b, the Hertz semi-axis across, for an elliptic patch)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -515,7 +590,7 @@ def _line_map(rough, line: int, hertz_radius: float) -> np.ndarray:
     ax.set_yticks([])
     ax.set_xlim(y[0] - 1.5, y[-1] + 1.5)
     ax.tick_params(labelsize=7, length=2)
-    ax.set_xlabel(f"lateral position (mm); line {line} red, 2a = {2 * a:.1f} mm yellow", fontsize=7, labelpad=1)
+    ax.set_xlabel(f"lateral position (mm); line {line} red, width {2 * a:.1f} mm yellow", fontsize=7, labelpad=1)
     fig.canvas.draw()
     return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
 

@@ -35,12 +35,14 @@ FIRST_RUN_SECONDS = "5-15"  # usual one-off preparation on a 2-core machine (ben
 
 @dataclass(frozen=True)
 class RunView:
-    """What a listener needs to draw a state of a run: its configuration, roughness and window."""
+    """What a listener needs to draw a state of a run: its configuration, roughness (and wheel roughness, when
+    one is added) and window."""
 
     config: RunConfig
     roughness: object
     window_x: object = None
     window_y: object = None
+    wheel_roughness: object = None
 
 
 class RunListener(Protocol):
@@ -78,14 +80,18 @@ class RunController:
         worker = self._worker
         return worker is not None and worker.is_alive()
 
-    def start(self, config: RunConfig, roughness) -> int:
-        """Run ``config`` on ``roughness`` in the background, replacing any current run; its generation."""
+    def start(self, config: RunConfig, roughness, wheel_roughness=None) -> int:
+        """Run ``config`` on ``roughness`` (plus ``wheel_roughness``, the wheel set ``config`` names, if any) in
+        the background, replacing any current run; its generation."""
+        if (wheel_roughness is None) != (config.wheel_set_label is None):
+            raise WheelrailError("the wheel roughness must be given exactly when the configuration names a wheel set")
         self.cancel_current()
         with self._lock:
             self._generation += 1
             generation = self._generation
             first = round(config.speed, 6) not in self._prepared_speeds
-            worker = threading.Thread(target=self._work, args=(generation, config, roughness, first), daemon=True,
+            worker = threading.Thread(target=self._work, args=(generation, config, (roughness, wheel_roughness),
+                                                               first), daemon=True,
                                       name=f"wheelrail-explorer-run-{generation}")
             self._worker = worker
         if first:
@@ -127,7 +133,7 @@ class RunController:
     def _current(self, generation: int) -> bool:
         return generation == self._generation
 
-    def _work(self, generation: int, config: RunConfig, roughness, first: bool) -> None:
+    def _work(self, generation: int, config: RunConfig, roughness: tuple, first: bool) -> None:
         started = time.perf_counter()
         models = models_of(config.model)
         outcome = "failed"
@@ -156,11 +162,14 @@ class RunController:
             self.listener.error(message)
         return "failed"
 
-    def _one_model(self, generation: int, config: RunConfig, roughness, position: tuple[int, int]) -> str:
-        """Prepare, stream and finish one model; 'done', 'stopped', 'failed' or 'replaced'."""
+    def _one_model(self, generation: int, config: RunConfig, roughness: tuple, position: tuple[int, int]) -> str:
+        """Prepare, stream and finish one model on (rail or single set, wheel set or None); 'done', 'stopped',
+        'failed' or 'replaced'."""
         number, count = position
-        run = self._prepare(roughness, model=config.model, line=config.line, params=config.params(),
-                            length=config.length)
+        roughness, wheel = roughness
+        combined = {} if wheel is None else {"wheel_roughness": _source(wheel, config.wheel_set_label)}
+        run = self._prepare(_source(roughness, config.set_label), model=config.model, line=config.line,
+                            params=config.params(), length=config.length, **combined)
         with self._lock:
             if not self._current(generation):
                 return "replaced"
@@ -168,7 +177,7 @@ class RunController:
             if self._stopped_generation == generation:
                 run.cancel()
         view = RunView(config=config, roughness=roughness, window_x=getattr(run, "window_x", None),
-                       window_y=getattr(run, "window_y", None))
+                       window_y=getattr(run, "window_y", None), wheel_roughness=wheel)
         self.listener.status(f"Running {config.model} ({number + 1}/{count}) on {config.case_label()} ...")
         state = None
         last_frame = last_plot = -float("inf")
@@ -208,3 +217,11 @@ class RunController:
         self.listener.model_done(self.store.entries(config.case())[config.model], view)
         self.listener.progress((number + 1) / count)
         return "done"
+
+
+def _source(rough, label: str):
+    """What a run is given for a set: a bundled set by its name (loaded again in milliseconds, so that the
+    result's header records the name, as a command-line run does), any other set (an upload) as it is."""
+    from wheelrail.core.roughness import bundled_names
+
+    return label if label in bundled_names() else rough

@@ -2,9 +2,10 @@
 
 Every finished (or stopped) run is kept under ``(config.case(), model)`` with its force spectrum or the reason
 it has none. What the page shows is always one case's entries (the case of the controls), so changing the
-set, line, speed, preload or length never leaves another case's curves on a plot or in a download; going back
-to a case shows its runs again. Spectra from :func:`wheelrail.core.spectra.force_spectrum`, contact filters
-(model minus the reference model) from :func:`wheelrail.core.spectra.contact_filter`, reference filters from
+set, wheel set, line, speed, preload, length or contact geometry never leaves another case's curves on a
+plot or in a download; going back to a case shows its runs again. Spectra from
+:func:`wheelrail.core.spectra.force_spectrum`, contact filters (model minus the reference model) from
+:func:`wheelrail.core.spectra.contact_filter`, reference filters from
 :func:`wheelrail.core.reference_filters.reference_filters`.
 """
 
@@ -13,13 +14,12 @@ from __future__ import annotations
 import csv
 import io
 import threading
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL, model_names
-from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
 from wheelrail.core.spectra import contact_filter
 from wheelrail.explorer.config import RunConfig
@@ -38,9 +38,13 @@ class Entry:
 
 
 def case_reference_filters(config: RunConfig) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """CNOSSOS-EU A3 and analytic contact filters for the case's preload, wheel radius and speed, on the
+    """CNOSSOS-EU A3 and analytic contact filters for the case's preload, contact geometry and speed, on the
     force-spectrum bands: name -> (band centres Hz, levels dB)."""
-    references = reference_filters(config.preload, ContactParameters().radius, config.speed)
+    contact = config.contact()
+    # reference_filters sets the rolling radius; a rail crown left empty stays the paper's R (not the wheel's)
+    contact = replace(contact, rail_crown_radius=contact.radius if contact.rail_crown_radius is None
+                      else contact.rail_crown_radius)
+    references = reference_filters(config.preload, contact.radius_along, config.speed, contact=contact)
     centres = references.frequency_bands.centres
     return {name: (centres, np.asarray(references.by_frequency[name], dtype=float)) for name in REFERENCE_FILTERS}
 

@@ -1,11 +1,12 @@
-"""The explorer's 3D view: the contact patch as a pressure heat map with the Hertz circle on top.
+"""The explorer's 3D view: the contact patch as a pressure heat map with the Hertz ellipse on top.
 
 Scale: 1 scene unit = 10 mm (``SCENE_PER_MM``); +z up, x along the rail, y across. The camera looks down at
 the patch. For ``3d`` (a model with a pressure map) the window's pressure is a heat map (viridis, 0 to 1.5
 times the Hertz peak pressure p0 at the preload, the colour bar of :func:`colour_bar_image`) and, when
 switched on, the same pressure as a raised surface; for the one-line models the contact length is a strip
-and the Hertz circle at the current force is drawn. The nominal Hertz circle at the preload lies on top.
-Rail and wheel surfaces with their roughness (exaggerated) are off unless switched on.
+and the Hertz ellipse at the current force is drawn. The nominal Hertz ellipse at the preload lies on top
+(semi-axes a along and b across from ``ContactParameters.hertz_semi_axes``: a circle in the paper's case).
+Rail and wheel surfaces with their roughness (exaggerated) and curvatures are off unless switched on.
 Handles are created once and updated in place; nothing is sent that did not change.
 """
 
@@ -79,14 +80,15 @@ class PatchScene:
         self.show_raised = False
         self.frames_drawn = 0
 
-    def set_preload(self, preload: float) -> None:
-        """The nominal Hertz circle (radius a at the preload) on top of the patch."""
-        a_mm = ContactParameters(preload=preload).hertz_radius() * 1e3
-        self.nominal_circle.points = circle_segments(a_mm * SCENE_PER_MM, 0.03)
+    def set_contact(self, contact: ContactParameters) -> None:
+        """The nominal Hertz ellipse (semi-axes a, b at the preload and geometry of ``contact``) on the patch."""
+        a, b = contact.hertz_semi_axes()
+        self.nominal_circle.points = circle_segments(a * 1e3 * SCENE_PER_MM, 0.03,
+                                                     radius_y=b * 1e3 * SCENE_PER_MM)
 
     def draw(self, state, view) -> None:
-        """One step of a run: heat map (and raised surface) or strip and force circle; the surfaces if shown."""
-        contact = ContactParameters(preload=view.config.preload)
+        """One step of a run: heat map (and raised surface) or strip and force ellipse; the surfaces if shown."""
+        contact = view.config.contact()
         if state.pressure is not None:
             self._draw_pressure(np.asarray(state.pressure, dtype=np.float64), view, contact)
         else:
@@ -94,11 +96,12 @@ class PatchScene:
             self.strip.vertices = (np.array(
                 [[-half, -STRIP_WIDTH / 2, 0.01], [half, -STRIP_WIDTH / 2, 0.01],
                  [half, STRIP_WIDTH / 2, 0.01], [-half, STRIP_WIDTH / 2, 0.01]]) * SCENE_PER_MM).astype(np.float32)
-            radius = contact.hertz_radius(state.force) * 1e3 if state.force > 0 else 0.0
-            self.force_circle.points = circle_segments(radius * SCENE_PER_MM, 0.02)
+            a, b = contact.hertz_semi_axes(state.force) if state.force > 0 else (0.0, 0.0)
+            self.force_circle.points = circle_segments(a * 1e3 * SCENE_PER_MM, 0.02,
+                                                       radius_y=b * 1e3 * SCENE_PER_MM)
             self._visible(strip=True)
         if self.show_surfaces:
-            self.draw_surfaces(view.roughness, state.position, view.config.line)
+            self.draw_surfaces(view.roughness, state.position, view.config.line, contact, view.wheel_roughness)
         self.frames_drawn += 1
 
     def _draw_pressure(self, pressure: np.ndarray, view, contact: ContactParameters) -> None:
@@ -127,8 +130,10 @@ class PatchScene:
             if handle.visible != visible:
                 handle.visible = visible
 
-    def draw_surfaces(self, rough, position: float | None, line: int) -> None:
-        """Rail and wheel surfaces of ``rough`` around ``position`` (None: the start of the data)."""
+    def draw_surfaces(self, rough, position: float | None, line: int, contact: ContactParameters | None = None,
+                      wheel=None) -> None:
+        """Rail and wheel surfaces of ``rough`` (and of the wheel set ``wheel`` added to it, if any) around
+        ``position`` (None: the start of the data), curved as ``contact``'s geometry (default: the paper's)."""
         if not self.show_surfaces:
             for handle in (self.rail_mesh, self.wheel_mesh):
                 if handle is not None and handle.visible:
@@ -136,7 +141,8 @@ class PatchScene:
             return
         if position is None:
             position = 0.0 if rough.periodic else 0.05
-        rail, wheel = self._surface_vertices(rough, position, line)
+        contact = ContactParameters() if contact is None else contact
+        rail, wheel = self._surface_vertices(rough, position, line, contact, wheel)
         if self.rail_mesh is not None and rail.shape == self.rail_mesh.vertices.shape:
             self.rail_mesh.vertices, self.wheel_mesh.vertices = rail, wheel
             self.rail_mesh.visible = self.wheel_mesh.visible = True
@@ -150,17 +156,31 @@ class PatchScene:
         self.wheel_mesh = self._scene.add_mesh_simple("/wheel/surface", wheel, faces, color=(120, 90, 60),
                                                       side="double", opacity=0.3, **NO_SHADOW)
 
-    def _surface_vertices(self, rough, position: float, line: int) -> tuple[np.ndarray, np.ndarray]:
+    def _surface_vertices(self, rough, position: float, line: int, contact: ContactParameters,
+                          wheel_set=None) -> tuple[np.ndarray, np.ndarray]:
         ylat = (rough.y - float(rough.y[rough.row_of_line(line)])) * 1e3  # mm, relative to the chosen line
         rows = np.nonzero(np.abs(ylat) <= 15.0)[0]
-        idx = np.rint((position + self._surface_x * 1e-3) / rough.dx).astype(np.int64)
-        idx = idx % rough.n_samples if rough.periodic else np.clip(idx, 0, rough.n_samples - 1)
-        heights = rough.heights[rows][:, idx] * 1e3 * ROUGHNESS_EXAGGERATION  # mm drawn
         x, y = np.meshgrid(self._surface_x, ylat[rows])
-        radius_mm = ContactParameters().radius * 1e3
-        # crossed cylinders: the rail head curves across (y), the wheel along (x); both radius R
-        rail_z = -SURFACE_GAP - y**2 / (2 * radius_mm) + (heights if rough.kind == "rail" else 0.0)
-        wheel_z = SURFACE_GAP + x**2 / (2 * radius_mm) + (heights if rough.kind == "wheel" else 0.0)
+        heights = self._heights(rough, rows, position)
+        wheel_heights = 0.0
+        if wheel_set is not None:  # combined roughness: the wheel set on its own lines, centred on the same line
+            wheel_rows = [wheel_set.row_of_line(int(n)) if int(n) in wheel_set.line_numbers else -1
+                          for n in rough.line_numbers[rows]]
+            wheel_heights = np.where(np.asarray(wheel_rows)[:, None] >= 0,
+                                     self._heights(wheel_set, np.maximum(wheel_rows, 0), position), 0.0)
+        crown_mm = (contact.radius if contact.rail_crown_radius is None else contact.rail_crown_radius) * 1e3
+        tread_mm = contact.wheel_transverse_radius * 1e3
+        # the rail head curves across (y, its crown radius), the wheel along (x, its rolling radius) and across
+        # (its tread radius: flat for a cylindrical tread, hollow for a concave one)
+        rail_z = -SURFACE_GAP - y**2 / (2 * crown_mm) + (heights if rough.kind == "rail" else 0.0)
+        wheel_z = (SURFACE_GAP + x**2 / (2 * contact.radius_along * 1e3) + y**2 / (2 * tread_mm)
+                   + (heights if rough.kind == "wheel" else wheel_heights))
         rail = np.stack([x, y, rail_z], axis=-1).reshape(-1, 3) * SCENE_PER_MM
         wheel = np.stack([x, y, wheel_z], axis=-1).reshape(-1, 3) * SCENE_PER_MM
         return rail.astype(np.float32), wheel.astype(np.float32)
+
+    def _heights(self, rough, rows, position: float) -> np.ndarray:
+        """Heights of ``rows`` of ``rough`` around ``position``, mm as drawn (exaggerated)."""
+        idx = np.rint((position + self._surface_x * 1e-3) / rough.dx).astype(np.int64)
+        idx = idx % rough.n_samples if rough.periodic else np.clip(idx, 0, rough.n_samples - 1)
+        return rough.heights[rows][:, idx] * 1e3 * ROUGHNESS_EXAGGERATION

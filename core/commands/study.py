@@ -26,6 +26,9 @@ def add_parser(sub):
     parser.add_argument("name", metavar="NAME", help=f"study: {', '.join(STUDIES)}")
     parser.add_argument("--set", required=True, action="append", metavar="SET", dest="sets",
                         help="bundled roughness set name or CSV/NPZ file; repeat for several sets (one panel each)")
+    parser.add_argument("--wheel-set", metavar="WHEEL_SET", default=None,
+                        help="a wheel roughness set added to every rail set --set in every run (combined roughness "
+                             "r_rail + r_wheel; part of every run key); default none")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder (created if missing)")
     parser.add_argument("--length-m", type=float, default=None,
                         help="run length, m (default: the whole set: rail data less margins, one wheel turn)")
@@ -40,7 +43,7 @@ def add_parser(sub):
     parser.add_argument("--wheel-radius-mm", type=float, default=None,
                         help="wheel rolling radius, mm (default 390: the paper's crossed cylinders)")
     parser.add_argument("--rail-crown-radius-mm", type=float, default=None,
-                        help="rail head radius across the rail, mm (default: the wheel radius)")
+                        help="rail head radius across the rail, mm (default 390: the paper's R)")
     parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
                         help="wheel tread radius across, mm (default: flat; negative: concave, worn)")
     parser.add_argument("--json", action="store_true", help="print the machine-readable summary (SI units)")
@@ -48,7 +51,7 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from wheelrail.core.study import parse_dask_address, run_study
+    from wheelrail.core.study import StudyContact, parse_dask_address, run_study
 
     if args.name not in STUDIES:
         raise WheelrailError(f"unknown study {args.name!r}; choose one of {', '.join(STUDIES)}")
@@ -60,7 +63,7 @@ def run(args) -> int:
         raise WheelrailError(f"--workers must be at least 1, got {workers}")
     address = parse_dask_address(args.dask) if args.dask is not None else None
     geometry = geometry_from_mm(args)
-    contact = ContactParameters(**geometry) if geometry else None
+    contact = StudyContact(contact=ContactParameters(**geometry), wheel_set=args.wheel_set)
     result = run_study(args.name, args.sets, args.out, speed=speed, length=args.length_m, workers=workers,
                        contact=contact,
                        dask_address=address, progress=not args.json and sys.stderr.isatty())
@@ -68,7 +71,8 @@ def run(args) -> int:
     if args.json:
         print_json(summary)
         return 0
-    print(f"study {args.name} on {', '.join(summary['sets'])}, {args.speed_kmh:g} km/h: {summary['runs']} runs "
+    wheel = f" + wheel set {summary['wheel_set']}" if summary["wheel_set"] else ""
+    print(f"study {args.name} on {', '.join(summary['sets'])}{wheel}, {args.speed_kmh:g} km/h: {summary['runs']} runs "
           f"({summary['runs_computed']} computed, {summary['runs_cached']} from {args.out}/runs) "
           f"in {summary['wall_time_s']:.1f} s on {summary['backend']}")
     if summary["loss_of_contact_steps"]:

@@ -48,7 +48,7 @@ from wheelrail.core.study.execution import (
 )
 from wheelrail.core.study.figures import plot_study
 from wheelrail.core.study.plans import SetInfo, StudyPlan, plan_study
-from wheelrail.core.study.runner import StudyResult, check_output_folder, run_study
+from wheelrail.core.study.runner import StudyContact, StudyResult, check_output_folder, run_study
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,
@@ -63,6 +63,7 @@ from wheelrail.core.study.specs import (
     compute_run,
     roughness_digest,
     study_roughness,
+    study_wheel_roughness,
 )
 from wheelrail.core.study.tables import Table, write_table
 
@@ -70,6 +71,7 @@ __all__ = [
     "STUDIES", "PAPER_LINES", "ONE_LINE_MODELS", "REFERENCE_MODEL", "LOW_RESOLUTION_LINES_MM", "PAPER_SPEEDS_KMH",
     "HALF_WHEEL_MASS", "STUDY_FORMAT_VERSION", "RunSpec", "RunSummary", "Table", "SetInfo", "StudyPlan",
     "StudyResult", "ExecutionReport", "StudyTerminated", "roughness_digest", "study_roughness", "compute_run",
+    "study_wheel_roughness", "StudyContact",
     "execute", "contact_filter", "mean_level", "level_difference", "plan_study", "run_study", "write_table",
     "plot_study", "check_output_folder", "parse_dask_address", "shutdown_pools",
 ]

@@ -41,6 +41,7 @@ class SetInfo:
     line_numbers: tuple[int, ...]
     lines: tuple[int, ...]  # the paper's lines -3..3 present in the set
     length: float | None
+    wheel: SetInfo | None = None  # the wheel set added to this (rail) set in every run, if any
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -54,23 +55,48 @@ class StudyPlan:
     speed: float
     length: float | None
     contact: ContactParameters = field(default_factory=ContactParameters)
+    wheel_set: SetInfo | None = None  # the wheel set added to every set (combined roughness), if any
 
 
-def _set_info(source, length: float | None, contact: ContactParameters) -> SetInfo:
+def _set_info(source, length: float | None, contact: ContactParameters, wheel: SetInfo | None = None) -> SetInfo:
+    rough = _loaded(source)
+    label = _label(source, rough)
+    if wheel is not None and rough.kind != "rail":
+        raise WheelrailError(f"with the wheel set {wheel.label}, every set must be a rail set; {label} is a "
+                             f"{rough.kind} set: give it as the wheel set, or run it without one")
+    numbers = tuple(int(v) for v in rough.line_numbers)
+    lines = tuple(v for v in PAPER_LINES if v in numbers)
+    if wheel is not None:
+        lines = tuple(v for v in lines if v in wheel.line_numbers)
+    length = _run_length(rough, label, length, contact)
+    return SetInfo(source=source, label=label, digest=roughness_digest(rough), kind=rough.kind,
+                   line_numbers=numbers, lines=lines, length=length, wheel=wheel)
+
+
+def _loaded(source):
     from wheelrail.core.roughness import RoughnessSet, load_roughness
 
-    rough = source if isinstance(source, RoughnessSet) else load_roughness(source)
+    return source if isinstance(source, RoughnessSet) else load_roughness(source)
+
+
+def _wheel_info(source) -> SetInfo:
+    """The wheel set of combined-roughness runs (a wheel set: checked with each rail set)."""
+    rough = _loaded(source)
+    numbers = tuple(int(v) for v in rough.line_numbers)
+    return SetInfo(source=source, label=_label(source, rough), digest=roughness_digest(rough), kind=rough.kind,
+                   line_numbers=numbers, lines=tuple(v for v in PAPER_LINES if v in numbers), length=None)
+
+
+def _label(source, rough) -> str:
+    """A set's short name in tables: its bundled name or file stem (an object: its description's start)."""
+    from wheelrail.core.roughness import RoughnessSet
+
     if isinstance(source, RoughnessSet):
         label = (rough.description.splitlines()[0][:40] if rough.description else "roughness") or "roughness"
     else:
         text = str(source)
         label = Path(text).stem if (os.sep in text or text.endswith((".csv", ".npz"))) else text
-    label = re.sub(r"[^A-Za-z0-9_.-]+", "-", label).strip("-") or "roughness"
-    numbers = tuple(int(v) for v in rough.line_numbers)
-    lines = tuple(v for v in PAPER_LINES if v in numbers)
-    length = _run_length(rough, label, length, contact)
-    return SetInfo(source=source, label=label, digest=roughness_digest(rough), kind=rough.kind,
-                   line_numbers=numbers, lines=lines, length=length)
+    return re.sub(r"[^A-Za-z0-9_.-]+", "-", label).strip("-") or "roughness"
 
 
 def _run_length(rough, label: str, length: float | None, contact: ContactParameters) -> float | None:
@@ -101,6 +127,8 @@ def _params(speed: float, contact: ContactParameters, wheel_mass: float | None =
 
 
 def _spec(info: SetInfo, model: str, params: ModelParameters, line: int = 0, **extra) -> RunSpec:
+    if info.wheel is not None:
+        extra.update(wheel_source=info.wheel.source, wheel_label=info.wheel.label, wheel_digest=info.wheel.digest)
     return RunSpec(source=info.source, set_label=info.label, set_digest=info.digest, model=model, line=line,
                    params=params, length=info.length, **extra)
 
@@ -110,7 +138,7 @@ def _column(line: int) -> str:
 
 
 def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length: float | None = None,
-               contact: ContactParameters | None = None) -> StudyPlan:
+               contact: ContactParameters | None = None, wheel_set=None) -> StudyPlan:
     """Build a named study's run specs and table builder.
 
     Parameters
@@ -128,6 +156,10 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
         Contact material, preload and geometry of every run (default: the paper's: 65 kN, crossed cylinders
         of R = 0.39 m); e.g. ``ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)`` for an
         elliptic patch.
+    wheel_set : bundled name, CSV/NPZ path or RoughnessSet, optional
+        A wheel set added to every (rail) set in every run: the combined roughness r_rail + r_wheel
+        (``simulate(wheel_roughness=...)``); a line mean or lateral lines of a study are taken of both sets.
+        Its label and digest are part of every run key. Default: a smooth wheel (the paper's case).
 
     Returns
     -------
@@ -144,7 +176,11 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
     contact = ContactParameters() if contact is None else contact
     if not isinstance(contact, ContactParameters):
         raise WheelrailError("contact must be a wheelrail.core.parameters.ContactParameters")
-    infos = tuple(_set_info(source, length, contact) for source in sets)
+    wheel = None if wheel_set is None else _wheel_info(wheel_set)
+    if wheel is not None and wheel.kind != "wheel":
+        raise WheelrailError(f"the wheel set {wheel.label} is a {wheel.kind} set (kind: {wheel.kind}); give a wheel "
+                             "set as the wheel set, and a rail set as the set")
+    infos = tuple(_set_info(source, length, contact, wheel) for source in sets)
     labels = [info.label for info in infos]
     if len(set(labels)) != len(labels):
         raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")
@@ -152,7 +188,7 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
     specs, tabulate = builder(infos, speed, contact)
     _check_durations(specs, infos)
     return StudyPlan(name=name, sets=infos, specs=tuple(specs), tabulate=tabulate, speed=speed, length=length,
-                     contact=contact)
+                     contact=contact, wheel_set=wheel)
 
 
 def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +29,17 @@ class StudyResult:
     files: list[Path]
     report: ExecutionReport
     summary: dict
+
+
+@dataclass(frozen=True, kw_only=True)
+class StudyContact:
+    """What every run of a study has at the contact: the contact parameters (material, preload, geometry) and
+    the wheel set added to the rail sets (a bundled name, CSV/NPZ path or RoughnessSet; None: a smooth wheel).
+    ``run_study(contact=StudyContact(contact=ContactParameters(wheel_radius=0.46), wheel_set="sinter-wheel-1"))``.
+    """
+
+    contact: ContactParameters = field(default_factory=ContactParameters)
+    wheel_set: object = None
 
 
 def check_output_folder(out: str | os.PathLike) -> Path:
@@ -56,7 +67,7 @@ def run_study(
     length: float | None = None,
     workers: int = 2,
     dask_address: str | None = None,
-    contact: ContactParameters | None = None,
+    contact: StudyContact | ContactParameters | None = None,
     progress: bool = True,
     figures: bool = True,
 ) -> StudyResult:
@@ -78,8 +89,10 @@ def run_study(
         Local worker processes (1: in this process).
     dask_address : str, optional
         Dask scheduler address; runs go to that cluster instead of the local pool.
-    contact : ContactParameters, optional
-        Contact material, preload and geometry of every run (default: the paper's); see :func:`plan_study`.
+    contact : StudyContact or ContactParameters, optional
+        Contact material, preload and geometry of every run (default: the paper's), and the wheel set added
+        to every rail set (:class:`StudyContact`; a ContactParameters alone: a smooth wheel); see
+        :func:`plan_study`.
     progress : bool
         tqdm bar of runs done on stderr.
     figures : bool
@@ -92,7 +105,11 @@ def run_study(
     folder = check_output_folder(out)
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
-    plan = plan_study(name, sets, speed=speed, length=length, contact=contact)
+    if contact is not None and not isinstance(contact, StudyContact | ContactParameters):
+        raise WheelrailError("contact must be a wheelrail.core.study.StudyContact or "
+                             "wheelrail.core.parameters.ContactParameters")
+    contact = contact if isinstance(contact, StudyContact) else StudyContact(contact=contact or ContactParameters())
+    plan = plan_study(name, sets, speed=speed, length=length, contact=contact.contact, wheel_set=contact.wheel_set)
     report = execute(plan.specs, cache=folder / "runs", workers=workers,
                      dask_address=dask_address, progress=progress, description=f"study {name}")
     tables = plan.tabulate(report.summaries)
@@ -114,6 +131,7 @@ def _summary_document(name: str, plan: StudyPlan, report: ExecutionReport, table
     summary = {
         "study": name,
         "sets": [info.label for info in plan.sets],
+        "wheel_set": None if plan.wheel_set is None else plan.wheel_set.label,
         "speed_m_per_s": speed,
         "speed_kmh": speed / KMH,
         "length_m": {info.label: info.length for info in plan.sets},

@@ -59,6 +59,10 @@ class RunSpec:
         across the track from the original lines when they do not fall on one (paper Fig. 17).
     run_in_length : float
         Smooth run-in before the first step, m.
+    wheel_source, wheel_label, wheel_digest : object, str, str or None
+        A wheel set added to the rail set (combined roughness, ``simulate(wheel_roughness=...)``): as
+        ``source``, ``set_label`` and ``set_digest``; None: a smooth wheel (the paper's case). Its label and
+        digest are part of the run key when given (a run without one keeps the key it always had).
     """
 
     source: object
@@ -71,18 +75,27 @@ class RunSpec:
     averaged_lines: tuple[int, ...] = ()
     lateral_lines_mm: tuple[float, ...] = ()
     run_in_length: float = 1.0
+    wheel_source: object = None
+    wheel_label: str | None = None
+    wheel_digest: str | None = None
 
     def __post_init__(self) -> None:
         if self.model not in MODELS:
             raise WheelrailError(f"unknown contact model {self.model!r}; choose one of {', '.join(MODELS)}")
         object.__setattr__(self, "averaged_lines", tuple(int(v) for v in self.averaged_lines))
         object.__setattr__(self, "lateral_lines_mm", tuple(float(v) for v in self.lateral_lines_mm))
+        if (self.wheel_source is None) != (self.wheel_digest is None) or (
+                self.wheel_source is None) != (self.wheel_label is None):
+            raise WheelrailError("a study run's wheel set needs its source, label and digest together")
 
     def description(self) -> dict:
         """Everything that determines the run's summary (JSON-able); the key hashes this."""
         from wheelrail.core.spectra import FORCE_BAND_RANGE, FORCE_SKIP
 
+        wheel = {} if self.wheel_source is None else {
+            "wheel_set": {"label": self.wheel_label, "digest": self.wheel_digest}}
         return {
+            **wheel,
             "version": STUDY_FORMAT_VERSION,
             "set_digest": self.set_digest,
             "model": self.model,
@@ -108,6 +121,8 @@ class RunSpec:
     def label(self) -> str:
         """Human-readable one-liner (progress messages and errors)."""
         what = f"{self.model} on {self.set_label}"
+        if self.wheel_label is not None:
+            what += f" + {self.wheel_label}"
         if self.averaged_lines:
             what += f" mean of lines {self.averaged_lines[0]}..{self.averaged_lines[-1]}"
         elif self.lateral_lines_mm:
@@ -172,9 +187,19 @@ def roughness_digest(roughness) -> str:
 def study_roughness(spec: RunSpec):
     """The roughness set a run actually uses: the source, or its line mean (Fig. 16), or its lines at
     the ``lateral_lines_mm`` offsets (Fig. 17). Returns ``(roughness, line)`` for ``simulate``."""
+    return _as_used(spec, spec.source, spec.set_label)
+
+
+def study_wheel_roughness(spec: RunSpec):
+    """The wheel set added to the run's rail set, treated as :func:`study_roughness` treats the rail set (the
+    same line mean or lateral lines, so the combined roughness is that of the rail set's), or None."""
+    return None if spec.wheel_source is None else _as_used(spec, spec.wheel_source, spec.wheel_label)[0]
+
+
+def _as_used(spec: RunSpec, source, label: str):
     from wheelrail.core.roughness import RoughnessSet, load_roughness
 
-    rough = spec.source if isinstance(spec.source, RoughnessSet) else load_roughness(spec.source)
+    rough = source if isinstance(source, RoughnessSet) else load_roughness(source)
     if spec.averaged_lines:
         rows = [rough.row_of_line(line) for line in spec.averaged_lines]
         mean = rough.heights[rows].mean(axis=0)
@@ -186,7 +211,7 @@ def study_roughness(spec: RunSpec):
         tol = 1e-9
         if rough.n_lines < 2 or y_wanted.min() < rough.y[0] - tol or y_wanted.max() > rough.y[-1] + tol:
             raise WheelrailError(
-                f"{spec.set_label}: lines at {', '.join(f'{v:g}' for v in spec.lateral_lines_mm)} mm from line 0 "
+                f"{label}: lines at {', '.join(f'{v:g}' for v in spec.lateral_lines_mm)} mm from line 0 "
                 f"need lateral data over that range; the set spans {rough.y[0] * 1e3:g} .. {rough.y[-1] * 1e3:g} mm"
             )
         # linear interpolation across the lines (exact selection where a wanted line exists)
@@ -205,8 +230,8 @@ def compute_run(spec: RunSpec) -> RunSummary:
 
     start = time.perf_counter()
     rough, line = study_roughness(spec)
-    result = simulate(rough, model=spec.model, line=line, params=spec.params, length=spec.length,
-                      run_in_length=spec.run_in_length, keep_pressure=False)
+    result = simulate(rough, wheel_roughness=study_wheel_roughness(spec), model=spec.model, line=line,
+                      params=spec.params, length=spec.length, run_in_length=spec.run_in_length, keep_pressure=False)
     centres, levels = force_spectrum(result)
     force = result.force
     return RunSummary(key=spec.key, band_centres=centres, levels=levels, force_mean=float(force.mean()),

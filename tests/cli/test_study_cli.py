@@ -302,3 +302,48 @@ def test_study_on_an_elliptic_patch(tmp_path, capsys):
     expected = [None if not np.isfinite(v) else pytest.approx(round(float(v), 3), abs=1e-3)
                 for v in refs.by_frequency["averaging"]]
     assert table["ref_averaging_db"] == expected
+
+
+def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_path, capsys):
+    """Issue 16: `wheelrail study --wheel-set`: every run adds the wheel set (its label and digest in the run key,
+    so cached runs of the rail alone are never reused), the summary names it, a run's spectrum is that of
+    simulate(..., wheel_roughness=...)."""
+    from wheelrail.core.interaction import simulate
+    from wheelrail.core.spectra import force_spectrum
+
+    out = tmp_path / "speeds"
+    base = ["study", "speeds", "--set", "corrugated-rail", "--out", str(out), "--length-m", "1.2",
+            "--workers", "1", "--json"]
+    rail_only = _run_json(base, capsys)
+    assert rail_only["wheel_set"] is None and rail_only["runs_computed"] == 5
+    combined = _run_json([*base, "--wheel-set", "sinter-wheel-1"], capsys)
+    assert combined["wheel_set"] == "sinter-wheel-1" and combined["sets"] == ["corrugated-rail"]
+    assert combined["runs_computed"] == 5 and combined["runs_cached"] == 0  # other keys than the rail alone
+    assert len(list((out / "runs").glob("run-*.npz"))) == 10
+    plain = plan_study("speeds", ["corrugated-rail"], length=1.2)
+    plan = plan_study("speeds", ["corrugated-rail"], length=1.2, wheel_set="sinter-wheel-1")
+    assert "wheel_set" not in plain.specs[0].description()  # runs without a wheel set keep their keys
+    assert plan.specs[0].description()["wheel_set"] == {
+        "label": "sinter-wheel-1", "digest": roughness_digest(load_roughness("sinter-wheel-1"))}
+    assert plan.specs[0].label().startswith("2d on corrugated-rail + sinter-wheel-1 line 0, 75 km/h")
+    # a run's spectrum is that of the combined run itself (the same code path: equal to round-off)
+    spec = plan.specs[1]
+    result = simulate("corrugated-rail", wheel_roughness="sinter-wheel-1", model=spec.model, line=0,
+                      params=spec.params, length=1.2, keep_pressure=False)
+    assert result.wheel_roughness_name == "sinter-wheel-1"
+    centres, levels = force_spectrum(result)
+    table = combined["tables"]["fig11_corrugated-rail_speeds"]
+    column = "100_kmh_db"
+    finite = np.isfinite(levels)
+    assert np.allclose(np.asarray(table[column], dtype=float)[finite], levels[finite], atol=0.0011)  # 3 decimals
+    alone = np.asarray(rail_only["tables"]["fig11_corrugated-rail_speeds"][column], dtype=float)
+    assert np.nanmax(np.abs(alone - levels)) > 1.0  # the wheel's roughness changes the force (measured: dB)
+    # the wrong kinds are one clear error
+    for argv, message in [
+        ([*base, "--wheel-set", "corrugated-rail"], "the wheel set corrugated-rail is a rail set"),
+        (["study", "speeds", "--set", "cast-iron-wheel", "--wheel-set", "sinter-wheel-1", "--out", str(out)],
+         "every set must be a rail set; cast-iron-wheel is a wheel set"),
+    ]:
+        assert main(argv) == 2
+        captured = capsys.readouterr()
+        assert message in captured.err and "Traceback" not in captured.err

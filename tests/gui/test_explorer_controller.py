@@ -197,3 +197,38 @@ def test_results_are_kept_per_configuration():
     assert controller.store.contact_filters(second.case()) == {}  # no other model of that case yet
     with pytest.raises(WheelrailError, match="no force spectrum yet"):
         controller.store.csv_text(_config("hertz", line=3))
+
+
+def test_a_wheel_set_and_the_geometry_reach_prepare_and_key_the_results():
+    """Issue 16: the wheel set goes to prepare_run as wheel_roughness=, the geometry in params.contact; a run of
+    another wheel set or geometry is another case (never shown as the current one)."""
+    listener = Recorder()
+    calls = []
+
+    def prepare(roughness, *, model, line, params, length, wheel_roughness=None):
+        calls.append((roughness, wheel_roughness, params.contact))
+        return FakeRun(model, 3000)
+
+    controller = RunController(listener, prepare=prepare, frame_interval=0.0)
+    plain = _config("hertz")
+    combined = RunConfig(set_label="corrugated-rail", line=0, model="hertz", speed=100 * KMH, preload=65e3,
+                         length=1.0, wheel_set_label="sinter-wheel-1",
+                         geometry=(("wheel_radius", 0.46), ("rail_crown_radius", 0.3)))
+    with pytest.raises(WheelrailError, match="wheel roughness must be given exactly"):
+        controller.start(combined, "rail")  # the configuration names a wheel set: its roughness is needed
+    for config, wheel in ((plain, None), (combined, "wheel")):
+        listener.ended.clear()
+        controller.start(config, "rail", wheel)
+        assert listener.ended.wait(WAIT)
+    # bundled sets go by name (the result's header records it); the geometry in params.contact
+    assert calls[0][:2] == ("corrugated-rail", None) and calls[0][2].wheel_radius is None
+    rail, wheel, contact = calls[1]
+    assert (rail, wheel) == ("corrugated-rail", "sinter-wheel-1")
+    assert (contact.wheel_radius, contact.rail_crown_radius, contact.preload) == (0.46, 0.3, 65e3)
+    assert plain.case() != combined.case()
+    assert set(controller.store.entries(plain.case())) == {"hertz"}
+    assert controller.store.entries(combined.case())["hertz"].config == combined
+    assert combined.case_label() == ("corrugated-rail + sinter-wheel-1, line 0, 100 km/h, 65 kN, 1 m, "
+                                     "wheel radius 460 mm, rail crown radius 300 mm")
+    assert combined.file_stem() == ("wheelrail-hertz-corrugated-rail-sinter-wheel-1-line0-100kmh-65kN-1m-"
+                                    "R460mm-crown300mm")

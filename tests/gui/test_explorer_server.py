@@ -42,7 +42,10 @@ def _run(app, timeout=300.0):
     return app.replay.result
 
 
-def _reset(app, *, set_name="corrugated-rail", line=0, model="hertz", speed=100.0, preload=65.0, length=0.6):
+def _reset(app, *, set_name="corrugated-rail", line=0, model="hertz", speed=100.0, preload=65.0, length=0.6,
+           wheel_set="none", geometry_mm=("", "", "")):
+    app.wheel_set_dropdown.value = wheel_set
+    app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = geometry_mm
     app.set_dropdown.value = set_name
     app.model_dropdown.value = model
     app.line_dropdown.value = str(line)
@@ -215,6 +218,76 @@ def test_upload_a_user_csv_and_run_on_it(app, tmp_path):
     _reset(app, set_name="upload: mine.csv", line=1, model="2d", length=1.0)
     result = _run(app)
     assert app.last_error is None and result.line == 1 and result.n_steps == 1000
+
+
+def test_geometry_fields_refuse_bad_values_in_words(app):
+    _reset(app, model="3d")
+    for field, value, message in [
+        (app.wheel_radius_text, "abc", "Wheel radius must be a number in mm; got 'abc'"),
+        (app.wheel_radius_text, "-460", "Wheel radius must be a positive number of mm (empty: the paper's 390 mm)"),
+        (app.crown_radius_text, "0", "Rail crown radius must be a positive number of mm"),
+        (app.tread_radius_text, "0", "Wheel tread radius across must not be 0 mm; leave it empty"),
+        # a concave tread tighter than the crown conforms with it across the rail
+        (app.tread_radius_text, "-300", "A concave wheel tread of 300 mm across fits the rail crown of 390 mm or "
+                                        "closer (the surfaces conform)"),
+    ]:
+        field.value = value
+        assert message in app.check_md.content
+        assert not app.start_run()
+        assert message in app.last_error and "--" not in app.last_error and "ContactParameters" not in app.last_error
+        field.value = ""
+    # a patch too wide across for the set: said in words, no line offered is pretended
+    app.crown_radius_text.value, app.tread_radius_text.value = "800", "-1000"
+    assert "The 3d contact patch at 65 kN is 32.3 mm wide across the rail: no line of corrugated-rail" in (
+        app.check_md.content)
+    assert not app.start_run()
+    app.crown_radius_text.value = app.tread_radius_text.value = ""
+    # a wheel set is added to a rail set only
+    _reset(app, set_name="cast-iron-wheel", wheel_set="sinter-wheel-1")
+    assert not app.start_run()
+    assert "A wheel roughness is added to a rail set, and cast-iron-wheel is a wheel set" in app.last_error
+    app.wheel_set_dropdown.value = "/etc/passwd"  # a name sent by a page is never opened
+    assert app.last_error.startswith("unknown wheel set '/etc/passwd'") and app.wheel_set_dropdown.value == "none"
+
+
+def test_a_run_with_a_wheel_set_names_both_sets(app):
+    _reset(app, model="hertz", wheel_set="sinter-wheel-1")
+    assert app.wheel_set_dropdown.options == ("none", "cast-iron-wheel", "sinter-wheel-1", "sinter-wheel-2")
+    result = _run(app)
+    assert app.last_error is None
+    assert result.header.roughness_name == "corrugated-rail"
+    assert result.header.wheel_roughness_name == "sinter-wheel-1"
+    assert app.status_md.content.startswith("Done: hertz on corrugated-rail + sinter-wheel-1, line 0")
+    assert app.plots.force.handle.title == "Contact force: corrugated-rail + sinter-wheel-1, line 0, 100 km/h, " \
+                                           "65 kN, 0.6 m"
+    # the rail alone is another case: its plots do not show the combined run
+    app.wheel_set_dropdown.value = "none"
+    assert "hertz" not in app.store.entries(app.shown.case())
+    assert app.plots.force.handle.title == "Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m"
+
+
+def test_changing_the_geometry_hides_the_old_results(app):
+    _reset(app, model="3d", length=0.6)
+    old = _run(app)
+    assert app.store.entries(app.shown.case())["3d"].result is old and not app.rrd_button.disabled
+    app.wheel_radius_text.value = "460"
+    app.crown_radius_text.value = "300"
+    assert app.store.entries(app.shown.case()) == {}  # nothing of the old geometry is shown as current
+    assert app.rrd_button.disabled and app.csv_button.disabled and app.replay is None
+    assert app.plots.force.handle.title.endswith("0.6 m, wheel radius 460 mm, rail crown radius 300 mm")
+    # the nominal Hertz outline is the ellipse of this geometry (semi-axes a along, b across; 1 scene unit 10 mm)
+    contact = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.3)
+    a, b = contact.hertz_semi_axes()
+    points = app.scene.nominal_circle.points.reshape(-1, 3)
+    assert np.abs(points[:, 0]).max() * 1e-2 == pytest.approx(a, rel=1e-5)  # float32 points
+    assert np.abs(points[:, 1]).max() * 1e-2 == pytest.approx(b, rel=1e-5)
+    assert a > b * 1.1  # a wheel larger than the crown: longer along the rail than across
+    new = _run(app)
+    assert new.parameters["contact"]["wheel_radius"] == pytest.approx(0.46)
+    assert new.parameters["contact"]["rail_crown_radius"] == pytest.approx(0.3)
+    assert app.replay.result is new
+    app.wheel_radius_text.value = app.crown_radius_text.value = ""  # back: the old run shows again
+    assert app.store.entries(app.shown.case())["3d"].result is old
 
 
 def test_wheelrail_explore_serves_the_page_on_localhost():
