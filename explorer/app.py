@@ -44,6 +44,7 @@ from wheelrail.explorer.uploads import MAX_UPLOAD_BYTES, read_upload, refuse_lar
 
 __all__ = ["ExplorerApp", "main", "serve"]
 
+NO_OVERLAY = "none"
 PNG_PLOTS = ("contact force", "displacement", "force spectra", "contact filters", "roughness spectrum",
              "lateral coherence")
 
@@ -94,6 +95,7 @@ class ExplorerApp:
         self.replay: Entry | None = None  # the run the Step slider and Play show
         self.last_error: str | None = None
         self.last_download: tuple[str, int] | None = None
+        self._setting_overlay = False
         self._playing = False
         try:
             self.scene = PatchScene(self.server)
@@ -172,6 +174,9 @@ class ExplorerApp:
         self.plots = CasePlots(gui, patch, spectra)
         with spectra:
             self.csv_button = gui.add_button("Download spectra (.csv)", icon=viser.Icon.DOWNLOAD, disabled=True)
+            self.overlay_dropdown = gui.add_dropdown(
+                "Overlay a run", (NO_OVERLAY,), initial_value=NO_OVERLAY,
+                hint="Runs of this session: draw another configuration's spectra and filters dashed beside these")
             self.png_choice = gui.add_dropdown("Plot as PNG", PNG_PLOTS, initial_value=PNG_PLOTS[3])
             self.png_button = gui.add_button("Download plot (.png)", icon=viser.Icon.PHOTO)
             gui.add_markdown("Contact filter: model level minus `hertz` (solid, needs a `hertz` run of the same "
@@ -191,6 +196,7 @@ class ExplorerApp:
         self.rrd_button.on_click(lambda event: self._guarded(self.download_rrd, event.client, client=event.client))
         self.csv_button.on_click(lambda event: self._guarded(self.download_spectra_csv, event.client,
                                                              client=event.client))
+        self.overlay_dropdown.on_update(lambda event: None if self._setting_overlay else self._guarded(self._show_case))
         self.png_button.on_click(lambda event: self._guarded(self.download_plot_png, self.png_choice.value,
                                                              event.client, client=event.client))
 
@@ -320,10 +326,26 @@ class ExplorerApp:
             self._update_preload_views()
             self._update_roughness_views()
 
+    def _overlay(self) -> RunConfig | None:
+        """The run list: other configurations of this session with a spectrum; the one chosen to overlay."""
+        runs = {label: c for label, c in self.store.run_list().items()
+                if self.shown is None or c.case() != self.shown.case()}
+        options = (NO_OVERLAY, *runs)
+        if tuple(self.overlay_dropdown.options) != options:
+            chosen = self.overlay_dropdown.value
+            self._setting_overlay = True  # the menu's own update is not a user's choice
+            try:
+                self.overlay_dropdown.options = options
+                self.overlay_dropdown.value = chosen if chosen in options else NO_OVERLAY
+            finally:
+                self._setting_overlay = False
+        return runs.get(self.overlay_dropdown.value)
+
     def _show_case(self) -> None:
         config = self.shown
+        overlay = self._overlay()
         with self.server.atomic():
-            self.plots.show_case(config, self.store)
+            self.plots.show_case(config, self.store, overlay)
             entries = self.store.entries(config.case()) if config else {}
             self.csv_button.disabled = not any(e.spectrum is not None for e in entries.values())
             entry = entries.get(config.model) if config else None
@@ -378,8 +400,9 @@ class ExplorerApp:
 
     def model_done(self, entry: Entry, view: RunView) -> None:
         if self.shown is not None and entry.config.case() == self.shown.case():
+            overlay = self._overlay()
             with self.server.atomic():
-                self.plots.show_case(self.shown, self.store)
+                self.plots.show_case(self.shown, self.store, overlay)
                 self.csv_button.disabled = not self.store.spectra(self.shown.case())
                 self._set_replay(entry)
 

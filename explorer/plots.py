@@ -125,8 +125,9 @@ class CasePlots:
                                (("wheel", "#1f77b4", False), ("rail", "#d62728", False)),
                                title=f"Displacement, {result.model}: {config.case_label()}")
 
-    def show_case(self, config: RunConfig | None, store: ResultStore) -> None:
-        """Everything of ``config``'s case (None: the controls are not a valid configuration)."""
+    def show_case(self, config: RunConfig | None, store: ResultStore, overlay: RunConfig | None = None) -> None:
+        """Everything of ``config``'s case (None: the controls are not a valid configuration); ``overlay``: another
+        case whose spectra and contact filters are drawn dashed beside them on purpose, labelled with it."""
         if config is None:
             for plot in (self.force, self.displacement, self.spectra, self.filters):
                 plot.clear("fix the settings above")
@@ -147,26 +148,37 @@ class CasePlots:
         else:
             self.force.clear("no run of this configuration yet", title=f"Contact force: {label}")
             self.displacement.clear("no run of this configuration yet", title=f"Displacement: {label}")
+        overlay = None if overlay is None or overlay.case() == config.case() else overlay
         spectra = store.spectra(config.case())
         if spectra:
             centres = next(iter(spectra.values()))[0]
-            self.spectra.show(finite_bands(centres, [levels for _, levels in spectra.values()]),
-                              tuple((m, model_colour(m), False) for m in spectra), title=f"Force spectra: {label}")
+            columns = [levels for _, levels in spectra.values()]
+            series = tuple((m, model_colour(m), False) for m in spectra)
+            title = f"Force spectra: {label}"
+            if overlay is not None:
+                extra = {m: v for m, v in store.spectra(overlay.case()).items() if np.array_equal(v[0], centres)}
+                columns += [levels for _, levels in extra.values()]
+                series += tuple((f"{m} [{overlay.case_label()}]", model_colour(m), True) for m in extra)
+                title += f" (dashed: {overlay.case_label()})"
+            self.spectra.show(finite_bands(centres, columns), series, title=title)
         else:
             self.spectra.clear("no spectrum of this configuration yet", title=f"Force spectra: {label}")
-        self._filters(config, store)
+        self._filters(config, store, overlay)
 
-    def _filters(self, config: RunConfig, store: ResultStore) -> None:
+    def _filters(self, config: RunConfig, store: ResultStore, overlay: RunConfig | None = None) -> None:
         """Dynamic contact filters of the case (solid) beside the reference filters at its preload and speed
-        (dashed; they need no run)."""
+        (dashed; they need no run) and, on purpose, those of an ``overlay`` case (dashed, labelled with it)."""
         references = case_reference_filters(config)
         centres = next(iter(references.values()))[0]
-        filters = store.contact_filters(config.case())
-        columns = [levels for _, levels in filters.values()] + [levels for _, levels in references.values()]
-        series = tuple((f"{m} - {REFERENCE_MODEL}", model_colour(m), False) for m in filters)
-        series += tuple((name, REFERENCE_STYLE.get(name, "#555555"), True) for name in references)
-        if filters and not all(np.array_equal(c, centres) for c, _ in filters.values()):
-            filters, columns = {}, [levels for _, levels in references.values()]
-            series = tuple((name, REFERENCE_STYLE.get(name, "#555555"), True) for name in references)
-        data = finite_bands(centres, columns)
-        self.filters.show(data, series, title=f"Contact filters: {config.case_label()}")
+        own = store.contact_filters(config.case())
+        curves = [(f"{m} - {REFERENCE_MODEL}", model_colour(m), False, v) for m, v in own.items()]
+        title = f"Contact filters: {config.case_label()}"
+        if overlay is not None:
+            curves += [(f"{m} - {REFERENCE_MODEL} [{overlay.case_label()}]", model_colour(m), True, v)
+                       for m, v in store.contact_filters(overlay.case()).items()]
+            title += f" (dashed in model colours: {overlay.case_label()})"
+        curves = [c for c in curves if np.array_equal(c[3][0], centres)]
+        curves += [(name, REFERENCE_STYLE.get(name, "#555555"), True, v) for name, v in references.items()]
+        columns = [levels for *_, (_, levels) in curves]
+        series = tuple((label, colour, dashed) for label, colour, dashed, _ in curves)
+        self.filters.show(finite_bands(centres, columns), series, title=title)

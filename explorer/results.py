@@ -66,6 +66,12 @@ class ResultStore:
             found = {model: e for (c, model), e in self._entries.items() if c == case}
         return {m: found[m] for m in model_names() if m in found}
 
+    def run_list(self) -> dict[str, RunConfig]:
+        """The session's cases with a force spectrum, by their label (the page's run list), in run order."""
+        with self._lock:
+            entries = list(self._entries.values())
+        return {e.config.case_label(): e.config for e in entries if e.spectrum is not None}
+
     def spectra(self, case: tuple) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         return {m: e.spectrum for m, e in self.entries(case).items() if e.spectrum is not None}
 

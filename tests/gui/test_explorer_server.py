@@ -331,3 +331,26 @@ def test_wheelrail_explore_rejects_an_unknown_set(capsys):
     assert main(["explore", "--set", "nope"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("wheelrail explore: error: --set 'nope' is not a bundled set") and "\n" not in err
+
+
+def test_runs_of_another_configuration_are_overlaid_only_on_purpose(app):
+    """Issue 15, item 2: the run list offers this session's other configurations; one chosen is drawn dashed and
+    labelled with its configuration; 'none' takes it away again."""
+    _reset(app, model="hertz", speed=100.0, length=0.8)
+    _run(app)
+    _reset(app, model="hertz", speed=80.0, length=0.8)
+    _run(app)
+    other = "corrugated-rail, line 0, 100 km/h, 65 kN, 0.8 m"
+    assert app.overlay_dropdown.options == ("none", other)
+    assert [label for label, _, _ in app.plots.spectra.series] == ["hertz"]  # nothing else by accident
+    app.overlay_dropdown.value = other
+    series = app.plots.spectra.series
+    assert [label for label, _, _ in series] == ["hertz", f"hertz [{other}]"] and series[1][2]  # dashed
+    assert app.plots.spectra.handle.title.endswith(f"(dashed: {other})")
+    # the overlaid levels are that configuration's own, band for band where both are defined
+    own = app.store.spectra(app.shown.case())["hertz"]
+    theirs = app.store.spectra(app.store.run_list()[other].case())["hertz"]
+    keep = np.isfinite(own[1]) & np.isfinite(theirs[1])
+    assert np.allclose(app.plots.spectra.handle.data[2], theirs[1][keep])
+    app.overlay_dropdown.value = "none"
+    assert [label for label, _, _ in app.plots.spectra.series] == ["hertz"]
