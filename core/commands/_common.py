@@ -24,6 +24,23 @@ _GEOMETRY_OPTIONS = {"wheel_radius_mm": "wheel_radius", "rail_crown_radius_mm": 
                      "wheel_transverse_radius_mm": "wheel_transverse_radius"}
 
 
+def add_geometry_options(parser, *, crown_follows_wheel: bool = False) -> None:
+    """The contact-geometry options of ``run``, ``study`` and ``filters`` (read back by :func:`geometry_from_mm`);
+    their defaults, named in the help, are ``ContactParameters``'. ``crown_follows_wheel``: the command takes an
+    unset crown radius as the wheel radius (``filters``: a circular patch, as the CNOSSOS table assumes)."""
+    from wheelrail.core.parameters import ContactParameters
+
+    radius_mm = ContactParameters().radius * 1e3
+    crown = "the wheel radius, a circle" if crown_follows_wheel else f"{radius_mm:g}: the paper's R"
+    parser.add_argument("--wheel-radius-mm", type=float, default=None,
+                        help=f"wheel rolling radius, along the rail, mm (default {radius_mm:g}: the paper's R)")
+    parser.add_argument("--rail-crown-radius-mm", type=float, default=None,
+                        help=f"rail head (crown) radius across the rail, mm (default {crown})")
+    parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
+                        help="wheel tread radius across the rail, mm (default: a cylindrical tread; negative: "
+                             "concave, worn)")
+
+
 def geometry_from_mm(args) -> dict:
     """``ContactParameters`` geometry keywords (m) from the ``--wheel-radius-mm``, ``--rail-crown-radius-mm`` and
     ``--wheel-transverse-radius-mm`` options a command has (unset ones omitted: the paper's defaults)."""

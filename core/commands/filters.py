@@ -12,7 +12,13 @@ import csv
 import numpy as np
 
 from wheelrail.core.atomic import atomic_write
-from wheelrail.core.commands._common import geometry_from_mm, print_json, speed_from_kmh, writable_output
+from wheelrail.core.commands._common import (
+    add_geometry_options,
+    geometry_from_mm,
+    print_json,
+    speed_from_kmh,
+    writable_output,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
@@ -32,18 +38,10 @@ def add_parser(sub):
     )
     parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
     parser.add_argument(
-        "--preload-kn", type=float, default=_DEFAULTS.preload / 1e3, help="static wheel load, kN (default 65)"
+        "--preload-kn", type=float, default=_DEFAULTS.preload / 1e3,
+        help=f"static wheel load, kN (default {_DEFAULTS.preload / 1e3:g})"
     )
-    parser.add_argument(
-        "--wheel-radius-mm",
-        type=float,
-        default=_DEFAULTS.radius * 1e3,
-        help="wheel rolling radius, mm (default 390; the CNOSSOS diameter is twice it)",
-    )
-    parser.add_argument("--rail-crown-radius-mm", type=float, default=None,
-                        help="rail head (crown) radius across the rail, mm (default: the wheel radius, a circle)")
-    parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
-                        help="wheel tread radius across, mm (default: flat tread; negative: concave, worn)")
+    add_geometry_options(parser, crown_follows_wheel=True)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     parser.add_argument("--csv", metavar="FILE.csv", help="write the bands and levels as a CSV table")
     parser.add_argument("--plot", metavar="FILE.png", help="save a figure of the filters")
@@ -158,11 +156,13 @@ def _print_table(result: dict) -> None:
 def run(args) -> int:
     speed = speed_from_kmh(args.speed_kmh)
     load = _positive(args.preload_kn, "--preload-kn", "kN") * 1e3
-    wheel_radius = _positive(args.wheel_radius_mm, "--wheel-radius-mm", "mm") * 1e-3
+    if args.wheel_radius_mm is not None:  # this command's own wording for its one required radius
+        _positive(args.wheel_radius_mm, "--wheel-radius-mm", "mm")
+    geometry = geometry_from_mm(args)
+    wheel_radius = geometry.pop("wheel_radius", _DEFAULTS.radius)
     csv_path = writable_output(args.csv, "--csv", ".csv") if args.csv is not None else None
     plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
-    across = {name: value for name, value in geometry_from_mm(args).items() if name != "wheel_radius"}
-    contact = ContactParameters(**across) if across else None
+    contact = ContactParameters(**geometry) if geometry else None  # the geometry across the rail
     result = summary(load, wheel_radius, speed, contact)
     if csv_path is not None:
         _write_csv(result, csv_path)

@@ -9,6 +9,7 @@ import threading
 import time
 
 from wheelrail.core.commands._common import (
+    add_geometry_options,
     geometry_from_mm,
     input_files,
     print_json,
@@ -18,6 +19,7 @@ from wheelrail.core.commands._common import (
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import MODELS
+from wheelrail.core.parameters import ContactParameters
 
 
 def add_parser(sub):
@@ -35,16 +37,13 @@ def add_parser(sub):
     parser.add_argument("--wheel-set", metavar="WHEEL_SET", default=None,
                         help="a wheel roughness set added to the rail set --set (combined roughness r_rail + "
                              "r_wheel; its lines repeat with the circumference); default none")
-    parser.add_argument("--wheel-radius-mm", type=float, default=None,
-                        help="wheel rolling radius, mm (default 390: the paper's R)")
-    parser.add_argument("--rail-crown-radius-mm", type=float, default=None,
-                        help="rail head crown (transverse) radius, mm (default 390: the paper's R)")
-    parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
-                        help="wheel tread transverse radius, mm; negative: concave (worn); default infinite")
+    add_geometry_options(parser)
     parser.add_argument("--line", type=int, default=0, help="roughness line -M..M (3d: window centre), default 0")
     parser.add_argument("--model", default="hertz", choices=MODELS, help="contact model (default hertz)")
     parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
-    parser.add_argument("--preload-kn", type=float, default=65.0, help="static wheel load, kN (default 65)")
+    preload_kn = ContactParameters().preload / 1e3
+    parser.add_argument("--preload-kn", type=float, default=preload_kn,
+                        help=f"static wheel load, kN (default {preload_kn:g})")
     parser.add_argument("--length-m", type=float, default=None,
                         help="run length, m (default: the whole set: rail data less margins, one wheel turn)")
     parser.add_argument("--out", metavar="F.npz",

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import sys
 
-from wheelrail.core.commands._common import geometry_from_mm, print_json, speed_from_kmh
+from wheelrail.core.commands._common import add_geometry_options, geometry_from_mm, print_json, speed_from_kmh
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.study import STUDIES
@@ -40,12 +40,7 @@ def add_parser(sub):
     where.add_argument("--workers", type=int, default=None, help="local worker processes (default 2)")
     where.add_argument("--dask", metavar="ADDR", default=None,
                        help="run on a Dask cluster: scheduler address tcp://HOST:PORT")
-    parser.add_argument("--wheel-radius-mm", type=float, default=None,
-                        help="wheel rolling radius, mm (default 390: the paper's crossed cylinders)")
-    parser.add_argument("--rail-crown-radius-mm", type=float, default=None,
-                        help="rail head radius across the rail, mm (default 390: the paper's R)")
-    parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
-                        help="wheel tread radius across, mm (default: flat; negative: concave, worn)")
+    add_geometry_options(parser)
     parser.add_argument("--json", action="store_true", help="print the machine-readable summary (SI units)")
     return parser
 
