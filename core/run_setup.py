@@ -152,8 +152,12 @@ def window_lines(roughness, params: ModelParameters | None = None) -> tuple[int,
 
     params = ModelParameters() if params is None else params
     dx = params.run.element_size
-    grid = to_model_grid(roughness, dx, dx)
-    need = _patch_room(params, dx)
+    return _window_lines_on(roughness, to_model_grid(roughness, dx, dx), params)
+
+
+def _window_lines_on(roughness, grid, params: ModelParameters) -> tuple[int, ...]:
+    """:func:`window_lines` on the set's lateral model grid ``grid``, already interpolated."""
+    need = _patch_room(params, params.run.element_size)
     usable = []
     for line in roughness.line_numbers:
         y_line = float(roughness.y[roughness.row_of_line(int(line))])
@@ -188,7 +192,7 @@ def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters, wha
     if not traits.lateral_window:
         return (to_model_grid(rough, dx), [line], np.zeros(1), 0)
     grid = to_model_grid(rough, dx, dx)
-    usable = window_lines(rough, params)
+    usable = _window_lines_on(rough, grid, params)
     if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):
         contiguous = usable and usable[-1] - usable[0] == len(usable) - 1
         allowed = (f"lines {usable[0]}..{usable[-1]}" if contiguous else
