@@ -311,3 +311,16 @@ def reference_filters(
     return ReferenceFilterSet(load=load, wheel_radius=wheel_radius, speed=speed, semi_axes=(a, b),
                               wavelength_bands=lambda_bands, by_wavelength=by_wavelength,
                               frequency_bands=f_bands, by_frequency=by_frequency)
+
+
+def run_reference_filters(contact: ContactParameters, speed: float,
+                          frequency_range: tuple[float, float] = FORCE_BAND_RANGE) -> ReferenceFilterSet:
+    """The reference filters beside a run's dynamic ones: for the run's own preload, rolling radius and geometry
+    across the rail, exactly as the run has them.
+
+    :func:`reference_filters` lets an unset rail crown follow the wheel radius it is given (the circle the
+    CNOSSOS table assumes); a run's unset crown is its ``radius`` instead, so it is pinned here before the call.
+    """
+    crown = contact.radius if contact.rail_crown_radius is None else contact.rail_crown_radius
+    return reference_filters(contact.preload, contact.radius_along, speed,
+                             contact=replace(contact, rail_crown_radius=crown), frequency_range=frequency_range)

@@ -14,13 +14,13 @@ from __future__ import annotations
 import csv
 import io
 import threading
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL, model_names
-from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
+from wheelrail.core.reference_filters import REFERENCE_FILTERS, run_reference_filters
 from wheelrail.core.spectra import contact_filter
 from wheelrail.explorer.config import RunConfig
 
@@ -40,11 +40,7 @@ class Entry:
 def case_reference_filters(config: RunConfig) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """CNOSSOS-EU A3 and analytic contact filters for the case's preload, contact geometry and speed, on the
     force-spectrum bands: name -> (band centres Hz, levels dB)."""
-    contact = config.contact()
-    # reference_filters sets the rolling radius; a rail crown left empty stays the paper's R (not the wheel's)
-    contact = replace(contact, rail_crown_radius=contact.radius if contact.rail_crown_radius is None
-                      else contact.rail_crown_radius)
-    references = reference_filters(config.preload, contact.radius_along, config.speed, contact=contact)
+    references = run_reference_filters(config.contact(), config.speed)
     centres = references.frequency_bands.centres
     return {name: (centres, np.asarray(references.by_frequency[name], dtype=float)) for name in REFERENCE_FILTERS}
 

@@ -221,13 +221,11 @@ def _centres(summaries, spec: RunSpec) -> np.ndarray:
 
 
 def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str, np.ndarray]:
-    """The reference filters (CNOSSOS-EU A3, analytic) for the runs' load, wheel and speed on the bands of the
+    """The reference filters (CNOSSOS-EU A3, analytic) for the runs' load, geometry and speed on the bands of the
     force spectra, as ``ref_<name>_db`` columns (NaN where a filter is not defined)."""
-    from wheelrail.core.reference_filters import reference_filters
+    from wheelrail.core.reference_filters import run_reference_filters
 
-    contact = params.contact
-    refs = reference_filters(contact.preload, contact.radius_along, params.run.speed, contact=contact,
-                             frequency_range=(float(centres[0]), float(centres[-1])))
+    refs = run_reference_filters(params.contact, params.run.speed, (float(centres[0]), float(centres[-1])))
     if not np.allclose(refs.frequency_bands.centres, centres, rtol=1e-9):
         raise WheelrailError("reference filters: the bands differ from those of the force spectra")
     return {f"ref_{name.replace('-', '_')}_db": np.asarray(values, dtype=float)
