@@ -138,12 +138,14 @@ def read_geometry(**fields_mm) -> tuple[tuple[str, float], ...]:
                                  f"{ContactParameters().radius * 1e3:g} mm); got {value:g} mm")
         geometry.append((name, value * 1e-3))
     values = dict(geometry)
-    tread = values.get("wheel_transverse_radius", math.inf)
-    crown = values.get("rail_crown_radius", ContactParameters().radius)
-    if tread < 0 and 1.0 / crown + 1.0 / tread <= 0.0:
+    try:
+        ContactParameters(**values)  # core's check of the geometry (a concave tread must not conform)
+    except WheelrailError:
+        tread = values.get("wheel_transverse_radius", math.inf)
+        crown = values.get("rail_crown_radius", ContactParameters().radius)
         raise WheelrailError(f"A concave wheel tread of {-tread * 1e3:g} mm across fits the rail crown of "
                              f"{crown * 1e3:g} mm or closer (the surfaces conform): make the wheel tread radius across "
-                             f"more negative than -{crown * 1e3:g} mm, or leave it empty")
+                             f"more negative than -{crown * 1e3:g} mm, or leave it empty") from None
     return tuple(geometry)
 
 
