@@ -64,7 +64,7 @@ def main() -> None:
 
     # truncation error: third-octave band level of the point Green's function (walking pace) against
     # the exact frequency-domain receptance, for truncations of 20, 30 and 50 ms
-    model = track.assemble_track(params, numerics.elements_per_bay)
+    model = track.numerics_model(params, numerics)
     L = params.support.sleeper_spacing
     x_sleeper = (params.n_bays // 2) * L
     slow = track.moving_from_stationary(response, 0.05 / 3.6)

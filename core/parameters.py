@@ -258,15 +258,27 @@ class TrackNumerics:
     Attributes
     ----------
     elements_per_bay : int
-        Rayleigh-Timoshenko beam elements per sleeper bay (16: 40.6 mm, >= 7 elements per bending
-        wavelength up to 8 kHz).
+        Rayleigh-Timoshenko beam elements per sleeper bay away from the excitation (16: 40.6 mm, >= 7
+        elements per bending wavelength up to 8 kHz); also the grid on which the response is stored
+        beyond ``near_field``.
     positions_per_bay : int
-        Excitation positions x0 per bay at which Green's functions are computed, on FE nodes (it must
-        divide ``elements_per_bay``; 16: every 40.6 mm); in between they are interpolated trigonometrically
-        (refined 4 times, ``track.BAY_REFINEMENT``), then linearly.
-        A load between nodes is not used: its early response converges slowly with the mesh (at 16
-        elements per bay the first-step compliance of a mid-element load is 42 % below the converged
-        value, a node's 1.5 %), which would modulate the contact at the element-passing frequency.
+        Excitation positions x0 per bay at which Green's functions are computed (nodes of the refined
+        mesh). In between, each row handed to the loop is read from its two neighbouring positions at the
+        same rail point (``track.bay_rows``). 32 (every 20.3 mm) is converged to 0.2 dB per third-octave
+        band against 64 (``benchmarks/bay_convergence.py``).
+    refined_elements_per_bay : int
+        Elements per bay in the central bay (where the excitation positions are) and the
+        ``refined_bays - 1`` bays after it; a multiple of ``positions_per_bay`` and ``elements_per_bay``.
+        A receiver moving through the elements near the load sees their size: the force carries a tone
+        at the element-passing frequency v / h (1.37 kHz at 100 km/h for 32 elements per bay, +2.6 dB in
+        that band); 64 elements put it at 2.7 kHz at 100 km/h and 5.5 kHz at 200 km/h.
+    refined_bays : int
+        Bays meshed with ``refined_elements_per_bay``: the central bay and the ones after it (the
+        receiver's path during the first ~23 ms at 100 km/h per bay).
+    near_field : float
+        The response is stored at every node of the refined mesh up to this distance after the
+        excitation point, m; beyond it at the nodes of the coarse grid, read with the shape functions of a
+        coarse element (keeps the stored responses to ~100 MB).
     time_step : float
         Step of the implicit (Newmark average-acceleration) integration of the impulse responses, s.
     duration : float
@@ -276,24 +288,38 @@ class TrackNumerics:
         wedge of points a wheel at up to this speed can reach).
     store_every : int
         Store every n-th integration step (2: responses kept at 10 us, i.e. 50 kHz sampling).
+    rows_per_position : int
+        Rows of the moving Green's functions handed to the loop per stored excitation position
+        (``track.bay_rows``: each read between its two neighbouring positions at the same rail point); the
+        loop interpolates linearly between rows. Not part of the stored responses (nor their cache key).
     """
 
     elements_per_bay: int = 16
-    positions_per_bay: int = 16
+    positions_per_bay: int = 64
+    refined_elements_per_bay: int = 64
+    refined_bays: int = 2
+    near_field: float = 0.1
     time_step: float = 5e-6
     duration: float = 0.05
     max_speed: float = MAX_SPEED_KMH * KMH
     store_every: int = 2
+    rows_per_position: int = 4
 
     def __post_init__(self) -> None:
         _check_int(self, "elements_per_bay", 2)
+        _check_int(self, "rows_per_position", 1)
         _check_int(self, "store_every", 1)
-        if self.elements_per_bay % self.positions_per_bay:
-            raise WheelrailError(
-                f"TrackNumerics.positions_per_bay ({self.positions_per_bay}) must divide elements_per_bay "
-                f"({self.elements_per_bay}) so that every excitation position is an FE node"
-            )
         _check_int(self, "positions_per_bay", 1)
+        _check_int(self, "refined_elements_per_bay", 2)
+        _check_int(self, "refined_bays", 1)
+        for name in ("positions_per_bay", "elements_per_bay"):
+            if self.refined_elements_per_bay % getattr(self, name):
+                raise WheelrailError(
+                    f"TrackNumerics.{name} ({getattr(self, name)}) must divide refined_elements_per_bay "
+                    f"({self.refined_elements_per_bay}) so that every excitation position and stored grid point "
+                    "is an FE node"
+                )
+        _check(self, "near_field", "m")
         _check(self, "time_step", "s")
         _check(self, "duration", "s")
         _check(self, "max_speed", "m/s")

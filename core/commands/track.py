@@ -116,7 +116,7 @@ def _print_summary(track, summary: dict) -> None:
     print(f"  pinned-pinned resonance       {peaks['pinned_pinned_hz']:7.1f} Hz  (paper: 943 Hz)")
     print(f"  sleeper-passing frequency     {summary['sleeper_passing_frequency_hz']:7.1f} Hz  at {speed_kmh:g} km/h")
     print(f"Moving Green's functions at {speed_kmh:g} km/h: {green['duration_s'] * 1e3:.0f} ms, "
-          f"{green['excitation_positions_per_bay']} excitation positions per bay")
+          f"{green['excitation_positions_per_bay']} excitation positions per bay, read at {green['rows_per_bay']} rows")
     print(f"  static compliance {static['above_sleeper'] * 1e9:.3f} nm/N above a sleeper, "
           f"{static['midspan'] * 1e9:.3f} nm/N at midspan")
     how = "loaded from cache" if cache["was_cached"] else "computed and cached"
@@ -161,7 +161,8 @@ def run(args) -> int:
         "green_functions": {
             "duration_s": green.duration,
             "time_step_s": green.time_step,
-            "excitation_positions_per_bay": len(green.excitation_positions),
+            "excitation_positions_per_bay": numerics.positions_per_bay,
+            "rows_per_bay": len(green.excitation_positions),
             "max_speed_m_per_s": numerics.max_speed,
         },
         "cache": built["cache"],
@@ -195,13 +196,13 @@ def _plot(path, freq, above, midspan, response, peaks) -> None:
     ax.axvline(peaks["pinned_pinned_hz"], color="grey", lw=0.8, ls=":")
     ax.set(xlabel="frequency (Hz)", ylabel="|receptance| (m/N)", title="Rail point receptance")
     ax.legend()
-    positions = response.excitation_positions
-    for ax, index, title in ((axes[1], 0, "(a) excitation above a sleeper"),
-                             (axes[2], len(positions) // 2, "(b) excitation at midspan")):
+    for ax, midspan, title in ((axes[1], False, "(a) excitation above a sleeper"),
+                               (axes[2], True, "(b) excitation at midspan")):
         for kmh, style in ((50, "--"), (100, "-."), (150, "-")):
             if kmh / 3.6 > response.numerics.max_speed:
                 continue
             green = moving_from_stationary(response, kmh / 3.6)
+            index = len(green.excitation_positions) // 2 if midspan else 0
             keep = green.time <= 0.02
             ax.plot(green.time[keep] * 1e3, green.values[index, keep], style, label=f"{kmh} km/h")
         ax.set(xlabel="time (ms)", ylabel="g (m/(N s))", title=f"Moving Green's function {title}")

@@ -39,11 +39,11 @@ from wheelrail.core.track.fe import (
     track_receptance,
 )
 from wheelrail.core.track.moving import (
-    BAY_REFINEMENT,
+    ROWS_PER_POSITION,
     MovingGreenFunctions,
+    bay_rows,
     moving_from_stationary,
     moving_green_functions,
-    refine_across_bay,
     trapezoidal_weights,
 )
 from wheelrail.core.track.stationary import (
@@ -51,13 +51,14 @@ from wheelrail.core.track.stationary import (
     StationaryTrackResponse,
     _track_key,  # noqa: F401 - the cache key (tests)
     compute_stationary_response,
+    numerics_model,
     stationary_track_response,
     track_cache_path,
 )
 
 __all__ = [
-    "BAY_REFINEMENT", "HALF_BANDWIDTH", "MovingGreenFunctions", "StationaryTrackResponse", "TrackFEModel",
-    "assemble_track", "compute_stationary_response", "moving_from_stationary", "moving_green_functions",
-    "receptance_peaks", "refine_across_bay", "stationary_track_response", "timoshenko_element_matrices",
+    "ROWS_PER_POSITION", "HALF_BANDWIDTH", "MovingGreenFunctions", "StationaryTrackResponse", "TrackFEModel",
+    "assemble_track", "bay_rows", "compute_stationary_response", "moving_from_stationary", "moving_green_functions", "numerics_model",
+    "receptance_peaks", "stationary_track_response", "timoshenko_element_matrices",
     "timoshenko_shape_functions", "track_cache_path", "track_receptance", "trapezoidal_weights",
 ]

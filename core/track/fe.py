@@ -83,9 +83,9 @@ class TrackFEModel:
     ----------
     params : TrackParameters
     element_length : float
-        m.
+        Length of the elements outside the refined bays, m.
     node_x : ndarray
-        Rail node positions, m (0 .. n_bays L_S).
+        Rail node positions, m (0 .. n_bays L_S), increasing; elements are finer in the refined bays.
     w_dof, theta_dof : ndarray of int
         DOF index of each rail node's displacement and rotation.
     sleeper_dof : ndarray of int
@@ -110,23 +110,24 @@ class TrackFEModel:
 
     @property
     def shear_parameter(self) -> float:
-        rail = self.params.rail
-        return 12.0 * rail.bending_stiffness / (rail.shear_stiffness * self.element_length**2)
+        """Phi of the elements outside the refined bays (``shear_parameter_of`` for any length)."""
+        return shear_parameter_of(self.params.rail, self.element_length)
 
     def locate(self, x) -> tuple[np.ndarray, np.ndarray]:
         """Element index and local coordinate xi in [0, 1] of rail positions x (m)."""
         x = np.asarray(x, dtype=float)
-        h = self.element_length
         n_el = len(self.node_x) - 1
-        if np.any(x < 0) or np.any(x > n_el * h * (1 + 1e-12)):
-            raise WheelrailError(f"position outside the track model [0, {n_el * h:.3f}] m")
-        element = np.minimum((x / h).astype(int), n_el - 1)
-        return element, x / h - element
+        end = self.node_x[-1]
+        if np.any(x < 0) or np.any(x > end * (1 + 1e-12)):
+            raise WheelrailError(f"position outside the track model [0, {end:.3f}] m")
+        element = np.clip(np.searchsorted(self.node_x, x, side="right") - 1, 0, n_el - 1)
+        return element, (x - self.node_x[element]) / np.diff(self.node_x)[element]
 
     def load_vector(self, x: float) -> np.ndarray:
         """Consistent nodal load vector of a unit vertical force at rail position x (m)."""
         element, xi = self.locate(x)
-        N = timoshenko_shape_functions(xi, self.element_length, self.shear_parameter)
+        h = float(self.node_x[int(element) + 1] - self.node_x[int(element)])
+        N = timoshenko_shape_functions(xi, h, shear_parameter_of(self.params.rail, h))
         f = np.zeros(self.n_dof)
         e = int(element)
         dofs = [self.w_dof[e], self.theta_dof[e], self.w_dof[e + 1], self.theta_dof[e + 1]]
@@ -157,7 +158,13 @@ def _to_upper_band(matrix, upper: int) -> np.ndarray:
     return _to_band(sp.triu(matrix), 0, upper)
 
 
-def assemble_track(track: TrackParameters, elements_per_bay: int = 16) -> TrackFEModel:
+def shear_parameter_of(rail, length: float):
+    """Phi = 12 EI / (kGA l^2) of a Rayleigh-Timoshenko element of length ``length`` (m)."""
+    return 12.0 * rail.bending_stiffness / (rail.shear_stiffness * np.asarray(length) ** 2)
+
+
+def assemble_track(track: TrackParameters, elements_per_bay: int = 16,
+                   refined: tuple[int, int, int] | None = None) -> TrackFEModel:
     """Assemble mass, damping and stiffness of the discretely supported track.
 
     Parameters
@@ -165,6 +172,9 @@ def assemble_track(track: TrackParameters, elements_per_bay: int = 16) -> TrackF
     track : TrackParameters
     elements_per_bay : int
         Beam elements per sleeper bay.
+    refined : (first_bay, n_bays, elements_per_bay), optional
+        Bays first_bay .. first_bay + n_bays - 1 meshed with this many elements instead (where the
+        excitation positions and the response near them are: ``TrackNumerics.refined_elements_per_bay``).
 
     Returns
     -------
@@ -173,9 +183,16 @@ def assemble_track(track: TrackParameters, elements_per_bay: int = 16) -> TrackF
     import scipy.sparse as sp
 
     rail, sup = track.rail, track.support
-    n_el = track.n_bays * elements_per_bay
-    h = sup.sleeper_spacing / elements_per_bay
-    node_x = np.arange(n_el + 1) * h
+    L = sup.sleeper_spacing
+    per_bay = np.full(track.n_bays, elements_per_bay, dtype=np.int64)
+    if refined is not None:
+        first, count, fine = refined
+        per_bay[first:first + count] = fine
+    node_x = np.concatenate([j * L + np.arange(n) * (L / n) for j, n in enumerate(per_bay)] + [[track.n_bays * L]])
+    n_el = len(node_x) - 1
+    support_nodes = np.concatenate([[0], np.cumsum(per_bay)])
+    is_support = np.zeros(n_el + 1, dtype=bool)
+    is_support[support_nodes] = True
     # DOF numbering node by node keeps the matrices banded
     w_dof = np.empty(n_el + 1, dtype=np.int64)
     th_dof = np.empty(n_el + 1, dtype=np.int64)
@@ -184,23 +201,24 @@ def assemble_track(track: TrackParameters, elements_per_bay: int = 16) -> TrackF
     for node in range(n_el + 1):
         w_dof[node], th_dof[node] = k, k + 1
         k += 2
-        if node % elements_per_bay == 0:
+        if is_support[node]:
             sleeper_dof.append(k)
             k += 1
     n_dof = k
-    Ke, Me = timoshenko_element_matrices(rail, h)
+    element_matrices = {n: timoshenko_element_matrices(rail, L / n) for n in set(per_bay.tolist())}
     rows, cols, kv, mv = [], [], [], []
-    for e in range(n_el):
-        dofs = np.array([w_dof[e], th_dof[e], w_dof[e + 1], th_dof[e + 1]])
-        rows.append(np.repeat(dofs, 4))
-        cols.append(np.tile(dofs, 4))
-        kv.append(Ke.ravel())
-        mv.append(Me.ravel())
+    for j, n in enumerate(per_bay):
+        Ke, Me = element_matrices[int(n)]
+        for e in range(support_nodes[j], support_nodes[j + 1]):
+            dofs = np.array([w_dof[e], th_dof[e], w_dof[e + 1], th_dof[e + 1]])
+            rows.append(np.repeat(dofs, 4))
+            cols.append(np.tile(dofs, 4))
+            kv.append(Ke.ravel())
+            mv.append(Me.ravel())
     rows, cols = np.concatenate(rows), np.concatenate(cols)
     K = sp.coo_matrix((np.concatenate(kv), (rows, cols)), shape=(n_dof, n_dof)).tolil()
     M = sp.coo_matrix((np.concatenate(mv), (rows, cols)), shape=(n_dof, n_dof)).tolil()
     C = sp.lil_matrix((n_dof, n_dof))
-    support_nodes = np.arange(0, n_el + 1, elements_per_bay)
     for node, s in zip(support_nodes, sleeper_dof, strict=True):
         r = w_dof[node]
         for mat, pad, ballast in ((K, sup.pad_stiffness, sup.ballast_stiffness),
@@ -212,7 +230,7 @@ def assemble_track(track: TrackParameters, elements_per_bay: int = 16) -> TrackF
         M[s, s] += sup.sleeper_mass
     return TrackFEModel(
         params=track,
-        element_length=h,
+        element_length=L / elements_per_bay,
         node_x=node_x,
         w_dof=w_dof,
         theta_dof=th_dof,
@@ -249,7 +267,8 @@ def track_receptance(model: TrackFEModel, frequency, x_excitation: float, x_resp
     x_resp = np.atleast_1d(np.asarray(x_excitation if x_response is None else x_response, dtype=float))
     load = model.load_vector(float(x_excitation))
     element, xi = model.locate(x_resp)
-    N = timoshenko_shape_functions(xi, model.element_length, model.shear_parameter)
+    h = np.diff(model.node_x)[element]
+    N = timoshenko_shape_functions(xi, h, shear_parameter_of(model.params.rail, h))
     dofs = np.stack(
         [model.w_dof[element], model.theta_dof[element], model.w_dof[element + 1],
          model.theta_dof[element + 1]], axis=-1

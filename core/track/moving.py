@@ -14,44 +14,114 @@ if TYPE_CHECKING:
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import FOH_MAX_STEP, TrackNumerics, TrackParameters
-from wheelrail.core.track.fe import TrackFEModel, assemble_track
+from wheelrail.core.track.fe import TrackFEModel, shear_parameter_of
 from wheelrail.core.track.stationary import (
     StationaryTrackResponse,
-    _check_reach,
     _excitation_nodes,
     _integrate,
+    _stored_nodes,
+    numerics_model,
     stationary_track_response,
 )
 
-# The moving Green's functions of the FE excitation positions are refined this many times across the bay by
-# trigonometric interpolation (they are periodic in x0 with period L_S) before the loop interpolates linearly
-# between them. Linear interpolation straight between the 16 positions put tones of 32 N at (16 +- 1) v/L_S
-# (641 and 727 Hz at 100 km/h) on a smooth rail; refined 4 times they are 0.07 and 0.02 N
-# (tests/physics/test_track.py).
-BAY_REFINEMENT = 4
+# Rows of the moving Green's functions per stored excitation position: the functions handed to the loop are
+# read at ROWS_PER_POSITION x positions_per_bay points of the bay, each between its two neighbouring stored
+# excitation positions at the same rail point (see ``bay_rows``); the loop interpolates linearly between rows.
+ROWS_PER_POSITION = 4
 
 
-def _read_wedge(data, wedge_nodes, offsets, first_offsets, h, phi, dt, speed, out):
-    """g[e, s] = w at x_e + v t_s from the stored nodes, with the element's shape functions.
+def _read_wedge(data, counts, offsets, stored_x, rail, source, offset, out):
+    """out[i, s] = rail displacement of stored excitation position ``source[i]`` at ``offset[i, s]`` m from
+    its excitation point at stored sample s, with the shape functions of the element (or, beyond the near
+    field, the coarse-grid span) between the two stored points around it.
 
-    Vectorised numpy (a few ms per speed): a numba kernel cost 0.4 s at its first call in a process even
-    when loaded from numba's cache, most of a cached ``wheelrail track`` (issue 13 item 11).
+    ``offset`` may be negative down to one position spacing. Vectorised numpy (a few ms per speed): a numba
+    kernel cost 0.4 s at its first call in a process even when loaded from numba's cache, most of a cached
+    ``wheelrail track``.
     """
-    n_exc, n_samples = out.shape
-    inv = 1.0 / (1.0 + phi)
-    steps = np.arange(n_samples)
-    x_rel = speed * steps * dt - np.asarray(first_offsets, dtype=float)[:, None]
-    r = np.minimum((x_rel / h).astype(np.int64), np.asarray(wedge_nodes)[None, :] - 2)
-    xi = x_rel / h - r
-    xi2 = xi * xi
-    xi3 = xi2 * xi
-    n1 = inv * (2 * xi3 - 3 * xi2 - phi * xi + 1 + phi)
-    n2 = inv * h * (xi3 - (2 + phi / 2) * xi2 + (1 + phi / 2) * xi)
-    n3 = inv * (-2 * xi3 + 3 * xi2 + phi * xi)
-    n4 = inv * h * (xi3 - (1 - phi / 2) * xi2 - (phi / 2) * xi)
-    o = np.asarray(offsets)[None, :] + r
-    e = np.arange(n_exc)[:, None]
-    out[...] = n1 * data[e, o, 0] + n2 * data[e, o, 1] + n3 * data[e, o + 1, 0] + n4 * data[e, o + 1, 1]
+    source = np.asarray(source, dtype=np.int64)
+    n_samples = counts.shape[1]
+    for e in np.unique(source):
+        rows = np.flatnonzero(source == e)
+        d = offset[rows]
+        points = stored_x[e]
+        r = np.searchsorted(points, d, side="right") - 1
+        r = np.clip(r, 0, counts[e][None, :] - 2)
+        x_a = points[r]
+        h = points[r + 1] - x_a
+        phi = shear_parameter_of(rail, h)
+        xi = (d - x_a) / h
+        inv = 1.0 / (1.0 + phi)
+        xi2 = xi * xi
+        xi3 = xi2 * xi
+        n1 = inv * (2 * xi3 - 3 * xi2 - phi * xi + 1 + phi)
+        n2 = inv * h * (xi3 - (2 + phi / 2) * xi2 + (1 + phi / 2) * xi)
+        n3 = inv * (-2 * xi3 + 3 * xi2 + phi * xi)
+        n4 = inv * h * (xi3 - (1 - phi / 2) * xi2 - (phi / 2) * xi)
+        o = offsets[e][None, :n_samples] + r
+        out[rows] = n1 * data[o, 0] + n2 * data[o, 1] + n3 * data[o + 1, 0] + n4 * data[o + 1, 1]
+
+
+def bay_rows(n_positions: int, rows_per_position: int = ROWS_PER_POSITION):
+    """Where each row of the moving Green's functions lies between the stored excitation positions.
+
+    Row i is at x0 = i L_S / R (R = n_positions * rows_per_position). It is read from the two stored
+    positions around it, lo and hi = lo + 1 (hi = n_positions stands for position 0 of the next bay), at the
+    *same rail point* x0 + v t, and mixed linearly: g(x0, t) = (1 - f) h(x0 + v t, x_lo, t)
+    + f h(x0 + v t, x_hi, t). Interpolating the source at a fixed receiver keeps the kinks of the response
+    where the receiver crosses a support (x0 + v t = j L_S) at their places; interpolating g at a fixed
+    time between the rows of two sources would smear them across the bay and lose the sleeper-passing
+    harmonics they carry (see ``benchmarks/bay_convergence.py``).
+
+    Returns
+    -------
+    lo : ndarray of int (R,), frac : ndarray (R,), offset_lo, offset_hi : ndarray (R,)
+        The stored positions, the weight of hi, and x0 - x_lo, x0 - x_hi in units of the position spacing.
+    """
+    n_rows = n_positions * rows_per_position
+    pos = np.arange(n_rows) / rows_per_position
+    lo = np.floor(pos).astype(np.int64)
+    frac = pos - lo
+    return lo, frac, pos - lo, pos - (lo + 1)
+
+
+def _rows_from_wedge(data, counts, offsets, stored_x, rail, sample_step, speed, sleeper_spacing,
+                     rows_per_position):
+    """The moving Green's functions at the rows of ``bay_rows`` from responses stored for P positions."""
+    n_positions, n_samples = counts.shape
+    spacing = sleeper_spacing / n_positions
+    lo, frac, d_lo, d_hi = bay_rows(n_positions, rows_per_position)
+    time = np.arange(n_samples) * sample_step
+    travel = speed * time
+    values = np.empty((len(lo), n_samples))
+    _read_wedge(data, counts, offsets, stored_x, rail, lo, d_lo[:, None] * spacing + travel, values)
+    between = np.flatnonzero(frac > 0)
+    if len(between) == 0:
+        return values
+    hi = (lo[between] + 1) % n_positions
+    f = frac[between, None]
+    shape = (len(between), n_samples)
+    lower, upper = np.empty(shape), np.empty(shape)
+    _read_wedge(data, counts, offsets, stored_x, rail, lo[between], d_lo[between, None] * spacing + travel, lower)
+    _read_wedge(data, counts, offsets, stored_x, rail, hi, d_hi[between, None] * spacing + travel, upper)
+    same_point = (1 - f) * lower + f * upper
+    # The first samples: the shear near field of the impulse, which sits on the load itself, and which two
+    # loads a position spacing apart do not reproduce at a point between them (the row's first sample came
+    # out 5 times too small, its w_0 too). Until the shear wave has crossed the spacing, both neighbours are
+    # read at the row's own offset from their load.
+    shear_time = spacing / math.sqrt(rail.shear_stiffness / rail.mass_per_length)
+    early = np.flatnonzero(time < 4.0 * shear_time)
+    if len(early):
+        own_lo, own_hi = np.empty((len(between), len(early))), np.empty((len(between), len(early)))
+        at_own_offset = np.broadcast_to(travel[early], own_lo.shape)
+        _read_wedge(data, counts[:, early], offsets[:, early], stored_x, rail, lo[between], at_own_offset, own_lo)
+        _read_wedge(data, counts[:, early], offsets[:, early], stored_x, rail, hi, at_own_offset, own_hi)
+        same_offset = (1 - f) * own_lo + f * own_hi
+        u = np.clip(time[early] / shear_time - 2.0, 0.0, 2.0) / 2.0  # 0 up to 2 crossing times, 1 at 4
+        blend = 0.5 - 0.5 * np.cos(np.pi * u)
+        same_point[:, early] = (1 - blend) * same_offset + blend * same_point[:, early]
+    values[between] = same_point
+    return values
 
 
 @dataclass(frozen=True)
@@ -152,8 +222,10 @@ class MovingGreenFunctions:
         if method == "trapezoidal" or (method == "auto" and time_step > FOH_MAX_STEP):
             if self.track is None or self.numerics is None:
                 raise WheelrailError("trapezoidal weights need the track these Green's functions come from")
-            values = trapezoidal_weights(self.track, self.numerics, self.speed, time_step, n_lags)
-            values = refine_across_bay(values, len(self.excitation_positions) // len(values))
+            values = trapezoidal_weights(self.track, self.numerics, self.speed, time_step, n_lags,
+                                         len(self.excitation_positions) // self.numerics.positions_per_bay)
+            if len(values) != len(self.excitation_positions):
+                raise WheelrailError("trapezoidal weights: the rows do not match the stored positions")
             return values if x0 is None else self._across_bay(values, x0)
         values = self.values if x0 is None else self.at(np.atleast_1d(x0))
         edges = (np.arange(-1, n_lags + 1)) * time_step
@@ -170,25 +242,8 @@ class MovingGreenFunctions:
 _MODELS: dict[tuple, TrackFEModel] = {}
 
 
-def refine_across_bay(values: np.ndarray, factor: int = BAY_REFINEMENT) -> np.ndarray:
-    """Rows at P equally spaced positions of a period -> rows at factor * P positions (the first P * k kept).
-
-    Trigonometric (band-limited) interpolation along axis 0: exact for the harmonics of the bay up to P/2,
-    the P/2 one split evenly between +-P/2. Returns ``values`` itself for ``factor == 1``.
-    """
-    if factor == 1:
-        return values
-    P = values.shape[0]
-    spectrum = np.fft.rfft(values, axis=0)
-    fine = np.zeros((factor * P // 2 + 1,) + values.shape[1:], dtype=complex)
-    fine[: P // 2 + 1] = spectrum
-    if P % 2 == 0:
-        fine[P // 2] *= 0.5
-    return np.fft.irfft(fine, n=factor * P, axis=0) * factor
-
-
 def trapezoidal_weights(track: TrackParameters, numerics: TrackNumerics, speed: float, time_step: float,
-                        n_lags: int) -> np.ndarray:
+                        n_lags: int, rows_per_position: int = ROWS_PER_POSITION) -> np.ndarray:
     """Convolution weights of eq. (2) from the FE track integrated by the trapezoidal rule at ``time_step``.
 
     Newmark's average-acceleration rule (the trapezoidal rule) at the loop's own step: w_m^{x_e} is the rail
@@ -200,24 +255,19 @@ def trapezoidal_weights(track: TrackParameters, numerics: TrackNumerics, speed: 
 
     Returns
     -------
-    ndarray (positions_per_bay, n_lags), m/N.
+    ndarray (positions_per_bay * rows_per_position, n_lags), m/N: the rows of ``bay_rows``.
     """
-    key = (track, numerics.elements_per_bay)
+    key = (track, numerics)
     if key not in _MODELS:
         _MODELS.clear()
-        _MODELS[key] = assemble_track(track, numerics.elements_per_bay)
+        _MODELS[key] = numerics_model(track, numerics)
     model = _MODELS[key]
-    h = model.element_length
-    positions, x_e, first_node = _excitation_nodes(model, numerics)
+    _, x_e, _ = _excitation_nodes(model, numerics)
     t = np.arange(n_lags) * time_step
-    wedge_nodes = np.ceil(speed * t / h).astype(np.int64) + 2
-    offsets = np.concatenate([[0], np.cumsum(wedge_nodes)[:-1]]).astype(np.int64)
-    _check_reach(model, first_node, wedge_nodes, speed, float(t[-1]))
-    out = _integrate(model, x_e, first_node, time_step, n_lags, 1, wedge_nodes, offsets, impulse=False)
-    values = np.empty((len(positions), n_lags))
-    _read_wedge(out, wedge_nodes, offsets, model.node_x[first_node] - x_e, h, model.shear_parameter, time_step,
-                float(speed), values)
-    return values
+    nodes, stored_x, counts, offsets = _stored_nodes(model, numerics, x_e, speed, t)
+    out = _integrate(model, x_e, time_step, n_lags, 1, nodes, counts, offsets, impulse=False)
+    return _rows_from_wedge(out, counts, offsets, stored_x, track.rail, time_step, float(speed),
+                            track.support.sleeper_spacing, rows_per_position)
 
 
 def _piecewise_linear_moments(values: np.ndarray, step: float, tau: np.ndarray):
@@ -270,27 +320,30 @@ def moving_green_functions(
 
         numerics = replace(numerics, max_speed=float(speed))
     response = stationary_track_response(track, numerics, use_cache=use_cache)
-    return moving_from_stationary(response, speed)
+    return moving_from_stationary(response, speed, numerics.rows_per_position)
 
 
-def moving_from_stationary(response: StationaryTrackResponse, speed: float) -> MovingGreenFunctions:
-    """Read the moving Green's functions for ``speed`` (m/s) off stored stationary responses."""
+def moving_from_stationary(response: StationaryTrackResponse, speed: float,
+                           rows_per_position: int | None = None) -> MovingGreenFunctions:
+    """Read the moving Green's functions for ``speed`` (m/s) off stored stationary responses, at
+    ``rows_per_position`` rows per stored excitation position (``bay_rows``; default from the response's
+    numerics)."""
+    if rows_per_position is None:
+        rows_per_position = response.numerics.rows_per_position
     if speed > response.numerics.max_speed * (1 + 1e-12):
         raise WheelrailError(
             f"speed {speed * 3.6:.1f} km/h exceeds the {response.numerics.max_speed * 3.6:.1f} km/h "
             "the stored responses cover"
         )
-    values = np.empty((len(response.excitation_positions), response.n_samples))
-    _read_wedge(response.data, response.wedge_nodes, response.offsets, response.first_node_offsets,
-                response.element_length, response.shear_parameter, response.time_step, float(speed), values)
     L = response.track.support.sleeper_spacing
-    n_fine = BAY_REFINEMENT * len(values)
+    values = _rows_from_wedge(response.data, response.counts, response.offsets, response.stored_x,
+                              response.track.rail, response.time_step, float(speed), L, rows_per_position)
     return MovingGreenFunctions(
         speed=float(speed),
         sleeper_spacing=L,
-        excitation_positions=np.arange(n_fine) * (L / n_fine),
+        excitation_positions=np.arange(len(values)) * (L / len(values)),
         time_step=response.time_step,
-        values=refine_across_bay(values, BAY_REFINEMENT),
+        values=values,
         track=response.track,
         numerics=response.numerics,
     )

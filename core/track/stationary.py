@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 if TYPE_CHECKING:
     pass
@@ -72,17 +72,38 @@ def _band_cho_solve(ab, b):
             b[i, c] *= inv
 
 
+@njit(cache=True, fastmath=True)
+def _band_matvec2(ab1, x1, ab2, x2, out):
+    """out = A1 x1 + A2 x2 for symmetric A1, A2 in LAPACK upper band form of the same bandwidth; (n, m)."""
+    u = ab1.shape[0] - 1
+    n, m = x1.shape
+    for i in range(n):
+        d1 = ab1[u, i]
+        d2 = ab2[u, i]
+        for c in range(m):
+            out[i, c] = d1 * x1[i, c] + d2 * x2[i, c]
+    for j in range(1, n):
+        for d in range(1, min(u, j) + 1):
+            a1 = ab1[u - d, j]
+            a2 = ab2[u - d, j]
+            i = j - d
+            for c in range(m):
+                out[i, c] += a1 * x1[j, c] + a2 * x2[j, c]
+                out[j, c] += a1 * x1[i, c] + a2 * x2[i, c]
+
+
 # A numba loop over time steps: 15 arguments because every array it reads or fills is one, so that the whole
 # loop compiles to one function numba caches on disk (a structure or a jitted callable would defeat the cache).
 @njit(cache=True, fastmath=True)
-def _newmark_block(mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, first_node,
-                   wedge_nodes, offsets, out, impulse):
+def _newmark_block(mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets,
+                   out, impulse):
     """Newmark (average acceleration) responses to the loads in the columns of ``load``.
 
     ``impulse``: a unit impulse at t = 0 (the continuous impulse response, sampled); otherwise a unit
     force at step 0 only, the track at rest before (the discrete impulse response of the trapezoidal rule).
     Recorded on the wedge: stored step s = k / stride keeps, for column e, w and theta of the nodes
-    first_node[e] .. first_node[e] + wedge_nodes[s] - 1 in out[e, offsets[s] + r, 0:2].
+    nodes[e, 0 .. counts[e, s] - 1] in out[offsets[e, s] + r, 0:2].
+    A few columns at a time (``_newmark_columns``) keep the work arrays in the processor's cache.
     """
     n, m = load.shape
     c1 = 4.0 / dt**2
@@ -101,23 +122,17 @@ def _newmark_block(mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_
         _band_cho_solve(k_chol, u)  # one step from rest: K_eff u0 = f
         v = c3 * u
         a[:, :] = c1 * u
-    tmp = np.empty((n, m))
+    tm = np.empty((n, m))
+    tc = np.empty((n, m))
     rhs = np.empty((n, m))
-    damp = np.empty((n, m))
     for k in range(n_steps):
         if k > 0:
             for i in range(n):
                 for c in range(m):
-                    tmp[i, c] = c1 * u[i, c] + c2 * v[i, c] + a[i, c]
-            _band_matvec(mb, tmp, rhs)
-            for i in range(n):
-                for c in range(m):
-                    tmp[i, c] = c3 * u[i, c] + v[i, c]
-            _band_matvec(cb, tmp, damp)
-            for i in range(n):
-                for c in range(m):
-                    rhs[i, c] += damp[i, c]
-            _band_cho_solve(k_chol, rhs)  # K_eff u_k = rhs
+                    tm[i, c] = c1 * u[i, c] + c2 * v[i, c] + a[i, c]
+                    tc[i, c] = c3 * u[i, c] + v[i, c]
+            _band_matvec2(mb, tm, cb, tc, rhs)
+            _band_cho_solve(k_chol, rhs)  # K_eff u_k = M (..) + C (..)
             for i in range(n):
                 for c in range(m):
                     du = rhs[i, c] - u[i, c]
@@ -128,130 +143,175 @@ def _newmark_block(mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_
         if k % stride == 0:
             s = k // stride
             for e in range(m):
-                for r in range(wedge_nodes[s]):
-                    node = first_node[e] + r
-                    out[e, offsets[s] + r, 0] = u[w_dof[node], e]
-                    out[e, offsets[s] + r, 1] = u[th_dof[node], e]
+                base = offsets[e, s]
+                for r in range(counts[e, s]):
+                    node = nodes[e, r]
+                    out[base + r, 0] = u[w_dof[node], e]
+                    out[base + r, 1] = u[th_dof[node], e]
 
 
+# Columns integrated together: 8 doubles per row fill a cache line and keep the five work arrays of a
+# 70-bay track (a few thousand DOFs) within the processor's cache; blocks run in parallel (numba prange).
+COLUMN_BLOCK = 8
+
+
+@njit(cache=True, parallel=True)
+def _newmark_columns(mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets,
+                     out, impulse):
+    """``_newmark_block`` over blocks of ``COLUMN_BLOCK`` columns, the blocks in parallel threads."""
+    m = load.shape[1]
+    n_blocks = (m + COLUMN_BLOCK - 1) // COLUMN_BLOCK
+    for b in prange(n_blocks):
+        c0 = b * COLUMN_BLOCK
+        c1 = min(m, c0 + COLUMN_BLOCK)
+        _newmark_block(mb, cb, k_chol, m_chol, np.ascontiguousarray(load[:, c0:c1]), dt, n_steps, stride,
+                       w_dof, th_dof, nodes[c0:c1], counts[c0:c1], offsets[c0:c1], out, impulse)
 
 
 # --------------------------------------------------------------------------------------------------
 # Stationary responses on the wedge, and moving Green's functions for any speed
 # --------------------------------------------------------------------------------------------------
 
-_WEDGE_ARRAYS = ("data", "wedge_nodes", "offsets", "excitation_positions", "first_node_offsets")
+_WEDGE_ARRAYS = ("data", "counts", "offsets", "stored_x", "excitation_positions")
 
 
 @dataclass(frozen=True)
 class StationaryTrackResponse:
     """Impulse responses of the track, stored on the wedge a moving wheel can reach.
 
+    For excitation position e, the response is kept at the rail nodes ``stored_x[e]`` (m from x_e,
+    increasing): every node of the refined mesh from one position spacing before x_e to
+    ``TrackNumerics.near_field`` after it, then the nodes of the coarse grid (``elements_per_bay`` per bay).
+    At stored sample s the first ``counts[e, s]`` of them are kept (those a wheel at up to ``max_speed`` can
+    reach, a position spacing beyond, and one spare), from ``data[offsets[e, s]]`` on.
+
     Attributes
     ----------
     track : TrackParameters
     numerics : TrackNumerics
-    element_length : float
-        m.
-    shear_parameter : float
-        Phi of the beam elements (for the shape functions).
     time_step : float
         Spacing of the stored samples, s (integration step times ``store_every``).
     excitation_positions : ndarray (P,)
         Excitation points x_e measured from the sleeper at the start of the central bay, m, in [0, L_S).
-    first_node_offsets : ndarray (P,)
-        Position of the first stored node relative to x_e, m, in (-h, 0].
-    wedge_nodes, offsets : ndarray of int (S,)
-        Number of stored nodes and their start in ``data`` for each stored time sample.
-    data : ndarray float32 (P, sum(wedge_nodes), 2)
-        Rail displacement w (m/(N s)) and rotation theta (1/(N s)) of the stored nodes.
+    stored_x : ndarray (P, N)
+        Stored rail points relative to x_e, m (padded with +inf).
+    counts, offsets : ndarray of int (P, S)
+        Number of stored points and their start in ``data`` for each position and stored time sample.
+    data : ndarray float32 (sum(counts), 2)
+        Rail displacement w (m/(N s)) and rotation theta (1/(N s)) at the stored points.
     cache_path : str
         The disk cache file ('' when not cached).
     """
 
     track: TrackParameters
     numerics: TrackNumerics
-    element_length: float
-    shear_parameter: float
     time_step: float
     excitation_positions: np.ndarray
-    first_node_offsets: np.ndarray
-    wedge_nodes: np.ndarray
+    stored_x: np.ndarray
+    counts: np.ndarray
     offsets: np.ndarray
     data: np.ndarray
     cache_path: str = ""
 
     @property
     def n_samples(self) -> int:
-        return len(self.wedge_nodes)
+        return self.counts.shape[1]
 
 
-def _wedge_layout(numerics: TrackNumerics, element_length: float) -> tuple[np.ndarray, np.ndarray, int]:
-    dt = numerics.time_step
-    n_steps = int(round(numerics.duration / dt)) + 1
-    stride = numerics.store_every
-    t_stored = np.arange(0, n_steps, stride) * dt
-    reach = numerics.max_speed * numerics.duration
-    if not reach < 1e6:  # m: beyond 1000 km the node counts below overflow int64 (issue 13: 1e308 km/h)
-        raise WheelrailError(f"a wheel at {numerics.max_speed * 3.6:.3g} km/h travels {reach:.3g} m within "
-                             f"the {numerics.duration} s Green's functions, beyond any track model")
-    # nodes from the one at or before x_e up to the first at or beyond x_e + v_max t, plus one spare
-    wedge_nodes = np.ceil(numerics.max_speed * t_stored / element_length).astype(np.int64) + 2
-    offsets = np.concatenate([[0], np.cumsum(wedge_nodes)[:-1]]).astype(np.int64)
-    return wedge_nodes, offsets, n_steps
+def numerics_model(track: TrackParameters, numerics: TrackNumerics) -> TrackFEModel:
+    """The FE track of these numerics: ``elements_per_bay`` elements per bay, ``refined_elements_per_bay`` in
+    the central bay (where the excitation positions are) and the ``refined_bays - 1`` bays after it."""
+    return assemble_track(track, numerics.elements_per_bay,
+                          refined=(track.n_bays // 2, numerics.refined_bays, numerics.refined_elements_per_bay))
 
 
 def _excitation_nodes(model: TrackFEModel, numerics: TrackNumerics):
-    """Excitation positions within the central bay (m from its first sleeper), on the track (m), and
-    their FE nodes (the positions are nodes: TrackNumerics checks)."""
+    """Excitation positions within the central bay (m from its first sleeper), on the track (m), and their
+    FE nodes (the positions are nodes of the refined mesh: TrackNumerics checks)."""
     track = model.params
     L = track.support.sleeper_spacing
     positions = np.arange(numerics.positions_per_bay) * (L / numerics.positions_per_bay)
     x_e = (track.n_bays // 2) * L + positions
-    return positions, x_e, np.rint(x_e / model.element_length).astype(np.int64)
+    nodes = np.searchsorted(model.node_x, x_e - 1e-9 * L)
+    if np.any(np.abs(model.node_x[nodes] - x_e) > 1e-9 * L):
+        raise WheelrailError("excitation positions must be FE nodes")  # TrackNumerics guarantees it
+    return positions, x_e, nodes
 
 
-def _check_reach(model: TrackFEModel, first_node, wedge_nodes, speed: float, duration: float) -> None:
-    if first_node.max() + wedge_nodes[-1] - 1 >= len(model.node_x) - 1:
-        raise WheelrailError(
-            f"track model too short: a wheel at {speed * 3.6:.0f} km/h travels {speed * duration:.2f} m "
-            f"within the {duration} s Green's functions, beyond the end of the "
-            f"{model.params.n_bays}-bay track; use more bays or a shorter duration"
-        )
+def _stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray, speed: float,
+                  t_samples: np.ndarray):
+    """Which rail nodes are stored for each excitation position, and how many at each sample."""
+    L = model.params.support.sleeper_spacing
+    spacing = L / numerics.positions_per_bay
+    coarse = L / numerics.elements_per_bay
+    x = model.node_x
+    on_grid = np.abs(x / coarse - np.rint(x / coarse)) < 1e-6
+    lists = []
+    for xe in x_e:
+        # from the last node at or before x_e - spacing (so that offsets down to -spacing can be read)
+        first = np.searchsorted(x, xe - spacing + 1e-9 * L, side="right") - 1
+        if first < 0:
+            raise WheelrailError("excitation position too close to the start of the track model")
+        near = (x >= x[first]) & (x <= xe + numerics.near_field)
+        lists.append(np.flatnonzero(near | (on_grid & (x > xe + numerics.near_field))))
+    width = max(len(k) for k in lists)
+    nodes = np.zeros((len(x_e), width), dtype=np.int64)
+    stored_x = np.full((len(x_e), width), np.inf)
+    counts = np.empty((len(x_e), len(t_samples)), dtype=np.int64)
+    reach = speed * t_samples + spacing
+    for e, keep in enumerate(lists):
+        nodes[e, :len(keep)] = keep
+        stored_x[e, :len(keep)] = x[keep] - x_e[e]
+        # the stored points up to the first at or beyond the reach, and a spare
+        counts[e] = np.searchsorted(stored_x[e, :len(keep)], reach - 1e-9 * L) + 2
+        if counts[e, -1] > len(keep):
+            raise WheelrailError(
+                f"track model too short: a wheel at {speed * 3.6:.0f} km/h travels {speed * t_samples[-1]:.2f} m "
+                f"within the {t_samples[-1]:.3g} s Green's functions, beyond the end of the "
+                f"{model.params.n_bays}-bay track; use more bays or a shorter duration"
+            )
+    offsets = (np.cumsum(counts.ravel()) - counts.ravel()).reshape(counts.shape)
+    return nodes, stored_x, counts, offsets
 
 
-def _integrate(model: TrackFEModel, x_e, first_node, dt: float, n_steps: int, stride: int, wedge_nodes, offsets,
+def _integrate(model: TrackFEModel, x_e, dt: float, n_steps: int, stride: int, nodes, counts, offsets,
                *, impulse: bool) -> np.ndarray:
-    """Newmark responses to unit loads at x_e, stored on the wedge from ``first_node`` (see _newmark_block)."""
+    """Newmark responses to unit loads at x_e, stored at ``nodes`` (see _newmark_block)."""
     mb, cb, k_chol, m_chol = _upper_band_arrays(model, dt)
     loads = np.stack([model.load_vector(float(x)) for x in x_e], axis=1)
-    out = np.zeros((len(first_node), int(wedge_nodes.sum()), 2))
-    _newmark_block(mb, cb, k_chol, m_chol, loads, dt, n_steps, stride, model.w_dof, model.theta_dof, first_node,
-                   wedge_nodes, offsets, out, impulse)
+    out = np.zeros((int(counts.sum()), 2))
+    _newmark_columns(mb, cb, k_chol, m_chol, loads, dt, n_steps, stride, model.w_dof, model.theta_dof, nodes,
+                     counts, offsets, out, impulse)
     return out
+
+
+def _stored_times(numerics: TrackNumerics) -> tuple[np.ndarray, int]:
+    n_steps = int(round(numerics.duration / numerics.time_step)) + 1
+    reach = numerics.max_speed * numerics.duration
+    if not reach < 1e6:  # m: beyond 1000 km the node counts overflow int64 (1e308 km/h was once accepted)
+        raise WheelrailError(f"a wheel at {numerics.max_speed * 3.6:.3g} km/h travels {reach:.3g} m within "
+                             f"the {numerics.duration} s Green's functions, beyond any track model")
+    return np.arange(0, n_steps, numerics.store_every) * numerics.time_step, n_steps
 
 
 def compute_stationary_response(track: TrackParameters, numerics: TrackNumerics) -> StationaryTrackResponse:
     """Integrate the impulse responses of the FE track for all excitation points of the central bay.
 
-    See the module docstring for the method; takes about 10 s with the defaults.
+    See the module docstring for the method and ``benchmarks/track_green.py`` for its cost.
     """
-    model = assemble_track(track, numerics.elements_per_bay)
-    h = model.element_length
-    positions, x_e, first_node = _excitation_nodes(model, numerics)
-    wedge_nodes, offsets, n_steps = _wedge_layout(numerics, h)
-    _check_reach(model, first_node, wedge_nodes, numerics.max_speed, numerics.duration)
-    out = _integrate(model, x_e, first_node, numerics.time_step, n_steps, numerics.store_every, wedge_nodes,
-                     offsets, impulse=True)
+    model = numerics_model(track, numerics)
+    positions, x_e, _ = _excitation_nodes(model, numerics)
+    t_stored, n_steps = _stored_times(numerics)
+    nodes, stored_x, counts, offsets = _stored_nodes(model, numerics, x_e, numerics.max_speed, t_stored)
+    out = _integrate(model, x_e, numerics.time_step, n_steps, numerics.store_every, nodes, counts, offsets,
+                     impulse=True)
     return StationaryTrackResponse(
         track=track,
         numerics=numerics,
-        element_length=h,
-        shear_parameter=model.shear_parameter,
         time_step=numerics.time_step * numerics.store_every,
         excitation_positions=positions,
-        first_node_offsets=model.node_x[first_node] - x_e,
-        wedge_nodes=wedge_nodes,
+        stored_x=stored_x,
+        counts=counts,
         offsets=offsets,
         data=out.astype(np.float32),
     )
@@ -262,7 +322,9 @@ def _track_key(track: TrackParameters, numerics: TrackNumerics) -> str:
 
     from wheelrail.core.cache import cache_key
 
-    return cache_key("track-wedge", {"track": asdict(track), "numerics": asdict(numerics)})
+    stored = asdict(numerics)
+    del stored["rows_per_position"]  # how the stored responses are read, not what is stored
+    return cache_key("track-wedge", {"track": asdict(track), "numerics": stored})
 
 
 def track_cache_path(track: TrackParameters, numerics: TrackNumerics):
@@ -298,23 +360,19 @@ def stationary_track_response(
         return _MEMORY[key]
     arrays = cache.load_entry("track-wedge", key, _WEDGE_ARRAYS) if use_cache else None
     if arrays is not None:
-        h = track.support.sleeper_spacing / numerics.elements_per_bay
-        wedge_nodes, offsets, _ = _wedge_layout(numerics, h)
-        if (arrays["wedge_nodes"].shape != wedge_nodes.shape or np.any(arrays["wedge_nodes"] != wedge_nodes)
-                or arrays["data"].shape != (numerics.positions_per_bay, int(wedge_nodes.sum()), 2)
+        shape = (numerics.positions_per_bay, len(_stored_times(numerics)[0]))
+        if (arrays["counts"].shape != shape or arrays["offsets"].shape != shape
+                or arrays["data"].shape != (int(arrays["counts"].sum()), 2)
                 or not np.all(np.isfinite(arrays["data"]))):
             arrays = None  # inconsistent with its own key: rebuild
     if arrays is not None:
-        rail = track.rail
         response = StationaryTrackResponse(
             track=track,
             numerics=numerics,
-            element_length=h,
-            shear_parameter=12.0 * rail.bending_stiffness / (rail.shear_stiffness * h**2),
             time_step=numerics.time_step * numerics.store_every,
             excitation_positions=arrays["excitation_positions"],
-            first_node_offsets=arrays["first_node_offsets"],
-            wedge_nodes=arrays["wedge_nodes"],
+            stored_x=arrays["stored_x"],
+            counts=arrays["counts"],
             offsets=arrays["offsets"],
             data=arrays["data"],
             cache_path=str(cache.entry_path("track-wedge", key)),

@@ -1,0 +1,147 @@
+"""Convergence of the contact force in the track's discretisation across the sleeper bay.
+
+The moving Green's functions are computed at ``positions_per_bay`` excitation positions on an FE mesh of
+``elements_per_bay`` elements and read in between at ``rows_per_position`` rows per position
+(``wheelrail.core.track.bay_rows``). This script runs the ``hertz`` model on the default 70-bay track for
+each discretisation and prints
+
+- on a smooth rail: the amplitudes (N) of the force at the sleeper-passing harmonics k v / L_S (the
+  parametric excitation of the discrete supports) and its peak-to-peak;
+- on a rough rail (``corrugated-rail``, lines -3..3, levels averaged over the lines as in the paper): the
+  third-octave force levels (dB re 1 N, ``spectra.force_spectrum``) from 100 Hz to 2 kHz, and their change
+  against the next finer discretisation (the largest absolute change per band is the convergence figure).
+
+Run (each configuration is a one-off precompute of its own; a private cache directory is used unless
+``--cache`` is given):
+
+    python3 benchmarks/bay_convergence.py --configs default doubled --speeds 100 200
+    python3 benchmarks/bay_convergence.py --configs default positions_per_bay=64,refined_elements_per_bay=64
+    python3 benchmarks/bay_convergence.py --configs default rows_per_position=8 --speeds 50 300
+
+A configuration is ``default`` (``TrackNumerics()``), ``doubled`` (every per-bay resolution of the default
+doubled: positions, elements in and outside the refined bays, refined bays, near field, rows) or
+comma-separated ``TrackNumerics`` fields, e.g. ``positions_per_bay=64``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HARMONICS = (1, 2, 4, 8, 10, 12, 15, 17, 22, 29, 30, 40, 47)
+
+
+def _parse(config: str):
+    """``default`` or comma-separated TrackNumerics fields, e.g. ``positions_per_bay=64,rows_per_position=8``."""
+    from dataclasses import fields, replace
+
+    from wheelrail.core.parameters import TrackNumerics
+
+    numerics = TrackNumerics(max_speed=max(ARGS.speeds) / 3.6)
+    if config == "default":
+        return numerics
+    if config == "doubled":  # every per-bay resolution of the default doubled
+        return replace(numerics, **{name: 2 * getattr(numerics, name) for name in DOUBLED})
+    types = {f.name: f.type for f in fields(TrackNumerics)}
+    changes = {}
+    for item in config.split(","):
+        name, value = item.split("=")
+        changes[name] = float(value) if types[name] in (float, "float") else int(value)
+    return replace(numerics, **changes)
+
+
+DOUBLED = ("positions_per_bay", "refined_elements_per_bay", "elements_per_bay", "refined_bays", "near_field",
+           "rows_per_position")
+
+
+def _smooth_rail(length: float):
+    from wheelrail.core.roughness import RoughnessSet
+
+    n = int(round(length / 1e-3)) + 1
+    return RoughnessSet(heights=np.zeros((1, n)), dx=1e-3, y=np.zeros(1), kind="rail", description="smooth rail")
+
+
+def _harmonics(result, sleeper_spacing: float) -> tuple[np.ndarray, float]:
+    """Amplitudes of the force at k v / L_S over a whole number of bays (after the first 0.02 s)."""
+    from wheelrail.core.spectra import FORCE_SKIP
+
+    force = np.asarray(result.force)
+    dt = result.time[1] - result.time[0]
+    v = result.header.params.run.speed
+    start = int(np.ceil(FORCE_SKIP / dt))
+    per_bay = sleeper_spacing / (v * dt)
+    n_bays = int((len(force) - start) / per_bay)
+    n = int(round(n_bays * per_bay))
+    seg = force[start:start + n] - np.mean(force[start:start + n])
+    t = np.arange(n) * dt
+    amps = [2 * abs(np.mean(seg * np.exp(-2j * np.pi * k * v / sleeper_spacing * t))) for k in HARMONICS]
+    return np.array(amps), float(np.ptp(seg))
+
+
+def _levels(numerics, kmh: float):
+    from wheelrail.core.interaction import simulate
+    from wheelrail.core.parameters import ModelParameters, RunParameters
+    from wheelrail.core.spectra import force_spectrum
+
+    params = ModelParameters(run=RunParameters(speed=kmh / 3.6))
+    smooth = simulate(_smooth_rail(ARGS.length), model="hertz", params=params, track_numerics=numerics,
+                      keep_pressure=False)
+    amps, ptp = _harmonics(smooth, params.track.support.sleeper_spacing)
+    per_line = []
+    for line in range(-3, 4):
+        result = simulate("corrugated-rail", model="hertz", line=line, params=params, length=ARGS.length,
+                          track_numerics=numerics, keep_pressure=False)
+        centres, levels = force_spectrum(result, band_range=(100.0, 2000.0))
+        per_line.append(10 ** (levels / 10))
+    return centres, 10 * np.log10(np.mean(per_line, axis=0)), amps, ptp
+
+
+def main() -> None:
+    global ARGS
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--configs", nargs="+", default=["default", "doubled"])
+    parser.add_argument("--speeds", nargs="+", type=float, default=[100.0, 200.0], help="km/h")
+    parser.add_argument("--length", type=float, default=7.0, help="run length, m")
+    parser.add_argument("--cache", action="store_true", help="use the user cache instead of a private one")
+    ARGS = parser.parse_args()
+    if not ARGS.cache:
+        os.environ["WHEELRAIL_CACHE_DIR"] = tempfile.mkdtemp(prefix="wheelrail-bay-")
+    from wheelrail.core import track
+
+    table = {}
+    for config in ARGS.configs:
+        numerics = _parse(config)
+        start = time.perf_counter()
+        track.stationary_track_response(None, numerics)
+        build = time.perf_counter() - start
+        for kmh in ARGS.speeds:
+            table[config, kmh] = _levels(numerics, kmh)
+        print(f"# {config}: precompute {build:.1f} s (70 bays, up to {max(ARGS.speeds):g} km/h)", flush=True)
+        track._MEMORY.clear()
+    for kmh in ARGS.speeds:
+        print(f"\n## {kmh:g} km/h, smooth rail: force amplitude at k v/L_S (N), k = {HARMONICS}; peak-to-peak (N)")
+        for config in ARGS.configs:
+            amps, ptp = table[config, kmh][2:]
+            print(" ".join(f"{a:7.1f}" for a in amps) + f"   p-p {ptp:7.1f}  ({config})")
+        centres = table[ARGS.configs[0], kmh][0]
+        print(f"\n## {kmh:g} km/h, corrugated-rail lines -3..3: force level (dB re 1 N) per band")
+        print(f"{'Hz':>10} " + " ".join(f"{c:6.0f}" for c in centres))
+        for config in ARGS.configs:
+            print(f"{'':>10} " + " ".join(f"{v:6.2f}" for v in table[config, kmh][1]) + f"  ({config})")
+        first = ARGS.configs[0]
+        for other in ARGS.configs[1:]:
+            diff = table[other, kmh][1] - table[first, kmh][1]
+            print(f"{'minus ' + first + ':':>10} " + " ".join(f"{v:6.2f}" for v in diff)
+                  + f"   max |d| = {np.max(np.abs(diff)):.2f} dB  ({other})")
+    sys.stdout.flush()
+
+
+ARGS = None
+
+if __name__ == "__main__":
+    main()
