@@ -58,7 +58,8 @@ from wheelrail.core.track.stationary import (
 
 __all__ = [
     "ROWS_PER_POSITION", "HALF_BANDWIDTH", "MovingGreenFunctions", "StationaryTrackResponse", "TrackFEModel",
-    "assemble_track", "bay_rows", "compute_stationary_response", "moving_from_stationary", "moving_green_functions", "numerics_model",
+    "assemble_track", "bay_rows", "compute_stationary_response", "moving_from_stationary", "moving_green_functions",
+    "numerics_model",
     "receptance_peaks", "stationary_track_response", "timoshenko_element_matrices",
     "timoshenko_shape_functions", "track_cache_path", "track_receptance", "trapezoidal_weights",
 ]
