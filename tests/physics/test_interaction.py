@@ -86,14 +86,15 @@ def test_small_sinusoidal_roughness_matches_linear_theory():
     # r0 / |alpha_W + alpha_R + 1/k_H| (linearised Hertz stiffness k_H = 3/2 P / delta_H, alpha_R the
     # bay-averaged moving receptance). The frequencies are chosen midway between sleeper-passing
     # harmonics and the fit window is a whole number of bays, so the parametric sleeper-passing lines
-    # are orthogonal to the fitted sine. Tolerance 1 dB (issue): the remaining differences are the
-    # parametric side-bands (the receptance varies by ~6 % within a bay) and the Hertz nonlinearity
-    # (r0 = 0.2 um is 0.3 % of the static approach).
+    # are orthogonal to the fitted sine. Measured on the converged track: -0.05, +0.02, +0.04, +0.41, +0.04,
+    # +0.11 dB (192 Hz-3 kHz; the 320 Hz case was 1 dB off when the bay was band-limited). Tolerance 0.6 dB:
+    # the remaining differences are the parametric side-bands (the receptance varies by ~6 % within a bay,
+    # largest near pinned-pinned, 876 Hz) and the Hertz nonlinearity (r0 = 0.2 um is 0.3 % of the approach).
     r0 = 0.2e-6
     contact = P.contact
     k_h = 1.5 * contact.preload / contact.hertz_approach()
     n_bay = int(round(L_S / P.run.element_size))
-    for n in (4, 11, 35, 70):  # 192, 492, 1517, 3013 Hz
+    for n in (4, 7, 11, 20, 35, 70):  # 192, 320, 492, 876, 1517, 3013 Hz
         f = (n + 0.5) * F_SLEEPER
         wavelength = SPEED / f
         x = np.arange(int(4.2 / 1e-3)) * 1e-3
@@ -104,7 +105,7 @@ def test_small_sinusoidal_roughness_matches_linear_theory():
         coeff, *_ = np.linalg.lstsq(basis, result.force[window], rcond=None)
         amplitude = np.hypot(coeff[0], coeff[1])
         expected = r0 / abs(wheel_receptance(P.wheel, [f])[0] + _moving_receptance([f])[0] + 1 / k_h)
-        assert 20 * np.log10(amplitude / expected) == pytest.approx(0.0, abs=1.0), f
+        assert 20 * np.log10(amplitude / expected) == pytest.approx(0.0, abs=0.6), f
 
 
 def _levels(result):
