@@ -95,33 +95,43 @@ def _rows_from_wedge(data, counts, offsets, stored_x, rail, sample_step, speed, 
     travel = speed * time
     values = np.empty((len(lo), n_samples))
     _read_wedge(data, counts, offsets, stored_x, rail, lo, d_lo[:, None] * spacing + travel, values)
-    between = np.flatnonzero(frac > 0)
-    if len(between) == 0:
-        return values
-    hi = (lo[between] + 1) % n_positions
-    f = frac[between, None]
-    shape = (len(between), n_samples)
+    shear_time = spacing / math.sqrt(rail.shear_stiffness / rail.mass_per_length)
+    between_all = np.flatnonzero(frac > 0)
+    for start in range(0, len(between_all), _ROW_BLOCK):  # a block at a time: a few MB of temporaries
+        between = between_all[start:start + _ROW_BLOCK]
+        values[between] = _rows_between((data, counts, offsets, stored_x), rail, lo[between], frac[between],
+                                        d_lo[between] * spacing, d_hi[between] * spacing, time, speed * time,
+                                        shear_time)
+    return values
+
+
+def _rows_between(stored, rail, lo, frac, d_lo, d_hi, time, travel, shear_time):
+    """Rows between stored positions lo and lo + 1 (see ``bay_rows``), offsets d_lo, d_hi in m; ``stored`` is
+    (data, counts, offsets, stored_x) of the stored responses."""
+    data, counts, offsets, stored_x = stored
+    n_positions = counts.shape[0]
+    hi = (lo + 1) % n_positions
+    f = frac[:, None]
+    shape = (len(lo), len(time))
     lower, upper = np.empty(shape), np.empty(shape)
-    _read_wedge(data, counts, offsets, stored_x, rail, lo[between], d_lo[between, None] * spacing + travel, lower)
-    _read_wedge(data, counts, offsets, stored_x, rail, hi, d_hi[between, None] * spacing + travel, upper)
+    _read_wedge(data, counts, offsets, stored_x, rail, lo, d_lo[:, None] + travel, lower)
+    _read_wedge(data, counts, offsets, stored_x, rail, hi, d_hi[:, None] + travel, upper)
     same_point = (1 - f) * lower + f * upper
     # The first samples: the shear near field of the impulse, which sits on the load itself, and which two
     # loads a position spacing apart do not reproduce at a point between them (the row's first sample came
     # out 5 times too small, its w_0 too). Until the shear wave has crossed the spacing, both neighbours are
     # read at the row's own offset from their load.
-    shear_time = spacing / math.sqrt(rail.shear_stiffness / rail.mass_per_length)
     early = np.flatnonzero(time < 4.0 * shear_time)
     if len(early):
-        own_lo, own_hi = np.empty((len(between), len(early))), np.empty((len(between), len(early)))
+        own_lo, own_hi = np.empty((len(lo), len(early))), np.empty((len(lo), len(early)))
         at_own_offset = np.broadcast_to(travel[early], own_lo.shape)
-        _read_wedge(data, counts[:, early], offsets[:, early], stored_x, rail, lo[between], at_own_offset, own_lo)
+        _read_wedge(data, counts[:, early], offsets[:, early], stored_x, rail, lo, at_own_offset, own_lo)
         _read_wedge(data, counts[:, early], offsets[:, early], stored_x, rail, hi, at_own_offset, own_hi)
         same_offset = (1 - f) * own_lo + f * own_hi
         u = np.clip(time[early] / shear_time - 2.0, 0.0, 2.0) / 2.0  # 0 up to 2 crossing times, 1 at 4
         blend = 0.5 - 0.5 * np.cos(np.pi * u)
         same_point[:, early] = (1 - blend) * same_offset + blend * same_point[:, early]
-    values[between] = same_point
-    return values
+    return same_point
 
 
 @dataclass(frozen=True)
@@ -229,16 +239,23 @@ class MovingGreenFunctions:
             return values if x0 is None else self._across_bay(values, x0)
         values = self.values if x0 is None else self.at(np.atleast_1d(x0))
         edges = (np.arange(-1, n_lags + 1)) * time_step
-        G1, G2 = _piecewise_linear_moments(values, self.time_step, edges)
-        # hat over [(m-1)dt, (m+1)dt]: rising half uses (tau - (m-1)dt)/dt, falling ((m+1)dt - tau)/dt
-        left = slice(0, n_lags)
-        mid = slice(1, n_lags + 1)
-        right = slice(2, n_lags + 2)
-        rise = (G2[:, mid] - G2[:, left]) - edges[left] * (G1[:, mid] - G1[:, left])
-        fall = edges[right] * (G1[:, right] - G1[:, mid]) - (G2[:, right] - G2[:, mid])
-        return (rise + fall) / time_step
+        out = np.empty((len(values), n_lags))
+        # a block of rows at a time keeps the moments' temporaries to a few MB (256 rows of 5000 samples would
+        # take ~100 MB at once, more than a whole run's arrays)
+        for start in range(0, len(values), _ROW_BLOCK):
+            rows = slice(start, start + _ROW_BLOCK)
+            G1, G2 = _piecewise_linear_moments(values[rows], self.time_step, edges)
+            # hat over [(m-1)dt, (m+1)dt]: rising half uses (tau - (m-1)dt)/dt, falling ((m+1)dt - tau)/dt
+            left = slice(0, n_lags)
+            mid = slice(1, n_lags + 1)
+            right = slice(2, n_lags + 2)
+            rise = (G2[:, mid] - G2[:, left]) - edges[left] * (G1[:, mid] - G1[:, left])
+            fall = edges[right] * (G1[:, right] - G1[:, mid]) - (G2[:, right] - G2[:, mid])
+            out[rows] = (rise + fall) / time_step
+        return out
 
 
+_ROW_BLOCK = 16
 _MODELS: dict[tuple, TrackFEModel] = {}
 
 
