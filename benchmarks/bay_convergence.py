@@ -33,7 +33,7 @@ import time
 
 import numpy as np
 
-HARMONICS = (1, 2, 4, 8, 10, 12, 15, 17, 22, 29, 30, 40, 47)
+HARMONICS = (1, 2, 4, 8, 10, 12, 15, 17, 22, 29, 30, 40, 47, 64, 128)
 
 
 def _parse(config: str):

@@ -29,6 +29,11 @@ from wheelrail.core.track.stationary import (
 # excitation positions at the same rail point (see ``bay_rows``); the loop interpolates linearly between rows.
 ROWS_PER_POSITION = 4
 
+# A row between two stored positions reads both at its own offset from their loads for the first
+# SHEAR_CROSSINGS[0] times the shear wave's crossing of the spacing, at its own rail point after
+# SHEAR_CROSSINGS[1] of them, blended in between (see ``_rows_between``).
+SHEAR_CROSSINGS = (10.0, 20.0)
+
 
 def _read_wedge(data, counts, offsets, stored_x, rail, source, offset, out):
     """out[i, s] = rail displacement of stored excitation position ``source[i]`` at ``offset[i, s]`` m from
@@ -117,18 +122,22 @@ def _rows_between(stored, rail, lo, frac, d_lo, d_hi, time, travel, shear_time):
     _read_wedge(data, counts, offsets, stored_x, rail, lo, d_lo[:, None] + travel, lower)
     _read_wedge(data, counts, offsets, stored_x, rail, hi, d_hi[:, None] + travel, upper)
     same_point = (1 - f) * lower + f * upper
-    # The first samples: the shear near field of the impulse, which sits on the load itself, and which two
-    # loads a position spacing apart do not reproduce at a point between them (the row's first sample came
-    # out 5 times too small, its w_0 too). Until the shear wave has crossed the spacing, both neighbours are
-    # read at the row's own offset from their load.
-    early = np.flatnonzero(time < 4.0 * shear_time)
+    # The first samples: the near field of the impulse around the load itself, which two loads a position
+    # spacing apart do not reproduce at a point between them (the row's first sample came out 5 times too
+    # small, its w_0 too, and on the default track the rows' dip between positions put a tone of 200 N at
+    # v P / L_S into the force on a smooth rail). For the first SHEAR_CROSSINGS times the shear wave takes
+    # to cross the spacing (50-100 us at 10.2 mm; the wheel moves 1.4-2.8 mm at 100 km/h) both neighbours
+    # are read at the row's own offset from their load: the tone drops to 2.7 N (0.3 N with no reading at
+    # the rail point at all, whose low-frequency bands converge more slowly).
+    first, last = SHEAR_CROSSINGS
+    early = np.flatnonzero(time < last * shear_time)
     if len(early):
         own_lo, own_hi = np.empty((len(lo), len(early))), np.empty((len(lo), len(early)))
         at_own_offset = np.broadcast_to(travel[early], own_lo.shape)
         _read_wedge(data, counts[:, early], offsets[:, early], stored_x, rail, lo, at_own_offset, own_lo)
         _read_wedge(data, counts[:, early], offsets[:, early], stored_x, rail, hi, at_own_offset, own_hi)
         same_offset = (1 - f) * own_lo + f * own_hi
-        u = np.clip(time[early] / shear_time - 2.0, 0.0, 2.0) / 2.0  # 0 up to 2 crossing times, 1 at 4
+        u = np.clip((time[early] / shear_time - first) / (last - first), 0.0, 1.0)
         blend = 0.5 - 0.5 * np.cos(np.pi * u)
         same_point[:, early] = (1 - blend) * same_offset + blend * same_point[:, early]
     return same_point
