@@ -31,8 +31,10 @@ ROWS_PER_POSITION = 4
 
 # A row between two stored positions reads both at its own offset from their loads for the first
 # SHEAR_CROSSINGS[0] times the shear wave's crossing of the spacing, at its own rail point after
-# SHEAR_CROSSINGS[1] of them, blended in between (see ``_rows_between``).
+# SHEAR_CROSSINGS[1] of them, blended in between (see ``_rows_between``); never shorter than NEAR_FIELD_TIME.
+# Both chosen by measurement (the tone at v P / L_S on a smooth rail, benchmarks/bay_convergence.py).
 SHEAR_CROSSINGS = (10.0, 20.0)
+NEAR_FIELD_TIME = (50e-6, 100e-6)  # s: and for at least this long (finer spacings need it: 128 positions)
 
 
 def _read_wedge(data, counts, offsets, stored_x, rail, source, offset, out):
@@ -129,15 +131,15 @@ def _rows_between(stored, rail, lo, frac, d_lo, d_hi, time, travel, shear_time):
     # to cross the spacing (50-100 us at 10.2 mm; the wheel moves 1.4-2.8 mm at 100 km/h) both neighbours
     # are read at the row's own offset from their load: the tone drops to 2.7 N (0.3 N with no reading at
     # the rail point at all, whose low-frequency bands converge more slowly).
-    first, last = SHEAR_CROSSINGS
-    early = np.flatnonzero(time < last * shear_time)
+    first, last = (max(c * shear_time, t) for c, t in zip(SHEAR_CROSSINGS, NEAR_FIELD_TIME, strict=True))
+    early = np.flatnonzero(time < last)
     if len(early):
         own_lo, own_hi = np.empty((len(lo), len(early))), np.empty((len(lo), len(early)))
         at_own_offset = np.broadcast_to(travel[early], own_lo.shape)
         _read_wedge(data, counts[:, early], offsets[:, early], stored_x, rail, lo, at_own_offset, own_lo)
         _read_wedge(data, counts[:, early], offsets[:, early], stored_x, rail, hi, at_own_offset, own_hi)
         same_offset = (1 - f) * own_lo + f * own_hi
-        u = np.clip((time[early] / shear_time - first) / (last - first), 0.0, 1.0)
+        u = np.clip((time[early] - first) / (last - first), 0.0, 1.0)
         blend = 0.5 - 0.5 * np.cos(np.pi * u)
         same_point[:, early] = (1 - blend) * same_offset + blend * same_point[:, early]
     return same_point
