@@ -2,7 +2,8 @@
 
 Each sub-command lives in its own module under ``wheelrail.core.commands`` that defines
 ``add_parser(subparsers)`` and ``run(args) -> int``; this module only dispatches. Every error ends as
-one line on stderr and a non-zero exit code; set ``WHEELRAIL_DEBUG=1`` to see the
+one line on stderr and a non-zero exit code, a :class:`WheelrailError` worded with the command line's own
+names for its inputs (``commands._common.CLI_NAMES``: option, unit); set ``WHEELRAIL_DEBUG=1`` to see the
 traceback of an unexpected failure.
 """
 
@@ -13,6 +14,7 @@ import importlib
 import os
 import sys
 
+from wheelrail.core.commands._common import CLI_NAMES
 from wheelrail.core.errors import WheelrailError
 
 # name -> one-line help shown by `wheelrail --help`; the module wheelrail.core.commands.NAME (its
@@ -84,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
         args = parser.parse_args(argv)
         return int(args._run(args) or 0)
     except WheelrailError as error:
-        print(f"wheelrail {name}: error: {_cli_wording(str(error))}", file=sys.stderr)
+        print(f"wheelrail {name}: error: {error.render(CLI_NAMES)}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # output piped into a closed reader (e.g. `| head`): not an error
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 - silence the interpreter's flush at exit
@@ -107,24 +109,6 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 1
-
-
-# Library messages that advise a Python caller (a window size, a keyword argument) reworded into what a
-# command-line user can change (issue 13 item 9).
-_CLI_ADVICE = {
-    "the window is too small for the load, use a larger window":
-        "the load or the roughness is too large for the contact window: lower --preload-kn or use a "
-        "smoother line or set",
-    "the roughness is too large, pass a larger half_window":
-        "the roughness is too large for the bedding window: use a smoother line or set, or --model hertz",
-    "use a longer run or a smaller skip": "use a longer run or a smaller --skip-ms",
-}
-
-
-def _cli_wording(message: str) -> str:
-    for library, cli in _CLI_ADVICE.items():
-        message = message.replace(library, cli)
-    return message
 
 
 if __name__ == "__main__":

@@ -30,6 +30,7 @@ from collections.abc import Callable, Iterator
 import numpy as np
 from numba import njit
 
+from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.contact.hertz import _hertz_law
 from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
@@ -365,7 +366,8 @@ def prepare_run(
     wheel_roughness : RoughnessSet, str or path, optional
         A wheel set on the same wheel: the combined roughness r = r_rail + r_wheel (paper eq. 3's
         r = r_W - r_R with z downwards). Each set on the model grid at its own lateral positions, centred on
-        its own ``line``; the wheel's lines repeat with its circumference. ``roughness`` must then be a rail
+        its own ``line``; the wheel's lines repeat with its circumference, which must be within 1 % of 2 pi R
+        of the rolling radius R (``accepted.check_wheel_circumference``). ``roughness`` must then be a rail
         set and this a wheel set (else one WheelrailError).
     model : str
         A registered contact model (``wheelrail.core.models.model_names()``).
@@ -390,6 +392,8 @@ def prepare_run(
     entry, params, line = checked_inputs(model, line, params, run_in_length)
     rough, name = resolve_roughness(roughness)
     wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
+    if wheel is not None:  # a wheel set added to the rail's goes round this wheel (accepted.py)
+        check_wheel_circumference(wheel.length, params.contact.radius_along, wheel_name)
     dx = params.run.element_size
     check_run_memory(entry, params, usable_length(rough, dx) if length is None else length, run_in_length,
                      keep_pressure)

@@ -56,6 +56,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.special
 
+from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.bands import Bands, frequency_bands, map_levels, wavelength_bands
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
@@ -278,11 +279,11 @@ def reference_filters(
     Parameters
     ----------
     load : float
-        Static wheel load P, N.
+        Static wheel load P, N (``accepted.ACCEPTED``: 1 to 500 kN).
     wheel_radius : float
-        Wheel rolling radius R, m.
+        Wheel rolling radius R, m (0.1 to 1.25 m).
     speed : float, optional
-        Train speed, m/s; omitted: wavelength bands only.
+        Train speed, m/s (5 to 400 km/h); omitted: wavelength bands only.
     contact : ContactParameters, optional
         Material (E, nu) and geometry across the rail for the Hertz semi-axes (paper defaults); its preload
         and rolling radius are replaced by ``load`` and ``wheel_radius`` (and ``radius``, so that a rail
@@ -291,8 +292,8 @@ def reference_filters(
     frequency_range : (float, float)
         Lowest and highest frequency band centre, Hz.
     """
-    load = _positive(load, "wheel load", "N")
-    wheel_radius = _positive(wheel_radius, "wheel radius", "m")
+    load = ACCEPTED["preload"].check(load, "load")
+    wheel_radius = ACCEPTED["wheel_radius"].check(wheel_radius, "wheel_radius")
     contact = replace(ContactParameters() if contact is None else contact, radius=wheel_radius,
                       wheel_radius=wheel_radius, preload=load)
     a, b = hertz_semi_axes(contact)
@@ -303,7 +304,7 @@ def reference_filters(
     if speed is None:
         return ReferenceFilterSet(load=load, wheel_radius=wheel_radius, speed=None, semi_axes=(a, b),
                                   wavelength_bands=lambda_bands, by_wavelength=by_wavelength)
-    speed = _positive(speed, "speed", "m/s")
+    speed = ACCEPTED["speed"].check(speed, "speed")
     f_bands = frequency_bands(speed, frequency_range)
     by_frequency = {"cnossos": map_levels(by_wavelength["cnossos"], lambda_bands, f_bands)}
     for kind in ANALYTIC_FILTERS:

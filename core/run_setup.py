@@ -248,8 +248,9 @@ def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelPa
     total_length = margin + n_steps * dx + margin
     if not grid.periodic and total_length > grid.x[-1] + 1e-12:
         raise WheelrailError(
-            f"run length {length:g} m plus the {margin * 1e3:.0f} mm window margins exceeds the "
-            f"{grid.x[-1]:g} m of rail roughness data; use --length-m <= {grid.x[-1] - 2 * margin:.3f}"
+            f"with the {margin * 1e3:.0f} mm window margins at each end the run needs more than the "
+            f"{grid.x[-1]:g} m of rail roughness data", parameter="length", value=length, unit="m",
+            maximum=math.floor((grid.x[-1] - 2 * margin) / dx + 1e-9) * dx,
         )
     lines = lines_along_track(grid, wanted, total_length, dx)
     if wheel is not None:

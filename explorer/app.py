@@ -33,6 +33,7 @@ from wheelrail.explorer.config import (
     RunConfig,
     length_range,
     offered_lines,
+    page_message,
     read_config,
     read_geometry,
 )
@@ -315,7 +316,7 @@ class ExplorerApp:
                 config = self.read_config()
             except WheelrailError as error:
                 config = None
-                self.check_md.content = f"**Cannot run:** {error}"
+                self.check_md.content = f"**Cannot run:** {page_message(error)}"
             else:
                 self.check_md.content = (f"Run length {shortest:g} to {longest:g} m on this set at "
                                          f"{config.speed / KMH:g} km/h.")
@@ -366,7 +367,7 @@ class ExplorerApp:
         try:
             config = self.read_config()
         except WheelrailError as error:
-            self.report_error(str(error), client)
+            self.report_error(page_message(error), client)
             return False
         self._playing = False
         self.last_error = None
@@ -572,7 +573,7 @@ class ExplorerApp:
         try:
             return function(*args)
         except WheelrailError as error:
-            self.report_error(str(error), client)
+            self.report_error(page_message(error), client)
         except Exception as error:  # keep serving after anything
             LOG.exception("callback failed")
             self.report_error(f"unexpected error: {type(error).__name__}: {error}", client)

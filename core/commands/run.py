@@ -9,7 +9,10 @@ import threading
 import time
 
 from wheelrail.core.commands._common import (
+    CLI_NAMES,
     add_geometry_options,
+    add_preload_option,
+    add_speed_option,
     geometry_from_mm,
     input_files,
     print_json,
@@ -19,7 +22,6 @@ from wheelrail.core.commands._common import (
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import MODELS
-from wheelrail.core.parameters import ContactParameters
 
 
 def add_parser(sub):
@@ -40,10 +42,8 @@ def add_parser(sub):
     add_geometry_options(parser)
     parser.add_argument("--line", type=int, default=0, help="roughness line -M..M (3d: window centre), default 0")
     parser.add_argument("--model", default="hertz", choices=MODELS, help="contact model (default hertz)")
-    parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
-    preload_kn = ContactParameters().preload / 1e3
-    parser.add_argument("--preload-kn", type=float, default=preload_kn,
-                        help=f"static wheel load, kN (default {preload_kn:g})")
+    add_speed_option(parser)
+    add_preload_option(parser)
     parser.add_argument("--length-m", type=float, default=None,
                         help="run length, m (default: the whole set: rail data less margins, one wheel turn)")
     parser.add_argument("--out", metavar="F.npz",
@@ -98,8 +98,6 @@ def _checked_args(args):
     from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
 
     speed = speed_from_kmh(args.speed_kmh)
-    if not math.isfinite(args.preload_kn) or args.preload_kn <= 0:
-        raise WheelrailError(f"--preload-kn must be a positive load in kN, got {args.preload_kn}")
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     inputs = input_files(args.set, args.wheel_set)
@@ -163,15 +161,16 @@ def _summary(args, result, params, times) -> dict:
     """What ``--json`` prints (SI; keys name their unit), the force spectrum included when the run allows one."""
     import numpy as np
 
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra import check_spectrum_length, force_spectrum
 
     start, prepared, finished = times
     try:
+        check_spectrum_length(result.n_steps * result.element_size, result.speed, result.element_size)
         centres, levels = force_spectrum(result)
         spectrum_note = ""
     except WheelrailError as error:  # a run shorter than the spectrum's start-up skip: no spectrum
         centres, levels = np.array([]), np.array([])
-        spectrum_note = str(error).replace("use a longer run or a smaller skip", "use a longer --length-m")
+        spectrum_note = error.render(CLI_NAMES)
     force = result.force
     summary = {
         "model": result.model, "set": args.set, "wheel_set": args.wheel_set, "line": result.line,

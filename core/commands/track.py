@@ -7,7 +7,7 @@ import math
 import time
 from pathlib import Path
 
-from wheelrail.core.commands._common import print_json, speed_from_kmh, writable_output
+from wheelrail.core.commands._common import add_speed_option, print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
 
 MIN_DF_HZ = 0.05
@@ -24,7 +24,7 @@ def add_parser(sub):
             "Green's functions for a speed (computed once, then cached on disk) and say where they are cached."
         ),
     )
-    parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
+    add_speed_option(parser)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     parser.add_argument(
         "--csv", metavar="FILE", help="write the point receptance above a sleeper and at midspan, 20 Hz-5 kHz"

@@ -110,9 +110,16 @@ class HertzWinklerModel(HertzModel):
 
         c = inputs.params.contact
         stiffness, radius = calibrated_bedding(c)
-        return winkler_equivalent_roughness(line, inputs.element_size, preload=c.preload, radius=radius,
-                                            youngs_modulus=c.youngs_modulus, poisson_ratio=c.poisson_ratio,
-                                            stiffness=stiffness)
+        try:
+            return winkler_equivalent_roughness(line, inputs.element_size, preload=c.preload, radius=radius,
+                                                youngs_modulus=c.youngs_modulus, poisson_ratio=c.poisson_ratio,
+                                                stiffness=stiffness)
+        except WheelrailError as error:
+            if error.parameter != "half_window":
+                raise
+            # a run sizes the pre-filter's window itself (3a): what its user can change is the roughness
+            raise WheelrailError(f"hertz-winkler: {error.problem}", advice="use a smoother line or set, or the "
+                                 "hertz model") from None
 
 
 class HertzAverageModel(HertzModel):

@@ -180,10 +180,9 @@ def winkler_equivalent_roughness(
     reference, _ = _bedding_approach(-profile, k_dx, preload)
     r_eq, at_edge = _winkler_equivalent(_pad(line, half, boundary), profile, k_dx, preload, reference)
     if at_edge:
-        raise WheelrailError(
-            f"{where}: the bedding contact reaches the end of its window (half_window {half * element_size:.4g} m)"
-            f" at {at_edge} positions; the roughness is too large, pass a larger half_window"
-        )
+        raise WheelrailError(f"the bedding contact reaches the end of its window at {at_edge} positions: the "
+                             "roughness is too large for it", parameter="half_window", value=half * element_size,
+                             unit="m", argument=f"{where}: half_window", advice="give a larger one")
     return r_eq
 
 

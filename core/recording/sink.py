@@ -52,8 +52,7 @@ def _check_counts(record_every, surface_every, chunk_steps) -> None:
     checks = (("record_every", record_every), ("surface_every", surface_every), ("chunk_steps", chunk_steps))
     for name, value in checks:
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-            option = "--record-every" if name == "record_every" else name
-            raise WheelrailError(f"{option} must be a whole number >= 1, got {value!r}")
+            raise WheelrailError("not a whole number of at least 1", parameter=name, value=value, minimum=1)
 
 
 class _RoughnessLines:
@@ -331,7 +330,7 @@ class RecordingSink:
         self._outputs.publish()
         if unreachable:
             written = f"the recording was written to {self.path}, but " if self.path is not None else ""
-            hint = " (--spawn needs a desktop session for the viewer window)" if self._outputs.spawned else ""
+            hint = " (a spawned viewer needs a desktop session for its window)" if self._outputs.spawned else ""
             raise WheelrailError(f"{written}the rerun viewer could not be reached{hint}: {unreachable}")
         return self.path
 

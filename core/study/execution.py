@@ -46,7 +46,8 @@ def parse_dask_address(address: str) -> str:
     match = _ADDRESS.match(text)
     port = match.group(2) if match else None
     if match is None or (port is not None and not 0 < int(port[1:]) < 65536):
-        raise WheelrailError(f"--dask {address!r} is not a scheduler address; expected tcp://HOST:PORT")
+        raise WheelrailError("not a scheduler address; expected tcp://HOST:PORT", parameter="dask", value=address,
+                             argument="dask_address")
     return text
 
 
@@ -300,7 +301,9 @@ def _execute_dask(missing: list[RunSpec], address: str, finished: Callable[[RunS
     try:
         from distributed import Client, as_completed
     except ImportError:
-        raise WheelrailError("--dask needs dask.distributed: pip install 'dask[distributed]'") from None
+        raise WheelrailError("a Dask cluster needs dask.distributed: pip install 'dask[distributed]'",
+                             parameter="dask", value=address,
+                             argument="dask_address") from None
     address = parse_dask_address(address)
     try:
         client = Client(address, timeout=DASK_CONNECT_TIMEOUT)

@@ -12,9 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters, WheelParameters
-from wheelrail.core.spectra import contact_filter, level_difference, mean_level
+from wheelrail.core.spectra import check_spectrum_length, contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,
@@ -115,9 +116,9 @@ def _run_length(rough, label: str, length: float | None, contact: ContactParamet
     if length is None:
         return usable
     if length > usable + 1e-9:
-        raise WheelrailError(f"run length {length:g} m exceeds the {usable:g} m of {label} usable by every model "
-                             f"(rail data less {run_margin(element_size, ModelParameters(contact=contact)) * 1e3:g} "
-                             "mm margins)")
+        margin = run_margin(element_size, ModelParameters(contact=contact))
+        raise WheelrailError(f"longer than the rail data of {label} less the {margin * 1e3:g} mm margins every model "
+                             "keeps", parameter="length", value=length, maximum=usable, unit="m")
     return length
 
 
@@ -167,8 +168,7 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
     """
     if name not in STUDIES:
         raise WheelrailError(f"unknown study {name!r}; choose one of {', '.join(STUDIES)}")
-    if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
-        raise WheelrailError(f"speed must be a positive number of m/s, got {speed!r}")
+    ACCEPTED["speed"].check(speed, "speed")
     if length is not None and not (isinstance(length, int | float) and math.isfinite(length) and length > 0):
         raise WheelrailError(f"length must be a positive number of m, got {length!r}")
     if not sets:
@@ -180,6 +180,8 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
     if wheel is not None and wheel.kind != "wheel":
         raise WheelrailError(f"the wheel set {wheel.label} is a {wheel.kind} set (kind: {wheel.kind}); give a wheel "
                              "set as the wheel set, and a rail set as the set")
+    if wheel is not None:  # it goes round the wheel of every run (accepted.py), checked before any run
+        check_wheel_circumference(_loaded(wheel.source).length, contact.radius_along, wheel.label)
     infos = tuple(_set_info(source, length, contact, wheel) for source in sets)
     labels = [info.label for info in infos]
     if len(set(labels)) != len(labels):
@@ -192,9 +194,8 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
 
 
 def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:
-    """Every run must outlast the force spectrum's start-up skip by 16 steps (``force_spectrum``)."""
+    """Every run must be long enough for a force spectrum (``spectra.check_spectrum_length``)."""
     from wheelrail.core.roughness import RoughnessSet, load_roughness
-    from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP
 
     circumference = {}
     for info in infos:
@@ -203,13 +204,7 @@ def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None
             circumference[info.label] = rough.length
     for spec in specs:
         length = spec.length if spec.length is not None else circumference[spec.set_label]
-        dx = spec.params.run.element_size
-        needed = FORCE_SKIP * spec.params.run.speed + FORCE_MIN_STEPS * dx
-        if length < needed:
-            raise WheelrailError(
-                f"run length {length:g} m at {spec.speed_kmh:g} km/h is too short for a force spectrum, which "
-                f"skips the first {FORCE_SKIP:g} s; use at least {math.ceil(needed * 100) / 100:g} m"
-            )
+        check_spectrum_length(length, spec.params.run.speed, spec.params.run.element_size)
 
 
 def _levels(summaries, spec: RunSpec) -> np.ndarray:

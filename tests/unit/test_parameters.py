@@ -124,8 +124,8 @@ def test_semi_axes_scale_with_load_to_the_one_third():
         ({"rail_crown_radius": 0.0}, "rail_crown_radius"),
         ({"wheel_transverse_radius": 0.0}, "wheel_transverse_radius"),
         ({"wheel_transverse_radius": math.nan}, "wheel_transverse_radius"),
-        ({"rail_crown_radius": 0.3, "wheel_transverse_radius": -0.3}, "relative curvature"),
-        ({"rail_crown_radius": 0.3, "wheel_transverse_radius": -0.2}, "relative curvature"),
+        ({"rail_crown_radius": 0.3, "wheel_transverse_radius": -0.3}, "surfaces conform"),
+        ({"rail_crown_radius": 0.3, "wheel_transverse_radius": -0.2}, "surfaces conform"),
     ],
 )
 def test_bad_geometry_is_one_clear_error(kwargs, words):
