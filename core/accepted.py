@@ -129,12 +129,12 @@ def check_patch(semi_axes: tuple[float, float], radii: tuple[float, float, float
     wheel, crown, tread = radii
     across = min(crown, abs(tread))
     fraction = max(a / wheel, b / across)
-    if fraction <= PATCH_FRACTION:
+    if fraction <= PATCH_FRACTION * (1 + 1e-9):  # round-off: the largest load reported is accepted
         return
     wide = f"{2 * a:.3g} m long" if a / wheel >= b / across else f"{2 * b:.3g} m wide across the rail"
     problem = (f"the Hertz patch at the preload would be {wide}, {fraction:.0%} of the radius in that direction "
                f"(at most {PATCH_FRACTION:.0%}: the models take the surfaces as paraboloids, as Hertz does)")
-    if tread < 0 and b / across > PATCH_FRACTION:
+    if tread < 0 and b / across > PATCH_FRACTION * (1 + 1e-9):
         raise_concave_tread(problem, tread, crown, semi_axis_across)
     raise WheelrailError(problem, parameter="preload", value=preload, unit="N", argument="ContactParameters.preload",
                          maximum=preload * (PATCH_FRACTION / fraction) ** 3)

@@ -133,7 +133,9 @@ def _number(value: float) -> str:
 
 
 def _shown(value, name: Name) -> str:
-    """A value as the front end shows it: a number in its unit, text quoted."""
+    """A value as the front end shows it: a number in its unit, text quoted (bare after a command-line option)."""
+    if isinstance(value, str) and name.unit_in_label:  # a command-line option: the word as typed
+        return value
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         return repr(value)
     number = _number(float(value) * name.scale) if name.scale != 1.0 or not isinstance(value, numbers.Integral) \

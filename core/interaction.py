@@ -44,6 +44,7 @@ from wheelrail.core.run_setup import (
     WINDOW_HALF_WIDTH,
     History,
     TrackRoughness,
+    check_roughness_pair,
     checked_inputs,
     history_arrays,
     resolve_roughness,
@@ -392,7 +393,8 @@ def prepare_run(
     entry, params, line = checked_inputs(model, line, params, run_in_length)
     rough, name = resolve_roughness(roughness)
     wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
-    if wheel is not None:  # a wheel set added to the rail's goes round this wheel (accepted.py)
+    if wheel is not None:  # a rail set and a wheel set, going round this wheel (accepted.py)
+        check_roughness_pair(rough, wheel)
         check_wheel_circumference(wheel.length, params.contact.radius_along, wheel_name)
     dx = params.run.element_size
     check_run_memory(entry, params, usable_length(rough, dx) if length is None else length, run_in_length,

@@ -235,10 +235,9 @@ class ExplorerApp:
     def _contact_or_default(self) -> ContactParameters:
         """The contact the fields describe; a field not valid yet counts as its default (the check line says)."""
         try:
-            geometry = self._geometry()
-        except WheelrailError:
-            geometry = ()
-        return ContactParameters(preload=self._preload_or_default(), **dict(geometry))
+            return ContactParameters(preload=self._preload_or_default(), **dict(self._geometry()))
+        except WheelrailError:  # a geometry refused (at this preload, e.g. a patch too wide): the default's
+            return ContactParameters(preload=self._preload_or_default())
 
     def _wheel_set_names(self) -> tuple[str, ...]:
         """The bundled wheel sets (the wheel-set picker's choices besides none)."""

@@ -118,8 +118,8 @@ class HertzWinklerModel(HertzModel):
             if error.parameter != "half_window":
                 raise
             # a run sizes the pre-filter's window itself (3a): what its user can change is the roughness
-            raise WheelrailError(f"hertz-winkler: {error.problem}", advice="use a smoother line or set, or the "
-                                 "hertz model") from None
+            raise WheelrailError(error.problem, parameter="model", value="hertz-winkler",
+                                 advice="use a smoother line or set, or the hertz model") from None
 
 
 class HertzAverageModel(HertzModel):

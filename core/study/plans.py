@@ -180,9 +180,9 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
     if wheel is not None and wheel.kind != "wheel":
         raise WheelrailError(f"the wheel set {wheel.label} is a {wheel.kind} set (kind: {wheel.kind}); give a wheel "
                              "set as the wheel set, and a rail set as the set")
+    infos = tuple(_set_info(source, length, contact, wheel) for source in sets)
     if wheel is not None:  # it goes round the wheel of every run (accepted.py), checked before any run
         check_wheel_circumference(_loaded(wheel.source).length, contact.radius_along, wheel.label)
-    infos = tuple(_set_info(source, length, contact, wheel) for source in sets)
     labels = [info.label for info in infos]
     if len(set(labels)) != len(labels):
         raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")

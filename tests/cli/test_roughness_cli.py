@@ -99,7 +99,7 @@ def test_roughness_plot(capsys, tmp_path):
             ["roughness", "--set", "no-such-set"],
             "unknown roughness set 'no-such-set'; bundled sets: cast-iron",
         ),
-        (["roughness", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh must be a positive"),
+        (["roughness", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh -5 is outside the accepted"),
         (["roughness", "--set", "corrugated-rail", "--lines", "12"], "line 12 is not in this set"),
         (["roughness", "--set", "corrugated-rail", "--plot", "x.pdf"], "--plot must name a .png file"),
         (["roughness", "--set", "cast-iron-wheel", "--blocks", "1000"], "samples per block"),

@@ -225,9 +225,10 @@ def test_user_csv_set_and_human_output(tmp_path, capsys):
         (["study", "filters", "--set", "corrugated-rail", "--dask", "not an address"], "not a scheduler address"),
         (["study", "filters", "--set", "corrugated-rail", "--dask", "tcp://127.0.0.1:99999"], "not a scheduler"),
         (["study", "filters", "--set", "corrugated-rail", "--workers", "0"], "--workers must be at least 1"),
-        (["study", "filters", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh must be a positive"),
-        (["study", "filters", "--set", "corrugated-rail", "--length-m", "99"], "exceeds"),
-        (["study", "speeds", "--set", "corrugated-rail", "--length-m", "0.5"], "too short for a force spectrum"),
+        (["study", "filters", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh -5 is outside"),
+        (["study", "filters", "--set", "corrugated-rail", "--length-m", "99"], "--length-m 99: longer than the rail"),
+        (["study", "speeds", "--set", "corrugated-rail", "--length-m", "0.5"], "--length-m 0.5: too short for a force "
+                                                                                 "spectrum at 150 km/h"),
     ],
 )
 def test_bad_input_is_one_line_on_stderr(argv, message, tmp_path, capsys):
@@ -309,6 +310,7 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     so cached runs of the rail alone are never reused), the summary names it, a run's spectrum is that of
     simulate(..., wheel_roughness=...)."""
     from wheelrail.core.interaction import simulate
+    from wheelrail.core.parameters import ContactParameters
     from wheelrail.core.spectra import force_spectrum
 
     out = tmp_path / "speeds"
@@ -316,12 +318,14 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
             "--workers", "1", "--json"]
     rail_only = _run_json(base, capsys)
     assert rail_only["wheel_set"] is None and rail_only["runs_computed"] == 5
-    combined = _run_json([*base, "--wheel-set", "sinter-wheel-1"], capsys)
+    # the bundled wheel sets are 2.900 m round: a wheel of 461.5 mm (accepted.check_wheel_circumference)
+    combined = _run_json([*base, "--wheel-set", "sinter-wheel-1", "--wheel-radius-mm", "461.5"], capsys)
     assert combined["wheel_set"] == "sinter-wheel-1" and combined["sets"] == ["corrugated-rail"]
     assert combined["runs_computed"] == 5 and combined["runs_cached"] == 0  # other keys than the rail alone
     assert len(list((out / "runs").glob("run-*.npz"))) == 10
     plain = plan_study("speeds", ["corrugated-rail"], length=1.2)
-    plan = plan_study("speeds", ["corrugated-rail"], length=1.2, wheel_set="sinter-wheel-1")
+    plan = plan_study("speeds", ["corrugated-rail"], length=1.2, wheel_set="sinter-wheel-1",
+                      contact=ContactParameters(wheel_radius=0.4615))
     assert "wheel_set" not in plain.specs[0].description()  # runs without a wheel set keep their keys
     assert plan.specs[0].description()["wheel_set"] == {
         "label": "sinter-wheel-1", "digest": roughness_digest(load_roughness("sinter-wheel-1"))}
@@ -341,6 +345,8 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     # the wrong kinds are one clear error
     for argv, message in [
         ([*base, "--wheel-set", "corrugated-rail"], "the wheel set corrugated-rail is a rail set"),
+        ([*base, "--wheel-set", "sinter-wheel-1"], "--wheel-radius-mm 390: the wheel set sinter-wheel-1 is 2.9 m "
+                                                   "round"),
         (["study", "speeds", "--set", "cast-iron-wheel", "--wheel-set", "sinter-wheel-1", "--out", str(out)],
          "every set must be a rail set; cast-iron-wheel is a wheel set"),
     ]:

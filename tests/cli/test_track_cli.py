@@ -44,8 +44,8 @@ def test_track_json_csv(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("argv", "fragment"),
     [
-        (["track", "--speed-kmh", "0"], "--speed-kmh must be a positive speed"),
-        (["track", "--speed-kmh", "nan"], "--speed-kmh must be a positive speed"),
+        (["track", "--speed-kmh", "0"], "--speed-kmh 0 is outside the accepted 5 to 400 km/h"),
+        (["track", "--speed-kmh", "nan"], "--speed-kmh nan: not a number"),
         (["track", "--csv", "/no/such/folder/r.csv"], "does not exist"),
         (["track", "--df-hz", "-1"], "--df-hz"),
     ],

@@ -158,11 +158,12 @@ def test_only_valid_choices_are_offered_and_bad_values_are_refused(app):
     assert app.line_dropdown.options == tuple(map(str, expected)) and expected == (-2, -1, 0, 1, 2)
     assert app.line_dropdown.value == "2" and "Line 7 is not offered for 3d" in app.status_md.content
     for field, value, message in [
-        (app.speed_text, "450", "Speed must be between 5 and 400 km/h; got 450 km/h"),
-        (app.speed_text, "abc", "Speed must be a number in km/h; got 'abc'"),
-        (app.preload_text, "0", "Preload must be between 1 and 500 kN; got 0 kN"),
-        (app.length_text, "9", "Run length must be between 0.572 and 7.959 m on corrugated-rail at 100 km/h"),
-        (app.length_text, "0.1", "Run length must be between 0.572 and 7.959 m"),
+        (app.speed_text, "450", "Speed 450 km/h is outside the accepted 5 to 400 km/h"),
+        (app.speed_text, "abc", "Speed 'abc': not a number"),
+        (app.preload_text, "0", "Preload 0 kN is outside the accepted 1 to 500 kN"),
+        (app.length_text, "9", "Run length 9 m is outside the accepted 0.572 to 7.959 m (on corrugated-rail at 100 "
+                               "km/h"),
+        (app.length_text, "0.1", "Run length 0.1 m is outside the accepted 0.572 to 7.959 m"),
     ]:
         old = field.value
         field.value = value
@@ -223,13 +224,16 @@ def test_upload_a_user_csv_and_run_on_it(app, tmp_path):
 def test_geometry_fields_refuse_bad_values_in_words(app):
     _reset(app, model="3d")
     for field, value, message in [
-        (app.wheel_radius_text, "abc", "Wheel radius must be a number in mm; got 'abc'"),
-        (app.wheel_radius_text, "-460", "Wheel radius must be a positive number of mm (empty: the paper's 390 mm)"),
-        (app.crown_radius_text, "0", "Rail crown radius must be a positive number of mm"),
-        (app.tread_radius_text, "0", "Wheel tread radius across must not be 0 mm; leave it empty"),
-        # a concave tread tighter than the crown conforms with it across the rail
-        (app.tread_radius_text, "-300", "A concave wheel tread of 300 mm across fits the rail crown of 390 mm or "
-                                        "closer (the surfaces conform)"),
+        (app.wheel_radius_text, "abc", "Wheel radius 'abc': not a number"),
+        (app.wheel_radius_text, "-460", "Wheel radius -460 mm is outside the accepted 100 to 1250 mm"),
+        (app.crown_radius_text, "0", "Rail crown radius 0 mm is outside the accepted 50 to 5000 mm"),
+        (app.tread_radius_text, "0", "Wheel tread radius across 0 mm is outside the accepted range, a magnitude of "
+                                     "at least 50 mm"),
+        # a concave tread tighter than the crown conforms with it across the rail: core's check, the page's words
+        (app.tread_radius_text, "-300", "Wheel tread radius across -300 mm: a concave tread of radius 0.3 m fits the "
+                                        "rail crown of radius 0.39 m or closer"),
+        # a concave tread close to the crown makes a patch too wide for Hertz's theory at the preload
+        (app.tread_radius_text, "-395", "Wheel tread radius across -395 mm: the Hertz patch at the preload would be"),
     ]:
         field.value = value
         assert message in app.check_md.content
@@ -252,6 +256,10 @@ def test_geometry_fields_refuse_bad_values_in_words(app):
 
 def test_a_run_with_a_wheel_set_names_both_sets(app):
     _reset(app, model="hertz", wheel_set="sinter-wheel-1")
+    assert not app.start_run()  # the bundled wheel sets are 2.900 m round: not a 390 mm wheel's roughness
+    assert app.last_error.startswith("Wheel radius 390 mm: the wheel set sinter-wheel-1 is 2.9 m round (a wheel of "
+                                     "radius 0.4615 m)") and "accepted 456.98 to 466.211 mm" in app.last_error
+    _reset(app, model="hertz", wheel_set="sinter-wheel-1", geometry_mm=("461.5", "", ""))
     assert app.wheel_set_dropdown.options == ("none", "cast-iron-wheel", "sinter-wheel-1", "sinter-wheel-2")
     result = _run(app)
     assert app.last_error is None
@@ -259,11 +267,12 @@ def test_a_run_with_a_wheel_set_names_both_sets(app):
     assert result.header.wheel_roughness_name == "sinter-wheel-1"
     assert app.status_md.content.startswith("Done: hertz on corrugated-rail + sinter-wheel-1, line 0")
     assert app.plots.force.handle.title == "Contact force: corrugated-rail + sinter-wheel-1, line 0, 100 km/h, " \
-                                           "65 kN, 0.6 m"
+                                           "65 kN, 0.6 m, wheel radius 461.5 mm"
     # the rail alone is another case: its plots do not show the combined run
     app.wheel_set_dropdown.value = "none"
     assert "hertz" not in app.store.entries(app.shown.case())
-    assert app.plots.force.handle.title == "Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m"
+    assert app.plots.force.handle.title == ("Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m, wheel "
+                                            "radius 461.5 mm")
 
 
 def test_changing_the_geometry_hides_the_old_results(app):

@@ -1,0 +1,57 @@
+"""Only physical inputs in the explorer (no server): the page's fields accept core's ranges and word core's
+errors with their own labels and units (explorer/config.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+from wheelrail.core.accepted import ACCEPTED
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import MAX_SPEED_KMH, MIN_SPEED_KMH
+from wheelrail.core.roughness import load_roughness
+from wheelrail.explorer.config import PRELOAD_RANGE_KN, page_message, read_config, read_geometry
+
+RAIL = load_roughness("corrugated-rail")
+WHEEL = load_roughness("sinter-wheel-1")
+FIELDS = {"line": "0", "model": "hertz", "speed_kmh": "100", "preload_kn": "65", "length_m": "1"}
+
+
+def _page_error(**changes) -> str:
+    geometry_mm = changes.pop("geometry_mm", {})
+    wheel = changes.pop("wheel", None)
+    with pytest.raises(WheelrailError) as info:
+        geometry = read_geometry(**geometry_mm)
+        read_config(RAIL, "corrugated-rail", **{**FIELDS, **changes}, geometry=geometry, wheel=wheel,
+                    wheel_label=None if wheel is None else "sinter-wheel-1")
+    message = page_message(info.value)
+    assert "\n" not in message and "--" not in message and "ContactParameters" not in message
+    return message
+
+
+def test_the_fields_offer_cores_ranges():
+    assert PRELOAD_RANGE_KN == (ACCEPTED["preload"].minimum / 1e3, ACCEPTED["preload"].maximum / 1e3) == (1.0, 500.0)
+    assert (MIN_SPEED_KMH, MAX_SPEED_KMH) == (5.0, 400.0)
+
+
+@pytest.mark.parametrize(("changes", "start"), [
+    ({"preload_kn": "5000"}, "Preload 5000 kN is outside the accepted 1 to 500 kN ("),
+    ({"preload_kn": "0.1"}, "Preload 0.1 kN is outside the accepted 1 to 500 kN ("),
+    ({"speed_kmh": "401"}, "Speed 401 km/h is outside the accepted 5 to 400 km/h ("),
+    ({"speed_kmh": "4"}, "Speed 4 km/h is outside the accepted 5 to 400 km/h ("),
+    ({"geometry_mm": {"wheel_radius_mm": "0.001"}}, "Wheel radius 0.001 mm is outside the accepted 100 to 1250 mm ("),
+    ({"geometry_mm": {"wheel_radius_mm": "1e6"}}, "Wheel radius 1e+06 mm is outside the accepted 100 to 1250 mm ("),
+    ({"geometry_mm": {"rail_crown_radius_mm": "0.001"}}, "Rail crown radius 0.001 mm is outside the accepted 50 to "
+                                                         "5000 mm ("),
+    ({"geometry_mm": {"rail_crown_radius_mm": "300", "wheel_transverse_radius_mm": "-300.5"}},
+     "Wheel tread radius across -300.5 mm: the Hertz patch at the preload would be 0.148 m wide across the rail"),
+    ({"wheel": WHEEL}, "Wheel radius 390 mm: the wheel set sinter-wheel-1 is 2.9 m round (a wheel of radius 0.4615 m)"),
+    ({"length_m": "9"}, "Run length 9 m is outside the accepted 0.572 to 7.959 m (on corrugated-rail at 100 km/h"),
+])
+def test_an_unphysical_input_is_worded_with_the_fields_label(changes, start):
+    assert _page_error(**changes).startswith(start)
+
+
+def test_the_wheel_sets_own_radius_runs():
+    config = read_config(RAIL, "corrugated-rail", **FIELDS, geometry=read_geometry(wheel_radius_mm="461.5"),
+                         wheel=WHEEL, wheel_label="sinter-wheel-1")
+    assert config.wheel_set_label == "sinter-wheel-1" and config.contact().radius_along == 0.4615
