@@ -14,7 +14,6 @@ import importlib
 import os
 import sys
 
-from wheelrail.core.commands._common import CLI_NAMES
 from wheelrail.core.errors import WheelrailError
 
 # name -> one-line help shown by `wheelrail --help`; the module wheelrail.core.commands.NAME (its
@@ -86,6 +85,8 @@ def main(argv: list[str] | None = None) -> int:
         args = parser.parse_args(argv)
         return int(args._run(args) or 0)
     except WheelrailError as error:
+        from wheelrail.core.commands._common import CLI_NAMES  # not at import: `--help` loads no command module
+
         print(f"wheelrail {name}: error: {error.render(CLI_NAMES)}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # output piped into a closed reader (e.g. `| head`): not an error

@@ -27,16 +27,19 @@ diameter dependence of the table is stronger than R^(1/3) (about D^(1/2) fits to
 the 3.2 dB of the worst case (the 360 mm wheel, rebuilt from 680/920 mm columns) comes from. Bands the
 shifted columns do not cover are NaN.
 
-**Analytic filters** (Remington 1987; Remington & Webb 1996; Thompson, *Railway Noise and Vibration*,
-2009, ch. 5), for a contact patch of semi-axis a along the rail, as band levels averaged over each band
+**Analytic filters**, for a contact patch of semi-axis a along the rail, as band levels averaged over each band
 (the mean of |H(k)|^2 over the band's wavenumbers, i.e. the filter white roughness sees; not |H|^2 at
 the centre), with k the angular wavenumber 2 pi / lambda:
 
 - ``averaging``: the roughness averaged uniformly over the contact length 2a,
   |H|^2 = (sin ka / ka)^2 (the ``hertz-average`` model's prefilter, paper eq. 19 dips at lambda = 2a/n);
 - ``patch-correlated``: averaged over the elliptical (here circular) patch, roughness identical across
-  its width: the chord 2a sqrt(1 - x^2/a^2) weights the line, |H|^2 = (2 J1(ka) / ka)^2;
-- ``patch-incoherent``: averaged over the patch, roughness of independent lateral strips (incoherent
+  its width: the chord 2a sqrt(1 - x^2/a^2) weights the line, |H|^2 = (2 J1(ka) / ka)^2 (these two are the
+  filters of the literature: Remington 1987; Remington & Webb 1996; Thompson, *Railway Noise and
+  Vibration*, 2009, ch. 5);
+- ``patch-incoherent``, **this project's construction** (not a filter of those sources, nor checked
+  against measurements; the counterpart of ``patch-correlated`` for roughness with no lateral coherence):
+  averaged over the patch, roughness of independent lateral strips (incoherent
   across the width): each strip at lateral position y = b u averages its own line over its chord
   2c = 2a sqrt(1 - u^2) and carries the area share w ∝ c, so
   |H|^2 = ∫ (1 - u^2) (sin kc / kc)^2 du / ∫ (1 - u^2) du over 0 <= u <= 1.
@@ -186,7 +189,8 @@ def _sinc2(x: np.ndarray) -> np.ndarray:
 def filter_transfer(kind: str, wavenumber, semi_axis: float) -> np.ndarray:
     """|H(k)|^2 of an analytic filter at angular wavenumbers ``wavenumber`` (rad/m), patch semi-axis a (m).
 
-    ``kind`` is one of :data:`ANALYTIC_FILTERS` (formulas in the module docstring).
+    ``kind`` is one of :data:`ANALYTIC_FILTERS` (formulas in the module docstring; ``averaging`` and
+    ``patch-correlated`` from the literature, ``patch-incoherent`` this project's construction).
     """
     ka = np.asarray(wavenumber, dtype=float) * semi_axis
     if kind == "averaging":

@@ -85,7 +85,7 @@ def add_geometry_options(parser, *, crown_follows_wheel: bool = False) -> None:
     parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
                         help=f"wheel tread radius across the rail, mm (default: a cylindrical tread; negative: "
                              f"concave, worn; at least {tread_mm:g} in magnitude; the Hertz patch at the preload "
-                             f"must stay within {PATCH_FRACTION:.0%} of the radii)")
+                             f"must stay within {PATCH_FRACTION * 100:g} %% of the radii)")
 
 
 def geometry_from_mm(args) -> dict:

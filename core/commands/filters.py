@@ -35,7 +35,8 @@ def add_parser(sub):
         description=(
             "Reference contact filters in dB by wavelength band (2000-0.8 mm) and by frequency band (50 Hz-8 kHz) "
             "at the speed: CNOSSOS-EU A3 (Directive 2015/996 Table G-2 as replaced by 2021/1226), averaging over "
-            "the contact length, circular patch with roughness correlated / incoherent across its width."
+            "the contact length, circular patch with roughness correlated across its width, and incoherent across "
+            "it (this project's construction, not a filter of the literature)."
         ),
     )
     add_speed_option(parser)

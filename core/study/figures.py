@@ -23,7 +23,7 @@ _STYLES = {  # Fig. 10's legend: thick grey 3D, then the one-line models
     "ref_patch_correlated_db": {"color": "tab:olive", "linewidth": 0.8, "linestyle": (0, (3, 2)),
                                 "label": "analytic: circular patch, correlated"},
     "ref_patch_incoherent_db": {"color": "tab:cyan", "linewidth": 0.8, "linestyle": (0, (3, 2)),
-                                "label": "analytic: circular patch, incoherent"},
+                                "label": "circular patch, incoherent (this project's construction)"},
 }
 _SET_STYLES = ("-", "--", "-.", ":")
 

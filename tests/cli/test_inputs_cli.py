@@ -59,6 +59,7 @@ def test_the_help_states_the_accepted_ranges_of_core():
     for command in ("run", "filters", "study", "track", "roughness"):
         sub = build_parser(command)._subparsers._group_actions[0].choices[command]
         helps[command] = {action.dest: action.help for action in sub._actions}
+        assert "accepted" in sub.format_help()  # the help formats (a bare % in it would not)
     low, high = ACCEPTED["preload"].in_unit(1e-3)
     assert (low, high) == (1.0, 500.0)
     for command in ("run", "filters"):

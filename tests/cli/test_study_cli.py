@@ -228,7 +228,7 @@ def test_user_csv_set_and_human_output(tmp_path, capsys):
         (["study", "filters", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh -5 is outside"),
         (["study", "filters", "--set", "corrugated-rail", "--length-m", "99"], "--length-m 99: longer than the rail"),
         (["study", "speeds", "--set", "corrugated-rail", "--length-m", "0.5"], "--length-m 0.5: too short for a force "
-                                                                                 "spectrum at 150 km/h"),
+                                                                                 "spectrum at 100 km/h"),
     ],
 )
 def test_bad_input_is_one_line_on_stderr(argv, message, tmp_path, capsys):

@@ -237,10 +237,15 @@ def test_unwritable_or_bad_paths_fail_before_the_run(tmp_path):
     (tmp_path / "dir.rrd").mkdir()
     with pytest.raises(WheelrailError, match="is a folder"):
         check_recording_path(tmp_path / "dir.rrd")
-    with pytest.raises(WheelrailError, match="--record-every"):
+    # the API's words (the argument's name); the command line names the option (tests/cli)
+    with pytest.raises(WheelrailError, match="record_every 0: not a whole number of at least 1") as info:
         sink_from_args(parser.parse_args(["--rrd", str(tmp_path / "a.rrd"), "--record-every", "0"]))
-    with pytest.raises(WheelrailError, match="--connect"):
+    from wheelrail.core.commands._common import CLI_NAMES
+
+    assert info.value.render(CLI_NAMES).startswith("--record-every 0: not a whole number of at least 1")
+    with pytest.raises(WheelrailError, match="connect 'nonsense': not a viewer address") as info:
         sink_from_args(parser.parse_args(["--connect", "nonsense"]))
+    assert info.value.render(CLI_NAMES).startswith("--connect nonsense: not a viewer address")
     assert sink_from_args(parser.parse_args([])) is None
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dir.rrd", "file.txt"]  # nothing written
 
