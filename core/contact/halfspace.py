@@ -143,7 +143,8 @@ class NormalContactResult:
 
     @property
     def contact_area(self) -> float:
-        """Area of the contact elements, m^2."""
+        """Area of the contact elements (p > 0) times the element area, m^2: a staircase around the patch, above
+        Hertz's pi a b on a smooth gap (2.3-8.5 % at 65 kN on the 1 mm grid; see ``RunResult.contact_area``)."""
         return float(np.count_nonzero(self.contact)) * self.element_size**2
 
 
