@@ -1,8 +1,9 @@
 """Model parameters: frozen dataclasses in SI units holding the paper's defaults.
 
 Every class validates itself on construction (``__post_init__``) and rejects a non-positive or
-non-finite mass, stiffness, damping, speed, preload or element size with a :class:`WheelrailError`
-that names the parameter and its unit. Defaults are those of Pieringer, Kropp & Thompson (2011),
+non-finite mass, stiffness, damping or element size, and a speed, preload or radius outside its accepted
+range (``wheelrail.core.accepted``), with a :class:`WheelrailError` that carries the parameter, its value,
+unit and range. Defaults are those of Pieringer, Kropp & Thompson (2011),
 sections 2.1-2.3 and 3.
 """
 

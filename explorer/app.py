@@ -31,6 +31,7 @@ from wheelrail.explorer.config import (
     NO_WHEEL_SET,
     PRELOAD_RANGE_KN,
     RunConfig,
+    accepted_text,
     length_range,
     offered_lines,
     page_message,
@@ -129,18 +130,19 @@ class ExplorerApp:
                                                    hint=f"{COMPARE}: every model one after another")
             self.line_dropdown = gui.add_dropdown("Line", ("0",), initial_value="0",
                                                   hint="Only the lines this model can run on are offered.")
-            self.speed_text = gui.add_text("Speed (km/h)", "100",
-                                           hint=f"{MIN_SPEED_KMH:g} to {MAX_SPEED_KMH:g} km/h")
-            self.preload_text = gui.add_text("Preload (kN)", "65",
-                                             hint=f"{PRELOAD_RANGE_KN[0]:g} to {PRELOAD_RANGE_KN[1]:g} kN")
+            self.speed_text = gui.add_text("Speed (km/h)", "100", hint=accepted_text("speed"))
+            self.preload_text = gui.add_text("Preload (kN)", "65", hint=accepted_text("preload"))
             self.length_text = gui.add_text("Run length (m)", f"{length:g}")
             radius_mm = f"{ContactParameters().radius * 1e3:g}"
-            self.wheel_radius_text = gui.add_text("Wheel radius (mm)", "",
-                                                  hint=f"Rolling radius, along the rail; empty: {radius_mm} mm")
-            self.crown_radius_text = gui.add_text("Rail crown radius (mm)", "",
-                                                  hint=f"Rail head, across the rail; empty: {radius_mm} mm")
-            self.tread_radius_text = gui.add_text("Wheel tread radius across (mm)", "",
-                                                  hint="Empty: a cylindrical tread; negative: concave (worn)")
+            self.wheel_radius_text = gui.add_text(
+                "Wheel radius (mm)", "", hint=f"Rolling radius, along the rail, {accepted_text('wheel_radius')}; "
+                                             f"empty: {radius_mm} mm")
+            self.crown_radius_text = gui.add_text(
+                "Rail crown radius (mm)", "", hint=f"Rail head, across the rail, {accepted_text('rail_crown_radius')}; "
+                                                  f"empty: {radius_mm} mm")
+            self.tread_radius_text = gui.add_text(
+                "Wheel tread radius across (mm)", "",
+                hint=f"{accepted_text('wheel_transverse_radius')}; empty: cylindrical; negative: concave (worn)")
             self.check_md = gui.add_markdown("")
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
             self.stop_button = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, color="red", disabled=True)

@@ -25,7 +25,8 @@ from wheelrail.core.spectra import shortest_spectrum_run
 
 __all__ = [
     "COMPARE", "COMPARE_ORDER", "FIELD_NAMES", "GEOMETRY_FIELDS", "MODEL_CHOICES", "NO_WHEEL_SET", "PRELOAD_RANGE_KN",
-    "RunConfig", "length_range", "models_of", "offered_lines", "page_message", "read_config", "read_geometry",
+    "RunConfig", "accepted_text", "length_range", "models_of", "offered_lines", "page_message", "read_config",
+    "read_geometry",
 ]
 
 COMPARE = "compare"
@@ -53,6 +54,16 @@ PRELOAD_RANGE_KN = ACCEPTED["preload"].in_unit(FIELD_NAMES["preload"].scale)  # 
 # ContactParameters geometry field -> what the page calls it (mm in the page, m inside; empty: the default)
 GEOMETRY_FIELDS = {name: FIELD_NAMES[name].label for name in ("wheel_radius", "rail_crown_radius",
                                                               "wheel_transverse_radius")}
+
+
+def accepted_text(key: str) -> str:
+    """An input's accepted range (``core.accepted``) in its field's unit, for the field's hint: "1 to 500 kN"."""
+    name = FIELD_NAMES[key]
+    accepted = ACCEPTED[key]
+    low, high = accepted.in_unit(name.scale)
+    if accepted.magnitude:
+        return f"at least {low:g} {name.unit} in magnitude"
+    return f"{low:g} to {high:g} {name.unit}"
 
 
 def page_message(error: WheelrailError) -> str:

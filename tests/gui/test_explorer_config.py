@@ -9,7 +9,7 @@ from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import MAX_SPEED_KMH, MIN_SPEED_KMH
 from wheelrail.core.roughness import load_roughness
-from wheelrail.explorer.config import PRELOAD_RANGE_KN, page_message, read_config, read_geometry
+from wheelrail.explorer.config import PRELOAD_RANGE_KN, accepted_text, page_message, read_config, read_geometry
 
 RAIL = load_roughness("corrugated-rail")
 WHEEL = load_roughness("sinter-wheel-1")
@@ -31,6 +31,9 @@ def _page_error(**changes) -> str:
 def test_the_fields_offer_cores_ranges():
     assert PRELOAD_RANGE_KN == (ACCEPTED["preload"].minimum / 1e3, ACCEPTED["preload"].maximum / 1e3) == (1.0, 500.0)
     assert (MIN_SPEED_KMH, MAX_SPEED_KMH) == (5.0, 400.0)
+    assert [accepted_text(key) for key in ("speed", "preload", "wheel_radius", "rail_crown_radius")] == [
+        "5 to 400 km/h", "1 to 500 kN", "100 to 1250 mm", "50 to 5000 mm"]
+    assert accepted_text("wheel_transverse_radius") == "at least 50 mm in magnitude"
 
 
 @pytest.mark.parametrize(("changes", "start"), [

@@ -59,6 +59,12 @@ def test_binds_localhost_by_default(app):
     assert app.server.get_host() == "127.0.0.1"
 
 
+def test_field_hints_state_cores_accepted_ranges(app):
+    assert app.speed_text.hint == "5 to 400 km/h" and app.preload_text.hint == "1 to 500 kN"
+    assert "100 to 1250 mm" in app.wheel_radius_text.hint and "50 to 5000 mm" in app.crown_radius_text.hint
+    assert app.tread_radius_text.hint.startswith("at least 50 mm in magnitude")
+
+
 def test_controls_define_the_run(app):
     _reset(app, set_name="cast-iron-wheel", line=2, model="2d", speed=80.0, preload=50.0, length=1.0)
     result = _run(app)
