@@ -54,6 +54,15 @@ def test_an_unphysical_input_is_worded_with_the_fields_label(changes, start):
     assert _page_error(**changes).startswith(start)
 
 
+def test_an_upload_is_named_in_its_messages_never_its_temporary_path():
+    from wheelrail.explorer.uploads import read_upload
+
+    with pytest.raises(WheelrailError) as info:
+        read_upload("C:\\data\\bad.csv", b"# kind: rail\nx_m,y_mm=0\n0,abc\n", 10_000)
+    message = str(info.value)
+    assert message.startswith("upload 'bad.csv', line 3: height") and "wheelrail-upload-" not in message, message
+
+
 def test_the_wheel_sets_own_radius_runs():
     config = read_config(RAIL, "corrugated-rail", **FIELDS, geometry=read_geometry(wheel_radius_mm="461.5"),
                          wheel=WHEEL, wheel_label="sinter-wheel-1")

@@ -120,6 +120,6 @@ def test_no_front_end_rewrites_a_message():
     sources = {path.relative_to(ROOT).as_posix(): path.read_text(encoding="utf-8")
                for folder in ("core", "explorer") for path in (ROOT / folder).rglob("*.py")}
     pattern = re.compile(r"str\((error|err|exc|e)\)\s*\.replace|\.sub\([^)]*str\((error|err|exc|e)\)|in_page_words|"
-                         r"_cli_wording|_CLI_ADVICE|_CLI_HINTS")
+                         r"_cli_wording|_CLI_ADVICE|_CLI_HINTS|\{(error|err|exc|e)\}[^\n]*\"\s*\)?\.replace\(")
     found = [f"{name}: {match.group(0)}" for name, text in sources.items() for match in pattern.finditer(text)]
     assert not found, found
