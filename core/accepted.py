@@ -148,10 +148,10 @@ def raise_concave_tread(problem: str, tread: float, crown: float, semi_axis_acro
     def excess(curvature: float) -> float:  # b - PATCH_FRACTION crown for a tread of curvature -curvature
         return semi_axis_across(1.0 / (1.0 / crown - curvature)) - PATCH_FRACTION * crown
 
-    if excess(0.0) >= 0:  # even a cylindrical tread's patch is too wide: the load is to blame
+    if excess(0.0) >= 0:  # even a cylindrical tread's patch is too wide (a soft material): no concave one fits
         limit = None
     else:
-        limit = -1.0 / brentq(excess, 0.0, (1.0 - 1e-9) / crown, xtol=1e-12, rtol=1e-10)
+        limit = -1.0 / brentq(excess, 0.0, (1.0 - 1e-6) / crown, xtol=1e-12, rtol=1e-10)
     raise WheelrailError(problem, parameter="wheel_transverse_radius", value=tread, maximum=limit, unit="m",
                          argument="ContactParameters.wheel_transverse_radius",
                          advice="a convex or cylindrical tread is accepted too")
