@@ -364,13 +364,15 @@ def prepare_run(
         given. Heights are taken positive where the surface stands out, so for either kind r = height.
     wheel_roughness : RoughnessSet, str or path, optional
         A wheel set on the same wheel: the combined roughness r = r_rail + r_wheel (paper eq. 3's
-        r = r_W - r_R with z downwards). Each set on the model grid at its own lateral positions, centred on
-        its own ``line``; the wheel's lines repeat with its circumference. ``roughness`` must then be a rail
-        set and this a wheel set (else one WheelrailError).
+        r = r_W - r_R with z downwards), paired by lateral position: the wheel set interpolated across onto
+        the rail's lines (refused where it has no data, see ``run_setup.run_lines``); its lines repeat with
+        its circumference. ``roughness`` must then be a rail set and this a wheel set (else one
+        WheelrailError).
     model : str
         A registered contact model (``wheelrail.core.models.model_names()``).
     line : int
-        Roughness line -M..M; for a model with a lateral window the line it is centred on.
+        Roughness line -M..M (of the rail set when a wheel set is added); for a model with a lateral window
+        the line it is centred on.
     params : ModelParameters, optional
         Default: the paper's values (65 kN, 100 km/h, 1 mm elements).
     length : float, optional

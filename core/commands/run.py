@@ -36,9 +36,10 @@ def add_parser(sub):
                         help="bundled roughness set name (see `wheelrail datasets`) or a CSV/NPZ file")
     parser.add_argument("--wheel-set", metavar="WHEEL_SET", default=None,
                         help="a wheel roughness set added to the rail set --set (combined roughness r_rail + "
-                             "r_wheel; its lines repeat with the circumference); default none")
+                             "r_wheel, paired by lateral position: the wheel set interpolated across onto the "
+                             "rail's lines; its lines repeat with the circumference); default none")
     add_geometry_options(parser)
-    parser.add_argument("--line", type=int, default=0, help="roughness line -M..M (3d: window centre), default 0")
+    parser.add_argument("--line", type=int, default=0, help="roughness line -M..M of --set (3d: window centre), default 0")
     parser.add_argument("--model", default="hertz", choices=MODELS, help="contact model (default hertz)")
     parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
     preload_kn = ContactParameters().preload / 1e3

@@ -191,33 +191,46 @@ def study_roughness(spec: RunSpec):
 
 
 def study_wheel_roughness(spec: RunSpec):
-    """The wheel set added to the run's rail set, treated as :func:`study_roughness` treats the rail set (the
-    same line mean or lateral lines, so the combined roughness is that of the rail set's), or None."""
-    return None if spec.wheel_source is None else _as_used(spec, spec.wheel_source, spec.wheel_label)[0]
+    """The wheel set added to the run's rail set, or None. Taken as :func:`study_roughness` takes the rail set
+    (the same line mean or lateral lines) at the rail set's lateral positions, the wheel set interpolated across
+    onto them (``simulate`` then pairs the two by position, as it pairs whole sets)."""
+    if spec.wheel_source is None:
+        return None
+    return _as_used(spec, spec.wheel_source, spec.wheel_label, positions_of=_loaded(spec.source))[0]
 
 
-def _as_used(spec: RunSpec, source, label: str):
+def _loaded(source):
     from wheelrail.core.roughness import RoughnessSet, load_roughness
 
-    rough = source if isinstance(source, RoughnessSet) else load_roughness(source)
+    return source if isinstance(source, RoughnessSet) else load_roughness(source)
+
+
+def _as_used(spec: RunSpec, source, label: str, positions_of=None):
+    """``source`` as the run uses it; line numbers and offsets are those of ``positions_of`` (default: the set
+    itself), the lines taken at its lateral positions."""
+    from wheelrail.core.roughness import at_lateral_positions, covers, lateral_extent_mm
+
+    rough = _loaded(source)
+    ref = rough if positions_of is None else positions_of
     if spec.averaged_lines:
-        rows = [rough.row_of_line(line) for line in spec.averaged_lines]
-        mean = rough.heights[rows].mean(axis=0)
+        y_lines = np.array([ref.y[ref.row_of_line(line)] for line in spec.averaged_lines])
+        if not covers(rough, float(y_lines.min()), float(y_lines.max())):
+            raise WheelrailError(f"{label}: lines {', '.join(str(v) for v in spec.averaged_lines)} lie at "
+                                 f"{y_lines.min() * 1e3:g} .. {y_lines.max() * 1e3:g} mm, where the set has no "
+                                 f"data ({lateral_extent_mm(rough)})")
+        mean = at_lateral_positions(rough, y_lines).heights.mean(axis=0)
         note = f"mean of lines {', '.join(str(v) for v in spec.averaged_lines)}"
         return rough.with_heights(mean[np.newaxis, :], y=np.zeros(1), note=note), 0
     if spec.lateral_lines_mm:
         offsets = np.asarray(spec.lateral_lines_mm) * 1e-3
-        y_wanted = float(rough.y[rough.centre_row]) + offsets
-        tol = 1e-9
-        if rough.n_lines < 2 or y_wanted.min() < rough.y[0] - tol or y_wanted.max() > rough.y[-1] + tol:
+        y_wanted = float(ref.y[ref.centre_row]) + offsets
+        if rough.n_lines < 2 or not covers(rough, float(y_wanted.min()), float(y_wanted.max())):
             raise WheelrailError(
                 f"{label}: lines at {', '.join(f'{v:g}' for v in spec.lateral_lines_mm)} mm from line 0 "
                 f"need lateral data over that range; the set spans {rough.y[0] * 1e3:g} .. {rough.y[-1] * 1e3:g} mm"
             )
         # linear interpolation across the lines (exact selection where a wanted line exists)
-        idx = np.clip(np.searchsorted(rough.y, y_wanted - tol, side="right") - 1, 0, rough.n_lines - 2)
-        w = np.clip((y_wanted - rough.y[idx]) / (rough.y[idx + 1] - rough.y[idx]), 0.0, 1.0)
-        heights = (1 - w)[:, None] * rough.heights[idx] + w[:, None] * rough.heights[idx + 1]
+        heights = at_lateral_positions(rough, y_wanted).heights
         note = f"only lines at {', '.join(f'{v:g}' for v in spec.lateral_lines_mm)} mm"
         return rough.with_heights(heights, y=offsets, note=note), 0
     return rough, spec.line
