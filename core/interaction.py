@@ -38,7 +38,7 @@ from wheelrail.core.models import LAW_HERTZ, MODELS, ContactModel, ModelInputs, 
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
 from wheelrail.core.run_setup import (
-    DEFAULT_RUN_IN,
+    DEFAULT_RUN_IN_TIME,
     RUN_MARGIN,
     WINDOW_HALF_WIDTH,
     History,
@@ -55,7 +55,7 @@ from wheelrail.core.run_setup import (
 )
 
 __all__ = [
-    "DEFAULT_RUN_IN", "MODELS", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "InteractionRun", "prepare_run", "run_margin",
+    "DEFAULT_RUN_IN_TIME", "MODELS", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "InteractionRun", "prepare_run", "run_margin",
     "simulate", "usable_length", "window_lines",
 ]
 
@@ -350,7 +350,7 @@ def prepare_run(
     line: int = 0,
     params: ModelParameters | None = None,
     length: float | None = None,
-    run_in_length: float = DEFAULT_RUN_IN,
+    run_in_length: float | None = None,
     keep_pressure: bool = True,
     track_numerics: TrackNumerics | None = None,
 ) -> InteractionRun:
@@ -378,8 +378,9 @@ def prepare_run(
     length : float, optional
         Run length, m. Default: ``run_setup.usable_length`` (the rail data less the margins, or one wheel
         circumference: wheel data repeats around it).
-    run_in_length : float
-        Smooth run-in before step 0, m (discarded); default 1 m.
+    run_in_length : float, optional
+        Smooth run-in before step 0, m (discarded). Default: ``DEFAULT_RUN_IN_TIME`` (0.3 s) at the run's
+        speed, long enough for the start-up transient to die out (``run_setup.default_run_in_length``).
     keep_pressure : bool
         Keep every pressure map in the result (steps x ny x nx float32), for models that have them.
     track_numerics : TrackNumerics, optional
@@ -389,7 +390,7 @@ def prepare_run(
     -------
     InteractionRun
     """
-    entry, params, line = checked_inputs(model, line, params, run_in_length)
+    entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
     rough, name = resolve_roughness(roughness)
     wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
     dx = params.run.element_size

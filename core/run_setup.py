@@ -5,8 +5,13 @@ a study or a test can reuse one (``usable_length`` is the one rule for margins a
 
 Start-up (paper section 3.1 leaves it open): before step 0 the history is filled with the preload P, the
 wheel sits at the static approach of the chosen contact model plus the bay-averaged static rail deflection,
-and a run-in on smooth surfaces (``DEFAULT_RUN_IN``) lets the sleeper-passing response settle; the
-roughness is faded in over the first half of the run-in with a raised cosine and the run-in is discarded.
+and a run-in on smooth surfaces lets the sleeper-passing response settle; the roughness under the wheel at
+step 0 is faded in over the first half of the run-in with a raised cosine and the run-in is discarded.
+That start is not the moving steady state (the rail under the wheel is not at its bay average, nor at rest):
+the wheel-on-track resonance (~66 Hz on the paper's track) rings from it with some hundred newtons and decays
+about tenfold every 55 ms, in time, whatever the speed. So the run-in is a time, ``DEFAULT_RUN_IN_TIME``
+(0.3 s: 8.3 m at 100 km/h, 25 m at 300 km/h; :func:`default_run_in_length`), after which the recorded force
+is that of a 40 m run-in within 0.2 N from 5 to 400 km/h (``benchmarks/run_in.py``, test_run_in.py).
 """
 
 from __future__ import annotations
@@ -23,14 +28,14 @@ from wheelrail.core.models import ModelEntry, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
 __all__ = [
-    "DEFAULT_RUN_IN", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "WINDOW_SEMI_AXES", "History", "TrackRoughness",
-    "check_roughness_pair", "checked_inputs", "history_arrays", "roughness_along_track", "run_lines", "run_margin",
-    "static_equilibrium", "usable_length", "window_half_elements", "window_lines",
+    "DEFAULT_RUN_IN_TIME", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "WINDOW_SEMI_AXES", "History", "TrackRoughness",
+    "check_roughness_pair", "checked_inputs", "default_run_in_length", "history_arrays", "roughness_along_track",
+    "run_lines", "run_margin", "static_equilibrium", "usable_length", "window_half_elements", "window_lines",
 ]
 
 WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
 WINDOW_SEMI_AXES = 2.2  # half side of the window in Hertz semi-axes at the preload (along and across)
-DEFAULT_RUN_IN = 1.0  # m of smooth run-in before step 0 (discarded)
+DEFAULT_RUN_IN_TIME = 0.3  # s of smooth run-in before step 0 (discarded); see the module docstring
 RUN_MARGIN = 0.020  # m of roughness kept before the first and after the last wheel position
 
 
@@ -82,17 +87,27 @@ def usable_length(roughness, element_size: float, params: ModelParameters | None
     return n_steps * element_size
 
 
-def checked_inputs(model: str, line, params: ModelParameters | None, run_in_length) -> tuple[ModelEntry,
-                                                                                          ModelParameters, int]:
-    """Step 1: the model's registry entry, the parameters (default: the paper's) and the line number."""
+def default_run_in_length(params: ModelParameters | None = None) -> float:
+    """The default run-in, m: ``DEFAULT_RUN_IN_TIME`` at the run's speed, rounded up to whole elements."""
+    params = ModelParameters() if params is None else params
+    dx = params.run.element_size
+    return math.ceil(DEFAULT_RUN_IN_TIME * params.run.speed / dx - 1e-9) * dx
+
+
+def checked_inputs(model: str, line, params: ModelParameters | None,
+                   run_in_length) -> tuple[ModelEntry, ModelParameters, int, float]:
+    """Step 1: the model's registry entry, the parameters (default: the paper's), the line number and the
+    run-in length, m (None: :func:`default_run_in_length`)."""
     entry = model_entry(model)
     params = ModelParameters() if params is None else params
     if not isinstance(params, ModelParameters):
         raise WheelrailError("params must be a wheelrail.core.parameters.ModelParameters")
     if isinstance(line, bool) or not isinstance(line, int | np.integer):
         raise WheelrailError(f"line must be an integer line number, got {line!r}")
-    real("run_in_length", run_in_length, "m", sign="nonnegative")
-    return entry, params, int(line)
+    if run_in_length is None:
+        run_in_length = default_run_in_length(params)
+    run_in_length = real("run_in_length", run_in_length, "m", sign="nonnegative")
+    return entry, params, int(line), run_in_length
 
 
 def resolve_roughness(roughness):

@@ -24,7 +24,8 @@ LOW_RESOLUTION_LINES_MM = {  # Fig. 17: lateral offsets from line 0 kept, mm
 }
 PAPER_SPEEDS_KMH = (75.0, 100.0, 140.0, 200.0)  # Fig. 11
 HALF_WHEEL_MASS = 296.3  # kg, Fig. 11: half of M_W = 592.5 kg
-STUDY_FORMAT_VERSION = 1  # part of every run key: bump when a run's summary changes meaning
+STUDY_FORMAT_VERSION = 2  # part of every run key: bump when a run's summary changes meaning (2: wheel sets paired
+# by lateral position)
 SUMMARY_SCALARS = ("force_mean", "force_std", "force_min", "force_max", "loss_of_contact_steps", "n_steps",
                    "run_time")
 
@@ -57,8 +58,9 @@ class RunSpec:
     lateral_lines_mm : tuple of float
         If not empty, only lines at these lateral offsets from line 0 (mm) are kept, linearly interpolated
         across the track from the original lines when they do not fall on one (paper Fig. 17).
-    run_in_length : float
-        Smooth run-in before the first step, m.
+    run_in_length : float or None
+        Smooth run-in before the first step, m (None: the interaction's default,
+        ``run_setup.default_run_in_length``; the key holds the length used).
     wheel_source, wheel_label, wheel_digest : object, str, str or None
         A wheel set added to the rail set (combined roughness, ``simulate(wheel_roughness=...)``): as
         ``source``, ``set_label`` and ``set_digest``; None: a smooth wheel (the paper's case). Its label and
@@ -74,7 +76,7 @@ class RunSpec:
     length: float | None = None
     averaged_lines: tuple[int, ...] = ()
     lateral_lines_mm: tuple[float, ...] = ()
-    run_in_length: float = 1.0
+    run_in_length: float | None = None
     wheel_source: object = None
     wheel_label: str | None = None
     wheel_digest: str | None = None
@@ -103,10 +105,17 @@ class RunSpec:
             "length_m": None if self.length is None else float(self.length),
             "averaged_lines": list(self.averaged_lines),
             "lateral_lines_mm": list(self.lateral_lines_mm),
-            "run_in_length_m": float(self.run_in_length),
+            "run_in_length_m": float(self.used_run_in_length),
             "params": as_dict(self.params),
             "spectrum": {"skip_s": FORCE_SKIP, "band_range_hz": list(FORCE_BAND_RANGE)},
         }
+
+    @property
+    def used_run_in_length(self) -> float:
+        """The run-in the run uses, m (``run_in_length`` or the interaction's default at this speed)."""
+        from wheelrail.core.run_setup import default_run_in_length
+
+        return default_run_in_length(self.params) if self.run_in_length is None else float(self.run_in_length)
 
     @property
     def key(self) -> str:
