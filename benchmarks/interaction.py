@@ -15,6 +15,8 @@ import subprocess
 import sys
 import time
 
+from wheelrail.core.run_setup import default_run_in_length
+
 CHILD = r"""
 import json, resource, sys, time
 from wheelrail.core.interaction import prepare_run
@@ -66,8 +68,8 @@ def main() -> None:
     geometry = {name: value * 1e-3 for name, value in (("wheel_radius", args.wheel_radius_mm),
                                                        ("rail_crown_radius", args.rail_crown_radius_mm))
                 if value is not None}
-    print(f"corrugated rail, 100 km/h, length {args.length_m} (+1 m run-in), 1 mm elements, "
-          f"geometry {geometry or 'paper'}")
+    print(f"corrugated rail, 100 km/h, length {args.length_m} (+{default_run_in_length():.3f} m run-in), "
+          f"1 mm elements, geometry {geometry or 'paper'}")
     for model in args.models:
         start = time.perf_counter()
         done = subprocess.run([sys.executable, "-c", CHILD, model, str(args.length_m), json.dumps(geometry)],

@@ -34,7 +34,7 @@ class RunHeader:
     params : ModelParameters
         Every model parameter (SI): speed and element size are ``params.run``.
     run_in_length : float
-        Length run before step 0 on smooth surfaces (discarded), m.
+        Length run before step 0 on smooth surfaces (discarded), m; ``run_in_time`` is its duration, s.
     wheel_roughness_name : str or None
         The wheel set added to the rail set ``roughness_name`` (combined roughness), or None: one set.
     """
@@ -61,12 +61,18 @@ class RunHeader:
         """dt = Delta x / v, s."""
         return self.params.run.time_step
 
+    @property
+    def run_in_time(self) -> float:
+        """Duration of the run-in, s."""
+        return self.run_in_length / self.speed
+
     def to_dict(self) -> dict:
         """Plain, JSON-ready view (keys carry their unit where it is not obvious)."""
         values = {
             "model": self.model, "line": self.line, "roughness": self.roughness_name,
             "speed_m_per_s": self.speed, "element_size_m": self.element_size, "time_step_s": self.time_step,
-            "run_in_length_m": self.run_in_length, "parameters": as_dict(self.params),
+            "run_in_length_m": self.run_in_length, "run_in_time_s": self.run_in_time,
+            "parameters": as_dict(self.params),
         }
         if self.wheel_roughness_name is not None:
             values["wheel_roughness"] = self.wheel_roughness_name
@@ -170,6 +176,10 @@ class HeaderView:
     def run_in_length(self) -> float:
         return self.header.run_in_length
 
+    @property
+    def run_in_time(self) -> float:
+        return self.header.run_in_time
+
 
 @dataclass(frozen=True, eq=False)
 class RunResult(HeaderView):
@@ -179,8 +189,8 @@ class RunResult(HeaderView):
     ----------
     header : RunHeader
         What produced the run (model, line, roughness, every parameter); ``model``, ``line``, ``speed``,
-        ``element_size``, ``time_step``, ``roughness_name``, ``run_in_length`` and ``parameters`` (a plain
-        nested dict) read it.
+        ``element_size``, ``time_step``, ``roughness_name``, ``run_in_length``, ``run_in_time`` and
+        ``parameters`` (a plain nested dict) read it.
     time, x, force, xi_wheel, xi_rail, roughness, contact_length, contact_area : ndarray (steps,)
         As in :class:`StepState`.
     equivalent_roughness : ndarray (steps,)

@@ -4,7 +4,7 @@ A :class:`RunConfig` is the full configuration of a run (set, wheel set, line, m
 contact geometry); its :meth:`RunConfig.case` (everything but the model) keys every result the page shows, so
 that a plot, a contact filter or a download never mixes configurations. :func:`read_config` turns the page's
 fields (text as typed) into a config or one :class:`~wheelrail.core.errors.WheelrailError` a user can act on; the
-choices it allows come from core (:func:`wheelrail.core.run_setup.window_lines`,
+choices it allows come from core (:func:`wheelrail.core.run_setup.run_lines`,
 :func:`wheelrail.core.run_setup.usable_length`, the accepted ranges of :mod:`wheelrail.core.accepted`,
 :func:`wheelrail.core.spectra.shortest_spectrum_run`). :func:`page_message` words any WheelrailError, core's
 or the page's own, with the page's field labels and units (:data:`FIELD_NAMES`).
@@ -18,9 +18,9 @@ from dataclasses import dataclass, replace
 
 from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
 from wheelrail.core.errors import Name, WheelrailError
-from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
+from wheelrail.core.models import MODELS, REFERENCE_MODEL
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
-from wheelrail.core.run_setup import usable_length, window_lines
+from wheelrail.core.run_setup import run_lines, usable_length
 from wheelrail.core.spectra import shortest_spectrum_run
 
 __all__ = [
@@ -136,14 +136,11 @@ def models_of(model_choice: str) -> tuple[str, ...]:
 
 
 def offered_lines(roughness, model_choice: str, contact: ContactParameters, wheel=None) -> tuple[int, ...]:
-    """Lines the page offers: every line of the set (and of the wheel set, when one is added), or for a model
-    with a lateral window (``3d``, and ``compare``, which runs it) the lines whose window fits the set(s) for
-    this contact (preload and geometry: core's rule)."""
-    sets = (roughness,) if wheel is None else (roughness, wheel)
-    if any(model_entry(m).traits.lateral_window for m in models_of(model_choice)):
-        found = [set(window_lines(rough, ModelParameters(contact=contact))) for rough in sets]
-    else:
-        found = [{int(n) for n in rough.line_numbers} for rough in sets]
+    """Lines the page offers: the lines every model of the choice can run on for this contact (core's rule,
+    :func:`wheelrail.core.run_setup.run_lines`: for ``3d``, and ``compare``, which runs it, the lines whose
+    window fits the set), and with a wheel set the lines it has data at (paired by lateral position)."""
+    params = ModelParameters(contact=contact)
+    found = [set(run_lines(roughness, model, params, wheel)) for model in models_of(model_choice)]
     return tuple(sorted(set.intersection(*found)))
 
 
@@ -220,10 +217,13 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
                              f"mm wide across the rail: no line of {sets} leaves room for it; choose another "
                              "geometry or a one-line model")
     if line not in allowed:
-        if line in roughness.line_numbers and (wheel is None or line in wheel.line_numbers):
-            raise WheelrailError(f"Line {line} is too near the edge of {sets} for the 3d contact patch at "
-                                 f"{preload_kn:g} kN; choose {_span(allowed)}")
-        raise WheelrailError(f"Line {line} is not in {sets}; choose {_span(allowed)}")
+        if line not in roughness.line_numbers:
+            raise WheelrailError(f"Line {line} is not in {sets}; choose {_span(allowed)}")
+        if wheel is not None and line not in offered_lines(roughness, REFERENCE_MODEL, contact, wheel):
+            raise WheelrailError(f"Line {line} of {set_label} lies where {wheel_label} has no data across the "
+                                 f"rail (wheel and rail are paired by position); choose {_span(allowed)}")
+        raise WheelrailError(f"Line {line} is too near the edge of {sets} for the 3d contact patch at "
+                             f"{preload_kn:g} kN; choose {_span(allowed)}")
     length = _number(length_m, "length")
     shortest, longest = length_range(roughness, speed_kmh * KMH)
     if not shortest - 1e-9 <= length <= longest + 1e-9:

@@ -38,9 +38,11 @@ def add_parser(sub):
                         help="bundled roughness set name (see `wheelrail datasets`) or a CSV/NPZ file")
     parser.add_argument("--wheel-set", metavar="WHEEL_SET", default=None,
                         help="a wheel roughness set added to the rail set --set (combined roughness r_rail + "
-                             "r_wheel; its lines repeat with the circumference); default none")
+                             "r_wheel, paired by lateral position: the wheel set interpolated across onto the "
+                             "rail's lines; its lines repeat with the circumference); default none")
     add_geometry_options(parser)
-    parser.add_argument("--line", type=int, default=0, help="roughness line -M..M (3d: window centre), default 0")
+    parser.add_argument("--line", type=int, default=0,
+                        help="roughness line -M..M of --set (3d: window centre), default 0")
     parser.add_argument("--model", default="hertz", choices=MODELS, help="contact model (default hertz)")
     add_speed_option(parser)
     add_preload_option(parser)
@@ -179,6 +181,7 @@ def _summary(args, result, params, times) -> dict:
         "force_mean_n": float(force.mean()), "force_std_n": float(force.std()),
         "force_min_n": float(force.min()), "force_max_n": float(force.max()),
         "loss_of_contact_steps": result.loss_of_contact_steps, "run_in_length_m": result.run_in_length,
+        "run_in_time_s": result.run_in_time,
         "prepare_time_s": prepared - start, "run_time_s": finished - prepared,
         "steps_per_s": result.n_steps / max(finished - prepared, 1e-9),
         "band_centres_hz": centres, "levels_db": levels,
@@ -198,6 +201,8 @@ def _print_summary(args, result, summary, sink) -> None:
     print(f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
           f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN")
     print(f"  loss of contact: {result.loss_of_contact_steps} steps")
+    print(f"  run-in before the record (smooth, discarded): {result.run_in_length:.3f} m, "
+          f"{result.run_in_time:.3f} s")
     print(f"  {summary['steps_per_s']:.0f} steps/s (prepare {summary['prepare_time_s']:.2f} s, "
           f"run {summary['run_time_s']:.2f} s)")
     if "spectrum_note" in summary:

@@ -159,6 +159,7 @@ def parameters_document(
         **({"wheel_roughness": head["wheel_roughness"]} if "wheel_roughness" in head else {}),
         "loss_of_contact_steps": loss_of_contact_steps,
         "run_in_length_m": head.get("run_in_length_m"),
+        "run_in_time_s": head.get("run_in_time_s"),
         "record_every": decimation[0],
         "surface_every": decimation[1],
         "window_x_m": None if window is None else window[0],

@@ -15,6 +15,7 @@ import numpy as np
 from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters, WheelParameters
+from wheelrail.core.run_setup import run_lines
 from wheelrail.core.spectra import check_spectrum_length, contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
@@ -67,8 +68,13 @@ def _set_info(source, length: float | None, contact: ContactParameters, wheel: S
                              f"{rough.kind} set: give it as the wheel set, or run it without one")
     numbers = tuple(int(v) for v in rough.line_numbers)
     lines = tuple(v for v in PAPER_LINES if v in numbers)
-    if wheel is not None:
-        lines = tuple(v for v in lines if v in wheel.line_numbers)
+    if wheel is not None:  # the lines the wheel set has data at (paired by lateral position)
+        covered = run_lines(rough, "hertz", wheel=_loaded(wheel.source))
+        lines = tuple(v for v in lines if v in covered)
+        if not lines:
+            raise WheelrailError(f"the wheel set {wheel.label} has no data at the lateral positions of {label}'s "
+                                 f"lines {PAPER_LINES[0]}..{PAPER_LINES[-1]} (the wheel is paired with the rail by "
+                                 "position)")
     length = _run_length(rough, label, length, contact)
     return SetInfo(source=source, label=label, digest=roughness_digest(rough), kind=rough.kind,
                    line_numbers=numbers, lines=lines, length=length, wheel=wheel)
@@ -159,7 +165,8 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
         elliptic patch.
     wheel_set : bundled name, CSV/NPZ path or RoughnessSet, optional
         A wheel set added to every (rail) set in every run: the combined roughness r_rail + r_wheel
-        (``simulate(wheel_roughness=...)``); a line mean or lateral lines of a study are taken of both sets.
+        (``simulate(wheel_roughness=...)``, paired by lateral position); a line mean or lateral lines of a
+        study are taken of both sets at the rail set's lateral positions.
         Its label and digest are part of every run key. Default: a smooth wheel (the paper's case).
 
     Returns

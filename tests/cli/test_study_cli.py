@@ -7,8 +7,18 @@ import numpy as np
 import pytest
 
 from wheelrail.core.cli import main
+from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.roughness import load_roughness, write_csv
-from wheelrail.core.study import STUDIES, RunSpec, execute, plan_study, roughness_digest, run_study, study_roughness
+from wheelrail.core.study import (
+    STUDIES,
+    RunSpec,
+    execute,
+    plan_study,
+    roughness_digest,
+    run_study,
+    study_roughness,
+    study_wheel_roughness,
+)
 from wheelrail.core.study import execution as study_execution
 from wheelrail.core.study.store import cache_path
 
@@ -185,6 +195,29 @@ def test_study_inputs_averaged_and_reduced_lateral_resolution():
     odd, _ = study_roughness(RunSpec(source=wheel, set_label="w", set_digest=digest, model="3d",
                                      lateral_lines_mm=(-1, 1)))
     np.testing.assert_allclose(odd.heights[1], 0.5 * (wheel.line(0) + wheel.line(1)), atol=1e-15)
+
+
+def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
+    # corrugated-rail lines are 1 mm apart, sinter-wheel-1's 2 mm: the wheel under rail line n (y = n mm) is
+    # the wheel between its lines, not its own line n (at 2n mm). Linear interpolation across, as the runs do.
+    rail, wheel = load_roughness("corrugated-rail"), load_roughness("sinter-wheel-1")
+    own_wheel = ContactParameters(wheel_radius=0.4615)  # the bundled wheel sets are 2.900 m round
+    plan = plan_study("averaged-input", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1",
+                      contact=own_wheel)
+    averaged = next(spec for spec in plan.specs if spec.averaged_lines)
+    assert averaged.averaged_lines == tuple(range(-3, 4))
+    mean = study_wheel_roughness(averaged)
+    at_rail = [0.5 * (wheel.line(n // 2) + wheel.line(n // 2 + 1)) if n % 2 else wheel.line(n // 2)
+               for n in range(-3, 4)]
+    np.testing.assert_allclose(mean.line(0), np.mean(at_rail, axis=0), rtol=0, atol=1e-15)
+    # Fig. 17's lines at -8, -4, 0, 4, 8 mm of the rail: the wheel's lines -4, -2, 0, 2, 4 (2 mm apart)
+    fig17 = plan_study("lateral-resolution", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1",
+                       contact=own_wheel)
+    low = next(spec for spec in fig17.specs if spec.lateral_lines_mm == (-8, -4, 0, 4, 8))
+    taken = study_wheel_roughness(low)
+    np.testing.assert_allclose(taken.y, study_roughness(low)[0].y)
+    np.testing.assert_array_equal(taken.heights, wheel.heights[[wheel.row_of_line(n) for n in (-4, -2, 0, 2, 4)]])
+    assert rail.y[rail.centre_row] == 0.0 and wheel.y[wheel.centre_row] == 0.0
 
 
 def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):

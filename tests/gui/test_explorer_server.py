@@ -21,6 +21,7 @@ from wheelrail.core.run_setup import window_lines
 from wheelrail.core.spectra import force_spectrum
 from wheelrail.explorer.app import ExplorerApp
 from wheelrail.explorer.config import read_config
+from wheelrail.explorer.scene import SCENE_PER_MM
 
 
 def _free_port() -> int:
@@ -280,6 +281,22 @@ def test_a_run_with_a_wheel_set_names_both_sets(app):
     assert "hertz" not in app.store.entries(app.shown.case())
     assert app.plots.force.handle.title == ("Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m, wheel "
                                             "radius 461.5 mm")
+
+
+def test_the_drawn_wheel_surface_pairs_the_wheel_set_by_lateral_position(app):
+    # corrugated-rail lines 1 mm apart, sinter-wheel-1 2 mm: around line 1 the wheel drawn at the rail row
+    # y = 1 mm is the mean of the wheel's lines at 0 and 2 mm (core's linear interpolation), not its line 1
+    rail, wheel = load_roughness("corrugated-rail"), load_roughness("sinter-wheel-1")
+    contact = ContactParameters()
+    position = 0.5
+    _, drawn = app.scene._surface_vertices(rail, position, 1, contact, wheel)
+    _, smooth = app.scene._surface_vertices(rail, position, 1, contact, wheel.with_heights(0 * wheel.heights))
+    n_x = app.scene._surface_x.size
+    rows = (drawn[:, 2] - smooth[:, 2]).reshape(-1, n_x)  # the wheel's heights as drawn (scene units)
+    y_rows = smooth[::n_x, 1]
+    centre = int(np.argmin(np.abs(y_rows)))  # the rail row of line 1 (y = 1 mm)
+    expected = app.scene._heights(wheel, [wheel.row_of_line(0), wheel.row_of_line(1)], position).mean(axis=0)
+    np.testing.assert_allclose(rows[centre], expected * SCENE_PER_MM, rtol=1e-5, atol=1e-7)
 
 
 def test_changing_the_geometry_hides_the_old_results(app):

@@ -11,7 +11,8 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.interaction import prepare_run, simulate
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.results import RunHeader, RunResult
-from wheelrail.core.roughness import load_roughness
+from wheelrail.core.roughness import RoughnessSet, lines_along_track, load_roughness, to_model_grid
+from wheelrail.core.run_setup import run_lines, window_lines
 from wheelrail.core.spectra import force_spectrum
 
 RAIL = load_roughness("corrugated-rail")
@@ -103,15 +104,116 @@ def test_header_and_files_name_both_sets(tmp_path):
     assert "wheel_roughness" not in old and RunHeader.from_dict(old).wheel_roughness_name is None
 
 
-def test_3d_window_keeps_the_offsets_both_sets_have():
-    # rail data +-9 mm, wheel data +-24 mm: the window is the rail's 19 rows, centred on line 0 of both
-    run = prepare_run("corrugated-rail", wheel_roughness="sinter-wheel-1", model="3d", line=1, length=0.01,
+WHEEL_ROUND = 2.45  # m, the circumference of _across_sets' wheel set
+
+
+def _across_sets():
+    """A rail set of 19 lines 1 mm apart (small random heights) and a wheel set of 25 lines 2 mm apart whose
+    amplitude grows across the tread: r_W(x, y) = A(y) sin(2 pi x / 50 mm), A(y) = 2 um (1 + y / 25 mm), 0.08
+    to 3.92 um over +-24 mm. A is linear in y, so the wheel between two of its lines is known exactly. The wheel
+    set is 2.45 m round, 49 wavelengths: the paper's 390 mm wheel (2 pi R = 2.4504 m, within the 1 % a wheel
+    set must keep to its wheel's circumference, accepted.check_wheel_circumference)."""
+    rng = np.random.default_rng(7)
+    rail = RoughnessSet(heights=0.3e-6 * rng.standard_normal((19, 1501)), dx=1e-3, y=np.arange(-9, 10) * 1e-3,
+                        kind="rail", description="random rail")
+    wheel_y = np.arange(-12, 13) * 2e-3
+    wheel_x = np.arange(4900) * 0.5e-3  # 2.45 m round: 49 wavelengths
+    heights = _amplitude(wheel_y)[:, None] * np.sin(2 * np.pi * wheel_x / 0.05)[None, :]
+    wheel = RoughnessSet(heights=heights, dx=0.5e-3, y=wheel_y, kind="wheel", description="amplitude across")
+    return rail, wheel
+
+
+def _amplitude(y):
+    return 2e-6 * (1 + np.asarray(y) / 25e-3)
+
+
+def _wheel_at(y, x):
+    """The wheel set of _across_sets at lateral position y (m) under wheel positions x (m) along the rail."""
+    return _amplitude(y) * np.sin(2 * np.pi * np.mod(x, WHEEL_ROUND) / 0.05)
+
+
+@pytest.mark.parametrize("model", ["hertz", "2d"])
+@pytest.mark.parametrize("line", [2, -3])
+def test_one_line_models_pair_the_wheel_by_lateral_position(model, line):
+    # Rail line n lies at y = n mm; the wheel set's line n at 2n mm. The surfaces that touch are the rail at
+    # y = n mm and the wheel at y = n mm (between two wheel lines for odd n), so the roughness the model sees
+    # is r_rail(line n) + A(n mm) sin(...); pairing by number would give A(2n mm), 8 % (line 2) to 14 %
+    # (line -3) off. Linear interpolation of a linear A is exact, and the wheel's samples fall on the model
+    # grid, so the tolerance is round-off (1e-18 m on 4 um).
+    rail, wheel = _across_sets()
+    result = simulate(rail, wheel_roughness=wheel, model=model, line=line, length=1.0)
+    y_line = rail.y[rail.row_of_line(line)]
+    expected = np.interp(result.x, rail.x, rail.line(line)) + _wheel_at(y_line, result.x)
+    np.testing.assert_allclose(result.roughness, expected, rtol=0, atol=1e-18)
+    # and the force is that of one rail set holding the combined surface by hand (the run sees nothing else)
+    combined = rail.x
+    by_hand = rail.heights.copy()
+    by_hand[rail.row_of_line(line)] += _wheel_at(y_line, combined)
+    alone = simulate(rail.with_heights(by_hand), model=model, line=line, length=1.0)
+    np.testing.assert_allclose(result.force, alone.force, rtol=1e-12)
+
+
+def test_3d_window_pairs_the_wheel_by_lateral_position():
+    # Every row of the 3D window: the rail row at y_line + y' plus the wheel at that same y (y' the row's
+    # offset). Line 1 (y = 1 mm) falls between the wheel's lines at 0 and 2 mm; number pairing would centre
+    # the wheel on its line 1 at 2 mm. Exact as above.
+    rail, wheel = _across_sets()
+    run = prepare_run(rail, wheel_roughness=wheel, model="3d", line=1, length=0.05)
+    alone = prepare_run(rail, model="3d", line=1, length=0.05)
+    np.testing.assert_array_equal(run.window_y, alone.window_y)
+    x = np.arange(run.track.lines.shape[1]) * run.dx
+    expected = _wheel_at((1e-3 + run.window_y)[:, None], x[None, :])
+    np.testing.assert_allclose(run.track.lines - alone.track.lines, expected, rtol=0, atol=1e-18)
+
+
+def test_bundled_sets_pair_by_position():
+    # corrugated-rail (1 mm lines) + sinter-wheel-1 (2 mm lines), line 2: the wheel line under the rail's
+    # y = 2 mm is the wheel set's line 1, not its line 2 (at 4 mm). On the wheel the bundled set goes round
+    # (BUNDLED, R = 461.5 mm).
+    run = prepare_run("corrugated-rail", wheel_roughness="sinter-wheel-1", model="hertz", line=2, length=0.5,
                       params=BUNDLED)
-    assert len(run.window_y) == 19 and run.track.centre_row == int(np.argmin(np.abs(run.window_y)))
-    rail_only = prepare_run("corrugated-rail", model="3d", line=1, length=0.01, params=BUNDLED)
-    wheel_rows = prepare_run(_scaled(BUNDLED_WHEEL, 1.0), model="3d", line=1, length=0.01, params=BUNDLED)
-    np.testing.assert_array_equal(run.window_y, rail_only.window_y)
-    # the wheel's rows at those offsets around its own line 1 (whole window rows of the wheel-alone run)
-    keep = np.isin(np.round(wheel_rows.window_y * 1e3), np.round(run.window_y * 1e3))
-    np.testing.assert_allclose(run.track.lines - rail_only.track.lines,
-                               wheel_rows.track.lines[keep][:, :run.track.lines.shape[1]], atol=1e-18)
+    alone = prepare_run("corrugated-rail", model="hertz", line=2, length=0.5, params=BUNDLED)
+    wheel = BUNDLED_WHEEL
+    n = run.track.lines.shape[1]
+    expected = lines_along_track(to_model_grid(wheel, run.dx), [1], (n - 1) * run.dx, run.dx)[0]
+    np.testing.assert_allclose(run.track.lines[0] - alone.track.lines[0], expected, rtol=0, atol=1e-18)
+    # 3d, line -1 (y = -1 mm, between the wheel's lines at -2 and 0 mm): the window's rows are the wheel
+    # interpolated across at the rows' own positions
+    run3 = prepare_run("corrugated-rail", wheel_roughness="sinter-wheel-1", model="3d", line=-1, length=0.02,
+                       params=BUNDLED)
+    alone3 = prepare_run("corrugated-rail", model="3d", line=-1, length=0.02, params=BUNDLED)
+    grid = to_model_grid(wheel, run3.dx, run3.dx)  # 1 mm across: the wheel at every millimetre
+    lines = [grid.line_of_row(int(np.argmin(np.abs(grid.y - y)))) for y in -1e-3 + run3.window_y]
+    n = run3.track.lines.shape[1]
+    expected = lines_along_track(grid, lines, (n - 1) * run3.dx, run3.dx)
+    np.testing.assert_allclose(run3.track.lines - alone3.track.lines, expected, rtol=0, atol=1e-15)
+
+
+def test_a_wheel_set_that_does_not_cover_the_line_is_refused():
+    rail, wheel = _across_sets()
+    narrow = wheel.with_heights(wheel.heights[10:15], y=wheel.y[10:15])  # -4..4 mm
+    with pytest.raises(WheelrailError, match=r"line 5 of the rail set lies at y = 5 mm.*-4 \.\. 4 mm") as info:
+        prepare_run(rail, wheel_roughness=narrow, model="hertz", line=5, length=0.1)
+    assert "\n" not in str(info.value)
+    assert "lines -4..4" in str(info.value)
+    # a 3d patch needs the wheel across its width (b + 1 element = 7 mm each side at 65 kN): none fits +-4 mm
+    with pytest.raises(WheelrailError, match="wheel roughness data") as info:
+        prepare_run(rail, wheel_roughness=narrow, model="3d", line=0, length=0.1)
+    assert "\n" not in str(info.value)
+    # a wheel set of one line covers its own position only
+    single = wheel.with_heights(wheel.heights[12:13], y=wheel.y[12:13])
+    prepare_run(rail, wheel_roughness=single, model="hertz", line=0, length=0.1)
+    with pytest.raises(WheelrailError, match="y = 1 mm"):
+        prepare_run(rail, wheel_roughness=single, model="hertz", line=1, length=0.1)
+
+
+def test_run_lines_follow_the_wheel_sets_coverage():
+    rail, wheel = _across_sets()
+    narrow = wheel.with_heights(wheel.heights[10:15], y=wheel.y[10:15])  # -4..4 mm
+    assert run_lines(rail, "hertz") == tuple(range(-9, 10))
+    assert run_lines(rail, "hertz", wheel=narrow) == tuple(range(-4, 5))
+    assert run_lines(rail, "3d", wheel=narrow) == ()
+    assert run_lines(rail, "3d", wheel=wheel) == run_lines(rail, "3d") == window_lines(rail)
+    # every line offered runs
+    for line in run_lines(rail, "hertz", wheel=narrow):
+        prepare_run(rail, wheel_roughness=narrow, model="hertz", line=line, length=0.01)
