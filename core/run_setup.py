@@ -195,14 +195,15 @@ def _window_rows(grid, y_line: float, line: int, half_width: float) -> tuple[lis
     return [grid.line_of_row(int(r)) for r in rows], window_y, centre
 
 
-def _allowed(lines) -> str:
-    """Lines in words: ``lines -2..2``, ``lines -3, 1, 4``, ``line 0`` or ``no line``."""
+def _line_error(problem: str, line: int, lines, reason: str | None = None) -> WheelrailError:
+    """One WheelrailError blaming the line ``line`` (key ``"line"``): ``problem`` in words that name no input,
+    the lines that can be run as its accepted range (``-2 to 2``), or in words when they are not contiguous."""
     lines = list(lines)
-    if len(lines) < 2:
-        return f"line {lines[0]}" if lines else "no line"
-    if lines[-1] - lines[0] == len(lines) - 1:
-        return f"lines {lines[0]}..{lines[-1]}"
-    return f"lines {', '.join(map(str, lines))}"
+    fields = {"parameter": "line", "value": int(line), "reason": reason}
+    if lines and lines[-1] - lines[0] == len(lines) - 1:
+        return WheelrailError(problem, minimum=lines[0], maximum=lines[-1], **fields)
+    words = f"only lines {', '.join(map(str, lines))} can be run" if lines else "no line can be run"
+    return WheelrailError(problem, advice=words, **fields)
 
 
 def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters):
@@ -211,7 +212,7 @@ def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters):
 
     numbers = list(rough.line_numbers)
     if line not in numbers:
-        raise WheelrailError(f"line {line} is not in the roughness set (lines {min(numbers)}..{max(numbers)})")
+        raise _line_error("not in the roughness set", line, sorted(numbers))
     dx = params.run.element_size
     y_line = float(rough.y[rough.row_of_line(line)])
     if not traits.lateral_window:
@@ -219,11 +220,10 @@ def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters):
     grid = to_model_grid(rough, dx, dx)
     usable = _window_lines_on(rough, grid, params)
     if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):
-        raise WheelrailError(
-            f"3d: line {line} is too close to the side of the roughness data: the contact patch needs "
-            f"{_patch_room(params, dx) * 1e3:g} mm of data on each side of its line; this set allows "
-            f"{_allowed(usable)} at {params.contact.preload / 1e3:g} kN"
-        )
+        raise _line_error(
+            f"too close to the side of the roughness data for 3d: the contact patch at "
+            f"{params.contact.preload / 1e3:g} kN needs {_patch_room(params, dx) * 1e3:g} mm of data on each side "
+            "of its line", line, usable)
     return (grid, *_window_rows(grid, y_line, line, window_half_elements(params)[1] * dx))
 
 
@@ -265,21 +265,16 @@ def _wheel_across(wheel, rough, traits: ModelTraits, line: int, params: ModelPar
     y_line = float(rough.y[rough.row_of_line(line)])
     extent = lateral_extent_mm(wheel)
 
-    def allowed() -> str:
-        return _allowed(_run_lines(rough, traits, params, wheel))
-
+    paired = "the wheel set is paired with the rail set by lateral position"
     if not traits.lateral_window and not covers(wheel, y_line, y_line):
-        raise WheelrailError(
-            f"line {line} of the rail set lies at y = {y_line * 1e3:g} mm, where the wheel set has no data "
-            f"({extent}): the wheel is paired with the rail by lateral position; choose {allowed()}"
-        )
+        raise _line_error(f"the rail set's line lies at y = {y_line * 1e3:g} mm, where the wheel set has no data "
+                          f"({extent})", line, _run_lines(rough, traits, params, wheel), paired)
     need = _patch_room(params, dx)
     if traits.lateral_window and not covers(wheel, y_line - need, y_line + need):
-        raise WheelrailError(
-            f"3d: line {line} of the rail set (y = {y_line * 1e3:g} mm) is too close to the side of "
-            f"the wheel roughness data ({extent}): the contact patch needs {need * 1e3:g} mm of the wheel's data "
-            f"on each side of its line; these sets allow {allowed()} at {params.contact.preload / 1e3:g} kN"
-        )
+        raise _line_error(
+            f"the rail set's line (y = {y_line * 1e3:g} mm) is too close to the side of the wheel roughness data "
+            f"({extent}) for 3d: the contact patch at {params.contact.preload / 1e3:g} kN needs {need * 1e3:g} mm "
+            "of the wheel's data on each side of its line", line, _run_lines(rough, traits, params, wheel), paired)
     y_rows = np.array([grid.y[grid.row_of_line(int(n))] for n in wanted])
     keep = np.flatnonzero([covers(wheel, y, y) for y in y_rows])
     return at_lateral_positions(to_model_grid(wheel, dx), y_rows[keep]), keep

@@ -69,12 +69,16 @@ def _set_info(source, length: float | None, contact: ContactParameters, wheel: S
     numbers = tuple(int(v) for v in rough.line_numbers)
     lines = tuple(v for v in PAPER_LINES if v in numbers)
     if wheel is not None:  # the lines the wheel set has data at (paired by lateral position)
-        covered = run_lines(rough, "hertz", wheel=_loaded(wheel.source))
+        from wheelrail.core.roughness import lateral_extent_mm
+
+        wheel_rough = _loaded(wheel.source)
+        covered = run_lines(rough, "hertz", wheel=wheel_rough)
         lines = tuple(v for v in lines if v in covered)
         if not lines:
-            raise WheelrailError(f"the wheel set {wheel.label} has no data at the lateral positions of {label}'s "
-                                 f"lines {PAPER_LINES[0]}..{PAPER_LINES[-1]} (the wheel is paired with the rail by "
-                                 "position)")
+            raise WheelrailError(f"no data at the lateral positions of {label}'s lines {PAPER_LINES[0]} to "
+                                 f"{PAPER_LINES[-1]}; its data span {lateral_extent_mm(wheel_rough)}",
+                                 parameter="wheel_set", value=wheel.label, argument="wheel_set",
+                                 reason="the wheel set is paired with the rail set by lateral position")
     length = _run_length(rough, label, length, contact)
     return SetInfo(source=source, label=label, digest=roughness_digest(rough), kind=rough.kind,
                    line_numbers=numbers, lines=lines, length=length, wheel=wheel)

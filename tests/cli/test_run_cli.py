@@ -72,7 +72,7 @@ def test_human_output(capsys):
     ("argv", "fragment"),
     [
         (["run", "--set", "no-such-set"], "unknown roughness set"),
-        (["run", "--set", "corrugated-rail", "--line", "30"], "line 30 is not in the roughness set"),
+        (["run", "--set", "corrugated-rail", "--line", "30"], "--line 30: not in the roughness set; accepted -9 to 9"),
         (["run", "--set", "corrugated-rail", "--model", "4d"], "invalid choice: '4d'"),
         (["run", "--set", "corrugated-rail", "--speed-kmh", "0"], "--speed-kmh 0 is outside the accepted 5 to 400"),
         (["run", "--set", "corrugated-rail", "--preload-kn", "-5"], "--preload-kn -5 is outside the accepted 1 to 500"),

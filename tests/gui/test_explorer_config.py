@@ -67,3 +67,23 @@ def test_the_wheel_sets_own_radius_runs():
     config = read_config(RAIL, "corrugated-rail", **FIELDS, geometry=read_geometry(wheel_radius_mm="461.5"),
                          wheel=WHEEL, wheel_label="sinter-wheel-1")
     assert config.wheel_set_label == "sinter-wheel-1" and config.contact().radius_along == 0.4615
+
+
+def test_a_line_the_wheel_set_does_not_cover_is_worded_by_the_page():
+    # wheel and rail are paired by lateral position (core's run_lines): a wheel set narrowed to its lines -2..2
+    # (-4 .. 4 mm) covers the rail's lines -4..4 (1 mm apart), and the page offers and names only those
+    from wheelrail.core.parameters import ContactParameters
+    from wheelrail.explorer.config import offered_lines
+
+    narrow = WHEEL.with_heights(WHEEL.heights[[WHEEL.row_of_line(n) for n in range(-2, 3)]],
+                                y=WHEEL.y[[WHEEL.row_of_line(n) for n in range(-2, 3)]])
+    own = read_geometry(wheel_radius_mm="461.5")
+    assert offered_lines(RAIL, "hertz", ContactParameters(wheel_radius=0.4615), narrow) == tuple(range(-4, 5))
+    with pytest.raises(WheelrailError) as info:
+        read_config(RAIL, "corrugated-rail", **{**FIELDS, "line": "5"}, geometry=own, wheel=narrow,
+                    wheel_label="narrow-wheel")
+    message = page_message(info.value)
+    assert message == ("Line 5 of corrugated-rail lies where narrow-wheel has no data across the rail (wheel and "
+                       "rail are paired by position); choose a line from -4 to 4")
+    assert read_config(RAIL, "corrugated-rail", **{**FIELDS, "line": "4"}, geometry=own, wheel=narrow,
+                       wheel_label="narrow-wheel").line == 4

@@ -7,6 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from wheelrail.core.commands._common import CLI_NAMES
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.interaction import prepare_run, simulate
 from wheelrail.core.parameters import ContactParameters, ModelParameters
@@ -14,6 +15,7 @@ from wheelrail.core.results import RunHeader, RunResult
 from wheelrail.core.roughness import RoughnessSet, lines_along_track, load_roughness, to_model_grid
 from wheelrail.core.run_setup import run_lines, window_lines
 from wheelrail.core.spectra import force_spectrum
+from wheelrail.explorer.config import page_message
 
 RAIL = load_roughness("corrugated-rail")
 BUNDLED_WHEEL = load_roughness("sinter-wheel-1")  # 2.900 m round: the roughness of a 461.5 mm wheel
@@ -192,14 +194,20 @@ def test_bundled_sets_pair_by_position():
 def test_a_wheel_set_that_does_not_cover_the_line_is_refused():
     rail, wheel = _across_sets()
     narrow = wheel.with_heights(wheel.heights[10:15], y=wheel.y[10:15])  # -4..4 mm
-    with pytest.raises(WheelrailError, match=r"line 5 of the rail set lies at y = 5 mm.*-4 \.\. 4 mm") as info:
+    with pytest.raises(WheelrailError, match=r"line 5: the rail set's line lies at y = 5 mm.*-4 \.\. 4 mm") as info:
         prepare_run(rail, wheel_roughness=narrow, model="hertz", line=5, length=0.1)
     assert "\n" not in str(info.value)
-    assert "lines -4..4" in str(info.value)
+    # as data (the line, and the lines the wheel set covers as its range), worded by each front end
+    error = info.value
+    assert (error.parameter, error.value, error.minimum, error.maximum) == ("line", 5, -4, 4)
+    assert "; accepted -4 to 4 (the wheel set is paired with the rail set by lateral position)" in str(error)
+    assert error.render(CLI_NAMES).startswith("--line 5: the rail set's line lies at y = 5 mm")
+    assert page_message(error).startswith("Line 5: the rail set's line lies at y = 5 mm")
     # a 3d patch needs the wheel across its width (b + 1 element = 7 mm each side at 65 kN): none fits +-4 mm
     with pytest.raises(WheelrailError, match="wheel roughness data") as info:
         prepare_run(rail, wheel_roughness=narrow, model="3d", line=0, length=0.1)
-    assert "\n" not in str(info.value)
+    assert "\n" not in str(info.value) and info.value.parameter == "line"
+    assert str(info.value).endswith("; no line can be run")
     # a wheel set of one line covers its own position only
     single = wheel.with_heights(wheel.heights[12:13], y=wheel.y[12:13])
     prepare_run(rail, wheel_roughness=single, model="hertz", line=0, length=0.1)

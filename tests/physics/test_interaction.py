@@ -199,7 +199,7 @@ def test_streamed_states_equal_the_result():
     ("kwargs", "fragment"),
     [
         ({"model": "4d"}, "unknown contact model"),
-        ({"line": 40}, "line 40 is not in the roughness set"),
+        ({"line": 40}, "line 40: not in the roughness set; accepted -9 to 9"),
         ({"length": 100.0}, "length 100 m: with the 20 mm window margins at each end the run needs more"),
         ({"length": -1.0}, "run length must be positive"),
         ({"run_in_length": float("nan")}, "run_in_length"),
