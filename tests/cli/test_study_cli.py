@@ -218,6 +218,18 @@ def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
     np.testing.assert_allclose(taken.y, study_roughness(low)[0].y)
     np.testing.assert_array_equal(taken.heights, wheel.heights[[wheel.row_of_line(n) for n in (-4, -2, 0, 2, 4)]])
     assert rail.y[rail.centre_row] == 0.0 and wheel.y[wheel.centre_row] == 0.0
+    # a wheel set with no data under the paper's lines -3..3 (its lines 8..10: 16 .. 20 mm) blames the wheel set
+    from wheelrail.core.commands._common import CLI_NAMES
+    from wheelrail.core.errors import WheelrailError
+
+    rows = [wheel.row_of_line(n) for n in (8, 9, 10)]
+    aside = wheel.with_heights(wheel.heights[rows], y=wheel.y[rows])
+    with pytest.raises(WheelrailError) as info:
+        plan_study("speeds", ["corrugated-rail"], length=0.6, wheel_set=aside, contact=own_wheel)
+    assert info.value.parameter == "wheel_set"
+    assert info.value.render(CLI_NAMES).startswith(
+        "--wheel-set SYNTHETIC-wheel-roughness-sinter-wheel: no data at the lateral positions of corrugated-rail's "
+        "lines -3 to 3; its data span 16 .. 20 mm (the wheel set is paired with the rail set by lateral position)")
 
 
 def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
