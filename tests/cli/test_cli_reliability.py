@@ -1,4 +1,4 @@
-"""Issue 13 through the command line: outputs never overwrite inputs, sizes bounded before any work,
+"""Reliability through the command line: outputs never overwrite inputs, sizes bounded before any work,
 clean Ctrl-C, explorer address checks, track/roughness/spectra file handling, lazy start-up."""
 
 import json
@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import COMMANDS, main
+from wheelrail.cli import EXPLORER_COMMANDS, main  # the `wheelrail` command: core's commands and `explore`
+from wheelrail.core.cli import COMMANDS
 
 SAMPLE = Path(__file__).resolve().parents[2] / "sample_data" / "corrugated-rail.npz"
 
@@ -201,7 +202,8 @@ def test_help_imports_no_command_module_and_lists_each_modules_help():
     import argparse
     import importlib
 
-    for name, help_text in COMMANDS.items():
+    modules = {name: (text, f"wheelrail.core.commands.{name}") for name, text in COMMANDS.items()}
+    for name, (help_text, module) in {**modules, **EXPLORER_COMMANDS}.items():
         sub = argparse.ArgumentParser().add_subparsers()
-        importlib.import_module(f"wheelrail.core.commands.{name}").add_parser(sub)
+        importlib.import_module(module).add_parser(sub)
         assert sub._choices_actions[0].help == help_text, name

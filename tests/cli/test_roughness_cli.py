@@ -123,7 +123,7 @@ def test_module_entry_point_reports_one_line(tmp_path):
     # the real console path: a subprocess, stderr one line, non-zero exit
     missing = tmp_path / "absent.npz"
     proc = subprocess.run(
-        [sys.executable, "-m", "wheelrail.core.cli", "roughness", "--set", str(missing)],
+        [sys.executable, "-m", "wheelrail", "roughness", "--set", str(missing)],
         capture_output=True,
         text=True,
         timeout=120,

@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
+from wheelrail.cli import main
 
 
 def test_help_lists_commands(capsys):
