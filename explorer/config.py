@@ -15,7 +15,7 @@ import re
 from dataclasses import dataclass, replace
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
+from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import (
     KMH,
     MAX_SPEED_KMH,
@@ -33,9 +33,12 @@ __all__ = [
 ]
 
 COMPARE = "compare"
-# the reference first (every contact filter needs it), then the others from the cheapest to the costliest
-COMPARE_ORDER = (REFERENCE_MODEL, *(m for m in reversed(MODELS) if m != REFERENCE_MODEL))
-MODEL_CHOICES = (*MODELS, COMPARE)
+# the registry's models, installed plug-ins included (read once, when the explorer starts)
+MODEL_CHOICES = (*model_names(), COMPARE)
+# the reference first (every contact filter needs it), then the others: compiled laws before per-step ones
+# (the built-in ones from the cheapest to the costliest)
+COMPARE_ORDER = (REFERENCE_MODEL, *sorted((m for m in reversed(MODEL_CHOICES[:-1]) if m != REFERENCE_MODEL),
+                                          key=lambda m: not model_entry(m).traits.compiled))
 PRELOAD_RANGE_KN = (1.0, 500.0)  # wheel loads the page accepts (paper: 65 kN)
 MAX_WHEEL_RUN_M = 100.0  # wheel data repeat around the circumference: longest run offered on a wheel set
 NO_WHEEL_SET = "none"  # the wheel-set picker's choice for a smooth wheel (one rough surface, the paper's case)

@@ -18,7 +18,7 @@ from wheelrail.core.commands._common import (
     writable_output,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import MODELS
+from wheelrail.core.models import model_names
 from wheelrail.core.parameters import ContactParameters
 
 
@@ -39,7 +39,8 @@ def add_parser(sub):
                              "r_wheel; its lines repeat with the circumference); default none")
     add_geometry_options(parser)
     parser.add_argument("--line", type=int, default=0, help="roughness line -M..M (3d: window centre), default 0")
-    parser.add_argument("--model", default="hertz", choices=MODELS, help="contact model (default hertz)")
+    parser.add_argument("--model", default="hertz", choices=model_names(),
+                        help="contact model (default hertz; installed plug-ins included)")
     parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
     preload_kn = ContactParameters().preload / 1e3
     parser.add_argument("--preload-kn", type=float, default=preload_kn,
@@ -66,7 +67,7 @@ class _StopOnCtrlC:
     """Ctrl-C during the run asks it to stop between steps, then raises KeyboardInterrupt.
 
     The default handler raises KeyboardInterrupt wherever the interpreter is, also inside numba-compiled
-    code calling back into Python, which turns it into a ``SystemError`` (issue 13: `3d` runs reported
+    code calling back into Python, which turns it into a ``SystemError`` (`3d` runs reported
     `internal error: SystemError: CPUDispatcher(...)`). A second Ctrl-C interrupts at once.
     """
 
