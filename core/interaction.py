@@ -395,6 +395,7 @@ def prepare_run(
                      keep_pressure)
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     history = history_arrays(track, params, run_in_length, track_numerics)
+    _scatter_range(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
     header = RunHeader(model=entry.name, line=line, roughness_name=name, params=params,
                        run_in_length=history.n_run_in * dx, wheel_roughness_name=wheel_name)
     contact = entry.create()

@@ -310,8 +310,10 @@ def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
 
 def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run_in_length: float,
                    track_numerics: TrackNumerics | None = None) -> History:
-    """Step 3: Green's functions and wheel system, positions in the bay, the preload's history (eqs. 1-2)."""
-    from wheelrail.core.interaction import _scatter_range
+    """Step 3: Green's functions and wheel system, positions in the bay, the preload's force history (eqs. 1-2).
+
+    The rail displacement that history causes (``acc``) is left at zero: the interaction loop, which owns the
+    compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``)."""
     from wheelrail.core.track import moving_green_functions
     from wheelrail.core.wheel import wheel_discrete_system
 
@@ -337,7 +339,6 @@ def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run
         phi=phi, gamma0=gamma0, gamma1=gamma1, state=np.zeros(4), ramp=_fade_in(n_run_in, n_total),
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
     )
-    _scatter_range(0, n_hist, history.track)  # the preload's history
     return history
 
 

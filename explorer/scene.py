@@ -168,7 +168,7 @@ class PatchScene:
                           for n in rough.line_numbers[rows]]
             wheel_heights = np.where(np.asarray(wheel_rows)[:, None] >= 0,
                                      self._heights(wheel_set, np.maximum(wheel_rows, 0), position), 0.0)
-        crown_mm = (contact.radius if contact.rail_crown_radius is None else contact.rail_crown_radius) * 1e3
+        crown_mm = contact.crown_radius * 1e3
         tread_mm = contact.wheel_transverse_radius * 1e3
         # the rail head curves across (y, its crown radius), the wheel along (x, its rolling radius) and across
         # (its tread radius: flat for a cylindrical tread, hollow for a concave one)

@@ -1,4 +1,4 @@
-"""``wheelrail filters`` (issue 14) and the ISO 3095 limit of ``wheelrail roughness``."""
+"""``wheelrail filters`` and the ISO 3095 limit of ``wheelrail roughness``."""
 
 import csv
 import json
@@ -33,7 +33,7 @@ def test_filters_json_layout(capsys):
 
 
 def test_filters_on_an_elliptic_patch(capsys):
-    """A 0.46 m wheel on a 0.30 m crown (issue 16): Hertz's ellipse, a = 6.20 mm along the rail and b = 4.67 mm
+    """A 0.46 m wheel on a 0.30 m crown: Hertz's ellipse, a = 6.20 mm along the rail and b = 4.67 mm
     across (Johnson 4.2); the analytic filters follow a, the CNOSSOS column stays the table's for D = 920 mm."""
     code, out, err = _run(capsys, "filters", "--json", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300")
     assert code == 0 and err == ""

@@ -286,7 +286,7 @@ def test_explorer_does_not_load_the_study_package():
 
 
 def test_study_on_an_elliptic_patch(tmp_path, capsys):
-    """Issue 16: the study's runs take the contact geometry; its summary carries it; the reference filters
+    """The study's runs take the contact geometry; its summary carries it; the reference filters
     follow Hertz's semi-axis a along the rail (6.20 mm for a 0.46 m wheel on a 0.30 m crown)."""
     argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(tmp_path), "--length-m", "0.6", "--json",
             "--workers", "1", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300"]
@@ -305,7 +305,7 @@ def test_study_on_an_elliptic_patch(tmp_path, capsys):
 
 
 def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_path, capsys):
-    """Issue 16: `wheelrail study --wheel-set`: every run adds the wheel set (its label and digest in the run key,
+    """`wheelrail study --wheel-set`: every run adds the wheel set (its label and digest in the run key,
     so cached runs of the rail alone are never reused), the summary names it, a run's spectrum is that of
     simulate(..., wheel_roughness=...)."""
     from wheelrail.core.interaction import simulate

@@ -1,4 +1,4 @@
-"""Wheel and rail roughness together (issue 16): r = r_rail + r_wheel on the model grid."""
+"""Wheel and rail roughness together: r = r_rail + r_wheel on the model grid."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Real contact geometry (issue 16): elliptic patches from the wheel and rail radii in all five models."""
+"""Real contact geometry: elliptic patches from the wheel and rail radii in all five models."""
 
 from __future__ import annotations
 

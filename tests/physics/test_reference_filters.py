@@ -1,4 +1,4 @@
-"""Reference contact filters (issue 14): CNOSSOS-EU A3, the analytic filters, the ISO 3095 limit.
+"""Reference contact filters: CNOSSOS-EU A3, the analytic filters, the ISO 3095 limit.
 
 Validation against the tables as a second public source prints them (tests/data/cnossos_2021_rail.csv),
 against closed forms, against brute-force averaging of synthetic roughness over the contact patch, and

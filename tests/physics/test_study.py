@@ -107,13 +107,13 @@ def test_2d_filter_dips_at_eq19_and_3d_dips_are_shallower(white_set, tmp_path):
     # The 3D patch also averages the laterally uncorrelated lines of this roughness, at any wavelength. Below
     # 350 Hz the sleeper-passing harmonics (the same in every model) outweigh this 0.3 um roughness and the
     # 3D filter reads 0 within 0.5 dB (measured < 0.1 dB); in the 400 Hz band the roughness response leads
-    # and the 3D force is lower (measured -3.1 dB). Before issue 13 item 12 this was hidden: linear
+    # and the 3D force is lower (measured -3.1 dB). Before the bay refinement this was hidden: linear
     # interpolation between the excitation positions put spurious sleeper-passing tones of 26-29 dB re 1 N
     # into the 400-630 Hz bands of every model (15 to -17 dB once refined).
     three_d = filters.columns["3d_db"]
     assert np.nanmax(np.abs(three_d[centres < 350])) < 0.5
     assert np.nanmax(three_d[low]) < 0.5
-    # the reference filters for the runs' load and wheel sit beside the dynamic ones (issue 14), the same
+    # the reference filters for the runs' load and wheel sit beside the dynamic ones, the same
     # values as wheelrail.core.reference_filters gives for 65 kN, R = 0.39 m, 100 km/h
     refs = reference_filters(P.contact.preload, P.contact.radius, P.run.speed)
     for name, values in refs.by_frequency.items():

@@ -59,7 +59,7 @@ def test_parameters_are_frozen():
         WheelParameters().unsprung_mass = 1.0  # type: ignore[misc]
 
 
-# --- elliptic patches (issue 16) ------------------------------------------------------------------------------
+# --- elliptic patches ---------------------------------------------------------------------------------------
 
 REAL = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)  # a worn wheel on a rail head
 CONCAVE = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30, wheel_transverse_radius=-0.5)
