@@ -56,6 +56,7 @@ def test_filters_null_where_undefined(capsys):
     assert cnossos[-1] is None and all(v is not None for v in cnossos[:-1])
 
 
+@pytest.mark.slow
 def test_filters_table_csv_and_plot(capsys, tmp_path):
     table, figure = tmp_path / "f.csv", tmp_path / "f.png"
     code, out, err = _run(capsys, "filters", "--speed-kmh", "140", "--csv", str(table), "--plot", str(figure))
@@ -83,6 +84,7 @@ def test_filters_bad_input_is_one_line(capsys, argv, message):
     assert code == 2 and out == "" and message in err and err.count("\n") == 1
 
 
+@pytest.mark.slow
 def test_roughness_iso3095_margin_for_rail_sets(capsys, tmp_path):
     code, out, _ = _run(capsys, "roughness", "--set", "corrugated-rail", "--json", "--plot", str(tmp_path / "r.png"))
     assert code == 0

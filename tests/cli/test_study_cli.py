@@ -20,6 +20,7 @@ def _run_json(argv, capsys):
     return json.loads(captured.out)
 
 
+@pytest.mark.slow
 def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys):
     out = tmp_path / "filters"
     argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(out), "--length-m", "0.8", "--json"]
@@ -55,6 +56,7 @@ def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys)
     assert again["tables"] == summary["tables"]
 
 
+@pytest.mark.slow
 def test_interrupted_study_recomputes_only_missing_runs(tmp_path):
     # an interrupted study = some runs cached, some not (each finished run is written at once); also a
     # half-written temporary file and a truncated entry, as a kill during a write could leave them
@@ -187,6 +189,7 @@ def test_study_inputs_averaged_and_reduced_lateral_resolution():
     np.testing.assert_allclose(odd.heights[1], 0.5 * (wheel.line(0) + wheel.line(1)), atol=1e-15)
 
 
+@pytest.mark.slow
 def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
     distributed = pytest.importorskip("distributed")
     pool = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "pool", length=0.6, progress=False,
@@ -203,6 +206,7 @@ def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
             np.testing.assert_allclose(a.columns[column], b.columns[column], atol=1e-9, equal_nan=True)
 
 
+@pytest.mark.slow
 def test_user_csv_set_and_human_output(tmp_path, capsys):
     wheel = load_roughness("sinter-wheel-2")
     path = tmp_path / "my wheel.csv"
@@ -257,6 +261,7 @@ def test_unwritable_output_folder(tmp_path, capsys):
         assert code != 0 and err.count("\n") == 1 and str(out) in err, err
 
 
+@pytest.mark.slow
 def test_unreachable_dask_scheduler(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(study_execution, "DASK_CONNECT_TIMEOUT", "1s")
     code = main(["study", "speeds", "--set", "corrugated-rail", "--out", str(tmp_path), "--length-m", "1.5",
@@ -273,6 +278,7 @@ def test_every_named_study_is_known_to_the_cli(capsys):
         assert name in text
 
 
+@pytest.mark.slow
 def test_explorer_does_not_load_the_study_package():
     # the explorer's contact filters come from core.spectra; importing the study package would load the
     # process-pool and Dask machinery into the GUI for nothing
@@ -285,6 +291,7 @@ def test_explorer_does_not_load_the_study_package():
     assert out.strip() == "[]", out
 
 
+@pytest.mark.slow
 def test_study_on_an_elliptic_patch(tmp_path, capsys):
     """The study's runs take the contact geometry; its summary carries it; the reference filters
     follow Hertz's semi-axis a along the rail (6.20 mm for a 0.46 m wheel on a 0.30 m crown)."""
@@ -304,6 +311,7 @@ def test_study_on_an_elliptic_patch(tmp_path, capsys):
     assert table["ref_averaging_db"] == expected
 
 
+@pytest.mark.slow
 def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_path, capsys):
     """`wheelrail study --wheel-set`: every run adds the wheel set (its label and digest in the run key,
     so cached runs of the rail alone are never reused), the summary names it, a run's spectrum is that of

@@ -22,6 +22,8 @@ if not CHROMIUM.exists():
                 "CI installs it", allow_module_level=True)
 from playwright import sync_api as playwright_api  # noqa: E402  (the test extra installs it)
 
+pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
+
 
 def _free_port() -> int:
     with socket.socket() as s:

@@ -22,6 +22,8 @@ from wheelrail.core.spectra import force_spectrum
 from wheelrail.explorer.app import ExplorerApp
 from wheelrail.explorer.config import read_config
 
+pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
+
 
 def _free_port() -> int:
     with socket.socket() as s:

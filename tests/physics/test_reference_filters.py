@@ -154,6 +154,7 @@ def _band_power(signal, bands: Bands):
     return np.array([spectrum[(k >= lo) & (k < hi)].sum() for lo, hi in zip(k_lo, k_hi, strict=True)])
 
 
+@pytest.mark.slow
 def test_monte_carlo_patch_averages_follow_the_analytic_filters():
     """White roughness on a 26 m periodic line, averaged over the patch by brute force.
 

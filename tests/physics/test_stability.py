@@ -73,6 +73,7 @@ def _chatter(kmh: float) -> float:
 SCAN_KMH = sorted({*np.round(np.geomspace(MIN_SPEED_KMH, MAX_SPEED_KMH, 14), 2), 6.8, 6.82, 6.85, 6.9})
 
 
+@pytest.mark.slow
 def test_smooth_rail_speed_scan_has_no_period_two_chatter():
     # On a smooth rail the only excitation is the sleeper passing: the force varies smoothly, by well under
     # 1 kN per step squared (measured: 4-40 N at 5-400 km/h; 2.4-280 kN where the first-order hold

@@ -68,6 +68,7 @@ def test_stale_entry_is_not_used(tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize(("offset", "value"), [(8, 0x01), (10, 99), (6, 0xFF)], ids=["encrypted", "method", "version"])
+@pytest.mark.slow
 def test_one_damaged_zip_header_byte_is_rebuilt(tmp_path, monkeypatch, offset, value):
     # one byte of the ZIP's central directory (flag, compression method, version needed) made
     # np.load raise RuntimeError ("encrypted") or NotImplementedError, which escaped the cache

@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 CORE = ROOT / "core"
 
@@ -37,7 +39,12 @@ def test_core_never_imports_the_explorer_or_the_command_above_it():
                                             if name.startswith(("wheelrail.explorer", "wheelrail.cli")))
                  for path in CORE.rglob("*.py")}
     assert {module: names for module, names in offenders.items() if names} == {}
-    # and at run time: every core command's module loaded, no explorer module (nor viser) comes with them
+
+
+@pytest.mark.slow
+def test_core_commands_load_no_explorer_module():
+    # at run time too (an import by name is no import statement): every core command's module loaded, and no
+    # explorer module (nor viser) comes with them
     probe = ("import sys\nfrom wheelrail.core.cli import build_parser\nbuild_parser('*')\n"
              "print(sorted(m for m in sys.modules if m.startswith(('wheelrail.explorer', 'viser'))))")
     loaded = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout

@@ -13,11 +13,14 @@ import zipfile
 from pathlib import Path
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness import RoughnessSet, read_csv, read_npz
+
+pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
 
 FUZZ = settings(
     max_examples=200,
