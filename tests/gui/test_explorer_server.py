@@ -328,7 +328,7 @@ def test_wheelrail_explore_serves_the_page_on_localhost():
 
 
 def test_wheelrail_explore_rejects_an_unknown_set(capsys):
-    from wheelrail.core.cli import main
+    from wheelrail.cli import main  # the `wheelrail` command: core's commands and `explore`
 
     assert main(["explore", "--set", "nope"]) == 2
     err = capsys.readouterr().err.strip()
