@@ -19,12 +19,12 @@ import numpy as np
 
 from wheelrail.core.checks import real
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import ModelEntry, ModelTraits, model_entry
+from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
 __all__ = [
     "DEFAULT_RUN_IN", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "WINDOW_SEMI_AXES", "History", "TrackRoughness",
-    "check_roughness_pair", "checked_inputs", "history_arrays", "roughness_along_track", "run_margin",
+    "check_roughness_pair", "checked_inputs", "history_arrays", "model_inputs", "roughness_along_track", "run_margin",
     "static_equilibrium", "usable_length", "window_half_elements", "window_lines",
 ]
 
@@ -340,6 +340,20 @@ def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
     )
     return history
+
+
+def model_inputs(track_roughness: TrackRoughness, history: History, params: ModelParameters) -> ModelInputs:
+    """What the contact model is given to prepare the run: the roughness on the model grid, its window and, at
+    every step, the sample under the wheel and the run-in's fade-in."""
+    dx = params.run.element_size
+
+    def position_of(s: int) -> float:
+        return track_roughness.x_start + (s - history.n_run_in) * dx
+
+    return ModelInputs(params=params, element_size=dx, lines=track_roughness.lines,
+                       centre_row=track_roughness.centre_row, window_y=track_roughness.window_y,
+                       half_x=window_half_elements(params)[0], start_index=history.start_index, ramp=history.ramp,
+                       position_of=position_of)
 
 
 def static_equilibrium(static_approach: float, preload: float, weights: np.ndarray) -> float:
