@@ -1,4 +1,4 @@
-"""Sweep of bad inputs to the command line (issue 13): each case ends in one of four classes.
+"""Sweep of bad inputs to the command line: each case ends in one of four classes.
 
 * ``clear``: non-zero exit and one line on stderr naming what is wrong (no traceback, no "internal error");
 * ``internal``: an "internal error" line or a traceback;
@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-WHEELRAIL = [sys.executable, "-m", "wheelrail.core.cli"]
+WHEELRAIL = [sys.executable, "-m", "wheelrail"]
 
 
 def _files(folder: Path) -> dict[str, str]:

@@ -3,7 +3,7 @@
 Run: python3 benchmarks/interaction.py [--length-m 7.96] [--wheel-radius-mm 460 --rail-crown-radius-mm 300]
 Each model runs in its own process (peak resident memory per run), on the corrugated rail at 100 km/h,
 after a warm-up run so that numba's compiled code and the track's Green's functions are loaded.
-Targets (issue 6, 2 cores): 3d >= 2 000 steps/s; 2d and hertz* >= 100 000 steps/s;
+Targets (2 cores): 3d >= 2 000 steps/s; 2d and hertz* >= 100 000 steps/s;
 peak memory of an 8 m 3D run < 1 GB.
 """
 

@@ -35,7 +35,7 @@ from wheelrail.core.contact.hertz import _hertz_law
 from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
-from wheelrail.core.models import LAW_HERTZ, MODELS, ContactModel, ModelInputs, ModelTraits
+from wheelrail.core.models import LAW_HERTZ, MODELS, ContactModel, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
 from wheelrail.core.run_setup import (
@@ -47,12 +47,12 @@ from wheelrail.core.run_setup import (
     check_roughness_pair,
     checked_inputs,
     history_arrays,
+    model_inputs,
     resolve_roughness,
     roughness_along_track,
     run_margin,
     static_equilibrium,
     usable_length,
-    window_half_elements,
     window_lines,
 )
 
@@ -404,18 +404,11 @@ def prepare_run(
                      keep_pressure)
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     history = history_arrays(track, params, run_in_length, track_numerics)
+    _scatter_range(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
     header = RunHeader(model=entry.name, line=line, roughness_name=name, params=params,
                        run_in_length=history.n_run_in * dx, wheel_roughness_name=wheel_name)
     contact = entry.create()
-
-    def position_of(s: int) -> float:
-        return track.x_start + (s - history.n_run_in) * dx
-
-    static_approach = contact.prepare(ModelInputs(
-        params=params, element_size=dx, lines=track.lines, centre_row=track.centre_row, window_y=track.window_y,
-        half_x=window_half_elements(params)[0], start_index=history.start_index, ramp=history.ramp,
-        position_of=position_of,
-    ))
+    static_approach = contact.prepare(model_inputs(track, history, params))
     history.xi_w0 = static_equilibrium(static_approach, params.contact.preload, history.weights)
     return InteractionRun(header=header, traits=entry.traits, contact=contact, track=track, history=history,
                           keep_pressure=keep_pressure)

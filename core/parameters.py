@@ -36,6 +36,11 @@ __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re
 # frequency, zero.
 FOH_MAX_STEP = 0.25e-3
 
+# Wheel and rail material, steel: the paper gives neither E nor nu; these common values reproduce its stated
+# a = 5.48 mm at 65 kN with R = 0.39 m. ContactParameters and every function's default read them from here.
+STEEL_YOUNGS_MODULUS = 210e9  # Pa
+STEEL_POISSON_RATIO = 0.3
+
 
 def reduced_modulus(youngs_modulus: float, poisson_ratio: float) -> float:
     """E* = E / (2 (1 - nu^2)) of two bodies of the same material, Pa.
@@ -340,8 +345,8 @@ class ContactParameters:
     input.
     """
 
-    youngs_modulus: float = 210e9
-    poisson_ratio: float = 0.3
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS
+    poisson_ratio: float = STEEL_POISSON_RATIO
     radius: float = 0.39
     preload: float = 65e3
     wheel_radius: float | None = None
@@ -362,7 +367,7 @@ class ContactParameters:
 
     def _check_geometry(self) -> None:
         """The tread must not conform with the crown, and the patch must stay small (``accepted.check_patch``)."""
-        crown = self.rail_crown_radius if self.rail_crown_radius is not None else self.radius
+        crown = self.crown_radius
         tread = self.wheel_transverse_radius
 
         def semi_axis_across(radius_across: float) -> float:
@@ -379,9 +384,14 @@ class ContactParameters:
         return self.radius if self.wheel_radius is None else float(self.wheel_radius)
 
     @property
+    def crown_radius(self) -> float:
+        """R_crown, the rail head's radius across the rail in use: ``rail_crown_radius``, or ``radius`` unset, m."""
+        return self.radius if self.rail_crown_radius is None else float(self.rail_crown_radius)
+
+    @property
     def radius_across(self) -> float:
         """R_y, relative radius of curvature across the rail, 1 / (1/R_crown + 1/R_tread), m."""
-        crown = self.radius if self.rail_crown_radius is None else float(self.rail_crown_radius)
+        crown = self.crown_radius
         if math.isinf(self.wheel_transverse_radius):
             return crown
         return 1.0 / (1.0 / crown + 1.0 / self.wheel_transverse_radius)

@@ -326,6 +326,6 @@ def run_reference_filters(contact: ContactParameters, speed: float,
     :func:`reference_filters` lets an unset rail crown follow the wheel radius it is given (the circle the
     CNOSSOS table assumes); a run's unset crown is its ``radius`` instead, so it is pinned here before the call.
     """
-    crown = contact.radius if contact.rail_crown_radius is None else contact.rail_crown_radius
     return reference_filters(contact.preload, contact.radius_along, speed,
-                             contact=replace(contact, rail_crown_radius=crown), frequency_range=frequency_range)
+                             contact=replace(contact, rail_crown_radius=contact.crown_radius),
+                             frequency_range=frequency_range)

@@ -26,7 +26,7 @@ class RunHeader:
     Attributes
     ----------
     model : str
-        Contact model name (the registry in ``wheelrail.core.contact.models``).
+        Contact model name (the registry in ``wheelrail.core.models``).
     line : int
         Roughness line number (-M..M; for a model with a lateral window the line it is centred on).
     roughness_name : str

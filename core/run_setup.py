@@ -24,13 +24,14 @@ import numpy as np
 
 from wheelrail.core.checks import real
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import ModelEntry, ModelTraits, model_entry
+from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
 __all__ = [
     "DEFAULT_RUN_IN_TIME", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "WINDOW_SEMI_AXES", "History", "TrackRoughness",
-    "check_roughness_pair", "checked_inputs", "default_run_in_length", "history_arrays", "roughness_along_track",
-    "run_lines", "run_margin", "static_equilibrium", "usable_length", "window_half_elements", "window_lines",
+    "check_roughness_pair", "checked_inputs", "default_run_in_length", "history_arrays", "model_inputs",
+    "roughness_along_track", "run_lines", "run_margin", "static_equilibrium", "usable_length", "window_half_elements",
+    "window_lines",
 ]
 
 WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
@@ -385,8 +386,10 @@ def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
 
 def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run_in_length: float,
                    track_numerics: TrackNumerics | None = None) -> History:
-    """Step 3: Green's functions and wheel system, positions in the bay, the preload's history (eqs. 1-2)."""
-    from wheelrail.core.interaction import _scatter_range
+    """Step 3: Green's functions and wheel system, positions in the bay, the preload's force history (eqs. 1-2).
+
+    The rail displacement that history causes (``acc``) is left at zero: the interaction loop, which owns the
+    compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``)."""
     from wheelrail.core.track import moving_green_functions
     from wheelrail.core.wheel import wheel_discrete_system
 
@@ -412,8 +415,21 @@ def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run
         phi=phi, gamma0=gamma0, gamma1=gamma1, state=np.zeros(4), ramp=_fade_in(n_run_in, n_total),
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
     )
-    _scatter_range(0, n_hist, history.track)  # the preload's history
     return history
+
+
+def model_inputs(track_roughness: TrackRoughness, history: History, params: ModelParameters) -> ModelInputs:
+    """What the contact model is given to prepare the run: the roughness on the model grid, its window and, at
+    every step, the sample under the wheel and the run-in's fade-in."""
+    dx = params.run.element_size
+
+    def position_of(s: int) -> float:
+        return track_roughness.x_start + (s - history.n_run_in) * dx
+
+    return ModelInputs(params=params, element_size=dx, lines=track_roughness.lines,
+                       centre_row=track_roughness.centre_row, window_y=track_roughness.window_y,
+                       half_x=window_half_elements(params)[0], start_index=history.start_index, ramp=history.ramp,
+                       position_of=position_of)
 
 
 def static_equilibrium(static_approach: float, preload: float, weights: np.ndarray) -> float:

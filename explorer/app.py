@@ -22,7 +22,7 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
+from wheelrail.core.models import REFERENCE_MODEL, model_entry
 from wheelrail.core.parameters import KMH, MAX_SPEED_KMH, MIN_SPEED_KMH, ContactParameters
 from wheelrail.core.roughness import bundled_names, lateral_coherence, load_roughness, roughness_spectrum
 from wheelrail.explorer.config import (
@@ -58,7 +58,7 @@ REPLAY_FPS = 20.0
 
 
 def _help_text() -> str:
-    models = "\n".join(f"- **{m}**: {model_entry(m).label}" for m in MODELS)
+    models = "\n".join(f"- **{m}**: {model_entry(m).label}" for m in MODEL_CHOICES[:-1])
     return (
         "**Contact models** (Pieringer, Kropp & Thompson, Wear 271, 2011):\n\n" + models +
         f"\n- **{COMPARE}**: every model one after another on the same configuration, {REFERENCE_MODEL} first.\n\n"

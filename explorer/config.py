@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 
 from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
 from wheelrail.core.errors import Name, WheelrailError
-from wheelrail.core.models import MODELS, REFERENCE_MODEL
+from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.run_setup import run_lines, usable_length
 from wheelrail.core.spectra import shortest_spectrum_run
@@ -30,9 +30,12 @@ __all__ = [
 ]
 
 COMPARE = "compare"
-# the reference first (every contact filter needs it), then the others from the cheapest to the costliest
-COMPARE_ORDER = (REFERENCE_MODEL, *(m for m in reversed(MODELS) if m != REFERENCE_MODEL))
-MODEL_CHOICES = (*MODELS, COMPARE)
+# the registry's models, installed plug-ins included (read once, when the explorer starts)
+MODEL_CHOICES = (*model_names(), COMPARE)
+# the reference first (every contact filter needs it), then the others: compiled laws before per-step ones
+# (the built-in ones from the cheapest to the costliest)
+COMPARE_ORDER = (REFERENCE_MODEL, *sorted((m for m in reversed(MODEL_CHOICES[:-1]) if m != REFERENCE_MODEL),
+                                          key=lambda m: not model_entry(m).traits.compiled))
 MAX_WHEEL_RUN_M = 100.0  # wheel data repeat around the circumference: longest run offered on a wheel set
 NO_WHEEL_SET = "none"  # the wheel-set picker's choice for a smooth wheel (one rough surface, the paper's case)
 # What the page calls each input an error can name (WheelrailError.parameter): its field's label, the unit the

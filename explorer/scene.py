@@ -171,7 +171,7 @@ class PatchScene:
             wheel_heights = np.zeros_like(heights)
             if across is not None:
                 wheel_heights[covered] = self._heights(across, np.arange(across.n_lines), position)
-        crown_mm = (contact.radius if contact.rail_crown_radius is None else contact.rail_crown_radius) * 1e3
+        crown_mm = contact.crown_radius * 1e3
         tread_mm = contact.wheel_transverse_radius * 1e3
         # the rail head curves across (y, its crown radius), the wheel along (x, its rolling radius) and across
         # (its tread radius: flat for a cylindrical tread, hollow for a concave one)

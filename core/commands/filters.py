@@ -49,7 +49,7 @@ def add_parser(sub):
 
 
 def summary(load: float, wheel_radius: float, speed: float, contact: ContactParameters | None = None) -> dict:
-    """The filters as a JSON-ready dict (issue 14 layout; SI except keys that carry their unit). ``contact``
+    """The filters as a JSON-ready dict (SI except keys that carry their unit). ``contact``
     carries the geometry across the rail (crown and tread radii); the analytic filters use the semi-axis a
     along the rail, the CNOSSOS columns stay the table's (circles of the wheel diameter)."""
     filters = reference_filters(load, wheel_radius, speed, contact=contact)

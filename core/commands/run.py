@@ -21,7 +21,7 @@ from wheelrail.core.commands._common import (
     writable_output,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import MODELS
+from wheelrail.core.models import model_names
 
 
 def add_parser(sub):
@@ -43,7 +43,8 @@ def add_parser(sub):
     add_geometry_options(parser)
     parser.add_argument("--line", type=int, default=0,
                         help="roughness line -M..M of --set (3d: window centre), default 0")
-    parser.add_argument("--model", default="hertz", choices=MODELS, help="contact model (default hertz)")
+    parser.add_argument("--model", default="hertz", choices=model_names(),
+                        help="contact model (default hertz; installed plug-ins included)")
     add_speed_option(parser)
     add_preload_option(parser)
     parser.add_argument("--length-m", type=float, default=None,
@@ -68,7 +69,7 @@ class _StopOnCtrlC:
     """Ctrl-C during the run asks it to stop between steps, then raises KeyboardInterrupt.
 
     The default handler raises KeyboardInterrupt wherever the interpreter is, also inside numba-compiled
-    code calling back into Python, which turns it into a ``SystemError`` (issue 13: `3d` runs reported
+    code calling back into Python, which turns it into a ``SystemError`` (`3d` runs reported
     `internal error: SystemError: CPUDispatcher(...)`). A second Ctrl-C interrupts at once.
     """
 

@@ -11,7 +11,7 @@ from wheelrail.core.commands._common import add_speed_option, print_json, speed_
 from wheelrail.core.errors import WheelrailError
 
 MIN_DF_HZ = 0.05
-"""Finest --df-hz: 99 601 frequencies over 20 Hz-5 kHz, a few minutes of FE solves (issue 13: 1e-9 Hz asked
+"""Finest --df-hz: 99 601 frequencies over 20 Hz-5 kHz, a few minutes of FE solves (1e-9 Hz asked
 for 5e12 frequencies and ended in MemoryError)."""
 
 
@@ -37,7 +37,7 @@ def add_parser(sub):
 
 def _peaks(track, numerics) -> dict[str, float]:
     """``receptance_peaks`` of the track, kept in the disk cache: 2300 FE solves and importing
-    scipy.signal made most of a cached ``wheelrail track``'s 2 s (issue 13). The key holds the source
+    scipy.signal made most of a cached ``wheelrail track``'s 2 s. The key holds the source
     of the functions that compute them, so a change of method recomputes."""
     import hashlib
     import inspect

@@ -69,7 +69,7 @@ from wheelrail.core.contact.halfspace_solver import (
     _displacement,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import reduced_modulus
+from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS, reduced_modulus
 
 __all__ = [
     "HalfSpaceWindow",
@@ -176,8 +176,8 @@ class HalfSpaceWindow:
         shape: tuple[int, int],
         element_size: float,
         *,
-        youngs_modulus: float = 210e9,
-        poisson_ratio: float = 0.3,
+        youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+        poisson_ratio: float = STEEL_POISSON_RATIO,
         tolerance: float = 1e-9,
         max_iterations: int = 100,
     ) -> None:
@@ -495,8 +495,8 @@ def solve_normal_contact(
     *,
     load: float,
     initial: NormalContactResult | np.ndarray | None = None,
-    youngs_modulus: float = 210e9,
-    poisson_ratio: float = 0.3,
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+    poisson_ratio: float = STEEL_POISSON_RATIO,
     tolerance: float = 1e-9,
     max_iterations: int = 100,
     raise_on_failure: bool = True,
@@ -546,8 +546,8 @@ def solve_coupled_contact(
     approach_known: float,
     compliance: float,
     initial: NormalContactResult | np.ndarray | None = None,
-    youngs_modulus: float = 210e9,
-    poisson_ratio: float = 0.3,
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+    poisson_ratio: float = STEEL_POISSON_RATIO,
     tolerance: float = 1e-9,
     max_iterations: int = 100,
     raise_on_failure: bool = True,

@@ -19,6 +19,7 @@ from wheelrail.core import checks
 from wheelrail.core.checks import finite_array
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
+from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS
 from wheelrail.core.parameters import hertz_constant as _hertz_constant
 
 __all__ = ["HertzAverageModel", "HertzModel", "HertzWinklerModel", "hertz_approach", "hertz_constant", "hertz_force",
@@ -133,7 +134,8 @@ class HertzAverageModel(HertzModel):
         return average_roughness(line, inputs.element_size, contact_length=2 * a)
 
 
-def hertz_constant(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3, radius: float = 0.39) -> float:
+def hertz_constant(youngs_modulus: float = STEEL_YOUNGS_MODULUS, poisson_ratio: float = STEEL_POISSON_RATIO,
+                   radius: float = 0.39) -> float:
     """Hertzian constant C_H = (2/3) E / (1 - nu^2) sqrt(R) of eq. (13), N/m^1.5.
 
     Parameters

@@ -46,7 +46,7 @@ from wheelrail.core.checks import poisson_ratio as _poisson
 from wheelrail.core.checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
-from wheelrail.core.parameters import reduced_modulus
+from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS, reduced_modulus
 
 __all__ = ["BeddingModel", "WinklerContact", "bedding_stiffness", "calibrated_bedding", "wheel_profile",
            "winkler_contact"]
@@ -120,13 +120,30 @@ def calibrated_bedding(contact) -> tuple[float, float]:
     return 3.0 * contact.hertz_constant / (4.0 * math.sqrt(rho_x)), rho_x
 
 
+@njit(cache=True)
+def _bedding_approach(values, k_dx, load):
+    """Approach delta with k_dx * sum(max(delta + s_j, 0)) = load, exactly (the force is piecewise linear).
+
+    values : s_j = r_j - x'_j^2 / (2 R_m), m. Returns (delta, count of springs in contact).
+    """
+    order = np.argsort(-values)
+    target = load / k_dx
+    total = 0.0
+    m = values.shape[0]
+    for count in range(1, m + 1):
+        total += values[order[count - 1]]
+        # with the `count` highest springs compressed: count * delta + total = target
+        delta = (target - total) / count
+        if count == m or delta + values[order[count]] <= 0.0:
+            return delta, count
+    return (target - total) / m, m
+
+
 class BeddingModel(ContactModel):
     """``2d``: the Winkler bedding of 2 half_x + 1 springs under the wheel on the chosen line
     (:func:`calibrated_bedding`: the paper's eqs. 5-6, or its calibration for an elliptic patch)."""
 
     def prepare(self, inputs: ModelInputs) -> float:
-        from wheelrail.core.contact.prefilter import _bedding_approach
-
         contact = inputs.params.contact
         dx, half = inputs.element_size, inputs.half_x
         stiffness, radius = calibrated_bedding(contact)
@@ -150,7 +167,8 @@ class BeddingModel(ContactModel):
                 f"+-{self._half * self._dx * 1e3:.0f} mm bedding)")
 
 
-def bedding_stiffness(youngs_modulus: float = 210e9, poisson_ratio: float = 0.3) -> float:
+def bedding_stiffness(youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+                      poisson_ratio: float = STEEL_POISSON_RATIO) -> float:
     """Stiffness per unit length of the bedding, k = E / (2 (1 - nu^2)) of eq. (5), N/m^2.
 
     Parameters
@@ -202,8 +220,8 @@ def winkler_contact(
     element_size: float,
     *,
     radius: float = 0.39,
-    youngs_modulus: float = 210e9,
-    poisson_ratio: float = 0.3,
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+    poisson_ratio: float = STEEL_POISSON_RATIO,
 ) -> WinklerContact:
     """Force, contact length and dF/d delta of the Winkler bedding, eqs. (3)-(6).
 

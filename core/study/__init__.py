@@ -52,7 +52,6 @@ from wheelrail.core.study.runner import StudyContact, StudyResult, check_output_
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,
-    ONE_LINE_MODELS,
     PAPER_LINES,
     PAPER_SPEEDS_KMH,
     REFERENCE_MODEL,
@@ -61,6 +60,7 @@ from wheelrail.core.study.specs import (
     RunSpec,
     RunSummary,
     compute_run,
+    one_line_models,
     roughness_digest,
     study_roughness,
     study_wheel_roughness,
@@ -68,7 +68,7 @@ from wheelrail.core.study.specs import (
 from wheelrail.core.study.tables import Table, write_table
 
 __all__ = [
-    "STUDIES", "PAPER_LINES", "ONE_LINE_MODELS", "REFERENCE_MODEL", "LOW_RESOLUTION_LINES_MM", "PAPER_SPEEDS_KMH",
+    "STUDIES", "PAPER_LINES", "one_line_models", "REFERENCE_MODEL", "LOW_RESOLUTION_LINES_MM", "PAPER_SPEEDS_KMH",
     "HALF_WHEEL_MASS", "STUDY_FORMAT_VERSION", "RunSpec", "RunSummary", "Table", "SetInfo", "StudyPlan",
     "StudyResult", "ExecutionReport", "StudyTerminated", "roughness_digest", "study_roughness", "compute_run",
     "study_wheel_roughness", "StudyContact",

@@ -20,13 +20,13 @@ from wheelrail.core.spectra import check_spectrum_length, contact_filter, level_
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,
-    ONE_LINE_MODELS,
     PAPER_LINES,
     PAPER_SPEEDS_KMH,
     REFERENCE_MODEL,
     STUDIES,
     RunSpec,
     RunSummary,
+    one_line_models,
     roughness_digest,
 )
 from wheelrail.core.study.tables import Table
@@ -240,9 +240,10 @@ def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str
 
 def _plan_filters(infos, speed, contact):
     params = _params(speed, contact)
+    models = one_line_models()  # the registry's, plug-ins included; the reference (hertz) among them
     specs, layout = [], {}
     for info in infos:
-        one_line = {(model, line): _spec(info, model, params, line) for model in ONE_LINE_MODELS
+        one_line = {(model, line): _spec(info, model, params, line) for model in models
                     for line in info.lines}
         three_d = _spec(info, "3d", params, 0)
         layout[info.label] = (info, one_line, three_d)
@@ -253,11 +254,11 @@ def _plan_filters(infos, speed, contact):
         for label, (info, one_line, three_d) in layout.items():
             centres = _centres(summaries, three_d)
             level = {model: [_levels(summaries, one_line[model, line]) for line in info.lines]
-                     for model in ONE_LINE_MODELS}
+                     for model in models}
             l3d = _levels(summaries, three_d)
-            spectra = {"3d_db": l3d, **{f"{m.replace('-', '_')}_db": mean_level(level[m]) for m in ONE_LINE_MODELS}}
+            spectra = {"3d_db": l3d, **{f"{m.replace('-', '_')}_db": mean_level(level[m]) for m in models}}
             filters = {"3d_db": mean_level([contact_filter(l3d, h) for h in level[REFERENCE_MODEL]])}
-            for model in ("2d", "hertz-winkler", "hertz-average"):
+            for model in (m for m in models if m != REFERENCE_MODEL):
                 filters[f"{model.replace('-', '_')}_db"] = mean_level(
                     [contact_filter(v, h) for v, h in zip(level[model], level[REFERENCE_MODEL], strict=True)])
             filters.update(_reference_columns(params, centres))

@@ -11,13 +11,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry  # noqa: F401 - REFERENCE_MODEL re-exported
+from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names  # noqa: F401 - REFERENCE_MODEL re-exported
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 
 STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds")
 PAPER_LINES = tuple(range(-3, 4))  # the seven lines -3..3 the paper averages over (section 3.3)
-# the built-in models that see one line (the paper averages them over PAPER_LINES), from the registry
-ONE_LINE_MODELS = tuple(name for name in MODELS if not model_entry(name).traits.lateral_window)
 LOW_RESOLUTION_LINES_MM = {  # Fig. 17: lateral offsets from line 0 kept, mm
     4: (-8.0, -4.0, 0.0, 4.0, 8.0),
     8: (-8.0, 0.0, 8.0),
@@ -44,7 +42,7 @@ class RunSpec:
         SHA-256 of the set's content (:func:`roughness_digest`); part of the run key, so a changed file
         is never matched with an old result.
     model : str
-        One of ``MODELS``.
+        A registered model (``wheelrail.core.models.model_names()``, plug-ins included).
     line : int
         Roughness line (-M..M); for ``3d`` the line the window is centred on. Ignored (0) with
         ``averaged_lines``.
@@ -82,8 +80,7 @@ class RunSpec:
     wheel_digest: str | None = None
 
     def __post_init__(self) -> None:
-        if self.model not in MODELS:
-            raise WheelrailError(f"unknown contact model {self.model!r}; choose one of {', '.join(MODELS)}")
+        model_entry(self.model)  # an unknown name: one WheelrailError listing the registered models
         object.__setattr__(self, "averaged_lines", tuple(int(v) for v in self.averaged_lines))
         object.__setattr__(self, "lateral_lines_mm", tuple(float(v) for v in self.lateral_lines_mm))
         if (self.wheel_source is None) != (self.wheel_digest is None) or (
@@ -182,6 +179,12 @@ class RunSummary:
         scalars = {name: arrays[name].item() for name in SUMMARY_SCALARS}
         return cls(key=str(arrays["run_key"]), band_centres=np.asarray(arrays["band_centres_hz"], dtype=float),
                    levels=np.asarray(arrays["levels_db"], dtype=float), **scalars)
+
+
+def one_line_models() -> tuple[str, ...]:
+    """The registered models that see one line (the paper averages them over ``PAPER_LINES``), plug-ins
+    included, in registry order (``wheelrail.core.models.model_names``)."""
+    return tuple(name for name in model_names() if not model_entry(name).traits.lateral_window)
 
 
 def roughness_digest(roughness) -> str:

@@ -35,7 +35,7 @@ def _read_wedge(data, wedge_nodes, offsets, first_offsets, h, phi, dt, speed, ou
     """g[e, s] = w at x_e + v t_s from the stored nodes, with the element's shape functions.
 
     Vectorised numpy (a few ms per speed): a numba kernel cost 0.4 s at its first call in a process even
-    when loaded from numba's cache, most of a cached ``wheelrail track`` (issue 13 item 11).
+    when loaded from numba's cache, most of a cached ``wheelrail track``.
     """
     n_exc, n_samples = out.shape
     inv = 1.0 / (1.0 + phi)

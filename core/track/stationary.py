@@ -192,7 +192,7 @@ def _wedge_layout(numerics: TrackNumerics, element_length: float) -> tuple[np.nd
     stride = numerics.store_every
     t_stored = np.arange(0, n_steps, stride) * dt
     reach = numerics.max_speed * numerics.duration
-    if not reach < 1e6:  # m: beyond 1000 km the node counts below overflow int64 (issue 13: 1e308 km/h)
+    if not reach < 1e6:  # m: beyond 1000 km the node counts below overflow int64 (1e308 km/h was once asked)
         raise WheelrailError(f"a wheel at {numerics.max_speed * 3.6:.3g} km/h travels {reach:.3g} m within "
                              f"the {numerics.duration} s Green's functions, beyond any track model")
     # nodes from the one at or before x_e up to the first at or beyond x_e + v_max t, plus one spare

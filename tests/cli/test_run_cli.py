@@ -10,6 +10,7 @@ from wheelrail.core.roughness import load_roughness, write_csv
 
 
 @pytest.mark.parametrize("model", ["3d", "2d", "hertz", "hertz-winkler", "hertz-average"])
+@pytest.mark.slow
 def test_run_every_model_writes_npz(model, tmp_path, capsys):
     out = tmp_path / "run.npz"
     argv = ["run", "--set", "cast-iron-wheel", "--line", "1", "--model", model, "--speed-kmh", "80",
@@ -47,6 +48,7 @@ def test_run_on_a_user_csv(tmp_path, capsys):
     assert mine["force_std_n"] == pytest.approx(bundled["force_std_n"], rel=1e-4)
 
 
+@pytest.mark.slow
 def test_run_records_to_rrd_and_spectra_reads_it(tmp_path, capsys):
     rrd = tmp_path / "run.rrd"
     argv = ["run", "--set", "corrugated-rail", "--model", "3d", "--length-m", "0.06", "--rrd", str(rrd), "--json"]

@@ -1,4 +1,4 @@
-"""`wheelrail run` with a wheel set added to the rail set and with real contact geometry (issue 16)."""
+"""`wheelrail run` with a wheel set added to the rail set and with real contact geometry."""
 
 import json
 

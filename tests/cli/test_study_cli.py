@@ -30,6 +30,7 @@ def _run_json(argv, capsys):
     return json.loads(captured.out)
 
 
+@pytest.mark.slow
 def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys):
     out = tmp_path / "filters"
     argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(out), "--length-m", "0.8", "--json"]
@@ -65,6 +66,7 @@ def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys)
     assert again["tables"] == summary["tables"]
 
 
+@pytest.mark.slow
 def test_interrupted_study_recomputes_only_missing_runs(tmp_path):
     # an interrupted study = some runs cached, some not (each finished run is written at once); also a
     # half-written temporary file and a truncated entry, as a kill during a write could leave them
@@ -232,6 +234,7 @@ def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
         "lines -3 to 3; its data span 16 .. 20 mm (the wheel set is paired with the rail set by lateral position)")
 
 
+@pytest.mark.slow
 def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
     distributed = pytest.importorskip("distributed")
     pool = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "pool", length=0.6, progress=False,
@@ -248,6 +251,7 @@ def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
             np.testing.assert_allclose(a.columns[column], b.columns[column], atol=1e-9, equal_nan=True)
 
 
+@pytest.mark.slow
 def test_user_csv_set_and_human_output(tmp_path, capsys):
     wheel = load_roughness("sinter-wheel-2")
     path = tmp_path / "my wheel.csv"
@@ -303,6 +307,7 @@ def test_unwritable_output_folder(tmp_path, capsys):
         assert code != 0 and err.count("\n") == 1 and str(out) in err, err
 
 
+@pytest.mark.slow
 def test_unreachable_dask_scheduler(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(study_execution, "DASK_CONNECT_TIMEOUT", "1s")
     code = main(["study", "speeds", "--set", "corrugated-rail", "--out", str(tmp_path), "--length-m", "1.5",
@@ -319,6 +324,7 @@ def test_every_named_study_is_known_to_the_cli(capsys):
         assert name in text
 
 
+@pytest.mark.slow
 def test_explorer_does_not_load_the_study_package():
     # the explorer's contact filters come from core.spectra; importing the study package would load the
     # process-pool and Dask machinery into the GUI for nothing
@@ -331,8 +337,9 @@ def test_explorer_does_not_load_the_study_package():
     assert out.strip() == "[]", out
 
 
+@pytest.mark.slow
 def test_study_on_an_elliptic_patch(tmp_path, capsys):
-    """Issue 16: the study's runs take the contact geometry; its summary carries it; the reference filters
+    """The study's runs take the contact geometry; its summary carries it; the reference filters
     follow Hertz's semi-axis a along the rail (6.20 mm for a 0.46 m wheel on a 0.30 m crown)."""
     argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(tmp_path), "--length-m", "0.6", "--json",
             "--workers", "1", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300"]
@@ -350,8 +357,9 @@ def test_study_on_an_elliptic_patch(tmp_path, capsys):
     assert table["ref_averaging_db"] == expected
 
 
+@pytest.mark.slow
 def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_path, capsys):
-    """Issue 16: `wheelrail study --wheel-set`: every run adds the wheel set (its label and digest in the run key,
+    """`wheelrail study --wheel-set`: every run adds the wheel set (its label and digest in the run key,
     so cached runs of the rail alone are never reused), the summary names it, a run's spectrum is that of
     simulate(..., wheel_roughness=...)."""
     from wheelrail.core.interaction import simulate

@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
+from wheelrail.cli import main
 
 
 def test_help_lists_commands(capsys):
@@ -17,6 +17,7 @@ def test_help_lists_commands(capsys):
     assert "track" in out and "explore" in out
 
 
+@pytest.mark.slow
 def test_track_json_csv(tmp_path, capsys):
     # The full default track: one-off precompute (about 10-20 s here), then cached.
     out_csv = tmp_path / "receptance.csv"

@@ -201,7 +201,7 @@ def test_results_are_kept_per_configuration():
 
 
 def test_a_wheel_set_and_the_geometry_reach_prepare_and_key_the_results():
-    """Issue 16: the wheel set goes to prepare_run as wheel_roughness=, the geometry in params.contact; a run of
+    """The wheel set goes to prepare_run as wheel_roughness=, the geometry in params.contact; a run of
     another wheel set or geometry is another case (never shown as the current one)."""
     listener = Recorder()
     calls = []

@@ -23,6 +23,8 @@ from wheelrail.explorer.app import ExplorerApp
 from wheelrail.explorer.config import read_config
 from wheelrail.explorer.scene import SCENE_PER_MM
 
+pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
+
 
 def _free_port() -> int:
     with socket.socket() as s:
@@ -103,7 +105,7 @@ def test_3d_run_draws_the_pressure_heat_map_and_replays(app):
 
 
 def test_stale_contact_filters_disappear_when_the_configuration_changes(app):
-    """Issue 15.1: after a compare, changing the speed left its contact filters on the plot and in the CSV."""
+    """After a compare, changing the speed once left its contact filters on the plot and in the CSV."""
     _reset(app, model="compare", length=0.8)
     _run(app)
     filters = app.store.contact_filters(app.shown.case())
@@ -139,7 +141,7 @@ def test_downloads_are_named_after_the_configuration(app, tmp_path):
     path = tmp_path / name
     path.write_bytes(content)
     assert np.allclose(read_recording(path).force, result.force)
-    # every plot exports as a PNG named after the configuration and titled with it (issue 15, item 4)
+    # every plot exports as a PNG named after the configuration and titled with it
     name, content = app.download_plot_png("contact force")
     assert name == "wheelrail-plot-corrugated-rail-line0-100kmh-65kN-0.6m-contact-force.png"
     assert content[:8] == b"\x89PNG\r\n\x1a\n" and len(content) > 5000
@@ -329,7 +331,7 @@ def test_wheelrail_explore_serves_the_page_on_localhost():
     import urllib.request
 
     port = _free_port()
-    process = subprocess.Popen([sys.executable, "-m", "wheelrail.core.cli", "explore", "--port", str(port), "--set",
+    process = subprocess.Popen([sys.executable, "-m", "wheelrail", "explore", "--port", str(port), "--set",
                                 "sinter-wheel-1"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
         for line in process.stdout:  # viser's banner, then ours once the app is built
@@ -359,7 +361,7 @@ def test_wheelrail_explore_serves_the_page_on_localhost():
 
 
 def test_wheelrail_explore_rejects_an_unknown_set(capsys):
-    from wheelrail.core.cli import main
+    from wheelrail.cli import main  # the `wheelrail` command: core's commands and `explore`
 
     assert main(["explore", "--set", "nope"]) == 2
     err = capsys.readouterr().err.strip()
@@ -367,7 +369,7 @@ def test_wheelrail_explore_rejects_an_unknown_set(capsys):
 
 
 def test_runs_of_another_configuration_are_overlaid_only_on_purpose(app):
-    """Issue 15, item 2: the run list offers this session's other configurations; one chosen is drawn dashed and
+    """The run list offers this session's other configurations; one chosen is drawn dashed and
     labelled with its configuration; 'none' takes it away again."""
     _reset(app, model="hertz", speed=100.0, length=0.8)
     _run(app)

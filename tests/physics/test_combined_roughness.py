@@ -1,4 +1,4 @@
-"""Wheel and rail roughness together (issue 16): r = r_rail + r_wheel on the model grid."""
+"""Wheel and rail roughness together: r = r_rail + r_wheel on the model grid."""
 
 from __future__ import annotations
 
@@ -31,6 +31,7 @@ def _scaled(rough, scale):
 
 
 @pytest.mark.parametrize("model", ["hertz", "2d", "3d"])
+@pytest.mark.slow
 def test_a_wheel_of_zero_heights_changes_nothing(model):
     # r_rail + 0.0 is r_rail bit for bit, so every array of the run is identical
     length = 0.3 if model == "3d" else 2.0
@@ -43,6 +44,7 @@ def test_a_wheel_of_zero_heights_changes_nothing(model):
 
 
 @pytest.mark.parametrize("model", ["hertz", "2d", "3d"])
+@pytest.mark.slow
 def test_small_roughness_superposes(model):
     # Linear regime: the dynamic force of the combined run (minus the smooth run's, which holds the
     # sleeper-passing excitation common to all runs) is the sum of those of the rail alone and the wheel
@@ -63,6 +65,7 @@ def test_small_roughness_superposes(model):
 
 
 @pytest.mark.parametrize("model", ["hertz", "2d"])
+@pytest.mark.slow
 def test_force_spectrum_is_the_energy_sum_of_independent_sets(model):
     # Two independent sets in the linear regime: the combined run's force spectrum (dynamic part, as above)
     # is the energy sum of the two separate runs per third-octave band from 100 Hz to 2 kHz. The issue asks

@@ -1,4 +1,4 @@
-"""Real contact geometry (issue 16): elliptic patches from the wheel and rail radii in all five models."""
+"""Real contact geometry: elliptic patches from the wheel and rail radii in all five models."""
 
 from __future__ import annotations
 
@@ -87,6 +87,7 @@ def test_hertz_law_is_the_ellipse():
 
 
 @pytest.mark.parametrize("model", MODELS)
+@pytest.mark.slow
 def test_smooth_elliptic_patch_in_every_model(model):
     # Smooth surfaces, R_x = 0.46 m, R_y = 0.30 m: the mean force equals the preload within 0.5 % (the run
     # starts in static equilibrium on each model's own static approach; measured within 0.01 %).
@@ -138,6 +139,7 @@ def _amplitude(model: str, wavelength: float, params: ModelParameters, r0: float
 
 
 @pytest.mark.parametrize("contact", [ContactParameters(), REAL], ids=["paper-circle", "0.46-on-0.30"])
+@pytest.mark.slow
 def test_2d_filter_dip_follows_the_semi_axis_along_the_rail(contact):
     # Laterally uniform sinusoidal roughness (0.2 um: linear regime) swept in wavelength: the `2d` force
     # relative to `hertz` dips deepest where one wavelength fills the patch, lambda = 2a (eq. 19, n = 1;

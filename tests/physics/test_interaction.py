@@ -135,6 +135,7 @@ def test_3d_with_laterally_uniform_roughness_agrees_with_2d():
     np.testing.assert_allclose(three_d[band], two_d[band], atol=1.5)
 
 
+@pytest.mark.slow
 def test_3d_gives_lower_high_frequency_force_on_uncorrelated_roughness():
     # The paper's main finding: with low lateral correlation (sinter-braked wheel) the 3D model averages
     # over the roughness across the patch and gives a lower force at high frequencies than the 2D model

@@ -77,8 +77,8 @@ def test_writer_writes_what_the_old_writer_wrote(tmp_path, model):
                                 roughness=load_roughness("corrugated-rail"), description=DESCRIPTION))
     assert sorted(new) == sorted(old)
     for key in old:
-        if key == ("/parameters", True):  # the contact geometry of issue 16 added three parameters, the
-            new[key] = _without_new_parameters(new[key])  # time-based run-in its duration
+        if key == ("/parameters", True):  # the contact geometry (wheel, crown, tread radii) added three
+            new[key] = _without_new_parameters(new[key])  # parameters, the time-based run-in its duration
         assert new[key] == old[key], key
 
 

@@ -139,7 +139,7 @@ def test_nominal_circle_is_the_hertz_radius(tmp_path):
 
 
 def test_elliptic_patch_and_wheel_set_are_recorded(tmp_path):
-    """Issue 16: a 0.46 m wheel on a 0.30 m crown draws Hertz's ellipse (a = 6.20 mm along the rail, b = 4.67 mm
+    """A 0.46 m wheel on a 0.30 m crown draws Hertz's ellipse (a = 6.20 mm along the rail, b = 4.67 mm
     across), and a run on rail and wheel roughness together names both sets, read back in the header."""
     from wheelrail.core.interaction import simulate
 
