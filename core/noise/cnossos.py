@@ -214,6 +214,8 @@ def cnossos_rolling_noise(
     rule: str = "proportional",
     contact_filter_db=None,
     contact_filter_name: str = "A3",
+    roughness_db=None,
+    roughness_name: str = "given",
 ) -> CnossosResult:
     """The CNOSSOS-EU rolling-noise source (module docstring) for one vehicle.
 
@@ -239,6 +241,11 @@ def cnossos_rolling_noise(
         NaN bands give NaN sound power there.
     contact_filter_name : str
         What ``contact_filter_db`` is (recorded in the configuration).
+    roughness_db : array_like, optional
+        A combined (rail + wheel) roughness on the 24 frequency bands, dB re 1 um, used instead of Tables G-1a
+        and G-1b (the directive allows measured roughness), e.g. a roughness set's spectrum at the speed.
+    roughness_name : str
+        What ``roughness_db`` is (recorded in the configuration).
     """
     speed = check_positive(speed, "speed", "m/s")
     load = check_positive(load, "wheel load", "N")
@@ -249,8 +256,15 @@ def cnossos_rolling_noise(
     l_veh = vehicle_transfer(wheel_diameter * 1e3)
     l_tr = track_transfer(track_type)
     l_sup = superstructure_transfer()
-    rail_db = rail_roughness(rail, speed, rule)
-    wheel_db = wheel_roughness(wheel, speed, rule)
+    if roughness_db is None:
+        rail_db = rail_roughness(rail, speed, rule)
+        wheel_db = wheel_roughness(wheel, speed, rule)
+    else:
+        rail_db = np.asarray(roughness_db, dtype=float)
+        if rail_db.shape != (len(NOMINAL_FREQUENCIES_HZ),):
+            raise WheelrailError(f"roughness: {rail_db.size} values, the 24 bands 50 Hz - 10 kHz need 24")
+        wheel_db = np.full(len(NOMINAL_FREQUENCIES_HZ), -np.inf)
+        rail, wheel = roughness_name, "none"
     if contact_filter_db is None:
         a3 = contact_filter_a3(load, wheel_diameter, speed, rule)
     else:

@@ -142,6 +142,26 @@ def _band_values_on(frequencies: np.ndarray, band_db: np.ndarray) -> np.ndarray:
     return np.interp(np.log10(np.maximum(frequencies, 1e-3)), np.log10(centres), band_db)
 
 
+def sound_power_from_force(force_db, track) -> dict:
+    """Sound power of one wheel on one rail from its contact-force levels (24 bands, dB re 1 N; NaN: unresolved).
+
+    ``track`` is the :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the run's wheel, track and contact.
+    Returns ``db`` (``rail``, ``sleeper``, ``wheel``, ``total``: dB re 1 pW per band), ``dba`` (their A-weighted
+    totals, NaN bands left out), ``axle_dba`` (two wheels) and ``roughness_db`` (the effective roughness, dB re 1 um).
+    """
+    force_db = np.asarray(force_db, dtype=float)
+    if force_db.shape != track.frequency_hz.shape:
+        raise WheelrailError(f"force levels: {force_db.size} values for the {track.frequency_hz.size} noise bands")
+    mean_sq_force = 10 ** (force_db / 10)
+    rail = power_level(track.rail_power_per_force * mean_sq_force)
+    sleeper = power_level(track.sleeper_power_per_force * mean_sq_force)
+    roughness = force_db + track.effective_roughness_per_force_db
+    wheel = roughness + track.wheel_transfer_db - 10 * math.log10(2)
+    powers = {"rail": rail, "sleeper": sleeper, "wheel": wheel, "total": energy_sum(rail, sleeper, wheel)}
+    dba = {name: a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf)) for name, levels in powers.items()}
+    return {"db": powers, "dba": dba, "axle_dba": dba["total"] + 10 * math.log10(2), "roughness_db": roughness}
+
+
 def run_noise(result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: float = DEFAULT_TRAIN_LENGTH,
               numerics=None) -> RunNoise:
     """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.results.RunResult`).
@@ -168,25 +188,15 @@ def run_noise(result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: f
     track = track_noise_model(params, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
-    mean_sq_force = 10 ** (force_db / 10)
-    rail = power_level(track.rail_power_per_force * mean_sq_force)
-    sleeper = power_level(track.sleeper_power_per_force * mean_sq_force)
-    roughness = force_db + track.effective_roughness_per_force_db
-    wheel = roughness + track.wheel_transfer_db - 10 * math.log10(2)
-    total = energy_sum(rail, sleeper, wheel)
-    powers = {"rail": rail, "sleeper": sleeper, "wheel": wheel, "total": total}
-
-    def dba(levels):
-        return a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf))
-
-    powers_dba = {name: dba(levels) for name, levels in powers.items()}
-    axle_dba = powers_dba["total"] + 10 * math.log10(2)
+    power = sound_power_from_force(force_db, track)
+    powers, powers_dba, axle_dba, roughness = power["db"], power["dba"], power["axle_dba"], power["roughness_db"]
     # |p/F|^2 at the closest distance, per band: rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2)
     t_wheel = 10 ** ((track.wheel_transfer_db - 10 * math.log10(2) + track.effective_roughness_per_force_db) / 10) \
         * 1e-12
     t_total = track.rail_power_per_force + track.sleeper_power_per_force + t_wheel
     d = receiver_distance()
-    undefined = [float(f) for f, value in zip(noise_bands(), total, strict=True) if not np.isfinite(value)]
+    undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True)
+                 if not np.isfinite(value)]
     configuration = {
         "run": {"model": result.model, "roughness": result.roughness_name, "line": result.line,
                 "wheel_roughness": result.wheel_roughness_name, "speed_m_s": result.speed,

@@ -192,7 +192,9 @@ def nearest_table_diameter_mm(wheel_radius: float) -> int:
 def track_noise_model(params: ModelParameters | None = None, numerics: NoiseNumerics | None = None) -> TrackNoiseModel:
     """The model track's noise transfer functions (module docstring) for the wheel, track and contact of
     ``params`` (default: the paper's). Cached per process by the parameters."""
-    return _track_noise_model(ModelParameters() if params is None else params,
+    params = ModelParameters() if params is None else params
+    # the transfer functions do not depend on the speed: cache on the wheel, track and contact only
+    return _track_noise_model(ModelParameters(wheel=params.wheel, track=params.track, contact=params.contact),
                               NoiseNumerics() if numerics is None else numerics)
 
 

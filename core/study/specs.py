@@ -14,7 +14,7 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry  # noqa: F401 - REFERENCE_MODEL re-exported
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 
-STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds")
+STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds", "noise")
 PAPER_LINES = tuple(range(-3, 4))  # the seven lines -3..3 the paper averages over (section 3.3)
 # the built-in models that see one line (the paper averages them over PAPER_LINES), from the registry
 ONE_LINE_MODELS = tuple(name for name in MODELS if not model_entry(name).traits.lateral_window)
