@@ -202,6 +202,26 @@ class CnossosResult:
         }
 
 
+def _bands(values, what: str) -> np.ndarray:
+    array = np.asarray(values, dtype=float)
+    if array.shape != (len(NOMINAL_FREQUENCIES_HZ),):
+        raise WheelrailError(f"{what}: {array.size} values, the 24 bands 50 Hz - 10 kHz need 24")
+    return array
+
+
+def _roughness_and_filter(speed, rail, wheel, load, wheel_diameter, rule, contact_filter, roughness):
+    """(rail dB, wheel dB, filter dB, rail name, wheel name, filter name) on the 24 bands."""
+    if roughness is None:
+        rail_db, wheel_db = rail_roughness(rail, speed, rule), wheel_roughness(wheel, speed, rule)
+    else:
+        rail, values = roughness
+        rail_db, wheel_db, wheel = _bands(values, "roughness"), np.full(len(NOMINAL_FREQUENCIES_HZ), -np.inf), "none"
+    if contact_filter is None:
+        return rail_db, wheel_db, contact_filter_a3(load, wheel_diameter, speed, rule), rail, wheel, "A3"
+    name, values = contact_filter
+    return rail_db, wheel_db, _bands(values, "contact filter"), rail, wheel, name
+
+
 def cnossos_rolling_noise(
     speed: float,
     *,
@@ -212,10 +232,8 @@ def cnossos_rolling_noise(
     load: float = 50e3,
     axles: int = 4,
     rule: str = "proportional",
-    contact_filter_db=None,
-    contact_filter_name: str = "A3",
-    roughness_db=None,
-    roughness_name: str = "given",
+    contact_filter: tuple | None = None,
+    roughness: tuple | None = None,
 ) -> CnossosResult:
     """The CNOSSOS-EU rolling-noise source (module docstring) for one vehicle.
 
@@ -236,16 +254,12 @@ def cnossos_rolling_noise(
         Axles per vehicle, N_a.
     rule : str
         Conversion rule from wavelength to frequency bands (:data:`INTERPOLATION_RULES`).
-    contact_filter_db : array_like, optional
-        A contact filter on the 24 frequency bands (dB) used instead of A3 (e.g. a model's dynamic filter);
-        NaN bands give NaN sound power there.
-    contact_filter_name : str
-        What ``contact_filter_db`` is (recorded in the configuration).
-    roughness_db : array_like, optional
-        A combined (rail + wheel) roughness on the 24 frequency bands, dB re 1 um, used instead of Tables G-1a
-        and G-1b (the directive allows measured roughness), e.g. a roughness set's spectrum at the speed.
-    roughness_name : str
-        What ``roughness_db`` is (recorded in the configuration).
+    contact_filter : (str, array_like), optional
+        ``(name, dB on the 24 frequency bands)``: a contact filter used instead of A3 (e.g. a model's dynamic
+        filter); NaN bands give NaN sound power there.
+    roughness : (str, array_like), optional
+        ``(name, dB re 1 um on the 24 frequency bands)``: a combined (rail + wheel) roughness used instead of
+        Tables G-1a and G-1b (the directive allows measured roughness), e.g. a roughness set's spectrum.
     """
     speed = check_positive(speed, "speed", "m/s")
     load = check_positive(load, "wheel load", "N")
@@ -253,24 +267,9 @@ def cnossos_rolling_noise(
     if isinstance(axles, bool) or not isinstance(axles, int | np.integer) or axles < 1:
         raise WheelrailError(f"axles per vehicle must be a whole number >= 1, got {axles!r}")
     _choice(rule, INTERPOLATION_RULES, "roughness interpolation")
-    l_veh = vehicle_transfer(wheel_diameter * 1e3)
-    l_tr = track_transfer(track_type)
-    l_sup = superstructure_transfer()
-    if roughness_db is None:
-        rail_db = rail_roughness(rail, speed, rule)
-        wheel_db = wheel_roughness(wheel, speed, rule)
-    else:
-        rail_db = np.asarray(roughness_db, dtype=float)
-        if rail_db.shape != (len(NOMINAL_FREQUENCIES_HZ),):
-            raise WheelrailError(f"roughness: {rail_db.size} values, the 24 bands 50 Hz - 10 kHz need 24")
-        wheel_db = np.full(len(NOMINAL_FREQUENCIES_HZ), -np.inf)
-        rail, wheel = roughness_name, "none"
-    if contact_filter_db is None:
-        a3 = contact_filter_a3(load, wheel_diameter, speed, rule)
-    else:
-        a3 = np.asarray(contact_filter_db, dtype=float)
-        if a3.shape != (len(NOMINAL_FREQUENCIES_HZ),):
-            raise WheelrailError(f"contact filter: {a3.size} values, the 24 bands 50 Hz - 10 kHz need 24")
+    l_veh, l_tr, l_sup = vehicle_transfer(wheel_diameter * 1e3), track_transfer(track_type), superstructure_transfer()
+    rail_db, wheel_db, a3, rail, wheel, filter_name = _roughness_and_filter(
+        speed, rail, wheel, load, wheel_diameter, rule, contact_filter, roughness)
     total_roughness = energy_sum(rail_db, wheel_db) + a3  # eq. 2.3.7
     axle_term = 10.0 * math.log10(axles)
     track_db = total_roughness + l_tr + axle_term  # eq. 2.3.8
@@ -285,7 +284,7 @@ def cnossos_rolling_noise(
     configuration = {
         "method": "cnossos", "speed_m_s": speed, "rail_roughness": rail, "wheel_roughness": wheel,
         "track_type": track_type, "wheel_diameter_m": wheel_diameter, "wheel_load_n": load, "axles": axles,
-        "roughness_interpolation": rule, "contact_filter": "A3" if contact_filter_db is None else contact_filter_name,
+        "roughness_interpolation": rule, "contact_filter": filter_name,
         "source": "Directive 2002/49/EC Annex II 2.3 as replaced by (EU) 2015/996 (corrigendum OJ L 5, 10.1.2018) "
                   "and amended by (EU) 2021/1226; Appendix G Tables G-1a, G-1b, G-2, G-3a, G-3b, G-3c",
         # bands the contact filter does not cover (A3 shifted beyond 0.8 mm, or a dynamic filter's unresolved

@@ -198,10 +198,12 @@ def track_noise_model(params: ModelParameters | None = None, numerics: NoiseNume
                               NoiseNumerics() if numerics is None else numerics)
 
 
-@functools.lru_cache(maxsize=8)
-def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> TrackNoiseModel:
-    from wheelrail.core.noise.cnossos import vehicle_transfer
+def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float, freqs: np.ndarray) -> dict:
+    """Steps 1-3 of the module docstring at every frequency of ``freqs`` (bands, points) and both excitation
+    positions: rail velocity integral, sleeper velocity sum, |alpha_W + alpha_R + alpha_C|^2 (each (b, p, 2)),
+    and per band the midspan transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
     from wheelrail.core.track import assemble_track
+    from wheelrail.core.track.fe import timoshenko_shape_functions
     from wheelrail.core.wheel import wheel_receptance
 
     track = replace(params.track, n_bays=numerics.track_bays)
@@ -209,68 +211,70 @@ def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> Trac
     solve = _banded_solver(model)
     spacing = track.support.sleeper_spacing
     centre_bay = numerics.track_bays // 2
-    x_sleeper = centre_bay * spacing
-    positions = (x_sleeper, x_sleeper + spacing / 2)  # above a sleeper, midspan
+    positions = (centre_bay * spacing, (centre_bay + 0.5) * spacing)  # above a sleeper, midspan
+    x_nodes = model.node_x
+    weights = np.gradient(x_nodes)  # trapezoid weights on the uniform node grid (half at the ends)
+    weights[[0, -1]] *= 0.5
+    decay_nodes = slice(np.searchsorted(x_nodes, positions[1]),
+                        np.searchsorted(x_nodes, positions[1] + numerics.decay_length))
+    free_bays = np.arange(3, 21)
+    free_nodes = np.arange(0, len(x_nodes), numerics.elements_per_bay)[centre_bay + free_bays]
+    point_dofs = []
+    for x0 in positions:
+        element, xi = model.locate(x0)
+        e = int(element)
+        point_dofs.append((timoshenko_shape_functions(xi, model.element_length, model.shear_parameter),
+                           [model.w_dof[e], model.theta_dof[e], model.w_dof[e + 1], model.theta_dof[e + 1]]))
+    loads = np.stack([model.load_vector(x) for x in positions], axis=1)
+    shape = (*freqs.shape, len(positions))
+    out = {"rail": np.empty(shape), "sleeper": np.empty(shape), "alpha_sq": np.empty(shape),
+           "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
+           "free_sq": np.zeros((freqs.shape[0], len(free_bays))), "free_distance": free_bays * spacing,
+           "dx": model.element_length}
+    for (b, p), f in np.ndenumerate(freqs):
+        w = 2 * np.pi * f
+        alpha_w = wheel_receptance(params.wheel, f)
+        solutions = solve(f, loads)  # one factorisation for both excitation positions
+        for j, (shape_n, dofs) in enumerate(point_dofs):
+            u = solutions[:, j]
+            rail = u[model.w_dof]
+            out["rail"][b, p, j] = w**2 * np.sum(weights * np.abs(rail) ** 2)
+            out["sleeper"][b, p, j] = w**2 * np.sum(np.abs(u[model.sleeper_dof]) ** 2)
+            out["alpha_sq"][b, p, j] = abs(alpha_w + shape_n @ u[dofs] + 1.0 / k_hertz) ** 2
+            if j == 1:  # midspan excitation: EN 15461 and the free wave
+                out["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
+                out["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
+    return out
+
+
+def _decay_rates(vib: dict) -> tuple[np.ndarray, np.ndarray]:
+    """EN 15461's formula on the midspan transfer receptances, and the free wave's slope (dB/m)."""
+    ratio = vib["transfer_sq"] / vib["transfer_sq"][:, :1]
+    sum_ratio = vib["dx"] * (np.sum(ratio, axis=1) - 0.5 * (ratio[:, 0] + ratio[:, -1]))
+    slope = np.polyfit(vib["free_distance"], 10 * np.log10(vib["free_sq"]).T, 1)[0]
+    return LOG10_E / sum_ratio, -slope
+
+
+@functools.lru_cache(maxsize=8)
+def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> TrackNoiseModel:
+    from wheelrail.core.noise.cnossos import vehicle_transfer
+
     contact = params.contact
     k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
     section = rail_section()
-    radiation_rail = AIR_DENSITY * SOUND_SPEED * section["perimeter_m"] * section["mean_normal_y_squared"]
     area = numerics.sleeper_area
-    x_nodes = model.node_x
-    weights = np.gradient(x_nodes)  # trapezoid weights on the uniform node grid (half at the ends)
-    weights[0] *= 0.5
-    weights[-1] *= 0.5
     freqs = band_frequencies(numerics.points_per_band)
-    n_bands, n_pts = freqs.shape
-    shape = (n_bands, n_pts, len(positions))
-    rail_int = np.empty(shape)
-    sleeper_sum = np.empty(shape)
-    alpha_sum_sq = np.empty(shape)
-    decay_node = np.searchsorted(x_nodes, positions[1])
-    decay_end = np.searchsorted(x_nodes, positions[1] + numerics.decay_length)
-    transfer_sq = np.zeros((n_bands, decay_end - decay_node))
-    sleeper_nodes = np.arange(0, len(x_nodes), numerics.elements_per_bay)
-    free_bays = np.arange(3, 21)
-    free_nodes = sleeper_nodes[centre_bay + free_bays]
-    free_sq = np.zeros((n_bands, len(free_bays)))
-    loads = np.stack([model.load_vector(x) for x in positions], axis=1)
-    from wheelrail.core.track.fe import timoshenko_shape_functions
-
-    for b in range(n_bands):
-        for p in range(n_pts):
-            f = freqs[b, p]
-            w = 2 * np.pi * f
-            alpha_w = wheel_receptance(params.wheel, f)
-            solutions = solve(f, loads)  # one factorisation for both excitation positions
-            for j, x0 in enumerate(positions):
-                u = solutions[:, j]
-                rail = u[model.w_dof]
-                element, xi = model.locate(x0)
-                shape_n = timoshenko_shape_functions(xi, model.element_length, model.shear_parameter)
-                e = int(element)
-                alpha_r = shape_n @ u[[model.w_dof[e], model.theta_dof[e], model.w_dof[e + 1], model.theta_dof[e + 1]]]
-                rail_int[b, p, j] = w**2 * np.sum(weights * np.abs(rail) ** 2)
-                sleeper_sum[b, p, j] = w**2 * np.sum(np.abs(u[model.sleeper_dof]) ** 2)
-                alpha_sum_sq[b, p, j] = abs(alpha_w + alpha_r + 1.0 / k_hertz) ** 2
-                if j == 1:  # midspan excitation: EN 15461 and the free wave
-                    transfer_sq[b] += np.abs(rail[decay_node:decay_end]) ** 2
-                    free_sq[b] += np.abs(rail[free_nodes]) ** 2
+    vib = _vibration(params, numerics, k_hertz, freqs)
     sigma_rail = rail_radiation_efficiency(freqs)
     sigma_sleeper = piston_radiation_efficiency(freqs, area)
-    t_rail = radiation_rail * sigma_rail[..., None] * rail_int  # W/N^2 (rms force, rms velocity)
-    t_sleeper = AIR_DENSITY * SOUND_SPEED * area * sigma_sleeper[..., None] * sleeper_sum
-    force_per_r_sq = 1.0 / alpha_sum_sq  # (N/m)^2
+    radiation_rail = AIR_DENSITY * SOUND_SPEED * section["perimeter_m"] * section["mean_normal_y_squared"]
+    t_rail = radiation_rail * sigma_rail[..., None] * vib["rail"]  # W/N^2 (rms force, rms velocity)
+    t_sleeper = AIR_DENSITY * SOUND_SPEED * area * sigma_sleeper[..., None] * vib["sleeper"]
+    force_per_r_sq = 1.0 / vib["alpha_sq"]  # (N/m)^2
     um2 = 1e-12  # (1 um)^2 in m^2; also 1 pW: the two 1e-12 cancel in L_H,tr
     rail_tr = 10 * np.log10(2 * np.mean(t_rail * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
     sleeper_tr = 10 * np.log10(2 * np.mean(t_sleeper * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
-    track_tr = 10 * np.log10(10 ** (rail_tr / 10) + 10 ** (sleeper_tr / 10))
-    dx = model.element_length
-    ratio = transfer_sq / transfer_sq[:, :1]
-    sum_ratio = dx * (np.sum(ratio, axis=1) - 0.5 * (ratio[:, 0] + ratio[:, -1]))
-    decay = LOG10_E / sum_ratio
-    levels = 10 * np.log10(free_sq)
-    distance = free_bays * spacing
-    slope = np.polyfit(distance, levels.T, 1)[0]
+    decay, free_decay = _decay_rates(vib)
     diameter = nearest_table_diameter_mm(contact.radius_along)
     configuration = {
         "method": "twins", "track_bays": numerics.track_bays, "elements_per_bay": numerics.elements_per_bay,
@@ -285,9 +289,9 @@ def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> Trac
         frequency_hz=noise_bands(), rail_power_per_force=np.mean(t_rail, axis=(1, 2)),
         sleeper_power_per_force=np.mean(t_sleeper, axis=(1, 2)),
         force_per_roughness_db=10 * np.log10(np.mean(force_per_r_sq, axis=(1, 2)) * um2),
-        effective_roughness_per_force_db=10 * np.log10(np.mean(alpha_sum_sq, axis=(1, 2)) / um2),
-        track_transfer_db=track_tr, rail_transfer_db=rail_tr, sleeper_transfer_db=sleeper_tr,
-        decay_rate_db_per_m=decay, free_wave_decay_db_per_m=-slope,
+        effective_roughness_per_force_db=10 * np.log10(np.mean(vib["alpha_sq"], axis=(1, 2)) / um2),
+        track_transfer_db=10 * np.log10(10 ** (rail_tr / 10) + 10 ** (sleeper_tr / 10)), rail_transfer_db=rail_tr,
+        sleeper_transfer_db=sleeper_tr, decay_rate_db_per_m=decay, free_wave_decay_db_per_m=free_decay,
         rail_radiation_efficiency=np.mean(sigma_rail, axis=1),
         sleeper_radiation_efficiency=np.mean(sigma_sleeper, axis=1),
         wheel_transfer_db=vehicle_transfer(diameter), wheel_diameter_mm=diameter, configuration=configuration,

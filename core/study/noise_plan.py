@@ -94,15 +94,14 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
                     lwa[f"{_column(m)}_LWA_dBA"][i] = sound_power_from_force(force[m], track)["axle_dba"]
                 roughness = _roughness_levels(info, v * KMH)
                 options = dict(track_type=CNOSSOS_TRACK_TYPE, wheel_diameter=diameter, load=contact.preload, axles=1,
-                               roughness_db=np.where(np.isfinite(roughness), roughness, -np.inf),
-                               roughness_name=f"{label} line 0")
+                               roughness=(f"{label} line 0", np.where(np.isfinite(roughness), roughness, -np.inf)))
                 a3 = contact_filter_a3(contact.preload, a3_diameter, v * KMH)
                 a3[-1] = np.nan  # 10 kHz: left out as in the model columns (run summaries stop at 8 kHz)
-                base = cnossos_rolling_noise(v * KMH, contact_filter_db=a3, contact_filter_name="A3", **options)
+                base = cnossos_rolling_noise(v * KMH, contact_filter=("A3", a3), **options)
                 lwa["cnossos_a3_LWA_dBA"][i] = base.total_dba
                 filters = {m: force[m] - force["hertz"] for m in NOISE_MODELS if m != "hertz"}
-                with_filter = {m: cnossos_rolling_noise(v * KMH, contact_filter_db=f, contact_filter_name=f"{m} "
-                                                        "dynamic filter", **options) for m, f in filters.items()}
+                with_filter = {m: cnossos_rolling_noise(v * KMH, contact_filter=(f"{m} dynamic filter", f), **options)
+                               for m, f in filters.items()}
                 for m, result in with_filter.items():
                     lwa[f"cnossos_{_column(m)}_filter_LWA_dBA"][i] = result.total_dba
                 if abs(v * KMH - speed) < 1e-9:

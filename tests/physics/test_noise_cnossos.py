@@ -198,7 +198,7 @@ def test_axles_and_the_filter_in_place_of_a3():
     base = cnossos_rolling_noise(100 / 3.6, axles=1)
     eight = cnossos_rolling_noise(100 / 3.6, axles=8)
     np.testing.assert_allclose(eight.total_db - base.total_db, 10 * math.log10(8), atol=1e-12)
-    flat = cnossos_rolling_noise(100 / 3.6, contact_filter_db=np.zeros(24), contact_filter_name="none")
+    flat = cnossos_rolling_noise(100 / 3.6, contact_filter=("none", np.zeros(24)))
     np.testing.assert_allclose(flat.total_roughness_db - base.total_roughness_db, -base.contact_filter_db, atol=1e-12)
     assert flat.configuration["contact_filter"] == "none"
 
