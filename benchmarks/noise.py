@@ -7,6 +7,7 @@
    pass-by level, the WAV's own L_pAeq, and 3d - hertz per band (where the contact filter acts).
 4. Timings (best and range of ``--repeats``; the machine may be shared): the CNOSSOS source, the track noise
    model (a fresh computation, the BEM table cached), run_noise, the WAV synthesis.
+5. Convergence of the track noise model (bays, elements, frequencies per band doubled) and of the sigma table.
 
 Run: ``python3 benchmarks/noise.py [--set corrugated-rail] [--repeats 3] [--wav-dir DIR]``.
 """
@@ -82,6 +83,36 @@ def runs(set_name: str, wav_dir: Path | None) -> None:
           + ", ".join(f"{f:g} {d:+.1f}" for f, d in zip(NOMINAL_FREQUENCIES_HZ, diff, strict=True)))
 
 
+def convergence() -> None:
+    """The track noise model's numerics doubled one at a time, and the rail's sigma table against direct BEM."""
+    from wheelrail.core.noise.radiation import (
+        UIC60_CHIEF_POINTS,
+        rail_boundary,
+        rail_radiation_efficiency,
+        vertical_radiation_efficiency,
+    )
+    from wheelrail.core.noise.twins import NoiseNumerics, band_frequencies
+
+    print("\n5. Convergence: L_H,tr (dB) with one numerical setting doubled, minus the default (240 bays, 16 elements "
+          "per bay, 20 frequencies per band); max |difference| over 50 Hz-10 kHz and over 100 Hz-5 kHz")
+    base = track_noise_model()
+    for label, numerics in (("480 bays", NoiseNumerics(track_bays=480)),
+                            ("32 elements per bay", NoiseNumerics(elements_per_bay=32)),
+                            ("40 frequencies per band", NoiseNumerics(points_per_band=40))):
+        diff = track_noise_model(numerics=numerics).track_transfer_db - base.track_transfer_db
+        f = np.asarray(NOMINAL_FREQUENCIES_HZ)
+        mid = (f >= 100) & (f <= 5000)
+        print(f"  {label:>24}: {np.max(np.abs(diff)):.2f} dB, {np.max(np.abs(diff[mid])):.2f} dB "
+              f"(worst band {NOMINAL_FREQUENCIES_HZ[int(np.argmax(np.abs(diff)))]:g} Hz)")
+    freqs = band_frequencies(10)
+    direct = np.array([[vertical_radiation_efficiency(rail_boundary(f), f, UIC60_CHIEF_POINTS)[0] for f in row]
+                       for row in freqs])
+    table = rail_radiation_efficiency(freqs)
+    diff = 10 * np.log10(direct.mean(axis=1) / table.mean(axis=1))
+    print(f"  rail sigma, band means from the cached table vs direct BEM at 10 frequencies per band: max "
+          f"{np.max(np.abs(diff)):.2f} dB (band {NOMINAL_FREQUENCIES_HZ[int(np.argmax(np.abs(diff)))]:g} Hz)")
+
+
 def timings(repeats: int, set_name: str) -> None:
     print(f"\n4. Timings (s), best and range of {repeats}")
     best, worst, _ = _timed(lambda: cnossos_rolling_noise(100 / 3.6), repeats)
@@ -92,7 +123,7 @@ def timings(repeats: int, set_name: str) -> None:
         return track_noise_model()
 
     best, worst, _ = _timed(fresh, repeats)
-    print(f"  track noise model (240 bays, 120 frequencies x 2 positions): {best:.2f} ({best:.2f}-{worst:.2f})")
+    print(f"  track noise model (240 bays, 480 frequencies x 2 positions): {best:.2f} ({best:.2f}-{worst:.2f})")
     result = simulate(set_name, model="hertz", line=0)
     best, worst, noise = _timed(lambda: run_noise(result), repeats)
     print(f"  run_noise (track model cached): {best:.3f} ({best:.3f}-{worst:.3f})")
@@ -110,6 +141,7 @@ def main() -> None:
     track_model()
     runs(args.set, args.wav_dir)
     timings(args.repeats, args.set)
+    convergence()
 
 
 if __name__ == "__main__":

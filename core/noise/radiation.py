@@ -210,7 +210,7 @@ def cylinder_radiation_efficiency(ka) -> np.ndarray:
 # the power through a circle 5 m away equals the surface power within 0.5 % (tests/physics/test_noise_radiation.py).
 RAIL_ELEMENTS_PER_WAVELENGTH = 8
 RAIL_MAX_ELEMENT = 0.010  # m
-RAIL_TABLE_HZ = (20.0, 12500.0, 34)  # log grid of the cached sigma table: 12 points per decade
+RAIL_TABLE_HZ = (20.0, 12500.0, 68)  # log grid of the cached sigma table: 24 points per decade
 
 
 def rail_boundary(frequency: float, per_wavelength: int = RAIL_ELEMENTS_PER_WAVELENGTH,
