@@ -69,7 +69,8 @@ class NoiseNumerics:
     points_per_band : int
         Frequencies per one-third octave band, evenly spread in lg f (20: doubling it moves L_H,tr by <= 0.2 dB
         except in the 4 kHz band, 3.3 dB, where the undamped rail's second pinned-pinned resonance, a mode with
-        still pads, is too sharp for any fixed sampling; ``benchmarks/noise.py``).
+        still pads, is too sharp for any fixed sampling; doubling ``elements_per_bay`` moves the 4 and 8 kHz bands
+        by 5.2 and 3.4 dB for the same reason, every other band by <= 0.3 dB; ``benchmarks/noise.py``).
     decay_length : float
         m of rail over which EN 15461's sum is taken.
     sleeper_area : float
