@@ -1,0 +1,152 @@
+"""``wheelrail noise``: rolling noise by the CNOSSOS-EU source model, by this project's physics chain, and from a run.
+
+- ``--method cnossos``: Directive 2002/49/EC Annex II 2.3 (as replaced by (EU) 2015/996 and amended by
+  (EU) 2021/1226) with the Appendix G tables (:mod:`wheelrail.core.noise.cnossos`);
+- ``--method twins``: the model track's transfer function, decay rate and rail radiation efficiency
+  (:mod:`wheelrail.core.noise.twins`);
+- ``--run RESULT.npz``: a finished run (any contact model) to sound power, dB(A), pass-by level and a WAV
+  (:mod:`wheelrail.core.noise.run_noise`).
+
+Options carry their unit (km/h, kN, mm); everything inside is SI.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from wheelrail.core.commands._common import print_json, speed_from_kmh
+from wheelrail.core.errors import WheelrailError
+
+METHODS = ("cnossos", "twins")
+
+
+def add_parser(sub):
+    from wheelrail.core.noise.cnossos import (
+        INTERPOLATION_RULES,
+        RAIL_ROUGHNESS,
+        TRACK_TYPES,
+        WHEEL_DIAMETERS_MM,
+        WHEEL_ROUGHNESS,
+    )
+
+    parser = sub.add_parser(
+        "noise",
+        help="rolling noise: CNOSSOS-EU source, the model track's transfer function, or a run's sound power and WAV",
+        description=(
+            "Rolling noise in the 24 one-third octave bands 50 Hz-10 kHz. --method cnossos: the CNOSSOS-EU source "
+            "(Directive 2002/49/EC Annex II 2.3, (EU) 2015/996 as amended by (EU) 2021/1226, Appendix G tables). "
+            "--method twins: this project's track model as a TWINS-like transfer function. --run RESULT.npz: a "
+            "finished run to sound power per component, dB(A), pass-by level (and --wav)."
+        ),
+    )
+    parser.add_argument("--method", choices=METHODS, default=None,
+                        help="cnossos (the directive's source model) or twins (the model track's transfer function)")
+    parser.add_argument("--run", metavar="RESULT.npz", help="a run saved with `wheelrail run --out` (any model)")
+    parser.add_argument("--speed-kmh", type=float, default=None,
+                        help="train speed, km/h (default 100; with --run the run's own speed)")
+    parser.add_argument("--rail-roughness", choices=RAIL_ROUGHNESS, default="iso3095",
+                        help="CNOSSOS rail roughness, Table G-1b: iso3095 (class E) or network-average (class M)")
+    parser.add_argument("--wheel-roughness", choices=WHEEL_ROUGHNESS, default="cast-iron",
+                        help="CNOSSOS wheel roughness, Table G-1a (none: the rail's roughness alone, e.g. where the "
+                             "combined roughness was measured)")
+    parser.add_argument("--track-type", choices=TRACK_TYPES, default="mono-block-medium",
+                        help="CNOSSOS track transfer function, Table G-3a (default mono-block-medium)")
+    parser.add_argument("--wheel-diameter-mm", type=float, default=920.0,
+                        help=f"wheel diameter, mm: one of {', '.join(map(str, WHEEL_DIAMETERS_MM))} (Table G-3b; "
+                             "default 920)")
+    parser.add_argument("--preload-kn", type=float, default=None,
+                        help="static wheel load, kN, for the contact filter A3 (default 65: the model's preload)")
+    parser.add_argument("--axles", type=int, default=4, help="axles per vehicle, N_a (default 4)")
+    parser.add_argument("--roughness-interpolation", choices=INTERPOLATION_RULES, default="proportional",
+                        help="wavelength-to-frequency rule: proportional (the Commission's reference source module; "
+                             "default) or energy-log-frequency")
+    parser.add_argument("--train-axles", type=int, default=None,
+                        help="--run: axles of the whole train for the pass-by level (default 40: ten 4-axle vehicles)")
+    parser.add_argument("--train-length-m", type=float, default=None,
+                        help="--run: train length, m, for the pass-by level (default 200)")
+    parser.add_argument("--wav", metavar="FILE.wav", help="--run: write the pass-by as a WAV file")
+    parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
+    return parser
+
+
+def _kmh(args, default: float | None = 100.0) -> float | None:
+    if args.speed_kmh is None:
+        return None if default is None else speed_from_kmh(default)
+    from wheelrail.core.parameters import MAX_SPEED_KMH, MIN_SPEED_KMH
+
+    if not (math.isfinite(args.speed_kmh) and MIN_SPEED_KMH <= args.speed_kmh <= MAX_SPEED_KMH):
+        raise WheelrailError(f"--speed-kmh must be {MIN_SPEED_KMH:g}-{MAX_SPEED_KMH:g} km/h, got {args.speed_kmh}")
+    return speed_from_kmh(args.speed_kmh)
+
+
+def _load(args) -> float:
+    from wheelrail.core.parameters import ContactParameters
+
+    if args.preload_kn is None:
+        return ContactParameters().preload
+    if not (math.isfinite(args.preload_kn) and args.preload_kn > 0):
+        raise WheelrailError(f"--preload-kn must be a positive wheel load in kN, got {args.preload_kn}")
+    return args.preload_kn * 1e3
+
+
+def _cnossos(args) -> dict:
+    from wheelrail.core.noise.cnossos import cnossos_rolling_noise
+
+    if args.axles is None or args.axles < 1:
+        raise WheelrailError(f"--axles must be a whole number >= 1, got {args.axles}")
+    result = cnossos_rolling_noise(
+        _kmh(args), rail=args.rail_roughness, wheel=args.wheel_roughness, track_type=args.track_type,
+        wheel_diameter=args.wheel_diameter_mm * 1e-3, load=_load(args), axles=args.axles,
+        rule=args.roughness_interpolation,
+    )
+    return {"frequency_hz": result.frequency_hz, "cnossos": result.to_dict()}
+
+
+def _fmt(value: float) -> str:
+    return "    -" if not np.isfinite(value) else f"{value:5.1f}"
+
+
+def _print_table(title: str, frequency, columns: dict, totals: dict) -> None:
+    print(title)
+    names = list(columns)
+    print("  band Hz " + " ".join(f"{name:>11}" for name in names))
+    for i, f in enumerate(frequency):
+        print(f"  {f:7g} " + " ".join(f"{_fmt(columns[n][i]):>11}" for n in names))
+    print("  " + ", ".join(f"{name} {_fmt(value).strip()}" for name, value in totals.items()))
+
+
+def run(args) -> int:
+    if args.run is not None:
+        if args.method is not None:
+            raise WheelrailError("--run and --method exclude each other: --run uses the run's own model and track")
+        from wheelrail.core.noise.run_noise import run_command
+
+        return run_command(args)
+    if args.wav is not None:
+        raise WheelrailError("--wav needs --run RESULT.npz (the pass-by is synthesised from a run's contact force)")
+    if args.method is None:
+        raise WheelrailError("choose --method cnossos, --method twins or --run RESULT.npz")
+    if args.method == "cnossos":
+        summary = _cnossos(args)
+        if args.json:
+            print_json(summary)
+            return 0
+        c = summary["cnossos"]
+        cfg = c["configuration"]
+        _print_table(
+            f"CNOSSOS-EU rolling noise at {cfg['speed_m_s'] * 3.6:g} km/h: rail {cfg['rail_roughness']}, wheel "
+            f"{cfg['wheel_roughness']}, track {cfg['track_type']}, wheel {cfg['wheel_diameter_m'] * 1e3:g} mm, "
+            f"{cfg['wheel_load_n'] / 1e3:g} kN, {cfg['axles']} axles, {cfg['roughness_interpolation']} "
+            "(roughness dB re 1 um, sound power dB re 1 pW per vehicle)",
+            summary["frequency_hz"],
+            {"L_R,TOT": c["total_roughness_dB"], "track": c["track_dB"], "vehicle": c["vehicle_dB"],
+             "superstr.": c["superstructure_dB"], "total": c["total_dB"]},
+            {"track dB(A)": c["track_dBA"], "vehicle dB(A)": c["vehicle_dBA"], "total dB(A)": c["total_dBA"]},
+        )
+        return 0
+    from wheelrail.core.noise.twins import twins_command
+
+    return twins_command(args)
+
