@@ -1,7 +1,8 @@
-"""The ``noise`` study: rolling noise against speed for the five contact models and CNOSSOS-EU, and the dynamic
+"""The ``noise`` study: rolling noise against speed for the contact models and CNOSSOS-EU, and the dynamic
 contact filter in the place of CNOSSOS-EU's A3.
 
-Runs: every contact model on line 0 of each set at each of :data:`NOISE_SPEEDS_KMH` (and at the study's speed).
+Runs: every contact model (:func:`noise_models`: the one-line models of the registry, plug-ins included, and
+``3d``) on line 0 of each set at each of :data:`NOISE_SPEEDS_KMH` (and at the study's speed).
 From each run's contact-force levels (the study's run summaries: 50 Hz - 8 kHz, so the 10 kHz band is left out)
 the sound power of the TWINS-like chain (:func:`wheelrail.core.noise.run_noise.sound_power_from_force`, per axle:
 two wheels on two rails) and the pass-by level (40 axles, 200 m, ISO 3095 position). Beside them the CNOSSOS-EU
@@ -22,11 +23,17 @@ from __future__ import annotations
 import numpy as np
 
 from wheelrail.core.parameters import KMH
+from wheelrail.core.study.specs import REFERENCE_MODEL, one_line_models
 from wheelrail.core.study.tables import Table
 
 NOISE_SPEEDS_KMH = (50.0, 75.0, 100.0, 140.0, 200.0, 250.0, 300.0)
-NOISE_MODELS = ("hertz", "hertz-winkler", "hertz-average", "2d", "3d")
 CNOSSOS_TRACK_TYPE = "mono-block-soft"
+
+
+def noise_models() -> tuple[str, ...]:
+    """The models the study runs: the reference (hertz) first, the other one-line models of the registry (plug-ins
+    included, as the ``filters`` study), then ``3d``."""
+    return (REFERENCE_MODEL, *(m for m in one_line_models() if m != REFERENCE_MODEL), "3d")
 
 
 def _column(name: str) -> str:
@@ -62,8 +69,9 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
     """Specs and the table builder of the ``noise`` study (``spec_of(info, model, params, line)`` and
     ``params_of(speed, contact)`` are the study's own helpers)."""
     speeds = sorted({*NOISE_SPEEDS_KMH, round(speed / KMH, 9)})
+    models = noise_models()
     layout = {info.label: (info, {(model, v): spec_of(info, model, params_of(v * KMH, contact), 0)
-                                  for model in NOISE_MODELS for v in speeds})
+                                  for model in models for v in speeds})
               for info in infos}
     specs = [spec for _, runs in layout.values() for spec in runs.values()]
 
@@ -83,14 +91,14 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
         a3_diameter = 2 * contact.radius_along
         tables = []
         for label, (info, runs) in layout.items():
-            lwa = {f"{_column(m)}_LWA_dBA": np.full(len(speeds), np.nan) for m in NOISE_MODELS}
+            lwa = {f"{_column(m)}_LWA_dBA": np.full(len(speeds), np.nan) for m in models}
             lwa["cnossos_a3_LWA_dBA"] = np.full(len(speeds), np.nan)
             lwa.update({f"cnossos_{_column(m)}_filter_LWA_dBA": np.full(len(speeds), np.nan)
-                        for m in NOISE_MODELS if m != "hertz"})
+                        for m in models if m != REFERENCE_MODEL})
             per_band = {}
             for i, v in enumerate(speeds):
-                force = {m: _force_24(summaries[runs[m, v].key].levels) for m in NOISE_MODELS}
-                for m in NOISE_MODELS:
+                force = {m: _force_24(summaries[runs[m, v].key].levels) for m in models}
+                for m in models:
                     lwa[f"{_column(m)}_LWA_dBA"][i] = sound_power_from_force(force[m], track)["axle_dba"]
                 roughness = _roughness_levels(info, v * KMH)
                 options = dict(track_type=CNOSSOS_TRACK_TYPE, wheel_diameter=diameter, load=contact.preload, axles=1,
@@ -99,7 +107,7 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
                 a3[-1] = np.nan  # 10 kHz: left out as in the model columns (run summaries stop at 8 kHz)
                 base = cnossos_rolling_noise(v * KMH, contact_filter=("A3", a3), **options)
                 lwa["cnossos_a3_LWA_dBA"][i] = base.total_dba
-                filters = {m: force[m] - force["hertz"] for m in NOISE_MODELS if m != "hertz"}
+                filters = {m: force[m] - force[REFERENCE_MODEL] for m in models if m != REFERENCE_MODEL}
                 with_filter = {m: cnossos_rolling_noise(v * KMH, contact_filter=(f"{m} dynamic filter", f), **options)
                                for m, f in filters.items()}
                 for m, result in with_filter.items():
