@@ -12,11 +12,10 @@ Options carry their unit (km/h, kN, mm); everything inside is SI.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from wheelrail.core.commands._common import print_json, speed_from_kmh
+from wheelrail.core.accepted import ACCEPTED
+from wheelrail.core.commands._common import accepted_help, print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
 
 METHODS = ("cnossos", "twins")
@@ -45,7 +44,8 @@ def add_parser(sub):
                         help="cnossos (the directive's source model) or twins (the model track's transfer function)")
     parser.add_argument("--run", metavar="RESULT.npz", help="a run saved with `wheelrail run --out` (any model)")
     parser.add_argument("--speed-kmh", type=float, default=None,
-                        help="train speed, km/h (default 100; with --run the run's own speed)")
+                        help="train speed, km/h (default 100; with --run the run's own speed; "
+                             f"{accepted_help('speed')})")
     parser.add_argument("--rail-roughness", choices=RAIL_ROUGHNESS, default="iso3095",
                         help="CNOSSOS rail roughness, Table G-1b: iso3095 (class E) or network-average (class M)")
     parser.add_argument("--wheel-roughness", choices=WHEEL_ROUGHNESS, default="cast-iron",
@@ -57,7 +57,8 @@ def add_parser(sub):
                         help=f"wheel diameter, mm: one of {', '.join(map(str, WHEEL_DIAMETERS_MM))} (Table G-3b; "
                              "default 920)")
     parser.add_argument("--preload-kn", type=float, default=None,
-                        help="static wheel load, kN, for the contact filter A3 (default 65: the model's preload)")
+                        help="static wheel load, kN, for the contact filter A3 (default 65: the model's preload; "
+                             f"{accepted_help('preload')})")
     parser.add_argument("--axles", type=int, default=4, help="axles per vehicle, N_a (default 4)")
     parser.add_argument("--roughness-interpolation", choices=INTERPOLATION_RULES, default="proportional",
                         help="wavelength-to-frequency rule: proportional (the Commission's reference source module; "
@@ -71,33 +72,25 @@ def add_parser(sub):
     return parser
 
 
-def _kmh(args, default: float | None = 100.0) -> float | None:
-    if args.speed_kmh is None:
-        return None if default is None else speed_from_kmh(default)
-    from wheelrail.core.parameters import MAX_SPEED_KMH, MIN_SPEED_KMH
-
-    if not (math.isfinite(args.speed_kmh) and MIN_SPEED_KMH <= args.speed_kmh <= MAX_SPEED_KMH):
-        raise WheelrailError(f"--speed-kmh must be {MIN_SPEED_KMH:g}-{MAX_SPEED_KMH:g} km/h, got {args.speed_kmh}")
-    return speed_from_kmh(args.speed_kmh)
+def _speed(args) -> float:
+    """--speed-kmh in m/s within core's accepted range (default 100 km/h)."""
+    return speed_from_kmh(100.0 if args.speed_kmh is None else args.speed_kmh)
 
 
 def _load(args) -> float:
+    """--preload-kn in N within core's accepted range (default: the model's preload)."""
     from wheelrail.core.parameters import ContactParameters
 
     if args.preload_kn is None:
         return ContactParameters().preload
-    if not (math.isfinite(args.preload_kn) and args.preload_kn > 0):
-        raise WheelrailError(f"--preload-kn must be a positive wheel load in kN, got {args.preload_kn}")
-    return args.preload_kn * 1e3
+    return ACCEPTED["preload"].check(args.preload_kn * 1e3, "preload")
 
 
 def _cnossos(args) -> dict:
     from wheelrail.core.noise.cnossos import cnossos_rolling_noise
 
-    if args.axles is None or args.axles < 1:
-        raise WheelrailError(f"--axles must be a whole number >= 1, got {args.axles}")
     result = cnossos_rolling_noise(
-        _kmh(args), rail=args.rail_roughness, wheel=args.wheel_roughness, track_type=args.track_type,
+        _speed(args), rail=args.rail_roughness, wheel=args.wheel_roughness, track_type=args.track_type,
         wheel_diameter=args.wheel_diameter_mm * 1e-3, load=_load(args), axles=args.axles,
         rule=args.roughness_interpolation,
     )
@@ -121,9 +114,7 @@ def run(args) -> int:
     if args.run is not None:
         if args.method is not None:
             raise WheelrailError("--run and --method exclude each other: --run uses the run's own model and track")
-        from wheelrail.core.noise.run_noise import run_command
-
-        return run_command(args)
+        return _run_file(args)
     if args.wav is not None:
         raise WheelrailError("--wav needs --run RESULT.npz (the pass-by is synthesised from a run's contact force)")
     if args.method is None:
@@ -146,7 +137,73 @@ def run(args) -> int:
             {"track dB(A)": c["track_dBA"], "vehicle dB(A)": c["vehicle_dBA"], "total dB(A)": c["total_dBA"]},
         )
         return 0
-    from wheelrail.core.noise.twins import twins_command
+    return _twins(args)
 
-    return twins_command(args)
 
+def _run_file(args) -> int:
+    """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
+    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.noise.run_noise import COMPONENTS, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, run_noise
+    from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
+    from wheelrail.core.results import RunResult
+
+    wav_path = None if args.wav is None else writable_output(args.wav, "--wav", ".wav", inputs=[args.run])
+    if args.speed_kmh is not None:
+        raise WheelrailError("--speed-kmh does not apply with --run: the run's own speed is used")
+    result = RunResult.load_npz(args.run)
+    axles = DEFAULT_TRAIN_AXLES if args.train_axles is None else args.train_axles
+    length = DEFAULT_TRAIN_LENGTH if args.train_length_m is None else args.train_length_m
+    noise = run_noise(result, train_axles=axles, train_length=length)
+    summary = noise.to_dict()
+    if wav_path is not None:
+        data, full_scale = noise.wav_bytes()
+        atomic_write(wav_path, lambda handle: handle.write(data))
+        summary["wav"] = {"path": str(wav_path), "full_scale_pa": full_scale,
+                          "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position"}
+    if args.json:
+        print_json(summary)
+        return 0
+    cfg = summary["configuration"]["run"]
+    print(f"Rolling noise of {args.run}: model {cfg['model']}, {cfg['roughness']} line {cfg['line']}, "
+          f"{cfg['speed_m_s'] * 3.6:g} km/h; sound power of one wheel on one rail, dB re 1 pW")
+    print("  band Hz   force dB   rail  sleeper  wheel  total")
+    for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
+        row = [noise.sound_power_db[name][i] for name in (*COMPONENTS, "total")]
+        cells = " ".join("     -" if not np.isfinite(v) else f"{v:6.1f}" for v in row)
+        force = "     -" if not np.isfinite(noise.force_db[i]) else f"{noise.force_db[i]:8.1f}"
+        print(f"  {f:7.0f} {force}   {cells}")
+    print("  L_WA per wheel: " + ", ".join(f"{k} {v:.1f}" for k, v in noise.sound_power_dba.items())
+          + f" dB(A); per axle {noise.axle_dba:.1f} dB(A)")
+    print(f"  pass-by L_pAeq,Tp at 7.5 m / 1.2 m: {noise.pass_by_laeq_dba:.1f} dB(A) ({axles} axles, {length:g} m)")
+    print("  wheel: " + summary["configuration"]["wheel"])
+    if wav_path is not None:
+        print(f"  wrote {wav_path} (full scale = {summary['wav']['full_scale_pa']:.3g} Pa)")
+    return 0
+
+
+def _twins(args) -> int:
+    """``wheelrail noise --method twins``: print the model track's transfer function beside the directive's."""
+    from wheelrail.core.noise.cnossos import TRACK_TYPES, track_transfer
+    from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
+    from wheelrail.core.noise.twins import track_noise_model
+
+    result = track_noise_model()
+    summary = {
+        "frequency_hz": np.asarray(NOMINAL_FREQUENCIES_HZ),
+        "twins": result.to_dict(),
+        "cnossos_track_transfer_dB": {name: track_transfer(name) for name in TRACK_TYPES},
+    }
+    if args.json:
+        print_json(summary)
+        return 0
+    cn = summary["cnossos_track_transfer_dB"]["mono-block-soft"]
+    print("Model track (the paper's, lengthened to 240 bays) as a TWINS-like transfer function; rail + sleepers per "
+          "axle for 0 dB re 1 um effective roughness (dB re 1 pW), beside CNOSSOS-EU L_H,tr mono-block-soft")
+    print("  band Hz  L_H,tr model   rail  sleeper  CNOSSOS  decay EN15461  free wave  sigma rail  sigma sleeper")
+    for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
+        print(f"  {f:7g}  {result.track_transfer_db[i]:12.1f} {result.rail_transfer_db[i]:6.1f} "
+              f"{result.sleeper_transfer_db[i]:8.1f} {cn[i]:8.1f} {result.decay_rate_db_per_m[i]:14.2f} "
+              f"{result.free_wave_decay_db_per_m[i]:10.2f} {result.rail_radiation_efficiency[i]:11.3f} "
+              f"{result.sleeper_radiation_efficiency[i]:14.3f}")
+    print(f"  wheel: {result.to_dict()['wheel_transfer_source']}")
+    return 0

@@ -136,11 +136,12 @@ def vehicle_transfer(wheel_diameter_mm) -> np.ndarray:
     """Vehicle transfer function ``L_H,veh`` (Table G-3b) for a wheel diameter in mm (680, 840, 920, 1200)."""
     try:
         key = int(round(float(wheel_diameter_mm)))
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         key = None
     if key not in WHEEL_DIAMETERS_MM or not math.isclose(float(wheel_diameter_mm), key, abs_tol=1e-6):
-        raise WheelrailError(f"wheel diameter must be one of {', '.join(map(str, WHEEL_DIAMETERS_MM))} mm "
-                             f"(the columns of CNOSSOS-EU Table G-3b), got {wheel_diameter_mm!r}")
+        shown = float(wheel_diameter_mm) / 1e3 if key is not None else wheel_diameter_mm  # SI, as errors carry
+        raise WheelrailError(f"not one of the wheel diameters {', '.join(map(str, WHEEL_DIAMETERS_MM))} mm (the "
+                             "columns of CNOSSOS-EU Table G-3b)", parameter="wheel_diameter", value=shown, unit="m")
     return load_table("vehicle_transfer").column(str(key)).copy()
 
 
@@ -262,10 +263,10 @@ def cnossos_rolling_noise(
         Tables G-1a and G-1b (the directive allows measured roughness), e.g. a roughness set's spectrum.
     """
     speed = check_positive(speed, "speed", "m/s")
-    load = check_positive(load, "wheel load", "N")
-    wheel_diameter = check_positive(wheel_diameter, "wheel diameter", "m")
+    load = check_positive(load, "preload", "N", argument="load")
+    wheel_diameter = check_positive(wheel_diameter, "wheel_diameter", "m")
     if isinstance(axles, bool) or not isinstance(axles, int | np.integer) or axles < 1:
-        raise WheelrailError(f"axles per vehicle must be a whole number >= 1, got {axles!r}")
+        raise WheelrailError("not a whole number of at least 1", parameter="axles", value=axles)
     _choice(rule, INTERPOLATION_RULES, "roughness interpolation")
     l_veh, l_tr, l_sup = vehicle_transfer(wheel_diameter * 1e3), track_transfer(track_type), superstructure_transfer()
     rail_db, wheel_db, a3, rail, wheel, filter_name = _roughness_and_filter(

@@ -75,12 +75,14 @@ def power_level(power_w) -> np.ndarray:
         return 10.0 * np.log10(np.asarray(power_w, dtype=float) / SOUND_POWER_REFERENCE)
 
 
-def check_positive(value, what: str, unit: str) -> float:
-    """``value`` as a float if finite and > 0, else one clear error line."""
+def check_positive(value, key: str, unit: str, argument: str | None = None) -> float:
+    """``value`` as a float if finite and > 0, else one WheelrailError keyed ``key`` (SI ``unit``; ``argument``:
+    the API's name of the input, default the key)."""
+    fields = {"parameter": key, "value": value, "unit": unit, "argument": argument}
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise WheelrailError(f"{what} must be a number in {unit}, got {value!r}") from None
+        raise WheelrailError("not a number", **fields) from None
     if not (math.isfinite(number) and number > 0):
-        raise WheelrailError(f"{what} must be a positive number in {unit}, got {value!r}")
+        raise WheelrailError("not a positive number", **fields)
     return number

@@ -181,9 +181,9 @@ def run_noise(result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: f
     from wheelrail.core.spectra import force_spectrum
 
     if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
-        raise WheelrailError(f"train axles must be a whole number >= 1, got {train_axles!r}")
+        raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=train_axles)
     if not (isinstance(train_length, int | float) and math.isfinite(train_length) and train_length > 0):
-        raise WheelrailError(f"train length must be a positive number in m, got {train_length!r}")
+        raise WheelrailError("not a positive length", parameter="train_length", value=train_length, unit="m")
     params = result.header.params
     track = track_noise_model(params, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
@@ -268,45 +268,3 @@ def laeq_of_pressure(pressure: np.ndarray, rate: float) -> float:
     weight[1:] = 10 ** (a_weighting(f[1:]) / 20)
     weighted = np.fft.irfft(spectrum * weight, len(pressure))
     return float(10 * np.log10(np.mean(weighted**2) / PRESSURE_REFERENCE**2))
-
-
-def run_command(args) -> int:
-    """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
-    from wheelrail.core.atomic import atomic_write
-    from wheelrail.core.commands._common import print_json, writable_output
-    from wheelrail.core.results import RunResult
-
-    wav_path = None if args.wav is None else writable_output(args.wav, "--wav", ".wav", inputs=[args.run])
-    if args.speed_kmh is not None:
-        raise WheelrailError("--speed-kmh does not apply with --run: the run's own speed is used")
-    result = RunResult.load_npz(args.run)
-    axles = DEFAULT_TRAIN_AXLES if args.train_axles is None else args.train_axles
-    length = DEFAULT_TRAIN_LENGTH if args.train_length_m is None else args.train_length_m
-    noise = run_noise(result, train_axles=axles, train_length=length)
-    summary = noise.to_dict()
-    if wav_path is not None:
-        data, full_scale = noise.wav_bytes()
-        atomic_write(wav_path, lambda handle: handle.write(data))
-        summary["wav"] = {"path": str(wav_path), "full_scale_pa": full_scale,
-                          "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position"}
-    if args.json:
-        print_json(summary)
-        return 0
-    cfg = summary["configuration"]["run"]
-    print(f"Rolling noise of {args.run}: model {cfg['model']}, {cfg['roughness']} line {cfg['line']}, "
-          f"{cfg['speed_m_s'] * 3.6:g} km/h; sound power of one wheel on one rail, dB re 1 pW")
-    print("  band Hz   force dB   rail  sleeper  wheel  total")
-    from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
-
-    for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
-        row = [noise.sound_power_db[name][i] for name in (*COMPONENTS, "total")]
-        cells = " ".join("     -" if not np.isfinite(v) else f"{v:6.1f}" for v in row)
-        force = "     -" if not np.isfinite(noise.force_db[i]) else f"{noise.force_db[i]:8.1f}"
-        print(f"  {f:7.0f} {force}   {cells}")
-    print("  L_WA per wheel: " + ", ".join(f"{k} {v:.1f}" for k, v in noise.sound_power_dba.items())
-          + f" dB(A); per axle {noise.axle_dba:.1f} dB(A)")
-    print(f"  pass-by L_pAeq,Tp at 7.5 m / 1.2 m: {noise.pass_by_laeq_dba:.1f} dB(A) ({axles} axles, {length:g} m)")
-    print("  wheel: " + summary["configuration"]["wheel"])
-    if wav_path is not None:
-        print(f"  wrote {wav_path} (full scale = {summary['wav']['full_scale_pa']:.3g} Pa)")
-    return 0

@@ -299,31 +299,3 @@ def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> Trac
         sleeper_radiation_efficiency=np.mean(sigma_sleeper, axis=1),
         wheel_transfer_db=vehicle_transfer(diameter), wheel_diameter_mm=diameter, configuration=configuration,
     )
-
-
-def twins_command(args) -> int:
-    """``wheelrail noise --method twins``: print the model track's transfer function beside the directive's."""
-    from wheelrail.core.commands._common import print_json
-    from wheelrail.core.noise.cnossos import TRACK_TYPES, track_transfer
-    from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
-
-    result = track_noise_model()
-    summary = {
-        "frequency_hz": np.asarray(NOMINAL_FREQUENCIES_HZ),
-        "twins": result.to_dict(),
-        "cnossos_track_transfer_dB": {name: track_transfer(name) for name in TRACK_TYPES},
-    }
-    if args.json:
-        print_json(summary)
-        return 0
-    cn = summary["cnossos_track_transfer_dB"]["mono-block-soft"]
-    print("Model track (the paper's, lengthened to 240 bays) as a TWINS-like transfer function; rail + sleepers per "
-          "axle for 0 dB re 1 um effective roughness (dB re 1 pW), beside CNOSSOS-EU L_H,tr mono-block-soft")
-    print("  band Hz  L_H,tr model   rail  sleeper  CNOSSOS  decay EN15461  free wave  sigma rail  sigma sleeper")
-    for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
-        print(f"  {f:7g}  {result.track_transfer_db[i]:12.1f} {result.rail_transfer_db[i]:6.1f} "
-              f"{result.sleeper_transfer_db[i]:8.1f} {cn[i]:8.1f} {result.decay_rate_db_per_m[i]:14.2f} "
-              f"{result.free_wave_decay_db_per_m[i]:10.2f} {result.rail_radiation_efficiency[i]:11.3f} "
-              f"{result.sleeper_radiation_efficiency[i]:14.3f}")
-    print(f"  wheel: {result.to_dict()['wheel_transfer_source']}")
-    return 0

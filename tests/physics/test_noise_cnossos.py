@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from wheelrail.core.commands._common import CLI_NAMES
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise.cnossos import (
     INTERPOLATION_RULES,
@@ -213,10 +214,18 @@ def test_the_two_rules_differ_by_up_to_about_one_db():
 def test_bad_input_is_one_clear_error():
     with pytest.raises(WheelrailError, match="track type"):
         cnossos_rolling_noise(30.0, track_type="concrete")
-    with pytest.raises(WheelrailError, match="680, 840, 920, 1200"):
+    with pytest.raises(WheelrailError, match="680, 840, 920, 1200") as diameter:
         cnossos_rolling_noise(30.0, wheel_diameter=0.9)
-    with pytest.raises(WheelrailError, match="axles"):
+    # errors are data: the API names its argument (m), the command line its option (mm)
+    table = "not one of the wheel diameters 680, 840, 920, 1200 mm (the columns of CNOSSOS-EU Table G-3b)"
+    assert str(diameter.value) == f"wheel_diameter 0.9 m: {table}"
+    assert diameter.value.render(CLI_NAMES) == f"--wheel-diameter-mm 900: {table}"
+    with pytest.raises(WheelrailError, match="axles") as axles:
         cnossos_rolling_noise(30.0, axles=0)
+    assert axles.value.render(CLI_NAMES) == "--axles 0: not a whole number of at least 1"
+    with pytest.raises(WheelrailError) as load:
+        cnossos_rolling_noise(30.0, load=-5.0)
+    assert str(load.value) == "load -5 N: not a positive number"
     with pytest.raises(WheelrailError, match="speed"):
         cnossos_rolling_noise(float("nan"))
     with pytest.raises(WheelrailError, match="roughness interpolation"):
@@ -224,10 +233,11 @@ def test_bad_input_is_one_clear_error():
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "wheelrail.core.cli", "noise", *args], capture_output=True,
+    return subprocess.run([sys.executable, "-m", "wheelrail", "noise", *args], capture_output=True,
                           text=True, timeout=120)
 
 
+@pytest.mark.slow
 def test_cli_json_layout_and_errors():
     done = _cli("--method", "cnossos", "--speed-kmh", "120", "--rail-roughness", "network-average",
                 "--wheel-roughness", "none", "--track-type", "wooden", "--wheel-diameter-mm", "680",
@@ -242,6 +252,10 @@ def test_cli_json_layout_and_errors():
     np.testing.assert_allclose(out["cnossos"]["track_dB"], want.track_db, atol=1e-9)
     assert out["cnossos"]["total_dBA"] == pytest.approx(want.total_dba)
     bad = _cli("--method", "cnossos", "--wheel-diameter-mm", "900")
-    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "Table G-3b" in bad.stderr
-    bad = _cli("--method", "cnossos", "--speed-kmh", "-3")
+    assert bad.returncode == 2 and bad.stderr.startswith("wheelrail noise: error: --wheel-diameter-mm 900: not one ")
+    assert len(bad.stderr.strip().splitlines()) == 1 and "Table G-3b" in bad.stderr
+    bad = _cli("--method", "cnossos", "--speed-kmh", "-3")  # core's accepted range, in the option's unit
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1
+    assert bad.stderr.startswith("wheelrail noise: error: --speed-kmh -3 is outside the accepted 5 to 400 km/h (")
+    bad = _cli("--method", "cnossos", "--preload-kn", "5000")
+    assert bad.returncode == 2 and "--preload-kn 5000 is outside the accepted 1 to 500 kN" in bad.stderr
