@@ -11,6 +11,7 @@ from wheelrail.core.noise.run_noise import DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LE
 from wheelrail.core.study import noise_plan, run_study
 
 
+@pytest.mark.slow
 def test_noise_study_tables_physics_and_resume(tmp_path, monkeypatch):
     monkeypatch.setattr(noise_plan, "NOISE_SPEEDS_KMH", (100.0, 200.0))
     result = run_study("noise", ["sinter-wheel-1"], tmp_path, length=2.0, workers=1, progress=False)
