@@ -1,4 +1,4 @@
-"""Sweep of bad inputs to the command line (issue 13): each case ends in one of four classes.
+"""Sweep of bad inputs to the command line: each case ends in one of four classes.
 
 * ``clear``: non-zero exit and one line on stderr naming what is wrong (no traceback, no "internal error");
 * ``internal``: an "internal error" line or a traceback;
@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-WHEELRAIL = [sys.executable, "-m", "wheelrail.core.cli"]
+WHEELRAIL = [sys.executable, "-m", "wheelrail"]
 
 
 def _files(folder: Path) -> dict[str, str]:
@@ -91,12 +91,24 @@ def _cases(f: dict[str, str]) -> list[tuple[str, list[str]]]:
                    "--workers", "2"]),
         ("clear", ["study", "bogus", "--set", "corrugated-rail", "--out", f["dir"]]),
         ("clear", ["filters", "--preload-kn", "-1"]),
+        # only physical inputs (core/accepted.py): each of these ran silently once
+        ("clear", [*run, "--wheel-radius-mm", "0.001", "--length-m", "0.5"]),
+        ("clear", [*run, "--wheel-radius-mm", "1e6", "--length-m", "0.5"]),
+        ("clear", [*run, "--rail-crown-radius-mm", "0.001", "--length-m", "0.5"]),
+        ("clear", [*run, "--rail-crown-radius-mm", "300", "--wheel-transverse-radius-mm", "-300.5",
+                   "--length-m", "0.5"]),
+        ("clear", [*run, "--preload-kn", "5000", "--length-m", "0.5"]),
+        ("clear", [*run, "--preload-kn", "0.1", "--length-m", "0.5"]),
+        ("clear", ["filters", "--preload-kn", "1e12"]),
+        ("clear", ["track", "--speed-kmh", "401"]),
+        ("clear", ["track", "--speed-kmh", "4"]),
+        ("clear", [*run, "--wheel-set", "sinter-wheel-1", "--length-m", "0.5"]),
         ("ok", [*run, "--speed-kmh", "5", "--length-m", "0.5"]),
         ("ok", [*run, "--speed-kmh", "6.85", "--length-m", "0.5"]),
         ("ok", [*run, "--speed-kmh", "400", "--length-m", "1.0"]),
         ("ok", [*run, "--model", "3d", "--line", "2", "--length-m", "0.3"]),
         ("ok", ["run", "--set", f["csv"], "--json", "--length-m", "0.5"]),
-        ("ok", [*run, "--wheel-set", "sinter-wheel-1", "--length-m", "0.5"]),
+        ("ok", [*run, "--wheel-set", "sinter-wheel-1", "--wheel-radius-mm", "461.5", "--length-m", "0.5"]),
     ]
 
 

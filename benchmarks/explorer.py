@@ -22,6 +22,8 @@ import socket
 import statistics
 import time
 
+from wheelrail.core.run_setup import default_run_in_length
+
 
 def _free_port() -> int:
     with socket.socket() as s:
@@ -60,7 +62,7 @@ def server_side(app, repeats: int, length: float) -> None:
     for model in ("3d", "2d", "hertz"):
         firsts = [_press(app, model, 1.0)[0] for _ in range(repeats)]
         print(f"  {model:6s} {statistics.median(firsts) * 1e3:7.0f} ms   (min {min(firsts) * 1e3:.0f}, "
-              f"max {max(firsts) * 1e3:.0f} ms; includes the 1 m run-in)")
+              f"max {max(firsts) * 1e3:.0f} ms; includes the run-in, {default_run_in_length() * 1e3:.0f} steps)")
     first, elapsed, frames, steps, _ = _press(app, "3d", length)
     live = elapsed - first
     print(f"3d live patch, {length:g} m corrugated rail at 100 km/h: {frames} frames in {live:.2f} s after the first "

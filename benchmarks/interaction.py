@@ -3,7 +3,7 @@
 Run: python3 benchmarks/interaction.py [--length-m 7.96] [--wheel-radius-mm 460 --rail-crown-radius-mm 300]
 Each model runs in its own process (peak resident memory per run), on the corrugated rail at 100 km/h,
 after a warm-up run so that numba's compiled code and the track's Green's functions are loaded.
-Targets (issue 6, 2 cores): 3d >= 2 000 steps/s; 2d and hertz* >= 100 000 steps/s;
+Targets (2 cores): 3d >= 2 000 steps/s; 2d and hertz* >= 100 000 steps/s;
 peak memory of an 8 m 3D run < 1 GB.
 """
 
@@ -14,6 +14,8 @@ import json
 import subprocess
 import sys
 import time
+
+from wheelrail.core.run_setup import default_run_in_length
 
 CHILD = r"""
 import json, resource, sys, time
@@ -66,8 +68,8 @@ def main() -> None:
     geometry = {name: value * 1e-3 for name, value in (("wheel_radius", args.wheel_radius_mm),
                                                        ("rail_crown_radius", args.rail_crown_radius_mm))
                 if value is not None}
-    print(f"corrugated rail, 100 km/h, length {args.length_m} (+1 m run-in), 1 mm elements, "
-          f"geometry {geometry or 'paper'}")
+    print(f"corrugated rail, 100 km/h, length {args.length_m} (+{default_run_in_length():.3f} m run-in), "
+          f"1 mm elements, geometry {geometry or 'paper'}")
     for model in args.models:
         start = time.perf_counter()
         done = subprocess.run([sys.executable, "-c", CHILD, model, str(args.length_m), json.dumps(geometry)],

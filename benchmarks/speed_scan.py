@@ -1,4 +1,4 @@
-"""Dense smooth-rail speed scan for period-two chatter (issue 13 item 1), 5-400 km/h.
+"""Dense smooth-rail speed scan for period-two chatter, 5-400 km/h.
 
 Run: python3 benchmarks/speed_scan.py [STEP_KMH]   (default 0.05 km/h up to 20 km/h, then 1 km/h)
 Prints, per speed, the largest second difference of the force on a smooth rail (N; chatter of amplitude A

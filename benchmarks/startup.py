@@ -1,4 +1,4 @@
-"""Start-up time of the command line (issue 13 item 11): `wheelrail --help` and a cached `wheelrail track`.
+"""Start-up time of the command line: `wheelrail --help` and a cached `wheelrail track`.
 
 Each command runs as a fresh process (what a user waits for), REPEAT times after one warm-up run that fills
 the Green's-function and receptance-peak caches and the numba cache; prints the median and the fastest
@@ -18,8 +18,8 @@ import time
 REPEAT = int(sys.argv[1]) if len(sys.argv) > 1 else 7
 COMMANDS = {
     "python -c pass (interpreter alone)": [sys.executable, "-c", "pass"],
-    "wheelrail --help": [sys.executable, "-m", "wheelrail.core.cli", "--help"],
-    "wheelrail track (cached)": [sys.executable, "-m", "wheelrail.core.cli", "track"],
+    "wheelrail --help": [sys.executable, "-m", "wheelrail", "--help"],
+    "wheelrail track (cached)": [sys.executable, "-m", "wheelrail", "track"],
 }
 
 

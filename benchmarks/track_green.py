@@ -1,7 +1,7 @@
 """Track Green's functions: one-off precompute, a new speed, reload, cache size, truncation error.
 
 Run: python3 benchmarks/track_green.py   (uses a private temporary cache, so the precompute is real)
-Targets (issue 3): precompute < 60 s, new speed < 1 s, reload < 0.2 s.
+Targets: precompute < 60 s, new speed < 1 s, reload < 0.2 s.
 """
 
 from __future__ import annotations

@@ -1,26 +1,30 @@
-"""The ``wheelrail`` command line.
+"""The command line's dispatcher and core's commands.
 
-Each sub-command lives in its own module under ``wheelrail.core.commands`` that defines
-``add_parser(subparsers)`` and ``run(args) -> int``; this module only dispatches. Every error ends as
-one line on stderr and a non-zero exit code; set ``WHEELRAIL_DEBUG=1`` to see the
-traceback of an unexpected failure.
+Each sub-command lives in its own module that defines ``add_parser(subparsers)`` and ``run(args) -> int``;
+core's are under ``wheelrail.core.commands``, and the ``wheelrail`` console script (``wheelrail.cli``) adds the
+explorer's ``explore`` command to them, so that core never imports the explorer. This module only dispatches.
+Every error ends as one line on stderr and a non-zero exit code, a :class:`WheelrailError` worded with the
+command line's own names for its inputs (``commands._common.CLI_NAMES``: option, unit), a warning as one line
+too; set ``WHEELRAIL_DEBUG=1`` to see the traceback of an unexpected failure.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import sys
+import warnings
 
+from wheelrail import __version__
 from wheelrail.core.errors import WheelrailError
 
 # name -> one-line help shown by `wheelrail --help`; the module wheelrail.core.commands.NAME (its
 # "-" written "_") is imported only when that command runs, so that `--help` and a cached `track` start
-# fast (issue 13: importing every command, scipy.signal among them, took 0.8 s before anything ran).
-# tests/cli/test_cli_startup.py checks these lines against each module's own help.
+# fast (importing every command, scipy.signal among them, took 0.8 s before anything ran).
+# tests/cli/test_cli_reliability.py checks these lines against each module's own help.
 COMMANDS = {
-    "explore": "start the browser GUI (default http://127.0.0.1:8080)",
     "track": "track receptance peaks (sleeper-on-ballast, rail-on-pad, pinned-pinned) and Green's function cache",
     "run": "simulate the wheel rolling over a roughness set with one contact model",
     "datasets": "list the bundled roughness sets",
@@ -28,7 +32,9 @@ COMMANDS = {
     "spectra": "third-octave contact-force spectrum of a saved run (.npz or .rrd)",
     "study": "run one of the paper's studies (force spectra, contact filters, model differences)",
     "filters": "reference contact filters (CNOSSOS-EU A3, analytic) by wavelength and frequency band",
+    "noise": "rolling noise: CNOSSOS-EU source, the model track's transfer function, or a run's sound power and WAV",
 }
+
 
 class _OneLineErrors(argparse.ArgumentParser):
     """Usage errors as one line on stderr, not argparse's usage block."""
@@ -37,8 +43,16 @@ class _OneLineErrors(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
-def build_parser(command: str | None = None) -> argparse.ArgumentParser:
-    """The parser; only ``command``'s module is imported (every module when ``command`` is "*")."""
+def _commands(extra: dict[str, tuple[str, str]] | None) -> dict[str, tuple[str, str]]:
+    """name -> (one-line help, module): ``extra`` (e.g. the explorer's, from ``wheelrail.cli``), then core's."""
+    core = {name: (text, f"wheelrail.core.commands.{name.replace('-', '_')}") for name, text in COMMANDS.items()}
+    return {**(extra or {}), **core}
+
+
+def build_parser(command: str | None = None, extra: dict[str, tuple[str, str]] | None = None
+                 ) -> argparse.ArgumentParser:
+    """The parser; only ``command``'s module is imported (every module when ``command`` is "*"). ``extra``:
+    more commands, name -> (one-line help, module)."""
     parser = _OneLineErrors(
         prog="wheelrail",
         description=(
@@ -46,10 +60,11 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
             "(Pieringer, Kropp & Thompson, Wear 271, 2011)."
         ),
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for name, help_text in COMMANDS.items():
+    for name, (help_text, module_name) in _commands(extra).items():
         if command in (name, "*"):
-            module = importlib.import_module(f"wheelrail.core.commands.{name.replace('-', '_')}")
+            module = importlib.import_module(module_name)
             command_parser = module.add_parser(sub)
             command_parser.set_defaults(_run=module.run)
         else:
@@ -65,7 +80,7 @@ def _command_of(argv: list[str]) -> str | None:
 def _interrupted(error: BaseException) -> bool:
     """Whether ``error`` is, or was caused by, Ctrl-C: numba-compiled code that calls back into Python
     (e.g. to raise an exception) turns a KeyboardInterrupt arriving there into a ``SystemError`` "returned
-    a result with an exception set" whose cause is the interrupt (issue 13)."""
+    a result with an exception set" whose cause is the interrupt)."""
     seen = set()
     while error is not None and id(error) not in seen:
         if isinstance(error, KeyboardInterrupt):
@@ -75,16 +90,21 @@ def _interrupted(error: BaseException) -> bool:
     return False
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None, *, extra: dict[str, tuple[str, str]] | None = None) -> int:
+    """Run the command line ``argv`` (default ``sys.argv[1:]``) with core's commands and ``extra`` ones
+    (name -> (one-line help, module)); returns the exit code."""
     argv = sys.argv[1:] if argv is None else list(argv)
     command = _command_of(argv)
     name = command or ""
     try:
-        parser = build_parser(command if command in COMMANDS else None)
-        args = parser.parse_args(argv)
-        return int(args._run(args) or 0)
+        with _one_line_warnings(name):
+            parser = build_parser(command if command in _commands(extra) else None, extra)
+            args = parser.parse_args(argv)
+            return int(args._run(args) or 0)
     except WheelrailError as error:
-        print(f"wheelrail {name}: error: {_cli_wording(str(error))}", file=sys.stderr)
+        from wheelrail.core.commands._common import CLI_NAMES  # not at import: `--help` loads no command module
+
+        print(f"wheelrail {name}: error: {error.render(CLI_NAMES)}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # output piped into a closed reader (e.g. `| head`): not an error
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 - silence the interpreter's flush at exit
@@ -109,22 +129,15 @@ def main(argv: list[str] | None = None) -> int:
         return 1
 
 
-# Library messages that advise a Python caller (a window size, a keyword argument) reworded into what a
-# command-line user can change (issue 13 item 9).
-_CLI_ADVICE = {
-    "the window is too small for the load, use a larger window":
-        "the load or the roughness is too large for the contact window: lower --preload-kn or use a "
-        "smoother line or set",
-    "the roughness is too large, pass a larger half_window":
-        "the roughness is too large for the bedding window: use a smoother line or set, or --model hertz",
-    "use a longer run or a smaller skip": "use a longer run or a smaller --skip-ms",
-}
-
-
-def _cli_wording(message: str) -> str:
-    for library, cli in _CLI_ADVICE.items():
-        message = message.replace(library, cli)
-    return message
+@contextlib.contextmanager
+def _one_line_warnings(name: str):
+    """Warnings (a plug-in skipped, a cache entry rebuilt) as one line each, like the errors."""
+    original = warnings.formatwarning
+    warnings.formatwarning = lambda message, *_args, **_kwargs: f"wheelrail {name}: warning: {message}\n"
+    try:
+        yield
+    finally:
+        warnings.formatwarning = original
 
 
 if __name__ == "__main__":

@@ -1,9 +1,143 @@
-"""The one error type users see: a clear, one-line message (README, Errors)."""
+"""The one error type users see: one line, carried as data so that every front end words it in its own terms.
+
+A :class:`WheelrailError` holds what went wrong (``problem``, in words that name no input) and, when an input
+is to blame, which one: ``parameter``, a stable key such as ``"preload"`` (the keys of
+:data:`wheelrail.core.accepted.ACCEPTED` and a few more: ``length``, ``line``, ``skip``, ...), the value given
+and the accepted range, all in SI units. ``str(error)`` is the Python API's wording (the argument's name,
+SI units). :meth:`WheelrailError.render` words the same error for another front end from a mapping of keys
+to :class:`Name`: the command line's (``wheelrail.core.commands._common.CLI_NAMES``: ``--preload-kn 5000``,
+kN) and the explorer's (``wheelrail.explorer.config.FIELD_NAMES``: ``Preload 5000 kN``). No front end
+rewrites a finished sentence.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Mapping
+from typing import NamedTuple
+
+__all__ = ["Name", "WheelrailError"]
+
+
+class Name(NamedTuple):
+    """How one front end names an input: its ``label`` ("--preload-kn", "Preload"), the ``unit`` it shows values
+    in ("kN"; "" for counts and text), ``scale`` (that unit per SI unit: 1e-3 for kN) and whether the label
+    already carries the unit (a command-line option: values are shown bare after it)."""
+
+    label: str
+    unit: str = ""
+    scale: float = 1.0
+    unit_in_label: bool = False
 
 
 class WheelrailError(ValueError):
-    """Bad input or a reported numerical failure.
+    """Bad input or a reported numerical failure, as data (module docstring).
 
-    The message is one line that says what is wrong, where, with which value, and what is allowed.
-    The command line prints it as it is, without a traceback.
+    Parameters
+    ----------
+    problem : str, optional
+        What went wrong, in words that name no input (the front ends name it). None with a range: the value
+        is outside it.
+    parameter : str, optional
+        Stable key of the input to blame (``"preload"``, ``"speed"``, ``"wheel_radius"``, ``"length"``, ...).
+    value : optional
+        The value given, SI (a number, or text as given).
+    minimum, maximum : float, optional
+        The accepted range, SI (either end may be open).
+    unit : str
+        SI unit of ``value``, ``minimum`` and ``maximum`` ("" for counts and text).
+    argument : str, optional
+        The Python API's name of the input (``"ContactParameters.preload"``); default ``parameter``.
+    reason : str, optional
+        Why the range is what it is (shown in brackets after it).
+    advice : str, optional
+        What else can be done, in words that name no input.
+    magnitude : bool
+        The range bounds the value's magnitude (a radius that may be negative).
+
+    A message with no parameter (``WheelrailError("file x.npz is damaged")``) reads the same everywhere.
     """
+
+    def __init__(self, problem: str | None = None, *, parameter: str | None = None, value=None,
+                 minimum: float | None = None, maximum: float | None = None, unit: str = "",
+                 argument: str | None = None, reason: str | None = None, advice: str | None = None,
+                 magnitude: bool = False) -> None:
+        if problem is None and parameter is None:
+            raise TypeError("WheelrailError needs a problem or a parameter")
+        self.problem = problem
+        self.parameter = parameter
+        self.value = value
+        self.minimum = minimum
+        self.maximum = maximum
+        self.unit = unit
+        self.argument = argument
+        self.reason = reason
+        self.advice = advice
+        self.magnitude = magnitude
+        super().__init__(self.render())
+
+    def __reduce__(self):  # pickled across processes (study workers) with its data, not only its text
+        return (_rebuild, (self.problem, self._fields()))
+
+    def _fields(self) -> dict:
+        return {"parameter": self.parameter, "value": self.value, "minimum": self.minimum, "maximum": self.maximum,
+                "unit": self.unit, "argument": self.argument, "reason": self.reason, "advice": self.advice,
+                "magnitude": self.magnitude}
+
+    def name_in(self, names: Mapping[str, Name] | None = None) -> Name:
+        """The front end's :class:`Name` of this error's input (the API's when ``names`` has none)."""
+        own = names.get(self.parameter) if names is not None and self.parameter is not None else None
+        return own if own is not None else Name(self.argument or self.parameter or "", self.unit)
+
+    def render(self, names: Mapping[str, Name] | None = None) -> str:
+        """The one-line message, the input named as ``names`` (key -> :class:`Name`) name it; None: the API's."""
+        if self.parameter is None:
+            text = self.problem
+        else:
+            name = self.name_in(names)
+            head = name.label if self.value is None else f"{name.label} {_shown(self.value, name)}"
+            span = self._span(name)
+            if self.problem is None:
+                text = (f"{head} is outside the accepted range, {span}" if self.magnitude
+                        else f"{head} is outside the accepted {span}" if span else f"{head} is not accepted")
+            else:
+                text = f"{head}: {self.problem}" + (f"; accepted {span}" if span else "")
+            if self.reason:
+                text += f" ({self.reason})"
+        return f"{text}; {self.advice}" if self.advice else text
+
+    def _span(self, name: Name) -> str:
+        unit = f" {name.unit}" if name.unit else ""
+        low = None if self.minimum is None else _number(self.minimum * name.scale)
+        high = None if self.maximum is None else _number(self.maximum * name.scale)
+        if self.magnitude and low is not None:
+            return f"a magnitude of at least {low}{unit}"
+        if low is not None and high is not None:
+            return f"{low} to {high}{unit}"
+        if low is not None:
+            return f"at least {low}{unit}"
+        if high is not None:
+            return f"at most {high}{unit}"
+        return ""
+
+
+def _rebuild(problem, fields) -> WheelrailError:
+    return WheelrailError(problem, **fields)
+
+
+def _number(value: float) -> str:
+    if math.isinf(value):
+        return "inf" if value > 0 else "-inf"
+    return f"{value:.6g}"
+
+
+def _shown(value, name: Name) -> str:
+    """A value as the front end shows it: a number in its unit, text quoted (bare after a command-line option)."""
+    if isinstance(value, str) and name.unit_in_label:  # a command-line option: the word as typed
+        return value
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return repr(value)
+    number = _number(float(value) * name.scale) if name.scale != 1.0 or not isinstance(value, numbers.Integral) \
+        else str(int(value))
+    return number if name.unit_in_label or not name.unit else f"{number} {name.unit}"

@@ -30,32 +30,34 @@ from collections.abc import Callable, Iterator
 import numpy as np
 from numba import njit
 
+from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.contact.hertz import _hertz_law
 from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
-from wheelrail.core.models import LAW_HERTZ, MODELS, ContactModel, ModelInputs, ModelTraits
+from wheelrail.core.models import LAW_HERTZ, MODELS, ContactModel, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
 from wheelrail.core.run_setup import (
-    DEFAULT_RUN_IN,
+    DEFAULT_RUN_IN_TIME,
     RUN_MARGIN,
     WINDOW_HALF_WIDTH,
     History,
     TrackRoughness,
+    check_roughness_pair,
     checked_inputs,
     history_arrays,
+    model_inputs,
     resolve_roughness,
     roughness_along_track,
     run_margin,
     static_equilibrium,
     usable_length,
-    window_half_elements,
     window_lines,
 )
 
 __all__ = [
-    "DEFAULT_RUN_IN", "MODELS", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "InteractionRun", "prepare_run", "run_margin",
+    "DEFAULT_RUN_IN_TIME", "MODELS", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "InteractionRun", "prepare_run", "run_margin",
     "simulate", "usable_length", "window_lines",
 ]
 
@@ -350,7 +352,7 @@ def prepare_run(
     line: int = 0,
     params: ModelParameters | None = None,
     length: float | None = None,
-    run_in_length: float = DEFAULT_RUN_IN,
+    run_in_length: float | None = None,
     keep_pressure: bool = True,
     track_numerics: TrackNumerics | None = None,
 ) -> InteractionRun:
@@ -364,20 +366,24 @@ def prepare_run(
         given. Heights are taken positive where the surface stands out, so for either kind r = height.
     wheel_roughness : RoughnessSet, str or path, optional
         A wheel set on the same wheel: the combined roughness r = r_rail + r_wheel (paper eq. 3's
-        r = r_W - r_R with z downwards). Each set on the model grid at its own lateral positions, centred on
-        its own ``line``; the wheel's lines repeat with its circumference. ``roughness`` must then be a rail
-        set and this a wheel set (else one WheelrailError).
+        r = r_W - r_R with z downwards), paired by lateral position: the wheel set interpolated across onto
+        the rail's lines (refused where it has no data, see ``run_setup.run_lines``); its lines repeat with
+        its circumference, which must be within 1 % of 2 pi R of the rolling radius R
+        (``accepted.check_wheel_circumference``). ``roughness`` must then be a rail set and this a wheel set
+        (else one WheelrailError).
     model : str
         A registered contact model (``wheelrail.core.models.model_names()``).
     line : int
-        Roughness line -M..M; for a model with a lateral window the line it is centred on.
+        Roughness line -M..M (of the rail set when a wheel set is added); for a model with a lateral window
+        the line it is centred on.
     params : ModelParameters, optional
         Default: the paper's values (65 kN, 100 km/h, 1 mm elements).
     length : float, optional
         Run length, m. Default: ``run_setup.usable_length`` (the rail data less the margins, or one wheel
         circumference: wheel data repeats around it).
-    run_in_length : float
-        Smooth run-in before step 0, m (discarded); default 1 m.
+    run_in_length : float, optional
+        Smooth run-in before step 0, m (discarded). Default: ``DEFAULT_RUN_IN_TIME`` (0.3 s) at the run's
+        speed, long enough for the start-up transient to die out (``run_setup.default_run_in_length``).
     keep_pressure : bool
         Keep every pressure map in the result (steps x ny x nx float32), for models that have them.
     track_numerics : TrackNumerics, optional
@@ -387,26 +393,22 @@ def prepare_run(
     -------
     InteractionRun
     """
-    entry, params, line = checked_inputs(model, line, params, run_in_length)
+    entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
     rough, name = resolve_roughness(roughness)
     wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
+    if wheel is not None:  # a rail set and a wheel set, going round this wheel (accepted.py)
+        check_roughness_pair(rough, wheel)
+        check_wheel_circumference(wheel.length, params.contact.radius_along, wheel_name)
     dx = params.run.element_size
     check_run_memory(entry, params, usable_length(rough, dx) if length is None else length, run_in_length,
                      keep_pressure)
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     history = history_arrays(track, params, run_in_length, track_numerics)
+    _scatter_range(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
     header = RunHeader(model=entry.name, line=line, roughness_name=name, params=params,
                        run_in_length=history.n_run_in * dx, wheel_roughness_name=wheel_name)
     contact = entry.create()
-
-    def position_of(s: int) -> float:
-        return track.x_start + (s - history.n_run_in) * dx
-
-    static_approach = contact.prepare(ModelInputs(
-        params=params, element_size=dx, lines=track.lines, centre_row=track.centre_row, window_y=track.window_y,
-        half_x=window_half_elements(params)[0], start_index=history.start_index, ramp=history.ramp,
-        position_of=position_of,
-    ))
+    static_approach = contact.prepare(model_inputs(track, history, params))
     history.xi_w0 = static_equilibrium(static_approach, params.contact.preload, history.weights)
     return InteractionRun(header=header, traits=entry.traits, contact=contact, track=track, history=history,
                           keep_pressure=keep_pressure)

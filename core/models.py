@@ -15,15 +15,30 @@ Two kinds of law:
   more than the call, and any model registered from outside, e.g. in a test).
 
 This module is cheap to import (no numba, no SciPy): the command line, the studies and the explorer read the
-model names and traits from it; the implementation is imported on first use.
+model names and traits from it (:func:`model_names`, :func:`model_entry`); the implementation is imported on
+first use.
 
-Adding a model: write its class (a :class:`ContactModel`) in one module and add one :class:`ModelEntry` to
-``_BUILTIN`` below, or call :func:`register` at run time.
+Adding a model: write its class (a :class:`ContactModel`) and one :class:`ModelEntry`, then either
+
+* add the entry to ``_BUILTIN`` below (a model of this package);
+* declare it in another package as an entry point of the group ``wheelrail.contact_models`` (the entry point's
+  name is the model's name; it loads the ``ModelEntry``), e.g. in that package's ``pyproject.toml``::
+
+      [project.entry-points."wheelrail.contact_models"]
+      linear-spring = "my_package.models:LINEAR_SPRING"
+
+  The registry finds installed plug-ins the first time it is asked for a model (no import, no call), so the
+  command line, the studies and the explorer offer them; a plug-in that fails to load is skipped with one
+  :class:`PluginWarning` naming it;
+* or call :func:`register` at run time (this process only: not seen by a study's worker processes).
 """
 
 from __future__ import annotations
 
 import importlib
+import importlib.metadata
+import re
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -34,13 +49,15 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ModelParameters
 
 __all__ = [
-    "LAW_BEDDING", "LAW_HERTZ", "MODELS", "REFERENCE_MODEL", "ContactModel", "ContactState", "LawInputs",
-    "ModelEntry", "ModelInputs", "ModelTraits", "model_entry", "model_names", "register", "unregister",
+    "ENTRY_POINT_GROUP", "LAW_BEDDING", "LAW_HERTZ", "MODELS", "REFERENCE_MODEL", "ContactModel", "ContactState",
+    "LawInputs", "ModelEntry", "ModelInputs", "ModelTraits", "PluginWarning", "model_entry", "model_names",
+    "register", "unregister",
 ]
 
 LAW_HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz._hertz_law
 LAW_BEDDING = 1  # Winkler bedding on the line under the wheel (eqs. 3-6): contact.winkler._bedding_law
 _LAWS = (None, LAW_HERTZ, LAW_BEDDING)
+_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -187,6 +204,16 @@ class ModelEntry:
     traits: ModelTraits
     implementation: str | type
 
+    def __post_init__(self) -> None:
+        # the name is typed on the command line and becomes part of file names and table columns
+        if not (isinstance(self.name, str) and _NAME.fullmatch(self.name)):
+            raise WheelrailError(f"ModelEntry.name must be letters, digits, '-' or '_' (starting with a letter or "
+                                 f"digit), got {self.name!r}")
+        if not (isinstance(self.label, str) and self.label.strip() and "\n" not in self.label):
+            raise WheelrailError(f"ModelEntry.label must be one line of text, got {self.label!r}")
+        if not isinstance(self.traits, ModelTraits):
+            raise WheelrailError(f"ModelEntry.traits must be a ModelTraits, got {type(self.traits).__name__}")
+
     def create(self) -> ContactModel:
         """A fresh model instance for one run."""
         target = self.implementation
@@ -212,13 +239,56 @@ _BUILTIN = (
 
 MODELS: tuple[str, ...] = tuple(entry.name for entry in _BUILTIN)  # the built-in models, in menu order
 REFERENCE_MODEL = "hertz"  # no roughness filtering: the reference of every contact filter (paper section 3.3)
+ENTRY_POINT_GROUP = "wheelrail.contact_models"  # plug-ins: entry points that load a ModelEntry
 _REGISTRY: dict[str, ModelEntry] = {entry.name: entry for entry in _BUILTIN}
+_plugins_loaded = False
+
+
+class PluginWarning(UserWarning):
+    """A contact-model plug-in could not be used (it is skipped; the message names it)."""
+
+
+def _load_plugins() -> None:
+    """Add the installed plug-ins (entry points of ``ENTRY_POINT_GROUP``) to the registry, once per process.
+
+    Each entry point is loaded on its own: one that raises, does not give a ``ModelEntry``, is named other
+    than its entry or takes a name already used is skipped with one :class:`PluginWarning`, and the others
+    still load.
+    """
+    global _plugins_loaded
+    if _plugins_loaded:
+        return
+    _plugins_loaded = True
+    for point in sorted(importlib.metadata.entry_points(group=ENTRY_POINT_GROUP), key=lambda p: p.name):
+        problem = _plugin_problem(point)
+        if problem:
+            where = f" from {point.dist.name} {point.dist.version}" if point.dist is not None else ""
+            warnings.warn(f"contact-model plug-in {point.name!r} ({point.value}{where}) is skipped: {problem}",
+                          PluginWarning, stacklevel=3)
+
+
+def _plugin_problem(point) -> str | None:
+    """Register one entry point's model; what is wrong with it (None: registered)."""
+    try:
+        entry = point.load()
+    except Exception as error:  # noqa: BLE001 - a plug-in's own failure, whatever it is, must not stop us
+        return f"loading it raised {type(error).__name__}: {error}"
+    if not isinstance(entry, ModelEntry):
+        return f"it gives a {type(entry).__name__}, not a wheelrail.core.models.ModelEntry"
+    if entry.name != point.name:
+        return f"the entry point's name must be the model's name, {entry.name!r}"
+    if entry.name in _REGISTRY:
+        return "a contact model of that name is already registered"
+    _REGISTRY[entry.name] = entry
+    return None
 
 
 def register(entry: ModelEntry) -> ModelEntry:
-    """Add a model (e.g. from a test or a plug-in); its name must be new."""
+    """Add a model at run time (e.g. from a test); its name must be new. A model meant for other people is
+    better a plug-in (the module docstring): it then reaches a study's worker processes too."""
     if not isinstance(entry, ModelEntry):
         raise WheelrailError(f"register() takes a ModelEntry, got {type(entry).__name__}")
+    _load_plugins()
     if not entry.name or entry.name in _REGISTRY:
         raise WheelrailError(f"a contact model named {entry.name!r} is already registered (or the name is empty)")
     _REGISTRY[entry.name] = entry
@@ -226,19 +296,21 @@ def register(entry: ModelEntry) -> ModelEntry:
 
 
 def unregister(name: str) -> None:
-    """Remove a model added with :func:`register` (the built-in ones stay)."""
+    """Remove a model added with :func:`register` or by a plug-in (the built-in ones stay)."""
     if name in MODELS:
         raise WheelrailError(f"the built-in model {name!r} cannot be removed")
     _REGISTRY.pop(name, None)
 
 
 def model_names() -> tuple[str, ...]:
-    """Every registered model, built-in first."""
+    """Every registered model: the built-in ones first, then the plug-ins and those added by :func:`register`."""
+    _load_plugins()
     return tuple(_REGISTRY)
 
 
 def model_entry(name: str) -> ModelEntry:
     """The registry entry of a model; an unknown name is one WheelrailError listing the choices."""
+    _load_plugins()
     try:
         return _REGISTRY[name]
     except (KeyError, TypeError):

@@ -1,8 +1,9 @@
 """Model parameters: frozen dataclasses in SI units holding the paper's defaults.
 
 Every class validates itself on construction (``__post_init__``) and rejects a non-positive or
-non-finite mass, stiffness, damping, speed, preload or element size with a :class:`WheelrailError`
-that names the parameter and its unit. Defaults are those of Pieringer, Kropp & Thompson (2011),
+non-finite mass, stiffness, damping or element size, and a speed, preload or radius outside its accepted
+range (``wheelrail.core.accepted``), with a :class:`WheelrailError` that carries the parameter, its value,
+unit and range. Defaults are those of Pieringer, Kropp & Thompson (2011),
 sections 2.1-2.3 and 3.
 """
 
@@ -12,18 +13,16 @@ import math
 import typing
 from dataclasses import asdict, dataclass, field, fields, is_dataclass
 
+from wheelrail.core.accepted import ACCEPTED, MAX_SPEED_KMH, MIN_SPEED_KMH, check_patch, raise_concave_tread
 from wheelrail.core.checks import integer, real
 from wheelrail.core.errors import WheelrailError
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
-
-# Accepted train speeds (``RunParameters.speed``): the range over which the interaction loop is shown stable
-# (FOH_MAX_STEP; smooth-rail speed scans in tests/physics/test_stability.py and benchmarks/speed_scan.py).
-# Below MIN_SPEED_KMH steps get so long (7.2 ms at 0.5 km/h: 8 lags) that the 50 ms truncation of the
-# trapezoidal weights matters and the loop chattered again at 0.5 km/h. MAX_SPEED_KMH is the reach of the
-# cached track responses (``TrackNumerics.max_speed``).
-MIN_SPEED_KMH = 5.0
-MAX_SPEED_KMH = 400.0
+__all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re-exported
+    "FOH_MAX_STEP", "KMH", "MAX_SPEED_KMH", "MIN_SPEED_KMH", "ContactParameters", "HertzContact", "ModelParameters",
+    "RailParameters", "RunParameters", "SupportParameters", "TrackNumerics", "TrackParameters", "WheelParameters",
+    "as_dict", "elliptic_hertz", "field_names", "from_dict", "hertz_constant", "reduced_modulus",
+]
 
 # Longest loop time step (s) at which wheel (eq. 1) and rail (eq. 2) are discretised with a first-order hold
 # (exact for a force linear between steps). A longer step (below 14.4 km/h at 1 mm) uses the trapezoidal rule
@@ -36,6 +35,11 @@ MAX_SPEED_KMH = 400.0
 # stable wherever the physical system is; at the Nyquist frequency its compliance is that at infinite
 # frequency, zero.
 FOH_MAX_STEP = 0.25e-3
+
+# Wheel and rail material, steel: the paper gives neither E nor nu; these common values reproduce its stated
+# a = 5.48 mm at 65 kN with R = 0.39 m. ContactParameters and every function's default read them from here.
+STEEL_YOUNGS_MODULUS = 210e9  # Pa
+STEEL_POISSON_RATIO = 0.3
 
 
 def reduced_modulus(youngs_modulus: float, poisson_ratio: float) -> float:
@@ -360,10 +364,15 @@ class ContactParameters:
         Transverse radius of the wheel tread, m: infinite (a cylindrical/conical tread, the default; None
         reads as infinite), negative for a concave (worn, hollow) tread. The relative curvature across,
         1 / rail_crown_radius + 1 / wheel_transverse_radius, must stay positive.
+
+    The preload and the radii must lie in their accepted ranges (``wheelrail.core.accepted.ACCEPTED``: 1 to
+    500 kN; wheel 0.1 to 1.25 m, crown 0.05 to 5 m, tread at least 0.05 m in magnitude) and the Hertz patch at
+    the preload within a tenth of the radii (``accepted.check_patch``); else one WheelrailError naming the
+    input.
     """
 
-    youngs_modulus: float = 210e9
-    poisson_ratio: float = 0.3
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS
+    poisson_ratio: float = STEEL_POISSON_RATIO
     radius: float = 0.39
     preload: float = 65e3
     wheel_radius: float | None = None
@@ -372,31 +381,28 @@ class ContactParameters:
 
     def __post_init__(self) -> None:
         _check(self, "youngs_modulus", "Pa")
-        _check(self, "radius", "m")
-        _check(self, "preload", "N")
         nu = self.poisson_ratio
         if not (isinstance(nu, int | float) and math.isfinite(nu) and 0.0 <= nu < 0.5):
             raise WheelrailError(f"ContactParameters.poisson_ratio must be in [0, 0.5), got {nu!r}")
-        for name in ("wheel_radius", "rail_crown_radius"):
-            if getattr(self, name) is not None:
-                _check(self, name, "m")
-        transverse = self.wheel_transverse_radius
-        if transverse is None:  # JSON has no infinity: a written file says null
+        if self.wheel_transverse_radius is None:  # JSON has no infinity: a written file says null
             object.__setattr__(self, "wheel_transverse_radius", math.inf)
-        elif not (isinstance(transverse, int | float) and not isinstance(transverse, bool)
-                  and not math.isnan(transverse) and transverse != 0.0):
-            raise WheelrailError(
-                "ContactParameters.wheel_transverse_radius must be a non-zero radius in m (inf: cylindrical "
-                f"tread, negative: concave), got {transverse!r}"
-            )
-        crown = self.rail_crown_radius if self.rail_crown_radius is not None else self.radius
-        if math.isfinite(self.wheel_transverse_radius) and 1.0 / crown + 1.0 / self.wheel_transverse_radius <= 0.0:
-            raise WheelrailError(
-                f"ContactParameters: a concave wheel tread of radius {-self.wheel_transverse_radius:g} m on a rail "
-                f"crown of radius {crown:g} m conforms (or overlaps) across the rail: the relative curvature "
-                "1/rail_crown_radius + 1/wheel_transverse_radius must be positive (the tread's radius larger "
-                "than the crown's)"
-            )
+        for name in ("radius", "preload", "wheel_radius", "rail_crown_radius", "wheel_transverse_radius"):
+            if getattr(self, name) is not None:  # the accepted ranges of a railway wheel and rail
+                ACCEPTED[name].check(getattr(self, name), f"ContactParameters.{name}")
+        self._check_geometry()
+
+    def _check_geometry(self) -> None:
+        """The tread must not conform with the crown, and the patch must stay small (``accepted.check_patch``)."""
+        crown = self.crown_radius
+        tread = self.wheel_transverse_radius
+
+        def semi_axis_across(radius_across: float) -> float:
+            return elliptic_hertz(self.preload, self.radius_along, radius_across, self.reduced_modulus)[1]
+
+        if math.isfinite(tread) and 1.0 / crown + 1.0 / tread <= 0.0:
+            raise_concave_tread(f"a concave tread of radius {-tread:.4g} m fits the rail crown of radius {crown:.4g} "
+                                "m or closer: the surfaces conform across the rail", tread, crown, semi_axis_across)
+        check_patch(self.hertz_semi_axes(), (self.radius_along, crown, tread), self.preload, semi_axis_across)
 
     @property
     def radius_along(self) -> float:
@@ -404,9 +410,14 @@ class ContactParameters:
         return self.radius if self.wheel_radius is None else float(self.wheel_radius)
 
     @property
+    def crown_radius(self) -> float:
+        """R_crown, the rail head's radius across the rail in use: ``rail_crown_radius``, or ``radius`` unset, m."""
+        return self.radius if self.rail_crown_radius is None else float(self.rail_crown_radius)
+
+    @property
     def radius_across(self) -> float:
         """R_y, relative radius of curvature across the rail, 1 / (1/R_crown + 1/R_tread), m."""
-        crown = self.radius if self.rail_crown_radius is None else float(self.rail_crown_radius)
+        crown = self.crown_radius
         if math.isinf(self.wheel_transverse_radius):
             return crown
         return 1.0 / (1.0 / crown + 1.0 / self.wheel_transverse_radius)
@@ -475,7 +486,7 @@ class RunParameters:
     Attributes
     ----------
     speed : float
-        v, train speed, m/s (100 km/h in the paper); MIN_SPEED_KMH to MAX_SPEED_KMH.
+        v, train speed, m/s (100 km/h in the paper); ``accepted.ACCEPTED["speed"]``: 5 to 400 km/h.
     element_size : float
         Delta x, contact element length and step length along the rail, m (1 mm).
     """
@@ -484,14 +495,8 @@ class RunParameters:
     element_size: float = 1e-3
 
     def __post_init__(self) -> None:
-        _check(self, "speed", "m/s")
+        ACCEPTED["speed"].check(self.speed, "RunParameters.speed")
         _check(self, "element_size", "m")
-        kmh = float(self.speed) / KMH
-        if not MIN_SPEED_KMH * (1 - 1e-12) <= kmh <= MAX_SPEED_KMH * (1 + 1e-12):
-            raise WheelrailError(
-                f"train speed {kmh:.6g} km/h is outside the accepted {MIN_SPEED_KMH:g}-{MAX_SPEED_KMH:g} km/h "
-                f"(RunParameters.speed {float(self.speed):.6g} m/s)"
-            )
 
     @property
     def time_step(self) -> float:

@@ -27,16 +27,19 @@ diameter dependence of the table is stronger than R^(1/3) (about D^(1/2) fits to
 the 3.2 dB of the worst case (the 360 mm wheel, rebuilt from 680/920 mm columns) comes from. Bands the
 shifted columns do not cover are NaN.
 
-**Analytic filters** (Remington 1987; Remington & Webb 1996; Thompson, *Railway Noise and Vibration*,
-2009, ch. 5), for a contact patch of semi-axis a along the rail, as band levels averaged over each band
+**Analytic filters**, for a contact patch of semi-axis a along the rail, as band levels averaged over each band
 (the mean of |H(k)|^2 over the band's wavenumbers, i.e. the filter white roughness sees; not |H|^2 at
 the centre), with k the angular wavenumber 2 pi / lambda:
 
 - ``averaging``: the roughness averaged uniformly over the contact length 2a,
   |H|^2 = (sin ka / ka)^2 (the ``hertz-average`` model's prefilter, paper eq. 19 dips at lambda = 2a/n);
 - ``patch-correlated``: averaged over the elliptical (here circular) patch, roughness identical across
-  its width: the chord 2a sqrt(1 - x^2/a^2) weights the line, |H|^2 = (2 J1(ka) / ka)^2;
-- ``patch-incoherent``: averaged over the patch, roughness of independent lateral strips (incoherent
+  its width: the chord 2a sqrt(1 - x^2/a^2) weights the line, |H|^2 = (2 J1(ka) / ka)^2 (these two are the
+  filters of the literature: Remington 1987; Remington & Webb 1996; Thompson, *Railway Noise and
+  Vibration*, 2009, ch. 5);
+- ``patch-incoherent``, **this project's construction** (not a filter of those sources, nor checked
+  against measurements; the counterpart of ``patch-correlated`` for roughness with no lateral coherence):
+  averaged over the patch, roughness of independent lateral strips (incoherent
   across the width): each strip at lateral position y = b u averages its own line over its chord
   2c = 2a sqrt(1 - u^2) and carries the area share w ∝ c, so
   |H|^2 = ∫ (1 - u^2) (sin kc / kc)^2 du / ∫ (1 - u^2) du over 0 <= u <= 1.
@@ -56,6 +59,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.special
 
+from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.bands import Bands, frequency_bands, map_levels, wavelength_bands
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
@@ -185,7 +189,8 @@ def _sinc2(x: np.ndarray) -> np.ndarray:
 def filter_transfer(kind: str, wavenumber, semi_axis: float) -> np.ndarray:
     """|H(k)|^2 of an analytic filter at angular wavenumbers ``wavenumber`` (rad/m), patch semi-axis a (m).
 
-    ``kind`` is one of :data:`ANALYTIC_FILTERS` (formulas in the module docstring).
+    ``kind`` is one of :data:`ANALYTIC_FILTERS` (formulas in the module docstring; ``averaging`` and
+    ``patch-correlated`` from the literature, ``patch-incoherent`` this project's construction).
     """
     ka = np.asarray(wavenumber, dtype=float) * semi_axis
     if kind == "averaging":
@@ -278,11 +283,11 @@ def reference_filters(
     Parameters
     ----------
     load : float
-        Static wheel load P, N.
+        Static wheel load P, N (``accepted.ACCEPTED``: 1 to 500 kN).
     wheel_radius : float
-        Wheel rolling radius R, m.
+        Wheel rolling radius R, m (0.1 to 1.25 m).
     speed : float, optional
-        Train speed, m/s; omitted: wavelength bands only.
+        Train speed, m/s (5 to 400 km/h); omitted: wavelength bands only.
     contact : ContactParameters, optional
         Material (E, nu) and geometry across the rail for the Hertz semi-axes (paper defaults); its preload
         and rolling radius are replaced by ``load`` and ``wheel_radius`` (and ``radius``, so that a rail
@@ -291,8 +296,8 @@ def reference_filters(
     frequency_range : (float, float)
         Lowest and highest frequency band centre, Hz.
     """
-    load = _positive(load, "wheel load", "N")
-    wheel_radius = _positive(wheel_radius, "wheel radius", "m")
+    load = ACCEPTED["preload"].check(load, "load")
+    wheel_radius = ACCEPTED["wheel_radius"].check(wheel_radius, "wheel_radius")
     contact = replace(ContactParameters() if contact is None else contact, radius=wheel_radius,
                       wheel_radius=wheel_radius, preload=load)
     a, b = hertz_semi_axes(contact)
@@ -303,7 +308,7 @@ def reference_filters(
     if speed is None:
         return ReferenceFilterSet(load=load, wheel_radius=wheel_radius, speed=None, semi_axes=(a, b),
                                   wavelength_bands=lambda_bands, by_wavelength=by_wavelength)
-    speed = _positive(speed, "speed", "m/s")
+    speed = ACCEPTED["speed"].check(speed, "speed")
     f_bands = frequency_bands(speed, frequency_range)
     by_frequency = {"cnossos": map_levels(by_wavelength["cnossos"], lambda_bands, f_bands)}
     for kind in ANALYTIC_FILTERS:
@@ -321,6 +326,6 @@ def run_reference_filters(contact: ContactParameters, speed: float,
     :func:`reference_filters` lets an unset rail crown follow the wheel radius it is given (the circle the
     CNOSSOS table assumes); a run's unset crown is its ``radius`` instead, so it is pinned here before the call.
     """
-    crown = contact.radius if contact.rail_crown_radius is None else contact.rail_crown_radius
     return reference_filters(contact.preload, contact.radius_along, speed,
-                             contact=replace(contact, rail_crown_radius=crown), frequency_range=frequency_range)
+                             contact=replace(contact, rail_crown_radius=contact.crown_radius),
+                             frequency_range=frequency_range)

@@ -5,8 +5,13 @@ a study or a test can reuse one (``usable_length`` is the one rule for margins a
 
 Start-up (paper section 3.1 leaves it open): before step 0 the history is filled with the preload P, the
 wheel sits at the static approach of the chosen contact model plus the bay-averaged static rail deflection,
-and a run-in on smooth surfaces (``DEFAULT_RUN_IN``) lets the sleeper-passing response settle; the
-roughness is faded in over the first half of the run-in with a raised cosine and the run-in is discarded.
+and a run-in on smooth surfaces lets the sleeper-passing response settle; the roughness under the wheel at
+step 0 is faded in over the first half of the run-in with a raised cosine and the run-in is discarded.
+That start is not the moving steady state (the rail under the wheel is not at its bay average, nor at rest):
+the wheel-on-track resonance (~66 Hz on the paper's track) rings from it with some hundred newtons and decays
+about tenfold every 55 ms, in time, whatever the speed. So the run-in is a time, ``DEFAULT_RUN_IN_TIME``
+(0.3 s: 8.3 m at 100 km/h, 25 m at 300 km/h; :func:`default_run_in_length`), after which the recorded force
+is that of a 40 m run-in within 0.2 N from 5 to 400 km/h (``benchmarks/run_in.py``, test_run_in.py).
 """
 
 from __future__ import annotations
@@ -19,18 +24,19 @@ import numpy as np
 
 from wheelrail.core.checks import real
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import ModelEntry, ModelTraits, model_entry
+from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
 __all__ = [
-    "DEFAULT_RUN_IN", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "WINDOW_SEMI_AXES", "History", "TrackRoughness",
-    "check_roughness_pair", "checked_inputs", "history_arrays", "roughness_along_track", "run_margin",
-    "static_equilibrium", "usable_length", "window_half_elements", "window_lines",
+    "DEFAULT_RUN_IN_TIME", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "WINDOW_SEMI_AXES", "History", "TrackRoughness",
+    "check_roughness_pair", "checked_inputs", "default_run_in_length", "history_arrays", "model_inputs",
+    "roughness_along_track", "run_lines", "run_margin", "static_equilibrium", "usable_length", "window_half_elements",
+    "window_lines",
 ]
 
 WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
 WINDOW_SEMI_AXES = 2.2  # half side of the window in Hertz semi-axes at the preload (along and across)
-DEFAULT_RUN_IN = 1.0  # m of smooth run-in before step 0 (discarded)
+DEFAULT_RUN_IN_TIME = 0.3  # s of smooth run-in before step 0 (discarded); see the module docstring
 RUN_MARGIN = 0.020  # m of roughness kept before the first and after the last wheel position
 
 
@@ -82,17 +88,27 @@ def usable_length(roughness, element_size: float, params: ModelParameters | None
     return n_steps * element_size
 
 
-def checked_inputs(model: str, line, params: ModelParameters | None, run_in_length) -> tuple[ModelEntry,
-                                                                                          ModelParameters, int]:
-    """Step 1: the model's registry entry, the parameters (default: the paper's) and the line number."""
+def default_run_in_length(params: ModelParameters | None = None) -> float:
+    """The default run-in, m: ``DEFAULT_RUN_IN_TIME`` at the run's speed, rounded up to whole elements."""
+    params = ModelParameters() if params is None else params
+    dx = params.run.element_size
+    return math.ceil(DEFAULT_RUN_IN_TIME * params.run.speed / dx - 1e-9) * dx
+
+
+def checked_inputs(model: str, line, params: ModelParameters | None,
+                   run_in_length) -> tuple[ModelEntry, ModelParameters, int, float]:
+    """Step 1: the model's registry entry, the parameters (default: the paper's), the line number and the
+    run-in length, m (None: :func:`default_run_in_length`)."""
     entry = model_entry(model)
     params = ModelParameters() if params is None else params
     if not isinstance(params, ModelParameters):
         raise WheelrailError("params must be a wheelrail.core.parameters.ModelParameters")
     if isinstance(line, bool) or not isinstance(line, int | np.integer):
         raise WheelrailError(f"line must be an integer line number, got {line!r}")
-    real("run_in_length", run_in_length, "m", sign="nonnegative")
-    return entry, params, int(line)
+    if run_in_length is None:
+        run_in_length = default_run_in_length(params)
+    run_in_length = real("run_in_length", run_in_length, "m", sign="nonnegative")
+    return entry, params, int(line), run_in_length
 
 
 def resolve_roughness(roughness):
@@ -180,13 +196,24 @@ def _window_rows(grid, y_line: float, line: int, half_width: float) -> tuple[lis
     return [grid.line_of_row(int(r)) for r in rows], window_y, centre
 
 
-def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters, what: str):
-    """The model grid of one set and its rows for ``line``: (grid, line numbers, offsets across, centre row)."""
+def _line_error(problem: str, line: int, lines, reason: str | None = None) -> WheelrailError:
+    """One WheelrailError blaming the line ``line`` (key ``"line"``): ``problem`` in words that name no input,
+    the lines that can be run as its accepted range (``-2 to 2``), or in words when they are not contiguous."""
+    lines = list(lines)
+    fields = {"parameter": "line", "value": int(line), "reason": reason}
+    if lines and lines[-1] - lines[0] == len(lines) - 1:
+        return WheelrailError(problem, minimum=lines[0], maximum=lines[-1], **fields)
+    words = f"only lines {', '.join(map(str, lines))} can be run" if lines else "no line can be run"
+    return WheelrailError(problem, advice=words, **fields)
+
+
+def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters):
+    """The model grid of a set and its rows for ``line``: (grid, line numbers, offsets across, centre row)."""
     from wheelrail.core.roughness import to_model_grid
 
     numbers = list(rough.line_numbers)
     if line not in numbers:
-        raise WheelrailError(f"line {line} is not in the {what} (lines {min(numbers)}..{max(numbers)})")
+        raise _line_error("not in the roughness set", line, sorted(numbers))
     dx = params.run.element_size
     y_line = float(rough.y[rough.row_of_line(line)])
     if not traits.lateral_window:
@@ -194,15 +221,64 @@ def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters, wha
     grid = to_model_grid(rough, dx, dx)
     usable = _window_lines_on(rough, grid, params)
     if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):
-        contiguous = usable and usable[-1] - usable[0] == len(usable) - 1
-        allowed = (f"lines {usable[0]}..{usable[-1]}" if contiguous else
-                   f"lines {', '.join(map(str, usable))}" if usable else "no line")
-        raise WheelrailError(
-            f"3d: line {line} is too close to the side of the {'wheel ' if what.startswith('wheel') else ''}"
-            f"roughness data: the contact patch needs {_patch_room(params, dx) * 1e3:g} mm of data on each side "
-            f"of its line; this set allows {allowed} at {params.contact.preload / 1e3:g} kN"
-        )
+        raise _line_error(
+            f"too close to the side of the roughness data for 3d: the contact patch at "
+            f"{params.contact.preload / 1e3:g} kN needs {_patch_room(params, dx) * 1e3:g} mm of data on each side "
+            "of its line", line, usable)
     return (grid, *_window_rows(grid, y_line, line, window_half_elements(params)[1] * dx))
+
+
+def run_lines(roughness, model: str = "hertz", params: ModelParameters | None = None, wheel=None) -> tuple[int, ...]:
+    """The lines of ``roughness`` a run of ``model`` can take (with the wheel set ``wheel`` added, if given).
+
+    A model with a lateral window (``3d``): :func:`window_lines`; a one-line model: every line. With a wheel
+    set, which is paired with the rail by lateral position (:func:`roughness_along_track`), only the lines
+    whose lateral position the wheel set has data at, and for a lateral window the contact patch's room
+    (the Hertz semi-axis b plus one element) on each side of it. The command line's messages and the
+    explorer's line menu use this list.
+    """
+    params = ModelParameters() if params is None else params
+    return _run_lines(roughness, model_entry(model).traits, params, wheel)
+
+
+def _run_lines(roughness, traits: ModelTraits, params: ModelParameters, wheel) -> tuple[int, ...]:
+    from wheelrail.core.roughness import covers
+
+    lines = (window_lines(roughness, params) if traits.lateral_window
+             else tuple(int(n) for n in roughness.line_numbers))
+    if wheel is None:
+        return lines
+    need = _patch_room(params, params.run.element_size) if traits.lateral_window else 0.0
+    y_of = {int(n): float(y) for n, y in zip(roughness.line_numbers, roughness.y, strict=True)}
+    return tuple(n for n in lines if covers(wheel, y_of[n] - need, y_of[n] + need))
+
+
+def _wheel_across(wheel, rough, traits: ModelTraits, line: int, params: ModelParameters, grid, wanted):
+    """The wheel set at the lateral positions of the rail's rows ``wanted`` (line numbers of the rail's model
+    grid ``grid``), on the longitudinal model grid: (wheel rows as a set, the indices of ``wanted`` kept).
+
+    One-line models: the rail line's position must lie within the wheel's data. A lateral window keeps the
+    rows the wheel has data for; the patch's room on each side of the line must be among them.
+    """
+    from wheelrail.core.roughness import at_lateral_positions, covers, lateral_extent_mm, to_model_grid
+
+    dx = params.run.element_size
+    y_line = float(rough.y[rough.row_of_line(line)])
+    extent = lateral_extent_mm(wheel)
+
+    paired = "the wheel set is paired with the rail set by lateral position"
+    if not traits.lateral_window and not covers(wheel, y_line, y_line):
+        raise _line_error(f"the rail set's line lies at y = {y_line * 1e3:g} mm, where the wheel set has no data "
+                          f"({extent})", line, _run_lines(rough, traits, params, wheel), paired)
+    need = _patch_room(params, dx)
+    if traits.lateral_window and not covers(wheel, y_line - need, y_line + need):
+        raise _line_error(
+            f"the rail set's line (y = {y_line * 1e3:g} mm) is too close to the side of the wheel roughness data "
+            f"({extent}) for 3d: the contact patch at {params.contact.preload / 1e3:g} kN needs {need * 1e3:g} mm "
+            "of the wheel's data on each side of its line", line, _run_lines(rough, traits, params, wheel), paired)
+    y_rows = np.array([grid.y[grid.row_of_line(int(n))] for n in wanted])
+    keep = np.flatnonzero([covers(wheel, y, y) for y in y_rows])
+    return at_lateral_positions(to_model_grid(wheel, dx), y_rows[keep]), keep
 
 
 def check_roughness_pair(rail, wheel) -> None:
@@ -220,10 +296,12 @@ def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelPa
     """Step 2: the chosen line (or lateral window) on the model grid, long enough for the run and its margins.
 
     ``wheel`` (a wheel set, optional) is added to the rail set ``rough``: r = r_rail + r_wheel, heights
-    positive where a surface stands out (so a bump on either pushes wheel and rail together). Each set is
-    interpolated to the model grid at its own lateral positions, centred on its own line ``line``; the wheel's
-    lines repeat with its circumference along the track (its sample 0 at the start of the rail data). A 3D
-    window keeps the offsets both sets have data for.
+    positive where a surface stands out (so a bump on either pushes wheel and rail together). The surfaces
+    are paired where they touch, by lateral position: ``line`` is the rail set's line, and the wheel set is
+    interpolated across onto the lateral positions of the rail's rows (between its own two neighbouring
+    lines), never extrapolated: a line outside the wheel's data is refused, and a 3D window keeps the rows
+    the wheel has data for (the patch's room on each side must be among them; see :func:`run_lines`). The
+    wheel's lines repeat with its circumference along the track (its sample 0 at the start of the rail data).
     """
     from wheelrail.core.roughness import lines_along_track
 
@@ -231,14 +309,11 @@ def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelPa
     margin = run_margin(dx, params)
     if wheel is not None:
         check_roughness_pair(rough, wheel)
-    grid, wanted, window_y, centre_row = _rows_of(rough, traits, line, params, "roughness set")
+    grid, wanted, window_y, centre_row = _rows_of(rough, traits, line, params)
     if wheel is not None:
-        wheel_grid, wheel_wanted, wheel_y, _ = _rows_of(wheel, traits, line, params, "wheel roughness set")
-        common, rail_keep, wheel_keep = np.intersect1d(np.round(window_y / dx).astype(np.int64),
-                                                       np.round(wheel_y / dx).astype(np.int64), return_indices=True)
-        wanted, window_y = [wanted[i] for i in rail_keep], window_y[rail_keep]
-        wheel_wanted = [wheel_wanted[i] for i in wheel_keep]
-        centre_row = int(np.flatnonzero(common == 0)[0])
+        wheel_rows, keep = _wheel_across(wheel, rough, traits, line, params, grid, wanted)
+        wanted, window_y = [wanted[i] for i in keep], window_y[keep]
+        centre_row = int(np.flatnonzero(keep == centre_row)[0])
     if length is None:
         length = usable_length(rough, dx, params)
     length = real("run length", length, "m")
@@ -248,12 +323,13 @@ def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelPa
     total_length = margin + n_steps * dx + margin
     if not grid.periodic and total_length > grid.x[-1] + 1e-12:
         raise WheelrailError(
-            f"run length {length:g} m plus the {margin * 1e3:.0f} mm window margins exceeds the "
-            f"{grid.x[-1]:g} m of rail roughness data; use --length-m <= {grid.x[-1] - 2 * margin:.3f}"
+            f"with the {margin * 1e3:.0f} mm window margins at each end the run needs more than the "
+            f"{grid.x[-1]:g} m of rail roughness data", parameter="length", value=length, unit="m",
+            maximum=math.floor((grid.x[-1] - 2 * margin) / dx + 1e-9) * dx,
         )
     lines = lines_along_track(grid, wanted, total_length, dx)
     if wheel is not None:
-        lines = lines + lines_along_track(wheel_grid, wheel_wanted, total_length, dx)
+        lines = lines + lines_along_track(wheel_rows, wheel_rows.line_numbers, total_length, dx)
     if not np.all(np.isfinite(lines)):
         raise WheelrailError("roughness contains NaN or infinite heights")
     return TrackRoughness(lines=lines, centre_row=centre_row, window_y=window_y, first=int(round(margin / dx)),
@@ -310,8 +386,10 @@ def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
 
 def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run_in_length: float,
                    track_numerics: TrackNumerics | None = None) -> History:
-    """Step 3: Green's functions and wheel system, positions in the bay, the preload's history (eqs. 1-2)."""
-    from wheelrail.core.interaction import _scatter_range
+    """Step 3: Green's functions and wheel system, positions in the bay, the preload's force history (eqs. 1-2).
+
+    The rail displacement that history causes (``acc``) is left at zero: the interaction loop, which owns the
+    compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``)."""
     from wheelrail.core.track import moving_green_functions
     from wheelrail.core.wheel import wheel_discrete_system
 
@@ -337,8 +415,21 @@ def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run
         phi=phi, gamma0=gamma0, gamma1=gamma1, state=np.zeros(4), ramp=_fade_in(n_run_in, n_total),
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
     )
-    _scatter_range(0, n_hist, history.track)  # the preload's history
     return history
+
+
+def model_inputs(track_roughness: TrackRoughness, history: History, params: ModelParameters) -> ModelInputs:
+    """What the contact model is given to prepare the run: the roughness on the model grid, its window and, at
+    every step, the sample under the wheel and the run-in's fade-in."""
+    dx = params.run.element_size
+
+    def position_of(s: int) -> float:
+        return track_roughness.x_start + (s - history.n_run_in) * dx
+
+    return ModelInputs(params=params, element_size=dx, lines=track_roughness.lines,
+                       centre_row=track_roughness.centre_row, window_y=track_roughness.window_y,
+                       half_x=window_half_elements(params)[0], start_index=history.start_index, ramp=history.ramp,
+                       position_of=position_of)
 
 
 def static_equilibrium(static_approach: float, preload: float, weights: np.ndarray) -> float:

@@ -245,6 +245,24 @@ FORCE_SKIP = 0.02  # s, start of a run left out of force spectra (see force_spec
 FORCE_MIN_STEPS = 16  # steps a force spectrum needs after FORCE_SKIP
 
 
+def shortest_spectrum_run(speed: float, element_size: float, skip: float = FORCE_SKIP) -> float:
+    """The shortest run with a force spectrum, m: ``skip`` s left out (whole steps, as :func:`force_spectrum`
+    counts them) and ``FORCE_MIN_STEPS`` after it, at ``speed`` m/s and ``element_size`` m per step."""
+    return (math.ceil(skip * speed / element_size - 1e-9) + FORCE_MIN_STEPS) * element_size
+
+
+def check_spectrum_length(length: float, speed: float, element_size: float) -> None:
+    """A run of ``length`` m at ``speed`` m/s has a force spectrum; else one WheelrailError blaming the length
+    (key ``length``) with the shortest that has one (:func:`shortest_spectrum_run`)."""
+    shortest = shortest_spectrum_run(speed, element_size)
+    if length < shortest - 1e-9 * element_size:
+        raise WheelrailError(
+            f"too short for a force spectrum at {speed * 3.6:.4g} km/h, which leaves out the first "
+            f"{FORCE_SKIP * 1e3:g} ms (start-up) and needs {FORCE_MIN_STEPS} steps after them",
+            parameter="length", value=length, minimum=shortest, unit="m",
+        )
+
+
 def force_spectrum(
     result_or_force,
     time_step: float | None = None,
@@ -314,10 +332,13 @@ def force_spectrum(
     first = int(math.ceil(skip / time_step - 1e-9))
     kept = force.size - first
     if kept < FORCE_MIN_STEPS:
-        raise WheelrailError(
-            f"force_spectrum: {force.size} steps ({force.size * time_step:.4g} s) leave {max(kept, 0)} after "
-            f"skipping the first {skip:g} s (at least {FORCE_MIN_STEPS} needed); use a longer run or a smaller skip"
-        )
+        record = f"the record of {force.size} steps ({force.size * time_step:.4g} s)"
+        if force.size < FORCE_MIN_STEPS:
+            raise WheelrailError(f"force_spectrum: {record} is shorter than the {FORCE_MIN_STEPS} steps a "
+                                 "spectrum needs; use a longer run")
+        raise WheelrailError(f"{record} leaves {max(kept, 0)} steps after the skip, and a spectrum needs "
+                             f"{FORCE_MIN_STEPS}", parameter="skip", value=skip, unit="s",
+                             maximum=(force.size - FORCE_MIN_STEPS) * time_step, advice="or use a longer run")
     dynamic = force[first:] - force[first:].mean()
     return third_octave_spectrum(dynamic, 1.0 / time_step, band_range, FORCE_REFERENCE)
 

@@ -22,7 +22,7 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
+from wheelrail.core.models import REFERENCE_MODEL, model_entry
 from wheelrail.core.parameters import KMH, MAX_SPEED_KMH, MIN_SPEED_KMH, ContactParameters
 from wheelrail.core.roughness import bundled_names, lateral_coherence, load_roughness, roughness_spectrum
 from wheelrail.explorer.config import (
@@ -31,8 +31,10 @@ from wheelrail.explorer.config import (
     NO_WHEEL_SET,
     PRELOAD_RANGE_KN,
     RunConfig,
+    accepted_text,
     length_range,
     offered_lines,
+    page_message,
     read_config,
     read_geometry,
 )
@@ -56,7 +58,7 @@ REPLAY_FPS = 20.0
 
 
 def _help_text() -> str:
-    models = "\n".join(f"- **{m}**: {model_entry(m).label}" for m in MODELS)
+    models = "\n".join(f"- **{m}**: {model_entry(m).label}" for m in MODEL_CHOICES[:-1])
     return (
         "**Contact models** (Pieringer, Kropp & Thompson, Wear 271, 2011):\n\n" + models +
         f"\n- **{COMPARE}**: every model one after another on the same configuration, {REFERENCE_MODEL} first.\n\n"
@@ -128,18 +130,19 @@ class ExplorerApp:
                                                    hint=f"{COMPARE}: every model one after another")
             self.line_dropdown = gui.add_dropdown("Line", ("0",), initial_value="0",
                                                   hint="Only the lines this model can run on are offered.")
-            self.speed_text = gui.add_text("Speed (km/h)", "100",
-                                           hint=f"{MIN_SPEED_KMH:g} to {MAX_SPEED_KMH:g} km/h")
-            self.preload_text = gui.add_text("Preload (kN)", "65",
-                                             hint=f"{PRELOAD_RANGE_KN[0]:g} to {PRELOAD_RANGE_KN[1]:g} kN")
+            self.speed_text = gui.add_text("Speed (km/h)", "100", hint=accepted_text("speed"))
+            self.preload_text = gui.add_text("Preload (kN)", "65", hint=accepted_text("preload"))
             self.length_text = gui.add_text("Run length (m)", f"{length:g}")
             radius_mm = f"{ContactParameters().radius * 1e3:g}"
-            self.wheel_radius_text = gui.add_text("Wheel radius (mm)", "",
-                                                  hint=f"Rolling radius, along the rail; empty: {radius_mm} mm")
-            self.crown_radius_text = gui.add_text("Rail crown radius (mm)", "",
-                                                  hint=f"Rail head, across the rail; empty: {radius_mm} mm")
-            self.tread_radius_text = gui.add_text("Wheel tread radius across (mm)", "",
-                                                  hint="Empty: a cylindrical tread; negative: concave (worn)")
+            self.wheel_radius_text = gui.add_text(
+                "Wheel radius (mm)", "", hint=f"Rolling radius, along the rail, {accepted_text('wheel_radius')}; "
+                                             f"empty: {radius_mm} mm")
+            self.crown_radius_text = gui.add_text(
+                "Rail crown radius (mm)", "", hint=f"Rail head, across the rail, {accepted_text('rail_crown_radius')}; "
+                                                  f"empty: {radius_mm} mm")
+            self.tread_radius_text = gui.add_text(
+                "Wheel tread radius across (mm)", "",
+                hint=f"{accepted_text('wheel_transverse_radius')}; empty: cylindrical; negative: concave (worn)")
             self.check_md = gui.add_markdown("")
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
             self.stop_button = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, color="red", disabled=True)
@@ -234,10 +237,9 @@ class ExplorerApp:
     def _contact_or_default(self) -> ContactParameters:
         """The contact the fields describe; a field not valid yet counts as its default (the check line says)."""
         try:
-            geometry = self._geometry()
-        except WheelrailError:
-            geometry = ()
-        return ContactParameters(preload=self._preload_or_default(), **dict(geometry))
+            return ContactParameters(preload=self._preload_or_default(), **dict(self._geometry()))
+        except WheelrailError:  # a geometry refused (at this preload, e.g. a patch too wide): the default's
+            return ContactParameters(preload=self._preload_or_default())
 
     def _wheel_set_names(self) -> tuple[str, ...]:
         """The bundled wheel sets (the wheel-set picker's choices besides none)."""
@@ -315,7 +317,7 @@ class ExplorerApp:
                 config = self.read_config()
             except WheelrailError as error:
                 config = None
-                self.check_md.content = f"**Cannot run:** {error}"
+                self.check_md.content = f"**Cannot run:** {page_message(error)}"
             else:
                 self.check_md.content = (f"Run length {shortest:g} to {longest:g} m on this set at "
                                          f"{config.speed / KMH:g} km/h.")
@@ -366,7 +368,7 @@ class ExplorerApp:
         try:
             config = self.read_config()
         except WheelrailError as error:
-            self.report_error(str(error), client)
+            self.report_error(page_message(error), client)
             return False
         self._playing = False
         self.last_error = None
@@ -572,7 +574,7 @@ class ExplorerApp:
         try:
             return function(*args)
         except WheelrailError as error:
-            self.report_error(str(error), client)
+            self.report_error(page_message(error), client)
         except Exception as error:  # keep serving after anything
             LOG.exception("callback failed")
             self.report_error(f"unexpected error: {type(error).__name__}: {error}", client)

@@ -3,9 +3,11 @@
 A :class:`RunConfig` is the full configuration of a run (set, wheel set, line, model, speed, preload, length,
 contact geometry); its :meth:`RunConfig.case` (everything but the model) keys every result the page shows, so
 that a plot, a contact filter or a download never mixes configurations. :func:`read_config` turns the page's
-fields (text as typed) into a config or one :class:`~wheelrail.core.errors.WheelrailError` line a user can act on; the
-choices it allows come from core (:func:`wheelrail.core.run_setup.window_lines`,
-:func:`wheelrail.core.run_setup.usable_length`, ``MIN_SPEED_KMH``/``MAX_SPEED_KMH``).
+fields (text as typed) into a config or one :class:`~wheelrail.core.errors.WheelrailError` a user can act on; the
+choices it allows come from core (:func:`wheelrail.core.run_setup.run_lines`,
+:func:`wheelrail.core.run_setup.usable_length`, the accepted ranges of :mod:`wheelrail.core.accepted`,
+:func:`wheelrail.core.spectra.shortest_spectrum_run`). :func:`page_message` words any WheelrailError, core's
+or the page's own, with the page's field labels and units (:data:`FIELD_NAMES`).
 """
 
 from __future__ import annotations
@@ -14,34 +16,62 @@ import math
 import re
 from dataclasses import dataclass, replace
 
-from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry
-from wheelrail.core.parameters import (
-    KMH,
-    MAX_SPEED_KMH,
-    MIN_SPEED_KMH,
-    ContactParameters,
-    ModelParameters,
-    RunParameters,
-)
-from wheelrail.core.run_setup import usable_length, window_lines
-from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP
+from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
+from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
+from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
+from wheelrail.core.run_setup import run_lines, usable_length
+from wheelrail.core.spectra import shortest_spectrum_run
 
 __all__ = [
-    "COMPARE", "COMPARE_ORDER", "GEOMETRY_FIELDS", "MODEL_CHOICES", "NO_WHEEL_SET", "PRELOAD_RANGE_KN", "RunConfig",
-    "in_page_words", "length_range", "models_of", "offered_lines", "read_config", "read_geometry",
+    "COMPARE", "COMPARE_ORDER", "FIELD_NAMES", "GEOMETRY_FIELDS", "MODEL_CHOICES", "NO_WHEEL_SET", "PRELOAD_RANGE_KN",
+    "RunConfig", "accepted_text", "length_range", "models_of", "offered_lines", "page_message", "read_config",
+    "read_geometry",
 ]
 
 COMPARE = "compare"
-# the reference first (every contact filter needs it), then the others from the cheapest to the costliest
-COMPARE_ORDER = (REFERENCE_MODEL, *(m for m in reversed(MODELS) if m != REFERENCE_MODEL))
-MODEL_CHOICES = (*MODELS, COMPARE)
-PRELOAD_RANGE_KN = (1.0, 500.0)  # wheel loads the page accepts (paper: 65 kN)
+# the registry's models, installed plug-ins included (read once, when the explorer starts)
+MODEL_CHOICES = (*model_names(), COMPARE)
+# the reference first (every contact filter needs it), then the others: compiled laws before per-step ones
+# (the built-in ones from the cheapest to the costliest)
+COMPARE_ORDER = (REFERENCE_MODEL, *sorted((m for m in reversed(MODEL_CHOICES[:-1]) if m != REFERENCE_MODEL),
+                                          key=lambda m: not model_entry(m).traits.compiled))
 MAX_WHEEL_RUN_M = 100.0  # wheel data repeat around the circumference: longest run offered on a wheel set
 NO_WHEEL_SET = "none"  # the wheel-set picker's choice for a smooth wheel (one rough surface, the paper's case)
+# What the page calls each input an error can name (WheelrailError.parameter): its field's label, the unit the
+# field takes and that unit per SI unit (the labels of the fields in app.py, less their "(unit)")
+FIELD_NAMES: dict[str, Name] = {
+    "speed": Name("Speed", "km/h", 1.0 / KMH),
+    "preload": Name("Preload", "kN", 1e-3),
+    "length": Name("Run length", "m"),
+    "line": Name("Line"),
+    "wheel_radius": Name("Wheel radius", "mm", 1e3),
+    "radius": Name("Wheel radius", "mm", 1e3),  # the paper's R: the wheel's, as the page sets it
+    "rail_crown_radius": Name("Rail crown radius", "mm", 1e3),
+    "wheel_transverse_radius": Name("Wheel tread radius across", "mm", 1e3),
+    "model": Name("Contact model"),
+    "set": Name("Roughness set"),
+    "wheel_set": Name("Wheel roughness"),
+}
+PRELOAD_RANGE_KN = ACCEPTED["preload"].in_unit(FIELD_NAMES["preload"].scale)  # core's range, in the field's kN
 # ContactParameters geometry field -> what the page calls it (mm in the page, m inside; empty: the default)
-GEOMETRY_FIELDS = {"wheel_radius": "Wheel radius", "rail_crown_radius": "Rail crown radius",
-                   "wheel_transverse_radius": "Wheel tread radius across"}
+GEOMETRY_FIELDS = {name: FIELD_NAMES[name].label for name in ("wheel_radius", "rail_crown_radius",
+                                                              "wheel_transverse_radius")}
+
+
+def accepted_text(key: str) -> str:
+    """An input's accepted range (``core.accepted``) in its field's unit, for the field's hint: "1 to 500 kN"."""
+    name = FIELD_NAMES[key]
+    accepted = ACCEPTED[key]
+    low, high = accepted.in_unit(name.scale)
+    if accepted.magnitude:
+        return f"at least {low:g} {name.unit} in magnitude"
+    return f"{low:g} to {high:g} {name.unit}"
+
+
+def page_message(error: WheelrailError) -> str:
+    """A WheelrailError as the page says it: its input named by the field's label, values in the field's unit."""
+    return error.render(FIELD_NAMES)
 
 
 @dataclass(frozen=True)
@@ -109,61 +139,44 @@ def models_of(model_choice: str) -> tuple[str, ...]:
 
 
 def offered_lines(roughness, model_choice: str, contact: ContactParameters, wheel=None) -> tuple[int, ...]:
-    """Lines the page offers: every line of the set (and of the wheel set, when one is added), or for a model
-    with a lateral window (``3d``, and ``compare``, which runs it) the lines whose window fits the set(s) for
-    this contact (preload and geometry: core's rule)."""
-    sets = (roughness,) if wheel is None else (roughness, wheel)
-    if any(model_entry(m).traits.lateral_window for m in models_of(model_choice)):
-        found = [set(window_lines(rough, ModelParameters(contact=contact))) for rough in sets]
-    else:
-        found = [{int(n) for n in rough.line_numbers} for rough in sets]
+    """Lines the page offers: the lines every model of the choice can run on for this contact (core's rule,
+    :func:`wheelrail.core.run_setup.run_lines`: for ``3d``, and ``compare``, which runs it, the lines whose
+    window fits the set), and with a wheel set the lines it has data at (paired by lateral position)."""
+    params = ModelParameters(contact=contact)
+    found = [set(run_lines(roughness, model, params, wheel)) for model in models_of(model_choice)]
     return tuple(sorted(set.intersection(*found)))
 
 
 def read_geometry(**fields_mm) -> tuple[tuple[str, float], ...]:
     """The geometry fields as typed (mm; empty: the paper's default) as ``RunConfig.geometry``, or one
-    WheelrailError in the page's words. Keywords: the names of ``GEOMETRY_FIELDS`` with ``_mm``."""
+    WheelrailError (core's checks of ``ContactParameters``: each radius's range, a concave tread that conforms);
+    keywords: the names of ``GEOMETRY_FIELDS`` with ``_mm``. The patch size depends on the preload too:
+    :func:`read_config` checks it at the run's."""
     geometry = []
-    for name, words in GEOMETRY_FIELDS.items():
+    for name in GEOMETRY_FIELDS:
         text = str(fields_mm.get(f"{name}_mm", "") or "").strip()
-        if not text:
-            continue
-        value = _number(text, words, "mm")
-        if name == "wheel_transverse_radius":
-            if value == 0:
-                raise WheelrailError(f"{words} must not be 0 mm; leave it empty for a cylindrical tread, negative "
-                                     "for a concave (worn) tread")
-        elif value <= 0:
-            raise WheelrailError(f"{words} must be a positive number of mm (empty: the paper's "
-                                 f"{ContactParameters().radius * 1e3:g} mm); got {value:g} mm")
-        geometry.append((name, value * 1e-3))
-    values = dict(geometry)
-    try:
-        ContactParameters(**values)  # core's check of the geometry (a concave tread must not conform)
-    except WheelrailError:
-        tread = values.get("wheel_transverse_radius", math.inf)
-        crown = values.get("rail_crown_radius", ContactParameters().radius)
-        raise WheelrailError(f"A concave wheel tread of {-tread * 1e3:g} mm across fits the rail crown of "
-                             f"{crown * 1e3:g} mm or closer (the surfaces conform): make the wheel tread radius across "
-                             f"more negative than -{crown * 1e3:g} mm, or leave it empty") from None
+        if text:
+            geometry.append((name, _number(text, name) * 1e-3))
+    ContactParameters(preload=ACCEPTED["preload"].minimum, **dict(geometry))  # at the lightest load accepted
     return tuple(geometry)
 
 
 def length_range(roughness, speed: float, element_size: float | None = None) -> tuple[float, float]:
     """Shortest run with a force spectrum at this speed, longest run the set allows, m."""
     dx = RunParameters().element_size if element_size is None else element_size
-    shortest = math.ceil((FORCE_SKIP * speed + FORCE_MIN_STEPS * dx) / dx) * dx
+    shortest = shortest_spectrum_run(speed, dx)
     longest = MAX_WHEEL_RUN_M if roughness.periodic else usable_length(roughness, dx)
     return round(shortest, 6), math.floor(longest / dx + 1e-9) * dx
 
 
-def _number(text, what: str, unit: str) -> float:
+def _number(text, key: str) -> float:
+    """A field's text as a number in the field's unit (key: its ``FIELD_NAMES`` key), or one WheelrailError."""
     try:
         value = float(str(text).strip().replace(",", "."))
     except ValueError:
-        raise WheelrailError(f"{what} must be a number in {unit}; got '{text}'") from None
+        value = math.nan
     if not math.isfinite(value):
-        raise WheelrailError(f"{what} must be a number in {unit}; got '{text}'")
+        raise WheelrailError("not a number", parameter=key, value=str(text))
     return value
 
 
@@ -183,14 +196,9 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
     the rail set ``roughness``, or None."""
     if model not in MODEL_CHOICES:
         raise WheelrailError(f"unknown contact model '{model}'; choose one of {', '.join(MODEL_CHOICES)}")
-    speed_kmh = _number(speed_kmh, "Speed", "km/h")
-    if not MIN_SPEED_KMH <= speed_kmh <= MAX_SPEED_KMH:
-        raise WheelrailError(f"Speed must be between {MIN_SPEED_KMH:g} and {MAX_SPEED_KMH:g} km/h; "
-                             f"got {speed_kmh:g} km/h")
-    preload_kn = _number(preload_kn, "Preload", "kN")
-    lo, hi = PRELOAD_RANGE_KN
-    if not lo <= preload_kn <= hi:
-        raise WheelrailError(f"Preload must be between {lo:g} and {hi:g} kN; got {preload_kn:g} kN")
+    speed_kmh = _number(speed_kmh, "speed")
+    ACCEPTED["speed"].check(speed_kmh * KMH)
+    preload_kn = _number(preload_kn, "preload")
     try:
         line = int(str(line).strip())
     except ValueError:
@@ -203,6 +211,8 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
             raise WheelrailError(f"{wheel_label} is a {wheel.kind} set, not a wheel set: choose a wheel set as "
                                  "the wheel roughness")
     contact = ContactParameters(preload=preload_kn * 1e3, **dict(geometry))
+    if wheel is not None:  # core's rule: the wheel set must go round this wheel
+        check_wheel_circumference(wheel.length, contact.radius_along, wheel_label)
     allowed = offered_lines(roughness, model, contact, wheel)
     sets = set_label if wheel is None else f"{set_label} + {wheel_label}"
     if not allowed:
@@ -210,29 +220,18 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
                              f"mm wide across the rail: no line of {sets} leaves room for it; choose another "
                              "geometry or a one-line model")
     if line not in allowed:
-        if line in roughness.line_numbers and (wheel is None or line in wheel.line_numbers):
-            raise WheelrailError(f"Line {line} is too near the edge of {sets} for the 3d contact patch at "
-                                 f"{preload_kn:g} kN; choose {_span(allowed)}")
-        raise WheelrailError(f"Line {line} is not in {sets}; choose {_span(allowed)}")
-    length = _number(length_m, "Run length", "m")
+        if line not in roughness.line_numbers:
+            raise WheelrailError(f"Line {line} is not in {sets}; choose {_span(allowed)}")
+        if wheel is not None and line not in offered_lines(roughness, REFERENCE_MODEL, contact, wheel):
+            raise WheelrailError(f"Line {line} of {set_label} lies where {wheel_label} has no data across the "
+                                 f"rail (wheel and rail are paired by position); choose {_span(allowed)}")
+        raise WheelrailError(f"Line {line} is too near the edge of {sets} for the 3d contact patch at "
+                             f"{preload_kn:g} kN; choose {_span(allowed)}")
+    length = _number(length_m, "length")
     shortest, longest = length_range(roughness, speed_kmh * KMH)
     if not shortest - 1e-9 <= length <= longest + 1e-9:
-        raise WheelrailError(f"Run length must be between {shortest:g} and {longest:g} m on {set_label} at "
-                             f"{speed_kmh:g} km/h; got {length:g} m")
+        raise WheelrailError(None, parameter="length", value=length, minimum=shortest, maximum=longest, unit="m",
+                             reason=f"on {set_label} at {speed_kmh:g} km/h: long enough for a force spectrum, "
+                                    "within the data")
     return RunConfig(set_label=set_label, line=line, model=model, speed=speed_kmh * KMH, preload=preload_kn * 1e3,
                      length=length, wheel_set_label=None if wheel is None else wheel_label, geometry=tuple(geometry))
-
-
-_CLI_HINTS = (
-    (re.compile(r"use --length-m <= ([0-9.]+)"), r"choose a run length of at most \1 m"),
-    (re.compile(r"use --speed-kmh[^;,.]*"), "choose another speed"),
-    (re.compile(r"use --line[^;,.]*"), "choose another line"),
-    (re.compile(r"--([a-z]+)-[a-z]+"), r"\1"),
-)
-
-
-def in_page_words(message: str) -> str:
-    """A core message as the page says it: command-line options replaced by what to do in the page."""
-    for pattern, words in _CLI_HINTS:
-        message = pattern.sub(words, message)
-    return message

@@ -22,7 +22,7 @@ from typing import Protocol
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH
 from wheelrail.core.spectra import force_spectrum
-from wheelrail.explorer.config import RunConfig, in_page_words, models_of
+from wheelrail.explorer.config import RunConfig, models_of, page_message
 from wheelrail.explorer.results import Entry, ResultStore
 
 __all__ = ["FRAME_INTERVAL", "FIRST_RUN_SECONDS", "RunController", "RunListener", "RunView"]
@@ -144,7 +144,7 @@ class RunController:
                     break
                 self._prepared_speeds.add(round(config.speed, 6))
         except WheelrailError as error:
-            outcome = self._failed(generation, in_page_words(str(error)))
+            outcome = self._failed(generation, page_message(error))
         except Exception as error:  # keep serving after anything: report it in the page
             LOG.exception("run %d failed", generation)
             outcome = self._failed(generation, f"unexpected error: {type(error).__name__}: {error}")
@@ -208,7 +208,7 @@ class RunController:
         try:
             spectrum = force_spectrum(result)
         except WheelrailError as error:
-            message = f"{config.model}: no force spectrum: {in_page_words(str(error))}"
+            message = f"{config.model}: no force spectrum: {page_message(error)}"
             self.store.add(Entry(config, result, None, message))
             self.listener.model_done(self.store.entries(config.case())[config.model], view)
             self._failed(generation, message)

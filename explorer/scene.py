@@ -17,6 +17,7 @@ import viser
 
 from wheelrail.core.drawing import circle_segments, colour_table, grid_triangles, table_colours
 from wheelrail.core.parameters import ContactParameters
+from wheelrail.core.roughness import at_lateral_positions, covers
 
 __all__ = ["PRESSURE_TOP", "SCENE_PER_MM", "PatchScene", "colour_bar_image"]
 
@@ -76,6 +77,7 @@ class PatchScene:
                                                       HERTZ_COLOUR, thickness=0.03)
         self._surface_x = np.arange(-SURFACE_HALF_LENGTH, SURFACE_HALF_LENGTH + 0.5, 1.0)  # mm
         self.rail_mesh = self.wheel_mesh = None
+        self._across_cache = ((None, b""), None)  # ((wheel set, positions), what _wheel_across found for them)
         self.show_surfaces = False
         self.show_raised = False
         self.frames_drawn = 0
@@ -163,12 +165,13 @@ class PatchScene:
         x, y = np.meshgrid(self._surface_x, ylat[rows])
         heights = self._heights(rough, rows, position)
         wheel_heights = 0.0
-        if wheel_set is not None:  # combined roughness: the wheel set on its own lines, centred on the same line
-            wheel_rows = [wheel_set.row_of_line(int(n)) if int(n) in wheel_set.line_numbers else -1
-                          for n in rough.line_numbers[rows]]
-            wheel_heights = np.where(np.asarray(wheel_rows)[:, None] >= 0,
-                                     self._heights(wheel_set, np.maximum(wheel_rows, 0), position), 0.0)
-        crown_mm = (contact.radius if contact.rail_crown_radius is None else contact.rail_crown_radius) * 1e3
+        if wheel_set is not None:  # combined roughness: the wheel set at the rail rows' positions (as core pairs
+            # them: interpolated across; 0 where the wheel set has no data)
+            covered, across = self._wheel_across(wheel_set, rough.y[rows])
+            wheel_heights = np.zeros_like(heights)
+            if across is not None:
+                wheel_heights[covered] = self._heights(across, np.arange(across.n_lines), position)
+        crown_mm = contact.crown_radius * 1e3
         tread_mm = contact.wheel_transverse_radius * 1e3
         # the rail head curves across (y, its crown radius), the wheel along (x, its rolling radius) and across
         # (its tread radius: flat for a cylindrical tread, hollow for a concave one)
@@ -178,6 +181,15 @@ class PatchScene:
         rail = np.stack([x, y, rail_z], axis=-1).reshape(-1, 3) * SCENE_PER_MM
         wheel = np.stack([x, y, wheel_z], axis=-1).reshape(-1, 3) * SCENE_PER_MM
         return rail.astype(np.float32), wheel.astype(np.float32)
+
+    def _wheel_across(self, wheel_set, y: np.ndarray):
+        """(rows of ``y`` the wheel set covers, the wheel set at those positions or None), kept for the next frame."""
+        (held, positions), found = self._across_cache
+        if held is not wheel_set or positions != y.tobytes():
+            covered = np.array([covers(wheel_set, v, v) for v in y])
+            found = (covered, at_lateral_positions(wheel_set, y[covered]) if covered.any() else None)
+            self._across_cache = ((wheel_set, y.tobytes()), found)
+        return found
 
     def _heights(self, rough, rows, position: float) -> np.ndarray:
         """Heights of ``rows`` of ``rough`` around ``position``, mm as drawn (exaggerated)."""

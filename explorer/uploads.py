@@ -44,10 +44,8 @@ def read_upload(name: str, content: bytes, max_bytes: int) -> tuple[str, Roughne
     with tempfile.TemporaryDirectory(prefix="wheelrail-upload-") as folder:
         path = Path(folder) / f"roughness{suffix}"
         path.write_bytes(content)
-        try:
-            rough = read_roughness(path)
-        except WheelrailError as error:
-            raise WheelrailError(f"upload {safe_label(name)!r}: {error}".replace(str(path), "file")) from None
+        # messages name the upload, never the temporary path the user did not see
+        rough = read_roughness(path, label=f"upload {safe_label(name)!r}")
     return f"upload: {safe_label(name)}", rough
 
 

@@ -14,6 +14,8 @@ import numpy as np
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.commands._common import (
     add_geometry_options,
+    add_preload_option,
+    add_speed_option,
     geometry_from_mm,
     print_json,
     speed_from_kmh,
@@ -33,14 +35,12 @@ def add_parser(sub):
         description=(
             "Reference contact filters in dB by wavelength band (2000-0.8 mm) and by frequency band (50 Hz-8 kHz) "
             "at the speed: CNOSSOS-EU A3 (Directive 2015/996 Table G-2 as replaced by 2021/1226), averaging over "
-            "the contact length, circular patch with roughness correlated / incoherent across its width."
+            "the contact length, circular patch with roughness correlated across its width, and incoherent across "
+            "it (this project's construction, not a filter of the literature)."
         ),
     )
-    parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
-    parser.add_argument(
-        "--preload-kn", type=float, default=_DEFAULTS.preload / 1e3,
-        help=f"static wheel load, kN (default {_DEFAULTS.preload / 1e3:g})"
-    )
+    add_speed_option(parser)
+    add_preload_option(parser)
     add_geometry_options(parser, crown_follows_wheel=True)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     parser.add_argument("--csv", metavar="FILE.csv", help="write the bands and levels as a CSV table")
@@ -48,14 +48,8 @@ def add_parser(sub):
     return parser
 
 
-def _positive(value: float, option: str, unit: str) -> float:
-    if not (np.isfinite(value) and value > 0):
-        raise WheelrailError(f"{option} must be a positive number in {unit}, got {value}")
-    return float(value)
-
-
 def summary(load: float, wheel_radius: float, speed: float, contact: ContactParameters | None = None) -> dict:
-    """The filters as a JSON-ready dict (issue 14 layout; SI except keys that carry their unit). ``contact``
+    """The filters as a JSON-ready dict (SI except keys that carry their unit). ``contact``
     carries the geometry across the rail (crown and tread radii); the analytic filters use the semi-axis a
     along the rail, the CNOSSOS columns stay the table's (circles of the wheel diameter)."""
     filters = reference_filters(load, wheel_radius, speed, contact=contact)
@@ -155,11 +149,13 @@ def _print_table(result: dict) -> None:
 
 def run(args) -> int:
     speed = speed_from_kmh(args.speed_kmh)
-    load = _positive(args.preload_kn, "--preload-kn", "kN") * 1e3
-    if args.wheel_radius_mm is not None:  # this command's own wording for its one required radius
-        _positive(args.wheel_radius_mm, "--wheel-radius-mm", "mm")
+    load = args.preload_kn * 1e3
     geometry = geometry_from_mm(args)
-    wheel_radius = geometry.pop("wheel_radius", _DEFAULTS.radius)
+    wheel_radius = geometry.get("wheel_radius", _DEFAULTS.radius)
+    # the load and every radius checked now, as the run of reference_filters will see them (an unset crown
+    # follows the wheel: a circle)
+    ContactParameters(preload=load, radius=wheel_radius, **geometry)
+    geometry.pop("wheel_radius", None)
     csv_path = writable_output(args.csv, "--csv", ".csv") if args.csv is not None else None
     plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
     contact = ContactParameters(**geometry) if geometry else None  # the geometry across the rail

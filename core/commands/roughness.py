@@ -15,7 +15,13 @@ import math
 import numpy as np
 
 from wheelrail.core.bands import Bands
-from wheelrail.core.commands._common import input_files, print_json, speed_from_kmh, writable_output
+from wheelrail.core.commands._common import (
+    add_speed_option,
+    input_files,
+    print_json,
+    speed_from_kmh,
+    writable_output,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness import (
     DEFAULT_LINES,
@@ -37,7 +43,7 @@ def add_parser(sub):
         ),
     )
     parser.add_argument("--set", required=True, metavar="SET", help="bundled set name or a .csv/.npz file")
-    parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
+    add_speed_option(parser, "train speed for the frequency axis, km/h")
     parser.add_argument(
         "--lines",
         type=int,

@@ -9,7 +9,10 @@ import threading
 import time
 
 from wheelrail.core.commands._common import (
+    CLI_NAMES,
     add_geometry_options,
+    add_preload_option,
+    add_speed_option,
     geometry_from_mm,
     input_files,
     print_json,
@@ -18,8 +21,7 @@ from wheelrail.core.commands._common import (
     writable_output,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import MODELS
-from wheelrail.core.parameters import ContactParameters
+from wheelrail.core.models import model_names
 
 
 def add_parser(sub):
@@ -36,14 +38,15 @@ def add_parser(sub):
                         help="bundled roughness set name (see `wheelrail datasets`) or a CSV/NPZ file")
     parser.add_argument("--wheel-set", metavar="WHEEL_SET", default=None,
                         help="a wheel roughness set added to the rail set --set (combined roughness r_rail + "
-                             "r_wheel; its lines repeat with the circumference); default none")
+                             "r_wheel, paired by lateral position: the wheel set interpolated across onto the "
+                             "rail's lines; its lines repeat with the circumference); default none")
     add_geometry_options(parser)
-    parser.add_argument("--line", type=int, default=0, help="roughness line -M..M (3d: window centre), default 0")
-    parser.add_argument("--model", default="hertz", choices=MODELS, help="contact model (default hertz)")
-    parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
-    preload_kn = ContactParameters().preload / 1e3
-    parser.add_argument("--preload-kn", type=float, default=preload_kn,
-                        help=f"static wheel load, kN (default {preload_kn:g})")
+    parser.add_argument("--line", type=int, default=0,
+                        help="roughness line -M..M of --set (3d: window centre), default 0")
+    parser.add_argument("--model", default="hertz", choices=model_names(),
+                        help="contact model (default hertz; installed plug-ins included)")
+    add_speed_option(parser)
+    add_preload_option(parser)
     parser.add_argument("--length-m", type=float, default=None,
                         help="run length, m (default: the whole set: rail data less margins, one wheel turn)")
     parser.add_argument("--out", metavar="F.npz",
@@ -66,7 +69,7 @@ class _StopOnCtrlC:
     """Ctrl-C during the run asks it to stop between steps, then raises KeyboardInterrupt.
 
     The default handler raises KeyboardInterrupt wherever the interpreter is, also inside numba-compiled
-    code calling back into Python, which turns it into a ``SystemError`` (issue 13: `3d` runs reported
+    code calling back into Python, which turns it into a ``SystemError`` (`3d` runs reported
     `internal error: SystemError: CPUDispatcher(...)`). A second Ctrl-C interrupts at once.
     """
 
@@ -98,8 +101,6 @@ def _checked_args(args):
     from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
 
     speed = speed_from_kmh(args.speed_kmh)
-    if not math.isfinite(args.preload_kn) or args.preload_kn <= 0:
-        raise WheelrailError(f"--preload-kn must be a positive load in kN, got {args.preload_kn}")
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     inputs = input_files(args.set, args.wheel_set)
@@ -163,15 +164,16 @@ def _summary(args, result, params, times) -> dict:
     """What ``--json`` prints (SI; keys name their unit), the force spectrum included when the run allows one."""
     import numpy as np
 
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra import check_spectrum_length, force_spectrum
 
     start, prepared, finished = times
     try:
+        check_spectrum_length(result.n_steps * result.element_size, result.speed, result.element_size)
         centres, levels = force_spectrum(result)
         spectrum_note = ""
     except WheelrailError as error:  # a run shorter than the spectrum's start-up skip: no spectrum
         centres, levels = np.array([]), np.array([])
-        spectrum_note = str(error).replace("use a longer run or a smaller skip", "use a longer --length-m")
+        spectrum_note = error.render(CLI_NAMES)
     force = result.force
     summary = {
         "model": result.model, "set": args.set, "wheel_set": args.wheel_set, "line": result.line,
@@ -180,6 +182,7 @@ def _summary(args, result, params, times) -> dict:
         "force_mean_n": float(force.mean()), "force_std_n": float(force.std()),
         "force_min_n": float(force.min()), "force_max_n": float(force.max()),
         "loss_of_contact_steps": result.loss_of_contact_steps, "run_in_length_m": result.run_in_length,
+        "run_in_time_s": result.run_in_time,
         "prepare_time_s": prepared - start, "run_time_s": finished - prepared,
         "steps_per_s": result.n_steps / max(finished - prepared, 1e-9),
         "band_centres_hz": centres, "levels_db": levels,
@@ -199,6 +202,8 @@ def _print_summary(args, result, summary, sink) -> None:
     print(f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
           f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN")
     print(f"  loss of contact: {result.loss_of_contact_steps} steps")
+    print(f"  run-in before the record (smooth, discarded): {result.run_in_length:.3f} m, "
+          f"{result.run_in_time:.3f} s")
     print(f"  {summary['steps_per_s']:.0f} steps/s (prepare {summary['prepare_time_s']:.2f} s, "
           f"run {summary['run_time_s']:.2f} s)")
     if "spectrum_note" in summary:

@@ -5,7 +5,13 @@ from __future__ import annotations
 import math
 import sys
 
-from wheelrail.core.commands._common import add_geometry_options, geometry_from_mm, print_json, speed_from_kmh
+from wheelrail.core.commands._common import (
+    add_geometry_options,
+    add_speed_option,
+    geometry_from_mm,
+    print_json,
+    speed_from_kmh,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.study import STUDIES
@@ -32,8 +38,7 @@ def add_parser(sub):
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder (created if missing)")
     parser.add_argument("--length-m", type=float, default=None,
                         help="run length, m (default: the whole set: rail data less margins, one wheel turn)")
-    parser.add_argument("--speed-kmh", type=float, default=100.0,
-                        help="train speed, km/h (default 100; for `speeds` the speed of the half-mass case)")
+    add_speed_option(parser, "train speed, km/h (for `speeds` the speed of the half-mass case)")
     where = parser.add_mutually_exclusive_group()
     # default None, not 2: argparse lets an option of a mutually exclusive group through when its value
     # equals the default, so `--dask ADDR --workers 2` would be accepted

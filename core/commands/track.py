@@ -7,11 +7,11 @@ import math
 import time
 from pathlib import Path
 
-from wheelrail.core.commands._common import print_json, speed_from_kmh, writable_output
+from wheelrail.core.commands._common import add_speed_option, print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
 
 MIN_DF_HZ = 0.05
-"""Finest --df-hz: 99 601 frequencies over 20 Hz-5 kHz, a few minutes of FE solves (issue 13: 1e-9 Hz asked
+"""Finest --df-hz: 99 601 frequencies over 20 Hz-5 kHz, a few minutes of FE solves (1e-9 Hz asked
 for 5e12 frequencies and ended in MemoryError)."""
 
 
@@ -24,7 +24,7 @@ def add_parser(sub):
             "Green's functions for a speed (computed once, then cached on disk) and say where they are cached."
         ),
     )
-    parser.add_argument("--speed-kmh", type=float, default=100.0, help="train speed, km/h (default 100)")
+    add_speed_option(parser)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     parser.add_argument(
         "--csv", metavar="FILE", help="write the point receptance above a sleeper and at midspan, 20 Hz-5 kHz"
@@ -37,7 +37,7 @@ def add_parser(sub):
 
 def _peaks(track, numerics) -> dict[str, float]:
     """``receptance_peaks`` of the track, kept in the disk cache: 2300 FE solves and importing
-    scipy.signal made most of a cached ``wheelrail track``'s 2 s (issue 13). The key holds the source
+    scipy.signal made most of a cached ``wheelrail track``'s 2 s. The key holds the source
     of the functions that compute them, so a change of method recomputes."""
     import hashlib
     import inspect

@@ -69,7 +69,7 @@ from wheelrail.core.contact.halfspace_solver import (
     _displacement,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import reduced_modulus
+from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS, reduced_modulus
 
 __all__ = [
     "HalfSpaceWindow",
@@ -143,7 +143,8 @@ class NormalContactResult:
 
     @property
     def contact_area(self) -> float:
-        """Area of the contact elements, m^2."""
+        """Area of the contact elements (p > 0) times the element area, m^2: a staircase around the patch, above
+        Hertz's pi a b on a smooth gap (2.3-8.5 % at 65 kN on the 1 mm grid; see ``RunResult.contact_area``)."""
         return float(np.count_nonzero(self.contact)) * self.element_size**2
 
 
@@ -175,8 +176,8 @@ class HalfSpaceWindow:
         shape: tuple[int, int],
         element_size: float,
         *,
-        youngs_modulus: float = 210e9,
-        poisson_ratio: float = 0.3,
+        youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+        poisson_ratio: float = STEEL_POISSON_RATIO,
         tolerance: float = 1e-9,
         max_iterations: int = 100,
     ) -> None:
@@ -494,8 +495,8 @@ def solve_normal_contact(
     *,
     load: float,
     initial: NormalContactResult | np.ndarray | None = None,
-    youngs_modulus: float = 210e9,
-    poisson_ratio: float = 0.3,
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+    poisson_ratio: float = STEEL_POISSON_RATIO,
     tolerance: float = 1e-9,
     max_iterations: int = 100,
     raise_on_failure: bool = True,
@@ -545,8 +546,8 @@ def solve_coupled_contact(
     approach_known: float,
     compliance: float,
     initial: NormalContactResult | np.ndarray | None = None,
-    youngs_modulus: float = 210e9,
-    poisson_ratio: float = 0.3,
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+    poisson_ratio: float = STEEL_POISSON_RATIO,
     tolerance: float = 1e-9,
     max_iterations: int = 100,
     raise_on_failure: bool = True,

@@ -21,7 +21,7 @@ import numpy as np
 from wheelrail.core.checks import poisson_ratio as _poisson
 from wheelrail.core.checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import reduced_modulus
+from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS, reduced_modulus
 
 __all__ = ["influence_kernel"]
 
@@ -63,8 +63,8 @@ def influence_kernel(
     shape: tuple[int, int],
     element_size: float,
     *,
-    youngs_modulus: float = 210e9,
-    poisson_ratio: float = 0.3,
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+    poisson_ratio: float = STEEL_POISSON_RATIO,
 ) -> np.ndarray:
     """Influence coefficients of eq. (8) as a kernel of element offsets (Johnson eq. 3.25).
 

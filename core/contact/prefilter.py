@@ -35,32 +35,13 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.checks import positive as _positive
-from wheelrail.core.contact.winkler import _roughness, bedding_stiffness, wheel_profile
+from wheelrail.core.contact.winkler import _bedding_approach, _roughness, bedding_stiffness, wheel_profile
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS
 
 __all__ = ["average_roughness", "averaging_weights", "winkler_equivalent_roughness"]
 
 _BOUNDARIES = ("nearest", "wrap")
-
-
-@njit(cache=True)
-def _bedding_approach(values, k_dx, load):
-    """Approach delta with k_dx * sum(max(delta + s_j, 0)) = load, exactly (the force is piecewise linear).
-
-    values : s_j = r_j - x'_j^2 / (2 R_m), m. Returns (delta, index of the last spring in contact in the
-    descending order, count of springs in contact).
-    """
-    order = np.argsort(-values)
-    target = load / k_dx
-    total = 0.0
-    m = values.shape[0]
-    for count in range(1, m + 1):
-        total += values[order[count - 1]]
-        # with the `count` highest springs compressed: count * delta + total = target
-        delta = (target - total) / count
-        if count == m or delta + values[order[count]] <= 0.0:
-            return delta, count
-    return (target - total) / m, m
 
 
 @njit(cache=True)
@@ -123,8 +104,8 @@ def winkler_equivalent_roughness(
     *,
     preload: float = 65e3,
     radius: float = 0.39,
-    youngs_modulus: float = 210e9,
-    poisson_ratio: float = 0.3,
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+    poisson_ratio: float = STEEL_POISSON_RATIO,
     half_window: float | None = None,
     boundary: str = "nearest",
     stiffness: float | None = None,
@@ -180,10 +161,9 @@ def winkler_equivalent_roughness(
     reference, _ = _bedding_approach(-profile, k_dx, preload)
     r_eq, at_edge = _winkler_equivalent(_pad(line, half, boundary), profile, k_dx, preload, reference)
     if at_edge:
-        raise WheelrailError(
-            f"{where}: the bedding contact reaches the end of its window (half_window {half * element_size:.4g} m)"
-            f" at {at_edge} positions; the roughness is too large, pass a larger half_window"
-        )
+        raise WheelrailError(f"the bedding contact reaches the end of its window at {at_edge} positions: the "
+                             "roughness is too large for it", parameter="half_window", value=half * element_size,
+                             unit="m", argument=f"{where}: half_window", advice="give a larger one")
     return r_eq
 
 
@@ -223,8 +203,8 @@ def average_roughness(
     contact_length: float | None = None,
     preload: float = 65e3,
     radius: float = 0.39,
-    youngs_modulus: float = 210e9,
-    poisson_ratio: float = 0.3,
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+    poisson_ratio: float = STEEL_POISSON_RATIO,
     boundary: str = "nearest",
 ) -> np.ndarray:
     """Equivalent roughness by averaging over the nominal contact length 2a (paper section 2.3.3).

@@ -59,13 +59,13 @@ def grpc_url(address: str) -> str:
     address = address.strip()
     if "://" in address:
         if not address.startswith(("rerun://", "rerun+http://", "rerun+https://")):
-            raise WheelrailError(
-                f"--connect {address!r}: use HOST:PORT or a rerun+http://HOST:PORT/proxy URL"
-            )
+            raise WheelrailError("not a viewer address; use HOST:PORT or a rerun+http://HOST:PORT/proxy URL",
+                                 parameter="connect", value=address)
         return address
     host, _, port = address.rpartition(":")
     if not host or not port.isdigit() or not 0 < int(port) < 65536:
-        raise WheelrailError(f"--connect {address!r}: use HOST:PORT (e.g. 127.0.0.1:9876)")
+        raise WheelrailError("not a viewer address; use HOST:PORT (e.g. 127.0.0.1:9876)", parameter="connect",
+                             value=address)
     return f"rerun+http://{host}:{int(port)}/proxy"
 
 
@@ -118,7 +118,7 @@ class Outputs:
                 sinks.append(rr.GrpcSink(url))
             except Exception as error:  # noqa: BLE001
                 self.discard()
-                raise WheelrailError(f"--connect {connect!r}: {error}") from None
+                raise WheelrailError(str(error), parameter="connect", value=connect) from None
         self.stream.set_sinks(*sinks, default_blueprint=default_blueprint())
         if description:
             self.stream.send_recording_name(description)

@@ -78,7 +78,7 @@ class ContactPatch:
         a = self.geometry[0]
         circle = circle_points(a)
         label = f"Hertz circle a = {a * 1e3:.2f} mm"
-        if self.semi_axes is not None:  # elliptic patch (issue 16): a along the rail, b across
+        if self.semi_axes is not None:  # elliptic patch: a along the rail, b across
             along, across = self.semi_axes
             circle = circle_points(along, radius_y=across)
             label = f"Hertz ellipse a = {along * 1e3:.2f} mm, b = {across * 1e3:.2f} mm"

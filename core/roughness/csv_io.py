@@ -195,7 +195,7 @@ def _read_text(path: Path, name: str):
     return metadata, y_mm, values, numbers
 
 
-def read_csv(path: str | os.PathLike, *, kind: str | None = None) -> RoughnessSet:
+def read_csv(path: str | os.PathLike, *, kind: str | None = None, label: str | None = None) -> RoughnessSet:
     """Read a CSV roughness file (format in the module docstring).
 
     Parameters
@@ -205,6 +205,8 @@ def read_csv(path: str | os.PathLike, *, kind: str | None = None) -> RoughnessSe
     kind : {"rail", "wheel"}, optional
         Used when the file has no ``# kind:`` line; without either, ``rail`` (non-periodic) is assumed and
         the description says so.
+    label : str, optional
+        What messages call the file (default its path).
 
     Raises
     ------
@@ -215,7 +217,7 @@ def read_csv(path: str | os.PathLike, *, kind: str | None = None) -> RoughnessSe
         characters or more than MAX_VALUES heights.
     """
     path = Path(path)
-    name = str(path)
+    name = str(path) if label is None else label
     metadata, y_mm, values, numbers = _read_text(path, name)
     dx = _spacing(values[:, 0], numbers, name)
     heights_um = values[:, 1:].T

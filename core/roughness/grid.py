@@ -63,12 +63,55 @@ def resample_lateral(roughness: RoughnessSet, dy: float) -> RoughnessSet:
     y_new = np.arange(first, last + 1) * dy
     if y_new.size < 1:
         raise WheelrailError(f"resample: lateral spacing {dy:g} m leaves no line in [{y[0]:g}, {y[-1]:g}] m")
-    # interpolate each sample column across y (vectorised through index/weight arrays)
+    z_new = _across(roughness.heights, y, y_new)
+    return roughness.with_heights(z_new, y=y_new, note=f"interpolated to {dy * 1e3:g} mm lines")
+
+
+LATERAL_TOLERANCE = 1e-9  # m: a lateral position this close to a line, or to the edge of a set, is on it
+
+
+def _across(z: np.ndarray, y: np.ndarray, y_new: np.ndarray) -> np.ndarray:
+    """Heights ``z`` (rows at ``y``) linearly interpolated across to ``y_new`` (within ``y``), one row each
+    (vectorised through index/weight arrays; a position on a line takes that line as it is)."""
+    if y.size == 1:
+        return np.repeat(z, y_new.size, axis=0)
     idx = np.clip(np.searchsorted(y, y_new, side="right") - 1, 0, y.size - 2)
     w = np.clip((y_new - y[idx]) / (y[idx + 1] - y[idx]), 0.0, 1.0)
-    z = roughness.heights
-    z_new = (1 - w)[:, None] * z[idx] + w[:, None] * z[idx + 1]
-    return roughness.with_heights(z_new, y=y_new, note=f"interpolated to {dy * 1e3:g} mm lines")
+    return (1 - w)[:, None] * z[idx] + w[:, None] * z[idx + 1]
+
+
+def covers(roughness: RoughnessSet, y_low: float, y_high: float) -> bool:
+    """True if the set has data across the lateral range ``y_low`` .. ``y_high`` (m), its edges included."""
+    return (float(roughness.y[0]) - LATERAL_TOLERANCE <= y_low
+            and y_high <= float(roughness.y[-1]) + LATERAL_TOLERANCE)
+
+
+def lateral_extent_mm(roughness: RoughnessSet) -> str:
+    """The set's lateral data range in words, mm (``-4 .. 4 mm``, or ``one line at 0 mm``)."""
+    low, high = float(roughness.y[0]) * 1e3, float(roughness.y[-1]) * 1e3
+    return f"one line at {low:g} mm" if roughness.n_lines == 1 else f"{low:g} .. {high:g} mm"
+
+
+def at_lateral_positions(roughness: RoughnessSet, y) -> RoughnessSet:
+    """The set at the lateral positions ``y`` (m, strictly increasing): each line linearly interpolated across
+    between the set's two neighbouring lines (a position on a line takes that line as it is), e.g. a wheel set
+    2 mm apart at a rail set's lines 1 mm apart, so that surfaces are paired where they touch.
+
+    Raises WheelrailError for a position outside the set's lateral data (it is never extrapolated).
+    """
+    y_new = np.asarray(y, dtype=float).reshape(-1)
+    if y_new.size < 1 or not np.all(np.isfinite(y_new)):
+        raise WheelrailError(f"lateral positions must be finite (m), got {y_new.tolist()}")
+    if not covers(roughness, float(y_new.min()), float(y_new.max())):
+        raise WheelrailError(
+            f"lateral positions {y_new.min() * 1e3:g} .. {y_new.max() * 1e3:g} mm lie outside the set's data "
+            f"({lateral_extent_mm(roughness)}); a set is interpolated across its lines, never extrapolated"
+        )
+    check_value_count(y_new.size * roughness.n_samples, f"{y_new.size} lines of {roughness.n_samples} samples")
+    y_new = np.clip(y_new, roughness.y[0], roughness.y[-1])
+    z_new = _across(roughness.heights, roughness.y, y_new)
+    note = f"interpolated across to {y_new.size} lateral position{'s' if y_new.size > 1 else ''}"
+    return roughness.with_heights(z_new, y=y_new, note=note)
 
 
 def to_model_grid(roughness: RoughnessSet, dx: float, dy: float | None = None) -> RoughnessSet:

@@ -15,15 +15,16 @@ from wheelrail.core.roughness.npz_io import read_npz
 SAMPLE_DATA_PACKAGE = "wheelrail.sample_data"
 
 
-def read_roughness(path: str | os.PathLike, *, kind: str | None = None) -> RoughnessSet:
-    """Read a ``.csv`` or ``.npz`` roughness file, chosen by its suffix."""
+def read_roughness(path: str | os.PathLike, *, kind: str | None = None, label: str | None = None) -> RoughnessSet:
+    """Read a ``.csv`` or ``.npz`` roughness file, chosen by its suffix. ``label``: what messages call the file
+    (default its path; e.g. an upload's name, when the path is a temporary one the user never saw)."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".csv":
-        return read_csv(path, kind=kind)
+        return read_csv(path, kind=kind, label=label)
     if suffix == ".npz":
-        return read_npz(path)
-    raise WheelrailError(f"{path}: unknown roughness file type {path.suffix!r}, allowed: .csv, .npz")
+        return read_npz(path, label=label)
+    raise WheelrailError(f"{label or path}: unknown roughness file type {path.suffix!r}, allowed: .csv, .npz")
 
 
 def bundled_names() -> list[str]:

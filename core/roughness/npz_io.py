@@ -190,7 +190,7 @@ def _to_set(arrays: dict[str, np.ndarray]) -> RoughnessSet:
     return RoughnessSet(heights=z, dx=float(dx.reshape(-1)[0]), y=y, kind=kind, description=description)
 
 
-def read_npz(path: str | os.PathLike) -> RoughnessSet:
+def read_npz(path: str | os.PathLike, *, label: str | None = None) -> RoughnessSet:
     """Read an NPZ roughness file (``z_m``, ``dx_m``, ``y_m``, ``kind``, ``description``).
 
     Raises
@@ -201,7 +201,7 @@ def read_npz(path: str | os.PathLike) -> RoughnessSet:
         any value the data model refuses.
     """
     path = Path(path)
-    name = str(path)
+    name = str(path) if label is None else label  # what messages call the file
     try:
         arrays = _read_members(path)
         return _to_set(arrays)

@@ -268,7 +268,7 @@ class BundledRecipe:
     def make(self) -> RoughnessSet:
         """Synthesize the set."""
         description = (
-            f"SYNTHETIC {self.kind} roughness '{self.name}' made by wheelrail.core.roughness_synthesis "
+            f"SYNTHETIC {self.kind} roughness '{self.name}' made by wheelrail.core.roughness.synthesis "
             f"(seed {self.seed}); imitates {self.imitates} (Pieringer, Kropp & Thompson, Wear 271, 2011)"
         )
         return synthesize(
@@ -392,7 +392,7 @@ def main(argv: list[str] | None = None) -> int:
         for path in write_bundled_sets(args.out):
             print(f"{path}  {path.stat().st_size / 1e6:.2f} MB")
     except WheelrailError as error:
-        print(f"roughness_synthesis: error: {error}", file=sys.stderr)
+        print(f"wheelrail.core.roughness.synthesis: error: {error}", file=sys.stderr)
         return 2
     return 0
 

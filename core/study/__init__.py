@@ -24,6 +24,10 @@ Named studies (``STUDIES``):
 ``speeds`` (Fig. 11)
     The 2D model on line 0 at 75, 100, 140 and 200 km/h and at the reference speed with half the
     unsprung wheel mass (M_W = 296.3 kg): the sleeper-passing peaks move with v / L_S, not with M_W.
+``noise`` (beyond the paper)
+    The one-line models (plug-ins included) and ``3d`` on line 0 at 50-300 km/h: A-weighted sound power per
+    axle and pass-by level by this project's TWINS-like chain, beside the CNOSSOS-EU source with A3 and with
+    each model's dynamic contact filter in its place (:mod:`wheelrail.core.study.noise_plan`).
 
 Runs are executed by :func:`execute`: already cached runs are read back, the missing ones run on a local
 process pool (``concurrent.futures.ProcessPoolExecutor``) or on a Dask cluster (``dask.distributed``), and
@@ -52,7 +56,6 @@ from wheelrail.core.study.runner import StudyContact, StudyResult, check_output_
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,
-    ONE_LINE_MODELS,
     PAPER_LINES,
     PAPER_SPEEDS_KMH,
     REFERENCE_MODEL,
@@ -61,6 +64,7 @@ from wheelrail.core.study.specs import (
     RunSpec,
     RunSummary,
     compute_run,
+    one_line_models,
     roughness_digest,
     study_roughness,
     study_wheel_roughness,
@@ -68,7 +72,7 @@ from wheelrail.core.study.specs import (
 from wheelrail.core.study.tables import Table, write_table
 
 __all__ = [
-    "STUDIES", "PAPER_LINES", "ONE_LINE_MODELS", "REFERENCE_MODEL", "LOW_RESOLUTION_LINES_MM", "PAPER_SPEEDS_KMH",
+    "STUDIES", "PAPER_LINES", "one_line_models", "REFERENCE_MODEL", "LOW_RESOLUTION_LINES_MM", "PAPER_SPEEDS_KMH",
     "HALF_WHEEL_MASS", "STUDY_FORMAT_VERSION", "RunSpec", "RunSummary", "Table", "SetInfo", "StudyPlan",
     "StudyResult", "ExecutionReport", "StudyTerminated", "roughness_digest", "study_roughness", "compute_run",
     "study_wheel_roughness", "StudyContact",

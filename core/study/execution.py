@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import importlib.util
 import os
 import re
 import signal
@@ -32,6 +33,8 @@ from wheelrail.core.study.store import load_cached, save_cached
 DASK_CONNECT_TIMEOUT = "10s"  # how long to try reaching a Dask scheduler before giving up
 PARENT_POLL_INTERVAL = 0.5  # s, how often a pool worker checks that the process that started it lives
 _ADDRESS = re.compile(r"^(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?$")
+# Dask is an optional extra (pyproject.toml: cluster); the process pool needs nothing more
+NO_DASK = "needs Dask, an optional part of wheelrail: pip install 'wheelrail[cluster]'"
 
 
 class StudyTerminated(KeyboardInterrupt):
@@ -39,15 +42,24 @@ class StudyTerminated(KeyboardInterrupt):
 
 
 def parse_dask_address(address: str) -> str:
-    """Check a Dask scheduler address (``tcp://HOST:PORT``); returns it or raises WheelrailError."""
+    """Check a Dask scheduler address (``tcp://HOST:PORT``) and that Dask is installed; returns the address or
+    raises WheelrailError."""
+    if importlib.util.find_spec("distributed") is None:
+        raise _no_dask()
     text = str(address).strip()
     if "://" not in text:
         text = f"tcp://{text}"
     match = _ADDRESS.match(text)
     port = match.group(2) if match else None
     if match is None or (port is not None and not 0 < int(port[1:]) < 65536):
-        raise WheelrailError(f"--dask {address!r} is not a scheduler address; expected tcp://HOST:PORT")
+        raise WheelrailError("not a scheduler address; expected tcp://HOST:PORT", parameter="dask", value=address,
+                             argument="dask_address")
     return text
+
+
+def _no_dask() -> WheelrailError:
+    """Dask asked for (a scheduler address given) but not installed: keyed to the address's input."""
+    return WheelrailError(NO_DASK, parameter="dask", argument="dask_address")
 
 
 @dataclass(frozen=True)
@@ -300,7 +312,7 @@ def _execute_dask(missing: list[RunSpec], address: str, finished: Callable[[RunS
     try:
         from distributed import Client, as_completed
     except ImportError:
-        raise WheelrailError("--dask needs dask.distributed: pip install 'dask[distributed]'") from None
+        raise _no_dask() from None
     address = parse_dask_address(address)
     try:
         client = Client(address, timeout=DASK_CONNECT_TIMEOUT)

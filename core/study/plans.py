@@ -12,19 +12,21 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters, WheelParameters
-from wheelrail.core.spectra import contact_filter, level_difference, mean_level
+from wheelrail.core.run_setup import run_lines
+from wheelrail.core.spectra import check_spectrum_length, contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,
-    ONE_LINE_MODELS,
     PAPER_LINES,
     PAPER_SPEEDS_KMH,
     REFERENCE_MODEL,
     STUDIES,
     RunSpec,
     RunSummary,
+    one_line_models,
     roughness_digest,
 )
 from wheelrail.core.study.tables import Table
@@ -66,8 +68,17 @@ def _set_info(source, length: float | None, contact: ContactParameters, wheel: S
                              f"{rough.kind} set: give it as the wheel set, or run it without one")
     numbers = tuple(int(v) for v in rough.line_numbers)
     lines = tuple(v for v in PAPER_LINES if v in numbers)
-    if wheel is not None:
-        lines = tuple(v for v in lines if v in wheel.line_numbers)
+    if wheel is not None:  # the lines the wheel set has data at (paired by lateral position)
+        from wheelrail.core.roughness import lateral_extent_mm
+
+        wheel_rough = _loaded(wheel.source)
+        covered = run_lines(rough, "hertz", wheel=wheel_rough)
+        lines = tuple(v for v in lines if v in covered)
+        if not lines:
+            raise WheelrailError(f"no data at the lateral positions of {label}'s lines {PAPER_LINES[0]} to "
+                                 f"{PAPER_LINES[-1]}; its data span {lateral_extent_mm(wheel_rough)}",
+                                 parameter="wheel_set", value=wheel.label, argument="wheel_set",
+                                 reason="the wheel set is paired with the rail set by lateral position")
     length = _run_length(rough, label, length, contact)
     return SetInfo(source=source, label=label, digest=roughness_digest(rough), kind=rough.kind,
                    line_numbers=numbers, lines=lines, length=length, wheel=wheel)
@@ -115,9 +126,9 @@ def _run_length(rough, label: str, length: float | None, contact: ContactParamet
     if length is None:
         return usable
     if length > usable + 1e-9:
-        raise WheelrailError(f"run length {length:g} m exceeds the {usable:g} m of {label} usable by every model "
-                             f"(rail data less {run_margin(element_size, ModelParameters(contact=contact)) * 1e3:g} "
-                             "mm margins)")
+        margin = run_margin(element_size, ModelParameters(contact=contact))
+        raise WheelrailError(f"longer than the rail data of {label} less the {margin * 1e3:g} mm margins every model "
+                             "keeps", parameter="length", value=length, maximum=usable, unit="m")
     return length
 
 
@@ -158,7 +169,8 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
         elliptic patch.
     wheel_set : bundled name, CSV/NPZ path or RoughnessSet, optional
         A wheel set added to every (rail) set in every run: the combined roughness r_rail + r_wheel
-        (``simulate(wheel_roughness=...)``); a line mean or lateral lines of a study are taken of both sets.
+        (``simulate(wheel_roughness=...)``, paired by lateral position); a line mean or lateral lines of a
+        study are taken of both sets at the rail set's lateral positions.
         Its label and digest are part of every run key. Default: a smooth wheel (the paper's case).
 
     Returns
@@ -167,8 +179,7 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
     """
     if name not in STUDIES:
         raise WheelrailError(f"unknown study {name!r}; choose one of {', '.join(STUDIES)}")
-    if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
-        raise WheelrailError(f"speed must be a positive number of m/s, got {speed!r}")
+    ACCEPTED["speed"].check(speed, "speed")
     if length is not None and not (isinstance(length, int | float) and math.isfinite(length) and length > 0):
         raise WheelrailError(f"length must be a positive number of m, got {length!r}")
     if not sets:
@@ -181,6 +192,8 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
         raise WheelrailError(f"the wheel set {wheel.label} is a {wheel.kind} set (kind: {wheel.kind}); give a wheel "
                              "set as the wheel set, and a rail set as the set")
     infos = tuple(_set_info(source, length, contact, wheel) for source in sets)
+    if wheel is not None:  # it goes round the wheel of every run (accepted.py), checked before any run
+        check_wheel_circumference(_loaded(wheel.source).length, contact.radius_along, wheel.label)
     labels = [info.label for info in infos]
     if len(set(labels)) != len(labels):
         raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")
@@ -192,9 +205,8 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
 
 
 def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:
-    """Every run must outlast the force spectrum's start-up skip by 16 steps (``force_spectrum``)."""
+    """Every run must be long enough for a force spectrum (``spectra.check_spectrum_length``)."""
     from wheelrail.core.roughness import RoughnessSet, load_roughness
-    from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP
 
     circumference = {}
     for info in infos:
@@ -203,13 +215,7 @@ def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None
             circumference[info.label] = rough.length
     for spec in specs:
         length = spec.length if spec.length is not None else circumference[spec.set_label]
-        dx = spec.params.run.element_size
-        needed = FORCE_SKIP * spec.params.run.speed + FORCE_MIN_STEPS * dx
-        if length < needed:
-            raise WheelrailError(
-                f"run length {length:g} m at {spec.speed_kmh:g} km/h is too short for a force spectrum, which "
-                f"skips the first {FORCE_SKIP:g} s; use at least {math.ceil(needed * 100) / 100:g} m"
-            )
+        check_spectrum_length(length, spec.params.run.speed, spec.params.run.element_size)
 
 
 def _levels(summaries, spec: RunSpec) -> np.ndarray:
@@ -234,9 +240,10 @@ def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str
 
 def _plan_filters(infos, speed, contact):
     params = _params(speed, contact)
+    models = one_line_models()  # the registry's, plug-ins included; the reference (hertz) among them
     specs, layout = [], {}
     for info in infos:
-        one_line = {(model, line): _spec(info, model, params, line) for model in ONE_LINE_MODELS
+        one_line = {(model, line): _spec(info, model, params, line) for model in models
                     for line in info.lines}
         three_d = _spec(info, "3d", params, 0)
         layout[info.label] = (info, one_line, three_d)
@@ -247,11 +254,11 @@ def _plan_filters(infos, speed, contact):
         for label, (info, one_line, three_d) in layout.items():
             centres = _centres(summaries, three_d)
             level = {model: [_levels(summaries, one_line[model, line]) for line in info.lines]
-                     for model in ONE_LINE_MODELS}
+                     for model in models}
             l3d = _levels(summaries, three_d)
-            spectra = {"3d_db": l3d, **{f"{m.replace('-', '_')}_db": mean_level(level[m]) for m in ONE_LINE_MODELS}}
+            spectra = {"3d_db": l3d, **{f"{m.replace('-', '_')}_db": mean_level(level[m]) for m in models}}
             filters = {"3d_db": mean_level([contact_filter(l3d, h) for h in level[REFERENCE_MODEL]])}
-            for model in ("2d", "hertz-winkler", "hertz-average"):
+            for model in (m for m in models if m != REFERENCE_MODEL):
                 filters[f"{model.replace('-', '_')}_db"] = mean_level(
                     [contact_filter(v, h) for v, h in zip(level[model], level[REFERENCE_MODEL], strict=True)])
             filters.update(_reference_columns(params, centres))
@@ -373,7 +380,14 @@ def _plan_speeds(infos, speed, contact):
     return [spec for runs in layout.values() for spec in runs.values()], tabulate
 
 
+def _plan_noise(infos, speed, contact):
+    from wheelrail.core.study.noise_plan import plan_noise
+
+    return plan_noise(infos, speed, contact, _spec, _params)
+
+
 _BUILDERS = {
+    "noise": _plan_noise,
     "filters": _plan_filters,
     "line-spread": _plan_line_spread,
     "averaged-input": _plan_averaged_input,

@@ -11,20 +11,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import MODELS, REFERENCE_MODEL, model_entry  # noqa: F401 - REFERENCE_MODEL re-exported
+from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names  # noqa: F401 - REFERENCE_MODEL re-exported
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 
-STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds")
+STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds", "noise")
 PAPER_LINES = tuple(range(-3, 4))  # the seven lines -3..3 the paper averages over (section 3.3)
-# the built-in models that see one line (the paper averages them over PAPER_LINES), from the registry
-ONE_LINE_MODELS = tuple(name for name in MODELS if not model_entry(name).traits.lateral_window)
 LOW_RESOLUTION_LINES_MM = {  # Fig. 17: lateral offsets from line 0 kept, mm
     4: (-8.0, -4.0, 0.0, 4.0, 8.0),
     8: (-8.0, 0.0, 8.0),
 }
 PAPER_SPEEDS_KMH = (75.0, 100.0, 140.0, 200.0)  # Fig. 11
 HALF_WHEEL_MASS = 296.3  # kg, Fig. 11: half of M_W = 592.5 kg
-STUDY_FORMAT_VERSION = 1  # part of every run key: bump when a run's summary changes meaning
+STUDY_FORMAT_VERSION = 2  # part of every run key: bump when a run's summary changes meaning (2: wheel sets paired
+# by lateral position)
 SUMMARY_SCALARS = ("force_mean", "force_std", "force_min", "force_max", "loss_of_contact_steps", "n_steps",
                    "run_time")
 
@@ -43,7 +42,7 @@ class RunSpec:
         SHA-256 of the set's content (:func:`roughness_digest`); part of the run key, so a changed file
         is never matched with an old result.
     model : str
-        One of ``MODELS``.
+        A registered model (``wheelrail.core.models.model_names()``, plug-ins included).
     line : int
         Roughness line (-M..M); for ``3d`` the line the window is centred on. Ignored (0) with
         ``averaged_lines``.
@@ -57,8 +56,9 @@ class RunSpec:
     lateral_lines_mm : tuple of float
         If not empty, only lines at these lateral offsets from line 0 (mm) are kept, linearly interpolated
         across the track from the original lines when they do not fall on one (paper Fig. 17).
-    run_in_length : float
-        Smooth run-in before the first step, m.
+    run_in_length : float or None
+        Smooth run-in before the first step, m (None: the interaction's default,
+        ``run_setup.default_run_in_length``; the key holds the length used).
     wheel_source, wheel_label, wheel_digest : object, str, str or None
         A wheel set added to the rail set (combined roughness, ``simulate(wheel_roughness=...)``): as
         ``source``, ``set_label`` and ``set_digest``; None: a smooth wheel (the paper's case). Its label and
@@ -74,14 +74,13 @@ class RunSpec:
     length: float | None = None
     averaged_lines: tuple[int, ...] = ()
     lateral_lines_mm: tuple[float, ...] = ()
-    run_in_length: float = 1.0
+    run_in_length: float | None = None
     wheel_source: object = None
     wheel_label: str | None = None
     wheel_digest: str | None = None
 
     def __post_init__(self) -> None:
-        if self.model not in MODELS:
-            raise WheelrailError(f"unknown contact model {self.model!r}; choose one of {', '.join(MODELS)}")
+        model_entry(self.model)  # an unknown name: one WheelrailError listing the registered models
         object.__setattr__(self, "averaged_lines", tuple(int(v) for v in self.averaged_lines))
         object.__setattr__(self, "lateral_lines_mm", tuple(float(v) for v in self.lateral_lines_mm))
         if (self.wheel_source is None) != (self.wheel_digest is None) or (
@@ -103,10 +102,17 @@ class RunSpec:
             "length_m": None if self.length is None else float(self.length),
             "averaged_lines": list(self.averaged_lines),
             "lateral_lines_mm": list(self.lateral_lines_mm),
-            "run_in_length_m": float(self.run_in_length),
+            "run_in_length_m": float(self.used_run_in_length),
             "params": as_dict(self.params),
             "spectrum": {"skip_s": FORCE_SKIP, "band_range_hz": list(FORCE_BAND_RANGE)},
         }
+
+    @property
+    def used_run_in_length(self) -> float:
+        """The run-in the run uses, m (``run_in_length`` or the interaction's default at this speed)."""
+        from wheelrail.core.run_setup import default_run_in_length
+
+        return default_run_in_length(self.params) if self.run_in_length is None else float(self.run_in_length)
 
     @property
     def key(self) -> str:
@@ -175,6 +181,12 @@ class RunSummary:
                    levels=np.asarray(arrays["levels_db"], dtype=float), **scalars)
 
 
+def one_line_models() -> tuple[str, ...]:
+    """The registered models that see one line (the paper averages them over ``PAPER_LINES``), plug-ins
+    included, in registry order (``wheelrail.core.models.model_names``)."""
+    return tuple(name for name in model_names() if not model_entry(name).traits.lateral_window)
+
+
 def roughness_digest(roughness) -> str:
     """SHA-256 of a roughness set's content (heights, dx, y, kind), hex."""
     digest = hashlib.sha256()
@@ -191,33 +203,46 @@ def study_roughness(spec: RunSpec):
 
 
 def study_wheel_roughness(spec: RunSpec):
-    """The wheel set added to the run's rail set, treated as :func:`study_roughness` treats the rail set (the
-    same line mean or lateral lines, so the combined roughness is that of the rail set's), or None."""
-    return None if spec.wheel_source is None else _as_used(spec, spec.wheel_source, spec.wheel_label)[0]
+    """The wheel set added to the run's rail set, or None. Taken as :func:`study_roughness` takes the rail set
+    (the same line mean or lateral lines) at the rail set's lateral positions, the wheel set interpolated across
+    onto them (``simulate`` then pairs the two by position, as it pairs whole sets)."""
+    if spec.wheel_source is None:
+        return None
+    return _as_used(spec, spec.wheel_source, spec.wheel_label, positions_of=_loaded(spec.source))[0]
 
 
-def _as_used(spec: RunSpec, source, label: str):
+def _loaded(source):
     from wheelrail.core.roughness import RoughnessSet, load_roughness
 
-    rough = source if isinstance(source, RoughnessSet) else load_roughness(source)
+    return source if isinstance(source, RoughnessSet) else load_roughness(source)
+
+
+def _as_used(spec: RunSpec, source, label: str, positions_of=None):
+    """``source`` as the run uses it; line numbers and offsets are those of ``positions_of`` (default: the set
+    itself), the lines taken at its lateral positions."""
+    from wheelrail.core.roughness import at_lateral_positions, covers, lateral_extent_mm
+
+    rough = _loaded(source)
+    ref = rough if positions_of is None else positions_of
     if spec.averaged_lines:
-        rows = [rough.row_of_line(line) for line in spec.averaged_lines]
-        mean = rough.heights[rows].mean(axis=0)
+        y_lines = np.array([ref.y[ref.row_of_line(line)] for line in spec.averaged_lines])
+        if not covers(rough, float(y_lines.min()), float(y_lines.max())):
+            raise WheelrailError(f"{label}: lines {', '.join(str(v) for v in spec.averaged_lines)} lie at "
+                                 f"{y_lines.min() * 1e3:g} .. {y_lines.max() * 1e3:g} mm, where the set has no "
+                                 f"data ({lateral_extent_mm(rough)})")
+        mean = at_lateral_positions(rough, y_lines).heights.mean(axis=0)
         note = f"mean of lines {', '.join(str(v) for v in spec.averaged_lines)}"
         return rough.with_heights(mean[np.newaxis, :], y=np.zeros(1), note=note), 0
     if spec.lateral_lines_mm:
         offsets = np.asarray(spec.lateral_lines_mm) * 1e-3
-        y_wanted = float(rough.y[rough.centre_row]) + offsets
-        tol = 1e-9
-        if rough.n_lines < 2 or y_wanted.min() < rough.y[0] - tol or y_wanted.max() > rough.y[-1] + tol:
+        y_wanted = float(ref.y[ref.centre_row]) + offsets
+        if rough.n_lines < 2 or not covers(rough, float(y_wanted.min()), float(y_wanted.max())):
             raise WheelrailError(
                 f"{label}: lines at {', '.join(f'{v:g}' for v in spec.lateral_lines_mm)} mm from line 0 "
                 f"need lateral data over that range; the set spans {rough.y[0] * 1e3:g} .. {rough.y[-1] * 1e3:g} mm"
             )
         # linear interpolation across the lines (exact selection where a wanted line exists)
-        idx = np.clip(np.searchsorted(rough.y, y_wanted - tol, side="right") - 1, 0, rough.n_lines - 2)
-        w = np.clip((y_wanted - rough.y[idx]) / (rough.y[idx + 1] - rough.y[idx]), 0.0, 1.0)
-        heights = (1 - w)[:, None] * rough.heights[idx] + w[:, None] * rough.heights[idx + 1]
+        heights = at_lateral_positions(rough, y_wanted).heights
         note = f"only lines at {', '.join(f'{v:g}' for v in spec.lateral_lines_mm)} mm"
         return rough.with_heights(heights, y=offsets, note=note), 0
     return rough, spec.line

@@ -84,6 +84,7 @@ def test_roughness_user_csv_and_options(capsys, tmp_path):
     assert result["coherence"][labels.index("630")] > 0.95  # the common sinusoid dominates there
 
 
+@pytest.mark.slow
 def test_roughness_plot(capsys, tmp_path):
     target = tmp_path / "r.png"
     code, out, err = _run(capsys, "roughness", "--set", "sinter-wheel-1", "--plot", str(target))
@@ -99,7 +100,7 @@ def test_roughness_plot(capsys, tmp_path):
             ["roughness", "--set", "no-such-set"],
             "unknown roughness set 'no-such-set'; bundled sets: cast-iron",
         ),
-        (["roughness", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh must be a positive"),
+        (["roughness", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh -5 is outside the accepted"),
         (["roughness", "--set", "corrugated-rail", "--lines", "12"], "line 12 is not in this set"),
         (["roughness", "--set", "corrugated-rail", "--plot", "x.pdf"], "--plot must name a .png file"),
         (["roughness", "--set", "cast-iron-wheel", "--blocks", "1000"], "samples per block"),
@@ -119,11 +120,12 @@ def test_malformed_user_file(capsys, tmp_path):
     assert err.count("\n") == 1 and f"{bad}, line 4: ragged row" in err
 
 
+@pytest.mark.slow
 def test_module_entry_point_reports_one_line(tmp_path):
     # the real console path: a subprocess, stderr one line, non-zero exit
     missing = tmp_path / "absent.npz"
     proc = subprocess.run(
-        [sys.executable, "-m", "wheelrail.core.cli", "roughness", "--set", str(missing)],
+        [sys.executable, "-m", "wheelrail", "roughness", "--set", str(missing)],
         capture_output=True,
         text=True,
         timeout=120,

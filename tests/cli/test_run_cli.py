@@ -10,6 +10,7 @@ from wheelrail.core.roughness import load_roughness, write_csv
 
 
 @pytest.mark.parametrize("model", ["3d", "2d", "hertz", "hertz-winkler", "hertz-average"])
+@pytest.mark.slow
 def test_run_every_model_writes_npz(model, tmp_path, capsys):
     out = tmp_path / "run.npz"
     argv = ["run", "--set", "cast-iron-wheel", "--line", "1", "--model", model, "--speed-kmh", "80",
@@ -17,6 +18,9 @@ def test_run_every_model_writes_npz(model, tmp_path, capsys):
     assert main(argv) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["steps"] == 50 and summary["model"] == model
+    # the default run-in, 0.3 s at 80 km/h in whole elements
+    assert summary["run_in_time_s"] == pytest.approx(0.3, rel=1e-4)
+    assert summary["run_in_length_m"] == pytest.approx(6.667)
     assert summary["speed_m_per_s"] == pytest.approx(80 / 3.6)
     data = np.load(out)
     for name in ("time", "x", "force", "xi_wheel", "xi_rail"):
@@ -44,6 +48,7 @@ def test_run_on_a_user_csv(tmp_path, capsys):
     assert mine["force_std_n"] == pytest.approx(bundled["force_std_n"], rel=1e-4)
 
 
+@pytest.mark.slow
 def test_run_records_to_rrd_and_spectra_reads_it(tmp_path, capsys):
     rrd = tmp_path / "run.rrd"
     argv = ["run", "--set", "corrugated-rail", "--model", "3d", "--length-m", "0.06", "--rrd", str(rrd), "--json"]
@@ -60,6 +65,7 @@ def test_human_output(capsys):
     assert main(["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "1.0"]) == 0
     out = capsys.readouterr().out
     assert "contact force: mean" in out and "dB re 1 N" in out
+    assert "run-in before the record (smooth, discarded): 8.334 m, 0.300 s" in out  # 0.3 s at 100 km/h
     assert main(["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "0.1"]) == 0
     assert "no force spectrum" in capsys.readouterr().out
 
@@ -68,11 +74,11 @@ def test_human_output(capsys):
     ("argv", "fragment"),
     [
         (["run", "--set", "no-such-set"], "unknown roughness set"),
-        (["run", "--set", "corrugated-rail", "--line", "30"], "line 30 is not in the roughness set"),
+        (["run", "--set", "corrugated-rail", "--line", "30"], "--line 30: not in the roughness set; accepted -9 to 9"),
         (["run", "--set", "corrugated-rail", "--model", "4d"], "invalid choice: '4d'"),
-        (["run", "--set", "corrugated-rail", "--speed-kmh", "0"], "--speed-kmh must be a positive speed"),
-        (["run", "--set", "corrugated-rail", "--preload-kn", "-5"], "--preload-kn"),
-        (["run", "--set", "corrugated-rail", "--length-m", "20"], "exceeds"),
+        (["run", "--set", "corrugated-rail", "--speed-kmh", "0"], "--speed-kmh 0 is outside the accepted 5 to 400"),
+        (["run", "--set", "corrugated-rail", "--preload-kn", "-5"], "--preload-kn -5 is outside the accepted 1 to 500"),
+        (["run", "--set", "corrugated-rail", "--length-m", "20"], "--length-m 20: with the 20 mm window margins"),
         (["run", "--set", "corrugated-rail", "--out", "/no/such/dir/r.npz"], "does not exist"),
         (["run", "--set", "corrugated-rail", "--out", "result.txt"], "must end in .npz"),
     ],

@@ -7,8 +7,18 @@ import numpy as np
 import pytest
 
 from wheelrail.core.cli import main
+from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.roughness import load_roughness, write_csv
-from wheelrail.core.study import STUDIES, RunSpec, execute, plan_study, roughness_digest, run_study, study_roughness
+from wheelrail.core.study import (
+    STUDIES,
+    RunSpec,
+    execute,
+    plan_study,
+    roughness_digest,
+    run_study,
+    study_roughness,
+    study_wheel_roughness,
+)
 from wheelrail.core.study import execution as study_execution
 from wheelrail.core.study.store import cache_path
 
@@ -20,6 +30,7 @@ def _run_json(argv, capsys):
     return json.loads(captured.out)
 
 
+@pytest.mark.slow
 def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys):
     out = tmp_path / "filters"
     argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(out), "--length-m", "0.8", "--json"]
@@ -55,6 +66,7 @@ def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys)
     assert again["tables"] == summary["tables"]
 
 
+@pytest.mark.slow
 def test_interrupted_study_recomputes_only_missing_runs(tmp_path):
     # an interrupted study = some runs cached, some not (each finished run is written at once); also a
     # half-written temporary file and a truncated entry, as a kill during a write could leave them
@@ -187,6 +199,42 @@ def test_study_inputs_averaged_and_reduced_lateral_resolution():
     np.testing.assert_allclose(odd.heights[1], 0.5 * (wheel.line(0) + wheel.line(1)), atol=1e-15)
 
 
+def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
+    # corrugated-rail lines are 1 mm apart, sinter-wheel-1's 2 mm: the wheel under rail line n (y = n mm) is
+    # the wheel between its lines, not its own line n (at 2n mm). Linear interpolation across, as the runs do.
+    rail, wheel = load_roughness("corrugated-rail"), load_roughness("sinter-wheel-1")
+    own_wheel = ContactParameters(wheel_radius=0.4615)  # the bundled wheel sets are 2.900 m round
+    plan = plan_study("averaged-input", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1",
+                      contact=own_wheel)
+    averaged = next(spec for spec in plan.specs if spec.averaged_lines)
+    assert averaged.averaged_lines == tuple(range(-3, 4))
+    mean = study_wheel_roughness(averaged)
+    at_rail = [0.5 * (wheel.line(n // 2) + wheel.line(n // 2 + 1)) if n % 2 else wheel.line(n // 2)
+               for n in range(-3, 4)]
+    np.testing.assert_allclose(mean.line(0), np.mean(at_rail, axis=0), rtol=0, atol=1e-15)
+    # Fig. 17's lines at -8, -4, 0, 4, 8 mm of the rail: the wheel's lines -4, -2, 0, 2, 4 (2 mm apart)
+    fig17 = plan_study("lateral-resolution", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1",
+                       contact=own_wheel)
+    low = next(spec for spec in fig17.specs if spec.lateral_lines_mm == (-8, -4, 0, 4, 8))
+    taken = study_wheel_roughness(low)
+    np.testing.assert_allclose(taken.y, study_roughness(low)[0].y)
+    np.testing.assert_array_equal(taken.heights, wheel.heights[[wheel.row_of_line(n) for n in (-4, -2, 0, 2, 4)]])
+    assert rail.y[rail.centre_row] == 0.0 and wheel.y[wheel.centre_row] == 0.0
+    # a wheel set with no data under the paper's lines -3..3 (its lines 8..10: 16 .. 20 mm) blames the wheel set
+    from wheelrail.core.commands._common import CLI_NAMES
+    from wheelrail.core.errors import WheelrailError
+
+    rows = [wheel.row_of_line(n) for n in (8, 9, 10)]
+    aside = wheel.with_heights(wheel.heights[rows], y=wheel.y[rows])
+    with pytest.raises(WheelrailError) as info:
+        plan_study("speeds", ["corrugated-rail"], length=0.6, wheel_set=aside, contact=own_wheel)
+    assert info.value.parameter == "wheel_set"
+    assert info.value.render(CLI_NAMES).startswith(
+        "--wheel-set SYNTHETIC-wheel-roughness-sinter-wheel: no data at the lateral positions of corrugated-rail's "
+        "lines -3 to 3; its data span 16 .. 20 mm (the wheel set is paired with the rail set by lateral position)")
+
+
+@pytest.mark.slow
 def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
     distributed = pytest.importorskip("distributed")
     pool = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "pool", length=0.6, progress=False,
@@ -203,6 +251,7 @@ def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
             np.testing.assert_allclose(a.columns[column], b.columns[column], atol=1e-9, equal_nan=True)
 
 
+@pytest.mark.slow
 def test_user_csv_set_and_human_output(tmp_path, capsys):
     wheel = load_roughness("sinter-wheel-2")
     path = tmp_path / "my wheel.csv"
@@ -225,9 +274,10 @@ def test_user_csv_set_and_human_output(tmp_path, capsys):
         (["study", "filters", "--set", "corrugated-rail", "--dask", "not an address"], "not a scheduler address"),
         (["study", "filters", "--set", "corrugated-rail", "--dask", "tcp://127.0.0.1:99999"], "not a scheduler"),
         (["study", "filters", "--set", "corrugated-rail", "--workers", "0"], "--workers must be at least 1"),
-        (["study", "filters", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh must be a positive"),
-        (["study", "filters", "--set", "corrugated-rail", "--length-m", "99"], "exceeds"),
-        (["study", "speeds", "--set", "corrugated-rail", "--length-m", "0.5"], "too short for a force spectrum"),
+        (["study", "filters", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh -5 is outside"),
+        (["study", "filters", "--set", "corrugated-rail", "--length-m", "99"], "--length-m 99: longer than the rail"),
+        (["study", "speeds", "--set", "corrugated-rail", "--length-m", "0.5"], "--length-m 0.5: too short for a force "
+                                                                                 "spectrum at 100 km/h"),
     ],
 )
 def test_bad_input_is_one_line_on_stderr(argv, message, tmp_path, capsys):
@@ -257,6 +307,7 @@ def test_unwritable_output_folder(tmp_path, capsys):
         assert code != 0 and err.count("\n") == 1 and str(out) in err, err
 
 
+@pytest.mark.slow
 def test_unreachable_dask_scheduler(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(study_execution, "DASK_CONNECT_TIMEOUT", "1s")
     code = main(["study", "speeds", "--set", "corrugated-rail", "--out", str(tmp_path), "--length-m", "1.5",
@@ -273,6 +324,7 @@ def test_every_named_study_is_known_to_the_cli(capsys):
         assert name in text
 
 
+@pytest.mark.slow
 def test_explorer_does_not_load_the_study_package():
     # the explorer's contact filters come from core.spectra; importing the study package would load the
     # process-pool and Dask machinery into the GUI for nothing
@@ -285,8 +337,9 @@ def test_explorer_does_not_load_the_study_package():
     assert out.strip() == "[]", out
 
 
+@pytest.mark.slow
 def test_study_on_an_elliptic_patch(tmp_path, capsys):
-    """Issue 16: the study's runs take the contact geometry; its summary carries it; the reference filters
+    """The study's runs take the contact geometry; its summary carries it; the reference filters
     follow Hertz's semi-axis a along the rail (6.20 mm for a 0.46 m wheel on a 0.30 m crown)."""
     argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(tmp_path), "--length-m", "0.6", "--json",
             "--workers", "1", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300"]
@@ -304,11 +357,13 @@ def test_study_on_an_elliptic_patch(tmp_path, capsys):
     assert table["ref_averaging_db"] == expected
 
 
+@pytest.mark.slow
 def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_path, capsys):
-    """Issue 16: `wheelrail study --wheel-set`: every run adds the wheel set (its label and digest in the run key,
+    """`wheelrail study --wheel-set`: every run adds the wheel set (its label and digest in the run key,
     so cached runs of the rail alone are never reused), the summary names it, a run's spectrum is that of
     simulate(..., wheel_roughness=...)."""
     from wheelrail.core.interaction import simulate
+    from wheelrail.core.parameters import ContactParameters
     from wheelrail.core.spectra import force_spectrum
 
     out = tmp_path / "speeds"
@@ -316,12 +371,14 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
             "--workers", "1", "--json"]
     rail_only = _run_json(base, capsys)
     assert rail_only["wheel_set"] is None and rail_only["runs_computed"] == 5
-    combined = _run_json([*base, "--wheel-set", "sinter-wheel-1"], capsys)
+    # the bundled wheel sets are 2.900 m round: a wheel of 461.5 mm (accepted.check_wheel_circumference)
+    combined = _run_json([*base, "--wheel-set", "sinter-wheel-1", "--wheel-radius-mm", "461.5"], capsys)
     assert combined["wheel_set"] == "sinter-wheel-1" and combined["sets"] == ["corrugated-rail"]
     assert combined["runs_computed"] == 5 and combined["runs_cached"] == 0  # other keys than the rail alone
     assert len(list((out / "runs").glob("run-*.npz"))) == 10
     plain = plan_study("speeds", ["corrugated-rail"], length=1.2)
-    plan = plan_study("speeds", ["corrugated-rail"], length=1.2, wheel_set="sinter-wheel-1")
+    plan = plan_study("speeds", ["corrugated-rail"], length=1.2, wheel_set="sinter-wheel-1",
+                      contact=ContactParameters(wheel_radius=0.4615))
     assert "wheel_set" not in plain.specs[0].description()  # runs without a wheel set keep their keys
     assert plan.specs[0].description()["wheel_set"] == {
         "label": "sinter-wheel-1", "digest": roughness_digest(load_roughness("sinter-wheel-1"))}
@@ -341,6 +398,8 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     # the wrong kinds are one clear error
     for argv, message in [
         ([*base, "--wheel-set", "corrugated-rail"], "the wheel set corrugated-rail is a rail set"),
+        ([*base, "--wheel-set", "sinter-wheel-1"], "--wheel-radius-mm 390: the wheel set sinter-wheel-1 is 2.9 m "
+                                                   "round"),
         (["study", "speeds", "--set", "cast-iron-wheel", "--wheel-set", "sinter-wheel-1", "--out", str(out)],
          "every set must be a rail set; cast-iron-wheel is a wheel set"),
     ]:

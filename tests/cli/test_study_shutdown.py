@@ -14,7 +14,8 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads process states from /proc")
+pytestmark = [pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads process states from /proc"),
+              pytest.mark.slow]  # real study processes: seconds each
 
 DEADLINE_S = 120.0  # interpreter start and imports of 3 processes on a loaded 2-core machine; usually ~5 s
 

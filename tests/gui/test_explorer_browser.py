@@ -1,7 +1,7 @@
 """Explorer in a real browser: headless Chromium (Debian's /usr/bin/chromium) driven by Playwright.
 
 The tests load the page, choose in it, click Run and read the page's plots and menus: a compare's contact
-filters go when the speed changes (issue 15.1), the Line menu for 3d lists only core's window_lines (15.2),
+filters go when the speed changes, the Line menu for 3d lists only core's window_lines,
 bad uploads give a message; screenshots go to ``test-artifacts/``. Software WebGL in headless Chromium is
 slow to draw its first frames, hence the generous timeouts.
 """
@@ -21,6 +21,8 @@ if not CHROMIUM.exists():
     pytest.skip("Debian's chromium is not installed at /usr/bin/chromium (apt-get install chromium); "
                 "CI installs it", allow_module_level=True)
 from playwright import sync_api as playwright_api  # noqa: E402  (the test extra installs it)
+
+pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
 
 
 def _free_port() -> int:
@@ -89,7 +91,7 @@ def _options(page, label):
 
 
 def test_compare_in_the_page_then_change_speed_the_old_filters_go(app, browser):
-    """Issue 15.1 in the page: the contact filters of a compare disappear when the speed changes."""
+    """In the page: the contact filters of a compare disappear when the speed changes."""
     ARTIFACTS.mkdir(exist_ok=True)
     errors = []
     page = browser.new_page(viewport={"width": 1400, "height": 1000})
@@ -125,7 +127,7 @@ def test_compare_in_the_page_then_change_speed_the_old_filters_go(app, browser):
 
 
 def test_3d_offers_only_the_lines_its_window_fits(app, browser):
-    """Issue 15.2 in the page: the Line menu for 3d lists core's window_lines (-2..2 on the corrugated rail)."""
+    """In the page: the Line menu for 3d lists core's window_lines (-2..2 on the corrugated rail)."""
     from wheelrail.core.roughness import load_roughness
     from wheelrail.core.run_setup import window_lines
 

@@ -171,17 +171,18 @@ def test_a_run_too_short_for_a_spectrum_is_an_error_not_done():
 
 
 def test_core_errors_reach_the_page_in_its_words():
+    # core's error as data (the input's key, value and range, SI); the page names the input by its field
     listener = Recorder()
 
     def prepare(roughness, **kwargs):
-        raise WheelrailError("run length 9 m plus the 20 mm window margins exceeds the 2.999 m of rail roughness "
-                             "data; use --length-m <= 2.959")
+        raise WheelrailError("the run needs more than the 2.999 m of rail roughness data", parameter="preload",
+                             value=9e3, maximum=2.959e3, unit="N")
 
     controller = RunController(listener, prepare=prepare)
     controller.start(_config("hertz"), roughness=None)
     assert listener.ended.wait(WAIT)
-    assert listener.errors == ["run length 9 m plus the 20 mm window margins exceeds the 2.999 m of rail roughness "
-                               "data; choose a run length of at most 2.959 m"]
+    assert listener.errors == ["Preload 9 kN: the run needs more than the 2.999 m of rail roughness data; accepted "
+                               "at most 2.959 kN"]
 
 
 def test_results_are_kept_per_configuration():
@@ -200,7 +201,7 @@ def test_results_are_kept_per_configuration():
 
 
 def test_a_wheel_set_and_the_geometry_reach_prepare_and_key_the_results():
-    """Issue 16: the wheel set goes to prepare_run as wheel_roughness=, the geometry in params.contact; a run of
+    """The wheel set goes to prepare_run as wheel_roughness=, the geometry in params.contact; a run of
     another wheel set or geometry is another case (never shown as the current one)."""
     listener = Recorder()
     calls = []

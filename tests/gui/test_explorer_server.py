@@ -21,6 +21,9 @@ from wheelrail.core.run_setup import window_lines
 from wheelrail.core.spectra import force_spectrum
 from wheelrail.explorer.app import ExplorerApp
 from wheelrail.explorer.config import read_config
+from wheelrail.explorer.scene import SCENE_PER_MM
+
+pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
 
 
 def _free_port() -> int:
@@ -57,6 +60,12 @@ def _reset(app, *, set_name="corrugated-rail", line=0, model="hertz", speed=100.
 
 def test_binds_localhost_by_default(app):
     assert app.server.get_host() == "127.0.0.1"
+
+
+def test_field_hints_state_cores_accepted_ranges(app):
+    assert app.speed_text.hint == "5 to 400 km/h" and app.preload_text.hint == "1 to 500 kN"
+    assert "100 to 1250 mm" in app.wheel_radius_text.hint and "50 to 5000 mm" in app.crown_radius_text.hint
+    assert app.tread_radius_text.hint.startswith("at least 50 mm in magnitude")
 
 
 def test_controls_define_the_run(app):
@@ -96,7 +105,7 @@ def test_3d_run_draws_the_pressure_heat_map_and_replays(app):
 
 
 def test_stale_contact_filters_disappear_when_the_configuration_changes(app):
-    """Issue 15.1: after a compare, changing the speed left its contact filters on the plot and in the CSV."""
+    """After a compare, changing the speed once left its contact filters on the plot and in the CSV."""
     _reset(app, model="compare", length=0.8)
     _run(app)
     filters = app.store.contact_filters(app.shown.case())
@@ -132,7 +141,7 @@ def test_downloads_are_named_after_the_configuration(app, tmp_path):
     path = tmp_path / name
     path.write_bytes(content)
     assert np.allclose(read_recording(path).force, result.force)
-    # every plot exports as a PNG named after the configuration and titled with it (issue 15, item 4)
+    # every plot exports as a PNG named after the configuration and titled with it
     name, content = app.download_plot_png("contact force")
     assert name == "wheelrail-plot-corrugated-rail-line0-100kmh-65kN-0.6m-contact-force.png"
     assert content[:8] == b"\x89PNG\r\n\x1a\n" and len(content) > 5000
@@ -158,11 +167,12 @@ def test_only_valid_choices_are_offered_and_bad_values_are_refused(app):
     assert app.line_dropdown.options == tuple(map(str, expected)) and expected == (-2, -1, 0, 1, 2)
     assert app.line_dropdown.value == "2" and "Line 7 is not offered for 3d" in app.status_md.content
     for field, value, message in [
-        (app.speed_text, "450", "Speed must be between 5 and 400 km/h; got 450 km/h"),
-        (app.speed_text, "abc", "Speed must be a number in km/h; got 'abc'"),
-        (app.preload_text, "0", "Preload must be between 1 and 500 kN; got 0 kN"),
-        (app.length_text, "9", "Run length must be between 0.572 and 7.959 m on corrugated-rail at 100 km/h"),
-        (app.length_text, "0.1", "Run length must be between 0.572 and 7.959 m"),
+        (app.speed_text, "450", "Speed 450 km/h is outside the accepted 5 to 400 km/h"),
+        (app.speed_text, "abc", "Speed 'abc': not a number"),
+        (app.preload_text, "0", "Preload 0 kN is outside the accepted 1 to 500 kN"),
+        (app.length_text, "9", "Run length 9 m is outside the accepted 0.572 to 7.959 m (on corrugated-rail at 100 "
+                               "km/h"),
+        (app.length_text, "0.1", "Run length 0.1 m is outside the accepted 0.572 to 7.959 m"),
     ]:
         old = field.value
         field.value = value
@@ -223,13 +233,17 @@ def test_upload_a_user_csv_and_run_on_it(app, tmp_path):
 def test_geometry_fields_refuse_bad_values_in_words(app):
     _reset(app, model="3d")
     for field, value, message in [
-        (app.wheel_radius_text, "abc", "Wheel radius must be a number in mm; got 'abc'"),
-        (app.wheel_radius_text, "-460", "Wheel radius must be a positive number of mm (empty: the paper's 390 mm)"),
-        (app.crown_radius_text, "0", "Rail crown radius must be a positive number of mm"),
-        (app.tread_radius_text, "0", "Wheel tread radius across must not be 0 mm; leave it empty"),
-        # a concave tread tighter than the crown conforms with it across the rail
-        (app.tread_radius_text, "-300", "A concave wheel tread of 300 mm across fits the rail crown of 390 mm or "
-                                        "closer (the surfaces conform)"),
+        (app.wheel_radius_text, "abc", "Wheel radius 'abc': not a number"),
+        (app.wheel_radius_text, "-460", "Wheel radius -460 mm is outside the accepted 100 to 1250 mm"),
+        (app.crown_radius_text, "0", "Rail crown radius 0 mm is outside the accepted 50 to 5000 mm"),
+        (app.tread_radius_text, "0", "Wheel tread radius across 0 mm is outside the accepted range, a magnitude of "
+                                     "at least 50 mm"),
+        # a concave tread tighter than the crown conforms with it across the rail: core's check, the page's words
+        (app.tread_radius_text, "-300", "Wheel tread radius across -300 mm: a concave tread of radius 0.3 m fits the "
+                                        "rail crown of radius 0.39 m or closer"),
+        # a concave tread close to the crown makes a patch too wide for Hertz's theory at the preload
+        (app.tread_radius_text, "-390.5", "Wheel tread radius across -390.5 mm: the Hertz patch at the preload would "
+                                          "be"),
     ]:
         field.value = value
         assert message in app.check_md.content
@@ -252,6 +266,10 @@ def test_geometry_fields_refuse_bad_values_in_words(app):
 
 def test_a_run_with_a_wheel_set_names_both_sets(app):
     _reset(app, model="hertz", wheel_set="sinter-wheel-1")
+    assert not app.start_run()  # the bundled wheel sets are 2.900 m round: not a 390 mm wheel's roughness
+    assert app.last_error.startswith("Wheel radius 390 mm: the wheel set sinter-wheel-1 is 2.9 m round (a wheel of "
+                                     "radius 0.4615 m)") and "accepted 456.98 to 466.211 mm" in app.last_error
+    _reset(app, model="hertz", wheel_set="sinter-wheel-1", geometry_mm=("461.5", "", ""))
     assert app.wheel_set_dropdown.options == ("none", "cast-iron-wheel", "sinter-wheel-1", "sinter-wheel-2")
     result = _run(app)
     assert app.last_error is None
@@ -259,11 +277,28 @@ def test_a_run_with_a_wheel_set_names_both_sets(app):
     assert result.header.wheel_roughness_name == "sinter-wheel-1"
     assert app.status_md.content.startswith("Done: hertz on corrugated-rail + sinter-wheel-1, line 0")
     assert app.plots.force.handle.title == "Contact force: corrugated-rail + sinter-wheel-1, line 0, 100 km/h, " \
-                                           "65 kN, 0.6 m"
+                                           "65 kN, 0.6 m, wheel radius 461.5 mm"
     # the rail alone is another case: its plots do not show the combined run
     app.wheel_set_dropdown.value = "none"
     assert "hertz" not in app.store.entries(app.shown.case())
-    assert app.plots.force.handle.title == "Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m"
+    assert app.plots.force.handle.title == ("Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m, wheel "
+                                            "radius 461.5 mm")
+
+
+def test_the_drawn_wheel_surface_pairs_the_wheel_set_by_lateral_position(app):
+    # corrugated-rail lines 1 mm apart, sinter-wheel-1 2 mm: around line 1 the wheel drawn at the rail row
+    # y = 1 mm is the mean of the wheel's lines at 0 and 2 mm (core's linear interpolation), not its line 1
+    rail, wheel = load_roughness("corrugated-rail"), load_roughness("sinter-wheel-1")
+    contact = ContactParameters()
+    position = 0.5
+    _, drawn = app.scene._surface_vertices(rail, position, 1, contact, wheel)
+    _, smooth = app.scene._surface_vertices(rail, position, 1, contact, wheel.with_heights(0 * wheel.heights))
+    n_x = app.scene._surface_x.size
+    rows = (drawn[:, 2] - smooth[:, 2]).reshape(-1, n_x)  # the wheel's heights as drawn (scene units)
+    y_rows = smooth[::n_x, 1]
+    centre = int(np.argmin(np.abs(y_rows)))  # the rail row of line 1 (y = 1 mm)
+    expected = app.scene._heights(wheel, [wheel.row_of_line(0), wheel.row_of_line(1)], position).mean(axis=0)
+    np.testing.assert_allclose(rows[centre], expected * SCENE_PER_MM, rtol=1e-5, atol=1e-7)
 
 
 def test_changing_the_geometry_hides_the_old_results(app):
@@ -296,7 +331,7 @@ def test_wheelrail_explore_serves_the_page_on_localhost():
     import urllib.request
 
     port = _free_port()
-    process = subprocess.Popen([sys.executable, "-m", "wheelrail.core.cli", "explore", "--port", str(port), "--set",
+    process = subprocess.Popen([sys.executable, "-m", "wheelrail", "explore", "--port", str(port), "--set",
                                 "sinter-wheel-1"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
         for line in process.stdout:  # viser's banner, then ours once the app is built
@@ -326,7 +361,7 @@ def test_wheelrail_explore_serves_the_page_on_localhost():
 
 
 def test_wheelrail_explore_rejects_an_unknown_set(capsys):
-    from wheelrail.core.cli import main
+    from wheelrail.cli import main  # the `wheelrail` command: core's commands and `explore`
 
     assert main(["explore", "--set", "nope"]) == 2
     err = capsys.readouterr().err.strip()
@@ -334,7 +369,7 @@ def test_wheelrail_explore_rejects_an_unknown_set(capsys):
 
 
 def test_runs_of_another_configuration_are_overlaid_only_on_purpose(app):
-    """Issue 15, item 2: the run list offers this session's other configurations; one chosen is drawn dashed and
+    """The run list offers this session's other configurations; one chosen is drawn dashed and
     labelled with its configuration; 'none' takes it away again."""
     _reset(app, model="hertz", speed=100.0, length=0.8)
     _run(app)

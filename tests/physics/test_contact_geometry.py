@@ -1,4 +1,4 @@
-"""Real contact geometry (issue 16): elliptic patches from the wheel and rail radii in all five models."""
+"""Real contact geometry: elliptic patches from the wheel and rail radii in all five models."""
 
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ from wheelrail.core.roughness import RoughnessSet
 
 REAL = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)  # a long patch: a 6.20 mm, b 4.67 mm
 CONCAVE = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30, wheel_transverse_radius=-0.5)  # a wide one
+CONVEX = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30, wheel_transverse_radius=0.5)  # a narrow one
 L_S = ModelParameters().track.support.sleeper_spacing
 
 
@@ -53,15 +54,21 @@ def _halfspace_errors(contact: ContactParameters, dx: float) -> dict:
     }
 
 
-@pytest.mark.parametrize("contact", [REAL, CONCAVE], ids=["0.46-on-0.30", "concave-tread"])
-def test_3d_solver_converges_to_the_hertz_ellipse(contact):
+@pytest.mark.parametrize(("contact", "axes_1mm"), [(REAL, 3e-3), (CONCAVE, 3e-3), (CONVEX, 5e-3)],
+                         ids=["0.46-on-0.30", "concave-tread", "convex-tread"])
+def test_3d_solver_converges_to_the_hertz_ellipse(contact, axes_1mm):
     # Johnson, Contact Mechanics 4.2 (ContactParameters.hertz) against the half-space solver, which knows
-    # nothing of elliptic integrals. Measured at 1 mm / 0.5 mm: p0 0.15 / 0.03 %, approach 0.15 / 0.05 %,
-    # a and b from the pressure's second moments 0.18 / 0.05 %, area 2.3-4.7 / 1.6-2.0 % (a staircase of
-    # whole elements around the ellipse). Bounds: 0.3 % (1 mm) and 0.1 % (0.5 mm), area 5 % and 2.5 %.
+    # nothing of elliptic integrals. Measured at 1 mm / 0.5 mm (benchmarks/contact_geometry_accuracy.py):
+    # p0 within 0.19 / 0.05 %, approach 0.21 / 0.05 %; a and b from the pressure's second moments 0.18 / 0.05 %
+    # for 0.46 m on 0.30 m and the concave tread, but 0.36 / 0.06 % for the convex +0.5 m tread (and up to
+    # 0.77 % at 1 mm for other convex treads and long patches: the semi-axis across spans fewer elements);
+    # area 2.3-4.7 / 1.6-2.3 % (a staircase of whole elements around the ellipse). Bounds: 0.3 % (1 mm;
+    # semi-axes 0.5 % for the convex tread) and 0.1 % (0.5 mm), area 5 % and 2.5 %.
     coarse, fine = _halfspace_errors(contact, 1e-3), _halfspace_errors(contact, 0.5e-3)
-    for name in ("peak_pressure", "approach", "a", "b"):
+    for name in ("peak_pressure", "approach"):
         assert coarse[name] < 3e-3 and fine[name] < 1e-3, name
+    for name in ("a", "b"):
+        assert coarse[name] < axes_1mm and fine[name] < 1e-3, name
     assert coarse["area"] < 0.05 and fine["area"] < 0.025
     # refining the grid reduces every error (convergence, not a lucky grid)
     for name in ("peak_pressure", "approach", "area"):
@@ -80,6 +87,7 @@ def test_hertz_law_is_the_ellipse():
 
 
 @pytest.mark.parametrize("model", MODELS)
+@pytest.mark.slow
 def test_smooth_elliptic_patch_in_every_model(model):
     # Smooth surfaces, R_x = 0.46 m, R_y = 0.30 m: the mean force equals the preload within 0.5 % (the run
     # starts in static equilibrium on each model's own static approach; measured within 0.01 %).
@@ -90,7 +98,9 @@ def test_smooth_elliptic_patch_in_every_model(model):
     assert result.force.mean() == pytest.approx(REAL.preload, rel=5e-3)
     a, b = REAL.hertz_semi_axes()
     if model == "3d":
-        # the patch area within 3 % of pi a b on the 1 mm grid (issue; measured 2.3 %: whole elements)
+        # the patch area (elements in contact x dx^2, a staircase around the ellipse) within 3 % of pi a b on
+        # the 1 mm grid here (measured 2.3 %; 0.5-16 % over the geometries and loads of
+        # benchmarks/contact_geometry_accuracy.py)
         assert np.mean(result.contact_area) == pytest.approx(math.pi * a * b, rel=0.03)
         # the window follows the semi-axes: 2.2 a along the rail (29 columns here, 25 for the paper's circle)
         assert result.window_x[-1] == pytest.approx(round(2.2 * a / 1e-3) * 1e-3)
@@ -103,13 +113,15 @@ def test_smooth_elliptic_patch_in_every_model(model):
 
 @pytest.mark.parametrize("contact", [ContactParameters(), REAL], ids=["paper-circle", "0.46-on-0.30"])
 def test_calibrated_bedding_against_hertz_over_40_to_150_um(contact):
-    # The 2D bedding (R_m = rho_x / 2, k = 3 C / (4 sqrt(rho_x)); eqs. 5-6 for the circle) is exact for the
-    # continuous bedding; on the 1 mm grid the midpoint rule leaves, over approaches of 40-150 um, at most
-    # 1.55 % (circle) and 0.93 % (0.46 m on 0.30 m) from C delta^1.5. Bound 2 %, the README's statement.
+    # The 2D bedding (Ford & Thompson's criterion, eqs. 5-6 for the circle, applied to an ellipse:
+    # R_m = rho_x / 2, k = 3 C / (4 sqrt(rho_x))) is exact for the continuous bedding; on the 1 mm grid the
+    # midpoint rule leaves, over approaches of 40-150 um swept every 0.01 um (a 0.5 um sweep misses the worst
+    # point), at most 1.56 % (circle) and 1.00 % (0.46 m on 0.30 m) from C delta^1.5 (2.78 % for a 0.2 m
+    # wheel on a 0.8 m crown: fewer springs span its shorter patch). Bound 2 %, the README's statement.
     stiffness, radius = calibrated_bedding(contact)
     profile = wheel_profile(61, 1e-3, radius)
     worst = 0.0
-    for approach in np.linspace(40e-6, 150e-6, 221):
+    for approach in np.linspace(40e-6, 150e-6, 11001):
         force, _, _, edge = _winkler_force(approach, np.zeros(61), profile, stiffness * 1e-3)
         assert not edge
         worst = max(worst, abs(force / (contact.hertz_constant * approach**1.5) - 1))
@@ -127,6 +139,7 @@ def _amplitude(model: str, wavelength: float, params: ModelParameters, r0: float
 
 
 @pytest.mark.parametrize("contact", [ContactParameters(), REAL], ids=["paper-circle", "0.46-on-0.30"])
+@pytest.mark.slow
 def test_2d_filter_dip_follows_the_semi_axis_along_the_rail(contact):
     # Laterally uniform sinusoidal roughness (0.2 um: linear regime) swept in wavelength: the `2d` force
     # relative to `hertz` dips deepest where one wavelength fills the patch, lambda = 2a (eq. 19, n = 1;

@@ -77,9 +77,27 @@ def test_run_result_and_array_give_the_same_spectrum():
     np.testing.assert_array_equal(force_spectrum(Run())[1], force_spectrum(Run.force, DT)[1])
 
 
+@pytest.mark.parametrize("kmh", [5.0, 100.0, 400.0])
+def test_the_shortest_run_with_a_spectrum_is_force_spectrums_own_rule(kmh):
+    # spectra.shortest_spectrum_run (what the explorer offers, the studies and `wheelrail run` check) against
+    # force_spectrum itself: a run of that length has a spectrum, one element less has none
+    from wheelrail.core.spectra import check_spectrum_length, shortest_spectrum_run
+
+    speed, dx = kmh / 3.6, 1e-3
+    steps = round(shortest_spectrum_run(speed, dx) / dx)
+    force_spectrum(np.ones(steps), dx / speed)
+    with pytest.raises(WheelrailError):
+        force_spectrum(np.ones(steps - 1), dx / speed)
+    check_spectrum_length(steps * dx, speed, dx)
+    with pytest.raises(WheelrailError, match="too short for a force spectrum") as info:
+        check_spectrum_length((steps - 1) * dx, speed, dx)
+    assert info.value.parameter == "length" and info.value.minimum == pytest.approx(steps * dx)
+
+
 def test_too_short_run_and_bad_input_are_clear_errors():
-    with pytest.raises(WheelrailError, match="skipping the first 0.02 s"):
+    with pytest.raises(WheelrailError, match="leaves 0 steps after the skip, and a spectrum needs 16") as info:
         force_spectrum(np.ones(300), DT)  # 300 steps = 10.8 ms < 20 ms
+    assert info.value.parameter == "skip" and info.value.maximum == pytest.approx((300 - 16) * DT)
     with pytest.raises(WheelrailError, match="time_step"):
         force_spectrum(np.ones(3000))
     with pytest.raises(WheelrailError, match="NaN"):

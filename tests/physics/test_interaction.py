@@ -46,12 +46,12 @@ def test_smooth_surfaces_mean_force_and_sleeper_passing(model):
     keep = freqs > 5
     peak = freqs[keep][np.argmax(spectrum[keep])]
     assert abs(peak - F_SLEEPER) <= freqs[1] + 1e-9
-    # every sleeper bay looks the same: the force one bay apart repeats within 5 % of its variation. What
-    # is left is the 7 Hz wheel-on-suspension mode still settling after the run-in (time constant 90 ms,
-    # 2.5 m at 100 km/h), far below the 50 Hz band where spectra start.
+    # every sleeper bay looks the same: after the default run-in (0.3 s) the start-up transient is gone and
+    # the force one bay apart repeats within 0.1 N (measured 2e-4 N for hertz; 2.1 N after the old 1 m run-in)
+    # of its 2.6 kN variation.
     n_bay = int(round(L_S / P.run.element_size))
     tail = force[-2 * n_bay:]
-    assert np.max(np.abs(tail[n_bay:] - tail[:n_bay])) < 0.05 * (force.max() - force.min())
+    assert np.max(np.abs(tail[n_bay:] - tail[:n_bay])) < 0.1
 
 
 def test_smooth_3d_patch_is_the_hertz_circle():
@@ -136,6 +136,7 @@ def test_3d_with_laterally_uniform_roughness_agrees_with_2d():
     np.testing.assert_allclose(three_d[band], two_d[band], atol=1.5)
 
 
+@pytest.mark.slow
 def test_3d_gives_lower_high_frequency_force_on_uncorrelated_roughness():
     # The paper's main finding: with low lateral correlation (sinter-braked wheel) the 3D model averages
     # over the roughness across the patch and gives a lower force at high frequencies than the 2D model
@@ -200,8 +201,8 @@ def test_streamed_states_equal_the_result():
     ("kwargs", "fragment"),
     [
         ({"model": "4d"}, "unknown contact model"),
-        ({"line": 40}, "line 40 is not in the roughness set"),
-        ({"length": 100.0}, "exceeds"),
+        ({"line": 40}, "line 40: not in the roughness set; accepted -9 to 9"),
+        ({"length": 100.0}, "length 100 m: with the 20 mm window margins at each end the run needs more"),
         ({"length": -1.0}, "run length must be positive"),
         ({"run_in_length": float("nan")}, "run_in_length"),
     ],

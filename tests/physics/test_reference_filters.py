@@ -1,4 +1,4 @@
-"""Reference contact filters (issue 14): CNOSSOS-EU A3, the analytic filters, the ISO 3095 limit.
+"""Reference contact filters: CNOSSOS-EU A3, the analytic filters, the ISO 3095 limit.
 
 Validation against the tables as a second public source prints them (tests/data/cnossos_2021_rail.csv),
 against closed forms, against brute-force averaging of synthetic roughness over the contact patch, and
@@ -154,6 +154,7 @@ def _band_power(signal, bands: Bands):
     return np.array([spectrum[(k >= lo) & (k < hi)].sum() for lo, hi in zip(k_lo, k_hi, strict=True)])
 
 
+@pytest.mark.slow
 def test_monte_carlo_patch_averages_follow_the_analytic_filters():
     """White roughness on a 26 m periodic line, averaged over the patch by brute force.
 

@@ -13,7 +13,7 @@ from wheelrail.core.roughness import (
     load_roughness,
     roughness_spectrum,
 )
-from wheelrail.core.roughness_synthesis import (
+from wheelrail.core.roughness.synthesis import (
     BUNDLED_RECIPES,
     LateralCorrelation,
     Peak,

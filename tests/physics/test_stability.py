@@ -1,4 +1,4 @@
-"""Stability of the coupled time stepping over the accepted speed range (issue 13 item 1).
+"""Stability of the coupled time stepping over the accepted speed range.
 
 The loop's step is dt = element_size / v. With the first-order hold, the sampled compliance of wheel and
 rail at the Nyquist frequency 1/(2 dt) is a positive mix of the receptances' real parts there; just above
@@ -73,6 +73,7 @@ def _chatter(kmh: float) -> float:
 SCAN_KMH = sorted({*np.round(np.geomspace(MIN_SPEED_KMH, MAX_SPEED_KMH, 14), 2), 6.8, 6.82, 6.85, 6.9})
 
 
+@pytest.mark.slow
 def test_smooth_rail_speed_scan_has_no_period_two_chatter():
     # On a smooth rail the only excitation is the sleeper passing: the force varies smoothly, by well under
     # 1 kN per step squared (measured: 4-40 N at 5-400 km/h; 2.4-280 kN where the first-order hold

@@ -45,6 +45,7 @@ def _dip_depth(levels, band):
 # ------------------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_speeds_move_the_sleeper_passing_peak_as_v_over_ls(tmp_path):
     result = run_study("speeds", ["corrugated-rail"], tmp_path, length=6.0, progress=False, figures=False)
     (table,) = result.tables
@@ -82,6 +83,7 @@ def white_set():
                         description="white test roughness")
 
 
+@pytest.mark.slow
 def test_2d_filter_dips_at_eq19_and_3d_dips_are_shallower(white_set, tmp_path):
     result = run_study("filters", [white_set], tmp_path, length=2.0, progress=False, figures=False)
     filters = next(t for t in result.tables if t.name.endswith("contact_filters"))
@@ -107,19 +109,20 @@ def test_2d_filter_dips_at_eq19_and_3d_dips_are_shallower(white_set, tmp_path):
     # The 3D patch also averages the laterally uncorrelated lines of this roughness, at any wavelength. Below
     # 350 Hz the sleeper-passing harmonics (the same in every model) outweigh this 0.3 um roughness and the
     # 3D filter reads 0 within 0.5 dB (measured < 0.1 dB); in the 400 Hz band the roughness response leads
-    # and the 3D force is lower (measured -3.1 dB). Before issue 13 item 12 this was hidden: linear
+    # and the 3D force is lower (measured -3.1 dB). Before the bay refinement this was hidden: linear
     # interpolation between the excitation positions put spurious sleeper-passing tones of 26-29 dB re 1 N
     # into the 400-630 Hz bands of every model (15 to -17 dB once refined).
     three_d = filters.columns["3d_db"]
     assert np.nanmax(np.abs(three_d[centres < 350])) < 0.5
     assert np.nanmax(three_d[low]) < 0.5
-    # the reference filters for the runs' load and wheel sit beside the dynamic ones (issue 14), the same
+    # the reference filters for the runs' load and wheel sit beside the dynamic ones, the same
     # values as wheelrail.core.reference_filters gives for 65 kN, R = 0.39 m, 100 km/h
     refs = reference_filters(P.contact.preload, P.contact.radius, P.run.speed)
     for name, values in refs.by_frequency.items():
         np.testing.assert_array_equal(filters.columns[f"ref_{name.replace('-', '_')}_db"], values)
 
 
+@pytest.mark.slow
 def test_eq19_dips_move_with_speed(white_set, tmp_path):
     # the same 2D-minus-Hertz filter at 80 km/h: the dip moves to f_1 = 80 km/h / (2a) = 2.03 kHz. Built
     # from the public API: RunSpecs -> execute -> contact_filter -> mean_level
@@ -160,6 +163,7 @@ def _table(result, name):
     return next(t for t in result.tables if t.name == name)
 
 
+@pytest.mark.slow
 def test_3d_lower_than_2d_at_high_frequencies_more_for_sinter_wheel(bundled_studies):
     spread, _ = bundled_studies
     high = {}
@@ -177,6 +181,7 @@ def test_3d_lower_than_2d_at_high_frequencies_more_for_sinter_wheel(bundled_stud
     assert high["sinter-wheel-1"] < high["corrugated-rail"] - 1.0, high
 
 
+@pytest.mark.slow
 def test_2d_and_winkler_prefilter_agree_up_to_2khz(bundled_studies):
     spread, _ = bundled_studies
     for name in SETS:
@@ -186,6 +191,7 @@ def test_2d_and_winkler_prefilter_agree_up_to_2khz(bundled_studies):
         assert np.nanmax(np.abs(table.columns["mean_db"][band])) < 1.0, (name, table.columns["mean_db"])
 
 
+@pytest.mark.slow
 def test_averaged_input_brings_2d_closer_to_3d_up_to_1_to_2_khz(bundled_studies):
     spread, averaged = bundled_studies
     (table,) = averaged.tables
@@ -212,6 +218,7 @@ def test_plan_sizes_follow_the_paper():
     assert sorted(s.params.wheel.unsprung_mass for s in speeds)[0] == HALF_WHEEL_MASS
 
 
+@pytest.mark.slow
 def test_lateral_resolution_4mm_is_closer_to_the_original_than_8mm(tmp_path):
     # Fig. 17: the 3D model on the lines 4 mm apart errs much less than on lines 8 mm apart; measured on
     # 2 m runs, mean |L_3D - L_3D,low| over the bands: sinter wheel 0.9 dB (4 mm) vs 2.3 dB (8 mm), cast-iron

@@ -79,6 +79,7 @@ def test_supports_give_the_two_bounce_frequencies_of_a_rigid_rail():
         assert np.min(np.abs(fe_freqs - f)) / f < 2e-3, f
 
 
+@pytest.mark.slow
 def test_pinned_pinned_and_support_resonances(model):
     # Paper: pinned-pinned resonance at 943 Hz for these parameters; within +-3 % (issue target).
     peaks = receptance_peaks(model)

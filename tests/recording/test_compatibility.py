@@ -77,8 +77,8 @@ def test_writer_writes_what_the_old_writer_wrote(tmp_path, model):
                                 roughness=load_roughness("corrugated-rail"), description=DESCRIPTION))
     assert sorted(new) == sorted(old)
     for key in old:
-        if key == ("/parameters", True):  # the contact geometry of issue 16 added three parameters
-            new[key] = _without_new_parameters(new[key])
+        if key == ("/parameters", True):  # the contact geometry (wheel, crown, tread radii) added three
+            new[key] = _without_new_parameters(new[key])  # parameters, the time-based run-in its duration
         assert new[key] == old[key], key
 
 
@@ -87,7 +87,8 @@ _NEW_CONTACT_PARAMETERS = ("wheel_radius", "rail_crown_radius", "wheel_transvers
 
 def _without_new_parameters(component: dict) -> dict:
     """The parameters document without the geometry fields added since the old files (their defaults, None and
-    an infinite tread, keep the old files' circle), re-rendered as the writer renders it."""
+    an infinite tread, keep the old files' circle) and without the run-in's duration (``run_in_time_s``, the
+    run-in length over the speed), re-rendered as the writer renders it."""
     import json
 
     from wheelrail.core.recording.schema import parameters_from_text
@@ -98,6 +99,8 @@ def _without_new_parameters(component: dict) -> dict:
         contact = document["parameters"]["contact"]
         for name in _NEW_CONTACT_PARAMETERS:
             assert contact.pop(name) is None, name  # defaults: None (the radius), an infinite tread (JSON null)
+        run_in_time = document.pop("run_in_time_s")
+        assert run_in_time == document["run_in_length_m"] / document["speed_m_per_s"]
         head = text.split("```json", 1)[0]
         rows.append([f"{head}```json\n{json.dumps(document, indent=2)}\n```\n"])
     return {**component, "TextDocument:text": rows}

@@ -68,8 +68,9 @@ def test_stale_entry_is_not_used(tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize(("offset", "value"), [(8, 0x01), (10, 99), (6, 0xFF)], ids=["encrypted", "method", "version"])
+@pytest.mark.slow
 def test_one_damaged_zip_header_byte_is_rebuilt(tmp_path, monkeypatch, offset, value):
-    # issue 13: one byte of the ZIP's central directory (flag, compression method, version needed) made
+    # one byte of the ZIP's central directory (flag, compression method, version needed) made
     # np.load raise RuntimeError ("encrypted") or NotImplementedError, which escaped the cache
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
     good = _fresh()

@@ -1,4 +1,4 @@
-"""House rules of core/ (issue 12): modules of at most ~600 lines, functions of at most 80 lines and 10
+"""House rules of core/: modules of at most ~600 lines, functions of at most 80 lines and 10
 arguments, except the numba loops named below, each with the reason in its own docstring or comment."""
 
 from __future__ import annotations

@@ -20,6 +20,7 @@ def _peak(model, length):
 
 @pytest.mark.parametrize(("model", "short", "long"), [("hertz", 200.0, 600.0), ("2d", 200.0, 600.0),
                                                     ("3d", 8.0, 16.0)])
+@pytest.mark.slow
 def test_estimate_bounds_the_traced_growth(model, short, long):
     # lengths long enough that the run's arrays outgrow the set-up's fixed peak (~18 MB: Green's functions)
     _peak(model, 0.01)  # Green's functions into memory, kernels compiled: fixed costs out of the way

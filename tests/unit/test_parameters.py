@@ -59,7 +59,7 @@ def test_parameters_are_frozen():
         WheelParameters().unsprung_mass = 1.0  # type: ignore[misc]
 
 
-# --- elliptic patches (issue 16) ------------------------------------------------------------------------------
+# --- elliptic patches ---------------------------------------------------------------------------------------
 
 REAL = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)  # a worn wheel on a rail head
 CONCAVE = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30, wheel_transverse_radius=-0.5)
@@ -79,6 +79,7 @@ def test_default_geometry_is_the_papers_circle_to_the_bit():
 
 @pytest.mark.parametrize("contact", [REAL, CONCAVE, ContactParameters(wheel_radius=0.2, rail_crown_radius=0.8)],
                          ids=["0.46-on-0.30", "concave-tread", "wide"])
+@pytest.mark.slow
 def test_elliptic_hertz_against_quadrature_of_its_pressure(contact):
     """Johnson 4.2 checked without the elliptic integrals: the load is the integral of the ellipsoidal pressure,
     2/3 pi a b p0, and the approach is the Boussinesq displacement of that pressure at the centre,
@@ -124,8 +125,8 @@ def test_semi_axes_scale_with_load_to_the_one_third():
         ({"rail_crown_radius": 0.0}, "rail_crown_radius"),
         ({"wheel_transverse_radius": 0.0}, "wheel_transverse_radius"),
         ({"wheel_transverse_radius": math.nan}, "wheel_transverse_radius"),
-        ({"rail_crown_radius": 0.3, "wheel_transverse_radius": -0.3}, "relative curvature"),
-        ({"rail_crown_radius": 0.3, "wheel_transverse_radius": -0.2}, "relative curvature"),
+        ({"rail_crown_radius": 0.3, "wheel_transverse_radius": -0.3}, "surfaces conform"),
+        ({"rail_crown_radius": 0.3, "wheel_transverse_radius": -0.2}, "surfaces conform"),
     ],
 )
 def test_bad_geometry_is_one_clear_error(kwargs, words):

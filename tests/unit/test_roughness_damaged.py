@@ -1,5 +1,5 @@
 """Damaged and oversized roughness files and grids: one WheelrailError line naming the file, nothing else,
-and no allocation of what a file merely claims (issue 13, items 4 and 5)."""
+and no allocation of what a file merely claims."""
 
 import io
 import tracemalloc

@@ -1,4 +1,5 @@
-"""``wheelrail explore``: the browser GUI (explorer issue)."""
+"""``wheelrail explore``: the browser GUI (``wheelrail.explorer.app``), a command of the ``wheelrail`` console
+script (``wheelrail.cli``), not of core."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ def add_parser(sub):
 
 def check_address(host: str, port: int) -> None:
     """Refuse, before any server starts, a port outside 1..65535 or a host that does not resolve to an
-    address of this machine (issue 13: the server thread printed a traceback and never exited, or hung)."""
+    address of this machine (else the server thread printed a traceback and never exited, or hung)."""
     import socket
 
     if not 1 <= port <= 65535:
@@ -35,13 +36,8 @@ def check_address(host: str, port: int) -> None:
 
 def run(args) -> int:
     check_address(args.host, args.port)
-    try:
-        from wheelrail.explorer.app import serve  # noqa: PLC0415 - the GUI is optional at import time
-    except ImportError:
-        raise WheelrailError(
-            "the explorer GUI is not built yet in this version; use `wheelrail track` meanwhile"
-        ) from None
     from wheelrail.core.roughness import bundled_names
+    from wheelrail.explorer.app import serve  # viser and the page: imported only when the command runs
 
     if args.set not in bundled_names():
         raise WheelrailError(f"--set {args.set!r} is not a bundled set; choose one of {', '.join(bundled_names())} "

@@ -1,0 +1,176 @@
+"""Accepted ranges of the physical inputs, in one table: what a railway wheel, rail and train can be.
+
+:data:`ACCEPTED` gives each input its key, SI unit, range and the reason for the range. The parameter classes
+(``RunParameters.speed``, ``ContactParameters``' preload and radii), the studies, the reference filters, the
+command line (its help and its messages, in its own units) and the explorer (its field hints and messages)
+all read it; an input outside its range is one :class:`~wheelrail.core.errors.WheelrailError` that carries
+the key, the value and the range, so that each front end names it in its own terms.
+
+Two rules relate inputs to each other:
+
+* **The patch stays small against the radii** (:func:`check_patch`): the Hertz semi-axes at the preload are
+  at most ``PATCH_FRACTION`` = 1/10 of each body's radius in their direction (along the rail: the wheel's
+  rolling radius; across it: the rail crown's and the tread's). Every model here describes the surfaces by
+  the paraboloid x^2/(2 R) of Hertz's theory, a half-space loaded on a patch small against the radii
+  (Johnson, *Contact Mechanics*, 4.1). A circle of radius R departs from its paraboloid by y^4/(8 R^3), a
+  fraction (y/R)^2/4 of it (0.25 % at y = R/10); the gap between a concave tread and the crown, the
+  difference of two such profiles, by at most 3 (y/R)^2 / 4 (0.75 % at R/10). A patch wider than that no
+  longer fits the theory: a concave tread of -300.5 mm on a 300 mm crown gives, under a 390 mm wheel at
+  65 kN, a patch 0.15 m across (measured with ``ContactParameters.hertz_semi_axes``).
+* **A wheel set's circumference is the wheel's** (:func:`check_wheel_circumference`): a wheel roughness set
+  added to a rail set (combined roughness) repeats every circumference, so it must be within
+  ``CIRCUMFERENCE_TOLERANCE`` = 1 % of 2 pi R of the run's rolling radius R (the bundled wheel sets are
+  2.900 m round: R = 461.5 mm). A wheel set run alone, as the one rough surface, stays the paper's
+  idealisation (a roughness record, run as given) and is not checked.
+
+Each range contains the values it is meant for with room to spare and leaves out a value given in the wrong
+unit (a radius in mm given as m, or in m as mm, is 1000 times off and lands outside).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from wheelrail.core.errors import WheelrailError
+
+__all__ = [
+    "ACCEPTED", "CIRCUMFERENCE_TOLERANCE", "MAX_SPEED_KMH", "MIN_SPEED_KMH", "PATCH_FRACTION", "Accepted",
+    "check_patch", "check_wheel_circumference", "raise_concave_tread",
+]
+
+# Accepted train speeds: the range over which the interaction loop is shown stable (FOH_MAX_STEP in
+# parameters.py; smooth-rail speed scans in tests/physics/test_stability.py and benchmarks/speed_scan.py).
+# Below MIN_SPEED_KMH steps get so long (7.2 ms at 0.5 km/h: 8 lags) that the 50 ms truncation of the
+# trapezoidal weights matters and the loop chattered again at 0.5 km/h. MAX_SPEED_KMH is the reach of the
+# cached track responses (``TrackNumerics.max_speed``).
+MIN_SPEED_KMH = 5.0
+MAX_SPEED_KMH = 400.0
+
+PATCH_FRACTION = 0.1  # largest Hertz semi-axis at the preload / the bodies' radius in its direction
+CIRCUMFERENCE_TOLERANCE = 0.01  # largest |C - 2 pi R| / (2 pi R) of a wheel set C added to a wheel of radius R
+_ROUND_OFF = 1e-12  # relative: a bound met after a unit conversion (km/h -> m/s) is met
+
+
+@dataclass(frozen=True)
+class Accepted:
+    """One input's accepted range: ``key`` (the stable name front ends map to their own), SI ``unit``,
+    ``minimum`` and ``maximum`` (SI), the ``reason`` for them; ``magnitude``: the range bounds |value| (a
+    radius whose sign means concave), ``maximum`` then inf."""
+
+    key: str
+    unit: str
+    minimum: float
+    maximum: float
+    reason: str
+    magnitude: bool = False
+
+    def check(self, value, argument: str | None = None) -> float:
+        """``value`` as a float within the range, else one WheelrailError naming ``argument`` (default the key)."""
+        fields = {"parameter": self.key, "value": value, "unit": self.unit, "argument": argument}
+        if isinstance(value, bool) or not isinstance(value, numbers.Real) or math.isnan(value):
+            raise WheelrailError("not a number", **fields)
+        number = float(value)
+        size = abs(number) if self.magnitude else number
+        if not self.minimum * (1 - _ROUND_OFF) <= size <= self.maximum * (1 + _ROUND_OFF):
+            raise WheelrailError(None, minimum=self.minimum, maximum=None if self.magnitude else self.maximum,
+                                 reason=self.reason, magnitude=self.magnitude, **fields)
+        return number
+
+    def in_unit(self, scale: float) -> tuple[float, float]:
+        """(minimum, maximum) in a front end's unit (``scale`` of it per SI unit), rounded for display."""
+        return float(f"{self.minimum * scale:.6g}"), float(f"{self.maximum * scale:.6g}")
+
+
+_WHEEL_RADIUS = (0.1, 1.25, "a railway wheel, around the CNOSSOS-EU table's 360 to 920 mm diameters")
+
+ACCEPTED: dict[str, Accepted] = {entry.key: entry for entry in (
+    Accepted("speed", "m/s", MIN_SPEED_KMH / 3.6, MAX_SPEED_KMH / 3.6,
+             "where the interaction loop is shown stable and the cached track responses reach"),
+    Accepted("preload", "N", 1e3, 500e3, "a railway wheel's static load, around the CNOSSOS-EU table's 25 to 100 kN"),
+    Accepted("radius", "m", *_WHEEL_RADIUS),
+    Accepted("wheel_radius", "m", *_WHEEL_RADIUS),
+    Accepted("rail_crown_radius", "m", 0.05, 5.0, "a rail head, from a sharp 50 mm crown to a worn, nearly flat 5 m"),
+    Accepted("wheel_transverse_radius", "m", 0.05, math.inf,
+             "inf: a cylindrical or conical tread; negative: a concave, worn one", magnitude=True),
+)}
+"""The accepted ranges by key (SI). Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU
+table's 360 to 920 mm wheels and the paper's 780 mm (R = 0.39 m) with room for small wagon and large
+locomotive wheels; rail crowns 0.05 to 5 m; treads at least 0.05 m in magnitude (no tread is curved more
+sharply than a rail crown); loads 1 to 500 kN around the table's 25 to 100 kN wheel loads."""
+
+
+def check_patch(semi_axes: tuple[float, float], radii: tuple[float, float, float], preload: float,
+                semi_axis_across: Callable[[float], float]) -> None:
+    """The Hertz patch at the preload is at most ``PATCH_FRACTION`` of the bodies' radii (module docstring).
+
+    Parameters
+    ----------
+    semi_axes : (float, float)
+        Hertz semi-axes at the preload, a along the rail and b across it, m.
+    radii : (float, float, float)
+        The wheel's rolling radius, the rail crown's radius and the tread's radius across (inf: cylindrical,
+        negative: concave), m.
+    preload : float
+        The static load they were computed at, N.
+    semi_axis_across : callable
+        b at the preload for another relative radius across (m -> m): finds the tread radius a concave
+        tread must exceed.
+
+    Raises
+    ------
+    WheelrailError
+        Blaming the tread (a concave one too close to the crown) with the largest accepted radius, else the
+        preload with the largest accepted load (the semi-axes grow as P^(1/3)).
+    """
+    a, b = semi_axes
+    wheel, crown, tread = radii
+    across = min(crown, abs(tread))
+    fraction = max(a / wheel, b / across)
+    if fraction <= PATCH_FRACTION * (1 + 1e-9):  # round-off: the largest load reported is accepted
+        return
+    wide = f"{2 * a:.3g} m long" if a / wheel >= b / across else f"{2 * b:.3g} m wide across the rail"
+    problem = (f"the Hertz patch at the preload would be {wide}, {fraction:.0%} of the radius in that direction "
+               f"(at most {PATCH_FRACTION:.0%}: the models take the surfaces as paraboloids, as Hertz does)")
+    if tread < 0 and b / across > PATCH_FRACTION * (1 + 1e-9):
+        raise_concave_tread(problem, tread, crown, semi_axis_across)
+    raise WheelrailError(problem, parameter="preload", value=preload, unit="N", argument="ContactParameters.preload",
+                         maximum=preload * (PATCH_FRACTION / fraction) ** 3)
+
+
+def raise_concave_tread(problem: str, tread: float, crown: float, semi_axis_across: Callable[[float], float]):
+    """One WheelrailError blaming a concave tread too close to the crown, with the largest radius (the most
+    negative is least conforming) whose patch across stays within ``PATCH_FRACTION`` of the crown."""
+    from scipy.optimize import brentq
+
+    def excess(curvature: float) -> float:  # b - PATCH_FRACTION crown for a tread of curvature -curvature
+        return semi_axis_across(1.0 / (1.0 / crown - curvature)) - PATCH_FRACTION * crown
+
+    if excess(0.0) >= 0:  # even a cylindrical tread's patch is too wide (a soft material): no concave one fits
+        limit = None
+    else:
+        limit = -1.0 / brentq(excess, 0.0, (1.0 - 1e-6) / crown, xtol=1e-12, rtol=1e-10)
+    raise WheelrailError(problem, parameter="wheel_transverse_radius", value=tread, maximum=limit, unit="m",
+                         argument="ContactParameters.wheel_transverse_radius",
+                         advice="a convex or cylindrical tread is accepted too")
+
+
+def check_wheel_circumference(circumference: float, wheel_radius: float, label: str) -> None:
+    """A wheel set added to a rail set must be within ``CIRCUMFERENCE_TOLERANCE`` of 2 pi R of the wheel it is
+    the roughness of; else one WheelrailError blaming the wheel radius, with the radii accepted for this set."""
+    implied = circumference / (2.0 * math.pi)
+    mismatch = abs(2.0 * math.pi * wheel_radius - circumference) / (2.0 * math.pi * wheel_radius)
+    if mismatch <= CIRCUMFERENCE_TOLERANCE * (1 + _ROUND_OFF):
+        return
+    own = 2.0 * math.pi * wheel_radius
+    raise WheelrailError(
+        f"the wheel set {label} is {circumference:.4g} m round (a wheel of radius {implied:.4g} m), and this wheel "
+        f"{own:.4g} m, {mismatch:.0%} {'shorter' if own < circumference else 'longer'}",
+        parameter="wheel_radius", value=wheel_radius,
+        minimum=circumference / (2.0 * math.pi * (1 + CIRCUMFERENCE_TOLERANCE)),
+        maximum=circumference / (2.0 * math.pi * (1 - CIRCUMFERENCE_TOLERANCE)), unit="m",
+        argument="ContactParameters.wheel_radius",
+        reason=f"a wheel set repeats with the wheel's circumference; at most {CIRCUMFERENCE_TOLERANCE:.0%} apart",
+    )
