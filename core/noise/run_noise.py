@@ -13,9 +13,11 @@ One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10
 **Pass-by level** at the ISO 3095 position (7.5 m from the track centre, 1.2 m above the rail head): every axle a
 point source of the axle's sound power W radiating into the half space above a rigid ground (p^2 = rho c W /
 (2 pi r^2)), moving at speed v past the microphone at distance d = sqrt(7.5^2 + 1.2^2) m; one axle's sound
-exposure is int p^2 dt = rho c W / (2 d v); N axles of a train of length l pass in T_p = l / v, so
-L_pAeq,Tp = L_WA,axle + 10 lg(N / (2 d l)) + 10 lg(rho c 1 pW / (20 uPa)^2) (derived here; the exposure of the
-whole passage is counted in T_p, which for a train much longer than d differs little from ISO 3095's T_p window).
+exposure within T_p = l / v (from the first axle at the microphone to the last, axles at s_k evenly from 0 to l
+behind the first) is rho c W / (2 pi d v) [atan(s_k / d) + atan((l - s_k) / d)] (rho c W / (2 d v) for a whole
+passage), so L_pAeq,Tp = L_WA,axle + 10 lg(sum_k [atan(s_k / d) + atan((l - s_k) / d)] / (2 pi d l))
++ 10 lg(rho c 1 pW / (20 uPa)^2) (derived here; N / (2 d l) for a train much longer than d: the 40-axle, 200 m
+default train is 0.53 dB below that, a 16-axle 80 m one 1.1 dB).
 
 **Pass-by WAV**: the run's dynamic force (sampled at v / dx, 27.8 kHz at 100 km/h) is filtered by the pressure
 per unit force at the closest distance, |p / F|^2 = rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2), a zero-phase
@@ -64,7 +66,15 @@ def pass_by_level(l_wa_axle: float, axles: int, train_length: float, distance: f
     ``train_length`` m (module docstring)."""
     d = receiver_distance() if distance is None else distance
     constant = 10 * math.log10(AIR_DENSITY * SOUND_SPEED * 1e-12 / PRESSURE_REFERENCE**2)
-    return l_wa_axle + 10 * math.log10(axles / (2 * d * train_length)) + constant
+    return l_wa_axle + 10 * math.log10(_exposure_within_tp(axles, train_length, d) / (2 * d * train_length)) + constant
+
+
+def _exposure_within_tp(axles: int, train_length: float, distance: float) -> float:
+    """sum_k [atan(s_k / d) + atan((l - s_k) / d)] / pi over axles at s_k evenly from 0 to l: the number of
+    axles' whole sound exposures that arrive within T_p (each axle's exposure is spread over its whole passage,
+    and the first and last ones are only half inside; N for a train much longer than d)."""
+    s = np.linspace(0.0, train_length, int(axles))
+    return float(np.sum(np.arctan(s / distance) + np.arctan((train_length - s) / distance)) / math.pi)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
