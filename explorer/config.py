@@ -28,7 +28,8 @@ from wheelrail.core.run_setup import usable_length, window_lines
 from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP
 
 __all__ = [
-    "COMPARE", "COMPARE_ORDER", "GEOMETRY_FIELDS", "MODEL_CHOICES", "NO_WHEEL_SET", "PRELOAD_RANGE_KN", "RunConfig",
+    "COMPARE", "COMPARE_ORDER", "GEOMETRY_FIELDS", "MODEL_CHOICES", "NO_LINE_FITS", "NO_WHEEL_SET", "PRELOAD_RANGE_KN",
+    "RunConfig",
     "in_page_words", "length_range", "models_of", "offered_lines", "read_config", "read_geometry",
 ]
 
@@ -39,6 +40,7 @@ MODEL_CHOICES = (*MODELS, COMPARE)
 PRELOAD_RANGE_KN = (1.0, 500.0)  # wheel loads the page accepts (paper: 65 kN)
 MAX_WHEEL_RUN_M = 100.0  # wheel data repeat around the circumference: longest run offered on a wheel set
 NO_WHEEL_SET = "none"  # the wheel-set picker's choice for a smooth wheel (one rough surface, the paper's case)
+NO_LINE_FITS = "no line fits"  # the Line menu when the model cannot run on any line of the set(s)
 # ContactParameters geometry field -> what the page calls it (mm in the page, m inside; empty: the default)
 GEOMETRY_FIELDS = {"wheel_radius": "Wheel radius", "rail_crown_radius": "Rail crown radius",
                    "wheel_transverse_radius": "Wheel tread radius across"}
@@ -191,10 +193,6 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
     lo, hi = PRELOAD_RANGE_KN
     if not lo <= preload_kn <= hi:
         raise WheelrailError(f"Preload must be between {lo:g} and {hi:g} kN; got {preload_kn:g} kN")
-    try:
-        line = int(str(line).strip())
-    except ValueError:
-        raise WheelrailError(f"Line must be a whole number; got '{line}'") from None
     if wheel is not None:
         if roughness.kind != "rail":
             raise WheelrailError(f"A wheel roughness is added to a rail set, and {set_label} is a {roughness.kind} "
@@ -209,6 +207,10 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
         raise WheelrailError(f"The 3d contact patch at {preload_kn:g} kN is {2e3 * contact.hertz_semi_axes()[1]:.1f} "
                              f"mm wide across the rail: no line of {sets} leaves room for it; choose another "
                              "geometry or a one-line model")
+    try:
+        line = int(str(line).strip())
+    except ValueError:
+        raise WheelrailError(f"Line must be a whole number; got '{line}'") from None
     if line not in allowed:
         if line in roughness.line_numbers and (wheel is None or line in wheel.line_numbers):
             raise WheelrailError(f"Line {line} is too near the edge of {sets} for the 3d contact patch at "

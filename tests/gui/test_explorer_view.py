@@ -1,0 +1,177 @@
+"""Explorer, server side: the 3D view, readout, slider and progress belong to the configuration shown.
+
+The controls are set as a browser would (``handle.value = ...`` runs the callbacks) and Run is pressed by
+calling what the button calls (``ExplorerApp.start_run``); the runs are wheelrail.core's, short (0.6 m).
+"""
+
+import io
+import socket
+
+import numpy as np
+import pytest
+
+from wheelrail.core.drawing import colour_table, table_colours
+from wheelrail.core.models import model_names
+from wheelrail.core.parameters import ContactParameters
+from wheelrail.explorer.app import ExplorerApp
+from wheelrail.explorer.scene import PRESSURE_HEIGHT, PRESSURE_TOP, SCENE_PER_MM
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def app():
+    explorer = ExplorerApp(port=_free_port(), max_upload_bytes=1_000_000)
+    yield explorer
+    explorer.close()
+
+
+def _run(app, timeout=300.0):
+    assert app.start_run(), app.last_error
+    assert app.controller.wait(timeout), "run did not finish"
+    return app.replay.result
+
+
+def _reset(app, *, model="3d", speed="100", length="0.6", geometry_mm=("", "", "")):
+    app.wheel_set_dropdown.value = "none"
+    app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = geometry_mm
+    app.set_dropdown.value = "corrugated-rail"
+    app.model_dropdown.value = model
+    app.line_dropdown.value = "0"
+    app.speed_text.value = speed
+    app.preload_text.value = "65"
+    app.length_text.value = length
+    app.last_error = None
+
+
+def _heat_map_of(result, step, contact=None):
+    """The heat map the scene draws for ``step`` of ``result`` (rows top (+y) to bottom)."""
+    contact = ContactParameters() if contact is None else contact
+    colours = table_colours(np.asarray(result.pressure[step], dtype=np.float64),
+                            PRESSURE_TOP * contact.hertz_peak_pressure(), colour_table())
+    return colours[::-1]
+
+
+def _assert_cleared(app):
+    scene = app.scene
+    assert not scene.heatmap.visible and not scene.strip.visible and not scene.surface.visible
+    assert "no run of this configuration yet" in app.readout_md.content.lower()
+    assert app.time_slider.disabled and app.play_button.disabled and app.rrd_button.disabled
+    assert app.progress_bar.value == 0
+
+
+def _assert_shows_last_step(app, result):
+    n = result.n_steps
+    assert app.scene.heatmap.visible
+    assert app.time_slider.max == n - 1 and app.time_slider.value == n - 1 and not app.time_slider.disabled
+    assert f"step {n - 1}:" in app.readout_md.content
+    assert f"x = {result.x[-1]:.4f} m" in app.readout_md.content
+    assert np.array_equal(app.scene.heatmap.image, _heat_map_of(result, n - 1, result_contact(result)))
+    assert app.progress_bar.value == 100
+
+
+def result_contact(result):
+    contact = result.parameters["contact"]
+    return ContactParameters(**contact)
+
+
+def test_the_view_follows_the_configuration_shown(app):
+    """The 3D view, readout, slider and progress of the configuration the controls describe, or cleared."""
+    _reset(app, length="0.8")
+    longer = _run(app)
+    _reset(app, length="0.6")
+    _assert_cleared(app)  # a configuration without a run: the 0.8 m patch is not left on screen
+    result = _run(app)
+    _assert_shows_last_step(app, result)
+    app.speed_text.value = "200"
+    _assert_cleared(app)
+    app.speed_text.value = "100"
+    _assert_shows_last_step(app, result)
+    app.length_text.value = "0.8"  # the longer run: its own steps, positions and slider range
+    _assert_shows_last_step(app, longer)
+    app.length_text.value = "0.6"
+    app.wheel_radius_text.value, app.crown_radius_text.value = "460", "300"
+    _assert_cleared(app)  # the old circle patch does not lie under the new ellipse
+    app.wheel_radius_text.value = app.crown_radius_text.value = ""
+    _assert_shows_last_step(app, result)
+    app.time_slider.value = 100  # scrubbing draws that step of this run
+    assert "step 100:" in app.readout_md.content
+    assert np.array_equal(app.scene.heatmap.image, _heat_map_of(result, 100))
+
+
+def test_the_view_is_cleared_after_an_upload(app, tmp_path):
+    from types import SimpleNamespace
+
+    from wheelrail.core.roughness import load_roughness, write_csv
+
+    _reset(app)
+    _run(app)
+    rail = load_roughness("corrugated-rail")
+    small = rail.with_heights(rail.heights[:, :1500], note="explorer view test")
+    path = tmp_path / "view.csv"
+    write_csv(small, path)
+    event = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="view.csv", content=path.read_bytes())),
+                            client=None)
+    app._on_upload(event)
+    assert app.roughness_label == "upload: view.csv"
+    _assert_cleared(app)  # the corrugated rail's heat map does not stay
+
+
+def test_a_compare_replays_and_downloads_the_model_chosen(app):
+    """After compare, a model selector chooses what is replayed, plotted as displacement and downloaded."""
+    _reset(app, model="compare")
+    _run(app)
+    app.speed_text.value = "80"
+    app.speed_text.value = "100"  # back on the compare's configuration
+    models = [m for m in model_names() if m in app.store.entries(app.shown.case())]
+    first = models[0]  # registry order: 3d
+    assert app.patch.displacement.handle.title.startswith(f"Displacement, {first}:")
+    assert app.replay.config.model == first  # the view replays what the plots name
+    assert app.shown_model.options == tuple(models) and not app.shown_model.disabled
+    assert app.shown_model.value == first
+    assert app.download_rrd()[0].startswith(f"wheelrail-{first}-")
+    app.shown_model.value = "2d"
+    assert app.replay.config.model == "2d"
+    assert app.patch.displacement.handle.title.startswith("Displacement, 2d:")
+    assert app.readout_md.content.startswith("**2d**")
+    assert app.scene.strip.visible and not app.scene.heatmap.visible  # a one-line model's strip
+    name, _ = app.download_rrd()
+    assert name == "wheelrail-2d-corrugated-rail-line0-100kmh-65kN-0.6m.rrd"
+
+
+def test_the_raised_surface_is_drawn_before_it_is_shown(app):
+    """Ticked after a run, the raised pressure surface has the vertices of the step shown (no stale mesh)."""
+    _reset(app)
+    result = _run(app)
+    app.raised_box.value = True
+    try:
+        surface = app.scene.surface
+        ny, nx = result.pressure.shape[1:]
+        assert surface.visible
+        assert surface.vertices.shape == (ny * nx, 3) and int(surface.faces.max()) < ny * nx
+        step = int(app.time_slider.value)
+        height = surface.vertices[:, 2].reshape(ny, nx) / SCENE_PER_MM  # mm
+        expected = result.pressure[step] / 1e9 * PRESSURE_HEIGHT
+        assert np.allclose(height, expected, atol=1e-4)  # float32 vertices
+    finally:
+        app.raised_box.value = False
+
+
+def test_exported_pngs_keep_their_whole_title(app):
+    """A long title (configuration with a geometry) wraps inside the PNG instead of running off both sides."""
+    from PIL import Image
+
+    _reset(app, model="hertz", geometry_mm=("460", "300", "-1000"))
+    _run(app)
+    assert len(app.patch.force.handle.title) > 120
+    for which in ("contact force", "displacement", "force spectra", "contact filters"):
+        _, content = app.download_plot_png(which)
+        grey = np.asarray(Image.open(io.BytesIO(content)).convert("L"))
+        top = grey[: grey.shape[0] // 6]  # the title's band
+        assert top.min() < 100  # the title is drawn
+        for edge in (top[:, :4], top[:, -4:]):
+            assert edge.min() > 200, f"{which}: the title touches the edge of the PNG"
