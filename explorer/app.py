@@ -62,9 +62,10 @@ CONTROL_PANEL_WIDTH = 340  # px: the run form, docked left
 RESULTS_PANEL_WIDTH = 560  # px: the results panel, docked right; its plots are about 520 px wide
 NOTICE_SECONDS = 10.0  # a notice (error toast) closes by itself after this; a new one replaces it
 NO_RUN_READOUT = "No run of this configuration yet: press **Run**."
-# The browser tab's title; wrapped plot titles; viser's own "File uploaded successfully" notice (a green
-# check), which only means that the bytes arrived: the page says itself whether the file was loaded.
-# React hoists the <title> into the document's head. If viser's markup changes, its notice shows again.
+# The browser tab's title (React hoists a <title> rendered from markdown into the document's head); plot titles
+# that wrap; viser's own "File uploaded successfully" notice (a green check) hidden, since it only means that
+# the bytes arrived: the page says itself whether the file was loaded. If viser's markup changes, its notice
+# shows again (harmless).
 PAGE_HEAD = ("<title>wheelrail explorer</title><style>"
              ".uplot .u-title{white-space:normal;overflow-wrap:anywhere}"
              ".mantine-Notification-root:has(.tabler-icon-check){display:none}"
@@ -94,6 +95,7 @@ class ExplorerApp:
         self.running: RunConfig | None = None  # the configuration being run, if any
         self.last_error: str | None = None
         self.last_download: tuple[str, int] | None = None
+        self.length_note = ""  # what the last change of set did to the run length, if anything
         self._model_choice: str | None = None  # the user's choice in Model shown, for the configuration shown
         self._local = threading.local()  # .quiet: this thread is setting a control (its callback is not a user's)
         self._playing = False
@@ -116,7 +118,7 @@ class ExplorerApp:
         gui.configure_theme(control_width="medium", show_share_button=False)
         gui.main_panel.dock_left()
         gui.main_panel.set_width(CONTROL_PANEL_WIDTH)
-        gui.add_html(PAGE_HEAD)
+        gui.add_markdown(PAGE_HEAD)
         gui.add_markdown("Vertical wheel/rail interaction in the time domain (Pieringer, Kropp & Thompson, "
                          "Wear 271, 2011)")
         with gui.add_folder("Run"):
@@ -257,11 +259,13 @@ class ExplorerApp:
             return
         shortest, longest = length_range(self.roughness, speed)
         bounded = min(max(length, shortest), longest)
+        self.length_note = ""
         if abs(bounded - length) > 1e-9:
             with self._quietly():
                 self.length_text.value = f"{bounded:g}"
-            self.status(f"Run length {length:g} m is not possible on {self.roughness_label} at {speed / KMH:g} "
-                        f"km/h ({shortest:g} to {longest:g} m): {bounded:g} m is set.")
+            self.length_note = (f"Run length {length:g} m is not possible on {self.roughness_label} at "
+                                f"{speed / KMH:g} km/h ({shortest:g} to {longest:g} m): {bounded:g} m is set.")
+            self.status(self.length_note)
 
     def _preload_or_default(self) -> float:
         try:
@@ -662,8 +666,8 @@ class ExplorerApp:
         self.set_dropdown.value = label  # its callback selects it
         if self.roughness_label != label:
             self.select_set(label)
-        message = f"Loaded {label}: {rough.kind}, {rough.n_lines} lines, {rough.length:.3g} m."
-        self.status(message)
+        message = f"Loaded {label}: {rough.kind}, {rough.n_lines} lines, {rough.length:.3g} m. {self.length_note}"
+        self.status(message.strip())
         self._notify("File loaded", message, client, colour="green")
         LOG.info("uploaded %s", label)
         return label

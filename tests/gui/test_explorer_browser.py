@@ -182,5 +182,39 @@ def test_bad_uploads_in_the_page(app, browser):
         app.max_upload_bytes = limit
     page.screenshot(path=str(ARTIFACTS / "explorer-bad-upload.png"))
     assert app.roughness_label == "corrugated-rail" and app.replay is before
+    # viser's own notice that the bytes arrived is not shown beside the refusal (it is in the page, hidden)
+    arrived = page.get_by_text("File uploaded successfully")
+    assert all(not arrived.nth(i).is_visible() for i in range(arrived.count()))
+    assert not errors, errors
+    page.close()
+
+
+NOTICES = """() => Array.from(document.querySelectorAll('.mantine-Notification-root'))
+    .filter(e => getComputedStyle(e).display !== 'none').map(e => e.innerText)"""
+
+
+def test_the_page_is_titled_and_keeps_one_notice(app, browser):
+    """The browser tab says what it is; refused presses of Run replace their notice instead of piling up."""
+    errors = []
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    page.on("pageerror", lambda error: errors.append(str(error)))
+    page.goto(f"http://127.0.0.1:{app.port}")
+    run_button = page.get_by_role("button", name="Run", exact=True)
+    run_button.wait_for(timeout=90_000)
+    assert page.title() == "wheelrail explorer"
+    speed = _text_field(page, "Speed (km/h)")
+    old = app.speed_text.value
+    try:
+        for typo in ("1OO", "abc", "-5"):
+            speed.fill(typo)
+            speed.press("Enter")
+            _wait_for(lambda typo=typo: app.speed_text.value == typo, 30, f"the speed {typo!r} to reach the server")
+            run_button.click()
+            page.get_by_text(f"got '{typo}'" if typo != "-5" else "got -5 km/h", exact=False).first.wait_for(
+                timeout=30_000)
+        ours = [text for text in page.evaluate(NOTICES) if text.startswith("Cannot do that")]
+        assert ours == ["Cannot do that\nSpeed must be between 5 and 400 km/h; got -5 km/h"]
+    finally:
+        app.speed_text.value = old
     assert not errors, errors
     page.close()

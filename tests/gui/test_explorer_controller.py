@@ -232,3 +232,40 @@ def test_a_wheel_set_and_the_geometry_reach_prepare_and_key_the_results():
                                      "wheel radius 460 mm, rail crown radius 300 mm")
     assert combined.file_stem() == ("wheelrail-hertz-corrugated-rail-sinter-wheel-1-line0-100kmh-65kN-1m-"
                                     "R460mm-crown300mm")
+
+
+def test_the_first_preparation_at_a_speed_says_its_steps_and_that_it_goes_on():
+    """The track's Green's functions first (once per speed), then the run's set-up; while a step lasts, the
+    status line repeats it with the seconds elapsed. The stand-in Green's functions wait until a repeat
+    has been said (an event, not a time)."""
+    ticked = threading.Event()
+
+    class Listener(Recorder):
+        def status(self, text):
+            super().status(text)
+            if text.endswith(" s") and "(1 of 2)" in text:
+                ticked.set()
+
+    listener = Listener()
+    precomputed = []
+
+    def precompute(params):
+        precomputed.append(params.run.speed)
+        assert ticked.wait(WAIT)
+
+    runs = {"hertz": [FakeRun("hertz", 3000), FakeRun("hertz", 3000)]}
+    controller = RunController(listener, prepare=lambda roughness, *, model, **kwargs: runs[model].pop(0),
+                               precompute=precompute, frame_interval=0.0, tick=0.01)
+    controller.start(_config("hertz"), roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert precomputed == [pytest.approx(100 * KMH)]
+    steps = [text for text in listener.statuses if text.startswith("Preparing the track for 100 km/h")]
+    assert steps[0].startswith("Preparing the track for 100 km/h (1 of 2): its Green's functions")
+    assert any(text.startswith("Preparing the track for 100 km/h (2 of 2)") for text in steps)
+    # a second run at the same speed: no track step
+    listener.ended.clear()
+    listener.statuses.clear()
+    controller.start(_config("hertz", line=1), roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert precomputed == [pytest.approx(100 * KMH)]
+    assert listener.statuses[0] == "Preparing hertz on corrugated-rail, line 1, 100 km/h, 65 kN, 1 m ..."

@@ -175,3 +175,100 @@ def test_exported_pngs_keep_their_whole_title(app):
         assert top.min() < 100  # the title is drawn
         for edge in (top[:, :4], top[:, -4:]):
             assert edge.min() > 200, f"{which}: the title touches the edge of the PNG"
+
+
+def test_the_3d_view_explains_itself(app):
+    """From above by default, the Hertz semi-axes labelled, p0 said; surfaces at the step shown, never over
+    the patch."""
+    camera = app.server.initial_camera
+    assert np.allclose(camera.position[:2], 0.0) and camera.position[2] > 0  # straight above: no foreshortening
+    assert np.allclose(camera.up, (0.0, 1.0, 0.0))  # x (rolling direction) to the right, y up
+    _reset(app, geometry_mm=("460", "300", ""))
+    contact = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.3)
+    a, b = (v * 1e3 for v in contact.hertz_semi_axes())
+    assert app.scene.a_label.text == f"a = {a:.2f} mm" and app.scene.b_label.text == f"b = {b:.2f} mm"
+    result = _run(app)
+    assert f"p0 = {contact.hertz_peak_pressure() / 1e6:.0f} MPa" in app.readout_md.content
+    app.time_slider.value = 150
+    app.surfaces_box.value = True
+    try:
+        scene = app.scene
+        rail, wheel = scene.rail_mesh.vertices, scene.wheel_lines.points
+        assert rail[:, 2].max() < 0 < wheel[..., 2].min()  # the patch lies at z = 0, between them
+        expected, _ = scene._surface_vertices(app.roughness, float(result.x[150]), 0, contact)
+        assert np.allclose(rail, expected)  # drawn where the wheel is at the step shown
+        app.time_slider.value = 400
+        expected, _ = scene._surface_vertices(app.roughness, float(result.x[400]), 0, contact)
+        assert np.allclose(scene.rail_mesh.vertices, expected)
+    finally:
+        app.surfaces_box.value = False
+
+
+def _upload(app, name, rough, tmp_path):
+    from types import SimpleNamespace
+
+    from wheelrail.core.roughness import write_csv
+
+    path = tmp_path / name
+    write_csv(rough, path)
+    app._on_upload(SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name=name,
+                                                                                  content=path.read_bytes())),
+                                   client=None))
+    assert app.roughness_label == f"upload: {name}", app.last_error
+
+
+def test_the_line_menu_and_the_run_length_follow_the_set_loaded(app, tmp_path):
+    from wheelrail.core.roughness import load_roughness
+
+    rail = load_roughness("corrugated-rail")
+    _reset(app, length="3")
+    _upload(app, "three-lines.csv", rail.with_heights(rail.heights[8:11, :1500], y=rail.y[8:11]), tmp_path)
+    # the run length is brought within what the file holds, saying so
+    assert app.length_text.value == "1.459" and "1.459 m is set" in app.status_md.content
+    # 3d needs more room across than three lines 1 mm apart: no line is offered, and the page says why
+    assert app.line_dropdown.options == ("no line fits",)
+    assert "no line of upload: three-lines.csv leaves room for it" in app.check_md.content
+    assert not app.start_run()
+    app.model_dropdown.value = "hertz"
+    assert app.line_dropdown.options == ("-1", "0", "1")
+    _reset(app, geometry_mm=("", "5000", ""))  # a 5 m crown: a patch too wide for every line
+    assert app.line_dropdown.options == ("no line fits",)
+    app.crown_radius_text.value = ""
+    assert app.line_dropdown.options == ("-2", "-1", "0", "1", "2")
+
+
+def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
+    from wheelrail.core.roughness import load_roughness, roughness_spectrum
+    from wheelrail.core.spectra import energetic_sum
+
+    _reset(app)
+    app.wheel_set_dropdown.value = "sinter-wheel-1"
+    plot = app.roughness_tab.spectrum
+    labels = [label for label, _, _ in plot.series]
+    assert labels == ["rail: corrugated-rail, lines -3..3", "wheel: sinter-wheel-1, lines -3..3",
+                      "combined (energetic sum)", "ISO 3095:2013 limit (rail)"]
+    assert [style for _, _, style in plot.series] == ["solid", "solid", "solid", "dotted"]
+    assert plot.handle.title == "Roughness spectrum: corrugated-rail + sinter-wheel-1 at 100 km/h"
+    rail = roughness_spectrum(load_roughness("corrugated-rail"), speed=100 / 3.6)
+    wheel = roughness_spectrum(load_roughness("sinter-wheel-1"), speed=100 / 3.6)
+    combined = energetic_sum(rail.levels_db, wheel.levels_db)
+    centres = plot.data[0]
+    for i, f in enumerate(centres):
+        band = int(np.argmin(np.abs(rail.band_centres - f)))
+        if np.isfinite(combined[band]):
+            assert plot.data[3][i] == pytest.approx(combined[band])
+    # frequency with its nominal band names below, wavelength on top
+    axes = plot.handle.axes
+    assert axes[0]["values"][:3] == ["63", "125", "250"] and axes[2]["label"] == "wavelength (mm) at 100 km/h"
+    assert axes[2]["side"] == 0 and "100" in axes[2]["values"]
+    assert app.roughness_tab.coherence.handle.scales["y"]["range"] == [0.0, 1.0]
+    app.wheel_set_dropdown.value = "none"
+    # a pure sine: the bands without roughness are not drawn at the FFT's numerical floor
+    base = load_roughness("corrugated-rail")
+    x = np.arange(3000) * base.dx
+    sine = base.with_heights(np.tile(5e-6 * np.sin(2 * np.pi * x / 0.05), (3, 1)), y=base.y[8:11])
+    _upload(app, "sine.csv", sine, tmp_path)
+    levels = app.roughness_tab.spectrum.data[1]
+    finite = levels[np.isfinite(levels)]
+    assert finite.size and finite.min() >= finite.max() - 120.0
+    assert app.roughness_tab.spectrum.handle.scales["y"]["range"][0] >= finite.max() - 125.0
