@@ -443,6 +443,9 @@ class ExplorerApp:
         self.replay = entry if entry is not None and entry.result.n_steps else None
         patch.rrd_button.disabled = patch.play_button.disabled = self.replay is None
         if self.running is not None and self._shows_the_run(self.running):
+            if self.replay is None or self.replay.config.model != self.running.model:
+                self.scene.clear()  # until the run's next frame: nothing of another run
+                patch.readout_md.content = f"Running {self.running.label()} ..."
             patch.time_slider.disabled = True
             return
         if self.replay is None:

@@ -54,9 +54,9 @@ def top_view(aspect: float = NARROWEST_VIEW) -> dict:
 
 
 def oblique_view(aspect: float = NARROWEST_VIEW) -> dict:
-    """The top view's camera tilted 35 degrees towards -y, z up."""
+    """The top view's camera tilted 55 degrees towards -y, z up."""
     distance = top_view(aspect)["position"][2]
-    tilt = math.radians(35.0)
+    tilt = math.radians(55.0)
     return {"position": (0.0, -distance * math.sin(tilt), distance * math.cos(tilt)), "look_at": (0.0, 0.0, 0.0),
             "up": (0.0, 0.0, 1.0)}
 
@@ -112,7 +112,7 @@ class PatchScene:
         self.nominal_circle = scene.add_line_segments("/contact/hertz_nominal", circle_segments(0.548, 0.03),
                                                       HERTZ_COLOUR, thickness=0.03)
         self.semi_axes = scene.add_line_segments("/contact/hertz_semi_axes", np.zeros((2, 2, 3), np.float32),
-                                                 HERTZ_COLOUR, thickness=0.02)
+                                                 AXIS_COLOUR, thickness=0.015)
         self.a_label = scene.add_label("/contact/hertz_a", "a", position=(0.0, 0.0, 0.05), anchor="bottom-left")
         self.b_label = scene.add_label("/contact/hertz_b", "b", position=(0.0, 0.0, 0.05), anchor="bottom-left")
         self._surface_x = np.arange(-SURFACE_HALF_LENGTH, SURFACE_HALF_LENGTH + 0.5, 1.0)  # mm
@@ -147,7 +147,7 @@ class PatchScene:
         a, b = (v * 1e3 for v in contact.hertz_semi_axes())  # mm
         s = SCENE_PER_MM
         self.nominal_circle.points = circle_segments(a * s, 0.03, radius_y=b * s)
-        self.semi_axes.points = np.array([[[0, 0, 0.03], [a * s, 0, 0.03]], [[0, 0, 0.03], [0, b * s, 0.03]]],
+        self.semi_axes.points = np.array([[[0, 0, 0.04], [a * s, 0, 0.04]], [[0, 0, 0.04], [0, b * s, 0.04]]],
                                          dtype=np.float32)
         self.a_label.text, self.a_label.position = f"a = {a:.2f} mm", (a * s, 0.0, 0.05)
         self.b_label.text, self.b_label.position = f"b = {b:.2f} mm", (0.0, b * s, 0.05)

@@ -6,6 +6,8 @@ calling what the button calls (``ExplorerApp.start_run``); the runs are wheelrai
 
 import io
 import socket
+import threading
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -104,8 +106,6 @@ def test_the_view_follows_the_configuration_shown(app):
 
 
 def test_the_view_is_cleared_after_an_upload(app, tmp_path):
-    from types import SimpleNamespace
-
     from wheelrail.core.roughness import load_roughness, write_csv
 
     _reset(app)
@@ -205,8 +205,6 @@ def test_the_3d_view_explains_itself(app):
 
 
 def _upload(app, name, rough, tmp_path):
-    from types import SimpleNamespace
-
     from wheelrail.core.roughness import write_csv
 
     path = tmp_path / name
@@ -272,3 +270,70 @@ def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
     finite = levels[np.isfinite(levels)]
     assert finite.size and finite.min() >= finite.max() - 120.0
     assert app.roughness_tab.spectrum.handle.scales["y"]["range"][0] >= finite.max() - 125.0
+
+
+class HeldRun:
+    """A stand-in one-line run of ``n`` steps whose step ``hold_at`` waits for ``release`` (or cancel)."""
+
+    def __init__(self, model, n, hold_at):
+        self.model, self.n_steps, self.hold_at = model, n, hold_at
+        self.reached, self.release, self._cancel = threading.Event(), threading.Event(), threading.Event()
+        self.done = 0
+        self.force = 65e3 + np.random.default_rng(3).standard_normal(n)
+        self.window_x = self.window_y = None
+
+    def _state(self, s):
+        return SimpleNamespace(step=s, position=s * 1e-3, force=self.force[s], contact_length=0.011, pressure=None)
+
+    def steps(self):
+        for s in range(self.n_steps):
+            if s == self.hold_at:
+                self.reached.set()
+                while not (self.release.is_set() or self._cancel.is_set()):
+                    self.release.wait(60.0)
+            if self._cancel.is_set():
+                return
+            self.done = s + 1
+            yield self._state(s)
+
+    def cancel(self):
+        self._cancel.set()
+
+    @property
+    def cancelled(self):
+        return self._cancel.is_set()
+
+    def result(self):
+        n = self.done
+        return SimpleNamespace(model=self.model, n_steps=n, force=self.force[:n], x=np.arange(n) * 1e-3,
+                               xi_wheel=np.zeros(n), xi_rail=np.zeros(n), time_step=1e-3 / (100 / 3.6),
+                               window_x=None, window_y=None, state=self._state)
+
+
+def test_a_run_reaches_the_view_only_while_its_configuration_is_shown(app):
+    """A run of one configuration goes on while the page shows another: its frames and progress stay off
+    that page's view; back on its configuration the view shows it."""
+    from wheelrail.explorer.controller import RunController
+
+    run = HeldRun("hertz", 3000, hold_at=1500)
+    own = app.controller
+    app.controller = RunController(app, app.store, prepare=lambda *a, **k: run, frame_interval=0.0)
+    try:
+        _reset(app, model="hertz", speed="90", length="3")
+        assert app.start_run()
+        assert run.reached.wait(60.0)
+        assert app.scene.strip.visible and "step 1499:" in app.readout_md.content
+        app.speed_text.value = "91"  # another configuration while the run goes on
+        _assert_cleared(app)
+        drawn = app.scene.frames_drawn
+        run.release.set()
+        assert app.controller.wait(60.0)
+        assert app.scene.frames_drawn == drawn and app.progress_bar.value == 0  # nothing of the run arrived
+        _assert_cleared(app)
+        app.speed_text.value = "90"  # back: its run, last step
+        assert app.scene.strip.visible and "step 2999:" in app.readout_md.content
+        assert app.progress_bar.value == 100 and app.time_slider.max == 2999
+    finally:
+        run.release.set()
+        app.controller.wait(60.0)
+        app.controller = own
