@@ -16,7 +16,9 @@ Target: press Run to first frame < 1 s.
 
 --first-run: a user's very first run, the default one (3d, 3 m of the corrugated rail at 100 km/h), in a
 fresh process with empty caches (a new Green's-function cache folder and a new numba cache folder): the
-time of each preparation step the page announces, until the first frame and until the run is done.
+time of each preparation step the page announces, until the first frame and until the run is done; Run
+pressed at once, then (another fresh process) pressed after the background warm-up that ``wheelrail
+explore`` starts has finished.
 """
 
 from __future__ import annotations
@@ -147,11 +149,21 @@ def browser_side(app, repeats: int) -> None:
           f"{statistics.median(times):.0f} ms (min {min(times):.0f}, max {max(times):.0f} ms) of {repeats}")
 
 
-def first_run() -> None:
-    """In this process (its caches empty): the default Run, with the time each status line appeared."""
+def first_run(warm_up: bool) -> None:
+    """In this process (its caches empty): the default Run, with the time each status line appeared; with
+    ``warm_up``, pressed once the app's background warm-up has finished."""
+    import threading
+
     from wheelrail.explorer.app import ExplorerApp
 
+    warmed = threading.Event()
+    start = time.perf_counter()
     app = ExplorerApp(port=_free_port())
+    if warm_up:  # what ExplorerApp(warm_up=True) starts, with a signal at its end
+        app.controller.warm_up(app.shown, app.roughness, done=lambda seconds: warmed.set())
+        warmed.wait()
+        print(f"background warm-up (as `wheelrail explore` starts it): {time.perf_counter() - start:.1f} s "
+              "from the app's start")
     said, first = [], []
     status, draw = app.status, type(app).frame
 
@@ -175,7 +187,9 @@ def first_run() -> None:
         app.close()
     for when, text in said:
         print(f"  {when - start:6.1f} s  {text.split(' ...')[0]}")
-    print(f"first run (empty caches): first frame after {first[0] - start:.1f} s, done after {done - start:.1f} s")
+    when = "after the warm-up" if warm_up else "at once"
+    print(f"first run (empty caches), Run pressed {when}: first frame after {first[0] - start:.1f} s, done after "
+          f"{done - start:.1f} s")
 
 
 def first_run_in_a_fresh_process() -> None:
@@ -184,10 +198,11 @@ def first_run_in_a_fresh_process() -> None:
     import sys
     import tempfile
 
-    with tempfile.TemporaryDirectory(prefix="wheelrail-first-run-") as folder:
-        env = {**os.environ, "WHEELRAIL_CACHE_DIR": str(Path(folder) / "track"),
-               "NUMBA_CACHE_DIR": str(Path(folder) / "numba")}
-        subprocess.run([sys.executable, __file__, "--first-run-here"], env=env, check=True)
+    for flag in ("--first-run-here", "--first-run-here-warm"):
+        with tempfile.TemporaryDirectory(prefix="wheelrail-first-run-") as folder:
+            env = {**os.environ, "WHEELRAIL_CACHE_DIR": str(Path(folder) / "track"),
+                   "NUMBA_CACHE_DIR": str(Path(folder) / "numba")}
+            subprocess.run([sys.executable, __file__, flag], env=env, check=True)
 
 
 def main() -> None:
@@ -197,12 +212,13 @@ def main() -> None:
     parser.add_argument("--browser", action="store_true", help="also time the press in headless Chromium")
     parser.add_argument("--first-run", action="store_true", help="only a first run with empty caches")
     parser.add_argument("--first-run-here", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--first-run-here-warm", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.first_run:
         first_run_in_a_fresh_process()
         return
-    if args.first_run_here:
-        first_run()
+    if args.first_run_here or args.first_run_here_warm:
+        first_run(warm_up=args.first_run_here_warm)
         return
     from wheelrail.explorer.app import ExplorerApp
 

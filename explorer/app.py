@@ -62,6 +62,7 @@ CONTROL_PANEL_WIDTH = 340  # px: the run form, docked left
 RESULTS_PANEL_WIDTH = 560  # px: the results panel, docked right; its plots are about 520 px wide
 NOTICE_SECONDS = 10.0  # a notice (error toast) closes by itself after this; a new one replaces it
 NO_RUN_READOUT = "No run of this configuration yet: press **Run**."
+READY = "Ready: choose a set, a line and a model, then press **Run**."
 # The browser tab's title (React hoists a <title> rendered from markdown into the document's head); plot titles
 # that wrap; viser's own "File uploaded successfully" notice (a green check) hidden, since it only means that
 # the bytes arrived: the page says itself whether the file was loaded. If viser's markup changes, its notice
@@ -80,7 +81,7 @@ class ExplorerApp:
 
     def __init__(self, host: str = "127.0.0.1", port: int = 8080, *, roughness: str = DEFAULT_SET,
                  length: float = DEFAULT_LENGTH, max_upload_bytes: int = MAX_UPLOAD_BYTES,
-                 verbose: bool = False) -> None:
+                 verbose: bool = False, warm_up: bool = False) -> None:
         self.server = viser.ViserServer(host=host, port=port, label="wheelrail explorer", verbose=verbose)
         self.port = self.server.get_port()
         self.max_upload_bytes = int(max_upload_bytes)
@@ -96,6 +97,7 @@ class ExplorerApp:
         self.last_error: str | None = None
         self.last_download: tuple[str, int] | None = None
         self.length_note = ""  # what the last change of set did to the run length, if anything
+        self._colour_bar_key = self._line_map_key = None  # what the two images show
         self._model_choice: str | None = None  # the user's choice in Model shown, for the configuration shown
         self._local = threading.local()  # .quiet: this thread is setting a control (its callback is not a user's)
         self._playing = False
@@ -110,7 +112,15 @@ class ExplorerApp:
         except BaseException:
             self.server.stop()
             raise
-        self.status("Ready: choose a set, a line and a model, then press **Run**.")
+        self.status(READY)
+        if warm_up and self.shown is not None:
+            self.status(f"{READY} Meanwhile the track for {self.shown.speed / KMH:g} km/h and the {self.shown.model} "
+                        "solver are prepared in the background (once; a first Run waits for it).")
+            self.controller.warm_up(self.shown, self.roughness, done=self._warmed_up)
+
+    def _warmed_up(self, seconds: float) -> None:
+        if self.status_md.content.startswith(f"{READY} Meanwhile"):
+            self.status(f"{READY} (The track and solver were prepared in {seconds:.0f} s.)")
 
     # ------------------------------------------------------------------ page
     def _build_controls(self, roughness: str, length: float) -> None:
@@ -632,15 +642,22 @@ class ExplorerApp:
         self.scene.set_raised(bool(self.patch.raised_box.value))
 
     def _update_preload_views(self) -> None:
+        """Hertz ellipse, colour bar and line map of the contact the fields describe (drawn again only when
+        what they show changed: matplotlib takes some 0.1 s for the two images)."""
         contact = self._contact_or_default()
         self.scene.set_contact(contact)
         p0 = contact.hertz_peak_pressure() / 1e6
-        self.patch.colour_bar.image = colour_bar_image(round(PRESSURE_TOP * p0), p0)
         try:
             line = int(self.line_dropdown.value)
         except ValueError:
             line = None
-        self.roughness_tab.line_map.image = _line_map(self.roughness, line, contact.hertz_semi_axes()[1])
+        b = contact.hertz_semi_axes()[1]
+        if self._colour_bar_key != round(p0, 1):
+            self._colour_bar_key = round(p0, 1)
+            self.patch.colour_bar.image = colour_bar_image(round(PRESSURE_TOP * p0), p0)
+        if self._line_map_key != (id(self.roughness), line, round(b * 1e6)):
+            self._line_map_key = (id(self.roughness), line, round(b * 1e6))
+            self.roughness_tab.line_map.image = _line_map(self.roughness, line, b)
 
     def _update_roughness_views(self) -> None:
         try:
@@ -789,7 +806,7 @@ def serve(host: str = "127.0.0.1", port: int = 8080, *, roughness: str = DEFAULT
           length: float = DEFAULT_LENGTH) -> int:
     """Start the explorer and serve until interrupted (Ctrl-C); runs and errors are logged to the terminal."""
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s: %(message)s", datefmt="%H:%M:%S")
-    app = ExplorerApp(host, port, roughness=roughness, length=length, verbose=False)
+    app = ExplorerApp(host, port, roughness=roughness, length=length, verbose=False, warm_up=True)
     shown = "127.0.0.1" if host in ("0.0.0.0", "") else host
     print(f"wheelrail explorer: http://{shown}:{app.port}  (Ctrl-C to stop)", flush=True)
     try:

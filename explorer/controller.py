@@ -79,6 +79,7 @@ class RunController:
         self._run = None
         self._worker: threading.Thread | None = None
         self._prepared_speeds: set[float] = set()
+        self._first_preparation = threading.Lock()  # one first preparation at a time (a warm-up or a run's)
 
     @property
     def running(self) -> bool:
@@ -102,6 +103,31 @@ class RunController:
         LOG.info("run %d: %s", generation, config.label())
         worker.start()
         return generation
+
+    def warm_up(self, config: RunConfig, roughness, done: Callable[[float], None] | None = None) -> threading.Thread:
+        """Prepare ``config`` in the background without running it: the track's Green's functions at its speed
+        (computed once, then kept on disk) and the compiled solver, so that a first Run finds them ready.
+        A first Run at that speed started meanwhile waits for it (saying so); ``done(seconds)`` at the end."""
+
+        def work() -> None:
+            started = time.perf_counter()
+            with self._first_preparation:
+                try:
+                    if self._precompute is not None:
+                        self._precompute(config.params())
+                    self._prepare(_source(roughness, config.set_label), model=config.model, line=config.line,
+                                  params=config.params(), length=config.length)
+                    self._prepared_speeds.add(round(config.speed, 6))
+                except Exception:  # a Run prepares again and says what is wrong
+                    LOG.exception("warm-up of %s failed", config.label())
+                    return
+            LOG.info("warm-up done after %.1f s: %s", time.perf_counter() - started, config.label())
+            if done is not None:
+                done(time.perf_counter() - started)
+
+        thread = threading.Thread(target=work, daemon=True, name="wheelrail-explorer-warm-up")
+        thread.start()
+        return thread
 
     def stop(self) -> None:
         """Cancel the current run, also one still being prepared (its steps so far are kept)."""
@@ -184,10 +210,12 @@ class RunController:
         roughness, wheel = roughness
         combined = {} if wheel is None else {"wheel_roughness": _source(wheel, config.wheel_set_label)}
         speed = f"Preparing the track for {config.speed / KMH:g} km/h"
-        if first and self._precompute is not None:
+        if first:
             with self._ticking(generation, f"{speed} (1 of 2): its Green's functions, computed once per speed "
                                            "and kept on disk"):
-                self._precompute(config.params())
+                with self._first_preparation:  # a warm-up under way finishes first
+                    if self._precompute is not None:
+                        self._precompute(config.params())
             if not self._current(generation):
                 return None
         text = (f"{speed} (2 of 2): roughness and contact solver, which the first run compiles" if first

@@ -177,13 +177,12 @@ class Plot:
             ticks, labels = band_ticks(float(x.min()), float(x.max()))
             ax.set_xticks(ticks, labels)
             speed = self.wavelength_speed
-            if speed is not None:
-                top = ax.secondary_xaxis("top", functions=(lambda f: speed / np.maximum(f, 1e-9) * 1e3,
-                                                           lambda mm: speed / np.maximum(mm, 1e-9) * 1e3))
+            if speed is not None:  # as on the page: ticks at f = v / lambda, labelled with lambda
+                top = ax.twiny()
                 top.set_xscale("log")
+                top.set_xlim(ax.get_xlim())
                 top.minorticks_off()
-                mm = [m for m in WAVELENGTH_TICKS_MM if x.min() <= speed / (m * 1e-3) <= x.max()]
-                top.set_xticks(mm, [f"{m:g}" for m in mm])
+                top.set_xticks(*wavelength_ticks(speed, float(x.min()), float(x.max())))
                 top.set_xlabel(self._wavelength_label(speed))
         if self.y_range is not None:
             ax.set_ylim(*self.y_range)

@@ -259,6 +259,12 @@ def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
     axes = plot.handle.axes
     assert axes[0]["values"][:3] == ["63", "125", "250"] and axes[2]["label"] == "wavelength (mm) at 100 km/h"
     assert axes[2]["side"] == 0 and "100" in axes[2]["values"]
+    speed = 100 / 3.6
+    for f, mm in zip(axes[2]["splits"], axes[2]["values"], strict=True):  # lambda = v / f, on the page
+        assert float(mm) == pytest.approx(speed / f * 1e3)
+    top = plot.figure().axes[1]  # and in the PNG
+    for f, label in zip(top.get_xticks(), top.get_xticklabels(), strict=True):
+        assert float(label.get_text()) == pytest.approx(speed / f * 1e3)
     assert app.roughness_tab.coherence.handle.scales["y"]["range"] == [0.0, 1.0]
     app.wheel_set_dropdown.value = "none"
     # a pure sine: the bands without roughness are not drawn at the FFT's numerical floor
