@@ -35,6 +35,9 @@ PLOT_BOXES = """() => Object.values((window.__viserTestpoints || {}).uplots || {
 }).filter(b => b.width > 0 && b.height > 0)"""
 
 
+FRAMES_RENDERED = "(window.__viserTestpoints && window.__viserTestpoints.rendererInfo.render.frame) || 0"
+
+
 def inside_share(box, width, height) -> float:
     """Share of ``box``'s area inside the window (0, 0)-(width, height)."""
     w = max(0.0, min(box["x"] + box["width"], width) - max(box["x"], 0.0))
@@ -91,6 +94,9 @@ def test_after_the_default_run_every_tab_shows_its_first_plot(app, browser):
     problems = []
     for width, height in SIZES:
         page, errors = _open(browser, app, width, height)
+        page.wait_for_function(f"({FRAMES_RENDERED}) > 2", timeout=90_000)  # the 3D view has been drawn
+        for close in page.locator(".mantine-Notification-closeButton").all():  # viser's software-WebGL notice
+            close.click()
         for title in TABS:
             page.get_by_role("tab", name=title).click()
             if title in PLOT_TABS:
