@@ -63,12 +63,10 @@ RESULTS_PANEL_WIDTH = 560  # px: the results panel, docked right; its plots are 
 NOTICE_SECONDS = 10.0  # a notice (error toast) closes by itself after this; a new one replaces it
 NO_RUN_READOUT = "No run of this configuration yet: press **Run**."
 READY = "Ready: choose a set, a line and a model, then press **Run**."
-# The browser tab's title (React hoists a <title> rendered from markdown into the document's head); plot titles
-# that wrap; viser's own "File uploaded successfully" notice (a green check) hidden, since it only means that
-# the bytes arrived: the page says itself whether the file was loaded. If viser's markup changes, its notice
-# shows again (harmless).
+# The browser tab's title (React hoists a <title> rendered from markdown into the document's head), and viser's
+# own "File uploaded successfully" notice (a green check) hidden, since it only means that the bytes arrived:
+# the page says itself whether the file was loaded. If viser's markup changes, its notice shows again.
 PAGE_HEAD = ("<title>wheelrail explorer</title><style>"
-             ".uplot .u-title{white-space:normal;overflow-wrap:anywhere}"
              ".mantine-Notification-root:has(.tabler-icon-check){display:none}"
              "</style>")
 

@@ -2,8 +2,8 @@
 
 Headless Chromium (Debian's /usr/bin/chromium, driven by Playwright) at 1280 x 800 and 1920 x 1080: on every
 results tab the first plot lies at least 90 % inside the window and is at least 480 px wide, and on the Patch
-tab the pressure colour bar is on screen. Screenshots of every tab at both sizes go to ``test-artifacts/``.
-Every wait is for a condition in the page, never a fixed time.
+tab the pressure colour bar is on screen; plot titles wrap inside their plot. Screenshots of every tab at
+both sizes go to ``test-artifacts/``. Every wait is for a condition in the page, never a fixed time.
 """
 
 import socket
@@ -30,8 +30,9 @@ COLOUR_BAR = "contact pressure (MPa)"  # the colour bar's label in the Patch tab
 # every uPlot chart of the page with its box on screen (zero size: in a tab not shown)
 PLOT_BOXES = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(t => {
     const r = t.chart.root.getBoundingClientRect();
-    return {title: String((t.chart.root.querySelector('.u-title') || {}).textContent || ''),
-            x: r.x, y: r.y, width: r.width, height: r.height};
+    const title = t.chart.root.querySelector('.u-title');
+    return {title: String((title || {}).textContent || ''), x: r.x, y: r.y, width: r.width, height: r.height,
+            title_fits: !title || title.scrollWidth <= title.clientWidth + 1};
 }).filter(b => b.width > 0 && b.height > 0)"""
 
 
@@ -103,9 +104,10 @@ def test_after_the_default_run_every_tab_shows_its_first_plot(app, browser):
                 page.wait_for_function(f"() => ({PLOT_BOXES})().length > 0", timeout=60_000)
                 first = _first_plot(page)
                 share = inside_share(first, width, height)
-                if share < MIN_INSIDE or first["width"] < MIN_WIDTH:
+                if share < MIN_INSIDE or first["width"] < MIN_WIDTH or not first["title_fits"]:
                     problems.append(f"{width}x{height} {title}: '{first['title'][:40]}' {share:.0%} inside, "
-                                    f"{first['width']:.0f} px wide")
+                                    f"{first['width']:.0f} px wide, title {'' if first['title_fits'] else 'not '}"
+                                    "wrapped")
             if title == "Patch":
                 bar = page.get_by_text(COLOUR_BAR, exact=True).locator("xpath=following::img[1]").bounding_box()
                 if bar is None or inside_share(bar, width, height) < 0.99:
@@ -114,3 +116,19 @@ def test_after_the_default_run_every_tab_shows_its_first_plot(app, browser):
         assert not errors, errors
         page.close()
     assert not problems, problems
+
+
+def test_long_plot_titles_wrap_inside_their_plot(app, browser):
+    """A configuration with a contact geometry has titles longer than a plot is wide: they wrap."""
+    page, errors = _open(browser, app, *SIZES[0])
+    try:
+        app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = "460", "300", "-1000"
+        page.wait_for_function(f"() => ({PLOT_BOXES})().some(b => b.title.includes('tread radius across -1000'))",
+                               timeout=60_000)
+        first = _first_plot(page)
+        assert "tread radius across -1000 mm" in first["title"] and first["title_fits"]
+        assert first["width"] >= MIN_WIDTH
+        assert not errors, errors
+    finally:
+        app.wheel_radius_text.value = app.crown_radius_text.value = app.tread_radius_text.value = ""
+        page.close()
