@@ -100,6 +100,7 @@ class ExplorerApp:
         self._local = threading.local()  # .quiet: this thread is setting a control (its callback is not a user's)
         self._playing = False
         self._notices: dict[int, object] = {}  # client id -> its notice on screen
+        self.notice_seconds = NOTICE_SECONDS
         try:
             self.scene = PatchScene(self.server)
             self._build_controls(roughness, length)
@@ -756,14 +757,14 @@ class ExplorerApp:
         self._notify(title, message, client, colour="red")
 
     def _notify(self, title: str, message: str, client=None, *, colour: str) -> None:
-        """One notice per page, replacing the one before; it closes by itself after NOTICE_SECONDS."""
+        """One notice per page, replacing the one before; it closes by itself after ``notice_seconds``."""
         for target in [client] if client is not None else list(self.server.get_clients().values()):
             try:
                 old = self._notices.pop(target.client_id, None)
                 if old is not None:
                     old.remove()
                 self._notices[target.client_id] = target.add_notification(
-                    title, message, color=colour, auto_close_seconds=NOTICE_SECONDS)
+                    title, message, color=colour, auto_close_seconds=self.notice_seconds)
             except Exception:  # a tab that closed meanwhile
                 pass
 
