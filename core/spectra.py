@@ -395,6 +395,17 @@ def level_difference(levels_a: np.ndarray, levels_b: np.ndarray) -> np.ndarray:
     return np.asarray(levels_a, dtype=float) - np.asarray(levels_b, dtype=float)
 
 
+def energetic_sum(*levels) -> np.ndarray:
+    """Band levels of uncorrelated signals added: 10 lg(sum 10^(L/10)) per band, dB (NaN where any is NaN).
+
+    The level of a sum of independent signals, such as the rail and the wheel roughness of one contact: the
+    total roughness of CNOSSOS-EU (Commission Directive (EU) 2015/996, Annex II, 2.3.2) is this sum of the
+    rail and the wheel roughness levels.
+    """
+    stack = np.vstack([np.asarray(v, dtype=float) for v in levels])
+    return 10.0 * np.log10(np.sum(10.0 ** (stack / 10.0), axis=0))
+
+
 def contact_filter(levels_model: np.ndarray, levels_hertz: np.ndarray) -> np.ndarray:
     """Contact filter of a model: its level minus that of ``hertz`` (r_eq = r) on the same line, dB.
 
