@@ -15,10 +15,10 @@ from wheelrail.core.contact.halfspace import HalfSpaceWindow
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, ContactState, ModelInputs
 
-__all__ = ["HalfSpaceModel"]
+__all__ = ["HalfSpaceModel", "HalfSpaceReferenceModel"]
 
 
-class HalfSpaceModel(ContactModel):
+class HalfSpaceReferenceModel(ContactModel):
     """Per-step law: warm-started active set on the moving window, pressure map at every step."""
 
     def prepare(self, inputs: ModelInputs) -> float:
@@ -60,3 +60,6 @@ class HalfSpaceModel(ContactModel):
         mask = result.contact
         return ContactState(force=float(result.force), contact_length=mask[inputs.centre_row].sum() * dx,
                             contact_area=mask.sum() * (dx * dx), pressure=result.pressure)
+
+
+HalfSpaceModel = HalfSpaceReferenceModel

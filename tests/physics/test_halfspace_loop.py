@@ -1,0 +1,95 @@
+"""The compiled 3D loop gives the results of the per-step solver it replaced (issue: real-time 3D).
+
+Two pins, both independent of the track's Green's functions:
+
+* ``tests/data/halfspace_steps_reference.npz`` holds the per-step contact solves of three short runs (rough
+  corrugated rail on the paper's circle, the sinter-braked wheel on a 460 mm wheel / 300 mm crown, a light
+  wheel that loses contact on a sine) as the previous solver answered them (written by
+  ``tests/data/halfspace_steps_reference.py``). Replaying the same calls on the ``3d`` model must give the
+  same forces;
+* a whole run of ``3d`` against the per-step reference model (the previous solver, kept as
+  ``HalfSpaceReferenceModel``) on the same track.
+
+Tolerance 1e-9 on the force, relative to the preload: the active-set decisions are the same, so what is left
+is round-off of reordered sums (measured: largest difference below 1e-12 P).
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wheelrail.core.interaction import prepare_run
+from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry, register, unregister
+from wheelrail.core.parameters import ContactParameters, ModelParameters
+
+REFERENCE = Path(__file__).resolve().parents[1] / "data" / "halfspace_steps_reference.npz"
+CASES = ("corrugated_paper", "sinter_460_300", "sine_light_wheel")
+TOLERANCE = 1e-9  # of the preload: round-off of reordered sums (module docstring)
+
+
+def _case(name):
+    with np.load(REFERENCE) as data:
+        return {key.split("/", 1)[1]: data[key] for key in data.files if key.startswith(name + "/")}
+
+
+def _params(case) -> ModelParameters:
+    youngs_modulus, poisson_ratio, along, across, preload = case["contact"]
+    return ModelParameters(contact=ContactParameters(
+        youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, wheel_radius=along, rail_crown_radius=across,
+        preload=preload))
+
+
+def _replay(model, case):
+    params = _params(case)
+    inputs = ModelInputs(
+        params=params, element_size=params.run.element_size, lines=case["lines"],
+        centre_row=int(case["centre_row"]), window_y=case["window_y"], half_x=int(case["half_x"]),
+        start_index=case["start_index"], ramp=case["ramp"], position_of=lambda s: s * params.run.element_size)
+    model.prepare(inputs)
+    states = [model.solve(s, a, c) for s, (a, c) in enumerate(zip(case["approach_known"], case["compliance"],
+                                                                    strict=True))]
+    return params, states
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_3d_law_reproduces_the_previous_solver(name):
+    case = _case(name)
+    params, states = _replay(model_entry("3d").create(), case)
+    force = np.array([state.force for state in states])
+    reference = case["force"]
+    preload = params.contact.preload
+    assert np.max(np.abs(force - reference)) <= TOLERANCE * preload
+    # the same contact sets (areas) and loss of contact on the same steps, F = 0 exactly there
+    np.testing.assert_array_equal([state.contact_area for state in states], case["contact_area"])
+    np.testing.assert_array_equal([state.contact_length for state in states], case["contact_length"])
+    np.testing.assert_array_equal(force == 0.0, reference == 0.0)
+    # the pressure maps: same tolerance, of the largest pressure
+    pressure = np.array([states[s].pressure for s in case["pressure_steps"]])
+    assert np.max(np.abs(pressure - case["pressure"])) <= TOLERANCE * case["pressure"].max()
+
+
+@pytest.fixture()
+def reference_model():
+    from wheelrail.core.contact.halfspace_model import HalfSpaceReferenceModel
+
+    entry = register(ModelEntry(name="3d-reference", label="3d, previous per-step solver",
+                                traits=ModelTraits(lateral_window=True, pressure_map=True),
+                                implementation=HalfSpaceReferenceModel))
+    yield entry.name
+    unregister(entry.name)
+
+
+@pytest.mark.parametrize(("roughness", "geometry"), [
+    ("sinter-wheel-1", {}),
+    ("corrugated-rail", {"wheel_radius": 0.46, "rail_crown_radius": 0.3}),
+])
+def test_3d_run_equals_the_per_step_reference(reference_model, roughness, geometry):
+    # a whole run: the force feeds back through the wheel and track history, so a difference would grow
+    params = ModelParameters(contact=ContactParameters(**geometry))
+    fast = prepare_run(roughness, model="3d", params=params, length=0.3, run_in_length=0.1).run()
+    slow = prepare_run(roughness, model=reference_model, params=params, length=0.3, run_in_length=0.1).run()
+    assert np.max(np.abs(fast.force - slow.force)) <= TOLERANCE * params.contact.preload
+    np.testing.assert_array_equal(fast.contact_area, slow.contact_area)
+    # a result keeps its pressure maps in float32: equal to within one float32 rounding of the largest
+    assert np.max(np.abs(fast.pressure - slow.pressure)) <= np.finfo(np.float32).eps * slow.pressure.max()
