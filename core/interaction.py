@@ -17,7 +17,8 @@ The wheel moves along the rail one element per step (x = v t, eq. 7; dt = Delta 
 The loop owns eqs. 1-2, once: ``_history`` (the known part of the approach) and ``_commit`` (the step's
 force into the wheel state and the rail history). A contact model (``wheelrail.core.models``: ``3d``,
 ``2d``, ``hertz``, ``hertz-winkler``, ``hertz-average`` and any registered one) only gives its law: a
-compiled law runs inside ``_run_chunk`` (``CHUNK`` steps per call), a per-step law is called from Python.
+compiled one-line law runs inside ``_run_chunk`` (``CHUNK`` steps per call), the compiled 3D law inside
+``_run_chunk_3d`` (``CHUNK_3D`` steps per call, without the GIL), a per-step law is called from Python.
 How a run is built (margins, roughness along the track, history, static equilibrium, run-in) is in
 ``wheelrail.core.run_setup``.
 """
@@ -30,11 +31,14 @@ from collections.abc import Callable, Iterator
 import numpy as np
 from numba import njit
 
+from wheelrail.core.compiled import sources_stamp
+from wheelrail.core.contact import halfspace_solver, halfspace_steps, hertz, winkler
+from wheelrail.core.contact.halfspace_steps import STEP_CONVERGED, _halfspace_step
 from wheelrail.core.contact.hertz import _hertz_law
 from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
-from wheelrail.core.models import LAW_HERTZ, MODELS, ContactModel, ModelInputs, ModelTraits
+from wheelrail.core.models import LAW_HALFSPACE, LAW_HERTZ, MODELS, ContactModel, ModelInputs, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
 from wheelrail.core.run_setup import (
@@ -60,6 +64,7 @@ __all__ = [
 ]
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
+CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets them in time
 
 # --------------------------------------------------------------------------------------------------
 # Compiled pieces: eqs. 1-2 (_history, _scatter, _commit) and the chunk loop of the compiled laws.
@@ -134,27 +139,72 @@ def _law(law, approach_known, compliance, roughness, s, shape, constants):
     return _bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
 
 
-@njit(cache=True)
-def _run_chunk(law, j0, j1, track, wheel, preload, xi_w0, law_inputs, out):
-    """Advance a compiled law over history indices j0..j1-1. One function, not a Python loop over steps:
-    the steps are the hot loop (1 us each). ``law_inputs`` = (roughness, shape, constants) of
-    models.LawInputs; ``out`` = (xi_wheel, xi_rail, contact_length, contact_area) per step s.
+# The chunk loops call compiled code of other modules: numba's cache keys them on those sources too
+# (wheelrail.core.compiled).
+def _define_run_chunk(stamp):
+    @njit(cache=True)
+    def run_chunk(law, j0, j1, track, wheel, preload, xi_w0, law_inputs, out):
+        """Advance a compiled law over history indices j0..j1-1. One function, not a Python loop over steps:
+        the steps are the hot loop (1 us each). ``law_inputs`` = (roughness, shape, constants) of
+        models.LawInputs; ``out`` = (xi_wheel, xi_rail, contact_length, contact_area) per step s.
 
-    Returns -1 if all went well, else the index j at which the law reached its window's end.
-    """
-    roughness, shape, constants = law_inputs
-    xi_wheel, xi_rail, length, area = out
-    offset = track[0].shape[0] - roughness.shape[0]
-    for j in range(j0, j1):
-        delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
-        s = j - offset
-        f, contact_length, contact_area, edge = _law(law, delta_known, c, roughness, s, shape, constants)
-        if edge:
-            return j
-        length[s] = contact_length
-        area[s] = contact_area
-        xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
-    return -1
+        Returns -1 if all went well, else the index j at which the law reached its window's end.
+        """
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called
+        roughness, shape, constants = law_inputs
+        xi_wheel, xi_rail, length, area = out
+        offset = track[0].shape[0] - roughness.shape[0]
+        for j in range(j0, j1):
+            delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+            s = j - offset
+            f, contact_length, contact_area, edge = _law(law, delta_known, c, roughness, s, shape, constants)
+            if edge:
+                return j
+            length[s] = contact_length
+            area[s] = contact_area
+            xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
+        return -1
+
+    return run_chunk
+
+
+def _define_run_chunk_3d(stamp):
+    @njit(cache=True, nogil=True)
+    def run_chunk_3d(j0, j1, track, wheel, constants, law, out):
+        """Advance the compiled 3D law (``contact.halfspace_steps``) over history indices j0..j1-1, without
+        the GIL (a live view's threads run meanwhile). ``constants`` = (preload, xi_w0, n_hist, first step of
+        ``maps``, element size); ``law`` = ``HalfSpaceSteps.law``; ``out`` = (xi_wheel, xi_rail,
+        contact_length, contact_area per step s, and ``maps``: the float32 pressure map of steps
+        first..first + len - 1).
+
+        Returns (-1, converged) if all went well, else (j, status) of the step whose solve failed.
+        """
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called
+        preload, xi_w0, offset, first_map, dx = constants
+        xi_wheel, xi_rail, length, area, maps = out
+        n = maps.shape[1] * maps.shape[2]
+        pressure = law[2][0]
+        for j in range(j0, j1):
+            delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+            s = j - offset
+            status, f, on_centre, count = _halfspace_step(s, delta_known, c, law)
+            if status != STEP_CONVERGED:
+                return j, status
+            length[s] = on_centre * dx
+            area[s] = count * (dx * dx)
+            k = s - first_map
+            if 0 <= k < maps.shape[0]:
+                flat = maps[k].reshape(n)
+                for i in range(n):
+                    flat[i] = pressure[i] if f > 0.0 else 0.0
+            xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
+        return -1, STEP_CONVERGED
+
+    return run_chunk_3d
+
+
+_run_chunk = _define_run_chunk(sources_stamp(hertz, winkler))
+_run_chunk_3d = _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver))
 
 
 # --------------------------------------------------------------------------------------------------
@@ -196,7 +246,10 @@ class InteractionRun(HeaderView):
         if traits.pressure_map and keep_pressure:
             self.pressure = np.zeros((history.n_steps, len(self.window_y), len(self.window_x)), dtype=np.float32)
         self._law = contact.law_inputs() if traits.compiled else None
-        self._chunk = CHUNK if traits.compiled else 1
+        self._chunk = (CHUNK_3D if traits.law == LAW_HALFSPACE else CHUNK) if traits.compiled else 1
+        self._maps = self._maps_first = None  # the compiled 3D law's pressure maps of the last chunk, if not kept
+        if traits.law == LAW_HALFSPACE and self.pressure is None:
+            self._maps = np.zeros((CHUNK_3D, len(self.window_y), len(self.window_x)), dtype=np.float32)
 
     # what produced the run ------------------------------------------------------------------------------
     @property
@@ -231,6 +284,9 @@ class InteractionRun(HeaderView):
     def _advance(self, s0: int, s1: int) -> None:
         """Steps s0..s1-1 (run-in included)."""
         loop = self.loop
+        if self.traits.law == LAW_HALFSPACE:
+            self._advance_3d(s0, s1)
+            return
         if self._law is not None:
             law = self._law
             status = _run_chunk(self.traits.law, loop.n_hist + s0, loop.n_hist + s1, loop.track, loop.wheel,
@@ -252,6 +308,17 @@ class InteractionRun(HeaderView):
                     self.pressure[s - loop.n_run_in] = state.pressure
                 self.last_pressure = state.pressure
 
+    def _advance_3d(self, s0: int, s1: int) -> None:
+        loop = self.loop
+        maps, first = (self.pressure, loop.n_run_in) if self._maps is None else (self._maps, s0)
+        j, status = _run_chunk_3d(loop.n_hist + s0, loop.n_hist + s1, loop.track, loop.wheel,
+                                  (self.params.contact.preload, loop.xi_w0, loop.n_hist, first, self.dx),
+                                  self._law.law, (self.xi_wheel, self.xi_rail, self.contact_length,
+                                                  self.contact_area, maps))
+        self._maps_first = s0
+        if j >= 0:
+            raise WheelrailError(self.contact.failure_message(status, j - loop.n_hist))
+
     def _advance_to(self, s_end: int, progress: Callable[[int, int], None] | None = None) -> None:
         chunk = self._chunk
         while self._done < s_end:
@@ -268,7 +335,12 @@ class InteractionRun(HeaderView):
         k = s - loop.n_run_in
         pressure = None
         if self.traits.pressure_map:
-            pressure = self.pressure[k] if self.pressure is not None else self.last_pressure
+            if self.pressure is not None:
+                pressure = self.pressure[k]
+            elif self._maps is not None:  # (the buffer is reused by the next chunk)
+                pressure = self._maps[s - self._maps_first].copy()
+            else:
+                pressure = self.last_pressure
         return StepState(
             step=k,
             time=k * loop.dt,

@@ -1,0 +1,417 @@
+"""The ``3d`` law stepped in compiled code: one contact solve per time step, its warm state kept in arrays.
+
+The interaction loop's compiled chunk of steps (``wheelrail.core.interaction._run_chunk_3d``) calls
+:func:`_halfspace_step` once per step: the gap of the window under the wheel (eq. 11's h = x^2 / (2 R_x) +
+y^2 / (2 R_y) - r) and the solve of eqs. 8-11 coupled with delta = delta_known - c F, without a Python call.
+
+The method, its decisions and its tolerance are those of ``halfspace_solver._active_set_solve`` (the one-off
+solves; the per-step model it replaced, ``HalfSpaceReferenceModel``): an active set warm-started from the
+last loaded step's set and Cholesky factor, drops of elements in tension before additions of penetrating ones,
+all at once (one at a time after ``_CAUTIOUS_AFTER`` iterations), downdates and new rows of the factor for
+few changes (a fresh factor for more than m / 8). What makes a step cheaper (``benchmarks/interaction.py``
+prints the split):
+
+* the warm state (set, factor, mask, pressures) stays in place from step to step: nothing is allocated,
+  copied or checked per step, and the factor is not touched when the set does not change (most steps);
+* with the factor C_AA = U^T U the vector z = U^-T 1 is kept with it: a new element adds one entry, a
+  dropped one applies the downdate's rotations to it (the same rotations as to the rows of U). Then with
+  y = U^-T h_A the coupled law needs 1^T C_AA^-1 1 = z.z, 1^T C_AA^-1 h_A = z.y and p_A = U^-1 (delta z - y):
+  one forward and one backward substitution per iteration instead of two of each (an exact reformulation
+  of p = delta C^-1 1 - C^-1 h: it changes round-off only, ~1e-15 relative);
+* the window's influence matrix C (n x n, from the kernel of eq. 8) is built once per run: the deformed gap
+  d = h - delta + C p, needed only where it can be negative outside the set (inside, d = 0 by
+  construction), is one contiguous dot product per element, C's row against the pressure over the span of
+  flat indices the set covers, and a new element's column of C_AA is read from it;
+* every inner loop runs over a contiguous slice (views of rows), which numba vectorises;
+* loss of contact is recognised before the solve: the coupled law has F = 0 exactly when no element
+  penetrates at delta = delta_known, i.e. delta_known <= min h; then nothing is solved and the warm state
+  stays that of the last loaded step, as the per-step model kept it.
+
+:func:`_solve_step` and :func:`_halfspace_step` are inlined into their callers: the compiled entry points
+(``interaction._run_chunk_3d`` and :data:`_python_step` here) are keyed in numba's cache by the sources of the
+modules they reach (``wheelrail.core.compiled``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from wheelrail.core.compiled import sources_stamp
+from wheelrail.core.contact import halfspace_solver
+from wheelrail.core.contact.halfspace_solver import (
+    _CAUTIOUS_AFTER,
+    _STATUS_CONVERGED,
+    _STATUS_MAX_ITER,
+    _STATUS_NOT_DEFINITE,
+    _coordinates,
+    _factor_full,
+    _tension_elements,
+)
+
+__all__ = ["STEP_AT_EDGE", "STEP_CONVERGED", "STEP_MAX_ITER", "STEP_NOT_DEFINITE", "HalfSpaceSteps"]
+
+STEP_CONVERGED = _STATUS_CONVERGED
+STEP_MAX_ITER = _STATUS_MAX_ITER
+STEP_NOT_DEFINITE = _STATUS_NOT_DEFINITE
+STEP_AT_EDGE = 3  # converged, but the set touches the window's border
+
+
+class HalfSpaceSteps:
+    """The arrays of the compiled ``3d`` law: window, roughness along the track and the warm state.
+
+    Parameters
+    ----------
+    kernel : ndarray (2 ny - 1, 2 nx - 1)
+        Influence kernel of eq. (8), m/Pa (``halfspace_kernel``).
+    base_gap : ndarray (ny, nx)
+        The window's gap on smooth surfaces, m.
+    lines, start_index, ramp, half_x, centre_row
+        Roughness rows along the track (m), the sample under the wheel centre per step, the run-in's fade-in
+        factor per step, the window's half side along the rail (elements) and the chosen line's row
+        (``models.ModelInputs``).
+    start : ndarray of int
+        The first step's contact set (element indices of the flattened window), factored afresh.
+    limits : (float, int, float)
+        Relative tolerance of eq. (10), maximum active-set iterations per step, element area (m^2).
+
+    ``law`` is the tuple the compiled functions take (``grid`` = (kernel, influence matrix C, row and
+    column of each element)); ``pressure`` the current pressure on the flattened
+    window (Pa; stale after a step without contact, whose pressure is zero).
+    """
+
+    def __init__(self, kernel, base_gap, lines, start_index, ramp, half_x, centre_row, start, limits) -> None:
+        ny, nx = base_gap.shape
+        n = ny * nx
+        kernel = np.array(kernel, dtype=np.float64)  # writable: one numba specialisation
+        rows, columns = _coordinates(ny, nx)
+        # C[i, j] = kernel[row_i - row_j + ny - 1, column_i - column_j + nx - 1] (eq. 8; 1.8 MB at 19 x 25)
+        full = kernel[rows[:, None] - rows[None, :] + ny - 1, columns[:, None] - columns[None, :] + nx - 1]
+        grid = (kernel, np.ascontiguousarray(full), rows, columns)
+        order = np.zeros(n, dtype=np.int64)
+        active = np.zeros(n, dtype=np.bool_)
+        start = np.asarray(start, dtype=np.int64)
+        order[:start.size] = start
+        active[start] = True
+        counts = np.array([start.size, 0], dtype=np.int64)  # m, whether upper and z hold the set's factor
+        # the factor's buffer: room for every element; only the m x m block in use is ever touched, so the
+        # untouched pages cost no memory
+        state = (order, active, np.zeros(n), counts, np.empty((n, n)))
+        self.pressure = np.zeros(n)
+        work = (self.pressure, np.empty(n), np.empty(n), np.empty(n, dtype=np.int64), np.empty(n))
+        track = (np.ascontiguousarray(base_gap, dtype=np.float64).ravel(),
+                 np.ascontiguousarray(lines, dtype=np.float64), np.ascontiguousarray(start_index, dtype=np.int64),
+                 np.ascontiguousarray(ramp, dtype=np.float64), int(half_x), int(centre_row))
+        tolerance, max_iterations, area = limits
+        self.law = (grid, state, work, track, (float(tolerance), int(max_iterations), float(area)))
+        self.shape = (ny, nx)
+
+    @property
+    def contact_count(self) -> int:
+        """Elements in the current warm set."""
+        return int(self.law[1][3][0])
+
+
+# ---------------------------------------------------------------------------------------------------
+# Triangular solves and the factor's downdate, z = U^-T 1 kept with the factor
+# ---------------------------------------------------------------------------------------------------
+
+
+# (The inner loops run over views that start at index 0: numba then needs no negative-index wraparound
+# and LLVM vectorises them, 2-3x faster than indexing the whole arrays from k + 1, measured.)
+
+
+@njit(cache=True, fastmath=True)
+def _forward(upper, m, rhs):
+    """Solve U^T y = rhs in place (rows of U contiguous: an axpy per row)."""
+    for k in range(m):
+        y = rhs[k] / upper[k, k]
+        rhs[k] = y
+        row = upper[k, k + 1:m]
+        tail = rhs[k + 1:m]
+        for j in range(tail.size):
+            tail[j] -= row[j] * y
+
+
+@njit(cache=True, fastmath=True)
+def _backward(upper, m, rhs):
+    """Solve U x = rhs in place (a dot product per row)."""
+    for k in range(m - 1, -1, -1):
+        row = upper[k, k + 1:m]
+        tail = rhs[k + 1:m]
+        s = 0.0
+        for j in range(tail.size):
+            s += row[j] * tail[j]
+        rhs[k] = (rhs[k] - s) / upper[k, k]
+
+
+@njit(cache=True, fastmath=True)
+def _append(full, order, m, upper, z, column, element):
+    """Add ``element`` as row/column m of the factor and entry m of z = U^-T 1, O(m^2): U^T w = C_Ae,
+    U[m, m] = sqrt(C_ee - w.w), z_m = (1 - w.z) / U[m, m]. Returns False if not positive definite."""
+    row = full[element]
+    for a in range(m):
+        column[a] = row[order[a]]
+    _forward(upper, m, column)
+    square = row[element]
+    s = 1.0
+    for k in range(m):
+        upper[k, m] = column[k]
+        square -= column[k] * column[k]
+        s -= column[k] * z[k]
+    if square <= 0.0:
+        return False
+    upper[m, m] = math.sqrt(square)
+    z[m] = s / upper[m, m]
+    order[m] = element
+    return True
+
+
+@njit(cache=True, fastmath=True)
+def _remove(order, m, upper, z, scratch, position):
+    """Remove the element at ``position`` from the factor of size m and from z = U^-T 1, O(m^2).
+
+    The factor's trailing block gets the rank-1 update U33^T U33 + u u^T (u = U[position, position+1:]) by
+    rotations, as ``halfspace_solver._factor_remove``; the same rotations applied to (z3, z_position) give the
+    new trailing part of z (module docstring).
+    """
+    p = position
+    x = scratch
+    for j in range(p + 1, m):
+        x[j] = upper[p, j]
+    t = z[p]
+    for i in range(p + 1, m):
+        diagonal = upper[i, i]
+        xi = x[i]
+        r = math.sqrt(diagonal * diagonal + xi * xi)
+        c = r / diagonal
+        s = xi / diagonal
+        upper[i, i] = r
+        row = upper[i, i + 1:m]
+        rest = x[i + 1:m]
+        for j in range(row.size):
+            updated = (row[j] + s * rest[j]) / c
+            row[j] = updated
+            rest[j] = c * rest[j] - s * updated
+        zi = (z[i] + s * t) / c
+        z[i] = zi
+        t = c * t - s * zi
+    for i in range(p):
+        row = upper[i, p:m]
+        for j in range(row.size - 1):
+            row[j] = row[j + 1]
+    for i in range(p, m - 1):
+        target = upper[i, i:m - 1]
+        source = upper[i + 1, i + 1:m]
+        for j in range(target.size):
+            target[j] = source[j]
+        z[i] = z[i + 1]
+        order[i] = order[i + 1]
+
+
+# ---------------------------------------------------------------------------------------------------
+# The active-set steps on the persistent state
+# ---------------------------------------------------------------------------------------------------
+
+
+@njit(cache=True, fastmath=True)
+def _pressure_on_set(upper, order, m, gap, z, y, pressure, approach_known, compliance_area):
+    """Pressure on the set with d = 0 there and delta = delta_known - c A_e sum(p) (eqs. 8, 9, 11); returns
+    (delta, max pressure). With y = U^-T h_A: sum(p) = delta z.z - z.y, p_A = U^-1 (delta z - y)."""
+    for a in range(m):
+        y[a] = gap[order[a]]
+    _forward(upper, m, y)
+    zz = 0.0
+    zy = 0.0
+    for a in range(m):
+        zz += z[a] * z[a]
+        zy += z[a] * y[a]
+    delta = (approach_known + compliance_area * zy) / (1.0 + compliance_area * zz)
+    for a in range(m):
+        y[a] = delta * z[a] - y[a]
+    _backward(upper, m, y)
+    pmax = 0.0
+    for a in range(m):
+        pressure[order[a]] = y[a]
+        pmax = max(pmax, y[a])
+    return delta, pmax
+
+
+@njit(cache=True, fastmath=True)
+def _penetrating(grid, order, m, pressure, active, gap, limits, changes):
+    """Elements outside the set that penetrate (eq. 10: d >= 0, d below ``glimit``) into ``changes``; their count.
+
+    d = h - delta + C p (eq. 11) is computed where h - delta < ``margin`` only (u = C p >= 0 elsewhere), as
+    the dot product of C's row with the pressure over the span of flat indices the set covers (zero
+    between its elements). ``limits`` = (delta, margin, glimit, one_at_a_time): as in ``halfspace_solver``.
+    """
+    full = grid[1]
+    delta, margin, glimit, one_at_a_time = limits
+    n = gap.size
+    lo, hi = n, 0
+    for a in range(m):
+        lo = min(lo, order[a])
+        hi = max(hi, order[a] + 1)
+    span = pressure[lo:max(lo, hi)]
+    n_add = 0
+    worst = 0.0
+    for i in range(n):
+        if active[i] or gap[i] - delta >= margin:
+            continue
+        row = full[i, lo:max(lo, hi)]
+        u = 0.0
+        for k in range(span.size):
+            u += row[k] * span[k]
+        d = gap[i] - delta + u
+        if d < glimit:
+            if not one_at_a_time:
+                changes[n_add] = i
+                n_add += 1
+            elif n_add == 0 or d < worst:
+                changes[0] = i
+                n_add = 1
+                worst = d
+    return n_add
+
+
+@njit(cache=True, inline="always")
+def _drop(state, m, pressure, changes, n_drop, scratch):
+    """Drop the elements at positions ``changes[:n_drop]`` (ascending); returns (m, factored).
+
+    Few: downdates of the factor and z. Many (more than m / 8): compact the set, factor afresh next time.
+    """
+    order, active, z, counts, upper = state
+    for r in range(n_drop):
+        active[order[changes[r]]] = False
+        pressure[order[changes[r]]] = 0.0
+    if 8 * n_drop > m:
+        kept = 0
+        for a in range(m):
+            if active[order[a]]:
+                order[kept] = order[a]
+                kept += 1
+        return kept, False
+    for r in range(n_drop - 1, -1, -1):
+        _remove(order, m, upper, z, scratch, changes[r])
+        m -= 1
+    return m, True
+
+
+@njit(cache=True, inline="always")
+def _add(full, state, m, factored, changes, n_add, scratch):
+    """Add the elements ``changes[:n_add]`` to the set; returns (m, factored).
+
+    Few, to a factored set: new rows of the factor (O(m^2) each) and new entries of z. Many: factor afresh.
+    """
+    order, active, z, counts, upper = state
+    for r in range(n_add):
+        active[changes[r]] = True
+    if factored and 8 * n_add <= m:
+        for r in range(n_add):
+            if not (factored and _append(full, order, m, upper, z, scratch, changes[r])):
+                factored = False  # (numerically) not positive definite: factor afresh next time
+                order[m] = changes[r]
+            m += 1
+        return m, factored
+    for r in range(n_add):
+        order[m] = changes[r]
+        m += 1
+    return m, False
+
+
+@njit(cache=True, inline="always")
+def _solve_step(law, approach_known, compliance):
+    """Eqs. 8-11 coupled with delta = delta_known - c F on the gap in ``work[1]``, from the warm state.
+
+    Returns (status, F (N), delta (m), iterations); the pressure is in ``work[0]`` (stale if F = 0).
+    """
+    grid, state, work, _, limits = law
+    grid3 = (grid[0], grid[2], grid[3])
+    order, active, z, counts, upper = state
+    pressure, gap, y, changes, scratch = work
+    tol, max_iter, area = limits
+    gap_min = gap.min()
+    if approach_known <= gap_min:  # no element penetrates at delta = delta_known: F = 0 (module docstring)
+        return STEP_CONVERGED, 0.0, approach_known, 0
+    m, factored = counts[0], counts[1] == 1  # factored: upper and z hold the set's factor and U^-T 1
+    delta = approach_known
+    iterations = 0
+    status = STEP_MAX_ITER
+    while iterations < max_iter:
+        iterations += 1
+        one_at_a_time = iterations > _CAUTIOUS_AFTER
+        if m == 0:
+            delta = approach_known
+        else:
+            if not factored:
+                if not _factor_full(grid3, order, m, upper):
+                    status = STEP_NOT_DEFINITE
+                    break
+                for a in range(m):
+                    z[a] = 1.0
+                _forward(upper, m, z)
+                factored = True
+            delta, pmax = _pressure_on_set(upper, order, m, gap, z, y, pressure, approach_known, compliance * area)
+            n_drop = _tension_elements(pressure, order, m, pmax, tol, one_at_a_time, changes)
+            if n_drop > 0:
+                m, factored = _drop(state, m, pressure, changes, n_drop, scratch)
+                continue
+        scale = max(delta - gap_min, 1e-30)
+        n_add = _penetrating(grid, order, m, pressure, active, gap, (delta, 1e-6 * scale, -tol * scale,
+                                                                      one_at_a_time), changes)
+        if n_add == 0:
+            status = STEP_CONVERGED
+            break
+        m, factored = _add(grid[1], state, m, factored, changes, n_add, scratch)
+    counts[0], counts[1] = m, 1 if factored else 0
+    total = 0.0
+    for i in range(pressure.size):
+        total += pressure[i]
+    return status, total * area, delta, iterations
+
+
+@njit(cache=True, inline="always")
+def _halfspace_step(s, approach_known, compliance, law):
+    """Step s of the ``3d`` law: the window's gap under the wheel, then :func:`_solve_step`.
+
+    Returns (status, F (N), elements in contact on the centre row, elements in contact); ``STEP_AT_EDGE`` when
+    the converged set touches the window's border.
+    """
+    grid, state, work, track, _ = law
+    base, lines, start_index, ramp, half_x, centre_row = track
+    gap = work[1]
+    nx = 2 * half_x + 1
+    ny = base.size // nx
+    first = start_index[s] - half_x
+    fade = ramp[s]
+    for row in range(ny):
+        for column in range(nx):
+            gap[row * nx + column] = base[row * nx + column] - fade * lines[row, first + column]
+    status, force, _, _ = _solve_step(law, approach_known, compliance)
+    if force == 0.0 or status != STEP_CONVERGED:
+        return status, force, 0, 0
+    _, rows, columns = grid[1], grid[2], grid[3]
+    order, m = state[0], state[3][0]
+    on_centre = 0
+    for a in range(m):
+        i = order[a]
+        if rows[i] == 0 or rows[i] == ny - 1 or columns[i] == 0 or columns[i] == nx - 1:
+            status = STEP_AT_EDGE
+        if rows[i] == centre_row:
+            on_centre += 1
+    return status, force, on_centre, m
+
+
+def _define_python_step(stamp):
+    @njit(cache=True)
+    def python_step(s, approach_known, compliance, law):
+        """:func:`_halfspace_step` called from Python (``HalfSpaceModel.solve``)."""
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
+        return _halfspace_step(s, approach_known, compliance, law)
+
+    return python_step
+
+
+_python_step = _define_python_step(sources_stamp(halfspace_solver))
