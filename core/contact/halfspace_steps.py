@@ -120,31 +120,64 @@ class HalfSpaceSteps:
 
 
 # (The inner loops run over views that start at index 0: numba then needs no negative-index wraparound
-# and LLVM vectorises them, 2-3x faster than indexing the whole arrays from k + 1, measured.)
+# and LLVM vectorises them, 2-3x faster than indexing the whole arrays from k + 1; four rows at a time share
+# the loads of the vector they meet, another 1.2-2x. Measured at 97-99 contact elements: forward 3.1 ->
+# 1.1 us, backward 4.5 -> 1.3 us.)
 
 
 @njit(cache=True, fastmath=True)
 def _forward(upper, m, rhs):
-    """Solve U^T y = rhs in place (rows of U contiguous: an axpy per row)."""
-    for k in range(m):
-        y = rhs[k] / upper[k, k]
-        rhs[k] = y
-        row = upper[k, k + 1:m]
-        tail = rhs[k + 1:m]
+    """Solve U^T y = rhs in place: rows of U contiguous, axpys on the unsolved tail, four rows at a time."""
+    k = 0
+    while k + 4 <= m:
+        y0 = rhs[k] / upper[k, k]
+        y1 = (rhs[k + 1] - upper[k, k + 1] * y0) / upper[k + 1, k + 1]
+        y2 = (rhs[k + 2] - upper[k, k + 2] * y0 - upper[k + 1, k + 2] * y1) / upper[k + 2, k + 2]
+        y3 = (rhs[k + 3] - upper[k, k + 3] * y0 - upper[k + 1, k + 3] * y1 - upper[k + 2, k + 3] * y2) / upper[
+            k + 3, k + 3]
+        rhs[k], rhs[k + 1], rhs[k + 2], rhs[k + 3] = y0, y1, y2, y3
+        r0, r1, r2, r3 = upper[k, k + 4:m], upper[k + 1, k + 4:m], upper[k + 2, k + 4:m], upper[k + 3, k + 4:m]
+        tail = rhs[k + 4:m]
+        for j in range(tail.size):
+            tail[j] -= r0[j] * y0 + r1[j] * y1 + r2[j] * y2 + r3[j] * y3
+        k += 4
+    for i in range(k, m):
+        y = rhs[i] / upper[i, i]
+        rhs[i] = y
+        row = upper[i, i + 1:m]
+        tail = rhs[i + 1:m]
         for j in range(tail.size):
             tail[j] -= row[j] * y
 
 
 @njit(cache=True, fastmath=True)
 def _backward(upper, m, rhs):
-    """Solve U x = rhs in place (a dot product per row)."""
-    for k in range(m - 1, -1, -1):
-        row = upper[k, k + 1:m]
-        tail = rhs[k + 1:m]
+    """Solve U x = rhs in place: dot products of rows of U with the solved tail, four rows at a time."""
+    k = m
+    while k >= 4:
+        r0, r1, r2, r3 = upper[k - 4, k:m], upper[k - 3, k:m], upper[k - 2, k:m], upper[k - 1, k:m]
+        tail = rhs[k:m]
+        s0 = s1 = s2 = s3 = 0.0
+        for j in range(tail.size):
+            x = tail[j]
+            s0 += r0[j] * x
+            s1 += r1[j] * x
+            s2 += r2[j] * x
+            s3 += r3[j] * x
+        x3 = (rhs[k - 1] - s3) / upper[k - 1, k - 1]
+        x2 = (rhs[k - 2] - s2 - upper[k - 2, k - 1] * x3) / upper[k - 2, k - 2]
+        x1 = (rhs[k - 3] - s1 - upper[k - 3, k - 2] * x2 - upper[k - 3, k - 1] * x3) / upper[k - 3, k - 3]
+        x0 = (rhs[k - 4] - s0 - upper[k - 4, k - 3] * x1 - upper[k - 4, k - 2] * x2
+              - upper[k - 4, k - 1] * x3) / upper[k - 4, k - 4]
+        rhs[k - 4], rhs[k - 3], rhs[k - 2], rhs[k - 1] = x0, x1, x2, x3
+        k -= 4
+    for i in range(k - 1, -1, -1):
+        row = upper[i, i + 1:m]
+        tail = rhs[i + 1:m]
         s = 0.0
         for j in range(tail.size):
             s += row[j] * tail[j]
-        rhs[k] = (rhs[k] - s) / upper[k, k]
+        rhs[i] = (rhs[i] - s) / upper[i, i]
 
 
 @njit(cache=True, fastmath=True)
@@ -244,8 +277,9 @@ def _penetrating(grid, order, m, pressure, active, gap, limits, changes):
     """Elements outside the set that penetrate (eq. 10: d >= 0, d below ``glimit``) into ``changes``; their count.
 
     d = h - delta + C p (eq. 11) is computed where h - delta < ``margin`` only (u = C p >= 0 elsewhere), as
-    the dot product of C's row with the pressure over the span of flat indices the set covers (zero
-    between its elements). ``limits`` = (delta, margin, glimit, one_at_a_time): as in ``halfspace_solver``.
+    the dot products of C's rows with the pressure over the span of flat indices the set covers (zero
+    between its elements), four rows at a time. ``limits`` = (delta, margin, glimit, one_at_a_time): as in
+    ``halfspace_solver``. Uses ``changes`` for the candidates first.
     """
     full = grid[1]
     delta, margin, glimit, one_at_a_time = limits
@@ -255,24 +289,39 @@ def _penetrating(grid, order, m, pressure, active, gap, limits, changes):
         lo = min(lo, order[a])
         hi = max(hi, order[a] + 1)
     span = pressure[lo:max(lo, hi)]
+    count = 0
+    for i in range(n):
+        if not active[i] and gap[i] - delta < margin:
+            changes[count] = i
+            count += 1
     n_add = 0
     worst = 0.0
-    for i in range(n):
-        if active[i] or gap[i] - delta >= margin:
-            continue
-        row = full[i, lo:max(lo, hi)]
-        u = 0.0
+    c = 0
+    while c < count:
+        block = min(4, count - c)
+        i0, i1, i2, i3 = changes[c], changes[c + min(1, block - 1)], changes[c + min(2, block - 1)], changes[
+            c + block - 1]
+        r0, r1, r2, r3 = full[i0, lo:lo + span.size], full[i1, lo:lo + span.size], full[i2, lo:lo + span.size], full[
+            i3, lo:lo + span.size]
+        u0 = u1 = u2 = u3 = 0.0
         for k in range(span.size):
-            u += row[k] * span[k]
-        d = gap[i] - delta + u
-        if d < glimit:
-            if not one_at_a_time:
-                changes[n_add] = i
-                n_add += 1
-            elif n_add == 0 or d < worst:
-                changes[0] = i
-                n_add = 1
-                worst = d
+            x = span[k]
+            u0 += r0[k] * x
+            u1 += r1[k] * x
+            u2 += r2[k] * x
+            u3 += r3[k] * x
+        for b in range(block):
+            i, u = (i0, u0) if b == 0 else (i1, u1) if b == 1 else (i2, u2) if b == 2 else (i3, u3)
+            d = gap[i] - delta + u
+            if d < glimit:  # (n_add <= c + b: the candidates not yet read are not overwritten)
+                if not one_at_a_time:
+                    changes[n_add] = i
+                    n_add += 1
+                elif n_add == 0 or d < worst:
+                    changes[0] = i
+                    n_add = 1
+                    worst = d
+        c += block
     return n_add
 
 
