@@ -118,12 +118,13 @@ def main() -> None:
 
     run = prepare_run(SET, model="3d", params=params, length=args.length_m)
     wall, cpu = time.perf_counter(), time.process_time()
-    result = run.run()
+    run.run()
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     loop = run.loop
     n = loop.n_total
+    radii = f"{params.contact.radius_along * 1e3:g} / {params.contact.radius_across * 1e3:g} mm"
     print(f"{SET}, {args.length_m:g} m + {loop.n_run_in} run-in steps, window {run._law.shape[0]} x "
-          f"{run._law.shape[1]}, geometry {params.contact.radius_along * 1e3:g} / {params.contact.radius_across * 1e3:g} mm")
+          f"{run._law.shape[1]}, relative radii along / across {radii}")
     print(f"whole step            {cpu / n * 1e6:6.1f} us CPU  ({n / cpu:,.0f} steps per CPU s; "
           f"{n / wall:,.0f} steps/s by the wall clock on the shared machine)")
 
