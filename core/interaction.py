@@ -25,6 +25,7 @@ How a run is built (margins, roughness along the track, history, static equilibr
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections.abc import Callable, Iterator
 
@@ -32,8 +33,7 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.compiled import sources_stamp
-from wheelrail.core.contact import halfspace_solver, halfspace_steps, hertz, winkler
-from wheelrail.core.contact.halfspace_steps import STEP_CONVERGED, _halfspace_step
+from wheelrail.core.contact import hertz, winkler
 from wheelrail.core.contact.hertz import _hertz_law
 from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
@@ -170,7 +170,18 @@ def _define_run_chunk(stamp):
     return run_chunk
 
 
+@functools.cache
+def _run_chunk_3d():
+    """The 3D chunk loop, defined on first use: a run of a one-line model does not import the 3D law's
+    compiled functions (numba's set-up of each costs a command-line run time)."""
+    from wheelrail.core.contact import halfspace_solver, halfspace_steps
+
+    return _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver))
+
+
 def _define_run_chunk_3d(stamp):
+    from wheelrail.core.contact.halfspace_steps import STEP_CONVERGED, _halfspace_step
+
     @njit(cache=True, nogil=True)
     def run_chunk_3d(j0, j1, track, wheel, constants, law, out):
         """Advance the compiled 3D law (``contact.halfspace_steps``) over history indices j0..j1-1, without
@@ -206,7 +217,6 @@ def _define_run_chunk_3d(stamp):
 
 
 _run_chunk = _define_run_chunk(sources_stamp(hertz, winkler))
-_run_chunk_3d = _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver))
 
 
 # --------------------------------------------------------------------------------------------------
@@ -313,7 +323,7 @@ class InteractionRun(HeaderView):
     def _advance_3d(self, s0: int, s1: int) -> None:
         loop = self.loop
         maps, first = (self.pressure, loop.n_run_in) if self._maps is None else (self._maps, s0)
-        j, status = _run_chunk_3d(loop.n_hist + s0, loop.n_hist + s1, loop.track, loop.wheel,
+        j, status = _run_chunk_3d()(loop.n_hist + s0, loop.n_hist + s1, loop.track, loop.wheel,
                                   (self.params.contact.preload, loop.xi_w0, loop.n_hist, first, self.dx),
                                   self._law.law, (self.xi_wheel, self.xi_rail, self.contact_length,
                                                   self.contact_area, maps))
