@@ -321,12 +321,19 @@ class InteractionRun(HeaderView):
                 self.last_pressure = state.pressure
 
     def _advance_3d(self, s0: int, s1: int) -> None:
+        from wheelrail.core.contact.halfspace_steps import STEP_NEEDS_ROOM
+
         loop = self.loop
         maps, first = (self.pressure, loop.n_run_in) if self._maps is None else (self._maps, s0)
-        j, status = _run_chunk_3d()(loop.n_hist + s0, loop.n_hist + s1, loop.track, loop.wheel,
-                                  (self.params.contact.preload, loop.xi_w0, loop.n_hist, first, self.dx),
-                                  self._law.law, (self.xi_wheel, self.xi_rail, self.contact_length,
-                                                  self.contact_area, maps))
+        outputs = (self.xi_wheel, self.xi_rail, self.contact_length, self.contact_area, maps)
+        j = loop.n_hist + s0
+        while True:
+            j, status = _run_chunk_3d()(j, loop.n_hist + s1, loop.track, loop.wheel,
+                                        (self.params.contact.preload, loop.xi_w0, loop.n_hist, first, self.dx),
+                                        self._law.law, outputs)
+            if status != STEP_NEEDS_ROOM:
+                break
+            self._law.grow()  # the set outgrew the factor's buffer: repeat step j with a larger one
         self._maps_first = s0
         if j >= 0:
             raise WheelrailError(self.contact.failure_message(status, j - loop.n_hist))

@@ -23,6 +23,7 @@ from wheelrail.core.contact.halfspace import HalfSpaceWindow
 from wheelrail.core.contact.halfspace_steps import (
     STEP_AT_EDGE,
     STEP_CONVERGED,
+    STEP_NEEDS_ROOM,
     HalfSpaceSteps,
     _python_step,
 )
@@ -74,16 +75,23 @@ class HalfSpaceModel(_HalfSpaceBase):
     def _start(self, contact: np.ndarray) -> None:
         inputs, window = self._inputs, self._window
         self._steps = HalfSpaceSteps(
-            window.kernel, self._base_gap, inputs.lines, inputs.start_index, inputs.ramp, inputs.half_x,
-            inputs.centre_row, np.flatnonzero(contact), (window.tolerance, window.max_iterations,
-                                                         inputs.element_size**2))
+            window.kernel, self._base_gap, (inputs.lines, inputs.start_index, inputs.ramp, inputs.half_x,
+                                            inputs.centre_row),
+            np.flatnonzero(contact), (window.tolerance, window.max_iterations, inputs.element_size**2),
+            **self.step_options)
+
+    step_options: dict = {}  # HalfSpaceSteps' keyword options (tests: full_matrix, capacity)
 
     def law_inputs(self) -> HalfSpaceSteps:
         return self._steps
 
     def solve(self, s: int, approach_known: float, compliance: float) -> ContactState:
-        status, force, on_centre, count = _python_step(int(s), float(approach_known), float(compliance),
-                                                       self._steps.law)
+        status = STEP_NEEDS_ROOM
+        while status == STEP_NEEDS_ROOM:
+            status, force, on_centre, count = _python_step(int(s), float(approach_known), float(compliance),
+                                                           self._steps.law)
+            if status == STEP_NEEDS_ROOM:
+                self._steps.grow()
         if status != STEP_CONVERGED:
             raise WheelrailError(self.failure_message(status, s))
         dx = self._inputs.element_size
