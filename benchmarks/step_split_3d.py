@@ -78,7 +78,7 @@ def _repeat_penetrating(law, m, limits, reps):
     grid, state, work, _, _ = law
     n = 0
     for _ in range(reps):
-        n += steps._penetrating(grid, state[0], m, work[0], state[1], work[1], limits, work[3])
+        n += steps._penetrating(grid, state[0], m, work, state[1], limits)
     return n
 
 
@@ -90,7 +90,7 @@ def _repeat_append_remove(law, m, reps):
     for _ in range(reps):
         element = order[m // 2]
         steps._remove(order, m, upper, z, work[4], m // 2)
-        steps._append(grid[1], order, m - 1, upper, z, work[4], element)
+        steps._append(grid, order, m - 1, upper, z, work[4], element)
 
 
 def _params(args) -> ModelParameters:
@@ -161,7 +161,7 @@ def main() -> None:
     backward = _per_call(_repeat_backward, upper, size, rhs, 20000, reps=20000)
     gap, pressure, members = state_law[2][1], state_law[2][0], state_law[1][0][:size]
     # the last step's approach: d = h - delta + C p = 0 on the set
-    delta = float(np.mean(gap[members] + state_law[0][1][members][:, members] @ pressure[members]))
+    delta = float(np.mean(gap[members] + state_law[0][2][members][:, members] @ pressure[members]))
     scale = delta - gap.min()
     penetrating = _per_call(_repeat_penetrating, state_law, size, (delta, 1e-6 * scale, -1e-9 * scale, False),
                             5000, reps=5000)

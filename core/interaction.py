@@ -173,15 +173,19 @@ def _define_run_chunk(stamp):
 @functools.cache
 def _run_chunk_3d():
     """The 3D chunk loop, defined on first use: a run of a one-line model does not import the 3D law's
-    compiled functions (numba's set-up of each costs a command-line run time)."""
+    compiled functions (numba's set-up of each costs a command-line run time).
+
+    The law's names become globals of this module, not values the loop closes over: numba's cache key
+    includes the closure's values, and a compiled function pickles differently in every process.
+    """
+    global STEP_CONVERGED, _halfspace_step
     from wheelrail.core.contact import halfspace_solver, halfspace_steps
+    from wheelrail.core.contact.halfspace_steps import STEP_CONVERGED, _halfspace_step
 
     return _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver))
 
 
 def _define_run_chunk_3d(stamp):
-    from wheelrail.core.contact.halfspace_steps import STEP_CONVERGED, _halfspace_step
-
     @njit(cache=True, nogil=True)
     def run_chunk_3d(j0, j1, track, wheel, constants, law, out):
         """Advance the compiled 3D law (``contact.halfspace_steps``) over history indices j0..j1-1, without

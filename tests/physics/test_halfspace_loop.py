@@ -123,3 +123,26 @@ def test_3d_run_equals_the_per_step_reference(models, roughness, geometry, model
     np.testing.assert_array_equal(fast.contact_area, slow.contact_area)
     # a result keeps its pressure maps in float32: equal to within one float32 rounding of the largest
     assert np.max(np.abs(fast.pressure - slow.pressure)) <= np.finfo(np.float32).eps * slow.pressure.max()
+
+
+def test_the_compiled_3d_loop_is_loaded_from_numbas_disk_cache():
+    # The 3D chunk loop compiles once and later processes load it from numba's on-disk cache (no jitted
+    # function passed as an argument, no dynamic global). The first process may compile it (a fresh
+    # checkout); the second must not.
+    import subprocess
+    import sys
+
+    script = ("import sys\n"
+              "from wheelrail.core.contact.halfspace_model import HalfSpaceModel\n"
+              "from wheelrail.core.interaction import _run_chunk, _run_chunk_3d, prepare_run\n"
+              "from wheelrail.core.contact.halfspace_steps import _python_step\n"
+              "prepare_run('corrugated-rail', model='3d', length=0.01, run_in_length=0.0).run()\n"
+              "prepare_run('corrugated-rail', model='hertz', length=0.01, run_in_length=0.0).run()\n"
+              "run = prepare_run('corrugated-rail', model='3d', length=0.01, run_in_length=0.0)\n"
+              "run.contact.solve(0, 1e-4, 1e-9)\n"
+              "for f in (_run_chunk_3d(), _run_chunk, _python_step):\n"
+              "    print(sum(f.stats.cache_hits.values()), sum(f.stats.cache_misses.values()))\n")
+    for _ in range(2):
+        done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
+    loaded = [tuple(map(int, line.split())) for line in done.stdout.split("\n") if line]
+    assert loaded == [(1, 0)] * 3  # the 3D chunk loop, the one-line chunk loop, the per-step 3D law
