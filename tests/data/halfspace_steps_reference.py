@@ -8,8 +8,10 @@ part of the approach and the compliance that the loop handed the model in a real
 (force, contact area and length along the centre line, and the pressure map every ``PRESSURE_EVERY`` steps).
 Replaying the same per-step calls on any implementation of the ``3d`` law must give the same answers.
 
-The file was written once, at the commit before the compiled 3D loop; rerunning this script with a later
-solver would overwrite the pin (don't, unless the physics is meant to change). Run from the repository root:
+The file was written once, at the commit before the compiled 3D loop, by the ``3d`` model of that commit; the
+script now runs that solver as ``HalfSpaceReferenceModel`` (kept unchanged), and on the same track's Green's
+functions rewrites the file to the bit. Rerunning it after a change to the solver or the track would
+overwrite the pin (don't, unless the physics is meant to change). Run from the repository root:
 
     .venv/bin/python tests/data/halfspace_steps_reference.py
 """
@@ -21,8 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.contact.halfspace_model import HalfSpaceModel
+from wheelrail.core.contact.halfspace_model import HalfSpaceReferenceModel
 from wheelrail.core.interaction import prepare_run
+from wheelrail.core.models import ModelEntry, ModelTraits, register, unregister
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.roughness import RoughnessSet
 
@@ -47,10 +50,10 @@ CASES = {
 
 
 def record(roughness, contact: ContactParameters, length: float, run_in: float) -> dict[str, np.ndarray]:
-    run = prepare_run(roughness, model="3d", params=ModelParameters(contact=contact), length=length,
+    run = prepare_run(roughness, model=REFERENCE, params=ModelParameters(contact=contact), length=length,
                       run_in_length=run_in)
     model = run.contact
-    assert type(model) is HalfSpaceModel
+    assert type(model) is HalfSpaceReferenceModel
     inputs = model._inputs
     calls = []
     solve = model.solve
@@ -87,7 +90,12 @@ def record(roughness, contact: ContactParameters, length: float, run_in: float) 
     }
 
 
+REFERENCE = "3d-reference"
+
+
 def main() -> None:
+    register(ModelEntry(name=REFERENCE, label="3d, per-step solver", implementation=HalfSpaceReferenceModel,
+                        traits=ModelTraits(lateral_window=True, pressure_map=True)))
     commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
                             cwd=Path(__file__).parent).stdout.strip()
     arrays = {"source": np.array(f"HalfSpaceWindow.solve_coupled per step, wheelrail commit {commit}")}
@@ -97,6 +105,7 @@ def main() -> None:
         force = arrays[f"{name}/force"]
         print(f"{name}: {force.size} steps, F {force.min() / 1e3:.1f}..{force.max() / 1e3:.1f} kN, "
               f"{np.count_nonzero(force == 0)} without contact")
+    unregister(REFERENCE)
     np.savez_compressed(OUT, **arrays)
     print(f"wrote {OUT} ({OUT.stat().st_size / 1e3:.0f} kB)")
 
