@@ -33,6 +33,13 @@ def third_octave_bands(lowest: float, highest: float) -> tuple[np.ndarray, np.nd
     -------
     centres, lower, upper : numpy.ndarray
         Band centres ``10^(n/10)`` in increasing order and their edges ``centre x 10^(∓1/20)``.
+
+    Examples
+    --------
+    >>> from wheelrail.core.spectra import nominal_band_label, third_octave_bands
+    >>> centres, lower, upper = third_octave_bands(50.0, 8000.0)   # the paper's force bands, Hz
+    >>> centres.size, [nominal_band_label(c) for c in centres[:4]]
+    (23, ['50', '63', '80', '100'])
     """
     if not (math.isfinite(lowest) and math.isfinite(highest) and 0 < lowest <= highest):
         raise WheelrailError(f"third-octave range must satisfy 0 < lowest <= highest, got {lowest!r} .. {highest!r}")
@@ -247,7 +254,14 @@ FORCE_MIN_STEPS = 16  # steps a force spectrum needs after FORCE_SKIP
 
 def shortest_spectrum_run(speed: float, element_size: float, skip: float = FORCE_SKIP) -> float:
     """The shortest run with a force spectrum, m: ``skip`` s left out (whole steps, as :func:`force_spectrum`
-    counts them) and ``FORCE_MIN_STEPS`` after it, at ``speed`` m/s and ``element_size`` m per step."""
+    counts them) and ``FORCE_MIN_STEPS`` after it, at ``speed`` m/s and ``element_size`` m per step.
+
+    Examples
+    --------
+    >>> from wheelrail.core.spectra import shortest_spectrum_run
+    >>> round(shortest_spectrum_run(100 / 3.6, 1e-3), 3)    # m at 100 km/h, 1 mm steps: 556 skipped + 16
+    0.572
+    """
     return (math.ceil(skip * speed / element_size - 1e-9) + FORCE_MIN_STEPS) * element_size
 
 
@@ -305,6 +319,19 @@ def force_spectrum(
         Exact base-10 band centres, Hz.
     levels : numpy.ndarray
         Band levels of the dynamic contact force, dB re 1 N (NaN where a band is not resolved).
+
+    Examples
+    --------
+    A tone of 100 N amplitude at 1 kHz on the 65 kN preload reads 20 log10(100 / sqrt(2)) = 37.0 dB in its band:
+
+    >>> import numpy as np
+    >>> from wheelrail.core.spectra import force_spectrum
+    >>> time = np.arange(4096) * 1e-4                                   # s
+    >>> force = 65e3 + 100.0 * np.sin(2 * np.pi * 1000.0 * time)        # N
+    >>> centres, levels = force_spectrum(force, 1e-4)
+    >>> loudest = int(np.nanargmax(levels))
+    >>> round(float(centres[loudest])), round(float(levels[loudest]), 1)
+    (1000, 37.0)
     """
     if hasattr(result_or_force, "force") and hasattr(result_or_force, "time_step"):
         own_step = float(result_or_force.time_step)
@@ -385,6 +412,12 @@ def mean_level(levels) -> np.ndarray:
     3.3 says only "an average of the seven spectra" for the force levels and "the average of the filter
     curves" for the contact filters, which are level differences in dB; averaging in dB keeps the two
     consistent (the mean filter equals the difference of the mean levels).
+
+    Examples
+    --------
+    >>> from wheelrail.core.spectra import mean_level
+    >>> mean_level([[60.0, 50.0], [62.0, 54.0]]).tolist()    # two runs, two bands, dB
+    [61.0, 52.0]
     """
     stack = np.vstack([np.asarray(v, dtype=float) for v in levels])
     return stack.mean(axis=0)
@@ -400,5 +433,12 @@ def contact_filter(levels_model: np.ndarray, levels_hertz: np.ndarray) -> np.nda
 
     Section 3.3: the Hertz spring without roughness pre-filtering has no contact filtering, so the level
     difference characterises the filtering of the other models (Fig. 10, right column).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.spectra import contact_filter
+    >>> contact_filter(np.array([60.0, 50.0]), np.array([60.0, 55.0])).tolist()   # dB: no filter, then -5 dB
+    [0.0, -5.0]
     """
     return level_difference(levels_model, levels_hertz)

@@ -41,7 +41,7 @@ for ax, table in zip(axes.flat, tables, strict=True):
             label=column.removesuffix("_db"),
         )
     ax.axhline(0.0, color="0.7", linewidth=0.8)
-    ax.set_title(f"Fig. {table.figure}: {table.title}", fontsize=8)
+    ax.set_title(f"Fig. {table.figure}: {table.title}".replace(": ", ":\n", 1), fontsize=8)
     ax.set_ylim(-15, 15)
 axes[0, 0].legend(fontsize=6, ncol=2)
 for ax in axes[1]:
