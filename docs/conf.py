@@ -30,7 +30,6 @@ extensions = [
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
 exclude_patterns = ["_build", "examples"]
-myst_enable_extensions = ["dollarmath"]
 myst_heading_anchors = 3
 
 # API reference: numpydoc reads the NumPy-style docstrings; class members are listed by autodoc, not by
