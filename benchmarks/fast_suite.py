@@ -1,4 +1,4 @@
-"""Time of the fast test suite, `pytest -m "not slow"` (the README's figure; target: a minute).
+"""Time of the fast test suite, `pytest -m "not slow"` (the README's figure; target: under a minute).
 
 Each repeat is a fresh pytest process (collection, imports, and the session's private Green's-function cache
 filled at the speeds the fast tests use, as in CI); prints its wall time and the CPU time it and its child
