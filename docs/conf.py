@@ -58,7 +58,10 @@ sphinx_gallery_conf = {
 html_theme = "alabaster"
 html_title = "wheelrail"
 html_static_path = []
-html_theme_options = {"description": "vertical wheel/rail interaction and the dynamic contact filter"}
+html_theme_options = {
+    "description": "vertical wheel/rail interaction and the dynamic contact filter",
+    "page_width": "1240px",  # the physics and validation tables are wide
+}
 
 # The examples write their files (tables, recordings) into a scratch folder inside the build.
 os.environ.setdefault("WHEELRAIL_GALLERY_OUT", str(Path(__file__).parent / "_build" / "gallery-output"))
