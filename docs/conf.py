@@ -6,7 +6,6 @@ Build (warnings are errors, the gallery is executed)::
 """
 
 import os
-import sys
 from pathlib import Path
 
 import matplotlib
@@ -65,4 +64,3 @@ html_theme_options = {
 
 # The examples write their files (tables, recordings) into a scratch folder inside the build.
 os.environ.setdefault("WHEELRAIL_GALLERY_OUT", str(Path(__file__).parent / "_build" / "gallery-output"))
-sys.dont_write_bytecode = True
