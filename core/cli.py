@@ -32,6 +32,7 @@ COMMANDS = {
     "spectra": "third-octave contact-force spectrum of a saved run (.npz or .rrd)",
     "study": "run one of the paper's studies (force spectra, contact filters, model differences)",
     "filters": "reference contact filters (CNOSSOS-EU A3, analytic) by wavelength and frequency band",
+    "noise": "rolling noise: CNOSSOS-EU source, the model track's transfer function, or a run's sound power and WAV",
 }
 
 

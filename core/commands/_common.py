@@ -30,6 +30,10 @@ CLI_NAMES: dict[str, Name] = {
     "model": Name("--model", unit_in_label=True),
     "set": Name("--set", unit_in_label=True),
     "wheel_set": Name("--wheel-set", unit_in_label=True),
+    "wheel_diameter": Name("--wheel-diameter-mm", "mm", 1e3, True),  # wheelrail noise
+    "axles": Name("--axles", unit_in_label=True),
+    "train_axles": Name("--train-axles", unit_in_label=True),
+    "train_length": Name("--train-length-m", "m", 1.0, True),
 }
 
 

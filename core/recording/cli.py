@@ -23,6 +23,8 @@ def add_recording_arguments(parser) -> None:
         metavar="N",
         help="record the 3D pressure map every N-th step (default 1: every step; scalars are always every step)",
     )
+    group.add_argument("--sound-power", action="store_true",
+                       help="add the run's rolling-noise sound-power spectra (as `wheelrail noise --run`) at the end")
 
 
 def sink_from_args(args, *, description: str = "") -> RecordingSink | None:
@@ -32,9 +34,12 @@ def sink_from_args(args, *, description: str = "") -> RecordingSink | None:
     bad ``--rrd`` path, ``--connect`` address or ``--record-every`` raises a :class:`WheelrailError` at once,
     so no run is wasted. ``description`` becomes the recording's name.
     """
+    sound_power = bool(getattr(args, "sound_power", False))
     if args.rrd is None and not args.spawn and args.connect is None:
         if args.record_every != 1:
             raise WheelrailError("--record-every needs --rrd, --spawn or --connect")
+        if sound_power:
+            raise WheelrailError("--sound-power needs --rrd, --spawn or --connect")
         return None
     return RecordingSink(rrd=args.rrd, spawn=args.spawn, connect=args.connect, record_every=args.record_every,
-                         description=description)
+                         description=description, sound_power=sound_power)

@@ -39,6 +39,10 @@ PRESSURE = "contact/pressure"
 PRESSURE_SURFACE = "contact/pressure_surface"
 NOMINAL_CIRCLE = "contact/nominal_circle"
 FORCE_SPECTRUM = "spectra/force"
+# optional (``--sound-power``, ``record_result(sound_power=True)``): the run's rolling noise, one wheel on one rail,
+# dB re 1 pW per band 50 Hz-10 kHz (wheelrail.core.noise.run_noise), and a document with the totals
+SOUND_POWER = "spectra/sound_power"
+SOUND_POWER_COMPONENTS = ("rail", "sleeper", "wheel", "total")
 
 # titles of the blueprint's time-series views
 FORCE_VIEW = "Contact force (N)"

@@ -26,6 +26,8 @@ from wheelrail.core.recording.schema import (
     ROUGHNESS_LINES,
     ROUGHNESS_LINES_SHOWN,
     SCALAR_FIELDS,
+    SOUND_POWER,
+    SOUND_POWER_COMPONENTS,
     STEP_FIELDS,
     _rr,
     parameters_document,
@@ -115,8 +117,10 @@ class RecordingSink:
         surface_every: int = SURFACE_EVERY,
         chunk_steps: int = DEFAULT_CHUNK_STEPS,
         description: str = "",
+        sound_power: bool = False,
     ) -> None:
         _check_counts(record_every, surface_every, chunk_steps)
+        self.sound_power = bool(sound_power)  # finish() adds the run's sound-power spectra (needs the RunResult)
         self.record_every = int(record_every)
         self.surface_every = int(surface_every)
         self.chunk_steps = int(chunk_steps)
@@ -322,6 +326,8 @@ class RecordingSink:
                 self._patch.set_geometry(self._geometry(), log=False, semi_axes=self._semi_axes())
             self._log_parameters()
             self._log_spectrum(result)
+            if self.sound_power and result is not None:
+                self._log_sound_power(result)
         except BaseException:
             self.abort()
             raise
@@ -370,6 +376,26 @@ class RecordingSink:
             strict=True,
         )
 
+    def _log_sound_power(self, result: RunResult) -> None:
+        """``spectra/sound_power/<component>`` bar charts and a summary document (wheelrail.core.noise.run_noise)."""
+        import json
+
+        from wheelrail.core.noise.run_noise import run_noise
+
+        try:
+            noise = run_noise(result)
+        except WheelrailError:
+            return  # run too short for a force spectrum
+        for component in SOUND_POWER_COMPONENTS:
+            levels = np.nan_to_num(noise.sound_power_db[component], nan=0.0, neginf=0.0)
+            self.stream.log(f"{SOUND_POWER}/{component}", self._rr.BarChart(levels, abscissa=noise.frequency_hz),
+                            static=True, strict=True)
+        totals = {"sound_power_dBA_per_wheel": noise.sound_power_dba, "axle_dBA": noise.axle_dba,
+                  "pass_by_LpAeq_dBA": noise.pass_by_laeq_dba, "train_axles": noise.configuration["train_axles"],
+                  "train_length_m": noise.configuration["train_length_m"], "wheel": noise.configuration["wheel"]}
+        self.stream.log(f"{SOUND_POWER}/summary", self._rr.TextDocument(json.dumps(totals, indent=2)), static=True,
+                        strict=True)
+
     def abort(self) -> None:
         """Stop recording after a failure or cancellation: close the streams and delete the partial file."""
         if self._closed:
@@ -402,6 +428,7 @@ def record_result(
     connect: str | None = None,
     description: str = "",
     chunk_steps: int = DEFAULT_CHUNK_STEPS,
+    sound_power: bool = False,
 ) -> Path | None:
     """Write a finished :class:`RunResult` as a recording (file and/or viewer) in one go.
 
@@ -413,8 +440,8 @@ def record_result(
         ``.rrd`` file to write (atomically: temporary name, then rename).
     roughness : RoughnessSet, optional
         The set the run rolled over, for ``roughness/lines`` (not recorded without it).
-    record_every, surface_every, spawn, connect, description, chunk_steps
-        As for :class:`RecordingSink`.
+    record_every, surface_every, spawn, connect, description, chunk_steps, sound_power
+        As for :class:`RecordingSink` (``sound_power``: add ``spectra/sound_power/*``, the run's rolling noise).
 
     Returns
     -------
@@ -425,7 +452,7 @@ def record_result(
         raise WheelrailError(f"record_result needs a RunResult, got {type(result).__name__}")
     sink = RecordingSink(
         rrd=path, spawn=spawn, connect=connect, record_every=record_every, surface_every=surface_every,
-        chunk_steps=chunk_steps, description=description,
+        chunk_steps=chunk_steps, description=description, sound_power=sound_power,
     )
     try:
         sink.start(result, roughness=roughness)

@@ -24,6 +24,10 @@ Named studies (``STUDIES``):
 ``speeds`` (Fig. 11)
     The 2D model on line 0 at 75, 100, 140 and 200 km/h and at the reference speed with half the
     unsprung wheel mass (M_W = 296.3 kg): the sleeper-passing peaks move with v / L_S, not with M_W.
+``noise`` (beyond the paper)
+    The one-line models (plug-ins included) and ``3d`` on line 0 at 50-300 km/h: A-weighted sound power per
+    axle and pass-by level by this project's TWINS-like chain, beside the CNOSSOS-EU source with A3 and with
+    each model's dynamic contact filter in its place (:mod:`wheelrail.core.study.noise_plan`).
 
 Runs are executed by :func:`execute`: already cached runs are read back, the missing ones run on a local
 process pool (``concurrent.futures.ProcessPoolExecutor``) or on a Dask cluster (``dask.distributed``), and

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.study.tables import Table
 
@@ -100,6 +102,32 @@ def _draw_per_set(group: list[Table]):
     return figure
 
 
+_NOISE_TITLES = {
+    "noise": "A-weighted sound power per axle, dB(A) re 1 pW (dashed: CNOSSOS-EU)",
+    "noise-lpaeq": "pass-by L_pAeq,Tp at 7.5 m / 1.2 m, dB(A) (dashed: CNOSSOS-EU)",
+    "noise-filters": "contact filters (dB) and CNOSSOS-EU sound power per axle (dB re 1 pW) per band",
+}
+
+
+def _draw_noise(group: list[Table], figure_id: str):
+    """The noise study: one panel per set; levels against speed (or per band for the filters table)."""
+    fig, axes = _axes_grid(1, len(group), height=3.4)
+    for ax, table in zip(np.ravel(axes), group, strict=False):
+        x = np.asarray(table.band_centres, dtype=float)
+        for i, (column, values) in enumerate(table.columns.items()):
+            style = "--" if column.startswith("cnossos") else "-"
+            ax.plot(x, values, style, color=f"C{i % 10}", marker="o", ms=2.5, lw=1.2, label=column)
+        if table.axis_name == "band_centre_hz":
+            ax.set_xscale("log")
+            ax.set_xlabel("frequency (Hz)")
+        else:
+            ax.set_xlabel("speed (km/h)")
+        ax.set_title(table.panel, fontsize=9)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=5, ncol=2)
+    return fig
+
+
 def plot_study(name: str, tables: list[Table], folder: Path) -> list[Path]:
     """Draw the study's figure(s) like the paper's (Agg backend, PNG) into ``folder``; returns the paths."""
     by_figure: dict[str, list[Table]] = {}
@@ -107,6 +135,13 @@ def plot_study(name: str, tables: list[Table], folder: Path) -> list[Path]:
         by_figure.setdefault(table.figure, []).append(table)
     paths = []
     for figure_id, group in by_figure.items():
+        if figure_id.startswith("noise"):
+            figure = _draw_noise(group, figure_id)
+            figure.suptitle(f"wheelrail study {name}: {_NOISE_TITLES[figure_id]}", fontsize=9)
+            path = folder / f"{figure_id.replace('-', '_')}_{name}.png"
+            atomic_write(path, lambda handle, fig=figure: fig.savefig(handle, format="png", dpi=110))
+            paths.append(path)
+            continue
         if figure_id == "10":
             figure = _draw_filters(group)
         elif figure_id in ("12", "13", "14", "11"):

@@ -380,7 +380,14 @@ def _plan_speeds(infos, speed, contact):
     return [spec for runs in layout.values() for spec in runs.values()], tabulate
 
 
+def _plan_noise(infos, speed, contact):
+    from wheelrail.core.study.noise_plan import plan_noise
+
+    return plan_noise(infos, speed, contact, _spec, _params)
+
+
 _BUILDERS = {
+    "noise": _plan_noise,
     "filters": _plan_filters,
     "line-spread": _plan_line_spread,
     "averaged-input": _plan_averaged_input,

@@ -149,7 +149,7 @@ def _summary_document(name: str, plan: StudyPlan, report: ExecutionReport, table
             table.name: {
                 "figure": table.figure,
                 "title": table.title,
-                "band_centres_hz": table.band_centres,
+                ("band_centres_hz" if table.axis_name == "band_centre_hz" else table.axis_name): table.band_centres,
                 **{column: [None if not np.isfinite(v) else round(float(v), 3) for v in values]
                    for column, values in table.columns.items()},
             }

@@ -28,6 +28,9 @@ class Table:
         Column name (with unit suffix ``_db``) -> values, dB.
     panel : str
         Panel of the figure this table is drawn in (set label, or resolution for Fig. 17).
+    axis_name : str
+        Name (with unit) of the first column: ``band_centre_hz``, or e.g. ``speed_kmh`` for a table against speed
+        (then ``band_centres`` holds those values).
     """
 
     name: str
@@ -36,9 +39,10 @@ class Table:
     band_centres: np.ndarray
     columns: dict[str, np.ndarray]
     panel: str = ""
+    axis_name: str = "band_centre_hz"
 
     def header(self) -> list[str]:
-        return ["band_centre_hz", *self.columns]
+        return [self.axis_name, *self.columns]
 
 
 def write_table(table: Table, folder: Path) -> Path:

@@ -226,3 +226,15 @@ def test_model_entries_are_checked():
         models.ModelEntry(name="ok", label="two\nlines", traits=models.ModelTraits(), implementation=object)
     with pytest.raises(WheelrailError, match="ModelEntry.traits must be a ModelTraits"):
         models.ModelEntry(name="ok", label="x", traits=None, implementation=object)
+
+
+def test_the_noise_study_plans_every_one_line_model_plugins_included(tmp_path, monkeypatch, fresh_registry):
+    # as the filters study: the registry's one-line models, a plug-in among them, then 3d; hertz (the reference
+    # of every dynamic filter) first
+    from wheelrail.core.study import plan_study
+    from wheelrail.core.study.noise_plan import noise_models
+
+    monkeypatch.syspath_prepend(str(_install_by_hand(tmp_path, {"fine": "wheelrail_broken_plugin:FINE"})))
+    assert noise_models() == ("hertz", "2d", "hertz-winkler", "hertz-average", "fine", "3d")
+    plan = plan_study("noise", ["sinter-wheel-1"], length=2.0)
+    assert {spec.model for spec in plan.specs} == set(noise_models())

@@ -389,3 +389,24 @@ def test_sink_records_only_the_roughness_it_is_given(tmp_path):
     assert lines.shape == (60, 7)
     # exact: the same interpolation of the set's line 2 (row centre + 2) at the wheel positions
     np.testing.assert_array_equal(lines[:, 5], np.interp(result.x, rough.x, rough.heights[rough.row_of_line(2)]))
+
+
+def test_sound_power_spectra_are_recorded_on_request(tmp_path):
+    # wheelrail run --rrd F --sound-power / record_result(sound_power=True): the run's rolling noise as bar charts
+    # spectra/sound_power/{rail,sleeper,wheel,total} (dB re 1 pW, NaN recorded as 0) equal to run_noise's, and a
+    # summary document; without the option nothing is added (the older files' entity tree is unchanged)
+    from wheelrail.core.interaction import simulate
+    from wheelrail.core.noise.run_noise import run_noise
+
+    result = simulate("cast-iron-wheel", model="hertz", line=0, length=1.0)
+    path = record_result(result, tmp_path / "noise.rrd", sound_power=True)
+    expected = run_noise(result)
+    for component in ("rail", "sleeper", "wheel", "total"):
+        (chunk,) = chunks_of(path, f"spectra/sound_power/{component}", static=True)
+        batch = chunk.to_record_batch()
+        levels = np.array(batch.column("BarChart:values")[0].as_py()[0]["buffer"]).view(np.float64)
+        np.testing.assert_array_equal(levels, np.nan_to_num(expected.sound_power_db[component], nan=0.0))
+        assert len(levels) == 24  # 50 Hz .. 10 kHz
+    assert chunks_of(path, "spectra/sound_power/summary", static=True)
+    plain = record_result(result, tmp_path / "plain.rrd")
+    assert not chunks_of(plain, "spectra/sound_power/total")

@@ -1,5 +1,5 @@
-"""Packaging: the version, a wheel built from the repository holds every sub-package, Dask is an optional extra,
-the lint tool is pinned once."""
+"""Packaging: the version, a wheel built from the repository holds every sub-package and data file, Dask is an
+optional extra, the lint tool is pinned once."""
 
 import email
 import importlib.metadata
@@ -58,7 +58,8 @@ def test_a_wheel_built_from_the_repository_holds_every_sub_package(tmp_path):
     packages = {name.removesuffix("/__init__.py").replace("/", ".") for name in names
                 if name.endswith("/__init__.py")}
     expected = _packages_on_disk()
-    assert {"wheelrail", "wheelrail.core.contact", "wheelrail.core.track", "wheelrail.core.study"} <= expected
+    assert {"wheelrail", "wheelrail.core.contact", "wheelrail.core.track", "wheelrail.core.study",
+            "wheelrail.core.noise"} <= expected
     assert packages == expected
     # every module of every package, the bundled sets and the command
     modules = {f"{package.replace('.', '/')}/{path.relative_to(ROOT / folder).as_posix()}"
@@ -67,6 +68,10 @@ def test_a_wheel_built_from_the_repository_holds_every_sub_package(tmp_path):
     assert modules <= names, sorted(modules - names)
     sets = {f"wheelrail/sample_data/{path.name}" for path in (ROOT / "sample_data").glob("*.npz")}
     assert len(sets) == 4 and sets <= names
+    # the data files read at run time: the CNOSSOS-EU tables of the noise source (wheelrail.core.noise.tables)
+    tables = {f"wheelrail/core/noise/data/{path.name}" for path in (ROOT / "core" / "noise" / "data").iterdir()
+              if path.is_file()}
+    assert len(tables) == 5 and tables <= names, sorted(tables - names)
     info = next(name.split("/")[0] for name in names if name.endswith(".dist-info/METADATA"))
     metadata = email.message_from_bytes(zipfile.ZipFile(wheel).read(f"{info}/METADATA"))
     assert metadata["Version"] == wheelrail.__version__

@@ -1,0 +1,88 @@
+"""Level arithmetic for the noise chain: the 24 bands 50 Hz - 10 kHz, A-weighting, energetic sums.
+
+A-weighting is the closed form of IEC 61672-1:2013 (eqs. E.1-E.6, A(f) = 20 lg(f4^2 f^4 / ((f^2 + f1^2)
+sqrt(f^2 + f2^2) sqrt(f^2 + f3^2) (f^2 + f4^2))) - A1000) evaluated at the exact base-10 band centres
+10^(n/10) Hz; rounded to 0.1 dB it gives the standard's tabulated values (checked in
+``tests/physics/test_noise_cnossos.py``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.spectra import third_octave_bands
+
+NOISE_BAND_RANGE = (50.0, 10000.0)  # Hz: the 24 bands of CNOSSOS-EU Appendix G and of the noise outputs
+SOUND_POWER_REFERENCE = 1e-12  # W: sound power levels in dB re 1 pW
+PRESSURE_REFERENCE = 20e-6  # Pa: sound pressure levels in dB re 20 uPa
+ROUGHNESS_REFERENCE = 1e-6  # m: roughness levels in dB re 1 um
+
+# IEC 61672-1:2013 Annex E: pole frequencies (Hz) of the A-weighting closed form
+_F1, _F2, _F3, _F4 = 20.598997, 107.65265, 737.86223, 12194.217
+
+
+def noise_bands() -> np.ndarray:
+    """Exact centres (Hz) of the 24 one-third octave bands 50 Hz .. 10 kHz."""
+    return third_octave_bands(*NOISE_BAND_RANGE)[0]
+
+
+def a_weighting(frequency) -> np.ndarray:
+    """A-weighting in dB at ``frequency`` (Hz), IEC 61672-1 closed form (0 dB at 1 kHz)."""
+    f2 = np.asarray(frequency, dtype=float) ** 2
+
+    def raw(f_sq):
+        return 20 * np.log10(_F4**2 * f_sq**2 / ((f_sq + _F1**2) * np.sqrt((f_sq + _F2**2) * (f_sq + _F3**2))
+                                                  * (f_sq + _F4**2)))
+
+    return raw(f2) - raw(1000.0**2)
+
+
+def energy_sum(*levels_db, axis=None) -> np.ndarray:
+    """10 lg of the sum of 10^(L/10): levels added energetically (element-wise, or along ``axis`` of one array).
+
+    ``-inf`` levels contribute nothing; NaN propagates.
+    """
+    if axis is not None:
+        (levels,) = levels_db
+        with np.errstate(divide="ignore"):
+            return 10.0 * np.log10(np.sum(10.0 ** (np.asarray(levels, dtype=float) / 10.0), axis=axis))
+    total = sum(10.0 ** (np.asarray(level, dtype=float) / 10.0) for level in levels_db)
+    with np.errstate(divide="ignore"):
+        return 10.0 * np.log10(total)
+
+
+def a_weighted_total(levels_db, frequencies=None) -> float:
+    """The A-weighted total (dB(A)) of band levels on the 24 bands (or on ``frequencies``, Hz)."""
+    levels = np.asarray(levels_db, dtype=float)
+    f = noise_bands() if frequencies is None else np.asarray(frequencies, dtype=float)
+    if levels.shape != f.shape:
+        raise WheelrailError(f"A-weighted total: {levels.size} levels for {f.size} bands")
+    return float(energy_sum(levels + a_weighting(f), axis=0))
+
+
+def level(mean_square, reference: float) -> np.ndarray:
+    """10 lg(mean_square / reference^2) for amplitudes, or pass ``reference`` as the power reference squared."""
+    with np.errstate(divide="ignore"):
+        return 10.0 * np.log10(np.asarray(mean_square, dtype=float) / reference**2)
+
+
+def power_level(power_w) -> np.ndarray:
+    """Sound power level, dB re 1 pW, of a power in W (0 W gives -inf)."""
+    with np.errstate(divide="ignore"):
+        return 10.0 * np.log10(np.asarray(power_w, dtype=float) / SOUND_POWER_REFERENCE)
+
+
+def check_positive(value, key: str, unit: str, argument: str | None = None) -> float:
+    """``value`` as a float if finite and > 0, else one WheelrailError keyed ``key`` (SI ``unit``; ``argument``:
+    the API's name of the input, default the key)."""
+    fields = {"parameter": key, "value": value, "unit": unit, "argument": argument}
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise WheelrailError("not a number", **fields) from None
+    if not (math.isfinite(number) and number > 0):
+        raise WheelrailError("not a positive number", **fields)
+    return number

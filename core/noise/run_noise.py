@@ -1,0 +1,270 @@
+"""A finished run (any contact model) to sound power, dB(A), pass-by level and a pass-by you can hear.
+
+One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10 kHz):
+
+- contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force_spectrum`);
+- rail and sleepers: L_W = L_F + 10 lg(T / 1 pW) with T the model track's sound power per unit mean-square force
+  (:func:`wheelrail.core.noise.twins.track_noise_model`, same wheel, track and contact as the run);
+- wheel: the effective roughness that causes L_F in the linear model, L_r = L_F + 10 lg <|alpha_W + alpha_R +
+  alpha_C|^2> (dB re 1 um), plus CNOSSOS-EU's L_H,veh for the nearest tabulated diameter, minus 3 dB (L_H,veh is
+  per axle, two wheels): the 2-DOF wheel model has no radiating modes (:mod:`wheelrail.core.noise.twins`);
+- total and L_WA per wheel; per axle +3 dB (two wheels on two rails, incoherent).
+
+**Pass-by level** at the ISO 3095 position (7.5 m from the track centre, 1.2 m above the rail head): every axle a
+point source of the axle's sound power W radiating into the half space above a rigid ground (p^2 = rho c W /
+(2 pi r^2)), moving at speed v past the microphone at distance d = sqrt(7.5^2 + 1.2^2) m; one axle's sound
+exposure is int p^2 dt = rho c W / (2 d v); N axles of a train of length l pass in T_p = l / v, so
+L_pAeq,Tp = L_WA,axle + 10 lg(N / (2 d l)) + 10 lg(rho c 1 pW / (20 uPa)^2) (derived here; the exposure of the
+whole passage is counted in T_p, which for a train much longer than d differs little from ISO 3095's T_p window).
+
+**Pass-by WAV**: the run's dynamic force (sampled at v / dx, 27.8 kHz at 100 km/h) is filtered by the pressure
+per unit force at the closest distance, |p / F|^2 = rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2), a zero-phase
+FIR interpolated in lg f between the band values; each wheel of each axle gets its own stretch of the force record
+(cyclically shifted at random, so the wheels are incoherent; a record shorter than the pass-by repeats), is
+weighted by the distance law d / r(t) of its own position, and all are summed. Doppler shift is not applied.
+Calibration: the samples are pressure in Pa divided by the ``full_scale_pa`` written in the summary (16-bit PCM,
+peak at half of full scale); the L_pAeq over T_p computed from the WAV's samples matches the pass-by level above
+within 1 dB (``tests/physics/test_noise_run.py``).
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.noise.levels import (
+    NOISE_BAND_RANGE,
+    PRESSURE_REFERENCE,
+    a_weighted_total,
+    a_weighting,
+    energy_sum,
+    noise_bands,
+    power_level,
+)
+from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
+
+ISO3095_DISTANCE = 7.5  # m from the track centre line
+ISO3095_HEIGHT = 1.2  # m above the rail head
+DEFAULT_TRAIN_AXLES = 40
+DEFAULT_TRAIN_LENGTH = 200.0  # m
+COMPONENTS = ("rail", "sleeper", "wheel")
+
+
+def receiver_distance() -> float:
+    """Distance (m) from the rail head on the track centre to the ISO 3095 microphone."""
+    return math.hypot(ISO3095_DISTANCE, ISO3095_HEIGHT)
+
+
+def pass_by_level(l_wa_axle: float, axles: int, train_length: float, distance: float | None = None) -> float:
+    """L_pAeq,Tp (dB(A)) of ``axles`` axles of A-weighted sound power ``l_wa_axle`` (dB re 1 pW) in a train of
+    ``train_length`` m (module docstring)."""
+    d = receiver_distance() if distance is None else distance
+    constant = 10 * math.log10(AIR_DENSITY * SOUND_SPEED * 1e-12 / PRESSURE_REFERENCE**2)
+    return l_wa_axle + 10 * math.log10(axles / (2 * d * train_length)) + constant
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class RunNoise:
+    """Sound power of one run, per component and band, and its pass-by (module docstring).
+
+    Attributes
+    ----------
+    frequency_hz : numpy.ndarray
+        Exact band centres, Hz (24 bands 50 Hz .. 10 kHz).
+    force_db : numpy.ndarray
+        Dynamic contact-force level, dB re 1 N (NaN above the run's Nyquist frequency).
+    effective_roughness_db : numpy.ndarray
+        Effective roughness that causes the force in the linear model, dB re 1 um.
+    sound_power_db : dict
+        ``rail``, ``sleeper``, ``wheel``, ``total``: dB re 1 pW for one wheel on one rail.
+    sound_power_dba : dict
+        Their A-weighted totals.
+    axle_dba : float
+        L_WA of an axle (two wheels), dB(A) re 1 pW.
+    pass_by_laeq_dba : float
+        L_pAeq,Tp at 7.5 m / 1.2 m for ``train_axles`` axles in ``train_length`` m.
+    configuration : dict
+        What produced it (the run's header, the train, the wheel transfer's source).
+    """
+
+    frequency_hz: np.ndarray
+    force_db: np.ndarray
+    effective_roughness_db: np.ndarray
+    sound_power_db: dict
+    sound_power_dba: dict
+    axle_dba: float
+    pass_by_laeq_dba: float
+    configuration: dict = field(default_factory=dict)
+    _force: np.ndarray | None = None
+    _time_step: float = 0.0
+    _pressure_per_force_sq: np.ndarray | None = None
+
+    def to_dict(self) -> dict:
+        """The JSON layout of ``wheelrail noise --run F.npz --json``."""
+        return {
+            "frequency_hz": self.frequency_hz,
+            "force_dB_re_1N": self.force_db,
+            "effective_roughness_dB_re_1um": self.effective_roughness_db,
+            "sound_power_dB": self.sound_power_db,
+            "sound_power_dBA": self.sound_power_dba,
+            "axle_dBA": self.axle_dba,
+            "total_dBA": self.sound_power_dba["total"],
+            "pass_by_LpAeq_dBA": self.pass_by_laeq_dba,
+            "configuration": self.configuration,
+        }
+
+    def pass_by_pressure(self, *, lead: float = 1.0, seed: int = 0) -> tuple[np.ndarray, float, tuple[int, int]]:
+        """The synthesised pass-by pressure (Pa), its sample rate (Hz) and the sample range of T_p.
+
+        ``lead``: seconds before the first axle reaches the microphone and after the last has passed.
+        """
+        return _synthesise(self, lead=lead, seed=seed)
+
+    def wav_bytes(self, *, lead: float = 1.0) -> tuple[bytes, float]:
+        """The pass-by as a 16-bit PCM WAV file's bytes and its calibration (Pa at full scale)."""
+        from scipy.io import wavfile
+
+        pressure, rate, _ = self.pass_by_pressure(lead=lead)
+        full_scale = 2.0 * float(np.max(np.abs(pressure)))  # peak at half of full scale
+        samples = np.round(pressure / full_scale * 32767).astype(np.int16)
+        buffer = io.BytesIO()
+        wavfile.write(buffer, int(round(rate)), samples)
+        return buffer.getvalue(), full_scale
+
+
+def _band_values_on(frequencies: np.ndarray, band_db: np.ndarray) -> np.ndarray:
+    """Band levels (dB on the 24 exact centres) interpolated in lg f onto ``frequencies`` (held at the ends)."""
+    centres = noise_bands()
+    return np.interp(np.log10(np.maximum(frequencies, 1e-3)), np.log10(centres), band_db)
+
+
+def sound_power_from_force(force_db, track) -> dict:
+    """Sound power of one wheel on one rail from its contact-force levels (24 bands, dB re 1 N; NaN: unresolved).
+
+    ``track`` is the :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the run's wheel, track and contact.
+    Returns ``db`` (``rail``, ``sleeper``, ``wheel``, ``total``: dB re 1 pW per band), ``dba`` (their A-weighted
+    totals, NaN bands left out), ``axle_dba`` (two wheels) and ``roughness_db`` (the effective roughness, dB re 1 um).
+    """
+    force_db = np.asarray(force_db, dtype=float)
+    if force_db.shape != track.frequency_hz.shape:
+        raise WheelrailError(f"force levels: {force_db.size} values for the {track.frequency_hz.size} noise bands")
+    mean_sq_force = 10 ** (force_db / 10)
+    rail = power_level(track.rail_power_per_force * mean_sq_force)
+    sleeper = power_level(track.sleeper_power_per_force * mean_sq_force)
+    roughness = force_db + track.effective_roughness_per_force_db
+    wheel = roughness + track.wheel_transfer_db - 10 * math.log10(2)
+    powers = {"rail": rail, "sleeper": sleeper, "wheel": wheel, "total": energy_sum(rail, sleeper, wheel)}
+    dba = {name: a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf)) for name, levels in powers.items()}
+    return {"db": powers, "dba": dba, "axle_dba": dba["total"] + 10 * math.log10(2), "roughness_db": roughness}
+
+
+def run_noise(result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: float = DEFAULT_TRAIN_LENGTH,
+              numerics=None) -> RunNoise:
+    """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.results.RunResult`).
+
+    Parameters
+    ----------
+    result : RunResult
+        A run of any contact model (``simulate`` or ``RunResult.load_npz``).
+    train_axles : int
+        Axles of the train for the pass-by level.
+    train_length : float
+        Train length, m.
+    numerics : NoiseNumerics, optional
+        How the track's transfer functions are computed (default :class:`wheelrail.core.noise.twins.NoiseNumerics`).
+    """
+    from wheelrail.core.noise.twins import track_noise_model
+    from wheelrail.core.spectra import force_spectrum
+
+    if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
+        raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=train_axles)
+    if not (isinstance(train_length, int | float) and math.isfinite(train_length) and train_length > 0):
+        raise WheelrailError("not a positive length", parameter="train_length", value=train_length, unit="m")
+    params = result.header.params
+    track = track_noise_model(params, numerics)
+    _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
+    force_db = np.asarray(force_db, dtype=float)
+    power = sound_power_from_force(force_db, track)
+    powers, powers_dba, axle_dba, roughness = power["db"], power["dba"], power["axle_dba"], power["roughness_db"]
+    # |p/F|^2 at the closest distance, per band: rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2)
+    t_wheel = 10 ** ((track.wheel_transfer_db - 10 * math.log10(2) + track.effective_roughness_per_force_db) / 10) \
+        * 1e-12
+    t_total = track.rail_power_per_force + track.sleeper_power_per_force + t_wheel
+    d = receiver_distance()
+    undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True)
+                 if not np.isfinite(value)]
+    configuration = {
+        "run": {"model": result.model, "roughness": result.roughness_name, "line": result.line,
+                "wheel_roughness": result.wheel_roughness_name, "speed_m_s": result.speed,
+                "element_size_m": result.element_size},
+        "parameters": result.parameters,
+        "train_axles": int(train_axles), "train_length_m": float(train_length),
+        "receiver": {"distance_m": ISO3095_DISTANCE, "height_m": ISO3095_HEIGHT},
+        "wheel": track.configuration["wheel"],
+        "track": {k: v for k, v in track.configuration.items() if k != "rail_section"},
+        "sound_power_per": "one wheel on one rail (axle: +3 dB)",
+        # bands above the run's Nyquist frequency (v / (2 dx)): null, left out of the dB(A) totals
+        "undefined_bands_hz": undefined,
+    }
+    return RunNoise(
+        frequency_hz=noise_bands(), force_db=force_db, effective_roughness_db=roughness, sound_power_db=powers,
+        sound_power_dba=powers_dba, axle_dba=axle_dba,
+        pass_by_laeq_dba=pass_by_level(axle_dba, int(train_axles), float(train_length)),
+        configuration=configuration, _force=np.asarray(result.force, dtype=float), _time_step=result.time_step,
+        _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
+    )
+
+
+def _synthesise(noise: RunNoise, *, lead: float, seed: int):
+    """The pass-by pressure (module docstring)."""
+    from scipy.signal import fftconvolve
+
+    from wheelrail.core.spectra import FORCE_SKIP
+
+    dt = noise._time_step
+    rate = 1.0 / dt
+    force = noise._force[int(round(FORCE_SKIP / dt)):]
+    force = force - force.mean()
+    if len(force) < 64:
+        raise WheelrailError("the run is too short to synthesise a pass-by (at least 64 steps after the start-up)")
+    # zero-phase FIR: |H(f)| from the band values, 4096 taps (or the record's length), Hann-windowed
+    taps = int(min(4096, 2 ** math.floor(math.log2(len(force)))))
+    freqs = np.fft.rfftfreq(taps, dt)
+    gain_db = _band_values_on(freqs, 10 * np.log10(noise._pressure_per_force_sq))
+    gain = 10 ** (gain_db / 20)
+    gain[freqs < noise.frequency_hz[0] / 2 ** (1 / 6)] = 0.0  # below the 50 Hz band: not modelled
+    kernel = np.fft.fftshift(np.fft.irfft(gain, taps)) * np.hanning(taps)
+    pressure_at_d = fftconvolve(force, kernel, mode="same")  # Pa at the closest distance, per axle
+    cfg = noise.configuration
+    speed = cfg["run"]["speed_m_s"]
+    axles, length = cfg["train_axles"], cfg["train_length_m"]
+    tp = length / speed
+    n = int(round((tp + 2 * lead) / dt))
+    t = np.arange(n) * dt - lead  # 0: the first axle at the microphone
+    axle_offsets = np.linspace(0.0, length, axles)  # m behind the first axle
+    d = receiver_distance()
+    rng = np.random.default_rng(seed)
+    out = np.zeros(n)
+    record = len(pressure_at_d)
+    for offset in axle_offsets:
+        along = speed * t - offset  # m past the microphone
+        for _wheel in range(2):  # the axle's two wheels on their two rails: independent stretches of the record
+            start = int(rng.integers(record))
+            idx = (start + np.arange(n)) % record
+            out += pressure_at_d[idx] * d / np.hypot(d, along)
+    first, last = int(round(lead / dt)), int(round((lead + tp) / dt))
+    return out, rate, (first, last)
+
+
+def laeq_of_pressure(pressure: np.ndarray, rate: float) -> float:
+    """L_Aeq (dB(A) re 20 uPa) of a pressure signal (Pa): A-weighting applied in the frequency domain."""
+    spectrum = np.fft.rfft(pressure)
+    f = np.fft.rfftfreq(len(pressure), 1.0 / rate)
+    weight = np.zeros_like(f)
+    weight[1:] = 10 ** (a_weighting(f[1:]) / 20)
+    weighted = np.fft.irfft(spectrum * weight, len(pressure))
+    return float(10 * np.log10(np.mean(weighted**2) / PRESSURE_REFERENCE**2))

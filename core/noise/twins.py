@@ -1,0 +1,301 @@
+"""Rolling noise from this project's own models, the TWINS way (Thompson, Hemsworth & Vincent, J. Sound Vib.
+193 (1996) 123-135; Thompson, *Railway Noise and Vibration*, 2009, ch. 5-7): vertical excitation only.
+
+Chain, per frequency f (time convention e^{i w t}, amplitudes; band values are means over
+``points_per_band`` frequencies spread evenly in lg f across each band and over the excitation positions):
+
+1. **Force per unit roughness** at the contact: |F / r| = 1 / |alpha_W + alpha_R(x0) + alpha_C|, with the 2-DOF
+   wheel's receptance (:func:`wheelrail.core.wheel.wheel_receptance`), the FE track's point receptance at the
+   contact position x0 (above a sleeper and at midspan) and the linearised Hertz contact,
+   alpha_C = 1 / k_H, k_H = 3 P / (2 delta_0) at the preload P (eqs. 12-13 of the paper).
+2. **Rail and sleeper vibration** for a unit force at x0: the FE track of :func:`wheelrail.core.track.assemble_track`
+   (the paper's track) lengthened to ``track_bays`` bays so that waves reflected at its free ends come back
+   attenuated by the track's own decay (the paper's 70 bays suffice for the contact force, not for the
+   vibration far along the rail); rail displacement at every node, each sleeper's displacement.
+3. **Decay rates**: EN 15461's formula DR = 10 lg(e) / sum_n (|A(x_n)|^2 / |A(x_0)|^2) dx_n on the model's
+   band-averaged transfer receptances (excitation at midspan, responses on one side), evaluated on the model's
+   node grid (every element) up to ``decay_length`` instead of the standard's measurement positions; and the
+   decay of the free wave: the slope of the band level at the sleeper positions 3 to 20 bays from the load
+   (a least-squares line in dB against distance).
+4. **Sound power per unit force^2**, W/N^2: rail rho c sigma_rail P <n_y^2> int |v(x)|^2 dx with the rail's
+   2D BEM radiation efficiency (:mod:`wheelrail.core.noise.radiation`; P the section's perimeter, <n_y^2> the
+   mean square of its normals' vertical component: the normal velocity of a vertical motion v is v n_y);
+   sleepers rho c sigma_sleeper S sum_j |v_j|^2, baffled pistons of the half sleeper's area S per rail.
+5. **Track transfer function** (the quantity CNOSSOS-EU tabulates as L_H,tr): rail + sleeper sound power per
+   axle (two wheels, two rails) for 0 dB re 1 um effective roughness in the band:
+   L_H,tr = 10 lg(2 <(W_rail + W_sleeper) |F / r|^2> (1 um)^2 / 1 pW).
+6. **Wheel**: this project's wheel is the paper's 2-DOF model (a mass on a spring): it has no radiating modes,
+   so its sound power cannot be computed from it. The wheel's sound power is the directive's vehicle transfer
+   function L_H,veh (CNOSSOS-EU Table G-3b) for the tabulated diameter nearest the model's wheel (2 R), per
+   axle for the effective roughness, which this module states wherever it is used.
+
+Only the vertical direction is modelled (no lateral rail or wheel vibration, no cross-coupling); the rail
+radiates in free field (no ground reflection) and the sleepers are rigid.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.noise.levels import NOISE_BAND_RANGE, noise_bands
+from wheelrail.core.noise.radiation import (
+    AIR_DENSITY,
+    SOUND_SPEED,
+    piston_radiation_efficiency,
+    rail_radiation_efficiency,
+    rail_section,
+)
+from wheelrail.core.parameters import ModelParameters
+from wheelrail.core.spectra import BAND_HALF_WIDTH
+
+LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
+
+
+@dataclass(frozen=True, kw_only=True)
+class NoiseNumerics:
+    """How the track's vibration and sound power are computed.
+
+    Attributes
+    ----------
+    track_bays : int
+        Sleeper bays of the lengthened FE track (240: 156 m; the load in the middle, 78 m of rail each side).
+    elements_per_bay : int
+        Rayleigh-Timoshenko elements per bay (16 as the interaction's track: >= 7 per bending wavelength to 8 kHz).
+    points_per_band : int
+        Frequencies per one-third octave band, evenly spread in lg f (20: doubling it moves L_H,tr by <= 0.2 dB
+        except in the 4 kHz band, 3.3 dB, where the undamped rail's second pinned-pinned resonance, a mode with
+        still pads, is too sharp for any fixed sampling; doubling ``elements_per_bay`` moves the 4 and 8 kHz bands
+        by 5.2 and 3.4 dB for the same reason, every other band by <= 0.3 dB; ``benchmarks/noise.py``).
+    decay_length : float
+        m of rail over which EN 15461's sum is taken.
+    sleeper_area : float
+        Radiating area of the sleeper per rail, m^2 (assumed: half of a 2.6 m x 0.25 m mono-block sleeper; the
+        paper gives the sleeper's mass only).
+    """
+
+    track_bays: int = 240
+    elements_per_bay: int = 16
+    points_per_band: int = 20
+    decay_length: float = 60.0
+    sleeper_area: float = 0.325
+
+    def __post_init__(self) -> None:
+        for name in ("track_bays", "elements_per_bay", "points_per_band"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise WheelrailError(f"NoiseNumerics.{name} must be a whole number >= 1, got {value!r}")
+        if self.track_bays < 20:
+            raise WheelrailError(f"NoiseNumerics.track_bays must be at least 20, got {self.track_bays}")
+        for name in ("decay_length", "sleeper_area"):
+            value = getattr(self, name)
+            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+                raise WheelrailError(f"NoiseNumerics.{name} must be a positive number, got {value!r}")
+
+
+def band_frequencies(points_per_band: int) -> np.ndarray:
+    """(24, points) frequencies, Hz: each band's width split evenly in lg f, the middle of each part."""
+    centres = noise_bands()
+    parts = (np.arange(points_per_band) + 0.5) / points_per_band  # fractions of the band's width in lg f
+    return centres[:, None] / BAND_HALF_WIDTH * BAND_HALF_WIDTH ** (2 * parts[None, :])
+
+
+def _banded_solver(model):
+    from scipy.linalg import solve_banded
+
+    from wheelrail.core.track.fe import HALF_BANDWIDTH
+
+    kb, cb, mb = model.banded(model.K), model.banded(model.C), model.banded(model.M)
+
+    def solve(frequency: float, load: np.ndarray) -> np.ndarray:
+        w = 2 * np.pi * frequency
+        return solve_banded((HALF_BANDWIDTH, HALF_BANDWIDTH), kb - w**2 * mb + 1j * w * cb, load, check_finite=False)
+
+    return solve
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class TrackNoiseModel:
+    """The model track's noise transfer functions on the 24 bands 50 Hz .. 10 kHz (module docstring).
+
+    Attributes
+    ----------
+    frequency_hz : numpy.ndarray
+        Exact band centres, Hz.
+    rail_power_per_force, sleeper_power_per_force : numpy.ndarray
+        Band means of the sound power of one rail / its sleepers per unit mean-square contact force, W/N^2.
+    force_per_roughness_db : numpy.ndarray
+        10 lg <|F/r|^2> in dB re 1 N/um.
+    effective_roughness_per_force_db : numpy.ndarray
+        10 lg <|alpha_W + alpha_R + alpha_C|^2> in dB re 1 um/N: turns a force level into the effective
+        roughness that would cause it in the linear model.
+    track_transfer_db : numpy.ndarray
+        L_H,tr of the model, dB re 1 pW per axle for 0 dB re 1 um (rail + sleepers, two rails).
+    rail_transfer_db, sleeper_transfer_db : numpy.ndarray
+        Its two parts.
+    decay_rate_db_per_m : numpy.ndarray
+        EN 15461's formula on the model's transfer receptances, dB/m.
+    free_wave_decay_db_per_m : numpy.ndarray
+        Decay of the free wave 3 to 20 bays from the load, dB/m.
+    rail_radiation_efficiency, sleeper_radiation_efficiency : numpy.ndarray
+        Band means of sigma.
+    wheel_transfer_db : numpy.ndarray
+        CNOSSOS-EU L_H,veh (Table G-3b) used for the wheel, per axle.
+    wheel_diameter_mm : int
+        Its column (the tabulated diameter nearest the model's 2 R).
+    configuration : dict
+        What produced it.
+    """
+
+    frequency_hz: np.ndarray
+    rail_power_per_force: np.ndarray
+    sleeper_power_per_force: np.ndarray
+    force_per_roughness_db: np.ndarray
+    effective_roughness_per_force_db: np.ndarray
+    track_transfer_db: np.ndarray
+    rail_transfer_db: np.ndarray
+    sleeper_transfer_db: np.ndarray
+    decay_rate_db_per_m: np.ndarray
+    free_wave_decay_db_per_m: np.ndarray
+    rail_radiation_efficiency: np.ndarray
+    sleeper_radiation_efficiency: np.ndarray
+    wheel_transfer_db: np.ndarray
+    wheel_diameter_mm: int
+    configuration: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        """The JSON layout of ``wheelrail noise --method twins --json`` (key ``twins``)."""
+        return {
+            "track_transfer_dB": self.track_transfer_db,
+            "rail_transfer_dB": self.rail_transfer_db,
+            "sleeper_transfer_dB": self.sleeper_transfer_db,
+            "decay_rate_dB_per_m": self.decay_rate_db_per_m,
+            "free_wave_decay_dB_per_m": self.free_wave_decay_db_per_m,
+            "rail_radiation_efficiency": self.rail_radiation_efficiency,
+            "sleeper_radiation_efficiency": self.sleeper_radiation_efficiency,
+            "force_per_roughness_dB_re_1N_per_um": self.force_per_roughness_db,
+            "wheel_transfer_dB": self.wheel_transfer_db,
+            "wheel_transfer_source": f"CNOSSOS-EU Table G-3b, {self.wheel_diameter_mm} mm wheel (the 2-DOF wheel "
+                                     "model has no radiating modes)",
+            "configuration": self.configuration,
+        }
+
+
+def nearest_table_diameter_mm(wheel_radius: float) -> int:
+    """The CNOSSOS-EU Table G-3b wheel diameter (mm) nearest 2 R (R in m)."""
+    from wheelrail.core.noise.cnossos import WHEEL_DIAMETERS_MM
+
+    return min(WHEEL_DIAMETERS_MM, key=lambda d: abs(d - 2e3 * wheel_radius))
+
+
+def track_noise_model(params: ModelParameters | None = None, numerics: NoiseNumerics | None = None) -> TrackNoiseModel:
+    """The model track's noise transfer functions (module docstring) for the wheel, track and contact of
+    ``params`` (default: the paper's). Cached per process by the parameters."""
+    params = ModelParameters() if params is None else params
+    # the transfer functions do not depend on the speed: cache on the wheel, track and contact only
+    return _track_noise_model(ModelParameters(wheel=params.wheel, track=params.track, contact=params.contact),
+                              NoiseNumerics() if numerics is None else numerics)
+
+
+def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float, freqs: np.ndarray) -> dict:
+    """Steps 1-3 of the module docstring at every frequency of ``freqs`` (bands, points) and both excitation
+    positions: rail velocity integral, sleeper velocity sum, |alpha_W + alpha_R + alpha_C|^2 (each (b, p, 2)),
+    and per band the midspan transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
+    from wheelrail.core.track import assemble_track
+    from wheelrail.core.track.fe import timoshenko_shape_functions
+    from wheelrail.core.wheel import wheel_receptance
+
+    track = replace(params.track, n_bays=numerics.track_bays)
+    model = assemble_track(track, numerics.elements_per_bay)
+    solve = _banded_solver(model)
+    spacing = track.support.sleeper_spacing
+    centre_bay = numerics.track_bays // 2
+    positions = (centre_bay * spacing, (centre_bay + 0.5) * spacing)  # above a sleeper, midspan
+    x_nodes = model.node_x
+    weights = np.gradient(x_nodes)  # trapezoid weights on the uniform node grid (half at the ends)
+    weights[[0, -1]] *= 0.5
+    decay_nodes = slice(np.searchsorted(x_nodes, positions[1]),
+                        np.searchsorted(x_nodes, positions[1] + numerics.decay_length))
+    free_bays = np.arange(3, 21)
+    free_nodes = np.arange(0, len(x_nodes), numerics.elements_per_bay)[centre_bay + free_bays]
+    point_dofs = []
+    for x0 in positions:
+        element, xi = model.locate(x0)
+        e = int(element)
+        point_dofs.append((timoshenko_shape_functions(xi, model.element_length, model.shear_parameter),
+                           [model.w_dof[e], model.theta_dof[e], model.w_dof[e + 1], model.theta_dof[e + 1]]))
+    loads = np.stack([model.load_vector(x) for x in positions], axis=1)
+    shape = (*freqs.shape, len(positions))
+    out = {"rail": np.empty(shape), "sleeper": np.empty(shape), "alpha_sq": np.empty(shape),
+           "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
+           "free_sq": np.zeros((freqs.shape[0], len(free_bays))), "free_distance": free_bays * spacing,
+           "dx": model.element_length}
+    for (b, p), f in np.ndenumerate(freqs):
+        w = 2 * np.pi * f
+        alpha_w = wheel_receptance(params.wheel, f)
+        solutions = solve(f, loads)  # one factorisation for both excitation positions
+        for j, (shape_n, dofs) in enumerate(point_dofs):
+            u = solutions[:, j]
+            rail = u[model.w_dof]
+            out["rail"][b, p, j] = w**2 * np.sum(weights * np.abs(rail) ** 2)
+            out["sleeper"][b, p, j] = w**2 * np.sum(np.abs(u[model.sleeper_dof]) ** 2)
+            out["alpha_sq"][b, p, j] = abs(alpha_w + shape_n @ u[dofs] + 1.0 / k_hertz) ** 2
+            if j == 1:  # midspan excitation: EN 15461 and the free wave
+                out["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
+                out["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
+    return out
+
+
+def _decay_rates(vib: dict) -> tuple[np.ndarray, np.ndarray]:
+    """EN 15461's formula on the midspan transfer receptances, and the free wave's slope (dB/m)."""
+    ratio = vib["transfer_sq"] / vib["transfer_sq"][:, :1]
+    sum_ratio = vib["dx"] * (np.sum(ratio, axis=1) - 0.5 * (ratio[:, 0] + ratio[:, -1]))
+    slope = np.polyfit(vib["free_distance"], 10 * np.log10(vib["free_sq"]).T, 1)[0]
+    return LOG10_E / sum_ratio, -slope
+
+
+@functools.lru_cache(maxsize=8)
+def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> TrackNoiseModel:
+    from wheelrail.core.noise.cnossos import vehicle_transfer
+
+    contact = params.contact
+    k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
+    section = rail_section()
+    area = numerics.sleeper_area
+    freqs = band_frequencies(numerics.points_per_band)
+    vib = _vibration(params, numerics, k_hertz, freqs)
+    sigma_rail = rail_radiation_efficiency(freqs)
+    sigma_sleeper = piston_radiation_efficiency(freqs, area)
+    radiation_rail = AIR_DENSITY * SOUND_SPEED * section["perimeter_m"] * section["mean_normal_y_squared"]
+    t_rail = radiation_rail * sigma_rail[..., None] * vib["rail"]  # W/N^2 (rms force, rms velocity)
+    t_sleeper = AIR_DENSITY * SOUND_SPEED * area * sigma_sleeper[..., None] * vib["sleeper"]
+    force_per_r_sq = 1.0 / vib["alpha_sq"]  # (N/m)^2
+    um2 = 1e-12  # (1 um)^2 in m^2; also 1 pW: the two 1e-12 cancel in L_H,tr
+    rail_tr = 10 * np.log10(2 * np.mean(t_rail * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
+    sleeper_tr = 10 * np.log10(2 * np.mean(t_sleeper * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
+    decay, free_decay = _decay_rates(vib)
+    diameter = nearest_table_diameter_mm(contact.radius_along)
+    configuration = {
+        "method": "twins", "track_bays": numerics.track_bays, "elements_per_bay": numerics.elements_per_bay,
+        "points_per_band": numerics.points_per_band, "sleeper_area_m2": area,
+        "excitation": "mean of above a sleeper and midspan", "preload_n": contact.preload,
+        "contact_stiffness_n_per_m": k_hertz, "rail_section": section,
+        "band_range_hz": list(NOISE_BAND_RANGE),
+        "wheel": f"CNOSSOS-EU Table G-3b L_H,veh, {diameter} mm (nearest the model's 2R = "
+                 f"{2e3 * contact.radius_along:.0f} mm)",
+    }
+    return TrackNoiseModel(
+        frequency_hz=noise_bands(), rail_power_per_force=np.mean(t_rail, axis=(1, 2)),
+        sleeper_power_per_force=np.mean(t_sleeper, axis=(1, 2)),
+        force_per_roughness_db=10 * np.log10(np.mean(force_per_r_sq, axis=(1, 2)) * um2),
+        effective_roughness_per_force_db=10 * np.log10(np.mean(vib["alpha_sq"], axis=(1, 2)) / um2),
+        track_transfer_db=10 * np.log10(10 ** (rail_tr / 10) + 10 ** (sleeper_tr / 10)), rail_transfer_db=rail_tr,
+        sleeper_transfer_db=sleeper_tr, decay_rate_db_per_m=decay, free_wave_decay_db_per_m=free_decay,
+        rail_radiation_efficiency=np.mean(sigma_rail, axis=1),
+        sleeper_radiation_efficiency=np.mean(sigma_sleeper, axis=1),
+        wheel_transfer_db=vehicle_transfer(diameter), wheel_diameter_mm=diameter, configuration=configuration,
+    )
