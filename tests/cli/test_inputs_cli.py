@@ -40,6 +40,7 @@ def test_an_unphysical_input_is_one_line_in_the_options_terms(argv, line, capsys
     assert "ContactParameters" not in err and "RunParameters" not in err and "m/s" not in err
 
 
+@pytest.mark.slow
 def test_a_combined_run_on_the_wheel_sets_own_radius_runs(capsys):
     # the bundled wheel sets are 2.900 m round: 461.5 mm is within 1 % (and so is 460)
     for radius in ("461.5", "460"):

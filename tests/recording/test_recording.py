@@ -391,6 +391,7 @@ def test_sink_records_only_the_roughness_it_is_given(tmp_path):
     np.testing.assert_array_equal(lines[:, 5], np.interp(result.x, rough.x, rough.heights[rough.row_of_line(2)]))
 
 
+@pytest.mark.slow
 def test_sound_power_spectra_are_recorded_on_request(tmp_path):
     # wheelrail run --rrd F --sound-power / record_result(sound_power=True): the run's rolling noise as bar charts
     # spectra/sound_power/{rail,sleeper,wheel,total} (dB re 1 pW, NaN recorded as 0) equal to run_noise's, and a
