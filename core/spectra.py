@@ -277,6 +277,34 @@ def check_spectrum_length(length: float, speed: float, element_size: float) -> N
         )
 
 
+def _force_record(result_or_force, time_step, skip) -> tuple[np.ndarray, float, float]:
+    """The force (N), time step (s) and skip (s) of :func:`force_spectrum`, checked (one WheelrailError each)."""
+    if hasattr(result_or_force, "force") and hasattr(result_or_force, "time_step"):
+        own_step = float(result_or_force.time_step)
+        if time_step is not None and not math.isclose(float(time_step), own_step, rel_tol=1e-9):
+            raise WheelrailError(f"force_spectrum: time_step {time_step!r} s differs from the run's {own_step!r} s")
+        force, time_step = result_or_force.force, own_step
+    else:
+        force = result_or_force
+        if time_step is None:
+            raise WheelrailError("force_spectrum: time_step (s) is required when a force array is given")
+    try:
+        time_step = float(time_step)
+        skip = float(skip)
+        force = np.asarray(force, dtype=float)
+    except (TypeError, ValueError):
+        raise WheelrailError("force_spectrum: force must be numbers in N, time_step and skip numbers in s") from None
+    if not (math.isfinite(time_step) and time_step > 0):
+        raise WheelrailError(f"force_spectrum: time_step must be a positive number of seconds, got {time_step!r}")
+    if not (math.isfinite(skip) and skip >= 0):
+        raise WheelrailError(f"force_spectrum: skip must be zero or a positive number of seconds, got {skip!r}")
+    if force.ndim != 1:
+        raise WheelrailError(f"force_spectrum: force must be one value per step, got shape {force.shape}")
+    if not np.all(np.isfinite(force)):
+        raise WheelrailError("force_spectrum: force contains NaN or infinity")
+    return force, time_step, skip
+
+
 def force_spectrum(
     result_or_force,
     time_step: float | None = None,
@@ -333,29 +361,7 @@ def force_spectrum(
     >>> round(float(centres[loudest])), round(float(levels[loudest]), 1)
     (1000, 37.0)
     """
-    if hasattr(result_or_force, "force") and hasattr(result_or_force, "time_step"):
-        own_step = float(result_or_force.time_step)
-        if time_step is not None and not math.isclose(float(time_step), own_step, rel_tol=1e-9):
-            raise WheelrailError(f"force_spectrum: time_step {time_step!r} s differs from the run's {own_step!r} s")
-        force, time_step = result_or_force.force, own_step
-    else:
-        force = result_or_force
-        if time_step is None:
-            raise WheelrailError("force_spectrum: time_step (s) is required when a force array is given")
-    try:
-        time_step = float(time_step)
-        skip = float(skip)
-        force = np.asarray(force, dtype=float)
-    except (TypeError, ValueError):
-        raise WheelrailError("force_spectrum: force must be numbers in N, time_step and skip numbers in s") from None
-    if not (math.isfinite(time_step) and time_step > 0):
-        raise WheelrailError(f"force_spectrum: time_step must be a positive number of seconds, got {time_step!r}")
-    if not (math.isfinite(skip) and skip >= 0):
-        raise WheelrailError(f"force_spectrum: skip must be zero or a positive number of seconds, got {skip!r}")
-    if force.ndim != 1:
-        raise WheelrailError(f"force_spectrum: force must be one value per step, got shape {force.shape}")
-    if not np.all(np.isfinite(force)):
-        raise WheelrailError("force_spectrum: force contains NaN or infinity")
+    force, time_step, skip = _force_record(result_or_force, time_step, skip)
     first = int(math.ceil(skip / time_step - 1e-9))
     kept = force.size - first
     if kept < FORCE_MIN_STEPS:
