@@ -13,6 +13,12 @@ explorer drawing, to compare with benchmarks/interaction.py.
 the page from the click to the moment the page's scene holds a new patch (received, before WebGL draws
 it; headless Chromium renders WebGL in software, slowly, so the figure is pessimistic).
 Target: press Run to first frame < 1 s.
+
+--first-run: a user's very first run, the default one (3d, 3 m of the corrugated rail at 100 km/h), in a
+fresh process with empty caches (a new Green's-function cache folder and a new numba cache folder): the
+time of each preparation step the page announces, until the first frame and until the run is done; Run
+pressed at once, then (another fresh process) pressed after the background warm-up that ``wheelrail
+explore`` starts has finished.
 """
 
 from __future__ import annotations
@@ -21,6 +27,7 @@ import argparse
 import socket
 import statistics
 import time
+from pathlib import Path
 
 from wheelrail.core.run_setup import default_run_in_length
 
@@ -144,12 +151,77 @@ def browser_side(app, repeats: int) -> None:
           f"{statistics.median(times):.0f} ms (min {min(times):.0f}, max {max(times):.0f} ms) of {repeats}")
 
 
+def first_run(warm_up: bool) -> None:
+    """In this process (its caches empty): the default Run, with the time each status line appeared; with
+    ``warm_up``, pressed once the app's background warm-up has finished."""
+    import threading
+
+    from wheelrail.explorer.app import ExplorerApp
+
+    warmed = threading.Event()
+    start = time.perf_counter()
+    app = ExplorerApp(port=_free_port())
+    if warm_up:  # what ExplorerApp(warm_up=True) starts, with a signal at its end
+        app.controller.warm_up(app.shown, app.roughness, done=lambda seconds: warmed.set())
+        warmed.wait()
+        print(f"background warm-up (as `wheelrail explore` starts it): {time.perf_counter() - start:.1f} s "
+              "from the app's start")
+    said, first = [], []
+    status, draw = app.status, type(app).frame
+
+    def timed_status(text):
+        status(text)
+        if not said or not text.startswith(said[-1][1].split(" ...")[0]):
+            said.append((time.perf_counter(), text))
+
+    def timed_frame(state, view):
+        draw(app, state, view)
+        if not first:
+            first.append(time.perf_counter())
+
+    app.status, app.frame = timed_status, timed_frame
+    try:
+        start = time.perf_counter()
+        assert app.start_run(), app.last_error
+        app.controller.wait()
+        done = time.perf_counter()
+    finally:
+        app.close()
+    for when, text in said:
+        print(f"  {when - start:6.1f} s  {text.split(' ...')[0]}")
+    when = "after the warm-up" if warm_up else "at once"
+    print(f"first run (empty caches), Run pressed {when}: first frame after {first[0] - start:.1f} s, done after "
+          f"{done - start:.1f} s")
+
+
+def first_run_in_a_fresh_process() -> None:
+    import os
+    import subprocess
+    import sys
+    import tempfile
+
+    for flag in ("--first-run-here", "--first-run-here-warm"):
+        with tempfile.TemporaryDirectory(prefix="wheelrail-first-run-") as folder:
+            env = {**os.environ, "WHEELRAIL_CACHE_DIR": str(Path(folder) / "track"),
+                   "NUMBA_CACHE_DIR": str(Path(folder) / "numba")}
+            subprocess.run([sys.executable, __file__, flag], env=env, check=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--length-m", type=float, default=7.9)
     parser.add_argument("--browser", action="store_true", help="also time the press in headless Chromium")
+    parser.add_argument("--first-run", action="store_true", help="only a first run with empty caches")
+    parser.add_argument("--first-run-here", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--first-run-here-warm", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.first_run:
+        first_run_in_a_fresh_process()
+        return
+    if args.first_run_here or args.first_run_here_warm:
+        first_run(warm_up=args.first_run_here_warm)
+        return
     from wheelrail.explorer.app import ExplorerApp
 
     app = ExplorerApp(port=_free_port())

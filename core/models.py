@@ -8,11 +8,12 @@ registry tests a model's name.
 
 Two kinds of law:
 
-* **compiled**: the law is one of the numba kernels the loop's compiled chunk loop knows (``LAW_HERTZ``,
-  ``LAW_BEDDING``); the model only prepares the kernel's inputs (:class:`LawInputs`). numba caches compiled
-  code on disk only when no jitted function is passed as an argument, hence named constants, not callables;
-* **per step**: the model's Python ``solve`` is called once per step (the 3D half-space, whose solve costs far
-  more than the call, and any model registered from outside, e.g. in a test).
+* **compiled**: the law is one of the numba kernels the loop's compiled chunk loops know (``LAW_HERTZ``,
+  ``LAW_BEDDING``, ``LAW_HALFSPACE``); the model only prepares the kernel's inputs (:class:`LawInputs`, or
+  for the 3D half-space its stepping state). numba caches compiled code on disk only when no jitted function
+  is passed as an argument, hence named constants, not callables;
+* **per step**: the model's Python ``solve`` is called once per step (any model registered from outside,
+  e.g. in a test, and the 3D half-space's per-step reference).
 
 This module is cheap to import (no numba, no SciPy): the command line, the studies and the explorer read the
 model names and traits from it (:func:`model_names`, :func:`model_entry`); the implementation is imported on
@@ -49,14 +50,15 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ModelParameters
 
 __all__ = [
-    "ENTRY_POINT_GROUP", "LAW_BEDDING", "LAW_HERTZ", "MODELS", "REFERENCE_MODEL", "ContactModel", "ContactState",
-    "LawInputs", "ModelEntry", "ModelInputs", "ModelTraits", "PluginWarning", "model_entry", "model_names",
-    "register", "unregister",
+    "ENTRY_POINT_GROUP", "LAW_BEDDING", "LAW_HALFSPACE", "LAW_HERTZ", "MODELS", "REFERENCE_MODEL", "ContactModel",
+    "ContactState", "LawInputs", "ModelEntry", "ModelInputs", "ModelTraits", "PluginWarning", "model_entry",
+    "model_names", "register", "unregister",
 ]
 
 LAW_HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz._hertz_law
 LAW_BEDDING = 1  # Winkler bedding on the line under the wheel (eqs. 3-6): contact.winkler._bedding_law
-_LAWS = (None, LAW_HERTZ, LAW_BEDDING)
+LAW_HALFSPACE = 2  # 3D half-space on the window (eqs. 8-11): contact.halfspace_steps._halfspace_step
+_LAWS = (None, LAW_HERTZ, LAW_BEDDING, LAW_HALFSPACE)
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 
 
@@ -70,8 +72,8 @@ class ModelTraits:
         The model sees a window of roughness lines across the rail (1 mm apart, centred on the chosen line)
         instead of the chosen line alone.
     law : int or None
-        ``LAW_HERTZ`` / ``LAW_BEDDING``: the law runs in the loop's compiled chunk loop; None: the model's
-        ``solve`` is called from Python once per step (streamed step by step).
+        ``LAW_HERTZ`` / ``LAW_BEDDING`` / ``LAW_HALFSPACE``: the law runs in the loop's compiled chunk loop;
+        None: the model's ``solve`` is called from Python once per step (streamed step by step).
     pressure_map : bool
         Every step has a pressure map on the window (``StepState.pressure``); needs ``lateral_window``.
     """
@@ -82,7 +84,8 @@ class ModelTraits:
 
     def __post_init__(self) -> None:
         if self.law not in _LAWS:
-            raise WheelrailError(f"ModelTraits.law must be one of LAW_HERTZ, LAW_BEDDING or None, got {self.law!r}")
+            raise WheelrailError(
+                f"ModelTraits.law must be one of LAW_HERTZ, LAW_BEDDING, LAW_HALFSPACE or None, got {self.law!r}")
         if self.pressure_map and not self.lateral_window:
             raise WheelrailError("ModelTraits: a pressure map needs a lateral window")
 
@@ -182,7 +185,8 @@ class ContactModel:
         raise NotImplementedError
 
     def law_inputs(self) -> LawInputs:
-        """Compiled law: the kernel's inputs for every step."""
+        """Compiled law: the kernel's inputs for every step (``LAW_HALFSPACE``: a
+        ``contact.halfspace_steps.HalfSpaceSteps``)."""
         raise NotImplementedError
 
     def solve(self, s: int, approach_known: float, compliance: float) -> ContactState:
@@ -225,7 +229,7 @@ class ModelEntry:
 
 _BUILTIN = (
     ModelEntry(name="3d", label="3D elastic half-space on a window of lines (eqs. 8-11)",
-               traits=ModelTraits(lateral_window=True, pressure_map=True),
+               traits=ModelTraits(lateral_window=True, law=LAW_HALFSPACE, pressure_map=True),
                implementation="wheelrail.core.contact.halfspace_model:HalfSpaceModel"),
     ModelEntry(name="2d", label="2D Winkler bedding on one line (eqs. 3-6)", traits=ModelTraits(law=LAW_BEDDING),
                implementation="wheelrail.core.contact.winkler:BeddingModel"),

@@ -128,8 +128,6 @@ def wheel_discrete_system(wheel: WheelParameters, time_step: float, method: str 
     Gamma0, Gamma1 : ndarray (4,)
         Response to the force at the start and at the end of the step, per N.
     """
-    from scipy.linalg import expm
-
     if not np.isfinite(time_step) or time_step <= 0:
         raise WheelrailError(f"wheel_discrete_system: time_step must be positive (s), got {time_step}")
     if method not in ("auto", "foh", "trapezoidal"):
@@ -141,6 +139,42 @@ def wheel_discrete_system(wheel: WheelParameters, time_step: float, method: str 
         Phi = np.linalg.solve(left, np.eye(n) + 0.5 * time_step * A)
         Gamma = np.linalg.solve(left, 0.5 * time_step * B)
         return Phi, Gamma, Gamma.copy()
+    return _first_order_hold(wheel, float(time_step))
+
+
+_FOH_MEMORY: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+
+def _first_order_hold(wheel: WheelParameters, time_step: float):
+    """The FOH system of :func:`wheel_discrete_system`, from memory, the disk cache or computed and cached.
+
+    Computed with ``scipy.linalg.expm``; cached (``wheelrail.core.cache``, keyed by the wheel and the step)
+    because importing ``scipy.linalg`` costs a command-line run half a second, more than the run itself.
+    The cached arrays are the computed ones, so results do not depend on whether they were cached.
+    """
+    from dataclasses import asdict
+
+    from wheelrail.core import cache
+
+    key = cache.cache_key("wheel-foh", {"wheel": asdict(wheel), "time_step": time_step})
+    if key in _FOH_MEMORY:
+        return tuple(array.copy() for array in _FOH_MEMORY[key])
+    arrays = cache.load_entry("wheel-foh", key, ("phi", "gamma0", "gamma1"))
+    if arrays is not None and arrays["phi"].shape == (4, 4) and all(
+            np.all(np.isfinite(arrays[name])) for name in ("phi", "gamma0", "gamma1")):
+        system = (arrays["phi"], arrays["gamma0"], arrays["gamma1"])
+    else:
+        system = _first_order_hold_expm(wheel, time_step)
+        cache.save_entry("wheel-foh", key, dict(zip(("phi", "gamma0", "gamma1"), system, strict=True)))
+    _FOH_MEMORY[key] = system
+    return tuple(array.copy() for array in system)
+
+
+def _first_order_hold_expm(wheel: WheelParameters, time_step: float):
+    from scipy.linalg import expm
+
+    A, B = _wheel_state_space(wheel)
+    n = A.shape[0]
     # Van Loan block exponential: [[A, B, 0], [0, 0, 1/dt], [0, 0, 0]] gives the FOH integrals.
     big = np.zeros((n + 2, n + 2))
     big[:n, :n] = A * time_step
@@ -154,4 +188,4 @@ def wheel_discrete_system(wheel: WheelParameters, time_step: float, method: str 
     # F(t_{n+1} - u) = F_{n+1} (1 - u/dt) + F_n u/dt: G2 is the weight of F_{n+1}.
     Gamma1 = G2
     Gamma0 = G1 - G2
-    return Phi, Gamma0, Gamma1
+    return np.ascontiguousarray(Phi), Gamma0, np.ascontiguousarray(Gamma1)

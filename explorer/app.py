@@ -2,17 +2,25 @@
 
 Parts: :mod:`.config` (what Run asks for, checked in the page's words), :mod:`.controller` (the background
 run: stop, replace, compare; no viser), :mod:`.results` (results keyed by configuration), :mod:`.scene` (the
-contact patch), :mod:`.plots` (uPlot charts), :mod:`.uploads` (roughness files from the browser). This module
-wires them to the controls, like a viser example: :func:`serve` creates the app and waits; the app declares
-its controls in a folder and four tabs and attaches small callbacks. Everything computed comes from core.
+3D view of the contact patch), :mod:`.tabs` (the results panel's tabs), :mod:`.plots` (uPlot charts and
+their PNGs), :mod:`.uploads` (roughness files from the browser). This module wires them like a viser example:
+:func:`serve` creates the app and waits; the app lays out the page, declares its controls and attaches
+small callbacks. Everything computed comes from core.
 
-The page always shows the results of the configuration its controls describe (set, wheel set, line, speed,
-preload, length, contact geometry; every model of it): change one and the plots show that configuration's
-runs, or none yet.
+The page: the run form docked on the left, the results panel (tabs Patch, Spectra and filters, Roughness,
+Help) docked on the right at a width that keeps its plots at least 480 px wide, and the 3D view between
+them, so that after Run the open tab's plots and the colour bar are on screen from 1280 x 800 up.
+
+One truth on screen: the page always shows the configuration its controls describe (set, wheel set, line,
+speed, preload, length, contact geometry; every model of it). Change one and the plots, the 3D view, its
+readout, the Step slider and the progress bar show that configuration's run (its last step), or are cleared
+with "no run of this configuration yet". After ``compare``, *Model shown* chooses the model replayed,
+plotted as displacement and downloaded.
 """
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import threading
 import time
@@ -22,12 +30,13 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import REFERENCE_MODEL, model_entry
+from wheelrail.core.models import model_names
 from wheelrail.core.parameters import KMH, MAX_SPEED_KMH, MIN_SPEED_KMH, ContactParameters
-from wheelrail.core.roughness import bundled_names, lateral_coherence, load_roughness, roughness_spectrum
+from wheelrail.core.roughness import bundled_names, load_roughness
 from wheelrail.explorer.config import (
     COMPARE,
     MODEL_CHOICES,
+    NO_LINE_FITS,
     NO_WHEEL_SET,
     PRELOAD_RANGE_KN,
     RunConfig,
@@ -39,51 +48,40 @@ from wheelrail.explorer.config import (
     read_geometry,
 )
 from wheelrail.explorer.controller import RunController, RunView
-from wheelrail.explorer.plots import CasePlots, Plot, finite_bands
 from wheelrail.explorer.results import Entry, ResultStore
-from wheelrail.explorer.scene import PRESSURE_TOP, PatchScene, colour_bar_image
+from wheelrail.explorer.scene import PRESSURE_TOP, PatchScene, colour_bar_image, oblique_view, top_view
+from wheelrail.explorer.tabs import RESULT_TABS, PatchTab, RoughnessTab, Shown, SpectraTab
 from wheelrail.explorer.uploads import MAX_UPLOAD_BYTES, read_upload, refuse_large_uploads_early, size_text
 
 __all__ = ["ExplorerApp", "main", "serve"]
-
-NO_OVERLAY = "none"
-PNG_PLOTS = ("contact force", "displacement", "force spectra", "contact filters", "roughness spectrum",
-             "lateral coherence")
 
 LOG = logging.getLogger("wheelrail.explorer")
 DEFAULT_SET = "corrugated-rail"
 DEFAULT_LENGTH = 3.0  # m
 REPLAY_SPEEDS = {"0.01x": 0.01, "0.02x": 0.02, "0.05x": 0.05, "0.1x": 0.1}  # of real time
 REPLAY_FPS = 20.0
-
-
-def _help_text() -> str:
-    models = "\n".join(f"- **{m}**: {model_entry(m).label}" for m in MODEL_CHOICES[:-1])
-    return (
-        "**Contact models** (Pieringer, Kropp & Thompson, Wear 271, 2011):\n\n" + models +
-        f"\n- **{COMPARE}**: every model one after another on the same configuration, {REFERENCE_MODEL} first.\n\n"
-        "**Contact filter**: a contact patch is several millimetres long and wide, so roughness of shorter "
-        "wavelengths is partly averaged out before it excites the wheel and rail. The *contact filter* of a "
-        f"model is its force level minus that of `{REFERENCE_MODEL}` (a point contact, no filtering), per "
-        "third-octave band: 0 dB means no filtering, negative values show how much the patch attenuates. "
-        "Dashed: reference filters for the same load and speed (CNOSSOS-EU A3 of noise mapping, and the "
-        "analytic averaging and circular-patch filters).\n\n"
-        "**Contact geometry**: wheel radius (rolling, along the rail), rail crown radius (across) and wheel "
-        "tread radius across (empty: a cylindrical tread; negative: a concave, worn tread, which must stay "
-        "flatter than the crown), in mm; empty fields keep the paper's crossed cylinders of 390 mm (a circular "
-        "patch). Otherwise the patch is an ellipse, drawn with its Hertz semi-axes.\n\n"
-        "**Wheel roughness**: a bundled wheel set added to a rail set (r = r_rail + r_wheel, the wheel's lines "
-        "repeating with its circumference); `none`: a smooth wheel, as in the paper.\n\n"
-        "**Run length**: at least long enough for a force spectrum at the chosen speed, at most what the "
-        "roughness set holds; the page shows the range.")
+CONTROL_PANEL_WIDTH = 340  # px: the run form, docked left
+RESULTS_PANEL_WIDTH = 560  # px: the results panel, docked right; its plots are about 520 px wide
+NOTICE_SECONDS = 10.0  # a notice (error toast) closes by itself after this; a new one replaces it
+NO_RUN_READOUT = "No run of this configuration yet: press **Run**."
+READY = "Ready: choose a set, a line and a model, then press **Run**."
+# The browser tab's title (React hoists a <title> rendered from markdown into the document's head), and viser's
+# own "File uploaded successfully" notice (a green check) hidden, since it only means that the bytes arrived:
+# the page says itself whether the file was loaded. If viser's markup changes, its notice shows again.
+PAGE_HEAD = ("<title>wheelrail explorer</title><style>"
+             ".mantine-Notification-root:has(.tabler-icon-check){display:none}"
+             "</style>")
 
 
 class ExplorerApp:
     """The explorer around one :class:`viser.ViserServer`; also the run controller's listener."""
 
+    replay_speeds = REPLAY_SPEEDS
+    no_overlay = "none"
+
     def __init__(self, host: str = "127.0.0.1", port: int = 8080, *, roughness: str = DEFAULT_SET,
                  length: float = DEFAULT_LENGTH, max_upload_bytes: int = MAX_UPLOAD_BYTES,
-                 verbose: bool = False) -> None:
+                 verbose: bool = False, warm_up: bool = False) -> None:
         self.server = viser.ViserServer(host=host, port=port, label="wheelrail explorer", verbose=verbose)
         self.port = self.server.get_port()
         self.max_upload_bytes = int(max_upload_bytes)
@@ -94,28 +92,46 @@ class ExplorerApp:
         self.roughness = None
         self.roughness_label = ""
         self.shown: RunConfig | None = None  # the configuration the controls describe (None: not valid)
-        self.replay: Entry | None = None  # the run the Step slider and Play show
+        self.replay: Entry | None = None  # the run the 3D view, Step slider and Play show
+        self.running: RunConfig | None = None  # the configuration being run, if any
         self.last_error: str | None = None
         self.last_download: tuple[str, int] | None = None
-        self._setting_overlay = False
+        self.length_note = ""  # what the last change of set did to the run length, if anything
+        self._colour_bar_key = self._line_map_key = None  # what the two images show
+        self._model_choice: str | None = None  # the user's choice in Model shown, for the configuration shown
+        self._local = threading.local()  # .quiet: this thread is setting a control (its callback is not a user's)
         self._playing = False
+        self._notices: dict[int, object] = {}  # client id -> its notice on screen
+        self.notice_seconds = NOTICE_SECONDS
         try:
             self.scene = PatchScene(self.server)
             self._build_controls(roughness, length)
-            self._build_tabs()
+            self._build_results()
             refuse_large_uploads_early(self.server, lambda: self.max_upload_bytes, self.report_error)
+            self.server.on_client_connect(self._on_connect)
             self.select_set(self.set_dropdown.value)
         except BaseException:
             self.server.stop()
             raise
-        self.status("Ready: choose a set, a line and a model, then press **Run**.")
+        self.status(READY)
+        if warm_up and self.shown is not None:
+            self.status(f"{READY} Meanwhile the track for {self.shown.speed / KMH:g} km/h and the {self.shown.model} "
+                        "solver are prepared in the background (once; a first Run waits for it).")
+            self.controller.warm_up(self.shown, self.roughness, done=self._warmed_up)
 
-    # ------------------------------------------------------------------ controls
+    def _warmed_up(self, seconds: float) -> None:
+        if self.status_md.content.startswith(f"{READY} Meanwhile"):
+            self.status(f"{READY} (The track and solver were prepared in {seconds:.0f} s.)")
+
+    # ------------------------------------------------------------------ page
     def _build_controls(self, roughness: str, length: float) -> None:
         gui = self.server.gui
-        gui.configure_theme(control_width="large", show_share_button=False)
-        gui.add_markdown("**wheelrail explorer**: vertical wheel/rail interaction")
-        self.status_md = gui.add_markdown("")
+        gui.configure_theme(control_width="medium", show_share_button=False)
+        gui.main_panel.dock_left()
+        gui.main_panel.set_width(CONTROL_PANEL_WIDTH)
+        gui.add_markdown(PAGE_HEAD)
+        gui.add_markdown("Vertical wheel/rail interaction in the time domain (Pieringer, Kropp & Thompson, "
+                         "Wear 271, 2011)")
         with gui.add_folder("Run"):
             names = bundled_names()
             self.set_dropdown = gui.add_dropdown("Roughness set", names,
@@ -134,19 +150,21 @@ class ExplorerApp:
             self.preload_text = gui.add_text("Preload (kN)", "65", hint=accepted_text("preload"))
             self.length_text = gui.add_text("Run length (m)", f"{length:g}")
             radius_mm = f"{ContactParameters().radius * 1e3:g}"
-            self.wheel_radius_text = gui.add_text(
-                "Wheel radius (mm)", "", hint=f"Rolling radius, along the rail, {accepted_text('wheel_radius')}; "
-                                             f"empty: {radius_mm} mm")
-            self.crown_radius_text = gui.add_text(
-                "Rail crown radius (mm)", "", hint=f"Rail head, across the rail, {accepted_text('rail_crown_radius')}; "
-                                                  f"empty: {radius_mm} mm")
-            self.tread_radius_text = gui.add_text(
-                "Wheel tread radius across (mm)", "",
-                hint=f"{accepted_text('wheel_transverse_radius')}; empty: cylindrical; negative: concave (worn)")
+            with gui.add_folder("Contact geometry (mm)", expand_by_default=False):
+                self.wheel_radius_text = gui.add_text(
+                    "Wheel radius (mm)", "", hint=f"Rolling radius, along the rail, {accepted_text('wheel_radius')}; "
+                                                 f"empty: {radius_mm} mm")
+                self.crown_radius_text = gui.add_text(
+                    "Rail crown radius (mm)", "",
+                    hint=f"Rail head, across the rail, {accepted_text('rail_crown_radius')}; empty: {radius_mm} mm")
+                self.tread_radius_text = gui.add_text(
+                    "Wheel tread radius across (mm)", "",
+                    hint=f"{accepted_text('wheel_transverse_radius')}; empty: cylindrical; negative: concave (worn)")
             self.check_md = gui.add_markdown("")
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
             self.stop_button = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, color="red", disabled=True)
             self.progress_bar = gui.add_progress_bar(0.0, animated=False)
+            self.status_md = gui.add_markdown("")
         self.set_dropdown.on_update(lambda event: self._guarded(self.select_set, self.set_dropdown.value,
                                                                 client=event.client))
         for handle in (self.model_dropdown, self.line_dropdown, self.speed_text, self.preload_text,
@@ -157,55 +175,76 @@ class ExplorerApp:
         self.run_button.on_click(lambda event: self.start_run(client=event.client))
         self.stop_button.on_click(lambda event: self.controller.stop())
 
-    def _build_tabs(self) -> None:
-        gui = self.server.gui
-        tabs = gui.add_tab_group()
-        patch, spectra, rough, helps = (tabs.add_tab("Patch", viser.Icon.CIRCLE),
-                                        tabs.add_tab("Spectra and filters", viser.Icon.CHART_LINE),
-                                        tabs.add_tab("Roughness", viser.Icon.WAVE_SINE),
-                                        tabs.add_tab("Help", viser.Icon.HELP))
-        with patch:
-            self.colour_bar = gui.add_image(colour_bar_image(1000.0), label="pressure", format="png")
-            self.readout_md = gui.add_markdown("")
-            self.surfaces_box = gui.add_checkbox("Rail and wheel surfaces", False,
-                                                 hint="Roughness drawn 200 times its size, 1.5 mm off the patch")
-            self.raised_box = gui.add_checkbox("Raised pressure surface", False, hint="3 mm per GPa")
-            self.time_slider = gui.add_slider("Step", min=0, max=1, step=1, initial_value=0, disabled=True)
-            self.play_button = gui.add_button("Play", icon=viser.Icon.PLAYER_PLAY, disabled=True)
-            self.replay_speed = gui.add_dropdown("Replay speed", tuple(REPLAY_SPEEDS), initial_value="0.02x")
-            self.rrd_button = gui.add_button("Download run (.rrd)", icon=viser.Icon.DOWNLOAD, disabled=True)
-        self.plots = CasePlots(gui, patch, spectra)
-        with spectra:
-            self.csv_button = gui.add_button("Download spectra (.csv)", icon=viser.Icon.DOWNLOAD, disabled=True)
-            self.overlay_dropdown = gui.add_dropdown(
-                "Overlay a run", (NO_OVERLAY,), initial_value=NO_OVERLAY,
-                hint="Runs of this session: draw another configuration's spectra and filters dashed beside these")
-            self.png_choice = gui.add_dropdown("Plot as PNG", PNG_PLOTS, initial_value=PNG_PLOTS[3])
-            self.png_button = gui.add_button("Download plot (.png)", icon=viser.Icon.PHOTO)
-            gui.add_markdown("Contact filter: model level minus `hertz` (solid, needs a `hertz` run of the same "
-                             "configuration: use `compare`); dashed: reference filters at this preload and speed.")
-        with rough:
-            self.line_map = gui.add_image(np.full((10, 10, 3), 255, dtype=np.uint8),
-                                          label="Lines across the running surface", format="png")
-            self.roughness_md = gui.add_markdown("")
-        self.roughness_plot = Plot(gui, rough, "Roughness spectrum", "band (Hz)", "dB re 1 um", log_x=True)
-        self.coherence_plot = Plot(gui, rough, "Lateral coherence", "band (Hz)", "gamma^2", log_x=True)
-        with helps:
-            gui.add_markdown(_help_text())
-        self.surfaces_box.on_update(lambda event: self._guarded(self._on_surfaces))
-        self.raised_box.on_update(lambda event: self._guarded(self._on_raised))
-        self.time_slider.on_update(lambda event: self._guarded(self.scrub, self.time_slider.value))
-        self.play_button.on_click(lambda event: self._guarded(self.toggle_play))
-        self.rrd_button.on_click(lambda event: self._guarded(self.download_rrd, event.client, client=event.client))
-        self.csv_button.on_click(lambda event: self._guarded(self.download_spectra_csv, event.client,
-                                                             client=event.client))
-        self.overlay_dropdown.on_update(lambda event: None if self._setting_overlay else self._guarded(self._show_case))
-        self.png_button.on_click(lambda event: self._guarded(self.download_plot_png, self.png_choice.value,
-                                                             event.client, client=event.client))
+    def _build_results(self) -> None:
+        """The results panel: one tab per entry of RESULT_TABS, docked right."""
+        panel = self.server.gui.add_panel()
+        self.tabs = tuple(tab_class(self, panel.add_tab(tab_class.title, tab_class.icon)) for tab_class in RESULT_TABS)
+        panel.dock_right()
+        panel.set_width(RESULTS_PANEL_WIDTH)
+        self.results_panel = panel
+        self.patch = next(t for t in self.tabs if isinstance(t, PatchTab))
+        self.spectra = next(t for t in self.tabs if isinstance(t, SpectraTab))
+        self.roughness_tab = next(t for t in self.tabs if isinstance(t, RoughnessTab))
+        patch = self.patch
+        patch.surfaces_box.on_update(lambda event: self._guarded(self._on_surfaces))
+        patch.raised_box.on_update(lambda event: self._guarded(self._on_raised))
+        patch.time_slider.on_update(lambda event: self._guarded(self.scrub, patch.time_slider.value))
+        patch.play_button.on_click(lambda event: self._guarded(self.toggle_play))
+        patch.model_shown.on_update(lambda event: None if self._is_quiet() else self._guarded(self.choose_model,
+                                                                                          patch.model_shown.value))
+        patch.view_buttons.on_click(lambda event: self._guarded(self.set_view, event.target.value, event.client))
+        patch.rrd_button.on_click(lambda event: self._guarded(self.download_rrd, event.client, client=event.client))
+        spectra = self.spectra
+        spectra.csv_button.on_click(lambda event: self._guarded(self.download_spectra_csv, event.client,
+                                                                client=event.client))
+        spectra.overlay_dropdown.on_update(lambda event: None if self._is_quiet() else self._guarded(self._show_case))
+
+    @contextlib.contextmanager
+    def _quietly(self):
+        """A block in which this thread sets controls without their callbacks acting (not a user's choice)."""
+        before = self._is_quiet()
+        self._local.quiet = True
+        try:
+            yield
+        finally:
+            self._local.quiet = before
+
+    def _is_quiet(self) -> bool:
+        return getattr(self._local, "quiet", False)
+
+    # handles the tests and the benchmark read
+    @property
+    def readout_md(self):
+        return self.patch.readout_md
+
+    @property
+    def time_slider(self):
+        return self.patch.time_slider
+
+    @property
+    def rrd_button(self):
+        return self.patch.rrd_button
+
+    @property
+    def play_button(self):
+        return self.patch.play_button
+
+    @property
+    def shown_model(self):
+        return self.patch.model_shown
+
+    @property
+    def raised_box(self):
+        return self.patch.raised_box
+
+    @property
+    def surfaces_box(self):
+        return self.patch.surfaces_box
 
     # ------------------------------------------------------------------ set, line, configuration
     def select_set(self, name: str) -> None:
-        """Make ``name`` (a bundled set or an uploaded file's label) the current roughness set."""
+        """Make ``name`` (a bundled set or an uploaded file's label) the current roughness set; a run length
+        outside what it holds is brought into range, saying so."""
         if name in self._sets:
             rough = self._sets[name]
         elif name in bundled_names():  # only names: a value sent by a browser is never opened as a path
@@ -216,9 +255,29 @@ class ExplorerApp:
         self.roughness, self.roughness_label = rough, name
         desc = rough.description.splitlines()[0] if rough.description else ""
         desc = desc if len(desc) <= 140 else desc[:137].rstrip() + "..."
-        self.roughness_md.content = (f"{rough.kind}, {rough.n_lines} lines {rough.lateral_spacing * 1e3:.3g} mm "
-                                     f"apart, {rough.length:.3g} m at {rough.dx * 1e3:.3g} mm. {desc}")
+        self.roughness_tab.description_md.content = (
+            f"**{name}**: {rough.kind}, {rough.n_lines} lines {rough.lateral_spacing * 1e3:.3g} mm apart, "
+            f"{rough.length:.3g} m at {rough.dx * 1e3:.3g} mm. {desc}")
+        self._bound_length()
         self.refresh()
+
+    def _bound_length(self) -> None:
+        """A run length the new set cannot hold (or too short for a spectrum) moves to the nearest allowed."""
+        try:
+            length, speed = float(self.length_text.value), float(self.speed_text.value) * KMH
+        except ValueError:
+            return
+        if not MIN_SPEED_KMH * KMH <= speed <= MAX_SPEED_KMH * KMH:
+            return
+        shortest, longest = length_range(self.roughness, speed)
+        bounded = min(max(length, shortest), longest)
+        self.length_note = ""
+        if abs(bounded - length) > 1e-9:
+            with self._quietly():
+                self.length_text.value = f"{bounded:g}"
+            self.length_note = (f"Run length {length:g} m is not possible on {self.roughness_label} at "
+                                f"{speed / KMH:g} km/h ({shortest:g} to {longest:g} m): {bounded:g} m is set.")
+            self.status(self.length_note)
 
     def _preload_or_default(self) -> float:
         try:
@@ -268,20 +327,26 @@ class ExplorerApp:
             raise WheelrailError(f"unknown wheel set {name!r}; choose a bundled wheel set or {NO_WHEEL_SET}")
         return self._sets[name], name
 
-    def _offer_lines(self) -> None:
-        """The Line menu: the lines the model can run on (core's rule); a line no longer offered moves to the
-        nearest one offered, and the page says so."""
+    def _wheel_or_none(self) -> tuple[object, str | None]:
+        """The wheel set that applies to the set shown (a rail set), or (None, None)."""
         try:
-            wheel = self._wheel()[0] if self.roughness.kind == "rail" else None
+            return self._wheel() if self.roughness.kind == "rail" else (None, None)
         except WheelrailError:
-            wheel = None
-        lines = offered_lines(self.roughness, self.model_dropdown.value, self._contact_or_default(), wheel)
-        if not lines:
-            lines = tuple(int(n) for n in self.roughness.line_numbers)
-        options = tuple(str(n) for n in lines)
+            return None, None
+
+    def _offer_lines(self) -> None:
+        """The Line menu: the lines the model can run on with the sets loaded (core's rule), or 'no line
+        fits'; a line no longer offered moves to the nearest one offered, and the page says so."""
+        lines = offered_lines(self.roughness, self.model_dropdown.value, self._contact_or_default(),
+                              self._wheel_or_none()[0])
+        options = tuple(str(n) for n in lines) or (NO_LINE_FITS,)
         current = self.line_dropdown.value
         if tuple(self.line_dropdown.options) != options:
             self.line_dropdown.options = options
+        if not lines:
+            if self.line_dropdown.value != NO_LINE_FITS:
+                self.line_dropdown.value = NO_LINE_FITS
+            return
         try:
             wanted = int(current)
         except ValueError:
@@ -289,10 +354,10 @@ class ExplorerApp:
         if str(wanted) not in options:
             nearest = min(lines, key=lambda n: (abs(n - wanted), n))
             self.line_dropdown.value = str(nearest)
-            if current in ("", "0") or wanted == 0:
+            if current in ("", "0", NO_LINE_FITS) or wanted == 0:
                 return
             self.status(f"Line {wanted} is not offered for {self.model_dropdown.value} on "
-                             f"{self.roughness_label}; line {nearest} is chosen.")
+                        f"{self.roughness_label}; line {nearest} is chosen.")
         elif self.line_dropdown.value != str(wanted):
             self.line_dropdown.value = str(wanted)
 
@@ -305,7 +370,9 @@ class ExplorerApp:
                            geometry=self._geometry(), wheel=wheel, wheel_label=wheel_label)
 
     def refresh(self) -> None:
-        """After any control changed: offered lines, the check line, and the plots of that configuration."""
+        """After any control changed: offered lines, the check line, and everything of that configuration."""
+        if self._is_quiet():
+            return
         with self._lock:
             self._offer_lines()
             try:
@@ -324,6 +391,7 @@ class ExplorerApp:
             changed = config is None or self.shown is None or config != self.shown
             self.shown = config
             if changed:
+                self._model_choice = None
                 self._show_case()
             self._update_preload_views()
             self._update_roughness_views()
@@ -332,35 +400,95 @@ class ExplorerApp:
         """The run list: other configurations of this session with a spectrum; the one chosen to overlay."""
         runs = {label: c for label, c in self.store.run_list().items()
                 if self.shown is None or c.case() != self.shown.case()}
-        options = (NO_OVERLAY, *runs)
-        if tuple(self.overlay_dropdown.options) != options:
-            chosen = self.overlay_dropdown.value
-            self._setting_overlay = True  # the menu's own update is not a user's choice
-            try:
-                self.overlay_dropdown.options = options
-                self.overlay_dropdown.value = chosen if chosen in options else NO_OVERLAY
-            finally:
-                self._setting_overlay = False
-        return runs.get(self.overlay_dropdown.value)
+        menu = self.spectra.overlay_dropdown
+        options = (self.no_overlay, *runs)
+        if tuple(menu.options) != options:
+            chosen = menu.value
+            with self._quietly():  # the menu's own update is not a user's choice
+                menu.options = options
+                menu.value = chosen if chosen in options else self.no_overlay
+        return runs.get(menu.value)
+
+    def _model_to_show(self, entries: dict[str, Entry]) -> str | None:
+        """The model the Patch tab shows: the user's choice, else the model of the controls, else (compare) the
+        first with a run in registry order; the Model shown menu lists the models with a run."""
+        config = self.shown
+        menu = self.patch.model_shown
+        with_run = tuple(m for m in model_names() if m in entries)
+        if self._model_choice in with_run:
+            model = self._model_choice
+        elif config is not None and config.model in with_run:
+            model = config.model
+        else:
+            model = with_run[0] if with_run else None
+        options = with_run or ((config.model if config is not None and config.model != COMPARE else "3d"),)
+        with self._quietly():
+            if tuple(menu.options) != options:
+                menu.options = options
+            if menu.value != (model or options[0]):
+                menu.value = model or options[0]
+        menu.disabled = len(with_run) < 2
+        return model
 
     def _show_case(self) -> None:
-        config = self.shown
-        overlay = self._overlay()
-        with self.server.atomic():
-            self.plots.show_case(config, self.store, overlay)
+        """Everything of the configuration shown: every tab, and the 3D view, readout, slider and progress (its
+        run's last step, or cleared)."""
+        with self._lock:
+            config = self.shown
             entries = self.store.entries(config.case()) if config else {}
-            self.csv_button.disabled = not any(e.spectrum is not None for e in entries.values())
-            entry = entries.get(config.model) if config else None
-            if entry is None and entries:
-                entry = list(entries.values())[-1]
-            self._set_replay(entry)
+            model = self._model_to_show(entries)
+            shown = Shown(config=config, store=self.store, model=model, overlay=self._overlay())
+            with self.server.atomic():
+                for tab in self.tabs:
+                    tab.show(shown)
+                self._set_replay(entries.get(model) if model else None)
+
+    def _shows_the_run(self, config: RunConfig) -> bool:
+        """Whether the page shows the configuration ``config`` (a run's, of any model)."""
+        return self.shown is not None and config.case() == self.shown.case()
 
     def _set_replay(self, entry: Entry | None) -> None:
+        """Make ``entry`` the run the 3D view, readout, slider and progress show (its last step), or clear them;
+        while this configuration is being run, its live frames own the view."""
+        patch = self.patch
         self.replay = entry if entry is not None and entry.result.n_steps else None
-        self.rrd_button.disabled = self.play_button.disabled = self.replay is None
-        self.time_slider.disabled = self.replay is None or self.controller.running
-        if self.replay is not None:
-            self.time_slider.max = max(1, self.replay.result.n_steps - 1)
+        patch.rrd_button.disabled = patch.play_button.disabled = self.replay is None
+        if self.running is not None and self._shows_the_run(self.running):
+            if self.replay is None or self.replay.config.model != self.running.model:
+                self.scene.clear()  # until the run's next frame: nothing of another run
+                patch.readout_md.content = f"Running {self.running.label()} ..."
+            patch.time_slider.disabled = True
+            return
+        if self.replay is None:
+            self._playing = False
+            self.scene.clear()
+            patch.readout_md.content = NO_RUN_READOUT
+            patch.time_slider.disabled = True
+            self._set_slider(0, 1)
+            self.progress_bar.value = 0.0
+            self._on_surfaces()
+            return
+        last = self.replay.result.n_steps - 1
+        self._set_slider(last, max(1, last))
+        patch.time_slider.disabled = False
+        self.progress_bar.value = round(100.0 * self.replay.done_fraction, 1)
+        self.scrub(last)
+
+    def _set_slider(self, value: int, maximum: int) -> None:
+        """Set the Step slider without its callback drawing (the caller draws)."""
+        slider = self.patch.time_slider
+        with self._quietly():
+            if slider.max != maximum:
+                slider.max = maximum
+            if slider.value != value:
+                slider.value = value
+
+    def choose_model(self, model: str) -> None:
+        """Model shown (after compare): the model replayed, plotted as displacement and downloaded."""
+        if self.shown is None or model not in self.store.entries(self.shown.case()):
+            return
+        self._model_choice = model
+        self._show_case()
 
     # ------------------------------------------------------------------ runs (RunListener)
     def start_run(self, client=None) -> bool:
@@ -370,70 +498,82 @@ class ExplorerApp:
         except WheelrailError as error:
             self.report_error(page_message(error), client)
             return False
-        self._playing = False
-        self.last_error = None
-        self.scene.frames_drawn = 0
-        self.progress_bar.value, self.progress_bar.animated = 0.0, True
-        self.stop_button.disabled = False
-        self.time_slider.disabled = True
-        wheel = None if config.wheel_set_label is None else self._sets[config.wheel_set_label]
-        self.controller.start(config, self.roughness, wheel)
+        with self._lock:
+            self._playing = False
+            self.last_error = None
+            self.scene.frames_drawn = 0
+            self.running = config
+            self.progress_bar.value, self.progress_bar.animated = 0.0, True
+            self.stop_button.disabled = False
+            self.patch.time_slider.disabled = True
+            wheel = None if config.wheel_set_label is None else self._sets[config.wheel_set_label]
+            self.controller.start(config, self.roughness, wheel)
         return True
 
     def status(self, text: str) -> None:
         self.status_md.content = text
 
     def progress(self, fraction: float) -> None:
-        self.progress_bar.value = round(100.0 * min(max(fraction, 0.0), 1.0), 1)
+        running = self.running
+        if running is not None and self._shows_the_run(running):
+            self.progress_bar.value = round(100.0 * min(max(fraction, 0.0), 1.0), 1)
 
     def frame(self, state, view: RunView) -> None:
-        with self.server.atomic():
-            self.scene.draw(state, view)
-            self._readout(state, view.config)
+        """A run's step: drawn only while the page shows that run's configuration."""
+        with self._lock:
+            if not self._shows_the_run(view.config):
+                return
+            with self.server.atomic():
+                self.scene.draw(state, view)
+                self._readout(state, view.config)
 
     def _readout(self, state, config: RunConfig) -> None:
-        self.readout_md.content = (f"**{config.model}** step {state.step}: x = {state.position:.4f} m, "
-                                   f"F = {state.force / 1e3:.2f} kN, contact length "
-                                   f"{state.contact_length * 1e3:.1f} mm")
+        contact = config.contact()
+        a, b = (v * 1e3 for v in contact.hertz_semi_axes())
+        self.patch.readout_md.content = (
+            f"**{config.model}** step {state.step}: x = {state.position:.4f} m, F = {state.force / 1e3:.2f} kN, "
+            f"contact length {state.contact_length * 1e3:.1f} mm  \n"
+            f"Hertz at {config.preload / 1e3:g} kN: a = {a:.2f} mm along, b = {b:.2f} mm across, "
+            f"p0 = {contact.hertz_peak_pressure() / 1e6:.0f} MPa")
 
     def live(self, result, view: RunView) -> None:
-        if self.shown is not None and view.config.case() == self.shown.case():
-            self.plots.live(result, view.config)
+        with self._lock:
+            if self._shows_the_run(view.config):
+                self.patch.live(result, view.config)
 
     def model_done(self, entry: Entry, view: RunView) -> None:
-        if self.shown is not None and entry.config.case() == self.shown.case():
-            overlay = self._overlay()
-            with self.server.atomic():
-                self.plots.show_case(self.shown, self.store, overlay)
-                self.csv_button.disabled = not self.store.spectra(self.shown.case())
-                self._set_replay(entry)
+        if self._shows_the_run(entry.config):
+            self._show_case()
 
     def error(self, message: str) -> None:
         self.report_error(message)
 
     def finished(self, config: RunConfig, outcome: str) -> None:
-        self.progress_bar.animated = False
-        self.stop_button.disabled = True
-        if self.replay is not None:
-            self.time_slider.disabled = False
-            self.time_slider.value = self.time_slider.max
+        with self._lock:
+            self.running = None
+            self.progress_bar.animated = False
+            self.stop_button.disabled = True
+            if self._shows_the_run(config):
+                self._show_case()
         if outcome == "done":
-            self.progress(1.0)
             self.status(f"Done: {config.label()}. Scrub with the Step slider or press Play.")
 
     # ------------------------------------------------------------------ replay
     def scrub(self, step: int) -> None:
         """Show step ``step`` of the replayed run (the Step slider)."""
         entry = self.replay
-        if entry is None or self.controller.running:
+        if self._is_quiet() or entry is None or (self.running is not None and self._shows_the_run(self.running)):
             return
         result = entry.result
         step = int(min(max(step, 0), result.n_steps - 1))
+        self.frame(result.state(step), self._view_of(entry))
+
+    def _view_of(self, entry: Entry) -> RunView:
         wheel = entry.config.wheel_set_label
-        view = RunView(config=entry.config, roughness=self._sets.get(entry.config.set_label, self.roughness),
+        result = entry.result
+        return RunView(config=entry.config, roughness=self._sets.get(entry.config.set_label, self.roughness),
                        window_x=result.window_x, window_y=result.window_y,
                        wheel_roughness=None if wheel is None else self._sets[wheel])
-        self.frame(result.state(step), view)
 
     def toggle_play(self) -> None:
         """Play/pause the replayed run at the chosen fraction of real time (as viser's record3d example)."""
@@ -443,63 +583,92 @@ class ExplorerApp:
         if self.replay is None or self.controller.running:
             return
         self._playing = True
-        self.play_button.label = "Pause"
+        self.patch.play_button.label = "Pause"
         threading.Thread(target=self._play, daemon=True, name="wheelrail-explorer-replay").start()
 
     def _play(self) -> None:
-        result = self.replay.result
-        steps_per_frame = max(1, round(REPLAY_SPEEDS[self.replay_speed.value] / REPLAY_FPS / result.time_step))
-        step = int(self.time_slider.value)
+        entry = self.replay
+        result = entry.result
+        slider = self.patch.time_slider
+        steps_per_frame = max(1, round(REPLAY_SPEEDS[self.patch.replay_speed.value] / REPLAY_FPS / result.time_step))
+        step = int(slider.value)
         if step >= result.n_steps - 1:
             step = 0
-        while self._playing and step < result.n_steps:
-            self.time_slider.value = step  # its callback draws the step
+        while self._playing and self.replay is entry and step < result.n_steps:
+            slider.value = step  # its callback draws the step
             step += steps_per_frame
             time.sleep(1.0 / REPLAY_FPS)
         self._playing = False
-        self.play_button.label = "Play"
+        self.patch.play_button.label = "Play"
 
     # ------------------------------------------------------------------ scene options, roughness views
+    def set_view(self, which: str, client=None) -> None:
+        """Top view (the default) or an oblique view, for one page or every page, fitted to its 3D view."""
+        clients = [client] if client is not None else list(self.server.get_clients().values())
+        for target in clients:
+            camera = target.camera
+            aspect = camera.image_width / camera.image_height if camera.image_height > 0 else None
+            view = (top_view if which == "Top view" else oblique_view)(*(() if aspect is None else (aspect,)))
+            with target.atomic():
+                camera.up_direction = view["up"]
+                camera.position, camera.look_at = view["position"], view["look_at"]
+
+    def _on_connect(self, client) -> None:
+        """A new page: once it reports the size of its 3D view, the top view is fitted to it."""
+        fitted = threading.Event()
+
+        def first_report(camera) -> None:
+            if not fitted.is_set() and camera.image_height > 0:
+                fitted.set()
+                self._guarded(self.set_view, "Top view", client)
+
+        client.camera.on_update(first_report)
+
     def _on_surfaces(self) -> None:
-        self.scene.show_surfaces = bool(self.surfaces_box.value)
+        """Rail and wheel surfaces of the configuration shown, at the step shown (its start without a run)."""
+        scene = self.scene
+        scene.show_surfaces = bool(self.patch.surfaces_box.value)
+        entry = self.replay
+        position = None
+        if entry is not None:
+            step = int(min(max(self.patch.time_slider.value, 0), entry.result.n_steps - 1))
+            position = float(entry.result.x[step])
         try:
-            wheel = self._wheel()[0] if self.roughness.kind == "rail" else None
-        except WheelrailError:
-            wheel = None
-        self.scene.draw_surfaces(self.roughness, None, int(self.line_dropdown.value), self._contact_or_default(),
-                                 wheel)
+            line = int(self.line_dropdown.value)
+        except ValueError:
+            line = int(self.roughness.line_numbers[len(self.roughness.line_numbers) // 2])
+        scene.draw_surfaces(self.roughness, position, line, self._contact_or_default(), self._wheel_or_none()[0])
 
     def _on_raised(self) -> None:
-        self.scene.show_raised = bool(self.raised_box.value)
-        self.scene.surface.visible = self.scene.show_raised and self.scene.heatmap.visible
+        self.scene.set_raised(bool(self.patch.raised_box.value))
 
     def _update_preload_views(self) -> None:
+        """Hertz ellipse, colour bar and line map of the contact the fields describe (drawn again only when
+        what they show changed: matplotlib takes some 0.1 s for the two images)."""
         contact = self._contact_or_default()
         self.scene.set_contact(contact)
-        top = PRESSURE_TOP * contact.hertz_peak_pressure() / 1e6
-        self.colour_bar.image = colour_bar_image(round(top))
-        self.line_map.image = _line_map(self.roughness, int(self.line_dropdown.value), contact.hertz_semi_axes()[1])
+        p0 = contact.hertz_peak_pressure() / 1e6
+        try:
+            line = int(self.line_dropdown.value)
+        except ValueError:
+            line = None
+        b = contact.hertz_semi_axes()[1]
+        if self._colour_bar_key != round(p0, 1):
+            self._colour_bar_key = round(p0, 1)
+            self.patch.colour_bar.image = colour_bar_image(round(PRESSURE_TOP * p0), p0)
+        if self._line_map_key != (id(self.roughness), line, round(b * 1e6)):
+            self._line_map_key = (id(self.roughness), line, round(b * 1e6))
+            self.roughness_tab.line_map.image = _line_map(self.roughness, line, b)
 
     def _update_roughness_views(self) -> None:
-        rough = self.roughness
         try:
             speed = float(self.speed_text.value) * KMH
         except ValueError:
             return
         if not MIN_SPEED_KMH * KMH <= speed <= MAX_SPEED_KMH * KMH:
             return
-        lines = [k for k in range(-3, 4) if k in rough.line_numbers] or [int(rough.line_numbers[0])]
-        spectrum = roughness_spectrum(rough, speed=speed, lines=lines)
-        self.roughness_plot.show(finite_bands(spectrum.band_centres, [spectrum.levels_db]),
-                                 ((f"lines {lines[0]}..{lines[-1]}", "#1f77b4", False),),
-                                 title=f"Roughness spectrum: {self.roughness_label} at {speed / KMH:g} km/h")
-        half = min(3, int(rough.line_numbers[-1]), -int(rough.line_numbers[0]))
-        if half >= 1:
-            centres, gamma2 = lateral_coherence(rough, speed, half_lines=half)
-            self.coherence_plot.show(finite_bands(centres, [gamma2]), ((f"gamma^2, M = {half}", "#2ca02c", False),),
-                                     title=f"Lateral coherence: {self.roughness_label}")
-        else:
-            self.coherence_plot.clear("one line only")
+        wheel, wheel_label = self._wheel_or_none()
+        self.roughness_tab.show_roughness(self.roughness, self.roughness_label, speed, wheel, wheel_label)
 
     # ------------------------------------------------------------------ uploads and downloads
     def _on_upload(self, event) -> None:
@@ -507,9 +676,7 @@ class ExplorerApp:
         try:
             self.load_upload(uploaded.name, uploaded.content, event.client)
         except WheelrailError as error:
-            # viser's own notice "File uploaded successfully" only means the bytes arrived: say plainly
-            # beside it that the file was not loaded, and why
-            self.report_error(str(error), event.client, title="File received but not loaded")
+            self.report_error(str(error), event.client, title="File not loaded")
 
     def load_upload(self, name: str, content: bytes, client=None) -> str:
         label, rough = read_upload(name, content, self.max_upload_bytes)
@@ -520,12 +687,14 @@ class ExplorerApp:
         self.set_dropdown.value = label  # its callback selects it
         if self.roughness_label != label:
             self.select_set(label)
-        self.status(f"Loaded {label}: {rough.kind}, {rough.n_lines} lines, {rough.length:.3g} m.")
+        message = f"Loaded {label}: {rough.kind}, {rough.n_lines} lines, {rough.length:.3g} m. {self.length_note}"
+        self.status(message.strip())
+        self._notify("File loaded", message, client, colour="green")
         LOG.info("uploaded %s", label)
         return label
 
     def download_rrd(self, client=None) -> tuple[str, bytes]:
-        """The replayed run as a rerun recording, named after its configuration."""
+        """The replayed run (the model shown) as a rerun recording, named after its configuration."""
         import tempfile
 
         from wheelrail.core.recording import record_result
@@ -551,10 +720,13 @@ class ExplorerApp:
         self._send(name, content, client)
         return name, content
 
+    def plots(self) -> dict:
+        """Every plot of the page by the name its tab's PNG menu shows."""
+        return {name: plot for tab in self.tabs for name, plot in tab.plots().items()}
+
     def download_plot_png(self, which: str, client=None) -> tuple[str, bytes]:
         """One plot as shown (its title names the configuration), as a PNG named after the configuration."""
-        plots = {**self.plots.by_name(), "roughness spectrum": self.roughness_plot,
-                 "lateral coherence": self.coherence_plot}
+        plots = self.plots()
         if which not in plots:
             raise WheelrailError(f"unknown plot {which!r}; choose one of {', '.join(plots)}")
         stem = self.shown.for_model("plot").file_stem() if self.shown is not None else "wheelrail-plot"
@@ -580,13 +752,21 @@ class ExplorerApp:
             self.report_error(f"unexpected error: {type(error).__name__}: {error}", client)
         return None
 
-    def report_error(self, message: str, client=None, title: str = "wheelrail") -> None:
+    def report_error(self, message: str, client=None, title: str = "Cannot do that") -> None:
         self.last_error = message
         LOG.warning("error shown in the page: %s", message)
         self.status(f"**Error:** {message}")
+        self._notify(title, message, client, colour="red")
+
+    def _notify(self, title: str, message: str, client=None, *, colour: str) -> None:
+        """One notice per page, replacing the one before; it closes by itself after ``notice_seconds``."""
         for target in [client] if client is not None else list(self.server.get_clients().values()):
             try:
-                target.add_notification(title, message, color="red", auto_close_seconds=None)
+                old = self._notices.pop(target.client_id, None)
+                if old is not None:
+                    old.remove()
+                self._notices[target.client_id] = target.add_notification(
+                    title, message, color=colour, auto_close_seconds=self.notice_seconds)
             except Exception:  # a tab that closed meanwhile
                 pass
 
@@ -597,25 +777,28 @@ class ExplorerApp:
         self.server.stop()
 
 
-def _line_map(rough, line: int, hertz_radius: float) -> np.ndarray:
-    """Small map of the lines across the rail with the chosen line and the nominal contact width across
-    (2 ``hertz_radius``: 2b, the Hertz semi-axis across, for an elliptic patch)."""
+def _line_map(rough, line: int | None, hertz_radius: float) -> np.ndarray:
+    """Small map of the lines across the rail with the chosen line (None: none fits) and the nominal contact
+    width across (2 ``hertz_radius``: 2b, the Hertz semi-axis across, for an elliptic patch)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     y = rough.y * 1e3
-    y_line = float(y[rough.row_of_line(line)]) if line in rough.line_numbers else 0.0
+    chosen = line is not None and line in rough.line_numbers
+    y_line = float(y[rough.row_of_line(line)]) if chosen else 0.0
     a = hertz_radius * 1e3
-    fig = Figure(figsize=(3.6, 0.95), dpi=100)
+    fig = Figure(figsize=(5.2, 0.95), dpi=100)
     FigureCanvasAgg(fig)
-    ax = fig.add_axes((0.04, 0.42, 0.92, 0.4))
+    ax = fig.add_axes((0.03, 0.42, 0.94, 0.4))
     ax.axvspan(y_line - a, y_line + a, color="#f0c800", alpha=0.35, lw=0)
     ax.vlines(y, 0, 1, color="#777777", lw=1)
-    ax.vlines([y_line], 0, 1, color="#d62728", lw=2.5)
+    if chosen:
+        ax.vlines([y_line], 0, 1, color="#d62728", lw=2.5)
     ax.set_yticks([])
-    ax.set_xlim(y[0] - 1.5, y[-1] + 1.5)
+    ax.set_xlim(min(y[0], y_line - a) - 1.5, max(y[-1], y_line + a) + 1.5)
     ax.tick_params(labelsize=7, length=2)
-    ax.set_xlabel(f"lateral position (mm); line {line} red, width {2 * a:.1f} mm yellow", fontsize=7, labelpad=1)
+    what = f"line {line} red" if chosen else "no line fits"
+    ax.set_xlabel(f"lateral position (mm); {what}, contact width {2 * a:.1f} mm yellow", fontsize=7, labelpad=1)
     fig.canvas.draw()
     return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
 
@@ -624,7 +807,7 @@ def serve(host: str = "127.0.0.1", port: int = 8080, *, roughness: str = DEFAULT
           length: float = DEFAULT_LENGTH) -> int:
     """Start the explorer and serve until interrupted (Ctrl-C); runs and errors are logged to the terminal."""
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s: %(message)s", datefmt="%H:%M:%S")
-    app = ExplorerApp(host, port, roughness=roughness, length=length, verbose=False)
+    app = ExplorerApp(host, port, roughness=roughness, length=length, verbose=False, warm_up=True)
     shown = "127.0.0.1" if host in ("0.0.0.0", "") else host
     print(f"wheelrail explorer: http://{shown}:{app.port}  (Ctrl-C to stop)", flush=True)
     try:

@@ -24,9 +24,9 @@ from wheelrail.core.run_setup import run_lines, usable_length
 from wheelrail.core.spectra import shortest_spectrum_run
 
 __all__ = [
-    "COMPARE", "COMPARE_ORDER", "FIELD_NAMES", "GEOMETRY_FIELDS", "MODEL_CHOICES", "NO_WHEEL_SET", "PRELOAD_RANGE_KN",
-    "RunConfig", "accepted_text", "length_range", "models_of", "offered_lines", "page_message", "read_config",
-    "read_geometry",
+    "COMPARE", "COMPARE_ORDER", "FIELD_NAMES", "GEOMETRY_FIELDS", "MODEL_CHOICES", "NO_LINE_FITS", "NO_WHEEL_SET",
+    "PRELOAD_RANGE_KN", "RunConfig", "accepted_text", "length_range", "models_of", "offered_lines", "page_message",
+    "read_config", "read_geometry",
 ]
 
 COMPARE = "compare"
@@ -53,6 +53,7 @@ FIELD_NAMES: dict[str, Name] = {
     "set": Name("Roughness set"),
     "wheel_set": Name("Wheel roughness"),
 }
+NO_LINE_FITS = "no line fits"  # the Line menu when the model cannot run on any line of the set(s)
 PRELOAD_RANGE_KN = ACCEPTED["preload"].in_unit(FIELD_NAMES["preload"].scale)  # core's range, in the field's kN
 # ContactParameters geometry field -> what the page calls it (mm in the page, m inside; empty: the default)
 GEOMETRY_FIELDS = {name: FIELD_NAMES[name].label for name in ("wheel_radius", "rail_crown_radius",
@@ -199,10 +200,6 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
     speed_kmh = _number(speed_kmh, "speed")
     ACCEPTED["speed"].check(speed_kmh * KMH)
     preload_kn = _number(preload_kn, "preload")
-    try:
-        line = int(str(line).strip())
-    except ValueError:
-        raise WheelrailError(f"Line must be a whole number; got '{line}'") from None
     if wheel is not None:
         if roughness.kind != "rail":
             raise WheelrailError(f"A wheel roughness is added to a rail set, and {set_label} is a {roughness.kind} "
@@ -219,6 +216,10 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
         raise WheelrailError(f"The 3d contact patch at {preload_kn:g} kN is {2e3 * contact.hertz_semi_axes()[1]:.1f} "
                              f"mm wide across the rail: no line of {sets} leaves room for it; choose another "
                              "geometry or a one-line model")
+    try:
+        line = int(str(line).strip())
+    except ValueError:
+        raise WheelrailError(f"Line must be a whole number; got '{line}'") from None
     if line not in allowed:
         if line not in roughness.line_numbers:
             raise WheelrailError(f"Line {line} is not in {sets}; choose {_span(allowed)}")

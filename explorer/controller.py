@@ -25,12 +25,12 @@ from wheelrail.core.spectra import force_spectrum
 from wheelrail.explorer.config import RunConfig, models_of, page_message
 from wheelrail.explorer.results import Entry, ResultStore
 
-__all__ = ["FRAME_INTERVAL", "FIRST_RUN_SECONDS", "RunController", "RunListener", "RunView"]
+__all__ = ["FRAME_INTERVAL", "RunController", "RunListener", "RunView", "TICK_INTERVAL"]
 
 LOG = logging.getLogger("wheelrail.explorer")
 FRAME_INTERVAL = 0.05  # s between live frames handed to the page (<= 20 per second)
 PLOT_INTERVAL = 0.25  # s between live plot and progress updates
-FIRST_RUN_SECONDS = "5-15"  # usual one-off preparation on a 2-core machine (benchmarks/explorer.py)
+TICK_INTERVAL = 0.5  # s between the status lines of a long preparation (the seconds it has taken)
 
 
 @dataclass(frozen=True)
@@ -61,12 +61,17 @@ class RunController:
     """Starts, stops and replaces runs; one at a time."""
 
     def __init__(self, listener: RunListener, store: ResultStore | None = None, *,
-                 prepare: Callable | None = None, frame_interval: float = FRAME_INTERVAL) -> None:
+                 prepare: Callable | None = None, precompute: Callable | None = None,
+                 frame_interval: float = FRAME_INTERVAL, tick: float = TICK_INTERVAL) -> None:
         if prepare is None:
             from wheelrail.core.interaction import prepare_run as prepare
+
+            precompute = _track_green_functions if precompute is None else precompute
         self.listener = listener
         self.store = ResultStore() if store is None else store
         self._prepare = prepare
+        self._precompute = precompute
+        self._tick = float(tick)
         self._frame_interval = float(frame_interval)
         self._lock = threading.Lock()
         self._generation = 0
@@ -74,6 +79,7 @@ class RunController:
         self._run = None
         self._worker: threading.Thread | None = None
         self._prepared_speeds: set[float] = set()
+        self._first_preparation = threading.Lock()  # one first preparation at a time (a warm-up or a run's)
 
     @property
     def running(self) -> bool:
@@ -94,14 +100,34 @@ class RunController:
                                                                first), daemon=True,
                                       name=f"wheelrail-explorer-run-{generation}")
             self._worker = worker
-        if first:
-            self.listener.status(f"Preparing the track for {config.speed / KMH:g} km/h (done once per speed; the "
-                                 f"first run also compiles the solver: usually {FIRST_RUN_SECONDS} s) ...")
-        else:
-            self.listener.status(f"Preparing {config.label()} ...")
         LOG.info("run %d: %s", generation, config.label())
         worker.start()
         return generation
+
+    def warm_up(self, config: RunConfig, roughness, done: Callable[[float], None] | None = None) -> threading.Thread:
+        """Prepare ``config`` in the background without running it: the track's Green's functions at its speed
+        (computed once, then kept on disk) and the compiled solver, so that a first Run finds them ready.
+        A first Run at that speed started meanwhile waits for it (saying so); ``done(seconds)`` at the end."""
+
+        def work() -> None:
+            started = time.perf_counter()
+            with self._first_preparation:
+                try:
+                    if self._precompute is not None:
+                        self._precompute(config.params())
+                    self._prepare(_source(roughness, config.set_label), model=config.model, line=config.line,
+                                  params=config.params(), length=config.length)
+                    self._prepared_speeds.add(round(config.speed, 6))
+                except Exception:  # a Run prepares again and says what is wrong
+                    LOG.exception("warm-up of %s failed", config.label())
+                    return
+            LOG.info("warm-up done after %.1f s: %s", time.perf_counter() - started, config.label())
+            if done is not None:
+                done(time.perf_counter() - started)
+
+        thread = threading.Thread(target=work, daemon=True, name="wheelrail-explorer-warm-up")
+        thread.start()
+        return thread
 
     def stop(self) -> None:
         """Cancel the current run, also one still being prepared (its steps so far are kept)."""
@@ -139,7 +165,8 @@ class RunController:
         outcome = "failed"
         try:
             for number, model in enumerate(models):
-                outcome = self._one_model(generation, config.for_model(model), roughness, (number, len(models)))
+                outcome = self._one_model(generation, config.for_model(model), roughness, (number, len(models)),
+                                          first and number == 0)
                 if outcome != "done":
                     break
                 self._prepared_speeds.add(round(config.speed, 6))
@@ -162,16 +189,50 @@ class RunController:
             self.listener.error(message)
         return "failed"
 
-    def _one_model(self, generation: int, config: RunConfig, roughness: tuple, position: tuple[int, int]) -> str:
+    def _ticking(self, generation: int, text: str):
+        """Say ``text`` now and then again with the seconds elapsed, every ``tick`` s, until the block ends (or
+        the run is replaced): a long preparation shows that it goes on."""
+        done = threading.Event()
+        started = time.perf_counter()
+        self.listener.status(f"{text} ...")
+
+        def tick() -> None:
+            while not done.wait(self._tick) and self._current(generation):
+                self.listener.status(f"{text} ... {time.perf_counter() - started:.0f} s")
+
+        thread = threading.Thread(target=tick, daemon=True, name=f"wheelrail-explorer-tick-{generation}")
+        thread.start()
+        return _Stop(done, thread)
+
+    def _prepared(self, generation: int, config: RunConfig, roughness: tuple, first: bool):
+        """The run of one model, prepared in honest steps: the first run at a speed computes the track's
+        Green's functions (once, then cached on disk) and compiles the solver; later ones only set up."""
+        roughness, wheel = roughness
+        combined = {} if wheel is None else {"wheel_roughness": _source(wheel, config.wheel_set_label)}
+        speed = f"Preparing the track for {config.speed / KMH:g} km/h"
+        if first:
+            with self._ticking(generation, f"{speed} (1 of 2): its Green's functions, computed once per speed "
+                                           "and kept on disk"):
+                with self._first_preparation:  # a warm-up under way finishes first
+                    if self._precompute is not None:
+                        self._precompute(config.params())
+            if not self._current(generation):
+                return None
+        text = (f"{speed} (2 of 2): roughness and contact solver, which the first run compiles" if first
+                else f"Preparing {config.label()}")
+        with self._ticking(generation, text):
+            return self._prepare(_source(roughness, config.set_label), model=config.model, line=config.line,
+                                 params=config.params(), length=config.length, **combined)
+
+    def _one_model(self, generation: int, config: RunConfig, roughness: tuple, position: tuple[int, int],
+                   first: bool = False) -> str:
         """Prepare, stream and finish one model on (rail or single set, wheel set or None); 'done', 'stopped',
         'failed' or 'replaced'."""
         number, count = position
+        run = self._prepared(generation, config, roughness, first)
         roughness, wheel = roughness
-        combined = {} if wheel is None else {"wheel_roughness": _source(wheel, config.wheel_set_label)}
-        run = self._prepare(_source(roughness, config.set_label), model=config.model, line=config.line,
-                            params=config.params(), length=config.length, **combined)
         with self._lock:
-            if not self._current(generation):
+            if run is None or not self._current(generation):
                 return "replaced"
             self._run = run
             if self._stopped_generation == generation:
@@ -200,7 +261,7 @@ class RunController:
             self.listener.frame(state, view)
         if run.cancelled:
             problem = f"stopped after {result.n_steps} of {run.n_steps} steps"
-            self.store.add(Entry(config, result, None, problem))
+            self.store.add(Entry(config, result, None, problem, run.n_steps))
             self.listener.model_done(self.store.entries(config.case())[config.model], view)
             self.listener.status(f"Stopped {config.model} after {result.n_steps} of {run.n_steps} steps "
                                  f"({config.case_label()}); no spectrum for a stopped run.")
@@ -209,14 +270,35 @@ class RunController:
             spectrum = force_spectrum(result)
         except WheelrailError as error:
             message = f"{config.model}: no force spectrum: {page_message(error)}"
-            self.store.add(Entry(config, result, None, message))
+            self.store.add(Entry(config, result, None, message, run.n_steps))
             self.listener.model_done(self.store.entries(config.case())[config.model], view)
             self._failed(generation, message)
             return "failed"
-        self.store.add(Entry(config, result, spectrum))
+        self.store.add(Entry(config, result, spectrum, None, run.n_steps))
         self.listener.model_done(self.store.entries(config.case())[config.model], view)
         self.listener.progress((number + 1) / count)
         return "done"
+
+
+class _Stop:
+    """Ends a :meth:`RunController._ticking` block."""
+
+    def __init__(self, done: threading.Event, thread: threading.Thread) -> None:
+        self._done, self._thread = done, thread
+
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, *exc) -> None:
+        self._done.set()
+        self._thread.join()
+
+
+def _track_green_functions(params) -> None:
+    """The track's moving Green's functions at the run's speed (core computes them once and caches them)."""
+    from wheelrail.core.track import moving_green_functions
+
+    moving_green_functions(params.run.speed, params.track)
 
 
 def _source(rough, label: str):

@@ -35,6 +35,13 @@ class Entry:
     result: object
     spectrum: tuple[np.ndarray, np.ndarray] | None
     problem: str | None = None  # stopped early, or the spectrum failed
+    planned_steps: int | None = None  # steps the run was to take (more than it has when stopped)
+
+    @property
+    def done_fraction(self) -> float:
+        """Share of the planned steps the run took (1 for a finished run)."""
+        planned = self.planned_steps or self.result.n_steps
+        return min(1.0, self.result.n_steps / planned) if planned else 0.0
 
 
 def case_reference_filters(config: RunConfig) -> dict[str, tuple[np.ndarray, np.ndarray]]:

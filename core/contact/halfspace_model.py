@@ -5,6 +5,14 @@ the wheel. Each step solves the coupled contact of ``contact.halfspace`` on the 
 h = x^2 / (2 R_x) + y^2 / (2 R_y) - r with the relative radii of ``ContactParameters`` (along: the wheel's
 rolling radius; across: rail crown and tread), (x^2 + y^2) / (2 R) for the paper's crossed cylinders, with
 delta = delta_known - c F.
+
+Two implementations of the same law:
+
+* :class:`HalfSpaceModel` (the registered ``3d``): compiled, stepped inside the loop's compiled chunk
+  (``contact.halfspace_steps``), tens of microseconds a step;
+* :class:`HalfSpaceReferenceModel`: the per-step form it replaced, one Python call of
+  ``HalfSpaceWindow.solve_coupled`` per step; kept as the reference the compiled law is tested against
+  (``tests/physics/test_halfspace_loop.py``).
 """
 
 from __future__ import annotations
@@ -12,14 +20,21 @@ from __future__ import annotations
 import numpy as np
 
 from wheelrail.core.contact.halfspace import HalfSpaceWindow
+from wheelrail.core.contact.halfspace_steps import (
+    STEP_AT_EDGE,
+    STEP_CONVERGED,
+    STEP_NEEDS_ROOM,
+    HalfSpaceSteps,
+    _python_step,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, ContactState, ModelInputs
 
-__all__ = ["HalfSpaceModel"]
+__all__ = ["HalfSpaceModel", "HalfSpaceReferenceModel"]
 
 
-class HalfSpaceModel(ContactModel):
-    """Per-step law: warm-started active set on the moving window, pressure map at every step."""
+class _HalfSpaceBase(ContactModel):
+    """The window's geometry and the static solve under the preload (shared by both implementations)."""
 
     def prepare(self, inputs: ModelInputs) -> float:
         contact = inputs.params.contact
@@ -37,8 +52,61 @@ class HalfSpaceModel(ContactModel):
         self._window = HalfSpaceWindow(self._base_gap.shape, dx, youngs_modulus=contact.youngs_modulus,
                                        poisson_ratio=contact.poisson_ratio)
         smooth = self._window.solve(self._base_gap, load=contact.preload)
-        self._window.start_from(smooth.contact)  # the first step from the preload's set, factored afresh
+        self._start(smooth.contact)  # the first step from the preload's set, factored afresh
         return float(smooth.approach)
+
+    def _start(self, contact: np.ndarray) -> None:
+        raise NotImplementedError
+
+    def failure_message(self, status: int, s: int) -> str:
+        """Why the law stopped at step s (``halfspace_steps`` status)."""
+        inputs = self._inputs
+        ny, nx = self._base_gap.shape
+        if status == STEP_AT_EDGE:
+            return (f"3d: the contact reaches the edge of the {ny} x {nx} window at x = {inputs.position_of(s):.4f} m; "
+                    "the roughness or load is too large for the window")
+        return f"3d: the contact solve did not converge at x = {inputs.position_of(s):.4f} m"
+
+
+class HalfSpaceModel(_HalfSpaceBase):
+    """Compiled law (``LAW_HALFSPACE``): the warm state lives in :class:`HalfSpaceSteps`' arrays and every step
+    runs inside the loop's compiled chunk; :meth:`solve` steps it once from Python (the same arithmetic)."""
+
+    def _start(self, contact: np.ndarray) -> None:
+        inputs, window = self._inputs, self._window
+        self._steps = HalfSpaceSteps(
+            window.kernel, self._base_gap, (inputs.lines, inputs.start_index, inputs.ramp, inputs.half_x,
+                                            inputs.centre_row),
+            np.flatnonzero(contact), (window.tolerance, window.max_iterations, inputs.element_size**2),
+            **self.step_options)
+
+    step_options: dict = {}  # HalfSpaceSteps' keyword options (tests: full_matrix, capacity)
+
+    def law_inputs(self) -> HalfSpaceSteps:
+        return self._steps
+
+    def solve(self, s: int, approach_known: float, compliance: float) -> ContactState:
+        status = STEP_NEEDS_ROOM
+        while status == STEP_NEEDS_ROOM:
+            status, force, on_centre, count = _python_step(int(s), float(approach_known), float(compliance),
+                                                           self._steps.law)
+            if status == STEP_NEEDS_ROOM:
+                self._steps.grow()
+        if status != STEP_CONVERGED:
+            raise WheelrailError(self.failure_message(status, s))
+        dx = self._inputs.element_size
+        shape = self._base_gap.shape
+        pressure = np.zeros(shape) if force == 0.0 else self._steps.pressure.reshape(shape).copy()
+        return ContactState(force=force, contact_length=on_centre * dx, contact_area=count * (dx * dx),
+                            pressure=pressure)
+
+
+class HalfSpaceReferenceModel(_HalfSpaceBase):
+    """Per-step law: warm-started active set on the moving window, pressure map at every step (the form the
+    compiled :class:`HalfSpaceModel` replaced, kept as its reference)."""
+
+    def _start(self, contact: np.ndarray) -> None:
+        self._window.start_from(contact)
 
     def solve(self, s: int, approach_known: float, compliance: float) -> ContactState:
         inputs = self._inputs
@@ -51,12 +119,9 @@ class HalfSpaceModel(ContactModel):
         result = self._window.solve_coupled(gap, approach_known=approach_known, compliance=compliance,
                                             raise_on_failure=False)
         if result.at_edge:
-            raise WheelrailError(
-                f"3d: the contact reaches the edge of the {gap.shape[0]} x {gap.shape[1]} window at "
-                f"x = {inputs.position_of(s):.4f} m; the roughness or load is too large for the window"
-            )
+            raise WheelrailError(self.failure_message(STEP_AT_EDGE, s))
         if not result.converged:
-            raise WheelrailError(f"3d: the contact solve did not converge at x = {inputs.position_of(s):.4f} m")
+            raise WheelrailError(self.failure_message(-1, s))
         mask = result.contact
         return ContactState(force=float(result.force), contact_length=mask[inputs.centre_row].sum() * dx,
                             contact_area=mask.sum() * (dx * dx), pressure=result.pressure)

@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import scipy.signal
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness.model import RoughnessSet
@@ -45,6 +44,8 @@ def detrend_linear(roughness: RoughnessSet) -> RoughnessSet:
         slope = (end_value - start_value) / (n * roughness.dx)
         out = z - slope[:, np.newaxis] * roughness.x[np.newaxis, :]
     else:
+        import scipy.signal  # imported where used: a second at import, which most commands never need
+
         out = scipy.signal.detrend(z, axis=1, type="linear")
     return roughness.with_heights(out)
 
@@ -187,6 +188,8 @@ def highpass(roughness: RoughnessSet, cutoff_wavelength: float, *, order: int = 
         out = np.fft.irfft(np.fft.rfft(z, axis=1) * highpass_gain(k, cutoff_wavelength, order), n=z.shape[1], axis=1)
     else:
         kc = _butterworth_cutoff_for_zero_phase(1.0 / cutoff_wavelength, order)
+        import scipy.signal
+
         sos = scipy.signal.butter(order, kc, btype="highpass", fs=1.0 / roughness.dx, output="sos")
         out = scipy.signal.sosfiltfilt(sos, z, axis=1)
     return roughness.with_heights(out, note=f"high-passed at {cutoff_wavelength:g} m")

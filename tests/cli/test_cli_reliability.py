@@ -91,20 +91,18 @@ def test_3d_keeps_pressure_maps_only_for_out(tmp_path, capsys, monkeypatch):
 _CTRL_C_CHILD = """
 import signal, sys
 from wheelrail.core.cli import main
-from wheelrail.core.models import model_entry
+from wheelrail.core.interaction import InteractionRun
 
-entry = model_entry("3d")
-model = type(entry.create())
-solve = model.solve
+advance = InteractionRun._advance  # one chunk of steps (3d: 256, in compiled code)
 said = []
 
-def solve_and_say(self, *args, **kwargs):
+def advance_and_say(self, *args, **kwargs):
     if not said:
         said.append(1)
         print("stepping", flush=True)
-    return solve(self, *args, **kwargs)
+    return advance(self, *args, **kwargs)
 
-model.solve = solve_and_say
+InteractionRun._advance = advance_and_say
 signal.signal(signal.SIGINT, signal.default_int_handler)
 sys.exit(main(["run", "--set", "cast-iron-wheel", "--model", "3d", "--length-m", "50", "--json"]))
 """

@@ -184,5 +184,49 @@ def test_bad_uploads_in_the_page(app, browser):
         app.max_upload_bytes = limit
     page.screenshot(path=str(ARTIFACTS / "explorer-bad-upload.png"))
     assert app.roughness_label == "corrugated-rail" and app.replay is before
+    # viser's own notice that the bytes arrived is not shown beside the refusal (it is in the page, hidden)
+    arrived = page.get_by_text("File uploaded successfully")
+    assert all(not arrived.nth(i).is_visible() for i in range(arrived.count()))
+    assert not errors, errors
+    page.close()
+
+
+NOTICES = """() => Array.from(document.querySelectorAll('.mantine-Notification-root'))
+    .filter(e => getComputedStyle(e).display !== 'none').map(e => e.innerText)"""
+
+
+def test_the_page_is_titled_and_keeps_one_notice(app, browser):
+    """The browser tab says what it is; refused presses of Run replace their notice instead of piling up."""
+    from wheelrail.explorer.app import NOTICE_SECONDS
+
+    errors = []
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    page.on("pageerror", lambda error: errors.append(str(error)))
+    page.goto(f"http://127.0.0.1:{app.port}")
+    run_button = page.get_by_role("button", name="Run", exact=True)
+    run_button.wait_for(timeout=90_000)
+    assert page.title() == "wheelrail explorer"
+    speed = _text_field(page, "Speed (km/h)")
+    old = app.speed_text.value
+    app.notice_seconds = 600.0  # none closes by itself meanwhile: only a replacement takes one away
+    try:
+        for typo in ("1OO", "abc", "-5"):
+            speed.fill(typo)
+            speed.press("Enter")
+            _wait_for(lambda typo=typo: app.speed_text.value == typo, 30, f"the speed {typo!r} to reach the server")
+            run_button.click()
+            _wait_for(lambda typo=typo: typo in (app.last_error or ""), 30, f"the message about {typo!r}")
+        # once the page has shown the last notice and taken the others away (they fade out): one notice
+        assert app.last_error.startswith("Speed -5 km/h is outside the accepted 5 to 400 km/h")
+        last = f"Cannot do that\n{app.last_error}"
+        page.wait_for_function(f"() => JSON.stringify(({NOTICES})().filter(t => t.startsWith('Cannot do that')))"
+                               f" === JSON.stringify([{last!r}])", timeout=30_000)
+        app.notice_seconds = NOTICE_SECONDS
+        run_button.click()  # and a notice closes by itself
+        _wait_for(lambda: app._notices and next(iter(app._notices.values())).auto_close_seconds == NOTICE_SECONDS,
+                  30, "a notice that closes by itself")
+    finally:
+        app.notice_seconds = NOTICE_SECONDS
+        app.speed_text.value = old
     assert not errors, errors
     page.close()

@@ -233,3 +233,78 @@ def test_a_wheel_set_and_the_geometry_reach_prepare_and_key_the_results():
                                      "wheel radius 460 mm, rail crown radius 300 mm")
     assert combined.file_stem() == ("wheelrail-hertz-corrugated-rail-sinter-wheel-1-line0-100kmh-65kN-1m-"
                                     "R460mm-crown300mm")
+
+
+def test_the_first_preparation_at_a_speed_says_its_steps_and_that_it_goes_on():
+    """The track's Green's functions first (once per speed), then the run's set-up; while a step lasts, the
+    status line repeats it with the seconds elapsed. The stand-in Green's functions wait until a repeat
+    has been said (an event, not a time)."""
+    ticked = threading.Event()
+
+    class Listener(Recorder):
+        def status(self, text):
+            super().status(text)
+            if text.endswith(" s") and "(1 of 2)" in text:
+                ticked.set()
+
+    listener = Listener()
+    precomputed = []
+
+    def precompute(params):
+        precomputed.append(params.run.speed)
+        assert ticked.wait(WAIT)
+
+    runs = {"hertz": [FakeRun("hertz", 3000), FakeRun("hertz", 3000)]}
+    controller = RunController(listener, prepare=lambda roughness, *, model, **kwargs: runs[model].pop(0),
+                               precompute=precompute, frame_interval=0.0, tick=0.01)
+    controller.start(_config("hertz"), roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert precomputed == [pytest.approx(100 * KMH)]
+    steps = [text for text in listener.statuses if text.startswith("Preparing the track for 100 km/h")]
+    assert steps[0].startswith("Preparing the track for 100 km/h (1 of 2): its Green's functions")
+    assert any(text.startswith("Preparing the track for 100 km/h (2 of 2)") for text in steps)
+    # a second run at the same speed: no track step
+    listener.ended.clear()
+    listener.statuses.clear()
+    controller.start(_config("hertz", line=1), roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert precomputed == [pytest.approx(100 * KMH)]
+    assert listener.statuses[0] == "Preparing hertz on corrugated-rail, line 1, 100 km/h, 65 kN, 1 m ..."
+
+
+def test_a_warm_up_prepares_in_the_background_and_a_first_run_waits_for_it():
+    """serve() warms up the default configuration; a Run pressed meanwhile waits for it instead of computing the
+    same Green's functions beside it, and says so; afterwards runs at that speed skip the track step."""
+    entered, release = threading.Event(), threading.Event()
+    order = []
+
+    def precompute(params):
+        order.append("precompute")
+        if len(order) == 1:  # the warm-up's: held until released
+            entered.set()
+            assert release.wait(WAIT)
+
+    runs = {"hertz": [FakeRun("hertz", 10), FakeRun("hertz", 3000), FakeRun("hertz", 3000)]}
+
+    def prepare(roughness, *, model, **kwargs):
+        order.append("prepare")
+        return runs[model].pop(0)
+
+    listener = Recorder()
+    controller = RunController(listener, prepare=prepare, precompute=precompute, frame_interval=0.0, tick=0.01)
+    warmed = []
+    warm_up = controller.warm_up(_config("hertz"), roughness=None, done=warmed.append)
+    assert entered.wait(WAIT)
+    controller.start(_config("hertz", line=1), roughness=None)  # the first Run at 100 km/h, during the warm-up
+    release.set()
+    assert listener.ended.wait(WAIT)
+    warm_up.join(WAIT)
+    assert warmed and listener.outcomes[-1][1] == "done"
+    # the warm-up's preparation first, whole; then the run's (its Green's functions now read back at once)
+    assert order == ["precompute", "prepare", "precompute", "prepare"]
+    assert listener.statuses[0].startswith("Preparing the track for 100 km/h (1 of 2)")
+    listener.ended.clear()
+    listener.statuses.clear()
+    controller.start(_config("hertz", line=2), roughness=None)
+    assert listener.ended.wait(WAIT)
+    assert order[4:] == ["prepare"] and listener.statuses[0].startswith("Preparing hertz on")

@@ -1,0 +1,200 @@
+"""Where the microseconds of a 3D step go, in the compiled loop (``interaction._run_chunk_3d``).
+
+Run: python3 benchmarks/step_split_3d.py [--length-m 2] [--wheel-radius-mm 460 --rail-crown-radius-mm 300]
+
+On the corrugated rail at 100 km/h, 1 mm elements, after a warm-up run (compiled code and Green's functions
+loaded). Prints
+
+* the whole step (a run of the ``3d`` model, steps/s by the wall clock and per CPU second: the machine is
+  shared, and the CPU figure is what the step costs when it has a core);
+* eqs. 1-2 alone (history and commit, the track convolution of ``_scatter``): the same loop with the law
+  replaced by the forces the run found;
+* the contact law alone (``halfspace_steps._halfspace_step``: gap assembly and solve), replayed on the
+  approaches the run handed it, from the same start;
+* inside the law: how many active-set iterations, additions and drops a step takes (counted by the
+  per-step reference solver on the same run: the compiled law takes the same decisions) and what each costs
+  at the run's contact set (each kernel timed alone in a compiled loop, on the state the run ended with).
+
+The sum of the itemised costs is printed against the measured law: the difference is what is not
+itemised (the tension check, bookkeeping, cache misses between the pieces).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+from numba import njit
+
+from wheelrail.core.contact import halfspace_steps as steps
+from wheelrail.core.contact.halfspace_model import HalfSpaceReferenceModel
+from wheelrail.core.interaction import _commit, _history, prepare_run
+from wheelrail.core.parameters import ContactParameters, ModelParameters
+
+SET = "corrugated-rail"
+
+
+@njit
+def _loop_without_law(j0, j1, track, wheel, preload, xi_w0, forces, offset):
+    """Eqs. 1-2 of the loop with the law replaced by known forces; returns the approaches it handed over."""
+    known = np.empty(j1 - j0)
+    compliance = np.empty(j1 - j0)
+    for j in range(j0, j1):
+        delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+        known[j - j0] = delta_known
+        compliance[j - j0] = c
+        _commit(j, forces[j - offset], track, wheel, s_pred, preload, xi_w0, q, w0)
+    return known, compliance
+
+
+@njit
+def _law_alone(known, compliance, law):
+    total = 0.0
+    for s in range(known.size):
+        status, force, on_centre, count = steps._halfspace_step(s, known[s], compliance[s], law)
+        total += force
+    return total
+
+
+@njit
+def _repeat_forward(upper, m, rhs, reps):
+    for _ in range(reps):
+        for a in range(m):
+            rhs[a] = 1.0
+        steps._forward(upper, m, rhs)
+
+
+@njit
+def _repeat_backward(upper, m, rhs, reps):
+    for _ in range(reps):
+        for a in range(m):
+            rhs[a] = 1.0
+        steps._backward(upper, m, rhs)
+
+
+@njit
+def _repeat_penetrating(law, m, limits, reps):
+    grid, state, work, _, _ = law
+    n = 0
+    for _ in range(reps):
+        n += steps._penetrating(grid, state[0], m, work, state[1], limits)
+    return n
+
+
+@njit
+def _repeat_append_remove(law, m, reps):
+    """Remove the element at the middle of the factor and append it again (z kept with it)."""
+    grid, state, work, _, _ = law
+    order, active, z, counts, upper = state
+    for _ in range(reps):
+        element = order[m // 2]
+        steps._remove(order, m, upper, z, work[4], m // 2)
+        steps._append(grid, order, m - 1, upper, z, work[4], element)
+
+
+def _params(args) -> ModelParameters:
+    geometry = {name: value * 1e-3 for name, value in (("wheel_radius", args.wheel_radius_mm),
+                                                       ("rail_crown_radius", args.rail_crown_radius_mm))
+                if value is not None}
+    return ModelParameters(contact=ContactParameters(**geometry))
+
+
+def _per_call(function, *arguments, reps: int) -> float:
+    function(*arguments[:-1], 1)
+    start = time.process_time()
+    function(*arguments[:-1], reps)
+    return (time.process_time() - start) / reps * 1e6
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--length-m", type=float, default=2.0)
+    parser.add_argument("--wheel-radius-mm", type=float, default=None)
+    parser.add_argument("--rail-crown-radius-mm", type=float, default=None)
+    args = parser.parse_args()
+    params = _params(args)
+    prepare_run(SET, model="3d", params=params, length=0.05).run()  # warm-up
+
+    run = prepare_run(SET, model="3d", params=params, length=args.length_m)
+    wall, cpu = time.perf_counter(), time.process_time()
+    run.run()
+    wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    loop = run.loop
+    n = loop.n_total
+    radii = f"{params.contact.radius_along * 1e3:g} / {params.contact.radius_across * 1e3:g} mm"
+    print(f"{SET}, {args.length_m:g} m + {loop.n_run_in} run-in steps, window {run._law.shape[0]} x "
+          f"{run._law.shape[1]}, relative radii along / across {radii}")
+    print(f"whole step            {cpu / n * 1e6:6.1f} us CPU  ({n / cpu:,.0f} steps per CPU s; "
+          f"{n / wall:,.0f} steps/s by the wall clock on the shared machine)")
+
+    # eqs. 1-2 alone, on a fresh history with the run's forces
+    forces = loop.force.copy()
+    fresh = prepare_run(SET, model="3d", params=params, length=args.length_m)
+    f = fresh.loop
+    j0, j1 = f.n_hist, f.n_hist + f.n_total
+    _loop_without_law(j0, j0 + 1, f.track, f.wheel, params.contact.preload, f.xi_w0, forces, 0)
+    fresh = prepare_run(SET, model="3d", params=params, length=args.length_m)
+    f = fresh.loop
+    start = time.process_time()
+    known, compliance = _loop_without_law(j0, j1, f.track, f.wheel, params.contact.preload, f.xi_w0, forces, 0)
+    history = (time.process_time() - start) / n * 1e6
+    print(f"  eqs. 1-2 (history, track convolution of {loop.weights.shape[1]} lags, commit) {history:6.1f} us")
+
+    # the law alone on the same approaches, from the same start
+    _law_alone(known[:1], compliance[:1], prepare_run(SET, model="3d", params=params, length=0.05)._law.law)
+    law = fresh._law.law
+    start = time.process_time()
+    _law_alone(known, compliance, law)
+    law_us = (time.process_time() - start) / n * 1e6
+    print(f"  contact law (gap assembly + solve)                        {law_us:6.1f} us")
+    print(f"  rest (outputs: pressure map, lengths; not itemised)       {cpu / n * 1e6 - history - law_us:6.1f} us")
+
+    decisions = _decisions_from_reference(params, args.length_m)
+    iterations, added, dropped, elements = decisions.mean(axis=0)
+    m = int(round(elements))
+    state_law = run._law.law
+    size = int(state_law[1][3][0])
+    upper = state_law[1][4]
+    rhs = np.empty(upper.shape[0])
+    forward = _per_call(_repeat_forward, upper, size, rhs, 20000, reps=20000)
+    backward = _per_call(_repeat_backward, upper, size, rhs, 20000, reps=20000)
+    gap, pressure, members = state_law[2][1], state_law[2][0], state_law[1][0][:size]
+    # the last step's approach: d = h - delta + C p = 0 on the set
+    delta = float(np.mean(gap[members] + state_law[0][2][members][:, members] @ pressure[members]))
+    scale = delta - gap.min()
+    penetrating = _per_call(_repeat_penetrating, state_law, size, (delta, 1e-6 * scale, -1e-9 * scale, False),
+                            5000, reps=5000)
+    update = _per_call(_repeat_append_remove, state_law, size, 5000, reps=5000)
+    print(f"  inside the law, per step: {iterations:.2f} iterations, {added:.2f} elements added, {dropped:.2f} "
+          f"dropped, {m} in contact (decisions of the per-step reference solver)")
+    print(f"    per iteration: forward + backward substitution {forward:.1f} + {backward:.1f} us, deformed gap "
+          f"outside the set {penetrating:.1f} us")
+    print(f"    per element added and dropped (new factor row + downdate at mid-set) {update:.1f} us")
+    itemised = iterations * (forward + backward + penetrating) + 0.5 * (added + dropped) * update
+    print(f"    itemised {itemised:.1f} us of the law's {law_us:.1f} us (the rest: gap assembly, tension check, "
+          f"bookkeeping)")
+
+
+def _decisions_from_reference(params, length):
+    run = prepare_run(SET, model="3d", params=params, length=length)
+    model = HalfSpaceReferenceModel()
+    model.prepare(run.contact._inputs)
+    counts = []
+    for s in range(run.loop.n_total):
+        j = run.loop.n_hist + s
+        delta_known, c, q, w0, s_pred = _history(j, run.loop.track, run.loop.wheel, params.contact.preload,
+                                                 run.loop.xi_w0)
+        before = model._window._warm[0]
+        state = model.solve(s, delta_known, c)
+        last = model._window.last
+        after = np.flatnonzero(last.contact)
+        counts.append((last.iterations, np.setdiff1d(after, before).size, np.setdiff1d(before, after).size,
+                       after.size))
+        _commit(j, state.force, run.loop.track, run.loop.wheel, s_pred, params.contact.preload, run.loop.xi_w0,
+                q, w0)
+    return np.array(counts, dtype=float)
+
+
+if __name__ == "__main__":
+    main()

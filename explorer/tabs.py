@@ -1,0 +1,331 @@
+"""The results panel's tabs: each a class that builds its elements in its tab and redraws them.
+
+A tab is a :class:`ResultsTab`: ``title`` and ``icon`` name it, ``__init__`` builds its elements (plots first,
+so that they open on screen), :meth:`ResultsTab.show` redraws it for the configuration shown (a
+:class:`Shown`), :meth:`ResultsTab.plots` names its plots for the PNG export below them. :data:`RESULT_TABS`
+lists them in page order: another tab (a noise tab, say) is one more class and one more entry. Everything
+drawn comes from the :class:`~wheelrail.explorer.results.ResultStore` and from core.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import viser
+
+from wheelrail.core.bands import frequency_bands, map_levels
+from wheelrail.core.models import REFERENCE_MODEL, model_entry
+from wheelrail.core.parameters import KMH
+from wheelrail.core.roughness import lateral_coherence, roughness_spectrum
+from wheelrail.core.roughness.analysis import FREQUENCY_RANGE
+from wheelrail.core.roughness_limits import iso3095_limit
+from wheelrail.core.spectra import energetic_sum
+from wheelrail.explorer.config import COMPARE, MODEL_CHOICES, RunConfig
+from wheelrail.explorer.plots import (
+    DASHED,
+    DOTTED,
+    MAX_POINTS,
+    SOLID,
+    Plot,
+    bands_with_data,
+    finite_bands,
+    model_colour,
+)
+from wheelrail.explorer.results import ResultStore, case_reference_filters
+
+__all__ = ["RESULT_TABS", "HelpTab", "PatchTab", "ResultsTab", "RoughnessTab", "Shown", "SpectraTab"]
+
+REFERENCE_COLOURS = {"cnossos": "#000000", "averaging": "#7f7f7f", "patch-correlated": "#bcbd22",
+                     "patch-incoherent": "#17becf"}
+ISO_LIMIT_COLOUR = "#000000"
+PLOT_HINT = ("*Plots*: drag across one to zoom, double-click to zoom back; hover for values; the ⤢ corner "
+             "button (on hover) opens it large.")
+EMPTY_BAND_DB = 120.0  # a roughness band this far below the set's highest band is empty (a numerical floor)
+NO_RUN = "no run of this configuration yet"
+
+
+@dataclass(frozen=True)
+class Shown:
+    """What the page shows: the configuration the controls describe (None: not valid), the session's
+    results, the model the Patch tab shows (replay, displacement, .rrd), another configuration overlaid."""
+
+    config: RunConfig | None
+    store: ResultStore
+    model: str | None = None
+    overlay: RunConfig | None = None
+
+
+class ResultsTab:
+    """One tab of the results panel (subclasses set ``title`` and ``icon`` and build in ``__init__``)."""
+
+    title = ""
+    icon = None
+
+    def __init__(self, app, tab) -> None:
+        self.app, self.gui, self.tab = app, app.server.gui, tab
+
+    def plots(self) -> dict[str, Plot]:
+        """The tab's plots by the names its PNG menu shows."""
+        return {}
+
+    def show(self, shown: Shown) -> None:
+        """Redraw for the configuration shown."""
+
+    def _plot_export(self) -> None:
+        """The hint on zooming and, for the tab's plots, a PNG download (titled with the configuration)."""
+        gui, plots = self.gui, self.plots()
+        gui.add_markdown(PLOT_HINT)
+        names = tuple(plots)
+        self.png_choice = gui.add_dropdown("Plot", names, initial_value=names[0])
+        self.png_button = gui.add_button("Download plot (.png)", icon=viser.Icon.PHOTO)
+        self.png_button.on_click(lambda event: self.app._guarded(self.app.download_plot_png, self.png_choice.value,
+                                                                 event.client, client=event.client))
+
+
+class PatchTab(ResultsTab):
+    """The patch shown in the 3D view: colour bar, readout, Step slider and replay, the model shown, force and
+    displacement histories, the run's download and the view's options."""
+
+    title, icon = "Patch", viser.Icon.CIRCLE
+
+    def __init__(self, app, tab) -> None:
+        super().__init__(app, tab)
+        gui = self.gui
+        with tab:
+            self.colour_bar = gui.add_image(np.full((10, 10, 3), 255, np.uint8), label="contact pressure (MPa)",
+                                            format="png")
+            self.readout_md = gui.add_markdown("")
+            self.time_slider = gui.add_slider("Step", min=0, max=1, step=1, initial_value=0, disabled=True)
+            self.play_button = gui.add_button("Play", icon=viser.Icon.PLAYER_PLAY, disabled=True)
+            self.model_shown = gui.add_dropdown("Model shown", ("3d",), initial_value="3d", disabled=True,
+                                                hint="After compare: the model replayed, plotted as displacement "
+                                                     "and downloaded")
+        self.force = Plot(gui, tab, "Contact force", "position (m)", "force (kN)")
+        self.displacement = Plot(gui, tab, "Wheel and rail displacement (downwards)", "position (m)",
+                                 "displacement (µm)")
+        with tab:
+            self.rrd_button = gui.add_button("Download run (.rrd)", icon=viser.Icon.DOWNLOAD, disabled=True)
+            self.replay_speed = gui.add_dropdown("Replay speed", tuple(app.replay_speeds), initial_value="0.02x")
+            self.view_buttons = gui.add_button_group("3D view", ("Top view", "Oblique view"))
+            self.surfaces_box = gui.add_checkbox("Rail and wheel surfaces", False,
+                                                 hint="Roughness drawn 200 times its size: the rail below the "
+                                                      "patch, the wheel as lines above it")
+            self.raised_box = gui.add_checkbox("Raised pressure surface", False, hint="3 mm per GPa")
+            self._plot_export()
+
+    def plots(self) -> dict[str, Plot]:
+        return {"contact force": self.force, "displacement": self.displacement}
+
+    def show(self, shown: Shown) -> None:
+        """Force history of every model of the case overlaid; displacement of the model shown."""
+        config = shown.config
+        if config is None:
+            for plot in (self.force, self.displacement):
+                plot.clear("fix the settings on the left")
+            return
+        label = config.case_label()
+        finished = {m: e for m, e in shown.store.entries(config.case()).items() if e.result.n_steps}
+        if not finished:
+            self.force.clear(NO_RUN, title=f"Contact force: {label}")
+            self.displacement.clear(NO_RUN, title=f"Displacement: {label}")
+            return
+        n = min(e.result.n_steps for e in finished.values())
+        step = max(1, n // MAX_POINTS)
+        first = next(iter(finished.values())).result
+        self.force.show((first.x[:n:step], *(e.result.force[:n:step] / 1e3 for e in finished.values())),
+                        tuple((m, model_colour(m), SOLID) for m in finished), title=f"Contact force: {label}")
+        shown_result = finished[shown.model].result if shown.model in finished else first
+        self._displacement(shown_result, label)
+
+    def _displacement(self, result, label: str, running: bool = False) -> None:
+        step = max(1, result.n_steps // MAX_POINTS)
+        self.displacement.show((result.x[::step], result.xi_wheel[::step] * 1e6, result.xi_rail[::step] * 1e6),
+                               (("wheel", "#1f77b4", SOLID), ("rail", "#d62728", SOLID)),
+                               title=f"Displacement, {result.model}{' (running)' if running else ''}: {label}")
+
+    def live(self, result, config: RunConfig) -> None:
+        """A running model's force and displacement so far."""
+        step = max(1, result.n_steps // MAX_POINTS)
+        self.force.show((result.x[::step], result.force[::step] / 1e3),
+                        ((f"{result.model} (running)", model_colour(result.model), SOLID),),
+                        title=f"Contact force: {config.case_label()}")
+        self._displacement(result, config.case_label(), running=True)
+
+
+class SpectraTab(ResultsTab):
+    """Force spectra and contact filters of the case, reference filters, another run overlaid, the CSV."""
+
+    title, icon = "Spectra and filters", viser.Icon.CHART_LINE
+
+    def __init__(self, app, tab) -> None:
+        super().__init__(app, tab)
+        gui = self.gui
+        self.spectra = Plot(gui, tab, "Force spectra", "band (Hz)", "dB re 1 N", bands=True)
+        self.filters = Plot(gui, tab, "Contact filters", "band (Hz)", "dB", bands=True)
+        with tab:
+            gui.add_markdown(f"*Contact filter*: a model's level minus `{REFERENCE_MODEL}`'s (solid; needs a "
+                             f"`{REFERENCE_MODEL}` run of the same configuration: use `{COMPARE}`). Dotted: "
+                             "reference filters at this preload, geometry and speed. Dashed: a run overlaid.")
+            self.overlay_dropdown = gui.add_dropdown(
+                "Overlay a run", (app.no_overlay,), initial_value=app.no_overlay,
+                hint="Runs of this session: draw another configuration's spectra and filters dashed beside these")
+            self.csv_button = gui.add_button("Download spectra (.csv)", icon=viser.Icon.DOWNLOAD, disabled=True)
+            self._plot_export()
+
+    def plots(self) -> dict[str, Plot]:
+        return {"force spectra": self.spectra, "contact filters": self.filters}
+
+    def show(self, shown: Shown) -> None:
+        config, store = shown.config, shown.store
+        if config is None:
+            for plot in (self.spectra, self.filters):
+                plot.clear("fix the settings on the left")
+            self.csv_button.disabled = True
+            return
+        label = config.case_label()
+        overlay = None if shown.overlay is None or shown.overlay.case() == config.case() else shown.overlay
+        spectra = store.spectra(config.case())
+        self.csv_button.disabled = not spectra
+        if spectra:
+            centres = next(iter(spectra.values()))[0]
+            columns = [levels for _, levels in spectra.values()]
+            series = tuple((m, model_colour(m), SOLID) for m in spectra)
+            title = f"Force spectra: {label}"
+            if overlay is not None:
+                extra = {m: v for m, v in store.spectra(overlay.case()).items() if np.array_equal(v[0], centres)}
+                columns += [levels for _, levels in extra.values()]
+                series += tuple((f"{m} [{overlay.case_label()}]", model_colour(m), DASHED) for m in extra)
+                title += f" (dashed: {overlay.case_label()})"
+            self.spectra.show(finite_bands(centres, columns), series, title=title)
+        else:
+            self.spectra.clear("no spectrum of this configuration yet", title=f"Force spectra: {label}")
+        self._filters(config, store, overlay)
+
+    def _filters(self, config: RunConfig, store: ResultStore, overlay: RunConfig | None) -> None:
+        """Dynamic contact filters of the case (solid) beside the reference filters at its preload, geometry and
+        speed (dotted; they need no run) and, on purpose, those of an ``overlay`` case (dashed, labelled)."""
+        references = case_reference_filters(config)
+        centres = next(iter(references.values()))[0]
+        own = store.contact_filters(config.case())
+        curves = [(f"{m} - {REFERENCE_MODEL}", model_colour(m), SOLID, v) for m, v in own.items()]
+        title = f"Contact filters: {config.case_label()}"
+        if overlay is not None:
+            curves += [(f"{m} - {REFERENCE_MODEL} [{overlay.case_label()}]", model_colour(m), DASHED, v)
+                       for m, v in store.contact_filters(overlay.case()).items()]
+            title += f" (dashed: {overlay.case_label()})"
+        curves = [c for c in curves if np.array_equal(c[3][0], centres)]
+        curves += [(name, REFERENCE_COLOURS.get(name, "#555555"), DOTTED, v) for name, v in references.items()]
+        columns = [levels for *_, (_, levels) in curves]
+        series = tuple((label, colour, style) for label, colour, style, _ in curves)
+        self.filters.show(finite_bands(centres, columns), series, title=title)
+
+
+class RoughnessTab(ResultsTab):
+    """The roughness of the configuration: spectra (rail, wheel set and combined, the ISO 3095 limit) against
+    frequency and wavelength, the lateral coherence, the lines across the running surface."""
+
+    title, icon = "Roughness", viser.Icon.WAVE_SINE
+
+    def __init__(self, app, tab) -> None:
+        super().__init__(app, tab)
+        gui = self.gui
+        self.spectrum = Plot(gui, tab, "Roughness spectrum", "band (Hz)", "dB re 1 µm", bands=True)
+        self.coherence = Plot(gui, tab, "Lateral coherence", "band (Hz)", "γ²", bands=True, y_range=(0.0, 1.0))
+        with tab:
+            self.line_map = gui.add_image(np.full((10, 10, 3), 255, dtype=np.uint8),
+                                          label="Lines across the running surface", format="png")
+            self.description_md = gui.add_markdown("")
+            self._plot_export()
+
+    def plots(self) -> dict[str, Plot]:
+        return {"roughness spectrum": self.spectrum, "lateral coherence": self.coherence}
+
+    def show_roughness(self, rough, label: str, speed: float, wheel=None, wheel_label: str | None = None) -> None:
+        """Spectra of the set ``rough`` (and of the wheel set ``wheel`` with the combined roughness) at ``speed``
+        (m/s), averaged over its lines -3..3 (the paper's), and its lateral coherence."""
+        curves = []
+        lines = self._lines(rough)
+        rail = roughness_spectrum(rough, speed=speed, lines=lines)
+        centres = rail.band_centres
+        what = "rail" if rough.kind == "rail" else "wheel"
+        curves.append((f"{what}: {label}, lines {lines[0]}..{lines[-1]}", "#1f77b4", rail.levels_db))
+        title = f"Roughness spectrum: {label}"
+        if wheel is not None:
+            wheel_lines = self._lines(wheel)
+            of_wheel = roughness_spectrum(wheel, speed=speed, lines=wheel_lines)
+            curves.append((f"wheel: {wheel_label}, lines {wheel_lines[0]}..{wheel_lines[-1]}", "#8c564b",
+                           of_wheel.levels_db))
+            curves.append(("combined (energetic sum)", "#d62728", energetic_sum(rail.levels_db, of_wheel.levels_db)))
+            title = f"Roughness spectrum: {label} + {wheel_label}"
+        curves = [(name, colour, SOLID, _without_empty_bands(levels)) for name, colour, levels in curves]
+        if rough.kind == "rail":
+            limit_bands, limit = iso3095_limit()
+            on_frequency = map_levels(limit, limit_bands, frequency_bands(speed, FREQUENCY_RANGE))
+            curves.append(("ISO 3095:2013 limit (rail)", ISO_LIMIT_COLOUR, DOTTED, on_frequency))
+        self.spectrum.show(bands_with_data(centres, [levels for *_, levels in curves]),
+                           tuple((name, colour, style) for name, colour, style, _ in curves),
+                           title=f"{title} at {speed / KMH:g} km/h", wavelength_speed=speed)
+        half = min(3, int(rough.line_numbers[-1]), -int(rough.line_numbers[0]))
+        if half >= 1:
+            centres, gamma2 = lateral_coherence(rough, speed, half_lines=half)
+            self.coherence.show(finite_bands(centres, [gamma2]), ((f"γ², lines -{half}..{half}", "#2ca02c", SOLID),),
+                                title=f"Lateral coherence: {label} at {speed / KMH:g} km/h")
+        else:
+            self.coherence.clear("one line only: no lateral coherence", title=f"Lateral coherence: {label}")
+
+    @staticmethod
+    def _lines(rough) -> list[int]:
+        return [k for k in range(-3, 4) if k in rough.line_numbers] or [int(rough.line_numbers[0])]
+
+
+def _without_empty_bands(levels: np.ndarray) -> np.ndarray:
+    """Levels with the bands more than ``EMPTY_BAND_DB`` below the highest set to NaN: such a band holds no
+    roughness, only the FFT's numerical floor (a pure sine gives -300 dB there), which would set the axis."""
+    levels = np.asarray(levels, dtype=float)
+    if not np.any(np.isfinite(levels)):
+        return levels
+    return np.where(levels >= np.nanmax(levels) - EMPTY_BAND_DB, levels, np.nan)
+
+
+class HelpTab(ResultsTab):
+    """The models, the contact filter, the geometry and the inputs in words."""
+
+    title, icon = "Help", viser.Icon.HELP
+
+    def __init__(self, app, tab) -> None:
+        super().__init__(app, tab)
+        with tab:
+            self.gui.add_markdown(help_text())
+
+
+def help_text() -> str:
+    models = "\n".join(f"- **{m}**: {model_entry(m).label}" for m in MODEL_CHOICES[:-1])
+    return (
+        "**Contact models** (Pieringer, Kropp & Thompson, Wear 271, 2011):\n\n" + models +
+        f"\n- **{COMPARE}**: every model one after another on the same configuration, {REFERENCE_MODEL} first; "
+        "*Model shown* (Patch tab) chooses the one replayed and downloaded.\n\n"
+        "**Contact filter**: a contact patch is several millimetres long and wide, so roughness of shorter "
+        "wavelengths is partly averaged out before it excites the wheel and rail. The *contact filter* of a "
+        f"model is its force level minus that of `{REFERENCE_MODEL}` (a point contact, no filtering), per "
+        "third-octave band: 0 dB means no filtering, negative values show how much the patch attenuates. "
+        "Dotted: reference filters for the same load, geometry and speed (CNOSSOS-EU A3 of noise mapping, and "
+        "the analytic averaging and circular-patch filters). Dashed: another run overlaid on purpose.\n\n"
+        "**3D view**: seen from above, x (the rolling direction) to the right, y across the rail up; grid of "
+        "1 mm, bold every 5 mm. The red ellipse is the Hertz patch at the preload with its semi-axes a (along) "
+        "and b (across); the colour bar marks its peak pressure p0. *Top view* / *Oblique view* set the camera.\n\n"
+        "**Contact geometry**: wheel radius (rolling, along the rail), rail crown radius (across) and wheel "
+        "tread radius across (empty: a cylindrical tread; negative: a concave, worn tread, which must stay "
+        "flatter than the crown), in mm; empty fields keep the paper's crossed cylinders of 390 mm (a circular "
+        "patch). Otherwise the patch is an ellipse, drawn with its Hertz semi-axes.\n\n"
+        "**Wheel roughness**: a bundled wheel set added to a rail set (r = r_rail + r_wheel, the wheel's lines "
+        "repeating with its circumference); `none`: a smooth wheel, as in the paper. The Roughness tab then "
+        "shows the rail, the wheel and their energetic sum.\n\n"
+        "**Roughness spectrum**: dB re 1 µm against frequency at the speed and wavelength (top axis), averaged "
+        "over lines -3..3; dotted, for rail sets: the ISO 3095:2013 limit, put on these bands by the "
+        "CNOSSOS-EU rule. Bands more than 120 dB below the highest hold no roughness and are not drawn.\n\n"
+        "**Run length**: at least long enough for a force spectrum at the chosen speed, at most what the "
+        "roughness set holds; the page shows the range.")
+
+
+RESULT_TABS = (PatchTab, SpectraTab, RoughnessTab, HelpTab)

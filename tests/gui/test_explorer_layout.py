@@ -1,0 +1,136 @@
+"""Explorer in a real browser: after the default Run, what a user came to see is on screen without scrolling.
+
+Headless Chromium (Debian's /usr/bin/chromium, driven by Playwright) at 1280 x 800 and 1920 x 1080: on every
+results tab the first plot lies at least 90 % inside the window and is at least 480 px wide, and on the Patch
+tab the pressure colour bar is on screen; plot titles wrap inside their plot. Screenshots of every tab at
+both sizes go to ``test-artifacts/``. Every wait is for a condition in the page, never a fixed time.
+"""
+
+import socket
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = Path("/usr/bin/chromium")
+LAUNCH_ARGS = ["--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-sandbox",
+               "--disable-gpu"]
+if not CHROMIUM.exists():
+    pytest.skip("Debian's chromium is not installed at /usr/bin/chromium (apt-get install chromium); "
+                "CI installs it", allow_module_level=True)
+from playwright import sync_api as playwright_api  # noqa: E402  (the test extra installs it)
+
+pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
+
+ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
+SIZES = ((1280, 800), (1920, 1080))
+MIN_INSIDE = 0.9  # share of the first plot's area inside the window
+MIN_WIDTH = 480  # px
+TABS = ("Patch", "Spectra and filters", "Roughness", "Help")
+PLOT_TABS = TABS[:3]
+COLOUR_BAR = "contact pressure (MPa)"  # the colour bar's label in the Patch tab
+
+# every uPlot chart of the page with its box on screen (zero size: in a tab not shown)
+PLOT_BOXES = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(t => {
+    const r = t.chart.root.getBoundingClientRect();
+    const title = t.chart.root.querySelector('.u-title');
+    return {title: String((title || {}).textContent || ''), x: r.x, y: r.y, width: r.width, height: r.height,
+            title_fits: !title || title.scrollWidth <= title.clientWidth + 1};
+}).filter(b => b.width > 0 && b.height > 0)"""
+
+
+FRAMES_RENDERED = "(window.__viserTestpoints && window.__viserTestpoints.rendererInfo.render.frame) || 0"
+
+
+def inside_share(box, width, height) -> float:
+    """Share of ``box``'s area inside the window (0, 0)-(width, height)."""
+    w = max(0.0, min(box["x"] + box["width"], width) - max(box["x"], 0.0))
+    h = max(0.0, min(box["y"] + box["height"], height) - max(box["y"], 0.0))
+    return w * h / (box["width"] * box["height"])
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def app():
+    from wheelrail.explorer.app import ExplorerApp
+
+    explorer = ExplorerApp(port=_free_port())  # the defaults: 3d on the corrugated rail, 3 m
+    yield explorer
+    explorer.close()
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with playwright_api.sync_playwright() as p:
+        chromium = p.chromium.launch(executable_path=str(CHROMIUM), args=LAUNCH_ARGS)
+        yield chromium
+        chromium.close()
+
+
+def _open(browser, app, width, height):
+    """A page of the app at this window size, once its Run button is there; and its script errors."""
+    errors = []
+    page = browser.new_page(viewport={"width": width, "height": height})
+    page.on("pageerror", lambda error: errors.append(str(error)))
+    page.goto(f"http://127.0.0.1:{app.port}")
+    page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
+    return page, errors
+
+
+def _first_plot(page):
+    boxes = page.evaluate(PLOT_BOXES)
+    return min(boxes, key=lambda b: (round(b["y"]), b["x"])) if boxes else None
+
+
+def test_after_the_default_run_every_tab_shows_its_first_plot(app, browser):
+    ARTIFACTS.mkdir(exist_ok=True)
+    page, errors = _open(browser, app, *SIZES[0])
+    page.get_by_role("button", name="Run", exact=True).click()
+    page.get_by_text("Done: 3d on corrugated-rail, line 0, 100 km/h, 65 kN, 3 m", exact=False).wait_for(
+        timeout=300_000)
+    assert app.last_error is None
+    page.close()
+    problems = []
+    for width, height in SIZES:
+        page, errors = _open(browser, app, width, height)
+        page.wait_for_function(f"({FRAMES_RENDERED}) > 2", timeout=90_000)  # the 3D view has been drawn
+        for close in page.locator(".mantine-Notification-closeButton").all():  # viser's software-WebGL notice
+            close.click()
+        for title in TABS:
+            page.get_by_role("tab", name=title).click()
+            if title in PLOT_TABS:
+                page.wait_for_function(f"() => ({PLOT_BOXES})().length > 0", timeout=60_000)
+                first = _first_plot(page)
+                share = inside_share(first, width, height)
+                if share < MIN_INSIDE or first["width"] < MIN_WIDTH or not first["title_fits"]:
+                    problems.append(f"{width}x{height} {title}: '{first['title'][:40]}' {share:.0%} inside, "
+                                    f"{first['width']:.0f} px wide, title {'' if first['title_fits'] else 'not '}"
+                                    "wrapped")
+            if title == "Patch":
+                bar = page.get_by_text(COLOUR_BAR, exact=True).locator("xpath=following::img[1]").bounding_box()
+                if bar is None or inside_share(bar, width, height) < 0.99:
+                    problems.append(f"{width}x{height}: the colour bar is not on screen ({bar})")
+            page.screenshot(path=str(ARTIFACTS / f"explorer-{title.split()[0].lower()}-{width}x{height}.png"))
+        assert not errors, errors
+        page.close()
+    assert not problems, problems
+
+
+def test_long_plot_titles_wrap_inside_their_plot(app, browser):
+    """A configuration with a contact geometry has titles longer than a plot is wide: they wrap."""
+    page, errors = _open(browser, app, *SIZES[0])
+    try:
+        app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = "460", "300", "-1000"
+        page.wait_for_function(f"() => ({PLOT_BOXES})().some(b => b.title.includes('tread radius across -1000'))",
+                               timeout=60_000)
+        first = _first_plot(page)
+        assert "tread radius across -1000 mm" in first["title"] and first["title_fits"]
+        assert first["width"] >= MIN_WIDTH
+        assert not errors, errors
+    finally:
+        app.wheel_radius_text.value = app.crown_radius_text.value = app.tread_radius_text.value = ""
+        page.close()

@@ -1,0 +1,347 @@
+"""Explorer, server side: the 3D view, readout, slider and progress belong to the configuration shown.
+
+The controls are set as a browser would (``handle.value = ...`` runs the callbacks) and Run is pressed by
+calling what the button calls (``ExplorerApp.start_run``); the runs are wheelrail.core's, short (0.6 m).
+"""
+
+import io
+import socket
+import threading
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from wheelrail.core.drawing import colour_table, table_colours
+from wheelrail.core.models import model_names
+from wheelrail.core.parameters import ContactParameters
+from wheelrail.explorer.app import ExplorerApp
+from wheelrail.explorer.scene import PRESSURE_HEIGHT, PRESSURE_TOP, SCENE_PER_MM
+
+pytestmark = pytest.mark.slow  # every test here starts a server and runs the model: `pytest -m 'not slow'` skips them
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def app():
+    explorer = ExplorerApp(port=_free_port(), max_upload_bytes=1_000_000)
+    yield explorer
+    explorer.close()
+
+
+def _run(app, timeout=300.0):
+    assert app.start_run(), app.last_error
+    assert app.controller.wait(timeout), "run did not finish"
+    return app.replay.result
+
+
+def _reset(app, *, model="3d", speed="100", length="0.6", geometry_mm=("", "", "")):
+    app.wheel_set_dropdown.value = "none"
+    app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = geometry_mm
+    app.set_dropdown.value = "corrugated-rail"
+    app.model_dropdown.value = model
+    app.line_dropdown.value = "0"
+    app.speed_text.value = speed
+    app.preload_text.value = "65"
+    app.length_text.value = length
+    app.last_error = None
+
+
+def _heat_map_of(result, step, contact=None):
+    """The heat map the scene draws for ``step`` of ``result`` (rows top (+y) to bottom)."""
+    contact = ContactParameters() if contact is None else contact
+    colours = table_colours(np.asarray(result.pressure[step], dtype=np.float64),
+                            PRESSURE_TOP * contact.hertz_peak_pressure(), colour_table())
+    return colours[::-1]
+
+
+def _assert_cleared(app):
+    scene = app.scene
+    assert not scene.heatmap.visible and not scene.strip.visible and not scene.surface.visible
+    assert "no run of this configuration yet" in app.readout_md.content.lower()
+    assert app.time_slider.disabled and app.play_button.disabled and app.rrd_button.disabled
+    assert app.progress_bar.value == 0
+
+
+def _assert_shows_last_step(app, result):
+    n = result.n_steps
+    assert app.scene.heatmap.visible
+    assert app.time_slider.max == n - 1 and app.time_slider.value == n - 1 and not app.time_slider.disabled
+    assert f"step {n - 1}:" in app.readout_md.content
+    assert f"x = {result.x[-1]:.4f} m" in app.readout_md.content
+    assert np.array_equal(app.scene.heatmap.image, _heat_map_of(result, n - 1, result_contact(result)))
+    assert app.progress_bar.value == 100
+
+
+def result_contact(result):
+    contact = result.parameters["contact"]
+    return ContactParameters(**contact)
+
+
+def test_the_view_follows_the_configuration_shown(app):
+    """The 3D view, readout, slider and progress of the configuration the controls describe, or cleared."""
+    _reset(app, length="0.8")
+    longer = _run(app)
+    _reset(app, length="0.6")
+    _assert_cleared(app)  # a configuration without a run: the 0.8 m patch is not left on screen
+    result = _run(app)
+    _assert_shows_last_step(app, result)
+    app.speed_text.value = "200"
+    _assert_cleared(app)
+    app.speed_text.value = "100"
+    _assert_shows_last_step(app, result)
+    app.length_text.value = "0.8"  # the longer run: its own steps, positions and slider range
+    _assert_shows_last_step(app, longer)
+    app.length_text.value = "0.6"
+    app.wheel_radius_text.value, app.crown_radius_text.value = "460", "300"
+    _assert_cleared(app)  # the old circle patch does not lie under the new ellipse
+    app.wheel_radius_text.value = app.crown_radius_text.value = ""
+    _assert_shows_last_step(app, result)
+    app.time_slider.value = 100  # scrubbing draws that step of this run
+    assert "step 100:" in app.readout_md.content
+    assert np.array_equal(app.scene.heatmap.image, _heat_map_of(result, 100))
+
+
+def test_the_view_is_cleared_after_an_upload(app, tmp_path):
+    from wheelrail.core.roughness import load_roughness, write_csv
+
+    _reset(app)
+    _run(app)
+    rail = load_roughness("corrugated-rail")
+    small = rail.with_heights(rail.heights[:, :1500], note="explorer view test")
+    path = tmp_path / "view.csv"
+    write_csv(small, path)
+    event = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="view.csv", content=path.read_bytes())),
+                            client=None)
+    app._on_upload(event)
+    assert app.roughness_label == "upload: view.csv"
+    _assert_cleared(app)  # the corrugated rail's heat map does not stay
+
+
+def test_a_compare_replays_and_downloads_the_model_chosen(app):
+    """After compare, a model selector chooses what is replayed, plotted as displacement and downloaded."""
+    _reset(app, model="compare")
+    _run(app)
+    app.speed_text.value = "80"
+    app.speed_text.value = "100"  # back on the compare's configuration
+    models = [m for m in model_names() if m in app.store.entries(app.shown.case())]
+    first = models[0]  # registry order: 3d
+    assert app.patch.displacement.handle.title.startswith(f"Displacement, {first}:")
+    assert app.replay.config.model == first  # the view replays what the plots name
+    assert app.shown_model.options == tuple(models) and not app.shown_model.disabled
+    assert app.shown_model.value == first
+    assert app.download_rrd()[0].startswith(f"wheelrail-{first}-")
+    app.shown_model.value = "2d"
+    assert app.replay.config.model == "2d"
+    assert app.patch.displacement.handle.title.startswith("Displacement, 2d:")
+    assert app.readout_md.content.startswith("**2d**")
+    assert app.scene.strip.visible and not app.scene.heatmap.visible  # a one-line model's strip
+    name, _ = app.download_rrd()
+    assert name == "wheelrail-2d-corrugated-rail-line0-100kmh-65kN-0.6m.rrd"
+
+
+def test_the_raised_surface_is_drawn_before_it_is_shown(app):
+    """Ticked after a run, the raised pressure surface has the vertices of the step shown (no stale mesh)."""
+    _reset(app)
+    result = _run(app)
+    app.raised_box.value = True
+    try:
+        surface = app.scene.surface
+        ny, nx = result.pressure.shape[1:]
+        assert surface.visible
+        assert surface.vertices.shape == (ny * nx, 3) and int(surface.faces.max()) < ny * nx
+        step = int(app.time_slider.value)
+        height = surface.vertices[:, 2].reshape(ny, nx) / SCENE_PER_MM  # mm
+        expected = result.pressure[step] / 1e9 * PRESSURE_HEIGHT
+        assert np.allclose(height, expected, atol=1e-4)  # float32 vertices
+    finally:
+        app.raised_box.value = False
+
+
+def test_exported_pngs_keep_their_whole_title(app):
+    """A long title (configuration with a geometry) wraps inside the PNG instead of running off both sides."""
+    from PIL import Image
+
+    _reset(app, model="hertz", geometry_mm=("460", "300", "-1000"))
+    _run(app)
+    assert len(app.patch.force.handle.title) > 120
+    for which in ("contact force", "displacement", "force spectra", "contact filters"):
+        _, content = app.download_plot_png(which)
+        grey = np.asarray(Image.open(io.BytesIO(content)).convert("L"))
+        top = grey[: grey.shape[0] // 6]  # the title's band
+        assert top.min() < 100  # the title is drawn
+        for edge in (top[:, :4], top[:, -4:]):
+            assert edge.min() > 200, f"{which}: the title touches the edge of the PNG"
+
+
+def test_the_3d_view_explains_itself(app):
+    """From above by default, the Hertz semi-axes labelled, p0 said; surfaces at the step shown, never over
+    the patch."""
+    camera = app.server.initial_camera
+    assert np.allclose(camera.position[:2], 0.0) and camera.position[2] > 0  # straight above: no foreshortening
+    assert np.allclose(camera.up, (0.0, 1.0, 0.0))  # x (rolling direction) to the right, y up
+    _reset(app, geometry_mm=("460", "300", ""))
+    contact = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.3)
+    a, b = (v * 1e3 for v in contact.hertz_semi_axes())
+    assert app.scene.a_label.text == f"a = {a:.2f} mm" and app.scene.b_label.text == f"b = {b:.2f} mm"
+    result = _run(app)
+    assert f"p0 = {contact.hertz_peak_pressure() / 1e6:.0f} MPa" in app.readout_md.content
+    app.time_slider.value = 150
+    app.surfaces_box.value = True
+    try:
+        scene = app.scene
+        rail, wheel = scene.rail_mesh.vertices, scene.wheel_lines.points
+        assert rail[:, 2].max() < 0 < wheel[..., 2].min()  # the patch lies at z = 0, between them
+        expected, _ = scene._surface_vertices(app.roughness, float(result.x[150]), 0, contact)
+        assert np.allclose(rail, expected)  # drawn where the wheel is at the step shown
+        app.time_slider.value = 400
+        expected, _ = scene._surface_vertices(app.roughness, float(result.x[400]), 0, contact)
+        assert np.allclose(scene.rail_mesh.vertices, expected)
+    finally:
+        app.surfaces_box.value = False
+
+
+def _upload(app, name, rough, tmp_path):
+    from wheelrail.core.roughness import write_csv
+
+    path = tmp_path / name
+    write_csv(rough, path)
+    app._on_upload(SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name=name,
+                                                                                  content=path.read_bytes())),
+                                   client=None))
+    assert app.roughness_label == f"upload: {name}", app.last_error
+
+
+def test_the_line_menu_and_the_run_length_follow_the_set_loaded(app, tmp_path):
+    from wheelrail.core.roughness import load_roughness
+
+    rail = load_roughness("corrugated-rail")
+    _reset(app, length="3")
+    _upload(app, "three-lines.csv", rail.with_heights(rail.heights[8:11, :1500], y=rail.y[8:11]), tmp_path)
+    # the run length is brought within what the file holds, saying so
+    assert app.length_text.value == "1.459" and "1.459 m is set" in app.status_md.content
+    # 3d needs more room across than three lines 1 mm apart: no line is offered, and the page says why
+    assert app.line_dropdown.options == ("no line fits",)
+    assert "no line of upload: three-lines.csv leaves room for it" in app.check_md.content
+    assert not app.start_run()
+    app.model_dropdown.value = "hertz"
+    assert app.line_dropdown.options == ("-1", "0", "1")
+    _reset(app, geometry_mm=("", "5000", ""))  # a 5 m crown: a patch too wide for every line
+    assert app.line_dropdown.options == ("no line fits",)
+    app.crown_radius_text.value = ""
+    assert app.line_dropdown.options == ("-2", "-1", "0", "1", "2")
+
+
+def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
+    from wheelrail.core.roughness import load_roughness, roughness_spectrum
+    from wheelrail.core.spectra import energetic_sum
+
+    _reset(app)
+    app.wheel_set_dropdown.value = "sinter-wheel-1"
+    plot = app.roughness_tab.spectrum
+    labels = [label for label, _, _ in plot.series]
+    assert labels == ["rail: corrugated-rail, lines -3..3", "wheel: sinter-wheel-1, lines -3..3",
+                      "combined (energetic sum)", "ISO 3095:2013 limit (rail)"]
+    assert [style for _, _, style in plot.series] == ["solid", "solid", "solid", "dotted"]
+    assert plot.handle.title == "Roughness spectrum: corrugated-rail + sinter-wheel-1 at 100 km/h"
+    rail = roughness_spectrum(load_roughness("corrugated-rail"), speed=100 / 3.6)
+    wheel = roughness_spectrum(load_roughness("sinter-wheel-1"), speed=100 / 3.6)
+    combined = energetic_sum(rail.levels_db, wheel.levels_db)
+    centres = plot.data[0]
+    for i, f in enumerate(centres):
+        band = int(np.argmin(np.abs(rail.band_centres - f)))
+        if np.isfinite(combined[band]):
+            assert plot.data[3][i] == pytest.approx(combined[band])
+    # frequency with its nominal band names below, wavelength on top
+    axes = plot.handle.axes
+    assert axes[0]["values"][:3] == ["63", "125", "250"] and axes[2]["label"] == "wavelength (mm) at 100 km/h"
+    assert axes[2]["side"] == 0 and "100" in axes[2]["values"]
+    speed = 100 / 3.6
+    for f, mm in zip(axes[2]["splits"], axes[2]["values"], strict=True):  # lambda = v / f, on the page
+        assert float(mm) == pytest.approx(speed / f * 1e3)
+    top = plot.figure().axes[1]  # and in the PNG
+    for f, label in zip(top.get_xticks(), top.get_xticklabels(), strict=True):
+        assert float(label.get_text()) == pytest.approx(speed / f * 1e3)
+    assert app.roughness_tab.coherence.handle.scales["y"]["range"] == [0.0, 1.0]
+    app.wheel_set_dropdown.value = "none"
+    # a pure sine: the bands without roughness are not drawn at the FFT's numerical floor
+    base = load_roughness("corrugated-rail")
+    x = np.arange(3000) * base.dx
+    sine = base.with_heights(np.tile(5e-6 * np.sin(2 * np.pi * x / 0.05), (3, 1)), y=base.y[8:11])
+    _upload(app, "sine.csv", sine, tmp_path)
+    levels = app.roughness_tab.spectrum.data[1]
+    finite = levels[np.isfinite(levels)]
+    assert finite.size and finite.min() >= finite.max() - 120.0
+    assert app.roughness_tab.spectrum.handle.scales["y"]["range"][0] >= finite.max() - 125.0
+
+
+class HeldRun:
+    """A stand-in one-line run of ``n`` steps whose step ``hold_at`` waits for ``release`` (or cancel)."""
+
+    def __init__(self, model, n, hold_at):
+        self.model, self.n_steps, self.hold_at = model, n, hold_at
+        self.reached, self.release, self._cancel = threading.Event(), threading.Event(), threading.Event()
+        self.done = 0
+        self.force = 65e3 + np.random.default_rng(3).standard_normal(n)
+        self.window_x = self.window_y = None
+
+    def _state(self, s):
+        return SimpleNamespace(step=s, position=s * 1e-3, force=self.force[s], contact_length=0.011, pressure=None)
+
+    def steps(self):
+        for s in range(self.n_steps):
+            if s == self.hold_at:
+                self.reached.set()
+                while not (self.release.is_set() or self._cancel.is_set()):
+                    self.release.wait(60.0)
+            if self._cancel.is_set():
+                return
+            self.done = s + 1
+            yield self._state(s)
+
+    def cancel(self):
+        self._cancel.set()
+
+    @property
+    def cancelled(self):
+        return self._cancel.is_set()
+
+    def result(self):
+        n = self.done
+        return SimpleNamespace(model=self.model, n_steps=n, force=self.force[:n], x=np.arange(n) * 1e-3,
+                               xi_wheel=np.zeros(n), xi_rail=np.zeros(n), time_step=1e-3 / (100 / 3.6),
+                               window_x=None, window_y=None, state=self._state)
+
+
+def test_a_run_reaches_the_view_only_while_its_configuration_is_shown(app):
+    """A run of one configuration goes on while the page shows another: its frames and progress stay off
+    that page's view; back on its configuration the view shows it."""
+    from wheelrail.explorer.controller import RunController
+
+    run = HeldRun("hertz", 3000, hold_at=1500)
+    own = app.controller
+    app.controller = RunController(app, app.store, prepare=lambda *a, **k: run, frame_interval=0.0)
+    try:
+        _reset(app, model="hertz", speed="90", length="3")
+        assert app.start_run()
+        assert run.reached.wait(60.0)
+        assert app.scene.strip.visible and "step 1499:" in app.readout_md.content
+        app.speed_text.value = "91"  # another configuration while the run goes on
+        _assert_cleared(app)
+        drawn = app.scene.frames_drawn
+        run.release.set()
+        assert app.controller.wait(60.0)
+        assert app.scene.frames_drawn == drawn and app.progress_bar.value == 0  # nothing of the run arrived
+        _assert_cleared(app)
+        app.speed_text.value = "90"  # back: its run, last step
+        assert app.scene.strip.visible and "step 2999:" in app.readout_md.content
+        assert app.progress_bar.value == 100 and app.time_slider.max == 2999
+    finally:
+        run.release.set()
+        app.controller.wait(60.0)
+        app.controller = own
