@@ -369,6 +369,22 @@ class ContactParameters:
     500 kN; wheel 0.1 to 1.25 m, crown 0.05 to 5 m, tread at least 0.05 m in magnitude) and the Hertz patch at
     the preload within a tenth of the radii (``accepted.check_patch``); else one WheelrailError naming the
     input.
+
+    Examples
+    --------
+    The paper's crossed cylinders of R = 0.39 m under 65 kN, then a 0.46 m wheel on a 0.30 m rail crown:
+
+    >>> from wheelrail.core.parameters import ContactParameters
+    >>> hertz = ContactParameters().hertz()
+    >>> round(hertz.semi_axis_along * 1e3, 2), round(hertz.peak_pressure / 1e6)   # a in mm, p0 in MPa
+    (5.48, 1033)
+    >>> real = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)
+    >>> [round(axis * 1e3, 2) for axis in real.hertz_semi_axes()]   # mm, along and across the rail
+    [6.2, 4.67]
+    >>> ContactParameters(preload=5e6)       # SI: N
+    Traceback (most recent call last):
+    ...
+    wheelrail.core.errors.WheelrailError: ContactParameters.preload 5e+06 N is outside the accepted 1000 to 500000 N ...
     """
 
     youngs_modulus: float = STEEL_YOUNGS_MODULUS

@@ -32,6 +32,13 @@ def third_octave_bands(lowest: float, highest: float) -> tuple[np.ndarray, np.nd
     -------
     centres, lower, upper : numpy.ndarray
         Band centres ``10^(n/10)`` in increasing order and their edges ``centre x 10^(∓1/20)``.
+
+    Examples
+    --------
+    >>> from wheelrail.core.spectra import nominal_band_label, third_octave_bands
+    >>> centres, lower, upper = third_octave_bands(50.0, 8000.0)   # the paper's force bands, Hz
+    >>> centres.size, [nominal_band_label(c) for c in centres[:4]]
+    (23, ['50', '63', '80', '100'])
     """
     if not (math.isfinite(lowest) and math.isfinite(highest) and 0 < lowest <= highest):
         raise WheelrailError(f"third-octave range must satisfy 0 < lowest <= highest, got {lowest!r} .. {highest!r}")
@@ -270,7 +277,14 @@ FORCE_MIN_STEPS = 16  # steps a force spectrum needs after FORCE_SKIP
 
 def shortest_spectrum_run(speed: float, element_size: float, skip: float = FORCE_SKIP) -> float:
     """The shortest run with a force spectrum, m: ``skip`` s left out (whole steps, as :func:`force_spectrum`
-    counts them) and ``FORCE_MIN_STEPS`` after it, at ``speed`` m/s and ``element_size`` m per step."""
+    counts them) and ``FORCE_MIN_STEPS`` after it, at ``speed`` m/s and ``element_size`` m per step.
+
+    Examples
+    --------
+    >>> from wheelrail.core.spectra import shortest_spectrum_run
+    >>> round(shortest_spectrum_run(100 / 3.6, 1e-3), 3)    # m at 100 km/h, 1 mm steps: 556 skipped + 16
+    0.572
+    """
     return (math.ceil(skip * speed / element_size - 1e-9) + FORCE_MIN_STEPS) * element_size
 
 
@@ -284,6 +298,34 @@ def check_spectrum_length(length: float, speed: float, element_size: float) -> N
             f"{FORCE_SKIP * 1e3:g} ms (start-up) and needs {FORCE_MIN_STEPS} steps after them",
             parameter="length", value=length, minimum=shortest, unit="m",
         )
+
+
+def _force_record(result_or_force, time_step, skip) -> tuple[np.ndarray, float, float]:
+    """The force (N), time step (s) and skip (s) of :func:`force_spectrum`, checked (one WheelrailError each)."""
+    if hasattr(result_or_force, "force") and hasattr(result_or_force, "time_step"):
+        own_step = float(result_or_force.time_step)
+        if time_step is not None and not math.isclose(float(time_step), own_step, rel_tol=1e-9):
+            raise WheelrailError(f"force_spectrum: time_step {time_step!r} s differs from the run's {own_step!r} s")
+        force, time_step = result_or_force.force, own_step
+    else:
+        force = result_or_force
+        if time_step is None:
+            raise WheelrailError("force_spectrum: time_step (s) is required when a force array is given")
+    try:
+        time_step = float(time_step)
+        skip = float(skip)
+        force = np.asarray(force, dtype=float)
+    except (TypeError, ValueError):
+        raise WheelrailError("force_spectrum: force must be numbers in N, time_step and skip numbers in s") from None
+    if not (math.isfinite(time_step) and time_step > 0):
+        raise WheelrailError(f"force_spectrum: time_step must be a positive number of seconds, got {time_step!r}")
+    if not (math.isfinite(skip) and skip >= 0):
+        raise WheelrailError(f"force_spectrum: skip must be zero or a positive number of seconds, got {skip!r}")
+    if force.ndim != 1:
+        raise WheelrailError(f"force_spectrum: force must be one value per step, got shape {force.shape}")
+    if not np.all(np.isfinite(force)):
+        raise WheelrailError("force_spectrum: force contains NaN or infinity")
+    return force, time_step, skip
 
 
 def force_spectrum(
@@ -328,30 +370,21 @@ def force_spectrum(
         Exact base-10 band centres, Hz.
     levels : numpy.ndarray
         Band levels of the dynamic contact force, dB re 1 N (NaN where a band is not resolved).
+
+    Examples
+    --------
+    A tone of 100 N amplitude at 1 kHz on the 65 kN preload reads 20 log10(100 / sqrt(2)) = 37.0 dB in its band:
+
+    >>> import numpy as np
+    >>> from wheelrail.core.spectra import force_spectrum
+    >>> time = np.arange(4096) * 1e-4                                   # s
+    >>> force = 65e3 + 100.0 * np.sin(2 * np.pi * 1000.0 * time)        # N
+    >>> centres, levels = force_spectrum(force, 1e-4)
+    >>> loudest = int(np.nanargmax(levels))
+    >>> round(float(centres[loudest])), round(float(levels[loudest]), 1)
+    (1000, 37.0)
     """
-    if hasattr(result_or_force, "force") and hasattr(result_or_force, "time_step"):
-        own_step = float(result_or_force.time_step)
-        if time_step is not None and not math.isclose(float(time_step), own_step, rel_tol=1e-9):
-            raise WheelrailError(f"force_spectrum: time_step {time_step!r} s differs from the run's {own_step!r} s")
-        force, time_step = result_or_force.force, own_step
-    else:
-        force = result_or_force
-        if time_step is None:
-            raise WheelrailError("force_spectrum: time_step (s) is required when a force array is given")
-    try:
-        time_step = float(time_step)
-        skip = float(skip)
-        force = np.asarray(force, dtype=float)
-    except (TypeError, ValueError):
-        raise WheelrailError("force_spectrum: force must be numbers in N, time_step and skip numbers in s") from None
-    if not (math.isfinite(time_step) and time_step > 0):
-        raise WheelrailError(f"force_spectrum: time_step must be a positive number of seconds, got {time_step!r}")
-    if not (math.isfinite(skip) and skip >= 0):
-        raise WheelrailError(f"force_spectrum: skip must be zero or a positive number of seconds, got {skip!r}")
-    if force.ndim != 1:
-        raise WheelrailError(f"force_spectrum: force must be one value per step, got shape {force.shape}")
-    if not np.all(np.isfinite(force)):
-        raise WheelrailError("force_spectrum: force contains NaN or infinity")
+    force, time_step, skip = _force_record(result_or_force, time_step, skip)
     first = int(math.ceil(skip / time_step - 1e-9))
     kept = force.size - first
     if kept < FORCE_MIN_STEPS:
@@ -408,6 +441,12 @@ def mean_level(levels) -> np.ndarray:
     3.3 says only "an average of the seven spectra" for the force levels and "the average of the filter
     curves" for the contact filters, which are level differences in dB; averaging in dB keeps the two
     consistent (the mean filter equals the difference of the mean levels).
+
+    Examples
+    --------
+    >>> from wheelrail.core.spectra import mean_level
+    >>> mean_level([[60.0, 50.0], [62.0, 54.0]]).tolist()    # two runs, two bands, dB
+    [61.0, 52.0]
     """
     stack = np.vstack([np.asarray(v, dtype=float) for v in levels])
     return stack.mean(axis=0)
@@ -434,5 +473,12 @@ def contact_filter(levels_model: np.ndarray, levels_hertz: np.ndarray) -> np.nda
 
     Section 3.3: the Hertz spring without roughness pre-filtering has no contact filtering, so the level
     difference characterises the filtering of the other models (Fig. 10, right column).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.spectra import contact_filter
+    >>> contact_filter(np.array([60.0, 50.0]), np.array([60.0, 55.0])).tolist()   # dB: no filter, then -5 dB
+    [0.0, -5.0]
     """
     return level_difference(levels_model, levels_hertz)

@@ -141,7 +141,7 @@ class ExplorerApp:
                 hint="A wheel set added to the rail set (combined roughness); none: a smooth wheel.")
             self.upload_button = gui.add_upload_button(
                 f"Upload CSV/NPZ (<= {size_text(self.max_upload_bytes)})", icon=viser.Icon.UPLOAD,
-                hint="A roughness file in the CSV or NPZ format of the README; read in memory.")
+                hint="A roughness file in the CSV or NPZ format of the user guide (Roughness data); read in memory.")
             self.model_dropdown = gui.add_dropdown("Contact model", MODEL_CHOICES, initial_value="3d",
                                                    hint=f"{COMPARE}: every model one after another")
             self.line_dropdown = gui.add_dropdown("Line", ("0",), initial_value="0",

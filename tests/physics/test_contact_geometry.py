@@ -117,7 +117,7 @@ def test_calibrated_bedding_against_hertz_over_40_to_150_um(contact):
     # R_m = rho_x / 2, k = 3 C / (4 sqrt(rho_x))) is exact for the continuous bedding; on the 1 mm grid the
     # midpoint rule leaves, over approaches of 40-150 um swept every 0.01 um (a 0.5 um sweep misses the worst
     # point), at most 1.56 % (circle) and 1.00 % (0.46 m on 0.30 m) from C delta^1.5 (2.78 % for a 0.2 m
-    # wheel on a 0.8 m crown: fewer springs span its shorter patch). Bound 2 %, the README's statement.
+    # wheel on a 0.8 m crown: fewer springs span its shorter patch). Bound 2 % (docs/physics.md).
     stiffness, radius = calibrated_bedding(contact)
     profile = wheel_profile(61, 1e-3, radius)
     worst = 0.0

@@ -1,4 +1,4 @@
-"""Bad input to the contact models gives one clear WheelrailError line (README, Errors)."""
+"""Bad input to the contact models gives one clear WheelrailError line (docs/user_guide.md, Errors)."""
 
 import numpy as np
 import pytest

@@ -14,7 +14,7 @@ from wheelrail.core.parameters import (
 
 
 def test_hertz_values_of_spec():
-    # Hertz check (README, Contact models): a = 5.482 mm, p0 = 1032.6 MPa, approach 77.07 um at 65 kN.
+    # Hertz check (docs/physics.md, Contact models): a = 5.482 mm, p0 = 1032.6 MPa, approach 77.07 um at 65 kN.
     # Tolerance 0.05 %: these are closed-form expressions, the spec rounds to 4 digits.
     c = ContactParameters()
     assert c.hertz_radius() == pytest.approx(5.482e-3, rel=5e-4)

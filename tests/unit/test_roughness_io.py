@@ -1,4 +1,4 @@
-"""Roughness data model and its two file formats (CSV, NPZ; README, Roughness data), every bad input."""
+"""Roughness data model and its two file formats (CSV, NPZ; docs/user_guide.md, Roughness data), every bad input."""
 
 import numpy as np
 import pytest
