@@ -105,8 +105,8 @@ class RunController:
         return generation
 
     def warm_up(self, config: RunConfig, roughness, done: Callable[[float], None] | None = None) -> threading.Thread:
-        """Prepare ``config`` in the background without running it: the track's Green's functions at its speed
-        (computed once, then kept on disk) and the compiled solver, so that a first Run finds them ready.
+        """Prepare ``config`` in the background and take its first step only: the track's Green's functions at its
+        speed (computed once, then kept on disk) and the compiled solver, so that a first Run finds them ready.
         A first Run at that speed started meanwhile waits for it (saying so); ``done(seconds)`` at the end."""
 
         def work() -> None:
@@ -115,8 +115,12 @@ class RunController:
                 try:
                     if self._precompute is not None:
                         self._precompute(config.params())
-                    self._prepare(_source(roughness, config.set_label), model=config.model, line=config.line,
-                                  params=config.params(), length=config.length)
+                    run = self._prepare(_source(roughness, config.set_label), model=config.model,
+                                        line=config.line, params=config.params(), length=config.length)
+                    # its first step (after the run-in): the compiled chunk loop, which a run loads (or a fresh
+                    # install compiles) on its first step, not when it is prepared
+                    next(iter(run.steps()), None)
+                    run.cancel()
                     self._prepared_speeds.add(round(config.speed, 6))
                 except Exception:  # a Run prepares again and says what is wrong
                     LOG.exception("warm-up of %s failed", config.label())

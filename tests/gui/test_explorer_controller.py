@@ -285,6 +285,7 @@ def test_a_warm_up_prepares_in_the_background_and_a_first_run_waits_for_it():
             assert release.wait(WAIT)
 
     runs = {"hertz": [FakeRun("hertz", 10), FakeRun("hertz", 3000), FakeRun("hertz", 3000)]}
+    warm_up_run = runs["hertz"][0]
 
     def prepare(roughness, *, model, **kwargs):
         order.append("prepare")
@@ -300,6 +301,7 @@ def test_a_warm_up_prepares_in_the_background_and_a_first_run_waits_for_it():
     assert listener.ended.wait(WAIT)
     warm_up.join(WAIT)
     assert warmed and listener.outcomes[-1][1] == "done"
+    assert warm_up_run.done == 1 and warm_up_run.cancelled  # its first step taken (the compiled loop loaded)
     # the warm-up's preparation first, whole; then the run's (its Green's functions now read back at once)
     assert order == ["precompute", "prepare", "precompute", "prepare"]
     assert listener.statuses[0].startswith("Preparing the track for 100 km/h (1 of 2)")
