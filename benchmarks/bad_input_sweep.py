@@ -47,9 +47,16 @@ def _files(folder: Path) -> dict[str, str]:
     (folder / "handmade.npz").write_bytes(Path(good_npz).read_bytes())  # a roughness file, not a run file
     long_cell = folder / "longcell.csv"
     long_cell.write_text("# kind: rail\nx_m,y_mm=0\n" + "0," + "1" * 200_000 + "\n")
-    return {"dir": str(folder), "npz": str(good_npz), "csv": str(folder / "in.csv"), "coarse": str(coarse),
-            "damaged": str(damaged), "empty": str(folder / "empty.csv"), "handmade": str(folder / "handmade.npz"),
-            "longcell": str(long_cell)}
+    return {
+        "dir": str(folder),
+        "npz": str(good_npz),
+        "csv": str(folder / "in.csv"),
+        "coarse": str(coarse),
+        "damaged": str(damaged),
+        "empty": str(folder / "empty.csv"),
+        "handmade": str(folder / "handmade.npz"),
+        "longcell": str(long_cell),
+    }
 
 
 def _cases(f: dict[str, str]) -> list[tuple[str, list[str]]]:
@@ -73,8 +80,10 @@ def _cases(f: dict[str, str]) -> list[tuple[str, list[str]]]:
         ("clear", [*run, "--wheel-transverse-radius-mm", "-300", "--length-m", "0.1"]),
         ("clear", [*run, "--length-m", "0.1", "--rrd", f"{f['dir']}/x.rrd", "--record-every", "1e20"]),
         ("clear", ["run", "--set", f["npz"], "--out", f["npz"], "--length-m", "0.1"]),
-        ("clear", ["run", "--set", f["npz"], "--out", f"{f['dir']}/../{Path(f['dir']).name}/in.npz",
-                   "--length-m", "0.1"]),
+        (
+            "clear",
+            ["run", "--set", f["npz"], "--out", f"{f['dir']}/../{Path(f['dir']).name}/in.npz", "--length-m", "0.1"],
+        ),
         ("clear", ["run", "--set", "corrugated-rail", "--out", "/proc/x.npz", "--length-m", "0.1"]),
         ("clear", ["run", "--set", f["coarse"]]),
         ("clear", ["run", "--set", f["damaged"]]),
@@ -87,16 +96,31 @@ def _cases(f: dict[str, str]) -> list[tuple[str, list[str]]]:
         ("clear", ["explore", "--port", "-1"]),
         ("clear", ["explore", "--port", "70000"]),
         ("clear", ["explore", "--host", "999.1.1.1"]),
-        ("clear", ["study", "filters", "--set", "corrugated-rail", "--out", f["dir"], "--dask", "tcp://127.0.0.1:1",
-                   "--workers", "2"]),
+        (
+            "clear",
+            [
+                "study",
+                "filters",
+                "--set",
+                "corrugated-rail",
+                "--out",
+                f["dir"],
+                "--dask",
+                "tcp://127.0.0.1:1",
+                "--workers",
+                "2",
+            ],
+        ),
         ("clear", ["study", "bogus", "--set", "corrugated-rail", "--out", f["dir"]]),
         ("clear", ["filters", "--preload-kn", "-1"]),
         # only physical inputs (core/accepted.py): each of these ran silently once
         ("clear", [*run, "--wheel-radius-mm", "0.001", "--length-m", "0.5"]),
         ("clear", [*run, "--wheel-radius-mm", "1e6", "--length-m", "0.5"]),
         ("clear", [*run, "--rail-crown-radius-mm", "0.001", "--length-m", "0.5"]),
-        ("clear", [*run, "--rail-crown-radius-mm", "300", "--wheel-transverse-radius-mm", "-300.5",
-                   "--length-m", "0.5"]),
+        (
+            "clear",
+            [*run, "--rail-crown-radius-mm", "300", "--wheel-transverse-radius-mm", "-300.5", "--length-m", "0.5"],
+        ),
         ("clear", [*run, "--preload-kn", "5000", "--length-m", "0.5"]),
         ("clear", [*run, "--preload-kn", "0.1", "--length-m", "0.5"]),
         ("clear", ["filters", "--preload-kn", "1e12"]),
@@ -159,10 +183,15 @@ def main() -> int:
             counts[got] = counts.get(got, 0) + 1
             bad = got in ("internal", "hang", "silent-wrong") or got != expected
             failed += bad
-            print(f"{'FAIL' if bad else 'ok  '} {got:12s} {time.perf_counter() - start:6.1f} s  "
-                  f"wheelrail {' '.join(argv)[:90]}\n{'':24s}{detail[:150]}")
-        print("classes:", ", ".join(f"{name} {n}" for name, n in sorted(counts.items())),
-              f"| {len(cases)} cases, {failed} not as expected")
+            print(
+                f"{'FAIL' if bad else 'ok  '} {got:12s} {time.perf_counter() - start:6.1f} s  "
+                f"wheelrail {' '.join(argv)[:90]}\n{'':24s}{detail[:150]}"
+            )
+        print(
+            "classes:",
+            ", ".join(f"{name} {n}" for name, n in sorted(counts.items())),
+            f"| {len(cases)} cases, {failed} not as expected",
+        )
         return 1 if failed else 0
     finally:
         shutil.rmtree(folder, ignore_errors=True)

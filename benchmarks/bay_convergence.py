@@ -55,8 +55,14 @@ def _parse(config: str):
     return replace(numerics, **changes)
 
 
-DOUBLED = ("positions_per_bay", "refined_elements_per_bay", "elements_per_bay", "refined_bays", "near_field",
-           "rows_per_position")
+DOUBLED = (
+    "positions_per_bay",
+    "refined_elements_per_bay",
+    "elements_per_bay",
+    "refined_bays",
+    "near_field",
+    "rows_per_position",
+)
 
 
 def _smooth_rail(length: float):
@@ -77,7 +83,7 @@ def _harmonics(result, sleeper_spacing: float) -> tuple[np.ndarray, float]:
     per_bay = sleeper_spacing / (v * dt)
     n_bays = int((len(force) - start) / per_bay)
     n = int(round(n_bays * per_bay))
-    seg = force[start:start + n] - np.mean(force[start:start + n])
+    seg = force[start : start + n] - np.mean(force[start : start + n])
     t = np.arange(n) * dt
     amps = [2 * abs(np.mean(seg * np.exp(-2j * np.pi * k * v / sleeper_spacing * t))) for k in HARMONICS]
     return np.array(amps), float(np.ptp(seg))
@@ -89,13 +95,21 @@ def _levels(numerics, kmh: float):
     from wheelrail.core.spectra import force_spectrum
 
     params = ModelParameters(run=RunParameters(speed=kmh / 3.6))
-    smooth = simulate(_smooth_rail(ARGS.length), model="hertz", params=params, track_numerics=numerics,
-                      keep_pressure=False)
+    smooth = simulate(
+        _smooth_rail(ARGS.length), model="hertz", params=params, track_numerics=numerics, keep_pressure=False
+    )
     amps, ptp = _harmonics(smooth, params.track.support.sleeper_spacing)
     per_line = []
     for line in range(-3, 4):
-        result = simulate("corrugated-rail", model="hertz", line=line, params=params, length=ARGS.length,
-                          track_numerics=numerics, keep_pressure=False)
+        result = simulate(
+            "corrugated-rail",
+            model="hertz",
+            line=line,
+            params=params,
+            length=ARGS.length,
+            track_numerics=numerics,
+            keep_pressure=False,
+        )
         centres, levels = force_spectrum(result, band_range=(100.0, 2000.0))
         per_line.append(10 ** (levels / 10))
     return centres, 10 * np.log10(np.mean(per_line, axis=0)), amps, ptp
@@ -136,8 +150,11 @@ def main() -> None:
         first = ARGS.configs[0]
         for other in ARGS.configs[1:]:
             diff = table[other, kmh][1] - table[first, kmh][1]
-            print(f"{'minus ' + first + ':':>10} " + " ".join(f"{v:6.2f}" for v in diff)
-                  + f"   max |d| = {np.max(np.abs(diff)):.2f} dB  ({other})")
+            print(
+                f"{'minus ' + first + ':':>10} "
+                + " ".join(f"{v:6.2f}" for v in diff)
+                + f"   max |d| = {np.max(np.abs(diff)):.2f} dB  ({other})"
+            )
     sys.stdout.flush()
 
 

@@ -58,8 +58,9 @@ def solver_errors(contact: ContactParameters, dx: float, load: float | None = No
     nx, ny = math.ceil(1.3 * a / dx), math.ceil(1.3 * b / dx)
     x, y = np.arange(-nx, nx + 1) * dx, np.arange(-ny, ny + 1) * dx
     gap = x[None, :] ** 2 / (2 * contact.radius_along) + y[:, None] ** 2 / (2 * contact.radius_across)
-    result = solve_normal_contact(gap, dx, load=load, youngs_modulus=contact.youngs_modulus,
-                                  poisson_ratio=contact.poisson_ratio)
+    result = solve_normal_contact(
+        gap, dx, load=load, youngs_modulus=contact.youngs_modulus, poisson_ratio=contact.poisson_ratio
+    )
     p = result.pressure
     total = p.sum() * dx * dx
     return {
@@ -80,10 +81,15 @@ def main() -> None:
     for name, contact in GEOMETRIES.items():
         for dx in (1e-3, 0.5e-3):
             errors = solver_errors(contact, dx)
-            print(f"  {name:15s} {dx * 1e3:.1f} mm " + "  ".join(f"{k} {v * 100:+5.2f}" for k, v in errors.items()),
-                  flush=True)
-    print("3D contact area counted by elements / (pi a b) - 1 at 1 mm, %, loads "
-          + ", ".join(f"{load / 1e3:g}" for load in LOADS) + " kN:")
+            print(
+                f"  {name:15s} {dx * 1e3:.1f} mm " + "  ".join(f"{k} {v * 100:+5.2f}" for k, v in errors.items()),
+                flush=True,
+            )
+    print(
+        "3D contact area counted by elements / (pi a b) - 1 at 1 mm, %, loads "
+        + ", ".join(f"{load / 1e3:g}" for load in LOADS)
+        + " kN:"
+    )
     for name, contact in GEOMETRIES.items():
         values = [solver_errors(contact, 1e-3, load)["area"] * 100 for load in LOADS]
         print(f"  {name:15s} " + " ".join(f"{v:+6.2f}" for v in values), flush=True)

@@ -68,13 +68,17 @@ def server_side(app, repeats: int, length: float) -> None:
     print("press Run -> first frame drawn (server side, warm), median of", repeats)
     for model in ("3d", "2d", "hertz"):
         firsts = [_press(app, model, 1.0)[0] for _ in range(repeats)]
-        print(f"  {model:6s} {statistics.median(firsts) * 1e3:7.0f} ms   (min {min(firsts) * 1e3:.0f}, "
-              f"max {max(firsts) * 1e3:.0f} ms; includes the run-in, {default_run_in_length() * 1e3:.0f} steps)")
+        print(
+            f"  {model:6s} {statistics.median(firsts) * 1e3:7.0f} ms   (min {min(firsts) * 1e3:.0f}, "
+            f"max {max(firsts) * 1e3:.0f} ms; includes the run-in, {default_run_in_length() * 1e3:.0f} steps)"
+        )
     first, elapsed, frames, steps, _ = _press(app, "3d", length)
     live = elapsed - first
-    print(f"3d live patch, {length:g} m corrugated rail at 100 km/h: {frames} frames in {live:.2f} s after the first "
-          f"= {frames / live:.1f} frames/s (cap 20); run incl. preparation and run-in {elapsed:.2f} s, "
-          f"{steps / elapsed:.0f} steps/s overall")
+    print(
+        f"3d live patch, {length:g} m corrugated rail at 100 km/h: {frames} frames in {live:.2f} s after the first "
+        f"= {frames / live:.1f} frames/s (cap 20); run incl. preparation and run-in {elapsed:.2f} s, "
+        f"{steps / elapsed:.0f} steps/s overall"
+    )
 
 
 PRESS_AND_WAIT = """async () => {
@@ -121,15 +125,22 @@ def browser_frames(page, app, length: float) -> None:
     frames, first, latest = page.evaluate(COUNT_PATCHES)
     app.controller.wait()
     rate = (frames - 1) / ((latest - first) / 1e3) if frames > 1 and latest > first else float("nan")
-    print(f"3d live patch in the page (headless Chromium, software WebGL), {length:g} m: {frames} patches reached "
-          f"the page over {(latest - first) / 1e3:.2f} s = {rate:.1f} frames/s")
+    print(
+        f"3d live patch in the page (headless Chromium, software WebGL), {length:g} m: {frames} patches reached "
+        f"the page over {(latest - first) / 1e3:.2f} s = {rate:.1f} frames/s"
+    )
 
 
 def browser_side(app, repeats: int) -> None:
     from playwright.sync_api import sync_playwright
 
-    args = ["--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-sandbox",
-            "--disable-gpu"]
+    args = [
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--no-sandbox",
+        "--disable-gpu",
+    ]
     app.model_dropdown.value = "3d"
     app.length_text.value = "1"
     with sync_playwright() as p:
@@ -147,8 +158,10 @@ def browser_side(app, repeats: int) -> None:
         for length in (3.0, 7.9):
             browser_frames(page, app, length)
         browser.close()
-    print(f"press Run in the page -> new patch in the page (headless Chromium, software WebGL): median "
-          f"{statistics.median(times):.0f} ms (min {min(times):.0f}, max {max(times):.0f} ms) of {repeats}")
+    print(
+        f"press Run in the page -> new patch in the page (headless Chromium, software WebGL): median "
+        f"{statistics.median(times):.0f} ms (min {min(times):.0f}, max {max(times):.0f} ms) of {repeats}"
+    )
 
 
 def first_run(warm_up: bool) -> None:
@@ -164,8 +177,10 @@ def first_run(warm_up: bool) -> None:
     if warm_up:  # what ExplorerApp(warm_up=True) starts, with a signal at its end
         app.controller.warm_up(app.shown, app.roughness, done=lambda seconds: warmed.set())
         warmed.wait()
-        print(f"background warm-up (as `wheelrail explore` starts it): {time.perf_counter() - start:.1f} s "
-              "from the app's start")
+        print(
+            f"background warm-up (as `wheelrail explore` starts it): {time.perf_counter() - start:.1f} s "
+            "from the app's start"
+        )
     said, first = [], []
     status, draw = app.status, type(app).frame
 
@@ -190,8 +205,10 @@ def first_run(warm_up: bool) -> None:
     for when, text in said:
         print(f"  {when - start:6.1f} s  {text.split(' ...')[0]}")
     when = "after the warm-up" if warm_up else "at once"
-    print(f"first run (empty caches), Run pressed {when}: first frame after {first[0] - start:.1f} s, done after "
-          f"{done - start:.1f} s")
+    print(
+        f"first run (empty caches), Run pressed {when}: first frame after {first[0] - start:.1f} s, done after "
+        f"{done - start:.1f} s"
+    )
 
 
 def first_run_in_a_fresh_process() -> None:
@@ -202,8 +219,11 @@ def first_run_in_a_fresh_process() -> None:
 
     for flag in ("--first-run-here", "--first-run-here-warm"):
         with tempfile.TemporaryDirectory(prefix="wheelrail-first-run-") as folder:
-            env = {**os.environ, "WHEELRAIL_CACHE_DIR": str(Path(folder) / "track"),
-                   "NUMBA_CACHE_DIR": str(Path(folder) / "numba")}
+            env = {
+                **os.environ,
+                "WHEELRAIL_CACHE_DIR": str(Path(folder) / "track"),
+                "NUMBA_CACHE_DIR": str(Path(folder) / "numba"),
+            }
             subprocess.run([sys.executable, __file__, flag], env=env, check=True)
 
 

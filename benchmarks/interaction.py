@@ -59,26 +59,37 @@ def main() -> None:
     parser.add_argument("--wheel-radius-mm", type=float, default=None, help="default: the paper's 390")
     parser.add_argument("--rail-crown-radius-mm", type=float, default=None, help="default: the paper's 390")
     args = parser.parse_args()
-    geometry = {name: value * 1e-3 for name, value in (("wheel_radius", args.wheel_radius_mm),
-                                                       ("rail_crown_radius", args.rail_crown_radius_mm))
-                if value is not None}
-    print(f"corrugated rail, 100 km/h, length {args.length_m} (+{default_run_in_length():.3f} m run-in), "
-          f"1 mm elements, geometry {geometry or 'paper'}; best of {args.repeats} runs (range)")
+    geometry = {
+        name: value * 1e-3
+        for name, value in (("wheel_radius", args.wheel_radius_mm), ("rail_crown_radius", args.rail_crown_radius_mm))
+        if value is not None
+    }
+    print(
+        f"corrugated rail, 100 km/h, length {args.length_m} (+{default_run_in_length():.3f} m run-in), "
+        f"1 mm elements, geometry {geometry or 'paper'}; best of {args.repeats} runs (range)"
+    )
     for model in args.models:
         start = time.perf_counter()
-        done = subprocess.run([sys.executable, "-c", CHILD, model, str(args.length_m), json.dumps(geometry),
-                               str(args.repeats)], capture_output=True, text=True)
+        done = subprocess.run(
+            [sys.executable, "-c", CHILD, model, str(args.length_m), json.dumps(geometry), str(args.repeats)],
+            capture_output=True,
+            text=True,
+        )
         if done.returncode:
             print(f"  {model:14s} failed: {done.stderr.strip().splitlines()[-1]}")
             continue
         row = json.loads(done.stdout.strip().splitlines()[-1])
         (wall_lo, wall_hi), (cpu_lo, cpu_hi) = row["steps_per_s"], row["steps_per_cpu_s"]
-        line = (f"  {model:14s} {wall_hi:10.0f} steps/s ({wall_lo:.0f}-{wall_hi:.0f}), per CPU s {cpu_hi:10.0f} "
-                f"({cpu_lo:.0f}-{cpu_hi:.0f})  run {row['run_s']:6.3f} s  prepare {row['prepare_s']:5.2f} s  "
-                f"peak RSS {row['peak_rss_mb']:6.0f} MB")
+        line = (
+            f"  {model:14s} {wall_hi:10.0f} steps/s ({wall_lo:.0f}-{wall_hi:.0f}), per CPU s {cpu_hi:10.0f} "
+            f"({cpu_lo:.0f}-{cpu_hi:.0f})  run {row['run_s']:6.3f} s  prepare {row['prepare_s']:5.2f} s  "
+            f"peak RSS {row['peak_rss_mb']:6.0f} MB"
+        )
         if "patch_elements" in row:
-            line += (f"\n  {'':14s} window {row['window'][0]} x {row['window'][1]}, "
-                     f"patch {row['patch_elements']:.0f} elements")
+            line += (
+                f"\n  {'':14s} window {row['window'][0]} x {row['window'][1]}, "
+                f"patch {row['patch_elements']:.0f} elements"
+            )
         print(line + f"   (wall {time.perf_counter() - start:.1f} s)")
 
 

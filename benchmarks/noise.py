@@ -37,8 +37,10 @@ def _timed(function, repeats: int) -> tuple[float, float, object]:
 
 
 def cnossos_rules() -> None:
-    print("1. CNOSSOS-EU: energy-log-frequency minus proportional (network-average rail, cast-iron wheel, "
-          "mono-block-medium, 920 mm, 65 kN)")
+    print(
+        "1. CNOSSOS-EU: energy-log-frequency minus proportional (network-average rail, cast-iron wheel, "
+        "mono-block-medium, 920 mm, 65 kN)"
+    )
     print(f"{'km/h':>6} {'max |band| dB':>14} {'band Hz':>8} {'total dB(A)':>12}")
     for v in (50, 100, 160, 200, 300):
         per_band, total = interpolation_difference(v / 3.6, rail="network-average", wheel="cast-iron", load=65e3)
@@ -50,17 +52,24 @@ def track_model() -> None:
     model = track_noise_model()
     print("\n2. Model track (TWINS-like) vs CNOSSOS-EU L_H,tr, dB re 1 pW per axle for 0 dB re 1 um")
     names = [n for n in TRACK_TYPES if n != "direct-fastening"]
-    print(f"{'band':>6} {'model':>6} " + " ".join(f"{n[:14]:>14}" for n in names)
-          + f" {'DR EN15461':>10} {'free wave':>9} {'sigma':>6}")
+    print(
+        f"{'band':>6} {'model':>6} "
+        + " ".join(f"{n[:14]:>14}" for n in names)
+        + f" {'DR EN15461':>10} {'free wave':>9} {'sigma':>6}"
+    )
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
-        print(f"{f:>6g} {model.track_transfer_db[i]:>6.1f} "
-              + " ".join(f"{track_transfer(n)[i]:>14.1f}" for n in names)
-              + f" {model.decay_rate_db_per_m[i]:>10.2f} {model.free_wave_decay_db_per_m[i]:>9.2f}"
-              + f" {model.rail_radiation_efficiency[i]:>6.2f}")
+        print(
+            f"{f:>6g} {model.track_transfer_db[i]:>6.1f} "
+            + " ".join(f"{track_transfer(n)[i]:>14.1f}" for n in names)
+            + f" {model.decay_rate_db_per_m[i]:>10.2f} {model.free_wave_decay_db_per_m[i]:>9.2f}"
+            + f" {model.rail_radiation_efficiency[i]:>6.2f}"
+        )
     for n in names:
         diff = model.track_transfer_db - track_transfer(n)
-        print(f"  model - {n}: mean {np.mean(diff):+.1f} dB, 500 Hz-5 kHz mean {np.mean(diff[10:21]):+.1f} dB, "
-              f"range {np.min(diff):+.1f}..{np.max(diff):+.1f} dB")
+        print(
+            f"  model - {n}: mean {np.mean(diff):+.1f} dB, 500 Hz-5 kHz mean {np.mean(diff[10:21]):+.1f} dB, "
+            f"range {np.min(diff):+.1f}..{np.max(diff):+.1f} dB"
+        )
 
 
 def runs(set_name: str, wav_dir: Path | None) -> None:
@@ -71,16 +80,21 @@ def runs(set_name: str, wav_dir: Path | None) -> None:
         p, rate, (a, b) = noise.pass_by_pressure()
         wav_level = laeq_of_pressure(p[a:b], rate)
         results[model] = noise
-        print(f"  {model:>5}: L_WA per wheel " + ", ".join(f"{k} {v:.1f}" for k, v in noise.sound_power_dba.items())
-              + f" dB(A); pass-by {noise.pass_by_laeq_dba:.1f} dB(A), synthesised WAV {wav_level:.1f} dB(A)")
+        print(
+            f"  {model:>5}: L_WA per wheel "
+            + ", ".join(f"{k} {v:.1f}" for k, v in noise.sound_power_dba.items())
+            + f" dB(A); pass-by {noise.pass_by_laeq_dba:.1f} dB(A), synthesised WAV {wav_level:.1f} dB(A)"
+        )
         if wav_dir is not None:
             data, full_scale = noise.wav_bytes()
             path = wav_dir / f"pass-by-{set_name}-{model}-100kmh.wav"
             path.write_bytes(data)
             print(f"         wrote {path} (full scale {full_scale:.3g} Pa)")
     diff = results["3d"].sound_power_db["total"] - results["hertz"].sound_power_db["total"]
-    print("  3d - hertz, total sound power per band (dB): "
-          + ", ".join(f"{f:g} {d:+.1f}" for f, d in zip(NOMINAL_FREQUENCIES_HZ, diff, strict=True)))
+    print(
+        "  3d - hertz, total sound power per band (dB): "
+        + ", ".join(f"{f:g} {d:+.1f}" for f, d in zip(NOMINAL_FREQUENCIES_HZ, diff, strict=True))
+    )
 
 
 def convergence() -> None:
@@ -93,24 +107,33 @@ def convergence() -> None:
     )
     from wheelrail.core.noise.twins import NoiseNumerics, band_frequencies
 
-    print("\n5. Convergence: L_H,tr (dB) with one numerical setting doubled, minus the default (240 bays, 16 elements "
-          "per bay, 20 frequencies per band); max |difference| over 50 Hz-10 kHz and over 100 Hz-5 kHz")
+    print(
+        "\n5. Convergence: L_H,tr (dB) with one numerical setting doubled, minus the default (240 bays, 16 elements "
+        "per bay, 20 frequencies per band); max |difference| over 50 Hz-10 kHz and over 100 Hz-5 kHz"
+    )
     base = track_noise_model()
-    for label, numerics in (("480 bays", NoiseNumerics(track_bays=480)),
-                            ("32 elements per bay", NoiseNumerics(elements_per_bay=32)),
-                            ("40 frequencies per band", NoiseNumerics(points_per_band=40))):
+    for label, numerics in (
+        ("480 bays", NoiseNumerics(track_bays=480)),
+        ("32 elements per bay", NoiseNumerics(elements_per_bay=32)),
+        ("40 frequencies per band", NoiseNumerics(points_per_band=40)),
+    ):
         diff = track_noise_model(numerics=numerics).track_transfer_db - base.track_transfer_db
         f = np.asarray(NOMINAL_FREQUENCIES_HZ)
         mid = (f >= 100) & (f <= 5000)
-        print(f"  {label:>24}: {np.max(np.abs(diff)):.2f} dB, {np.max(np.abs(diff[mid])):.2f} dB "
-              f"(worst band {NOMINAL_FREQUENCIES_HZ[int(np.argmax(np.abs(diff)))]:g} Hz)")
+        print(
+            f"  {label:>24}: {np.max(np.abs(diff)):.2f} dB, {np.max(np.abs(diff[mid])):.2f} dB "
+            f"(worst band {NOMINAL_FREQUENCIES_HZ[int(np.argmax(np.abs(diff)))]:g} Hz)"
+        )
     freqs = band_frequencies(10)
-    direct = np.array([[vertical_radiation_efficiency(rail_boundary(f), f, UIC60_CHIEF_POINTS)[0] for f in row]
-                       for row in freqs])
+    direct = np.array(
+        [[vertical_radiation_efficiency(rail_boundary(f), f, UIC60_CHIEF_POINTS)[0] for f in row] for row in freqs]
+    )
     table = rail_radiation_efficiency(freqs)
     diff = 10 * np.log10(direct.mean(axis=1) / table.mean(axis=1))
-    print(f"  rail sigma, band means from the cached table vs direct BEM at 10 frequencies per band: max "
-          f"{np.max(np.abs(diff)):.2f} dB (band {NOMINAL_FREQUENCIES_HZ[int(np.argmax(np.abs(diff)))]:g} Hz)")
+    print(
+        f"  rail sigma, band means from the cached table vs direct BEM at 10 frequencies per band: max "
+        f"{np.max(np.abs(diff)):.2f} dB (band {NOMINAL_FREQUENCIES_HZ[int(np.argmax(np.abs(diff)))]:g} Hz)"
+    )
 
 
 def timings(repeats: int, set_name: str) -> None:

@@ -46,9 +46,18 @@ def synthetic_run(n: int) -> RunResult:
     small = 1e-6 * np.sin(2 * np.pi * 300 * t)
     return RunResult(
         header=RunHeader(model="3d", line=0, roughness_name="corrugated-rail", params=ModelParameters()),
-        time=t, x=0.016 + np.arange(n) * 1e-3, force=force, xi_wheel=8e-5 + small, xi_rail=3e-5 + small,
-        roughness=small, contact_length=np.full(n, 0.011), contact_area=np.full(n, 9.4e-5),
-        equivalent_roughness=small, pressure=pressure, window_x=window, window_y=window,
+        time=t,
+        x=0.016 + np.arange(n) * 1e-3,
+        force=force,
+        xi_wheel=8e-5 + small,
+        xi_rail=3e-5 + small,
+        roughness=small,
+        contact_length=np.full(n, 0.011),
+        contact_area=np.full(n, 9.4e-5),
+        equivalent_roughness=small,
+        pressure=pressure,
+        window_x=window,
+        window_y=window,
     )
 
 
@@ -84,18 +93,24 @@ def part_synthetic(n: int, folder: Path) -> None:
         path = folder / f"stream{every}.rrd"
         seconds = stream(result, path, every)
         size = path.stat().st_size
-        print(f"  RecordingSink, pressure every {every:<3d}   {seconds / n * 1e6:8.2f} us/step   "
-              f"{size / n * 1e3 / 1e6:6.2f} MB per 1 000 steps")
+        print(
+            f"  RecordingSink, pressure every {every:<3d}   {seconds / n * 1e6:8.2f} us/step   "
+            f"{size / n * 1e3 / 1e6:6.2f} MB per 1 000 steps"
+        )
     roughness = load_roughness(result.roughness_name)
     start = time.perf_counter()
     path = record_result(result, folder / "whole.rrd", roughness=roughness)
     seconds = time.perf_counter() - start
-    print(f"  record_result (whole run at once)  {seconds / n * 1e6:8.2f} us/step   "
-          f"{path.stat().st_size / n * 1e3 / 1e6:6.2f} MB per 1 000 steps")
+    print(
+        f"  record_result (whole run at once)  {seconds / n * 1e6:8.2f} us/step   "
+        f"{path.stat().st_size / n * 1e3 / 1e6:6.2f} MB per 1 000 steps"
+    )
     start = time.perf_counter()
     back = read_recording(path)
-    print(f"  read_recording                     {(time.perf_counter() - start) / n * 1e6:8.2f} us/step "
-          f"(force identical: {np.array_equal(back.force, result.force)})")
+    print(
+        f"  read_recording                     {(time.perf_counter() - start) / n * 1e6:8.2f} us/step "
+        f"(force identical: {np.array_equal(back.force, result.force)})"
+    )
     raw = result.pressure.nbytes + 9 * 8 * n
     print(f"  (raw arrays: {raw / n * 1e3 / 1e6:.2f} MB per 1 000 steps; surface mesh every 4th map)")
 
@@ -132,10 +147,12 @@ def part_real(length: float, folder: Path, repeat: int) -> None:
     print(f"  without recording                  {plain:7.2f} s   {n / plain:7.0f} steps/s")
     print(f"  per-step no-op callback            {noop:7.2f} s   ({(noop / plain - 1) * 100:+5.1f} %)")
     size = (folder / "real.rrd").stat().st_size
-    print(f"  recording every step to .rrd       {recorded:7.2f} s   ({(recorded / plain - 1) * 100:+5.1f} %; "
-          f"target < 30 %; {(recorded / noop - 1) * 100:+5.1f} % against the no-op callback)\n"
-          f"  file                               {size / n * 1e3 / 1e6:.2f} MB per 1 000 steps, "
-          f"{size / 1e6:.1f} MB in all")
+    print(
+        f"  recording every step to .rrd       {recorded:7.2f} s   ({(recorded / plain - 1) * 100:+5.1f} %; "
+        f"target < 30 %; {(recorded / noop - 1) * 100:+5.1f} % against the no-op callback)\n"
+        f"  file                               {size / n * 1e3 / 1e6:.2f} MB per 1 000 steps, "
+        f"{size / 1e6:.1f} MB in all"
+    )
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # KiB on Linux
     print(f"  peak memory of this process        {peak:7.0f} MB (target < 1 GB)")
 

@@ -94,9 +94,11 @@ def _repeat_append_remove(law, m, reps):
 
 
 def _params(args) -> ModelParameters:
-    geometry = {name: value * 1e-3 for name, value in (("wheel_radius", args.wheel_radius_mm),
-                                                       ("rail_crown_radius", args.rail_crown_radius_mm))
-                if value is not None}
+    geometry = {
+        name: value * 1e-3
+        for name, value in (("wheel_radius", args.wheel_radius_mm), ("rail_crown_radius", args.rail_crown_radius_mm))
+        if value is not None
+    }
     return ModelParameters(contact=ContactParameters(**geometry))
 
 
@@ -123,10 +125,14 @@ def main() -> None:
     loop = run.loop
     n = loop.n_total
     radii = f"{params.contact.radius_along * 1e3:g} / {params.contact.radius_across * 1e3:g} mm"
-    print(f"{SET}, {args.length_m:g} m + {loop.n_run_in} run-in steps, window {run._law.shape[0]} x "
-          f"{run._law.shape[1]}, relative radii along / across {radii}")
-    print(f"whole step            {cpu / n * 1e6:6.1f} us CPU  ({n / cpu:,.0f} steps per CPU s; "
-          f"{n / wall:,.0f} steps/s by the wall clock on the shared machine)")
+    print(
+        f"{SET}, {args.length_m:g} m + {loop.n_run_in} run-in steps, window {run._law.shape[0]} x "
+        f"{run._law.shape[1]}, relative radii along / across {radii}"
+    )
+    print(
+        f"whole step            {cpu / n * 1e6:6.1f} us CPU  ({n / cpu:,.0f} steps per CPU s; "
+        f"{n / wall:,.0f} steps/s by the wall clock on the shared machine)"
+    )
 
     # eqs. 1-2 alone, on a fresh history with the run's forces
     forces = loop.force.copy()
@@ -163,17 +169,24 @@ def main() -> None:
     # the last step's approach: d = h - delta + C p = 0 on the set
     delta = float(np.mean(gap[members] + state_law[0][2][members][:, members] @ pressure[members]))
     scale = delta - gap.min()
-    penetrating = _per_call(_repeat_penetrating, state_law, size, (delta, 1e-6 * scale, -1e-9 * scale, False),
-                            5000, reps=5000)
+    penetrating = _per_call(
+        _repeat_penetrating, state_law, size, (delta, 1e-6 * scale, -1e-9 * scale, False), 5000, reps=5000
+    )
     update = _per_call(_repeat_append_remove, state_law, size, 5000, reps=5000)
-    print(f"  inside the law, per step: {iterations:.2f} iterations, {added:.2f} elements added, {dropped:.2f} "
-          f"dropped, {m} in contact (decisions of the per-step reference solver)")
-    print(f"    per iteration: forward + backward substitution {forward:.1f} + {backward:.1f} us, deformed gap "
-          f"outside the set {penetrating:.1f} us")
+    print(
+        f"  inside the law, per step: {iterations:.2f} iterations, {added:.2f} elements added, {dropped:.2f} "
+        f"dropped, {m} in contact (decisions of the per-step reference solver)"
+    )
+    print(
+        f"    per iteration: forward + backward substitution {forward:.1f} + {backward:.1f} us, deformed gap "
+        f"outside the set {penetrating:.1f} us"
+    )
     print(f"    per element added and dropped (new factor row + downdate at mid-set) {update:.1f} us")
     itemised = iterations * (forward + backward + penetrating) + 0.5 * (added + dropped) * update
-    print(f"    itemised {itemised:.1f} us of the law's {law_us:.1f} us (the rest: gap assembly, tension check, "
-          f"bookkeeping)")
+    print(
+        f"    itemised {itemised:.1f} us of the law's {law_us:.1f} us (the rest: gap assembly, tension check, "
+        f"bookkeeping)"
+    )
 
 
 def _decisions_from_reference(params, length):
@@ -183,16 +196,15 @@ def _decisions_from_reference(params, length):
     counts = []
     for s in range(run.loop.n_total):
         j = run.loop.n_hist + s
-        delta_known, c, q, w0, s_pred = _history(j, run.loop.track, run.loop.wheel, params.contact.preload,
-                                                 run.loop.xi_w0)
+        delta_known, c, q, w0, s_pred = _history(
+            j, run.loop.track, run.loop.wheel, params.contact.preload, run.loop.xi_w0
+        )
         before = model._window._warm[0]
         state = model.solve(s, delta_known, c)
         last = model._window.last
         after = np.flatnonzero(last.contact)
-        counts.append((last.iterations, np.setdiff1d(after, before).size, np.setdiff1d(before, after).size,
-                       after.size))
-        _commit(j, state.force, run.loop.track, run.loop.wheel, s_pred, params.contact.preload, run.loop.xi_w0,
-                q, w0)
+        counts.append((last.iterations, np.setdiff1d(after, before).size, np.setdiff1d(before, after).size, after.size))
+        _commit(j, state.force, run.loop.track, run.loop.wheel, s_pred, params.contact.preload, run.loop.xi_w0, q, w0)
     return np.array(counts, dtype=float)
 
 

@@ -29,8 +29,10 @@ def _table(path: Path) -> dict[str, np.ndarray]:
     with open(path) as handle:
         rows = list(csv.reader(handle))
     columns = list(zip(*rows[1:], strict=True))
-    return {name: np.array([float(v) if v not in ("", "nan") else np.nan for v in col])
-            for name, col in zip(rows[0], columns, strict=True)}
+    return {
+        name: np.array([float(v) if v not in ("", "nan") else np.nan for v in col])
+        for name, col in zip(rows[0], columns, strict=True)
+    }
 
 
 def _lines(table: dict[str, np.ndarray]) -> np.ndarray:
@@ -42,8 +44,10 @@ def main() -> None:
     print("Fig. 12, L_3D - L_2D (dB): mean over lines min..max | single lines min..max")
     for name in SETS:
         t = _table(folder / f"fig12_{name}_3d_minus_2d.csv")
-        print(f"  {name:16s} {np.nanmin(t['mean_db']):6.1f} .. {np.nanmax(t['mean_db']):5.1f} | "
-              f"{np.nanmin(_lines(t)):6.1f} .. {np.nanmax(_lines(t)):5.1f}")
+        print(
+            f"  {name:16s} {np.nanmin(t['mean_db']):6.1f} .. {np.nanmax(t['mean_db']):5.1f} | "
+            f"{np.nanmin(_lines(t)):6.1f} .. {np.nanmax(_lines(t)):5.1f}"
+        )
     for fig, what in (("13", "hertz_winkler"), ("14", "hertz_average")):
         print(f"Fig. {fig}, L_2D - L_{what} (dB): largest |mean over lines|")
         for name in SETS:

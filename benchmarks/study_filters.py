@@ -49,17 +49,19 @@ def main() -> None:
     for name in SETS:
         _KEYS_3D.update(spec.key for spec in plan_study("filters", [name]).specs if spec.model == "3d")
     # warm the Green's function cache and numba's kernels (one short run of each kind, in this process)
-    run_study("filters", ["cast-iron-wheel"], tempfile.mkdtemp(), length=0.8, workers=1, progress=False,
-              figures=False)
-    print(f"filters study (paper Fig. 10), 100 km/h, whole sets; {os.cpu_count()} CPUs; "
-          f"python {sys.version.split()[0]}")
+    run_study("filters", ["cast-iron-wheel"], tempfile.mkdtemp(), length=0.8, workers=1, progress=False, figures=False)
+    print(
+        f"filters study (paper Fig. 10), 100 km/h, whole sets; {os.cpu_count()} CPUs; python {sys.version.split()[0]}"
+    )
     print()
 
     shutdown_pools()
     wall, result, three_d = timed(SETS, 2)
     cold_two = wall
-    print(f"all four sets, 2 workers, cold pool: {wall:6.1f} s  ({result.report.computed} runs; "
-          f"3D runs {three_d:.1f} s of worker time; target < 60 s)")
+    print(
+        f"all four sets, 2 workers, cold pool: {wall:6.1f} s  ({result.report.computed} runs; "
+        f"3D runs {three_d:.1f} s of worker time; target < 60 s)"
+    )
     wall, result, three_d = timed(SETS, 2)
     warm_two = wall
     print(f"all four sets, 2 workers, warm pool: {wall:6.1f} s")

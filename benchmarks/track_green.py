@@ -34,17 +34,22 @@ def band_errors(values, dt, model, x, centres):
 def main() -> None:
     params, numerics = TrackParameters(), TrackNumerics()
     # warm the numba caches on a tiny problem so the figures below are compute, not compilation
-    track.stationary_track_response(params, replace(numerics, duration=0.001, positions_per_bay=1),
-                                    use_cache=False)
-    track.moving_from_stationary(track.stationary_track_response(
-        params, replace(numerics, duration=0.001, positions_per_bay=1), use_cache=False), 10.0)
+    track.stationary_track_response(params, replace(numerics, duration=0.001, positions_per_bay=1), use_cache=False)
+    track.moving_from_stationary(
+        track.stationary_track_response(
+            params, replace(numerics, duration=0.001, positions_per_bay=1), use_cache=False
+        ),
+        10.0,
+    )
 
     start = time.perf_counter()
     response = track.stationary_track_response(params, numerics)
     t_build = time.perf_counter() - start
     size = Path(response.cache_path).stat().st_size
-    print(f"one-off precompute (70 bays, {numerics.positions_per_bay} positions, "
-          f"{numerics.duration * 1e3:.0f} ms at {numerics.time_step * 1e6:.0f} us): {t_build:6.2f} s   target < 60 s")
+    print(
+        f"one-off precompute (70 bays, {numerics.positions_per_bay} positions, "
+        f"{numerics.duration * 1e3:.0f} ms at {numerics.time_step * 1e6:.0f} us): {t_build:6.2f} s   target < 60 s"
+    )
     print(f"cache on disk: {size / 1e6:.1f} MB  ({response.cache_path})")
 
     times = []
@@ -64,8 +69,10 @@ def main() -> None:
     start = time.perf_counter()
     green = track.moving_from_stationary(response, 120 / 3.6)
     t_speed = time.perf_counter() - start
-    print(f"reload from disk: {min(reloads) * 1e3:6.1f} ms best of 3 ({max(reloads) * 1e3:.0f} worst)   target < 0.2 s;"
-          f" then one speed {t_speed * 1e3:.0f} ms")
+    print(
+        f"reload from disk: {min(reloads) * 1e3:6.1f} ms best of 3 ({max(reloads) * 1e3:.0f} worst)   target < 0.2 s;"
+        f" then one speed {t_speed * 1e3:.0f} ms"
+    )
 
     # truncation error: third-octave band level of the point Green's function (walking pace) against
     # the exact frequency-domain receptance, for truncations of 20, 30 and 50 ms
@@ -76,8 +83,10 @@ def main() -> None:
     centres = 1000 * 10 ** (np.arange(-13, 10) / 10)
     print("truncation error, dB per third-octave band (point GF vs frequency-domain receptance):")
     print("  band Hz      " + " ".join(f"{c:6.0f}" for c in centres))
-    for label, index, x in (("above sleeper", 0, x_sleeper),
-                            ("midspan", len(slow.excitation_positions) // 2, x_sleeper + L / 2)):
+    for label, index, x in (
+        ("above sleeper", 0, x_sleeper),
+        ("midspan", len(slow.excitation_positions) // 2, x_sleeper + L / 2),
+    ):
         for duration in (0.02, 0.03, 0.05):
             n = int(round(duration / slow.time_step)) + 1
             err = band_errors(slow.values[index, :n], slow.time_step, model, x, centres)

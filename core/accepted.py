@@ -37,8 +37,15 @@ from dataclasses import dataclass
 from wheelrail.core.errors import WheelrailError
 
 __all__ = [
-    "ACCEPTED", "CIRCUMFERENCE_TOLERANCE", "MAX_SPEED_KMH", "MIN_SPEED_KMH", "PATCH_FRACTION", "Accepted",
-    "check_patch", "check_wheel_circumference", "raise_concave_tread",
+    "ACCEPTED",
+    "CIRCUMFERENCE_TOLERANCE",
+    "MAX_SPEED_KMH",
+    "MIN_SPEED_KMH",
+    "PATCH_FRACTION",
+    "Accepted",
+    "check_patch",
+    "check_wheel_circumference",
+    "raise_concave_tread",
 ]
 
 # Accepted train speeds: the range over which the interaction loop is shown stable (FOH_MAX_STEP in
@@ -75,8 +82,14 @@ class Accepted:
         number = float(value)
         size = abs(number) if self.magnitude else number
         if not self.minimum * (1 - _ROUND_OFF) <= size <= self.maximum * (1 + _ROUND_OFF):
-            raise WheelrailError(None, minimum=self.minimum, maximum=None if self.magnitude else self.maximum,
-                                 reason=self.reason, magnitude=self.magnitude, **fields)
+            raise WheelrailError(
+                None,
+                minimum=self.minimum,
+                maximum=None if self.magnitude else self.maximum,
+                reason=self.reason,
+                magnitude=self.magnitude,
+                **fields,
+            )
         return number
 
     def in_unit(self, scale: float) -> tuple[float, float]:
@@ -86,24 +99,46 @@ class Accepted:
 
 _WHEEL_RADIUS = (0.1, 1.25, "a railway wheel, around the CNOSSOS-EU table's 360 to 920 mm diameters")
 
-ACCEPTED: dict[str, Accepted] = {entry.key: entry for entry in (
-    Accepted("speed", "m/s", MIN_SPEED_KMH / 3.6, MAX_SPEED_KMH / 3.6,
-             "where the interaction loop is shown stable and the cached track responses reach"),
-    Accepted("preload", "N", 1e3, 500e3, "a railway wheel's static load, around the CNOSSOS-EU table's 25 to 100 kN"),
-    Accepted("radius", "m", *_WHEEL_RADIUS),
-    Accepted("wheel_radius", "m", *_WHEEL_RADIUS),
-    Accepted("rail_crown_radius", "m", 0.05, 5.0, "a rail head, from a sharp 50 mm crown to a worn, nearly flat 5 m"),
-    Accepted("wheel_transverse_radius", "m", 0.05, math.inf,
-             "inf: a cylindrical or conical tread; negative: a concave, worn one", magnitude=True),
-)}
+ACCEPTED: dict[str, Accepted] = {
+    entry.key: entry
+    for entry in (
+        Accepted(
+            "speed",
+            "m/s",
+            MIN_SPEED_KMH / 3.6,
+            MAX_SPEED_KMH / 3.6,
+            "where the interaction loop is shown stable and the cached track responses reach",
+        ),
+        Accepted(
+            "preload", "N", 1e3, 500e3, "a railway wheel's static load, around the CNOSSOS-EU table's 25 to 100 kN"
+        ),
+        Accepted("radius", "m", *_WHEEL_RADIUS),
+        Accepted("wheel_radius", "m", *_WHEEL_RADIUS),
+        Accepted(
+            "rail_crown_radius", "m", 0.05, 5.0, "a rail head, from a sharp 50 mm crown to a worn, nearly flat 5 m"
+        ),
+        Accepted(
+            "wheel_transverse_radius",
+            "m",
+            0.05,
+            math.inf,
+            "inf: a cylindrical or conical tread; negative: a concave, worn one",
+            magnitude=True,
+        ),
+    )
+}
 """The accepted ranges by key (SI). Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU
 table's 360 to 920 mm wheels and the paper's 780 mm (R = 0.39 m) with room for small wagon and large
 locomotive wheels; rail crowns 0.05 to 5 m; treads at least 0.05 m in magnitude (no tread is curved more
 sharply than a rail crown); loads 1 to 500 kN around the table's 25 to 100 kN wheel loads."""
 
 
-def check_patch(semi_axes: tuple[float, float], radii: tuple[float, float, float], preload: float,
-                semi_axis_across: Callable[[float], float]) -> None:
+def check_patch(
+    semi_axes: tuple[float, float],
+    radii: tuple[float, float, float],
+    preload: float,
+    semi_axis_across: Callable[[float], float],
+) -> None:
     """The Hertz patch at the preload is at most ``PATCH_FRACTION`` of the bodies' radii (module docstring).
 
     Parameters
@@ -132,12 +167,20 @@ def check_patch(semi_axes: tuple[float, float], radii: tuple[float, float, float
     if fraction <= PATCH_FRACTION * (1 + 1e-9):  # round-off: the largest load reported is accepted
         return
     wide = f"{2 * a:.3g} m long" if a / wheel >= b / across else f"{2 * b:.3g} m wide across the rail"
-    problem = (f"the Hertz patch at the preload would be {wide}, {fraction:.0%} of the radius in that direction "
-               f"(at most {PATCH_FRACTION:.0%}: the models take the surfaces as paraboloids, as Hertz does)")
+    problem = (
+        f"the Hertz patch at the preload would be {wide}, {fraction:.0%} of the radius in that direction "
+        f"(at most {PATCH_FRACTION:.0%}: the models take the surfaces as paraboloids, as Hertz does)"
+    )
     if tread < 0 and b / across > PATCH_FRACTION * (1 + 1e-9):
         raise_concave_tread(problem, tread, crown, semi_axis_across)
-    raise WheelrailError(problem, parameter="preload", value=preload, unit="N", argument="ContactParameters.preload",
-                         maximum=preload * (PATCH_FRACTION / fraction) ** 3)
+    raise WheelrailError(
+        problem,
+        parameter="preload",
+        value=preload,
+        unit="N",
+        argument="ContactParameters.preload",
+        maximum=preload * (PATCH_FRACTION / fraction) ** 3,
+    )
 
 
 def raise_concave_tread(problem: str, tread: float, crown: float, semi_axis_across: Callable[[float], float]):
@@ -152,9 +195,15 @@ def raise_concave_tread(problem: str, tread: float, crown: float, semi_axis_acro
         limit = None
     else:
         limit = -1.0 / brentq(excess, 0.0, (1.0 - 1e-6) / crown, xtol=1e-12, rtol=1e-10)
-    raise WheelrailError(problem, parameter="wheel_transverse_radius", value=tread, maximum=limit, unit="m",
-                         argument="ContactParameters.wheel_transverse_radius",
-                         advice="a convex or cylindrical tread is accepted too")
+    raise WheelrailError(
+        problem,
+        parameter="wheel_transverse_radius",
+        value=tread,
+        maximum=limit,
+        unit="m",
+        argument="ContactParameters.wheel_transverse_radius",
+        advice="a convex or cylindrical tread is accepted too",
+    )
 
 
 def check_wheel_circumference(circumference: float, wheel_radius: float, label: str) -> None:
@@ -168,9 +217,11 @@ def check_wheel_circumference(circumference: float, wheel_radius: float, label: 
     raise WheelrailError(
         f"the wheel set {label} is {circumference:.4g} m round (a wheel of radius {implied:.4g} m), and this wheel "
         f"{own:.4g} m, {mismatch:.0%} {'shorter' if own < circumference else 'longer'}",
-        parameter="wheel_radius", value=wheel_radius,
+        parameter="wheel_radius",
+        value=wheel_radius,
         minimum=circumference / (2.0 * math.pi * (1 + CIRCUMFERENCE_TOLERANCE)),
-        maximum=circumference / (2.0 * math.pi * (1 - CIRCUMFERENCE_TOLERANCE)), unit="m",
+        maximum=circumference / (2.0 * math.pi * (1 - CIRCUMFERENCE_TOLERANCE)),
+        unit="m",
         argument="ContactParameters.wheel_radius",
         reason=f"a wheel set repeats with the wheel's circumference; at most {CIRCUMFERENCE_TOLERANCE:.0%} apart",
     )

@@ -49,8 +49,9 @@ def _commands(extra: dict[str, tuple[str, str]] | None) -> dict[str, tuple[str, 
     return {**(extra or {}), **core}
 
 
-def build_parser(command: str | None = None, extra: dict[str, tuple[str, str]] | None = None
-                 ) -> argparse.ArgumentParser:
+def build_parser(
+    command: str | None = None, extra: dict[str, tuple[str, str]] | None = None
+) -> argparse.ArgumentParser:
     """The parser; only ``command``'s module is imported (every module when ``command`` is "*"). ``extra``:
     more commands, name -> (one-line help, module)."""
     parser = _OneLineErrors(

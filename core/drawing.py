@@ -20,9 +20,7 @@ __all__ = [
 
 # viridis (matplotlib's default colour map) at 0, 1/4, 1/2, 3/4 and 1, sRGB 0..255; linear interpolation
 # between these five stays within 26/255 of the full map in every channel, enough for a readable ramp
-VIRIDIS_ANCHORS = np.array(
-    [[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], dtype=float
-)
+VIRIDIS_ANCHORS = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], dtype=float)
 
 
 def colour_table(levels: int = 256) -> np.ndarray:

@@ -59,10 +59,20 @@ class WheelrailError(ValueError):
     A message with no parameter (``WheelrailError("file x.npz is damaged")``) reads the same everywhere.
     """
 
-    def __init__(self, problem: str | None = None, *, parameter: str | None = None, value=None,
-                 minimum: float | None = None, maximum: float | None = None, unit: str = "",
-                 argument: str | None = None, reason: str | None = None, advice: str | None = None,
-                 magnitude: bool = False) -> None:
+    def __init__(
+        self,
+        problem: str | None = None,
+        *,
+        parameter: str | None = None,
+        value=None,
+        minimum: float | None = None,
+        maximum: float | None = None,
+        unit: str = "",
+        argument: str | None = None,
+        reason: str | None = None,
+        advice: str | None = None,
+        magnitude: bool = False,
+    ) -> None:
         if problem is None and parameter is None:
             raise TypeError("WheelrailError needs a problem or a parameter")
         self.problem = problem
@@ -81,9 +91,17 @@ class WheelrailError(ValueError):
         return (_rebuild, (self.problem, self._fields()))
 
     def _fields(self) -> dict:
-        return {"parameter": self.parameter, "value": self.value, "minimum": self.minimum, "maximum": self.maximum,
-                "unit": self.unit, "argument": self.argument, "reason": self.reason, "advice": self.advice,
-                "magnitude": self.magnitude}
+        return {
+            "parameter": self.parameter,
+            "value": self.value,
+            "minimum": self.minimum,
+            "maximum": self.maximum,
+            "unit": self.unit,
+            "argument": self.argument,
+            "reason": self.reason,
+            "advice": self.advice,
+            "magnitude": self.magnitude,
+        }
 
     def name_in(self, names: Mapping[str, Name] | None = None) -> Name:
         """The front end's :class:`Name` of this error's input (the API's when ``names`` has none)."""
@@ -99,8 +117,13 @@ class WheelrailError(ValueError):
             head = name.label if self.value is None else f"{name.label} {_shown(self.value, name)}"
             span = self._span(name)
             if self.problem is None:
-                text = (f"{head} is outside the accepted range, {span}" if self.magnitude
-                        else f"{head} is outside the accepted {span}" if span else f"{head} is not accepted")
+                text = (
+                    f"{head} is outside the accepted range, {span}"
+                    if self.magnitude
+                    else f"{head} is outside the accepted {span}"
+                    if span
+                    else f"{head} is not accepted"
+                )
             else:
                 text = f"{head}: {self.problem}" + (f"; accepted {span}" if span else "")
             if self.reason:
@@ -138,6 +161,9 @@ def _shown(value, name: Name) -> str:
         return value
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         return repr(value)
-    number = _number(float(value) * name.scale) if name.scale != 1.0 or not isinstance(value, numbers.Integral) \
+    number = (
+        _number(float(value) * name.scale)
+        if name.scale != 1.0 or not isinstance(value, numbers.Integral)
         else str(int(value))
+    )
     return number if name.unit_in_label or not name.unit else f"{number} {name.unit}"

@@ -61,8 +61,16 @@ from wheelrail.core.run_setup import (
 )
 
 __all__ = [
-    "DEFAULT_RUN_IN_TIME", "MODELS", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "InteractionRun", "prepare_run", "run_margin",
-    "simulate", "usable_length", "window_lines",
+    "DEFAULT_RUN_IN_TIME",
+    "MODELS",
+    "RUN_MARGIN",
+    "WINDOW_HALF_WIDTH",
+    "InteractionRun",
+    "prepare_run",
+    "run_margin",
+    "simulate",
+    "usable_length",
+    "window_lines",
 ]
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
@@ -108,7 +116,7 @@ def _scatter(j, f, lo, hi, frac, weights, acc):
     b = frac[j] * f
     row_lo = weights[lo[j], 1:]
     row_hi = weights[hi[j], 1:]
-    later = acc[j + 1:j + n_lags]
+    later = acc[j + 1 : j + n_lags]
     for m in range(later.size):
         later[m] += a * row_lo[m] + b * row_hi[m]
 
@@ -137,8 +145,9 @@ def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
 def _law(law, approach_known, compliance, roughness, s, shape, constants):
     """A compiled law (models.LAW_*) at step s: (F, contact length, contact area, reached the window's end)."""
     if law == LAW_HERTZ:
-        f, length, area = _hertz_law(approach_known, compliance, roughness[s, 0], constants[0], constants[1],
-                                     constants[2])
+        f, length, area = _hertz_law(
+            approach_known, compliance, roughness[s, 0], constants[0], constants[1], constants[2]
+        )
         return f, length, area, False
     return _bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
 
@@ -243,8 +252,16 @@ class InteractionRun(HeaderView):
     the rail, rows across it), the grid of every ``StepState.pressure``.
     """
 
-    def __init__(self, *, header: RunHeader, traits: ModelTraits, contact: ContactModel, track: TrackRoughness,
-                 history: History, keep_pressure: bool = True) -> None:
+    def __init__(
+        self,
+        *,
+        header: RunHeader,
+        traits: ModelTraits,
+        contact: ContactModel,
+        track: TrackRoughness,
+        history: History,
+        keep_pressure: bool = True,
+    ) -> None:
         self.header = header
         self.traits = traits
         self.contact = contact
@@ -307,9 +324,17 @@ class InteractionRun(HeaderView):
             return
         if self._law is not None:
             law = self._law
-            status = _run_chunk(self.traits.law, loop.n_hist + s0, loop.n_hist + s1, loop.track, loop.wheel,
-                                self.params.contact.preload, loop.xi_w0, (law.roughness, law.shape, law.constants),
-                                (self.xi_wheel, self.xi_rail, self.contact_length, self.contact_area))
+            status = _run_chunk(
+                self.traits.law,
+                loop.n_hist + s0,
+                loop.n_hist + s1,
+                loop.track,
+                loop.wheel,
+                self.params.contact.preload,
+                loop.xi_w0,
+                (law.roughness, law.shape, law.constants),
+                (self.xi_wheel, self.xi_rail, self.contact_length, self.contact_area),
+            )
             if status != -1:
                 raise WheelrailError(self.contact.edge_message(status - loop.n_hist))
             return
@@ -334,9 +359,15 @@ class InteractionRun(HeaderView):
         outputs = (self.xi_wheel, self.xi_rail, self.contact_length, self.contact_area, maps)
         j = loop.n_hist + s0
         while True:
-            j, status = _run_chunk_3d()(j, loop.n_hist + s1, loop.track, loop.wheel,
-                                        (self.params.contact.preload, loop.xi_w0, loop.n_hist, first, self.dx),
-                                        self._law.law, outputs)
+            j, status = _run_chunk_3d()(
+                j,
+                loop.n_hist + s1,
+                loop.track,
+                loop.wheel,
+                (self.params.contact.preload, loop.xi_w0, loop.n_hist, first, self.dx),
+                self._law.law,
+                outputs,
+            )
             if status != STEP_NEEDS_ROOM:
                 break
             self._law.grow()  # the set outgrew the factor's buffer: repeat step j with a larger one
@@ -419,7 +450,7 @@ class InteractionRun(HeaderView):
         done = max(0, self._done - loop.n_run_in)
         sl = slice(loop.n_run_in, loop.n_run_in + done)
         k = np.arange(done)
-        force = loop.force[loop.n_hist + loop.n_run_in: loop.n_hist + loop.n_run_in + done].copy()
+        force = loop.force[loop.n_hist + loop.n_run_in : loop.n_hist + loop.n_run_in + done].copy()
         idx = loop.start_index[sl]
         return RunResult(
             header=self.header,
@@ -501,24 +532,42 @@ def prepare_run(
     (200, True)
     """
     entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
+    rough, name, wheel, wheel_name = _surfaces(roughness, wheel_roughness, params)
+    dx = params.run.element_size
+    check_run_memory(
+        entry, params, usable_length(rough, dx) if length is None else length, run_in_length, keep_pressure
+    )
+    track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
+    history = history_arrays(track, params, run_in_length, track_numerics)
+    _scatter_range(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
+    header = _header(entry, line, name, params, history.n_run_in * dx, wheel_name)
+    contact = entry.create()
+    static_approach = contact.prepare(model_inputs(track, history, params))
+    history.xi_w0 = static_equilibrium(static_approach, params.contact.preload, history.weights)
+    return InteractionRun(
+        header=header, traits=entry.traits, contact=contact, track=track, history=history, keep_pressure=keep_pressure
+    )
+
+
+def _header(entry, line, name, params, run_in_length, wheel_name) -> RunHeader:
+    return RunHeader(
+        model=entry.name,
+        line=line,
+        roughness_name=name,
+        params=params,
+        run_in_length=run_in_length,
+        wheel_roughness_name=wheel_name,
+    )
+
+
+def _surfaces(roughness, wheel_roughness, params):
+    """The rail (or wheel) set and the optional wheel set with their names, checked as a pair."""
     rough, name = resolve_roughness(roughness)
     wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
     if wheel is not None:  # a rail set and a wheel set, going round this wheel (accepted.py)
         check_roughness_pair(rough, wheel)
         check_wheel_circumference(wheel.length, params.contact.radius_along, wheel_name)
-    dx = params.run.element_size
-    check_run_memory(entry, params, usable_length(rough, dx) if length is None else length, run_in_length,
-                     keep_pressure)
-    track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
-    history = history_arrays(track, params, run_in_length, track_numerics)
-    _scatter_range(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
-    header = RunHeader(model=entry.name, line=line, roughness_name=name, params=params,
-                       run_in_length=history.n_run_in * dx, wheel_roughness_name=wheel_name)
-    contact = entry.create()
-    static_approach = contact.prepare(model_inputs(track, history, params))
-    history.xi_w0 = static_equilibrium(static_approach, params.contact.preload, history.weights)
-    return InteractionRun(header=header, traits=entry.traits, contact=contact, track=track, history=history,
-                          keep_pressure=keep_pressure)
+    return rough, name, wheel, wheel_name
 
 
 def simulate(

@@ -65,8 +65,9 @@ def memory_limit() -> int:
     return int(gib * 1024**3)
 
 
-def run_memory_bytes(*, n_elements: float, n_steps: float, n_lines: int, window_columns: int,
-                     pressure_elements: int) -> float:
+def run_memory_bytes(
+    *, n_elements: float, n_steps: float, n_lines: int, window_columns: int, pressure_elements: int
+) -> float:
     """Estimated peak memory of a run that grows with its length, bytes (see the module docstring).
 
     Parameters
@@ -118,13 +119,20 @@ def check_run_memory(entry, params, length, run_in_length, keep_pressure: bool) 
     n_lines = width if traits.lateral_window else 1
     n_steps = length / dx
     maps = n_lines * width if traits.pressure_map and keep_pressure else 0
-    needed = run_memory_bytes(n_elements=(length + 2 * run_margin(dx) + run_in_length) / dx, n_steps=n_steps,
-                              n_lines=n_lines, window_columns=width if traits.law == LAW_BEDDING else 0,
-                              pressure_elements=maps)
+    needed = run_memory_bytes(
+        n_elements=(length + 2 * run_margin(dx) + run_in_length) / dx,
+        n_steps=n_steps,
+        n_lines=n_lines,
+        window_columns=width if traits.law == LAW_BEDDING else 0,
+        pressure_elements=maps,
+    )
     limit = memory_limit()
     if not needed <= limit:
-        kept = (f", of which {_gib(PRESSURE_BYTES * maps * n_steps)} are the pressure maps kept for the result"
-                if maps else "")
+        kept = (
+            f", of which {_gib(PRESSURE_BYTES * maps * n_steps)} are the pressure maps kept for the result"
+            if maps
+            else ""
+        )
         raise WheelrailError(
             f"a {entry.name} run of {_count(n_steps)} steps needs about {_gib(needed)} of memory{kept}, over the "
             f"{_gib(limit)} limit ({MEMORY_LIMIT_ENV} sets it); shorten the run"

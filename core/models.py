@@ -50,9 +50,23 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ModelParameters
 
 __all__ = [
-    "ENTRY_POINT_GROUP", "LAW_BEDDING", "LAW_HALFSPACE", "LAW_HERTZ", "MODELS", "REFERENCE_MODEL", "ContactModel",
-    "ContactState", "LawInputs", "ModelEntry", "ModelInputs", "ModelTraits", "PluginWarning", "model_entry",
-    "model_names", "register", "unregister",
+    "ENTRY_POINT_GROUP",
+    "LAW_BEDDING",
+    "LAW_HALFSPACE",
+    "LAW_HERTZ",
+    "MODELS",
+    "REFERENCE_MODEL",
+    "ContactModel",
+    "ContactState",
+    "LawInputs",
+    "ModelEntry",
+    "ModelInputs",
+    "ModelTraits",
+    "PluginWarning",
+    "model_entry",
+    "model_names",
+    "register",
+    "unregister",
 ]
 
 LAW_HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz._hertz_law
@@ -85,7 +99,8 @@ class ModelTraits:
     def __post_init__(self) -> None:
         if self.law not in _LAWS:
             raise WheelrailError(
-                f"ModelTraits.law must be one of LAW_HERTZ, LAW_BEDDING, LAW_HALFSPACE or None, got {self.law!r}")
+                f"ModelTraits.law must be one of LAW_HERTZ, LAW_BEDDING, LAW_HALFSPACE or None, got {self.law!r}"
+            )
         if self.pressure_map and not self.lateral_window:
             raise WheelrailError("ModelTraits: a pressure map needs a lateral window")
 
@@ -211,8 +226,10 @@ class ModelEntry:
     def __post_init__(self) -> None:
         # the name is typed on the command line and becomes part of file names and table columns
         if not (isinstance(self.name, str) and _NAME.fullmatch(self.name)):
-            raise WheelrailError(f"ModelEntry.name must be letters, digits, '-' or '_' (starting with a letter or "
-                                 f"digit), got {self.name!r}")
+            raise WheelrailError(
+                f"ModelEntry.name must be letters, digits, '-' or '_' (starting with a letter or "
+                f"digit), got {self.name!r}"
+            )
         if not (isinstance(self.label, str) and self.label.strip() and "\n" not in self.label):
             raise WheelrailError(f"ModelEntry.label must be one line of text, got {self.label!r}")
         if not isinstance(self.traits, ModelTraits):
@@ -228,17 +245,36 @@ class ModelEntry:
 
 
 _BUILTIN = (
-    ModelEntry(name="3d", label="3D elastic half-space on a window of lines (eqs. 8-11)",
-               traits=ModelTraits(lateral_window=True, law=LAW_HALFSPACE, pressure_map=True),
-               implementation="wheelrail.core.contact.halfspace_model:HalfSpaceModel"),
-    ModelEntry(name="2d", label="2D Winkler bedding on one line (eqs. 3-6)", traits=ModelTraits(law=LAW_BEDDING),
-               implementation="wheelrail.core.contact.winkler:BeddingModel"),
-    ModelEntry(name="hertz", label="Hertz spring, unfiltered roughness (eqs. 12-14)",
-               traits=ModelTraits(law=LAW_HERTZ), implementation="wheelrail.core.contact.hertz:HertzModel"),
-    ModelEntry(name="hertz-winkler", label="Hertz spring, roughness pre-filtered by the Winkler bedding",
-               traits=ModelTraits(law=LAW_HERTZ), implementation="wheelrail.core.contact.hertz:HertzWinklerModel"),
-    ModelEntry(name="hertz-average", label="Hertz spring, roughness averaged over the contact length 2a",
-               traits=ModelTraits(law=LAW_HERTZ), implementation="wheelrail.core.contact.hertz:HertzAverageModel"),
+    ModelEntry(
+        name="3d",
+        label="3D elastic half-space on a window of lines (eqs. 8-11)",
+        traits=ModelTraits(lateral_window=True, law=LAW_HALFSPACE, pressure_map=True),
+        implementation="wheelrail.core.contact.halfspace_model:HalfSpaceModel",
+    ),
+    ModelEntry(
+        name="2d",
+        label="2D Winkler bedding on one line (eqs. 3-6)",
+        traits=ModelTraits(law=LAW_BEDDING),
+        implementation="wheelrail.core.contact.winkler:BeddingModel",
+    ),
+    ModelEntry(
+        name="hertz",
+        label="Hertz spring, unfiltered roughness (eqs. 12-14)",
+        traits=ModelTraits(law=LAW_HERTZ),
+        implementation="wheelrail.core.contact.hertz:HertzModel",
+    ),
+    ModelEntry(
+        name="hertz-winkler",
+        label="Hertz spring, roughness pre-filtered by the Winkler bedding",
+        traits=ModelTraits(law=LAW_HERTZ),
+        implementation="wheelrail.core.contact.hertz:HertzWinklerModel",
+    ),
+    ModelEntry(
+        name="hertz-average",
+        label="Hertz spring, roughness averaged over the contact length 2a",
+        traits=ModelTraits(law=LAW_HERTZ),
+        implementation="wheelrail.core.contact.hertz:HertzAverageModel",
+    ),
 )
 
 MODELS: tuple[str, ...] = tuple(entry.name for entry in _BUILTIN)  # the built-in models, in menu order
@@ -267,8 +303,11 @@ def _load_plugins() -> None:
         problem = _plugin_problem(point)
         if problem:
             where = f" from {point.dist.name} {point.dist.version}" if point.dist is not None else ""
-            warnings.warn(f"contact-model plug-in {point.name!r} ({point.value}{where}) is skipped: {problem}",
-                          PluginWarning, stacklevel=3)
+            warnings.warn(
+                f"contact-model plug-in {point.name!r} ({point.value}{where}) is skipped: {problem}",
+                PluginWarning,
+                stacklevel=3,
+            )
 
 
 def _plugin_problem(point) -> str | None:

@@ -19,9 +19,25 @@ from wheelrail.core.errors import WheelrailError
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
 __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re-exported
-    "FOH_MAX_STEP", "KMH", "MAX_SPEED_KMH", "MIN_SPEED_KMH", "ContactParameters", "HertzContact", "ModelParameters",
-    "RailParameters", "RunParameters", "SupportParameters", "TrackNumerics", "TrackParameters", "WheelParameters",
-    "as_dict", "elliptic_hertz", "field_names", "from_dict", "hertz_constant", "reduced_modulus",
+    "FOH_MAX_STEP",
+    "KMH",
+    "MAX_SPEED_KMH",
+    "MIN_SPEED_KMH",
+    "ContactParameters",
+    "HertzContact",
+    "ModelParameters",
+    "RailParameters",
+    "RunParameters",
+    "SupportParameters",
+    "TrackNumerics",
+    "TrackParameters",
+    "WheelParameters",
+    "as_dict",
+    "elliptic_hertz",
+    "field_names",
+    "from_dict",
+    "hertz_constant",
+    "reduced_modulus",
 ]
 
 # Longest loop time step (s) at which wheel (eq. 1) and rail (eq. 2) are discretised with a first-order hold
@@ -416,8 +432,13 @@ class ContactParameters:
             return elliptic_hertz(self.preload, self.radius_along, radius_across, self.reduced_modulus)[1]
 
         if math.isfinite(tread) and 1.0 / crown + 1.0 / tread <= 0.0:
-            raise_concave_tread(f"a concave tread of radius {-tread:.4g} m fits the rail crown of radius {crown:.4g} "
-                                "m or closer: the surfaces conform across the rail", tread, crown, semi_axis_across)
+            raise_concave_tread(
+                f"a concave tread of radius {-tread:.4g} m fits the rail crown of radius {crown:.4g} "
+                "m or closer: the surfaces conform across the rail",
+                tread,
+                crown,
+                semi_axis_across,
+            )
         check_patch(self.hertz_semi_axes(), (self.radius_along, crown, tread), self.preload, semi_axis_across)
 
     @property

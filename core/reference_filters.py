@@ -73,25 +73,140 @@ CNOSSOS_RULE_ERROR_DB = 3.2  # dB: worst band of any column rebuilt from its nei
 # wheel diameter m). Cells as printed by the two sources cited in the module docstring.
 _ZEROS = (0.0,) * 11
 CNOSSOS_A3: dict[tuple[float, float], tuple[float, ...]] = {
-    (50e3, 0.360): _ZEROS + (
-        0.0, 0.0, 0.0, -0.1, -0.2, -0.3, -0.6, -1.0, -1.8, -3.2, -5.4, -8.7,
-        -12.2, -16.7, -17.7, -17.8, -20.7, -22.1, -22.8, -24.0, -24.5, -24.7, -27.0, -27.8,
+    (50e3, 0.360): _ZEROS
+    + (
+        0.0,
+        0.0,
+        0.0,
+        -0.1,
+        -0.2,
+        -0.3,
+        -0.6,
+        -1.0,
+        -1.8,
+        -3.2,
+        -5.4,
+        -8.7,
+        -12.2,
+        -16.7,
+        -17.7,
+        -17.8,
+        -20.7,
+        -22.1,
+        -22.8,
+        -24.0,
+        -24.5,
+        -24.7,
+        -27.0,
+        -27.8,
     ),
-    (50e3, 0.680): _ZEROS + (
-        0.0, 0.0, -0.1, -0.2, -0.3, -0.7, -1.2, -2.0, -4.1, -6.0, -9.2, -13.8,
-        -17.2, -17.7, -18.6, -21.5, -22.3, -23.1, -24.4, -24.5, -25.0, -28.0, -28.8, -29.6,
+    (50e3, 0.680): _ZEROS
+    + (
+        0.0,
+        0.0,
+        -0.1,
+        -0.2,
+        -0.3,
+        -0.7,
+        -1.2,
+        -2.0,
+        -4.1,
+        -6.0,
+        -9.2,
+        -13.8,
+        -17.2,
+        -17.7,
+        -18.6,
+        -21.5,
+        -22.3,
+        -23.1,
+        -24.4,
+        -24.5,
+        -25.0,
+        -28.0,
+        -28.8,
+        -29.6,
     ),
-    (50e3, 0.920): _ZEROS + (
-        0.0, -0.1, -0.1, -0.3, -0.6, -1.1, -1.3, -3.5, -5.3, -8.0, -12.0, -16.8,
-        -17.7, -18.0, -21.5, -21.8, -22.8, -24.0, -24.5, -25.0, -27.3, -28.1, -28.9, -29.7,
+    (50e3, 0.920): _ZEROS
+    + (
+        0.0,
+        -0.1,
+        -0.1,
+        -0.3,
+        -0.6,
+        -1.1,
+        -1.3,
+        -3.5,
+        -5.3,
+        -8.0,
+        -12.0,
+        -16.8,
+        -17.7,
+        -18.0,
+        -21.5,
+        -21.8,
+        -22.8,
+        -24.0,
+        -24.5,
+        -25.0,
+        -27.3,
+        -28.1,
+        -28.9,
+        -29.7,
     ),
-    (25e3, 0.920): _ZEROS + (
-        0.0, 0.0, 0.0, -0.1, -0.3, -0.5, -1.1, -1.8, -3.3, -5.3, -7.9, -12.8,
-        -16.8, -17.7, -18.2, -20.5, -22.0, -22.8, -24.2, -24.5, -25.0, -27.4, -28.2, -29.0,
+    (25e3, 0.920): _ZEROS
+    + (
+        0.0,
+        0.0,
+        0.0,
+        -0.1,
+        -0.3,
+        -0.5,
+        -1.1,
+        -1.8,
+        -3.3,
+        -5.3,
+        -7.9,
+        -12.8,
+        -16.8,
+        -17.7,
+        -18.2,
+        -20.5,
+        -22.0,
+        -22.8,
+        -24.2,
+        -24.5,
+        -25.0,
+        -27.4,
+        -28.2,
+        -29.0,
     ),
-    (100e3, 0.920): _ZEROS + (
-        -0.1, -0.2, -0.3, -0.6, -1.0, -1.8, -3.2, -5.4, -8.7, -12.2, -16.7, -17.7,
-        -17.8, -20.7, -22.1, -22.8, -24.0, -24.5, -24.7, -27.0, -27.8, -28.6, -29.4, -30.2,
+    (100e3, 0.920): _ZEROS
+    + (
+        -0.1,
+        -0.2,
+        -0.3,
+        -0.6,
+        -1.0,
+        -1.8,
+        -3.2,
+        -5.4,
+        -8.7,
+        -12.2,
+        -16.7,
+        -17.7,
+        -17.8,
+        -20.7,
+        -22.1,
+        -22.8,
+        -24.0,
+        -24.5,
+        -24.7,
+        -27.0,
+        -27.8,
+        -28.6,
+        -29.4,
+        -30.2,
     ),
 }
 
@@ -117,8 +232,14 @@ def hertz_semi_axes(contact: ContactParameters, load: float | None = None) -> tu
 
 def _column_semi_axis(load: float, diameter: float, contact: ContactParameters) -> float:
     """The rule's semi-axis of a column: the circular contact of radius D/2 (whatever ``contact``'s geometry)."""
-    circle = replace(contact, radius=0.5 * diameter, wheel_radius=None, rail_crown_radius=None,
-                     wheel_transverse_radius=math.inf, preload=load)
+    circle = replace(
+        contact,
+        radius=0.5 * diameter,
+        wheel_radius=None,
+        rail_crown_radius=None,
+        wheel_transverse_radius=math.inf,
+        preload=load,
+    )
     return circle.hertz_radius()
 
 
@@ -298,34 +419,56 @@ def reference_filters(
     """
     load = ACCEPTED["preload"].check(load, "load")
     wheel_radius = ACCEPTED["wheel_radius"].check(wheel_radius, "wheel_radius")
-    contact = replace(ContactParameters() if contact is None else contact, radius=wheel_radius,
-                      wheel_radius=wheel_radius, preload=load)
+    contact = replace(
+        ContactParameters() if contact is None else contact,
+        radius=wheel_radius,
+        wheel_radius=wheel_radius,
+        preload=load,
+    )
     a, b = hertz_semi_axes(contact)
     by_wavelength = {"cnossos": cnossos_filter(load, 2.0 * wheel_radius, contact)}
     lambda_bands = wavelength_bands()
     for kind in ANALYTIC_FILTERS:
         by_wavelength[kind] = analytic_filter_levels(kind, *lambda_bands.wavenumber_edges(), a)
     if speed is None:
-        return ReferenceFilterSet(load=load, wheel_radius=wheel_radius, speed=None, semi_axes=(a, b),
-                                  wavelength_bands=lambda_bands, by_wavelength=by_wavelength)
+        return ReferenceFilterSet(
+            load=load,
+            wheel_radius=wheel_radius,
+            speed=None,
+            semi_axes=(a, b),
+            wavelength_bands=lambda_bands,
+            by_wavelength=by_wavelength,
+        )
     speed = ACCEPTED["speed"].check(speed, "speed")
     f_bands = frequency_bands(speed, frequency_range)
     by_frequency = {"cnossos": map_levels(by_wavelength["cnossos"], lambda_bands, f_bands)}
     for kind in ANALYTIC_FILTERS:
         by_frequency[kind] = analytic_filter_levels(kind, *f_bands.wavenumber_edges(), a)
-    return ReferenceFilterSet(load=load, wheel_radius=wheel_radius, speed=speed, semi_axes=(a, b),
-                              wavelength_bands=lambda_bands, by_wavelength=by_wavelength,
-                              frequency_bands=f_bands, by_frequency=by_frequency)
+    return ReferenceFilterSet(
+        load=load,
+        wheel_radius=wheel_radius,
+        speed=speed,
+        semi_axes=(a, b),
+        wavelength_bands=lambda_bands,
+        by_wavelength=by_wavelength,
+        frequency_bands=f_bands,
+        by_frequency=by_frequency,
+    )
 
 
-def run_reference_filters(contact: ContactParameters, speed: float,
-                          frequency_range: tuple[float, float] = FORCE_BAND_RANGE) -> ReferenceFilterSet:
+def run_reference_filters(
+    contact: ContactParameters, speed: float, frequency_range: tuple[float, float] = FORCE_BAND_RANGE
+) -> ReferenceFilterSet:
     """The reference filters beside a run's dynamic ones: for the run's own preload, rolling radius and geometry
     across the rail, exactly as the run has them.
 
     :func:`reference_filters` lets an unset rail crown follow the wheel radius it is given (the circle the
     CNOSSOS table assumes); a run's unset crown is its ``radius`` instead, so it is pinned here before the call.
     """
-    return reference_filters(contact.preload, contact.radius_along, speed,
-                             contact=replace(contact, rail_crown_radius=contact.crown_radius),
-                             frequency_range=frequency_range)
+    return reference_filters(
+        contact.preload,
+        contact.radius_along,
+        speed,
+        contact=replace(contact, rail_crown_radius=contact.crown_radius),
+        frequency_range=frequency_range,
+    )

@@ -69,9 +69,14 @@ class RunHeader:
     def to_dict(self) -> dict:
         """Plain, JSON-ready view (keys carry their unit where it is not obvious)."""
         values = {
-            "model": self.model, "line": self.line, "roughness": self.roughness_name,
-            "speed_m_per_s": self.speed, "element_size_m": self.element_size, "time_step_s": self.time_step,
-            "run_in_length_m": self.run_in_length, "run_in_time_s": self.run_in_time,
+            "model": self.model,
+            "line": self.line,
+            "roughness": self.roughness_name,
+            "speed_m_per_s": self.speed,
+            "element_size_m": self.element_size,
+            "time_step_s": self.time_step,
+            "run_in_length_m": self.run_in_length,
+            "run_in_time_s": self.run_in_time,
             "parameters": as_dict(self.params),
         }
         if self.wheel_roughness_name is not None:
@@ -85,7 +90,9 @@ class RunHeader:
         wheel = values.get("wheel_roughness") if isinstance(values, dict) else None
         try:
             return cls(
-                model=str(values["model"]), line=int(values["line"]), roughness_name=str(values["roughness"]),
+                model=str(values["model"]),
+                line=int(values["line"]),
+                roughness_name=str(values["roughness"]),
                 params=from_dict(ModelParameters, values.get("parameters", {})),
                 run_in_length=float(values.get("run_in_length_m", 0.0)),
                 wheel_roughness_name=None if wheel is None else str(wheel),
@@ -265,8 +272,9 @@ class RunResult(HeaderView):
             with np.load(target, allow_pickle=False) as data:
                 meta = json.loads(str(data["metadata"]))
                 arrays = {name: np.asarray(data[name], dtype=float) for name in _STEP_ARRAYS}
-                optional = {name: np.asarray(data[name]) for name in ("pressure", "window_x", "window_y")
-                            if name in data.files}
+                optional = {
+                    name: np.asarray(data[name]) for name in ("pressure", "window_x", "window_y") if name in data.files
+                }
         except WheelrailError:
             raise
         except Exception as error:  # noqa: BLE001 - any unreadable file is the user's, named in one line
@@ -278,9 +286,17 @@ class RunResult(HeaderView):
             header = RunHeader.from_dict(meta)
         except WheelrailError as error:
             raise WheelrailError(f"{target}: {error}") from None
-        return cls(header=header, loss_of_contact_steps=int(meta.get("loss_of_contact_steps", 0)),
-                   **arrays, **optional)
+        return cls(header=header, loss_of_contact_steps=int(meta.get("loss_of_contact_steps", 0)), **arrays, **optional)
 
 
-_STEP_ARRAYS = ("time", "x", "force", "xi_wheel", "xi_rail", "roughness", "contact_length", "contact_area",
-                "equivalent_roughness")
+_STEP_ARRAYS = (
+    "time",
+    "x",
+    "force",
+    "xi_wheel",
+    "xi_rail",
+    "roughness",
+    "contact_length",
+    "contact_area",
+    "equivalent_roughness",
+)

@@ -28,9 +28,23 @@ from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_en
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
 __all__ = [
-    "DEFAULT_RUN_IN_TIME", "RUN_MARGIN", "WINDOW_HALF_WIDTH", "WINDOW_SEMI_AXES", "History", "TrackRoughness",
-    "check_roughness_pair", "checked_inputs", "default_run_in_length", "history_arrays", "model_inputs",
-    "roughness_along_track", "run_lines", "run_margin", "static_equilibrium", "usable_length", "window_half_elements",
+    "DEFAULT_RUN_IN_TIME",
+    "RUN_MARGIN",
+    "WINDOW_HALF_WIDTH",
+    "WINDOW_SEMI_AXES",
+    "History",
+    "TrackRoughness",
+    "check_roughness_pair",
+    "checked_inputs",
+    "default_run_in_length",
+    "history_arrays",
+    "model_inputs",
+    "roughness_along_track",
+    "run_lines",
+    "run_margin",
+    "static_equilibrium",
+    "usable_length",
+    "window_half_elements",
     "window_lines",
 ]
 
@@ -83,8 +97,10 @@ def usable_length(roughness, element_size: float, params: ModelParameters | None
     span = (roughness.n_samples - 1) * roughness.dx
     n_steps = math.floor((span - 2 * margin) / element_size + 1e-9)
     if n_steps < 1:
-        raise WheelrailError(f"rail data of {span:g} m are too short for a run: the model keeps "
-                             f"{margin * 1e3:g} mm of roughness before and after the wheel")
+        raise WheelrailError(
+            f"rail data of {span:g} m are too short for a run: the model keeps "
+            f"{margin * 1e3:g} mm of roughness before and after the wheel"
+        )
     return n_steps * element_size
 
 
@@ -95,8 +111,9 @@ def default_run_in_length(params: ModelParameters | None = None) -> float:
     return math.ceil(DEFAULT_RUN_IN_TIME * params.run.speed / dx - 1e-9) * dx
 
 
-def checked_inputs(model: str, line, params: ModelParameters | None,
-                   run_in_length) -> tuple[ModelEntry, ModelParameters, int, float]:
+def checked_inputs(
+    model: str, line, params: ModelParameters | None, run_in_length
+) -> tuple[ModelEntry, ModelParameters, int, float]:
     """Step 1: the model's registry entry, the parameters (default: the paper's), the line number and the
     run-in length, m (None: :func:`default_run_in_length`)."""
     entry = model_entry(model)
@@ -224,7 +241,10 @@ def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters):
         raise _line_error(
             f"too close to the side of the roughness data for 3d: the contact patch at "
             f"{params.contact.preload / 1e3:g} kN needs {_patch_room(params, dx) * 1e3:g} mm of data on each side "
-            "of its line", line, usable)
+            "of its line",
+            line,
+            usable,
+        )
     return (grid, *_window_rows(grid, y_line, line, window_half_elements(params)[1] * dx))
 
 
@@ -244,8 +264,7 @@ def run_lines(roughness, model: str = "hertz", params: ModelParameters | None = 
 def _run_lines(roughness, traits: ModelTraits, params: ModelParameters, wheel) -> tuple[int, ...]:
     from wheelrail.core.roughness import covers
 
-    lines = (window_lines(roughness, params) if traits.lateral_window
-             else tuple(int(n) for n in roughness.line_numbers))
+    lines = window_lines(roughness, params) if traits.lateral_window else tuple(int(n) for n in roughness.line_numbers)
     if wheel is None:
         return lines
     need = _patch_room(params, params.run.element_size) if traits.lateral_window else 0.0
@@ -268,14 +287,22 @@ def _wheel_across(wheel, rough, traits: ModelTraits, line: int, params: ModelPar
 
     paired = "the wheel set is paired with the rail set by lateral position"
     if not traits.lateral_window and not covers(wheel, y_line, y_line):
-        raise _line_error(f"the rail set's line lies at y = {y_line * 1e3:g} mm, where the wheel set has no data "
-                          f"({extent})", line, _run_lines(rough, traits, params, wheel), paired)
+        raise _line_error(
+            f"the rail set's line lies at y = {y_line * 1e3:g} mm, where the wheel set has no data ({extent})",
+            line,
+            _run_lines(rough, traits, params, wheel),
+            paired,
+        )
     need = _patch_room(params, dx)
     if traits.lateral_window and not covers(wheel, y_line - need, y_line + need):
         raise _line_error(
             f"the rail set's line (y = {y_line * 1e3:g} mm) is too close to the side of the wheel roughness data "
             f"({extent}) for 3d: the contact patch at {params.contact.preload / 1e3:g} kN needs {need * 1e3:g} mm "
-            "of the wheel's data on each side of its line", line, _run_lines(rough, traits, params, wheel), paired)
+            "of the wheel's data on each side of its line",
+            line,
+            _run_lines(rough, traits, params, wheel),
+            paired,
+        )
     y_rows = np.array([grid.y[grid.row_of_line(int(n))] for n in wanted])
     keep = np.flatnonzero([covers(wheel, y, y) for y in y_rows])
     return at_lateral_positions(to_model_grid(wheel, dx), y_rows[keep]), keep
@@ -284,15 +311,20 @@ def _wheel_across(wheel, rough, traits: ModelTraits, line: int, params: ModelPar
 def check_roughness_pair(rail, wheel) -> None:
     """Combined roughness takes a rail set and a wheel set: a set of the other kind is one WheelrailError."""
     if wheel.kind != "wheel":
-        raise WheelrailError(f"the wheel roughness is a {wheel.kind} set (kind: {wheel.kind}); give a wheel set, "
-                             "or give this set as the rail roughness")
+        raise WheelrailError(
+            f"the wheel roughness is a {wheel.kind} set (kind: {wheel.kind}); give a wheel set, "
+            "or give this set as the rail roughness"
+        )
     if rail.kind != "rail":
-        raise WheelrailError(f"with a wheel roughness, the rail roughness must be a rail set, got a {rail.kind} "
-                             "set (kind: wheel); give it as the wheel roughness")
+        raise WheelrailError(
+            f"with a wheel roughness, the rail roughness must be a rail set, got a {rail.kind} "
+            "set (kind: wheel); give it as the wheel roughness"
+        )
 
 
-def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelParameters,
-                          length: float | None, wheel=None) -> TrackRoughness:
+def roughness_along_track(
+    rough, traits: ModelTraits, line: int, params: ModelParameters, length: float | None, wheel=None
+) -> TrackRoughness:
     """Step 2: the chosen line (or lateral window) on the model grid, long enough for the run and its margins.
 
     ``wheel`` (a wheel set, optional) is added to the rail set ``rough``: r = r_rail + r_wheel, heights
@@ -324,7 +356,10 @@ def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelPa
     if not grid.periodic and total_length > grid.x[-1] + 1e-12:
         raise WheelrailError(
             f"with the {margin * 1e3:.0f} mm window margins at each end the run needs more than the "
-            f"{grid.x[-1]:g} m of rail roughness data", parameter="length", value=length, unit="m",
+            f"{grid.x[-1]:g} m of rail roughness data",
+            parameter="length",
+            value=length,
+            unit="m",
             maximum=math.floor((grid.x[-1] - 2 * margin) / dx + 1e-9) * dx,
         )
     lines = lines_along_track(grid, wanted, total_length, dx)
@@ -332,8 +367,14 @@ def roughness_along_track(rough, traits: ModelTraits, line: int, params: ModelPa
         lines = lines + lines_along_track(wheel_rows, wheel_rows.line_numbers, total_length, dx)
     if not np.all(np.isfinite(lines)):
         raise WheelrailError("roughness contains NaN or infinite heights")
-    return TrackRoughness(lines=lines, centre_row=centre_row, window_y=window_y, first=int(round(margin / dx)),
-                          n_steps=n_steps, element_size=dx)
+    return TrackRoughness(
+        lines=lines,
+        centre_row=centre_row,
+        window_y=window_y,
+        first=int(round(margin / dx)),
+        n_steps=n_steps,
+        element_size=dx,
+    )
 
 
 @dataclass
@@ -384,8 +425,12 @@ def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
     return ramp
 
 
-def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run_in_length: float,
-                   track_numerics: TrackNumerics | None = None) -> History:
+def history_arrays(
+    track_roughness: TrackRoughness,
+    params: ModelParameters,
+    run_in_length: float,
+    track_numerics: TrackNumerics | None = None,
+) -> History:
     """Step 3: Green's functions and wheel system, positions in the bay, the preload's force history (eqs. 1-2).
 
     The rail displacement that history causes (``acc``) is left at zero: the interaction loop, which owns the
@@ -409,10 +454,21 @@ def history_arrays(track_roughness: TrackRoughness, params: ModelParameters, run
     lo = np.floor(pos).astype(np.int64) % n_positions
     first = track_roughness.first
     history = History(
-        dt=dt, n_steps=n_steps, n_run_in=n_run_in, n_hist=n_hist,
-        force=np.full(n_hist + n_total, params.contact.preload), acc=np.zeros(n_hist + n_total + n_lags),
-        lo=lo, hi=(lo + 1) % n_positions, frac=pos - np.floor(pos), weights=weights,
-        phi=phi, gamma0=gamma0, gamma1=gamma1, state=np.zeros(4), ramp=_fade_in(n_run_in, n_total),
+        dt=dt,
+        n_steps=n_steps,
+        n_run_in=n_run_in,
+        n_hist=n_hist,
+        force=np.full(n_hist + n_total, params.contact.preload),
+        acc=np.zeros(n_hist + n_total + n_lags),
+        lo=lo,
+        hi=(lo + 1) % n_positions,
+        frac=pos - np.floor(pos),
+        weights=weights,
+        phi=phi,
+        gamma0=gamma0,
+        gamma1=gamma1,
+        state=np.zeros(4),
+        ramp=_fade_in(n_run_in, n_total),
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
     )
     return history
@@ -426,10 +482,17 @@ def model_inputs(track_roughness: TrackRoughness, history: History, params: Mode
     def position_of(s: int) -> float:
         return track_roughness.x_start + (s - history.n_run_in) * dx
 
-    return ModelInputs(params=params, element_size=dx, lines=track_roughness.lines,
-                       centre_row=track_roughness.centre_row, window_y=track_roughness.window_y,
-                       half_x=window_half_elements(params)[0], start_index=history.start_index, ramp=history.ramp,
-                       position_of=position_of)
+    return ModelInputs(
+        params=params,
+        element_size=dx,
+        lines=track_roughness.lines,
+        centre_row=track_roughness.centre_row,
+        window_y=track_roughness.window_y,
+        half_x=window_half_elements(params)[0],
+        start_index=history.start_index,
+        ramp=history.ramp,
+        position_of=position_of,
+    )
 
 
 def static_equilibrium(static_approach: float, preload: float, weights: np.ndarray) -> float:

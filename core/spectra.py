@@ -296,7 +296,10 @@ def check_spectrum_length(length: float, speed: float, element_size: float) -> N
         raise WheelrailError(
             f"too short for a force spectrum at {speed * 3.6:.4g} km/h, which leaves out the first "
             f"{FORCE_SKIP * 1e3:g} ms (start-up) and needs {FORCE_MIN_STEPS} steps after them",
-            parameter="length", value=length, minimum=shortest, unit="m",
+            parameter="length",
+            value=length,
+            minimum=shortest,
+            unit="m",
         )
 
 
@@ -390,11 +393,18 @@ def force_spectrum(
     if kept < FORCE_MIN_STEPS:
         record = f"the record of {force.size} steps ({force.size * time_step:.4g} s)"
         if force.size < FORCE_MIN_STEPS:
-            raise WheelrailError(f"force_spectrum: {record} is shorter than the {FORCE_MIN_STEPS} steps a "
-                                 "spectrum needs; use a longer run")
-        raise WheelrailError(f"{record} leaves {max(kept, 0)} steps after the skip, and a spectrum needs "
-                             f"{FORCE_MIN_STEPS}", parameter="skip", value=skip, unit="s",
-                             maximum=(force.size - FORCE_MIN_STEPS) * time_step, advice="or use a longer run")
+            raise WheelrailError(
+                f"force_spectrum: {record} is shorter than the {FORCE_MIN_STEPS} steps a "
+                "spectrum needs; use a longer run"
+            )
+        raise WheelrailError(
+            f"{record} leaves {max(kept, 0)} steps after the skip, and a spectrum needs {FORCE_MIN_STEPS}",
+            parameter="skip",
+            value=skip,
+            unit="s",
+            maximum=(force.size - FORCE_MIN_STEPS) * time_step,
+            advice="or use a longer run",
+        )
     dynamic = force[first:] - force[first:].mean()
     return third_octave_spectrum(dynamic, 1.0 / time_step, band_range, FORCE_REFERENCE)
 
@@ -424,8 +434,9 @@ def resolved_force_bands(
     if kept < 2:
         return centres, np.zeros(centres.shape, dtype=bool)
     frequencies, _ = narrowband_spectrum(np.zeros(kept), 1.0 / time_step)  # the bins force_spectrum integrates
-    holds_bin = np.array([np.any((frequencies >= lo) & (frequencies < hi)) for lo, hi in zip(lower, upper,
-                                                                                              strict=True)])
+    holds_bin = np.array(
+        [np.any((frequencies >= lo) & (frequencies < hi)) for lo, hi in zip(lower, upper, strict=True)]
+    )
     return centres, holds_bin & (upper <= 0.5 / time_step)
 
 

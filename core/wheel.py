@@ -160,8 +160,11 @@ def _first_order_hold(wheel: WheelParameters, time_step: float):
     if key in _FOH_MEMORY:
         return tuple(array.copy() for array in _FOH_MEMORY[key])
     arrays = cache.load_entry("wheel-foh", key, ("phi", "gamma0", "gamma1"))
-    if arrays is not None and arrays["phi"].shape == (4, 4) and all(
-            np.all(np.isfinite(arrays[name])) for name in ("phi", "gamma0", "gamma1")):
+    if (
+        arrays is not None
+        and arrays["phi"].shape == (4, 4)
+        and all(np.all(np.isfinite(arrays[name])) for name in ("phi", "gamma0", "gamma1"))
+    ):
         system = (arrays["phi"], arrays["gamma0"], arrays["gamma1"])
     else:
         system = _first_order_hold_expm(wheel, time_step)

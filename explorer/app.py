@@ -68,9 +68,9 @@ READY = "Ready: choose a set, a line and a model, then press **Run**."
 # The browser tab's title (React hoists a <title> rendered from markdown into the document's head), and viser's
 # own "File uploaded successfully" notice (a green check) hidden, since it only means that the bytes arrived:
 # the page says itself whether the file was loaded. If viser's markup changes, its notice shows again.
-PAGE_HEAD = ("<title>wheelrail explorer</title><style>"
-             ".mantine-Notification-root:has(.tabler-icon-check){display:none}"
-             "</style>")
+PAGE_HEAD = (
+    "<title>wheelrail explorer</title><style>.mantine-Notification-root:has(.tabler-icon-check){display:none}</style>"
+)
 
 
 class ExplorerApp:
@@ -79,9 +79,17 @@ class ExplorerApp:
     replay_speeds = REPLAY_SPEEDS
     no_overlay = "none"
 
-    def __init__(self, host: str = "127.0.0.1", port: int = 8080, *, roughness: str = DEFAULT_SET,
-                 length: float = DEFAULT_LENGTH, max_upload_bytes: int = MAX_UPLOAD_BYTES,
-                 verbose: bool = False, warm_up: bool = False) -> None:
+    def __init__(
+        self,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        *,
+        roughness: str = DEFAULT_SET,
+        length: float = DEFAULT_LENGTH,
+        max_upload_bytes: int = MAX_UPLOAD_BYTES,
+        verbose: bool = False,
+        warm_up: bool = False,
+    ) -> None:
         self.server = viser.ViserServer(host=host, port=port, label="wheelrail explorer", verbose=verbose)
         self.port = self.server.get_port()
         self.max_upload_bytes = int(max_upload_bytes)
@@ -115,8 +123,10 @@ class ExplorerApp:
             raise
         self.status(READY)
         if warm_up and self.shown is not None:
-            self.status(f"{READY} Meanwhile the track for {self.shown.speed / KMH:g} km/h and the {self.shown.model} "
-                        "solver are prepared in the background (once; a first Run waits for it).")
+            self.status(
+                f"{READY} Meanwhile the track for {self.shown.speed / KMH:g} km/h and the {self.shown.model} "
+                "solver are prepared in the background (once; a first Run waits for it)."
+            )
             self.controller.warm_up(self.shown, self.roughness, done=self._warmed_up)
 
     def _warmed_up(self, seconds: float) -> None:
@@ -130,45 +140,69 @@ class ExplorerApp:
         gui.main_panel.dock_left()
         gui.main_panel.set_width(CONTROL_PANEL_WIDTH)
         gui.add_markdown(PAGE_HEAD)
-        gui.add_markdown("Vertical wheel/rail interaction in the time domain (Pieringer, Kropp & Thompson, "
-                         "Wear 271, 2011)")
+        gui.add_markdown(
+            "Vertical wheel/rail interaction in the time domain (Pieringer, Kropp & Thompson, Wear 271, 2011)"
+        )
         with gui.add_folder("Run"):
             names = bundled_names()
-            self.set_dropdown = gui.add_dropdown("Roughness set", names,
-                                                 initial_value=roughness if roughness in names else names[0])
+            self.set_dropdown = gui.add_dropdown(
+                "Roughness set", names, initial_value=roughness if roughness in names else names[0]
+            )
             self.wheel_set_dropdown = gui.add_dropdown(
-                "Wheel roughness", (NO_WHEEL_SET, *self._wheel_set_names()), initial_value=NO_WHEEL_SET,
-                hint="A wheel set added to the rail set (combined roughness); none: a smooth wheel.")
+                "Wheel roughness",
+                (NO_WHEEL_SET, *self._wheel_set_names()),
+                initial_value=NO_WHEEL_SET,
+                hint="A wheel set added to the rail set (combined roughness); none: a smooth wheel.",
+            )
             self.upload_button = gui.add_upload_button(
-                f"Upload CSV/NPZ (<= {size_text(self.max_upload_bytes)})", icon=viser.Icon.UPLOAD,
-                hint="A roughness file in the CSV or NPZ format of the user guide (Roughness data); read in memory.")
-            self.model_dropdown = gui.add_dropdown("Contact model", MODEL_CHOICES, initial_value="3d",
-                                                   hint=f"{COMPARE}: every model one after another")
-            self.line_dropdown = gui.add_dropdown("Line", ("0",), initial_value="0",
-                                                  hint="Only the lines this model can run on are offered.")
+                f"Upload CSV/NPZ (<= {size_text(self.max_upload_bytes)})",
+                icon=viser.Icon.UPLOAD,
+                hint="A roughness file in the CSV or NPZ format of the user guide (Roughness data); read in memory.",
+            )
+            self.model_dropdown = gui.add_dropdown(
+                "Contact model", MODEL_CHOICES, initial_value="3d", hint=f"{COMPARE}: every model one after another"
+            )
+            self.line_dropdown = gui.add_dropdown(
+                "Line", ("0",), initial_value="0", hint="Only the lines this model can run on are offered."
+            )
             self.speed_text = gui.add_text("Speed (km/h)", "100", hint=accepted_text("speed"))
             self.preload_text = gui.add_text("Preload (kN)", "65", hint=accepted_text("preload"))
             self.length_text = gui.add_text("Run length (m)", f"{length:g}")
             radius_mm = f"{ContactParameters().radius * 1e3:g}"
             with gui.add_folder("Contact geometry (mm)", expand_by_default=False):
                 self.wheel_radius_text = gui.add_text(
-                    "Wheel radius (mm)", "", hint=f"Rolling radius, along the rail, {accepted_text('wheel_radius')}; "
-                                                 f"empty: {radius_mm} mm")
+                    "Wheel radius (mm)",
+                    "",
+                    hint=f"Rolling radius, along the rail, {accepted_text('wheel_radius')}; empty: {radius_mm} mm",
+                )
                 self.crown_radius_text = gui.add_text(
-                    "Rail crown radius (mm)", "",
-                    hint=f"Rail head, across the rail, {accepted_text('rail_crown_radius')}; empty: {radius_mm} mm")
+                    "Rail crown radius (mm)",
+                    "",
+                    hint=f"Rail head, across the rail, {accepted_text('rail_crown_radius')}; empty: {radius_mm} mm",
+                )
                 self.tread_radius_text = gui.add_text(
-                    "Wheel tread radius across (mm)", "",
-                    hint=f"{accepted_text('wheel_transverse_radius')}; empty: cylindrical; negative: concave (worn)")
+                    "Wheel tread radius across (mm)",
+                    "",
+                    hint=f"{accepted_text('wheel_transverse_radius')}; empty: cylindrical; negative: concave (worn)",
+                )
             self.check_md = gui.add_markdown("")
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
             self.stop_button = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, color="red", disabled=True)
             self.progress_bar = gui.add_progress_bar(0.0, animated=False)
             self.status_md = gui.add_markdown("")
-        self.set_dropdown.on_update(lambda event: self._guarded(self.select_set, self.set_dropdown.value,
-                                                                client=event.client))
-        for handle in (self.model_dropdown, self.line_dropdown, self.speed_text, self.preload_text,
-                       self.length_text, self.wheel_radius_text, self.crown_radius_text, self.tread_radius_text):
+        self.set_dropdown.on_update(
+            lambda event: self._guarded(self.select_set, self.set_dropdown.value, client=event.client)
+        )
+        for handle in (
+            self.model_dropdown,
+            self.line_dropdown,
+            self.speed_text,
+            self.preload_text,
+            self.length_text,
+            self.wheel_radius_text,
+            self.crown_radius_text,
+            self.tread_radius_text,
+        ):
             handle.on_update(lambda event: self._guarded(self.refresh))
         self.wheel_set_dropdown.on_update(lambda event: self._guarded(self.select_wheel_set, client=event.client))
         self.upload_button.on_upload(self._on_upload)
@@ -190,13 +224,15 @@ class ExplorerApp:
         patch.raised_box.on_update(lambda event: self._guarded(self._on_raised))
         patch.time_slider.on_update(lambda event: self._guarded(self.scrub, patch.time_slider.value))
         patch.play_button.on_click(lambda event: self._guarded(self.toggle_play))
-        patch.model_shown.on_update(lambda event: None if self._is_quiet() else self._guarded(self.choose_model,
-                                                                                          patch.model_shown.value))
+        patch.model_shown.on_update(
+            lambda event: None if self._is_quiet() else self._guarded(self.choose_model, patch.model_shown.value)
+        )
         patch.view_buttons.on_click(lambda event: self._guarded(self.set_view, event.target.value, event.client))
         patch.rrd_button.on_click(lambda event: self._guarded(self.download_rrd, event.client, client=event.client))
         spectra = self.spectra
-        spectra.csv_button.on_click(lambda event: self._guarded(self.download_spectra_csv, event.client,
-                                                                client=event.client))
+        spectra.csv_button.on_click(
+            lambda event: self._guarded(self.download_spectra_csv, event.client, client=event.client)
+        )
         spectra.overlay_dropdown.on_update(lambda event: None if self._is_quiet() else self._guarded(self._show_case))
 
     @contextlib.contextmanager
@@ -257,7 +293,8 @@ class ExplorerApp:
         desc = desc if len(desc) <= 140 else desc[:137].rstrip() + "..."
         self.roughness_tab.description_md.content = (
             f"**{name}**: {rough.kind}, {rough.n_lines} lines {rough.lateral_spacing * 1e3:.3g} mm apart, "
-            f"{rough.length:.3g} m at {rough.dx * 1e3:.3g} mm. {desc}")
+            f"{rough.length:.3g} m at {rough.dx * 1e3:.3g} mm. {desc}"
+        )
         self._bound_length()
         self.refresh()
 
@@ -275,8 +312,10 @@ class ExplorerApp:
         if abs(bounded - length) > 1e-9:
             with self._quietly():
                 self.length_text.value = f"{bounded:g}"
-            self.length_note = (f"Run length {length:g} m is not possible on {self.roughness_label} at "
-                                f"{speed / KMH:g} km/h ({shortest:g} to {longest:g} m): {bounded:g} m is set.")
+            self.length_note = (
+                f"Run length {length:g} m is not possible on {self.roughness_label} at "
+                f"{speed / KMH:g} km/h ({shortest:g} to {longest:g} m): {bounded:g} m is set."
+            )
             self.status(self.length_note)
 
     def _preload_or_default(self) -> float:
@@ -289,9 +328,11 @@ class ExplorerApp:
 
     def _geometry(self) -> tuple:
         """The geometry fields read (one WheelrailError in the page's words if one is bad)."""
-        return read_geometry(wheel_radius_mm=self.wheel_radius_text.value,
-                             rail_crown_radius_mm=self.crown_radius_text.value,
-                             wheel_transverse_radius_mm=self.tread_radius_text.value)
+        return read_geometry(
+            wheel_radius_mm=self.wheel_radius_text.value,
+            rail_crown_radius_mm=self.crown_radius_text.value,
+            wheel_transverse_radius_mm=self.tread_radius_text.value,
+        )
 
     def _contact_or_default(self) -> ContactParameters:
         """The contact the fields describe; a field not valid yet counts as its default (the check line says)."""
@@ -337,8 +378,9 @@ class ExplorerApp:
     def _offer_lines(self) -> None:
         """The Line menu: the lines the model can run on with the sets loaded (core's rule), or 'no line
         fits'; a line no longer offered moves to the nearest one offered, and the page says so."""
-        lines = offered_lines(self.roughness, self.model_dropdown.value, self._contact_or_default(),
-                              self._wheel_or_none()[0])
+        lines = offered_lines(
+            self.roughness, self.model_dropdown.value, self._contact_or_default(), self._wheel_or_none()[0]
+        )
         options = tuple(str(n) for n in lines) or (NO_LINE_FITS,)
         current = self.line_dropdown.value
         if tuple(self.line_dropdown.options) != options:
@@ -356,18 +398,28 @@ class ExplorerApp:
             self.line_dropdown.value = str(nearest)
             if current in ("", "0", NO_LINE_FITS) or wanted == 0:
                 return
-            self.status(f"Line {wanted} is not offered for {self.model_dropdown.value} on "
-                        f"{self.roughness_label}; line {nearest} is chosen.")
+            self.status(
+                f"Line {wanted} is not offered for {self.model_dropdown.value} on "
+                f"{self.roughness_label}; line {nearest} is chosen."
+            )
         elif self.line_dropdown.value != str(wanted):
             self.line_dropdown.value = str(wanted)
 
     def read_config(self) -> RunConfig:
         """The configuration the controls describe, or one WheelrailError in the page's words."""
         wheel, wheel_label = self._wheel()
-        return read_config(self.roughness, self.roughness_label, line=self.line_dropdown.value,
-                           model=self.model_dropdown.value, speed_kmh=self.speed_text.value,
-                           preload_kn=self.preload_text.value, length_m=self.length_text.value,
-                           geometry=self._geometry(), wheel=wheel, wheel_label=wheel_label)
+        return read_config(
+            self.roughness,
+            self.roughness_label,
+            line=self.line_dropdown.value,
+            model=self.model_dropdown.value,
+            speed_kmh=self.speed_text.value,
+            preload_kn=self.preload_text.value,
+            length_m=self.length_text.value,
+            geometry=self._geometry(),
+            wheel=wheel,
+            wheel_label=wheel_label,
+        )
 
     def refresh(self) -> None:
         """After any control changed: offered lines, the check line, and everything of that configuration."""
@@ -386,8 +438,9 @@ class ExplorerApp:
                 config = None
                 self.check_md.content = f"**Cannot run:** {page_message(error)}"
             else:
-                self.check_md.content = (f"Run length {shortest:g} to {longest:g} m on this set at "
-                                         f"{config.speed / KMH:g} km/h.")
+                self.check_md.content = (
+                    f"Run length {shortest:g} to {longest:g} m on this set at {config.speed / KMH:g} km/h."
+                )
             changed = config is None or self.shown is None or config != self.shown
             self.shown = config
             if changed:
@@ -398,8 +451,11 @@ class ExplorerApp:
 
     def _overlay(self) -> RunConfig | None:
         """The run list: other configurations of this session with a spectrum; the one chosen to overlay."""
-        runs = {label: c for label, c in self.store.run_list().items()
-                if self.shown is None or c.case() != self.shown.case()}
+        runs = {
+            label: c
+            for label, c in self.store.run_list().items()
+            if self.shown is None or c.case() != self.shown.case()
+        }
         menu = self.spectra.overlay_dropdown
         options = (self.no_overlay, *runs)
         if tuple(menu.options) != options:
@@ -534,7 +590,8 @@ class ExplorerApp:
             f"**{config.model}** step {state.step}: x = {state.position:.4f} m, F = {state.force / 1e3:.2f} kN, "
             f"contact length {state.contact_length * 1e3:.1f} mm  \n"
             f"Hertz at {config.preload / 1e3:g} kN: a = {a:.2f} mm along, b = {b:.2f} mm across, "
-            f"p0 = {contact.hertz_peak_pressure() / 1e6:.0f} MPa")
+            f"p0 = {contact.hertz_peak_pressure() / 1e6:.0f} MPa"
+        )
 
     def live(self, result, view: RunView) -> None:
         with self._lock:
@@ -571,9 +628,13 @@ class ExplorerApp:
     def _view_of(self, entry: Entry) -> RunView:
         wheel = entry.config.wheel_set_label
         result = entry.result
-        return RunView(config=entry.config, roughness=self._sets.get(entry.config.set_label, self.roughness),
-                       window_x=result.window_x, window_y=result.window_y,
-                       wheel_roughness=None if wheel is None else self._sets[wheel])
+        return RunView(
+            config=entry.config,
+            roughness=self._sets.get(entry.config.set_label, self.roughness),
+            window_x=result.window_x,
+            window_y=result.window_y,
+            wheel_roughness=None if wheel is None else self._sets[wheel],
+        )
 
     def toggle_play(self) -> None:
         """Play/pause the replayed run at the chosen fraction of real time (as viser's record3d example)."""
@@ -705,8 +766,12 @@ class ExplorerApp:
         name = entry.config.file_stem() + ".rrd"
         with tempfile.TemporaryDirectory(prefix="wheelrail-rrd-") as folder:
             path = Path(folder) / name
-            record_result(entry.result, path, roughness=self._sets.get(entry.config.set_label, self.roughness),
-                          description=f"wheelrail explorer: {entry.config.label()}")
+            record_result(
+                entry.result,
+                path,
+                roughness=self._sets.get(entry.config.set_label, self.roughness),
+                description=f"wheelrail explorer: {entry.config.label()}",
+            )
             content = path.read_bytes()
         self._send(name, content, client)
         return name, content
@@ -766,7 +831,8 @@ class ExplorerApp:
                 if old is not None:
                     old.remove()
                 self._notices[target.client_id] = target.add_notification(
-                    title, message, color=colour, auto_close_seconds=self.notice_seconds)
+                    title, message, color=colour, auto_close_seconds=self.notice_seconds
+                )
             except Exception:  # a tab that closed meanwhile
                 pass
 
@@ -803,8 +869,9 @@ def _line_map(rough, line: int | None, hertz_radius: float) -> np.ndarray:
     return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
 
 
-def serve(host: str = "127.0.0.1", port: int = 8080, *, roughness: str = DEFAULT_SET,
-          length: float = DEFAULT_LENGTH) -> int:
+def serve(
+    host: str = "127.0.0.1", port: int = 8080, *, roughness: str = DEFAULT_SET, length: float = DEFAULT_LENGTH
+) -> int:
     """Start the explorer and serve until interrupted (Ctrl-C); runs and errors are logged to the terminal."""
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s: %(message)s", datefmt="%H:%M:%S")
     app = ExplorerApp(host, port, roughness=roughness, length=length, verbose=False, warm_up=True)

@@ -10,8 +10,12 @@ def add_parser(sub):
     parser = sub.add_parser("explore", help="start the browser GUI (default http://127.0.0.1:8080)")
     parser.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1)")
     parser.add_argument("--port", type=int, default=8080, help="port (default 8080; the next free one if taken)")
-    parser.add_argument("--set", default="corrugated-rail", metavar="SET",
-                        help="bundled roughness set shown first (default corrugated-rail); upload your own in the page")
+    parser.add_argument(
+        "--set",
+        default="corrugated-rail",
+        metavar="SET",
+        help="bundled roughness set shown first (default corrugated-rail); upload your own in the page",
+    )
     return parser
 
 
@@ -40,6 +44,8 @@ def run(args) -> int:
     from wheelrail.explorer.app import serve  # viser and the page: imported only when the command runs
 
     if args.set not in bundled_names():
-        raise WheelrailError(f"--set {args.set!r} is not a bundled set; choose one of {', '.join(bundled_names())} "
-                             "(upload your own file in the page)")
+        raise WheelrailError(
+            f"--set {args.set!r} is not a bundled set; choose one of {', '.join(bundled_names())} "
+            "(upload your own file in the page)"
+        )
     return serve(host=args.host, port=args.port, roughness=args.set)

@@ -24,9 +24,22 @@ from wheelrail.core.run_setup import run_lines, usable_length
 from wheelrail.core.spectra import shortest_spectrum_run
 
 __all__ = [
-    "COMPARE", "COMPARE_ORDER", "FIELD_NAMES", "GEOMETRY_FIELDS", "MODEL_CHOICES", "NO_LINE_FITS", "NO_WHEEL_SET",
-    "PRELOAD_RANGE_KN", "RunConfig", "accepted_text", "length_range", "models_of", "offered_lines", "page_message",
-    "read_config", "read_geometry",
+    "COMPARE",
+    "COMPARE_ORDER",
+    "FIELD_NAMES",
+    "GEOMETRY_FIELDS",
+    "MODEL_CHOICES",
+    "NO_LINE_FITS",
+    "NO_WHEEL_SET",
+    "PRELOAD_RANGE_KN",
+    "RunConfig",
+    "accepted_text",
+    "length_range",
+    "models_of",
+    "offered_lines",
+    "page_message",
+    "read_config",
+    "read_geometry",
 ]
 
 COMPARE = "compare"
@@ -34,8 +47,13 @@ COMPARE = "compare"
 MODEL_CHOICES = (*model_names(), COMPARE)
 # the reference first (every contact filter needs it), then the others: compiled laws before per-step ones
 # (the built-in ones from the cheapest to the costliest)
-COMPARE_ORDER = (REFERENCE_MODEL, *sorted((m for m in reversed(MODEL_CHOICES[:-1]) if m != REFERENCE_MODEL),
-                                          key=lambda m: not model_entry(m).traits.compiled))
+COMPARE_ORDER = (
+    REFERENCE_MODEL,
+    *sorted(
+        (m for m in reversed(MODEL_CHOICES[:-1]) if m != REFERENCE_MODEL),
+        key=lambda m: not model_entry(m).traits.compiled,
+    ),
+)
 MAX_WHEEL_RUN_M = 100.0  # wheel data repeat around the circumference: longest run offered on a wheel set
 NO_WHEEL_SET = "none"  # the wheel-set picker's choice for a smooth wheel (one rough surface, the paper's case)
 # What the page calls each input an error can name (WheelrailError.parameter): its field's label, the unit the
@@ -56,8 +74,9 @@ FIELD_NAMES: dict[str, Name] = {
 NO_LINE_FITS = "no line fits"  # the Line menu when the model cannot run on any line of the set(s)
 PRELOAD_RANGE_KN = ACCEPTED["preload"].in_unit(FIELD_NAMES["preload"].scale)  # core's range, in the field's kN
 # ContactParameters geometry field -> what the page calls it (mm in the page, m inside; empty: the default)
-GEOMETRY_FIELDS = {name: FIELD_NAMES[name].label for name in ("wheel_radius", "rail_crown_radius",
-                                                              "wheel_transverse_radius")}
+GEOMETRY_FIELDS = {
+    name: FIELD_NAMES[name].label for name in ("wheel_radius", "rail_crown_radius", "wheel_transverse_radius")
+}
 
 
 def accepted_text(key: str) -> str:
@@ -91,8 +110,15 @@ class RunConfig:
     def case(self) -> tuple:
         """Everything but the model: results of one case compare (spectra, contact filters)."""
         geometry = tuple((name, round(value, 12)) for name, value in self.geometry)
-        return (self.set_label, self.wheel_set_label, self.line, round(self.speed, 9), round(self.preload, 6),
-                round(self.length, 9), geometry)
+        return (
+            self.set_label,
+            self.wheel_set_label,
+            self.line,
+            round(self.speed, 9),
+            round(self.preload, 6),
+            round(self.length, 9),
+            geometry,
+        )
 
     def for_model(self, model: str) -> RunConfig:
         return replace(self, model=model)
@@ -110,8 +136,12 @@ class RunConfig:
         """The case as people read it: 'corrugated-rail, line 0, 100 km/h, 65 kN, 3 m' (with a wheel set:
         'corrugated-rail + sinter-wheel-1, ...'; a geometry given: '..., wheel radius 460 mm')."""
         sets = self.set_label if self.wheel_set_label is None else f"{self.set_label} + {self.wheel_set_label}"
-        return ", ".join([f"{sets}, line {self.line}, {self.speed / KMH:g} km/h, {self.preload / 1e3:g} kN, "
-                          f"{self.length:g} m", *self._geometry_words()])
+        return ", ".join(
+            [
+                f"{sets}, line {self.line}, {self.speed / KMH:g} km/h, {self.preload / 1e3:g} kN, {self.length:g} m",
+                *self._geometry_words(),
+            ]
+        )
 
     def label(self) -> str:
         return f"{self.model} on {self.case_label()}"
@@ -120,14 +150,27 @@ class RunConfig:
         """A file name for downloads: 'wheelrail-3d-corrugated-rail-line0-100kmh-65kN-3m'."""
         sets = [self.set_label] if self.wheel_set_label is None else [self.set_label, self.wheel_set_label]
         short = {"wheel_radius": "R", "rail_crown_radius": "crown", "wheel_transverse_radius": "tread"}
-        parts = ["wheelrail", self.model, *sets, f"line{self.line}", f"{self.speed / KMH:g}kmh",
-                 f"{self.preload / 1e3:g}kN", f"{self.length:g}m",
-                 *(f"{short[name]}{value * 1e3:g}mm" for name, value in self.geometry)]
+        parts = [
+            "wheelrail",
+            self.model,
+            *sets,
+            f"line{self.line}",
+            f"{self.speed / KMH:g}kmh",
+            f"{self.preload / 1e3:g}kN",
+            f"{self.length:g}m",
+            *(f"{short[name]}{value * 1e3:g}mm" for name, value in self.geometry),
+        ]
         return re.sub(r"[^A-Za-z0-9.+-]+", "_", "-".join(parts)).replace("_-", "-").strip("_")
 
     def as_dict(self) -> dict:
-        values = {"model": self.model, "set": self.set_label, "line": self.line, "speed_kmh": self.speed / KMH,
-                  "preload_kn": self.preload / 1e3, "length_m": self.length}
+        values = {
+            "model": self.model,
+            "set": self.set_label,
+            "line": self.line,
+            "speed_kmh": self.speed / KMH,
+            "preload_kn": self.preload / 1e3,
+            "length_m": self.length,
+        }
         if self.wheel_set_label is not None:
             values["wheel_set"] = self.wheel_set_label
         values.update((f"{name}_mm", value * 1e3) for name, value in self.geometry)
@@ -189,8 +232,19 @@ def _span(lines: tuple[int, ...]) -> str:
     return "one of lines " + ", ".join(map(str, lines))
 
 
-def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, preload_kn, length_m,
-                geometry: tuple = (), wheel=None, wheel_label: str | None = None) -> RunConfig:
+def read_config(
+    roughness,
+    set_label: str,
+    *,
+    line,
+    model: str,
+    speed_kmh,
+    preload_kn,
+    length_m,
+    geometry: tuple = (),
+    wheel=None,
+    wheel_label: str | None = None,
+) -> RunConfig:
     """The run the page's fields ask for, or one WheelrailError in the page's words (what to type instead).
 
     ``geometry`` as :func:`read_geometry` gives it; ``wheel`` (labelled ``wheel_label``) a wheel set added to
@@ -202,20 +256,25 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
     preload_kn = _number(preload_kn, "preload")
     if wheel is not None:
         if roughness.kind != "rail":
-            raise WheelrailError(f"A wheel roughness is added to a rail set, and {set_label} is a {roughness.kind} "
-                                 f"set: choose a rail set, or wheel roughness '{NO_WHEEL_SET}'")
+            raise WheelrailError(
+                f"A wheel roughness is added to a rail set, and {set_label} is a {roughness.kind} "
+                f"set: choose a rail set, or wheel roughness '{NO_WHEEL_SET}'"
+            )
         if wheel.kind != "wheel":
-            raise WheelrailError(f"{wheel_label} is a {wheel.kind} set, not a wheel set: choose a wheel set as "
-                                 "the wheel roughness")
+            raise WheelrailError(
+                f"{wheel_label} is a {wheel.kind} set, not a wheel set: choose a wheel set as the wheel roughness"
+            )
     contact = ContactParameters(preload=preload_kn * 1e3, **dict(geometry))
     if wheel is not None:  # core's rule: the wheel set must go round this wheel
         check_wheel_circumference(wheel.length, contact.radius_along, wheel_label)
     allowed = offered_lines(roughness, model, contact, wheel)
     sets = set_label if wheel is None else f"{set_label} + {wheel_label}"
     if not allowed:
-        raise WheelrailError(f"The 3d contact patch at {preload_kn:g} kN is {2e3 * contact.hertz_semi_axes()[1]:.1f} "
-                             f"mm wide across the rail: no line of {sets} leaves room for it; choose another "
-                             "geometry or a one-line model")
+        raise WheelrailError(
+            f"The 3d contact patch at {preload_kn:g} kN is {2e3 * contact.hertz_semi_axes()[1]:.1f} "
+            f"mm wide across the rail: no line of {sets} leaves room for it; choose another "
+            "geometry or a one-line model"
+        )
     try:
         line = int(str(line).strip())
     except ValueError:
@@ -224,15 +283,33 @@ def read_config(roughness, set_label: str, *, line, model: str, speed_kmh, prelo
         if line not in roughness.line_numbers:
             raise WheelrailError(f"Line {line} is not in {sets}; choose {_span(allowed)}")
         if wheel is not None and line not in offered_lines(roughness, REFERENCE_MODEL, contact, wheel):
-            raise WheelrailError(f"Line {line} of {set_label} lies where {wheel_label} has no data across the "
-                                 f"rail (wheel and rail are paired by position); choose {_span(allowed)}")
-        raise WheelrailError(f"Line {line} is too near the edge of {sets} for the 3d contact patch at "
-                             f"{preload_kn:g} kN; choose {_span(allowed)}")
+            raise WheelrailError(
+                f"Line {line} of {set_label} lies where {wheel_label} has no data across the "
+                f"rail (wheel and rail are paired by position); choose {_span(allowed)}"
+            )
+        raise WheelrailError(
+            f"Line {line} is too near the edge of {sets} for the 3d contact patch at "
+            f"{preload_kn:g} kN; choose {_span(allowed)}"
+        )
     length = _number(length_m, "length")
     shortest, longest = length_range(roughness, speed_kmh * KMH)
     if not shortest - 1e-9 <= length <= longest + 1e-9:
-        raise WheelrailError(None, parameter="length", value=length, minimum=shortest, maximum=longest, unit="m",
-                             reason=f"on {set_label} at {speed_kmh:g} km/h: long enough for a force spectrum, "
-                                    "within the data")
-    return RunConfig(set_label=set_label, line=line, model=model, speed=speed_kmh * KMH, preload=preload_kn * 1e3,
-                     length=length, wheel_set_label=None if wheel is None else wheel_label, geometry=tuple(geometry))
+        raise WheelrailError(
+            None,
+            parameter="length",
+            value=length,
+            minimum=shortest,
+            maximum=longest,
+            unit="m",
+            reason=f"on {set_label} at {speed_kmh:g} km/h: long enough for a force spectrum, within the data",
+        )
+    return RunConfig(
+        set_label=set_label,
+        line=line,
+        model=model,
+        speed=speed_kmh * KMH,
+        preload=preload_kn * 1e3,
+        length=length,
+        wheel_set_label=None if wheel is None else wheel_label,
+        geometry=tuple(geometry),
+    )

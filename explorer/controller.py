@@ -60,9 +60,16 @@ class RunListener(Protocol):
 class RunController:
     """Starts, stops and replaces runs; one at a time."""
 
-    def __init__(self, listener: RunListener, store: ResultStore | None = None, *,
-                 prepare: Callable | None = None, precompute: Callable | None = None,
-                 frame_interval: float = FRAME_INTERVAL, tick: float = TICK_INTERVAL) -> None:
+    def __init__(
+        self,
+        listener: RunListener,
+        store: ResultStore | None = None,
+        *,
+        prepare: Callable | None = None,
+        precompute: Callable | None = None,
+        frame_interval: float = FRAME_INTERVAL,
+        tick: float = TICK_INTERVAL,
+    ) -> None:
         if prepare is None:
             from wheelrail.core.interaction import prepare_run as prepare
 
@@ -96,9 +103,12 @@ class RunController:
             self._generation += 1
             generation = self._generation
             first = round(config.speed, 6) not in self._prepared_speeds
-            worker = threading.Thread(target=self._work, args=(generation, config, (roughness, wheel_roughness),
-                                                               first), daemon=True,
-                                      name=f"wheelrail-explorer-run-{generation}")
+            worker = threading.Thread(
+                target=self._work,
+                args=(generation, config, (roughness, wheel_roughness), first),
+                daemon=True,
+                name=f"wheelrail-explorer-run-{generation}",
+            )
             self._worker = worker
         LOG.info("run %d: %s", generation, config.label())
         worker.start()
@@ -115,8 +125,13 @@ class RunController:
                 try:
                     if self._precompute is not None:
                         self._precompute(config.params())
-                    run = self._prepare(_source(roughness, config.set_label), model=config.model,
-                                        line=config.line, params=config.params(), length=config.length)
+                    run = self._prepare(
+                        _source(roughness, config.set_label),
+                        model=config.model,
+                        line=config.line,
+                        params=config.params(),
+                        length=config.length,
+                    )
                     # its first step (after the run-in): the compiled chunk loop, which a run loads (or a fresh
                     # install compiles) on its first step, not when it is prepared
                     next(iter(run.steps()), None)
@@ -169,8 +184,9 @@ class RunController:
         outcome = "failed"
         try:
             for number, model in enumerate(models):
-                outcome = self._one_model(generation, config.for_model(model), roughness, (number, len(models)),
-                                          first and number == 0)
+                outcome = self._one_model(
+                    generation, config.for_model(model), roughness, (number, len(models)), first and number == 0
+                )
                 if outcome != "done":
                     break
                 self._prepared_speeds.add(round(config.speed, 6))
@@ -215,21 +231,32 @@ class RunController:
         combined = {} if wheel is None else {"wheel_roughness": _source(wheel, config.wheel_set_label)}
         speed = f"Preparing the track for {config.speed / KMH:g} km/h"
         if first:
-            with self._ticking(generation, f"{speed} (1 of 2): its Green's functions, computed once per speed "
-                                           "and kept on disk"):
+            with self._ticking(
+                generation, f"{speed} (1 of 2): its Green's functions, computed once per speed and kept on disk"
+            ):
                 with self._first_preparation:  # a warm-up under way finishes first
                     if self._precompute is not None:
                         self._precompute(config.params())
             if not self._current(generation):
                 return None
-        text = (f"{speed} (2 of 2): roughness and contact solver, which the first run compiles" if first
-                else f"Preparing {config.label()}")
+        text = (
+            f"{speed} (2 of 2): roughness and contact solver, which the first run compiles"
+            if first
+            else f"Preparing {config.label()}"
+        )
         with self._ticking(generation, text):
-            return self._prepare(_source(roughness, config.set_label), model=config.model, line=config.line,
-                                 params=config.params(), length=config.length, **combined)
+            return self._prepare(
+                _source(roughness, config.set_label),
+                model=config.model,
+                line=config.line,
+                params=config.params(),
+                length=config.length,
+                **combined,
+            )
 
-    def _one_model(self, generation: int, config: RunConfig, roughness: tuple, position: tuple[int, int],
-                   first: bool = False) -> str:
+    def _one_model(
+        self, generation: int, config: RunConfig, roughness: tuple, position: tuple[int, int], first: bool = False
+    ) -> str:
         """Prepare, stream and finish one model on (rail or single set, wheel set or None); 'done', 'stopped',
         'failed' or 'replaced'."""
         number, count = position
@@ -241,8 +268,13 @@ class RunController:
             self._run = run
             if self._stopped_generation == generation:
                 run.cancel()
-        view = RunView(config=config, roughness=roughness, window_x=getattr(run, "window_x", None),
-                       window_y=getattr(run, "window_y", None), wheel_roughness=wheel)
+        view = RunView(
+            config=config,
+            roughness=roughness,
+            window_x=getattr(run, "window_x", None),
+            window_y=getattr(run, "window_y", None),
+            wheel_roughness=wheel,
+        )
         self.listener.status(f"Running {config.model} ({number + 1}/{count}) on {config.case_label()} ...")
         state = None
         last_frame = last_plot = -float("inf")
@@ -267,8 +299,10 @@ class RunController:
             problem = f"stopped after {result.n_steps} of {run.n_steps} steps"
             self.store.add(Entry(config, result, None, problem, run.n_steps))
             self.listener.model_done(self.store.entries(config.case())[config.model], view)
-            self.listener.status(f"Stopped {config.model} after {result.n_steps} of {run.n_steps} steps "
-                                 f"({config.case_label()}); no spectrum for a stopped run.")
+            self.listener.status(
+                f"Stopped {config.model} after {result.n_steps} of {run.n_steps} steps "
+                f"({config.case_label()}); no spectrum for a stopped run."
+            )
             return "stopped"
         try:
             spectrum = force_spectrum(result)

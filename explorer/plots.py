@@ -21,8 +21,18 @@ from wheelrail.core.models import model_names
 from wheelrail.core.parameters import KMH
 from wheelrail.core.spectra import nominal_band_label
 
-__all__ = ["DASHED", "DOTTED", "PLOT_ASPECT", "SOLID", "Plot", "band_ticks", "bands_with_data", "finite_bands",
-           "model_colour", "wavelength_ticks"]
+__all__ = [
+    "DASHED",
+    "DOTTED",
+    "PLOT_ASPECT",
+    "SOLID",
+    "Plot",
+    "band_ticks",
+    "bands_with_data",
+    "finite_bands",
+    "model_colour",
+    "wavelength_ticks",
+]
 
 SOLID, DASHED, DOTTED = "solid", "dashed", "dotted"
 STYLES = (SOLID, DASHED, DOTTED)
@@ -100,8 +110,17 @@ class Plot:
     x axis is third-octave bands (log scale, octave ticks with nominal names); ``y_range``: a fixed y range.
     """
 
-    def __init__(self, gui, container, title: str, x_label: str, y_label: str, *, bands: bool = False,
-                 y_range: tuple[float, float] | None = None) -> None:
+    def __init__(
+        self,
+        gui,
+        container,
+        title: str,
+        x_label: str,
+        y_label: str,
+        *,
+        bands: bool = False,
+        y_range: tuple[float, float] | None = None,
+    ) -> None:
         self._gui, self._container = gui, container
         self.title, self.x_label, self.y_label = title, x_label, y_label
         self.bands, self.y_range = bands, y_range
@@ -112,8 +131,9 @@ class Plot:
         self._axes_key = None
         self.show((np.zeros(0), np.zeros(0)), (("no run yet", "#999999", SOLID),))
 
-    def show(self, data: tuple, series: tuple, title: str | None = None, *,
-             wavelength_speed: float | None = None) -> None:
+    def show(
+        self, data: tuple, series: tuple, title: str | None = None, *, wavelength_speed: float | None = None
+    ) -> None:
         """New data; ``wavelength_speed`` (m/s): add a wavelength axis on top (a roughness plot)."""
         for _, _, style in series:
             if style not in STYLES:
@@ -123,21 +143,35 @@ class Plot:
         self.data, self.wavelength_speed = data, wavelength_speed
         scales, axes = self._uplot_axes(data, wavelength_speed)
         axes_key = repr((scales, axes))
-        if (self.handle is not None and series == self.series and title == self.handle.title
-                and axes_key == self._axes_key):
+        if (
+            self.handle is not None
+            and series == self.series
+            and title == self.handle.title
+            and axes_key == self._axes_key
+        ):
             self.handle.data = data
             return
         specs = [{"label": self.x_label}]
-        specs += [{"label": label, "stroke": colour, "width": 1.5,
-                   **({"dash": _DASH[style]} if style in _DASH else {})} for label, colour, style in series]
+        specs += [
+            {"label": label, "stroke": colour, "width": 1.5, **({"dash": _DASH[style]} if style in _DASH else {})}
+            for label, colour, style in series
+        ]
         with _CONTAINER_LOCK:
             order = None
             if self.handle is not None:
                 order = self.handle.order
                 self.handle.remove()
             with self._container:
-                self.handle = self._gui.add_uplot(data, tuple(specs), title=title, scales=scales, axes=axes,
-                                                  aspect=PLOT_ASPECT, padding=PLOT_PADDING, order=order)
+                self.handle = self._gui.add_uplot(
+                    data,
+                    tuple(specs),
+                    title=title,
+                    scales=scales,
+                    axes=axes,
+                    aspect=PLOT_ASPECT,
+                    padding=PLOT_PADDING,
+                    order=order,
+                )
             self.series, self._axes_key = series, axes_key
 
     def _uplot_axes(self, data: tuple, wavelength_speed: float | None) -> tuple[dict, tuple]:
@@ -152,8 +186,16 @@ class Plot:
             bottom["splits"], bottom["values"] = band_ticks(float(x.min()), float(x.max()))
             if wavelength_speed is not None:
                 splits, values = wavelength_ticks(wavelength_speed, float(x.min()), float(x.max()))
-                axes.append({"side": 0, "scale": "x", "label": self._wavelength_label(wavelength_speed),
-                             "splits": splits, "values": values, "grid": {"show": False}})
+                axes.append(
+                    {
+                        "side": 0,
+                        "scale": "x",
+                        "label": self._wavelength_label(wavelength_speed),
+                        "splits": splits,
+                        "values": values,
+                        "grid": {"show": False},
+                    }
+                )
         return scales, tuple(axes)
 
     @staticmethod

@@ -84,8 +84,11 @@ class ResultStore:
         if REFERENCE_MODEL not in spectra:
             return {}
         centres, reference = spectra[REFERENCE_MODEL]
-        return {m: (centres, contact_filter(levels, reference)) for m, (c, levels) in spectra.items()
-                if m != REFERENCE_MODEL and np.array_equal(c, centres)}
+        return {
+            m: (centres, contact_filter(levels, reference))
+            for m, (c, levels) in spectra.items()
+            if m != REFERENCE_MODEL and np.array_equal(c, centres)
+        }
 
     def csv_text(self, config: RunConfig) -> str:
         """Force spectra, contact filters and reference filters of one case as CSV, headed by the case."""

@@ -58,8 +58,11 @@ def oblique_view(aspect: float = NARROWEST_VIEW) -> dict:
     """The top view's camera tilted 55 degrees towards -y, z up."""
     distance = top_view(aspect)["position"][2]
     tilt = math.radians(55.0)
-    return {"position": (0.0, -distance * math.sin(tilt), distance * math.cos(tilt)), "look_at": (0.0, 0.0, 0.0),
-            "up": (0.0, 0.0, 1.0)}
+    return {
+        "position": (0.0, -distance * math.sin(tilt), distance * math.cos(tilt)),
+        "look_at": (0.0, 0.0, 0.0),
+        "up": (0.0, 0.0, 1.0),
+    }
 
 
 def colour_bar_image(top_mpa: float, p0_mpa: float | None = None) -> np.ndarray:
@@ -72,12 +75,24 @@ def colour_bar_image(top_mpa: float, p0_mpa: float | None = None) -> np.ndarray:
     fig = Figure(figsize=(5.2, 0.62), dpi=100)
     FigureCanvasAgg(fig)
     ax = fig.add_axes((0.03, 0.5, 0.94, 0.3))
-    ax.imshow(np.linspace(0, top_mpa, 256)[None, :], aspect="auto", extent=(0, top_mpa, 0, 1),
-              cmap=ListedColormap(colour_table() / 255.0))
+    ax.imshow(
+        np.linspace(0, top_mpa, 256)[None, :],
+        aspect="auto",
+        extent=(0, top_mpa, 0, 1),
+        cmap=ListedColormap(colour_table() / 255.0),
+    )
     if p0_mpa is not None:
         ax.axvline(p0_mpa, color="#d62728", lw=1.5)
-        ax.text(p0_mpa, 1.08, f"p0 = {p0_mpa:.0f}", color="#d62728", fontsize=7, ha="center", va="bottom",
-                transform=ax.get_xaxis_transform())
+        ax.text(
+            p0_mpa,
+            1.08,
+            f"p0 = {p0_mpa:.0f}",
+            color="#d62728",
+            fontsize=7,
+            ha="center",
+            va="bottom",
+            transform=ax.get_xaxis_transform(),
+        )
     ax.set_yticks([])
     ax.tick_params(labelsize=7, length=2, pad=1)
     fig.canvas.draw()
@@ -100,20 +115,38 @@ class PatchScene:
         scene.configure_environment_map(None)
         self._add_guides()
         self._patch_shape = (2, 2)
-        self.heatmap = scene.add_image("/contact/heatmap", np.zeros((2, 2, 3), np.uint8), 2.4, 2.4, format="png",
-                                       visible=False, **NO_SHADOW)
-        self.surface = scene.add_mesh_simple("/contact/surface", np.zeros((4, 3), np.float32), grid_triangles(2, 2),
-                                             color=(120, 160, 200), side="double", opacity=0.45, visible=False,
-                                             **NO_SHADOW)
+        self.heatmap = scene.add_image(
+            "/contact/heatmap", np.zeros((2, 2, 3), np.uint8), 2.4, 2.4, format="png", visible=False, **NO_SHADOW
+        )
+        self.surface = scene.add_mesh_simple(
+            "/contact/surface",
+            np.zeros((4, 3), np.float32),
+            grid_triangles(2, 2),
+            color=(120, 160, 200),
+            side="double",
+            opacity=0.45,
+            visible=False,
+            **NO_SHADOW,
+        )
         strip = np.array([[-1, -0.5, 0], [1, -0.5, 0], [1, 0.5, 0], [-1, 0.5, 0]], np.float32) * SCENE_PER_MM
-        self.strip = scene.add_mesh_simple("/contact/strip", strip, np.array([[0, 1, 2], [0, 2, 3]], np.uint32),
-                                           color=(214, 39, 40), side="double", visible=False, **NO_SHADOW)
-        self.force_circle = scene.add_line_segments("/contact/hertz_at_force", circle_segments(0.5, 0.02),
-                                                    (214, 39, 40), thickness=0.02, visible=False)
-        self.nominal_circle = scene.add_line_segments("/contact/hertz_nominal", circle_segments(0.548, 0.03),
-                                                      HERTZ_COLOUR, thickness=0.03)
-        self.semi_axes = scene.add_line_segments("/contact/hertz_semi_axes", np.zeros((2, 2, 3), np.float32),
-                                                 AXIS_COLOUR, thickness=0.015)
+        self.strip = scene.add_mesh_simple(
+            "/contact/strip",
+            strip,
+            np.array([[0, 1, 2], [0, 2, 3]], np.uint32),
+            color=(214, 39, 40),
+            side="double",
+            visible=False,
+            **NO_SHADOW,
+        )
+        self.force_circle = scene.add_line_segments(
+            "/contact/hertz_at_force", circle_segments(0.5, 0.02), (214, 39, 40), thickness=0.02, visible=False
+        )
+        self.nominal_circle = scene.add_line_segments(
+            "/contact/hertz_nominal", circle_segments(0.548, 0.03), HERTZ_COLOUR, thickness=0.03
+        )
+        self.semi_axes = scene.add_line_segments(
+            "/contact/hertz_semi_axes", np.zeros((2, 2, 3), np.float32), AXIS_COLOUR, thickness=0.015
+        )
         self.a_label = scene.add_label("/contact/hertz_a", "a", position=(0.0, 0.0, 0.05), anchor="bottom-left")
         self.b_label = scene.add_label("/contact/hertz_b", "b", position=(0.0, 0.0, 0.05), anchor="bottom-left")
         self._surface_x = np.arange(-SURFACE_HALF_LENGTH, SURFACE_HALF_LENGTH + 0.5, 1.0)  # mm
@@ -129,19 +162,36 @@ class PatchScene:
         """Grid (1 mm cells, 5 mm sections), axes with the rolling direction, and their labels."""
         scene, s = self._scene, SCENE_PER_MM
         gx, gy = GRID_HALF
-        scene.add_grid("/guides/grid_mm", width=2 * gx * s, height=2 * gy * s, plane="xy", cell_size=1.0 * s,
-                       section_size=5.0 * s, cell_color=(225, 225, 225), section_color=(170, 170, 170),
-                       position=(0.0, 0.0, -0.01), shadow_opacity=0.0)
+        scene.add_grid(
+            "/guides/grid_mm",
+            width=2 * gx * s,
+            height=2 * gy * s,
+            plane="xy",
+            cell_size=1.0 * s,
+            section_size=5.0 * s,
+            cell_color=(225, 225, 225),
+            section_color=(170, 170, 170),
+            position=(0.0, 0.0, -0.01),
+            shadow_opacity=0.0,
+        )
         y_axis = -gy - 2.0
         x_axis = -gx - 2.0
-        arrows = np.array([[[-gx, y_axis, 0.0], [gx, y_axis, 0.0]],
-                           [[x_axis, -gy, 0.0], [x_axis, gy, 0.0]]], dtype=np.float32) * s
-        scene.add_arrows("/guides/axes", arrows, AXIS_COLOUR, shaft_radius=0.012, head_radius=0.05,
-                         head_length=0.12)
-        scene.add_label("/guides/x_label", "x, rolling direction (grid: 1 mm, bold every 5 mm)",
-                        position=(-gx * s, (y_axis - 1.0) * s, 0.0), anchor="top-left")
-        scene.add_label("/guides/y_label", "y, across the rail", position=(x_axis * s, (gy + 0.5) * s, 0.0),
-                        anchor="bottom-left")
+        arrows = (
+            np.array(
+                [[[-gx, y_axis, 0.0], [gx, y_axis, 0.0]], [[x_axis, -gy, 0.0], [x_axis, gy, 0.0]]], dtype=np.float32
+            )
+            * s
+        )
+        scene.add_arrows("/guides/axes", arrows, AXIS_COLOUR, shaft_radius=0.012, head_radius=0.05, head_length=0.12)
+        scene.add_label(
+            "/guides/x_label",
+            "x, rolling direction (grid: 1 mm, bold every 5 mm)",
+            position=(-gx * s, (y_axis - 1.0) * s, 0.0),
+            anchor="top-left",
+        )
+        scene.add_label(
+            "/guides/y_label", "y, across the rail", position=(x_axis * s, (gy + 0.5) * s, 0.0), anchor="bottom-left"
+        )
 
     def set_contact(self, contact: ContactParameters) -> None:
         """The nominal Hertz ellipse (semi-axes a, b at the preload and geometry of ``contact``), its semi-axes
@@ -149,8 +199,9 @@ class PatchScene:
         a, b = (v * 1e3 for v in contact.hertz_semi_axes())  # mm
         s = SCENE_PER_MM
         self.nominal_circle.points = circle_segments(a * s, 0.03, radius_y=b * s)
-        self.semi_axes.points = np.array([[[0, 0, 0.04], [a * s, 0, 0.04]], [[0, 0, 0.04], [0, b * s, 0.04]]],
-                                         dtype=np.float32)
+        self.semi_axes.points = np.array(
+            [[[0, 0, 0.04], [a * s, 0, 0.04]], [[0, 0, 0.04], [0, b * s, 0.04]]], dtype=np.float32
+        )
         self.a_label.text, self.a_label.position = f"a = {a:.2f} mm", (a * s, 0.0, 0.05)
         self.b_label.text, self.b_label.position = f"b = {b:.2f} mm", (0.0, b * s, 0.05)
 
@@ -169,12 +220,19 @@ class PatchScene:
         else:
             self._last_pressure = None
             half = 0.5 * state.contact_length * 1e3  # mm
-            self.strip.vertices = (np.array(
-                [[-half, -STRIP_WIDTH / 2, 0.01], [half, -STRIP_WIDTH / 2, 0.01],
-                 [half, STRIP_WIDTH / 2, 0.01], [-half, STRIP_WIDTH / 2, 0.01]]) * SCENE_PER_MM).astype(np.float32)
+            self.strip.vertices = (
+                np.array(
+                    [
+                        [-half, -STRIP_WIDTH / 2, 0.01],
+                        [half, -STRIP_WIDTH / 2, 0.01],
+                        [half, STRIP_WIDTH / 2, 0.01],
+                        [-half, STRIP_WIDTH / 2, 0.01],
+                    ]
+                )
+                * SCENE_PER_MM
+            ).astype(np.float32)
             a, b = contact.hertz_semi_axes(state.force) if state.force > 0 else (0.0, 0.0)
-            self.force_circle.points = circle_segments(a * 1e3 * SCENE_PER_MM, 0.02,
-                                                       radius_y=b * 1e3 * SCENE_PER_MM)
+            self.force_circle.points = circle_segments(a * 1e3 * SCENE_PER_MM, 0.02, radius_y=b * 1e3 * SCENE_PER_MM)
             self._visible(strip=True)
         if self.show_surfaces:
             self.draw_surfaces(view.roughness, state.position, view.config.line, contact, view.wheel_roughness)
@@ -218,14 +276,19 @@ class PatchScene:
 
     def _visible(self, *, strip: bool) -> None:
         """Switch between the 3d patch and the one-line strip, sending only a change."""
-        wanted = ((self.strip, strip), (self.force_circle, strip), (self.heatmap, not strip),
-                  (self.surface, not strip and self.show_raised))
+        wanted = (
+            (self.strip, strip),
+            (self.force_circle, strip),
+            (self.heatmap, not strip),
+            (self.surface, not strip and self.show_raised),
+        )
         for handle, visible in wanted:
             if handle.visible != visible:
                 handle.visible = visible
 
-    def draw_surfaces(self, rough, position: float | None, line: int, contact: ContactParameters | None = None,
-                      wheel=None) -> None:
+    def draw_surfaces(
+        self, rough, position: float | None, line: int, contact: ContactParameters | None = None, wheel=None
+    ) -> None:
         """Rail and wheel surfaces of ``rough`` (and of the wheel set ``wheel`` added to it, if any) around
         ``position`` (m; None: the start of the data), curved as ``contact``'s geometry (default: the paper's).
         The rail is a mesh whose highest point lies ``SURFACE_GAP`` below the patch, the wheel its lines
@@ -250,13 +313,14 @@ class PatchScene:
         for handle in (self.rail_mesh, self.wheel_lines):
             if handle is not None:
                 handle.remove()
-        self.rail_mesh = self._scene.add_mesh_simple("/rail/surface", rail, faces, color=(150, 150, 160),
-                                                     side="double", opacity=0.6, **NO_SHADOW)
-        self.wheel_lines = self._scene.add_line_segments("/wheel/surface", segments, (150, 100, 50),
-                                                         thickness=0.01)
+        self.rail_mesh = self._scene.add_mesh_simple(
+            "/rail/surface", rail, faces, color=(150, 150, 160), side="double", opacity=0.6, **NO_SHADOW
+        )
+        self.wheel_lines = self._scene.add_line_segments("/wheel/surface", segments, (150, 100, 50), thickness=0.01)
 
-    def _surface_vertices(self, rough, position: float, line: int, contact: ContactParameters,
-                          wheel_set=None) -> tuple[np.ndarray, np.ndarray]:
+    def _surface_vertices(
+        self, rough, position: float, line: int, contact: ContactParameters, wheel_set=None
+    ) -> tuple[np.ndarray, np.ndarray]:
         ylat = (rough.y - float(rough.y[rough.row_of_line(line)])) * 1e3  # mm, relative to the chosen line
         rows = np.nonzero(np.abs(ylat) <= SURFACE_HALF_WIDTH)[0]
         x, y = np.meshgrid(self._surface_x, ylat[rows])
@@ -272,9 +336,12 @@ class PatchScene:
         tread_mm = contact.wheel_transverse_radius * 1e3
         # the rail head curves across (y, its crown radius), the wheel along (x, its rolling radius) and across
         # (its tread radius: flat for a cylindrical tread, hollow for a concave one)
-        rail_z = -y**2 / (2 * crown_mm) + (heights if rough.kind == "rail" else 0.0)
-        wheel_z = (x**2 / (2 * contact.radius_along * 1e3) + y**2 / (2 * tread_mm)
-                   + (heights if rough.kind == "wheel" else wheel_heights))
+        rail_z = -(y**2) / (2 * crown_mm) + (heights if rough.kind == "rail" else 0.0)
+        wheel_z = (
+            x**2 / (2 * contact.radius_along * 1e3)
+            + y**2 / (2 * tread_mm)
+            + (heights if rough.kind == "wheel" else wheel_heights)
+        )
         rail_z = rail_z - rail_z.max() - SURFACE_GAP  # wholly below the patch's plane
         wheel_z = wheel_z - np.min(wheel_z) + SURFACE_GAP  # wholly above it
         rail = np.stack([x, y, rail_z], axis=-1).reshape(-1, 3) * SCENE_PER_MM

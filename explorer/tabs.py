@@ -36,11 +36,17 @@ from wheelrail.explorer.results import ResultStore, case_reference_filters
 
 __all__ = ["RESULT_TABS", "HelpTab", "PatchTab", "ResultsTab", "RoughnessTab", "Shown", "SpectraTab"]
 
-REFERENCE_COLOURS = {"cnossos": "#000000", "averaging": "#7f7f7f", "patch-correlated": "#bcbd22",
-                     "patch-incoherent": "#17becf"}
+REFERENCE_COLOURS = {
+    "cnossos": "#000000",
+    "averaging": "#7f7f7f",
+    "patch-correlated": "#bcbd22",
+    "patch-incoherent": "#17becf",
+}
 ISO_LIMIT_COLOUR = "#000000"
-PLOT_HINT = ("*Plots*: drag across one to zoom, double-click to zoom back; hover for values; the ⤢ corner "
-             "button (on hover) opens it large.")
+PLOT_HINT = (
+    "*Plots*: drag across one to zoom, double-click to zoom back; hover for values; the ⤢ corner "
+    "button (on hover) opens it large."
+)
 EMPTY_BAND_DB = 120.0  # a roughness band this far below the set's highest band is empty (a numerical floor)
 NO_RUN = "no run of this configuration yet"
 
@@ -79,8 +85,11 @@ class ResultsTab:
         names = tuple(plots)
         self.png_choice = gui.add_dropdown("Plot", names, initial_value=names[0])
         self.png_button = gui.add_button("Download plot (.png)", icon=viser.Icon.PHOTO)
-        self.png_button.on_click(lambda event: self.app._guarded(self.app.download_plot_png, self.png_choice.value,
-                                                                 event.client, client=event.client))
+        self.png_button.on_click(
+            lambda event: self.app._guarded(
+                self.app.download_plot_png, self.png_choice.value, event.client, client=event.client
+            )
+        )
 
 
 class PatchTab(ResultsTab):
@@ -93,24 +102,32 @@ class PatchTab(ResultsTab):
         super().__init__(app, tab)
         gui = self.gui
         with tab:
-            self.colour_bar = gui.add_image(np.full((10, 10, 3), 255, np.uint8), label="contact pressure (MPa)",
-                                            format="png")
+            self.colour_bar = gui.add_image(
+                np.full((10, 10, 3), 255, np.uint8), label="contact pressure (MPa)", format="png"
+            )
             self.readout_md = gui.add_markdown("")
             self.time_slider = gui.add_slider("Step", min=0, max=1, step=1, initial_value=0, disabled=True)
             self.play_button = gui.add_button("Play", icon=viser.Icon.PLAYER_PLAY, disabled=True)
-            self.model_shown = gui.add_dropdown("Model shown", ("3d",), initial_value="3d", disabled=True,
-                                                hint="After compare: the model replayed, plotted as displacement "
-                                                     "and downloaded")
+            self.model_shown = gui.add_dropdown(
+                "Model shown",
+                ("3d",),
+                initial_value="3d",
+                disabled=True,
+                hint="After compare: the model replayed, plotted as displacement and downloaded",
+            )
         self.force = Plot(gui, tab, "Contact force", "position (m)", "force (kN)")
-        self.displacement = Plot(gui, tab, "Wheel and rail displacement (downwards)", "position (m)",
-                                 "displacement (µm)")
+        self.displacement = Plot(
+            gui, tab, "Wheel and rail displacement (downwards)", "position (m)", "displacement (µm)"
+        )
         with tab:
             self.rrd_button = gui.add_button("Download run (.rrd)", icon=viser.Icon.DOWNLOAD, disabled=True)
             self.replay_speed = gui.add_dropdown("Replay speed", tuple(app.replay_speeds), initial_value="0.02x")
             self.view_buttons = gui.add_button_group("3D view", ("Top view", "Oblique view"))
-            self.surfaces_box = gui.add_checkbox("Rail and wheel surfaces", False,
-                                                 hint="Roughness drawn 200 times its size: the rail below the "
-                                                      "patch, the wheel as lines above it")
+            self.surfaces_box = gui.add_checkbox(
+                "Rail and wheel surfaces",
+                False,
+                hint="Roughness drawn 200 times its size: the rail below the patch, the wheel as lines above it",
+            )
             self.raised_box = gui.add_checkbox("Raised pressure surface", False, hint="3 mm per GPa")
             self._plot_export()
 
@@ -133,23 +150,30 @@ class PatchTab(ResultsTab):
         n = min(e.result.n_steps for e in finished.values())
         step = max(1, n // MAX_POINTS)
         first = next(iter(finished.values())).result
-        self.force.show((first.x[:n:step], *(e.result.force[:n:step] / 1e3 for e in finished.values())),
-                        tuple((m, model_colour(m), SOLID) for m in finished), title=f"Contact force: {label}")
+        self.force.show(
+            (first.x[:n:step], *(e.result.force[:n:step] / 1e3 for e in finished.values())),
+            tuple((m, model_colour(m), SOLID) for m in finished),
+            title=f"Contact force: {label}",
+        )
         shown_result = finished[shown.model].result if shown.model in finished else first
         self._displacement(shown_result, label)
 
     def _displacement(self, result, label: str, running: bool = False) -> None:
         step = max(1, result.n_steps // MAX_POINTS)
-        self.displacement.show((result.x[::step], result.xi_wheel[::step] * 1e6, result.xi_rail[::step] * 1e6),
-                               (("wheel", "#1f77b4", SOLID), ("rail", "#d62728", SOLID)),
-                               title=f"Displacement, {result.model}{' (running)' if running else ''}: {label}")
+        self.displacement.show(
+            (result.x[::step], result.xi_wheel[::step] * 1e6, result.xi_rail[::step] * 1e6),
+            (("wheel", "#1f77b4", SOLID), ("rail", "#d62728", SOLID)),
+            title=f"Displacement, {result.model}{' (running)' if running else ''}: {label}",
+        )
 
     def live(self, result, config: RunConfig) -> None:
         """A running model's force and displacement so far."""
         step = max(1, result.n_steps // MAX_POINTS)
-        self.force.show((result.x[::step], result.force[::step] / 1e3),
-                        ((f"{result.model} (running)", model_colour(result.model), SOLID),),
-                        title=f"Contact force: {config.case_label()}")
+        self.force.show(
+            (result.x[::step], result.force[::step] / 1e3),
+            ((f"{result.model} (running)", model_colour(result.model), SOLID),),
+            title=f"Contact force: {config.case_label()}",
+        )
         self._displacement(result, config.case_label(), running=True)
 
 
@@ -164,12 +188,17 @@ class SpectraTab(ResultsTab):
         self.spectra = Plot(gui, tab, "Force spectra", "band (Hz)", "dB re 1 N", bands=True)
         self.filters = Plot(gui, tab, "Contact filters", "band (Hz)", "dB", bands=True)
         with tab:
-            gui.add_markdown(f"*Contact filter*: a model's level minus `{REFERENCE_MODEL}`'s (solid; needs a "
-                             f"`{REFERENCE_MODEL}` run of the same configuration: use `{COMPARE}`). Dotted: "
-                             "reference filters at this preload, geometry and speed. Dashed: a run overlaid.")
+            gui.add_markdown(
+                f"*Contact filter*: a model's level minus `{REFERENCE_MODEL}`'s (solid; needs a "
+                f"`{REFERENCE_MODEL}` run of the same configuration: use `{COMPARE}`). Dotted: "
+                "reference filters at this preload, geometry and speed. Dashed: a run overlaid."
+            )
             self.overlay_dropdown = gui.add_dropdown(
-                "Overlay a run", (app.no_overlay,), initial_value=app.no_overlay,
-                hint="Runs of this session: draw another configuration's spectra and filters dashed beside these")
+                "Overlay a run",
+                (app.no_overlay,),
+                initial_value=app.no_overlay,
+                hint="Runs of this session: draw another configuration's spectra and filters dashed beside these",
+            )
             self.csv_button = gui.add_button("Download spectra (.csv)", icon=viser.Icon.DOWNLOAD, disabled=True)
             self._plot_export()
 
@@ -211,8 +240,10 @@ class SpectraTab(ResultsTab):
         curves = [(f"{m} - {REFERENCE_MODEL}", model_colour(m), SOLID, v) for m, v in own.items()]
         title = f"Contact filters: {config.case_label()}"
         if overlay is not None:
-            curves += [(f"{m} - {REFERENCE_MODEL} [{overlay.case_label()}]", model_colour(m), DASHED, v)
-                       for m, v in store.contact_filters(overlay.case()).items()]
+            curves += [
+                (f"{m} - {REFERENCE_MODEL} [{overlay.case_label()}]", model_colour(m), DASHED, v)
+                for m, v in store.contact_filters(overlay.case()).items()
+            ]
             title += f" (dashed: {overlay.case_label()})"
         curves = [c for c in curves if np.array_equal(c[3][0], centres)]
         curves += [(name, REFERENCE_COLOURS.get(name, "#555555"), DOTTED, v) for name, v in references.items()]
@@ -233,8 +264,9 @@ class RoughnessTab(ResultsTab):
         self.spectrum = Plot(gui, tab, "Roughness spectrum", "band (Hz)", "dB re 1 µm", bands=True)
         self.coherence = Plot(gui, tab, "Lateral coherence", "band (Hz)", "γ²", bands=True, y_range=(0.0, 1.0))
         with tab:
-            self.line_map = gui.add_image(np.full((10, 10, 3), 255, dtype=np.uint8),
-                                          label="Lines across the running surface", format="png")
+            self.line_map = gui.add_image(
+                np.full((10, 10, 3), 255, dtype=np.uint8), label="Lines across the running surface", format="png"
+            )
             self.description_md = gui.add_markdown("")
             self._plot_export()
 
@@ -254,8 +286,9 @@ class RoughnessTab(ResultsTab):
         if wheel is not None:
             wheel_lines = self._lines(wheel)
             of_wheel = roughness_spectrum(wheel, speed=speed, lines=wheel_lines)
-            curves.append((f"wheel: {wheel_label}, lines {wheel_lines[0]}..{wheel_lines[-1]}", "#8c564b",
-                           of_wheel.levels_db))
+            curves.append(
+                (f"wheel: {wheel_label}, lines {wheel_lines[0]}..{wheel_lines[-1]}", "#8c564b", of_wheel.levels_db)
+            )
             curves.append(("combined (energetic sum)", "#d62728", energetic_sum(rail.levels_db, of_wheel.levels_db)))
             title = f"Roughness spectrum: {label} + {wheel_label}"
         curves = [(name, colour, SOLID, _without_empty_bands(levels)) for name, colour, levels in curves]
@@ -263,14 +296,20 @@ class RoughnessTab(ResultsTab):
             limit_bands, limit = iso3095_limit()
             on_frequency = map_levels(limit, limit_bands, frequency_bands(speed, FREQUENCY_RANGE))
             curves.append(("ISO 3095:2013 limit (rail)", ISO_LIMIT_COLOUR, DOTTED, on_frequency))
-        self.spectrum.show(bands_with_data(centres, [levels for *_, levels in curves]),
-                           tuple((name, colour, style) for name, colour, style, _ in curves),
-                           title=f"{title} at {speed / KMH:g} km/h", wavelength_speed=speed)
+        self.spectrum.show(
+            bands_with_data(centres, [levels for *_, levels in curves]),
+            tuple((name, colour, style) for name, colour, style, _ in curves),
+            title=f"{title} at {speed / KMH:g} km/h",
+            wavelength_speed=speed,
+        )
         half = min(3, int(rough.line_numbers[-1]), -int(rough.line_numbers[0]))
         if half >= 1:
             centres, gamma2 = lateral_coherence(rough, speed, half_lines=half)
-            self.coherence.show(finite_bands(centres, [gamma2]), ((f"γ², lines -{half}..{half}", "#2ca02c", SOLID),),
-                                title=f"Lateral coherence: {label} at {speed / KMH:g} km/h")
+            self.coherence.show(
+                finite_bands(centres, [gamma2]),
+                ((f"γ², lines -{half}..{half}", "#2ca02c", SOLID),),
+                title=f"Lateral coherence: {label} at {speed / KMH:g} km/h",
+            )
         else:
             self.coherence.clear("one line only: no lateral coherence", title=f"Lateral coherence: {label}")
 
@@ -302,8 +341,9 @@ class HelpTab(ResultsTab):
 def help_text() -> str:
     models = "\n".join(f"- **{m}**: {model_entry(m).label}" for m in MODEL_CHOICES[:-1])
     return (
-        "**Contact models** (Pieringer, Kropp & Thompson, Wear 271, 2011):\n\n" + models +
-        f"\n- **{COMPARE}**: every model one after another on the same configuration, {REFERENCE_MODEL} first; "
+        "**Contact models** (Pieringer, Kropp & Thompson, Wear 271, 2011):\n\n"
+        + models
+        + f"\n- **{COMPARE}**: every model one after another on the same configuration, {REFERENCE_MODEL} first; "
         "*Model shown* (Patch tab) chooses the one replayed and downloaded.\n\n"
         "**Contact filter**: a contact patch is several millimetres long and wide, so roughness of shorter "
         "wavelengths is partly averaged out before it excites the wheel and rail. The *contact filter* of a "
@@ -325,7 +365,8 @@ def help_text() -> str:
         "over lines -3..3; dotted, for rail sets: the ISO 3095:2013 limit, put on these bands by the "
         "CNOSSOS-EU rule. Bands more than 120 dB below the highest hold no roughness and are not drawn.\n\n"
         "**Run length**: at least long enough for a force spectrum at the chosen speed, at most what the "
-        "roughness set holds; the page shows the range.")
+        "roughness set holds; the page shows the range."
+    )
 
 
 RESULT_TABS = (PatchTab, SpectraTab, RoughnessTab, HelpTab)

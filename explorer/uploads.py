@@ -15,8 +15,14 @@ from pathlib import Path
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness import RoughnessSet, read_roughness
 
-__all__ = ["MAX_UPLOAD_BYTES", "UPLOAD_SUFFIXES", "read_upload", "refuse_large_uploads_early", "safe_label",
-           "size_text"]
+__all__ = [
+    "MAX_UPLOAD_BYTES",
+    "UPLOAD_SUFFIXES",
+    "read_upload",
+    "refuse_large_uploads_early",
+    "safe_label",
+    "size_text",
+]
 
 MAX_UPLOAD_BYTES = 20 * 1024 * 1024  # largest roughness file accepted from a browser
 UPLOAD_SUFFIXES = (".csv", ".npz")
@@ -36,8 +42,9 @@ def safe_label(name: str) -> str:
 def read_upload(name: str, content: bytes, max_bytes: int) -> tuple[str, RoughnessSet]:
     """An uploaded roughness file's label ('upload: NAME') and set, or one WheelrailError."""
     if len(content) > max_bytes:
-        raise WheelrailError(f"upload {safe_label(name)!r} ({size_text(len(content))}) is over the "
-                             f"{size_text(max_bytes)} limit")
+        raise WheelrailError(
+            f"upload {safe_label(name)!r} ({size_text(len(content))}) is over the {size_text(max_bytes)} limit"
+        )
     suffix = Path(str(name)).suffix.lower()
     if suffix not in UPLOAD_SUFFIXES:
         raise WheelrailError(f"upload {safe_label(name)!r}: expected a .csv or .npz roughness file")
@@ -69,10 +76,18 @@ def refuse_large_uploads_early(server, max_bytes: Callable[[], int], report: Cal
             return
         states.pop(message.transfer_uuid, None)  # its parts are now ignored by viser
         # tell the page the transfer is over, so that its upload button works again
-        websock.queue_message(_messages.FileTransferPartAck(
-            source_component_uuid=message.source_component_uuid, transfer_uuid=message.transfer_uuid,
-            transferred_bytes=message.size_bytes, total_bytes=message.size_bytes))
-        report(f"upload {safe_label(message.filename)!r} ({size_text(message.size_bytes)}) is over the "
-               f"{size_text(limit)} limit; refused before sending", server.get_clients().get(client_id))
+        websock.queue_message(
+            _messages.FileTransferPartAck(
+                source_component_uuid=message.source_component_uuid,
+                transfer_uuid=message.transfer_uuid,
+                transferred_bytes=message.size_bytes,
+                total_bytes=message.size_bytes,
+            )
+        )
+        report(
+            f"upload {safe_label(message.filename)!r} ({size_text(message.size_bytes)}) is over the "
+            f"{size_text(limit)} limit; refused before sending",
+            server.get_clients().get(client_id),
+        )
 
     websock.register_handler(_messages.FileTransferStartUpload, refuse)

@@ -53,8 +53,9 @@ def speed_from_kmh(speed_kmh: float) -> float:
 
 def add_speed_option(parser, help_text: str = "train speed, km/h") -> None:
     """``--speed-kmh``, default 100 (the paper's), its accepted range in the help."""
-    parser.add_argument("--speed-kmh", type=float, default=100.0,
-                        help=f"{help_text} (default 100; {accepted_help('speed')})")
+    parser.add_argument(
+        "--speed-kmh", type=float, default=100.0, help=f"{help_text} (default 100; {accepted_help('speed')})"
+    )
 
 
 def add_preload_option(parser) -> None:
@@ -62,12 +63,19 @@ def add_preload_option(parser) -> None:
     from wheelrail.core.parameters import ContactParameters
 
     preload_kn = ContactParameters().preload / 1e3
-    parser.add_argument("--preload-kn", type=float, default=preload_kn,
-                        help=f"static wheel load, kN (default {preload_kn:g}; {accepted_help('preload')})")
+    parser.add_argument(
+        "--preload-kn",
+        type=float,
+        default=preload_kn,
+        help=f"static wheel load, kN (default {preload_kn:g}; {accepted_help('preload')})",
+    )
 
 
-_GEOMETRY_OPTIONS = {"wheel_radius_mm": "wheel_radius", "rail_crown_radius_mm": "rail_crown_radius",
-                     "wheel_transverse_radius_mm": "wheel_transverse_radius"}
+_GEOMETRY_OPTIONS = {
+    "wheel_radius_mm": "wheel_radius",
+    "rail_crown_radius_mm": "rail_crown_radius",
+    "wheel_transverse_radius_mm": "wheel_transverse_radius",
+}
 
 
 def add_geometry_options(parser, *, crown_follows_wheel: bool = False) -> None:
@@ -80,24 +88,38 @@ def add_geometry_options(parser, *, crown_follows_wheel: bool = False) -> None:
     radius_mm = ContactParameters().radius * 1e3
     crown = "the wheel radius, a circle" if crown_follows_wheel else f"{radius_mm:g}: the paper's R"
     tread_mm = ACCEPTED["wheel_transverse_radius"].minimum * 1e3
-    parser.add_argument("--wheel-radius-mm", type=float, default=None,
-                        help=f"wheel rolling radius, along the rail, mm (default {radius_mm:g}: the paper's R; "
-                             f"{accepted_help('wheel_radius')})")
-    parser.add_argument("--rail-crown-radius-mm", type=float, default=None,
-                        help=f"rail head (crown) radius across the rail, mm (default {crown}; "
-                             f"{accepted_help('rail_crown_radius')})")
-    parser.add_argument("--wheel-transverse-radius-mm", type=float, default=None,
-                        help=f"wheel tread radius across the rail, mm (default: a cylindrical tread; negative: "
-                             f"concave, worn; at least {tread_mm:g} in magnitude; the Hertz patch at the preload "
-                             f"must stay within {PATCH_FRACTION * 100:g} %% of the radii)")
+    parser.add_argument(
+        "--wheel-radius-mm",
+        type=float,
+        default=None,
+        help=f"wheel rolling radius, along the rail, mm (default {radius_mm:g}: the paper's R; "
+        f"{accepted_help('wheel_radius')})",
+    )
+    parser.add_argument(
+        "--rail-crown-radius-mm",
+        type=float,
+        default=None,
+        help=f"rail head (crown) radius across the rail, mm (default {crown}; {accepted_help('rail_crown_radius')})",
+    )
+    parser.add_argument(
+        "--wheel-transverse-radius-mm",
+        type=float,
+        default=None,
+        help=f"wheel tread radius across the rail, mm (default: a cylindrical tread; negative: "
+        f"concave, worn; at least {tread_mm:g} in magnitude; the Hertz patch at the preload "
+        f"must stay within {PATCH_FRACTION * 100:g} %% of the radii)",
+    )
 
 
 def geometry_from_mm(args) -> dict:
     """``ContactParameters`` geometry keywords (m) from the ``--wheel-radius-mm``, ``--rail-crown-radius-mm`` and
     ``--wheel-transverse-radius-mm`` options a command has (unset ones omitted: the paper's defaults). Their
     ranges are checked by ``ContactParameters``, whose errors the command line words with ``CLI_NAMES``."""
-    return {name: getattr(args, option) * 1e-3 for option, name in _GEOMETRY_OPTIONS.items()
-            if getattr(args, option, None) is not None}
+    return {
+        name: getattr(args, option) * 1e-3
+        for option, name in _GEOMETRY_OPTIONS.items()
+        if getattr(args, option, None) is not None
+    }
 
 
 def same_file(a, b) -> bool:
@@ -133,8 +155,10 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
         raise WheelrailError(f"{option} {path} is a folder; give a file name")
     for source in inputs:
         if same_file(target, source):
-            raise WheelrailError(f"{option} {path} is the input file {source}: writing it would destroy the "
-                                 "input; choose another output name")
+            raise WheelrailError(
+                f"{option} {path} is the input file {source}: writing it would destroy the "
+                "input; choose another output name"
+            )
     try:
         temporary_beside(target).unlink()
     except OSError as error:

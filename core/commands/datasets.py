@@ -37,16 +37,12 @@ def run(args) -> int:
     if args.json:
         print_json({"datasets": sets})
         return 0
-    print(
-        f"{'name':<18} {'kind':<6} {'lines':>5} {'numbers':>9} {'length':>8} {'dx':>7} {'line spacing':>12}"
-    )
+    print(f"{'name':<18} {'kind':<6} {'lines':>5} {'numbers':>9} {'length':>8} {'dx':>7} {'line spacing':>12}")
     for s in sets:
         numbers = f"{s['line_numbers'][0]}..{s['line_numbers'][1]}"
         print(
             f"{s['name']:<18} {s['kind']:<6} {s['lines']:>5} {numbers:>9} {s['length_m']:>6.3g} m "
             f"{s['dx_m'] * 1e3:>4.3g} mm {s['lateral_spacing_m'] * 1e3:>9.3g} mm"
         )
-    print(
-        "All bundled sets are synthetic (see sample_data/README.md). Use --set NAME or --set FILE.csv|.npz."
-    )
+    print("All bundled sets are synthetic (see sample_data/README.md). Use --set NAME or --set FILE.csv|.npz.")
     return 0

@@ -22,14 +22,6 @@ METHODS = ("cnossos", "twins")
 
 
 def add_parser(sub):
-    from wheelrail.core.noise.cnossos import (
-        INTERPOLATION_RULES,
-        RAIL_ROUGHNESS,
-        TRACK_TYPES,
-        WHEEL_DIAMETERS_MM,
-        WHEEL_ROUGHNESS,
-    )
-
     parser = sub.add_parser(
         "noise",
         help="rolling noise: CNOSSOS-EU source, the model track's transfer function, or a run's sound power and WAV",
@@ -40,36 +32,89 @@ def add_parser(sub):
             "finished run to sound power per component, dB(A), pass-by level (and --wav)."
         ),
     )
-    parser.add_argument("--method", choices=METHODS, default=None,
-                        help="cnossos (the directive's source model) or twins (the model track's transfer function)")
+    parser.add_argument(
+        "--method",
+        choices=METHODS,
+        default=None,
+        help="cnossos (the directive's source model) or twins (the model track's transfer function)",
+    )
     parser.add_argument("--run", metavar="RESULT.npz", help="a run saved with `wheelrail run --out` (any model)")
-    parser.add_argument("--speed-kmh", type=float, default=None,
-                        help="train speed, km/h (default 100; with --run the run's own speed; "
-                             f"{accepted_help('speed')})")
-    parser.add_argument("--rail-roughness", choices=RAIL_ROUGHNESS, default="iso3095",
-                        help="CNOSSOS rail roughness, Table G-1b: iso3095 (class E) or network-average (class M)")
-    parser.add_argument("--wheel-roughness", choices=WHEEL_ROUGHNESS, default="cast-iron",
-                        help="CNOSSOS wheel roughness, Table G-1a (none: the rail's roughness alone, e.g. where the "
-                             "combined roughness was measured)")
-    parser.add_argument("--track-type", choices=TRACK_TYPES, default="mono-block-medium",
-                        help="CNOSSOS track transfer function, Table G-3a (default mono-block-medium)")
-    parser.add_argument("--wheel-diameter-mm", type=float, default=920.0,
-                        help=f"wheel diameter, mm: one of {', '.join(map(str, WHEEL_DIAMETERS_MM))} (Table G-3b; "
-                             "default 920)")
-    parser.add_argument("--preload-kn", type=float, default=None,
-                        help="static wheel load, kN, for the contact filter A3 (default 65: the model's preload; "
-                             f"{accepted_help('preload')})")
-    parser.add_argument("--axles", type=int, default=4, help="axles per vehicle, N_a (default 4)")
-    parser.add_argument("--roughness-interpolation", choices=INTERPOLATION_RULES, default="proportional",
-                        help="wavelength-to-frequency rule: proportional (the Commission's reference source module; "
-                             "default) or energy-log-frequency")
-    parser.add_argument("--train-axles", type=int, default=None,
-                        help="--run: axles of the whole train for the pass-by level (default 40: ten 4-axle vehicles)")
-    parser.add_argument("--train-length-m", type=float, default=None,
-                        help="--run: train length, m, for the pass-by level (default 200)")
-    parser.add_argument("--wav", metavar="FILE.wav", help="--run: write the pass-by as a WAV file")
+    _add_source_options(parser)
+    _add_train_options(parser)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     return parser
+
+
+def _add_source_options(parser) -> None:
+    """Speed, load and the CNOSSOS-EU tables' choices."""
+    from wheelrail.core.noise.cnossos import (
+        INTERPOLATION_RULES,
+        RAIL_ROUGHNESS,
+        TRACK_TYPES,
+        WHEEL_DIAMETERS_MM,
+        WHEEL_ROUGHNESS,
+    )
+
+    parser.add_argument(
+        "--speed-kmh",
+        type=float,
+        default=None,
+        help=f"train speed, km/h (default 100; with --run the run's own speed; {accepted_help('speed')})",
+    )
+    parser.add_argument(
+        "--rail-roughness",
+        choices=RAIL_ROUGHNESS,
+        default="iso3095",
+        help="CNOSSOS rail roughness, Table G-1b: iso3095 (class E) or network-average (class M)",
+    )
+    parser.add_argument(
+        "--wheel-roughness",
+        choices=WHEEL_ROUGHNESS,
+        default="cast-iron",
+        help="CNOSSOS wheel roughness, Table G-1a (none: the rail's roughness alone, e.g. where the "
+        "combined roughness was measured)",
+    )
+    parser.add_argument(
+        "--track-type",
+        choices=TRACK_TYPES,
+        default="mono-block-medium",
+        help="CNOSSOS track transfer function, Table G-3a (default mono-block-medium)",
+    )
+    parser.add_argument(
+        "--wheel-diameter-mm",
+        type=float,
+        default=920.0,
+        help=f"wheel diameter, mm: one of {', '.join(map(str, WHEEL_DIAMETERS_MM))} (Table G-3b; default 920)",
+    )
+    parser.add_argument(
+        "--preload-kn",
+        type=float,
+        default=None,
+        help="static wheel load, kN, for the contact filter A3 (default 65: the model's preload; "
+        f"{accepted_help('preload')})",
+    )
+    parser.add_argument("--axles", type=int, default=4, help="axles per vehicle, N_a (default 4)")
+    parser.add_argument(
+        "--roughness-interpolation",
+        choices=INTERPOLATION_RULES,
+        default="proportional",
+        help="wavelength-to-frequency rule: proportional (the Commission's reference source module; "
+        "default) or energy-log-frequency",
+    )
+
+
+def _add_train_options(parser) -> None:
+    """The train of a run's pass-by and its WAV."""
+    parser.add_argument(
+        "--train-axles",
+        type=int,
+        default=None,
+        help="--run: axles of the whole train for the pass-by level (default 40: ten 4-axle vehicles)",
+    )
+    parser.add_argument(
+        "--train-length-m", type=float, default=None, help="--run: train length, m, for the pass-by level (default 200)"
+    )
+    parser.add_argument("--wav", metavar="FILE.wav", help="--run: write the pass-by as a WAV file")
 
 
 def _speed(args) -> float:
@@ -90,8 +135,13 @@ def _cnossos(args) -> dict:
     from wheelrail.core.noise.cnossos import cnossos_rolling_noise
 
     result = cnossos_rolling_noise(
-        _speed(args), rail=args.rail_roughness, wheel=args.wheel_roughness, track_type=args.track_type,
-        wheel_diameter=args.wheel_diameter_mm * 1e-3, load=_load(args), axles=args.axles,
+        _speed(args),
+        rail=args.rail_roughness,
+        wheel=args.wheel_roughness,
+        track_type=args.track_type,
+        wheel_diameter=args.wheel_diameter_mm * 1e-3,
+        load=_load(args),
+        axles=args.axles,
         rule=args.roughness_interpolation,
     )
     return {"frequency_hz": result.frequency_hz, "cnossos": result.to_dict()}
@@ -132,8 +182,13 @@ def run(args) -> int:
             f"{cfg['wheel_load_n'] / 1e3:g} kN, {cfg['axles']} axles, {cfg['roughness_interpolation']} "
             "(roughness dB re 1 um, sound power dB re 1 pW per vehicle)",
             summary["frequency_hz"],
-            {"L_R,TOT": c["total_roughness_dB"], "track": c["track_dB"], "vehicle": c["vehicle_dB"],
-             "superstr.": c["superstructure_dB"], "total": c["total_dB"]},
+            {
+                "L_R,TOT": c["total_roughness_dB"],
+                "track": c["track_dB"],
+                "vehicle": c["vehicle_dB"],
+                "superstr.": c["superstructure_dB"],
+                "total": c["total_dB"],
+            },
             {"track dB(A)": c["track_dBA"], "vehicle dB(A)": c["vehicle_dBA"], "total dB(A)": c["total_dBA"]},
         )
         return 0
@@ -158,22 +213,30 @@ def _run_file(args) -> int:
     if wav_path is not None:
         data, full_scale = noise.wav_bytes()
         atomic_write(wav_path, lambda handle: handle.write(data))
-        summary["wav"] = {"path": str(wav_path), "full_scale_pa": full_scale,
-                          "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position"}
+        summary["wav"] = {
+            "path": str(wav_path),
+            "full_scale_pa": full_scale,
+            "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
+        }
     if args.json:
         print_json(summary)
         return 0
     cfg = summary["configuration"]["run"]
-    print(f"Rolling noise of {args.run}: model {cfg['model']}, {cfg['roughness']} line {cfg['line']}, "
-          f"{cfg['speed_m_s'] * 3.6:g} km/h; sound power of one wheel on one rail, dB re 1 pW")
+    print(
+        f"Rolling noise of {args.run}: model {cfg['model']}, {cfg['roughness']} line {cfg['line']}, "
+        f"{cfg['speed_m_s'] * 3.6:g} km/h; sound power of one wheel on one rail, dB re 1 pW"
+    )
     print("  band Hz   force dB   rail  sleeper  wheel  total")
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
         row = [noise.sound_power_db[name][i] for name in (*COMPONENTS, "total")]
         cells = " ".join("     -" if not np.isfinite(v) else f"{v:6.1f}" for v in row)
         force = "     -" if not np.isfinite(noise.force_db[i]) else f"{noise.force_db[i]:8.1f}"
         print(f"  {f:7.0f} {force}   {cells}")
-    print("  L_WA per wheel: " + ", ".join(f"{k} {v:.1f}" for k, v in noise.sound_power_dba.items())
-          + f" dB(A); per axle {noise.axle_dba:.1f} dB(A)")
+    print(
+        "  L_WA per wheel: "
+        + ", ".join(f"{k} {v:.1f}" for k, v in noise.sound_power_dba.items())
+        + f" dB(A); per axle {noise.axle_dba:.1f} dB(A)"
+    )
     print(f"  pass-by L_pAeq,Tp at 7.5 m / 1.2 m: {noise.pass_by_laeq_dba:.1f} dB(A) ({axles} axles, {length:g} m)")
     print("  wheel: " + summary["configuration"]["wheel"])
     if wav_path is not None:
@@ -197,13 +260,17 @@ def _twins(args) -> int:
         print_json(summary)
         return 0
     cn = summary["cnossos_track_transfer_dB"]["mono-block-soft"]
-    print("Model track (the paper's, lengthened to 240 bays) as a TWINS-like transfer function; rail + sleepers per "
-          "axle for 0 dB re 1 um effective roughness (dB re 1 pW), beside CNOSSOS-EU L_H,tr mono-block-soft")
+    print(
+        "Model track (the paper's, lengthened to 240 bays) as a TWINS-like transfer function; rail + sleepers per "
+        "axle for 0 dB re 1 um effective roughness (dB re 1 pW), beside CNOSSOS-EU L_H,tr mono-block-soft"
+    )
     print("  band Hz  L_H,tr model   rail  sleeper  CNOSSOS  decay EN15461  free wave  sigma rail  sigma sleeper")
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
-        print(f"  {f:7g}  {result.track_transfer_db[i]:12.1f} {result.rail_transfer_db[i]:6.1f} "
-              f"{result.sleeper_transfer_db[i]:8.1f} {cn[i]:8.1f} {result.decay_rate_db_per_m[i]:14.2f} "
-              f"{result.free_wave_decay_db_per_m[i]:10.2f} {result.rail_radiation_efficiency[i]:11.3f} "
-              f"{result.sleeper_radiation_efficiency[i]:14.3f}")
+        print(
+            f"  {f:7g}  {result.track_transfer_db[i]:12.1f} {result.rail_transfer_db[i]:6.1f} "
+            f"{result.sleeper_transfer_db[i]:8.1f} {cn[i]:8.1f} {result.decay_rate_db_per_m[i]:14.2f} "
+            f"{result.free_wave_decay_db_per_m[i]:10.2f} {result.rail_radiation_efficiency[i]:11.3f} "
+            f"{result.sleeper_radiation_efficiency[i]:14.3f}"
+        )
     print(f"  wheel: {result.to_dict()['wheel_transfer_source']}")
     return 0

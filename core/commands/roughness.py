@@ -52,9 +52,7 @@ def add_parser(sub):
         metavar="K",
         help="line numbers to average (default -3 -2 -1 0 1 2 3, as the paper)",
     )
-    parser.add_argument(
-        "--m", type=int, default=3, dest="half_lines", help="coherence: lines -M..M (default 3)"
-    )
+    parser.add_argument("--m", type=int, default=3, dest="half_lines", help="coherence: lines -M..M (default 3)")
     parser.add_argument("--blocks", type=int, default=20, help="coherence: blocks B per line (default 20)")
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     parser.add_argument("--plot", metavar="FILE.png", help="save a figure of spectra and coherence")
@@ -146,16 +144,15 @@ def _plot(result: dict, path: str) -> None:
     centres = np.array(result["band_centres_hz"])
     ax_level.semilogx(centres, arr(result["levels_db"]), "o-")
     ax_level.set(xlabel="frequency (Hz)", ylabel="roughness level (dB re 1 µm)")
-    ax_level.set_title(
-        f"{result['set']} at {result['speed_m_s'] * 3.6:g} km/h, lines {result['lines_averaged']}"
-    )
+    ax_level.set_title(f"{result['set']} at {result['speed_m_s'] * 3.6:g} km/h, lines {result['lines_averaged']}")
     ax_coh.semilogx(centres, arr(result["coherence"]), "s-")
     ax_coh.set(xlabel="frequency (Hz)", ylabel="γ² (eqs. 15-18)", ylim=(0, 1.05))
     bands = result["wavelength_bands"]
     ax_wl.semilogx(np.array(bands["band_centres_m"]) * 1e3, arr(bands["levels_db"]), "o-", label=result["set"])
     if "iso3095_limit_db" in bands:
-        ax_wl.semilogx(np.array(bands["band_centres_m"]) * 1e3, arr(bands["iso3095_limit_db"]), "k--",
-                       label="ISO 3095:2013 limit")
+        ax_wl.semilogx(
+            np.array(bands["band_centres_m"]) * 1e3, arr(bands["iso3095_limit_db"]), "k--", label="ISO 3095:2013 limit"
+        )
         ax_wl.legend(fontsize=8)
     ax_wl.invert_xaxis()
     ax_wl.set(xlabel="wavelength (mm)", ylabel="roughness level (dB re 1 µm)")

@@ -34,24 +34,44 @@ def add_parser(sub):
             "pressure for 3d) to an .npz file."
         ),
     )
-    parser.add_argument("--set", required=True, metavar="SET",
-                        help="bundled roughness set name (see `wheelrail datasets`) or a CSV/NPZ file")
-    parser.add_argument("--wheel-set", metavar="WHEEL_SET", default=None,
-                        help="a wheel roughness set added to the rail set --set (combined roughness r_rail + "
-                             "r_wheel, paired by lateral position: the wheel set interpolated across onto the "
-                             "rail's lines; its lines repeat with the circumference); default none")
+    parser.add_argument(
+        "--set",
+        required=True,
+        metavar="SET",
+        help="bundled roughness set name (see `wheelrail datasets`) or a CSV/NPZ file",
+    )
+    parser.add_argument(
+        "--wheel-set",
+        metavar="WHEEL_SET",
+        default=None,
+        help="a wheel roughness set added to the rail set --set (combined roughness r_rail + "
+        "r_wheel, paired by lateral position: the wheel set interpolated across onto the "
+        "rail's lines; its lines repeat with the circumference); default none",
+    )
     add_geometry_options(parser)
-    parser.add_argument("--line", type=int, default=0,
-                        help="roughness line -M..M of --set (3d: window centre), default 0")
-    parser.add_argument("--model", default="hertz", choices=model_names(),
-                        help="contact model (default hertz; installed plug-ins included)")
+    parser.add_argument(
+        "--line", type=int, default=0, help="roughness line -M..M of --set (3d: window centre), default 0"
+    )
+    parser.add_argument(
+        "--model",
+        default="hertz",
+        choices=model_names(),
+        help="contact model (default hertz; installed plug-ins included)",
+    )
     add_speed_option(parser)
     add_preload_option(parser)
-    parser.add_argument("--length-m", type=float, default=None,
-                        help="run length, m (default: the whole set: rail data less margins, one wheel turn)")
-    parser.add_argument("--out", metavar="F.npz",
-                        help="write the run's arrays to this .npz file (3d: with every pressure map, so it is "
-                             "held in memory for the whole run; --rrd records the maps without that)")
+    parser.add_argument(
+        "--length-m",
+        type=float,
+        default=None,
+        help="run length, m (default: the whole set: rail data less margins, one wheel turn)",
+    )
+    parser.add_argument(
+        "--out",
+        metavar="F.npz",
+        help="write the run's arrays to this .npz file (3d: with every pressure map, so it is "
+        "held in memory for the whole run; --rrd records the maps without that)",
+    )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     _recording_arguments(parser)
     return parser
@@ -84,8 +104,10 @@ class _StopOnCtrlC:
         signal.signal(signal.SIGINT, self.previous)
 
     def __enter__(self):
-        if (threading.current_thread() is threading.main_thread()
-                and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
+        if (
+            threading.current_thread() is threading.main_thread()
+            and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        ):
             self.previous = signal.signal(signal.SIGINT, self._handler)
         return self
 
@@ -108,10 +130,14 @@ def _checked_args(args):
     rrd = getattr(args, "rrd", None)
     for source in inputs:
         if rrd is not None and same_file(rrd, source):
-            raise WheelrailError(f"--rrd {rrd} is the input file {source}: writing it would destroy the input; "
-                                 "choose another output name")
-    params = ModelParameters(contact=ContactParameters(preload=args.preload_kn * 1e3, **geometry_from_mm(args)),
-                             run=RunParameters(speed=speed))
+            raise WheelrailError(
+                f"--rrd {rrd} is the input file {source}: writing it would destroy the input; "
+                "choose another output name"
+            )
+    params = ModelParameters(
+        contact=ContactParameters(preload=args.preload_kn * 1e3, **geometry_from_mm(args)),
+        run=RunParameters(speed=speed),
+    )
     return params, out
 
 
@@ -121,8 +147,15 @@ def _prepare(args, params, out, sink):
 
     try:
         # 3d: every pressure map is kept only for --out (a recording takes them step by step)
-        interaction = prepare_run(args.set, wheel_roughness=args.wheel_set, model=args.model, line=args.line,
-                                  params=params, length=args.length_m, keep_pressure=out is not None)
+        interaction = prepare_run(
+            args.set,
+            wheel_roughness=args.wheel_set,
+            model=args.model,
+            line=args.line,
+            params=params,
+            length=args.length_m,
+            keep_pressure=out is not None,
+        )
         if sink is not None and sink.record_every > interaction.n_steps:
             raise WheelrailError(f"--record-every {sink.record_every} exceeds the run's {interaction.n_steps} steps")
         if sink is not None:
@@ -142,8 +175,13 @@ def _execute(args, interaction, sink):
     """Run with a progress bar on a terminal; Ctrl-C stops between steps (the recording aborted on any error)."""
     from tqdm import tqdm
 
-    bar = tqdm(total=interaction.n_steps, unit="step", disable=args.json or not sys.stderr.isatty(),
-               desc=f"{args.model} {args.speed_kmh:g} km/h", file=sys.stderr)
+    bar = tqdm(
+        total=interaction.n_steps,
+        unit="step",
+        disable=args.json or not sys.stderr.isatty(),
+        desc=f"{args.model} {args.speed_kmh:g} km/h",
+        file=sys.stderr,
+    )
 
     def progress(done, total):
         bar.update(done - bar.n)
@@ -176,16 +214,28 @@ def _summary(args, result, params, times) -> dict:
         spectrum_note = error.render(CLI_NAMES)
     force = result.force
     summary = {
-        "model": result.model, "set": args.set, "wheel_set": args.wheel_set, "line": result.line,
-        "speed_m_per_s": result.speed, "speed_kmh": args.speed_kmh, "preload_n": params.contact.preload,
-        "steps": result.n_steps, "length_m": result.n_steps * result.element_size, "time_step_s": result.time_step,
-        "force_mean_n": float(force.mean()), "force_std_n": float(force.std()),
-        "force_min_n": float(force.min()), "force_max_n": float(force.max()),
-        "loss_of_contact_steps": result.loss_of_contact_steps, "run_in_length_m": result.run_in_length,
+        "model": result.model,
+        "set": args.set,
+        "wheel_set": args.wheel_set,
+        "line": result.line,
+        "speed_m_per_s": result.speed,
+        "speed_kmh": args.speed_kmh,
+        "preload_n": params.contact.preload,
+        "steps": result.n_steps,
+        "length_m": result.n_steps * result.element_size,
+        "time_step_s": result.time_step,
+        "force_mean_n": float(force.mean()),
+        "force_std_n": float(force.std()),
+        "force_min_n": float(force.min()),
+        "force_max_n": float(force.max()),
+        "loss_of_contact_steps": result.loss_of_contact_steps,
+        "run_in_length_m": result.run_in_length,
         "run_in_time_s": result.run_in_time,
-        "prepare_time_s": prepared - start, "run_time_s": finished - prepared,
+        "prepare_time_s": prepared - start,
+        "run_time_s": finished - prepared,
         "steps_per_s": result.n_steps / max(finished - prepared, 1e-9),
-        "band_centres_hz": centres, "levels_db": levels,
+        "band_centres_hz": centres,
+        "levels_db": levels,
     }
     if spectrum_note:
         summary["spectrum_note"] = spectrum_note
@@ -197,15 +247,20 @@ def _print_summary(args, result, summary, sink) -> None:
 
     force = result.force
     wheel_set = f" + wheel {args.wheel_set}" if args.wheel_set else ""
-    print(f"{result.model} on {args.set}{wheel_set} line {result.line}, {args.speed_kmh:g} km/h, "
-          f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m")
-    print(f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
-          f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN")
+    print(
+        f"{result.model} on {args.set}{wheel_set} line {result.line}, {args.speed_kmh:g} km/h, "
+        f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m"
+    )
+    print(
+        f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
+        f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN"
+    )
     print(f"  loss of contact: {result.loss_of_contact_steps} steps")
-    print(f"  run-in before the record (smooth, discarded): {result.run_in_length:.3f} m, "
-          f"{result.run_in_time:.3f} s")
-    print(f"  {summary['steps_per_s']:.0f} steps/s (prepare {summary['prepare_time_s']:.2f} s, "
-          f"run {summary['run_time_s']:.2f} s)")
+    print(f"  run-in before the record (smooth, discarded): {result.run_in_length:.3f} m, {result.run_in_time:.3f} s")
+    print(
+        f"  {summary['steps_per_s']:.0f} steps/s (prepare {summary['prepare_time_s']:.2f} s, "
+        f"run {summary['run_time_s']:.2f} s)"
+    )
     if "spectrum_note" in summary:
         print(f"  no force spectrum: {summary['spectrum_note']}")
     else:

@@ -51,8 +51,14 @@ def load_force(path: str | Path) -> dict:
         from wheelrail.core.recording import read_recording
 
         result = read_recording(source)
-        return {"force": result.force, "time_step": result.time_step, "model": result.model, "line": result.line,
-                "speed": result.speed, "roughness": result.roughness_name}
+        return {
+            "force": result.force,
+            "time_step": result.time_step,
+            "model": result.model,
+            "line": result.line,
+            "speed": result.speed,
+            "roughness": result.roughness_name,
+        }
     if suffix != ".npz":
         raise WheelrailError(f"run file {source} must be a .npz (wheelrail run --out) or a .rrd recording")
     if not zipfile.is_zipfile(source):
@@ -70,8 +76,14 @@ def load_force(path: str | Path) -> dict:
         raise WheelrailError(f"cannot read run file {error}") from None
     if not np.all(np.isfinite(result.force)):
         raise WheelrailError(f"cannot read run file {source}: the force holds NaN or infinite values")
-    return {"force": result.force, "time_step": result.time_step, "model": result.model, "line": result.line,
-            "speed": result.speed, "roughness": result.roughness_name}
+    return {
+        "force": result.force,
+        "time_step": result.time_step,
+        "model": result.model,
+        "line": result.line,
+        "speed": result.speed,
+        "roughness": result.roughness_name,
+    }
 
 
 def run(args) -> int:
@@ -80,26 +92,30 @@ def run(args) -> int:
         raise WheelrailError(f"--skip-ms must be zero or a positive number of milliseconds, got {skip_ms}")
     saved = load_force(args.file)
     centres, levels = force_spectrum(saved["force"], saved["time_step"], skip=skip_ms * 1e-3)
-    dynamic = saved["force"][int(math.ceil(skip_ms * 1e-3 / saved["time_step"] - 1e-9)):]
+    dynamic = saved["force"][int(math.ceil(skip_ms * 1e-3 / saved["time_step"] - 1e-9)) :]
     rms = float(np.std(dynamic))
     if args.json:
-        print_json({
-            "file": str(args.file),
-            "model": saved["model"],
-            "line": saved["line"],
-            "speed_m_s": saved["speed"],
-            "roughness": saved["roughness"],
-            "time_step_s": saved["time_step"],
-            "steps": int(len(saved["force"])),
-            "skip_s": skip_ms * 1e-3,
-            "dynamic_force_rms_n": rms,
-            "band_centres_hz": centres.tolist(),
-            "band_labels": [nominal_band_label(c) for c in centres],
-            "levels_db": levels,
-        })
+        print_json(
+            {
+                "file": str(args.file),
+                "model": saved["model"],
+                "line": saved["line"],
+                "speed_m_s": saved["speed"],
+                "roughness": saved["roughness"],
+                "time_step_s": saved["time_step"],
+                "steps": int(len(saved["force"])),
+                "skip_s": skip_ms * 1e-3,
+                "dynamic_force_rms_n": rms,
+                "band_centres_hz": centres.tolist(),
+                "band_labels": [nominal_band_label(c) for c in centres],
+                "levels_db": levels,
+            }
+        )
         return 0
-    print(f"{args.file}: model {saved['model']}, line {saved['line']}, {len(saved['force'])} steps of "
-          f"{saved['time_step'] * 1e6:.4g} us; first {skip_ms:g} ms skipped; dynamic force rms {rms:.4g} N")
+    print(
+        f"{args.file}: model {saved['model']}, line {saved['line']}, {len(saved['force'])} steps of "
+        f"{saved['time_step'] * 1e6:.4g} us; first {skip_ms:g} ms skipped; dynamic force rms {rms:.4g} N"
+    )
     print(f"{'band (Hz)':>10} {'level (dB re 1 N)':>18}")
     for centre, level in zip(centres, levels, strict=True):
         text = "-" if not math.isfinite(level) else f"{level:.1f}"

@@ -30,21 +30,36 @@ def add_parser(sub):
         ),
     )
     parser.add_argument("name", metavar="NAME", help=f"study: {', '.join(STUDIES)}")
-    parser.add_argument("--set", required=True, action="append", metavar="SET", dest="sets",
-                        help="bundled roughness set name or CSV/NPZ file; repeat for several sets (one panel each)")
-    parser.add_argument("--wheel-set", metavar="WHEEL_SET", default=None,
-                        help="a wheel roughness set added to every rail set --set in every run (combined roughness "
-                             "r_rail + r_wheel; part of every run key); default none")
+    parser.add_argument(
+        "--set",
+        required=True,
+        action="append",
+        metavar="SET",
+        dest="sets",
+        help="bundled roughness set name or CSV/NPZ file; repeat for several sets (one panel each)",
+    )
+    parser.add_argument(
+        "--wheel-set",
+        metavar="WHEEL_SET",
+        default=None,
+        help="a wheel roughness set added to every rail set --set in every run (combined roughness "
+        "r_rail + r_wheel; part of every run key); default none",
+    )
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder (created if missing)")
-    parser.add_argument("--length-m", type=float, default=None,
-                        help="run length, m (default: the whole set: rail data less margins, one wheel turn)")
+    parser.add_argument(
+        "--length-m",
+        type=float,
+        default=None,
+        help="run length, m (default: the whole set: rail data less margins, one wheel turn)",
+    )
     add_speed_option(parser, "train speed, km/h (for `speeds` the speed of the half-mass case)")
     where = parser.add_mutually_exclusive_group()
     # default None, not 2: argparse lets an option of a mutually exclusive group through when its value
     # equals the default, so `--dask ADDR --workers 2` would be accepted
     where.add_argument("--workers", type=int, default=None, help="local worker processes (default 2)")
-    where.add_argument("--dask", metavar="ADDR", default=None,
-                       help="run on a Dask cluster: scheduler address tcp://HOST:PORT")
+    where.add_argument(
+        "--dask", metavar="ADDR", default=None, help="run on a Dask cluster: scheduler address tcp://HOST:PORT"
+    )
     add_geometry_options(parser)
     parser.add_argument("--json", action="store_true", help="print the machine-readable summary (SI units)")
     return parser
@@ -64,17 +79,27 @@ def run(args) -> int:
     address = parse_dask_address(args.dask) if args.dask is not None else None
     geometry = geometry_from_mm(args)
     contact = StudyContact(contact=ContactParameters(**geometry), wheel_set=args.wheel_set)
-    result = run_study(args.name, args.sets, args.out, speed=speed, length=args.length_m, workers=workers,
-                       contact=contact,
-                       dask_address=address, progress=not args.json and sys.stderr.isatty())
+    result = run_study(
+        args.name,
+        args.sets,
+        args.out,
+        speed=speed,
+        length=args.length_m,
+        workers=workers,
+        contact=contact,
+        dask_address=address,
+        progress=not args.json and sys.stderr.isatty(),
+    )
     summary = result.summary
     if args.json:
         print_json(summary)
         return 0
     wheel = f" + wheel set {summary['wheel_set']}" if summary["wheel_set"] else ""
-    print(f"study {args.name} on {', '.join(summary['sets'])}{wheel}, {args.speed_kmh:g} km/h: {summary['runs']} runs "
-          f"({summary['runs_computed']} computed, {summary['runs_cached']} from {args.out}/runs) "
-          f"in {summary['wall_time_s']:.1f} s on {summary['backend']}")
+    print(
+        f"study {args.name} on {', '.join(summary['sets'])}{wheel}, {args.speed_kmh:g} km/h: {summary['runs']} runs "
+        f"({summary['runs_computed']} computed, {summary['runs_cached']} from {args.out}/runs) "
+        f"in {summary['wall_time_s']:.1f} s on {summary['backend']}"
+    )
     if summary["loss_of_contact_steps"]:
         print(f"  loss of contact in {summary['loss_of_contact_steps']} steps over all runs")
     for table in result.tables:

@@ -29,8 +29,12 @@ def add_parser(sub):
     parser.add_argument(
         "--csv", metavar="FILE", help="write the point receptance above a sleeper and at midspan, 20 Hz-5 kHz"
     )
-    parser.add_argument("--df-hz", type=float, default=5.0,
-                        help=f"frequency step of --csv and --plot, Hz ({MIN_DF_HZ:g}-100, default 5)")
+    parser.add_argument(
+        "--df-hz",
+        type=float,
+        default=5.0,
+        help=f"frequency step of --csv and --plot, Hz ({MIN_DF_HZ:g}-100, default 5)",
+    )
     parser.add_argument("--plot", metavar="FILE.png", help="plot receptances and moving Green's functions (Fig. 4)")
     return parser
 
@@ -48,10 +52,18 @@ def _peaks(track, numerics) -> dict[str, float]:
     from wheelrail.core import cache
     from wheelrail.core import track as track_module
 
-    code = "".join(inspect.getsource(f) for f in (track_module.assemble_track, track_module.track_receptance,
-                                                    track_module.receptance_peaks))
-    key = cache.cache_key("track-peaks", {"track": asdict(track), "elements_per_bay": numerics.elements_per_bay,
-                                          "code": hashlib.sha256(code.encode()).hexdigest()})
+    code = "".join(
+        inspect.getsource(f)
+        for f in (track_module.assemble_track, track_module.track_receptance, track_module.receptance_peaks)
+    )
+    key = cache.cache_key(
+        "track-peaks",
+        {
+            "track": asdict(track),
+            "elements_per_bay": numerics.elements_per_bay,
+            "code": hashlib.sha256(code.encode()).hexdigest(),
+        },
+    )
     names = ("sleeper_on_ballast_hz", "rail_on_pad_hz", "pinned_pinned_hz")
     arrays = cache.load_entry("track-peaks", key, names)
     if arrays is not None and all(arrays[name].shape == () and np.isfinite(arrays[name]) for name in names):
@@ -78,8 +90,15 @@ def _receptance_outputs(track, numerics, csv_path, plot_path, df_hz, response, p
 
         def write_csv(handle) -> None:
             writer = csv.writer(handle)
-            writer.writerow(["frequency_hz", "above_sleeper_abs_m_per_n", "above_sleeper_phase_rad",
-                             "midspan_abs_m_per_n", "midspan_phase_rad"])
+            writer.writerow(
+                [
+                    "frequency_hz",
+                    "above_sleeper_abs_m_per_n",
+                    "above_sleeper_phase_rad",
+                    "midspan_abs_m_per_n",
+                    "midspan_phase_rad",
+                ]
+            )
             for row in zip(freq, np.abs(above), np.angle(above), np.abs(midspan), np.angle(midspan), strict=True):
                 writer.writerow([f"{row[0]:.6g}"] + [f"{v:.9e}" for v in row[1:]])
 
@@ -100,28 +119,45 @@ def _green_functions(track, numerics, speed: float) -> dict:
     green = moving_from_stationary(response, speed)
     t_speed = time.perf_counter() - start
     cache_size = Path(response.cache_path).stat().st_size if response.cache_path else 0
-    return {"response": response, "green": green, "static": green.weights(1e-3 / speed).sum(axis=1),
-            "cache": {"path": response.cache_path, "size_bytes": cache_size, "was_cached": bool(cached_before),
-                      "stationary_time_s": t_stationary, "speed_time_s": t_speed}}
+    return {
+        "response": response,
+        "green": green,
+        "static": green.weights(1e-3 / speed).sum(axis=1),
+        "cache": {
+            "path": response.cache_path,
+            "size_bytes": cache_size,
+            "was_cached": bool(cached_before),
+            "stationary_time_s": t_stationary,
+            "speed_time_s": t_speed,
+        },
+    }
 
 
 def _print_summary(track, summary: dict) -> None:
     peaks, cache = summary["resonances_hz"], summary["cache"]
     green, static = summary["green_functions"], summary["static_moving_compliance_m_per_n"]
     speed_kmh = summary["speed_kmh"]
-    print(f"Track: UIC60 Rayleigh-Timoshenko rail, {track.n_bays} bays of {track.support.sleeper_spacing} m "
-          "(paper section 2.2)")
+    print(
+        f"Track: UIC60 Rayleigh-Timoshenko rail, {track.n_bays} bays of {track.support.sleeper_spacing} m "
+        "(paper section 2.2)"
+    )
     print(f"  sleeper-on-ballast resonance  {peaks['sleeper_on_ballast_hz']:7.1f} Hz")
     print(f"  rail-on-pad resonance         {peaks['rail_on_pad_hz']:7.1f} Hz")
     print(f"  pinned-pinned resonance       {peaks['pinned_pinned_hz']:7.1f} Hz  (paper: 943 Hz)")
     print(f"  sleeper-passing frequency     {summary['sleeper_passing_frequency_hz']:7.1f} Hz  at {speed_kmh:g} km/h")
-    print(f"Moving Green's functions at {speed_kmh:g} km/h: {green['duration_s'] * 1e3:.0f} ms, "
-          f"{green['excitation_positions_per_bay']} excitation positions per bay, read at {green['rows_per_bay']} rows")
-    print(f"  static compliance {static['above_sleeper'] * 1e9:.3f} nm/N above a sleeper, "
-          f"{static['midspan'] * 1e9:.3f} nm/N at midspan")
+    print(
+        f"Moving Green's functions at {speed_kmh:g} km/h: {green['duration_s'] * 1e3:.0f} ms, "
+        f"{green['excitation_positions_per_bay']} excitation positions per bay, read at {green['rows_per_bay']} rows"
+    )
+    print(
+        f"  static compliance {static['above_sleeper'] * 1e9:.3f} nm/N above a sleeper, "
+        f"{static['midspan'] * 1e9:.3f} nm/N at midspan"
+    )
     how = "loaded from cache" if cache["was_cached"] else "computed and cached"
-    print(f"  stationary responses {how} in {cache['stationary_time_s']:.2f} s; this speed in "
-          f"{cache['speed_time_s'] * 1e3:.1f} ms")
+    print(
+        f"  stationary responses {how} in {cache['stationary_time_s']:.2f} s; this speed in "
+        f"{cache['speed_time_s'] * 1e3:.1f} ms"
+    )
     print(f"  cache: {cache['path']} ({cache['size_bytes'] / 1e6:.1f} MB)")
     if "csv" in summary:
         print(f"  receptance written to {summary['csv']}")
@@ -156,8 +192,10 @@ def run(args) -> int:
         "speed_kmh": args.speed_kmh,
         "resonances_hz": peaks,
         "sleeper_passing_frequency_hz": speed / track.support.sleeper_spacing,
-        "static_moving_compliance_m_per_n": {"above_sleeper": float(static[0]),
-                                             "midspan": float(static[len(static) // 2])},
+        "static_moving_compliance_m_per_n": {
+            "above_sleeper": float(static[0]),
+            "midspan": float(static[len(static) // 2]),
+        },
         "green_functions": {
             "duration_s": green.duration,
             "time_step_s": green.time_step,
@@ -196,8 +234,10 @@ def _plot(path, freq, above, midspan, response, peaks) -> None:
     ax.axvline(peaks["pinned_pinned_hz"], color="grey", lw=0.8, ls=":")
     ax.set(xlabel="frequency (Hz)", ylabel="|receptance| (m/N)", title="Rail point receptance")
     ax.legend()
-    for ax, midspan, title in ((axes[1], False, "(a) excitation above a sleeper"),
-                               (axes[2], True, "(b) excitation at midspan")):
+    for ax, midspan, title in (
+        (axes[1], False, "(a) excitation above a sleeper"),
+        (axes[2], True, "(b) excitation at midspan"),
+    ):
         for kmh, style in ((50, "--"), (100, "-."), (150, "-")):
             if kmh / 3.6 > response.numerics.max_speed:
                 continue

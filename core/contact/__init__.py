@@ -12,8 +12,13 @@ from wheelrail.core.contact.winkler import WinklerContact, bedding_stiffness, wh
 
 # The 3D half-space (its solver: ~20 compiled functions, whose set-up by numba a run of a one-line model
 # would pay at start) is imported on first use of one of its names.
-_HALFSPACE = ("HalfSpaceWindow", "NormalContactResult", "influence_kernel", "solve_coupled_contact",
-              "solve_normal_contact")
+_HALFSPACE = (
+    "HalfSpaceWindow",
+    "NormalContactResult",
+    "influence_kernel",
+    "solve_coupled_contact",
+    "solve_normal_contact",
+)
 
 
 def __getattr__(name: str):

@@ -49,8 +49,9 @@ class _HalfSpaceBase(ContactModel):
         self._inputs = inputs
         self.window_x = x
         self.equivalent_line = inputs.centre_line
-        self._window = HalfSpaceWindow(self._base_gap.shape, dx, youngs_modulus=contact.youngs_modulus,
-                                       poisson_ratio=contact.poisson_ratio)
+        self._window = HalfSpaceWindow(
+            self._base_gap.shape, dx, youngs_modulus=contact.youngs_modulus, poisson_ratio=contact.poisson_ratio
+        )
         smooth = self._window.solve(self._base_gap, load=contact.preload)
         self._start(smooth.contact)  # the first step from the preload's set, factored afresh
         return float(smooth.approach)
@@ -63,8 +64,10 @@ class _HalfSpaceBase(ContactModel):
         inputs = self._inputs
         ny, nx = self._base_gap.shape
         if status == STEP_AT_EDGE:
-            return (f"3d: the contact reaches the edge of the {ny} x {nx} window at x = {inputs.position_of(s):.4f} m; "
-                    "the roughness or load is too large for the window")
+            return (
+                f"3d: the contact reaches the edge of the {ny} x {nx} window at x = {inputs.position_of(s):.4f} m; "
+                "the roughness or load is too large for the window"
+            )
         return f"3d: the contact solve did not converge at x = {inputs.position_of(s):.4f} m"
 
 
@@ -75,10 +78,13 @@ class HalfSpaceModel(_HalfSpaceBase):
     def _start(self, contact: np.ndarray) -> None:
         inputs, window = self._inputs, self._window
         self._steps = HalfSpaceSteps(
-            window.kernel, self._base_gap, (inputs.lines, inputs.start_index, inputs.ramp, inputs.half_x,
-                                            inputs.centre_row),
-            np.flatnonzero(contact), (window.tolerance, window.max_iterations, inputs.element_size**2),
-            **self.step_options)
+            window.kernel,
+            self._base_gap,
+            (inputs.lines, inputs.start_index, inputs.ramp, inputs.half_x, inputs.centre_row),
+            np.flatnonzero(contact),
+            (window.tolerance, window.max_iterations, inputs.element_size**2),
+            **self.step_options,
+        )
 
     step_options: dict = {}  # HalfSpaceSteps' keyword options (tests: full_matrix, capacity)
 
@@ -88,8 +94,9 @@ class HalfSpaceModel(_HalfSpaceBase):
     def solve(self, s: int, approach_known: float, compliance: float) -> ContactState:
         status = STEP_NEEDS_ROOM
         while status == STEP_NEEDS_ROOM:
-            status, force, on_centre, count = _python_step(int(s), float(approach_known), float(compliance),
-                                                           self._steps.law)
+            status, force, on_centre, count = _python_step(
+                int(s), float(approach_known), float(compliance), self._steps.law
+            )
             if status == STEP_NEEDS_ROOM:
                 self._steps.grow()
         if status != STEP_CONVERGED:
@@ -97,8 +104,9 @@ class HalfSpaceModel(_HalfSpaceBase):
         dx = self._inputs.element_size
         shape = self._base_gap.shape
         pressure = np.zeros(shape) if force == 0.0 else self._steps.pressure.reshape(shape).copy()
-        return ContactState(force=force, contact_length=on_centre * dx, contact_area=count * (dx * dx),
-                            pressure=pressure)
+        return ContactState(
+            force=force, contact_length=on_centre * dx, contact_area=count * (dx * dx), pressure=pressure
+        )
 
 
 class HalfSpaceReferenceModel(_HalfSpaceBase):
@@ -112,16 +120,21 @@ class HalfSpaceReferenceModel(_HalfSpaceBase):
         inputs = self._inputs
         dx, hx = inputs.element_size, inputs.half_x
         i = inputs.start_index[s]
-        gap = self._base_gap - inputs.ramp[s] * inputs.lines[:, i - hx:i + hx + 1]
+        gap = self._base_gap - inputs.ramp[s] * inputs.lines[:, i - hx : i + hx + 1]
         # the window warm-starts from its last solve with F > 0 (contact set and Cholesky factor: the window
         # moves with the wheel, so the patch stays centred; 1.8 instead of 5 active-set iterations per step)
         # and keeps this one as its warm state only if it carries load
-        result = self._window.solve_coupled(gap, approach_known=approach_known, compliance=compliance,
-                                            raise_on_failure=False)
+        result = self._window.solve_coupled(
+            gap, approach_known=approach_known, compliance=compliance, raise_on_failure=False
+        )
         if result.at_edge:
             raise WheelrailError(self.failure_message(STEP_AT_EDGE, s))
         if not result.converged:
             raise WheelrailError(self.failure_message(-1, s))
         mask = result.contact
-        return ContactState(force=float(result.force), contact_length=mask[inputs.centre_row].sum() * dx,
-                            contact_area=mask.sum() * (dx * dx), pressure=result.pressure)
+        return ContactState(
+            force=float(result.force),
+            contact_length=mask[inputs.centre_row].sum() * dx,
+            contact_area=mask.sum() * (dx * dx),
+            pressure=result.pressure,
+        )

@@ -58,8 +58,13 @@ from wheelrail.core.contact.halfspace_solver import (
 )
 
 __all__ = [
-    "FULL_MATRIX_ELEMENTS", "STEP_AT_EDGE", "STEP_CONVERGED", "STEP_MAX_ITER", "STEP_NEEDS_ROOM",
-    "STEP_NOT_DEFINITE", "HalfSpaceSteps",
+    "FULL_MATRIX_ELEMENTS",
+    "STEP_AT_EDGE",
+    "STEP_CONVERGED",
+    "STEP_MAX_ITER",
+    "STEP_NEEDS_ROOM",
+    "STEP_NOT_DEFINITE",
+    "HalfSpaceSteps",
 ]
 
 STEP_CONVERGED = _STATUS_CONVERGED
@@ -106,22 +111,28 @@ class HalfSpaceSteps:
         full = np.empty((0, 0))
         if full_matrix or (full_matrix is None and n <= FULL_MATRIX_ELEMENTS):
             # C[i, j] = kernel[row_i - row_j + ny - 1, column_i - column_j + nx - 1] (eq. 8)
-            full = np.ascontiguousarray(kernel[rows[:, None] - rows[None, :] + ny - 1,
-                                               columns[:, None] - columns[None, :] + nx - 1])
+            full = np.ascontiguousarray(
+                kernel[rows[:, None] - rows[None, :] + ny - 1, columns[:, None] - columns[None, :] + nx - 1]
+            )
         grid = (kernel, np.ascontiguousarray(kernel[::-1, ::-1]), full, rows, columns)
         order = np.zeros(n, dtype=np.int64)
         active = np.zeros(n, dtype=np.bool_)
         start = np.asarray(start, dtype=np.int64)
-        order[:start.size] = start
+        order[: start.size] = start
         active[start] = True
         counts = np.array([start.size, 0], dtype=np.int64)  # m, whether the buffer and z hold the set's factor
         self._state = (order, active, np.zeros(n), counts)
         self.pressure = np.zeros(n)
         work = (self.pressure, np.empty(n), np.empty(n), np.empty(n, dtype=np.int64), np.empty(n), np.empty(n))
         lines, start_index, ramp, half_x, centre_row = track
-        track = (np.ascontiguousarray(base_gap, dtype=np.float64).ravel(),
-                 np.ascontiguousarray(lines, dtype=np.float64), np.ascontiguousarray(start_index, dtype=np.int64),
-                 np.ascontiguousarray(ramp, dtype=np.float64), int(half_x), int(centre_row))
+        track = (
+            np.ascontiguousarray(base_gap, dtype=np.float64).ravel(),
+            np.ascontiguousarray(lines, dtype=np.float64),
+            np.ascontiguousarray(start_index, dtype=np.int64),
+            np.ascontiguousarray(ramp, dtype=np.float64),
+            int(half_x),
+            int(centre_row),
+        )
         tolerance, max_iterations, area = limits
         self._parts = (grid, work, track, (float(tolerance), int(max_iterations), float(area)))
         self.shape = (ny, nx)
@@ -168,18 +179,19 @@ def _forward(upper, m, rhs):
         y1 = (rhs[k + 1] - upper[k, k + 1] * y0) / upper[k + 1, k + 1]
         y2 = (rhs[k + 2] - upper[k, k + 2] * y0 - upper[k + 1, k + 2] * y1) / upper[k + 2, k + 2]
         y3 = (rhs[k + 3] - upper[k, k + 3] * y0 - upper[k + 1, k + 3] * y1 - upper[k + 2, k + 3] * y2) / upper[
-            k + 3, k + 3]
+            k + 3, k + 3
+        ]
         rhs[k], rhs[k + 1], rhs[k + 2], rhs[k + 3] = y0, y1, y2, y3
-        r0, r1, r2, r3 = upper[k, k + 4:m], upper[k + 1, k + 4:m], upper[k + 2, k + 4:m], upper[k + 3, k + 4:m]
-        tail = rhs[k + 4:m]
+        r0, r1, r2, r3 = upper[k, k + 4 : m], upper[k + 1, k + 4 : m], upper[k + 2, k + 4 : m], upper[k + 3, k + 4 : m]
+        tail = rhs[k + 4 : m]
         for j in range(tail.size):
             tail[j] -= r0[j] * y0 + r1[j] * y1 + r2[j] * y2 + r3[j] * y3
         k += 4
     for i in range(k, m):
         y = rhs[i] / upper[i, i]
         rhs[i] = y
-        row = upper[i, i + 1:m]
-        tail = rhs[i + 1:m]
+        row = upper[i, i + 1 : m]
+        tail = rhs[i + 1 : m]
         for j in range(tail.size):
             tail[j] -= row[j] * y
 
@@ -201,13 +213,14 @@ def _backward(upper, m, rhs):
         x3 = (rhs[k - 1] - s3) / upper[k - 1, k - 1]
         x2 = (rhs[k - 2] - s2 - upper[k - 2, k - 1] * x3) / upper[k - 2, k - 2]
         x1 = (rhs[k - 3] - s1 - upper[k - 3, k - 2] * x2 - upper[k - 3, k - 1] * x3) / upper[k - 3, k - 3]
-        x0 = (rhs[k - 4] - s0 - upper[k - 4, k - 3] * x1 - upper[k - 4, k - 2] * x2
-              - upper[k - 4, k - 1] * x3) / upper[k - 4, k - 4]
+        x0 = (rhs[k - 4] - s0 - upper[k - 4, k - 3] * x1 - upper[k - 4, k - 2] * x2 - upper[k - 4, k - 1] * x3) / upper[
+            k - 4, k - 4
+        ]
         rhs[k - 4], rhs[k - 3], rhs[k - 2], rhs[k - 1] = x0, x1, x2, x3
         k -= 4
     for i in range(k - 1, -1, -1):
-        row = upper[i, i + 1:m]
-        tail = rhs[i + 1:m]
+        row = upper[i, i + 1 : m]
+        tail = rhs[i + 1 : m]
         s = 0.0
         for j in range(tail.size):
             s += row[j] * tail[j]
@@ -263,8 +276,8 @@ def _remove(order, m, upper, z, scratch, position):
         c = r / diagonal
         s = xi / diagonal
         upper[i, i] = r
-        row = upper[i, i + 1:m]
-        rest = x[i + 1:m]
+        row = upper[i, i + 1 : m]
+        rest = x[i + 1 : m]
         for j in range(row.size):
             updated = (row[j] + s * rest[j]) / c
             row[j] = updated
@@ -277,8 +290,8 @@ def _remove(order, m, upper, z, scratch, position):
         for j in range(row.size - 1):
             row[j] = row[j + 1]
     for i in range(p, m - 1):
-        target = upper[i, i:m - 1]
-        source = upper[i + 1, i + 1:m]
+        target = upper[i, i : m - 1]
+        source = upper[i + 1, i + 1 : m]
         for j in range(target.size):
             target[j] = source[j]
         z[i] = z[i + 1]
@@ -321,12 +334,17 @@ def _displacement_matrix(full, order, m, pressure, candidates, count, u):
     for a in range(m):
         lo = min(lo, order[a])
         hi = max(hi, order[a] + 1)
-    span = pressure[lo:max(lo, hi)]
+    span = pressure[lo : max(lo, hi)]
     size = span.size
     for c in range(0, count, 4):
         i0, i1 = candidates[c], candidates[min(c + 1, count - 1)]
         i2, i3 = candidates[min(c + 2, count - 1)], candidates[min(c + 3, count - 1)]
-        r0, r1, r2, r3 = full[i0, lo:lo + size], full[i1, lo:lo + size], full[i2, lo:lo + size], full[i3, lo:lo + size]
+        r0, r1, r2, r3 = (
+            full[i0, lo : lo + size],
+            full[i1, lo : lo + size],
+            full[i2, lo : lo + size],
+            full[i3, lo : lo + size],
+        )
         u0 = u1 = u2 = u3 = 0.0
         for k in range(size):
             x = span[k]
@@ -359,8 +377,8 @@ def _displacement_kernel(grid, order, m, pressure, candidates, count, u):
         total = 0.0
         for rj in range(r0, r1 + 1):
             # K[row_i - rj, column_i - cj] = reversed[rj - row_i + ny - 1, cj - column_i + nx - 1]
-            k = flipped[rj - rows[i] + ny - 1, offset:offset + width]
-            p = pressure[rj * nx + c0:rj * nx + c0 + width]
+            k = flipped[rj - rows[i] + ny - 1, offset : offset + width]
+            p = pressure[rj * nx + c0 : rj * nx + c0 + width]
             for t in range(width):
                 total += k[t] * p[t]
         u[c] = total

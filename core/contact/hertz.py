@@ -22,8 +22,15 @@ from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
 from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS
 from wheelrail.core.parameters import hertz_constant as _hertz_constant
 
-__all__ = ["HertzAverageModel", "HertzModel", "HertzWinklerModel", "hertz_approach", "hertz_constant", "hertz_force",
-           "hertz_stiffness"]
+__all__ = [
+    "HertzAverageModel",
+    "HertzModel",
+    "HertzWinklerModel",
+    "hertz_approach",
+    "hertz_constant",
+    "hertz_force",
+    "hertz_stiffness",
+]
 
 
 @njit(cache=True)
@@ -88,8 +95,11 @@ class HertzModel(ContactModel):
         contact = inputs.params.contact
         self.equivalent_line = self.equivalent_roughness(inputs, inputs.centre_line)
         r_eq = np.ascontiguousarray(self.equivalent_line[inputs.start_index] * inputs.ramp)
-        self._law = LawInputs(roughness=r_eq.reshape(-1, 1), shape=np.zeros(1),
-                              constants=np.array([contact.hertz_constant, *contact.patch_radii()]))
+        self._law = LawInputs(
+            roughness=r_eq.reshape(-1, 1),
+            shape=np.zeros(1),
+            constants=np.array([contact.hertz_constant, *contact.patch_radii()]),
+        )
         return contact.hertz_approach()
 
     def law_inputs(self) -> LawInputs:
@@ -112,15 +122,25 @@ class HertzWinklerModel(HertzModel):
         c = inputs.params.contact
         stiffness, radius = calibrated_bedding(c)
         try:
-            return winkler_equivalent_roughness(line, inputs.element_size, preload=c.preload, radius=radius,
-                                                youngs_modulus=c.youngs_modulus, poisson_ratio=c.poisson_ratio,
-                                                stiffness=stiffness)
+            return winkler_equivalent_roughness(
+                line,
+                inputs.element_size,
+                preload=c.preload,
+                radius=radius,
+                youngs_modulus=c.youngs_modulus,
+                poisson_ratio=c.poisson_ratio,
+                stiffness=stiffness,
+            )
         except WheelrailError as error:
             if error.parameter != "half_window":
                 raise
             # a run sizes the pre-filter's window itself (3a): what its user can change is the roughness
-            raise WheelrailError(error.problem, parameter="model", value="hertz-winkler",
-                                 advice="use a smoother line or set, or the hertz model") from None
+            raise WheelrailError(
+                error.problem,
+                parameter="model",
+                value="hertz-winkler",
+                advice="use a smoother line or set, or the hertz model",
+            ) from None
 
 
 class HertzAverageModel(HertzModel):
@@ -134,8 +154,9 @@ class HertzAverageModel(HertzModel):
         return average_roughness(line, inputs.element_size, contact_length=2 * a)
 
 
-def hertz_constant(youngs_modulus: float = STEEL_YOUNGS_MODULUS, poisson_ratio: float = STEEL_POISSON_RATIO,
-                   radius: float = 0.39) -> float:
+def hertz_constant(
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS, poisson_ratio: float = STEEL_POISSON_RATIO, radius: float = 0.39
+) -> float:
     """Hertzian constant C_H = (2/3) E / (1 - nu^2) sqrt(R) of eq. (13), N/m^1.5.
 
     Parameters

@@ -151,8 +151,11 @@ def winkler_equivalent_roughness(
     preload = _positive(where, "preload", preload, "N")
     radius = _positive(where, "radius", radius, "m")
     boundary = _check_boundary(where, boundary)
-    k = bedding_stiffness(youngs_modulus, poisson_ratio) if stiffness is None else _positive(
-        where, "stiffness", stiffness, "N/m^2")
+    k = (
+        bedding_stiffness(youngs_modulus, poisson_ratio)
+        if stiffness is None
+        else _positive(where, "stiffness", stiffness, "N/m^2")
+    )
     a = (3.0 * preload * radius / (4.0 * k)) ** (1.0 / 3.0)
     half_window = 3.0 * a if half_window is None else _positive(where, "half_window", half_window, "m")
     half = max(2, int(math.ceil(half_window / element_size)))
@@ -161,9 +164,15 @@ def winkler_equivalent_roughness(
     reference, _ = _bedding_approach(-profile, k_dx, preload)
     r_eq, at_edge = _winkler_equivalent(_pad(line, half, boundary), profile, k_dx, preload, reference)
     if at_edge:
-        raise WheelrailError(f"the bedding contact reaches the end of its window at {at_edge} positions: the "
-                             "roughness is too large for it", parameter="half_window", value=half * element_size,
-                             unit="m", argument=f"{where}: half_window", advice="give a larger one")
+        raise WheelrailError(
+            f"the bedding contact reaches the end of its window at {at_edge} positions: the "
+            "roughness is too large for it",
+            parameter="half_window",
+            value=half * element_size,
+            unit="m",
+            argument=f"{where}: half_window",
+            advice="give a larger one",
+        )
     return r_eq
 
 

@@ -48,8 +48,14 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
 from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS, reduced_modulus
 
-__all__ = ["BeddingModel", "WinklerContact", "bedding_stiffness", "calibrated_bedding", "wheel_profile",
-           "winkler_contact"]
+__all__ = [
+    "BeddingModel",
+    "WinklerContact",
+    "bedding_stiffness",
+    "calibrated_bedding",
+    "wheel_profile",
+    "winkler_contact",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -162,13 +168,16 @@ class BeddingModel(ContactModel):
         return self._law
 
     def edge_message(self, s: int) -> str:
-        return (f"2d: the contact reaches the end of the {2 * self._half + 1}-element bedding at "
-                f"x = {self._position_of(s):.4f} m (roughness too large for the "
-                f"+-{self._half * self._dx * 1e3:.0f} mm bedding)")
+        return (
+            f"2d: the contact reaches the end of the {2 * self._half + 1}-element bedding at "
+            f"x = {self._position_of(s):.4f} m (roughness too large for the "
+            f"+-{self._half * self._dx * 1e3:.0f} mm bedding)"
+        )
 
 
-def bedding_stiffness(youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-                      poisson_ratio: float = STEEL_POISSON_RATIO) -> float:
+def bedding_stiffness(
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS, poisson_ratio: float = STEEL_POISSON_RATIO
+) -> float:
     """Stiffness per unit length of the bedding, k = E / (2 (1 - nu^2)) of eq. (5), N/m^2.
 
     Parameters

@@ -44,13 +44,56 @@ from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ, load_table
 INTERPOLATION_RULES = ("proportional", "energy-log-frequency")
 RAIL_ROUGHNESS = ("iso3095", "network-average")
 WHEEL_ROUGHNESS = ("cast-iron", "composite", "disc", "none")
-TRACK_TYPES = ("mono-block-soft", "mono-block-medium", "mono-block-hard", "bi-block-soft", "bi-block-medium",
-               "bi-block-hard", "wooden", "direct-fastening")
+TRACK_TYPES = (
+    "mono-block-soft",
+    "mono-block-medium",
+    "mono-block-hard",
+    "bi-block-soft",
+    "bi-block-medium",
+    "bi-block-hard",
+    "wooden",
+    "direct-fastening",
+)
 WHEEL_DIAMETERS_MM = (680, 840, 920, 1200)
 
 # The 35 wavelengths (mm) on which Table G-2 (A3) is printed, long first: the grid of Table G-1b.
-_A3_PRINTED_MM = (2000, 1600, 1250, 1000, 800, 630, 500, 400, 315, 250, 200, 160, 125, 100, 80, 63, 50, 40, 31.5,
-                  25, 20, 16, 12.5, 10, 8, 6.3, 5, 4, 3.15, 2.5, 2, 1.6, 1.25, 1, 0.8)
+_A3_PRINTED_MM = (
+    2000,
+    1600,
+    1250,
+    1000,
+    800,
+    630,
+    500,
+    400,
+    315,
+    250,
+    200,
+    160,
+    125,
+    100,
+    80,
+    63,
+    50,
+    40,
+    31.5,
+    25,
+    20,
+    16,
+    12.5,
+    10,
+    8,
+    6.3,
+    5,
+    4,
+    3.15,
+    2.5,
+    2,
+    1.6,
+    1.25,
+    1,
+    0.8,
+)
 
 
 def _choice(value: str, allowed: tuple, what: str) -> str:
@@ -59,8 +102,9 @@ def _choice(value: str, allowed: tuple, what: str) -> str:
     return value
 
 
-def roughness_to_frequency(levels_db, wavelengths_m, speed: float, rule: str = "proportional",
-                           frequencies=NOMINAL_FREQUENCIES_HZ) -> np.ndarray:
+def roughness_to_frequency(
+    levels_db, wavelengths_m, speed: float, rule: str = "proportional", frequencies=NOMINAL_FREQUENCIES_HZ
+) -> np.ndarray:
     """Levels printed on wavelength bands, read at the frequency bands of a speed (``lambda = v / f``).
 
     Parameters
@@ -103,8 +147,9 @@ def roughness_to_frequency(levels_db, wavelengths_m, speed: float, rule: str = "
 def rail_roughness(name: str, speed: float, rule: str = "proportional") -> np.ndarray:
     """Rail roughness ``L_r,TR`` (Table G-1b) on the 24 bands at ``speed`` (m/s), dB re 1 um."""
     table = load_table("rail_roughness")
-    return roughness_to_frequency(table.column(_choice(name, RAIL_ROUGHNESS, "rail roughness")), table.grid,
-                                  speed, rule)
+    return roughness_to_frequency(
+        table.column(_choice(name, RAIL_ROUGHNESS, "rail roughness")), table.grid, speed, rule
+    )
 
 
 def wheel_roughness(name: str, speed: float, rule: str = "proportional") -> np.ndarray:
@@ -140,8 +185,13 @@ def vehicle_transfer(wheel_diameter_mm) -> np.ndarray:
         key = None
     if key not in WHEEL_DIAMETERS_MM or not math.isclose(float(wheel_diameter_mm), key, abs_tol=1e-6):
         shown = float(wheel_diameter_mm) / 1e3 if key is not None else wheel_diameter_mm  # SI, as errors carry
-        raise WheelrailError(f"not one of the wheel diameters {', '.join(map(str, WHEEL_DIAMETERS_MM))} mm (the "
-                             "columns of CNOSSOS-EU Table G-3b)", parameter="wheel_diameter", value=shown, unit="m")
+        raise WheelrailError(
+            f"not one of the wheel diameters {', '.join(map(str, WHEEL_DIAMETERS_MM))} mm (the "
+            "columns of CNOSSOS-EU Table G-3b)",
+            parameter="wheel_diameter",
+            value=shown,
+            unit="m",
+        )
     return load_table("vehicle_transfer").column(str(key)).copy()
 
 
@@ -270,33 +320,59 @@ def cnossos_rolling_noise(
     _choice(rule, INTERPOLATION_RULES, "roughness interpolation")
     l_veh, l_tr, l_sup = vehicle_transfer(wheel_diameter * 1e3), track_transfer(track_type), superstructure_transfer()
     rail_db, wheel_db, a3, rail, wheel, filter_name = _roughness_and_filter(
-        speed, rail, wheel, load, wheel_diameter, rule, contact_filter, roughness)
+        speed, rail, wheel, load, wheel_diameter, rule, contact_filter, roughness
+    )
     total_roughness = energy_sum(rail_db, wheel_db) + a3  # eq. 2.3.7
     axle_term = 10.0 * math.log10(axles)
     track_db = total_roughness + l_tr + axle_term  # eq. 2.3.8
     vehicle_db = total_roughness + l_veh + axle_term  # eq. 2.3.9
     sup_db = total_roughness + l_sup + axle_term  # eq. 2.3.10
     total_db = energy_sum(track_db, vehicle_db, sup_db)
-
-    def dba(levels):
-        return a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf))
-
     undefined = [f for f, value in zip(NOMINAL_FREQUENCIES_HZ, total_db, strict=True) if not np.isfinite(value)]
     configuration = {
-        "method": "cnossos", "speed_m_s": speed, "rail_roughness": rail, "wheel_roughness": wheel,
-        "track_type": track_type, "wheel_diameter_m": wheel_diameter, "wheel_load_n": load, "axles": axles,
-        "roughness_interpolation": rule, "contact_filter": filter_name,
+        "method": "cnossos",
+        "speed_m_s": speed,
+        "rail_roughness": rail,
+        "wheel_roughness": wheel,
+        "track_type": track_type,
+        "wheel_diameter_m": wheel_diameter,
+        "wheel_load_n": load,
+        "axles": axles,
+        "roughness_interpolation": rule,
+        "contact_filter": filter_name,
         "source": "Directive 2002/49/EC Annex II 2.3 as replaced by (EU) 2015/996 (corrigendum OJ L 5, 10.1.2018) "
-                  "and amended by (EU) 2021/1226; Appendix G Tables G-1a, G-1b, G-2, G-3a, G-3b, G-3c",
+        "and amended by (EU) 2021/1226; Appendix G Tables G-1a, G-1b, G-2, G-3a, G-3b, G-3c",
         # bands the contact filter does not cover (A3 shifted beyond 0.8 mm, or a dynamic filter's unresolved
         # bands): null in the spectra, left out of the dB(A) totals
         "undefined_bands_hz": undefined,
     }
+    return _result((rail_db, wheel_db, a3, total_roughness), (track_db, vehicle_db, sup_db), configuration)
+
+
+def _result(roughness_terms, components, configuration) -> CnossosResult:
+    """The result from (rail, wheel, A3, total roughness) and (track, vehicle, superstructure) levels, dB."""
+    rail_db, wheel_db, a3, total_roughness = roughness_terms
+    track_db, vehicle_db, sup_db = components
+    total_db = energy_sum(track_db, vehicle_db, sup_db)
+
+    def dba(levels):
+        return a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf))
+
     return CnossosResult(
-        frequency_hz=np.asarray(NOMINAL_FREQUENCIES_HZ), rail_roughness_db=rail_db, wheel_roughness_db=wheel_db,
-        contact_filter_db=a3, total_roughness_db=total_roughness, track_db=track_db, vehicle_db=vehicle_db,
-        superstructure_db=sup_db, total_db=total_db, track_dba=dba(track_db), vehicle_dba=dba(vehicle_db),
-        superstructure_dba=dba(sup_db), total_dba=dba(total_db), configuration=configuration,
+        frequency_hz=np.asarray(NOMINAL_FREQUENCIES_HZ),
+        rail_roughness_db=rail_db,
+        wheel_roughness_db=wheel_db,
+        contact_filter_db=a3,
+        total_roughness_db=total_roughness,
+        track_db=track_db,
+        vehicle_db=vehicle_db,
+        superstructure_db=sup_db,
+        total_db=total_db,
+        track_dba=dba(track_db),
+        vehicle_dba=dba(vehicle_db),
+        superstructure_dba=dba(sup_db),
+        total_dba=dba(total_db),
+        configuration=configuration,
     )
 
 

@@ -34,8 +34,9 @@ def a_weighting(frequency) -> np.ndarray:
     f2 = np.asarray(frequency, dtype=float) ** 2
 
     def raw(f_sq):
-        return 20 * np.log10(_F4**2 * f_sq**2 / ((f_sq + _F1**2) * np.sqrt((f_sq + _F2**2) * (f_sq + _F3**2))
-                                                  * (f_sq + _F4**2)))
+        return 20 * np.log10(
+            _F4**2 * f_sq**2 / ((f_sq + _F1**2) * np.sqrt((f_sq + _F2**2) * (f_sq + _F3**2)) * (f_sq + _F4**2))
+        )
 
     return raw(f2) - raw(1000.0**2)
 

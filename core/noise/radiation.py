@@ -46,14 +46,32 @@ EULER_GAMMA = 0.5772156649015329
 # The simplified 60E1 section (m), counter-clockwise, y up from the rail foot; see the module docstring.
 _H, _HEAD_W, _HEAD_D, _WEB_T = 0.172, 0.072, 0.051, 0.0165
 _FOOT_W, _FOOT_EDGE, _FOOT_WEB = 0.150, 0.0115, 0.0315
-UIC60_POLYGON = np.array([
-    (-_FOOT_W / 2, 0.0), (_FOOT_W / 2, 0.0), (_FOOT_W / 2, _FOOT_EDGE), (_WEB_T / 2, _FOOT_WEB),
-    (_WEB_T / 2, _H - _HEAD_D), (_HEAD_W / 2, _H - _HEAD_D), (_HEAD_W / 2, _H), (-_HEAD_W / 2, _H),
-    (-_HEAD_W / 2, _H - _HEAD_D), (-_WEB_T / 2, _H - _HEAD_D), (-_WEB_T / 2, _FOOT_WEB),
-    (-_FOOT_W / 2, _FOOT_EDGE),
-])
-UIC60_CHIEF_POINTS = np.array([(0.0, _H - _HEAD_D / 2), (0.013, _H - 0.3 * _HEAD_D), (0.0, 0.08),
-                               (-0.05, 0.008), (0.04, 0.01), (-0.02, _H - 0.7 * _HEAD_D)])
+UIC60_POLYGON = np.array(
+    [
+        (-_FOOT_W / 2, 0.0),
+        (_FOOT_W / 2, 0.0),
+        (_FOOT_W / 2, _FOOT_EDGE),
+        (_WEB_T / 2, _FOOT_WEB),
+        (_WEB_T / 2, _H - _HEAD_D),
+        (_HEAD_W / 2, _H - _HEAD_D),
+        (_HEAD_W / 2, _H),
+        (-_HEAD_W / 2, _H),
+        (-_HEAD_W / 2, _H - _HEAD_D),
+        (-_WEB_T / 2, _H - _HEAD_D),
+        (-_WEB_T / 2, _FOOT_WEB),
+        (-_FOOT_W / 2, _FOOT_EDGE),
+    ]
+)
+UIC60_CHIEF_POINTS = np.array(
+    [
+        (0.0, _H - _HEAD_D / 2),
+        (0.013, _H - 0.3 * _HEAD_D),
+        (0.0, 0.08),
+        (-0.05, 0.008),
+        (0.04, 0.01),
+        (-0.02, _H - 0.7 * _HEAD_D),
+    ]
+)
 
 
 def polygon_area(vertices) -> float:
@@ -171,8 +189,14 @@ def _influence(points: np.ndarray, boundary: Boundary, k: float, self_rows: bool
     return G, D
 
 
-def radiated_power(boundary: Boundary, normal_velocity: np.ndarray, frequency: float,
-                   chief_points=None, rho: float = AIR_DENSITY, c: float = SOUND_SPEED) -> float:
+def radiated_power(
+    boundary: Boundary,
+    normal_velocity: np.ndarray,
+    frequency: float,
+    chief_points=None,
+    rho: float = AIR_DENSITY,
+    c: float = SOUND_SPEED,
+) -> float:
     """Time-averaged power per unit length (W/m) radiated by the boundary's normal velocity amplitudes (m/s)."""
     k = 2 * np.pi * frequency / c
     omega = 2 * np.pi * frequency
@@ -188,8 +212,9 @@ def radiated_power(boundary: Boundary, normal_velocity: np.ndarray, frequency: f
     return float(0.5 * np.real(np.sum(p * np.conj(vn) * boundary.length)))
 
 
-def vertical_radiation_efficiency(boundary: Boundary, frequency, chief_points=None,
-                                  rho: float = AIR_DENSITY, c: float = SOUND_SPEED) -> np.ndarray:
+def vertical_radiation_efficiency(
+    boundary: Boundary, frequency, chief_points=None, rho: float = AIR_DENSITY, c: float = SOUND_SPEED
+) -> np.ndarray:
     """sigma of the section moving rigidly up and down (unit vertical velocity), at each frequency (Hz)."""
     vn = boundary.normal[:, 1].astype(complex)  # normal component of a unit vertical velocity
     mean_square = 0.5 * float(np.sum(np.abs(vn) ** 2 * boundary.length)) / boundary.perimeter
@@ -213,8 +238,9 @@ RAIL_MAX_ELEMENT = 0.010  # m
 RAIL_TABLE_HZ = (20.0, 12500.0, 68)  # log grid of the cached sigma table: 24 points per decade
 
 
-def rail_boundary(frequency: float, per_wavelength: int = RAIL_ELEMENTS_PER_WAVELENGTH,
-                  max_element: float = RAIL_MAX_ELEMENT) -> Boundary:
+def rail_boundary(
+    frequency: float, per_wavelength: int = RAIL_ELEMENTS_PER_WAVELENGTH, max_element: float = RAIL_MAX_ELEMENT
+) -> Boundary:
     """The 60E1 section's BEM mesh for ``frequency`` (Hz): elements of at most lambda / per_wavelength."""
     return discretise(UIC60_POLYGON, max_element=min(max_element, SOUND_SPEED / frequency / per_wavelength))
 
@@ -225,10 +251,19 @@ def _rail_sigma_table() -> tuple[np.ndarray, np.ndarray]:
     from wheelrail.core.cache import cache_key, load_entry, save_entry
 
     f = np.geomspace(*RAIL_TABLE_HZ)
-    key = cache_key("rail-radiation", {"polygon": UIC60_POLYGON.tolist(), "chief": UIC60_CHIEF_POINTS.tolist(),
-                                       "grid": list(RAIL_TABLE_HZ), "per_wavelength": RAIL_ELEMENTS_PER_WAVELENGTH,
-                                       "max_element": RAIL_MAX_ELEMENT, "rho": AIR_DENSITY, "c": SOUND_SPEED,
-                                       "version": 1})
+    key = cache_key(
+        "rail-radiation",
+        {
+            "polygon": UIC60_POLYGON.tolist(),
+            "chief": UIC60_CHIEF_POINTS.tolist(),
+            "grid": list(RAIL_TABLE_HZ),
+            "per_wavelength": RAIL_ELEMENTS_PER_WAVELENGTH,
+            "max_element": RAIL_MAX_ELEMENT,
+            "rho": AIR_DENSITY,
+            "c": SOUND_SPEED,
+            "version": 1,
+        },
+    )
     entry = load_entry("rail-radiation", key, ("sigma",))
     if entry is not None:
         return f, entry["sigma"]

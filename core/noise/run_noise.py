@@ -172,8 +172,9 @@ def sound_power_from_force(force_db, track) -> dict:
     return {"db": powers, "dba": dba, "axle_dba": dba["total"] + 10 * math.log10(2), "roughness_db": roughness}
 
 
-def run_noise(result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: float = DEFAULT_TRAIN_LENGTH,
-              numerics=None) -> RunNoise:
+def run_noise(
+    result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: float = DEFAULT_TRAIN_LENGTH, numerics=None
+) -> RunNoise:
     """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.results.RunResult`).
 
     Parameters
@@ -201,18 +202,24 @@ def run_noise(result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: f
     power = sound_power_from_force(force_db, track)
     powers, powers_dba, axle_dba, roughness = power["db"], power["dba"], power["axle_dba"], power["roughness_db"]
     # |p/F|^2 at the closest distance, per band: rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2)
-    t_wheel = 10 ** ((track.wheel_transfer_db - 10 * math.log10(2) + track.effective_roughness_per_force_db) / 10) \
-        * 1e-12
+    t_wheel = (
+        10 ** ((track.wheel_transfer_db - 10 * math.log10(2) + track.effective_roughness_per_force_db) / 10) * 1e-12
+    )
     t_total = track.rail_power_per_force + track.sleeper_power_per_force + t_wheel
     d = receiver_distance()
-    undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True)
-                 if not np.isfinite(value)]
+    undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True) if not np.isfinite(value)]
     configuration = {
-        "run": {"model": result.model, "roughness": result.roughness_name, "line": result.line,
-                "wheel_roughness": result.wheel_roughness_name, "speed_m_s": result.speed,
-                "element_size_m": result.element_size},
+        "run": {
+            "model": result.model,
+            "roughness": result.roughness_name,
+            "line": result.line,
+            "wheel_roughness": result.wheel_roughness_name,
+            "speed_m_s": result.speed,
+            "element_size_m": result.element_size,
+        },
         "parameters": result.parameters,
-        "train_axles": int(train_axles), "train_length_m": float(train_length),
+        "train_axles": int(train_axles),
+        "train_length_m": float(train_length),
         "receiver": {"distance_m": ISO3095_DISTANCE, "height_m": ISO3095_HEIGHT},
         "wheel": track.configuration["wheel"],
         "track": {k: v for k, v in track.configuration.items() if k != "rail_section"},
@@ -221,10 +228,16 @@ def run_noise(result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: f
         "undefined_bands_hz": undefined,
     }
     return RunNoise(
-        frequency_hz=noise_bands(), force_db=force_db, effective_roughness_db=roughness, sound_power_db=powers,
-        sound_power_dba=powers_dba, axle_dba=axle_dba,
+        frequency_hz=noise_bands(),
+        force_db=force_db,
+        effective_roughness_db=roughness,
+        sound_power_db=powers,
+        sound_power_dba=powers_dba,
+        axle_dba=axle_dba,
         pass_by_laeq_dba=pass_by_level(axle_dba, int(train_axles), float(train_length)),
-        configuration=configuration, _force=np.asarray(result.force, dtype=float), _time_step=result.time_step,
+        configuration=configuration,
+        _force=np.asarray(result.force, dtype=float),
+        _time_step=result.time_step,
         _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
     )
 
@@ -237,7 +250,7 @@ def _synthesise(noise: RunNoise, *, lead: float, seed: int):
 
     dt = noise._time_step
     rate = 1.0 / dt
-    force = noise._force[int(round(FORCE_SKIP / dt)):]
+    force = noise._force[int(round(FORCE_SKIP / dt)) :]
     force = force - force.mean()
     if len(force) < 64:
         raise WheelrailError("the run is too short to synthesise a pass-by (at least 64 steps after the start-up)")

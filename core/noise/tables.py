@@ -24,8 +24,30 @@ DATA = Path(__file__).parent / "data"
 
 # The 24 one-third octave bands of the CNOSSOS-EU railway source, nominal centres as the directive prints them.
 NOMINAL_FREQUENCIES_HZ = (
-    50.0, 63.0, 80.0, 100.0, 125.0, 160.0, 200.0, 250.0, 315.0, 400.0, 500.0, 630.0, 800.0, 1000.0, 1250.0,
-    1600.0, 2000.0, 2500.0, 3150.0, 4000.0, 5000.0, 6300.0, 8000.0, 10000.0,
+    50.0,
+    63.0,
+    80.0,
+    100.0,
+    125.0,
+    160.0,
+    200.0,
+    250.0,
+    315.0,
+    400.0,
+    500.0,
+    630.0,
+    800.0,
+    1000.0,
+    1250.0,
+    1600.0,
+    2000.0,
+    2500.0,
+    3150.0,
+    4000.0,
+    5000.0,
+    6300.0,
+    8000.0,
+    10000.0,
 )
 
 TABLE_FILES = {
@@ -64,8 +86,9 @@ class Table:
     def column(self, key: str) -> np.ndarray:
         """The levels of column ``key`` (dB); a clear error naming the columns there are."""
         if key not in self.columns:
-            raise WheelrailError(f"CNOSSOS-EU {self.name.replace('_', ' ')}: no column {key!r}; the table has "
-                                 f"{', '.join(self.columns)}")
+            raise WheelrailError(
+                f"CNOSSOS-EU {self.name.replace('_', ' ')}: no column {key!r}; the table has {', '.join(self.columns)}"
+            )
         return self.columns[key]
 
 

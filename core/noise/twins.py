@@ -180,7 +180,7 @@ class TrackNoiseModel:
             "force_per_roughness_dB_re_1N_per_um": self.force_per_roughness_db,
             "wheel_transfer_dB": self.wheel_transfer_db,
             "wheel_transfer_source": f"CNOSSOS-EU Table G-3b, {self.wheel_diameter_mm} mm wheel (the 2-DOF wheel "
-                                     "model has no radiating modes)",
+            "model has no radiating modes)",
             "configuration": self.configuration,
         }
 
@@ -197,8 +197,10 @@ def track_noise_model(params: ModelParameters | None = None, numerics: NoiseNume
     ``params`` (default: the paper's). Cached per process by the parameters."""
     params = ModelParameters() if params is None else params
     # the transfer functions do not depend on the speed: cache on the wheel, track and contact only
-    return _track_noise_model(ModelParameters(wheel=params.wheel, track=params.track, contact=params.contact),
-                              NoiseNumerics() if numerics is None else numerics)
+    return _track_noise_model(
+        ModelParameters(wheel=params.wheel, track=params.track, contact=params.contact),
+        NoiseNumerics() if numerics is None else numerics,
+    )
 
 
 def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float, freqs: np.ndarray) -> dict:
@@ -218,22 +220,32 @@ def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float,
     x_nodes = model.node_x
     weights = np.gradient(x_nodes)  # trapezoid weights on the uniform node grid (half at the ends)
     weights[[0, -1]] *= 0.5
-    decay_nodes = slice(np.searchsorted(x_nodes, positions[1]),
-                        np.searchsorted(x_nodes, positions[1] + numerics.decay_length))
+    decay_nodes = slice(
+        np.searchsorted(x_nodes, positions[1]), np.searchsorted(x_nodes, positions[1] + numerics.decay_length)
+    )
     free_bays = np.arange(3, 21)
     free_nodes = np.arange(0, len(x_nodes), numerics.elements_per_bay)[centre_bay + free_bays]
     point_dofs = []
     for x0 in positions:
         element, xi = model.locate(x0)
         e = int(element)
-        point_dofs.append((timoshenko_shape_functions(xi, model.element_length, model.shear_parameter),
-                           [model.w_dof[e], model.theta_dof[e], model.w_dof[e + 1], model.theta_dof[e + 1]]))
+        point_dofs.append(
+            (
+                timoshenko_shape_functions(xi, model.element_length, model.shear_parameter),
+                [model.w_dof[e], model.theta_dof[e], model.w_dof[e + 1], model.theta_dof[e + 1]],
+            )
+        )
     loads = np.stack([model.load_vector(x) for x in positions], axis=1)
     shape = (*freqs.shape, len(positions))
-    out = {"rail": np.empty(shape), "sleeper": np.empty(shape), "alpha_sq": np.empty(shape),
-           "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
-           "free_sq": np.zeros((freqs.shape[0], len(free_bays))), "free_distance": free_bays * spacing,
-           "dx": model.element_length}
+    out = {
+        "rail": np.empty(shape),
+        "sleeper": np.empty(shape),
+        "alpha_sq": np.empty(shape),
+        "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
+        "free_sq": np.zeros((freqs.shape[0], len(free_bays))),
+        "free_distance": free_bays * spacing,
+        "dx": model.element_length,
+    }
     for (b, p), f in np.ndenumerate(freqs):
         w = 2 * np.pi * f
         alpha_w = wheel_receptance(params.wheel, f)
@@ -280,22 +292,33 @@ def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> Trac
     decay, free_decay = _decay_rates(vib)
     diameter = nearest_table_diameter_mm(contact.radius_along)
     configuration = {
-        "method": "twins", "track_bays": numerics.track_bays, "elements_per_bay": numerics.elements_per_bay,
-        "points_per_band": numerics.points_per_band, "sleeper_area_m2": area,
-        "excitation": "mean of above a sleeper and midspan", "preload_n": contact.preload,
-        "contact_stiffness_n_per_m": k_hertz, "rail_section": section,
+        "method": "twins",
+        "track_bays": numerics.track_bays,
+        "elements_per_bay": numerics.elements_per_bay,
+        "points_per_band": numerics.points_per_band,
+        "sleeper_area_m2": area,
+        "excitation": "mean of above a sleeper and midspan",
+        "preload_n": contact.preload,
+        "contact_stiffness_n_per_m": k_hertz,
+        "rail_section": section,
         "band_range_hz": list(NOISE_BAND_RANGE),
         "wheel": f"CNOSSOS-EU Table G-3b L_H,veh, {diameter} mm (nearest the model's 2R = "
-                 f"{2e3 * contact.radius_along:.0f} mm)",
+        f"{2e3 * contact.radius_along:.0f} mm)",
     }
     return TrackNoiseModel(
-        frequency_hz=noise_bands(), rail_power_per_force=np.mean(t_rail, axis=(1, 2)),
+        frequency_hz=noise_bands(),
+        rail_power_per_force=np.mean(t_rail, axis=(1, 2)),
         sleeper_power_per_force=np.mean(t_sleeper, axis=(1, 2)),
         force_per_roughness_db=10 * np.log10(np.mean(force_per_r_sq, axis=(1, 2)) * um2),
         effective_roughness_per_force_db=10 * np.log10(np.mean(vib["alpha_sq"], axis=(1, 2)) / um2),
-        track_transfer_db=10 * np.log10(10 ** (rail_tr / 10) + 10 ** (sleeper_tr / 10)), rail_transfer_db=rail_tr,
-        sleeper_transfer_db=sleeper_tr, decay_rate_db_per_m=decay, free_wave_decay_db_per_m=free_decay,
+        track_transfer_db=10 * np.log10(10 ** (rail_tr / 10) + 10 ** (sleeper_tr / 10)),
+        rail_transfer_db=rail_tr,
+        sleeper_transfer_db=sleeper_tr,
+        decay_rate_db_per_m=decay,
+        free_wave_decay_db_per_m=free_decay,
         rail_radiation_efficiency=np.mean(sigma_rail, axis=1),
         sleeper_radiation_efficiency=np.mean(sigma_sleeper, axis=1),
-        wheel_transfer_db=vehicle_transfer(diameter), wheel_diameter_mm=diameter, configuration=configuration,
+        wheel_transfer_db=vehicle_transfer(diameter),
+        wheel_diameter_mm=diameter,
+        configuration=configuration,
     )

@@ -23,8 +23,11 @@ def add_recording_arguments(parser) -> None:
         metavar="N",
         help="record the 3D pressure map every N-th step (default 1: every step; scalars are always every step)",
     )
-    group.add_argument("--sound-power", action="store_true",
-                       help="add the run's rolling-noise sound-power spectra (as `wheelrail noise --run`) at the end")
+    group.add_argument(
+        "--sound-power",
+        action="store_true",
+        help="add the run's rolling-noise sound-power spectra (as `wheelrail noise --run`) at the end",
+    )
 
 
 def sink_from_args(args, *, description: str = "") -> RecordingSink | None:
@@ -41,5 +44,11 @@ def sink_from_args(args, *, description: str = "") -> RecordingSink | None:
         if sound_power:
             raise WheelrailError("--sound-power needs --rrd, --spawn or --connect")
         return None
-    return RecordingSink(rrd=args.rrd, spawn=args.spawn, connect=args.connect, record_every=args.record_every,
-                         description=description, sound_power=sound_power)
+    return RecordingSink(
+        rrd=args.rrd,
+        spawn=args.spawn,
+        connect=args.connect,
+        record_every=args.record_every,
+        description=description,
+        sound_power=sound_power,
+    )

@@ -59,13 +59,17 @@ def grpc_url(address: str) -> str:
     address = address.strip()
     if "://" in address:
         if not address.startswith(("rerun://", "rerun+http://", "rerun+https://")):
-            raise WheelrailError("not a viewer address; use HOST:PORT or a rerun+http://HOST:PORT/proxy URL",
-                                 parameter="connect", value=address)
+            raise WheelrailError(
+                "not a viewer address; use HOST:PORT or a rerun+http://HOST:PORT/proxy URL",
+                parameter="connect",
+                value=address,
+            )
         return address
     host, _, port = address.rpartition(":")
     if not host or not port.isdigit() or not 0 < int(port) < 65536:
-        raise WheelrailError("not a viewer address; use HOST:PORT (e.g. 127.0.0.1:9876)", parameter="connect",
-                             value=address)
+        raise WheelrailError(
+            "not a viewer address; use HOST:PORT (e.g. 127.0.0.1:9876)", parameter="connect", value=address
+        )
     return f"rerun+http://{host}:{int(port)}/proxy"
 
 

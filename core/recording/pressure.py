@@ -62,8 +62,9 @@ class ContactPatch:
         if self.window is None and window_x is not None and window_y is not None:
             self.window = (np.asarray(window_x, float), np.asarray(window_y, float))
 
-    def set_geometry(self, geometry: tuple[float, float], *, log: bool = True,
-                     semi_axes: tuple[float, float] | None = None) -> None:
+    def set_geometry(
+        self, geometry: tuple[float, float], *, log: bool = True, semi_axes: tuple[float, float] | None = None
+    ) -> None:
         """Hertz radius and peak pressure (and the semi-axes of an elliptic patch); the nominal circle or
         ellipse is logged again when they changed."""
         changed = geometry != self.geometry or semi_axes != self.semi_axes
@@ -114,8 +115,11 @@ class ContactPatch:
         n, ny, nx = pressure.shape
         if self.window is None:  # no window given: element centres of a grid centred on the wheel
             self.window = ((np.arange(nx) - (nx - 1) / 2) * element_size, (np.arange(ny) - (ny - 1) / 2) * element_size)
-            self._log_circle_pixels(circle_points(self.geometry[0]) if self.semi_axes is None else
-                                    circle_points(self.semi_axes[0], radius_y=self.semi_axes[1]))
+            self._log_circle_pixels(
+                circle_points(self.geometry[0])
+                if self.semi_axes is None
+                else circle_points(self.semi_axes[0], radius_y=self.semi_axes[1])
+            )
         wx, wy = self.window
         if (len(wy), len(wx)) != (ny, nx):
             raise WheelrailError(f"pressure maps are {ny} x {nx} but the window is {len(wy)} x {len(wx)}")
@@ -123,12 +127,17 @@ class ContactPatch:
             self._log_formats(nx, ny)
         indexes = time_columns(pressure_steps, time, x)
         self.stream.send_columns(
-            PRESSURE, indexes, rr.DepthImage.columns(buffer=pressure.reshape(n, -1).view(np.uint8)), strict=True,
+            PRESSURE,
+            indexes,
+            rr.DepthImage.columns(buffer=pressure.reshape(n, -1).view(np.uint8)),
+            strict=True,
         )
         surface = pressure_steps % self.surface_period == 0
         if surface.any():
-            self._send_surface(pressure[surface], indexes if surface.all() else time_columns(
-                pressure_steps[surface], time[surface], x[surface]))
+            self._send_surface(
+                pressure[surface],
+                indexes if surface.all() else time_columns(pressure_steps[surface], time[surface], x[surface]),
+            )
         self.maps_recorded += n
 
     def _log_formats(self, nx: int, ny: int) -> None:

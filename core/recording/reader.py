@@ -154,8 +154,9 @@ def read_recording(path: str | os.PathLike) -> RunResult:
     for steps, _, time_ns in force_parts:
         time[steps] = time_ns * 1e-9
     arrays = {field.name: _series(decoded, field.path, n) for field in STEP_FIELDS}
-    arrays[EQUIVALENT.name] = (_series(decoded, EQUIVALENT.path, n) if EQUIVALENT.path in decoded.scalars
-                               else arrays["roughness"].copy())
+    arrays[EQUIVALENT.name] = (
+        _series(decoded, EQUIVALENT.path, n) if EQUIVALENT.path in decoded.scalars else arrays["roughness"].copy()
+    )
     try:
         header = RunHeader.from_dict(meta)
     except WheelrailError as error:
@@ -163,6 +164,11 @@ def read_recording(path: str | os.PathLike) -> RunResult:
     window = [None if meta.get(key) is None else np.asarray(meta[key], float) for key in ("window_x_m", "window_y_m")]
     loss = meta.get("loss_of_contact_steps")
     return RunResult(
-        header=header, time=time, **arrays, pressure=_pressure_maps(source, decoded, n),
-        window_x=window[0], window_y=window[1], loss_of_contact_steps=int(0 if loss is None else loss),
+        header=header,
+        time=time,
+        **arrays,
+        pressure=_pressure_maps(source, decoded, n),
+        window_x=window[0],
+        window_y=window[1],
+        loss_of_contact_steps=int(0 if loss is None else loss),
     )

@@ -83,18 +83,33 @@ class ScalarField:
 
 SCALAR_FIELDS = (
     ScalarField("x", "wheel/position", "wheel position x (m)", (120, 120, 120), None, "position"),
-    ScalarField("xi_wheel", "wheel/displacement", "wheel displacement ξ_W (m)", (31, 119, 180),
-                DISPLACEMENT_VIEW, "xi_wheel"),
-    ScalarField("xi_rail", "rail/displacement", "rail displacement ξ_R (m)", (214, 39, 40),
-                DISPLACEMENT_VIEW, "xi_rail"),
-    ScalarField("roughness", "roughness/under_wheel", "roughness r under the wheel (m)", (44, 160, 44),
-                ROUGHNESS_VIEW, "roughness"),
+    ScalarField(
+        "xi_wheel", "wheel/displacement", "wheel displacement ξ_W (m)", (31, 119, 180), DISPLACEMENT_VIEW, "xi_wheel"
+    ),
+    ScalarField(
+        "xi_rail", "rail/displacement", "rail displacement ξ_R (m)", (214, 39, 40), DISPLACEMENT_VIEW, "xi_rail"
+    ),
+    ScalarField(
+        "roughness",
+        "roughness/under_wheel",
+        "roughness r under the wheel (m)",
+        (44, 160, 44),
+        ROUGHNESS_VIEW,
+        "roughness",
+    ),
     # r_eq of the Hertz variants: recorded by the whole-run export where it differs from r
-    ScalarField("equivalent_roughness", "roughness/equivalent", "equivalent roughness r_eq (m)",
-                (148, 103, 189), ROUGHNESS_VIEW, None),
+    ScalarField(
+        "equivalent_roughness",
+        "roughness/equivalent",
+        "equivalent roughness r_eq (m)",
+        (148, 103, 189),
+        ROUGHNESS_VIEW,
+        None,
+    ),
     ScalarField("force", "contact/force", "contact force F (N)", (23, 23, 23), FORCE_VIEW, "force"),
-    ScalarField("contact_length", "contact/length", "contact length (m)", (255, 127, 14), LENGTH_VIEW,
-                "contact_length"),
+    ScalarField(
+        "contact_length", "contact/length", "contact length (m)", (255, 127, 14), LENGTH_VIEW, "contact_length"
+    ),
     ScalarField("contact_area", "contact/area", "contact area (m²)", (140, 86, 75), AREA_VIEW, "contact_area"),
 )
 STEP_FIELDS = tuple(field for field in SCALAR_FIELDS if field.state is not None)  # streamed every step

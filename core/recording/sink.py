@@ -62,8 +62,7 @@ class _RoughnessLines:
 
     def __init__(self, roughness, line: int) -> None:
         numbers = [int(k) for k in roughness.line_numbers]
-        self.shown = [k for k in range(line - ROUGHNESS_LINES_SHOWN, line + ROUGHNESS_LINES_SHOWN + 1)
-                      if k in numbers]
+        self.shown = [k for k in range(line - ROUGHNESS_LINES_SHOWN, line + ROUGHNESS_LINES_SHOWN + 1) if k in numbers]
         self.rows = [roughness.row_of_line(k) for k in self.shown]
         self.roughness = roughness
 
@@ -223,8 +222,12 @@ class RecordingSink:
     def _log_parameters(self) -> None:
         patch = self._patch
         document = parameters_document(
-            self._header, time_step=self._time_step, loss_of_contact_steps=self._loss_of_contact_steps,
-            decimation=(self.record_every, self.surface_every), window=patch.window, geometry=patch.geometry,
+            self._header,
+            time_step=self._time_step,
+            loss_of_contact_steps=self._loss_of_contact_steps,
+            decimation=(self.record_every, self.surface_every),
+            window=patch.window,
+            geometry=patch.geometry,
         )
         text = parameters_text(document, self.description)
         self.stream.log(PARAMETERS, self._rr.TextDocument(text, media_type="text/markdown"), static=True, strict=True)
@@ -271,8 +274,9 @@ class RecordingSink:
         self._force.extend(columns["force"].tolist())
         if self._steps_recorded == 0:
             for field in SCALAR_FIELDS:
-                self.stream.log(field.path, rr.SeriesLines(names=[field.legend], colors=[field.colour]), static=True,
-                                strict=True)
+                self.stream.log(
+                    field.path, rr.SeriesLines(names=[field.legend], colors=[field.colour]), static=True, strict=True
+                )
         indexes = time_columns(steps, time, x)  # shared by every entity of the block
         for field in STEP_FIELDS:
             values = columns[field.name]
@@ -281,8 +285,10 @@ class RecordingSink:
                 self.stream.send_columns(field.path, indexes, rr.Scalars.columns(scalars=values), strict=True)
             elif finite.any():  # e.g. no contact area in 2D: leave those steps out rather than log NaN
                 self.stream.send_columns(
-                    field.path, time_columns(steps[finite], time[finite], x[finite]),
-                    rr.Scalars.columns(scalars=values[finite]), strict=True,
+                    field.path,
+                    time_columns(steps[finite], time[finite], x[finite]),
+                    rr.Scalars.columns(scalars=values[finite]),
+                    strict=True,
                 )
         if equivalent is not None:
             self.stream.send_columns(EQUIVALENT.path, indexes, rr.Scalars.columns(scalars=equivalent), strict=True)
@@ -354,15 +360,19 @@ class RecordingSink:
                 steps = np.arange(result.n_steps)
                 for first in range(0, result.n_steps, self.chunk_steps):
                     block = slice(first, first + self.chunk_steps)
-                    self._send_roughness_lines(result.x[block], time_columns(steps[block], result.time[block],
-                                                                             result.x[block]))
+                    self._send_roughness_lines(
+                        result.x[block], time_columns(steps[block], result.time[block], result.x[block])
+                    )
 
     def _log_spectrum(self, result: RunResult | None) -> None:
         from wheelrail.core.spectra import force_spectrum
 
         force = result.force if result is not None else np.asarray(self._force)
-        time_step = result.time_step if result is not None else (
-            self._header.time_step if self._header is not None else self._time_step)
+        time_step = (
+            result.time_step
+            if result is not None
+            else (self._header.time_step if self._header is not None else self._time_step)
+        )
         if time_step is None or len(force) < 2:
             return
         try:
@@ -388,13 +398,23 @@ class RecordingSink:
             return  # run too short for a force spectrum
         for component in SOUND_POWER_COMPONENTS:
             levels = np.nan_to_num(noise.sound_power_db[component], nan=0.0, neginf=0.0)
-            self.stream.log(f"{SOUND_POWER}/{component}", self._rr.BarChart(levels, abscissa=noise.frequency_hz),
-                            static=True, strict=True)
-        totals = {"sound_power_dBA_per_wheel": noise.sound_power_dba, "axle_dBA": noise.axle_dba,
-                  "pass_by_LpAeq_dBA": noise.pass_by_laeq_dba, "train_axles": noise.configuration["train_axles"],
-                  "train_length_m": noise.configuration["train_length_m"], "wheel": noise.configuration["wheel"]}
-        self.stream.log(f"{SOUND_POWER}/summary", self._rr.TextDocument(json.dumps(totals, indent=2)), static=True,
-                        strict=True)
+            self.stream.log(
+                f"{SOUND_POWER}/{component}",
+                self._rr.BarChart(levels, abscissa=noise.frequency_hz),
+                static=True,
+                strict=True,
+            )
+        totals = {
+            "sound_power_dBA_per_wheel": noise.sound_power_dba,
+            "axle_dBA": noise.axle_dba,
+            "pass_by_LpAeq_dBA": noise.pass_by_laeq_dba,
+            "train_axles": noise.configuration["train_axles"],
+            "train_length_m": noise.configuration["train_length_m"],
+            "wheel": noise.configuration["wheel"],
+        }
+        self.stream.log(
+            f"{SOUND_POWER}/summary", self._rr.TextDocument(json.dumps(totals, indent=2)), static=True, strict=True
+        )
 
     def abort(self) -> None:
         """Stop recording after a failure or cancellation: close the streams and delete the partial file."""
@@ -451,8 +471,14 @@ def record_result(
     if not isinstance(result, RunResult):
         raise WheelrailError(f"record_result needs a RunResult, got {type(result).__name__}")
     sink = RecordingSink(
-        rrd=path, spawn=spawn, connect=connect, record_every=record_every, surface_every=surface_every,
-        chunk_steps=chunk_steps, description=description, sound_power=sound_power,
+        rrd=path,
+        spawn=spawn,
+        connect=connect,
+        record_every=record_every,
+        surface_every=surface_every,
+        chunk_steps=chunk_steps,
+        description=description,
+        sound_power=sound_power,
     )
     try:
         sink.start(result, roughness=roughness)

@@ -82,8 +82,7 @@ def _across(z: np.ndarray, y: np.ndarray, y_new: np.ndarray) -> np.ndarray:
 
 def covers(roughness: RoughnessSet, y_low: float, y_high: float) -> bool:
     """True if the set has data across the lateral range ``y_low`` .. ``y_high`` (m), its edges included."""
-    return (float(roughness.y[0]) - LATERAL_TOLERANCE <= y_low
-            and y_high <= float(roughness.y[-1]) + LATERAL_TOLERANCE)
+    return float(roughness.y[0]) - LATERAL_TOLERANCE <= y_low and y_high <= float(roughness.y[-1]) + LATERAL_TOLERANCE
 
 
 def lateral_extent_mm(roughness: RoughnessSet) -> str:
@@ -153,4 +152,3 @@ def lines_along_track(roughness: RoughnessSet, lines, length: float, dx: float |
 def line_along_track(roughness: RoughnessSet, line: int, length: float, dx: float | None = None) -> np.ndarray:
     """Heights of one line over a run of ``length`` m at spacing ``dx`` m (see :func:`lines_along_track`)."""
     return lines_along_track(roughness, [line], length, dx)[0]
-

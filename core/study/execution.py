@@ -52,8 +52,12 @@ def parse_dask_address(address: str) -> str:
     match = _ADDRESS.match(text)
     port = match.group(2) if match else None
     if match is None or (port is not None and not 0 < int(port[1:]) < 65536):
-        raise WheelrailError("not a scheduler address; expected tcp://HOST:PORT", parameter="dask", value=address,
-                             argument="dask_address")
+        raise WheelrailError(
+            "not a scheduler address; expected tcp://HOST:PORT",
+            parameter="dask",
+            value=address,
+            argument="dask_address",
+        )
     return text
 
 
@@ -124,8 +128,7 @@ def execute(
     summaries = {key: found for key, spec in unique.items() if (found := load_cached(cache, spec)) is not None}
     missing = sorted((spec for key, spec in unique.items() if key not in summaries), key=_cost, reverse=True)
     n_cached = len(summaries)
-    bar = tqdm(total=len(unique), initial=n_cached, unit="run", desc=description, disable=not progress,
-               file=sys.stderr)
+    bar = tqdm(total=len(unique), initial=n_cached, unit="run", desc=description, disable=not progress, file=sys.stderr)
 
     def finished(summary: RunSummary) -> None:
         save_cached(cache, summary)
@@ -136,12 +139,18 @@ def execute(
         backend = _dispatch(missing, int(workers), dask_address, finished)
     finally:
         bar.close()
-    return ExecutionReport(summaries=summaries, computed=len(summaries) - n_cached, cached=n_cached,
-                           wall_time=time.perf_counter() - start, backend=backend)
+    return ExecutionReport(
+        summaries=summaries,
+        computed=len(summaries) - n_cached,
+        cached=n_cached,
+        wall_time=time.perf_counter() - start,
+        backend=backend,
+    )
 
 
-def _dispatch(missing: list[RunSpec], workers: int, dask_address: str | None,
-              finished: Callable[[RunSummary], None]) -> str:
+def _dispatch(
+    missing: list[RunSpec], workers: int, dask_address: str | None, finished: Callable[[RunSummary], None]
+) -> str:
     """Compute the missing runs where asked; returns the backend's name for the report."""
     if dask_address is not None:  # connect even when all runs are cached: a bad address is an error
         _execute_dask(missing, dask_address, finished)
@@ -196,8 +205,10 @@ def _terminate_as_interrupt():
     Only in the main thread (where Python runs signal handlers) and only over the default action (which
     would end the process without stopping the workers); a handler the program installed is left alone.
     """
-    if threading.current_thread() is not threading.main_thread() or \
-            signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL:
+    if (
+        threading.current_thread() is not threading.main_thread()
+        or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
+    ):
         yield
         return
     signal.signal(signal.SIGTERM, _raise_terminated)
@@ -239,8 +250,12 @@ def _pool(workers: int) -> ProcessPoolExecutor:
     if pool is None or getattr(pool, "_broken", False):
         # spawn, not fork: the parent may hold threads (tqdm monitor, a Dask client, the GUI's server)
         # that a forked child would inherit in an undefined state
-        pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                                   initializer=_start_worker, initargs=(os.getpid(),))
+        pool = ProcessPoolExecutor(
+            max_workers=workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=_start_worker,
+            initargs=(os.getpid(),),
+        )
         _POOLS[workers] = pool
     return pool
 

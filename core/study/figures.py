@@ -13,19 +13,38 @@ _STYLES = {  # Fig. 10's legend: thick grey 3D, then the one-line models
     "3d_db": {"color": "0.55", "linewidth": 3.0, "label": "3D"},
     "2d_db": {"color": "k", "linewidth": 1.2, "label": "2D"},
     "hertz_db": {"color": "tab:red", "linewidth": 1.0, "linestyle": ":", "label": "Hertz, no pre-filter"},
-    "hertz_winkler_db": {"color": "tab:blue", "linewidth": 1.0, "linestyle": "--",
-                         "label": "Hertz, Winkler pre-filter"},
-    "hertz_average_db": {"color": "tab:green", "linewidth": 1.0, "linestyle": "-.",
-                         "label": "Hertz, averaging pre-filter"},
+    "hertz_winkler_db": {
+        "color": "tab:blue",
+        "linewidth": 1.0,
+        "linestyle": "--",
+        "label": "Hertz, Winkler pre-filter",
+    },
+    "hertz_average_db": {
+        "color": "tab:green",
+        "linewidth": 1.0,
+        "linestyle": "-.",
+        "label": "Hertz, averaging pre-filter",
+    },
     # reference filters for the runs' load and wheel (dashed, thin), beside the dynamic ones
-    "ref_cnossos_db": {"color": "tab:purple", "linewidth": 1.0, "linestyle": (0, (5, 2)),
-                       "label": "CNOSSOS-EU A3"},
-    "ref_averaging_db": {"color": "0.3", "linewidth": 0.8, "linestyle": (0, (3, 2)),
-                         "label": "analytic: averaging over 2a"},
-    "ref_patch_correlated_db": {"color": "tab:olive", "linewidth": 0.8, "linestyle": (0, (3, 2)),
-                                "label": "analytic: circular patch, correlated"},
-    "ref_patch_incoherent_db": {"color": "tab:cyan", "linewidth": 0.8, "linestyle": (0, (3, 2)),
-                                "label": "circular patch, incoherent (this project's construction)"},
+    "ref_cnossos_db": {"color": "tab:purple", "linewidth": 1.0, "linestyle": (0, (5, 2)), "label": "CNOSSOS-EU A3"},
+    "ref_averaging_db": {
+        "color": "0.3",
+        "linewidth": 0.8,
+        "linestyle": (0, (3, 2)),
+        "label": "analytic: averaging over 2a",
+    },
+    "ref_patch_correlated_db": {
+        "color": "tab:olive",
+        "linewidth": 0.8,
+        "linestyle": (0, (3, 2)),
+        "label": "analytic: circular patch, correlated",
+    },
+    "ref_patch_incoherent_db": {
+        "color": "tab:cyan",
+        "linewidth": 0.8,
+        "linestyle": (0, (3, 2)),
+        "label": "circular patch, incoherent (this project's construction)",
+    },
 }
 _SET_STYLES = ("-", "--", "-.", ":")
 
@@ -44,8 +63,11 @@ def _frequency_axis(ax, table: Table, ylabel: str) -> None:
     from wheelrail.core.spectra import nominal_band_label
 
     ax.set_xscale("log")
-    ticks = [c for c in table.band_centres if nominal_band_label(c) in ("63", "125", "250", "500", "1000", "2000",
-                                                                          "4000", "8000")]
+    ticks = [
+        c
+        for c in table.band_centres
+        if nominal_band_label(c) in ("63", "125", "250", "500", "1000", "2000", "4000", "8000")
+    ]
     ax.set_xticks(ticks, [nominal_band_label(c) for c in ticks])
     ax.minorticks_off()
     ax.set_xlabel("third-octave band centre frequency (Hz)")
@@ -60,8 +82,10 @@ def _draw_filters(group: list[Table]):
     for row, panel in enumerate(panels):
         levels = next(t for t in group if t.panel == panel and t.name.endswith("force_levels"))
         filters = next(t for t in group if t.panel == panel and t.name.endswith("contact_filters"))
-        for ax, table, ylabel in ((axes[row, 0], levels, "L_F (dB re 1 N)"),
-                                  (axes[row, 1], filters, "contact filter (dB)")):
+        for ax, table, ylabel in (
+            (axes[row, 0], levels, "L_F (dB re 1 N)"),
+            (axes[row, 1], filters, "contact filter (dB)"),
+        ):
             for column, values in table.columns.items():
                 ax.plot(table.band_centres, values, **_STYLES.get(column, {"label": column}))
             _frequency_axis(ax, table, ylabel)
@@ -79,9 +103,13 @@ def _draw_per_line(group: list[Table], figure_id: str):
             if column == "mean_db":
                 ax.plot(table.band_centres, values, color="k", linewidth=2.5, label="mean")
             else:
-                ax.plot(table.band_centres, values, linewidth=0.9,
-                        label=column.removesuffix("_db").replace("_", " "),
-                        marker="x" if column.startswith("100_kmh") else None)
+                ax.plot(
+                    table.band_centres,
+                    values,
+                    linewidth=0.9,
+                    label=column.removesuffix("_db").replace("_", " "),
+                    marker="x" if column.startswith("100_kmh") else None,
+                )
         _frequency_axis(ax, table, "L_F (dB re 1 N)" if figure_id == "11" else "level difference (dB)")
         ax.set_title(table.title, fontsize=9)
         ax.legend(fontsize=6, ncol=2)
@@ -93,8 +121,13 @@ def _draw_per_set(group: list[Table]):
     figure, axes = _axes_grid(len(group), 1)
     for ax, table in zip(axes[:, 0], group, strict=True):
         for i, (column, values) in enumerate(table.columns.items()):
-            ax.plot(table.band_centres, values, color="k", linestyle=_SET_STYLES[i % len(_SET_STYLES)],
-                    label=column.removesuffix("_db"))
+            ax.plot(
+                table.band_centres,
+                values,
+                color="k",
+                linestyle=_SET_STYLES[i % len(_SET_STYLES)],
+                label=column.removesuffix("_db"),
+            )
         ax.axhline(0.0, color="0.7", linewidth=0.8)
         _frequency_axis(ax, table, "level difference (dB)")
         ax.set_title(table.title, fontsize=9)

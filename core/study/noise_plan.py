@@ -55,8 +55,9 @@ def _roughness_levels(info, speed: float) -> np.ndarray:
     levels_m = 10 ** (np.asarray(force_spectrum(heights, dx / speed, skip=0.0, band_range=NOISE_BAND_RANGE)[1]) / 10)
     if info.wheel is not None:
         w_heights, w_dx = line0(info.wheel.source)
-        levels_m = levels_m + 10 ** (np.asarray(force_spectrum(w_heights, w_dx / speed, skip=0.0,
-                                                               band_range=NOISE_BAND_RANGE)[1]) / 10)
+        levels_m = levels_m + 10 ** (
+            np.asarray(force_spectrum(w_heights, w_dx / speed, skip=0.0, band_range=NOISE_BAND_RANGE)[1]) / 10
+        )
     return 10 * np.log10(levels_m) + 120.0  # dB re 1 m -> dB re 1 um
 
 
@@ -70,19 +71,18 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
     ``params_of(speed, contact)`` are the study's own helpers)."""
     speeds = sorted({*NOISE_SPEEDS_KMH, round(speed / KMH, 9)})
     models = noise_models()
-    layout = {info.label: (info, {(model, v): spec_of(info, model, params_of(v * KMH, contact), 0)
-                                  for model in models for v in speeds})
-              for info in infos}
+    layout = {
+        info.label: (
+            info,
+            {(model, v): spec_of(info, model, params_of(v * KMH, contact), 0) for model in models for v in speeds},
+        )
+        for info in infos
+    }
     specs = [spec for _, runs in layout.values() for spec in runs.values()]
 
     def tabulate(summaries):
         from wheelrail.core.noise.cnossos import cnossos_rolling_noise, contact_filter_a3
-        from wheelrail.core.noise.run_noise import (
-            DEFAULT_TRAIN_AXLES,
-            DEFAULT_TRAIN_LENGTH,
-            pass_by_level,
-            sound_power_from_force,
-        )
+        from wheelrail.core.noise.run_noise import sound_power_from_force
         from wheelrail.core.noise.twins import nearest_table_diameter_mm, track_noise_model
 
         params = params_of(speed, contact)
@@ -93,47 +93,96 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
         for label, (info, runs) in layout.items():
             lwa = {f"{_column(m)}_LWA_dBA": np.full(len(speeds), np.nan) for m in models}
             lwa["cnossos_a3_LWA_dBA"] = np.full(len(speeds), np.nan)
-            lwa.update({f"cnossos_{_column(m)}_filter_LWA_dBA": np.full(len(speeds), np.nan)
-                        for m in models if m != REFERENCE_MODEL})
+            lwa.update(
+                {
+                    f"cnossos_{_column(m)}_filter_LWA_dBA": np.full(len(speeds), np.nan)
+                    for m in models
+                    if m != REFERENCE_MODEL
+                }
+            )
             per_band = {}
             for i, v in enumerate(speeds):
                 force = {m: _force_24(summaries[runs[m, v].key].levels) for m in models}
                 for m in models:
                     lwa[f"{_column(m)}_LWA_dBA"][i] = sound_power_from_force(force[m], track)["axle_dba"]
                 roughness = _roughness_levels(info, v * KMH)
-                options = dict(track_type=CNOSSOS_TRACK_TYPE, wheel_diameter=diameter, load=contact.preload, axles=1,
-                               roughness=(f"{label} line 0", np.where(np.isfinite(roughness), roughness, -np.inf)))
+                options = dict(
+                    track_type=CNOSSOS_TRACK_TYPE,
+                    wheel_diameter=diameter,
+                    load=contact.preload,
+                    axles=1,
+                    roughness=(f"{label} line 0", np.where(np.isfinite(roughness), roughness, -np.inf)),
+                )
                 a3 = contact_filter_a3(contact.preload, a3_diameter, v * KMH)
                 a3[-1] = np.nan  # 10 kHz: left out as in the model columns (run summaries stop at 8 kHz)
                 base = cnossos_rolling_noise(v * KMH, contact_filter=("A3", a3), **options)
                 lwa["cnossos_a3_LWA_dBA"][i] = base.total_dba
                 filters = {m: force[m] - force[REFERENCE_MODEL] for m in models if m != REFERENCE_MODEL}
-                with_filter = {m: cnossos_rolling_noise(v * KMH, contact_filter=(f"{m} dynamic filter", f), **options)
-                               for m, f in filters.items()}
+                with_filter = {
+                    m: cnossos_rolling_noise(v * KMH, contact_filter=(f"{m} dynamic filter", f), **options)
+                    for m, f in filters.items()
+                }
                 for m, result in with_filter.items():
                     lwa[f"cnossos_{_column(m)}_filter_LWA_dBA"][i] = result.total_dba
                 if abs(v * KMH - speed) < 1e-9:
-                    per_band = {"a3_db": base.contact_filter_db,
-                                **{f"{_column(m)}_filter_db": f for m, f in filters.items()},
-                                "cnossos_a3_LW_db": base.total_db,
-                                **{f"cnossos_{_column(m)}_filter_LW_db": r.total_db for m, r in with_filter.items()}}
-            lpaeq = {name.replace("LWA", "LpAeq"): np.array([pass_by_level(x, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH)
-                                                             for x in values])
-                     for name, values in lwa.items()}
-            axis = np.asarray(speeds, dtype=float)
-            tables.append(Table(name=f"noise_{label}_lwa_vs_speed", figure="noise", panel=label, band_centres=axis,
-                                columns=lwa, axis_name="speed_kmh",
-                                title=f"{label}: A-weighted sound power per axle, dB(A) re 1 pW: the models "
-                                      f"(TWINS-like chain) and CNOSSOS-EU ({CNOSSOS_TRACK_TYPE}, the set's line 0 as "
-                                      "roughness) with A3 or a model's dynamic filter"))
-            tables.append(Table(name=f"noise_{label}_lpaeq_vs_speed", figure="noise-lpaeq", panel=label,
-                                band_centres=axis, columns=lpaeq, axis_name="speed_kmh",
-                                title=f"{label}: pass-by L_pAeq,Tp at 7.5 m / 1.2 m, {DEFAULT_TRAIN_AXLES} axles, "
-                                      f"{DEFAULT_TRAIN_LENGTH:g} m, dB(A)"))
-            tables.append(Table(name=f"noise_{label}_filters_{speed / KMH:g}kmh", figure="noise-filters", panel=label,
-                                band_centres=track.frequency_hz, columns=per_band,
-                                title=f"{label}, {speed / KMH:g} km/h: contact filters (A3 and L_F(model) - "
-                                      "L_F(hertz)), dB, and the CNOSSOS-EU sound power per axle with each, dB re 1 pW"))
+                    per_band = {
+                        "a3_db": base.contact_filter_db,
+                        **{f"{_column(m)}_filter_db": f for m, f in filters.items()},
+                        "cnossos_a3_LW_db": base.total_db,
+                        **{f"cnossos_{_column(m)}_filter_LW_db": r.total_db for m, r in with_filter.items()},
+                    }
+            tables.extend(_noise_tables(label, speeds, lwa, per_band, track.frequency_hz, speed))
         return tables
 
     return specs, tabulate
+
+
+def _noise_tables(label, speeds, lwa, per_band, frequency_hz, speed):
+    """The three tables of one set: L_WA and L_pAeq against speed, and the filters at the study's speed."""
+    from wheelrail.core.noise.run_noise import DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, pass_by_level
+
+    tables = []
+    lpaeq = {
+        name.replace("LWA", "LpAeq"): np.array(
+            [pass_by_level(x, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH) for x in values]
+        )
+        for name, values in lwa.items()
+    }
+    axis = np.asarray(speeds, dtype=float)
+    tables.append(
+        Table(
+            name=f"noise_{label}_lwa_vs_speed",
+            figure="noise",
+            panel=label,
+            band_centres=axis,
+            columns=lwa,
+            axis_name="speed_kmh",
+            title=f"{label}: A-weighted sound power per axle, dB(A) re 1 pW: the models "
+            f"(TWINS-like chain) and CNOSSOS-EU ({CNOSSOS_TRACK_TYPE}, the set's line 0 as "
+            "roughness) with A3 or a model's dynamic filter",
+        )
+    )
+    tables.append(
+        Table(
+            name=f"noise_{label}_lpaeq_vs_speed",
+            figure="noise-lpaeq",
+            panel=label,
+            band_centres=axis,
+            columns=lpaeq,
+            axis_name="speed_kmh",
+            title=f"{label}: pass-by L_pAeq,Tp at 7.5 m / 1.2 m, {DEFAULT_TRAIN_AXLES} axles, "
+            f"{DEFAULT_TRAIN_LENGTH:g} m, dB(A)",
+        )
+    )
+    tables.append(
+        Table(
+            name=f"noise_{label}_filters_{speed / KMH:g}kmh",
+            figure="noise-filters",
+            panel=label,
+            band_centres=frequency_hz,
+            columns=per_band,
+            title=f"{label}, {speed / KMH:g} km/h: contact filters (A3 and L_F(model) - "
+            "L_F(hertz)), dB, and the CNOSSOS-EU sound power per axle with each, dB re 1 pW",
+        )
+    )
+    return tables

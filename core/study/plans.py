@@ -64,8 +64,10 @@ def _set_info(source, length: float | None, contact: ContactParameters, wheel: S
     rough = _loaded(source)
     label = _label(source, rough)
     if wheel is not None and rough.kind != "rail":
-        raise WheelrailError(f"with the wheel set {wheel.label}, every set must be a rail set; {label} is a "
-                             f"{rough.kind} set: give it as the wheel set, or run it without one")
+        raise WheelrailError(
+            f"with the wheel set {wheel.label}, every set must be a rail set; {label} is a "
+            f"{rough.kind} set: give it as the wheel set, or run it without one"
+        )
     numbers = tuple(int(v) for v in rough.line_numbers)
     lines = tuple(v for v in PAPER_LINES if v in numbers)
     if wheel is not None:  # the lines the wheel set has data at (paired by lateral position)
@@ -75,13 +77,25 @@ def _set_info(source, length: float | None, contact: ContactParameters, wheel: S
         covered = run_lines(rough, "hertz", wheel=wheel_rough)
         lines = tuple(v for v in lines if v in covered)
         if not lines:
-            raise WheelrailError(f"no data at the lateral positions of {label}'s lines {PAPER_LINES[0]} to "
-                                 f"{PAPER_LINES[-1]}; its data span {lateral_extent_mm(wheel_rough)}",
-                                 parameter="wheel_set", value=wheel.label, argument="wheel_set",
-                                 reason="the wheel set is paired with the rail set by lateral position")
+            raise WheelrailError(
+                f"no data at the lateral positions of {label}'s lines {PAPER_LINES[0]} to "
+                f"{PAPER_LINES[-1]}; its data span {lateral_extent_mm(wheel_rough)}",
+                parameter="wheel_set",
+                value=wheel.label,
+                argument="wheel_set",
+                reason="the wheel set is paired with the rail set by lateral position",
+            )
     length = _run_length(rough, label, length, contact)
-    return SetInfo(source=source, label=label, digest=roughness_digest(rough), kind=rough.kind,
-                   line_numbers=numbers, lines=lines, length=length, wheel=wheel)
+    return SetInfo(
+        source=source,
+        label=label,
+        digest=roughness_digest(rough),
+        kind=rough.kind,
+        line_numbers=numbers,
+        lines=lines,
+        length=length,
+        wheel=wheel,
+    )
 
 
 def _loaded(source):
@@ -94,8 +108,15 @@ def _wheel_info(source) -> SetInfo:
     """The wheel set of combined-roughness runs (a wheel set: checked with each rail set)."""
     rough = _loaded(source)
     numbers = tuple(int(v) for v in rough.line_numbers)
-    return SetInfo(source=source, label=_label(source, rough), digest=roughness_digest(rough), kind=rough.kind,
-                   line_numbers=numbers, lines=tuple(v for v in PAPER_LINES if v in numbers), length=None)
+    return SetInfo(
+        source=source,
+        label=_label(source, rough),
+        digest=roughness_digest(rough),
+        kind=rough.kind,
+        line_numbers=numbers,
+        lines=tuple(v for v in PAPER_LINES if v in numbers),
+        length=None,
+    )
 
 
 def _label(source, rough) -> str:
@@ -127,8 +148,13 @@ def _run_length(rough, label: str, length: float | None, contact: ContactParamet
         return usable
     if length > usable + 1e-9:
         margin = run_margin(element_size, ModelParameters(contact=contact))
-        raise WheelrailError(f"longer than the rail data of {label} less the {margin * 1e3:g} mm margins every model "
-                             "keeps", parameter="length", value=length, maximum=usable, unit="m")
+        raise WheelrailError(
+            f"longer than the rail data of {label} less the {margin * 1e3:g} mm margins every model keeps",
+            parameter="length",
+            value=length,
+            maximum=usable,
+            unit="m",
+        )
     return length
 
 
@@ -140,16 +166,31 @@ def _params(speed: float, contact: ContactParameters, wheel_mass: float | None =
 def _spec(info: SetInfo, model: str, params: ModelParameters, line: int = 0, **extra) -> RunSpec:
     if info.wheel is not None:
         extra.update(wheel_source=info.wheel.source, wheel_label=info.wheel.label, wheel_digest=info.wheel.digest)
-    return RunSpec(source=info.source, set_label=info.label, set_digest=info.digest, model=model, line=line,
-                   params=params, length=info.length, **extra)
+    return RunSpec(
+        source=info.source,
+        set_label=info.label,
+        set_digest=info.digest,
+        model=model,
+        line=line,
+        params=params,
+        length=info.length,
+        **extra,
+    )
 
 
 def _column(line: int) -> str:
     return f"line_{line}_db"
 
 
-def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length: float | None = None,
-               contact: ContactParameters | None = None, wheel_set=None) -> StudyPlan:
+def plan_study(
+    name: str,
+    sets: Sequence,
+    *,
+    speed: float = 100.0 * KMH,
+    length: float | None = None,
+    contact: ContactParameters | None = None,
+    wheel_set=None,
+) -> StudyPlan:
     """Build a named study's run specs and table builder.
 
     Parameters
@@ -189,8 +230,10 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
         raise WheelrailError("contact must be a wheelrail.core.parameters.ContactParameters")
     wheel = None if wheel_set is None else _wheel_info(wheel_set)
     if wheel is not None and wheel.kind != "wheel":
-        raise WheelrailError(f"the wheel set {wheel.label} is a {wheel.kind} set (kind: {wheel.kind}); give a wheel "
-                             "set as the wheel set, and a rail set as the set")
+        raise WheelrailError(
+            f"the wheel set {wheel.label} is a {wheel.kind} set (kind: {wheel.kind}); give a wheel "
+            "set as the wheel set, and a rail set as the set"
+        )
     infos = tuple(_set_info(source, length, contact, wheel) for source in sets)
     if wheel is not None:  # it goes round the wheel of every run (accepted.py), checked before any run
         check_wheel_circumference(_loaded(wheel.source).length, contact.radius_along, wheel.label)
@@ -200,8 +243,16 @@ def plan_study(name: str, sets: Sequence, *, speed: float = 100.0 * KMH, length:
     builder = _BUILDERS[name]
     specs, tabulate = builder(infos, speed, contact)
     _check_durations(specs, infos)
-    return StudyPlan(name=name, sets=infos, specs=tuple(specs), tabulate=tabulate, speed=speed, length=length,
-                     contact=contact, wheel_set=wheel)
+    return StudyPlan(
+        name=name,
+        sets=infos,
+        specs=tuple(specs),
+        tabulate=tabulate,
+        speed=speed,
+        length=length,
+        contact=contact,
+        wheel_set=wheel,
+    )
 
 
 def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:
@@ -234,8 +285,10 @@ def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str
     refs = run_reference_filters(params.contact, params.run.speed, (float(centres[0]), float(centres[-1])))
     if not np.allclose(refs.frequency_bands.centres, centres, rtol=1e-9):
         raise WheelrailError("reference filters: the bands differ from those of the force spectra")
-    return {f"ref_{name.replace('-', '_')}_db": np.asarray(values, dtype=float)
-            for name, values in refs.by_frequency.items()}
+    return {
+        f"ref_{name.replace('-', '_')}_db": np.asarray(values, dtype=float)
+        for name, values in refs.by_frequency.items()
+    }
 
 
 def _plan_filters(infos, speed, contact):
@@ -243,8 +296,7 @@ def _plan_filters(infos, speed, contact):
     models = one_line_models()  # the registry's, plug-ins included; the reference (hertz) among them
     specs, layout = [], {}
     for info in infos:
-        one_line = {(model, line): _spec(info, model, params, line) for model in models
-                    for line in info.lines}
+        one_line = {(model, line): _spec(info, model, params, line) for model in models for line in info.lines}
         three_d = _spec(info, "3d", params, 0)
         layout[info.label] = (info, one_line, three_d)
         specs += [*one_line.values(), three_d]
@@ -253,23 +305,37 @@ def _plan_filters(infos, speed, contact):
         tables = []
         for label, (info, one_line, three_d) in layout.items():
             centres = _centres(summaries, three_d)
-            level = {model: [_levels(summaries, one_line[model, line]) for line in info.lines]
-                     for model in models}
+            level = {model: [_levels(summaries, one_line[model, line]) for line in info.lines] for model in models}
             l3d = _levels(summaries, three_d)
             spectra = {"3d_db": l3d, **{f"{m.replace('-', '_')}_db": mean_level(level[m]) for m in models}}
             filters = {"3d_db": mean_level([contact_filter(l3d, h) for h in level[REFERENCE_MODEL]])}
             for model in (m for m in models if m != REFERENCE_MODEL):
                 filters[f"{model.replace('-', '_')}_db"] = mean_level(
-                    [contact_filter(v, h) for v, h in zip(level[model], level[REFERENCE_MODEL], strict=True)])
+                    [contact_filter(v, h) for v, h in zip(level[model], level[REFERENCE_MODEL], strict=True)]
+                )
             filters.update(_reference_columns(params, centres))
             lines = f"lines {info.lines[0]}..{info.lines[-1]}"
-            tables.append(Table(name=f"fig10_{label}_force_levels", figure="10", panel=label, columns=spectra,
-                                title=f"{label}: contact-force levels, dB re 1 N (one-line models: mean of {lines})",
-                                band_centres=centres))
-            tables.append(Table(name=f"fig10_{label}_contact_filters", figure="10", panel=label, columns=filters,
-                                title=f"{label}: contact filter L - L_hertz, dB (mean over {lines}); ref_*: "
-                                      f"CNOSSOS-EU A3 and analytic filters for the run's load and wheel",
-                                band_centres=centres))
+            tables.append(
+                Table(
+                    name=f"fig10_{label}_force_levels",
+                    figure="10",
+                    panel=label,
+                    columns=spectra,
+                    title=f"{label}: contact-force levels, dB re 1 N (one-line models: mean of {lines})",
+                    band_centres=centres,
+                )
+            )
+            tables.append(
+                Table(
+                    name=f"fig10_{label}_contact_filters",
+                    figure="10",
+                    panel=label,
+                    columns=filters,
+                    title=f"{label}: contact filter L - L_hertz, dB (mean over {lines}); ref_*: "
+                    f"CNOSSOS-EU A3 and analytic filters for the run's load and wheel",
+                    band_centres=centres,
+                )
+            )
         return tables
 
     return specs, tabulate
@@ -286,8 +352,11 @@ def _plan_line_spread(infos, speed, contact):
     params = _params(speed, contact)
     specs, layout = [], {}
     for info in infos:
-        runs = {(model, line): _spec(info, model, params, line) for model in ("2d", "hertz-winkler", "hertz-average")
-                for line in info.lines}
+        runs = {
+            (model, line): _spec(info, model, params, line)
+            for model in ("2d", "hertz-winkler", "hertz-average")
+            for line in info.lines
+        }
         runs["3d", None] = _spec(info, "3d", params, 0)
         layout[info.label] = (info, runs)
         specs += list(runs.values())
@@ -303,9 +372,16 @@ def _plan_line_spread(infos, speed, contact):
                     columns[_column(line)] = level_difference(la, _levels(summaries, runs[b, line]))
                 columns["mean_db"] = mean_level(columns.values())
                 stem = f"{a}_minus_{b}".replace("-", "_")
-                tables.append(Table(name=f"fig{figure}_{label}_{stem}", figure=figure, panel=label,
-                                    title=f"{label}: L_{a} - L_{b} per line and mean, dB",
-                                    band_centres=centres, columns=columns))
+                tables.append(
+                    Table(
+                        name=f"fig{figure}_{label}_{stem}",
+                        figure=figure,
+                        panel=label,
+                        title=f"{label}: L_{a} - L_{b} per line and mean, dB",
+                        band_centres=centres,
+                        columns=columns,
+                    )
+                )
         return tables
 
     return specs, tabulate
@@ -313,16 +389,25 @@ def _plan_line_spread(infos, speed, contact):
 
 def _plan_averaged_input(infos, speed, contact):
     params = _params(speed, contact)
-    layout = {info.label: (_spec(info, "3d", params, 0), _spec(info, "2d", params, 0, averaged_lines=info.lines))
-              for info in infos}
+    layout = {
+        info.label: (_spec(info, "3d", params, 0), _spec(info, "2d", params, 0, averaged_lines=info.lines))
+        for info in infos
+    }
 
     def tabulate(summaries):
         columns, centres = {}, None
         for label, (three_d, averaged) in layout.items():
             centres = _centres(summaries, three_d)
             columns[f"{label}_db"] = level_difference(_levels(summaries, three_d), _levels(summaries, averaged))
-        return [Table(name="fig16_3d_minus_2d_averaged_input", figure="16", band_centres=centres, columns=columns,
-                      title="L_3D - L_2D,av: 2D fed with the mean of lines -3..3, dB")]
+        return [
+            Table(
+                name="fig16_3d_minus_2d_averaged_input",
+                figure="16",
+                band_centres=centres,
+                columns=columns,
+                title="L_3D - L_2D,av: 2D fed with the mean of lines -3..3, dB",
+            )
+        ]
 
     return [spec for pair in layout.values() for spec in pair], tabulate
 
@@ -346,11 +431,19 @@ def _plan_lateral_resolution(infos, speed, contact):
             columns, centres = {}, None
             for label, runs in layout.items():
                 centres = _centres(summaries, runs["original"])
-                columns[f"{label}_db"] = level_difference(_levels(summaries, runs["original"]),
-                                                          _levels(summaries, runs[resolution]))
-            tables.append(Table(name=f"fig17_3d_minus_3d_{resolution}mm", figure="17", band_centres=centres,
-                                columns=columns, panel=f"{resolution} mm",
-                                title=f"L_3D - L_3D,{resolution}mm (lines at {_mm(kept)} mm), dB"))
+                columns[f"{label}_db"] = level_difference(
+                    _levels(summaries, runs["original"]), _levels(summaries, runs[resolution])
+                )
+            tables.append(
+                Table(
+                    name=f"fig17_3d_minus_3d_{resolution}mm",
+                    figure="17",
+                    band_centres=centres,
+                    columns=columns,
+                    panel=f"{resolution} mm",
+                    title=f"L_3D - L_3D,{resolution}mm (lines at {_mm(kept)} mm), dB",
+                )
+            )
         return tables
 
     return [spec for runs in layout.values() for spec in runs.values()], tabulate
@@ -363,18 +456,26 @@ def _speed_cases(speed):
 
 
 def _plan_speeds(infos, speed, contact):
-    layout = {info.label: {column: _spec(info, "2d", _params(v, contact, mass), 0)
-                          for column, v, mass in _speed_cases(speed)}
-              for info in infos}
+    layout = {
+        info.label: {column: _spec(info, "2d", _params(v, contact, mass), 0) for column, v, mass in _speed_cases(speed)}
+        for info in infos
+    }
 
     def tabulate(summaries):
         tables = []
         for label, runs in layout.items():
             columns = {column: _levels(summaries, spec) for column, spec in runs.items()}
             centres = _centres(summaries, next(iter(runs.values())))
-            tables.append(Table(name=f"fig11_{label}_speeds", figure="11", panel=label, band_centres=centres,
-                                columns=columns,
-                                title=f"{label}: 2D on line 0, contact-force levels at several speeds, dB re 1 N"))
+            tables.append(
+                Table(
+                    name=f"fig11_{label}_speeds",
+                    figure="11",
+                    panel=label,
+                    band_centres=centres,
+                    columns=columns,
+                    title=f"{label}: 2D on line 0, contact-force levels at several speeds, dB re 1 N",
+                )
+            )
         return tables
 
     return [spec for runs in layout.values() for spec in runs.values()], tabulate
@@ -394,5 +495,3 @@ _BUILDERS = {
     "lateral-resolution": _plan_lateral_resolution,
     "speeds": _plan_speeds,
 }
-
-

@@ -106,12 +106,19 @@ def run_study(
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
     if contact is not None and not isinstance(contact, StudyContact | ContactParameters):
-        raise WheelrailError("contact must be a wheelrail.core.study.StudyContact or "
-                             "wheelrail.core.parameters.ContactParameters")
+        raise WheelrailError(
+            "contact must be a wheelrail.core.study.StudyContact or wheelrail.core.parameters.ContactParameters"
+        )
     contact = contact if isinstance(contact, StudyContact) else StudyContact(contact=contact or ContactParameters())
     plan = plan_study(name, sets, speed=speed, length=length, contact=contact.contact, wheel_set=contact.wheel_set)
-    report = execute(plan.specs, cache=folder / "runs", workers=workers,
-                     dask_address=dask_address, progress=progress, description=f"study {name}")
+    report = execute(
+        plan.specs,
+        cache=folder / "runs",
+        workers=workers,
+        dask_address=dask_address,
+        progress=progress,
+        description=f"study {name}",
+    )
     tables = plan.tabulate(report.summaries)
     files = [write_table(table, folder) for table in tables]
     if figures:
@@ -124,8 +131,16 @@ def run_study(
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
 
 
-def _summary_document(name: str, plan: StudyPlan, report: ExecutionReport, tables: list[Table], *, speed: float,
-                      folder: Path, files: list[Path]) -> dict:
+def _summary_document(
+    name: str,
+    plan: StudyPlan,
+    report: ExecutionReport,
+    tables: list[Table],
+    *,
+    speed: float,
+    folder: Path,
+    files: list[Path],
+) -> dict:
     """The JSON summary of a study (SI units; what ``wheelrail study --json`` prints)."""
     summaries = [report.summaries[spec.key] for spec in plan.specs]
     summary = {
@@ -150,8 +165,10 @@ def _summary_document(name: str, plan: StudyPlan, report: ExecutionReport, table
                 "figure": table.figure,
                 "title": table.title,
                 ("band_centres_hz" if table.axis_name == "band_centre_hz" else table.axis_name): table.band_centres,
-                **{column: [None if not np.isfinite(v) else round(float(v), 3) for v in values]
-                   for column, values in table.columns.items()},
+                **{
+                    column: [None if not np.isfinite(v) else round(float(v), 3) for v in values]
+                    for column, values in table.columns.items()
+                },
             }
             for table in tables
         },

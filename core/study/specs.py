@@ -24,8 +24,7 @@ PAPER_SPEEDS_KMH = (75.0, 100.0, 140.0, 200.0)  # Fig. 11
 HALF_WHEEL_MASS = 296.3  # kg, Fig. 11: half of M_W = 592.5 kg
 STUDY_FORMAT_VERSION = 2  # part of every run key: bump when a run's summary changes meaning (2: wheel sets paired
 # by lateral position)
-SUMMARY_SCALARS = ("force_mean", "force_std", "force_min", "force_max", "loss_of_contact_steps", "n_steps",
-                   "run_time")
+SUMMARY_SCALARS = ("force_mean", "force_std", "force_min", "force_max", "loss_of_contact_steps", "n_steps", "run_time")
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -83,16 +82,18 @@ class RunSpec:
         model_entry(self.model)  # an unknown name: one WheelrailError listing the registered models
         object.__setattr__(self, "averaged_lines", tuple(int(v) for v in self.averaged_lines))
         object.__setattr__(self, "lateral_lines_mm", tuple(float(v) for v in self.lateral_lines_mm))
-        if (self.wheel_source is None) != (self.wheel_digest is None) or (
-                self.wheel_source is None) != (self.wheel_label is None):
+        if (self.wheel_source is None) != (self.wheel_digest is None) or (self.wheel_source is None) != (
+            self.wheel_label is None
+        ):
             raise WheelrailError("a study run's wheel set needs its source, label and digest together")
 
     def description(self) -> dict:
         """Everything that determines the run's summary (JSON-able); the key hashes this."""
         from wheelrail.core.spectra import FORCE_BAND_RANGE, FORCE_SKIP
 
-        wheel = {} if self.wheel_source is None else {
-            "wheel_set": {"label": self.wheel_label, "digest": self.wheel_digest}}
+        wheel = (
+            {} if self.wheel_source is None else {"wheel_set": {"label": self.wheel_label, "digest": self.wheel_digest}}
+        )
         return {
             **wheel,
             "version": STUDY_FORMAT_VERSION,
@@ -177,8 +178,12 @@ class RunSummary:
     @classmethod
     def from_arrays(cls, arrays) -> RunSummary:
         scalars = {name: arrays[name].item() for name in SUMMARY_SCALARS}
-        return cls(key=str(arrays["run_key"]), band_centres=np.asarray(arrays["band_centres_hz"], dtype=float),
-                   levels=np.asarray(arrays["levels_db"], dtype=float), **scalars)
+        return cls(
+            key=str(arrays["run_key"]),
+            band_centres=np.asarray(arrays["band_centres_hz"], dtype=float),
+            levels=np.asarray(arrays["levels_db"], dtype=float),
+            **scalars,
+        )
 
 
 def one_line_models() -> tuple[str, ...]:
@@ -227,9 +232,11 @@ def _as_used(spec: RunSpec, source, label: str, positions_of=None):
     if spec.averaged_lines:
         y_lines = np.array([ref.y[ref.row_of_line(line)] for line in spec.averaged_lines])
         if not covers(rough, float(y_lines.min()), float(y_lines.max())):
-            raise WheelrailError(f"{label}: lines {', '.join(str(v) for v in spec.averaged_lines)} lie at "
-                                 f"{y_lines.min() * 1e3:g} .. {y_lines.max() * 1e3:g} mm, where the set has no "
-                                 f"data ({lateral_extent_mm(rough)})")
+            raise WheelrailError(
+                f"{label}: lines {', '.join(str(v) for v in spec.averaged_lines)} lie at "
+                f"{y_lines.min() * 1e3:g} .. {y_lines.max() * 1e3:g} mm, where the set has no "
+                f"data ({lateral_extent_mm(rough)})"
+            )
         mean = at_lateral_positions(rough, y_lines).heights.mean(axis=0)
         note = f"mean of lines {', '.join(str(v) for v in spec.averaged_lines)}"
         return rough.with_heights(mean[np.newaxis, :], y=np.zeros(1), note=note), 0
@@ -255,11 +262,27 @@ def compute_run(spec: RunSpec) -> RunSummary:
 
     start = time.perf_counter()
     rough, line = study_roughness(spec)
-    result = simulate(rough, wheel_roughness=study_wheel_roughness(spec), model=spec.model, line=line,
-                      params=spec.params, length=spec.length, run_in_length=spec.run_in_length, keep_pressure=False)
+    result = simulate(
+        rough,
+        wheel_roughness=study_wheel_roughness(spec),
+        model=spec.model,
+        line=line,
+        params=spec.params,
+        length=spec.length,
+        run_in_length=spec.run_in_length,
+        keep_pressure=False,
+    )
     centres, levels = force_spectrum(result)
     force = result.force
-    return RunSummary(key=spec.key, band_centres=centres, levels=levels, force_mean=float(force.mean()),
-                      force_std=float(force.std()), force_min=float(force.min()), force_max=float(force.max()),
-                      loss_of_contact_steps=int(result.loss_of_contact_steps), n_steps=int(result.n_steps),
-                      run_time=time.perf_counter() - start)
+    return RunSummary(
+        key=spec.key,
+        band_centres=centres,
+        levels=levels,
+        force_mean=float(force.mean()),
+        force_std=float(force.std()),
+        force_min=float(force.min()),
+        force_max=float(force.max()),
+        loss_of_contact_steps=int(result.loss_of_contact_steps),
+        n_steps=int(result.n_steps),
+        run_time=time.perf_counter() - start,
+    )

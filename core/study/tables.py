@@ -52,10 +52,10 @@ def write_table(table: Table, folder: Path) -> Path:
     def write(handle):
         handle.write(",".join(table.header()) + "\n")
         for i, centre in enumerate(table.band_centres):
-            cells = [f"{centre:.2f}"] + [("nan" if not np.isfinite(v[i]) else f"{v[i]:.3f}")
-                                         for v in table.columns.values()]
+            cells = [f"{centre:.2f}"] + [
+                ("nan" if not np.isfinite(v[i]) else f"{v[i]:.3f}") for v in table.columns.values()
+            ]
             handle.write(",".join(cells) + "\n")
 
     atomic_write(path, write, mode="w", encoding="utf-8")
     return path
-

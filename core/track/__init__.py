@@ -26,7 +26,6 @@ loop's own step (``trapezoidal_weights``). Truncation: the functions are cut at
 ``TrackNumerics.duration``; the test suite and ``benchmarks/track_green.py`` show the truncation error.
 """
 
-
 # The package by concern: ``fe`` (the FE model, receptances, resonances), ``stationary`` (the impulse
 # responses integrated once and their disk cache), ``moving`` (the moving Green's functions and weights).
 from wheelrail.core.track.fe import (
@@ -57,9 +56,22 @@ from wheelrail.core.track.stationary import (
 )
 
 __all__ = [
-    "ROWS_PER_POSITION", "HALF_BANDWIDTH", "MovingGreenFunctions", "StationaryTrackResponse", "TrackFEModel",
-    "assemble_track", "bay_rows", "compute_stationary_response", "moving_from_stationary", "moving_green_functions",
+    "ROWS_PER_POSITION",
+    "HALF_BANDWIDTH",
+    "MovingGreenFunctions",
+    "StationaryTrackResponse",
+    "TrackFEModel",
+    "assemble_track",
+    "bay_rows",
+    "compute_stationary_response",
+    "moving_from_stationary",
+    "moving_green_functions",
     "numerics_model",
-    "receptance_peaks", "stationary_track_response", "timoshenko_element_matrices",
-    "timoshenko_shape_functions", "track_cache_path", "track_receptance", "trapezoidal_weights",
+    "receptance_peaks",
+    "stationary_track_response",
+    "timoshenko_element_matrices",
+    "timoshenko_shape_functions",
+    "track_cache_path",
+    "track_receptance",
+    "trapezoidal_weights",
 ]

@@ -46,16 +46,12 @@ def timoshenko_element_matrices(rail, length: float) -> tuple[np.ndarray, np.nda
     d = (13 / 420 + 3 * phi / 40 + phi**2 / 24) * L
     e = (1 / 105 + phi / 60 + phi**2 / 120) * L**2
     f = (1 / 140 + phi / 60 + phi**2 / 120) * L**2
-    Mt = (m * L / (1 + phi) ** 2) * np.array(
-        [[a, b, c, -d], [b, e, d, -f], [c, d, a, -b], [-d, -f, -b, e]]
-    )
+    Mt = (m * L / (1 + phi) ** 2) * np.array([[a, b, c, -d], [b, e, d, -f], [c, d, a, -b], [-d, -f, -b, e]])
     g = 6 / 5
     h = (1 / 10 - phi / 2) * L
     i = (2 / 15 + phi / 6 + phi**2 / 3) * L**2
     j = (-1 / 30 - phi / 6 + phi**2 / 6) * L**2
-    Mr = (rI / ((1 + phi) ** 2 * L)) * np.array(
-        [[g, h, -g, h], [h, i, -h, j], [-g, -h, g, -h], [h, j, -h, i]]
-    )
+    Mr = (rI / ((1 + phi) ** 2 * L)) * np.array([[g, h, -g, h], [h, i, -h, j], [-g, -h, g, -h], [h, j, -h, i]])
     return K, Mt + Mr
 
 
@@ -163,8 +159,9 @@ def shear_parameter_of(rail, length: float):
     return 12.0 * rail.bending_stiffness / (rail.shear_stiffness * np.asarray(length) ** 2)
 
 
-def assemble_track(track: TrackParameters, elements_per_bay: int = 16,
-                   refined: tuple[int, int, int] | None = None) -> TrackFEModel:
+def assemble_track(
+    track: TrackParameters, elements_per_bay: int = 16, refined: tuple[int, int, int] | None = None
+) -> TrackFEModel:
     """Assemble mass, damping and stiffness of the discretely supported track.
 
     Parameters
@@ -187,7 +184,7 @@ def assemble_track(track: TrackParameters, elements_per_bay: int = 16,
     per_bay = np.full(track.n_bays, elements_per_bay, dtype=np.int64)
     if refined is not None:
         first, count, fine = refined
-        per_bay[first:first + count] = fine
+        per_bay[first : first + count] = fine
     node_x = np.concatenate([j * L + np.arange(n) * (L / n) for j, n in enumerate(per_bay)] + [[track.n_bays * L]])
     n_el = len(node_x) - 1
     support_nodes = np.concatenate([[0], np.cumsum(per_bay)])
@@ -221,8 +218,10 @@ def assemble_track(track: TrackParameters, elements_per_bay: int = 16,
     C = sp.lil_matrix((n_dof, n_dof))
     for node, s in zip(support_nodes, sleeper_dof, strict=True):
         r = w_dof[node]
-        for mat, pad, ballast in ((K, sup.pad_stiffness, sup.ballast_stiffness),
-                                  (C, sup.pad_damping, sup.ballast_damping)):
+        for mat, pad, ballast in (
+            (K, sup.pad_stiffness, sup.ballast_stiffness),
+            (C, sup.pad_damping, sup.ballast_damping),
+        ):
             mat[r, r] += pad
             mat[r, s] -= pad
             mat[s, r] -= pad
@@ -270,15 +269,14 @@ def track_receptance(model: TrackFEModel, frequency, x_excitation: float, x_resp
     h = np.diff(model.node_x)[element]
     N = timoshenko_shape_functions(xi, h, shear_parameter_of(model.params.rail, h))
     dofs = np.stack(
-        [model.w_dof[element], model.theta_dof[element], model.w_dof[element + 1],
-         model.theta_dof[element + 1]], axis=-1
+        [model.w_dof[element], model.theta_dof[element], model.w_dof[element + 1], model.theta_dof[element + 1]],
+        axis=-1,
     )
     Kb, Cb, Mb = model.banded(model.K), model.banded(model.C), model.banded(model.M)
     out = np.empty((len(f), len(x_resp)), dtype=complex)
     for i, fi in enumerate(f):
         w = 2 * np.pi * fi
-        u = solve_banded((HALF_BANDWIDTH, HALF_BANDWIDTH), Kb - w**2 * Mb + 1j * w * Cb, load,
-                         check_finite=False)
+        u = solve_banded((HALF_BANDWIDTH, HALF_BANDWIDTH), Kb - w**2 * Mb + 1j * w * Cb, load, check_finite=False)
         out[i] = np.sum(N * u[dofs], axis=-1)
     if x_response is None or np.ndim(x_response) == 0:
         return out[:, 0]
@@ -288,6 +286,7 @@ def track_receptance(model: TrackFEModel, frequency, x_excitation: float, x_resp
 # --------------------------------------------------------------------------------------------------
 # Receptance peaks
 # --------------------------------------------------------------------------------------------------
+
 
 def receptance_peaks(model: TrackFEModel) -> dict[str, float]:
     """Resonance frequencies of the track, Hz, read off its receptance in the central bay.

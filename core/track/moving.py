@@ -92,8 +92,7 @@ def bay_rows(n_positions: int, rows_per_position: int = ROWS_PER_POSITION):
     return lo, frac, pos - lo, pos - (lo + 1)
 
 
-def _rows_from_wedge(data, counts, offsets, stored_x, rail, sample_step, speed, sleeper_spacing,
-                     rows_per_position):
+def _rows_from_wedge(data, counts, offsets, stored_x, rail, sample_step, speed, sleeper_spacing, rows_per_position):
     """The moving Green's functions at the rows of ``bay_rows`` from responses stored for P positions."""
     n_positions, n_samples = counts.shape
     spacing = sleeper_spacing / n_positions
@@ -105,10 +104,18 @@ def _rows_from_wedge(data, counts, offsets, stored_x, rail, sample_step, speed, 
     shear_time = spacing / math.sqrt(rail.shear_stiffness / rail.mass_per_length)
     between_all = np.flatnonzero(frac > 0)
     for start in range(0, len(between_all), _ROW_BLOCK):  # a block at a time: a few MB of temporaries
-        between = between_all[start:start + _ROW_BLOCK]
-        values[between] = _rows_between((data, counts, offsets, stored_x), rail, lo[between], frac[between],
-                                        d_lo[between] * spacing, d_hi[between] * spacing, time, speed * time,
-                                        shear_time)
+        between = between_all[start : start + _ROW_BLOCK]
+        values[between] = _rows_between(
+            (data, counts, offsets, stored_x),
+            rail,
+            lo[between],
+            frac[between],
+            d_lo[between] * spacing,
+            d_hi[between] * spacing,
+            time,
+            speed * time,
+            shear_time,
+        )
     return values
 
 
@@ -243,8 +250,14 @@ class MovingGreenFunctions:
         if method == "trapezoidal" or (method == "auto" and time_step > FOH_MAX_STEP):
             if self.track is None or self.numerics is None:
                 raise WheelrailError("trapezoidal weights need the track these Green's functions come from")
-            values = trapezoidal_weights(self.track, self.numerics, self.speed, time_step, n_lags,
-                                         len(self.excitation_positions) // self.numerics.positions_per_bay)
+            values = trapezoidal_weights(
+                self.track,
+                self.numerics,
+                self.speed,
+                time_step,
+                n_lags,
+                len(self.excitation_positions) // self.numerics.positions_per_bay,
+            )
             if len(values) != len(self.excitation_positions):
                 raise WheelrailError("trapezoidal weights: the rows do not match the stored positions")
             return values if x0 is None else self._across_bay(values, x0)
@@ -270,8 +283,14 @@ _ROW_BLOCK = 16
 _MODELS: dict[tuple, TrackFEModel] = {}
 
 
-def trapezoidal_weights(track: TrackParameters, numerics: TrackNumerics, speed: float, time_step: float,
-                        n_lags: int, rows_per_position: int = ROWS_PER_POSITION) -> np.ndarray:
+def trapezoidal_weights(
+    track: TrackParameters,
+    numerics: TrackNumerics,
+    speed: float,
+    time_step: float,
+    n_lags: int,
+    rows_per_position: int = ROWS_PER_POSITION,
+) -> np.ndarray:
     """Convolution weights of eq. (2) from the FE track integrated by the trapezoidal rule at ``time_step``.
 
     Newmark's average-acceleration rule (the trapezoidal rule) at the loop's own step: w_m^{x_e} is the rail
@@ -294,8 +313,17 @@ def trapezoidal_weights(track: TrackParameters, numerics: TrackNumerics, speed: 
     t = np.arange(n_lags) * time_step
     nodes, stored_x, counts, offsets = _stored_nodes(model, numerics, x_e, speed, t)
     out = _integrate(model, x_e, time_step, n_lags, 1, nodes, counts, offsets, impulse=False)
-    return _rows_from_wedge(out, counts, offsets, stored_x, track.rail, time_step, float(speed),
-                            track.support.sleeper_spacing, rows_per_position)
+    return _rows_from_wedge(
+        out,
+        counts,
+        offsets,
+        stored_x,
+        track.rail,
+        time_step,
+        float(speed),
+        track.support.sleeper_spacing,
+        rows_per_position,
+    )
 
 
 def _piecewise_linear_moments(values: np.ndarray, step: float, tau: np.ndarray):
@@ -351,8 +379,9 @@ def moving_green_functions(
     return moving_from_stationary(response, speed, numerics.rows_per_position)
 
 
-def moving_from_stationary(response: StationaryTrackResponse, speed: float,
-                           rows_per_position: int | None = None) -> MovingGreenFunctions:
+def moving_from_stationary(
+    response: StationaryTrackResponse, speed: float, rows_per_position: int | None = None
+) -> MovingGreenFunctions:
     """Read the moving Green's functions for ``speed`` (m/s) off stored stationary responses, at
     ``rows_per_position`` rows per stored excitation position (``bay_rows``; default from the response's
     numerics)."""
@@ -364,8 +393,17 @@ def moving_from_stationary(response: StationaryTrackResponse, speed: float,
             "the stored responses cover"
         )
     L = response.track.support.sleeper_spacing
-    values = _rows_from_wedge(response.data, response.counts, response.offsets, response.stored_x,
-                              response.track.rail, response.time_step, float(speed), L, rows_per_position)
+    values = _rows_from_wedge(
+        response.data,
+        response.counts,
+        response.offsets,
+        response.stored_x,
+        response.track.rail,
+        response.time_step,
+        float(speed),
+        L,
+        rows_per_position,
+    )
     return MovingGreenFunctions(
         speed=float(speed),
         sleeper_spacing=L,

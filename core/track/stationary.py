@@ -95,8 +95,9 @@ def _band_matvec2(ab1, x1, ab2, x2, out):
 # A numba loop over time steps: 15 arguments because every array it reads or fills is one, so that the whole
 # loop compiles to one function numba caches on disk (a structure or a jitted callable would defeat the cache).
 @njit(cache=True, fastmath=True)
-def _newmark_block(mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets,
-                   out, impulse):
+def _newmark_block(
+    mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out, impulse
+):
     """Newmark (average acceleration) responses to the loads in the columns of ``load``.
 
     ``impulse``: a unit impulse at t = 0 (the continuous impulse response, sampled); otherwise a unit
@@ -156,16 +157,32 @@ COLUMN_BLOCK = 8
 
 
 @njit(cache=True, parallel=True)
-def _newmark_columns(mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets,
-                     out, impulse):
+def _newmark_columns(
+    mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out, impulse
+):
     """``_newmark_block`` over blocks of ``COLUMN_BLOCK`` columns, the blocks in parallel threads."""
     m = load.shape[1]
     n_blocks = (m + COLUMN_BLOCK - 1) // COLUMN_BLOCK
     for b in prange(n_blocks):
         c0 = b * COLUMN_BLOCK
         c1 = min(m, c0 + COLUMN_BLOCK)
-        _newmark_block(mb, cb, k_chol, m_chol, np.ascontiguousarray(load[:, c0:c1]), dt, n_steps, stride,
-                       w_dof, th_dof, nodes[c0:c1], counts[c0:c1], offsets[c0:c1], out, impulse)
+        _newmark_block(
+            mb,
+            cb,
+            k_chol,
+            m_chol,
+            np.ascontiguousarray(load[:, c0:c1]),
+            dt,
+            n_steps,
+            stride,
+            w_dof,
+            th_dof,
+            nodes[c0:c1],
+            counts[c0:c1],
+            offsets[c0:c1],
+            out,
+            impulse,
+        )
 
 
 # --------------------------------------------------------------------------------------------------
@@ -221,8 +238,11 @@ class StationaryTrackResponse:
 def numerics_model(track: TrackParameters, numerics: TrackNumerics) -> TrackFEModel:
     """The FE track of these numerics: ``elements_per_bay`` elements per bay, ``refined_elements_per_bay`` in
     the central bay (where the excitation positions are) and the ``refined_bays - 1`` bays after it."""
-    return assemble_track(track, numerics.elements_per_bay,
-                          refined=(track.n_bays // 2, numerics.refined_bays, numerics.refined_elements_per_bay))
+    return assemble_track(
+        track,
+        numerics.elements_per_bay,
+        refined=(track.n_bays // 2, numerics.refined_bays, numerics.refined_elements_per_bay),
+    )
 
 
 def _excitation_nodes(model: TrackFEModel, numerics: TrackNumerics):
@@ -238,8 +258,7 @@ def _excitation_nodes(model: TrackFEModel, numerics: TrackNumerics):
     return positions, x_e, nodes
 
 
-def _stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray, speed: float,
-                  t_samples: np.ndarray):
+def _stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray, speed: float, t_samples: np.ndarray):
     """Which rail nodes are stored for each excitation position, and how many at each sample."""
     L = model.params.support.sleeper_spacing
     spacing = L / numerics.positions_per_bay
@@ -260,10 +279,10 @@ def _stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray,
     counts = np.empty((len(x_e), len(t_samples)), dtype=np.int64)
     reach = speed * t_samples + spacing
     for e, keep in enumerate(lists):
-        nodes[e, :len(keep)] = keep
-        stored_x[e, :len(keep)] = x[keep] - x_e[e]
+        nodes[e, : len(keep)] = keep
+        stored_x[e, : len(keep)] = x[keep] - x_e[e]
         # the stored points up to the first at or beyond the reach, and a spare
-        counts[e] = np.searchsorted(stored_x[e, :len(keep)], reach - 1e-9 * L) + 2
+        counts[e] = np.searchsorted(stored_x[e, : len(keep)], reach - 1e-9 * L) + 2
         if counts[e, -1] > len(keep):
             raise WheelrailError(
                 f"track model too short: a wheel at {speed * 3.6:.0f} km/h travels {speed * t_samples[-1]:.2f} m "
@@ -274,14 +293,30 @@ def _stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray,
     return nodes, stored_x, counts, offsets
 
 
-def _integrate(model: TrackFEModel, x_e, dt: float, n_steps: int, stride: int, nodes, counts, offsets,
-               *, impulse: bool) -> np.ndarray:
+def _integrate(
+    model: TrackFEModel, x_e, dt: float, n_steps: int, stride: int, nodes, counts, offsets, *, impulse: bool
+) -> np.ndarray:
     """Newmark responses to unit loads at x_e, stored at ``nodes`` (see _newmark_block)."""
     mb, cb, k_chol, m_chol = _upper_band_arrays(model, dt)
     loads = np.stack([model.load_vector(float(x)) for x in x_e], axis=1)
     out = np.zeros((int(counts.sum()), 2))
-    _newmark_columns(mb, cb, k_chol, m_chol, loads, dt, n_steps, stride, model.w_dof, model.theta_dof, nodes,
-                     counts, offsets, out, impulse)
+    _newmark_columns(
+        mb,
+        cb,
+        k_chol,
+        m_chol,
+        loads,
+        dt,
+        n_steps,
+        stride,
+        model.w_dof,
+        model.theta_dof,
+        nodes,
+        counts,
+        offsets,
+        out,
+        impulse,
+    )
     return out
 
 
@@ -289,8 +324,10 @@ def _stored_times(numerics: TrackNumerics) -> tuple[np.ndarray, int]:
     n_steps = int(round(numerics.duration / numerics.time_step)) + 1
     reach = numerics.max_speed * numerics.duration
     if not reach < 1e6:  # m: beyond 1000 km the node counts overflow int64 (1e308 km/h was once accepted)
-        raise WheelrailError(f"a wheel at {numerics.max_speed * 3.6:.3g} km/h travels {reach:.3g} m within "
-                             f"the {numerics.duration} s Green's functions, beyond any track model")
+        raise WheelrailError(
+            f"a wheel at {numerics.max_speed * 3.6:.3g} km/h travels {reach:.3g} m within "
+            f"the {numerics.duration} s Green's functions, beyond any track model"
+        )
     return np.arange(0, n_steps, numerics.store_every) * numerics.time_step, n_steps
 
 
@@ -303,8 +340,9 @@ def compute_stationary_response(track: TrackParameters, numerics: TrackNumerics)
     positions, x_e, _ = _excitation_nodes(model, numerics)
     t_stored, n_steps = _stored_times(numerics)
     nodes, stored_x, counts, offsets = _stored_nodes(model, numerics, x_e, numerics.max_speed, t_stored)
-    out = _integrate(model, x_e, numerics.time_step, n_steps, numerics.store_every, nodes, counts, offsets,
-                     impulse=True)
+    out = _integrate(
+        model, x_e, numerics.time_step, n_steps, numerics.store_every, nodes, counts, offsets, impulse=True
+    )
     return StationaryTrackResponse(
         track=track,
         numerics=numerics,
@@ -361,9 +399,12 @@ def stationary_track_response(
     arrays = cache.load_entry("track-wedge", key, _WEDGE_ARRAYS) if use_cache else None
     if arrays is not None:
         shape = (numerics.positions_per_bay, len(_stored_times(numerics)[0]))
-        if (arrays["counts"].shape != shape or arrays["offsets"].shape != shape
-                or arrays["data"].shape != (int(arrays["counts"].sum()), 2)
-                or not np.all(np.isfinite(arrays["data"]))):
+        if (
+            arrays["counts"].shape != shape
+            or arrays["offsets"].shape != shape
+            or arrays["data"].shape != (int(arrays["counts"].sum()), 2)
+            or not np.all(np.isfinite(arrays["data"]))
+        ):
             arrays = None  # inconsistent with its own key: rebuild
     if arrays is not None:
         response = StationaryTrackResponse(
@@ -380,13 +421,9 @@ def stationary_track_response(
     else:
         response = compute_stationary_response(track, numerics)
         if use_cache:
-            path = cache.save_entry(
-                "track-wedge", key, {name: getattr(response, name) for name in _WEDGE_ARRAYS}
-            )
+            path = cache.save_entry("track-wedge", key, {name: getattr(response, name) for name in _WEDGE_ARRAYS})
             response = StationaryTrackResponse(**{**response.__dict__, "cache_path": str(path)})
     if use_cache:
         _MEMORY.clear()  # keep one track in memory (tens of MB)
         _MEMORY[key] = response
     return response
-
-

@@ -36,10 +36,12 @@ def test_output_that_is_the_input_is_refused_in_any_spelling(tmp_path, capsys, m
     shutil.copy(SAMPLE, "in.npz")
     os.symlink(tmp_path / "in.npz", "link.npz")
     before = Path("in.npz").read_bytes()
-    for argv in (["run", "--set", "in.npz", "--length-m", "0.05", "--out", "in.npz"],
-                 ["run", "--set", "in.npz", "--length-m", "0.05", "--out", f"{tmp_path}/./in.npz"],
-                 ["run", "--set", "link.npz", "--length-m", "0.05", "--out", "in.npz"],
-                 ["run", "--set", "in.npz", "--length-m", "0.05", "--rrd", "in.npz"]):
+    for argv in (
+        ["run", "--set", "in.npz", "--length-m", "0.05", "--out", "in.npz"],
+        ["run", "--set", "in.npz", "--length-m", "0.05", "--out", f"{tmp_path}/./in.npz"],
+        ["run", "--set", "link.npz", "--length-m", "0.05", "--out", "in.npz"],
+        ["run", "--set", "in.npz", "--length-m", "0.05", "--rrd", "in.npz"],
+    ):
         code, out, err = _run(capsys, *argv)
         _one_error_line(code, err, "run", "is the input file")
     Path("plot.png").symlink_to(tmp_path / "in.npz")
@@ -56,17 +58,24 @@ def test_unwritable_output_is_refused_before_the_run(tmp_path, capsys):
 
 
 # item 5: sizes ----------------------------------------------------------------------------------------------
-@pytest.mark.parametrize(("argv", "text"), [
-    (["run", "--set", "cast-iron-wheel", "--length-m", "1e9"], "GiB of memory"),
-    (["run", "--set", "cast-iron-wheel", "--model", "3d", "--length-m", "1e5"], "GiB of memory"),
-    (["run", "--set", "cast-iron-wheel", "--model", "3d", "--length-m", "1e5", "--out", "x.npz"],
-     "are the pressure maps kept"),
-    (["run", "--set", "corrugated-rail", "--speed-kmh", "1e308"], "outside the accepted"),
-    (["track", "--speed-kmh", "1e308"], "km/h"),
-    (["run", "--set", "corrugated-rail", "--length-m", "0.01", "--rrd", "x.rrd", "--record-every", str(10**20)],
-     "exceeds the run's 10 steps"),
-    (["track", "--df-hz", "1e-9"], "--df-hz must be in [0.05, 100] Hz"),
-])
+@pytest.mark.parametrize(
+    ("argv", "text"),
+    [
+        (["run", "--set", "cast-iron-wheel", "--length-m", "1e9"], "GiB of memory"),
+        (["run", "--set", "cast-iron-wheel", "--model", "3d", "--length-m", "1e5"], "GiB of memory"),
+        (
+            ["run", "--set", "cast-iron-wheel", "--model", "3d", "--length-m", "1e5", "--out", "x.npz"],
+            "are the pressure maps kept",
+        ),
+        (["run", "--set", "corrugated-rail", "--speed-kmh", "1e308"], "outside the accepted"),
+        (["track", "--speed-kmh", "1e308"], "km/h"),
+        (
+            ["run", "--set", "corrugated-rail", "--length-m", "0.01", "--rrd", "x.rrd", "--record-every", str(10**20)],
+            "exceeds the run's 10 steps",
+        ),
+        (["track", "--df-hz", "1e-9"], "--df-hz must be in [0.05, 100] Hz"),
+    ],
+)
 @pytest.mark.slow
 def test_sizes_are_refused_with_a_figure(argv, text, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
@@ -110,8 +119,9 @@ sys.exit(main(["run", "--set", "cast-iron-wheel", "--model", "3d", "--length-m",
 
 @pytest.mark.slow
 def test_ctrl_c_during_a_3d_run_is_interrupted_130():
-    child = subprocess.Popen([sys.executable, "-c", _CTRL_C_CHILD], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             text=True)
+    child = subprocess.Popen(
+        [sys.executable, "-c", _CTRL_C_CHILD], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
     assert child.stdout.readline().strip() == "stepping"  # the run is inside its step loop
     child.send_signal(signal.SIGINT)
     out, err = child.communicate(timeout=120)
@@ -127,8 +137,9 @@ def test_interrupt_turned_into_systemerror_by_compiled_code_is_reported_as_inter
         try:
             raise KeyboardInterrupt
         except KeyboardInterrupt as error:
-            raise SystemError("CPUDispatcher(<function _active_set_solve>) returned a result with an "
-                              "exception set") from error
+            raise SystemError(
+                "CPUDispatcher(<function _active_set_solve>) returned a result with an exception set"
+            ) from error
 
     monkeypatch.setattr(datasets, "run", interrupted)
     code, out, err = _run(capsys, "datasets")
@@ -136,10 +147,15 @@ def test_interrupt_turned_into_systemerror_by_compiled_code_is_reported_as_inter
 
 
 # item 8: explorer address -----------------------------------------------------------------------------------
-@pytest.mark.parametrize(("argv", "text"), [(["--port", "-1"], "--port must be in 1..65535"),
-                                            (["--port", "70000"], "--port must be in 1..65535"),
-                                            (["--host", "999.1.1.1"], "is not an address"),
-                                            (["--host", "192.0.2.1"], "cannot listen on 192.0.2.1")])
+@pytest.mark.parametrize(
+    ("argv", "text"),
+    [
+        (["--port", "-1"], "--port must be in 1..65535"),
+        (["--port", "70000"], "--port must be in 1..65535"),
+        (["--host", "999.1.1.1"], "is not an address"),
+        (["--host", "192.0.2.1"], "cannot listen on 192.0.2.1"),
+    ],
+)
 def test_explore_refuses_bad_addresses_before_starting(argv, text, capsys):
     code, out, err = _run(capsys, "explore", *argv)
     _one_error_line(code, err, "explore", text)
@@ -189,8 +205,9 @@ def test_edge_of_window_advice_names_what_the_cli_can_change(capsys, tmp_path):
 
     rail = load_roughness("corrugated-rail")
     write_csv(dataclasses.replace(rail, heights=rail.heights * 200), tmp_path / "rough.csv")  # up to 8 mm
-    code, out, err = _run(capsys, "run", "--set", str(tmp_path / "rough.csv"), "--model", "hertz-winkler",
-                          "--length-m", "0.1")
+    code, out, err = _run(
+        capsys, "run", "--set", str(tmp_path / "rough.csv"), "--model", "hertz-winkler", "--length-m", "0.1"
+    )
     _one_error_line(code, err, "run", "--model hertz-winkler: the bedding contact reaches the end of its window")
     assert err.rstrip().endswith("use a smoother line or set, or the hertz model")
     assert "half_window" not in err  # a keyword argument the CLI does not have
@@ -198,10 +215,12 @@ def test_edge_of_window_advice_names_what_the_cli_can_change(capsys, tmp_path):
 
 # item 11: start-up ------------------------------------------------------------------------------------------
 def test_help_imports_no_command_module_and_lists_each_modules_help():
-    probe = ("import sys, io, contextlib\nfrom wheelrail.core.cli import main\n"
-             "with contextlib.redirect_stdout(io.StringIO()):\n"
-             "    try:\n        main(['--help'])\n    except SystemExit:\n        pass\n"
-             "print(sorted(m for m in sys.modules if m.startswith(('wheelrail.core.commands.', 'numpy', 'scipy'))))")
+    probe = (
+        "import sys, io, contextlib\nfrom wheelrail.core.cli import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        "    try:\n        main(['--help'])\n    except SystemExit:\n        pass\n"
+        "print(sorted(m for m in sys.modules if m.startswith(('wheelrail.core.commands.', 'numpy', 'scipy'))))"
+    )
     loaded = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout
     assert loaded.strip() == "[]"
     import argparse

@@ -33,8 +33,9 @@ def _env(*folders) -> dict:
 
 
 def _wheelrail(env, *argv, timeout=600):
-    return subprocess.run([sys.executable, "-m", "wheelrail", *argv], capture_output=True, text=True, env=env,
-                          timeout=timeout)
+    return subprocess.run(
+        [sys.executable, "-m", "wheelrail", *argv], capture_output=True, text=True, env=env, timeout=timeout
+    )
 
 
 @pytest.fixture(scope="module")
@@ -43,8 +44,24 @@ def plugin_env(tmp_path_factory):
     work = tmp_path_factory.mktemp("plugin")
     source = shutil.copytree(PLUGIN_SOURCE, work / "source")  # pip builds in the source tree: keep tests/data clean
     site = work / "site"
-    subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--no-build-isolation",
-                    "--no-index", "--target", str(site), str(source)], check=True, capture_output=True, timeout=300)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--no-deps",
+            "--no-build-isolation",
+            "--no-index",
+            "--target",
+            str(site),
+            str(source),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=300,
+    )
     assert (site / "wheelrail_test_plugin").is_dir()
     return _env(site)
 
@@ -76,8 +93,20 @@ def test_a_plugin_model_runs_from_the_command_line(plugin_env):
 def test_a_plugin_model_runs_in_the_filters_study(plugin_env, tmp_path):
     # spawned pool workers find the plug-in by themselves (entry points, not a register() in this process)
     out = tmp_path / "filters"
-    study = _wheelrail(plugin_env, "study", "filters", "--set", "sinter-wheel-1", "--length-m", "0.8",
-                       "--workers", "2", "--out", str(out), "--json")
+    study = _wheelrail(
+        plugin_env,
+        "study",
+        "filters",
+        "--set",
+        "sinter-wheel-1",
+        "--length-m",
+        "0.8",
+        "--workers",
+        "2",
+        "--out",
+        str(out),
+        "--json",
+    )
     assert study.returncode == 0, study.stderr
     summary = json.loads(study.stdout)
     assert summary["runs"] == 36  # 7 lines x (4 built-in one-line models + the plug-in) + 3d
@@ -134,8 +163,9 @@ EXPLORER_PROBE = textwrap.dedent("""
 
 @pytest.mark.slow
 def test_the_explorer_offers_and_runs_a_plugin_model(plugin_env):
-    probe = subprocess.run([sys.executable, "-c", EXPLORER_PROBE], capture_output=True, text=True, env=plugin_env,
-                           timeout=600)
+    probe = subprocess.run(
+        [sys.executable, "-c", EXPLORER_PROBE], capture_output=True, text=True, env=plugin_env, timeout=600
+    )
     assert probe.returncode == 0, probe.stderr
     seen = json.loads(probe.stdout.strip().splitlines()[-1])
     assert seen["choices"] == [*MODELS, PLUGIN, "compare"]  # the menu: built-in models, the plug-in, compare
@@ -202,8 +232,9 @@ def test_each_broken_plugin_is_one_warning_naming_it_and_the_others_load(tmp_pat
     messages = sorted(str(w.message) for w in caught)
     assert len(messages) == len(BROKEN_ENTRY_POINTS)
     for message, (name, (target, why)) in zip(messages, sorted(BROKEN_ENTRY_POINTS.items()), strict=True):
-        assert message.startswith(f"contact-model plug-in {name!r} ({target} from wheelrail-broken-plugin 1.0) is "
-                                  "skipped: "), message
+        assert message.startswith(
+            f"contact-model plug-in {name!r} ({target} from wheelrail-broken-plugin 1.0) is skipped: "
+        ), message
         assert why in message and "\n" not in message
     assert model_entry("hertz") is models._BUILTIN[2]  # a plug-in never replaces a built-in model
     with pytest.raises(WheelrailError, match="unknown contact model 'boom'"):
@@ -214,9 +245,11 @@ def test_a_broken_plugin_is_one_warning_line_on_the_command_line(tmp_path):
     env = _env(_install_by_hand(tmp_path, {"boom": BROKEN_ENTRY_POINTS["boom"][0]}))
     result = _wheelrail(env, "run", "--help", timeout=120)
     assert result.returncode == 0 and "--model {3d,2d,hertz,hertz-winkler,hertz-average}" in result.stdout
-    assert result.stderr == ("wheelrail run: warning: contact-model plug-in 'boom' (wheelrail_broken_plugin_boom:"
-                             "ENTRY from wheelrail-broken-plugin 1.0) is skipped: loading it raised RuntimeError: "
-                             "plug-in failed on import\n")
+    assert result.stderr == (
+        "wheelrail run: warning: contact-model plug-in 'boom' (wheelrail_broken_plugin_boom:"
+        "ENTRY from wheelrail-broken-plugin 1.0) is skipped: loading it raised RuntimeError: "
+        "plug-in failed on import\n"
+    )
 
 
 def test_model_entries_are_checked():

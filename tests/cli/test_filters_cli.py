@@ -22,8 +22,11 @@ def test_filters_json_layout(capsys):
     result = json.loads(out)  # strict JSON: undefined levels are null
     assert len(result["wavelength_mm"]) == 35
     assert result["wavelength_mm"][0] == pytest.approx(1995.26, rel=1e-5)  # nominal 2000 mm, exact base-10 centre
-    assert set(result["by_wavelength"]) == set(result["by_frequency"]) == {
-        "cnossos", "averaging", "patch-correlated", "patch-incoherent"}
+    assert (
+        set(result["by_wavelength"])
+        == set(result["by_frequency"])
+        == {"cnossos", "averaging", "patch-correlated", "patch-incoherent"}
+    )
     # a tabulated case (50 kN, 920 mm) prints its CNOSSOS column exactly
     assert result["by_wavelength"]["cnossos"] == pytest.approx(list(CNOSSOS_A3[(50e3, 0.92)]))
     assert len(result["band_centres_hz"]) == 23 == len(result["by_frequency"]["averaging"])

@@ -144,5 +144,7 @@ def test_run_refuses_roughness_whose_model_grid_would_need_gigabytes(capsys, tmp
     assert code != 0 and out == ""
     # refused by the run's memory estimate (core/limits.py) or by the model grid's height count, whichever
     # looks first: both before allocating, with the figure
-    assert err.count("\n") == 1 and ("would hold 3e+09 heights (24 GB as float64), more than the limit" in err
-                                      or "GiB of memory, over the 2 GiB limit" in err)
+    assert err.count("\n") == 1 and (
+        "would hold 3e+09 heights (24 GB as float64), more than the limit" in err
+        or "GiB of memory, over the 2 GiB limit" in err
+    )

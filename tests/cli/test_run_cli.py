@@ -13,8 +13,22 @@ from wheelrail.core.roughness import load_roughness, write_csv
 @pytest.mark.slow
 def test_run_every_model_writes_npz(model, tmp_path, capsys):
     out = tmp_path / "run.npz"
-    argv = ["run", "--set", "cast-iron-wheel", "--line", "1", "--model", model, "--speed-kmh", "80",
-            "--length-m", "0.05", "--out", str(out), "--json"]
+    argv = [
+        "run",
+        "--set",
+        "cast-iron-wheel",
+        "--line",
+        "1",
+        "--model",
+        model,
+        "--speed-kmh",
+        "80",
+        "--length-m",
+        "0.05",
+        "--out",
+        str(out),
+        "--json",
+    ]
     assert main(argv) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["steps"] == 50 and summary["model"] == model

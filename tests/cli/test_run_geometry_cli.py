@@ -11,9 +11,26 @@ from wheelrail.core.results import RunResult
 
 def test_wheel_set_and_geometry_reach_the_run(tmp_path, capsys):
     out = tmp_path / "run.npz"
-    argv = ["run", "--set", "corrugated-rail", "--wheel-set", "sinter-wheel-1", "--model", "hertz",
-            "--wheel-radius-mm", "461.5", "--rail-crown-radius-mm", "300", "--wheel-transverse-radius-mm", "-500",
-            "--length-m", "0.1", "--out", str(out), "--json"]
+    argv = [
+        "run",
+        "--set",
+        "corrugated-rail",
+        "--wheel-set",
+        "sinter-wheel-1",
+        "--model",
+        "hertz",
+        "--wheel-radius-mm",
+        "461.5",
+        "--rail-crown-radius-mm",
+        "300",
+        "--wheel-transverse-radius-mm",
+        "-500",
+        "--length-m",
+        "0.1",
+        "--out",
+        str(out),
+        "--json",
+    ]
     assert main(argv) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["set"] == "corrugated-rail" and summary["wheel_set"] == "sinter-wheel-1"
@@ -21,7 +38,8 @@ def test_wheel_set_and_geometry_reach_the_run(tmp_path, capsys):
     assert result.wheel_roughness_name == "sinter-wheel-1"
     contact = result.header.params.contact
     assert (contact.wheel_radius, contact.rail_crown_radius, contact.wheel_transverse_radius) == pytest.approx(
-        (0.4615, 0.30, -0.50))
+        (0.4615, 0.30, -0.50)
+    )
     # the hertz law's contact length is 2a of that ellipse at each step's force
     assert np.allclose(result.contact_length, [2 * contact.hertz(f).semi_axis_along for f in result.force])
 
@@ -32,10 +50,15 @@ def test_wheel_set_and_geometry_reach_the_run(tmp_path, capsys):
         (["--wheel-set", "corrugated-rail"], "the wheel roughness is a rail set"),
         (["--wheel-radius-mm", "-460"], "--wheel-radius-mm -460 is outside the accepted 100 to 1250 mm"),
         (["--rail-crown-radius-mm", "nan"], "--rail-crown-radius-mm nan: not a number"),
-        (["--wheel-transverse-radius-mm", "0"], "--wheel-transverse-radius-mm 0 is outside the accepted range, a "
-                                                "magnitude of at least 50 mm"),
-        (["--wheel-transverse-radius-mm", "-300"], "--wheel-transverse-radius-mm -300: a concave tread of radius "
-                                                   "0.3 m fits the rail crown of radius 0.39 m or closer"),
+        (
+            ["--wheel-transverse-radius-mm", "0"],
+            "--wheel-transverse-radius-mm 0 is outside the accepted range, a magnitude of at least 50 mm",
+        ),
+        (
+            ["--wheel-transverse-radius-mm", "-300"],
+            "--wheel-transverse-radius-mm -300: a concave tread of radius "
+            "0.3 m fits the rail crown of radius 0.39 m or closer",
+        ),
     ],
 )
 def test_bad_wheel_set_or_geometry_is_one_line(extra, fragment, capsys):

@@ -22,8 +22,15 @@ def _result(n: int = 2000) -> RunResult:
     zeros = np.zeros(n)
     return RunResult(
         header=RunHeader(model="hertz", line=0, roughness_name="corrugated-rail", params=ModelParameters()),
-        time=t, x=np.arange(n) * 1e-3, force=force, xi_wheel=zeros, xi_rail=zeros, roughness=zeros,
-        contact_length=np.full(n, 0.011), contact_area=np.full(n, 9.4e-5), equivalent_roughness=zeros,
+        time=t,
+        x=np.arange(n) * 1e-3,
+        force=force,
+        xi_wheel=zeros,
+        xi_rail=zeros,
+        roughness=zeros,
+        contact_length=np.full(n, 0.011),
+        contact_area=np.full(n, 9.4e-5),
+        equivalent_roughness=zeros,
     )
 
 
@@ -87,5 +94,9 @@ def test_npz_without_force_and_too_short_run(tmp_path, capsys):
     short = _result(n=100).save_npz(tmp_path / "short.npz")  # 3.6 ms < the 20 ms start-up skip
     code, _, err = _run(capsys, "spectra", str(short))
     assert code != 0 and len(err.strip().splitlines()) == 1
-    assert err.startswith("wheelrail spectra: error: --skip-ms 20: the record of 100 steps (0.0036 s) leaves 0 "
-                          "steps after the skip") and "accepted at most 3.024 ms; or use a longer run" in err
+    assert (
+        err.startswith(
+            "wheelrail spectra: error: --skip-ms 20: the record of 100 steps (0.0036 s) leaves 0 steps after the skip"
+        )
+        and "accepted at most 3.024 ms; or use a longer run" in err
+    )

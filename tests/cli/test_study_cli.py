@@ -44,11 +44,20 @@ def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys)
     header = levels.read_text().splitlines()[0].split(",")
     assert header == ["band_centre_hz", "3d_db", "2d_db", "hertz_db", "hertz_winkler_db", "hertz_average_db"]
     assert filters.read_text().splitlines()[0].split(",") == [
-        "band_centre_hz", "3d_db", "2d_db", "hertz_winkler_db", "hertz_average_db",
-        "ref_cnossos_db", "ref_averaging_db", "ref_patch_correlated_db", "ref_patch_incoherent_db"]
+        "band_centre_hz",
+        "3d_db",
+        "2d_db",
+        "hertz_winkler_db",
+        "hertz_average_db",
+        "ref_cnossos_db",
+        "ref_averaging_db",
+        "ref_patch_correlated_db",
+        "ref_patch_incoherent_db",
+    ]
     data = np.genfromtxt(filters, delimiter=",", names=True)
     assert data["band_centre_hz"][0] == pytest.approx(50.12, abs=0.01) and data["band_centre_hz"][-1] == pytest.approx(
-        7943.28, abs=0.01)
+        7943.28, abs=0.01
+    )
     # the 2D filter is L_2D - L_hertz: small (|.| < 1 dB) where the wavelength is long (< 500 Hz: > 5.5 cm)
     # and strongly negative at 8 kHz (3.5 mm waves fill the contact: measured about -20 dB)
     low = np.isfinite(data["2d_db"]) & (data["band_centre_hz"] < 450)
@@ -57,8 +66,10 @@ def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys)
     png = out / "fig10_filters.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     saved = json.loads((out / "filters_summary.json").read_text())
-    assert saved["tables"]["fig10_sinter-wheel-1_contact_filters"]["2d_db"] == summary["tables"][
-        "fig10_sinter-wheel-1_contact_filters"]["2d_db"]
+    assert (
+        saved["tables"]["fig10_sinter-wheel-1_contact_filters"]["2d_db"]
+        == summary["tables"]["fig10_sinter-wheel-1_contact_filters"]["2d_db"]
+    )
     assert len(list((out / "runs").glob("run-*.npz"))) == 29
     # the same study again: every run comes from the cache, the tables are identical
     again = _run_json(argv, capsys)
@@ -87,8 +98,9 @@ def test_interrupted_study_recomputes_only_missing_runs(tmp_path):
 def stored_run(tmp_path_factory):
     """One short run (1 m at 100 km/h: its 50 Hz band is legitimately NaN) and the bytes of its run file."""
     wheel = load_roughness("sinter-wheel-1")
-    spec = RunSpec(source="sinter-wheel-1", set_label="w", set_digest=roughness_digest(wheel), model="hertz",
-                   length=1.0)
+    spec = RunSpec(
+        source="sinter-wheel-1", set_label="w", set_digest=roughness_digest(wheel), model="hertz", length=1.0
+    )
     cache = tmp_path_factory.mktemp("runs")
     report = execute([spec], cache=cache, workers=1, progress=False)
     summary = report.summaries[spec.key]
@@ -99,7 +111,7 @@ def stored_run(tmp_path_factory):
 def _damage_zip_byte(raw: bytes, offset: int, value: int) -> bytes:
     """Set one byte of the first entry of the ZIP's central directory (offset from its signature)."""
     at = raw.index(b"PK\x01\x02") + offset
-    return raw[:at] + bytes([value]) + raw[at + 1:]
+    return raw[:at] + bytes([value]) + raw[at + 1 :]
 
 
 def _change_arrays(raw: bytes, change) -> bytes:
@@ -116,6 +128,7 @@ def _change_arrays(raw: bytes, change) -> bytes:
 def _set(name, value):
     def change(arrays):
         arrays[name] = value(arrays[name])
+
     return change
 
 
@@ -145,8 +158,18 @@ def test_an_intact_run_file_is_used(stored_run, tmp_path):
         lambda raw: _change_arrays(raw, _set("n_steps", lambda v: np.array([v, v]))),
         lambda raw: _change_arrays(raw, lambda arrays: arrays.pop("force_std")),
     ],
-    ids=["zip-flag", "zip-method", "zip-version", "short-levels", "2d-centres", "nan-level", "level-in-nan-band",
-         "nan-force", "array-step-count", "missing-array"],
+    ids=[
+        "zip-flag",
+        "zip-method",
+        "zip-version",
+        "short-levels",
+        "2d-centres",
+        "nan-level",
+        "level-in-nan-band",
+        "nan-force",
+        "array-step-count",
+        "missing-array",
+    ],
 )
 def test_a_damaged_run_file_is_recomputed_with_a_warning(stored_run, tmp_path, damage):
     spec, summary, raw = stored_run
@@ -172,10 +195,24 @@ def test_run_keys_hash_the_full_spec():
         RunSpec(source=rail, set_label="a", set_digest=digest, model="2d", line=2, length=1.0),
         RunSpec(source=rail, set_label="a", set_digest=digest, model="2d", line=1, length=1.1),
         RunSpec(source=rail, set_label="a", set_digest=digest, model="hertz", line=1, length=1.0),
-        RunSpec(source=rail, set_label="a", set_digest=digest, model="2d", line=1, length=1.0,
-                averaged_lines=(-3, -2, -1, 0, 1, 2, 3)),
-        RunSpec(source=rail, set_label="a", set_digest=digest, model="2d", line=1, length=1.0,
-                params=plan_study("speeds", [rail]).specs[0].params),
+        RunSpec(
+            source=rail,
+            set_label="a",
+            set_digest=digest,
+            model="2d",
+            line=1,
+            length=1.0,
+            averaged_lines=(-3, -2, -1, 0, 1, 2, 3),
+        ),
+        RunSpec(
+            source=rail,
+            set_label="a",
+            set_digest=digest,
+            model="2d",
+            line=1,
+            length=1.0,
+            params=plan_study("speeds", [rail]).specs[0].params,
+        ),
     ]
     keys = {base.key} | {spec.key for spec in others}
     assert len(keys) == 1 + len(others)
@@ -184,18 +221,23 @@ def test_run_keys_hash_the_full_spec():
 def test_study_inputs_averaged_and_reduced_lateral_resolution():
     wheel = load_roughness("cast-iron-wheel")
     digest = roughness_digest(wheel)
-    averaged, line = study_roughness(RunSpec(source=wheel, set_label="w", set_digest=digest, model="2d",
-                                             averaged_lines=range(-3, 4)))
+    averaged, line = study_roughness(
+        RunSpec(source=wheel, set_label="w", set_digest=digest, model="2d", averaged_lines=range(-3, 4))
+    )
     assert line == 0 and averaged.n_lines == 1
-    np.testing.assert_allclose(averaged.line(0), wheel.heights[wheel.centre_row - 3: wheel.centre_row + 4].mean(axis=0))
+    np.testing.assert_allclose(
+        averaged.line(0), wheel.heights[wheel.centre_row - 3 : wheel.centre_row + 4].mean(axis=0)
+    )
     # Fig. 17, 4 mm: the paper's lines -4, -2, 0, 2, 4 of 2 mm spacing are this set's own lines (exact copies)
-    low, _ = study_roughness(RunSpec(source=wheel, set_label="w", set_digest=digest, model="3d",
-                                     lateral_lines_mm=(-8, -4, 0, 4, 8)))
+    low, _ = study_roughness(
+        RunSpec(source=wheel, set_label="w", set_digest=digest, model="3d", lateral_lines_mm=(-8, -4, 0, 4, 8))
+    )
     np.testing.assert_allclose(low.y, np.array([-8, -4, 0, 4, 8]) * 1e-3)
     np.testing.assert_array_equal(low.heights, wheel.heights[[wheel.row_of_line(n) for n in (-4, -2, 0, 2, 4)]])
     # lines between measured ones are interpolated linearly across the track
-    odd, _ = study_roughness(RunSpec(source=wheel, set_label="w", set_digest=digest, model="3d",
-                                     lateral_lines_mm=(-1, 1)))
+    odd, _ = study_roughness(
+        RunSpec(source=wheel, set_label="w", set_digest=digest, model="3d", lateral_lines_mm=(-1, 1))
+    )
     np.testing.assert_allclose(odd.heights[1], 0.5 * (wheel.line(0) + wheel.line(1)), atol=1e-15)
 
 
@@ -204,17 +246,18 @@ def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
     # the wheel between its lines, not its own line n (at 2n mm). Linear interpolation across, as the runs do.
     rail, wheel = load_roughness("corrugated-rail"), load_roughness("sinter-wheel-1")
     own_wheel = ContactParameters(wheel_radius=0.4615)  # the bundled wheel sets are 2.900 m round
-    plan = plan_study("averaged-input", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1",
-                      contact=own_wheel)
+    plan = plan_study("averaged-input", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1", contact=own_wheel)
     averaged = next(spec for spec in plan.specs if spec.averaged_lines)
     assert averaged.averaged_lines == tuple(range(-3, 4))
     mean = study_wheel_roughness(averaged)
-    at_rail = [0.5 * (wheel.line(n // 2) + wheel.line(n // 2 + 1)) if n % 2 else wheel.line(n // 2)
-               for n in range(-3, 4)]
+    at_rail = [
+        0.5 * (wheel.line(n // 2) + wheel.line(n // 2 + 1)) if n % 2 else wheel.line(n // 2) for n in range(-3, 4)
+    ]
     np.testing.assert_allclose(mean.line(0), np.mean(at_rail, axis=0), rtol=0, atol=1e-15)
     # Fig. 17's lines at -8, -4, 0, 4, 8 mm of the rail: the wheel's lines -4, -2, 0, 2, 4 (2 mm apart)
-    fig17 = plan_study("lateral-resolution", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1",
-                       contact=own_wheel)
+    fig17 = plan_study(
+        "lateral-resolution", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1", contact=own_wheel
+    )
     low = next(spec for spec in fig17.specs if spec.lateral_lines_mm == (-8, -4, 0, 4, 8))
     taken = study_wheel_roughness(low)
     np.testing.assert_allclose(taken.y, study_roughness(low)[0].y)
@@ -231,17 +274,24 @@ def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
     assert info.value.parameter == "wheel_set"
     assert info.value.render(CLI_NAMES).startswith(
         "--wheel-set SYNTHETIC-wheel-roughness-sinter-wheel: no data at the lateral positions of corrugated-rail's "
-        "lines -3 to 3; its data span 16 .. 20 mm (the wheel set is paired with the rail set by lateral position)")
+        "lines -3 to 3; its data span 16 .. 20 mm (the wheel set is paired with the rail set by lateral position)"
+    )
 
 
 @pytest.mark.slow
 def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
     distributed = pytest.importorskip("distributed")
-    pool = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "pool", length=0.6, progress=False,
-                     figures=False)
+    pool = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "pool", length=0.6, progress=False, figures=False)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        dask = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "dask", length=0.6, progress=False,
-                         figures=False, dask_address=cluster.scheduler_address)
+        dask = run_study(
+            "averaged-input",
+            ["sinter-wheel-1"],
+            tmp_path / "dask",
+            length=0.6,
+            progress=False,
+            figures=False,
+            dask_address=cluster.scheduler_address,
+        )
     assert dask.report.backend.startswith("dask") and dask.report.computed == 2
     assert pool.report.backend.startswith("process pool") and pool.report.computed == 2
     for a, b in zip(pool.tables, dask.tables, strict=True):
@@ -256,8 +306,22 @@ def test_user_csv_set_and_human_output(tmp_path, capsys):
     wheel = load_roughness("sinter-wheel-2")
     path = tmp_path / "my wheel.csv"
     write_csv(wheel, path)
-    code = main(["study", "averaged-input", "--set", str(path), "--set", "cast-iron-wheel", "--out",
-                 str(tmp_path / "o"), "--length-m", "0.6", "--workers", "1"])
+    code = main(
+        [
+            "study",
+            "averaged-input",
+            "--set",
+            str(path),
+            "--set",
+            "cast-iron-wheel",
+            "--out",
+            str(tmp_path / "o"),
+            "--length-m",
+            "0.6",
+            "--workers",
+            "1",
+        ]
+    )
     text = capsys.readouterr().out
     assert code == 0
     assert "4 runs (4 computed, 0 from" in text and "in-process" in text
@@ -276,8 +340,10 @@ def test_user_csv_set_and_human_output(tmp_path, capsys):
         (["study", "filters", "--set", "corrugated-rail", "--workers", "0"], "--workers must be at least 1"),
         (["study", "filters", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh -5 is outside"),
         (["study", "filters", "--set", "corrugated-rail", "--length-m", "99"], "--length-m 99: longer than the rail"),
-        (["study", "speeds", "--set", "corrugated-rail", "--length-m", "0.5"], "--length-m 0.5: too short for a force "
-                                                                                 "spectrum at 100 km/h"),
+        (
+            ["study", "speeds", "--set", "corrugated-rail", "--length-m", "0.5"],
+            "--length-m 0.5: too short for a force spectrum at 100 km/h",
+        ),
     ],
 )
 def test_bad_input_is_one_line_on_stderr(argv, message, tmp_path, capsys):
@@ -291,8 +357,20 @@ def test_bad_input_is_one_line_on_stderr(argv, message, tmp_path, capsys):
 def test_dask_and_workers_exclude_each_other(workers, tmp_path, capsys):
     # `--workers 2` (the default value) used to slip through argparse's exclusive group
     with pytest.raises(SystemExit) as stopped:
-        main(["study", "filters", "--set", "corrugated-rail", "--out", str(tmp_path), "--dask", "tcp://127.0.0.1:8786",
-              "--workers", workers])
+        main(
+            [
+                "study",
+                "filters",
+                "--set",
+                "corrugated-rail",
+                "--out",
+                str(tmp_path),
+                "--dask",
+                "tcp://127.0.0.1:8786",
+                "--workers",
+                workers,
+            ]
+        )
     err = capsys.readouterr().err
     assert stopped.value.code == 2 and err.count("\n") == 1
     assert "argument --workers: not allowed with argument --dask" in err, err
@@ -310,8 +388,20 @@ def test_unwritable_output_folder(tmp_path, capsys):
 @pytest.mark.slow
 def test_unreachable_dask_scheduler(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(study_execution, "DASK_CONNECT_TIMEOUT", "1s")
-    code = main(["study", "speeds", "--set", "corrugated-rail", "--out", str(tmp_path), "--length-m", "1.5",
-                 "--dask", "tcp://127.0.0.1:9"])
+    code = main(
+        [
+            "study",
+            "speeds",
+            "--set",
+            "corrugated-rail",
+            "--out",
+            str(tmp_path),
+            "--length-m",
+            "1.5",
+            "--dask",
+            "tcp://127.0.0.1:9",
+        ]
+    )
     err = capsys.readouterr().err
     assert code != 0 and err.count("\n") == 1 and "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in err, err
 
@@ -331,8 +421,10 @@ def test_explorer_does_not_load_the_study_package():
     import subprocess
     import sys
 
-    code = ("import sys, wheelrail.explorer.app; "
-            "print(sorted(m for m in sys.modules if m.startswith('wheelrail.core.study')))")
+    code = (
+        "import sys, wheelrail.explorer.app; "
+        "print(sorted(m for m in sys.modules if m.startswith('wheelrail.core.study')))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]", out
 
@@ -341,8 +433,23 @@ def test_explorer_does_not_load_the_study_package():
 def test_study_on_an_elliptic_patch(tmp_path, capsys):
     """The study's runs take the contact geometry; its summary carries it; the reference filters
     follow Hertz's semi-axis a along the rail (6.20 mm for a 0.46 m wheel on a 0.30 m crown)."""
-    argv = ["study", "filters", "--set", "sinter-wheel-1", "--out", str(tmp_path), "--length-m", "0.6", "--json",
-            "--workers", "1", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300"]
+    argv = [
+        "study",
+        "filters",
+        "--set",
+        "sinter-wheel-1",
+        "--out",
+        str(tmp_path),
+        "--length-m",
+        "0.6",
+        "--json",
+        "--workers",
+        "1",
+        "--wheel-radius-mm",
+        "460",
+        "--rail-crown-radius-mm",
+        "300",
+    ]
     summary = _run_json(argv, capsys)
     contact = summary["contact"]
     assert contact["wheel_radius"] == pytest.approx(0.46) and contact["rail_crown_radius"] == pytest.approx(0.30)
@@ -352,8 +459,10 @@ def test_study_on_an_elliptic_patch(tmp_path, capsys):
     ellipse = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)
     refs = reference_filters(65e3, 0.46, 100 / 3.6, contact=ellipse)
     table = summary["tables"]["fig10_sinter-wheel-1_contact_filters"]
-    expected = [None if not np.isfinite(v) else pytest.approx(round(float(v), 3), abs=1e-3)
-                for v in refs.by_frequency["averaging"]]
+    expected = [
+        None if not np.isfinite(v) else pytest.approx(round(float(v), 3), abs=1e-3)
+        for v in refs.by_frequency["averaging"]
+    ]
     assert table["ref_averaging_db"] == expected
 
 
@@ -367,8 +476,19 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     from wheelrail.core.spectra import force_spectrum
 
     out = tmp_path / "speeds"
-    base = ["study", "speeds", "--set", "corrugated-rail", "--out", str(out), "--length-m", "1.2",
-            "--workers", "1", "--json"]
+    base = [
+        "study",
+        "speeds",
+        "--set",
+        "corrugated-rail",
+        "--out",
+        str(out),
+        "--length-m",
+        "1.2",
+        "--workers",
+        "1",
+        "--json",
+    ]
     rail_only = _run_json(base, capsys)
     assert rail_only["wheel_set"] is None and rail_only["runs_computed"] == 5
     # the bundled wheel sets are 2.900 m round: a wheel of 461.5 mm (accepted.check_wheel_circumference)
@@ -377,16 +497,30 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     assert combined["runs_computed"] == 5 and combined["runs_cached"] == 0  # other keys than the rail alone
     assert len(list((out / "runs").glob("run-*.npz"))) == 10
     plain = plan_study("speeds", ["corrugated-rail"], length=1.2)
-    plan = plan_study("speeds", ["corrugated-rail"], length=1.2, wheel_set="sinter-wheel-1",
-                      contact=ContactParameters(wheel_radius=0.4615))
+    plan = plan_study(
+        "speeds",
+        ["corrugated-rail"],
+        length=1.2,
+        wheel_set="sinter-wheel-1",
+        contact=ContactParameters(wheel_radius=0.4615),
+    )
     assert "wheel_set" not in plain.specs[0].description()  # runs without a wheel set keep their keys
     assert plan.specs[0].description()["wheel_set"] == {
-        "label": "sinter-wheel-1", "digest": roughness_digest(load_roughness("sinter-wheel-1"))}
+        "label": "sinter-wheel-1",
+        "digest": roughness_digest(load_roughness("sinter-wheel-1")),
+    }
     assert plan.specs[0].label().startswith("2d on corrugated-rail + sinter-wheel-1 line 0, 75 km/h")
     # a run's spectrum is that of the combined run itself (the same code path: equal to round-off)
     spec = plan.specs[1]
-    result = simulate("corrugated-rail", wheel_roughness="sinter-wheel-1", model=spec.model, line=0,
-                      params=spec.params, length=1.2, keep_pressure=False)
+    result = simulate(
+        "corrugated-rail",
+        wheel_roughness="sinter-wheel-1",
+        model=spec.model,
+        line=0,
+        params=spec.params,
+        length=1.2,
+        keep_pressure=False,
+    )
     assert result.wheel_roughness_name == "sinter-wheel-1"
     centres, levels = force_spectrum(result)
     table = combined["tables"]["fig11_corrugated-rail_speeds"]
@@ -398,10 +532,14 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     # the wrong kinds are one clear error
     for argv, message in [
         ([*base, "--wheel-set", "corrugated-rail"], "the wheel set corrugated-rail is a rail set"),
-        ([*base, "--wheel-set", "sinter-wheel-1"], "--wheel-radius-mm 390: the wheel set sinter-wheel-1 is 2.9 m "
-                                                   "round"),
-        (["study", "speeds", "--set", "cast-iron-wheel", "--wheel-set", "sinter-wheel-1", "--out", str(out)],
-         "every set must be a rail set; cast-iron-wheel is a wheel set"),
+        (
+            [*base, "--wheel-set", "sinter-wheel-1"],
+            "--wheel-radius-mm 390: the wheel set sinter-wheel-1 is 2.9 m round",
+        ),
+        (
+            ["study", "speeds", "--set", "cast-iron-wheel", "--wheel-set", "sinter-wheel-1", "--out", str(out)],
+            "every set must be a rail set; cast-iron-wheel is a wheel set",
+        ),
     ]:
         assert main(argv) == 2
         captured = capsys.readouterr()

@@ -14,8 +14,10 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = [pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads process states from /proc"),
-              pytest.mark.slow]  # real study processes: seconds each
+pytestmark = [
+    pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads process states from /proc"),
+    pytest.mark.slow,
+]  # real study processes: seconds each
 
 DEADLINE_S = 120.0  # interpreter start and imports of 3 processes on a loaded 2-core machine; usually ~5 s
 
@@ -87,8 +89,7 @@ def study_process(tmp_path):
     """The blocked study, once its two workers and the resource tracker run: (process, their pids)."""
     script = tmp_path / "blocked_study.py"
     script.write_text(SCRIPT)
-    process = subprocess.Popen([sys.executable, str(script), str(tmp_path / "runs")], stderr=subprocess.PIPE,
-                               text=True)
+    process = subprocess.Popen([sys.executable, str(script), str(tmp_path / "runs")], stderr=subprocess.PIPE, text=True)
     helpers: dict[int, str] = {}
 
     def started() -> bool:

@@ -28,8 +28,13 @@ def test_track_json_csv(tmp_path, capsys):
     assert summary["cache"]["size_bytes"] > 0
     with open(out_csv) as handle:
         rows = list(csv.reader(handle))
-    assert rows[0] == ["frequency_hz", "above_sleeper_abs_m_per_n", "above_sleeper_phase_rad",
-                       "midspan_abs_m_per_n", "midspan_phase_rad"]
+    assert rows[0] == [
+        "frequency_hz",
+        "above_sleeper_abs_m_per_n",
+        "above_sleeper_phase_rad",
+        "midspan_abs_m_per_n",
+        "midspan_phase_rad",
+    ]
     data = np.array(rows[1:], dtype=float)
     assert data[0, 0] == 20 and data[-1, 0] == 5000
     # around the pinned-pinned frequency the midspan receptance is the larger one

@@ -50,8 +50,9 @@ CASES = {
 
 
 def record(roughness, contact: ContactParameters, length: float, run_in: float) -> dict[str, np.ndarray]:
-    run = prepare_run(roughness, model=REFERENCE, params=ModelParameters(contact=contact), length=length,
-                      run_in_length=run_in)
+    run = prepare_run(
+        roughness, model=REFERENCE, params=ModelParameters(contact=contact), length=length, run_in_length=run_in
+    )
     model = run.contact
     assert type(model) is HalfSpaceReferenceModel
     inputs = model._inputs
@@ -78,8 +79,15 @@ def record(roughness, contact: ContactParameters, length: float, run_in: float) 
         "half_x": np.array(hx),
         "start_index": inputs.start_index - lo,
         "ramp": inputs.ramp,
-        "contact": np.array([contact.youngs_modulus, contact.poisson_ratio, contact.radius_along,
-                             contact.radius_across, contact.preload]),
+        "contact": np.array(
+            [
+                contact.youngs_modulus,
+                contact.poisson_ratio,
+                contact.radius_along,
+                contact.radius_across,
+                contact.preload,
+            ]
+        ),
         "approach_known": np.array([c[1] for c in calls]),
         "compliance": np.array([c[2] for c in calls]),
         "force": np.array([c[3].force for c in calls]),
@@ -94,17 +102,26 @@ REFERENCE = "3d-reference"
 
 
 def main() -> None:
-    register(ModelEntry(name=REFERENCE, label="3d, per-step solver", implementation=HalfSpaceReferenceModel,
-                        traits=ModelTraits(lateral_window=True, pressure_map=True)))
-    commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
-                            cwd=Path(__file__).parent).stdout.strip()
+    register(
+        ModelEntry(
+            name=REFERENCE,
+            label="3d, per-step solver",
+            implementation=HalfSpaceReferenceModel,
+            traits=ModelTraits(lateral_window=True, pressure_map=True),
+        )
+    )
+    commit = subprocess.run(
+        ["git", "rev-parse", "HEAD"], capture_output=True, text=True, cwd=Path(__file__).parent
+    ).stdout.strip()
     arrays = {"source": np.array(f"HalfSpaceWindow.solve_coupled per step, wheelrail commit {commit}")}
     for name, case in CASES.items():
         for key, value in record(*case).items():
             arrays[f"{name}/{key}"] = value
         force = arrays[f"{name}/force"]
-        print(f"{name}: {force.size} steps, F {force.min() / 1e3:.1f}..{force.max() / 1e3:.1f} kN, "
-              f"{np.count_nonzero(force == 0)} without contact")
+        print(
+            f"{name}: {force.size} steps, F {force.min() / 1e3:.1f}..{force.max() / 1e3:.1f} kN, "
+            f"{np.count_nonzero(force == 0)} without contact"
+        )
     unregister(REFERENCE)
     np.savez_compressed(OUT, **arrays)
     print(f"wrote {OUT} ({OUT.stat().st_size / 1e3:.0f} kB)")

@@ -14,12 +14,19 @@ import pytest
 
 CHROMIUM = Path("/usr/bin/chromium")
 ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
-LAUNCH_ARGS = ["--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-sandbox",
-               "--disable-gpu"]
+LAUNCH_ARGS = [
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-sandbox",
+    "--disable-gpu",
+]
 
 if not CHROMIUM.exists():
-    pytest.skip("Debian's chromium is not installed at /usr/bin/chromium (apt-get install chromium); "
-                "CI installs it", allow_module_level=True)
+    pytest.skip(
+        "Debian's chromium is not installed at /usr/bin/chromium (apt-get install chromium); CI installs it",
+        allow_module_level=True,
+    )
 from playwright import sync_api as playwright_api  # noqa: E402  (the test extra installs it)
 
 pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
@@ -105,20 +112,34 @@ def test_compare_in_the_page_then_change_speed_the_old_filters_go(app, browser):
     page.get_by_text("Done: compare on corrugated-rail, line 0, 100 km/h", exact=False).wait_for(timeout=300_000)
     assert app.last_error is None
     page.get_by_role("tab", name="Spectra and filters").click()
-    _wait_for(lambda: "3d - hertz" in (_plot(page, "Contact filters") or {}).get("labels", []), 60,
-              "the contact filters in the page")
+    _wait_for(
+        lambda: "3d - hertz" in (_plot(page, "Contact filters") or {}).get("labels", []),
+        60,
+        "the contact filters in the page",
+    )
     filters = _plot(page, "Contact filters")
     assert filters["title"] == "Contact filters: corrugated-rail, line 0, 100 km/h, 65 kN, 0.8 m"
-    assert filters["labels"] == ["3d - hertz", "2d - hertz", "hertz-winkler - hertz", "hertz-average - hertz",
-                                 "cnossos", "averaging", "patch-correlated", "patch-incoherent"]
+    assert filters["labels"] == [
+        "3d - hertz",
+        "2d - hertz",
+        "hertz-winkler - hertz",
+        "hertz-average - hertz",
+        "cnossos",
+        "averaging",
+        "patch-correlated",
+        "patch-incoherent",
+    ]
     time.sleep(1.0)
     page.screenshot(path=str(ARTIFACTS / "explorer-filters.png"))
 
     speed = _text_field(page, "Speed (km/h)")
     speed.fill("80")
     speed.press("Enter")
-    _wait_for(lambda: (_plot(page, "Contact filters") or {}).get("title", "").endswith("80 km/h, 65 kN, 0.8 m"), 60,
-              "the contact-filter plot of the new configuration")
+    _wait_for(
+        lambda: (_plot(page, "Contact filters") or {}).get("title", "").endswith("80 km/h, 65 kN, 0.8 m"),
+        60,
+        "the contact-filter plot of the new configuration",
+    )
     filters = _plot(page, "Contact filters")
     assert filters["labels"] == ["cnossos", "averaging", "patch-correlated", "patch-incoherent"]
     assert _plot(page, "Force spectra")["labels"] == ["no spectrum of this configuration yet"]
@@ -219,12 +240,18 @@ def test_the_page_is_titled_and_keeps_one_notice(app, browser):
         # once the page has shown the last notice and taken the others away (they fade out): one notice
         assert app.last_error.startswith("Speed -5 km/h is outside the accepted 5 to 400 km/h")
         last = f"Cannot do that\n{app.last_error}"
-        page.wait_for_function(f"() => JSON.stringify(({NOTICES})().filter(t => t.startsWith('Cannot do that')))"
-                               f" === JSON.stringify([{last!r}])", timeout=30_000)
+        page.wait_for_function(
+            f"() => JSON.stringify(({NOTICES})().filter(t => t.startsWith('Cannot do that')))"
+            f" === JSON.stringify([{last!r}])",
+            timeout=30_000,
+        )
         app.notice_seconds = NOTICE_SECONDS
         run_button.click()  # and a notice closes by itself
-        _wait_for(lambda: app._notices and next(iter(app._notices.values())).auto_close_seconds == NOTICE_SECONDS,
-                  30, "a notice that closes by itself")
+        _wait_for(
+            lambda: app._notices and next(iter(app._notices.values())).auto_close_seconds == NOTICE_SECONDS,
+            30,
+            "a notice that closes by itself",
+        )
     finally:
         app.notice_seconds = NOTICE_SECONDS
         app.speed_text.value = old

@@ -21,8 +21,14 @@ def _page_error(**changes) -> str:
     wheel = changes.pop("wheel", None)
     with pytest.raises(WheelrailError) as info:
         geometry = read_geometry(**geometry_mm)
-        read_config(RAIL, "corrugated-rail", **{**FIELDS, **changes}, geometry=geometry, wheel=wheel,
-                    wheel_label=None if wheel is None else "sinter-wheel-1")
+        read_config(
+            RAIL,
+            "corrugated-rail",
+            **{**FIELDS, **changes},
+            geometry=geometry,
+            wheel=wheel,
+            wheel_label=None if wheel is None else "sinter-wheel-1",
+        )
     message = page_message(info.value)
     assert "\n" not in message and "--" not in message and "ContactParameters" not in message
     return message
@@ -32,24 +38,41 @@ def test_the_fields_offer_cores_ranges():
     assert PRELOAD_RANGE_KN == (ACCEPTED["preload"].minimum / 1e3, ACCEPTED["preload"].maximum / 1e3) == (1.0, 500.0)
     assert (MIN_SPEED_KMH, MAX_SPEED_KMH) == (5.0, 400.0)
     assert [accepted_text(key) for key in ("speed", "preload", "wheel_radius", "rail_crown_radius")] == [
-        "5 to 400 km/h", "1 to 500 kN", "100 to 1250 mm", "50 to 5000 mm"]
+        "5 to 400 km/h",
+        "1 to 500 kN",
+        "100 to 1250 mm",
+        "50 to 5000 mm",
+    ]
     assert accepted_text("wheel_transverse_radius") == "at least 50 mm in magnitude"
 
 
-@pytest.mark.parametrize(("changes", "start"), [
-    ({"preload_kn": "5000"}, "Preload 5000 kN is outside the accepted 1 to 500 kN ("),
-    ({"preload_kn": "0.1"}, "Preload 0.1 kN is outside the accepted 1 to 500 kN ("),
-    ({"speed_kmh": "401"}, "Speed 401 km/h is outside the accepted 5 to 400 km/h ("),
-    ({"speed_kmh": "4"}, "Speed 4 km/h is outside the accepted 5 to 400 km/h ("),
-    ({"geometry_mm": {"wheel_radius_mm": "0.001"}}, "Wheel radius 0.001 mm is outside the accepted 100 to 1250 mm ("),
-    ({"geometry_mm": {"wheel_radius_mm": "1e6"}}, "Wheel radius 1e+06 mm is outside the accepted 100 to 1250 mm ("),
-    ({"geometry_mm": {"rail_crown_radius_mm": "0.001"}}, "Rail crown radius 0.001 mm is outside the accepted 50 to "
-                                                         "5000 mm ("),
-    ({"geometry_mm": {"rail_crown_radius_mm": "300", "wheel_transverse_radius_mm": "-300.5"}},
-     "Wheel tread radius across -300.5 mm: the Hertz patch at the preload would be 0.148 m wide across the rail"),
-    ({"wheel": WHEEL}, "Wheel radius 390 mm: the wheel set sinter-wheel-1 is 2.9 m round (a wheel of radius 0.4615 m)"),
-    ({"length_m": "9"}, "Run length 9 m is outside the accepted 0.572 to 7.959 m (on corrugated-rail at 100 km/h"),
-])
+@pytest.mark.parametrize(
+    ("changes", "start"),
+    [
+        ({"preload_kn": "5000"}, "Preload 5000 kN is outside the accepted 1 to 500 kN ("),
+        ({"preload_kn": "0.1"}, "Preload 0.1 kN is outside the accepted 1 to 500 kN ("),
+        ({"speed_kmh": "401"}, "Speed 401 km/h is outside the accepted 5 to 400 km/h ("),
+        ({"speed_kmh": "4"}, "Speed 4 km/h is outside the accepted 5 to 400 km/h ("),
+        (
+            {"geometry_mm": {"wheel_radius_mm": "0.001"}},
+            "Wheel radius 0.001 mm is outside the accepted 100 to 1250 mm (",
+        ),
+        ({"geometry_mm": {"wheel_radius_mm": "1e6"}}, "Wheel radius 1e+06 mm is outside the accepted 100 to 1250 mm ("),
+        (
+            {"geometry_mm": {"rail_crown_radius_mm": "0.001"}},
+            "Rail crown radius 0.001 mm is outside the accepted 50 to 5000 mm (",
+        ),
+        (
+            {"geometry_mm": {"rail_crown_radius_mm": "300", "wheel_transverse_radius_mm": "-300.5"}},
+            "Wheel tread radius across -300.5 mm: the Hertz patch at the preload would be 0.148 m wide across the rail",
+        ),
+        (
+            {"wheel": WHEEL},
+            "Wheel radius 390 mm: the wheel set sinter-wheel-1 is 2.9 m round (a wheel of radius 0.4615 m)",
+        ),
+        ({"length_m": "9"}, "Run length 9 m is outside the accepted 0.572 to 7.959 m (on corrugated-rail at 100 km/h"),
+    ],
+)
 def test_an_unphysical_input_is_worded_with_the_fields_label(changes, start):
     assert _page_error(**changes).startswith(start)
 
@@ -64,8 +87,14 @@ def test_an_upload_is_named_in_its_messages_never_its_temporary_path():
 
 
 def test_the_wheel_sets_own_radius_runs():
-    config = read_config(RAIL, "corrugated-rail", **FIELDS, geometry=read_geometry(wheel_radius_mm="461.5"),
-                         wheel=WHEEL, wheel_label="sinter-wheel-1")
+    config = read_config(
+        RAIL,
+        "corrugated-rail",
+        **FIELDS,
+        geometry=read_geometry(wheel_radius_mm="461.5"),
+        wheel=WHEEL,
+        wheel_label="sinter-wheel-1",
+    )
     assert config.wheel_set_label == "sinter-wheel-1" and config.contact().radius_along == 0.4615
 
 
@@ -75,15 +104,24 @@ def test_a_line_the_wheel_set_does_not_cover_is_worded_by_the_page():
     from wheelrail.core.parameters import ContactParameters
     from wheelrail.explorer.config import offered_lines
 
-    narrow = WHEEL.with_heights(WHEEL.heights[[WHEEL.row_of_line(n) for n in range(-2, 3)]],
-                                y=WHEEL.y[[WHEEL.row_of_line(n) for n in range(-2, 3)]])
+    narrow = WHEEL.with_heights(
+        WHEEL.heights[[WHEEL.row_of_line(n) for n in range(-2, 3)]],
+        y=WHEEL.y[[WHEEL.row_of_line(n) for n in range(-2, 3)]],
+    )
     own = read_geometry(wheel_radius_mm="461.5")
     assert offered_lines(RAIL, "hertz", ContactParameters(wheel_radius=0.4615), narrow) == tuple(range(-4, 5))
     with pytest.raises(WheelrailError) as info:
-        read_config(RAIL, "corrugated-rail", **{**FIELDS, "line": "5"}, geometry=own, wheel=narrow,
-                    wheel_label="narrow-wheel")
+        read_config(
+            RAIL, "corrugated-rail", **{**FIELDS, "line": "5"}, geometry=own, wheel=narrow, wheel_label="narrow-wheel"
+        )
     message = page_message(info.value)
-    assert message == ("Line 5 of corrugated-rail lies where narrow-wheel has no data across the rail (wheel and "
-                       "rail are paired by position); choose a line from -4 to 4")
-    assert read_config(RAIL, "corrugated-rail", **{**FIELDS, "line": "4"}, geometry=own, wheel=narrow,
-                       wheel_label="narrow-wheel").line == 4
+    assert message == (
+        "Line 5 of corrugated-rail lies where narrow-wheel has no data across the rail (wheel and "
+        "rail are paired by position); choose a line from -4 to 4"
+    )
+    assert (
+        read_config(
+            RAIL, "corrugated-rail", **{**FIELDS, "line": "4"}, geometry=own, wheel=narrow, wheel_label="narrow-wheel"
+        ).line
+        == 4
+    )

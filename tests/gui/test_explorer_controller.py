@@ -55,8 +55,9 @@ class FakeRun:
         return self._cancel.is_set()
 
     def result(self):
-        return SimpleNamespace(model=self.model, n_steps=self.done, force=self.force[:self.done],
-                               time_step=1e-3 / (100 * KMH))
+        return SimpleNamespace(
+            model=self.model, n_steps=self.done, force=self.force[: self.done], time_step=1e-3 / (100 * KMH)
+        )
 
 
 class Recorder:
@@ -90,8 +91,9 @@ class Recorder:
 
 
 def _config(model="3d", speed_kmh=100.0, line=0):
-    return RunConfig(set_label="corrugated-rail", line=line, model=model, speed=speed_kmh * KMH, preload=65e3,
-                     length=1.0)
+    return RunConfig(
+        set_label="corrugated-rail", line=line, model=model, speed=speed_kmh * KMH, preload=65e3, length=1.0
+    )
 
 
 def _controller(runs):
@@ -158,8 +160,7 @@ def test_compare_runs_every_model_reference_first_and_gives_contact_filters():
     filters = controller.store.contact_filters(config.case())
     assert set(filters) == set(COMPARE_ORDER) - {REFERENCE_MODEL}
     spectra = controller.store.spectra(config.case())
-    assert np.allclose(filters["2d"][1], contact_filter(spectra["2d"][1], spectra[REFERENCE_MODEL][1]),
-                       equal_nan=True)
+    assert np.allclose(filters["2d"][1], contact_filter(spectra["2d"][1], spectra[REFERENCE_MODEL][1]), equal_nan=True)
 
 
 def test_a_run_too_short_for_a_spectrum_is_an_error_not_done():
@@ -175,14 +176,20 @@ def test_core_errors_reach_the_page_in_its_words():
     listener = Recorder()
 
     def prepare(roughness, **kwargs):
-        raise WheelrailError("the run needs more than the 2.999 m of rail roughness data", parameter="preload",
-                             value=9e3, maximum=2.959e3, unit="N")
+        raise WheelrailError(
+            "the run needs more than the 2.999 m of rail roughness data",
+            parameter="preload",
+            value=9e3,
+            maximum=2.959e3,
+            unit="N",
+        )
 
     controller = RunController(listener, prepare=prepare)
     controller.start(_config("hertz"), roughness=None)
     assert listener.ended.wait(WAIT)
-    assert listener.errors == ["Preload 9 kN: the run needs more than the 2.999 m of rail roughness data; accepted "
-                               "at most 2.959 kN"]
+    assert listener.errors == [
+        "Preload 9 kN: the run needs more than the 2.999 m of rail roughness data; accepted at most 2.959 kN"
+    ]
 
 
 def test_results_are_kept_per_configuration():
@@ -212,9 +219,16 @@ def test_a_wheel_set_and_the_geometry_reach_prepare_and_key_the_results():
 
     controller = RunController(listener, prepare=prepare, frame_interval=0.0)
     plain = _config("hertz")
-    combined = RunConfig(set_label="corrugated-rail", line=0, model="hertz", speed=100 * KMH, preload=65e3,
-                         length=1.0, wheel_set_label="sinter-wheel-1",
-                         geometry=(("wheel_radius", 0.46), ("rail_crown_radius", 0.3)))
+    combined = RunConfig(
+        set_label="corrugated-rail",
+        line=0,
+        model="hertz",
+        speed=100 * KMH,
+        preload=65e3,
+        length=1.0,
+        wheel_set_label="sinter-wheel-1",
+        geometry=(("wheel_radius", 0.46), ("rail_crown_radius", 0.3)),
+    )
     with pytest.raises(WheelrailError, match="wheel roughness must be given exactly"):
         controller.start(combined, "rail")  # the configuration names a wheel set: its roughness is needed
     for config, wheel in ((plain, None), (combined, "wheel")):
@@ -229,10 +243,12 @@ def test_a_wheel_set_and_the_geometry_reach_prepare_and_key_the_results():
     assert plain.case() != combined.case()
     assert set(controller.store.entries(plain.case())) == {"hertz"}
     assert controller.store.entries(combined.case())["hertz"].config == combined
-    assert combined.case_label() == ("corrugated-rail + sinter-wheel-1, line 0, 100 km/h, 65 kN, 1 m, "
-                                     "wheel radius 460 mm, rail crown radius 300 mm")
-    assert combined.file_stem() == ("wheelrail-hertz-corrugated-rail-sinter-wheel-1-line0-100kmh-65kN-1m-"
-                                    "R460mm-crown300mm")
+    assert combined.case_label() == (
+        "corrugated-rail + sinter-wheel-1, line 0, 100 km/h, 65 kN, 1 m, wheel radius 460 mm, rail crown radius 300 mm"
+    )
+    assert combined.file_stem() == (
+        "wheelrail-hertz-corrugated-rail-sinter-wheel-1-line0-100kmh-65kN-1m-R460mm-crown300mm"
+    )
 
 
 def test_the_first_preparation_at_a_speed_says_its_steps_and_that_it_goes_on():
@@ -255,8 +271,13 @@ def test_the_first_preparation_at_a_speed_says_its_steps_and_that_it_goes_on():
         assert ticked.wait(WAIT)
 
     runs = {"hertz": [FakeRun("hertz", 3000), FakeRun("hertz", 3000)]}
-    controller = RunController(listener, prepare=lambda roughness, *, model, **kwargs: runs[model].pop(0),
-                               precompute=precompute, frame_interval=0.0, tick=0.01)
+    controller = RunController(
+        listener,
+        prepare=lambda roughness, *, model, **kwargs: runs[model].pop(0),
+        precompute=precompute,
+        frame_interval=0.0,
+        tick=0.01,
+    )
     controller.start(_config("hertz"), roughness=None)
     assert listener.ended.wait(WAIT)
     assert precomputed == [pytest.approx(100 * KMH)]

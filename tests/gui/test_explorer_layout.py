@@ -12,11 +12,18 @@ from pathlib import Path
 import pytest
 
 CHROMIUM = Path("/usr/bin/chromium")
-LAUNCH_ARGS = ["--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-sandbox",
-               "--disable-gpu"]
+LAUNCH_ARGS = [
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-sandbox",
+    "--disable-gpu",
+]
 if not CHROMIUM.exists():
-    pytest.skip("Debian's chromium is not installed at /usr/bin/chromium (apt-get install chromium); "
-                "CI installs it", allow_module_level=True)
+    pytest.skip(
+        "Debian's chromium is not installed at /usr/bin/chromium (apt-get install chromium); CI installs it",
+        allow_module_level=True,
+    )
 from playwright import sync_api as playwright_api  # noqa: E402  (the test extra installs it)
 
 pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
@@ -90,8 +97,7 @@ def test_after_the_default_run_every_tab_shows_its_first_plot(app, browser):
     ARTIFACTS.mkdir(exist_ok=True)
     page, errors = _open(browser, app, *SIZES[0])
     page.get_by_role("button", name="Run", exact=True).click()
-    page.get_by_text("Done: 3d on corrugated-rail, line 0, 100 km/h, 65 kN, 3 m", exact=False).wait_for(
-        timeout=300_000)
+    page.get_by_text("Done: 3d on corrugated-rail, line 0, 100 km/h, 65 kN, 3 m", exact=False).wait_for(timeout=300_000)
     assert app.last_error is None
     page.close()
     problems = []
@@ -107,9 +113,11 @@ def test_after_the_default_run_every_tab_shows_its_first_plot(app, browser):
                 first = _first_plot(page)
                 share = inside_share(first, width, height)
                 if share < MIN_INSIDE or first["width"] < MIN_WIDTH or not first["title_fits"]:
-                    problems.append(f"{width}x{height} {title}: '{first['title'][:40]}' {share:.0%} inside, "
-                                    f"{first['width']:.0f} px wide, title {'' if first['title_fits'] else 'not '}"
-                                    "wrapped")
+                    problems.append(
+                        f"{width}x{height} {title}: '{first['title'][:40]}' {share:.0%} inside, "
+                        f"{first['width']:.0f} px wide, title {'' if first['title_fits'] else 'not '}"
+                        "wrapped"
+                    )
             if title == "Patch":
                 bar = page.get_by_text(COLOUR_BAR, exact=True).locator("xpath=following::img[1]").bounding_box()
                 if bar is None or inside_share(bar, width, height) < 0.99:
@@ -125,8 +133,9 @@ def test_long_plot_titles_wrap_inside_their_plot(app, browser):
     page, errors = _open(browser, app, *SIZES[0])
     try:
         app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = "460", "300", "-1000"
-        page.wait_for_function(f"() => ({PLOT_BOXES})().some(b => b.title.includes('tread radius across -1000'))",
-                               timeout=60_000)
+        page.wait_for_function(
+            f"() => ({PLOT_BOXES})().some(b => b.title.includes('tread radius across -1000'))", timeout=60_000
+        )
         first = _first_plot(page)
         assert "tread radius across -1000 mm" in first["title"] and first["title_fits"]
         assert first["width"] >= MIN_WIDTH

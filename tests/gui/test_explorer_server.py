@@ -45,8 +45,18 @@ def _run(app, timeout=300.0):
     return app.replay.result
 
 
-def _reset(app, *, set_name="corrugated-rail", line=0, model="hertz", speed=100.0, preload=65.0, length=0.6,
-           wheel_set="none", geometry_mm=("", "", "")):
+def _reset(
+    app,
+    *,
+    set_name="corrugated-rail",
+    line=0,
+    model="hertz",
+    speed=100.0,
+    preload=65.0,
+    length=0.6,
+    wheel_set="none",
+    geometry_mm=("", "", ""),
+):
     app.wheel_set_dropdown.value = wheel_set
     app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = geometry_mm
     app.set_dropdown.value = set_name
@@ -77,8 +87,14 @@ def test_controls_define_the_run(app):
     assert result.parameters["contact"]["preload"] == pytest.approx(50e3)
     assert result.force.shape == (1000,) and np.all(np.isfinite(result.force))
     assert abs(result.force.mean() - 50e3) < 0.1 * 50e3  # the wheel carries the preload chosen in the page
-    assert app.replay.config.as_dict() == {"model": "2d", "set": "cast-iron-wheel", "line": 2, "speed_kmh": 80.0,
-                                           "preload_kn": 50.0, "length_m": 1.0}
+    assert app.replay.config.as_dict() == {
+        "model": "2d",
+        "set": "cast-iron-wheel",
+        "line": 2,
+        "speed_kmh": 80.0,
+        "preload_kn": 50.0,
+        "length_m": 1.0,
+    }
     assert app.status_md.content.startswith("Done: 2d on cast-iron-wheel, line 2, 80 km/h, 50 kN, 1 m")
     # one-line model: the strip (contact length) and the Hertz circle at the current force are shown
     assert app.scene.strip.visible and app.scene.force_circle.visible and not app.scene.heatmap.visible
@@ -171,8 +187,11 @@ def test_only_valid_choices_are_offered_and_bad_values_are_refused(app):
         (app.speed_text, "450", "Speed 450 km/h is outside the accepted 5 to 400 km/h"),
         (app.speed_text, "abc", "Speed 'abc': not a number"),
         (app.preload_text, "0", "Preload 0 kN is outside the accepted 1 to 500 kN"),
-        (app.length_text, "9", "Run length 9 m is outside the accepted 0.572 to 7.959 m (on corrugated-rail at 100 "
-                               "km/h"),
+        (
+            app.length_text,
+            "9",
+            "Run length 9 m is outside the accepted 0.572 to 7.959 m (on corrugated-rail at 100 km/h",
+        ),
         (app.length_text, "0.1", "Run length 0.1 m is outside the accepted 0.572 to 7.959 m"),
     ]:
         old = field.value
@@ -184,24 +203,31 @@ def test_only_valid_choices_are_offered_and_bad_values_are_refused(app):
     # a line sent by a page that was not offered moves to the nearest offered one, saying so
     app.line_dropdown.value = "9"
     assert app.line_dropdown.value == "2" and "Line 9 is not offered for 3d" in app.status_md.content
-    with pytest.raises(WheelrailError, match="Line 9 is too near the edge of corrugated-rail for the 3d contact "
-                                             "patch at 65 kN; choose a line from -2 to 2"):
-        read_config(rough, "corrugated-rail", line="9", model="3d", speed_kmh="100", preload_kn="65",
-                    length_m="1")
+    with pytest.raises(
+        WheelrailError,
+        match="Line 9 is too near the edge of corrugated-rail for the 3d contact "
+        "patch at 65 kN; choose a line from -2 to 2",
+    ):
+        read_config(rough, "corrugated-rail", line="9", model="3d", speed_kmh="100", preload_kn="65", length_m="1")
     app.model_dropdown.value = "hertz"
     app.line_dropdown.value = "0"
     # a malformed CSV upload
-    bad = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="bad.csv", content=b"x_m,z\n0,abc\n")),
-                          client=None)
+    bad = SimpleNamespace(
+        target=SimpleNamespace(value=SimpleNamespace(name="bad.csv", content=b"x_m,z\n0,abc\n")), client=None
+    )
     app._on_upload(bad)
     assert app.last_error.startswith("upload 'bad.csv'")
     assert app.roughness_label == "corrugated-rail"
-    big = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="big.csv", content=b"0" * 1_200_000)),
-                          client=None)
+    big = SimpleNamespace(
+        target=SimpleNamespace(value=SimpleNamespace(name="big.csv", content=b"0" * 1_200_000)), client=None
+    )
     app._on_upload(big)
     assert app.last_error == "upload 'big.csv' (1.14 MB) is over the 977 kB limit"
-    app._on_upload(SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="../../etc/passwd",
-                                                                                content=b"root")), client=None))
+    app._on_upload(
+        SimpleNamespace(
+            target=SimpleNamespace(value=SimpleNamespace(name="../../etc/passwd", content=b"root")), client=None
+        )
+    )
     assert "expected a .csv or .npz" in app.last_error and "passwd" in app.last_error
     # a set name sent by a page is never opened as a server path
     app.set_dropdown.value = "/etc/passwd"
@@ -218,8 +244,9 @@ def test_upload_a_user_csv_and_run_on_it(app, tmp_path):
     small = rail.with_heights(rail.heights[6:13, :1500], y=rail.y[6:13], note="explorer test")
     path = tmp_path / "mine.csv"
     write_csv(small, path)
-    event = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="C:\\data\\mine.csv",
-                                                                         content=path.read_bytes())), client=None)
+    event = SimpleNamespace(
+        target=SimpleNamespace(value=SimpleNamespace(name="C:\\data\\mine.csv", content=path.read_bytes())), client=None
+    )
     app.model_dropdown.value = "2d"
     app._on_upload(event)
     assert app.roughness_label == "upload: mine.csv"
@@ -237,14 +264,24 @@ def test_geometry_fields_refuse_bad_values_in_words(app):
         (app.wheel_radius_text, "abc", "Wheel radius 'abc': not a number"),
         (app.wheel_radius_text, "-460", "Wheel radius -460 mm is outside the accepted 100 to 1250 mm"),
         (app.crown_radius_text, "0", "Rail crown radius 0 mm is outside the accepted 50 to 5000 mm"),
-        (app.tread_radius_text, "0", "Wheel tread radius across 0 mm is outside the accepted range, a magnitude of "
-                                     "at least 50 mm"),
+        (
+            app.tread_radius_text,
+            "0",
+            "Wheel tread radius across 0 mm is outside the accepted range, a magnitude of at least 50 mm",
+        ),
         # a concave tread tighter than the crown conforms with it across the rail: core's check, the page's words
-        (app.tread_radius_text, "-300", "Wheel tread radius across -300 mm: a concave tread of radius 0.3 m fits the "
-                                        "rail crown of radius 0.39 m or closer"),
+        (
+            app.tread_radius_text,
+            "-300",
+            "Wheel tread radius across -300 mm: a concave tread of radius 0.3 m fits the "
+            "rail crown of radius 0.39 m or closer",
+        ),
         # a concave tread close to the crown makes a patch too wide for Hertz's theory at the preload
-        (app.tread_radius_text, "-390.5", "Wheel tread radius across -390.5 mm: the Hertz patch at the preload would "
-                                          "be"),
+        (
+            app.tread_radius_text,
+            "-390.5",
+            "Wheel tread radius across -390.5 mm: the Hertz patch at the preload would be",
+        ),
     ]:
         field.value = value
         assert message in app.check_md.content
@@ -254,7 +291,8 @@ def test_geometry_fields_refuse_bad_values_in_words(app):
     # a patch too wide across for the set: said in words, no line offered is pretended
     app.crown_radius_text.value, app.tread_radius_text.value = "800", "-1000"
     assert "The 3d contact patch at 65 kN is 32.3 mm wide across the rail: no line of corrugated-rail" in (
-        app.check_md.content)
+        app.check_md.content
+    )
     assert not app.start_run()
     app.crown_radius_text.value = app.tread_radius_text.value = ""
     # a wheel set is added to a rail set only
@@ -268,8 +306,12 @@ def test_geometry_fields_refuse_bad_values_in_words(app):
 def test_a_run_with_a_wheel_set_names_both_sets(app):
     _reset(app, model="hertz", wheel_set="sinter-wheel-1")
     assert not app.start_run()  # the bundled wheel sets are 2.900 m round: not a 390 mm wheel's roughness
-    assert app.last_error.startswith("Wheel radius 390 mm: the wheel set sinter-wheel-1 is 2.9 m round (a wheel of "
-                                     "radius 0.4615 m)") and "accepted 456.98 to 466.211 mm" in app.last_error
+    assert (
+        app.last_error.startswith(
+            "Wheel radius 390 mm: the wheel set sinter-wheel-1 is 2.9 m round (a wheel of radius 0.4615 m)"
+        )
+        and "accepted 456.98 to 466.211 mm" in app.last_error
+    )
     _reset(app, model="hertz", wheel_set="sinter-wheel-1", geometry_mm=("461.5", "", ""))
     assert app.wheel_set_dropdown.options == ("none", "cast-iron-wheel", "sinter-wheel-1", "sinter-wheel-2")
     result = _run(app)
@@ -277,13 +319,16 @@ def test_a_run_with_a_wheel_set_names_both_sets(app):
     assert result.header.roughness_name == "corrugated-rail"
     assert result.header.wheel_roughness_name == "sinter-wheel-1"
     assert app.status_md.content.startswith("Done: hertz on corrugated-rail + sinter-wheel-1, line 0")
-    assert app.patch.force.handle.title == "Contact force: corrugated-rail + sinter-wheel-1, line 0, 100 km/h, " \
-                                           "65 kN, 0.6 m, wheel radius 461.5 mm"
+    assert (
+        app.patch.force.handle.title == "Contact force: corrugated-rail + sinter-wheel-1, line 0, 100 km/h, "
+        "65 kN, 0.6 m, wheel radius 461.5 mm"
+    )
     # the rail alone is another case: its plots do not show the combined run
     app.wheel_set_dropdown.value = "none"
     assert "hertz" not in app.store.entries(app.shown.case())
-    assert app.patch.force.handle.title == ("Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m, wheel "
-                                            "radius 461.5 mm")
+    assert app.patch.force.handle.title == (
+        "Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m, wheel radius 461.5 mm"
+    )
 
 
 def test_the_drawn_wheel_surface_pairs_the_wheel_set_by_lateral_position(app):
@@ -336,8 +381,12 @@ def test_wheelrail_explore_serves_the_page_on_localhost():
     import urllib.request
 
     port = _free_port()
-    process = subprocess.Popen([sys.executable, "-m", "wheelrail", "explore", "--port", str(port), "--set",
-                                "sinter-wheel-1"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    process = subprocess.Popen(
+        [sys.executable, "-m", "wheelrail", "explore", "--port", str(port), "--set", "sinter-wheel-1"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     try:
         for line in process.stdout:  # viser's banner, then ours once the app is built
             if line.startswith("wheelrail explorer: "):

@@ -55,8 +55,11 @@ def _reset(app, *, model="3d", speed="100", length="0.6", geometry_mm=("", "", "
 def _heat_map_of(result, step, contact=None):
     """The heat map the scene draws for ``step`` of ``result`` (rows top (+y) to bottom)."""
     contact = ContactParameters() if contact is None else contact
-    colours = table_colours(np.asarray(result.pressure[step], dtype=np.float64),
-                            PRESSURE_TOP * contact.hertz_peak_pressure(), colour_table())
+    colours = table_colours(
+        np.asarray(result.pressure[step], dtype=np.float64),
+        PRESSURE_TOP * contact.hertz_peak_pressure(),
+        colour_table(),
+    )
     return colours[::-1]
 
 
@@ -116,8 +119,9 @@ def test_the_view_is_cleared_after_an_upload(app, tmp_path):
     small = rail.with_heights(rail.heights[:, :1500], note="explorer view test")
     path = tmp_path / "view.csv"
     write_csv(small, path)
-    event = SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name="view.csv", content=path.read_bytes())),
-                            client=None)
+    event = SimpleNamespace(
+        target=SimpleNamespace(value=SimpleNamespace(name="view.csv", content=path.read_bytes())), client=None
+    )
     app._on_upload(event)
     assert app.roughness_label == "upload: view.csv"
     _assert_cleared(app)  # the corrugated rail's heat map does not stay
@@ -211,9 +215,11 @@ def _upload(app, name, rough, tmp_path):
 
     path = tmp_path / name
     write_csv(rough, path)
-    app._on_upload(SimpleNamespace(target=SimpleNamespace(value=SimpleNamespace(name=name,
-                                                                                  content=path.read_bytes())),
-                                   client=None))
+    app._on_upload(
+        SimpleNamespace(
+            target=SimpleNamespace(value=SimpleNamespace(name=name, content=path.read_bytes())), client=None
+        )
+    )
     assert app.roughness_label == f"upload: {name}", app.last_error
 
 
@@ -245,8 +251,12 @@ def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
     app.wheel_set_dropdown.value = "sinter-wheel-1"
     plot = app.roughness_tab.spectrum
     labels = [label for label, _, _ in plot.series]
-    assert labels == ["rail: corrugated-rail, lines -3..3", "wheel: sinter-wheel-1, lines -3..3",
-                      "combined (energetic sum)", "ISO 3095:2013 limit (rail)"]
+    assert labels == [
+        "rail: corrugated-rail, lines -3..3",
+        "wheel: sinter-wheel-1, lines -3..3",
+        "combined (energetic sum)",
+        "ISO 3095:2013 limit (rail)",
+    ]
     assert [style for _, _, style in plot.series] == ["solid", "solid", "solid", "dotted"]
     assert plot.handle.title == "Roughness spectrum: corrugated-rail + sinter-wheel-1 at 100 km/h"
     rail = roughness_spectrum(load_roughness("corrugated-rail"), speed=100 / 3.6)
@@ -313,9 +323,18 @@ class HeldRun:
 
     def result(self):
         n = self.done
-        return SimpleNamespace(model=self.model, n_steps=n, force=self.force[:n], x=np.arange(n) * 1e-3,
-                               xi_wheel=np.zeros(n), xi_rail=np.zeros(n), time_step=1e-3 / (100 / 3.6),
-                               window_x=None, window_y=None, state=self._state)
+        return SimpleNamespace(
+            model=self.model,
+            n_steps=n,
+            force=self.force[:n],
+            x=np.arange(n) * 1e-3,
+            xi_wheel=np.zeros(n),
+            xi_rail=np.zeros(n),
+            time_step=1e-3 / (100 / 3.6),
+            window_x=None,
+            window_y=None,
+            state=self._state,
+        )
 
 
 def test_a_run_reaches_the_view_only_while_its_configuration_is_shown(app):

@@ -60,8 +60,9 @@ def test_small_roughness_superposes(model):
     both = simulate(rail, wheel_roughness=wheel, model=model, length=length).force - base
     assert np.max(np.abs(both - rail_only - wheel_only)) < 0.01 * np.std(both)
     # and the wheel alone on a smooth rail is the wheel set run by itself (its lines repeat the same way)
-    np.testing.assert_allclose(simulate(wheel, model=model, length=length).force - base, wheel_only,
-                               atol=1e-6 * np.std(both))
+    np.testing.assert_allclose(
+        simulate(wheel, model=model, length=length).force - base, wheel_only, atol=1e-6 * np.std(both)
+    )
 
 
 @pytest.mark.parametrize("model", ["hertz", "2d"])
@@ -99,8 +100,7 @@ def test_wrong_kinds_are_one_clear_error():
 
 
 def test_header_and_files_name_both_sets(tmp_path):
-    result = simulate("corrugated-rail", wheel_roughness="sinter-wheel-1", model="hertz", length=0.2,
-                      params=BUNDLED)
+    result = simulate("corrugated-rail", wheel_roughness="sinter-wheel-1", model="hertz", length=0.2, params=BUNDLED)
     assert result.roughness_name == "corrugated-rail" and result.wheel_roughness_name == "sinter-wheel-1"
     back = RunResult.load_npz(result.save_npz(tmp_path / "run.npz"))
     assert back.header == result.header
@@ -119,8 +119,13 @@ def _across_sets():
     set is 2.45 m round, 49 wavelengths: the paper's 390 mm wheel (2 pi R = 2.4504 m, within the 1 % a wheel
     set must keep to its wheel's circumference, accepted.check_wheel_circumference)."""
     rng = np.random.default_rng(7)
-    rail = RoughnessSet(heights=0.3e-6 * rng.standard_normal((19, 1501)), dx=1e-3, y=np.arange(-9, 10) * 1e-3,
-                        kind="rail", description="random rail")
+    rail = RoughnessSet(
+        heights=0.3e-6 * rng.standard_normal((19, 1501)),
+        dx=1e-3,
+        y=np.arange(-9, 10) * 1e-3,
+        kind="rail",
+        description="random rail",
+    )
     wheel_y = np.arange(-12, 13) * 2e-3
     wheel_x = np.arange(4900) * 0.5e-3  # 2.45 m round: 49 wavelengths
     heights = _amplitude(wheel_y)[:, None] * np.sin(2 * np.pi * wheel_x / 0.05)[None, :]
@@ -175,8 +180,9 @@ def test_bundled_sets_pair_by_position():
     # corrugated-rail (1 mm lines) + sinter-wheel-1 (2 mm lines), line 2: the wheel line under the rail's
     # y = 2 mm is the wheel set's line 1, not its line 2 (at 4 mm). On the wheel the bundled set goes round
     # (BUNDLED, R = 461.5 mm).
-    run = prepare_run("corrugated-rail", wheel_roughness="sinter-wheel-1", model="hertz", line=2, length=0.5,
-                      params=BUNDLED)
+    run = prepare_run(
+        "corrugated-rail", wheel_roughness="sinter-wheel-1", model="hertz", line=2, length=0.5, params=BUNDLED
+    )
     alone = prepare_run("corrugated-rail", model="hertz", line=2, length=0.5, params=BUNDLED)
     wheel = BUNDLED_WHEEL
     n = run.track.lines.shape[1]
@@ -184,8 +190,9 @@ def test_bundled_sets_pair_by_position():
     np.testing.assert_allclose(run.track.lines[0] - alone.track.lines[0], expected, rtol=0, atol=1e-18)
     # 3d, line -1 (y = -1 mm, between the wheel's lines at -2 and 0 mm): the window's rows are the wheel
     # interpolated across at the rows' own positions
-    run3 = prepare_run("corrugated-rail", wheel_roughness="sinter-wheel-1", model="3d", line=-1, length=0.02,
-                       params=BUNDLED)
+    run3 = prepare_run(
+        "corrugated-rail", wheel_roughness="sinter-wheel-1", model="3d", line=-1, length=0.02, params=BUNDLED
+    )
     alone3 = prepare_run("corrugated-rail", model="3d", line=-1, length=0.02, params=BUNDLED)
     grid = to_model_grid(wheel, run3.dx, run3.dx)  # 1 mm across: the wheel at every millimetre
     lines = [grid.line_of_row(int(np.argmin(np.abs(grid.y - y)))) for y in -1e-3 + run3.window_y]

@@ -38,8 +38,9 @@ def _halfspace_errors(contact: ContactParameters, dx: float) -> dict:
     nx, ny = math.ceil(1.3 * a / dx), math.ceil(1.3 * b / dx)
     x, y = np.arange(-nx, nx + 1) * dx, np.arange(-ny, ny + 1) * dx
     gap = x[None, :] ** 2 / (2 * contact.radius_along) + y[:, None] ** 2 / (2 * contact.radius_across)
-    result = solve_normal_contact(gap, dx, load=contact.preload, youngs_modulus=contact.youngs_modulus,
-                                  poisson_ratio=contact.poisson_ratio)
+    result = solve_normal_contact(
+        gap, dx, load=contact.preload, youngs_modulus=contact.youngs_modulus, poisson_ratio=contact.poisson_ratio
+    )
     p = result.pressure
     load = p.sum() * dx * dx
     # an ellipsoidal pressure has the second moments a^2/5 (along) and b^2/5 (across) per unit load
@@ -54,8 +55,11 @@ def _halfspace_errors(contact: ContactParameters, dx: float) -> dict:
     }
 
 
-@pytest.mark.parametrize(("contact", "axes_1mm"), [(REAL, 3e-3), (CONCAVE, 3e-3), (CONVEX, 5e-3)],
-                         ids=["0.46-on-0.30", "concave-tread", "convex-tread"])
+@pytest.mark.parametrize(
+    ("contact", "axes_1mm"),
+    [(REAL, 3e-3), (CONCAVE, 3e-3), (CONVEX, 5e-3)],
+    ids=["0.46-on-0.30", "concave-tread", "convex-tread"],
+)
 def test_3d_solver_converges_to_the_hertz_ellipse(contact, axes_1mm):
     # Johnson, Contact Mechanics 4.2 (ContactParameters.hertz) against the half-space solver, which knows
     # nothing of elliptic integrals. Measured at 1 mm / 0.5 mm (benchmarks/contact_geometry_accuracy.py):
@@ -82,8 +86,9 @@ def test_hertz_law_is_the_ellipse():
     for step in (0, result.n_steps // 2, result.n_steps - 1):
         hertz = REAL.hertz(result.force[step])
         assert result.contact_length[step] == pytest.approx(2 * hertz.semi_axis_along, rel=1e-6)
-        assert result.contact_area[step] == pytest.approx(math.pi * hertz.semi_axis_along * hertz.semi_axis_across,
-                                                          rel=1e-6)
+        assert result.contact_area[step] == pytest.approx(
+            math.pi * hertz.semi_axis_along * hertz.semi_axis_across, rel=1e-6
+        )
 
 
 @pytest.mark.parametrize("model", MODELS)

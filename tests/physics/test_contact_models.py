@@ -45,8 +45,11 @@ class LinearSpring(ContactModel):
 
 @pytest.fixture
 def linear_spring():
-    entry = register(ModelEntry(name="linear-spring", label="linear spring (test)", traits=ModelTraits(),
-                                implementation=LinearSpring))
+    entry = register(
+        ModelEntry(
+            name="linear-spring", label="linear spring (test)", traits=ModelTraits(), implementation=LinearSpring
+        )
+    )
     yield entry
     unregister(entry.name)
 

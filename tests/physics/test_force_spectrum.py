@@ -106,8 +106,10 @@ def test_too_short_run_and_bad_input_are_clear_errors():
         force_spectrum(np.ones(3000), DT, skip=-1.0)
 
 
-@pytest.mark.parametrize(("n_steps", "time_step"), [(572, DT), (600, DT), (1000, DT), (4096, DT), (30000, DT),
-                                                    (2000, 1e-4), (5000, 2e-4), (800, 5e-5)])
+@pytest.mark.parametrize(
+    ("n_steps", "time_step"),
+    [(572, DT), (600, DT), (1000, DT), (4096, DT), (30000, DT), (2000, 1e-4), (5000, 2e-4), (800, 5e-5)],
+)
 def test_resolved_bands_are_exactly_where_the_spectrum_has_a_level(n_steps, time_step):
     # resolved_force_bands predicts force_spectrum's NaN bands (no FFT bin in the band, or above Nyquist)
     # from the record's size alone; run files are checked against it, so it must agree band for band
@@ -117,4 +119,3 @@ def test_resolved_bands_are_exactly_where_the_spectrum_has_a_level(n_steps, time
     np.testing.assert_array_equal(centres, expected_centres)
     np.testing.assert_array_equal(np.isfinite(levels), resolved)
     assert resolved.any()
-

@@ -57,20 +57,34 @@ def _case(name):
 
 def _params(case) -> ModelParameters:
     youngs_modulus, poisson_ratio, along, across, preload = case["contact"]
-    return ModelParameters(contact=ContactParameters(
-        youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, wheel_radius=along, rail_crown_radius=across,
-        preload=preload))
+    return ModelParameters(
+        contact=ContactParameters(
+            youngs_modulus=youngs_modulus,
+            poisson_ratio=poisson_ratio,
+            wheel_radius=along,
+            rail_crown_radius=across,
+            preload=preload,
+        )
+    )
 
 
 def _replay(model, case):
     params = _params(case)
     inputs = ModelInputs(
-        params=params, element_size=params.run.element_size, lines=case["lines"],
-        centre_row=int(case["centre_row"]), window_y=case["window_y"], half_x=int(case["half_x"]),
-        start_index=case["start_index"], ramp=case["ramp"], position_of=lambda s: s * params.run.element_size)
+        params=params,
+        element_size=params.run.element_size,
+        lines=case["lines"],
+        centre_row=int(case["centre_row"]),
+        window_y=case["window_y"],
+        half_x=int(case["half_x"]),
+        start_index=case["start_index"],
+        ramp=case["ramp"],
+        position_of=lambda s: s * params.run.element_size,
+    )
     model.prepare(inputs)
-    states = [model.solve(s, a, c) for s, (a, c) in enumerate(zip(case["approach_known"], case["compliance"],
-                                                                    strict=True))]
+    states = [
+        model.solve(s, a, c) for s, (a, c) in enumerate(zip(case["approach_known"], case["compliance"], strict=True))
+    ]
     return params, states
 
 
@@ -97,23 +111,36 @@ def models():
     from wheelrail.core.contact.halfspace_model import HalfSpaceReferenceModel
 
     entries = [
-        register(ModelEntry(name="3d-reference", label="3d, previous per-step solver",
-                            traits=ModelTraits(lateral_window=True, pressure_map=True),
-                            implementation=HalfSpaceReferenceModel)),
-        register(ModelEntry(name="3d-kernel-path", label="3d, kernel path, small buffer",
-                            traits=ModelTraits(lateral_window=True, law=LAW_HALFSPACE, pressure_map=True),
-                            implementation=KernelPathModel)),
+        register(
+            ModelEntry(
+                name="3d-reference",
+                label="3d, previous per-step solver",
+                traits=ModelTraits(lateral_window=True, pressure_map=True),
+                implementation=HalfSpaceReferenceModel,
+            )
+        ),
+        register(
+            ModelEntry(
+                name="3d-kernel-path",
+                label="3d, kernel path, small buffer",
+                traits=ModelTraits(lateral_window=True, law=LAW_HALFSPACE, pressure_map=True),
+                implementation=KernelPathModel,
+            )
+        ),
     ]
     yield
     for entry in entries:
         unregister(entry.name)
 
 
-@pytest.mark.parametrize(("roughness", "geometry", "model"), [
-    ("sinter-wheel-1", {}, "3d"),
-    ("corrugated-rail", {"wheel_radius": 0.46, "rail_crown_radius": 0.3}, "3d"),
-    ("corrugated-rail", {}, "3d-kernel-path"),
-])
+@pytest.mark.parametrize(
+    ("roughness", "geometry", "model"),
+    [
+        ("sinter-wheel-1", {}, "3d"),
+        ("corrugated-rail", {"wheel_radius": 0.46, "rail_crown_radius": 0.3}, "3d"),
+        ("corrugated-rail", {}, "3d-kernel-path"),
+    ],
+)
 def test_3d_run_equals_the_per_step_reference(models, roughness, geometry, model):
     # a whole run: the force feeds back through the wheel and track history, so a difference would grow
     params = ModelParameters(contact=ContactParameters(**geometry))
@@ -132,16 +159,18 @@ def test_the_compiled_3d_loop_is_loaded_from_numbas_disk_cache():
     import subprocess
     import sys
 
-    script = ("import sys\n"
-              "from wheelrail.core.contact.halfspace_model import HalfSpaceModel\n"
-              "from wheelrail.core.interaction import _run_chunk, _run_chunk_3d, prepare_run\n"
-              "from wheelrail.core.contact.halfspace_steps import _python_step\n"
-              "prepare_run('corrugated-rail', model='3d', length=0.01, run_in_length=0.0).run()\n"
-              "prepare_run('corrugated-rail', model='hertz', length=0.01, run_in_length=0.0).run()\n"
-              "run = prepare_run('corrugated-rail', model='3d', length=0.01, run_in_length=0.0)\n"
-              "run.contact.solve(0, 1e-4, 1e-9)\n"
-              "for f in (_run_chunk_3d(), _run_chunk, _python_step):\n"
-              "    print(sum(f.stats.cache_hits.values()), sum(f.stats.cache_misses.values()))\n")
+    script = (
+        "import sys\n"
+        "from wheelrail.core.contact.halfspace_model import HalfSpaceModel\n"
+        "from wheelrail.core.interaction import _run_chunk, _run_chunk_3d, prepare_run\n"
+        "from wheelrail.core.contact.halfspace_steps import _python_step\n"
+        "prepare_run('corrugated-rail', model='3d', length=0.01, run_in_length=0.0).run()\n"
+        "prepare_run('corrugated-rail', model='hertz', length=0.01, run_in_length=0.0).run()\n"
+        "run = prepare_run('corrugated-rail', model='3d', length=0.01, run_in_length=0.0)\n"
+        "run.contact.solve(0, 1e-4, 1e-9)\n"
+        "for f in (_run_chunk_3d(), _run_chunk, _python_step):\n"
+        "    print(sum(f.stats.cache_hits.values()), sum(f.stats.cache_misses.values()))\n"
+    )
     for _ in range(2):
         done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
     loaded = [tuple(map(int, line.split())) for line in done.stdout.split("\n") if line]

@@ -50,7 +50,7 @@ def test_smooth_surfaces_mean_force_and_sleeper_passing(model):
     # the force one bay apart repeats within 0.1 N (measured 2e-4 N for hertz; 2.1 N after the old 1 m run-in)
     # of its 2.6 kN variation.
     n_bay = int(round(L_S / P.run.element_size))
-    tail = force[-2 * n_bay:]
+    tail = force[-2 * n_bay :]
     assert np.max(np.abs(tail[n_bay:] - tail[:n_bay])) < 0.1
 
 
@@ -163,7 +163,7 @@ def test_loss_of_contact_is_physics_not_an_error(model):
     assert np.all(np.isfinite(force)) and np.all(force >= 0)
     assert 300 < result.loss_of_contact_steps < 900
     lost = np.nonzero(force == 0)[0]
-    assert np.any(force[lost[-1]:] > 0)  # contact regained after the last loss
+    assert np.any(force[lost[-1] :] > 0)  # contact regained after the last loss
     assert np.all(np.isfinite(result.xi_wheel)) and np.all(np.isfinite(result.xi_rail))
     assert force.max() > 2 * params.contact.preload
 

@@ -42,12 +42,103 @@ from wheelrail.core.reference_filters import cnossos_filter
 
 DATA = Path(__file__).parent.parent / "data"
 TOL = 0.05  # dB, see the module docstring
-FREQ = [50, 63, 80, 100, 125, 160, 200, 250, 315, 400, 500, 630, 800, 1000, 1250, 1600, 2000, 2500, 3150, 4000,
-        5000, 6300, 8000, 10000]
-A3_MM = [2000, 1600, 1250, 1000, 800, 630, 500, 400, 315, 250, 200, 160, 125, 100, 80, 63, 50, 40, 31.5, 25, 20,
-         16, 12.5, 10, 8, 6.3, 5, 4, 3.15, 2.5, 2, 1.6, 1.25, 1, 0.8]
-WHEEL_GRID_MM = [1000, 800, 630, 500, 400, 315, 250, 200, 160, 120, 100, 80, 63, 50, 40, 31.5, 25, 20, 16, 12, 10, 8,
-                 6.3, 5, 4, 3.2, 2.5, 2, 1.6, 1.2, 1, 0.8]  # Table G-1a's own grid, as printed
+FREQ = [
+    50,
+    63,
+    80,
+    100,
+    125,
+    160,
+    200,
+    250,
+    315,
+    400,
+    500,
+    630,
+    800,
+    1000,
+    1250,
+    1600,
+    2000,
+    2500,
+    3150,
+    4000,
+    5000,
+    6300,
+    8000,
+    10000,
+]
+A3_MM = [
+    2000,
+    1600,
+    1250,
+    1000,
+    800,
+    630,
+    500,
+    400,
+    315,
+    250,
+    200,
+    160,
+    125,
+    100,
+    80,
+    63,
+    50,
+    40,
+    31.5,
+    25,
+    20,
+    16,
+    12.5,
+    10,
+    8,
+    6.3,
+    5,
+    4,
+    3.15,
+    2.5,
+    2,
+    1.6,
+    1.25,
+    1,
+    0.8,
+]
+WHEEL_GRID_MM = [
+    1000,
+    800,
+    630,
+    500,
+    400,
+    315,
+    250,
+    200,
+    160,
+    120,
+    100,
+    80,
+    63,
+    50,
+    40,
+    31.5,
+    25,
+    20,
+    16,
+    12,
+    10,
+    8,
+    6.3,
+    5,
+    4,
+    3.2,
+    2.5,
+    2,
+    1.6,
+    1.2,
+    1,
+    0.8,
+]  # Table G-1a's own grid, as printed
 
 
 def _second_print() -> dict:
@@ -72,9 +163,13 @@ SECOND = _second_print()
 def _a3_columns() -> dict:
     with (DATA / "cnossos_2021_rail.csv").open() as handle:
         rows = list(csv.DictReader(line for line in handle if not line.startswith("#")))
-    return {(50e3, 0.36): [float(r["50kN_360mm"]) for r in rows], (50e3, 0.68): [float(r["50kN_680mm"]) for r in rows],
-            (25e3, 0.92): [float(r["25kN_920mm"]) for r in rows], (50e3, 0.92): [float(r["50kN_920mm"]) for r in rows],
-            (100e3, 0.92): [float(r["100kN_920mm"]) for r in rows]}
+    return {
+        (50e3, 0.36): [float(r["50kN_360mm"]) for r in rows],
+        (50e3, 0.68): [float(r["50kN_680mm"]) for r in rows],
+        (25e3, 0.92): [float(r["25kN_920mm"]) for r in rows],
+        (50e3, 0.92): [float(r["50kN_920mm"]) for r in rows],
+        (100e3, 0.92): [float(r["100kN_920mm"]) for r in rows],
+    }
 
 
 A3 = _a3_columns()
@@ -106,8 +201,32 @@ def test_tables_match_the_second_print_cell_by_cell():
 
 def test_a_weighting_matches_the_iec_61672_table():
     # IEC 61672-1:2013 Table 3, A-weighting at the nominal one-third octave frequencies, 0.1 dB
-    table = [-30.2, -26.2, -22.5, -19.1, -16.1, -13.4, -10.9, -8.6, -6.6, -4.8, -3.2, -1.9, -0.8, 0.0, 0.6, 1.0,
-             1.2, 1.3, 1.2, 1.0, 0.5, -0.1, -1.1, -2.5]
+    table = [
+        -30.2,
+        -26.2,
+        -22.5,
+        -19.1,
+        -16.1,
+        -13.4,
+        -10.9,
+        -8.6,
+        -6.6,
+        -4.8,
+        -3.2,
+        -1.9,
+        -0.8,
+        0.0,
+        0.6,
+        1.0,
+        1.2,
+        1.3,
+        1.2,
+        1.0,
+        0.5,
+        -0.1,
+        -1.1,
+        -2.5,
+    ]
     np.testing.assert_allclose(a_weighting(noise_bands()), table, atol=0.05 + 1e-9)  # printed values are rounded
 
 
@@ -176,21 +295,38 @@ def test_every_table_combination_matches_the_independent_computation(rule):
     worst = 0.0
     for speed_kmh, load in ((50, 50e3), (100, 65e3), (160, 50e3), (300, 100e3)):
         speed = speed_kmh / 3.6
-        for rail, wheel, track, diameter in itertools.product(RAIL_ROUGHNESS, WHEEL_ROUGHNESS, TRACK_TYPES,
-                                                              WHEEL_DIAMETERS_MM):
-            got = cnossos_rolling_noise(speed, rail=rail, wheel=wheel, track_type=track,
-                                        wheel_diameter=diameter / 1e3, load=load, axles=4, rule=rule)
+        for rail, wheel, track, diameter in itertools.product(
+            RAIL_ROUGHNESS, WHEEL_ROUGHNESS, TRACK_TYPES, WHEEL_DIAMETERS_MM
+        ):
+            got = cnossos_rolling_noise(
+                speed,
+                rail=rail,
+                wheel=wheel,
+                track_type=track,
+                wheel_diameter=diameter / 1e3,
+                load=load,
+                axles=4,
+                rule=rule,
+            )
             want = _expected(speed, rail, wheel, track, diameter, load, 4, rule)
-            for key, levels in (("track", got.track_db), ("vehicle", got.vehicle_db),
-                                ("superstructure", got.superstructure_db)):
+            for key, levels in (
+                ("track", got.track_db),
+                ("vehicle", got.vehicle_db),
+                ("superstructure", got.superstructure_db),
+            ):
                 diff = np.abs(np.asarray(levels) - want[key])
                 worst = max(worst, float(np.nanmax(diff)))
-                np.testing.assert_allclose(levels, want[key], atol=TOL + 1e-9,
-                                           err_msg=f"{rule} {speed_kmh} km/h {rail} {wheel} {track} {diameter} {key}")
+                np.testing.assert_allclose(
+                    levels,
+                    want[key],
+                    atol=TOL + 1e-9,
+                    err_msg=f"{rule} {speed_kmh} km/h {rail} {wheel} {track} {diameter} {key}",
+                )
             total = 10 * np.log10(sum(10 ** (np.asarray(want[k]) / 10) for k in want))
             np.testing.assert_allclose(got.total_db, total, atol=TOL + 1e-9)
-            want_dba = 10 * math.log10(sum(10 ** ((t + a) / 10) for t, a in zip(total, a_weighting(noise_bands()),
-                                                                                  strict=True)))
+            want_dba = 10 * math.log10(
+                sum(10 ** ((t + a) / 10) for t, a in zip(total, a_weighting(noise_bands()), strict=True))
+            )
             assert got.total_dba == pytest.approx(want_dba, abs=TOL)
     assert worst <= TOL
 
@@ -233,22 +369,49 @@ def test_bad_input_is_one_clear_error():
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "wheelrail", "noise", *args], capture_output=True,
-                          text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "wheelrail", "noise", *args], capture_output=True, text=True, timeout=120
+    )
 
 
 @pytest.mark.slow
 def test_cli_json_layout_and_errors():
-    done = _cli("--method", "cnossos", "--speed-kmh", "120", "--rail-roughness", "network-average",
-                "--wheel-roughness", "none", "--track-type", "wooden", "--wheel-diameter-mm", "680",
-                "--preload-kn", "50", "--axles", "2", "--roughness-interpolation", "energy-log-frequency", "--json")
+    done = _cli(
+        "--method",
+        "cnossos",
+        "--speed-kmh",
+        "120",
+        "--rail-roughness",
+        "network-average",
+        "--wheel-roughness",
+        "none",
+        "--track-type",
+        "wooden",
+        "--wheel-diameter-mm",
+        "680",
+        "--preload-kn",
+        "50",
+        "--axles",
+        "2",
+        "--roughness-interpolation",
+        "energy-log-frequency",
+        "--json",
+    )
     assert done.returncode == 0, done.stderr
     out = json.loads(done.stdout)
     assert len(out["frequency_hz"]) == 24
     for key in ("total_roughness_dB", "track_dB", "vehicle_dB", "superstructure_dB"):
         assert len(out["cnossos"][key]) == 24
-    want = cnossos_rolling_noise(120 / 3.6, rail="network-average", wheel="none", track_type="wooden",
-                                 wheel_diameter=0.68, load=50e3, axles=2, rule="energy-log-frequency")
+    want = cnossos_rolling_noise(
+        120 / 3.6,
+        rail="network-average",
+        wheel="none",
+        track_type="wooden",
+        wheel_diameter=0.68,
+        load=50e3,
+        axles=2,
+        rule="energy-log-frequency",
+    )
     np.testing.assert_allclose(out["cnossos"]["track_dB"], want.track_db, atol=1e-9)
     assert out["cnossos"]["total_dBA"] == pytest.approx(want.total_dba)
     bad = _cli("--method", "cnossos", "--wheel-diameter-mm", "900")

@@ -63,8 +63,7 @@ def test_rail_bem_power_balance_and_mesh_convergence(frequency):
     surface, far = _surface_and_far_power(frequency, 0.010)
     assert far == pytest.approx(surface, rel=0.01)
     coarse = vertical_radiation_efficiency(rail_boundary(frequency), frequency, UIC60_CHIEF_POINTS)[0]
-    fine = vertical_radiation_efficiency(rail_boundary(frequency, max_element=0.005), frequency,
-                                         UIC60_CHIEF_POINTS)[0]
+    fine = vertical_radiation_efficiency(rail_boundary(frequency, max_element=0.005), frequency, UIC60_CHIEF_POINTS)[0]
     assert abs(10 * np.log10(coarse / fine)) < 0.05
 
 

@@ -97,11 +97,13 @@ def test_pass_by_formula():
     s = np.linspace(0.0, 200.0, 40)
     inside = np.sum(np.arctan(s / d) + np.arctan((200.0 - s) / d)) / math.pi
     assert 35.4 < inside < 35.5
-    assert pass_by_level(100.0, 40, 200.0) == pytest.approx(100 + 10 * math.log10(inside / (2 * d * 200))
-                                                            + 10 * math.log10(1.21 * 343 * 1e-12 / 4e-10))
+    assert pass_by_level(100.0, 40, 200.0) == pytest.approx(
+        100 + 10 * math.log10(inside / (2 * d * 200)) + 10 * math.log10(1.21 * 343 * 1e-12 / 4e-10)
+    )
     # a train much longer than d: every axle's whole exposure, N / (2 d l)
     assert pass_by_level(100.0, 4000, 20000.0) == pytest.approx(
-        100 + 10 * math.log10(4000 / (2 * d * 20000)) + 10 * math.log10(1.21 * 343 * 1e-12 / 4e-10), abs=0.01)
+        100 + 10 * math.log10(4000 / (2 * d * 20000)) + 10 * math.log10(1.21 * 343 * 1e-12 / 4e-10), abs=0.01
+    )
 
 
 @pytest.mark.slow
@@ -122,8 +124,9 @@ def test_wav_level_matches_the_pass_by_level(wheel_run):
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "wheelrail", "noise", *args], capture_output=True,
-                          text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "wheelrail", "noise", *args], capture_output=True, text=True, timeout=300
+    )
 
 
 @pytest.mark.slow

@@ -29,9 +29,11 @@ def test_noise_study_tables_physics_and_resume(tmp_path, monkeypatch):
     # rolling noise grows with speed (about 30 lg v for CNOSSOS-like roughness spectra)
     assert lwa.columns["cnossos_a3_LWA_dBA"][1] > lwa.columns["cnossos_a3_LWA_dBA"][0] + 3
     lpaeq = tables["noise_sinter-wheel-1_lpaeq_vs_speed"]
-    np.testing.assert_allclose(lpaeq.columns["3d_LpAeq_dBA"],
-                               [pass_by_level(x, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH)
-                                for x in lwa.columns["3d_LWA_dBA"]], atol=1e-9)
+    np.testing.assert_allclose(
+        lpaeq.columns["3d_LpAeq_dBA"],
+        [pass_by_level(x, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH) for x in lwa.columns["3d_LWA_dBA"]],
+        atol=1e-9,
+    )
     filters = tables["noise_sinter-wheel-1_filters_100kmh"]
     assert len(filters.band_centres) == 24 and math.isnan(filters.columns["3d_filter_db"][-1])  # 10 kHz left out
     assert np.nanmean(filters.columns["3d_filter_db"][14:22]) < -5  # 1.25-6.3 kHz: the 3D filter acts

@@ -32,8 +32,13 @@ from wheelrail.core.reference_filters import (
 from wheelrail.core.roughness_limits import ISO3095_LIMIT_DB, iso3095_limit, iso3095_margin
 
 DATA = Path(__file__).parent.parent / "data" / "cnossos_2021_rail.csv"
-COLUMNS = {"50kN_360mm": (50e3, 0.36), "50kN_680mm": (50e3, 0.68), "25kN_920mm": (25e3, 0.92),
-           "50kN_920mm": (50e3, 0.92), "100kN_920mm": (100e3, 0.92)}
+COLUMNS = {
+    "50kN_360mm": (50e3, 0.36),
+    "50kN_680mm": (50e3, 0.68),
+    "25kN_920mm": (25e3, 0.92),
+    "50kN_920mm": (50e3, 0.92),
+    "100kN_920mm": (100e3, 0.92),
+}
 
 
 def _table():
@@ -205,14 +210,14 @@ def test_2d_and_hertz_average_dynamic_filters_follow_the_averaging_filter():
     length = 1.5  # m at 100 km/h (paper defaults: 65 kN, R = 0.39 m): short runs, three lines
     rng = np.random.default_rng(14)
     heights = rng.standard_normal((3, int(round((length + 0.1) / 1e-3)) + 1)) * 1e-6  # white, 1 um rms
-    rough = RoughnessSet(heights=heights, dx=1e-3, y=np.array([-1e-3, 0.0, 1e-3]), kind="rail",
-                         description="white")
+    rough = RoughnessSet(heights=heights, dx=1e-3, y=np.array([-1e-3, 0.0, 1e-3]), kind="rail", description="white")
     filters = {"2d": [], "hertz-average": []}
     for line in (-1, 0, 1):
         centres, hertz = force_spectrum(simulate(rough, model="hertz", line=line, length=length))
         for model, runs in filters.items():
-            runs.append(contact_filter(force_spectrum(simulate(rough, model=model, line=line, length=length))[1],
-                                       hertz))
+            runs.append(
+                contact_filter(force_spectrum(simulate(rough, model=model, line=line, length=length))[1], hertz)
+            )
     bands = frequency_bands(100 / 3.6)
     np.testing.assert_allclose(centres, bands.centres)
     averaging = analytic_filter_levels("averaging", *bands.wavenumber_edges(), ContactParameters().hertz_radius())

@@ -51,6 +51,12 @@ def test_window_lines_keep_the_patch_inside_the_data():
 @pytest.mark.parametrize("line", [-2, 2])
 @pytest.mark.slow
 def test_the_outermost_window_lines_run_without_reaching_the_window_edge(line):
-    result = prepare_run("corrugated-rail", model="3d", line=line, length=1.5, keep_pressure=False,
-                         params=ModelParameters(run=RunParameters())).run()
+    result = prepare_run(
+        "corrugated-rail",
+        model="3d",
+        line=line,
+        length=1.5,
+        keep_pressure=False,
+        params=ModelParameters(run=RunParameters()),
+    ).run()
     assert result.n_steps == 1500 and np.all(np.isfinite(result.force))

@@ -89,8 +89,9 @@ def test_results_at_100_kmh_use_the_unchanged_first_order_hold():
     assert dt < FOH_MAX_STEP
     green = moving_green_functions(P.run.speed)
     np.testing.assert_array_equal(green.weights(dt), green.weights(dt, method="foh"))
-    for auto, foh in zip(wheel_discrete_system(P.wheel, dt), wheel_discrete_system(P.wheel, dt, method="foh"),
-                         strict=True):
+    for auto, foh in zip(
+        wheel_discrete_system(P.wheel, dt), wheel_discrete_system(P.wheel, dt, method="foh"), strict=True
+    ):
         np.testing.assert_array_equal(auto, foh)
 
 

@@ -79,8 +79,9 @@ def white_set():
     1 mm apart, 0.3 µm rms (small: the contact stays linear and closed), seeded."""
     rng = np.random.default_rng(7)
     heights = 0.3e-6 * rng.standard_normal((25, 2600))
-    return RoughnessSet(heights=heights, dx=1e-3, y=(np.arange(25) - 12) * 1e-3, kind="rail",
-                        description="white test roughness")
+    return RoughnessSet(
+        heights=heights, dx=1e-3, y=(np.arange(25) - 12) * 1e-3, kind="rail", description="white test roughness"
+    )
 
 
 @pytest.mark.slow
@@ -129,9 +130,13 @@ def test_eq19_dips_move_with_speed(white_set, tmp_path):
     speed = 80 * KMH
     params = ModelParameters(run=RunParameters(speed=speed))
     digest = roughness_digest(white_set)
-    specs = {(model, line): RunSpec(source=white_set, set_label="white", set_digest=digest, model=model, line=line,
-                                    params=params, length=2.0)
-             for model in ("2d", "hertz") for line in range(-3, 4)}
+    specs = {
+        (model, line): RunSpec(
+            source=white_set, set_label="white", set_digest=digest, model=model, line=line, params=params, length=2.0
+        )
+        for model in ("2d", "hertz")
+        for line in range(-3, 4)
+    }
     report = execute(list(specs.values()), cache=tmp_path, workers=2, progress=False)
     assert report.computed == 14 and report.cached == 0
     levels = {k: report.summaries[spec.key].levels for k, spec in specs.items()}
@@ -224,8 +229,9 @@ def test_lateral_resolution_4mm_is_closer_to_the_original_than_8mm(tmp_path):
     # 2 m runs, mean |L_3D - L_3D,low| over the bands: sinter wheel 0.9 dB (4 mm) vs 2.3 dB (8 mm), cast-iron
     # wheel 0.3 vs 0.8 dB. Required: 4 mm below 8 mm by a third at least, and 4 mm within 1.5 dB on average
     # (the paper: "negligible errors up to 1 kHz and maximum errors of about 3 dB")
-    result = run_study("lateral-resolution", ["sinter-wheel-1", "cast-iron-wheel"], tmp_path, length=2.0,
-                       progress=False, figures=False)
+    result = run_study(
+        "lateral-resolution", ["sinter-wheel-1", "cast-iron-wheel"], tmp_path, length=2.0, progress=False, figures=False
+    )
     four, eight = (next(t for t in result.tables if t.name.endswith(f"_{mm}mm")) for mm in (4, 8))
     for name in ("sinter-wheel-1", "cast-iron-wheel"):
         error4 = float(np.nanmean(np.abs(four.columns[f"{name}_db"])))

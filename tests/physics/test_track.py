@@ -154,11 +154,11 @@ def test_green_functions_decay_and_truncation_error_is_small(response):
     values = g.values[0]
     spectrum = np.fft.rfft(values, 2 * len(values))
     spectrum[np.fft.rfftfreq(2 * len(values), g.time_step) > 8000.0] = 0.0
-    below_8k = np.fft.irfft(spectrum)[:len(values)]
+    below_8k = np.fft.irfft(spectrum)[: len(values)]
     k10 = int(round(0.010 / g.time_step))
     assert np.abs(below_8k[k10:]).max() < 0.01 * np.abs(below_8k).max()
     k20 = int(round(0.020 / g.time_step))
-    i20, i30 = np.trapezoid(values[:k20 + 1], dx=g.time_step), np.trapezoid(values, dx=g.time_step)
+    i20, i30 = np.trapezoid(values[: k20 + 1], dx=g.time_step), np.trapezoid(values, dx=g.time_step)
     assert abs(i20 / i30 - 1) < 2e-3
 
 

@@ -48,9 +48,7 @@ def test_static_limits():
     # g_W over time is the same (2 s covers the suspension mode to < 1e-5; 0.1 % tolerance).
     assert wheel_receptance(WHEEL, [0.0])[0].real == pytest.approx(wheel_static_compliance(WHEEL), rel=1e-12)
     t = np.linspace(0, 3.0, 600001)
-    assert np.trapezoid(wheel_green_function(WHEEL, t), t) == pytest.approx(
-        wheel_static_compliance(WHEEL), rel=1e-3
-    )
+    assert np.trapezoid(wheel_green_function(WHEEL, t), t) == pytest.approx(wheel_static_compliance(WHEEL), rel=1e-3)
 
 
 def test_discrete_form_is_exact_for_piecewise_linear_force():

@@ -40,8 +40,11 @@ def content(path: Path) -> dict:
         if chunk.entity_path.startswith("/__"):  # recording properties: id and start time
             continue
         batch = chunk.to_record_batch()
-        columns = {name: batch.column(name).to_pylist() for name in batch.schema.names
-                   if not any(word in name for word in VOLATILE)}
+        columns = {
+            name: batch.column(name).to_pylist()
+            for name in batch.schema.names
+            if not any(word in name for word in VOLATILE)
+        }
         key = (chunk.entity_path, chunk.is_static)
         if chunk.is_static:  # a static component's rows in logging order (the last one counts)
             for name, values in columns.items():
@@ -62,8 +65,19 @@ def test_old_recording_reads_back_exactly(tmp_path, model):
     result = synthetic_result(n=N_STEPS, model=model)
     back = read_recording(old_file(model, tmp_path))
     assert back.header == result.header
-    for name in ("x", "force", "xi_wheel", "xi_rail", "roughness", "contact_length", "contact_area",
-                 "equivalent_roughness", "window_x", "window_y", "pressure"):
+    for name in (
+        "x",
+        "force",
+        "xi_wheel",
+        "xi_rail",
+        "roughness",
+        "contact_length",
+        "contact_area",
+        "equivalent_roughness",
+        "window_x",
+        "window_y",
+        "pressure",
+    ):
         np.testing.assert_array_equal(getattr(back, name), getattr(result, name), err_msg=name)  # exact
     np.testing.assert_allclose(back.time, result.time, rtol=0, atol=0.5e-9)  # timeline in whole ns
 
@@ -73,8 +87,14 @@ def test_writer_writes_what_the_old_writer_wrote(tmp_path, model):
     """Same entities, components and values as the file of the earlier version (volatile columns aside)."""
     old = content(old_file(model, tmp_path))
     # the earlier writer loaded the roughness set from the run's roughness name; today it is given
-    new = content(record_result(synthetic_result(n=N_STEPS, model=model), tmp_path / "new.rrd",
-                                roughness=load_roughness("corrugated-rail"), description=DESCRIPTION))
+    new = content(
+        record_result(
+            synthetic_result(n=N_STEPS, model=model),
+            tmp_path / "new.rrd",
+            roughness=load_roughness("corrugated-rail"),
+            description=DESCRIPTION,
+        )
+    )
     assert sorted(new) == sorted(old)
     for key in old:
         if key == ("/parameters", True):  # the contact geometry (wheel, crown, tread radii) added three

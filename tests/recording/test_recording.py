@@ -42,21 +42,36 @@ def synthetic_result(n: int = N_STEPS, model: str = "3d", preload: float = 65e3)
         pressure = (peak * np.sqrt(np.clip(1 - r2 / radius**2, 0, None))).astype(np.float32)
     roughness = 1e-5 * np.sin(2 * np.pi * t / 2e-3)
     return RunResult(
-        header=RunHeader(model=model, line=0, roughness_name="corrugated-rail", params=ModelParameters(contact=contact),
-                         run_in_length=1.0),
-        time=t, x=0.016 + np.arange(n) * 1e-3, force=force, xi_wheel=8e-5 + 1e-6 * np.cos(t * 3e3),
-        xi_rail=3e-5 + 1e-6 * np.sin(t * 3e3), roughness=roughness,
-        contact_length=np.full(n, 0.011), contact_area=np.full(n, 9.4e-5) if model != "2d" else np.full(n, np.nan),
-        equivalent_roughness=roughness if model != "hertz-average" else 0.5 * roughness, pressure=pressure,
-        window_x=window if model == "3d" else None, window_y=window if model == "3d" else None,
+        header=RunHeader(
+            model=model,
+            line=0,
+            roughness_name="corrugated-rail",
+            params=ModelParameters(contact=contact),
+            run_in_length=1.0,
+        ),
+        time=t,
+        x=0.016 + np.arange(n) * 1e-3,
+        force=force,
+        xi_wheel=8e-5 + 1e-6 * np.cos(t * 3e3),
+        xi_rail=3e-5 + 1e-6 * np.sin(t * 3e3),
+        roughness=roughness,
+        contact_length=np.full(n, 0.011),
+        contact_area=np.full(n, 9.4e-5) if model != "2d" else np.full(n, np.nan),
+        equivalent_roughness=roughness if model != "hertz-average" else 0.5 * roughness,
+        pressure=pressure,
+        window_x=window if model == "3d" else None,
+        window_y=window if model == "3d" else None,
         loss_of_contact_steps=0,
     )
 
 
 def chunks_of(path, entity: str, *, static: bool | None = None):
     """The chunks of one entity in a file, straight from rerun's reader."""
-    return [c for c in RrdReader(path).stream() if c.entity_path == "/" + entity
-            and (static is None or c.is_static == static)]
+    return [
+        c
+        for c in RrdReader(path).stream()
+        if c.entity_path == "/" + entity and (static is None or c.is_static == static)
+    ]
 
 
 def scalar_column(path, entity: str) -> tuple[np.ndarray, np.ndarray]:
@@ -131,8 +146,11 @@ def test_entity_tree_and_timelines(recorded):
 def test_nominal_circle_is_the_hertz_radius(tmp_path):
     for preload, radius in ((65e3, 5.482e-3), (130e3, 5.482e-3 * 2 ** (1 / 3))):  # a ∝ P^(1/3)
         path = record_result(synthetic_result(model="hertz", preload=preload), tmp_path / f"c{preload:.0f}.rrd")
-        (chunk,) = [c for c in chunks_of(path, "contact/nominal_circle", static=True)
-                    if "LineStrips3D:strips" in c.to_record_batch().schema.names]
+        (chunk,) = [
+            c
+            for c in chunks_of(path, "contact/nominal_circle", static=True)
+            if "LineStrips3D:strips" in c.to_record_batch().schema.names
+        ]
         strip = np.array(chunk.to_record_batch().column("LineStrips3D:strips")[0].as_py()[0])
         # 1 µm: the paper's a = 5.48 mm is given to 10 µm; the circle is stored in float32 (~1e-9 m)
         assert np.hypot(strip[:, 0], strip[:, 1]) == pytest.approx(radius, abs=1e-6)
@@ -144,11 +162,19 @@ def test_elliptic_patch_and_wheel_set_are_recorded(tmp_path):
     from wheelrail.core.interaction import simulate
 
     contact = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)
-    result = simulate("corrugated-rail", wheel_roughness="sinter-wheel-1", model="hertz", length=0.05,
-                      params=ModelParameters(contact=contact))
+    result = simulate(
+        "corrugated-rail",
+        wheel_roughness="sinter-wheel-1",
+        model="hertz",
+        length=0.05,
+        params=ModelParameters(contact=contact),
+    )
     path = record_result(result, tmp_path / "ellipse.rrd", roughness=load_roughness("corrugated-rail"))
-    (chunk,) = [c for c in chunks_of(path, "contact/nominal_circle", static=True)
-                if "LineStrips3D:strips" in c.to_record_batch().schema.names]
+    (chunk,) = [
+        c
+        for c in chunks_of(path, "contact/nominal_circle", static=True)
+        if "LineStrips3D:strips" in c.to_record_batch().schema.names
+    ]
     strip = np.array(chunk.to_record_batch().column("LineStrips3D:strips")[0].as_py()[0])
     a, b = contact.hertz_semi_axes()
     # float32 storage: 1e-9 m; the ellipse (x/a)^2 + (y/b)^2 = 1 through every point
@@ -173,8 +199,18 @@ def test_force_spectrum_is_recorded(recorded):
 def test_read_recording_round_trip(recorded):
     result, path = recorded
     back = read_recording(path)
-    for name in ("x", "force", "xi_wheel", "xi_rail", "roughness", "contact_length", "contact_area",
-                 "equivalent_roughness", "window_x", "window_y"):
+    for name in (
+        "x",
+        "force",
+        "xi_wheel",
+        "xi_rail",
+        "roughness",
+        "contact_length",
+        "contact_area",
+        "equivalent_roughness",
+        "window_x",
+        "window_y",
+    ):
         np.testing.assert_array_equal(getattr(back, name), getattr(result, name), err_msg=name)  # exact (float64)
     np.testing.assert_allclose(back.time, result.time, rtol=0, atol=0.5e-9)  # timeline in whole ns
     np.testing.assert_array_equal(back.pressure, result.pressure)
@@ -363,9 +399,14 @@ def test_connect_streams_to_a_running_viewer_server(tmp_path):
         probe.bind(("127.0.0.1", 0))
         port = probe.getsockname()[1]
     server = subprocess.Popen(
-        [sys.executable, "-c", "import rerun as rr, sys, time; rr.init('viewer'); "
-         f"print(rr.serve_grpc(grpc_port={port}), flush=True); time.sleep(60)"],
-        stdout=subprocess.PIPE, text=True,
+        [
+            sys.executable,
+            "-c",
+            "import rerun as rr, sys, time; rr.init('viewer'); "
+            f"print(rr.serve_grpc(grpc_port={port}), flush=True); time.sleep(60)",
+        ],
+        stdout=subprocess.PIPE,
+        text=True,
     )
     try:
         assert server.stdout.readline().strip() == f"rerun+http://127.0.0.1:{port}/proxy"  # listening

@@ -31,19 +31,22 @@ def _refused(call, **kwargs) -> WheelrailError:
     return error
 
 
-@pytest.mark.parametrize(("kwargs", "key", "value"), [
-    # the inputs that once ran silently (wheel radius 1 um and 1 km, a 1 um crown, 5 MN and 0.1 kN)
-    ({"wheel_radius": 1e-6}, "wheel_radius", 1e-6),
-    ({"wheel_radius": 1e3}, "wheel_radius", 1e3),
-    ({"rail_crown_radius": 1e-6}, "rail_crown_radius", 1e-6),
-    ({"preload": 5e6}, "preload", 5e6),
-    ({"preload": 100.0}, "preload", 100.0),
-    ({"radius": 0.0}, "radius", 0.0),
-    ({"wheel_transverse_radius": 0.01}, "wheel_transverse_radius", 0.01),
-    ({"wheel_transverse_radius": -0.01}, "wheel_transverse_radius", -0.01),
-    ({"preload": math.nan}, "preload", None),
-    ({"preload": "65e3"}, "preload", "65e3"),
-])
+@pytest.mark.parametrize(
+    ("kwargs", "key", "value"),
+    [
+        # the inputs that once ran silently (wheel radius 1 um and 1 km, a 1 um crown, 5 MN and 0.1 kN)
+        ({"wheel_radius": 1e-6}, "wheel_radius", 1e-6),
+        ({"wheel_radius": 1e3}, "wheel_radius", 1e3),
+        ({"rail_crown_radius": 1e-6}, "rail_crown_radius", 1e-6),
+        ({"preload": 5e6}, "preload", 5e6),
+        ({"preload": 100.0}, "preload", 100.0),
+        ({"radius": 0.0}, "radius", 0.0),
+        ({"wheel_transverse_radius": 0.01}, "wheel_transverse_radius", 0.01),
+        ({"wheel_transverse_radius": -0.01}, "wheel_transverse_radius", -0.01),
+        ({"preload": math.nan}, "preload", None),
+        ({"preload": "65e3"}, "preload", "65e3"),
+    ],
+)
 def test_contact_inputs_outside_their_range_are_refused_with_the_data(kwargs, key, value):
     error = _refused(ContactParameters, **kwargs)
     assert error.parameter == key and error.argument == f"ContactParameters.{key}"
@@ -58,16 +61,24 @@ def test_every_range_holds_its_ends_and_refuses_beyond_them(key):
     assert accepted.check(accepted.minimum) == accepted.minimum and accepted.check(accepted.maximum) == accepted.maximum
     for outside in (accepted.minimum * (1 - 1e-6), accepted.maximum * (1 + 1e-6), math.inf, -accepted.minimum):
         error = _refused(accepted.check, value=outside)
-        assert (error.parameter, error.minimum, error.maximum, error.unit) == (key, accepted.minimum,
-                                                                              accepted.maximum, accepted.unit)
+        assert (error.parameter, error.minimum, error.maximum, error.unit) == (
+            key,
+            accepted.minimum,
+            accepted.maximum,
+            accepted.unit,
+        )
         assert error.reason == accepted.reason and "is outside the accepted" in str(error)
 
 
 def test_the_ranges_hold_the_paper_and_the_cnossos_table_and_catch_a_unit_slip():
     # the paper's wheel (R = 0.39 m, 65 kN, 100 km/h) and the CNOSSOS-EU columns (25-100 kN, 360-920 mm) lie
     # inside; a radius typed in mm as m (390) or in m as mm (0.39e-3) lies outside
-    for key, values in (("wheel_radius", (0.39, 0.18, 0.46)), ("rail_crown_radius", (0.39, 0.30)),
-                        ("preload", (65e3, 25e3, 100e3)), ("speed", (100 * KMH,))):
+    for key, values in (
+        ("wheel_radius", (0.39, 0.18, 0.46)),
+        ("rail_crown_radius", (0.39, 0.30)),
+        ("preload", (65e3, 25e3, 100e3)),
+        ("speed", (100 * KMH,)),
+    ):
         for v in values:
             ACCEPTED[key].check(v)
     for key in ("wheel_radius", "rail_crown_radius"):
@@ -118,9 +129,12 @@ def test_a_patch_too_large_for_the_radii_blames_the_preload_with_the_largest_loa
 
 
 def test_the_paper_and_the_readme_geometries_are_accepted():
-    for contact in (ContactParameters(), ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30),
-                    ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30, wheel_transverse_radius=-0.5),
-                    ContactParameters(wheel_radius=0.2, rail_crown_radius=0.8)):
+    for contact in (
+        ContactParameters(),
+        ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30),
+        ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30, wheel_transverse_radius=-0.5),
+        ContactParameters(wheel_radius=0.2, rail_crown_radius=0.8),
+    ):
         a, b = contact.hertz_semi_axes()
         assert a / contact.radius_along < PATCH_FRACTION and b / contact.radius_across < PATCH_FRACTION
 
@@ -140,8 +154,12 @@ def test_a_wheel_set_must_go_round_the_wheel_of_a_combined_run():
     for radius in (implied * 0.991, implied * 1.009):
         check_wheel_circumference(wheel.length, radius, "sinter-wheel-1")
         _refused(check_wheel_circumference, circumference=wheel.length, wheel_radius=radius * 1.03, label="w")
-    prepare_run("corrugated-rail", wheel_roughness="sinter-wheel-1", length=0.05,
-                params=ModelParameters(contact=ContactParameters(wheel_radius=implied)))
+    prepare_run(
+        "corrugated-rail",
+        wheel_roughness="sinter-wheel-1",
+        length=0.05,
+        params=ModelParameters(contact=ContactParameters(wheel_radius=implied)),
+    )
     prepare_run("sinter-wheel-1", length=0.05)
 
 
@@ -150,8 +168,13 @@ def test_a_study_with_a_wheel_set_is_checked_before_any_run():
 
     error = _refused(plan_study, name="speeds", sets=["corrugated-rail"], length=1.2, wheel_set="sinter-wheel-1")
     assert error.parameter == "wheel_radius"
-    plan_study("speeds", ["corrugated-rail"], length=1.2, wheel_set="sinter-wheel-1",
-               contact=ContactParameters(wheel_radius=0.4615))
+    plan_study(
+        "speeds",
+        ["corrugated-rail"],
+        length=1.2,
+        wheel_set="sinter-wheel-1",
+        contact=ContactParameters(wheel_radius=0.4615),
+    )
     assert _refused(plan_study, name="speeds", sets=["corrugated-rail"], speed=500 * KMH).parameter == "speed"
 
 

@@ -44,7 +44,7 @@ def test_corrupt_entry_is_detected_and_rebuilt(tmp_path, monkeypatch):
     good = _fresh()
     path = tmp_path / good.cache_path.split("/")[-1]
     raw = bytearray(path.read_bytes())
-    raw[len(raw) // 2: len(raw) // 2 + 64] = b"\x00" * 64  # flip bytes inside the stored arrays
+    raw[len(raw) // 2 : len(raw) // 2 + 64] = b"\x00" * 64  # flip bytes inside the stored arrays
     path.write_bytes(bytes(raw))
     with pytest.warns(UserWarning, match="unusable cache entry"):
         rebuilt = _fresh()

@@ -14,8 +14,13 @@ ROOT = Path(__file__).resolve().parents[2]
 DOCUMENTED = {
     "wheelrail.core.interaction": ["prepare_run", "simulate"],
     "wheelrail.core.parameters": ["ContactParameters"],
-    "wheelrail.core.spectra": ["third_octave_bands", "force_spectrum", "shortest_spectrum_run", "mean_level",
-                               "contact_filter"],
+    "wheelrail.core.spectra": [
+        "third_octave_bands",
+        "force_spectrum",
+        "shortest_spectrum_run",
+        "mean_level",
+        "contact_filter",
+    ],
 }
 
 

@@ -68,8 +68,10 @@ def test_advice_is_given_where_the_remedy_is_known_and_names_no_option():
     from wheelrail.core.spectra import force_spectrum
 
     error = _error(force_spectrum, np.zeros(100), 1e-3, skip=0.09)
-    assert str(error) == ("skip 0.09 s: the record of 100 steps (0.1 s) leaves 10 steps after the skip, and a "
-                          "spectrum needs 16; accepted at most 0.084 s; or use a longer run")
+    assert str(error) == (
+        "skip 0.09 s: the record of 100 steps (0.1 s) leaves 10 steps after the skip, and a "
+        "spectrum needs 16; accepted at most 0.084 s; or use a longer run"
+    )
     assert error.render(CLI_NAMES).startswith("--skip-ms 90: the record of 100 steps")
     assert "; accepted at most 84 ms; or use a longer run" in error.render(CLI_NAMES)
 
@@ -109,17 +111,23 @@ def _core_error_texts():
 
 
 def test_core_messages_name_no_command_line_option():
-    found = [f"{path}:{line}: {text!r}" for path, line, text in _core_error_texts()
-             if re.search(r"(^|[\s(])--[a-z]", text)]
+    found = [
+        f"{path}:{line}: {text!r}" for path, line, text in _core_error_texts() if re.search(r"(^|[\s(])--[a-z]", text)
+    ]
     assert not found, "\n".join(found)
     assert len(list(_core_error_texts())) > 200  # the scan sees core's messages
 
 
 def test_no_front_end_rewrites_a_message():
     # the tables that once reworded core's sentences by substring or regex are gone, and nothing took their place
-    sources = {path.relative_to(ROOT).as_posix(): path.read_text(encoding="utf-8")
-               for folder in ("core", "explorer") for path in (ROOT / folder).rglob("*.py")}
-    pattern = re.compile(r"str\((error|err|exc|e)\)\s*\.replace|\.sub\([^)]*str\((error|err|exc|e)\)|in_page_words|"
-                         r"_cli_wording|_CLI_ADVICE|_CLI_HINTS|\{(error|err|exc|e)\}[^\n]*\"\s*\)?\.replace\(")
+    sources = {
+        path.relative_to(ROOT).as_posix(): path.read_text(encoding="utf-8")
+        for folder in ("core", "explorer")
+        for path in (ROOT / folder).rglob("*.py")
+    }
+    pattern = re.compile(
+        r"str\((error|err|exc|e)\)\s*\.replace|\.sub\([^)]*str\((error|err|exc|e)\)|in_page_words|"
+        r"_cli_wording|_CLI_ADVICE|_CLI_HINTS|\{(error|err|exc|e)\}[^\n]*\"\s*\)?\.replace\("
+    )
     found = [f"{name}: {match.group(0)}" for name, text in sources.items() for match in pattern.finditer(text)]
     assert not found, found

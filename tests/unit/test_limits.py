@@ -18,8 +18,7 @@ def _peak(model, length):
         tracemalloc.stop()
 
 
-@pytest.mark.parametrize(("model", "short", "long"), [("hertz", 200.0, 600.0), ("2d", 200.0, 600.0),
-                                                    ("3d", 8.0, 16.0)])
+@pytest.mark.parametrize(("model", "short", "long"), [("hertz", 200.0, 600.0), ("2d", 200.0, 600.0), ("3d", 8.0, 16.0)])
 @pytest.mark.slow
 def test_estimate_bounds_the_traced_growth(model, short, long):
     # lengths long enough that the run's arrays outgrow the set-up's fixed peak (~18 MB: Green's functions)
@@ -29,9 +28,13 @@ def test_estimate_bounds_the_traced_growth(model, short, long):
 
     def estimate(length):
         n = length / 1e-3
-        return limits.run_memory_bytes(n_elements=n, n_steps=n, n_lines=n_lines,
-                                       window_columns=25 if model == "2d" else 0,
-                                       pressure_elements=625 if model == "3d" else 0)
+        return limits.run_memory_bytes(
+            n_elements=n,
+            n_steps=n,
+            n_lines=n_lines,
+            window_columns=25 if model == "2d" else 0,
+            pressure_elements=625 if model == "3d" else 0,
+        )
 
     per_element = (estimate(long) - estimate(short)) / ((long - short) / 1e-3)
     # an estimate must never be below what the run takes, and not so far above that it refuses
@@ -39,8 +42,9 @@ def test_estimate_bounds_the_traced_growth(model, short, long):
     assert measured <= per_element <= 2 * measured
 
 
-@pytest.mark.parametrize(("model", "length", "keep"), [("hertz", 1e9, True), ("3d", 1e5, True), ("3d", 1e5, False),
-                                                      ("hertz", 1e306, True)])
+@pytest.mark.parametrize(
+    ("model", "length", "keep"), [("hertz", 1e9, True), ("3d", 1e5, True), ("3d", 1e5, False), ("hertz", 1e306, True)]
+)
 def test_absurd_lengths_are_refused_with_the_figure(model, length, keep):
     with pytest.raises(WheelrailError, match=r"needs about .*iB of memory.*, over the 2 GiB limit"):
         prepare_run("cast-iron-wheel", model=model, length=length, keep_pressure=keep)

@@ -73,12 +73,17 @@ def test_default_geometry_is_the_papers_circle_to_the_bit():
     assert a == b == (3.0 * 65e3 * 0.39 / (4.0 * c.reduced_modulus)) ** (1.0 / 3.0)
     assert c.hertz_constant == 4.0 / 3.0 * c.reduced_modulus * math.sqrt(0.39)
     # both radii follow ``radius`` when unset (files written before they existed carry only it)
-    assert ContactParameters(radius=0.45).hertz_semi_axes() == ContactParameters(
-        wheel_radius=0.45, rail_crown_radius=0.45).hertz_semi_axes()
+    assert (
+        ContactParameters(radius=0.45).hertz_semi_axes()
+        == ContactParameters(wheel_radius=0.45, rail_crown_radius=0.45).hertz_semi_axes()
+    )
 
 
-@pytest.mark.parametrize("contact", [REAL, CONCAVE, ContactParameters(wheel_radius=0.2, rail_crown_radius=0.8)],
-                         ids=["0.46-on-0.30", "concave-tread", "wide"])
+@pytest.mark.parametrize(
+    "contact",
+    [REAL, CONCAVE, ContactParameters(wheel_radius=0.2, rail_crown_radius=0.8)],
+    ids=["0.46-on-0.30", "concave-tread", "wide"],
+)
 @pytest.mark.slow
 def test_elliptic_hertz_against_quadrature_of_its_pressure(contact):
     """Johnson 4.2 checked without the elliptic integrals: the load is the integral of the ellipsoidal pressure,

@@ -35,9 +35,12 @@ def _imports(path: Path) -> set[str]:
 
 
 def test_core_never_imports_the_explorer_or_the_command_above_it():
-    offenders = {_module_name(path): sorted(name for name in _imports(path)
-                                            if name.startswith(("wheelrail.explorer", "wheelrail.cli")))
-                 for path in CORE.rglob("*.py")}
+    offenders = {
+        _module_name(path): sorted(
+            name for name in _imports(path) if name.startswith(("wheelrail.explorer", "wheelrail.cli"))
+        )
+        for path in CORE.rglob("*.py")
+    }
     assert {module: names for module, names in offenders.items() if names} == {}
 
 
@@ -45,22 +48,26 @@ def test_core_never_imports_the_explorer_or_the_command_above_it():
 def test_core_commands_load_no_explorer_module():
     # at run time too (an import by name is no import statement): every core command's module loaded, and no
     # explorer module (nor viser) comes with them
-    probe = ("import sys\nfrom wheelrail.core.cli import build_parser\nbuild_parser('*')\n"
-             "print(sorted(m for m in sys.modules if m.startswith(('wheelrail.explorer', 'viser'))))")
+    probe = (
+        "import sys\nfrom wheelrail.core.cli import build_parser\nbuild_parser('*')\n"
+        "print(sorted(m for m in sys.modules if m.startswith(('wheelrail.explorer', 'viser'))))"
+    )
     loaded = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout
     assert loaded.strip() == "[]"
 
 
 def test_core_modules_import_each_other_without_cycles():
     modules = {_module_name(path): path for path in CORE.rglob("*.py")}
-    graph = {name: {other for other in _imports(path) if other in modules and other != name}
-             for name, path in modules.items()}
+    graph = {
+        name: {other for other in _imports(path) if other in modules and other != name}
+        for name, path in modules.items()
+    }
     assert len(graph) > 50 and graph["wheelrail.core.interaction"]  # the scan sees core's modules and imports
 
     def cycle_from(start: str, path: tuple[str, ...], done: set[str]):
         for other in sorted(graph[start]):
             if other in path:
-                return (*path[path.index(other):], other)
+                return (*path[path.index(other) :], other)
             if other not in done:
                 found = cycle_from(other, (*path, other), done)
                 if found:

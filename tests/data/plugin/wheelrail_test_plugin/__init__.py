@@ -27,5 +27,9 @@ class LinearSpring(ContactModel):
         return ContactState(force=force, contact_length=0.0, contact_area=math.nan)
 
 
-LINEAR_SPRING = ModelEntry(name="linear-spring", label="linear contact spring (the test plug-in)",
-                           traits=ModelTraits(), implementation=LinearSpring)
+LINEAR_SPRING = ModelEntry(
+    name="linear-spring",
+    label="linear contact spring (the test plug-in)",
+    traits=ModelTraits(),
+    implementation=LinearSpring,
+)
