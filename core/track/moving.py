@@ -14,7 +14,7 @@ if TYPE_CHECKING:
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import FOH_MAX_STEP, TrackNumerics, TrackParameters
-from wheelrail.core.track.fe import TrackFEModel, shear_parameter_of
+from wheelrail.core.track.fe import TrackFEModel, shear_parameter_of, timoshenko_shape_functions
 from wheelrail.core.track.stationary import (
     StationaryTrackResponse,
     _excitation_nodes,
@@ -56,15 +56,7 @@ def _read_wedge(data, counts, offsets, stored_x, rail, source, offset, out):
         r = np.clip(r, 0, counts[e][None, :] - 2)
         x_a = points[r]
         h = points[r + 1] - x_a
-        phi = shear_parameter_of(rail, h)
-        xi = (d - x_a) / h
-        inv = 1.0 / (1.0 + phi)
-        xi2 = xi * xi
-        xi3 = xi2 * xi
-        n1 = inv * (2 * xi3 - 3 * xi2 - phi * xi + 1 + phi)
-        n2 = inv * h * (xi3 - (2 + phi / 2) * xi2 + (1 + phi / 2) * xi)
-        n3 = inv * (-2 * xi3 + 3 * xi2 + phi * xi)
-        n4 = inv * h * (xi3 - (1 - phi / 2) * xi2 - (phi / 2) * xi)
+        n1, n2, n3, n4 = np.moveaxis(timoshenko_shape_functions((d - x_a) / h, h, shear_parameter_of(rail, h)), -1, 0)
         o = offsets[e][None, :n_samples] + r
         out[rows] = n1 * data[o, 0] + n2 * data[o, 1] + n3 * data[o + 1, 0] + n4 * data[o + 1, 1]
 
@@ -100,7 +92,12 @@ def _rows_from_wedge(data, counts, offsets, stored_x, rail, sample_step, speed, 
     time = np.arange(n_samples) * sample_step
     travel = speed * time
     values = np.empty((len(lo), n_samples))
-    _read_wedge(data, counts, offsets, stored_x, rail, lo, d_lo[:, None] * spacing + travel, values)
+    on_positions = np.flatnonzero(frac == 0)  # rows on a stored position are read as they are
+    stored_rows = np.empty((len(on_positions), n_samples))
+    _read_wedge(
+        data, counts, offsets, stored_x, rail, lo[on_positions], np.broadcast_to(travel, stored_rows.shape), stored_rows
+    )
+    values[on_positions] = stored_rows
     shear_time = spacing / math.sqrt(rail.shear_stiffness / rail.mass_per_length)
     between_all = np.flatnonzero(frac > 0)
     for start in range(0, len(between_all), _ROW_BLOCK):  # a block at a time: a few MB of temporaries
@@ -113,7 +110,7 @@ def _rows_from_wedge(data, counts, offsets, stored_x, rail, sample_step, speed, 
             d_lo[between] * spacing,
             d_hi[between] * spacing,
             time,
-            speed * time,
+            travel,
             shear_time,
         )
     return values
