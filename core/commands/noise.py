@@ -239,6 +239,13 @@ def _run_file(args) -> int:
     )
     print(f"  pass-by L_pAeq,Tp at 7.5 m / 1.2 m: {noise.pass_by_laeq_dba:.1f} dB(A) ({axles} axles, {length:g} m)")
     print("  wheel: " + summary["configuration"]["wheel"])
+    beside = noise.cnossos
+    print(
+        f"  CNOSSOS-EU beside it (the run's roughness, A3, {beside.configuration['track_type']}, "
+        f"{beside.configuration['wheel_diameter_m'] * 1e3:g} mm wheels): L_WA per axle {beside.total_dba:.1f} dB(A) "
+        f"(track {beside.track_dba:.1f}, vehicle {beside.vehicle_dba:.1f}); "
+        f"pass-by {noise.cnossos_pass_by_dba():.1f} dB(A)"
+    )
     if wav_path is not None:
         print(f"  wrote {wav_path} (full scale = {summary['wav']['full_scale_pa']:.3g} Pa)")
     return 0

@@ -31,6 +31,7 @@ within 1 dB (``tests/physics/test_noise_run.py``).
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import math
 from dataclasses import dataclass, field
@@ -99,6 +100,9 @@ class RunNoise:
         L_pAeq,Tp at 7.5 m / 1.2 m for ``train_axles`` axles in ``train_length`` m.
     configuration : dict
         What produced it (the run's header, the train, the wheel transfer's source).
+    cnossos : CnossosResult or None
+        The CNOSSOS-EU source of one axle beside it, on the run's own roughness
+        (:func:`wheelrail.core.noise.beside.cnossos_beside_run`).
     """
 
     frequency_hz: np.ndarray
@@ -109,6 +113,7 @@ class RunNoise:
     axle_dba: float
     pass_by_laeq_dba: float
     configuration: dict = field(default_factory=dict)
+    cnossos: object = None
     _force: np.ndarray | None = None
     _time_step: float = 0.0
     _pressure_per_force_sq: np.ndarray | None = None
@@ -125,7 +130,31 @@ class RunNoise:
             "total_dBA": self.sound_power_dba["total"],
             "pass_by_LpAeq_dBA": self.pass_by_laeq_dba,
             "configuration": self.configuration,
+            **({} if self.cnossos is None else {"cnossos": self.cnossos_summary()}),
         }
+
+    @property
+    def train(self) -> tuple[int, float]:
+        """Axles and length (m) of the train of the pass-by level and WAV."""
+        return self.configuration["train_axles"], self.configuration["train_length_m"]
+
+    def cnossos_pass_by_dba(self) -> float:
+        """L_pAeq,Tp of the CNOSSOS-EU source beside it, by the same pass-by formula and train (NaN without)."""
+        if self.cnossos is None:
+            return math.nan
+        return pass_by_level(self.cnossos.total_dba, *self.train)
+
+    def cnossos_summary(self) -> dict:
+        """The CNOSSOS-EU source beside the run (``cnossos`` of :meth:`to_dict`): per axle, with its pass-by level."""
+        return {**self.cnossos.to_dict(), "pass_by_LpAeq_dBA": self.cnossos_pass_by_dba(), "per": "axle"}
+
+    def with_train(self, train_axles: int, train_length: float) -> RunNoise:
+        """The same sound power for another train: its pass-by level and WAV."""
+        axles, length = _checked_train(train_axles, train_length)
+        configuration = {**self.configuration, "train_axles": axles, "train_length_m": length}
+        return dataclasses.replace(
+            self, pass_by_laeq_dba=pass_by_level(self.axle_dba, axles, length), configuration=configuration
+        )
 
     def pass_by_pressure(self, *, lead: float = 1.0, seed: int = 0) -> tuple[np.ndarray, float, tuple[int, int]]:
         """The synthesised pass-by pressure (Pa), its sample rate (Hz) and the sample range of T_p.
@@ -188,13 +217,11 @@ def run_noise(
     numerics : NoiseNumerics, optional
         How the track's transfer functions are computed (default :class:`wheelrail.core.noise.twins.NoiseNumerics`).
     """
+    from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model
     from wheelrail.core.spectra import force_spectrum
 
-    if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
-        raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=train_axles)
-    if not (isinstance(train_length, int | float) and math.isfinite(train_length) and train_length > 0):
-        raise WheelrailError("not a positive length", parameter="train_length", value=train_length, unit="m")
+    train_axles, train_length = _checked_train(train_axles, train_length)
     params = result.header.params
     track = track_noise_model(params, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
@@ -236,10 +263,22 @@ def run_noise(
         axle_dba=axle_dba,
         pass_by_laeq_dba=pass_by_level(axle_dba, int(train_axles), float(train_length)),
         configuration=configuration,
+        cnossos=cnossos_beside_run(result),
         _force=np.asarray(result.force, dtype=float),
         _time_step=result.time_step,
         _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
     )
+
+
+def _checked_train(train_axles, train_length) -> tuple[int, float]:
+    """(axles, length in m) of a train, or one WheelrailError."""
+    if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
+        raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=train_axles)
+    if isinstance(train_length, bool) or not (
+        isinstance(train_length, int | float | np.floating) and math.isfinite(train_length) and train_length > 0
+    ):
+        raise WheelrailError("not a positive length", parameter="train_length", value=train_length, unit="m")
+    return int(train_axles), float(train_length)
 
 
 def _synthesise(noise: RunNoise, *, lead: float, seed: int):

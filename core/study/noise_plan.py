@@ -6,12 +6,11 @@ Runs: every contact model (:func:`noise_models`: the one-line models of the regi
 From each run's contact-force levels (the study's run summaries: 50 Hz - 8 kHz, so the 10 kHz band is left out)
 the sound power of the TWINS-like chain (:func:`wheelrail.core.noise.run_noise.sound_power_from_force`, per axle:
 two wheels on two rails) and the pass-by level (40 axles, 200 m, ISO 3095 position). Beside them the CNOSSOS-EU
-source (:func:`wheelrail.core.noise.cnossos.cnossos_rolling_noise`, one axle) on the same roughness: the set's
-line 0 as the combined roughness (its spectrum at the speed, dB re 1 um; the directive allows measured roughness),
-the track type ``mono-block-soft`` (concrete sleepers, the model's 120 MN/m pads are softer than the directive's
-soft class), the tabulated wheel diameter nearest the model's 2R for L_H,veh, A3 for the run's preload and its own
-wheel diameter 2R (the filters rule); once with A3 and once with each model's dynamic contact filter
-L_F(model) - L_F(hertz) (same set, line, speed) in its place. The 10 kHz band is left out of every column.
+source by the rule of :mod:`wheelrail.core.noise.beside` (one axle; track type ``mono-block-soft``, the Table G-3b
+wheel diameter nearest 2R, A3 for the preload and 2R), on the same roughness: the set's line 0 as the combined
+roughness (its spectrum at the speed, dB re 1 um; the directive allows measured roughness); once with A3 and once
+with each model's dynamic contact filter L_F(model) - L_F(hertz) (same set, line, speed) in its place. The 10 kHz
+band is left out of every column.
 
 Tables per set: ``noise_<set>_lwa_vs_speed`` and ``noise_<set>_lpaeq_vs_speed`` (first column the speed in km/h),
 ``noise_<set>_filters_<V>kmh`` (per band at the study's speed: A3, every model's filter, and the CNOSSOS-EU sound
@@ -22,12 +21,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from wheelrail.core.noise.beside import CNOSSOS_TRACK_TYPE
 from wheelrail.core.parameters import KMH
 from wheelrail.core.study.specs import REFERENCE_MODEL, one_line_models
 from wheelrail.core.study.tables import Table
 
 NOISE_SPEEDS_KMH = (50.0, 75.0, 100.0, 140.0, 200.0, 250.0, 300.0)
-CNOSSOS_TRACK_TYPE = "mono-block-soft"
 
 
 def noise_models() -> tuple[str, ...]:
@@ -81,14 +80,12 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
     specs = [spec for _, runs in layout.values() for spec in runs.values()]
 
     def tabulate(summaries):
-        from wheelrail.core.noise.cnossos import cnossos_rolling_noise, contact_filter_a3
+        from wheelrail.core.noise.beside import cnossos_beside
+        from wheelrail.core.noise.cnossos import contact_filter_a3
         from wheelrail.core.noise.run_noise import sound_power_from_force
-        from wheelrail.core.noise.twins import nearest_table_diameter_mm, track_noise_model
+        from wheelrail.core.noise.twins import track_noise_model
 
-        params = params_of(speed, contact)
-        track = track_noise_model(params)
-        diameter = nearest_table_diameter_mm(contact.radius_along) / 1e3
-        a3_diameter = 2 * contact.radius_along
+        track = track_noise_model(params_of(speed, contact))
         tables = []
         for label, (info, runs) in layout.items():
             lwa = {f"{_column(m)}_LWA_dBA": np.full(len(speeds), np.nan) for m in models}
@@ -105,21 +102,15 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
                 force = {m: _force_24(summaries[runs[m, v].key].levels) for m in models}
                 for m in models:
                     lwa[f"{_column(m)}_LWA_dBA"][i] = sound_power_from_force(force[m], track)["axle_dba"]
-                roughness = _roughness_levels(info, v * KMH)
-                options = dict(
-                    track_type=CNOSSOS_TRACK_TYPE,
-                    wheel_diameter=diameter,
-                    load=contact.preload,
-                    axles=1,
-                    roughness=(f"{label} line 0", np.where(np.isfinite(roughness), roughness, -np.inf)),
-                )
-                a3 = contact_filter_a3(contact.preload, a3_diameter, v * KMH)
+                roughness = (f"{label} line 0", _roughness_levels(info, v * KMH))
+                params = params_of(v * KMH, contact)
+                a3 = contact_filter_a3(contact.preload, 2 * contact.radius_along, v * KMH)
                 a3[-1] = np.nan  # 10 kHz: left out as in the model columns (run summaries stop at 8 kHz)
-                base = cnossos_rolling_noise(v * KMH, contact_filter=("A3", a3), **options)
+                base = cnossos_beside(params, *roughness, contact_filter=("A3", a3))
                 lwa["cnossos_a3_LWA_dBA"][i] = base.total_dba
                 filters = {m: force[m] - force[REFERENCE_MODEL] for m in models if m != REFERENCE_MODEL}
                 with_filter = {
-                    m: cnossos_rolling_noise(v * KMH, contact_filter=(f"{m} dynamic filter", f), **options)
+                    m: cnossos_beside(params, *roughness, contact_filter=(f"{m} dynamic filter", f))
                     for m, f in filters.items()
                 }
                 for m, result in with_filter.items():

@@ -88,6 +88,33 @@ def test_linear_run_agrees_with_the_transfer_function(small_track, wheel_run):
     assert noise.sound_power_dba["total"] > noise.sound_power_dba["sleeper"]
 
 
+def test_cnossos_beside_a_run_on_its_own_roughness(wheel_run):
+    # Known answer from the directive's formulas and tables (eqs. 2.3.7-2.3.9, N_a = 1): the run's roughness under
+    # the wheel (the same record and window as its force spectrum) + A3 for 65 kN and the paper's 2R = 0.78 m,
+    # + L_H,tr of mono-block sleepers on soft pads, + L_H,veh of the tabulated diameter nearest 0.78 m (840 mm).
+    from wheelrail.core.noise.cnossos import contact_filter_a3, track_transfer, vehicle_transfer
+
+    noise = run_noise(wheel_run, numerics=SMALL)
+    beside = noise.cnossos
+    _, roughness = force_spectrum(wheel_run.roughness, wheel_run.time_step, band_range=(50, 10000))
+    total_roughness = np.asarray(roughness) + 120 + contact_filter_a3(65e3, 0.78, 100 / 3.6)
+    np.testing.assert_allclose(beside.total_roughness_db, total_roughness, atol=1e-9)
+    np.testing.assert_allclose(beside.track_db, total_roughness + track_transfer("mono-block-soft"), atol=1e-9)
+    np.testing.assert_allclose(beside.vehicle_db, total_roughness + vehicle_transfer(840), atol=1e-9)
+    assert beside.configuration["wheel_diameter_m"] == 0.84 and beside.configuration["axles"] == 1
+    assert beside.configuration["rail_roughness"] == "cast-iron-wheel line 0 (the run's)"
+    summary = noise.to_dict()["cnossos"]
+    assert summary["pass_by_LpAeq_dBA"] == pytest.approx(pass_by_level(beside.total_dba, 40, 200.0))
+    # another train: the same sound power, its own pass-by level, as if run_noise had been given it
+    other = noise.with_train(8, 40.0)
+    assert other.sound_power_dba == noise.sound_power_dba and other.train == (8, 40.0)
+    assert other.pass_by_laeq_dba == pytest.approx(
+        run_noise(wheel_run, train_axles=8, train_length=40.0, numerics=SMALL).pass_by_laeq_dba
+    )
+    with pytest.raises(WheelrailError, match="train_length -1"):
+        noise.with_train(8, -1.0)
+
+
 def test_pass_by_formula():
     # hand value: L_WA 100 dB(A) per axle, 40 axles, 200 m: the exposure within T_p of axles at s_k evenly from 0
     # to l is sum_k [atan(s_k / d) + atan((l - s_k) / d)] / pi whole-passage exposures (35.42 of 40 here), so
@@ -140,6 +167,9 @@ def test_cli_run_and_twins(tmp_path, wheel_run):
     for key in ("rail", "sleeper", "wheel", "total"):
         assert len(out["sound_power_dB"][key]) == 24
     assert {"total_dBA", "pass_by_LpAeq_dBA"} <= set(out)
+    assert len(out["cnossos"]["total_dB"]) == 24 and out["cnossos"]["per"] == "axle"
+    text = _cli("--run", str(path))
+    assert text.returncode == 0 and "CNOSSOS-EU beside it" in text.stdout, text.stderr
     assert wav.stat().st_size > 1000 and out["wav"]["full_scale_pa"] > 0
     bad = _cli("--run", str(tmp_path / "missing.npz"))
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1
