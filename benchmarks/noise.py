@@ -4,7 +4,8 @@
 2. The model track as a TWINS-like transfer function beside CNOSSOS-EU's L_H,tr (every track type), decay rates
    and the rail's radiation efficiency.
 3. Runs: `hertz` and `3d` on a bundled set (line 0, whole set, 100 km/h): sound power per component, L_WA, the
-   pass-by level, the WAV's own L_pAeq, and 3d - hertz per band (where the contact filter acts).
+   pass-by level, the WAV's own L_pAeq, CNOSSOS-EU beside them, and 3d - hertz per band (where the contact filter
+   acts).
 4. Timings (best and range of ``--repeats``; the machine may be shared): the CNOSSOS source, the track noise
    model (a fresh computation, the BEM table cached), run_noise, the WAV synthesis.
 5. Convergence of the track noise model (bays, elements, frequencies per band doubled) and of the sigma table.
@@ -90,6 +91,15 @@ def runs(set_name: str, wav_dir: Path | None) -> None:
             path = wav_dir / f"pass-by-{set_name}-{model}-100kmh.wav"
             path.write_bytes(data)
             print(f"         wrote {path} (full scale {full_scale:.3g} Pa)")
+    beside = results["3d"]
+    print(
+        f"  CNOSSOS-EU beside them (the run's roughness, A3, {beside.cnossos.configuration['track_type']}, "
+        f"{beside.cnossos.configuration['wheel_diameter_m'] * 1e3:g} mm): L_WA per axle track "
+        f"{beside.cnossos.track_dba:.1f}, vehicle {beside.cnossos.vehicle_dba:.1f}, "
+        f"total {beside.cnossos.total_dba:.1f} dB(A) (models per axle: hertz {results['hertz'].axle_dba:.1f}, "
+        f"3d {beside.axle_dba:.1f}); pass-by "
+        f"{beside.cnossos_pass_by_dba():.1f} dB(A)"
+    )
     diff = results["3d"].sound_power_db["total"] - results["hertz"].sound_power_db["total"]
     print(
         "  3d - hertz, total sound power per band (dB): "

@@ -7,7 +7,7 @@ their PNGs), :mod:`.uploads` (roughness files from the browser). This module wir
 :func:`serve` creates the app and waits; the app lays out the page, declares its controls and attaches
 small callbacks. Everything computed comes from core.
 
-The page: the run form docked on the left, the results panel (tabs Patch, Spectra and filters, Roughness,
+The page: the run form docked on the left, the results panel (tabs Patch, Spectra and filters, Noise, Roughness,
 Help) docked on the right at a width that keeps its plots at least 480 px wide, and the 3D view between
 them, so that after Run the open tab's plots and the colour bar are on screen from 1280 x 800 up.
 
@@ -50,7 +50,7 @@ from wheelrail.explorer.config import (
 from wheelrail.explorer.controller import RunController, RunView
 from wheelrail.explorer.results import Entry, ResultStore
 from wheelrail.explorer.scene import PRESSURE_TOP, PatchScene, colour_bar_image, oblique_view, top_view
-from wheelrail.explorer.tabs import RESULT_TABS, PatchTab, RoughnessTab, Shown, SpectraTab
+from wheelrail.explorer.tabs import RESULT_TABS, NoiseTab, PatchTab, RoughnessTab, Shown, SpectraTab
 from wheelrail.explorer.uploads import MAX_UPLOAD_BYTES, read_upload, refuse_large_uploads_early, size_text
 
 __all__ = ["ExplorerApp", "main", "serve"]
@@ -62,6 +62,7 @@ REPLAY_SPEEDS = {"0.01x": 0.01, "0.02x": 0.02, "0.05x": 0.05, "0.1x": 0.1}  # of
 REPLAY_FPS = 20.0
 CONTROL_PANEL_WIDTH = 340  # px: the run form, docked left
 RESULTS_PANEL_WIDTH = 560  # px: the results panel, docked right; its plots are about 520 px wide
+ASPECT_CHANGE = 0.02  # the 3D view is fitted again when its width / height changes by more than this share
 NOTICE_SECONDS = 10.0  # a notice (error toast) closes by itself after this; a new one replaces it
 NO_RUN_READOUT = "No run of this configuration yet: press **Run**."
 READY = "Ready: choose a set, a line and a model, then press **Run**."
@@ -107,6 +108,7 @@ class ExplorerApp:
         self.length_note = ""  # what the last change of set did to the run length, if anything
         self._colour_bar_key = self._line_map_key = None  # what the two images show
         self._model_choice: str | None = None  # the user's choice in Model shown, for the configuration shown
+        self._overlay_choice = self.no_overlay  # the run overlaid (Spectra and Noise tabs)
         self._local = threading.local()  # .quiet: this thread is setting a control (its callback is not a user's)
         self._playing = False
         self._notices: dict[int, object] = {}  # client id -> its notice on screen
@@ -219,6 +221,7 @@ class ExplorerApp:
         self.patch = next(t for t in self.tabs if isinstance(t, PatchTab))
         self.spectra = next(t for t in self.tabs if isinstance(t, SpectraTab))
         self.roughness_tab = next(t for t in self.tabs if isinstance(t, RoughnessTab))
+        self.noise_tab = next(t for t in self.tabs if isinstance(t, NoiseTab))
         patch = self.patch
         patch.surfaces_box.on_update(lambda event: self._guarded(self._on_surfaces))
         patch.raised_box.on_update(lambda event: self._guarded(self._on_raised))
@@ -233,7 +236,20 @@ class ExplorerApp:
         spectra.csv_button.on_click(
             lambda event: self._guarded(self.download_spectra_csv, event.client, client=event.client)
         )
-        spectra.overlay_dropdown.on_update(lambda event: None if self._is_quiet() else self._guarded(self._show_case))
+        noise = self.noise_tab
+        for menu in (spectra.overlay_dropdown, noise.overlay_dropdown):  # one choice, two menus
+            menu.on_update(
+                lambda event: None if self._is_quiet() else self._guarded(self._choose_overlay, event.target.value)
+            )
+        for field in (noise.axles_text, noise.train_length_text):
+            field.on_update(lambda event: self._guarded(self._show_case))
+        noise.audio_button.on_click(lambda event: self._guarded(self.make_pass_by, client=event.client))
+        noise.wav_button.on_click(
+            lambda event: self._guarded(self.download_pass_by_wav, event.client, client=event.client)
+        )
+        noise.json_button.on_click(
+            lambda event: self._guarded(self.download_noise_json, event.client, client=event.client)
+        )
 
     @contextlib.contextmanager
     def _quietly(self):
@@ -449,21 +465,29 @@ class ExplorerApp:
             self._update_preload_views()
             self._update_roughness_views()
 
+    def _choose_overlay(self, label: str) -> None:
+        """The run overlaid (either tab's menu): both menus show it."""
+        self._overlay_choice = label
+        self._show_case()
+
     def _overlay(self) -> RunConfig | None:
-        """The run list: other configurations of this session with a spectrum; the one chosen to overlay."""
+        """The run list: other configurations of this session with a spectrum; the one chosen to overlay (the
+        Spectra and Noise tabs' menus show the same list and choice)."""
         runs = {
             label: c
             for label, c in self.store.run_list().items()
             if self.shown is None or c.case() != self.shown.case()
         }
-        menu = self.spectra.overlay_dropdown
         options = (self.no_overlay, *runs)
-        if tuple(menu.options) != options:
-            chosen = menu.value
-            with self._quietly():  # the menu's own update is not a user's choice
-                menu.options = options
-                menu.value = chosen if chosen in options else self.no_overlay
-        return runs.get(menu.value)
+        if self._overlay_choice not in options:
+            self._overlay_choice = self.no_overlay
+        for menu in (self.spectra.overlay_dropdown, self.noise_tab.overlay_dropdown):
+            with self._quietly():  # the menus' own updates are not a user's choice
+                if tuple(menu.options) != options:
+                    menu.options = options
+                if menu.value != self._overlay_choice:
+                    menu.value = self._overlay_choice
+        return runs.get(self._overlay_choice)
 
     def _model_to_show(self, entries: dict[str, Entry]) -> str | None:
         """The model the Patch tab shows: the user's choice, else the model of the controls, else (compare) the
@@ -675,15 +699,33 @@ class ExplorerApp:
                 camera.position, camera.look_at = view["position"], view["look_at"]
 
     def _on_connect(self, client) -> None:
-        """A new page: once it reports the size of its 3D view, the top view is fitted to it."""
-        fitted = threading.Event()
+        """A new page: once it reports the size of its 3D view, the top view is fitted to it, and fitted again
+        while the view changes size (the panels dock after the first report, so a first fit may be for the whole
+        window) until the user moves the camera."""
+        lock = threading.Lock()
+        fit = {"aspect": None, "ours": []}  # the aspect fitted and the camera positions the page was given
 
-        def first_report(camera) -> None:
-            if not fitted.is_set() and camera.image_height > 0:
-                fitted.set()
+        def report(camera) -> None:
+            if camera.image_height <= 0:
+                return
+            aspect = camera.image_width / camera.image_height
+            position = np.asarray(camera.position, dtype=float)
+            with lock:
+                if fit["aspect"] is not None:
+                    if fit["ours"] is None:  # the user's camera now
+                        return
+                    if not any(np.allclose(position, p, rtol=1e-3, atol=1e-3) for p in fit["ours"]):
+                        fit["ours"] = None  # moved by the user: never fitted again
+                        return
+                    if abs(aspect / fit["aspect"] - 1.0) < ASPECT_CHANGE:
+                        return
+                else:
+                    fit["ours"].append(position)  # the page's own start
+                fit["aspect"] = aspect
                 self._guarded(self.set_view, "Top view", client)
+                fit["ours"].append(np.asarray(client.camera.position, dtype=float))
 
-        client.camera.on_update(first_report)
+        client.camera.on_update(report)
 
     def _on_surfaces(self) -> None:
         """Rail and wheel surfaces of the configuration shown, at the step shown (its start without a run)."""
@@ -771,6 +813,7 @@ class ExplorerApp:
                 path,
                 roughness=self._sets.get(entry.config.set_label, self.roughness),
                 description=f"wheelrail explorer: {entry.config.label()}",
+                sound_power=entry.noise is not None,  # spectra/sound_power: the Noise tab's spectra
             )
             content = path.read_bytes()
         self._send(name, content, client)
@@ -782,6 +825,50 @@ class ExplorerApp:
             raise WheelrailError("the settings are not a valid configuration: fix them first")
         content = self.store.csv_text(self.shown).encode()
         name = self.shown.for_model("spectra").file_stem() + ".csv"
+        self._send(name, content, client)
+        return name, content
+
+    def _shown_noise(self) -> Entry:
+        """The entry of the model shown, with its rolling noise, or one WheelrailError."""
+        entry = self.replay
+        if entry is None:
+            raise WheelrailError("no run of this configuration yet: press Run first")
+        if entry.noise is None:
+            raise WheelrailError(f"{entry.config.model} has no rolling noise: {entry.noise_problem or 'stopped early'}")
+        return entry
+
+    def make_pass_by(self) -> tuple[str, bytes]:
+        """The Noise tab's Pass-by audio: the pass-by of the model shown for the tab's train, in the player."""
+        entry = self._shown_noise()
+        tab = self.noise_tab
+        tab.train()  # a bad train field is said before the work starts
+        tab.audio_html.content = "<i>Making the pass-by ...</i>"
+        try:
+            return tab.pass_by(entry)
+        except BaseException:
+            tab.clear_audio()
+            raise
+
+    def download_pass_by_wav(self, client=None) -> tuple[str, bytes]:
+        """The pass-by in the player as a WAV file."""
+        if self.noise_tab.wav is None:
+            raise WheelrailError("no pass-by made yet: press Pass-by audio first")
+        name, content = self.noise_tab.wav
+        self._send(name, content, client)
+        return name, content
+
+    def download_noise_json(self, client=None) -> tuple[str, bytes]:
+        """The rolling noise of the model shown (sound power, totals, pass-by for the tab's train, CNOSSOS-EU beside
+        it and the configuration) as JSON, named after the configuration."""
+        import json
+
+        from wheelrail.core.jsonready import json_ready
+
+        entry = self._shown_noise()
+        noise = entry.noise.with_train(*self.noise_tab.train())
+        summary = {"explorer": entry.config.label(), **noise.to_dict()}
+        content = (json.dumps(json_ready(summary), indent=1) + "\n").encode()
+        name = entry.config.file_stem() + "-noise.json"
         self._send(name, content, client)
         return name, content
 

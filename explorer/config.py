@@ -40,6 +40,7 @@ __all__ = [
     "page_message",
     "read_config",
     "read_geometry",
+    "read_train",
 ]
 
 COMPARE = "compare"
@@ -70,6 +71,8 @@ FIELD_NAMES: dict[str, Name] = {
     "model": Name("Contact model"),
     "set": Name("Roughness set"),
     "wheel_set": Name("Wheel roughness"),
+    "train_axles": Name("Train axles"),  # the Noise tab's train
+    "train_length": Name("Train length", "m"),
 }
 NO_LINE_FITS = "no line fits"  # the Line menu when the model cannot run on any line of the set(s)
 PRELOAD_RANGE_KN = ACCEPTED["preload"].in_unit(FIELD_NAMES["preload"].scale)  # core's range, in the field's kN
@@ -222,6 +225,16 @@ def _number(text, key: str) -> float:
     if not math.isfinite(value):
         raise WheelrailError("not a number", parameter=key, value=str(text))
     return value
+
+
+def read_train(axles_text, length_text) -> tuple[int, float]:
+    """The Noise tab's train (axles, length in m) from its fields, or one WheelrailError in the page's words."""
+    from wheelrail.core.noise.run_noise import checked_train
+
+    axles = _number(axles_text, "train_axles")
+    if axles != round(axles):
+        raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=str(axles_text))
+    return checked_train(int(axles), _number(length_text, "train_length"))
 
 
 def _span(lines: tuple[int, ...]) -> str:

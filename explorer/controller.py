@@ -1,13 +1,15 @@
 """The run controller: one background run at a time, stop, replace, compare (no viser here).
 
-:class:`RunController` runs a :class:`~wheelrail.explorer.config.RunConfig` (one model, or every model of a
-compare, the reference first) in a daemon thread and reports to a :class:`RunListener` (the page, or a test):
-status lines, progress, frames (thinned to ``frame_interval``), each model's result with its force spectrum,
-errors and the end of the run. A generation counter keeps a replaced run from reporting anything once a new
-one has started; :meth:`stop` cancels the current run (the steps done so far are kept). Results go to a
-:class:`~wheelrail.explorer.results.ResultStore` keyed by configuration. Runs come from ``prepare`` (default
-:func:`wheelrail.core.interaction.prepare_run`), spectra from :func:`wheelrail.core.spectra.force_spectrum`.
-Every run and error is logged to the ``wheelrail.explorer`` logger (the terminal, under ``wheelrail explore``).
+:class:`RunController` runs a :class:`~wheelrail.explorer.config.RunConfig` (one model, or every model of a compare,
+the reference first) in a daemon thread and reports to a :class:`RunListener` (the page, or a test): status lines,
+progress, frames (thinned to ``frame_interval``), each model's result with its force spectrum, errors and the end of
+the run. Each finished model also gets its rolling noise (``noise``: default
+:func:`wheelrail.core.noise.run_noise.run_noise`, with the CNOSSOS-EU source beside it). A generation counter keeps
+a replaced run from reporting anything once a new one has started; :meth:`stop` cancels the current run (the steps
+done so far are kept). Results go to a :class:`~wheelrail.explorer.results.ResultStore` keyed by configuration. Runs
+come from ``prepare`` (default :func:`wheelrail.core.interaction.prepare_run`), spectra from
+:func:`wheelrail.core.spectra.force_spectrum`. Every run and error is logged to the ``wheelrail.explorer`` logger
+(the terminal, under ``wheelrail explore``).
 """
 
 from __future__ import annotations
@@ -67,13 +69,18 @@ class RunController:
         *,
         prepare: Callable | None = None,
         precompute: Callable | None = None,
+        noise: Callable | None = None,
         frame_interval: float = FRAME_INTERVAL,
         tick: float = TICK_INTERVAL,
     ) -> None:
+        self._noise_transfer = None
         if prepare is None:
             from wheelrail.core.interaction import prepare_run as prepare
 
             precompute = _track_green_functions if precompute is None else precompute
+            noise = _rolling_noise if noise is None else noise
+            self._noise_transfer = _noise_transfer_functions
+        self._noise = noise  # result -> its RunNoise (None: runs get no rolling noise)
         self.listener = listener
         self.store = ResultStore() if store is None else store
         self._prepare = prepare
@@ -137,6 +144,8 @@ class RunController:
                     next(iter(run.steps()), None)
                     run.cancel()
                     self._prepared_speeds.add(round(config.speed, 6))
+                    if self._noise_transfer is not None:  # the Noise tab's track transfer functions
+                        self._noise_transfer(config.params())
                 except Exception:  # a Run prepares again and says what is wrong
                     LOG.exception("warm-up of %s failed", config.label())
                     return
@@ -312,10 +321,30 @@ class RunController:
             self.listener.model_done(self.store.entries(config.case())[config.model], view)
             self._failed(generation, message)
             return "failed"
-        self.store.add(Entry(config, result, spectrum, None, run.n_steps))
+        noise, noise_problem = self._rolling_noise(generation, config, result)
+        if not self._current(generation):
+            return "replaced"
+        self.store.add(Entry(config, result, spectrum, None, run.n_steps, noise, noise_problem))
         self.listener.model_done(self.store.entries(config.case())[config.model], view)
         self.listener.progress((number + 1) / count)
         return "done"
+
+    def _rolling_noise(self, generation: int, config: RunConfig, result) -> tuple[object, str | None]:
+        """The run's rolling noise (sound power, pass-by, CNOSSOS-EU beside it) or why there is none; a failure
+        here is said in the Noise tab and does not fail the run."""
+        if self._noise is None:
+            return None, "no rolling noise computed for these runs"
+        text = f"Rolling noise of {config.model}: the track's transfer functions (computed once per track)"
+        try:
+            with self._ticking(generation, text):
+                return self._noise(result), None
+        except WheelrailError as error:
+            message = page_message(error)
+        except Exception as error:  # the run stands; the Noise tab says why it has no noise
+            LOG.exception("rolling noise of %s failed", config.label())
+            message = f"unexpected error: {type(error).__name__}: {error}"
+        LOG.warning("no rolling noise for %s: %s", config.label(), message)
+        return None, f"no rolling noise: {message}"
 
 
 class _Stop:
@@ -337,6 +366,20 @@ def _track_green_functions(params) -> None:
     from wheelrail.core.track import moving_green_functions
 
     moving_green_functions(params.run.speed, params.track)
+
+
+def _rolling_noise(result):
+    """A run's rolling noise (:func:`wheelrail.core.noise.run_noise.run_noise`, the default train)."""
+    from wheelrail.core.noise.run_noise import run_noise
+
+    return run_noise(result)
+
+
+def _noise_transfer_functions(params) -> None:
+    """The model track's noise transfer functions for ``params`` (core keeps them for the process)."""
+    from wheelrail.core.noise.twins import track_noise_model
+
+    track_noise_model(params)
 
 
 def _source(rough, label: str):

@@ -1,10 +1,10 @@
 """Results of the session keyed by their full configuration (no viser here).
 
-Every finished (or stopped) run is kept under ``(config.case(), model)`` with its force spectrum or the reason
-it has none. What the page shows is always one case's entries (the case of the controls), so changing the
-set, wheel set, line, speed, preload, length or contact geometry never leaves another case's curves on a
-plot or in a download; going back to a case shows its runs again. Spectra from
-:func:`wheelrail.core.spectra.force_spectrum`, contact filters (model minus the reference model) from
+Every finished (or stopped) run is kept under ``(config.case(), model)`` with its force spectrum and rolling noise
+(:func:`wheelrail.core.noise.run_noise.run_noise`) or the reason it has none. What the page shows is always one
+case's entries (the case of the controls), so changing the set, wheel set, line, speed, preload, length or contact
+geometry never leaves another case's curves on a plot or in a download; going back to a case shows its runs again.
+Spectra from :func:`wheelrail.core.spectra.force_spectrum`, contact filters (model minus the reference model) from
 :func:`wheelrail.core.spectra.contact_filter`, reference filters from
 :func:`wheelrail.core.reference_filters.reference_filters`.
 """
@@ -36,6 +36,8 @@ class Entry:
     spectrum: tuple[np.ndarray, np.ndarray] | None
     problem: str | None = None  # stopped early, or the spectrum failed
     planned_steps: int | None = None  # steps the run was to take (more than it has when stopped)
+    noise: object = None  # its rolling noise (wheelrail.core.noise.run_noise.RunNoise), with CNOSSOS-EU beside it
+    noise_problem: str | None = None  # why it has none
 
     @property
     def done_fraction(self) -> float:
@@ -77,6 +79,10 @@ class ResultStore:
 
     def spectra(self, case: tuple) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         return {m: e.spectrum for m, e in self.entries(case).items() if e.spectrum is not None}
+
+    def noise(self, case: tuple) -> dict[str, object]:
+        """model -> its rolling noise (RunNoise) of one case, for the runs that have it, in registry order."""
+        return {m: e.noise for m, e in self.entries(case).items() if e.noise is not None}
 
     def contact_filters(self, case: tuple) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Contact filter of every model run on this case: its level minus the reference model's, dB."""

@@ -150,7 +150,7 @@ class RunNoise:
 
     def with_train(self, train_axles: int, train_length: float) -> RunNoise:
         """The same sound power for another train: its pass-by level and WAV."""
-        axles, length = _checked_train(train_axles, train_length)
+        axles, length = checked_train(train_axles, train_length)
         configuration = {**self.configuration, "train_axles": axles, "train_length_m": length}
         return dataclasses.replace(
             self, pass_by_laeq_dba=pass_by_level(self.axle_dba, axles, length), configuration=configuration
@@ -221,7 +221,7 @@ def run_noise(
     from wheelrail.core.noise.twins import track_noise_model
     from wheelrail.core.spectra import force_spectrum
 
-    train_axles, train_length = _checked_train(train_axles, train_length)
+    train_axles, train_length = checked_train(train_axles, train_length)
     params = result.header.params
     track = track_noise_model(params, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
@@ -270,7 +270,7 @@ def run_noise(
     )
 
 
-def _checked_train(train_axles, train_length) -> tuple[int, float]:
+def checked_train(train_axles, train_length) -> tuple[int, float]:
     """(axles, length in m) of a train, or one WheelrailError."""
     if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
         raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=train_axles)

@@ -32,8 +32,8 @@ ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
 SIZES = ((1280, 800), (1920, 1080))
 MIN_INSIDE = 0.9  # share of the first plot's area inside the window
 MIN_WIDTH = 480  # px
-TABS = ("Patch", "Spectra and filters", "Roughness", "Help")
-PLOT_TABS = TABS[:3]
+TABS = ("Patch", "Spectra and filters", "Noise", "Roughness", "Help")
+PLOT_TABS = TABS[:4]
 COLOUR_BAR = "contact pressure (MPa)"  # the colour bar's label in the Patch tab
 
 # every uPlot chart of the page with its box on screen (zero size: in a tab not shown)
@@ -142,4 +142,30 @@ def test_long_plot_titles_wrap_inside_their_plot(app, browser):
         assert not errors, errors
     finally:
         app.wheel_radius_text.value = app.crown_radius_text.value = app.tread_radius_text.value = ""
+        page.close()
+
+
+def test_the_pass_by_plays_in_the_page(app, browser):
+    """After a run, the Noise tab's Pass-by audio puts a player in the page whose WAV the browser decodes (its
+    duration is the pass-by's: T_p of the 40-axle, 200 m train and 1 s either side), and offers the download."""
+    page, errors = _open(browser, app, *SIZES[0])
+    try:
+        if app.replay is None:  # this test alone: the default run first
+            page.get_by_role("button", name="Run", exact=True).click()
+            page.get_by_text("Done: 3d on corrugated-rail", exact=False).wait_for(timeout=300_000)
+        page.wait_for_function(f"({FRAMES_RENDERED}) > 2", timeout=90_000)  # the 3D view has been drawn
+        for close in page.locator(".mantine-Notification-closeButton").all():  # viser's software-WebGL notice
+            close.click()
+        page.get_by_role("tab", name="Noise").click()
+        page.get_by_role("button", name="Pass-by audio").click()
+        page.wait_for_function(
+            "() => { const a = document.querySelector('audio'); return a && isFinite(a.duration) && a.duration > 0 }",
+            timeout=60_000,
+        )
+        duration = page.evaluate("document.querySelector('audio').duration")
+        assert duration == pytest.approx(200.0 / (100 / 3.6) + 2.0, abs=0.01)
+        assert page.get_by_role("button", name="Download pass-by (.wav)").is_enabled()
+        page.screenshot(path=str(ARTIFACTS / "explorer-noise-audio-1280x800.png"))
+        assert not errors, errors
+    finally:
         page.close()

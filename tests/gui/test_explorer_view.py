@@ -364,3 +364,114 @@ def test_a_run_reaches_the_view_only_while_its_configuration_is_shown(app):
         run.release.set()
         app.controller.wait(60.0)
         app.controller = own
+
+
+def test_the_noise_tab_shows_the_runs_sound_power_beside_cnossos_and_plays_its_pass_by(app, tmp_path):
+    """Noise tab: per-component sound power (A-weighted, per axle) of the model shown and CNOSSOS-EU beside it,
+    from the run's own RunNoise; totals and pass-by level for the train of the tab's fields; the pass-by as a
+    playable, calibrated WAV; an overlaid run dashed; the recording carries the sound power."""
+    import base64
+    import json
+    import re
+
+    from rerun.chunk import RrdReader
+    from scipy.io import wavfile
+
+    from wheelrail.core.noise.levels import a_weighting
+    from wheelrail.core.noise.run_noise import pass_by_level
+
+    _reset(app, model="hertz", length="1")
+    result = _run(app)
+    entry = app.replay
+    noise = entry.noise
+    assert noise is not None and noise.configuration["run"]["model"] == "hertz"
+    tab = app.noise_tab
+    labels = [label for label, _, _ in tab.power.series]
+    assert labels[:4] == ["hertz: rail", "hertz: sleeper", "hertz: wheel", "hertz: total"]
+    assert labels[-3:] == ["CNOSSOS-EU: track", "CNOSSOS-EU: vehicle", "CNOSSOS-EU: total"]
+    # the plotted total: one wheel's sound power + 3 dB (an axle) + A-weighting, on the bands the run resolves
+    plotted = dict(zip(labels, tab.power.data[1:], strict=True))
+    kept = np.isin(noise.frequency_hz, tab.power.data[0])
+    expected = noise.sound_power_db["total"][kept] + 10 * np.log10(2) + a_weighting(noise.frequency_hz[kept])
+    np.testing.assert_allclose(plotted["hertz: total"], expected, atol=1e-9)
+    np.testing.assert_allclose(
+        plotted["CNOSSOS-EU: total"], (noise.cnossos.total_db + a_weighting(noise.frequency_hz))[kept], atol=1e-9
+    )
+    row = next(line for line in tab.totals_md.content.splitlines() if line.startswith("| **hertz**"))
+    total = noise.axle_dba
+    assert f"| {total:.1f} | {pass_by_level(total, 40, 200.0):.1f} |" in row
+    tab.axles_text.value = "8"
+    tab.train_length_text.value = "40"
+    row = next(line for line in tab.totals_md.content.splitlines() if line.startswith("| **hertz**"))
+    assert row.endswith(f"| {pass_by_level(total, 8, 40.0):.1f} |")
+    tab.axles_text.value = "0"  # refused in the table's words; no pass-by for it
+    assert "Train axles 0: not a whole number of at least 1" in tab.totals_md.content
+    assert tab.audio_button.disabled
+    tab.axles_text.value = "8"
+    # the pass-by: played from the page, downloaded as the same WAV; its level is the table's (calibration)
+    name, data = app.make_pass_by()
+    assert name == "wheelrail-hertz-corrugated-rail-line0-100kmh-65kN-1m-pass-by-8axles-40m.wav"
+    embedded = re.search(r'src="data:audio/wav;base64,([^"]+)"', tab.audio_html.content).group(1)
+    assert base64.b64decode(embedded) == data and app.download_pass_by_wav()[1] == data
+    rate, samples = wavfile.read(io.BytesIO(data))
+    assert rate == round(1 / result.time_step)
+    assert len(samples) == pytest.approx((40.0 / result.speed + 2.0) * rate, abs=2)  # T_p and 1 s either side
+    assert f"L_pAeq,Tp {pass_by_level(total, 8, 40.0):.1f} dB(A)" in tab.audio_html.content
+    summary = json.loads(app.download_noise_json()[1])
+    assert summary["pass_by_LpAeq_dBA"] == pytest.approx(pass_by_level(total, 8, 40.0))
+    assert summary["cnossos"]["total_dBA"] == pytest.approx(noise.cnossos.total_dba)
+    tab.axles_text.value = "9"  # the player held the 8-axle pass-by: it goes
+    assert tab.audio_html.content == "" and tab.wav_button.disabled
+    # the recording of the run carries its sound-power spectra
+    path = tmp_path / "noise.rrd"
+    path.write_bytes(app.download_rrd()[1])
+    assert any(c.entity_path == "/spectra/sound_power/total" for c in RrdReader(path).stream())
+    # another configuration overlaid from the Noise tab's menu: both menus show it, its total is dashed
+    _reset(app, model="hertz", speed="120", length="1")
+    _run(app)
+    other = app.shown.case_label()
+    app.speed_text.value = "100"
+    tab.overlay_dropdown.value = other
+    assert app.spectra.overlay_dropdown.value == other
+    dashed = [label for label, _, style in tab.power.series if style == "dashed"]
+    assert dashed == [f"hertz: total [{other}]"]
+    assert any(line.startswith(f"| hertz [{other}]") for line in tab.totals_md.content.splitlines())
+    tab.overlay_dropdown.value = app.no_overlay
+    app.speed_text.value = "130"  # no run of this configuration
+    assert "no run of this configuration yet" in tab.power.series[0][0] and tab.audio_button.disabled
+
+
+def test_the_top_view_is_fitted_again_when_the_view_resizes_until_the_user_moves_it(app):
+    """A page's first camera report may come before the panels dock (the whole window's aspect): the top view is
+    fitted again to the docked 3D view's size, and never after the user has moved the camera."""
+    import contextlib
+
+    from wheelrail.explorer.scene import top_view
+
+    class Camera:
+        def __init__(self):
+            self.image_width, self.image_height = 1280, 800
+            self.position, self.look_at, self.up_direction = (3.0, 3.0, 3.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)
+            self.callbacks = []
+
+        def on_update(self, callback):
+            self.callbacks.append(callback)
+
+        def report(self, width, height, position=None):
+            self.image_width, self.image_height = width, height
+            if position is not None:
+                self.position = position
+            for callback in self.callbacks:
+                callback(self)
+
+    camera = Camera()
+    client = SimpleNamespace(camera=camera, atomic=contextlib.nullcontext)
+    app._on_connect(client)
+    camera.report(1280, 800)  # before the panels dock: fitted to the whole window
+    assert camera.position == pytest.approx(top_view(1.6)["position"])
+    camera.report(372, 800)  # docked: fitted again to the 3D view between the panels
+    assert camera.position == pytest.approx(top_view(372 / 800)["position"])
+    assert camera.up_direction == (0.0, 1.0, 0.0)
+    camera.report(372, 800, position=(1.0, -4.0, 6.0))  # the user turns the view
+    camera.report(600, 800)  # and widens the window: their camera stays
+    assert camera.position == (1.0, -4.0, 6.0)
