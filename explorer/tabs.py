@@ -98,6 +98,15 @@ class ResultsTab:
     def show(self, shown: Shown) -> None:
         """Redraw for the configuration shown."""
 
+    def _overlay_menu(self, what: str):
+        """The menu of the session's other runs, to overlay one (the app keeps its options and choice)."""
+        return self.gui.add_dropdown(
+            "Overlay a run",
+            (self.app.no_overlay,),
+            initial_value=self.app.no_overlay,
+            hint=f"Runs of this session: draw another configuration's {what}",
+        )
+
     def _plot_export(self) -> None:
         """The hint on zooming and, for the tab's plots, a PNG download (titled with the configuration)."""
         gui, plots = self.gui, self.plots()
@@ -213,12 +222,7 @@ class SpectraTab(ResultsTab):
                 f"`{REFERENCE_MODEL}` run of the same configuration: use `{COMPARE}`). Dotted: "
                 "reference filters at this preload, geometry and speed. Dashed: a run overlaid."
             )
-            self.overlay_dropdown = gui.add_dropdown(
-                "Overlay a run",
-                (app.no_overlay,),
-                initial_value=app.no_overlay,
-                hint="Runs of this session: draw another configuration's spectra and filters dashed beside these",
-            )
+            self.overlay_dropdown = self._overlay_menu("spectra and filters dashed beside these")
             self.csv_button = gui.add_button("Download spectra (.csv)", icon=viser.Icon.DOWNLOAD, disabled=True)
             self._plot_export()
 
@@ -295,12 +299,7 @@ class NoiseTab(ResultsTab):
             self.train_length_text = gui.add_text(
                 "Train length (m)", f"{DEFAULT_TRAIN_LENGTH:g}", hint="From the first axle to the last, m"
             )
-            self.overlay_dropdown = gui.add_dropdown(
-                "Overlay a run",
-                (app.no_overlay,),
-                initial_value=app.no_overlay,
-                hint="Runs of this session: draw another configuration's totals dashed (the same menu as in Spectra)",
-            )
+            self.overlay_dropdown = self._overlay_menu("totals dashed (the same choice as in Spectra)")
             self.wav_button = gui.add_button("Download pass-by (.wav)", icon=viser.Icon.DOWNLOAD, disabled=True)
             self.json_button = gui.add_button("Download noise (.json)", icon=viser.Icon.DOWNLOAD, disabled=True)
             gui.add_markdown(NOISE_NOTE)
