@@ -17,8 +17,14 @@ import viser
 from wheelrail.core.bands import frequency_bands, map_levels
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL, model_entry
-from wheelrail.core.noise.levels import a_weighting
-from wheelrail.core.noise.run_noise import COMPONENTS, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, pass_by_level
+from wheelrail.core.noise.levels import a_weighting, energy_sum
+from wheelrail.core.noise.run_noise import (
+    AXLE_DB,
+    COMPONENTS,
+    DEFAULT_TRAIN_AXLES,
+    DEFAULT_TRAIN_LENGTH,
+    pass_by_level,
+)
 from wheelrail.core.parameters import KMH
 from wheelrail.core.roughness import lateral_coherence, roughness_spectrum
 from wheelrail.core.roughness.analysis import FREQUENCY_RANGE
@@ -54,7 +60,6 @@ EMPTY_BAND_DB = 120.0  # a roughness band this far below the set's highest band 
 NO_RUN = "no run of this configuration yet"
 NOISE_RANGE_DB = 60.0  # the sound-power plot shows the loudest band down by this (A-weighted, quieter bands
 # matter little to the total)
-AXLE_DB = 10 * np.log10(2)  # a run is one wheel on one rail; an axle is two, incoherent
 COMPONENT_COLOURS = {"rail": "#e6550d", "sleeper": "#31a354", "wheel": "#756bb1"}
 CNOSSOS_COLOURS = {"track": "#636363", "vehicle": "#8c6d31", "total": "#000000"}
 AUDIO_HINT = (
@@ -418,7 +423,7 @@ class NoiseTab(ResultsTab):
         runs += [] if overlay is None else [(f"{m} [{overlay.case_label()}]", n) for m, n in extra.items()]
         for name, n in runs:
             dba = {k: v + AXLE_DB for k, v in n.sound_power_dba.items()}
-            track = 10 * np.log10(10 ** (dba["rail"] / 10) + 10 ** (dba["sleeper"] / 10))
+            track = energy_sum(dba["rail"], dba["sleeper"])
             shown = f"**{name}**" if name == model else name
             rows.append(
                 f"| {shown} | {_db(dba['rail'])} | {_db(dba['sleeper'])} | {_db(track)} | {_db(dba['wheel'])} | "

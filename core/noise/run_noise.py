@@ -55,6 +55,7 @@ ISO3095_HEIGHT = 1.2  # m above the rail head
 DEFAULT_TRAIN_AXLES = 40
 DEFAULT_TRAIN_LENGTH = 200.0  # m
 COMPONENTS = ("rail", "sleeper", "wheel")
+AXLE_DB = 10 * math.log10(2)  # an axle: two wheels on two rails, incoherent (a run is one wheel on one rail)
 
 
 def receiver_distance() -> float:
@@ -195,10 +196,10 @@ def sound_power_from_force(force_db, track) -> dict:
     rail = power_level(track.rail_power_per_force * mean_sq_force)
     sleeper = power_level(track.sleeper_power_per_force * mean_sq_force)
     roughness = force_db + track.effective_roughness_per_force_db
-    wheel = roughness + track.wheel_transfer_db - 10 * math.log10(2)
+    wheel = roughness + track.wheel_transfer_db - AXLE_DB
     powers = {"rail": rail, "sleeper": sleeper, "wheel": wheel, "total": energy_sum(rail, sleeper, wheel)}
     dba = {name: a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf)) for name, levels in powers.items()}
-    return {"db": powers, "dba": dba, "axle_dba": dba["total"] + 10 * math.log10(2), "roughness_db": roughness}
+    return {"db": powers, "dba": dba, "axle_dba": dba["total"] + AXLE_DB, "roughness_db": roughness}
 
 
 def run_noise(
@@ -229,9 +230,7 @@ def run_noise(
     power = sound_power_from_force(force_db, track)
     powers, powers_dba, axle_dba, roughness = power["db"], power["dba"], power["axle_dba"], power["roughness_db"]
     # |p/F|^2 at the closest distance, per band: rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2)
-    t_wheel = (
-        10 ** ((track.wheel_transfer_db - 10 * math.log10(2) + track.effective_roughness_per_force_db) / 10) * 1e-12
-    )
+    t_wheel = 10 ** ((track.wheel_transfer_db - AXLE_DB + track.effective_roughness_per_force_db) / 10) * 1e-12
     t_total = track.rail_power_per_force + track.sleeper_power_per_force + t_wheel
     d = receiver_distance()
     undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True) if not np.isfinite(value)]

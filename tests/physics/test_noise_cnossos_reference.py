@@ -80,39 +80,24 @@ FREQUENCY = _spectra("frequency_tables", [f"{f:g}" for f in FREQ])
 
 def _catalogue_tables(case: dict, vehicle: dict) -> dict[str, Table]:
     """The case's 2015 catalogue rows as tables, each under the one column name the call below selects."""
-
-    def table(name, axis, grid, column, values):
-        return Table(name=name, axis=axis, grid=grid, columns={column: values}, source="CNOSSOS-EU 2015 catalogue")
-
-    return {
-        "wheel_roughness": table(
-            "wheel_roughness",
-            "wavelength",
-            GRID_M,
-            "cast-iron",
-            WAVELENGTH["wheel_roughness", vehicle["wheel_roughness"]],
-        ),
-        "rail_roughness": table(
-            "rail_roughness", "wavelength", GRID_M, "iso3095", WAVELENGTH["rail_roughness", case["rail_roughness"]]
-        ),
-        "track_transfer": table(
-            "track_transfer",
-            "frequency",
-            FREQ,
-            "mono-block-medium",
-            FREQUENCY["track_transfer", case["track_transfer"]],
-        ),
-        "vehicle_transfer": table(
-            "vehicle_transfer", "frequency", FREQ, "920", FREQUENCY["wheel_transfer", vehicle["wheel_transfer"]]
-        ),
-        "superstructure_transfer": table(
-            "superstructure_transfer",
-            "frequency",
-            FREQ,
-            "eu-standard",
-            FREQUENCY["superstructure_transfer", case["superstructure_transfer"]],
-        ),
-    }
+    rows = (  # (table the implementation loads, column it selects, catalogue table, catalogue id)
+        ("wheel_roughness", "cast-iron", "wheel_roughness", vehicle["wheel_roughness"]),
+        ("rail_roughness", "iso3095", "rail_roughness", case["rail_roughness"]),
+        ("track_transfer", "mono-block-medium", "track_transfer", case["track_transfer"]),
+        ("vehicle_transfer", "920", "wheel_transfer", vehicle["wheel_transfer"]),
+        ("superstructure_transfer", "eu-standard", "superstructure_transfer", case["superstructure_transfer"]),
+    )
+    tables = {}
+    for name, column, table, row_id in rows:
+        by_wavelength = (table, row_id) in WAVELENGTH
+        tables[name] = Table(
+            name=name,
+            axis="wavelength" if by_wavelength else "frequency",
+            grid=GRID_M if by_wavelength else FREQ,
+            columns={column: (WAVELENGTH if by_wavelength else FREQUENCY)[table, row_id]},
+            source="CNOSSOS-EU 2015 catalogue",
+        )
+    return tables
 
 
 def _line_power_octaves(case: dict, rolling_db: np.ndarray) -> np.ndarray:
