@@ -30,11 +30,11 @@ unit (a radius in mm given as m, or in m as mm, is 1000 times off and lands outs
 from __future__ import annotations
 
 import math
-import numbers
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import replace
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import INPUTS, MAX_SPEED_KMH, MIN_SPEED_KMH, ROUND_OFF, Accepted, by_key
 
 __all__ = [
     "ACCEPTED",
@@ -48,89 +48,21 @@ __all__ = [
     "raise_concave_tread",
 ]
 
-# Accepted train speeds: the range over which the interaction loop is shown stable (FOH_MAX_STEP in
-# parameters.py; smooth-rail speed scans in tests/physics/test_stability.py and benchmarks/speed_scan.py).
-# Below MIN_SPEED_KMH steps get so long (7.2 ms at 0.5 km/h: 8 lags) that the 50 ms truncation of the
-# trapezoidal weights matters and the loop chattered again at 0.5 km/h. MAX_SPEED_KMH is the reach of the
-# cached track responses (``TrackNumerics.max_speed``).
-MIN_SPEED_KMH = 5.0
-MAX_SPEED_KMH = 400.0
 
 PATCH_FRACTION = 0.1  # largest Hertz semi-axis at the preload / the bodies' radius in its direction
 CIRCUMFERENCE_TOLERANCE = 0.01  # largest |C - 2 pi R| / (2 pi R) of a wheel set C added to a wheel of radius R
-_ROUND_OFF = 1e-12  # relative: a bound met after a unit conversion (km/h -> m/s) is met
 
-
-@dataclass(frozen=True)
-class Accepted:
-    """One input's accepted range: ``key`` (the stable name front ends map to their own), SI ``unit``,
-    ``minimum`` and ``maximum`` (SI), the ``reason`` for them; ``magnitude``: the range bounds |value| (a
-    radius whose sign means concave), ``maximum`` then inf."""
-
-    key: str
-    unit: str
-    minimum: float
-    maximum: float
-    reason: str
-    magnitude: bool = False
-
-    def check(self, value, argument: str | None = None) -> float:
-        """``value`` as a float within the range, else one WheelrailError naming ``argument`` (default the key)."""
-        fields = {"parameter": self.key, "value": value, "unit": self.unit, "argument": argument}
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or math.isnan(value):
-            raise WheelrailError("not a number", **fields)
-        number = float(value)
-        size = abs(number) if self.magnitude else number
-        if not self.minimum * (1 - _ROUND_OFF) <= size <= self.maximum * (1 + _ROUND_OFF):
-            raise WheelrailError(
-                None,
-                minimum=self.minimum,
-                maximum=None if self.magnitude else self.maximum,
-                reason=self.reason,
-                magnitude=self.magnitude,
-                **fields,
-            )
-        return number
-
-    def in_unit(self, scale: float) -> tuple[float, float]:
-        """(minimum, maximum) in a front end's unit (``scale`` of it per SI unit), rounded for display."""
-        return float(f"{self.minimum * scale:.6g}"), float(f"{self.maximum * scale:.6g}")
-
-
-_WHEEL_RADIUS = (0.1, 1.25, "a railway wheel, around the CNOSSOS-EU table's 360 to 920 mm diameters")
 
 ACCEPTED: dict[str, Accepted] = {
-    entry.key: entry
-    for entry in (
-        Accepted(
-            "speed",
-            "m/s",
-            MIN_SPEED_KMH / 3.6,
-            MAX_SPEED_KMH / 3.6,
-            "where the interaction loop is shown stable and the cached track responses reach",
-        ),
-        Accepted(
-            "preload", "N", 1e3, 500e3, "a railway wheel's static load, around the CNOSSOS-EU table's 25 to 100 kN"
-        ),
-        Accepted("radius", "m", *_WHEEL_RADIUS),
-        Accepted("wheel_radius", "m", *_WHEEL_RADIUS),
-        Accepted(
-            "rail_crown_radius", "m", 0.05, 5.0, "a rail head, from a sharp 50 mm crown to a worn, nearly flat 5 m"
-        ),
-        Accepted(
-            "wheel_transverse_radius",
-            "m",
-            0.05,
-            math.inf,
-            "inf: a cylindrical or conical tread; negative: a concave, worn one",
-            magnitude=True,
-        ),
-    )
+    **{entry.key: entry.accepted for entry in INPUTS},
+    # the paper's single R (ContactParameters.radius): a wheel's, the default of both radii
+    "radius": replace(by_key("wheel_radius").accepted, key="radius"),
 }
-"""The accepted ranges by key (SI). Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU
-table's 360 to 920 mm wheels and the paper's 780 mm (R = 0.39 m) with room for small wagon and large
-locomotive wheels; rail crowns 0.05 to 5 m; treads at least 0.05 m in magnitude (no tread is curved more
-sharply than a rail crown); loads 1 to 500 kN around the table's 25 to 100 kN wheel loads."""
+"""The accepted ranges by key (SI): every declared input's (``wheelrail.core.inputs.INPUTS``) and the paper's R.
+Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU table's 360 to 920 mm wheels and the
+paper's 780 mm (R = 0.39 m) with room for small wagon and large locomotive wheels; rail crowns 0.05 to 5 m;
+treads at least 0.05 m in magnitude (no tread is curved more sharply than a rail crown); loads 1 to 500 kN
+around the table's 25 to 100 kN wheel loads."""
 
 
 def check_patch(
@@ -211,7 +143,7 @@ def check_wheel_circumference(circumference: float, wheel_radius: float, label: 
     the roughness of; else one WheelrailError blaming the wheel radius, with the radii accepted for this set."""
     implied = circumference / (2.0 * math.pi)
     mismatch = abs(2.0 * math.pi * wheel_radius - circumference) / (2.0 * math.pi * wheel_radius)
-    if mismatch <= CIRCUMFERENCE_TOLERANCE * (1 + _ROUND_OFF):
+    if mismatch <= CIRCUMFERENCE_TOLERANCE * (1 + ROUND_OFF):
         return
     own = 2.0 * math.pi * wheel_radius
     raise WheelrailError(

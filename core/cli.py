@@ -103,9 +103,9 @@ def main(argv: list[str] | None = None, *, extra: dict[str, tuple[str, str]] | N
             args = parser.parse_args(argv)
             return int(args._run(args) or 0)
     except WheelrailError as error:
-        from wheelrail.core.commands._common import CLI_NAMES  # not at import: `--help` loads no command module
+        from wheelrail.core.commands._common import cli_error_names  # not at import: `--help` loads no command
 
-        print(f"wheelrail {name}: error: {error.render(CLI_NAMES)}", file=sys.stderr)
+        print(f"wheelrail {name}: error: {error.render(cli_error_names())}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # output piped into a closed reader (e.g. `| head`): not an error
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 - silence the interpreter's flush at exit

@@ -218,6 +218,9 @@ class RailParameters:
 class SupportParameters:
     """One discrete support: rail pad, (half) sleeper, ballast (paper Figure 3).
 
+    Every attribute must lie in its accepted range (``wheelrail.core.inputs.INPUTS``: pads 10 to 3000 MN/m, ...),
+    else one WheelrailError keyed by the input (``"pad_stiffness"``).
+
     Attributes
     ----------
     sleeper_spacing : float
@@ -238,12 +241,8 @@ class SupportParameters:
     ballast_damping: float = 165e3
 
     def __post_init__(self) -> None:
-        _check(self, "sleeper_spacing", "m")
-        _check(self, "pad_stiffness", "N/m")
-        _check(self, "pad_damping", "N s/m", allow_zero=True)
-        _check(self, "sleeper_mass", "kg")
-        _check(self, "ballast_stiffness", "N/m")
-        _check(self, "ballast_damping", "N s/m", allow_zero=True)
+        for item in fields(self):  # each a declared input (wheelrail.core.inputs), checked against its range
+            ACCEPTED[item.name].check(getattr(self, item.name), f"SupportParameters.{item.name}")
 
 
 @dataclass(frozen=True, kw_only=True)

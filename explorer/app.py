@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import math
 import threading
 import time
 from pathlib import Path
@@ -30,22 +31,23 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import GROUPS, by_key, inputs_of, model_parameters
 from wheelrail.core.models import model_names
-from wheelrail.core.parameters import KMH, MAX_SPEED_KMH, MIN_SPEED_KMH, ContactParameters
+from wheelrail.core.parameters import KMH, ContactParameters
 from wheelrail.core.roughness import bundled_names, load_roughness
 from wheelrail.explorer.config import (
     COMPARE,
     MODEL_CHOICES,
     NO_LINE_FITS,
     NO_WHEEL_SET,
-    PRELOAD_RANGE_KN,
     RunConfig,
-    accepted_text,
+    field_hint,
+    field_text,
     length_range,
     offered_lines,
     page_message,
     read_config,
-    read_geometry,
+    read_inputs,
 )
 from wheelrail.explorer.controller import RunController, RunView
 from wheelrail.explorer.results import Entry, ResultStore
@@ -167,26 +169,12 @@ class ExplorerApp:
             self.line_dropdown = gui.add_dropdown(
                 "Line", ("0",), initial_value="0", hint="Only the lines this model can run on are offered."
             )
-            self.speed_text = gui.add_text("Speed (km/h)", "100", hint=accepted_text("speed"))
-            self.preload_text = gui.add_text("Preload (kN)", "65", hint=accepted_text("preload"))
+            self.fields = self._input_fields("run")
             self.length_text = gui.add_text("Run length (m)", f"{length:g}")
-            radius_mm = f"{ContactParameters().radius * 1e3:g}"
-            with gui.add_folder("Contact geometry (mm)", expand_by_default=False):
-                self.wheel_radius_text = gui.add_text(
-                    "Wheel radius (mm)",
-                    "",
-                    hint=f"Rolling radius, along the rail, {accepted_text('wheel_radius')}; empty: {radius_mm} mm",
-                )
-                self.crown_radius_text = gui.add_text(
-                    "Rail crown radius (mm)",
-                    "",
-                    hint=f"Rail head, across the rail, {accepted_text('rail_crown_radius')}; empty: {radius_mm} mm",
-                )
-                self.tread_radius_text = gui.add_text(
-                    "Wheel tread radius across (mm)",
-                    "",
-                    hint=f"{accepted_text('wheel_transverse_radius')}; empty: cylindrical; negative: concave (worn)",
-                )
+            for group in GROUPS:
+                if group != "run":
+                    with gui.add_folder(GROUPS[group], expand_by_default=False):
+                        self.fields.update(self._input_fields(group))
             self.check_md = gui.add_markdown("")
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
             self.stop_button = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, color="red", disabled=True)
@@ -195,21 +183,22 @@ class ExplorerApp:
         self.set_dropdown.on_update(
             lambda event: self._guarded(self.select_set, self.set_dropdown.value, client=event.client)
         )
-        for handle in (
-            self.model_dropdown,
-            self.line_dropdown,
-            self.speed_text,
-            self.preload_text,
-            self.length_text,
-            self.wheel_radius_text,
-            self.crown_radius_text,
-            self.tread_radius_text,
-        ):
+        for handle in (self.model_dropdown, self.line_dropdown, self.length_text, *self.fields.values()):
             handle.on_update(lambda event: self._guarded(self.refresh))
         self.wheel_set_dropdown.on_update(lambda event: self._guarded(self.select_wheel_set, client=event.client))
         self.upload_button.on_upload(self._on_upload)
         self.run_button.on_click(lambda event: self.start_run(client=event.client))
         self.stop_button.on_click(lambda event: self.controller.stop())
+
+    def _input_fields(self, group: str) -> dict:
+        """The fields of the declared inputs of ``group`` (wheelrail.core.inputs), by key: labelled with their
+        unit, hinted with their range and default, showing the default (empty where unset means one)."""
+        gui = self.server.gui
+        fields = {}
+        for entry in inputs_of(group):
+            unit = f" ({entry.shown.name})" if entry.shown.name else ""
+            fields[entry.key] = gui.add_text(f"{entry.label}{unit}", field_text(entry), hint=field_hint(entry))
+        return fields
 
     def _build_results(self) -> None:
         """The results panel: one tab per entry of RESULT_TABS, docked right."""
@@ -316,11 +305,12 @@ class ExplorerApp:
 
     def _bound_length(self) -> None:
         """A run length the new set cannot hold (or too short for a spectrum) moves to the nearest allowed."""
+        speed = self._field_value("speed")
         try:
-            length, speed = float(self.length_text.value), float(self.speed_text.value) * KMH
+            length = float(self.length_text.value)
         except ValueError:
             return
-        if not MIN_SPEED_KMH * KMH <= speed <= MAX_SPEED_KMH * KMH:
+        if speed is None or not math.isfinite(length):
             return
         shortest, longest = length_range(self.roughness, speed)
         bounded = min(max(length, shortest), longest)
@@ -334,28 +324,27 @@ class ExplorerApp:
             )
             self.status(self.length_note)
 
-    def _preload_or_default(self) -> float:
-        try:
-            kn = float(self.preload_text.value)
-        except ValueError:
-            kn = 0.0
-        lo, hi = PRELOAD_RANGE_KN
-        return kn * 1e3 if lo <= kn <= hi else ContactParameters().preload
+    def _typed(self) -> dict[str, str]:
+        """The declared inputs' fields as typed, by their ``dest`` (``speed_kmh``: "100"), for read_config."""
+        return {entry.dest: self.fields[entry.key].value for entry in inputs_of()}
 
-    def _geometry(self) -> tuple:
-        """The geometry fields read (one WheelrailError in the page's words if one is bad)."""
-        return read_geometry(
-            wheel_radius_mm=self.wheel_radius_text.value,
-            rail_crown_radius_mm=self.crown_radius_text.value,
-            wheel_transverse_radius_mm=self.tread_radius_text.value,
-        )
+    def _field_value(self, key: str) -> float | None:
+        """One declared input's field, SI, when it holds a number within its range (else None: the check line
+        says what is wrong)."""
+        entry = by_key(key)
+        try:
+            given = dict(read_inputs(**{entry.dest: self.fields[key].value}))
+        except WheelrailError:
+            return None
+        return given.get(key, entry.default())
 
     def _contact_or_default(self) -> ContactParameters:
         """The contact the fields describe; a field not valid yet counts as its default (the check line says)."""
         try:
-            return ContactParameters(preload=self._preload_or_default(), **dict(self._geometry()))
-        except WheelrailError:  # a geometry refused (at this preload, e.g. a patch too wide): the default's
-            return ContactParameters(preload=self._preload_or_default())
+            return model_parameters(dict(read_inputs(**self._typed()))).contact
+        except WheelrailError:  # an input refused (e.g. a patch too wide at this preload): the preload's alone
+            preload = self._field_value("preload")
+            return ContactParameters() if preload is None else ContactParameters(preload=preload)
 
     def _wheel_set_names(self) -> tuple[str, ...]:
         """The bundled wheel sets (the wheel-set picker's choices besides none)."""
@@ -429,10 +418,8 @@ class ExplorerApp:
             self.roughness_label,
             line=self.line_dropdown.value,
             model=self.model_dropdown.value,
-            speed_kmh=self.speed_text.value,
-            preload_kn=self.preload_text.value,
             length_m=self.length_text.value,
-            geometry=self._geometry(),
+            **self._typed(),
             wheel=wheel,
             wheel_label=wheel_label,
         )
@@ -443,11 +430,8 @@ class ExplorerApp:
             return
         with self._lock:
             self._offer_lines()
-            try:
-                speed = float(self.speed_text.value) * KMH
-            except ValueError:
-                speed = 100 * KMH
-            shortest, longest = length_range(self.roughness, max(speed, MIN_SPEED_KMH * KMH))
+            speed = self._field_value("speed") or by_key("speed").default()
+            shortest, longest = length_range(self.roughness, speed)
             try:
                 config = self.read_config()
             except WheelrailError as error:
@@ -764,11 +748,8 @@ class ExplorerApp:
             self.roughness_tab.line_map.image = _line_map(self.roughness, line, b)
 
     def _update_roughness_views(self) -> None:
-        try:
-            speed = float(self.speed_text.value) * KMH
-        except ValueError:
-            return
-        if not MIN_SPEED_KMH * KMH <= speed <= MAX_SPEED_KMH * KMH:
+        speed = self._field_value("speed")
+        if speed is None:
             return
         wheel, wheel_label = self._wheel_or_none()
         self.roughness_tab.show_roughness(self.roughness, self.roughness_label, speed, wheel, wheel_label)

@@ -16,8 +16,9 @@ import math
 import re
 from dataclasses import dataclass, replace
 
-from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
+from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.inputs import Input, by_key, inputs_of, model_parameters, page_names
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.run_setup import run_lines, usable_length
@@ -27,11 +28,9 @@ __all__ = [
     "COMPARE",
     "COMPARE_ORDER",
     "FIELD_NAMES",
-    "GEOMETRY_FIELDS",
     "MODEL_CHOICES",
     "NO_LINE_FITS",
     "NO_WHEEL_SET",
-    "PRELOAD_RANGE_KN",
     "RunConfig",
     "accepted_text",
     "length_range",
@@ -39,7 +38,9 @@ __all__ = [
     "offered_lines",
     "page_message",
     "read_config",
-    "read_geometry",
+    "field_hint",
+    "field_text",
+    "read_inputs",
     "read_train",
 ]
 
@@ -58,16 +59,13 @@ COMPARE_ORDER = (
 MAX_WHEEL_RUN_M = 100.0  # wheel data repeat around the circumference: longest run offered on a wheel set
 NO_WHEEL_SET = "none"  # the wheel-set picker's choice for a smooth wheel (one rough surface, the paper's case)
 # What the page calls each input an error can name (WheelrailError.parameter): its field's label, the unit the
-# field takes and that unit per SI unit (the labels of the fields in app.py, less their "(unit)")
+# field takes and that unit per SI unit. The declared inputs' come from their declaration (wheelrail.core.inputs,
+# the fields are built from it); the rest are the page's own controls.
 FIELD_NAMES: dict[str, Name] = {
-    "speed": Name("Speed", "km/h", 1.0 / KMH),
-    "preload": Name("Preload", "kN", 1e-3),
+    **page_names(),
+    "radius": page_names()["wheel_radius"],  # the paper's R: the wheel's, as the page sets it
     "length": Name("Run length", "m"),
     "line": Name("Line"),
-    "wheel_radius": Name("Wheel radius", "mm", 1e3),
-    "radius": Name("Wheel radius", "mm", 1e3),  # the paper's R: the wheel's, as the page sets it
-    "rail_crown_radius": Name("Rail crown radius", "mm", 1e3),
-    "wheel_transverse_radius": Name("Wheel tread radius across", "mm", 1e3),
     "model": Name("Contact model"),
     "set": Name("Roughness set"),
     "wheel_set": Name("Wheel roughness"),
@@ -75,76 +73,84 @@ FIELD_NAMES: dict[str, Name] = {
     "train_length": Name("Train length", "m"),
 }
 NO_LINE_FITS = "no line fits"  # the Line menu when the model cannot run on any line of the set(s)
-PRELOAD_RANGE_KN = ACCEPTED["preload"].in_unit(FIELD_NAMES["preload"].scale)  # core's range, in the field's kN
-# ContactParameters geometry field -> what the page calls it (mm in the page, m inside; empty: the default)
-GEOMETRY_FIELDS = {
-    name: FIELD_NAMES[name].label for name in ("wheel_radius", "rail_crown_radius", "wheel_transverse_radius")
-}
 
 
 def accepted_text(key: str) -> str:
-    """An input's accepted range (``core.accepted``) in its field's unit, for the field's hint: "1 to 500 kN"."""
-    name = FIELD_NAMES[key]
-    accepted = ACCEPTED[key]
-    low, high = accepted.in_unit(name.scale)
-    if accepted.magnitude:
-        return f"at least {low:g} {name.unit} in magnitude"
-    return f"{low:g} to {high:g} {name.unit}"
+    """An input's accepted range (its declaration) in its field's unit, for the field's hint: "1 to 500 kN"."""
+    return by_key(key).accepted_text()
+
+
+def field_hint(entry: Input) -> str:
+    """A declared input's field hint: what it is, its range and its default ("Rail pad stiffness, per support,
+    10 to 3000 MN/m; default 120 MN/m")."""
+    return f"{entry.help[0].upper()}{entry.help[1:]}, {entry.accepted_text()}; default {entry.default_text()}"
+
+
+def field_text(entry: Input) -> str:
+    """A declared input's field as a new page shows it: its default in the field's unit, or empty (unset)."""
+    shown = entry.shown_default()
+    return "" if shown is None or entry.unset else f"{shown:g}"
 
 
 def page_message(error: WheelrailError) -> str:
     """A WheelrailError as the page says it: its input named by the field's label, values in the field's unit."""
-    return error.render(FIELD_NAMES)
+    return error.render({**FIELD_NAMES, **page_names()})  # the declared inputs' names as declared now
 
 
 @dataclass(frozen=True)
 class RunConfig:
-    """The full configuration of one run (SI inside; the page shows km/h, kN, m)."""
+    """The full configuration of one run (SI inside; the page shows km/h, kN, m).
+
+    ``inputs`` holds the declared inputs (``wheelrail.core.inputs.INPUTS``) that differ from their default,
+    as (key, SI value) in declaration order; every other input is its default."""
 
     set_label: str
     line: int
     model: str
-    speed: float  # m/s
-    preload: float  # N
     length: float  # m
     wheel_set_label: str | None = None  # a wheel set added to the rail set (combined roughness); None: smooth
-    geometry: tuple[tuple[str, float], ...] = ()  # (ContactParameters field, m) given; the rest: the defaults
+    inputs: tuple[tuple[str, float], ...] = ()
+
+    def value(self, key: str):
+        """A declared input's value, SI (its default where not given)."""
+        return dict(self.inputs).get(key, by_key(key).default())
+
+    @property
+    def speed(self) -> float:
+        """m/s."""
+        return self.value("speed")
+
+    @property
+    def preload(self) -> float:
+        """N."""
+        return self.value("preload")
 
     def case(self) -> tuple:
         """Everything but the model: results of one case compare (spectra, contact filters)."""
-        geometry = tuple((name, round(value, 12)) for name, value in self.geometry)
-        return (
-            self.set_label,
-            self.wheel_set_label,
-            self.line,
-            round(self.speed, 9),
-            round(self.preload, 6),
-            round(self.length, 9),
-            geometry,
-        )
+        inputs = tuple((key, round(value, 12)) for key, value in self.inputs)
+        return (self.set_label, self.wheel_set_label, self.line, round(self.length, 9), inputs)
 
     def for_model(self, model: str) -> RunConfig:
         return replace(self, model=model)
 
-    def contact(self) -> ContactParameters:
-        return ContactParameters(preload=self.preload, **dict(self.geometry))
-
     def params(self) -> ModelParameters:
-        return ModelParameters(contact=self.contact(), run=RunParameters(speed=self.speed))
+        return model_parameters(dict(self.inputs))
 
-    def _geometry_words(self) -> list[str]:
-        return [f"{GEOMETRY_FIELDS[name].lower()} {value * 1e3:g} mm" for name, value in self.geometry]
+    def contact(self) -> ContactParameters:
+        return self.params().contact
+
+    def _shown(self) -> list[Input]:
+        """The inputs a label names: the always-shown ones and those given, in declaration order."""
+        given = dict(self.inputs)
+        return [entry for entry in inputs_of() if entry.always_shown or entry.key in given]
 
     def case_label(self) -> str:
         """The case as people read it: 'corrugated-rail, line 0, 100 km/h, 65 kN, 3 m' (with a wheel set:
-        'corrugated-rail + sinter-wheel-1, ...'; a geometry given: '..., wheel radius 460 mm')."""
+        'corrugated-rail + sinter-wheel-1, ...'; an input given: '..., wheel radius 460 mm')."""
         sets = self.set_label if self.wheel_set_label is None else f"{self.set_label} + {self.wheel_set_label}"
-        return ", ".join(
-            [
-                f"{sets}, line {self.line}, {self.speed / KMH:g} km/h, {self.preload / 1e3:g} kN, {self.length:g} m",
-                *self._geometry_words(),
-            ]
-        )
+        head = [entry.words(self.value(entry.key)) for entry in self._shown() if entry.always_shown]
+        rest = [entry.words(self.value(entry.key)) for entry in self._shown() if not entry.always_shown]
+        return ", ".join([sets, f"line {self.line}", *head, f"{self.length:g} m", *rest])
 
     def label(self) -> str:
         return f"{self.model} on {self.case_label()}"
@@ -152,31 +158,17 @@ class RunConfig:
     def file_stem(self) -> str:
         """A file name for downloads: 'wheelrail-3d-corrugated-rail-line0-100kmh-65kN-3m'."""
         sets = [self.set_label] if self.wheel_set_label is None else [self.set_label, self.wheel_set_label]
-        short = {"wheel_radius": "R", "rail_crown_radius": "crown", "wheel_transverse_radius": "tread"}
-        parts = [
-            "wheelrail",
-            self.model,
-            *sets,
-            f"line{self.line}",
-            f"{self.speed / KMH:g}kmh",
-            f"{self.preload / 1e3:g}kN",
-            f"{self.length:g}m",
-            *(f"{short[name]}{value * 1e3:g}mm" for name, value in self.geometry),
-        ]
+        head = [entry.file_part(self.value(entry.key)) for entry in self._shown() if entry.always_shown]
+        rest = [entry.file_part(self.value(entry.key)) for entry in self._shown() if not entry.always_shown]
+        parts = ["wheelrail", self.model, *sets, f"line{self.line}", *head, f"{self.length:g}m", *rest]
         return re.sub(r"[^A-Za-z0-9.+-]+", "_", "-".join(parts)).replace("_-", "-").strip("_")
 
     def as_dict(self) -> dict:
-        values = {
-            "model": self.model,
-            "set": self.set_label,
-            "line": self.line,
-            "speed_kmh": self.speed / KMH,
-            "preload_kn": self.preload / 1e3,
-            "length_m": self.length,
-        }
+        """The configuration as the page's units say it (keys: the command line's ``speed_kmh``, ...)."""
+        values = {"model": self.model, "set": self.set_label, "line": self.line, "length_m": self.length}
         if self.wheel_set_label is not None:
             values["wheel_set"] = self.wheel_set_label
-        values.update((f"{name}_mm", value * 1e3) for name, value in self.geometry)
+        values.update((entry.dest, self.value(entry.key) * entry.shown.scale) for entry in self._shown())
         return values
 
 
@@ -194,18 +186,25 @@ def offered_lines(roughness, model_choice: str, contact: ContactParameters, whee
     return tuple(sorted(set.intersection(*found)))
 
 
-def read_geometry(**fields_mm) -> tuple[tuple[str, float], ...]:
-    """The geometry fields as typed (mm; empty: the paper's default) as ``RunConfig.geometry``, or one
-    WheelrailError (core's checks of ``ContactParameters``: each radius's range, a concave tread that conforms);
-    keywords: the names of ``GEOMETRY_FIELDS`` with ``_mm``. The patch size depends on the preload too:
-    :func:`read_config` checks it at the run's."""
-    geometry = []
-    for name in GEOMETRY_FIELDS:
-        text = str(fields_mm.get(f"{name}_mm", "") or "").strip()
-        if text:
-            geometry.append((name, _number(text, name) * 1e-3))
-    ContactParameters(preload=ACCEPTED["preload"].minimum, **dict(geometry))  # at the lightest load accepted
-    return tuple(geometry)
+def read_inputs(**typed) -> tuple[tuple[str, float], ...]:
+    """The declared inputs' fields as typed (keyword: the input's ``dest``, e.g. ``pad_stiffness_mn_m="60"``;
+    text in the field's unit; absent or empty: the default where the input has an ``unset`` meaning) as
+    ``RunConfig.inputs``, or one WheelrailError in the page's words: each value against its declared range,
+    then core's rules that relate them (a tread that conforms, a patch too large at the preload)."""
+    unknown = set(typed) - {entry.dest for entry in inputs_of()}
+    if unknown:
+        raise TypeError(f"unknown input field(s) {sorted(unknown)}")
+    values = {}
+    for entry in inputs_of():
+        text = str(typed.get(entry.dest, "") or "").strip()
+        if not text and (entry.unset or entry.dest not in typed):
+            continue
+        value = entry.check(_number(text, entry.key) * entry.shown.si)
+        default = entry.default()
+        if default is None or not math.isclose(value, default, rel_tol=1e-12, abs_tol=0.0):
+            values[entry.key] = value
+    model_parameters(values)  # core's checks of the whole (the patch at the preload, the tread)
+    return tuple(values.items())
 
 
 def length_range(roughness, speed: float, element_size: float | None = None) -> tuple[float, float]:
@@ -251,22 +250,21 @@ def read_config(
     *,
     line,
     model: str,
-    speed_kmh,
-    preload_kn,
     length_m,
-    geometry: tuple = (),
     wheel=None,
     wheel_label: str | None = None,
+    **typed,
 ) -> RunConfig:
     """The run the page's fields ask for, or one WheelrailError in the page's words (what to type instead).
 
-    ``geometry`` as :func:`read_geometry` gives it; ``wheel`` (labelled ``wheel_label``) a wheel set added to
-    the rail set ``roughness``, or None."""
+    ``typed``: the declared inputs' fields as typed (see :func:`read_inputs`: ``speed_kmh="100"``,
+    ``pad_stiffness_mn_m="60"``, ...); ``wheel`` (labelled ``wheel_label``) a wheel set added to the rail set
+    ``roughness``, or None."""
     if model not in MODEL_CHOICES:
         raise WheelrailError(f"unknown contact model '{model}'; choose one of {', '.join(MODEL_CHOICES)}")
-    speed_kmh = _number(speed_kmh, "speed")
-    ACCEPTED["speed"].check(speed_kmh * KMH)
-    preload_kn = _number(preload_kn, "preload")
+    inputs = read_inputs(**typed)
+    params = model_parameters(dict(inputs))
+    speed_kmh, preload_kn = params.run.speed / KMH, params.contact.preload / 1e3
     if wheel is not None:
         if roughness.kind != "rail":
             raise WheelrailError(
@@ -277,7 +275,7 @@ def read_config(
             raise WheelrailError(
                 f"{wheel_label} is a {wheel.kind} set, not a wheel set: choose a wheel set as the wheel roughness"
             )
-    contact = ContactParameters(preload=preload_kn * 1e3, **dict(geometry))
+    contact = params.contact
     if wheel is not None:  # core's rule: the wheel set must go round this wheel
         check_wheel_circumference(wheel.length, contact.radius_along, wheel_label)
     allowed = offered_lines(roughness, model, contact, wheel)
@@ -320,9 +318,7 @@ def read_config(
         set_label=set_label,
         line=line,
         model=model,
-        speed=speed_kmh * KMH,
-        preload=preload_kn * 1e3,
         length=length,
         wheel_set_label=None if wheel is None else wheel_label,
-        geometry=tuple(geometry),
+        inputs=inputs,
     )

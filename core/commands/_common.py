@@ -9,17 +9,15 @@ from pathlib import Path
 
 from wheelrail.core.accepted import ACCEPTED, PATCH_FRACTION
 from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.inputs import GROUPS, by_key, cli_names, inputs_of
 
 # What the command line calls each input an error can name (WheelrailError.parameter): its option, the unit it
-# takes and that unit per SI unit. ``wheelrail.core.cli`` renders every error with it, so core's messages never
-# name an option and nothing rewrites them.
+# takes and that unit per SI unit. The declared inputs' names come from their declaration
+# (``wheelrail.core.inputs``); the rest are the commands' own options. ``wheelrail.core.cli`` renders every
+# error with it, so core's messages never name an option and nothing rewrites them.
 CLI_NAMES: dict[str, Name] = {
-    "speed": Name("--speed-kmh", "km/h", 3.6, True),
-    "preload": Name("--preload-kn", "kN", 1e-3, True),
-    "wheel_radius": Name("--wheel-radius-mm", "mm", 1e3, True),
-    "radius": Name("--wheel-radius-mm", "mm", 1e3, True),  # the paper's R: the wheel's, as the CLI sets it
-    "rail_crown_radius": Name("--rail-crown-radius-mm", "mm", 1e3, True),
-    "wheel_transverse_radius": Name("--wheel-transverse-radius-mm", "mm", 1e3, True),
+    **cli_names(),
+    "radius": cli_names()["wheel_radius"],  # the paper's R: the wheel's, as the CLI sets it
     "length": Name("--length-m", "m", 1.0, True),
     "line": Name("--line", unit_in_label=True),
     "skip": Name("--skip-ms", "ms", 1e3, True),
@@ -37,6 +35,16 @@ CLI_NAMES: dict[str, Name] = {
 }
 
 
+def cli_error_names() -> dict[str, Name]:
+    """``CLI_NAMES`` with the declared inputs' names as declared now (``wheelrail.core.cli`` words errors so)."""
+    return {**CLI_NAMES, **cli_names()}
+
+
+_GEOMETRY_NOTE = (
+    f"the Hertz patch at the preload must stay within {PATCH_FRACTION * 100:g} %% of the radii"  # %%: argparse
+)
+
+
 def accepted_help(key: str) -> str:
     """An input's accepted range in the command line's unit, for its help: "accepted 5 to 400"."""
     name = CLI_NAMES[key]
@@ -46,80 +54,74 @@ def accepted_help(key: str) -> str:
 
 def speed_from_kmh(speed_kmh: float) -> float:
     """A speed given in km/h on the command line, in m/s, within the accepted range (``core.accepted``)."""
-    from wheelrail.core.parameters import KMH
+    entry = by_key("speed")
+    return entry.check(speed_kmh * entry.shown.si, "speed")
 
-    return ACCEPTED["speed"].check(speed_kmh * KMH, "speed")
 
-
-def add_speed_option(parser, help_text: str = "train speed, km/h") -> None:
-    """``--speed-kmh``, default 100 (the paper's), its accepted range in the help."""
+def add_speed_option(parser, help_text: str | None = None) -> None:
+    """The declared speed's option alone (``--speed-kmh``), for commands that take no other input;
+    ``help_text`` instead of its declared help."""
+    entry = by_key("speed")
+    text = help_text or f"{entry.help}, {entry.shown.name}"
     parser.add_argument(
-        "--speed-kmh", type=float, default=100.0, help=f"{help_text} (default 100; {accepted_help('speed')})"
-    )
-
-
-def add_preload_option(parser) -> None:
-    """``--preload-kn``, default ``ContactParameters().preload``, its accepted range in the help."""
-    from wheelrail.core.parameters import ContactParameters
-
-    preload_kn = ContactParameters().preload / 1e3
-    parser.add_argument(
-        "--preload-kn",
+        entry.option,
         type=float,
-        default=preload_kn,
-        help=f"static wheel load, kN (default {preload_kn:g}; {accepted_help('preload')})",
+        default=entry.shown_default(),
+        help=f"{text} (default {entry.default_text()}; {_accepted_words(entry)})",
     )
 
 
-_GEOMETRY_OPTIONS = {
-    "wheel_radius_mm": "wheel_radius",
-    "rail_crown_radius_mm": "rail_crown_radius",
-    "wheel_transverse_radius_mm": "wheel_transverse_radius",
-}
+def add_input_options(parser, *groups: str, helps: dict[str, str] | None = None, unset: dict[str, str] | None = None):
+    """The options of the declared inputs of ``groups`` (``wheelrail.core.inputs.GROUPS``), one argparse group
+    each, named, documented and ranged by their declaration; read back by :func:`params_from_args`.
+
+    ``helps``: key -> the command's own help sentence for an input (its default and range are appended);
+    ``unset``: key -> what the command takes an absent option as, where it differs from the declaration's.
+    An option's default is its dataclass default in the option's unit (None where that is not a number)."""
+    helps, unset = helps or {}, unset or {}
+    for group in groups:
+        options = parser.add_argument_group(f"{GROUPS[group].lower()} inputs")
+        for entry in inputs_of(group):
+            default = unset.get(entry.key) or entry.default_text()
+            unit = f", {entry.shown.name}" if entry.shown.name else ""
+            text = f"{helps.get(entry.key, entry.help + unit)} (default {default}; {_accepted_words(entry)})"
+            options.add_argument(entry.option, type=float, default=entry.shown_default(), help=text)
+        if group == "geometry":
+            options.description = _GEOMETRY_NOTE
 
 
-def add_geometry_options(parser, *, crown_follows_wheel: bool = False) -> None:
-    """The contact-geometry options of ``run``, ``study`` and ``filters`` (read back by :func:`geometry_from_mm`);
-    their defaults and ranges, named in the help, are ``ContactParameters``' and ``core.accepted``'s.
-    ``crown_follows_wheel``: the command takes an unset crown radius as the wheel radius (``filters``: a
-    circular patch, as the CNOSSOS table assumes)."""
-    from wheelrail.core.parameters import ContactParameters
-
-    radius_mm = ContactParameters().radius * 1e3
-    crown = "the wheel radius, a circle" if crown_follows_wheel else f"{radius_mm:g}: the paper's R"
-    tread_mm = ACCEPTED["wheel_transverse_radius"].minimum * 1e3
-    parser.add_argument(
-        "--wheel-radius-mm",
-        type=float,
-        default=None,
-        help=f"wheel rolling radius, along the rail, mm (default {radius_mm:g}: the paper's R; "
-        f"{accepted_help('wheel_radius')})",
-    )
-    parser.add_argument(
-        "--rail-crown-radius-mm",
-        type=float,
-        default=None,
-        help=f"rail head (crown) radius across the rail, mm (default {crown}; {accepted_help('rail_crown_radius')})",
-    )
-    parser.add_argument(
-        "--wheel-transverse-radius-mm",
-        type=float,
-        default=None,
-        help=f"wheel tread radius across the rail, mm (default: a cylindrical tread; negative: "
-        f"concave, worn; at least {tread_mm:g} in magnitude; the Hertz patch at the preload "
-        f"must stay within {PATCH_FRACTION * 100:g} %% of the radii)",
-    )
+def _accepted_words(entry) -> str:
+    low, high = entry.in_shown()
+    return f"at least {low:g} in magnitude" if entry.magnitude else f"accepted {low:g} to {high:g}"
 
 
-def geometry_from_mm(args) -> dict:
-    """``ContactParameters`` geometry keywords (m) from the ``--wheel-radius-mm``, ``--rail-crown-radius-mm`` and
-    ``--wheel-transverse-radius-mm`` options a command has (unset ones omitted: the paper's defaults). Their
-    ranges are checked by ``ContactParameters``, whose errors the command line words with ``CLI_NAMES``."""
-    return {
-        name: getattr(args, option) * 1e-3
-        for option, name in _GEOMETRY_OPTIONS.items()
-        if getattr(args, option, None) is not None
-    }
+def given_inputs(args, *groups: str) -> list:
+    """The declared inputs of ``groups`` whose option the command line set to other than its default."""
+    found = []
+    for entry in inputs_of(*groups):
+        given = getattr(args, entry.dest, None)
+        if given is not None and given != entry.shown_default():
+            found.append(entry)
+    return found
+
+
+def refuse_inputs(args, groups: tuple[str, ...], mode: str) -> None:
+    """One WheelrailError if an option of the declared inputs of ``groups`` was set where ``mode`` (words such as
+    "with --run: the run's own track is used") does not use it."""
+    given = given_inputs(args, *groups)
+    if given:
+        raise WheelrailError(f"{', '.join(entry.option for entry in given)}: not used {mode}")
+
+
+def params_from_args(args, *groups: str, base=None):
+    """``ModelParameters`` with the declared inputs of ``groups`` the command line set (in their option's unit,
+    converted to SI here) on ``base`` (default: the paper's). An option left at its default changes nothing
+    (the parameters, and every cache key made of them, stay the dataclass's to the bit). A value outside its
+    range is one WheelrailError keyed by the input, worded with the option by ``CLI_NAMES``."""
+    from wheelrail.core.inputs import model_parameters
+
+    values = {entry.key: getattr(args, entry.dest) * entry.shown.si for entry in given_inputs(args, *groups)}
+    return model_parameters(values, base)
 
 
 def same_file(a, b) -> bool:

@@ -13,10 +13,8 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.commands._common import (
-    add_geometry_options,
-    add_preload_option,
-    add_speed_option,
-    geometry_from_mm,
+    add_input_options,
+    given_inputs,
     print_json,
     speed_from_kmh,
     writable_output,
@@ -39,9 +37,7 @@ def add_parser(sub):
             "it (this project's construction, not a filter of the literature)."
         ),
     )
-    add_speed_option(parser)
-    add_preload_option(parser)
-    add_geometry_options(parser, crown_follows_wheel=True)
+    add_input_options(parser, "run", "geometry", unset={"rail_crown_radius": "the wheel radius, a circle"})
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     parser.add_argument("--csv", metavar="FILE.csv", help="write the bands and levels as a CSV table")
     parser.add_argument("--plot", metavar="FILE.png", help="save a figure of the filters")
@@ -150,7 +146,7 @@ def _print_table(result: dict) -> None:
 def run(args) -> int:
     speed = speed_from_kmh(args.speed_kmh)
     load = args.preload_kn * 1e3
-    geometry = geometry_from_mm(args)
+    geometry = {entry.key: getattr(args, entry.dest) * entry.shown.si for entry in given_inputs(args, "geometry")}
     wheel_radius = geometry.get("wheel_radius", _DEFAULTS.radius)
     # the load and every radius checked now, as the run of reference_filters will see them (an unset crown
     # follows the wheel: a circle)

@@ -15,10 +15,22 @@ from __future__ import annotations
 import numpy as np
 
 from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.commands._common import accepted_help, print_json, speed_from_kmh, writable_output
+from wheelrail.core.commands._common import (
+    accepted_help,
+    add_input_options,
+    params_from_args,
+    print_json,
+    refuse_inputs,
+    speed_from_kmh,
+    writable_output,
+)
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import describe, describe_words, inputs_of
 
 METHODS = ("cnossos", "twins")
+_TRACK_HELP = {  # the track options name the method that uses them
+    entry.key: f"--method twins: {entry.help}, {entry.shown.name}" for entry in inputs_of("track")
+}
 
 
 def add_parser(sub):
@@ -41,6 +53,7 @@ def add_parser(sub):
     parser.add_argument("--run", metavar="RESULT.npz", help="a run saved with `wheelrail run --out` (any model)")
     _add_source_options(parser)
     _add_train_options(parser)
+    add_input_options(parser, "track", helps=_TRACK_HELP)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     return parser
 
@@ -161,6 +174,9 @@ def _print_table(title: str, frequency, columns: dict, totals: dict) -> None:
 
 
 def run(args) -> int:
+    if args.method != "twins":  # the model track is the TWINS-like method's alone
+        used = "with --run (the run's own track is used)" if args.run else "by --method cnossos (a table's track)"
+        refuse_inputs(args, ("track",), used)
     if args.run is not None:
         if args.method is not None:
             raise WheelrailError("--run and --method exclude each other: --run uses the run's own model and track")
@@ -257,20 +273,23 @@ def _twins(args) -> int:
     from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
     from wheelrail.core.noise.twins import track_noise_model
 
-    result = track_noise_model()
+    params = params_from_args(args, "track")
+    result = track_noise_model(params)
     summary = {
         "frequency_hz": np.asarray(NOMINAL_FREQUENCIES_HZ),
         "twins": result.to_dict(),
         "cnossos_track_transfer_dB": {name: track_transfer(name) for name in TRACK_TYPES},
+        **describe(params, "track"),
     }
     if args.json:
         print_json(summary)
         return 0
     cn = summary["cnossos_track_transfer_dB"]["mono-block-soft"]
     print(
-        "Model track (the paper's, lengthened to 240 bays) as a TWINS-like transfer function; rail + sleepers per "
+        "Model track (lengthened to 240 bays) as a TWINS-like transfer function; rail + sleepers per "
         "axle for 0 dB re 1 um effective roughness (dB re 1 pW), beside CNOSSOS-EU L_H,tr mono-block-soft"
     )
+    print(f"  track: {describe_words(params, 'track')}")
     print("  band Hz  L_H,tr model   rail  sleeper  CNOSSOS  decay EN15461  free wave  sigma rail  sigma sleeper")
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
         print(

@@ -10,18 +10,18 @@ import time
 
 from wheelrail.core.commands._common import (
     CLI_NAMES,
-    add_geometry_options,
-    add_preload_option,
-    add_speed_option,
-    geometry_from_mm,
+    add_input_options,
     input_files,
+    params_from_args,
     print_json,
     same_file,
-    speed_from_kmh,
     writable_output,
 )
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import describe, describe_words
 from wheelrail.core.models import model_names
+
+RUN_GROUPS = ("run", "geometry", "track")  # the declared inputs a run takes (wheelrail.core.inputs.GROUPS)
 
 
 def add_parser(sub):
@@ -48,7 +48,6 @@ def add_parser(sub):
         "r_wheel, paired by lateral position: the wheel set interpolated across onto the "
         "rail's lines; its lines repeat with the circumference); default none",
     )
-    add_geometry_options(parser)
     parser.add_argument(
         "--line", type=int, default=0, help="roughness line -M..M of --set (3d: window centre), default 0"
     )
@@ -58,8 +57,6 @@ def add_parser(sub):
         choices=model_names(),
         help="contact model (default hertz; installed plug-ins included)",
     )
-    add_speed_option(parser)
-    add_preload_option(parser)
     parser.add_argument(
         "--length-m",
         type=float,
@@ -73,6 +70,7 @@ def add_parser(sub):
         "held in memory for the whole run; --rrd records the maps without that)",
     )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
+    add_input_options(parser, *RUN_GROUPS)
     _recording_arguments(parser)
     return parser
 
@@ -120,9 +118,7 @@ class _StopOnCtrlC:
 
 def _checked_args(args):
     """The run's parameters and output paths, checked before any work: (params, out)."""
-    from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
-
-    speed = speed_from_kmh(args.speed_kmh)
+    params = params_from_args(args, *RUN_GROUPS)
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     inputs = input_files(args.set, args.wheel_set)
@@ -134,10 +130,6 @@ def _checked_args(args):
                 f"--rrd {rrd} is the input file {source}: writing it would destroy the input; "
                 "choose another output name"
             )
-    params = ModelParameters(
-        contact=ContactParameters(preload=args.preload_kn * 1e3, **geometry_from_mm(args)),
-        run=RunParameters(speed=speed),
-    )
     return params, out
 
 
@@ -221,6 +213,7 @@ def _summary(args, result, params, times) -> dict:
         "speed_m_per_s": result.speed,
         "speed_kmh": args.speed_kmh,
         "preload_n": params.contact.preload,
+        **describe(params, "geometry", "track"),  # the contact geometry and track it ran on, SI
         "steps": result.n_steps,
         "length_m": result.n_steps * result.element_size,
         "time_step_s": result.time_step,
@@ -242,7 +235,7 @@ def _summary(args, result, params, times) -> dict:
     return summary
 
 
-def _print_summary(args, result, summary, sink) -> None:
+def _print_summary(args, result, params, summary, sink) -> None:
     import numpy as np
 
     force = result.force
@@ -251,6 +244,8 @@ def _print_summary(args, result, summary, sink) -> None:
         f"{result.model} on {args.set}{wheel_set} line {result.line}, {args.speed_kmh:g} km/h, "
         f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m"
     )
+    print(f"  track: {describe_words(params, 'track')}")
+    print(f"  contact geometry: {describe_words(params, 'geometry')}")
     print(
         f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
         f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN"
@@ -296,5 +291,5 @@ def run(args) -> int:
     if args.json:
         print_json(summary)
         return 0
-    _print_summary(args, result, summary, sink)
+    _print_summary(args, result, params, summary, sink)
     return 0

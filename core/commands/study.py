@@ -5,16 +5,12 @@ from __future__ import annotations
 import math
 import sys
 
-from wheelrail.core.commands._common import (
-    add_geometry_options,
-    add_speed_option,
-    geometry_from_mm,
-    print_json,
-    speed_from_kmh,
-)
+from wheelrail.core.commands._common import add_input_options, params_from_args, print_json
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import ContactParameters
+from wheelrail.core.inputs import describe_words
 from wheelrail.core.study import STUDIES
+
+STUDY_GROUPS = ("run", "geometry", "track")  # the declared inputs of every run (wheelrail.core.inputs.GROUPS)
 
 
 def add_parser(sub):
@@ -52,7 +48,6 @@ def add_parser(sub):
         default=None,
         help="run length, m (default: the whole set: rail data less margins, one wheel turn)",
     )
-    add_speed_option(parser, "train speed, km/h (for `speeds` the speed of the half-mass case)")
     where = parser.add_mutually_exclusive_group()
     # default None, not 2: argparse lets an option of a mutually exclusive group through when its value
     # equals the default, so `--dask ADDR --workers 2` would be accepted
@@ -60,33 +55,31 @@ def add_parser(sub):
     where.add_argument(
         "--dask", metavar="ADDR", default=None, help="run on a Dask cluster: scheduler address tcp://HOST:PORT"
     )
-    add_geometry_options(parser)
     parser.add_argument("--json", action="store_true", help="print the machine-readable summary (SI units)")
+    add_input_options(parser, *STUDY_GROUPS, helps={"speed": "train speed, km/h (for `speeds` the half-mass case's)"})
     return parser
 
 
 def run(args) -> int:
-    from wheelrail.core.study import StudyContact, parse_dask_address, run_study
+    from wheelrail.core.study import parse_dask_address, run_study
 
     if args.name not in STUDIES:
         raise WheelrailError(f"unknown study {args.name!r}; choose one of {', '.join(STUDIES)}")
-    speed = speed_from_kmh(args.speed_kmh)
+    params = params_from_args(args, *STUDY_GROUPS)
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     workers = 2 if args.workers is None else args.workers
     if workers < 1:
         raise WheelrailError(f"--workers must be at least 1, got {workers}")
     address = parse_dask_address(args.dask) if args.dask is not None else None
-    geometry = geometry_from_mm(args)
-    contact = StudyContact(contact=ContactParameters(**geometry), wheel_set=args.wheel_set)
     result = run_study(
         args.name,
         args.sets,
         args.out,
-        speed=speed,
+        params=params,
+        wheel_set=args.wheel_set,
         length=args.length_m,
         workers=workers,
-        contact=contact,
         dask_address=address,
         progress=not args.json and sys.stderr.isatty(),
     )
@@ -100,6 +93,8 @@ def run(args) -> int:
         f"({summary['runs_computed']} computed, {summary['runs_cached']} from {args.out}/runs) "
         f"in {summary['wall_time_s']:.1f} s on {summary['backend']}"
     )
+    print(f"  track: {describe_words(params, 'track')}")
+    print(f"  contact: {params.contact.preload / 1e3:g} kN, {describe_words(params, 'geometry')}")
     if summary["loss_of_contact_steps"]:
         print(f"  loss of contact in {summary['loss_of_contact_steps']} steps over all runs")
     for table in result.tables:

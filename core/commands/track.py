@@ -7,8 +7,16 @@ import math
 import time
 from pathlib import Path
 
-from wheelrail.core.commands._common import add_speed_option, print_json, speed_from_kmh, writable_output
+from wheelrail.core.commands._common import (
+    add_input_options,
+    add_speed_option,
+    params_from_args,
+    print_json,
+    speed_from_kmh,
+    writable_output,
+)
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import describe
 
 MIN_DF_HZ = 0.05
 """Finest --df-hz: 99 601 frequencies over 20 Hz-5 kHz, a few minutes of FE solves (1e-9 Hz asked
@@ -36,6 +44,7 @@ def add_parser(sub):
         help=f"frequency step of --csv and --plot, Hz ({MIN_DF_HZ:g}-100, default 5)",
     )
     parser.add_argument("--plot", metavar="FILE.png", help="plot receptances and moving Green's functions (Fig. 4)")
+    add_input_options(parser, "track")
     return parser
 
 
@@ -166,7 +175,7 @@ def _print_summary(track, summary: dict) -> None:
 
 
 def run(args) -> int:
-    from wheelrail.core.parameters import TrackNumerics, TrackParameters
+    from wheelrail.core.parameters import TrackNumerics
 
     speed = speed_from_kmh(args.speed_kmh)
     if not math.isfinite(args.df_hz) or not MIN_DF_HZ <= args.df_hz <= 100:
@@ -176,7 +185,7 @@ def run(args) -> int:
     if csv_path and plot_path and csv_path.resolve() == plot_path.resolve():
         raise WheelrailError("--csv and --plot name the same file")
 
-    track = TrackParameters()
+    track = params_from_args(args, "track").track
     numerics = TrackNumerics()
     peaks = _peaks(track, numerics)
     if speed > numerics.max_speed:
@@ -188,6 +197,7 @@ def run(args) -> int:
     if csv_path or plot_path:
         _receptance_outputs(track, numerics, csv_path, plot_path, args.df_hz, built["response"], peaks)
     summary = {
+        **describe(params_from_args(args, "track"), "track"),
         "speed_m_per_s": speed,
         "speed_kmh": args.speed_kmh,
         "resonances_hz": peaks,

@@ -52,7 +52,7 @@ from wheelrail.core.study.execution import (
 )
 from wheelrail.core.study.figures import plot_study
 from wheelrail.core.study.plans import SetInfo, StudyPlan, plan_study
-from wheelrail.core.study.runner import StudyContact, StudyResult, check_output_folder, run_study
+from wheelrail.core.study.runner import StudyResult, check_output_folder, run_study
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,
@@ -92,7 +92,6 @@ __all__ = [
     "study_roughness",
     "compute_run",
     "study_wheel_roughness",
-    "StudyContact",
     "execute",
     "contact_filter",
     "mean_level",

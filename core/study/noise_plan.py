@@ -65,15 +65,16 @@ def _force_24(levels: np.ndarray) -> np.ndarray:
     return np.concatenate([np.asarray(levels, dtype=float), [np.nan]])
 
 
-def plan_noise(infos, speed, contact, spec_of, params_of):
-    """Specs and the table builder of the ``noise`` study (``spec_of(info, model, params, line)`` and
-    ``params_of(speed, contact)`` are the study's own helpers)."""
+def plan_noise(infos, study_params, spec_of, params_of):
+    """Specs and the table builder of the ``noise`` study on the parameters ``study_params`` (its speed the study's own;
+    ``spec_of(info, model, params, line)`` and ``params_of(study_params, speed)`` are the study's own helpers)."""
+    speed, contact = study_params.run.speed, study_params.contact
     speeds = sorted({*NOISE_SPEEDS_KMH, round(speed / KMH, 9)})
     models = noise_models()
     layout = {
         info.label: (
             info,
-            {(model, v): spec_of(info, model, params_of(v * KMH, contact), 0) for model in models for v in speeds},
+            {(model, v): spec_of(info, model, params_of(study_params, v * KMH), 0) for model in models for v in speeds},
         )
         for info in infos
     }
@@ -85,7 +86,7 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
         from wheelrail.core.noise.run_noise import sound_power_from_force
         from wheelrail.core.noise.twins import track_noise_model
 
-        track = track_noise_model(params_of(speed, contact))
+        track = track_noise_model(study_params)
         tables = []
         for label, (info, runs) in layout.items():
             lwa = {f"{_column(m)}_LWA_dBA": np.full(len(speeds), np.nan) for m in models}
@@ -103,7 +104,7 @@ def plan_noise(infos, speed, contact, spec_of, params_of):
                 for m in models:
                     lwa[f"{_column(m)}_LWA_dBA"][i] = sound_power_from_force(force[m], track)["axle_dba"]
                 roughness = (f"{label} line 0", _roughness_levels(info, v * KMH))
-                params = params_of(v * KMH, contact)
+                params = params_of(study_params, v * KMH)
                 a3 = contact_filter_a3(contact.preload, 2 * contact.radius_along, v * KMH)
                 a3[-1] = np.nan  # 10 kHz: left out as in the model columns (run summaries stop at 8 kHz)
                 base = cnossos_beside(params, *roughness, contact_filter=("A3", a3))

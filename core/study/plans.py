@@ -7,14 +7,14 @@ import math
 import os
 import re
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
+from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters, WheelParameters
+from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.run_setup import run_lines
 from wheelrail.core.spectra import check_spectrum_length, contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
@@ -54,10 +54,19 @@ class StudyPlan:
     sets: tuple[SetInfo, ...]
     specs: tuple[RunSpec, ...]
     tabulate: Callable[[dict[str, RunSummary]], list[Table]]
-    speed: float
     length: float | None
-    contact: ContactParameters = field(default_factory=ContactParameters)
+    params: ModelParameters = field(default_factory=ModelParameters)  # of every run, but for what the study varies
     wheel_set: SetInfo | None = None  # the wheel set added to every set (combined roughness), if any
+
+    @property
+    def speed(self) -> float:
+        """The study's speed, m/s (``params.run.speed``)."""
+        return self.params.run.speed
+
+    @property
+    def contact(self) -> ContactParameters:
+        """The contact of every run (``params.contact``)."""
+        return self.params.contact
 
 
 def _set_info(source, length: float | None, contact: ContactParameters, wheel: SetInfo | None = None) -> SetInfo:
@@ -158,9 +167,10 @@ def _run_length(rough, label: str, length: float | None, contact: ContactParamet
     return length
 
 
-def _params(speed: float, contact: ContactParameters, wheel_mass: float | None = None) -> ModelParameters:
-    wheel = WheelParameters() if wheel_mass is None else WheelParameters(unsprung_mass=wheel_mass)
-    return ModelParameters(wheel=wheel, contact=contact, run=RunParameters(speed=speed))
+def _params(base: ModelParameters, speed: float | None = None, wheel_mass: float | None = None) -> ModelParameters:
+    """The study's parameters ``base`` at another speed (m/s) or wheel mass (kg), where a study varies them."""
+    params = base if speed is None else replace(base, run=replace(base.run, speed=speed))
+    return params if wheel_mass is None else replace(params, wheel=replace(params.wheel, unsprung_mass=wheel_mass))
 
 
 def _spec(info: SetInfo, model: str, params: ModelParameters, line: int = 0, **extra) -> RunSpec:
@@ -186,9 +196,8 @@ def plan_study(
     name: str,
     sets: Sequence,
     *,
-    speed: float = 100.0 * KMH,
+    params: ModelParameters | None = None,
     length: float | None = None,
-    contact: ContactParameters | None = None,
     wheel_set=None,
 ) -> StudyPlan:
     """Build a named study's run specs and table builder.
@@ -199,15 +208,15 @@ def plan_study(
         One of ``STUDIES``.
     sets : sequence
         Roughness sets (bundled names, CSV/NPZ paths or ``RoughnessSet``); each gives its own panel.
-    speed : float
-        Train speed v, m/s (paper: 100 km/h). For ``speeds`` the reference speed of the half-mass case.
+    params : ModelParameters, optional
+        The parameters of every run, as ``prepare_run`` takes them (default: the paper's), but for what the
+        study varies: the speed ``params.run.speed`` (m/s; for ``speeds`` the reference speed of the
+        half-mass case), the contact (material, preload, geometry: e.g.
+        ``ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)`` for an elliptic patch), the track
+        and the wheel; e.g. ``wheelrail.core.inputs.model_parameters({"pad_stiffness": 60e6})``.
     length : float, optional
         Run length, m. Default: the whole set (rail: the data less the largest window margin, the same for
         every model; wheel: one circumference).
-    contact : ContactParameters, optional
-        Contact material, preload and geometry of every run (default: the paper's: 65 kN, crossed cylinders
-        of R = 0.39 m); e.g. ``ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)`` for an
-        elliptic patch.
     wheel_set : bundled name, CSV/NPZ path or RoughnessSet, optional
         A wheel set added to every (rail) set in every run: the combined roughness r_rail + r_wheel
         (``simulate(wheel_roughness=...)``, paired by lateral position); a line mean or lateral lines of a
@@ -220,14 +229,14 @@ def plan_study(
     """
     if name not in STUDIES:
         raise WheelrailError(f"unknown study {name!r}; choose one of {', '.join(STUDIES)}")
-    ACCEPTED["speed"].check(speed, "speed")
+    params = ModelParameters() if params is None else params
+    if not isinstance(params, ModelParameters):
+        raise WheelrailError("params must be a wheelrail.core.parameters.ModelParameters")
+    contact = params.contact
     if length is not None and not (isinstance(length, int | float) and math.isfinite(length) and length > 0):
         raise WheelrailError(f"length must be a positive number of m, got {length!r}")
     if not sets:
         raise WheelrailError("a study needs at least one roughness set")
-    contact = ContactParameters() if contact is None else contact
-    if not isinstance(contact, ContactParameters):
-        raise WheelrailError("contact must be a wheelrail.core.parameters.ContactParameters")
     wheel = None if wheel_set is None else _wheel_info(wheel_set)
     if wheel is not None and wheel.kind != "wheel":
         raise WheelrailError(
@@ -241,16 +250,15 @@ def plan_study(
     if len(set(labels)) != len(labels):
         raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")
     builder = _BUILDERS[name]
-    specs, tabulate = builder(infos, speed, contact)
+    specs, tabulate = builder(infos, params)
     _check_durations(specs, infos)
     return StudyPlan(
         name=name,
         sets=infos,
         specs=tuple(specs),
         tabulate=tabulate,
-        speed=speed,
         length=length,
-        contact=contact,
+        params=params,
         wheel_set=wheel,
     )
 
@@ -291,8 +299,7 @@ def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str
     }
 
 
-def _plan_filters(infos, speed, contact):
-    params = _params(speed, contact)
+def _plan_filters(infos, params):
     models = one_line_models()  # the registry's, plug-ins included; the reference (hertz) among them
     specs, layout = [], {}
     for info in infos:
@@ -348,8 +355,7 @@ _PAIRS = (  # Figs 12-14: (figure, model a, model b)
 )
 
 
-def _plan_line_spread(infos, speed, contact):
-    params = _params(speed, contact)
+def _plan_line_spread(infos, params):
     specs, layout = [], {}
     for info in infos:
         runs = {
@@ -387,8 +393,7 @@ def _plan_line_spread(infos, speed, contact):
     return specs, tabulate
 
 
-def _plan_averaged_input(infos, speed, contact):
-    params = _params(speed, contact)
+def _plan_averaged_input(infos, params):
     layout = {
         info.label: (_spec(info, "3d", params, 0), _spec(info, "2d", params, 0, averaged_lines=info.lines))
         for info in infos
@@ -416,8 +421,7 @@ def _mm(values) -> str:
     return ", ".join(f"{v:g}" for v in values)
 
 
-def _plan_lateral_resolution(infos, speed, contact):
-    params = _params(speed, contact)
+def _plan_lateral_resolution(infos, params):
     layout = {}
     for info in infos:
         runs = {"original": _spec(info, "3d", params, 0)}
@@ -455,9 +459,11 @@ def _speed_cases(speed):
     return cases
 
 
-def _plan_speeds(infos, speed, contact):
+def _plan_speeds(infos, params):
     layout = {
-        info.label: {column: _spec(info, "2d", _params(v, contact, mass), 0) for column, v, mass in _speed_cases(speed)}
+        info.label: {
+            column: _spec(info, "2d", _params(params, v, mass), 0) for column, v, mass in _speed_cases(params.run.speed)
+        }
         for info in infos
     }
 
@@ -481,10 +487,10 @@ def _plan_speeds(infos, speed, contact):
     return [spec for runs in layout.values() for spec in runs.values()], tabulate
 
 
-def _plan_noise(infos, speed, contact):
+def _plan_noise(infos, params):
     from wheelrail.core.study.noise_plan import plan_noise
 
-    return plan_noise(infos, speed, contact, _spec, _params)
+    return plan_noise(infos, params, _spec, _params)
 
 
 _BUILDERS = {

@@ -5,15 +5,16 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import describe
 from wheelrail.core.jsonready import json_ready
-from wheelrail.core.parameters import KMH, ContactParameters, as_dict
+from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_address
 from wheelrail.core.study.figures import plot_study
 from wheelrail.core.study.plans import StudyPlan, plan_study
@@ -29,17 +30,6 @@ class StudyResult:
     files: list[Path]
     report: ExecutionReport
     summary: dict
-
-
-@dataclass(frozen=True, kw_only=True)
-class StudyContact:
-    """What every run of a study has at the contact: the contact parameters (material, preload, geometry) and
-    the wheel set added to the rail sets (a bundled name, CSV/NPZ path or RoughnessSet; None: a smooth wheel).
-    ``run_study(contact=StudyContact(contact=ContactParameters(wheel_radius=0.46), wheel_set="sinter-wheel-1"))``.
-    """
-
-    contact: ContactParameters = field(default_factory=ContactParameters)
-    wheel_set: object = None
 
 
 def check_output_folder(out: str | os.PathLike) -> Path:
@@ -63,11 +53,11 @@ def run_study(
     sets: Sequence,
     out: str | os.PathLike,
     *,
-    speed: float = 100.0 * KMH,
+    params: ModelParameters | None = None,
+    wheel_set=None,
     length: float | None = None,
     workers: int = 2,
     dask_address: str | None = None,
-    contact: StudyContact | ContactParameters | None = None,
     progress: bool = True,
     figures: bool = True,
 ) -> StudyResult:
@@ -81,18 +71,18 @@ def run_study(
         Roughness sets (bundled names, CSV/NPZ paths or ``RoughnessSet``).
     out : path
         Output folder (created if missing): ``<table>.csv``, ``fig<N>_<study>.png``, ``<study>_summary.json``.
-    speed : float
-        Train speed, m/s (100 km/h).
+    params : ModelParameters, optional
+        The parameters of every run, as ``prepare_run`` takes them (default: the paper's), but for what the
+        study varies: speed, contact, track and wheel (see :func:`plan_study`).
+    wheel_set : bundled name, CSV/NPZ path or RoughnessSet, optional
+        A wheel set added to every rail set (combined roughness); default: a smooth wheel (see
+        :func:`plan_study`).
     length : float, optional
         Run length, m (default: the whole set).
     workers : int
         Local worker processes (1: in this process).
     dask_address : str, optional
         Dask scheduler address; runs go to that cluster instead of the local pool.
-    contact : StudyContact or ContactParameters, optional
-        Contact material, preload and geometry of every run (default: the paper's), and the wheel set added
-        to every rail set (:class:`StudyContact`; a ContactParameters alone: a smooth wheel); see
-        :func:`plan_study`.
     progress : bool
         tqdm bar of runs done on stderr.
     figures : bool
@@ -105,12 +95,7 @@ def run_study(
     folder = check_output_folder(out)
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
-    if contact is not None and not isinstance(contact, StudyContact | ContactParameters):
-        raise WheelrailError(
-            "contact must be a wheelrail.core.study.StudyContact or wheelrail.core.parameters.ContactParameters"
-        )
-    contact = contact if isinstance(contact, StudyContact) else StudyContact(contact=contact or ContactParameters())
-    plan = plan_study(name, sets, speed=speed, length=length, contact=contact.contact, wheel_set=contact.wheel_set)
+    plan = plan_study(name, sets, params=params, length=length, wheel_set=wheel_set)
     report = execute(
         plan.specs,
         cache=folder / "runs",
@@ -123,7 +108,7 @@ def run_study(
     files = [write_table(table, folder) for table in tables]
     if figures:
         files += plot_study(name, tables, folder)
-    summary = _summary_document(name, plan, report, tables, speed=speed, folder=folder, files=files)
+    summary = _summary_document(name, plan, report, tables, folder=folder, files=files)
     summary_path = folder / f"{name}_summary.json"
     atomic_write(summary_path, lambda handle: json.dump(json_ready(summary), handle, indent=2), mode="w")
     files.append(summary_path)
@@ -137,12 +122,12 @@ def _summary_document(
     report: ExecutionReport,
     tables: list[Table],
     *,
-    speed: float,
     folder: Path,
     files: list[Path],
 ) -> dict:
     """The JSON summary of a study (SI units; what ``wheelrail study --json`` prints)."""
     summaries = [report.summaries[spec.key] for spec in plan.specs]
+    speed = plan.speed
     summary = {
         "study": name,
         "sets": [info.label for info in plan.sets],
@@ -151,6 +136,7 @@ def _summary_document(
         "speed_kmh": speed / KMH,
         "length_m": {info.label: info.length for info in plan.sets},
         "contact": as_dict(plan.contact),
+        **describe(plan.params, "track"),  # the track of every run, SI
         "runs": len({spec.key for spec in plan.specs}),
         "runs_computed": report.computed,
         "runs_cached": report.cached,

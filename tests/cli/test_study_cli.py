@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.cli import main
-from wheelrail.core.parameters import ContactParameters
+from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.roughness import load_roughness, write_csv
 from wheelrail.core.study import (
     STUDIES,
@@ -246,7 +246,13 @@ def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
     # the wheel between its lines, not its own line n (at 2n mm). Linear interpolation across, as the runs do.
     rail, wheel = load_roughness("corrugated-rail"), load_roughness("sinter-wheel-1")
     own_wheel = ContactParameters(wheel_radius=0.4615)  # the bundled wheel sets are 2.900 m round
-    plan = plan_study("averaged-input", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1", contact=own_wheel)
+    plan = plan_study(
+        "averaged-input",
+        ["corrugated-rail"],
+        length=0.6,
+        wheel_set="sinter-wheel-1",
+        params=ModelParameters(contact=own_wheel),
+    )
     averaged = next(spec for spec in plan.specs if spec.averaged_lines)
     assert averaged.averaged_lines == tuple(range(-3, 4))
     mean = study_wheel_roughness(averaged)
@@ -256,7 +262,11 @@ def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
     np.testing.assert_allclose(mean.line(0), np.mean(at_rail, axis=0), rtol=0, atol=1e-15)
     # Fig. 17's lines at -8, -4, 0, 4, 8 mm of the rail: the wheel's lines -4, -2, 0, 2, 4 (2 mm apart)
     fig17 = plan_study(
-        "lateral-resolution", ["corrugated-rail"], length=0.6, wheel_set="sinter-wheel-1", contact=own_wheel
+        "lateral-resolution",
+        ["corrugated-rail"],
+        length=0.6,
+        wheel_set="sinter-wheel-1",
+        params=ModelParameters(contact=own_wheel),
     )
     low = next(spec for spec in fig17.specs if spec.lateral_lines_mm == (-8, -4, 0, 4, 8))
     taken = study_wheel_roughness(low)
@@ -270,7 +280,9 @@ def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
     rows = [wheel.row_of_line(n) for n in (8, 9, 10)]
     aside = wheel.with_heights(wheel.heights[rows], y=wheel.y[rows])
     with pytest.raises(WheelrailError) as info:
-        plan_study("speeds", ["corrugated-rail"], length=0.6, wheel_set=aside, contact=own_wheel)
+        plan_study(
+            "speeds", ["corrugated-rail"], length=0.6, wheel_set=aside, params=ModelParameters(contact=own_wheel)
+        )
     assert info.value.parameter == "wheel_set"
     assert info.value.render(CLI_NAMES).startswith(
         "--wheel-set SYNTHETIC-wheel-roughness-sinter-wheel: no data at the lateral positions of corrugated-rail's "
@@ -472,7 +484,7 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     so cached runs of the rail alone are never reused), the summary names it, a run's spectrum is that of
     simulate(..., wheel_roughness=...)."""
     from wheelrail.core.interaction import simulate
-    from wheelrail.core.parameters import ContactParameters
+    from wheelrail.core.parameters import ContactParameters, ModelParameters
     from wheelrail.core.spectra import force_spectrum
 
     out = tmp_path / "speeds"
@@ -502,7 +514,7 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
         ["corrugated-rail"],
         length=1.2,
         wheel_set="sinter-wheel-1",
-        contact=ContactParameters(wheel_radius=0.4615),
+        params=ModelParameters(contact=ContactParameters(wheel_radius=0.4615)),
     )
     assert "wheel_set" not in plain.specs[0].description()  # runs without a wheel set keep their keys
     assert plan.specs[0].description()["wheel_set"] == {

@@ -7,9 +7,10 @@ import pytest
 
 from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import by_key
 from wheelrail.core.parameters import MAX_SPEED_KMH, MIN_SPEED_KMH
 from wheelrail.core.roughness import load_roughness
-from wheelrail.explorer.config import PRELOAD_RANGE_KN, accepted_text, page_message, read_config, read_geometry
+from wheelrail.explorer.config import accepted_text, page_message, read_config
 
 RAIL = load_roughness("corrugated-rail")
 WHEEL = load_roughness("sinter-wheel-1")
@@ -20,12 +21,10 @@ def _page_error(**changes) -> str:
     geometry_mm = changes.pop("geometry_mm", {})
     wheel = changes.pop("wheel", None)
     with pytest.raises(WheelrailError) as info:
-        geometry = read_geometry(**geometry_mm)
         read_config(
             RAIL,
             "corrugated-rail",
-            **{**FIELDS, **changes},
-            geometry=geometry,
+            **{**FIELDS, **changes, **geometry_mm},
             wheel=wheel,
             wheel_label=None if wheel is None else "sinter-wheel-1",
         )
@@ -35,7 +34,8 @@ def _page_error(**changes) -> str:
 
 
 def test_the_fields_offer_cores_ranges():
-    assert PRELOAD_RANGE_KN == (ACCEPTED["preload"].minimum / 1e3, ACCEPTED["preload"].maximum / 1e3) == (1.0, 500.0)
+    assert by_key("preload").in_shown() == (ACCEPTED["preload"].minimum / 1e3, ACCEPTED["preload"].maximum / 1e3)
+    assert by_key("preload").in_shown() == (1.0, 500.0)
     assert (MIN_SPEED_KMH, MAX_SPEED_KMH) == (5.0, 400.0)
     assert [accepted_text(key) for key in ("speed", "preload", "wheel_radius", "rail_crown_radius")] == [
         "5 to 400 km/h",
@@ -91,7 +91,7 @@ def test_the_wheel_sets_own_radius_runs():
         RAIL,
         "corrugated-rail",
         **FIELDS,
-        geometry=read_geometry(wheel_radius_mm="461.5"),
+        wheel_radius_mm="461.5",
         wheel=WHEEL,
         wheel_label="sinter-wheel-1",
     )
@@ -108,12 +108,10 @@ def test_a_line_the_wheel_set_does_not_cover_is_worded_by_the_page():
         WHEEL.heights[[WHEEL.row_of_line(n) for n in range(-2, 3)]],
         y=WHEEL.y[[WHEEL.row_of_line(n) for n in range(-2, 3)]],
     )
-    own = read_geometry(wheel_radius_mm="461.5")
+    own = {"wheel_radius_mm": "461.5"}
     assert offered_lines(RAIL, "hertz", ContactParameters(wheel_radius=0.4615), narrow) == tuple(range(-4, 5))
     with pytest.raises(WheelrailError) as info:
-        read_config(
-            RAIL, "corrugated-rail", **{**FIELDS, "line": "5"}, geometry=own, wheel=narrow, wheel_label="narrow-wheel"
-        )
+        read_config(RAIL, "corrugated-rail", **{**FIELDS, "line": "5", **own}, wheel=narrow, wheel_label="narrow-wheel")
     message = page_message(info.value)
     assert message == (
         "Line 5 of corrugated-rail lies where narrow-wheel has no data across the rail (wheel and "
@@ -121,7 +119,7 @@ def test_a_line_the_wheel_set_does_not_cover_is_worded_by_the_page():
     )
     assert (
         read_config(
-            RAIL, "corrugated-rail", **{**FIELDS, "line": "4"}, geometry=own, wheel=narrow, wheel_label="narrow-wheel"
+            RAIL, "corrugated-rail", **{**FIELDS, "line": "4", **own}, wheel=narrow, wheel_label="narrow-wheel"
         ).line
         == 4
     )

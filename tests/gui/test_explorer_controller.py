@@ -91,9 +91,8 @@ class Recorder:
 
 
 def _config(model="3d", speed_kmh=100.0, line=0):
-    return RunConfig(
-        set_label="corrugated-rail", line=line, model=model, speed=speed_kmh * KMH, preload=65e3, length=1.0
-    )
+    inputs = () if speed_kmh == 100.0 else (("speed", speed_kmh * KMH),)
+    return RunConfig(set_label="corrugated-rail", line=line, model=model, length=1.0, inputs=inputs)
 
 
 def _controller(runs):
@@ -223,11 +222,9 @@ def test_a_wheel_set_and_the_geometry_reach_prepare_and_key_the_results():
         set_label="corrugated-rail",
         line=0,
         model="hertz",
-        speed=100 * KMH,
-        preload=65e3,
         length=1.0,
         wheel_set_label="sinter-wheel-1",
-        geometry=(("wheel_radius", 0.46), ("rail_crown_radius", 0.3)),
+        inputs=(("wheel_radius", 0.46), ("rail_crown_radius", 0.3)),
     )
     with pytest.raises(WheelrailError, match="wheel roughness must be given exactly"):
         controller.start(combined, "rail")  # the configuration names a wheel set: its roughness is needed

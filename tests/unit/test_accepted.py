@@ -173,9 +173,10 @@ def test_a_study_with_a_wheel_set_is_checked_before_any_run():
         ["corrugated-rail"],
         length=1.2,
         wheel_set="sinter-wheel-1",
-        contact=ContactParameters(wheel_radius=0.4615),
+        params=ModelParameters(contact=ContactParameters(wheel_radius=0.4615)),
     )
-    assert _refused(plan_study, name="speeds", sets=["corrugated-rail"], speed=500 * KMH).parameter == "speed"
+    # the speed is the parameters' (RunParameters refuses 500 km/h: test above); params must be parameters
+    assert "ModelParameters" in str(_refused(plan_study, name="speeds", sets=["corrugated-rail"], params=500 * KMH))
 
 
 def test_errors_cross_processes_with_their_data():

@@ -31,7 +31,7 @@ def test_key_covers_every_parameter():
     changed = [
         track._track_key(dataclasses.replace(TrackParameters(), n_bays=71), SMALL),
         track._track_key(
-            TrackParameters(support=dataclasses.replace(TrackParameters().support, pad_damping=1.0)), SMALL
+            TrackParameters(support=dataclasses.replace(TrackParameters().support, pad_damping=17e3)), SMALL
         ),
         track._track_key(TrackParameters(), dataclasses.replace(SMALL, time_step=4e-6)),
         track._track_key(TrackParameters(), dataclasses.replace(SMALL, max_speed=30.0)),

@@ -1,0 +1,143 @@
+"""Each user-facing input is declared once (core/inputs.py); the command line's options, the explorer's fields, the
+error wording of each front end and the study's parameters all derive from that declaration."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import pytest
+
+from wheelrail.core import inputs
+from wheelrail.core.accepted import ACCEPTED
+from wheelrail.core.cli import build_parser, main
+from wheelrail.core.commands._common import params_from_args
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import GROUPS, INPUTS, Input, Unit, by_key, describe, inputs_of, model_parameters
+from wheelrail.core.parameters import ModelParameters, SupportParameters
+
+TRACK_OPTIONS = (
+    "--pad-stiffness-mn-m",
+    "--pad-damping-kns-m",
+    "--sleeper-mass-kg",
+    "--sleeper-spacing-m",
+    "--ballast-stiffness-mn-m",
+    "--ballast-damping-kns-m",
+)
+
+
+def test_every_declared_input_has_a_default_within_its_range_and_a_group():
+    for entry in INPUTS:
+        assert entry.group in GROUPS, entry.key
+        assert ACCEPTED[entry.key] == entry.accepted  # the parameter classes check the declared range
+        default = entry.default()  # read from ModelParameters(), never restated
+        if default is not None and math.isfinite(default):
+            assert entry.check(default) == default
+            assert entry.shown_default() * entry.shown.si == pytest.approx(default, rel=1e-12)
+        else:
+            assert entry.unset, entry.key  # an unset default says what it means
+    assert [e.option for e in inputs_of("track")] == list(TRACK_OPTIONS)
+    assert by_key("pad_stiffness").path == "track.support.pad_stiffness"
+    assert by_key("pad_stiffness").default() == SupportParameters().pad_stiffness == 120e6
+
+
+@pytest.mark.parametrize(
+    ("argv", "wording"),
+    [
+        (["--pad-stiffness-mn-m", "0"], "--pad-stiffness-mn-m 0 is outside the accepted 10 to 3000 MN/m ("),
+        (["--sleeper-spacing-m", "nan"], "--sleeper-spacing-m 'nan': not a number"),
+        (["--ballast-damping-kns-m", "-1"], "--ballast-damping-kns-m -1 is outside the accepted 1 to 1000 kNs/m ("),
+    ],
+)
+def test_a_track_input_out_of_range_is_one_line_in_each_front_ends_words(argv, wording, capsys):
+    for command in (["run", "--set", "corrugated-rail"], ["track"], ["study", "filters", "--set", "x", "--out", "o"]):
+        assert main([*command, *argv]) == 2
+        err = capsys.readouterr().err.strip()
+        assert "\n" not in err and err.split("error: ", 1)[1].startswith(wording.replace("'nan'", "nan")), err
+        assert "SupportParameters" not in err
+    from wheelrail.explorer.config import page_message, read_inputs
+
+    entry = next(e for e in INPUTS if e.option == argv[0])
+    with pytest.raises(WheelrailError) as info:
+        read_inputs(**{entry.dest: argv[1]})
+    label = f"{entry.label} "
+    assert page_message(info.value).startswith(label) and "--" not in page_message(info.value)
+    with pytest.raises(WheelrailError) as info:  # the API: the argument's own name, SI
+        model_parameters({entry.key: float(argv[1]) * entry.shown.si})
+    assert str(info.value).startswith(entry.key)
+
+
+def test_the_track_options_set_the_track_and_defaults_keep_the_parameters_to_the_bit():
+    parser = build_parser("run")
+    default = params_from_args(parser.parse_args(["run", "--set", "s"]), "run", "geometry", "track")
+    assert default == ModelParameters()
+    args = parser.parse_args(["run", "--set", "s", "--pad-stiffness-mn-m", "60", "--sleeper-mass-kg", "40"])
+    params = params_from_args(args, "run", "geometry", "track")
+    assert params.track.support.pad_stiffness == 60e6 and params.track.support.sleeper_mass == 40.0
+    assert params.track.support.ballast_stiffness == 140e6  # the rest: the paper's
+    assert describe(params, "track")["track"]["pad_stiffness"] == 60e6
+
+
+def test_the_study_takes_the_parameters_as_prepare_run_does():
+    from wheelrail.core.study import plan_study
+
+    soft = model_parameters({"pad_stiffness": 60e6})
+    plan = plan_study("speeds", ["corrugated-rail"], params=soft, length=1.2)
+    assert {spec.params.track for spec in plan.specs} == {soft.track}  # every run on the soft track
+    plain = plan_study("speeds", ["corrugated-rail"], length=1.2)
+    assert {s.key for s in plan.specs}.isdisjoint(s.key for s in plain.specs)  # the track is in every run's key
+
+
+def test_adding_an_input_is_one_declaration(monkeypatch, capsys):
+    # the rail's mass per length, declared here as a new input would be: it appears in the command line's help,
+    # sets the parameters, is refused in each front end's words and gets a field in the explorer's Track folder
+    rail_mass = Input(
+        "rail_mass", "track.rail.mass_per_length", "kg/m", Unit("kg/m", 1.0, "kg-m"), 30.0, 80.0,
+        "rails from 30 to 80 kg/m", "Rail mass", "track", "rail mass per length",
+    )  # fmt: skip
+    monkeypatch.setattr(inputs, "INPUTS", (*INPUTS, rail_mass))
+    with pytest.raises(SystemExit):
+        main(["run", "--help"])
+    assert "--rail-mass-kg-m" in capsys.readouterr().out
+    args = build_parser("run").parse_args(["run", "--set", "s", "--rail-mass-kg-m", "54.77"])
+    assert params_from_args(args, "track").track.rail.mass_per_length == 54.77
+    assert main(["track", "--rail-mass-kg-m", "5"]) == 2
+    assert (
+        capsys.readouterr()
+        .err.strip()
+        .endswith("error: --rail-mass-kg-m 5 is outside the accepted 30 to 80 kg/m (rails from 30 to 80 kg/m)")
+    )
+    from wheelrail.explorer.config import page_message, read_inputs
+
+    assert dict(read_inputs(rail_mass_kg_m="54.77")) == {"rail_mass": 54.77}
+    with pytest.raises(WheelrailError) as info:
+        read_inputs(rail_mass_kg_m="5")
+    assert (
+        page_message(info.value) == "Rail mass 5 kg/m is outside the accepted 30 to 80 kg/m (rails from 30 to 80 kg/m)"
+    )
+    from wheelrail.explorer.app import ExplorerApp
+
+    app = ExplorerApp(port=_free_port())
+    try:
+        assert app.fields["rail_mass"].label == "Rail mass (kg/m)" and app.fields["rail_mass"].value == "60"
+    finally:
+        app.close()
+
+
+def test_a_config_names_its_track_in_labels_and_file_names():
+    from wheelrail.explorer.config import RunConfig
+
+    config = RunConfig(set_label="corrugated-rail", line=0, model="3d", length=3.0, inputs=(("pad_stiffness", 60e6),))
+    assert config.case_label() == "corrugated-rail, line 0, 100 km/h, 65 kN, 3 m, pad stiffness 60 MN/m"
+    assert config.file_stem() == "wheelrail-3d-corrugated-rail-line0-100kmh-65kN-3m-kP60MNm"
+    assert config.params().track.support.pad_stiffness == 60e6
+    assert config.case() != dataclasses.replace(config, inputs=()).case()
+    assert config.as_dict()["pad_stiffness_mn_m"] == 60
+
+
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return sock.getsockname()[1]
