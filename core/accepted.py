@@ -30,11 +30,11 @@ unit (a radius in mm given as m, or in m as mm, is 1000 times off and lands outs
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import INPUTS, MAX_SPEED_KMH, MIN_SPEED_KMH, ROUND_OFF, Accepted, by_key
 
 __all__ = [
     "ACCEPTED",
@@ -51,18 +51,113 @@ __all__ = [
 
 PATCH_FRACTION = 0.1  # largest Hertz semi-axis at the preload / the bodies' radius in its direction
 CIRCUMFERENCE_TOLERANCE = 0.01  # largest |C - 2 pi R| / (2 pi R) of a wheel set C added to a wheel of radius R
+ROUND_OFF = 1e-12  # relative: a bound met after a unit conversion (km/h -> m/s) is met
+# Accepted train speeds: the range over which the interaction loop is shown stable (FOH_MAX_STEP in
+# parameters.py; smooth-rail speed scans in tests/physics/test_stability.py and benchmarks/speed_scan.py).
+# Below MIN_SPEED_KMH steps get so long (7.2 ms at 0.5 km/h: 8 lags) that the 50 ms truncation of the
+# trapezoidal weights matters and the loop chattered again at 0.5 km/h. MAX_SPEED_KMH is the reach of the
+# cached track responses (``TrackNumerics.max_speed``).
+MIN_SPEED_KMH = 5.0
+MAX_SPEED_KMH = 400.0
 
+
+@dataclass(frozen=True)
+class Accepted:
+    """One input's accepted range: ``key`` (the stable name front ends map to their own), SI ``unit``,
+    ``minimum`` and ``maximum`` (SI), the ``reason`` for them; ``magnitude``: the range bounds |value| (a
+    radius whose sign means concave), ``maximum`` then inf."""
+
+    key: str
+    unit: str
+    minimum: float
+    maximum: float
+    reason: str
+    magnitude: bool = False
+
+    def check(self, value, argument: str | None = None) -> float:
+        """``value`` as a float within the range, else one WheelrailError naming ``argument`` (default the key)."""
+        fields = {"parameter": self.key, "value": value, "unit": self.unit, "argument": argument}
+        if isinstance(value, bool) or not isinstance(value, numbers.Real) or math.isnan(value):
+            raise WheelrailError("not a number", **fields)
+        number = float(value)
+        size = abs(number) if self.magnitude else number
+        if not self.minimum * (1 - ROUND_OFF) <= size <= self.maximum * (1 + ROUND_OFF):
+            raise WheelrailError(
+                None,
+                minimum=self.minimum,
+                maximum=None if self.magnitude else self.maximum,
+                reason=self.reason,
+                magnitude=self.magnitude,
+                **fields,
+            )
+        return number
+
+    def in_unit(self, scale: float) -> tuple[float, float]:
+        """(minimum, maximum) in a front end's unit (``scale`` of it per SI unit), rounded for display."""
+        return float(f"{self.minimum * scale:.6g}"), float(f"{self.maximum * scale:.6g}")
+
+
+_WHEEL_RADIUS = (0.1, 1.25, "a railway wheel, around the CNOSSOS-EU table's 360 to 920 mm diameters")
 
 ACCEPTED: dict[str, Accepted] = {
-    **{entry.key: entry.accepted for entry in INPUTS},
-    # the paper's single R (ContactParameters.radius): a wheel's, the default of both radii
-    "radius": replace(by_key("wheel_radius").accepted, key="radius"),
+    entry.key: entry
+    for entry in (
+        Accepted(
+            "speed",
+            "m/s",
+            MIN_SPEED_KMH / 3.6,
+            MAX_SPEED_KMH / 3.6,
+            "where the interaction loop is shown stable and the cached track responses reach",
+        ),
+        Accepted(
+            "preload", "N", 1e3, 500e3, "a railway wheel's static load, around the CNOSSOS-EU table's 25 to 100 kN"
+        ),
+        Accepted("radius", "m", *_WHEEL_RADIUS),
+        Accepted("wheel_radius", "m", *_WHEEL_RADIUS),
+        Accepted(
+            "rail_crown_radius", "m", 0.05, 5.0, "a rail head, from a sharp 50 mm crown to a worn, nearly flat 5 m"
+        ),
+        Accepted(
+            "wheel_transverse_radius",
+            "m",
+            0.05,
+            math.inf,
+            "inf: a cylindrical or conical tread; negative: a concave, worn one",
+            magnitude=True,
+        ),
+        Accepted(
+            "pad_stiffness", "N/m", 10e6, 3000e6, "from the softest baseplate fastenings of slab track to stiff pads"
+        ),
+        Accepted(
+            "pad_damping",
+            "N s/m",
+            1e3,
+            500e3,
+            "a pad's loss factor of about 0.05 to 0.5 over the accepted stiffnesses at the rail-on-pad resonance",
+        ),
+        Accepted(
+            "sleeper_mass", "kg", 20.0, 300.0, "half a sleeper: from a light timber sleeper to a heavy concrete one"
+        ),
+        Accepted("sleeper_spacing", "m", 0.5, 0.9, "the sleeper spacings of ballasted and slab track"),
+        Accepted(
+            "ballast_stiffness",
+            "N/m",
+            10e6,
+            3000e6,
+            "per half sleeper: from soft subgrade with under-sleeper pads to a slab's rigid support",
+        ),
+        Accepted("ballast_damping", "N s/m", 1e3, 1000e3, "per half sleeper, around the paper's 165 kNs/m"),
+    )
 }
-"""The accepted ranges by key (SI): every declared input's (``wheelrail.core.inputs.INPUTS``) and the paper's R.
-Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU table's 360 to 920 mm wheels and the
-paper's 780 mm (R = 0.39 m) with room for small wagon and large locomotive wheels; rail crowns 0.05 to 5 m;
-treads at least 0.05 m in magnitude (no tread is curved more sharply than a rail crown); loads 1 to 500 kN
-around the table's 25 to 100 kN wheel loads."""
+"""The accepted ranges by key (SI). Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU
+table's 360 to 920 mm wheels and the paper's 780 mm (R = 0.39 m) with room for small wagon and large
+locomotive wheels; rail crowns 0.05 to 5 m; treads at least 0.05 m in magnitude (no tread is curved more
+sharply than a rail crown); loads 1 to 500 kN around the table's 25 to 100 kN wheel loads. The track's ranges
+hold real ballasted and slab tracks with room to spare (Thompson, *Railway Noise and Vibration*, Elsevier 2009,
+section 3.6 and table 3.1: pads from about 20 MN/m, the soft baseplate fastenings of slab track, to over 1 GN/m,
+stiff studded HDPE pads; half concrete sleepers of 100-160 kg, half timber ones around 40 kg; spacings of
+0.6-0.7 m; ballast of 50-200 MN/m per half sleeper). The user-facing inputs (``wheelrail.core.inputs``) take
+their ranges from here."""
 
 
 def check_patch(

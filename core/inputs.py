@@ -1,41 +1,31 @@
-"""The user-facing inputs, each declared once: key, place in ``ModelParameters``, unit, accepted range, names.
+"""The user-facing inputs, each declared once: key, place in ``ModelParameters``, units, label, group.
 
-An :class:`Input` says everything a front end needs of one number a user can set: its stable ``key`` (the
-``parameter`` of a :class:`~wheelrail.core.errors.WheelrailError` about it), its ``path`` in
-:class:`~wheelrail.core.parameters.ModelParameters` (``"track.support.pad_stiffness"``), its SI unit and
-accepted range (with the reason for it), the :class:`Unit` front ends show it in, its page label, its group
-(the command-line option group and the explorer's folder) and a sentence of help. Its default is read from
-the dataclass, never restated.
+An :class:`Input` says what a front end needs of one number a user can set: its stable ``key`` (the
+``parameter`` of a :class:`~wheelrail.core.errors.WheelrailError` about it, and the key of its accepted range in
+:data:`wheelrail.core.accepted.ACCEPTED`, SI, with the reason for it), its ``path`` in
+:class:`~wheelrail.core.parameters.ModelParameters` (``"track.support.pad_stiffness"``), the :class:`Unit` front
+ends show it in, its page label, its group (the command-line option group and the explorer's folder) and a
+sentence of help. Its default is read from the dataclass, never restated.
 
 Everything else is derived from :data:`INPUTS`: the command line's options (``--pad-stiffness-mn-m``: the key
-and the unit's token) and their help, the explorer's fields (one folder per group), the accepted ranges the
-parameter classes check (:data:`wheelrail.core.accepted.ACCEPTED`), the names each front end gives an error
-(:func:`cli_names`, :func:`page_names`), the case key and file names of a result, and the study's inputs.
-Adding an input is one declaration here, with its range (and the dataclass field it sets).
-
-The track's ranges hold real ballasted and slab tracks with room to spare (Thompson, *Railway Noise and
-Vibration*, Elsevier 2009, section 3.6 and table 3.1: pads from about 20 MN/m, the soft baseplate
-fastenings of slab track, to over 1 GN/m, stiff studded HDPE pads; half concrete sleepers of 100-160 kg,
-half timber ones around 40 kg; spacings of 0.6-0.7 m; ballast of 50-200 MN/m per half sleeper). Where the
-model stops holding is in :mod:`wheelrail.core.accepted`'s docstring and the documentation's limitations.
+and the unit's token) and their help, the explorer's fields (one folder per group), the names each front end
+gives an error (:func:`cli_names`, :func:`page_names`), the case key and file names of a result, and the
+study's inputs. Adding an input is one declaration here, its range in ``ACCEPTED`` (which the parameter classes
+check) and a test.
 """
 
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass, replace
 
+from wheelrail.core.accepted import ACCEPTED, Accepted
 from wheelrail.core.errors import Name, WheelrailError
 
 __all__ = [
     "GROUPS",
-    "Accepted",
     "INPUTS",
     "Input",
-    "MAX_SPEED_KMH",
-    "MIN_SPEED_KMH",
-    "ROUND_OFF",
     "Unit",
     "by_key",
     "cli_names",
@@ -45,15 +35,6 @@ __all__ = [
     "model_parameters",
     "page_names",
 ]
-
-ROUND_OFF = 1e-12  # relative: a bound met after a unit conversion (km/h -> m/s) is met
-# Accepted train speeds: the range over which the interaction loop is shown stable (FOH_MAX_STEP in
-# parameters.py; smooth-rail speed scans in tests/physics/test_stability.py and benchmarks/speed_scan.py).
-# Below MIN_SPEED_KMH steps get so long (7.2 ms at 0.5 km/h: 8 lags) that the 50 ms truncation of the
-# trapezoidal weights matters and the loop chattered again at 0.5 km/h. MAX_SPEED_KMH is the reach of the
-# cached track responses (``TrackNumerics.max_speed``).
-MIN_SPEED_KMH = 5.0
-MAX_SPEED_KMH = 400.0
 
 
 @dataclass(frozen=True)
@@ -69,42 +50,6 @@ class Unit:
     def scale(self) -> float:
         """This unit per SI unit (1e-6 for MN/m), as :class:`~wheelrail.core.errors.Name` takes it."""
         return 1.0 / self.si
-
-
-@dataclass(frozen=True)
-class Accepted:
-    """One input's accepted range: ``key`` (the stable name front ends map to their own), SI ``unit``,
-    ``minimum`` and ``maximum`` (SI), the ``reason`` for them; ``magnitude``: the range bounds |value| (a
-    radius whose sign means concave), ``maximum`` then inf."""
-
-    key: str
-    unit: str
-    minimum: float
-    maximum: float
-    reason: str
-    magnitude: bool = False
-
-    def check(self, value, argument: str | None = None) -> float:
-        """``value`` as a float within the range, else one WheelrailError naming ``argument`` (default the key)."""
-        fields = {"parameter": self.key, "value": value, "unit": self.unit, "argument": argument}
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or math.isnan(value):
-            raise WheelrailError("not a number", **fields)
-        number = float(value)
-        size = abs(number) if self.magnitude else number
-        if not self.minimum * (1 - ROUND_OFF) <= size <= self.maximum * (1 + ROUND_OFF):
-            raise WheelrailError(
-                None,
-                minimum=self.minimum,
-                maximum=None if self.magnitude else self.maximum,
-                reason=self.reason,
-                magnitude=self.magnitude,
-                **fields,
-            )
-        return number
-
-    def in_unit(self, scale: float) -> tuple[float, float]:
-        """(minimum, maximum) in a front end's unit (``scale`` of it per SI unit), rounded for display."""
-        return float(f"{self.minimum * scale:.6g}"), float(f"{self.maximum * scale:.6g}")
 
 
 KMH = Unit("km/h", 1.0 / 3.6, "kmh")
@@ -130,22 +75,14 @@ class Input:
         Stable name (``"pad_stiffness"``): the ``parameter`` of its errors, the key of its range.
     path : str
         Where it lives in ``ModelParameters``, dotted (``"track.support.pad_stiffness"``).
-    unit : str
-        Its SI unit (``"N/m"``; ``""`` for a pure number).
     shown : Unit
         The unit the command line and the explorer take it in.
-    minimum, maximum : float
-        Accepted range, SI (``maximum`` inf: open).
-    reason : str
-        Why the range is what it is (shown with a refusal).
     label : str
         The explorer's field label, without its unit ("Pad stiffness").
     group : str
         A key of :data:`GROUPS`.
     help : str
         What it is, in a few words (the option's help, the field's hint).
-    magnitude : bool
-        The range bounds |value| (a radius whose sign means concave).
     unset : str or None
         What an empty field or an absent option means, for inputs whose dataclass default is None or
         infinite ("the paper's R"; "a cylindrical tread"); None: the dataclass default, a number.
@@ -157,15 +94,10 @@ class Input:
 
     key: str
     path: str
-    unit: str
     shown: Unit
-    minimum: float
-    maximum: float
-    reason: str
     label: str
     group: str
     help: str
-    magnitude: bool = False
     unset: str | None = None
     stem: str = ""
     always_shown: bool = False
@@ -185,7 +117,11 @@ class Input:
         """Its default, SI, read from ``ModelParameters()`` (None where the dataclass has None)."""
         from wheelrail.core.parameters import ModelParameters
 
-        value = ModelParameters()
+        return self.value_in(ModelParameters())
+
+    def value_in(self, params):
+        """Its value in ``params`` (a ``ModelParameters``), SI, as the dataclass holds it (None, inf included)."""
+        value = params
         for part in self.path.split("."):
             value = getattr(value, part)
         return value
@@ -199,8 +135,13 @@ class Input:
 
     @property
     def accepted(self) -> Accepted:
-        """Its accepted range as an :class:`Accepted`."""
-        return Accepted(self.key, self.unit, self.minimum, self.maximum, self.reason, self.magnitude)
+        """Its accepted range, SI, and the reason for it: ``wheelrail.core.accepted.ACCEPTED[key]``."""
+        return ACCEPTED[self.key]
+
+    @property
+    def unit(self) -> str:
+        """Its SI unit ("N/m"; "" for a pure number)."""
+        return self.accepted.unit
 
     def check(self, value, argument: str | None = None) -> float:
         """``value`` (SI) as a float within the range, else one WheelrailError keyed by ``key``."""
@@ -214,7 +155,7 @@ class Input:
         """The range in the shown unit: "5 to 400 km/h", "at least 50 mm in magnitude"."""
         low, high = self.in_shown()
         unit = f" {self.shown.name}" if self.shown.name else ""
-        if self.magnitude:
+        if self.accepted.magnitude:
             return f"at least {low:g}{unit} in magnitude"
         return f"{low:g} to {high:g}{unit}"
 
@@ -239,71 +180,41 @@ class Input:
         return f"{self.stem}{value * self.shown.scale:.6g}{unit}"
 
 
-def _track(key, field, shown, low, high, reason, label, help_text, stem) -> Input:
+def _track(key: str, field: str, shown: Unit, label: str, help_text: str, stem: str) -> Input:
     part = "rail" if field in ("loss_factor",) else "support"
-    path = f"track.{part}.{field}"
-    return Input(key, path, _SI[shown], shown, low, high, reason, label, "track", help_text, stem=stem)
+    return Input(key, f"track.{part}.{field}", shown, label, "track", help_text, stem=stem)
 
 
-_SI = {KMH: "m/s", KN: "N", MM: "m", MN_PER_M: "N/m", KNS_PER_M: "N s/m", KG: "kg", METRE: "m", NUMBER: ""}
-_WHEEL_RADIUS = (0.1, 1.25, "a railway wheel, around the CNOSSOS-EU table's 360 to 920 mm diameters")
 _PAPER_R = "the paper's R"
 
 INPUTS: tuple[Input, ...] = (
+    Input("speed", "run.speed", KMH, "Speed", "run", "train speed", always_shown=True),
+    Input("preload", "contact.preload", KN, "Preload", "run", "static wheel load", always_shown=True),
     Input(
-        "speed", "run.speed", "m/s", KMH, MIN_SPEED_KMH * KMH.si, MAX_SPEED_KMH * KMH.si,
-        "where the interaction loop is shown stable and the cached track responses reach",
-        "Speed", "run", "train speed", always_shown=True,
-    ),
-    Input(
-        "preload", "contact.preload", "N", KN, 1e3, 500e3,
-        "a railway wheel's static load, around the CNOSSOS-EU table's 25 to 100 kN",
-        "Preload", "run", "static wheel load", always_shown=True,
+        "wheel_radius", "contact.wheel_radius", MM, "Wheel radius", "geometry", "wheel rolling radius, along the rail",
+        unset=_PAPER_R, stem="R",
     ),
     Input(
-        "wheel_radius", "contact.wheel_radius", "m", MM, *_WHEEL_RADIUS,
-        "Wheel radius", "geometry", "wheel rolling radius, along the rail", unset=_PAPER_R, stem="R",
+        "rail_crown_radius", "contact.rail_crown_radius", MM, "Rail crown radius", "geometry",
+        "rail head (crown) radius across the rail", unset=_PAPER_R, stem="crown",
     ),
     Input(
-        "rail_crown_radius", "contact.rail_crown_radius", "m", MM, 0.05, 5.0,
-        "a rail head, from a sharp 50 mm crown to a worn, nearly flat 5 m",
-        "Rail crown radius", "geometry", "rail head (crown) radius across the rail", unset=_PAPER_R, stem="crown",
+        "wheel_transverse_radius", "contact.wheel_transverse_radius", MM, "Wheel tread radius across", "geometry",
+        "wheel tread radius across the rail (negative: concave, worn)", unset="a cylindrical tread", stem="tread",
     ),
-    Input(
-        "wheel_transverse_radius", "contact.wheel_transverse_radius", "m", MM, 0.05, math.inf,
-        "inf: a cylindrical or conical tread; negative: a concave, worn one",
-        "Wheel tread radius across", "geometry", "wheel tread radius across the rail (negative: concave, worn)",
-        magnitude=True, unset="a cylindrical tread", stem="tread",
+    _track("pad_stiffness", "pad_stiffness", MN_PER_M, "Pad stiffness", "rail pad stiffness, per support", "kP"),
+    _track("pad_damping", "pad_damping", KNS_PER_M, "Pad damping", "rail pad viscous damping, per support", "cP"),
+    _track(
+        "sleeper_mass", "sleeper_mass", KG, "Sleeper mass", "half-sleeper mass (one rail's share, as the paper)", "mS"
+    ),
+    _track("sleeper_spacing", "sleeper_spacing", METRE, "Sleeper spacing", "distance between supports", "LS"),
+    _track(
+        "ballast_stiffness", "ballast_stiffness", MN_PER_M, "Ballast stiffness",
+        "ballast stiffness under a half sleeper", "kB",
     ),
     _track(
-        "pad_stiffness", "pad_stiffness", MN_PER_M, 10e6, 3000e6,
-        "from the softest baseplate fastenings of slab track to stiff studded pads",
-        "Pad stiffness", "rail pad stiffness, per support", "kP",
-    ),
-    _track(
-        "pad_damping", "pad_damping", KNS_PER_M, 1e3, 500e3,
-        "a pad's loss factor of about 0.05 to 0.5 over the accepted stiffnesses at the rail-on-pad resonance",
-        "Pad damping", "rail pad viscous damping, per support", "cP",
-    ),
-    _track(
-        "sleeper_mass", "sleeper_mass", KG, 20.0, 300.0,
-        "half a sleeper: from a light timber sleeper to a heavy concrete one",
-        "Sleeper mass", "half-sleeper mass (one rail's share, as the paper)", "mS",
-    ),
-    _track(
-        "sleeper_spacing", "sleeper_spacing", METRE, 0.5, 0.9,
-        "the sleeper spacings of ballasted and slab track",
-        "Sleeper spacing", "distance between supports", "LS",
-    ),
-    _track(
-        "ballast_stiffness", "ballast_stiffness", MN_PER_M, 10e6, 3000e6,
-        "per half sleeper: from soft subgrade with under-sleeper pads to a slab's rigid support",
-        "Ballast stiffness", "ballast stiffness under a half sleeper", "kB",
-    ),
-    _track(
-        "ballast_damping", "ballast_damping", KNS_PER_M, 1e3, 1000e3,
-        "per half sleeper, around the paper's 165 kNs/m",
-        "Ballast damping", "ballast viscous damping under a half sleeper", "cB",
+        "ballast_damping", "ballast_damping", KNS_PER_M, "Ballast damping",
+        "ballast viscous damping under a half sleeper", "cB",
     ),
 )  # fmt: skip
 """Every user-facing input, in the order front ends show them."""
@@ -365,9 +276,7 @@ def describe(params, *groups: str) -> dict[str, dict[str, float | None]]:
     ``{"track": {"pad_stiffness": 1.2e8, ...}, ...}`` (an infinite tread radius as None, as JSON has it)."""
     found: dict[str, dict[str, float | None]] = {}
     for entry in inputs_of(*groups):
-        value = params
-        for part in entry.path.split("."):
-            value = getattr(value, part)
+        value = entry.value_in(params)
         if entry.path.startswith("contact.") and value is None:  # an unset radius: the one in use
             value = params.contact.radius
         number = None if value is None or not math.isfinite(value) else float(value)

@@ -46,6 +46,7 @@ __all__ = [
     "usable_length",
     "window_half_elements",
     "window_lines",
+    "window_width",
 ]
 
 WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
@@ -184,8 +185,18 @@ def window_lines(roughness, params: ModelParameters | None = None) -> tuple[int,
     from wheelrail.core.roughness import to_model_grid
 
     params = ModelParameters() if params is None else params
+    if roughness.n_lines < 2:  # one line has no width: no window fits (nor can it be interpolated across)
+        return ()
     dx = params.run.element_size
     return _window_lines_on(roughness, to_model_grid(roughness, dx, dx), params)
+
+
+def window_width(params: ModelParameters | None = None) -> float:
+    """The narrowest set (m across the rail) that a model with a lateral window (``3d``) can run on at these
+    parameters: the Hertz semi-axis b at the preload, rounded up to the grid, plus one element, on each side of
+    the line (at the paper's 65 kN and 1 mm elements: 14 mm)."""
+    params = ModelParameters() if params is None else params
+    return 2.0 * _patch_room(params, params.run.element_size)
 
 
 def _window_lines_on(roughness, grid, params: ModelParameters) -> tuple[int, ...]:
@@ -235,6 +246,14 @@ def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters):
     y_line = float(rough.y[rough.row_of_line(line)])
     if not traits.lateral_window:
         return (to_model_grid(rough, dx), [line], np.zeros(1), 0)
+    if rough.n_lines < 2:
+        raise _line_error(
+            "a set of one line has no width, and a model with a lateral window (3d) needs data "
+            f"{window_width(params) * 1e3:.3g} mm across the rail (the patch and one element on each side of "
+            "the line); give a set of several lines or a one-line model",
+            line,
+            (),
+        )
     grid = to_model_grid(rough, dx, dx)
     usable = _window_lines_on(rough, grid, params)
     if line not in usable and np.any(np.abs(grid.y - y_line) <= 1e-9):

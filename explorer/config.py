@@ -21,7 +21,7 @@ from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.inputs import Input, by_key, inputs_of, model_parameters, page_names
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
-from wheelrail.core.run_setup import run_lines, usable_length
+from wheelrail.core.run_setup import run_lines, usable_length, window_width
 from wheelrail.core.spectra import shortest_spectrum_run
 
 __all__ = [
@@ -281,10 +281,11 @@ def read_config(
     allowed = offered_lines(roughness, model, contact, wheel)
     sets = set_label if wheel is None else f"{set_label} + {wheel_label}"
     if not allowed:
+        width = window_width(params) * 1e3
         raise WheelrailError(
             f"The 3d contact patch at {preload_kn:g} kN is {2e3 * contact.hertz_semi_axes()[1]:.1f} "
-            f"mm wide across the rail: no line of {sets} leaves room for it; choose another "
-            "geometry or a one-line model"
+            f"mm wide across the rail and 3d needs data {width:.3g} mm across around its line: no line of {sets} "
+            "leaves room for it; choose a wider set, another geometry or a one-line model"
         )
     try:
         line = int(str(line).strip())

@@ -92,7 +92,7 @@ class RunController:
         self._stopped_generation = -1
         self._run = None
         self._worker: threading.Thread | None = None
-        self._prepared_speeds: set[float] = set()
+        self._prepared: set[tuple] = set()  # (track, speed) whose Green's functions this process has prepared
         self._first_preparation = threading.Lock()  # one first preparation at a time (a warm-up or a run's)
 
     @property
@@ -109,7 +109,7 @@ class RunController:
         with self._lock:
             self._generation += 1
             generation = self._generation
-            first = round(config.speed, 6) not in self._prepared_speeds
+            first = _track_case(config) not in self._prepared
             worker = threading.Thread(
                 target=self._work,
                 args=(generation, config, (roughness, wheel_roughness), first),
@@ -143,7 +143,7 @@ class RunController:
                     # install compiles) on its first step, not when it is prepared
                     next(iter(run.steps()), None)
                     run.cancel()
-                    self._prepared_speeds.add(round(config.speed, 6))
+                    self._prepared.add(_track_case(config))
                     if self._noise_transfer is not None:  # the Noise tab's track transfer functions
                         self._noise_transfer(config.params())
                 except Exception:  # a Run prepares again and says what is wrong
@@ -198,7 +198,7 @@ class RunController:
                 )
                 if outcome != "done":
                     break
-                self._prepared_speeds.add(round(config.speed, 6))
+                self._prepared.add(_track_case(config))
         except WheelrailError as error:
             outcome = self._failed(generation, page_message(error))
         except Exception as error:  # keep serving after anything: report it in the page
@@ -241,7 +241,7 @@ class RunController:
         speed = f"Preparing the track for {config.speed / KMH:g} km/h"
         if first:
             with self._ticking(
-                generation, f"{speed} (1 of 2): its Green's functions, computed once per speed and kept on disk"
+                generation, f"{speed} (1 of 2): its Green's functions, computed once per track and kept on disk"
             ):
                 with self._first_preparation:  # a warm-up under way finishes first
                     if self._precompute is not None:
@@ -359,6 +359,11 @@ class _Stop:
     def __exit__(self, *exc) -> None:
         self._done.set()
         self._thread.join()
+
+
+def _track_case(config: RunConfig) -> tuple:
+    """What a run's Green's functions depend on: its track and speed (a new one is a first preparation)."""
+    return config.params().track, round(config.speed, 6)
 
 
 def _track_green_functions(params) -> None:

@@ -71,12 +71,19 @@ def add_speed_option(parser, help_text: str | None = None) -> None:
     )
 
 
-def add_input_options(parser, *groups: str, helps: dict[str, str] | None = None, unset: dict[str, str] | None = None):
+def add_input_options(
+    parser,
+    *groups: str,
+    helps: dict[str, str] | None = None,
+    unset: dict[str, str] | None = None,
+    several: tuple[str, ...] = (),
+):
     """The options of the declared inputs of ``groups`` (``wheelrail.core.inputs.GROUPS``), one argparse group
     each, named, documented and ranged by their declaration; read back by :func:`params_from_args`.
 
     ``helps``: key -> the command's own help sentence for an input (its default and range are appended);
-    ``unset``: key -> what the command takes an absent option as, where it differs from the declaration's.
+    ``unset``: key -> what the command takes an absent option as, where it differs from the declaration's;
+    ``several``: groups whose options take one or more values (a sweep; a list in the namespace when given).
     An option's default is its dataclass default in the option's unit (None where that is not a number)."""
     helps, unset = helps or {}, unset or {}
     for group in groups:
@@ -85,14 +92,15 @@ def add_input_options(parser, *groups: str, helps: dict[str, str] | None = None,
             default = unset.get(entry.key) or entry.default_text()
             unit = f", {entry.shown.name}" if entry.shown.name else ""
             text = f"{helps.get(entry.key, entry.help + unit)} (default {default}; {_accepted_words(entry)})"
-            options.add_argument(entry.option, type=float, default=entry.shown_default(), help=text)
+            nargs = "+" if group in several else None
+            options.add_argument(entry.option, type=float, nargs=nargs, default=entry.shown_default(), help=text)
         if group == "geometry":
             options.description = _GEOMETRY_NOTE
 
 
 def _accepted_words(entry) -> str:
     low, high = entry.in_shown()
-    return f"at least {low:g} in magnitude" if entry.magnitude else f"accepted {low:g} to {high:g}"
+    return f"at least {low:g} in magnitude" if entry.accepted.magnitude else f"accepted {low:g} to {high:g}"
 
 
 def given_inputs(args, *groups: str) -> list:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import sys
+from dataclasses import replace
 
 from wheelrail.core.commands._common import add_input_options, params_from_args, print_json
 from wheelrail.core.errors import WheelrailError
@@ -20,7 +21,9 @@ def add_parser(sub):
         description=(
             "Batch of independent runs reproducing a figure of the paper on any roughness set: filters "
             "(Fig. 10), line-spread (Figs 12-14), averaged-input (Fig. 16), lateral-resolution (Fig. 17), "
-            "speeds (Fig. 11). Writes one CSV per figure table (band centres in Hz, levels in dB), a PNG "
+            "speeds (Fig. 11); noise (rolling noise against speed); track (force and noise on several tracks: give "
+            "a track option several values, e.g. --pad-stiffness-mn-m 60 120 300 1000). Writes one CSV per "
+            "figure table (band centres in Hz, levels in dB), a PNG "
             "laid out like the paper's figure and a JSON summary into --out; finished runs are kept in "
             "OUT/runs, so an interrupted study resumes with the missing runs only."
         ),
@@ -56,8 +59,41 @@ def add_parser(sub):
         "--dask", metavar="ADDR", default=None, help="run on a Dask cluster: scheduler address tcp://HOST:PORT"
     )
     parser.add_argument("--json", action="store_true", help="print the machine-readable summary (SI units)")
-    add_input_options(parser, *STUDY_GROUPS, helps={"speed": "train speed, km/h (for `speeds` the half-mass case's)"})
+    add_input_options(
+        parser,
+        *STUDY_GROUPS,
+        helps={"speed": "train speed, km/h (for `speeds` the half-mass case's)"},
+        several=("track",),
+    )
     return parser
+
+
+def _tracks(args):
+    """The track study's tracks: every combination of the values given to the track options (each input swept
+    over its values, the others the paper's or as given once); None for one track. The namespace is left with
+    one value per option (the first), so that ``params_from_args`` reads the base track."""
+    import itertools
+
+    from wheelrail.core.inputs import inputs_of, model_parameters
+
+    values = {}
+    for entry in inputs_of("track"):
+        given = getattr(args, entry.dest)
+        given = list(given) if isinstance(given, list) else [given]
+        values[entry] = given
+        setattr(args, entry.dest, given[0])
+    swept = {entry: given for entry, given in values.items() if len(given) > 1}
+    if not swept:
+        return None
+    if args.name != "track":
+        options = ", ".join(entry.option for entry in swept)
+        raise WheelrailError(f"{options}: one value each for study {args.name}; several values sweep `study track`")
+    base = params_from_args(args, "track")
+    tracks = []
+    for combination in itertools.product(*swept.values()):
+        chosen = {entry.key: value * entry.shown.si for entry, value in zip(swept, combination, strict=True)}
+        tracks.append(model_parameters(chosen, base).track)
+    return tracks
 
 
 def run(args) -> int:
@@ -65,6 +101,7 @@ def run(args) -> int:
 
     if args.name not in STUDIES:
         raise WheelrailError(f"unknown study {args.name!r}; choose one of {', '.join(STUDIES)}")
+    tracks = _tracks(args)  # several values of a track input: the track study's sweep
     params = params_from_args(args, *STUDY_GROUPS)
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
@@ -76,7 +113,7 @@ def run(args) -> int:
         args.name,
         args.sets,
         args.out,
-        params=params,
+        params=params if tracks is None else [replace(params, track=track) for track in tracks],
         wheel_set=args.wheel_set,
         length=args.length_m,
         workers=workers,
@@ -93,7 +130,18 @@ def run(args) -> int:
         f"({summary['runs_computed']} computed, {summary['runs_cached']} from {args.out}/runs) "
         f"in {summary['wall_time_s']:.1f} s on {summary['backend']}"
     )
-    print(f"  track: {describe_words(params, 'track')}")
+    if tracks is None:
+        print(f"  track: {describe_words(params, 'track')}")
+    else:  # the sweep: each track by the inputs that differ, the rest once
+        from wheelrail.core.study.track_plan import swept_inputs
+
+        swept = swept_inputs(tracks)
+        for number, track in enumerate(tracks, 1):
+            words = describe_words(replace(params, track=track), "track").split(", ")
+            print(
+                f"  track {number}: " + ", ".join(w for w in words if any(w.startswith(e.label.lower()) for e in swept))
+            )
+        print(f"  every track: {describe_words(params, 'track')} (but for the inputs swept)")
     print(f"  contact: {params.contact.preload / 1e3:g} kN, {describe_words(params, 'geometry')}")
     if summary["loss_of_contact_steps"]:
         print(f"  loss of contact in {summary['loss_of_contact_steps']} steps over all runs")

@@ -139,6 +139,8 @@ _NOISE_TITLES = {
     "noise": "A-weighted sound power per axle, dB(A) re 1 pW (dashed: CNOSSOS-EU)",
     "noise-lpaeq": "pass-by L_pAeq,Tp at 7.5 m / 1.2 m, dB(A) (dashed: CNOSSOS-EU)",
     "noise-filters": "contact filters (dB) and CNOSSOS-EU sound power per axle (dB re 1 pW) per band",
+    "track": "per track: force level (dB re 1 N), sound power per axle and pass-by level (dB(A))",
+    "track-force": "contact-force levels per model and track, dB re 1 N",
 }
 
 
@@ -147,14 +149,15 @@ def _draw_noise(group: list[Table], figure_id: str):
     fig, axes = _axes_grid(1, len(group), height=3.4)
     for ax, table in zip(np.ravel(axes), group, strict=False):
         x = np.asarray(table.band_centres, dtype=float)
-        for i, (column, values) in enumerate(table.columns.items()):
+        levels = {c: v for c, v in table.columns.items() if c.lower().endswith(("_db", "_dba"))}  # not the inputs
+        for i, (column, values) in enumerate(levels.items()):
             style = "--" if column.startswith("cnossos") else "-"
             ax.plot(x, values, style, color=f"C{i % 10}", marker="o", ms=2.5, lw=1.2, label=column)
         if table.axis_name == "band_centre_hz":
             ax.set_xscale("log")
             ax.set_xlabel("frequency (Hz)")
         else:
-            ax.set_xlabel("speed (km/h)")
+            ax.set_xlabel({"speed_kmh": "speed (km/h)", "track": "track number"}.get(table.axis_name, table.axis_name))
         ax.set_title(table.panel, fontsize=9)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=5, ncol=2)
@@ -168,7 +171,7 @@ def plot_study(name: str, tables: list[Table], folder: Path) -> list[Path]:
         by_figure.setdefault(table.figure, []).append(table)
     paths = []
     for figure_id, group in by_figure.items():
-        if figure_id.startswith("noise"):
+        if figure_id.startswith(("noise", "track")):
             figure = _draw_noise(group, figure_id)
             figure.suptitle(f"wheelrail study {name}: {_NOISE_TITLES[figure_id]}", fontsize=9)
             path = folder / f"{figure_id.replace('-', '_')}_{name}.png"

@@ -57,6 +57,7 @@ class StudyPlan:
     length: float | None
     params: ModelParameters = field(default_factory=ModelParameters)  # of every run, but for what the study varies
     wheel_set: SetInfo | None = None  # the wheel set added to every set (combined roughness), if any
+    tracks: tuple = ()  # the tracks the runs are on (the track study: several; the others: params.track)
 
     @property
     def speed(self) -> float:
@@ -196,7 +197,7 @@ def plan_study(
     name: str,
     sets: Sequence,
     *,
-    params: ModelParameters | None = None,
+    params: ModelParameters | Sequence[ModelParameters] | None = None,
     length: float | None = None,
     wheel_set=None,
 ) -> StudyPlan:
@@ -208,12 +209,13 @@ def plan_study(
         One of ``STUDIES``.
     sets : sequence
         Roughness sets (bundled names, CSV/NPZ paths or ``RoughnessSet``); each gives its own panel.
-    params : ModelParameters, optional
+    params : ModelParameters or sequence of them, optional
         The parameters of every run, as ``prepare_run`` takes them (default: the paper's), but for what the
         study varies: the speed ``params.run.speed`` (m/s; for ``speeds`` the reference speed of the
         half-mass case), the contact (material, preload, geometry: e.g.
         ``ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)`` for an elliptic patch), the track
-        and the wheel; e.g. ``wheelrail.core.inputs.model_parameters({"pad_stiffness": 60e6})``.
+        and the wheel; e.g. ``wheelrail.core.inputs.model_parameters({"pad_stiffness": 60e6})``. The ``track``
+        study takes several that differ in their track only: each is a track of the study.
     length : float, optional
         Run length, m. Default: the whole set (rail: the data less the largest window margin, the same for
         every model; wheel: one circumference).
@@ -229,9 +231,7 @@ def plan_study(
     """
     if name not in STUDIES:
         raise WheelrailError(f"unknown study {name!r}; choose one of {', '.join(STUDIES)}")
-    params = ModelParameters() if params is None else params
-    if not isinstance(params, ModelParameters):
-        raise WheelrailError("params must be a wheelrail.core.parameters.ModelParameters")
+    params, tracks = study_parameters(name, params)
     contact = params.contact
     if length is not None and not (isinstance(length, int | float) and math.isfinite(length) and length > 0):
         raise WheelrailError(f"length must be a positive number of m, got {length!r}")
@@ -249,8 +249,12 @@ def plan_study(
     labels = [info.label for info in infos]
     if len(set(labels)) != len(labels):
         raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")
-    builder = _BUILDERS[name]
-    specs, tabulate = builder(infos, params)
+    if name == "track":
+        from wheelrail.core.study.track_plan import plan_track
+
+        specs, tabulate = plan_track(infos, params, tracks, _spec)
+    else:
+        specs, tabulate = _BUILDERS[name](infos, params)
     _check_durations(specs, infos)
     return StudyPlan(
         name=name,
@@ -260,7 +264,28 @@ def plan_study(
         length=length,
         params=params,
         wheel_set=wheel,
+        tracks=tracks,
     )
+
+
+def study_parameters(name: str, params) -> tuple[ModelParameters, tuple]:
+    """A study's parameters and its tracks: ``params`` one ModelParameters (default: the paper's; its track the
+    one track), or, for the ``track`` study, several that differ in their track only (each a track)."""
+    if params is None or isinstance(params, ModelParameters):
+        params = ModelParameters() if params is None else params
+        return params, (params.track,)
+    many = tuple(params) if isinstance(params, list | tuple) else ()
+    if not many or not all(isinstance(p, ModelParameters) for p in many):
+        raise WheelrailError("params must be a wheelrail.core.parameters.ModelParameters (a sequence of them: tracks)")
+    if name != "track" and len(many) > 1:
+        raise WheelrailError(f"the {name} study runs on one set of parameters; several tracks: the track study")
+    base = many[0]
+    if any(replace(p, track=base.track) != base for p in many):
+        raise WheelrailError("the parameters of a track study may differ in their track only")
+    tracks = tuple(p.track for p in many)
+    if len(set(tracks)) != len(tracks):
+        raise WheelrailError("the tracks of a track study must differ from each other")
+    return base, tracks
 
 
 def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:

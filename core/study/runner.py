@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -53,7 +53,7 @@ def run_study(
     sets: Sequence,
     out: str | os.PathLike,
     *,
-    params: ModelParameters | None = None,
+    params: ModelParameters | Sequence[ModelParameters] | None = None,
     wheel_set=None,
     length: float | None = None,
     workers: int = 2,
@@ -71,9 +71,10 @@ def run_study(
         Roughness sets (bundled names, CSV/NPZ paths or ``RoughnessSet``).
     out : path
         Output folder (created if missing): ``<table>.csv``, ``fig<N>_<study>.png``, ``<study>_summary.json``.
-    params : ModelParameters, optional
+    params : ModelParameters or sequence of them, optional
         The parameters of every run, as ``prepare_run`` takes them (default: the paper's), but for what the
-        study varies: speed, contact, track and wheel (see :func:`plan_study`).
+        study varies: speed, contact, track and wheel; the ``track`` study takes several that differ in their
+        track only (see :func:`plan_study`).
     wheel_set : bundled name, CSV/NPZ path or RoughnessSet, optional
         A wheel set added to every rail set (combined roughness); default: a smooth wheel (see
         :func:`plan_study`).
@@ -136,7 +137,8 @@ def _summary_document(
         "speed_kmh": speed / KMH,
         "length_m": {info.label: info.length for info in plan.sets},
         "contact": as_dict(plan.contact),
-        **describe(plan.params, "track"),  # the track of every run, SI
+        **describe(plan.params, "track"),  # the track of every run (the track study: its first), SI
+        "tracks": [describe(replace(plan.params, track=track), "track")["track"] for track in plan.tracks],
         "runs": len({spec.key for spec in plan.specs}),
         "runs_computed": report.computed,
         "runs_cached": report.cached,

@@ -14,7 +14,7 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names  # noqa: F401 - REFERENCE_MODEL re-exported
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 
-STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds", "noise")
+STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds", "noise", "track")
 PAPER_LINES = tuple(range(-3, 4))  # the seven lines -3..3 the paper averages over (section 3.3)
 LOW_RESOLUTION_LINES_MM = {  # Fig. 17: lateral offsets from line 0 kept, mm
     4: (-8.0, -4.0, 0.0, 4.0, 8.0),

@@ -113,3 +113,15 @@ class _no_raise:
 
     def __exit__(self, *exc):
         return False
+
+
+def test_3d_on_a_one_line_set_says_how_wide_a_set_must_be(tmp_path, capsys):
+    from wheelrail.core.cli import main
+
+    path = tmp_path / "one.csv"
+    path.write_text(
+        "# kind: rail\nx_m,y_mm=0\n" + "".join(f"{i * 1e-3:.3f},{(i % 7) * 0.1:.1f}\n" for i in range(3000))
+    )
+    assert main(["run", "--set", str(path), "--model", "3d"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("wheelrail run: error: --line 0: a set of one line has no width") and "14 mm" in err

@@ -123,3 +123,23 @@ def test_a_line_the_wheel_set_does_not_cover_is_worded_by_the_page():
         ).line
         == 4
     )
+
+
+def test_a_one_line_set_offers_no_3d_line_and_says_how_wide_a_set_must_be():
+    one = RAIL.with_heights(RAIL.heights[[RAIL.row_of_line(0)]], y=RAIL.y[[RAIL.row_of_line(0)]])
+    from wheelrail.core.parameters import ContactParameters
+    from wheelrail.explorer.config import offered_lines
+
+    assert offered_lines(one, "3d", ContactParameters()) == ()  # was an internal resampling error
+    assert offered_lines(one, "hertz", ContactParameters()) == (0,)
+    with pytest.raises(WheelrailError) as info:
+        read_config(one, "one-line", **{**FIELDS, "model": "3d"})
+    assert "3d needs data 14 mm across around its line" in page_message(info.value)
+
+
+@pytest.mark.parametrize("typed", ["inf", "nan", "1e999", "-inf"])
+def test_a_speed_that_is_no_finite_number_is_worded_not_raised(typed):
+    # typed in the Speed field these raised an OverflowError in a server callback
+    with pytest.raises(WheelrailError) as info:
+        read_config(RAIL, "corrugated-rail", **{**FIELDS, "speed_kmh": typed})
+    assert page_message(info.value) == f"Speed '{typed}': not a number"

@@ -9,7 +9,7 @@ import math
 import pytest
 
 from wheelrail.core import inputs
-from wheelrail.core.accepted import ACCEPTED
+from wheelrail.core.accepted import ACCEPTED, Accepted
 from wheelrail.core.cli import build_parser, main
 from wheelrail.core.commands._common import params_from_args
 from wheelrail.core.errors import WheelrailError
@@ -89,13 +89,14 @@ def test_the_study_takes_the_parameters_as_prepare_run_does():
 
 
 def test_adding_an_input_is_one_declaration(monkeypatch, capsys):
-    # the rail's mass per length, declared here as a new input would be: it appears in the command line's help,
-    # sets the parameters, is refused in each front end's words and gets a field in the explorer's Track folder
+    # the rail's mass per length, declared here as a new input would be (its declaration and its range): it
+    # appears in the command line's help, sets the parameters, is refused in each front end's words and gets a
+    # field in the explorer's Track folder
     rail_mass = Input(
-        "rail_mass", "track.rail.mass_per_length", "kg/m", Unit("kg/m", 1.0, "kg-m"), 30.0, 80.0,
-        "rails from 30 to 80 kg/m", "Rail mass", "track", "rail mass per length",
-    )  # fmt: skip
+        "rail_mass", "track.rail.mass_per_length", Unit("kg/m", 1.0, "kg-m"), "Rail mass", "track", "mass"
+    )
     monkeypatch.setattr(inputs, "INPUTS", (*INPUTS, rail_mass))
+    monkeypatch.setitem(ACCEPTED, "rail_mass", Accepted("rail_mass", "kg/m", 30.0, 80.0, "rails from 30 to 80 kg/m"))
     with pytest.raises(SystemExit):
         main(["run", "--help"])
     assert "--rail-mass-kg-m" in capsys.readouterr().out

@@ -1,0 +1,116 @@
+"""The ``track`` study: the same runs on several tracks (any track input swept), their force and their noise.
+
+Runs: every contact model of the noise study (:func:`~wheelrail.core.study.noise_plan.noise_models`) on line 0
+of each set at the study's speed, once per track. Each track is a full set of ``ModelParameters.track`` (the
+study's parameters with the swept inputs set); each costs its own precompute of the Green's functions (the
+runs are spread over the workers like any others, so the precomputes of different tracks run in parallel).
+From each run's force levels the TWINS-like chain of :mod:`wheelrail.core.noise.twins` on that track gives the
+rail, sleeper and wheel sound power of one wheel, the A-weighted sound power per axle and the pass-by level of
+the default train (as ``wheelrail noise --run``).
+
+Tables per set: ``track_<set>_noise`` (first column the track's number 1..N, then the swept inputs' values in
+their command-line units, then per model the overall force level, dB re 1 N, and the A-weighted sound powers
+and pass-by level, dB(A)) and ``track_<set>_force_levels`` (the force spectra, one column per model and track).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from wheelrail.core.inputs import inputs_of
+from wheelrail.core.study.noise_plan import noise_models
+from wheelrail.core.study.tables import Table
+
+__all__ = ["plan_track", "swept_inputs"]
+
+
+def swept_inputs(tracks) -> list:
+    """The declared track inputs whose value differs between ``tracks`` (all of them when there is one track)."""
+    entries = inputs_of("track")
+    if len(tracks) == 1:
+        return list(entries)
+    return [entry for entry in entries if len({_value(track, entry) for track in tracks}) > 1]
+
+
+def _value(track, entry) -> float:
+    from wheelrail.core.parameters import ModelParameters
+
+    return float(entry.value_in(ModelParameters(track=track)))
+
+
+def _column(model: str) -> str:
+    return model.replace("-", "_")
+
+
+def plan_track(infos, params, tracks, spec_of):
+    """Specs and the table builder of the ``track`` study (``spec_of(info, model, params, line)`` is the study's
+    own helper); ``tracks`` as ``plans.study_parameters`` gives them."""
+    models = noise_models()
+    on_track = [replace(params, track=track) for track in tracks]
+    layout = {
+        info.label: (info, {(model, k): spec_of(info, model, p, 0) for model in models for k, p in enumerate(on_track)})
+        for info in infos
+    }
+    specs = [spec for _, runs in layout.values() for spec in runs.values()]
+
+    def tabulate(summaries):
+        from wheelrail.core.noise.run_noise import AXLE_DB, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, pass_by_level
+        from wheelrail.core.noise.run_noise import sound_power_from_force as power
+        from wheelrail.core.noise.twins import track_noise_model
+
+        noise_tracks = [track_noise_model(p) for p in on_track]  # cached on disk by track, wheel and contact
+        swept = swept_inputs(tracks)
+        tables = []
+        for label, (_, runs) in layout.items():
+            number = np.arange(1, len(tracks) + 1, dtype=float)
+            noise = {entry.dest: np.array([_value(t, entry) * entry.shown.scale for t in tracks]) for entry in swept}
+            force_columns = {}
+            for model in models:
+                found = [summaries[runs[model, k].key] for k in range(len(tracks))]
+                centres = found[0].band_centres
+                for k, summary in enumerate(found):
+                    force_columns[f"{_column(model)}_track{k + 1}_db"] = np.asarray(summary.levels, dtype=float)
+                levels = [np.concatenate([np.asarray(s.levels, dtype=float), [np.nan]]) for s in found]
+                chains = [power(level, noise_tracks[k]) for k, level in enumerate(levels)]
+                noise[f"{_column(model)}_force_dB"] = np.array([_total(s.levels) for s in found])
+                for part in ("rail", "sleeper", "wheel"):
+                    noise[f"{_column(model)}_{part}_LWA_dBA"] = np.array([c["dba"][part] + AXLE_DB for c in chains])
+                noise[f"{_column(model)}_LWA_dBA"] = np.array([c["axle_dba"] for c in chains])
+                noise[f"{_column(model)}_LpAeq_dBA"] = np.array(
+                    [pass_by_level(c["axle_dba"], DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH) for c in chains]
+                )
+            tables.append(
+                Table(
+                    name=f"track_{label}_noise",
+                    figure="track",
+                    panel=label,
+                    band_centres=number,
+                    columns=noise,
+                    axis_name="track",
+                    title=f"{label}, line 0: per track (swept inputs in their option's units), the overall force "
+                    "level (dB re 1 N), rail, sleeper and wheel sound power per axle and their total (dB(A) re 1 "
+                    f"pW), pass-by L_pAeq,Tp ({DEFAULT_TRAIN_AXLES} axles, {DEFAULT_TRAIN_LENGTH:g} m, dB(A))",
+                )
+            )
+            tables.append(
+                Table(
+                    name=f"track_{label}_force_levels",
+                    figure="track-force",
+                    panel=label,
+                    band_centres=np.asarray(centres, dtype=float),
+                    columns=force_columns,
+                    title=f"{label}, line 0: contact-force levels per model and track, dB re 1 N",
+                )
+            )
+        return tables
+
+    return specs, tabulate
+
+
+def _total(levels) -> float:
+    """The energy sum of band levels (dB), unresolved (NaN) bands left out."""
+    values = np.asarray(levels, dtype=float)
+    values = values[np.isfinite(values)]
+    return float(10 * np.log10(np.sum(10 ** (values / 10)))) if values.size else float("nan")

@@ -1,0 +1,65 @@
+"""The track study: the same runs on several tracks, any track input swept (core/study/track_plan.py)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from wheelrail.core.cli import main
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import model_parameters
+from wheelrail.core.study import plan_study
+from wheelrail.core.study.noise_plan import noise_models
+from wheelrail.core.study.track_plan import swept_inputs
+
+
+def _tracks(*stiffnesses):
+    return [model_parameters({"pad_stiffness": k}) for k in stiffnesses]
+
+
+def test_the_plan_runs_every_model_on_every_track():
+    tracks = _tracks(60e6, 300e6, 1000e6)
+    plan = plan_study("track", ["corrugated-rail"], length=1.0, params=tracks)
+    assert len(plan.specs) == len(noise_models()) * 3
+    assert {spec.params.track for spec in plan.specs} == {p.track for p in tracks}
+    assert len({spec.key for spec in plan.specs}) == len(plan.specs)  # the track is in every run key
+    assert [entry.key for entry in swept_inputs(plan.tracks)] == ["pad_stiffness"]
+    with pytest.raises(WheelrailError, match="runs on one set of parameters; several tracks: the track study"):
+        plan_study("filters", ["corrugated-rail"], length=1.0, params=tracks)
+    with pytest.raises(WheelrailError, match="must differ"):
+        plan_study("track", ["corrugated-rail"], length=1.0, params=_tracks(60e6, 60e6))
+    with pytest.raises(WheelrailError, match="differ in their track only"):
+        plan_study("track", ["corrugated-rail"], length=1.0, params=[tracks[0], model_parameters({"preload": 9e4})])
+
+
+def test_several_values_sweep_the_track_study_only(capsys, tmp_path):
+    assert (
+        main(["study", "filters", "--set", "corrugated-rail", "--out", str(tmp_path), "--sleeper-mass-kg", "40", "80"])
+        == 2
+    )
+    err = capsys.readouterr().err
+    assert "--sleeper-mass-kg: one value each for study filters; several values sweep `study track`" in err
+    assert (
+        main(["study", "track", "--set", "corrugated-rail", "--out", str(tmp_path), "--pad-stiffness-mn-m", "5", "60"])
+        == 2
+    )
+    assert "--pad-stiffness-mn-m 5 is outside the accepted 10 to 3000 MN/m" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_soft_pads_carry_more_rail_noise_than_stiff_ones(tmp_path, capsys):
+    # two tracks, two precomputes (about 15-30 s each) and the noise model's track for each; 1 m runs
+    argv = ["study", "track", "--set", "corrugated-rail", "--length-m", "1", "--out", str(tmp_path)]
+    assert main([*argv, "--pad-stiffness-mn-m", "60", "1000", "--workers", "2", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert [t["pad_stiffness"] for t in summary["tracks"]] == [60e6, 1000e6]
+    table = summary["tables"]["track_corrugated-rail_noise"]
+    assert table["pad_stiffness_mn_m"] == [60.0, 1000.0]
+    # a soft pad decouples the rail from the sleepers: the rail's vibration decays slowly along the track and it
+    # radiates more (Thompson, Railway Noise and Vibration, 2009, section 6.4.4); a stiff pad the opposite
+    rail = np.array(table["hertz_rail_LWA_dBA"])
+    assert rail[0] > rail[1] + 2.0, rail  # margin: the effect is several dB for pads 60 vs 1000 MN/m
+    assert (tmp_path / "track_corrugated-rail_force_levels.csv").is_file()
+    assert (tmp_path / "track_track.png").is_file()
