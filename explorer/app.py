@@ -48,6 +48,7 @@ from wheelrail.explorer.config import (
     page_message,
     read_config,
     read_inputs,
+    read_session,
 )
 from wheelrail.explorer.controller import RunController, RunView
 from wheelrail.explorer.results import Entry, ResultStore
@@ -60,6 +61,7 @@ __all__ = ["ExplorerApp", "main", "serve"]
 LOG = logging.getLogger("wheelrail.explorer")
 DEFAULT_SET = "corrugated-rail"
 DEFAULT_LENGTH = 3.0  # m
+SESSION_VERSION = 1  # of the session document (Session: Save/Load)
 REPLAY_SPEEDS = {"0.01x": 0.01, "0.02x": 0.02, "0.05x": 0.05, "0.1x": 0.1}  # of real time
 REPLAY_FPS = 20.0
 CONTROL_PANEL_WIDTH = 340  # px: the run form, docked left
@@ -180,6 +182,13 @@ class ExplorerApp:
             self.stop_button = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, color="red", disabled=True)
             self.progress_bar = gui.add_progress_bar(0.0, animated=False)
             self.status_md = gui.add_markdown("")
+            with gui.add_folder("Session", expand_by_default=False):
+                self.session_save_button = gui.add_button("Save session (.json)", icon=viser.Icon.DOWNLOAD)
+                self.session_load_button = gui.add_upload_button(
+                    "Load session (.json)",
+                    icon=viser.Icon.UPLOAD,
+                    hint="A session saved here: its set, wheel set, model, line, run length and every input.",
+                )
         self.set_dropdown.on_update(
             lambda event: self._guarded(self.select_set, self.set_dropdown.value, client=event.client)
         )
@@ -187,6 +196,12 @@ class ExplorerApp:
             handle.on_update(lambda event: self._guarded(self.refresh))
         self.wheel_set_dropdown.on_update(lambda event: self._guarded(self.select_wheel_set, client=event.client))
         self.upload_button.on_upload(self._on_upload)
+        self.session_save_button.on_click(
+            lambda event: self._guarded(self.download_session, event.client, client=event.client)
+        )
+        self.session_load_button.on_upload(
+            lambda event: self._guarded(self.load_session, event.target.value.content, client=event.client)
+        )
         self.run_button.on_click(lambda event: self.start_run(client=event.client))
         self.stop_button.on_click(lambda event: self.controller.stop())
 
@@ -441,6 +456,9 @@ class ExplorerApp:
                 self.check_md.content = (
                     f"Run length {shortest:g} to {longest:g} m on this set at {config.speed / KMH:g} km/h."
                 )
+                if self.last_error is not None and (self.shown is None or config != self.shown):
+                    self.last_error = None  # the configuration it was about has changed: it no longer applies
+                    self.status(READY)
             changed = config is None or self.shown is None or config != self.shown
             self.shown = config
             if changed:
@@ -764,18 +782,66 @@ class ExplorerApp:
 
     def load_upload(self, name: str, content: bytes, client=None) -> str:
         label, rough = read_upload(name, content, self.max_upload_bytes)
+        slowest = by_key("speed").accepted.minimum  # the shortest run with a force spectrum is the slowest's
+        shortest, longest = length_range(rough, slowest)  # a set too short for any run: a one-line error
+        if longest < shortest:
+            raise WheelrailError(
+                f"{label}: {rough.length:.3g} m of data, too short for a force spectrum at any accepted speed "
+                f"(a run of at least {shortest:g} m at {slowest / KMH:g} km/h); the set is not loaded"
+            )
         self._sets[label] = rough
         options = tuple(self.set_dropdown.options)
         if label not in options:
             self.set_dropdown.options = (*options, label)
-        self.set_dropdown.value = label  # its callback selects it
-        if self.roughness_label != label:
+        self.set_dropdown.value = label  # its callback selects it (a new name)
+        if self.roughness_label != label or self.roughness is not rough:  # the same name again: the new content
             self.select_set(label)
         message = f"Loaded {label}: {rough.kind}, {rough.n_lines} lines, {rough.length:.3g} m. {self.length_note}"
         self.status(message.strip())
         self._notify("File loaded", message, client, colour="green")
         LOG.info("uploaded %s", label)
         return label
+
+    def session(self) -> dict:
+        """The page's settings as a session document (JSON-able): set, wheel set, model, line, run length and
+        every declared input's field as typed (by its option's name: ``speed_kmh``, ``pad_stiffness_mn_m``)."""
+        return {
+            "wheelrail_session": SESSION_VERSION,
+            "set": self.roughness_label,
+            "wheel_set": self.wheel_set_dropdown.value,
+            "model": self.model_dropdown.value,
+            "line": self.line_dropdown.value,
+            "length_m": self.length_text.value,
+            "inputs": self._typed(),
+        }
+
+    def download_session(self, client=None) -> tuple[str, bytes]:
+        """The session (:meth:`session`) as a .json download, named after the configuration when it is valid."""
+        import json
+
+        stem = self.shown.for_model(self.shown.model).file_stem() if self.shown is not None else "wheelrail"
+        name = f"{stem}-session.json"
+        content = json.dumps(self.session(), indent=2).encode()
+        self._send(name, content, client)
+        return name, content
+
+    def load_session(self, content: bytes) -> None:
+        """Set the page from a session document (:meth:`session`); one WheelrailError, and nothing changed, if it
+        is not one or names a set this page does not have (upload the set first)."""
+        session = read_session(content, tuple(self.set_dropdown.options), tuple(self.wheel_set_dropdown.options))
+        with self._quietly():
+            self.set_dropdown.value = session["set"]
+            self.wheel_set_dropdown.value = session["wheel_set"]
+            self.model_dropdown.value = session["model"]
+            self.length_text.value = session["length_m"]
+            for entry in inputs_of():
+                self.fields[entry.key].value = session["inputs"].get(entry.dest, field_text(entry))
+        self.select_set(session["set"])
+        with self._quietly():
+            if session["line"] in self.line_dropdown.options:
+                self.line_dropdown.value = session["line"]
+        self.refresh()
+        self.status(f"Session loaded: {self.shown.label() if self.shown is not None else 'not a valid run yet'}.")
 
     def download_rrd(self, client=None) -> tuple[str, bytes]:
         """The replayed run (the model shown) as a rerun recording, named after its configuration."""

@@ -41,6 +41,7 @@ __all__ = [
     "field_hint",
     "field_text",
     "read_inputs",
+    "read_session",
     "read_train",
 ]
 
@@ -323,3 +324,32 @@ def read_config(
         wheel_set_label=None if wheel is None else wheel_label,
         inputs=inputs,
     )
+
+
+def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, ...]) -> dict:
+    """A session document saved by the explorer (``ExplorerApp.session``) read back and checked: its settings as
+    text fields, or one WheelrailError (not a session, a set or wheel set this page does not have, a model it does
+    not know, an input it does not declare). The values are checked as the fields are, when they are set."""
+    import json
+
+    try:
+        session = json.loads(content.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError):
+        raise WheelrailError("not a wheelrail session file (JSON saved with Save session)") from None
+    if not isinstance(session, dict) or session.get("wheelrail_session") != 1:
+        raise WheelrailError("not a wheelrail session file (JSON saved with Save session)")
+    fields = {key: session.get(key) for key in ("set", "wheel_set", "model", "line", "length_m")}
+    inputs = session.get("inputs", {})
+    if not all(isinstance(value, str) for value in fields.values()) or not isinstance(inputs, dict):
+        raise WheelrailError("session file: the settings must be text as the page's fields hold them")
+    if fields["set"] not in sets:
+        raise WheelrailError(f"session file: the roughness set {fields['set']!r} is not loaded here; upload it first")
+    if fields["wheel_set"] not in wheel_sets:
+        raise WheelrailError(f"session file: the wheel roughness {fields['wheel_set']!r} is not offered here")
+    if fields["model"] not in MODEL_CHOICES:
+        raise WheelrailError(f"session file: unknown contact model {fields['model']!r}")
+    known = {entry.dest for entry in inputs_of()}
+    unknown = sorted(set(inputs) - known)
+    if unknown or not all(isinstance(value, str) for value in inputs.values()):
+        raise WheelrailError(f"session file: unknown inputs {', '.join(unknown) or 'or values not text'}")
+    return {**fields, "inputs": inputs}

@@ -92,7 +92,7 @@ class RunController:
         self._stopped_generation = -1
         self._run = None
         self._worker: threading.Thread | None = None
-        self._prepared: set[tuple] = set()  # (track, speed) whose Green's functions this process has prepared
+        self._prepared_tracks: set[tuple] = set()  # (track, speed) whose Green's functions this process has prepared
         self._first_preparation = threading.Lock()  # one first preparation at a time (a warm-up or a run's)
 
     @property
@@ -109,7 +109,7 @@ class RunController:
         with self._lock:
             self._generation += 1
             generation = self._generation
-            first = _track_case(config) not in self._prepared
+            first = _track_case(config) not in self._prepared_tracks
             worker = threading.Thread(
                 target=self._work,
                 args=(generation, config, (roughness, wheel_roughness), first),
@@ -143,7 +143,7 @@ class RunController:
                     # install compiles) on its first step, not when it is prepared
                     next(iter(run.steps()), None)
                     run.cancel()
-                    self._prepared.add(_track_case(config))
+                    self._prepared_tracks.add(_track_case(config))
                     if self._noise_transfer is not None:  # the Noise tab's track transfer functions
                         self._noise_transfer(config.params())
                 except Exception:  # a Run prepares again and says what is wrong
@@ -198,7 +198,7 @@ class RunController:
                 )
                 if outcome != "done":
                     break
-                self._prepared.add(_track_case(config))
+                self._prepared_tracks.add(_track_case(config))
         except WheelrailError as error:
             outcome = self._failed(generation, page_message(error))
         except Exception as error:  # keep serving after anything: report it in the page

@@ -228,13 +228,15 @@ def test_the_page_is_titled_and_keeps_one_notice(app, browser):
     run_button.wait_for(timeout=90_000)
     assert page.title() == "wheelrail explorer"
     speed = _text_field(page, "Speed (km/h)")
-    old = app.speed_text.value
+    old = app.fields["speed"].value
     app.notice_seconds = 600.0  # none closes by itself meanwhile: only a replacement takes one away
     try:
         for typo in ("1OO", "abc", "-5"):
             speed.fill(typo)
             speed.press("Enter")
-            _wait_for(lambda typo=typo: app.speed_text.value == typo, 30, f"the speed {typo!r} to reach the server")
+            _wait_for(
+                lambda typo=typo: app.fields["speed"].value == typo, 30, f"the speed {typo!r} to reach the server"
+            )
             run_button.click()
             _wait_for(lambda typo=typo: typo in (app.last_error or ""), 30, f"the message about {typo!r}")
         # once the page has shown the last notice and taken the others away (they fade out): one notice
@@ -254,6 +256,6 @@ def test_the_page_is_titled_and_keeps_one_notice(app, browser):
         )
     finally:
         app.notice_seconds = NOTICE_SECONDS
-        app.speed_text.value = old
+        app.fields["speed"].value = old
     assert not errors, errors
     page.close()

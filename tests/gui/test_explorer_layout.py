@@ -132,7 +132,11 @@ def test_long_plot_titles_wrap_inside_their_plot(app, browser):
     """A configuration with a contact geometry has titles longer than a plot is wide: they wrap."""
     page, errors = _open(browser, app, *SIZES[0])
     try:
-        app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = "460", "300", "-1000"
+        (
+            app.fields["wheel_radius"].value,
+            app.fields["rail_crown_radius"].value,
+            app.fields["wheel_transverse_radius"].value,
+        ) = "460", "300", "-1000"
         page.wait_for_function(
             f"() => ({PLOT_BOXES})().some(b => b.title.includes('tread radius across -1000'))", timeout=60_000
         )
@@ -141,7 +145,9 @@ def test_long_plot_titles_wrap_inside_their_plot(app, browser):
         assert first["width"] >= MIN_WIDTH
         assert not errors, errors
     finally:
-        app.wheel_radius_text.value = app.crown_radius_text.value = app.tread_radius_text.value = ""
+        app.fields["wheel_radius"].value = app.fields["rail_crown_radius"].value = app.fields[
+            "wheel_transverse_radius"
+        ].value = ""
         page.close()
 
 

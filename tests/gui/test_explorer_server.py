@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import inputs_of
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters
 from wheelrail.core.recording import read_recording
 from wheelrail.core.reference_filters import reference_filters
@@ -58,12 +59,15 @@ def _reset(
     geometry_mm=("", "", ""),
 ):
     app.wheel_set_dropdown.value = wheel_set
-    app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = geometry_mm
+    for key, text in zip(("wheel_radius", "rail_crown_radius", "wheel_transverse_radius"), geometry_mm, strict=True):
+        app.fields[key].value = text
+    for entry in inputs_of("track"):  # the paper's track
+        app.fields[entry.key].value = f"{entry.shown_default():g}"
     app.set_dropdown.value = set_name
     app.model_dropdown.value = model
     app.line_dropdown.value = str(line)
-    app.speed_text.value = f"{speed:g}"
-    app.preload_text.value = f"{preload:g}"
+    app.fields["speed"].value = f"{speed:g}"
+    app.fields["preload"].value = f"{preload:g}"
     app.length_text.value = f"{length:g}"
     app.last_error = None
 
@@ -73,9 +77,67 @@ def test_binds_localhost_by_default(app):
 
 
 def test_field_hints_state_cores_accepted_ranges(app):
-    assert app.speed_text.hint == "5 to 400 km/h" and app.preload_text.hint == "1 to 500 kN"
-    assert "100 to 1250 mm" in app.wheel_radius_text.hint and "50 to 5000 mm" in app.crown_radius_text.hint
-    assert app.tread_radius_text.hint.startswith("at least 50 mm in magnitude")
+    assert app.fields["speed"].hint == "Train speed, 5 to 400 km/h; default 100 km/h"
+    assert "1 to 500 kN" in app.fields["preload"].hint and "100 to 1250 mm" in app.fields["wheel_radius"].hint
+    assert "50 to 5000 mm" in app.fields["rail_crown_radius"].hint
+    assert "at least 50 mm in magnitude" in app.fields["wheel_transverse_radius"].hint
+    assert app.fields["pad_stiffness"].hint == "Rail pad stiffness, per support, 10 to 3000 MN/m; default 120 MN/m"
+    assert app.fields["pad_stiffness"].label == "Pad stiffness (MN/m)" and app.fields["pad_stiffness"].value == "120"
+
+
+def test_a_track_field_changes_the_case_and_a_bad_one_is_worded(app):
+    _reset(app)
+    plain = app.shown
+    app.fields["pad_stiffness"].value = "60"
+    assert app.shown.params().track.support.pad_stiffness == 60e6 and app.shown.case() != plain.case()
+    assert "pad stiffness 60 MN/m" in app.shown.case_label()
+    app.fields["pad_stiffness"].value = "0"
+    assert app.shown is None
+    assert "Pad stiffness 0 MN/m is outside the accepted 10 to 3000 MN/m" in app.check_md.content
+    assert not app.start_run()
+    app.fields["pad_stiffness"].value = "120"
+    assert app.shown == plain
+
+
+def test_a_session_saves_and_loads_back(app):
+    _reset(app, model="2d", line=1, speed=80, length=1.0)
+    app.fields["sleeper_mass"].value = "40"
+    name, content = app.download_session()
+    saved = app.shown
+    assert name == saved.file_stem() + "-session.json"
+    _reset(app)
+    assert app.shown != saved
+    app.load_session(content)
+    assert app.shown == saved and "Session loaded" in app.status_md.content
+    with pytest.raises(WheelrailError, match="not a wheelrail session file"):
+        app.load_session(b"{}")
+    other = content.replace(b'"corrugated-rail"', b'"my-own-rail"')
+    with pytest.raises(WheelrailError, match="'my-own-rail' is not loaded here; upload it first"):
+        app.load_session(other)
+    assert app.shown == saved  # a refused session changes nothing
+
+
+def test_an_error_shown_goes_once_the_fields_are_fixed(app):
+    _reset(app)
+    app.fields["speed"].value = "inf"  # a callback used to raise OverflowError here
+    assert "Speed 'inf': not a number" in app.check_md.content
+    app.report_error("something about that configuration")
+    app.fields["speed"].value = "100"
+    assert app.last_error is None and "**Error:**" not in app.status_md.content
+
+
+def test_an_upload_too_short_for_any_run_is_refused_and_a_same_name_one_replaces(app, tmp_path):
+    _reset(app)
+    before = app.roughness_label
+    with pytest.raises(WheelrailError, match="too short for a"):
+        app.load_upload("tiny.csv", b"# kind: rail\nx_m,y_mm=0,y_mm=1\n0,1,1\n0.001,2,2\n")
+    assert app.roughness_label == before and "upload: tiny.csv" not in app.set_dropdown.options
+    rail = load_roughness("corrugated-rail")
+    for scale in (1.0, 2.0):  # the same file name twice: the page shows the second file's data
+        small = rail.with_heights(scale * rail.heights[6:13, :1500], y=rail.y[6:13], note="explorer test")
+        write_csv(small, tmp_path / "same.csv")
+        app.load_upload("same.csv", (tmp_path / "same.csv").read_bytes())
+        assert np.allclose(app.roughness.heights, small.heights, atol=1e-9)
 
 
 def test_controls_define_the_run(app):
@@ -131,7 +193,7 @@ def test_stale_contact_filters_disappear_when_the_configuration_changes(app):
     assert labels[4:] == ["cnossos", "averaging", "patch-correlated", "patch-incoherent"]  # dotted references
     assert [style for _, _, style in app.spectra.filters.series] == ["solid"] * 4 + ["dotted"] * 4
     assert app.spectra.filters.handle.title.endswith("line 0, 100 km/h, 65 kN, 0.8 m")
-    app.speed_text.value = "80"
+    app.fields["speed"].value = "80"
     assert [label for label, _, _ in app.spectra.filters.series] == labels[4:]  # the old filters are gone
     assert app.spectra.filters.handle.title.endswith("line 0, 80 km/h, 65 kN, 0.8 m")
     assert app.spectra.csv_button.disabled and app.rrd_button.disabled
@@ -140,7 +202,7 @@ def test_stale_contact_filters_disappear_when_the_configuration_changes(app):
     # the references follow the speed: on the force bands at 80 km/h
     references = reference_filters(65e3, 0.39, 80 * KMH).by_frequency["cnossos"]
     assert np.allclose(app.spectra.filters.handle.data[1], references[np.isfinite(references)])
-    app.speed_text.value = "100"  # back: that configuration's runs show again
+    app.fields["speed"].value = "100"  # back: that configuration's runs show again
     assert [label for label, _, _ in app.spectra.filters.series] == labels
     name, content = app.download_spectra_csv()
     assert name == "wheelrail-spectra-corrugated-rail-line0-100kmh-65kN-0.8m.csv"
@@ -184,9 +246,9 @@ def test_only_valid_choices_are_offered_and_bad_values_are_refused(app):
     assert app.line_dropdown.options == tuple(map(str, expected)) and expected == (-2, -1, 0, 1, 2)
     assert app.line_dropdown.value == "2" and "Line 7 is not offered for 3d" in app.status_md.content
     for field, value, message in [
-        (app.speed_text, "450", "Speed 450 km/h is outside the accepted 5 to 400 km/h"),
-        (app.speed_text, "abc", "Speed 'abc': not a number"),
-        (app.preload_text, "0", "Preload 0 kN is outside the accepted 1 to 500 kN"),
+        (app.fields["speed"], "450", "Speed 450 km/h is outside the accepted 5 to 400 km/h"),
+        (app.fields["speed"], "abc", "Speed 'abc': not a number"),
+        (app.fields["preload"], "0", "Preload 0 kN is outside the accepted 1 to 500 kN"),
         (
             app.length_text,
             "9",
@@ -261,24 +323,24 @@ def test_upload_a_user_csv_and_run_on_it(app, tmp_path):
 def test_geometry_fields_refuse_bad_values_in_words(app):
     _reset(app, model="3d")
     for field, value, message in [
-        (app.wheel_radius_text, "abc", "Wheel radius 'abc': not a number"),
-        (app.wheel_radius_text, "-460", "Wheel radius -460 mm is outside the accepted 100 to 1250 mm"),
-        (app.crown_radius_text, "0", "Rail crown radius 0 mm is outside the accepted 50 to 5000 mm"),
+        (app.fields["wheel_radius"], "abc", "Wheel radius 'abc': not a number"),
+        (app.fields["wheel_radius"], "-460", "Wheel radius -460 mm is outside the accepted 100 to 1250 mm"),
+        (app.fields["rail_crown_radius"], "0", "Rail crown radius 0 mm is outside the accepted 50 to 5000 mm"),
         (
-            app.tread_radius_text,
+            app.fields["wheel_transverse_radius"],
             "0",
             "Wheel tread radius across 0 mm is outside the accepted range, a magnitude of at least 50 mm",
         ),
         # a concave tread tighter than the crown conforms with it across the rail: core's check, the page's words
         (
-            app.tread_radius_text,
+            app.fields["wheel_transverse_radius"],
             "-300",
             "Wheel tread radius across -300 mm: a concave tread of radius 0.3 m fits the "
             "rail crown of radius 0.39 m or closer",
         ),
         # a concave tread close to the crown makes a patch too wide for Hertz's theory at the preload
         (
-            app.tread_radius_text,
+            app.fields["wheel_transverse_radius"],
             "-390.5",
             "Wheel tread radius across -390.5 mm: the Hertz patch at the preload would be",
         ),
@@ -289,12 +351,12 @@ def test_geometry_fields_refuse_bad_values_in_words(app):
         assert message in app.last_error and "--" not in app.last_error and "ContactParameters" not in app.last_error
         field.value = ""
     # a patch too wide across for the set: said in words, no line offered is pretended
-    app.crown_radius_text.value, app.tread_radius_text.value = "800", "-1000"
+    app.fields["rail_crown_radius"].value, app.fields["wheel_transverse_radius"].value = "800", "-1000"
     assert "The 3d contact patch at 65 kN is 32.3 mm wide across the rail: no line of corrugated-rail" in (
         app.check_md.content
     )
     assert not app.start_run()
-    app.crown_radius_text.value = app.tread_radius_text.value = ""
+    app.fields["rail_crown_radius"].value = app.fields["wheel_transverse_radius"].value = ""
     # a wheel set is added to a rail set only
     _reset(app, set_name="cast-iron-wheel", wheel_set="sinter-wheel-1")
     assert not app.start_run()
@@ -355,8 +417,8 @@ def test_changing_the_geometry_hides_the_old_results(app):
     _reset(app, model="3d", length=0.6)
     old = _run(app)
     assert app.store.entries(app.shown.case())["3d"].result is old and not app.rrd_button.disabled
-    app.wheel_radius_text.value = "460"
-    app.crown_radius_text.value = "300"
+    app.fields["wheel_radius"].value = "460"
+    app.fields["rail_crown_radius"].value = "300"
     assert app.store.entries(app.shown.case()) == {}  # nothing of the old geometry is shown as current
     assert app.rrd_button.disabled and app.spectra.csv_button.disabled and app.replay is None
     assert app.patch.force.handle.title.endswith("0.6 m, wheel radius 460 mm, rail crown radius 300 mm")
@@ -371,7 +433,7 @@ def test_changing_the_geometry_hides_the_old_results(app):
     assert new.parameters["contact"]["wheel_radius"] == pytest.approx(0.46)
     assert new.parameters["contact"]["rail_crown_radius"] == pytest.approx(0.3)
     assert app.replay.result is new
-    app.wheel_radius_text.value = app.crown_radius_text.value = ""  # back: the old run shows again
+    app.fields["wheel_radius"].value = app.fields["rail_crown_radius"].value = ""  # back: the old run shows again
     assert app.store.entries(app.shown.case())["3d"].result is old
 
 

@@ -42,12 +42,16 @@ def _run(app, timeout=300.0):
 
 def _reset(app, *, model="3d", speed="100", length="0.6", geometry_mm=("", "", "")):
     app.wheel_set_dropdown.value = "none"
-    app.wheel_radius_text.value, app.crown_radius_text.value, app.tread_radius_text.value = geometry_mm
+    (
+        app.fields["wheel_radius"].value,
+        app.fields["rail_crown_radius"].value,
+        app.fields["wheel_transverse_radius"].value,
+    ) = geometry_mm
     app.set_dropdown.value = "corrugated-rail"
     app.model_dropdown.value = model
     app.line_dropdown.value = "0"
-    app.speed_text.value = speed
-    app.preload_text.value = "65"
+    app.fields["speed"].value = speed
+    app.fields["preload"].value = "65"
     app.length_text.value = length
     app.last_error = None
 
@@ -94,16 +98,16 @@ def test_the_view_follows_the_configuration_shown(app):
     _assert_cleared(app)  # a configuration without a run: the 0.8 m patch is not left on screen
     result = _run(app)
     _assert_shows_last_step(app, result)
-    app.speed_text.value = "200"
+    app.fields["speed"].value = "200"
     _assert_cleared(app)
-    app.speed_text.value = "100"
+    app.fields["speed"].value = "100"
     _assert_shows_last_step(app, result)
     app.length_text.value = "0.8"  # the longer run: its own steps, positions and slider range
     _assert_shows_last_step(app, longer)
     app.length_text.value = "0.6"
-    app.wheel_radius_text.value, app.crown_radius_text.value = "460", "300"
+    app.fields["wheel_radius"].value, app.fields["rail_crown_radius"].value = "460", "300"
     _assert_cleared(app)  # the old circle patch does not lie under the new ellipse
-    app.wheel_radius_text.value = app.crown_radius_text.value = ""
+    app.fields["wheel_radius"].value = app.fields["rail_crown_radius"].value = ""
     _assert_shows_last_step(app, result)
     app.time_slider.value = 100  # scrubbing draws that step of this run
     assert "step 100:" in app.readout_md.content
@@ -131,8 +135,8 @@ def test_a_compare_replays_and_downloads_the_model_chosen(app):
     """After compare, a model selector chooses what is replayed, plotted as displacement and downloaded."""
     _reset(app, model="compare")
     _run(app)
-    app.speed_text.value = "80"
-    app.speed_text.value = "100"  # back on the compare's configuration
+    app.fields["speed"].value = "80"
+    app.fields["speed"].value = "100"  # back on the compare's configuration
     models = [m for m in model_names() if m in app.store.entries(app.shown.case())]
     first = models[0]  # registry order: 3d
     assert app.patch.displacement.handle.title.startswith(f"Displacement, {first}:")
@@ -239,7 +243,7 @@ def test_the_line_menu_and_the_run_length_follow_the_set_loaded(app, tmp_path):
     assert app.line_dropdown.options == ("-1", "0", "1")
     _reset(app, geometry_mm=("", "5000", ""))  # a 5 m crown: a patch too wide for every line
     assert app.line_dropdown.options == ("no line fits",)
-    app.crown_radius_text.value = ""
+    app.fields["rail_crown_radius"].value = ""
     assert app.line_dropdown.options == ("-2", "-1", "0", "1", "2")
 
 
@@ -350,14 +354,14 @@ def test_a_run_reaches_the_view_only_while_its_configuration_is_shown(app):
         assert app.start_run()
         assert run.reached.wait(60.0)
         assert app.scene.strip.visible and "step 1499:" in app.readout_md.content
-        app.speed_text.value = "91"  # another configuration while the run goes on
+        app.fields["speed"].value = "91"  # another configuration while the run goes on
         _assert_cleared(app)
         drawn = app.scene.frames_drawn
         run.release.set()
         assert app.controller.wait(60.0)
         assert app.scene.frames_drawn == drawn and app.progress_bar.value == 0  # nothing of the run arrived
         _assert_cleared(app)
-        app.speed_text.value = "90"  # back: its run, last step
+        app.fields["speed"].value = "90"  # back: its run, last step
         assert app.scene.strip.visible and "step 2999:" in app.readout_md.content
         assert app.progress_bar.value == 100 and app.time_slider.max == 2999
     finally:
@@ -430,14 +434,14 @@ def test_the_noise_tab_shows_the_runs_sound_power_beside_cnossos_and_plays_its_p
     _reset(app, model="hertz", speed="120", length="1")
     _run(app)
     other = app.shown.case_label()
-    app.speed_text.value = "100"
+    app.fields["speed"].value = "100"
     tab.overlay_dropdown.value = other
     assert app.spectra.overlay_dropdown.value == other
     dashed = [label for label, _, style in tab.power.series if style == "dashed"]
     assert dashed == [f"hertz: total [{other}]"]
     assert any(line.startswith(f"| hertz [{other}]") for line in tab.totals_md.content.splitlines())
     tab.overlay_dropdown.value = app.no_overlay
-    app.speed_text.value = "130"  # no run of this configuration
+    app.fields["speed"].value = "130"  # no run of this configuration
     assert "no run of this configuration yet" in tab.power.series[0][0] and tab.audio_button.disabled
 
 
