@@ -102,8 +102,12 @@ def cache_key(kind: str, description: dict) -> str:
     """Stable SHA-256 key of a JSON-able description (sorted keys, floats via repr)."""
     text = json.dumps({"kind": kind, "version": FORMAT_VERSION, **description}, sort_keys=True, default=repr)
     key = hashlib.sha256(text.encode()).hexdigest()
-    # remembered so that save_entry can describe the entry (``wheelrail cache`` lists it); small dicts
+    # remembered so that save_entry can describe the entry (``wheelrail cache`` lists it); small dicts, the
+    # newest few hundred kept (a long-lived explorer sees a new key per wheel and time step)
+    _DESCRIPTIONS.pop(key, None)
     _DESCRIPTIONS[key] = (kind, json.loads(json.dumps(description, default=repr)))
+    while len(_DESCRIPTIONS) > 256:
+        del _DESCRIPTIONS[next(iter(_DESCRIPTIONS))]
     return key
 
 

@@ -56,5 +56,5 @@ def _first_line() -> str:
         where = "on disk"
     return (
         "this track is not in the disk cache: computing its Green's functions once "
-        f"(about 208 MB, kept {where}; `wheelrail cache` lists the entries)"
+        f"(kept {where}, about 208 MB per track; `wheelrail cache` lists the entries)"
     )

@@ -122,7 +122,7 @@ def test_a_new_track_is_announced_on_a_terminal(folder):
     assert "wheelrail run: this track is not in the disk cache" in text and str(folder) in text
     for phase in ("assembling the FE track", "integrating the track's impulse responses (16 load", "writing"):
         assert f"wheelrail run: {phase}" in text
-    assert "load position" in text  # the integration's bar
+    assert "0/16 [" in text and "load position/s" in text  # the integration's bar
     piped = io.StringIO()  # not a terminal: nothing (pipes and --json stay clean)
     with announce_track_precompute("run", piped):
         track._MEMORY.clear()
