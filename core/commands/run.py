@@ -288,10 +288,15 @@ def run(args) -> int:
     prepared = time.perf_counter()
     result = _execute(args, interaction, sink)
     finished = time.perf_counter()
+    if out is not None:
+        try:
+            result.save_npz(out)
+        except BaseException:  # e.g. a full disk: no recording without its arrays either
+            if sink is not None:
+                sink.abort()
+            raise
     if sink is not None:
         sink.finish(result)
-    if out is not None:
-        result.save_npz(out)
     summary = _summary(args, result, params, (start, prepared, finished))
     if out is not None:
         summary["out"] = str(out)

@@ -128,3 +128,19 @@ def test_a_new_track_is_announced_on_a_terminal(folder):
         track._MEMORY.clear()
         track.stationary_track_response(None, dataclasses.replace(numerics, duration=0.004))
     assert piped.getvalue() == ""
+
+
+@pytest.mark.slow
+def test_run_leaves_no_recording_when_its_arrays_fail(tmp_path, monkeypatch, capsys):
+    # before: the recording was published first, then --out failed on the full disk: a .rrd without its .npz
+    from wheelrail.core.results import RunResult
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(RunResult, "save_npz", full)
+    out, rrd = tmp_path / "run.npz", tmp_path / "run.rrd"
+    argv = ["run", "--set", "corrugated-rail", "--length-m", "0.05", "--out", str(out), "--rrd", str(rrd), "--json"]
+    code, _, err = _run(capsys, *argv)
+    assert code == 1 and "No space left" in err
+    assert list(tmp_path.iterdir()) == []
