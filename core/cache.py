@@ -61,7 +61,9 @@ _WARNED_UNWRITABLE: set[str] = set()
 
 
 def cache_dir() -> Path:
-    """The cache folder (created if missing); a WheelrailError naming the setting if it cannot be a folder."""
+    """The cache folder (created if missing and possible: one that cannot be created, e.g. under a read-only
+    folder, is returned as it is and reads as empty, and writing it warns); a WheelrailError naming the setting
+    if it names a file or a path through one."""
     env = os.environ.get("WHEELRAIL_CACHE_DIR")
     if env:
         path = Path(env).expanduser()
@@ -78,6 +80,8 @@ def cache_dir() -> Path:
         raise WheelrailError(
             f"{where} cannot be a folder: part of its path is a file; set WHEELRAIL_CACHE_DIR to a folder"
         ) from None
+    except OSError:  # e.g. permission denied: nothing cached; save_entry says so once
+        pass
     return path
 
 
@@ -197,7 +201,10 @@ def save_entry(kind: str, key: str, arrays: dict[str, np.ndarray], *, info: dict
                 stacklevel=2,
             )
         return None
-    evict(keep=path)
+    try:
+        evict(keep=path)
+    except OSError:  # the folder cannot be listed or changed now: the next write evicts
+        pass
     return path
 
 
@@ -237,7 +244,7 @@ def entries(folder: Path | None = None, *, describe: bool = False) -> list[Entry
     ``describe``: read each entry's stored description (a few kB from its ZIP; None for an old entry)."""
     folder = cache_dir() if folder is None else Path(folder)
     found = []
-    for path in folder.iterdir():
+    for path in folder.iterdir() if folder.is_dir() else ():
         match = _ENTRY_NAME.match(path.name)
         if match is None:
             continue
@@ -290,7 +297,7 @@ def clear(kind: str | None = None) -> list[Path]:
             try:
                 entry.path.unlink()
                 removed.append(entry.path)
-            except FileNotFoundError:
+            except OSError:  # removed meanwhile, or a read-only folder (the entry stays listed)
                 continue
     return removed
 

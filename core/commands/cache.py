@@ -6,6 +6,7 @@ import os
 import time
 
 from wheelrail.core.commands._common import print_json
+from wheelrail.core.errors import WheelrailError
 
 
 def add_parser(sub):
@@ -97,11 +98,14 @@ def run(args) -> int:
     folder = cache.cache_dir()
     if args.action == "clear":
         removed = [path for path in cache.clear(args.kind) if not path.name.startswith(".")]
-        summary = {"folder": str(folder), "kind": args.kind, "removed": [path.name for path in removed]}
+        kept = [entry.path.name for entry in cache.entries() if args.kind is None or entry.kind == args.kind]
+        summary = {"folder": str(folder), "kind": args.kind, "removed": [path.name for path in removed], "kept": kept}
         if args.json:
             print_json(summary)
         else:
             print(f"removed {len(removed)} entries from {folder}" + (f" (kind {args.kind})" if args.kind else ""))
+        if kept:
+            raise WheelrailError(f"{len(kept)} entries in {folder} could not be removed (is the folder read-only?)")
         return 0
     found = [entry for entry in cache.entries(describe=True) if args.kind is None or entry.kind == args.kind]
     listing = _listing(folder, found, args.kind)

@@ -316,7 +316,7 @@ def _integrate(
     out = np.zeros((int(counts.sum()), 2))
     m = loads.shape[1]
     group = m if progress is None else COLUMN_BLOCK * max(1, numba.get_num_threads())
-    phase = _integrating_phase(m, n_steps, len(model.node_x))
+    phase = _integrating_phase(m, n_steps, len(model.node_x)) if progress is not None else ""
     for c0 in range(0, m, group):
         if progress is not None:
             progress(phase, c0, m)

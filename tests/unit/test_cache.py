@@ -280,3 +280,23 @@ def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
         track._MEMORY.clear()
         track.stationary_track_response(other, numerics)
     assert any(phase.startswith("integrating") and ", about " in phase for phase, _, _ in events)
+
+
+def test_a_cache_folder_that_cannot_be_created_keeps_the_result(tmp_path, monkeypatch):
+    # before: a folder that could not be created (permission denied) aborted every lookup with a bare errno
+    import pathlib
+
+    target = tmp_path / "not-allowed"
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(target))
+    monkeypatch.setattr(cache, "_WARNED_UNWRITABLE", set())
+    real_mkdir = pathlib.Path.mkdir
+
+    def refused(self, *args, **kwargs):
+        if self == target:
+            raise PermissionError(13, "Permission denied", str(self))
+        return real_mkdir(self, *args, **kwargs)
+
+    monkeypatch.setattr(pathlib.Path, "mkdir", refused)
+    with pytest.warns(UserWarning, match="could not write the cache in .*not-allowed.*WHEELRAIL_CACHE_DIR"):
+        response = _fresh()
+    assert response.cache_path == "" and cache.entries() == [] and not target.exists()
