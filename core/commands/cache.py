@@ -45,6 +45,10 @@ def _holds(entry) -> str:
     return "" if entry.meta is not None else "(no description: written by an earlier wheelrail)"
 
 
+def _entries(count: int) -> str:
+    return f"{count} entry" if count == 1 else f"{count} entries"
+
+
 def _when(seconds: float) -> str:
     return time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(seconds))
 
@@ -78,7 +82,7 @@ def _print_listing(listing: dict) -> None:
     where = "WHEELRAIL_CACHE_DIR" if listing["folder_setting"] != "default" else "default; set WHEELRAIL_CACHE_DIR"
     print(f"cache folder: {listing['folder']} ({where})")
     print(
-        f"in use: {listing['total_bytes'] / 1e9:.3f} GB in {len(listing['entries'])} entries"
+        f"in use: {listing['total_bytes'] / 1e9:.3f} GB in {_entries(len(listing['entries']))}"
         + (f" of kind {listing['kind']}" if listing["kind"] else "")
         + f"; limit {listing['limit_bytes'] / 1e9:g} GB (WHEELRAIL_CACHE_MAX_GB)"
     )
@@ -103,9 +107,9 @@ def run(args) -> int:
         if args.json:
             print_json(summary)
         else:
-            print(f"removed {len(removed)} entries from {folder}" + (f" (kind {args.kind})" if args.kind else ""))
+            print(f"removed {_entries(len(removed))} from {folder}" + (f" (kind {args.kind})" if args.kind else ""))
         if kept:
-            raise WheelrailError(f"{len(kept)} entries in {folder} could not be removed (is the folder read-only?)")
+            raise WheelrailError(f"{_entries(len(kept))} in {folder} could not be removed (is the folder read-only?)")
         return 0
     found = [entry for entry in cache.entries(describe=True) if args.kind is None or entry.kind == args.kind]
     listing = _listing(folder, found, args.kind)

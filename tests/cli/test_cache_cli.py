@@ -73,7 +73,7 @@ def test_cache_clear_removes_its_own_entries_only(folder, capsys):
     assert code == 0 and err == "" and json.loads(out)["removed"] == [track.name]
     assert wheel.exists() and not track.exists()
     code, out, _ = _run(capsys, "cache", "clear")
-    assert code == 0 and "removed 1 entries" in out and not wheel.exists()
+    assert code == 0 and "removed 1 entry" in out and not wheel.exists()
     assert sorted(folder.iterdir()) == sorted(foreign)
 
 
