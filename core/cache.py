@@ -1,41 +1,69 @@
 """Disk cache for expensive, deterministic results (track Green's functions).
 
-Location: ``$WHEELRAIL_CACHE_DIR`` if set, else the user's cache directory (platformdirs). Entries are
-``.npz`` files named by a SHA-256 key of everything that affects their content (a format version and
-every parameter), hold that key inside, and are written atomically (temporary file + rename), so an
-interrupted write never leaves a file a later run would trust. An entry that cannot be read (any
-failure: a damaged ZIP flag, method or version byte gives RuntimeError or NotImplementedError, not only
-OSError), whose stored key differs or whose arrays are missing is treated as absent, with a warning,
-and rebuilt.
+Location: ``$WHEELRAIL_CACHE_DIR`` if set, else the user's cache directory (platformdirs); a setting that
+names a file is refused in one line. Entries are ``KIND-KEY.npz`` files (KEY: the first 24 hex digits of a
+SHA-256 key of everything that affects their content: a format version and every parameter). Each holds its
+key, a JSON description (``cache_meta``: what it was computed for, when, how long it took) and a SHA-256
+digest of all its arrays (``cache_digest``), and is written atomically (temporary file + rename), so an
+interrupted write never leaves a file a later run would trust.
 
-A write killed half-way (kill -9 during a Green's-function build) leaves its temporary file, up to
-35 MB, hidden beside the entries. Temporaries are named after the process that writes them
-(``.NAME.XXXX.HOST-PID.tmp``); every lookup removes those of a process of this host that no longer
-runs, and any older than ``STALE_TEMPORARY_S`` (a write takes seconds; this also covers other hosts
-sharing the folder and reused process ids).
+What is trusted: an entry whose stored key matches the file name's and whose arrays hash to the stored
+digest. One that cannot be read (any failure: a damaged ZIP flag, method or version byte gives RuntimeError
+or NotImplementedError, not only OSError), whose key differs, whose digest is missing or differs (an edit,
+a flipped bit) or whose arrays are missing is treated as absent, with a warning, and rebuilt. The digest
+detects damage and accidental edits; it is no signature (whoever can write the folder can write a
+consistent entry), and arrays are never unpickled.
+
+A cache that cannot be written (a read-only or full folder) never aborts a run: the result is kept in
+memory and one warning per folder names ``WHEELRAIL_CACHE_DIR``.
+
+Bounded: after each write the least recently used entries (by modification time, which every load
+refreshes) are removed until the folder's entries take at most ``WHEELRAIL_CACHE_MAX_GB`` (default
+``DEFAULT_MAX_GB``); the entry just written is never removed. ``wheelrail cache`` lists and clears them.
+
+Only files the cache wrote are ever removed: entries named ``KIND-KEY.npz`` and temporaries named
+``.wheelrail-NAME.XXXXXXXX.HOST-PID.tmp`` (a write killed half-way, kill -9 during a Green's-function
+build, leaves one of up to 210 MB). A temporary is removed when the process of this host that wrote it no
+longer runs, or when it is older than ``STALE_TEMPORARY_S`` (other hosts sharing the folder, reused
+process ids). Any other file in the folder is left alone.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import re
 import socket
 import time
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from wheelrail.core.atomic import publish, temporary_beside
+from wheelrail.core.errors import WheelrailError
 
 FORMAT_VERSION = 1
-STALE_TEMPORARY_S = 3600.0  # s: a temporary file this old is a leftover whoever wrote it
+STALE_TEMPORARY_S = 3600.0  # s: a temporary file of ours this old is a leftover whoever wrote it
+DEFAULT_MAX_GB = 4.0  # GB (1e9 bytes): about 19 track entries of 208 MB
+TEMPORARY_PREFIX = ".wheelrail-"
+_ENTRY_NAME = re.compile(r"^(?P<kind>[a-z0-9]+(?:-[a-z0-9]+)*)-(?P<key>[0-9a-f]{24})\.npz$")
+# ours: TEMPORARY_PREFIX + entry name + token + writer (earlier versions wrote the same without the prefix)
+_TEMPORARY_NAME = re.compile(
+    r"^\.(?:wheelrail-)?[a-z0-9]+(?:-[a-z0-9]+)*-[0-9a-f]{24}\.npz\.[0-9a-f]{8}\.(?P<host>[A-Za-z0-9_-]+)-(?P<pid>\d+)\.tmp$"
+)
+_INTERNAL = ("cache_digest", "cache_meta")
+_DESCRIPTIONS: dict[str, tuple[str, dict]] = {}  # key -> (kind, description) of the keys made in this process
+_WARNED_UNWRITABLE: set[str] = set()
 
 
 def cache_dir() -> Path:
-    """The cache folder (created if missing)."""
+    """The cache folder (created if missing and possible: one that cannot be created, e.g. under a read-only
+    folder, is returned as it is and reads as empty, and writing it warns); a WheelrailError naming the setting
+    if it names a file or a path through one."""
     env = os.environ.get("WHEELRAIL_CACHE_DIR")
     if env:
         path = Path(env).expanduser()
@@ -43,34 +71,78 @@ def cache_dir() -> Path:
         from platformdirs import user_cache_dir
 
         path = Path(user_cache_dir("wheelrail"))
-    path.mkdir(parents=True, exist_ok=True)
+    where = f"WHEELRAIL_CACHE_DIR={env}" if env else f"the cache folder {path}"
+    if path.exists() and not path.is_dir():
+        raise WheelrailError(f"{where} is a file, not a folder; set WHEELRAIL_CACHE_DIR to a folder")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):  # a file on the way (e.g. WHEELRAIL_CACHE_DIR=file/sub)
+        raise WheelrailError(
+            f"{where} cannot be a folder: part of its path is a file; set WHEELRAIL_CACHE_DIR to a folder"
+        ) from None
+    except OSError:  # e.g. permission denied: nothing cached; save_entry says so once
+        pass
     return path
+
+
+def max_bytes() -> int:
+    """The size limit of the cache's entries, bytes (``WHEELRAIL_CACHE_MAX_GB``, default ``DEFAULT_MAX_GB``)."""
+    text = os.environ.get("WHEELRAIL_CACHE_MAX_GB", "").strip()
+    if not text:
+        return int(DEFAULT_MAX_GB * 1e9)
+    try:
+        value = float(text) if "_" not in text else math.nan  # float() would read "1_0" as 10
+    except ValueError:
+        value = math.nan
+    if not (0.0 < value < 1e9):
+        raise WheelrailError(
+            f"WHEELRAIL_CACHE_MAX_GB={text}: the cache's size limit must be a number of GB above 0 "
+            f"(default {DEFAULT_MAX_GB:g})"
+        )
+    return int(value * 1e9)
 
 
 def cache_key(kind: str, description: dict) -> str:
     """Stable SHA-256 key of a JSON-able description (sorted keys, floats via repr)."""
     text = json.dumps({"kind": kind, "version": FORMAT_VERSION, **description}, sort_keys=True, default=repr)
-    return hashlib.sha256(text.encode()).hexdigest()
+    key = hashlib.sha256(text.encode()).hexdigest()
+    # remembered so that save_entry can describe the entry (``wheelrail cache`` lists it); small dicts, the
+    # newest few hundred kept (a long-lived explorer sees a new key per wheel and time step)
+    _DESCRIPTIONS.pop(key, None)
+    _DESCRIPTIONS[key] = (kind, json.loads(json.dumps(description, default=repr)))
+    while len(_DESCRIPTIONS) > 256:
+        del _DESCRIPTIONS[next(iter(_DESCRIPTIONS))]
+    return key
 
 
 def entry_path(kind: str, key: str) -> Path:
     return cache_dir() / f"{kind}-{key[:24]}.npz"
 
 
+def _digest(arrays: dict[str, np.ndarray]) -> str:
+    """SHA-256 of every array's name, dtype, shape and bytes (sorted by name); ~0.25 s for a 208 MB track
+    entry (benchmarks/cache.py)."""
+    digest = hashlib.sha256()
+    for name in sorted(arrays):
+        array = np.ascontiguousarray(arrays[name])
+        digest.update(f"{name}|{array.dtype.str}|{array.shape}|".encode())
+        digest.update(memoryview(array).cast("B") if array.size else b"")
+    return digest.hexdigest()
+
+
 def load_entry(kind: str, key: str, required: tuple[str, ...]) -> dict[str, np.ndarray] | None:
-    """Arrays of a valid cache entry, or None if it is absent, corrupt or stale."""
+    """Arrays of a valid cache entry, or None if it is absent, corrupt, tampered with or stale.
+
+    A valid entry's modification time is set to now (the cache's least-recently-used order)."""
+    max_bytes()  # a bad WHEELRAIL_CACHE_MAX_GB is refused at the first lookup, before anything is computed
     path = entry_path(kind, key)
     remove_stale_temporaries(path.parent)
     if not path.exists():
         return None
     try:
-        with np.load(path, allow_pickle=False) as data:
-            if str(data["cache_key"]) != key:
-                raise ValueError("stale entry (key differs)")
-            missing = [name for name in required if name not in data.files]
-            if missing:
-                raise ValueError(f"missing arrays {missing}")
-            arrays = {name: data[name] for name in data.files}
+        arrays = _read(path, key, required)
+    except FileNotFoundError:  # removed meanwhile (another process cleared or evicted it)
+        return None
     except Exception as error:  # noqa: BLE001 - any unreadable entry is rebuilt, whatever the reader raised
         warnings.warn(f"ignoring unusable cache entry {path}: {error}; rebuilding", stacklevel=2)
         try:
@@ -78,20 +150,156 @@ def load_entry(kind: str, key: str, required: tuple[str, ...]) -> dict[str, np.n
         except OSError:
             pass
         return None
+    try:
+        os.utime(path)  # last used: now
+    except OSError:  # a read-only folder: the order is only less exact
+        pass
     return arrays
 
 
-def save_entry(kind: str, key: str, arrays: dict[str, np.ndarray]) -> Path:
-    """Write a cache entry atomically; returns its path."""
-    path = entry_path(kind, key)
-    remove_stale_temporaries(path.parent)
-    temporary = temporary_beside(path, suffix=f".{_writer()}.tmp")
+def _read(path: Path, key: str, required: tuple[str, ...]) -> dict[str, np.ndarray]:
+    with np.load(path, allow_pickle=False) as data:
+        if str(data["cache_key"]) != key:
+            raise ValueError("stale entry (key differs)")
+        missing = [name for name in required if name not in data.files]
+        if missing:
+            raise ValueError(f"missing arrays {missing}")
+        arrays = {name: data[name] for name in data.files}
+    stored = str(arrays.pop("cache_digest", ""))
+    if not stored:
+        raise ValueError("no digest (written by an earlier wheelrail)")
+    if _digest(arrays) != stored:
+        raise ValueError("its arrays do not match its digest (damaged or edited)")
+    arrays.pop("cache_meta", None)
+    return arrays
+
+
+def save_entry(kind: str, key: str, arrays: dict[str, np.ndarray], *, info: dict | None = None) -> Path | None:
+    """Write a cache entry atomically and keep the cache within its limit; returns its path.
+
+    ``info``: extra JSON-able facts for its description (e.g. ``compute_s``). If the folder cannot be
+    written (read-only, full, ...), warns once per folder and returns None: the caller keeps its result.
+    """
+    folder = cache_dir()
+    path = folder / f"{kind}-{key[:24]}.npz"
     try:
-        with open(temporary, "wb") as handle:
-            np.savez(handle, cache_key=np.array(key), **arrays)
-        return publish(temporary, path)
-    finally:
-        temporary.unlink(missing_ok=True)
+        remove_stale_temporaries(folder)
+        temporary = temporary_beside(path, suffix=f".{_writer()}.tmp", prefix=TEMPORARY_PREFIX)
+        try:
+            with open(temporary, "wb") as handle:
+                stored = {**arrays, "cache_key": np.array(key), "cache_meta": np.array(_meta(kind, key, info))}
+                np.savez(handle, cache_digest=np.array(_digest(stored)), **stored)
+            publish(temporary, path)
+        finally:
+            temporary.unlink(missing_ok=True)
+    except OSError as error:
+        if str(folder) not in _WARNED_UNWRITABLE:
+            _WARNED_UNWRITABLE.add(str(folder))
+            warnings.warn(
+                f"could not write the cache in {folder} ({error.strerror or error}): results are kept in memory "
+                "for this run only; set WHEELRAIL_CACHE_DIR to a writable folder",
+                stacklevel=2,
+            )
+        return None
+    try:
+        evict(keep=path)
+    except OSError:  # the folder cannot be listed or changed now: the next write evicts
+        pass
+    return path
+
+
+def _meta(kind: str, key: str, info: dict | None) -> str:
+    from wheelrail import __version__
+
+    described = _DESCRIPTIONS.get(key)
+    return json.dumps(
+        {
+            "kind": kind,
+            "key": key,
+            "written": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+            "wheelrail": __version__,
+            "description": described[1] if described and described[0] == kind else None,
+            **(info or {}),
+        },
+        default=repr,
+    )
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One file of the cache: ``kind`` and ``key`` (its 24 hex digits) from its name, ``size`` in bytes,
+    ``last_used`` (modification time, s since the epoch) and its stored description (None if unreadable)."""
+
+    path: Path
+    kind: str
+    key: str
+    size: int
+    last_used: float
+    meta: dict | None
+
+
+def entries(folder: Path | None = None, *, describe: bool = False) -> list[Entry]:
+    """The cache's entries (files named as this module names them), least recently used first.
+
+    ``describe``: read each entry's stored description (a few kB from its ZIP; None for an old entry)."""
+    folder = cache_dir() if folder is None else Path(folder)
+    found = []
+    for path in folder.iterdir() if folder.is_dir() else ():
+        match = _ENTRY_NAME.match(path.name)
+        if match is None:
+            continue
+        try:
+            stat = path.stat()
+        except OSError:  # removed meanwhile
+            continue
+        meta = stored_meta(path) if describe else None
+        found.append(Entry(path, match["kind"], match["key"], stat.st_size, stat.st_mtime, meta))
+    return sorted(found, key=lambda entry: (entry.last_used, entry.path.name))
+
+
+def stored_meta(path: Path) -> dict | None:
+    """The description stored in the entry at ``path`` (None if it has none or cannot be read)."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            return json.loads(str(data["cache_meta"])) if "cache_meta" in data.files else None
+    except Exception:  # noqa: BLE001 - a damaged entry is listed without its description
+        return None
+
+
+def evict(limit: int | None = None, *, keep: Path | None = None) -> list[Path]:
+    """Remove least recently used entries until they take at most ``limit`` bytes (default ``max_bytes()``),
+    never ``keep``; returns the removed files."""
+    limit = max_bytes() if limit is None else limit
+    found = entries(keep.parent if keep is not None else None)
+    total = sum(entry.size for entry in found)
+    removed = []
+    for entry in found:
+        if total <= limit:
+            break
+        if keep is not None and entry.path == keep:
+            continue
+        try:
+            entry.path.unlink()
+        except FileNotFoundError:
+            pass
+        except OSError:
+            continue
+        total -= entry.size
+        removed.append(entry.path)
+    return removed
+
+
+def clear(kind: str | None = None) -> list[Path]:
+    """Remove the cache's entries (of ``kind`` only, if given) and the temporaries of finished writes."""
+    removed = remove_stale_temporaries(cache_dir())
+    for entry in entries():
+        if kind is None or entry.kind == kind:
+            try:
+                entry.path.unlink()
+                removed.append(entry.path)
+            except OSError:  # removed meanwhile, or a read-only folder (the entry stays listed)
+                continue
+    return removed
 
 
 def _writer() -> str:
@@ -111,18 +319,21 @@ def _alive(pid: int) -> bool:
 
 
 def remove_stale_temporaries(folder: Path, now: float | None = None) -> list[Path]:
-    """Delete the leftover temporary files of interrupted writes in ``folder``; returns those deleted.
+    """Delete the leftover temporary files of interrupted cache writes in ``folder``; returns those deleted.
 
-    A temporary is stale when the process of this host that wrote it no longer runs, or when it is older
-    than ``STALE_TEMPORARY_S``.
+    Only the cache's own temporaries (named ``.wheelrail-NAME.XXXXXXXX.HOST-PID.tmp``) are considered; one is
+    stale when the process of this host that wrote it no longer runs, or when it is older than
+    ``STALE_TEMPORARY_S``.
     """
     now = time.time() if now is None else now
     host = _writer().rsplit("-", 1)[0]
     removed = []
     for temporary in Path(folder).glob(".*.tmp"):
-        match = re.search(r"\.([A-Za-z0-9_-]+)-(\d+)\.tmp$", temporary.name)
+        match = _TEMPORARY_NAME.match(temporary.name)
+        if match is None:
+            continue  # not ours: never touched
         try:
-            dead = match is not None and match.group(1) == host and not _alive(int(match.group(2)))
+            dead = match["host"] == host and not _alive(int(match["pid"]))
             if dead or now - temporary.stat().st_mtime > STALE_TEMPORARY_S:
                 temporary.unlink()
                 removed.append(temporary)

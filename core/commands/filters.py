@@ -11,7 +11,7 @@ import csv
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
+from wheelrail.core.atomic import all_or_none, atomic_write
 from wheelrail.core.commands._common import (
     add_input_options,
     given_inputs,
@@ -156,10 +156,11 @@ def run(args) -> int:
     plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
     contact = ContactParameters(**geometry) if geometry else None  # the geometry across the rail
     result = summary(load, wheel_radius, speed, contact)
-    if csv_path is not None:
-        _write_csv(result, csv_path)
-    if plot_path is not None:
-        _plot(result, plot_path)
+    with all_or_none():  # the table and the figure appear together or not at all
+        if csv_path is not None:
+            _write_csv(result, csv_path)
+        if plot_path is not None:
+            _plot(result, plot_path)
     if args.json:
         print_json(result)
         return 0

@@ -135,19 +135,21 @@ def _checked_args(args):
 
 def _prepare(args, params, out, sink):
     """The prepared run, and the recording started on it (aborted if preparing fails)."""
+    from wheelrail.core.commands._progress import announce_track_precompute
     from wheelrail.core.interaction import prepare_run
 
     try:
         # 3d: every pressure map is kept only for --out (a recording takes them step by step)
-        interaction = prepare_run(
-            args.set,
-            wheel_roughness=args.wheel_set,
-            model=args.model,
-            line=args.line,
-            params=params,
-            length=args.length_m,
-            keep_pressure=out is not None,
-        )
+        with announce_track_precompute("run"):  # a track not yet cached: its phases and progress on a terminal
+            interaction = prepare_run(
+                args.set,
+                wheel_roughness=args.wheel_set,
+                model=args.model,
+                line=args.line,
+                params=params,
+                length=args.length_m,
+                keep_pressure=out is not None,
+            )
         if sink is not None and sink.record_every > interaction.n_steps:
             raise WheelrailError(f"--record-every {sink.record_every} exceeds the run's {interaction.n_steps} steps")
         if sink is not None:
@@ -281,10 +283,15 @@ def run(args) -> int:
     prepared = time.perf_counter()
     result = _execute(args, interaction, sink)
     finished = time.perf_counter()
+    if out is not None:
+        try:
+            result.save_npz(out)
+        except BaseException:  # e.g. a full disk: no recording without its arrays either
+            if sink is not None:
+                sink.abort()
+            raise
     if sink is not None:
         sink.finish(result)
-    if out is not None:
-        result.save_npz(out)
     summary = _summary(args, result, params, (start, prepared, finished))
     if out is not None:
         summary["out"] = str(out)

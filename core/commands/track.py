@@ -122,7 +122,10 @@ def _green_functions(track, numerics, speed: float) -> dict:
 
     cached_before = track_cache_path(track, numerics).exists()
     start = time.perf_counter()
-    response = stationary_track_response(track, numerics)
+    from wheelrail.core.commands._progress import announce_track_precompute
+
+    with announce_track_precompute("track"):  # a track not yet cached: its phases and progress on a terminal
+        response = stationary_track_response(track, numerics)
     t_stationary = time.perf_counter() - start
     start = time.perf_counter()
     green = moving_from_stationary(response, speed)
@@ -195,7 +198,10 @@ def run(args) -> int:
     built = _green_functions(track, numerics, speed)
     green, static = built["green"], built["static"]
     if csv_path or plot_path:
-        _receptance_outputs(track, numerics, csv_path, plot_path, args.df_hz, built["response"], peaks)
+        from wheelrail.core.atomic import all_or_none
+
+        with all_or_none():  # the table and the figure appear together or not at all
+            _receptance_outputs(track, numerics, csv_path, plot_path, args.df_hz, built["response"], peaks)
     summary = {
         **describe(params_from_args(args, "track"), "track"),
         "speed_m_per_s": speed,

@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numba
 import numpy as np
 from numba import njit, prange
 
@@ -16,6 +17,7 @@ if TYPE_CHECKING:
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
 from wheelrail.core.track.fe import HALF_BANDWIDTH, TrackFEModel, _to_upper_band, assemble_track
+from wheelrail.core.track.progress import Progress, current_progress
 
 
 def _upper_band_arrays(model: TrackFEModel, time_step: float):
@@ -294,30 +296,60 @@ def _stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray,
 
 
 def _integrate(
-    model: TrackFEModel, x_e, dt: float, n_steps: int, stride: int, nodes, counts, offsets, *, impulse: bool
+    model: TrackFEModel,
+    x_e,
+    dt: float,
+    n_steps: int,
+    stride: int,
+    nodes,
+    counts,
+    offsets,
+    *,
+    impulse: bool,
+    progress: Progress | None = None,
 ) -> np.ndarray:
-    """Newmark responses to unit loads at x_e, stored at ``nodes`` (see _newmark_block)."""
+    """Newmark responses to unit loads at x_e, stored at ``nodes`` (see _newmark_block). With ``progress``, the
+    columns are integrated in groups that fill the threads once (the same blocks, the same results), and
+    ``progress("integrating ...", done, total)`` is called after each group."""
     mb, cb, k_chol, m_chol = _upper_band_arrays(model, dt)
     loads = np.stack([model.load_vector(float(x)) for x in x_e], axis=1)
     out = np.zeros((int(counts.sum()), 2))
-    _newmark_columns(
-        mb,
-        cb,
-        k_chol,
-        m_chol,
-        loads,
-        dt,
-        n_steps,
-        stride,
-        model.w_dof,
-        model.theta_dof,
-        nodes,
-        counts,
-        offsets,
-        out,
-        impulse,
-    )
+    m = loads.shape[1]
+    group = m if progress is None else COLUMN_BLOCK * max(1, numba.get_num_threads())
+    phase = _integrating_phase(m, n_steps, len(model.node_x)) if progress is not None else ""
+    for c0 in range(0, m, group):
+        if progress is not None:
+            progress(phase, c0, m)
+        c1 = min(m, c0 + group)
+        _newmark_columns(
+            mb,
+            cb,
+            k_chol,
+            m_chol,
+            np.ascontiguousarray(loads[:, c0:c1]),
+            dt,
+            n_steps,
+            stride,
+            model.w_dof,
+            model.theta_dof,
+            nodes[c0:c1],
+            counts[c0:c1],
+            offsets[c0:c1],
+            out,
+            impulse,
+        )
+    if progress is not None:
+        progress(phase, m, m)
     return out
+
+
+def _integrating_phase(columns: int, n_steps: int, n_nodes: int) -> str:
+    """The integration announced: its size and, if the cache knows this machine's speed, its time."""
+    from wheelrail.core.track.progress import estimate_s
+
+    estimate = estimate_s(float(columns) * n_steps * n_nodes)
+    about = f", about {estimate:.0f} s" if estimate is not None else ""
+    return f"integrating the track's impulse responses ({columns} load positions x {n_steps} steps{about})"
 
 
 def _stored_times(numerics: TrackNumerics) -> tuple[np.ndarray, int]:
@@ -331,17 +363,31 @@ def _stored_times(numerics: TrackNumerics) -> tuple[np.ndarray, int]:
     return np.arange(0, n_steps, numerics.store_every) * numerics.time_step, n_steps
 
 
-def compute_stationary_response(track: TrackParameters, numerics: TrackNumerics) -> StationaryTrackResponse:
+def compute_stationary_response(
+    track: TrackParameters, numerics: TrackNumerics, progress: Progress | None = None
+) -> StationaryTrackResponse:
     """Integrate the impulse responses of the FE track for all excitation points of the central bay.
 
-    See the module docstring for the method and ``benchmarks/track_green.py`` for its cost.
+    See the module docstring for the method and ``benchmarks/track_green.py`` for its cost; ``progress``:
+    see ``wheelrail.core.track.progress``.
     """
+    if progress is not None:
+        progress("assembling the FE track", 0, 1)
     model = numerics_model(track, numerics)
     positions, x_e, _ = _excitation_nodes(model, numerics)
     t_stored, n_steps = _stored_times(numerics)
     nodes, stored_x, counts, offsets = _stored_nodes(model, numerics, x_e, numerics.max_speed, t_stored)
     out = _integrate(
-        model, x_e, numerics.time_step, n_steps, numerics.store_every, nodes, counts, offsets, impulse=True
+        model,
+        x_e,
+        numerics.time_step,
+        n_steps,
+        numerics.store_every,
+        nodes,
+        counts,
+        offsets,
+        impulse=True,
+        progress=progress,
     )
     return StationaryTrackResponse(
         track=track,
@@ -376,7 +422,11 @@ _MEMORY: dict[str, StationaryTrackResponse] = {}
 
 
 def stationary_track_response(
-    track: TrackParameters | None = None, numerics: TrackNumerics | None = None, *, use_cache: bool = True
+    track: TrackParameters | None = None,
+    numerics: TrackNumerics | None = None,
+    *,
+    use_cache: bool = True,
+    progress: Progress | None = None,
 ) -> StationaryTrackResponse:
     """The track's stationary impulse responses: from memory, the disk cache, or computed and cached.
 
@@ -388,6 +438,9 @@ def stationary_track_response(
         Default: ``TrackNumerics()``.
     use_cache : bool
         Read and write the disk cache (``wheelrail.core.cache``).
+    progress : callable, optional
+        Told the phases of a computation, if one is needed (``wheelrail.core.track.progress``); default: the
+        callable of an enclosing ``track_progress`` block.
     """
     from wheelrail.core import cache
 
@@ -419,11 +472,37 @@ def stationary_track_response(
             cache_path=str(cache.entry_path("track-wedge", key)),
         )
     else:
-        response = compute_stationary_response(track, numerics)
-        if use_cache:
-            path = cache.save_entry("track-wedge", key, {name: getattr(response, name) for name in _WEDGE_ARRAYS})
-            response = StationaryTrackResponse(**{**response.__dict__, "cache_path": str(path)})
+        response = _computed(track, numerics, key, use_cache, progress or current_progress())
     if use_cache:
         _MEMORY.clear()  # keep one track in memory (tens of MB)
         _MEMORY[key] = response
     return response
+
+
+def _computed(track, numerics, key: str, use_cache: bool, progress: Progress | None) -> StationaryTrackResponse:
+    """The responses computed and, with ``use_cache``, written to the cache (its path kept if written)."""
+    import time
+
+    from wheelrail.core import cache
+
+    start = time.perf_counter()
+    response = compute_stationary_response(track, numerics, progress)
+    if not use_cache:
+        return response
+    if progress is not None:
+        progress("writing the cache entry", 0, 1)
+    info = {
+        "compute_s": time.perf_counter() - start,
+        # what the estimate of the next track scales with (``track.progress.estimate_s``)
+        "work": float(len(response.excitation_positions)) * _stored_times(numerics)[1] * _node_count(track, numerics),
+    }
+    path = cache.save_entry("track-wedge", key, {name: getattr(response, name) for name in _WEDGE_ARRAYS}, info=info)
+    if progress is not None:
+        progress("writing the cache entry", 1, 1)
+    return StationaryTrackResponse(**{**response.__dict__, "cache_path": str(path) if path is not None else ""})
+
+
+def _node_count(track: TrackParameters, numerics: TrackNumerics) -> int:
+    """Rail nodes of ``numerics_model`` (without assembling it)."""
+    refined = min(numerics.refined_bays, track.n_bays - track.n_bays // 2)
+    return (track.n_bays - refined) * numerics.elements_per_bay + refined * numerics.refined_elements_per_bay + 1

@@ -50,3 +50,26 @@ def test_failed_write_leaves_nothing(tmp_path):
 def test_exports_use_it(tmp_path):
     path = write_csv(load_roughness("sinter-wheel-2"), tmp_path / "w.csv")
     assert (path.stat().st_mode & 0o777) == (0o666 & ~_umask())
+
+
+def test_files_written_together_appear_together(tmp_path):
+    from wheelrail.core.atomic import all_or_none
+
+    old = tmp_path / "b.png"
+    old.write_text("previous figure")
+    with pytest.raises(OSError, match="No space"):
+        with all_or_none():
+            atomic_write(tmp_path / "a.csv", lambda handle: handle.write("table"), "w")
+            assert not (tmp_path / "a.csv").exists()  # not before the block's end
+
+            def full(handle):
+                handle.write("half")
+                raise OSError(28, "No space left on device")
+
+            atomic_write(old, full, "w")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.png"] and old.read_text() == "previous figure"
+    with all_or_none():
+        atomic_write(tmp_path / "a.csv", lambda handle: handle.write("table"), "w")
+        atomic_write(old, lambda handle: handle.write("new figure"), "w")
+    assert (tmp_path / "a.csv").read_text() == "table" and old.read_text() == "new figure"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv", "b.png"]

@@ -109,10 +109,194 @@ def test_temporary_of_a_killed_writer_is_removed(tmp_path, monkeypatch):
 
 
 def test_temporaries_of_live_writers_are_kept_until_stale(tmp_path):
-    mine = tmp_path / f".entry.npz.abc.{cache._writer()}.tmp"  # this process: alive
-    anonymous = tmp_path / ".entry.npz.def.tmp"  # no writer named (atomic_write's): judged by age only
-    for path in (mine, anonymous):
+    mine = tmp_path / f".wheelrail-track-wedge-{'a' * 24}.npz.0123abcd.{cache._writer()}.tmp"  # this process: alive
+    elsewhere = tmp_path / f".wheelrail-track-wedge-{'b' * 24}.npz.0123abcd.otherhost-1.tmp"  # judged by age
+    for path in (mine, elsewhere):
         path.write_bytes(b"partial")
     assert cache.remove_stale_temporaries(tmp_path) == []
     later = mine.stat().st_mtime + cache.STALE_TEMPORARY_S + 1
-    assert sorted(cache.remove_stale_temporaries(tmp_path, now=later)) == sorted([mine, anonymous])
+    assert sorted(cache.remove_stale_temporaries(tmp_path, now=later)) == sorted([mine, elsewhere])
+
+
+def test_files_the_cache_did_not_write_are_never_removed(tmp_path, monkeypatch):
+    # before: every lookup removed any hidden *.tmp older than an hour in the cache folder
+    import os
+
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
+    foreign = [tmp_path / name for name in (".x.tmp", ".entry.npz.def.tmp", ".notes.txt.0123abcd.host-1.tmp")]
+    foreign.append(tmp_path / "unrelated-0123456789abcdef01234567.txt")
+    old = cache.STALE_TEMPORARY_S * 10
+    for path in foreign:
+        path.write_bytes(b"someone else's")
+        os.utime(path, (path.stat().st_mtime - old,) * 2)
+    assert cache.load_entry("track-wedge", "0" * 64, ("data",)) is None
+    cache.save_entry("track-wedge", "0" * 64, {"data": np.zeros(3)})
+    cache.clear()
+    assert all(path.read_bytes() == b"someone else's" for path in foreign)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in foreign)
+
+
+@pytest.mark.parametrize("code", ["EROFS", "ENOSPC"])
+def test_an_unwritable_cache_keeps_the_result_and_warns_once(tmp_path, monkeypatch, code):
+    # before: a read-only or full folder aborted the run after the computation (bare [Errno 30/28])
+    import errno
+    import os
+
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
+    good = _fresh()
+    (tmp_path / good.cache_path.split("/")[-1]).unlink()
+    monkeypatch.setattr(cache, "_WARNED_UNWRITABLE", set())
+
+    def refused(*args, **kwargs):
+        raise OSError(getattr(errno, code), os.strerror(getattr(errno, code)))
+
+    monkeypatch.setattr(np, "savez", refused)
+    with pytest.warns(UserWarning, match="could not write the cache.*WHEELRAIL_CACHE_DIR") as caught:
+        response = _fresh()
+        assert cache.save_entry("wheel-foh", "1" * 64, {"phi": np.eye(2)}) is None  # the same folder: no new warning
+    assert len([w for w in caught if "could not write" in str(w.message)]) == 1
+    assert response.cache_path == ""
+    np.testing.assert_array_equal(response.data, good.data)
+    assert sorted(p.name for p in tmp_path.iterdir()) == []  # no temporary left
+
+
+def test_a_read_only_cache_folder_keeps_the_result(tmp_path, monkeypatch):
+    import os
+
+    if os.geteuid() == 0:
+        pytest.skip("root writes into a read-only folder (the failure is simulated in the test above)")
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(cache, "_WARNED_UNWRITABLE", set())
+    tmp_path.chmod(0o555)
+    try:
+        with pytest.warns(UserWarning, match="could not write the cache"):
+            response = _fresh()
+    finally:
+        tmp_path.chmod(0o755)
+    assert response.cache_path == "" and list(tmp_path.iterdir()) == []
+
+
+def test_a_tampered_entry_is_rebuilt(tmp_path, monkeypatch):
+    # before: an entry edited consistently (valid ZIP, right key, finite arrays) was trusted
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
+    good = _fresh()
+    path = tmp_path / good.cache_path.split("/")[-1]
+    with np.load(path) as data:
+        arrays = {name: data[name] for name in data.files}
+    arrays["data"] = arrays["data"] * np.float32(1.5)  # +3.5 dB on every Green's function
+    with open(path, "wb") as handle:
+        np.savez(handle, **arrays)
+    with pytest.warns(UserWarning, match="digest"):
+        rebuilt = _fresh()
+    np.testing.assert_array_equal(rebuilt.data, good.data)
+    # an entry without a digest (an earlier wheelrail's) is not trusted either
+    del arrays["cache_digest"]
+    with open(path, "wb") as handle:
+        np.savez(handle, **arrays)
+    with pytest.warns(UserWarning, match="no digest"):
+        rebuilt = _fresh()
+    np.testing.assert_array_equal(rebuilt.data, good.data)
+
+
+@pytest.mark.parametrize("below", [False, True], ids=["file", "below-a-file"])
+def test_a_cache_setting_naming_a_file_is_one_clear_error(tmp_path, monkeypatch, below):
+    # before: WHEELRAIL_CACHE_DIR=a file gave a bare [Errno 17]
+    from wheelrail.core.errors import WheelrailError
+
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(afile / "sub" if below else afile))
+    with pytest.raises(WheelrailError, match="WHEELRAIL_CACHE_DIR=.*afile.*set WHEELRAIL_CACHE_DIR to a folder"):
+        cache.load_entry("track-wedge", "0" * 64, ("data",))
+    assert afile.read_text() == "x"
+
+
+def _entry(kind: str, digit: str, megabytes: float, age_s: float):
+    import os
+    import time
+
+    path = cache.save_entry(kind, digit * 64, {"data": np.zeros(int(megabytes * 1e6) // 8)})
+    os.utime(path, (time.time() - age_s,) * 2)
+    return path
+
+
+def test_the_cache_is_bounded_least_recently_used_first(tmp_path, monkeypatch):
+    # before: the cache grew without limit (208 MB per track)
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv("WHEELRAIL_CACHE_MAX_GB", "0.0035")  # 3.5 MB: three 1 MB entries and change
+    oldest, middle, newest = (_entry("track-wedge", d, 1.0, age) for d, age in (("a", 300), ("b", 200), ("c", 100)))
+    foreign = tmp_path / "notes-0123456789abcdef01234567.bin"
+    foreign.write_bytes(b"x" * 2_000_000)
+    assert cache.load_entry("track-wedge", "a" * 64, ("data",)) is not None  # used now: the newest use
+    fourth = _entry("wheel-foh", "d", 1.0, 0)  # 4 MB of entries > 3.5 MB: the least recently used goes
+    assert not middle.exists() and oldest.exists() and newest.exists() and fourth.exists() and foreign.exists()
+    big = cache.save_entry("track-wedge", "e" * 64, {"data": np.zeros(5_000_000 // 8)})  # alone above the limit
+    assert big.exists() and [entry.path for entry in cache.entries()] == [big]
+    assert foreign.exists()  # never ours, never counted, never removed
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "nan", "inf", "abc", "1_0"])
+def test_a_bad_cache_limit_is_one_clear_error(tmp_path, monkeypatch, value):
+    from wheelrail.core.errors import WheelrailError
+
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv("WHEELRAIL_CACHE_MAX_GB", value)
+    with pytest.raises(WheelrailError, match="WHEELRAIL_CACHE_MAX_GB"):
+        cache.save_entry("wheel-foh", "1" * 64, {"phi": np.eye(2)})
+
+
+def test_an_entry_describes_what_it_holds(tmp_path, monkeypatch):
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
+    parameters = TrackParameters(support=dataclasses.replace(TrackParameters().support, pad_stiffness=300e6))
+    _fresh(parameters=parameters)
+    (entry,) = cache.entries(describe=True)
+    assert entry.kind == "track-wedge" and entry.meta["description"]["track"]["support"]["pad_stiffness"] == 300e6
+    assert entry.meta["compute_s"] > 0 and entry.meta["work"] > 0
+
+
+def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
+    # before: a cold first run showed "1 of 2" for minutes; the integration now reports per group
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
+    numerics = dataclasses.replace(SMALL, positions_per_bay=32)  # 4 blocks of 8 load positions
+    events = []
+    track._MEMORY.clear()
+    reported = track.stationary_track_response(None, numerics, progress=lambda *event: events.append(event))
+    phases = list(dict.fromkeys(phase.split(" (")[0] for phase, _, _ in events))
+    assert phases == ["assembling the FE track", "integrating the track's impulse responses", "writing the cache entry"]
+    integrating = [(done, total) for phase, done, total in events if phase.startswith("integrating")]
+    import numba
+
+    groups = -(-32 // (8 * numba.get_num_threads()))  # one group of 8 load positions per thread
+    assert integrating == [(min(32, i * 32 // groups), 32) for i in range(groups)] + [(32, 32)]
+    assert "32 load positions x 1001 steps" in events[1][0]
+    quiet = track.compute_stationary_response(TrackParameters(), numerics)  # one call, no groups
+    np.testing.assert_array_equal(reported.data, quiet.data)  # the same blocks, the same numbers
+    # a second track: the cache knows how fast this machine integrates, so the phase carries an estimate
+    events.clear()
+    other = TrackParameters(support=dataclasses.replace(TrackParameters().support, pad_stiffness=300e6))
+    from wheelrail.core.track.progress import track_progress
+
+    with track_progress(lambda *event: events.append(event)):
+        track._MEMORY.clear()
+        track.stationary_track_response(other, numerics)
+    assert any(phase.startswith("integrating") and ", about " in phase for phase, _, _ in events)
+
+
+def test_a_cache_folder_that_cannot_be_created_keeps_the_result(tmp_path, monkeypatch):
+    # before: a folder that could not be created (permission denied) aborted every lookup with a bare errno
+    import pathlib
+
+    target = tmp_path / "not-allowed"
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(target))
+    monkeypatch.setattr(cache, "_WARNED_UNWRITABLE", set())
+    real_mkdir = pathlib.Path.mkdir
+
+    def refused(self, *args, **kwargs):
+        if self == target:
+            raise PermissionError(13, "Permission denied", str(self))
+        return real_mkdir(self, *args, **kwargs)
+
+    monkeypatch.setattr(pathlib.Path, "mkdir", refused)
+    with pytest.warns(UserWarning, match="could not write the cache in .*not-allowed.*WHEELRAIL_CACHE_DIR"):
+        response = _fresh()
+    assert response.cache_path == "" and cache.entries() == [] and not target.exists()

@@ -1,0 +1,53 @@
+"""Progress of a track's Green's-function precompute (13-30 s for a track not yet in the disk cache).
+
+``compute_stationary_response`` and ``stationary_track_response`` take ``progress``, a callable
+``progress(phase, done, total)``: ``phase`` a short sentence saying what is being done (it names the work and,
+when the cache knows how fast this machine computed an earlier track, an estimate of the time), ``done`` of
+``total`` units of that phase. It is called a few times per phase, never per time step (cheap). The phases
+are ``PHASES``: the FE track assembled and factorised, the impulse responses integrated (one call per group
+of excitation positions integrated in parallel), the entry written to the cache.
+
+A caller that does not call these functions itself (the command line prepares a run through
+``prepare_run``) sets the callable for everything below it with ``with track_progress(callback): ...``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import contextvars
+from collections.abc import Callable, Iterator
+
+Progress = Callable[[str, int, int], None]
+PHASES = ("assembling", "integrating", "saving")
+_CURRENT: contextvars.ContextVar[Progress | None] = contextvars.ContextVar("wheelrail_track_progress", default=None)
+
+
+@contextlib.contextmanager
+def track_progress(callback: Progress | None) -> Iterator[None]:
+    """Report the progress of any track precompute started in this block (this thread) to ``callback``."""
+    token = _CURRENT.set(callback)
+    try:
+        yield
+    finally:
+        _CURRENT.reset(token)
+
+
+def current_progress() -> Progress | None:
+    """The callable set by the innermost ``track_progress`` block, or None."""
+    return _CURRENT.get()
+
+
+def estimate_s(work: float) -> float | None:
+    """Seconds this machine should take for ``work`` (excitation positions x time steps x DOFs), scaled from the
+    newest track entry in the disk cache that recorded its own; None if there is none."""
+    from wheelrail.core import cache
+
+    try:
+        found = cache.entries()
+    except (OSError, ValueError):  # no usable cache folder: no estimate
+        return None
+    for entry in reversed(found):  # most recently used first
+        meta = (cache.stored_meta(entry.path) if entry.kind == "track-wedge" else None) or {}
+        if meta.get("compute_s", 0) > 0 and meta.get("work", 0) > 0:
+            return float(meta["compute_s"]) * work / float(meta["work"])
+    return None
