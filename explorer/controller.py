@@ -24,6 +24,7 @@ from typing import Protocol
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH
 from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.track.progress import track_progress
 from wheelrail.explorer.config import RunConfig, models_of, page_message
 from wheelrail.explorer.results import Entry, ResultStore
 
@@ -218,34 +219,44 @@ class RunController:
             self.listener.error(message)
         return "failed"
 
-    def _ticking(self, generation: int, text: str):
-        """Say ``text`` now and then again with the seconds elapsed, every ``tick`` s, until the block ends (or
-        the run is replaced): a long preparation shows that it goes on."""
+    def _ticking(self, generation: int, text):
+        """Say ``text`` (or ``text()``: what is being done now) now and then again with the seconds elapsed, every
+        ``tick`` s, until the block ends (or the run is replaced): a long preparation shows that it goes on."""
         done = threading.Event()
         started = time.perf_counter()
-        self.listener.status(f"{text} ...")
+        words = text if callable(text) else (lambda: text)
+        self.listener.status(f"{words()} ...")
 
         def tick() -> None:
             while not done.wait(self._tick) and self._current(generation):
-                self.listener.status(f"{text} ... {time.perf_counter() - started:.0f} s")
+                self.listener.status(f"{words()} ... {time.perf_counter() - started:.0f} s")
 
         thread = threading.Thread(target=tick, daemon=True, name=f"wheelrail-explorer-tick-{generation}")
         thread.start()
         return _Stop(done, thread)
 
     def _prepared(self, generation: int, config: RunConfig, roughness: tuple, first: bool):
-        """The run of one model, prepared in honest steps: the first run at a speed computes the track's
-        Green's functions (once, then cached on disk) and compiles the solver; later ones only set up."""
+        """The run of one model, prepared in honest steps: the first run on a track and speed computes the track's
+        Green's functions (once per track, then cached on disk; a new track's precompute says its phases, with
+        the progress bar and an estimate) and compiles the solver; later ones only set up."""
         roughness, wheel = roughness
         combined = {} if wheel is None else {"wheel_roughness": _source(wheel, config.wheel_set_label)}
         speed = f"Preparing the track for {config.speed / KMH:g} km/h"
         if first:
-            with self._ticking(
-                generation, f"{speed} (1 of 2): its Green's functions, computed once per track and kept on disk"
-            ):
+            now = {"text": f"{speed} (1 of 2): its Green's functions, computed once per track and kept on disk"}
+
+            def progress(phase: str, done: int, total: int) -> None:  # a new track's precompute, phase by phase
+                now["text"] = f"{speed} (1 of 2): {phase}" + (f" ({done} of {total})" if total > 1 else "")
+                if self._current(generation):
+                    self.listener.status(f"{now['text']} ...")
+                    if total > 1:
+                        self.listener.progress(done / total)
+
+            with self._ticking(generation, lambda: now["text"]):
                 with self._first_preparation:  # a warm-up under way finishes first
                     if self._precompute is not None:
-                        self._precompute(config.params())
+                        with track_progress(progress):
+                            self._precompute(config.params())
             if not self._current(generation):
                 return None
         text = (

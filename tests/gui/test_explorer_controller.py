@@ -4,6 +4,7 @@ Runs are stand-ins with the interface of ``InteractionRun`` whose steps wait on 
 running" never depends on how fast the machine is; no test sleeps.
 """
 
+import dataclasses
 import threading
 from types import SimpleNamespace
 
@@ -288,6 +289,44 @@ def test_the_first_preparation_at_a_speed_says_its_steps_and_that_it_goes_on():
     assert listener.ended.wait(WAIT)
     assert precomputed == [pytest.approx(100 * KMH)]
     assert listener.statuses[0] == "Preparing hertz on corrugated-rail, line 1, 100 km/h, 65 kN, 1 m ..."
+
+
+def test_a_new_tracks_precompute_says_its_phases_and_moves_the_bar():
+    """A track not prepared yet (another pad, at a speed already prepared) is a first preparation again; the
+    precompute's phases (core's track_progress, here a stand-in that reports as core does) reach the status
+    line and the progress bar."""
+    from wheelrail.core.track.progress import current_progress
+
+    class Listener(Recorder):
+        fractions = []
+
+        def progress(self, fraction):
+            self.fractions.append(fraction)
+
+    listener = Listener()
+    precomputed = []
+
+    def precompute(params):
+        precomputed.append(params.track.support.pad_stiffness)
+        report = current_progress()
+        report("assembling the FE track", 0, 1)
+        for done in range(1, 5):
+            report("integrating the impulse responses (about 20 s)", done, 4)
+
+    runs = {"hertz": [FakeRun("hertz", 3000), FakeRun("hertz", 3000)]}
+    controller = RunController(
+        listener, prepare=lambda roughness, *, model, **kwargs: runs[model].pop(0), precompute=precompute, tick=10.0
+    )
+    soft = dataclasses.replace(_config("hertz"), inputs=(("pad_stiffness", 60e6),))
+    for config in (_config("hertz"), soft):  # the same speed, two tracks: two first preparations
+        listener.ended.clear()
+        controller.start(config, roughness=None)
+        assert listener.ended.wait(WAIT)
+    assert precomputed == [120e6, 60e6]
+    assert "Preparing the track for 100 km/h (1 of 2): integrating the impulse responses (about 20 s) (4 of 4) ..." in (
+        listener.statuses
+    )
+    assert listener.fractions[:4] == [0.25, 0.5, 0.75, 1.0]
 
 
 def test_a_warm_up_prepares_in_the_background_and_a_first_run_waits_for_it():
