@@ -43,6 +43,7 @@ from wheelrail.core.track.moving import (
     bay_rows,
     moving_from_stationary,
     moving_green_functions,
+    moving_weights,
     trapezoidal_weights,
 )
 from wheelrail.core.track.stationary import (
@@ -66,6 +67,7 @@ __all__ = [
     "compute_stationary_response",
     "moving_from_stationary",
     "moving_green_functions",
+    "moving_weights",
     "numerics_model",
     "receptance_peaks",
     "stationary_track_response",
