@@ -6,7 +6,7 @@ session compute them again (most of the fast suite's time). The tests' cache is 
 what a cache entry holds (``core/track``, ``core/cache.py``, ``core/parameters.py``): entries are keyed by
 their parameters (``core.cache``), the folder by the code that computed them, so a change of the track's code
 starts an empty folder and no test ever reads an entry an older code wrote. The folders of other code are
-removed but for the newest few (a branch switched back and forth keeps its entries). A fresh clone (CI)
+removed but for the last one used (a branch switched back and forth keeps its entries). A fresh clone (CI)
 starts empty: the first session computes the tracks it needs. ``WHEELRAIL_TEST_CACHE_DIR`` puts the folders
 elsewhere (an empty folder gives a cold session, as on a fresh clone).
 """
@@ -21,7 +21,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 # the sources whose code decides the content of a cache entry (its key holds only the parameters)
 CACHED_CODE = ("core/track/*.py", "core/cache.py", "core/parameters.py")
-KEEP_FOLDERS = 3  # code versions whose entries are kept (~200 MB per converged track)
+KEEP_FOLDERS = 2  # code versions whose entries are kept (the whole suite fills ~570 MB per version)
 
 
 def code_hash() -> str:
