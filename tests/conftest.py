@@ -3,7 +3,7 @@
 The track's Green's functions take 15-45 s to compute per track; a private cache per session made every
 session compute them again (most of the fast suite's time). The tests' cache is a folder of the checkout,
 ``.pytest_cache/wheelrail-cache/<code>``, where ``<code>`` is a hash of the source files whose code decides
-what a cache entry holds (``core/track``, ``core/cache.py``, ``core/parameters.py``): entries are keyed by
+what a cache entry holds (``CACHED_CODE``: the track, the wheel, the rail's radiation): entries are keyed by
 their parameters (``core.cache``), the folder by the code that computed them, so a change of the track's code
 starts an empty folder and no test ever reads an entry an older code wrote. The folders of other code are
 removed but for the last one used (a branch switched back and forth keeps its entries). A fresh clone (CI)
@@ -19,8 +19,16 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-# the sources whose code decides the content of a cache entry (its key holds only the parameters)
-CACHED_CODE = ("core/track/*.py", "core/cache.py", "core/parameters.py")
+# the sources whose code decides the content of a cache entry (its key holds only the parameters): every module
+# that writes entries, with what it computes them from (tests/unit/test_tests_cache.py checks the writers)
+CACHED_CODE = (
+    "core/cache.py",
+    "core/parameters.py",
+    "core/track/*.py",
+    "core/wheel.py",
+    "core/noise/radiation.py",
+    "core/commands/track.py",
+)
 KEEP_FOLDERS = 2  # code versions whose entries are kept (the whole suite fills ~570 MB per version)
 
 
