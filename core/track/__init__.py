@@ -24,6 +24,9 @@ across the bay by trigonometric interpolation and then interpolated linearly (th
 Steps longer than ``parameters.FOH_MAX_STEP`` use weights of the trapezoidal rule integrated at the
 loop's own step (``trapezoidal_weights``). Truncation: the functions are cut at
 ``TrackNumerics.duration``; the test suite and ``benchmarks/track_green.py`` show the truncation error.
+What a run reads of them is cached on disk per speed, bit-identical: the functions (``moving_green_functions``)
+and their weights at the run's step (``moving_weights``, all ``prepare_run`` reads: milliseconds, without the
+stationary responses).
 """
 
 # The package by concern: ``fe`` (the FE model, receptances, resonances), ``stationary`` (the impulse
