@@ -454,12 +454,12 @@ def history_arrays(
 
     The rail displacement that history causes (``acc``) is left at zero: the interaction loop, which owns the
     compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``)."""
-    from wheelrail.core.track import moving_green_functions
+    from wheelrail.core.track import moving_weights
     from wheelrail.core.wheel import wheel_discrete_system
 
     dx, dt = params.run.element_size, params.run.time_step
-    green = moving_green_functions(params.run.speed, params.track, track_numerics)
-    weights = np.ascontiguousarray(green.weights(dt))
+    # the weights alone, cached per speed and step: a cached run never reads the stationary responses
+    weights = moving_weights(params.run.speed, dt, params.track, track_numerics)
     n_lags = weights.shape[1]
     phi, gamma0, gamma1 = wheel_discrete_system(params.wheel, dt)
     n_steps = track_roughness.n_steps
@@ -468,8 +468,9 @@ def history_arrays(
     n_total = n_run_in + n_steps
     # rail position of history index j (sleeper at x = 0 of the roughness data)
     x_hist = track_roughness.x_start + (np.arange(n_hist + n_total) - n_hist - n_run_in) * dx
-    n_positions = len(green.excitation_positions)
-    pos = np.mod(x_hist, green.sleeper_spacing) / green.sleeper_spacing * n_positions
+    n_positions = len(weights)  # the rows of track.bay_rows, evenly across the bay
+    spacing = params.track.support.sleeper_spacing
+    pos = np.mod(x_hist, spacing) / spacing * n_positions
     lo = np.floor(pos).astype(np.int64) % n_positions
     first = track_roughness.first
     history = History(

@@ -24,6 +24,9 @@ across the bay by trigonometric interpolation and then interpolated linearly (th
 Steps longer than ``parameters.FOH_MAX_STEP`` use weights of the trapezoidal rule integrated at the
 loop's own step (``trapezoidal_weights``). Truncation: the functions are cut at
 ``TrackNumerics.duration``; the test suite and ``benchmarks/track_green.py`` show the truncation error.
+What a run reads of them is cached on disk per speed, bit-identical: the functions (``moving_green_functions``)
+and their weights at the run's step (``moving_weights``, all ``prepare_run`` reads: milliseconds, without the
+stationary responses).
 """
 
 # The package by concern: ``fe`` (the FE model, receptances, resonances), ``stationary`` (the impulse
@@ -43,6 +46,7 @@ from wheelrail.core.track.moving import (
     bay_rows,
     moving_from_stationary,
     moving_green_functions,
+    moving_weights,
     trapezoidal_weights,
 )
 from wheelrail.core.track.stationary import (
@@ -66,6 +70,7 @@ __all__ = [
     "compute_stationary_response",
     "moving_from_stationary",
     "moving_green_functions",
+    "moving_weights",
     "numerics_model",
     "receptance_peaks",
     "stationary_track_response",

@@ -20,6 +20,7 @@ from wheelrail.core.track.stationary import (
     _excitation_nodes,
     _integrate,
     _stored_nodes,
+    _stored_times,
     numerics_model,
     stationary_track_response,
 )
@@ -352,9 +353,10 @@ def moving_green_functions(
 ) -> MovingGreenFunctions:
     """Moving Green's functions of the track for train speed ``speed`` (eq. 2).
 
-    Read off the cached stationary responses (see the module docstring): about a millisecond per
-    speed once those are in memory. A speed above ``numerics.max_speed`` widens the wedge, which
-    means a new one-off precompute.
+    Read off the cached stationary responses (see the module docstring), and cached on disk per speed
+    (``core.cache``, kind ``track-moving``: 10 MB on the default track, read back in milliseconds instead
+    of read off the 208 MB stationary responses in half a second; bit-identical, the entry holds the very
+    array). A speed above ``numerics.max_speed`` widens the wedge, which means a new one-off precompute.
 
     Parameters
     ----------
@@ -365,15 +367,112 @@ def moving_green_functions(
     use_cache : bool
         Use the disk cache.
     """
+    track, numerics = _resolved(speed, track, numerics)
+    n_samples = len(_stored_times(numerics)[0])
+    shape = (numerics.positions_per_bay * numerics.rows_per_position, n_samples)
+    key = _reading_key("track-moving", track, numerics, speed)
+    values = _cached_array("track-moving", key, shape) if use_cache else None
+    if values is None:
+        response = stationary_track_response(track, numerics, use_cache=use_cache)
+        green = moving_from_stationary(response, speed, numerics.rows_per_position)
+        if use_cache:
+            _save_array("track-moving", key, green.values, shape)
+        return green
+    L = track.support.sleeper_spacing
+    return MovingGreenFunctions(
+        speed=float(speed),
+        sleeper_spacing=L,
+        excitation_positions=np.arange(len(values)) * (L / len(values)),
+        time_step=numerics.time_step * numerics.store_every,
+        values=values,
+        track=track,
+        numerics=numerics,
+    )
+
+
+# The reading of the rows and of their weights as the per-speed cache entries hold them: bump when either
+# changes (the constants of the reading are in the key too), so that no entry of an earlier reading is trusted.
+READING_VERSION = 1
+
+
+def _resolved(speed: float, track: TrackParameters | None, numerics: TrackNumerics | None):
+    """The track and numerics ``moving_green_functions`` reads ``speed`` (m/s) with (the wedge widened to it)."""
     if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
         raise WheelrailError(f"speed must be positive (m/s), got {speed!r}")
+    track = TrackParameters() if track is None else track
     numerics = TrackNumerics() if numerics is None else numerics
     if speed > numerics.max_speed:
         from dataclasses import replace
 
         numerics = replace(numerics, max_speed=float(speed))
-    response = stationary_track_response(track, numerics, use_cache=use_cache)
-    return moving_from_stationary(response, speed, numerics.rows_per_position)
+    return track, numerics
+
+
+def _reading_key(kind: str, track: TrackParameters, numerics: TrackNumerics, speed: float, **more) -> str:
+    """Cache key of what is read off the stationary responses of ``track`` for ``speed``: their key, the speed,
+    the rows per position, the reading's version and constants, and ``more``."""
+    from wheelrail.core.cache import cache_key
+    from wheelrail.core.track.stationary import _track_key
+
+    description = {
+        "wedge": _track_key(track, numerics),
+        "speed": float(speed),
+        "rows_per_position": numerics.rows_per_position,
+        "reading": [READING_VERSION, SHEAR_CROSSINGS, NEAR_FIELD_TIME, FOH_MAX_STEP],
+        **more,
+    }
+    return cache_key(kind, description)
+
+
+def _cached_array(kind: str, key: str, shape: tuple[int, int]) -> np.ndarray | None:
+    """The array of a cache entry if it has the expected shape and is finite, else None (then rebuilt)."""
+    from wheelrail.core import cache
+
+    arrays = cache.load_entry(kind, key, ("values",))
+    if arrays is None or arrays["values"].shape != shape or not np.all(np.isfinite(arrays["values"])):
+        return None
+    return arrays["values"]
+
+
+def _save_array(kind: str, key: str, values: np.ndarray, shape: tuple[int, int]) -> None:
+    from wheelrail.core import cache
+
+    if values.shape == shape and np.all(np.isfinite(values)):
+        cache.save_entry(kind, key, {"values": values})
+
+
+def moving_weights(
+    speed: float,
+    time_step: float,
+    track: TrackParameters | None = None,
+    numerics: TrackNumerics | None = None,
+    *,
+    method: str = "auto",
+    use_cache: bool = True,
+) -> np.ndarray:
+    """``moving_green_functions(speed, track, numerics).weights(time_step, method=method)``, the rows of
+    ``bay_rows`` at the loop's step, cached on disk per track, speed, step and method (``core.cache``, kind
+    ``track-weights``): what a run needs of its track, a few MB read back in milliseconds; bit-identical
+    (the entry holds the very array).
+
+    Returns
+    -------
+    ndarray (positions_per_bay * rows_per_position, lags), m/N.
+    """
+    track, numerics = _resolved(speed, track, numerics)
+    if not (isinstance(time_step, int | float) and math.isfinite(time_step) and time_step > 0):
+        raise WheelrailError(f"time_step must be positive (s), got {time_step!r}")
+    if method not in ("auto", "foh", "trapezoidal"):
+        raise WheelrailError(f"weights: method must be auto, foh or trapezoidal, got {method!r}")
+    shape = (numerics.positions_per_bay * numerics.rows_per_position, int(math.ceil(numerics.duration / time_step)) + 1)
+    key = _reading_key("track-weights", track, numerics, speed, time_step=float(time_step), method=method)
+    weights = _cached_array("track-weights", key, shape) if use_cache else None
+    if weights is None:
+        green = moving_green_functions(float(speed), track, numerics, use_cache=use_cache)
+        weights = np.ascontiguousarray(green.weights(float(time_step), method=method))
+        if use_cache:
+            _save_array("track-weights", key, weights, shape)
+    return weights
 
 
 def moving_from_stationary(

@@ -204,8 +204,8 @@ def test_rows_between_positions_keep_the_sleeper_bay_harmonics():
     # k = 8.
     track = TrackParameters(n_bays=8)
     base = dict(duration=0.02, max_speed=110 / 3.6, refined_elements_per_bay=64)
-    direct = stationary_track_response(track, TrackNumerics(positions_per_bay=64, **base), use_cache=False)
-    coarse = stationary_track_response(track, TrackNumerics(positions_per_bay=16, **base), use_cache=False)
+    direct = stationary_track_response(track, TrackNumerics(positions_per_bay=64, **base))
+    coarse = stationary_track_response(track, TrackNumerics(positions_per_bay=16, **base))
     speed = 100 / 3.6
     dt = 1e-3 / speed
     w_direct = moving_from_stationary(direct, speed, 1).weights(dt)
