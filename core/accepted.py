@@ -131,9 +131,10 @@ ACCEPTED: dict[str, Accepted] = {
         Accepted(
             "pad_damping",
             "N s/m",
-            1e3,
+            5e3,
             500e3,
-            "a pad's loss factor of about 0.05 to 0.5 over the accepted stiffnesses at the rail-on-pad resonance",
+            "a pad's loss factor of about 0.05 to 0.5 at the rail-on-pad resonance; below 5 kNs/m a soft support rings "
+            "beyond the 50 ms of response the loop keeps",
         ),
         Accepted(
             "sleeper_mass", "kg", 20.0, 300.0, "half a sleeper: from a light timber sleeper to a heavy concrete one"
@@ -146,7 +147,14 @@ ACCEPTED: dict[str, Accepted] = {
             3000e6,
             "per half sleeper: from soft subgrade with under-sleeper pads to a slab's rigid support",
         ),
-        Accepted("ballast_damping", "N s/m", 1e3, 1000e3, "per half sleeper, around the paper's 165 kNs/m"),
+        Accepted(
+            "ballast_damping",
+            "N s/m",
+            20e3,
+            1000e3,
+            "per half sleeper, around the paper's 165 kNs/m; below 20 kNs/m a heavy sleeper on soft ballast rings "
+            "beyond the 50 ms of response the loop keeps (the time stepping is then unstable at low speeds)",
+        ),
     )
 }
 """The accepted ranges by key (SI). Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU

@@ -35,6 +35,7 @@ __all__ = [
     "History",
     "TrackRoughness",
     "check_roughness_pair",
+    "check_step_stability",
     "checked_inputs",
     "default_run_in_length",
     "history_arrays",
@@ -444,6 +445,28 @@ def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
     return ramp
 
 
+def check_step_stability(params: ModelParameters, weights: np.ndarray, wheel_system: tuple) -> float:
+    """The coupled step's period-two mode (z = -1) must be damped: with the contact's compliance 1/k_H at the
+    preload (k_H = 1.5 P / delta), rail and wheel's sampled compliance at the Nyquist frequency H(-1) (the weights
+    at every position in the bay, alternating in sign, and the wheel's discrete system) must leave
+    1/k_H + H(-1) > 0 (``tests/physics/test_stability.py``: where it is negative the implicit update diverges
+    with period two steps). On the accepted tracks and speeds it holds with a margin (k_H (1/k_H + H(-1)) of
+    0.34-0.85, ``benchmarks/step_stability.py``); a track whose supports ring longer than the responses the loop
+    keeps could break it, and is refused here rather than run. Returns that margin, k_H (1/k_H + H(-1))."""
+    phi, gamma0, gamma1 = wheel_system
+    rail = float(np.min(weights @ (-1.0) ** np.arange(weights.shape[1])))
+    wheel = float(np.linalg.solve(-np.eye(4) - phi, gamma0 - gamma1)[1])
+    stiffness = 1.5 * params.contact.preload / params.contact.hertz_approach()
+    margin = 1.0 + stiffness * (rail + wheel)
+    if not margin > 0.0:
+        raise WheelrailError(
+            f"on this track at {params.run.speed * 3.6:g} km/h the time stepping would be unstable (its period-two "
+            f"mode undamped: margin {margin:.2f}): the track's supports ring longer than the responses the loop "
+            "keeps; raise the pad or ballast damping, or the speed"
+        )
+    return margin
+
+
 def history_arrays(
     track_roughness: TrackRoughness,
     params: ModelParameters,
@@ -462,6 +485,7 @@ def history_arrays(
     weights = moving_weights(params.run.speed, dt, params.track, track_numerics)
     n_lags = weights.shape[1]
     phi, gamma0, gamma1 = wheel_discrete_system(params.wheel, dt)
+    check_step_stability(params, weights, (phi, gamma0, gamma1))
     n_steps = track_roughness.n_steps
     n_run_in = int(round(run_in_length / dx))
     n_hist = n_lags

@@ -46,7 +46,7 @@ def test_every_declared_input_has_a_default_within_its_range_and_a_group():
     [
         (["--pad-stiffness-mn-m", "0"], "--pad-stiffness-mn-m 0 is outside the accepted 10 to 3000 MN/m ("),
         (["--sleeper-spacing-m", "nan"], "--sleeper-spacing-m 'nan': not a number"),
-        (["--ballast-damping-kns-m", "-1"], "--ballast-damping-kns-m -1 is outside the accepted 1 to 1000 kNs/m ("),
+        (["--ballast-damping-kns-m", "-1"], "--ballast-damping-kns-m -1 is outside the accepted 20 to 1000 kNs/m ("),
     ],
 )
 def test_a_track_input_out_of_range_is_one_line_in_each_front_ends_words(argv, wording, capsys):
@@ -142,3 +142,34 @@ def _free_port() -> int:
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
         return sock.getsockname()[1]
+
+
+def test_the_user_guides_track_table_states_the_declared_defaults_and_ranges():
+    from pathlib import Path
+
+    text = (Path(__file__).parents[2] / "docs" / "user_guide.md").read_text(encoding="utf-8")
+    for entry in inputs_of("track"):
+        row = next(line for line in text.splitlines() if line.startswith(f"| `{entry.option}` |"))
+        cells = [cell.strip() for cell in row.strip("|").split("|")]
+        low, high = entry.in_shown()
+        assert cells[3] == f"{entry.shown_default():g}" and cells[4] == f"{low:g} to {high:g}", row
+        assert cells[2].startswith(f"`{entry.path}`"), row
+
+
+def test_an_unstable_step_is_refused_not_run(monkeypatch):
+    # the guard of the coupled step's period-two mode (run_setup.check_step_stability): an undamped track's
+    # alternating compliance larger than the contact's is refused in one line (the accepted tracks keep a
+    # margin of 0.34-0.85; a stand-in rail compliance of -2/k_H here)
+    import numpy as np
+
+    from wheelrail.core.run_setup import check_step_stability
+    from wheelrail.core.wheel import wheel_discrete_system
+
+    params = ModelParameters()
+    stiffness = 1.5 * params.contact.preload / params.contact.hertz_approach()
+    system = wheel_discrete_system(params.wheel, params.run.time_step)
+    calm = np.zeros((4, 8))
+    assert 0.9 < check_step_stability(params, calm, system) <= 1.0  # the wheel alone barely moves it
+    ringing = np.tile((-1.0) ** np.arange(8) * (-2.0 / stiffness / 8), (4, 1))
+    with pytest.raises(WheelrailError, match="time stepping would be unstable"):
+        check_step_stability(params, ringing, system)
