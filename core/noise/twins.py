@@ -50,7 +50,7 @@ from wheelrail.core.noise.radiation import (
     rail_radiation_efficiency,
     rail_section,
 )
-from wheelrail.core.parameters import ModelParameters
+from wheelrail.core.parameters import ModelParameters, TrackParameters
 from wheelrail.core.spectra import BAND_HALF_WIDTH
 
 LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
@@ -105,15 +105,11 @@ def band_frequencies(points_per_band: int) -> np.ndarray:
 
 
 def _banded_solver(model):
-    from scipy.linalg import solve_banded
-
-    from wheelrail.core.track.fe import HALF_BANDWIDTH
-
-    kb, cb, mb = model.banded(model.K), model.banded(model.C), model.banded(model.M)
+    """Displacements for loads at a frequency; the rail's loss factor exact (hysteretic, K_rail (1 + i eta))."""
+    bands = model.frequency_domain_bands()
 
     def solve(frequency: float, load: np.ndarray) -> np.ndarray:
-        w = 2 * np.pi * frequency
-        return solve_banded((HALF_BANDWIDTH, HALF_BANDWIDTH), kb - w**2 * mb + 1j * w * cb, load, check_finite=False)
+        return model.solve(*bands, frequency, load)
 
     return solve
 
@@ -211,20 +207,11 @@ def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float,
     from wheelrail.core.track.fe import timoshenko_shape_functions
     from wheelrail.core.wheel import wheel_receptance
 
-    track = replace(params.track, n_bays=numerics.track_bays)
-    model = assemble_track(track, numerics.elements_per_bay)
+    model = assemble_track(replace(params.track, n_bays=numerics.track_bays), numerics.elements_per_bay)
     solve = _banded_solver(model)
-    spacing = track.support.sleeper_spacing
-    centre_bay = numerics.track_bays // 2
-    positions = (centre_bay * spacing, (centre_bay + 0.5) * spacing)  # above a sleeper, midspan
-    x_nodes = model.node_x
-    weights = np.gradient(x_nodes)  # trapezoid weights on the uniform node grid (half at the ends)
+    positions, decay_nodes, free_nodes, free_distance = _decay_grid(model, numerics)
+    weights = np.gradient(model.node_x)  # trapezoid weights on the uniform node grid (half at the ends)
     weights[[0, -1]] *= 0.5
-    decay_nodes = slice(
-        np.searchsorted(x_nodes, positions[1]), np.searchsorted(x_nodes, positions[1] + numerics.decay_length)
-    )
-    free_bays = np.arange(3, 21)
-    free_nodes = np.arange(0, len(x_nodes), numerics.elements_per_bay)[centre_bay + free_bays]
     point_dofs = []
     for x0 in positions:
         element, xi = model.locate(x0)
@@ -242,8 +229,8 @@ def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float,
         "sleeper": np.empty(shape),
         "alpha_sq": np.empty(shape),
         "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
-        "free_sq": np.zeros((freqs.shape[0], len(free_bays))),
-        "free_distance": free_bays * spacing,
+        "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
+        "free_distance": free_distance,
         "dx": model.element_length,
     }
     for (b, p), f in np.ndenumerate(freqs):
@@ -260,6 +247,56 @@ def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float,
                 out["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
                 out["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
     return out
+
+
+def _decay_grid(model, numerics: NoiseNumerics):
+    """The excitation positions (above the central sleeper, midspan), the rail nodes of EN 15461's sum (from
+    midspan over ``decay_length``), the sleeper nodes 3 to 20 bays on (the free wave) and their distances."""
+    spacing = model.params.support.sleeper_spacing
+    centre_bay = model.params.n_bays // 2
+    positions = (centre_bay * spacing, (centre_bay + 0.5) * spacing)
+    x_nodes = model.node_x
+    decay_nodes = slice(
+        np.searchsorted(x_nodes, positions[1]), np.searchsorted(x_nodes, positions[1] + numerics.decay_length)
+    )
+    free_bays = np.arange(3, 21)
+    free_nodes = np.arange(0, len(x_nodes), numerics.elements_per_bay)[centre_bay + free_bays]
+    return positions, decay_nodes, free_nodes, free_bays * spacing
+
+
+def track_decay_rates(
+    track: TrackParameters | None = None, numerics: NoiseNumerics | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The vertical decay rates of the noise model's track alone (step 3 of the module docstring; the same
+    numbers as :func:`track_noise_model`'s without its other steps): the lengthened FE track of ``track``
+    (default the paper's), excited at midspan only.
+
+    Returns
+    -------
+    (frequency_hz, decay_rate_db_per_m, free_wave_decay_db_per_m) : ndarrays
+        Exact band centres 50 Hz-10 kHz; EN 15461's decay rate and the free wave's, dB/m.
+    """
+    from wheelrail.core.track import assemble_track
+
+    track = TrackParameters() if track is None else track
+    numerics = NoiseNumerics() if numerics is None else numerics
+    model = assemble_track(replace(track, n_bays=numerics.track_bays), numerics.elements_per_bay)
+    solve = _banded_solver(model)
+    positions, decay_nodes, free_nodes, free_distance = _decay_grid(model, numerics)
+    load = model.load_vector(positions[1])
+    freqs = band_frequencies(numerics.points_per_band)
+    vib = {
+        "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
+        "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
+        "free_distance": free_distance,
+        "dx": model.element_length,
+    }
+    for (b, _), f in np.ndenumerate(freqs):
+        rail = solve(f, load)[model.w_dof]
+        vib["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
+        vib["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
+    decay, free = _decay_rates(vib)
+    return noise_bands(), decay, free
 
 
 def _decay_rates(vib: dict) -> tuple[np.ndarray, np.ndarray]:
