@@ -121,9 +121,9 @@ ACCEPTED: dict[str, Accepted] = {
             "rail_loss_factor",
             "",
             0.0,
-            0.2,
-            "0: the paper's undamped rail; a bare steel rail's loss factor is of order 0.01 to 0.02, and up to 0.2 "
-            "the time-domain fit of a constant loss factor holds (core/track/fe.py, rail_relaxation)",
+            0.1,
+            "0: the paper's undamped rail; a bare steel rail's loss factor is of order 0.01 to 0.02; up to 0.1 the "
+            "time-domain track's receptance stays within 1 dB per band of the constant loss factor's",
         ),
         Accepted(
             "pad_width",

@@ -202,7 +202,7 @@ class RailParameters:
         A = 76.70 cm^2 gives 0.239 kg m.
     loss_factor : float
         eta, the rail's loss factor on its bending and shear stiffness, EI (1 + i eta) and kGA (1 + i eta)
-        (0: the paper's undamped rail; ``accepted.ACCEPTED["rail_loss_factor"]``: 0 to 0.2). Exact in the
+        (0: the paper's undamped rail; ``accepted.ACCEPTED["rail_loss_factor"]``: 0 to 0.1). Exact in the
         frequency domain; in the time domain a fit of a few relaxation terms (``track.fe.rail_relaxation``).
     """
 
