@@ -310,12 +310,14 @@ def assemble_track(
     C = sp.lil_matrix((n_dof, n_dof))
     for node, s in zip(support_nodes, sleeper_dof, strict=True):
         for dofs, stiffness, damping in _pad_couplings(track, node_x, w_dof, th_dof, node):
-            for mat, value in ((K, stiffness), (C, damping)):
-                # the pad's layer between the rail (dofs) and the rigid sleeper s: [[P, -p], [-p^T, sum]]
-                mat[np.ix_(dofs, dofs)] += value[0]
-                mat[dofs, s] -= value[1]
-                mat[s, dofs] -= value[1]
-                mat[s, s] += value[2]
+            for mat, (P, p, total) in ((K, stiffness), (C, damping)):
+                # the pad's layer between the rail (dofs) and the rigid sleeper s: [[P, -p], [-p^T, total]]
+                for i, di in enumerate(dofs):
+                    for j, dj in enumerate(dofs):
+                        mat[di, dj] += P[i, j]
+                    mat[di, s] -= p[i]
+                    mat[s, di] -= p[i]
+                mat[s, s] += total
         K[s, s] += sup.ballast_stiffness
         C[s, s] += sup.ballast_damping
         M[s, s] += sup.sleeper_mass
@@ -343,7 +345,8 @@ def _pad_couplings(track: TrackParameters, node_x, w_dof, th_dof, node: int):
     """The pad at the support ``node`` as (rail dofs, (k, c) parts) blocks: for each part, the rail block
     P = (k_P / w) int N^T N dx, the coupling p = (k_P / w) int N dx to the sleeper and the sleeper's
     (k_P / w) x (length covered); over the element parts within x_S -+ w / 2 (clipped to the rail's ends: the
-    two end sleepers carry half a pad). A point support (w = 0): the rail's w DOF at the node, k_P and c_P."""
+    two end sleepers' pads cover the half within the rail with the whole k_P, so that w -> 0 is the point
+    support everywhere). A point support (w = 0): the rail's w DOF at the node, k_P and c_P."""
     sup = track.support
     width = sup.pad_width
     if width == 0:
@@ -364,7 +367,7 @@ def _pad_couplings(track: TrackParameters, node_x, w_dof, th_dof, node: int):
             wq = 0.5 * (b - a) * weights
             block = ((N * wq[:, None]).T @ N, wq @ N, b - a)
             dofs = np.array([w_dof[e], th_dof[e], w_dof[e + 1], th_dof[e + 1]])
-            k, c = sup.pad_stiffness / width, sup.pad_damping / width
+            k, c = sup.pad_stiffness / (end - start), sup.pad_damping / (end - start)
             blocks.append((dofs, tuple(k * part for part in block), tuple(c * part for part in block)))
         e += 1
     return blocks
