@@ -68,6 +68,8 @@ FIELD_NAMES: dict[str, Name] = {
     "radius": Name("Wheel radius", "mm", 1e3),  # the paper's R: the wheel's, as the page sets it
     "rail_crown_radius": Name("Rail crown radius", "mm", 1e3),
     "wheel_transverse_radius": Name("Wheel tread radius across", "mm", 1e3),
+    "rail_loss_factor": Name("Rail loss factor"),  # the track's inputs (the fields: to come)
+    "pad_width": Name("Pad width", "mm", 1e3),
     "model": Name("Contact model"),
     "set": Name("Roughness set"),
     "wheel_set": Name("Wheel roughness"),

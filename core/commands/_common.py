@@ -20,6 +20,8 @@ CLI_NAMES: dict[str, Name] = {
     "radius": Name("--wheel-radius-mm", "mm", 1e3, True),  # the paper's R: the wheel's, as the CLI sets it
     "rail_crown_radius": Name("--rail-crown-radius-mm", "mm", 1e3, True),
     "wheel_transverse_radius": Name("--wheel-transverse-radius-mm", "mm", 1e3, True),
+    "rail_loss_factor": Name("--rail-loss-factor", "", 1.0, True),  # the track's inputs (the options: to come)
+    "pad_width": Name("--pad-width-mm", "mm", 1e3, True),
     "length": Name("--length-m", "m", 1.0, True),
     "line": Name("--line", unit_in_label=True),
     "skip": Name("--skip-ms", "ms", 1e3, True),
