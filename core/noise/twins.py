@@ -9,9 +9,10 @@ Chain, per frequency f (time convention e^{i w t}, amplitudes; band values are m
    contact position x0 (above a sleeper and at midspan) and the linearised Hertz contact,
    alpha_C = 1 / k_H, k_H = 3 P / (2 delta_0) at the preload P (eqs. 12-13 of the paper).
 2. **Rail and sleeper vibration** for a unit force at x0: the FE track of :func:`wheelrail.core.track.assemble_track`
-   (the paper's track) lengthened to ``track_bays`` bays so that waves reflected at its free ends come back
-   attenuated by the track's own decay (the paper's 70 bays suffice for the contact force, not for the
-   vibration far along the rail); rail displacement at every node, each sleeper's displacement.
+   (the paper's track, or any other) lengthened to ``track_bays`` bays so that waves reflected at its free ends
+   come back attenuated by the track's own decay (the paper's 70 bays suffice for the contact force, not for
+   the vibration far along the rail); rail displacement at every node, each sleeper's displacement. The rail's
+   loss factor eta is exact here (hysteretic: K_rail (1 + i eta)); pads of a width act as the time-domain track's.
 3. **Decay rates**: EN 15461's formula DR = 10 lg(e) / sum_n (|A(x_n)|^2 / |A(x_0)|^2) dx_n on the model's
    band-averaged transfer receptances (excitation at midspan, responses on one side), evaluated on the model's
    node grid (every element) up to ``decay_length`` instead of the standard's measurement positions; and the
@@ -70,7 +71,9 @@ class NoiseNumerics:
         Frequencies per one-third octave band, evenly spread in lg f (20: doubling it moves L_H,tr by <= 0.2 dB
         except in the 4 kHz band, 3.3 dB, where the undamped rail's second pinned-pinned resonance, a mode with
         still pads, is too sharp for any fixed sampling; doubling ``elements_per_bay`` moves the 4 and 8 kHz bands
-        by 5.2 and 3.4 dB for the same reason, every other band by <= 0.3 dB; ``benchmarks/noise.py``).
+        by 5.2 and 3.4 dB for the same reason, every other band by <= 0.3 dB; ``benchmarks/noise.py``). With a
+        rail loss factor of 0.02 (``RailParameters.loss_factor``) both doublings move every band up to 8 kHz by
+        <= 0.5 dB (``benchmarks/track_damping.py``).
     decay_length : float
         m of rail over which EN 15461's sum is taken.
     sleeper_area : float
