@@ -17,10 +17,12 @@ Run (each configuration is a one-off precompute of its own; a private cache dire
     python3 benchmarks/bay_convergence.py --configs default doubled --speeds 100 200
     python3 benchmarks/bay_convergence.py --configs default positions_per_bay=64,refined_elements_per_bay=64
     python3 benchmarks/bay_convergence.py --configs default rows_per_position=8 --speeds 50 300
+    python3 benchmarks/bay_convergence.py --configs default doubled --speeds 100 --pad-width-mm 150
 
 A configuration is ``default`` (``TrackNumerics()``), ``doubled`` (every per-bay resolution of the default
 doubled: positions, elements in and outside the refined bays, refined bays, near field, rows) or
-comma-separated ``TrackNumerics`` fields, e.g. ``positions_per_bay=64``.
+comma-separated ``TrackNumerics`` fields, e.g. ``positions_per_bay=64``. ``--pad-width-mm`` and
+``--rail-loss-factor`` run another track than the paper's (pads of a width, a damped rail).
 """
 
 from __future__ import annotations
@@ -89,12 +91,22 @@ def _harmonics(result, sleeper_spacing: float) -> tuple[np.ndarray, float]:
     return np.array(amps), float(np.ptp(seg))
 
 
+def _track():
+    """The track of ``--pad-width-mm`` and ``--rail-loss-factor`` (default the paper's)."""
+    from wheelrail.core.parameters import RailParameters, SupportParameters, TrackParameters
+
+    return TrackParameters(
+        rail=RailParameters(loss_factor=ARGS.rail_loss_factor),
+        support=SupportParameters(pad_width=ARGS.pad_width_mm * 1e-3),
+    )
+
+
 def _levels(numerics, kmh: float):
     from wheelrail.core.interaction import simulate
     from wheelrail.core.parameters import ModelParameters, RunParameters
     from wheelrail.core.spectra import force_spectrum
 
-    params = ModelParameters(run=RunParameters(speed=kmh / 3.6))
+    params = ModelParameters(track=_track(), run=RunParameters(speed=kmh / 3.6))
     smooth = simulate(
         _smooth_rail(ARGS.length), model="hertz", params=params, track_numerics=numerics, keep_pressure=False
     )
@@ -122,6 +134,8 @@ def main() -> None:
     parser.add_argument("--speeds", nargs="+", type=float, default=[100.0, 200.0], help="km/h")
     parser.add_argument("--length", type=float, default=7.0, help="run length, m")
     parser.add_argument("--cache", action="store_true", help="use the user cache instead of a private one")
+    parser.add_argument("--pad-width-mm", type=float, default=0.0, help="pad width (default 0: point supports)")
+    parser.add_argument("--rail-loss-factor", type=float, default=0.0, help="rail loss factor (default 0)")
     ARGS = parser.parse_args()
     if not ARGS.cache:
         os.environ["WHEELRAIL_CACHE_DIR"] = tempfile.mkdtemp(prefix="wheelrail-bay-")
@@ -131,7 +145,7 @@ def main() -> None:
     for config in ARGS.configs:
         numerics = _parse(config)
         start = time.perf_counter()
-        track.stationary_track_response(None, numerics)
+        track.stationary_track_response(_track(), numerics)
         build = time.perf_counter() - start
         for kmh in ARGS.speeds:
             table[config, kmh] = _levels(numerics, kmh)

@@ -118,6 +118,22 @@ ACCEPTED: dict[str, Accepted] = {
             "rail_crown_radius", "m", 0.05, 5.0, "a rail head, from a sharp 50 mm crown to a worn, nearly flat 5 m"
         ),
         Accepted(
+            "rail_loss_factor",
+            "",
+            0.0,
+            0.1,
+            "0: the paper's undamped rail; a bare steel rail's loss factor is of order 0.01 to 0.02; up to 0.1 the "
+            "time-domain track's receptance stays within 1 dB per band of the constant loss factor's",
+        ),
+        Accepted(
+            "pad_width",
+            "m",
+            0.0,
+            0.3,
+            "the length of rail a pad supports: 0 is the paper's point support; rail seats are 0.12 to 0.2 m long "
+            "(a sleeper's width at the seat is 0.2 to 0.3 m), and the pad must stay within half a sleeper bay",
+        ),
+        Accepted(
             "wheel_transverse_radius",
             "m",
             0.05,

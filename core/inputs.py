@@ -216,6 +216,16 @@ INPUTS: tuple[Input, ...] = (
         "ballast_damping", "ballast_damping", KNS_PER_M, "Ballast damping",
         "ballast viscous damping under a half sleeper", "cB",
     ),
+    _track(
+        "rail_loss_factor", "loss_factor", NUMBER, "Rail loss factor",
+        "loss factor of the rail's bending and shear stiffness (0: the paper's undamped rail; measured rails "
+        "0.01-0.02)", "eta",
+    ),
+    _track(
+        "pad_width", "pad_width", MM, "Pad width",
+        "width of the rail pad along the rail (0: the paper's point support; a wide pad costs a 5x longer "
+        "precompute)", "pad",
+    ),
 )  # fmt: skip
 """Every user-facing input, in the order front ends show them."""
 

@@ -200,18 +200,24 @@ class RailParameters:
     rotary_inertia_per_length : float
         rho I, rotary inertia per unit length, kg m. UIC60: m' I / A with I = 3055 cm^4 and
         A = 76.70 cm^2 gives 0.239 kg m.
+    loss_factor : float
+        eta, the rail's loss factor on its bending and shear stiffness, EI (1 + i eta) and kGA (1 + i eta)
+        (0: the paper's undamped rail; ``accepted.ACCEPTED["rail_loss_factor"]``: 0 to 0.1). Exact in the
+        frequency domain; in the time domain a fit of a few relaxation terms (``track.fe.rail_relaxation``).
     """
 
     bending_stiffness: float = 6.4e6
     shear_stiffness: float = 250e6
     mass_per_length: float = 60.0
     rotary_inertia_per_length: float = 60.0 * 3055e-8 / 76.70e-4
+    loss_factor: float = 0.0
 
     def __post_init__(self) -> None:
         _check(self, "bending_stiffness", "N m^2")
         _check(self, "shear_stiffness", "N")
         _check(self, "mass_per_length", "kg/m")
         _check(self, "rotary_inertia_per_length", "kg m", allow_zero=True)
+        ACCEPTED["rail_loss_factor"].check(self.loss_factor, "RailParameters.loss_factor")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -231,6 +237,10 @@ class SupportParameters:
         m_SL, (half) sleeper mass, kg.
     ballast_stiffness, ballast_damping : float
         k_B in N/m and c_B in N s/m.
+    pad_width : float
+        w, the length of rail the pad supports, m: k_P and c_P spread evenly over x_S - w/2 .. x_S + w/2 (a
+        Winkler layer k_P / w per metre under the rail, the sleeper rigid); 0: the paper's point support.
+        ``accepted.ACCEPTED["pad_width"]``: 0 to 0.3 m, and at most half the sleeper spacing.
     """
 
     sleeper_spacing: float = 0.65
@@ -239,10 +249,21 @@ class SupportParameters:
     sleeper_mass: float = 125.0
     ballast_stiffness: float = 140e6
     ballast_damping: float = 165e3
+    pad_width: float = 0.0
 
     def __post_init__(self) -> None:
         for item in fields(self):  # each a declared input (wheelrail.core.inputs), checked against its range
             ACCEPTED[item.name].check(getattr(self, item.name), f"SupportParameters.{item.name}")
+        if self.pad_width > 0.5 * self.sleeper_spacing:
+            raise WheelrailError(
+                f"a pad {self.pad_width} m wide overlaps the next sleeper's {self.sleeper_spacing} m away "
+                "(at most half the sleeper spacing)",
+                parameter="pad_width",
+                value=self.pad_width,
+                unit="m",
+                argument="SupportParameters.pad_width",
+                maximum=0.5 * self.sleeper_spacing,
+            )
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -1,4 +1,5 @@
-"""``wheelrail track``: receptance peaks of the track and its cached moving Green's functions."""
+"""``wheelrail track``: receptance peaks of the track, its point receptances and vertical decay rate (against the
+lower limit of EN ISO 3095:2013) and its cached moving Green's functions."""
 
 from __future__ import annotations
 
@@ -26,16 +27,22 @@ for 5e12 frequencies and ended in MemoryError)."""
 def add_parser(sub):
     parser = sub.add_parser(
         "track",
-        help="track receptance peaks (sleeper-on-ballast, rail-on-pad, pinned-pinned) and Green's function cache",
+        help="track receptances, resonances, decay rate against the type-test limit, and Green's function cache",
         description=(
-            "Print the resonances of the discretely supported track (paper section 2.2), prepare its moving "
-            "Green's functions for a speed (computed once, then cached on disk) and say where they are cached."
+            "Print the resonances of the discretely supported track (paper section 2.2), its point receptance "
+            "above a sleeper and at midspan and its vertical decay rate per one-third octave band (EN 15461, on "
+            "the noise model's 240-bay track) beside the lower limit of EN ISO 3095:2013 (Figure 3, the TSI "
+            "Noise's reference track), prepare its moving Green's functions for a speed (computed once, then "
+            "cached on disk) and say where they are cached."
         ),
     )
     add_speed_option(parser)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     parser.add_argument(
-        "--csv", metavar="FILE", help="write the point receptance above a sleeper and at midspan, 20 Hz-5 kHz"
+        "--csv",
+        metavar="FILE",
+        help="write the point receptance above a sleeper and at midspan, 20 Hz-5 kHz, and the decay rate per "
+        "band beside the limit to FILE's stem + _decay (FILE r.csv: r_decay.csv)",
     )
     parser.add_argument(
         "--df-hz",
@@ -43,7 +50,9 @@ def add_parser(sub):
         default=5.0,
         help=f"frequency step of --csv and --plot, Hz ({MIN_DF_HZ:g}-100, default 5)",
     )
-    parser.add_argument("--plot", metavar="FILE.png", help="plot receptances and moving Green's functions (Fig. 4)")
+    parser.add_argument(
+        "--plot", metavar="FILE.png", help="plot receptances, decay rate and moving Green's functions (Fig. 4)"
+    )
     add_input_options(parser, "track")
     return parser
 
@@ -82,8 +91,44 @@ def _peaks(track, numerics) -> dict[str, float]:
     return peaks
 
 
-def _receptance_outputs(track, numerics, csv_path, plot_path, df_hz, response, peaks) -> None:
-    """``--csv`` and ``--plot``: the point receptance above a sleeper and at midspan, 20 Hz-5 kHz."""
+def _decay(track) -> dict:
+    """The vertical decay rate per band (EN 15461 on the noise model's track) beside the EN ISO 3095 limit,
+    kept in the disk cache (a few seconds of FE solves); the key holds the source of the functions."""
+    import hashlib
+    import inspect
+    from dataclasses import asdict
+
+    import numpy as np
+
+    from wheelrail.core import cache
+    from wheelrail.core.noise import twins
+    from wheelrail.core.noise.decay import decay_against_limit
+    from wheelrail.core.track import fe
+
+    numerics = twins.NoiseNumerics()
+    functions = (twins.track_decay_rates, twins._decay_grid, twins._decay_rates, fe.assemble_track, fe._pad_couplings)
+    code = "".join(inspect.getsource(f) for f in functions)
+    key = cache.cache_key(
+        "track-decay",
+        {"track": asdict(track), "numerics": asdict(numerics), "code": hashlib.sha256(code.encode()).hexdigest()},
+    )
+    names = ("frequency_hz", "decay_rate", "free_wave_decay")
+    arrays = cache.load_entry("track-decay", key, names)
+    if arrays is None or not all(np.all(np.isfinite(arrays[name])) for name in names):
+        f, decay, free = twins.track_decay_rates(track, numerics)
+        arrays = {"frequency_hz": f, "decay_rate": decay, "free_wave_decay": free}
+        cache.save_entry("track-decay", key, arrays)
+    out = decay_against_limit(arrays["frequency_hz"], arrays["decay_rate"])
+    out["free_wave_decay_dB_per_m"] = arrays["free_wave_decay"]
+    out["method"] = (
+        f"EN 15461 formula on the FE track lengthened to {numerics.track_bays} bays, excited at midspan, "
+        f"{numerics.points_per_band} frequencies per band"
+    )
+    return out
+
+
+def _receptances(track, numerics, df_hz):
+    """Point receptance above the central sleeper and at midspan (m/N, complex), 20 Hz-5 kHz every ``df_hz``."""
     import numpy as np
 
     from wheelrail.core.track import assemble_track, track_receptance
@@ -92,9 +137,36 @@ def _receptance_outputs(track, numerics, csv_path, plot_path, df_hz, response, p
     x_sleeper = (track.n_bays // 2) * L
     model = assemble_track(track, numerics.elements_per_bay)
     freq = np.arange(20.0, 5000.0 + 1e-9, df_hz)
-    above = track_receptance(model, freq, x_sleeper)
-    midspan = track_receptance(model, freq, x_sleeper + L / 2)
+    return freq, track_receptance(model, freq, x_sleeper), track_receptance(model, freq, x_sleeper + L / 2)
+
+
+def _decay_csv_path(csv_path: Path) -> Path:
+    return csv_path.with_name(f"{csv_path.stem}_decay{csv_path.suffix or '.csv'}")
+
+
+def _write_decay_csv(path: Path, decay: dict) -> None:
+    from wheelrail.core.atomic import atomic_write
+
+    def write(handle) -> None:
+        writer = csv.writer(handle)
+        writer.writerow(["frequency_hz", "decay_rate_dB_per_m", "iso3095_vertical_limit_dB_per_m", "below_limit"])
+        below = set(decay["below_limit_hz"])
+        for f, rate, limit in zip(
+            decay["frequency_hz"], decay["decay_rate_dB_per_m"], decay["limit_dB_per_m"], strict=True
+        ):
+            writer.writerow([f"{f:.6g}", f"{rate:.6g}", "" if limit is None else f"{limit:g}", int(f in below)])
+
+    atomic_write(path, write, mode="w", newline="")
+
+
+def _receptance_outputs(receptances, csv_path, plot_path, response, peaks, decay) -> None:
+    """``--csv`` and ``--plot``: the point receptance above a sleeper and at midspan, 20 Hz-5 kHz, and the
+    decay rate per band beside the limit."""
+    import numpy as np
+
+    freq, above, midspan = receptances
     if csv_path:
+        _write_decay_csv(_decay_csv_path(csv_path), decay)
         from wheelrail.core.atomic import atomic_write
 
         def write_csv(handle) -> None:
@@ -113,7 +185,7 @@ def _receptance_outputs(track, numerics, csv_path, plot_path, df_hz, response, p
 
         atomic_write(csv_path, write_csv, mode="w", newline="")
     if plot_path:
-        _plot(plot_path, freq, above, midspan, response, peaks)
+        _plot(plot_path, receptances, response, peaks, decay)
 
 
 def _green_functions(track, numerics, speed: float) -> dict:
@@ -149,9 +221,13 @@ def _print_summary(track, summary: dict) -> None:
     peaks, cache = summary["resonances_hz"], summary["cache"]
     green, static = summary["green_functions"], summary["static_moving_compliance_m_per_n"]
     speed_kmh = summary["speed_kmh"]
+    sup = track.support
     print(
-        f"Track: UIC60 Rayleigh-Timoshenko rail, {track.n_bays} bays of {track.support.sleeper_spacing} m "
-        "(paper section 2.2)"
+        f"Track: UIC60 Rayleigh-Timoshenko rail (loss factor {track.rail.loss_factor:g}), {track.n_bays} bays of "
+        f"{sup.sleeper_spacing} m; pads {sup.pad_stiffness / 1e6:g} MN/m, {sup.pad_damping / 1e3:g} kN s/m, "
+        + (f"{sup.pad_width * 1e3:g} mm wide" if sup.pad_width else "point supports")
+        + f"; sleepers {sup.sleeper_mass:g} kg; ballast {sup.ballast_stiffness / 1e6:g} MN/m, "
+        f"{sup.ballast_damping / 1e3:g} kN s/m (paper section 2.2)"
     )
     print(f"  sleeper-on-ballast resonance  {peaks['sleeper_on_ballast_hz']:7.1f} Hz")
     print(f"  rail-on-pad resonance         {peaks['rail_on_pad_hz']:7.1f} Hz")
@@ -171,14 +247,58 @@ def _print_summary(track, summary: dict) -> None:
         f"{cache['speed_time_s'] * 1e3:.1f} ms"
     )
     print(f"  cache: {cache['path']} ({cache['size_bytes'] / 1e6:.1f} MB)")
+    _print_bands(summary["bands"], summary["decay_rate"])
     if "csv" in summary:
-        print(f"  receptance written to {summary['csv']}")
+        print(f"  receptance written to {summary['csv']}, decay rate to {summary['decay_csv']}")
     if "plot" in summary:
         print(f"  plot written to {summary['plot']}")
 
 
+def _print_bands(bands: dict, decay: dict) -> None:
+    print(
+        "Point receptance at the band centres (m/N) and vertical decay rate (dB/m, EN 15461) against "
+        "EN ISO 3095:2013's lower limit:"
+    )
+    print("    band Hz   above sleeper     midspan   decay   limit")
+    limits = dict(zip(decay["frequency_hz"], decay["limit_dB_per_m"], strict=True))
+    rates = dict(zip(decay["frequency_hz"], decay["decay_rate_dB_per_m"], strict=True))
+    for f, above, mid in zip(
+        bands["frequency_hz"], bands["above_sleeper_m_per_n"], bands["midspan_m_per_n"], strict=True
+    ):
+        limit = limits.get(f)
+        mark = "" if limit is None else f"  {limit:6.2f}" + ("  below" if rates[f] < limit else "")
+        print(f"  {f:9.0f}   {above:11.3e} {mid:11.3e}  {rates[f]:6.2f}{mark}")
+    if decay["meets_limit"]:
+        print(f"  the decay rate meets the limit in every band 250 Hz-5 kHz ({decay['limit_source']})")
+    else:
+        below = ", ".join(f"{f:.0f}" for f in decay["below_limit_hz"])
+        print(f"  the decay rate is below the limit at {below} Hz ({decay['limit_source']})")
+
+
+def _band_receptances(track, numerics) -> dict:
+    """The point receptance magnitudes above the central sleeper and at midspan at the exact band centres
+    50 Hz-5 kHz (the decay rate's bands up to the limit's last)."""
+    import numpy as np
+
+    from wheelrail.core.noise.levels import noise_bands
+    from wheelrail.core.track import assemble_track, track_receptance
+
+    f = noise_bands()
+    f = f[f < 5100]
+    L = track.support.sleeper_spacing
+    x_sleeper = (track.n_bays // 2) * L
+    model = assemble_track(track, numerics.elements_per_bay)
+    return {
+        "frequency_hz": f,
+        "above_sleeper_m_per_n": np.abs(track_receptance(model, f, x_sleeper)),
+        "midspan_m_per_n": np.abs(track_receptance(model, f, x_sleeper + L / 2)),
+    }
+
+
 def run(args) -> int:
-    from wheelrail.core.parameters import TrackNumerics
+    import numpy as np
+
+    from wheelrail.core.parameters import TrackNumerics, as_dict
 
     speed = speed_from_kmh(args.speed_kmh)
     if not math.isfinite(args.df_hz) or not MIN_DF_HZ <= args.df_hz <= 100:
@@ -197,13 +317,16 @@ def run(args) -> int:
         numerics = replace(numerics, max_speed=speed)
     built = _green_functions(track, numerics, speed)
     green, static = built["green"], built["static"]
+    decay = _decay(track)
+    receptances = _receptances(track, numerics, args.df_hz) if (csv_path or plot_path or args.json) else None
     if csv_path or plot_path:
         from wheelrail.core.atomic import all_or_none
 
-        with all_or_none():  # the table and the figure appear together or not at all
-            _receptance_outputs(track, numerics, csv_path, plot_path, args.df_hz, built["response"], peaks)
+        with all_or_none():  # the tables and the figure appear together or not at all
+            _receptance_outputs(receptances, csv_path, plot_path, built["response"], peaks, decay)
     summary = {
         **describe(params_from_args(args, "track"), "track"),
+        "track_parameters": as_dict(track),
         "speed_m_per_s": speed,
         "speed_kmh": args.speed_kmh,
         "resonances_hz": peaks,
@@ -220,9 +343,19 @@ def run(args) -> int:
             "max_speed_m_per_s": numerics.max_speed,
         },
         "cache": built["cache"],
+        "decay_rate": decay,
+        "bands": _band_receptances(track, numerics),
     }
+    if receptances is not None:
+        freq, above, midspan = receptances
+        summary["point_receptance"] = {
+            "frequency_hz": freq,
+            "above_sleeper_m_per_n": np.abs(above),
+            "midspan_m_per_n": np.abs(midspan),
+        }
     if csv_path:
         summary["csv"] = str(csv_path)
+        summary["decay_csv"] = str(_decay_csv_path(csv_path))
     if plot_path:
         summary["plot"] = str(plot_path)
     if args.json:
@@ -232,7 +365,7 @@ def run(args) -> int:
     return 0
 
 
-def _plot(path, freq, above, midspan, response, peaks) -> None:
+def _plot(path, receptances, response, peaks, decay) -> None:
     import matplotlib
     import numpy as np
 
@@ -243,7 +376,8 @@ def _plot(path, freq, above, midspan, response, peaks) -> None:
 
     from wheelrail.core.track import moving_from_stationary
 
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    freq, above, midspan = receptances
+    fig, axes = plt.subplots(1, 4, figsize=(20, 4.2))
     ax = axes[0]
     ax.loglog(freq, np.abs(above), label="above sleeper")
     ax.loglog(freq, np.abs(midspan), label="midspan")
@@ -263,6 +397,12 @@ def _plot(path, freq, above, midspan, response, peaks) -> None:
             ax.plot(green.time[keep] * 1e3, green.values[index, keep], style, label=f"{kmh} km/h")
         ax.set(xlabel="time (ms)", ylabel="g (m/(N s))", title=f"Moving Green's function {title}")
         ax.legend()
+    ax = axes[3]
+    ax.loglog(decay["frequency_hz"], decay["decay_rate_dB_per_m"], "o-", label="track (EN 15461)")
+    limit = np.array([np.nan if v is None else v for v in decay["limit_dB_per_m"]])
+    ax.loglog(decay["frequency_hz"], limit, "k--", label="EN ISO 3095:2013 lower limit")
+    ax.set(xlabel="frequency (Hz)", ylabel="decay rate (dB/m)", title="Vertical track decay rate")
+    ax.legend()
     fig.tight_layout()
     try:
         atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=110))

@@ -9,9 +9,10 @@ Chain, per frequency f (time convention e^{i w t}, amplitudes; band values are m
    contact position x0 (above a sleeper and at midspan) and the linearised Hertz contact,
    alpha_C = 1 / k_H, k_H = 3 P / (2 delta_0) at the preload P (eqs. 12-13 of the paper).
 2. **Rail and sleeper vibration** for a unit force at x0: the FE track of :func:`wheelrail.core.track.assemble_track`
-   (the paper's track) lengthened to ``track_bays`` bays so that waves reflected at its free ends come back
-   attenuated by the track's own decay (the paper's 70 bays suffice for the contact force, not for the
-   vibration far along the rail); rail displacement at every node, each sleeper's displacement.
+   (the paper's track, or any other) lengthened to ``track_bays`` bays so that waves reflected at its free ends
+   come back attenuated by the track's own decay (the paper's 70 bays suffice for the contact force, not for
+   the vibration far along the rail); rail displacement at every node, each sleeper's displacement. The rail's
+   loss factor eta is exact here (hysteretic: K_rail (1 + i eta)); pads of a width act as the time-domain track's.
 3. **Decay rates**: EN 15461's formula DR = 10 lg(e) / sum_n (|A(x_n)|^2 / |A(x_0)|^2) dx_n on the model's
    band-averaged transfer receptances (excitation at midspan, responses on one side), evaluated on the model's
    node grid (every element) up to ``decay_length`` instead of the standard's measurement positions; and the
@@ -50,7 +51,7 @@ from wheelrail.core.noise.radiation import (
     rail_radiation_efficiency,
     rail_section,
 )
-from wheelrail.core.parameters import ModelParameters
+from wheelrail.core.parameters import ModelParameters, TrackParameters
 from wheelrail.core.spectra import BAND_HALF_WIDTH
 
 LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
@@ -70,7 +71,9 @@ class NoiseNumerics:
         Frequencies per one-third octave band, evenly spread in lg f (20: doubling it moves L_H,tr by <= 0.2 dB
         except in the 4 kHz band, 3.3 dB, where the undamped rail's second pinned-pinned resonance, a mode with
         still pads, is too sharp for any fixed sampling; doubling ``elements_per_bay`` moves the 4 and 8 kHz bands
-        by 5.2 and 3.4 dB for the same reason, every other band by <= 0.3 dB; ``benchmarks/noise.py``).
+        by 5.2 and 3.4 dB for the same reason, every other band by <= 0.3 dB; ``benchmarks/noise.py``). With a
+        rail loss factor of 0.02 (``RailParameters.loss_factor``) both doublings move every band up to 8 kHz by
+        <= 0.5 dB (``benchmarks/track_damping.py``).
     decay_length : float
         m of rail over which EN 15461's sum is taken.
     sleeper_area : float
@@ -105,15 +108,11 @@ def band_frequencies(points_per_band: int) -> np.ndarray:
 
 
 def _banded_solver(model):
-    from scipy.linalg import solve_banded
-
-    from wheelrail.core.track.fe import HALF_BANDWIDTH
-
-    kb, cb, mb = model.banded(model.K), model.banded(model.C), model.banded(model.M)
+    """Displacements for loads at a frequency; the rail's loss factor exact (hysteretic, K_rail (1 + i eta))."""
+    bands = model.frequency_domain_bands()
 
     def solve(frequency: float, load: np.ndarray) -> np.ndarray:
-        w = 2 * np.pi * frequency
-        return solve_banded((HALF_BANDWIDTH, HALF_BANDWIDTH), kb - w**2 * mb + 1j * w * cb, load, check_finite=False)
+        return model.solve(*bands, frequency, load)
 
     return solve
 
@@ -211,20 +210,11 @@ def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float,
     from wheelrail.core.track.fe import timoshenko_shape_functions
     from wheelrail.core.wheel import wheel_receptance
 
-    track = replace(params.track, n_bays=numerics.track_bays)
-    model = assemble_track(track, numerics.elements_per_bay)
+    model = assemble_track(replace(params.track, n_bays=numerics.track_bays), numerics.elements_per_bay)
     solve = _banded_solver(model)
-    spacing = track.support.sleeper_spacing
-    centre_bay = numerics.track_bays // 2
-    positions = (centre_bay * spacing, (centre_bay + 0.5) * spacing)  # above a sleeper, midspan
-    x_nodes = model.node_x
-    weights = np.gradient(x_nodes)  # trapezoid weights on the uniform node grid (half at the ends)
+    positions, decay_nodes, free_nodes, free_distance = _decay_grid(model, numerics)
+    weights = np.gradient(model.node_x)  # trapezoid weights on the uniform node grid (half at the ends)
     weights[[0, -1]] *= 0.5
-    decay_nodes = slice(
-        np.searchsorted(x_nodes, positions[1]), np.searchsorted(x_nodes, positions[1] + numerics.decay_length)
-    )
-    free_bays = np.arange(3, 21)
-    free_nodes = np.arange(0, len(x_nodes), numerics.elements_per_bay)[centre_bay + free_bays]
     point_dofs = []
     for x0 in positions:
         element, xi = model.locate(x0)
@@ -242,8 +232,8 @@ def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float,
         "sleeper": np.empty(shape),
         "alpha_sq": np.empty(shape),
         "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
-        "free_sq": np.zeros((freqs.shape[0], len(free_bays))),
-        "free_distance": free_bays * spacing,
+        "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
+        "free_distance": free_distance,
         "dx": model.element_length,
     }
     for (b, p), f in np.ndenumerate(freqs):
@@ -260,6 +250,56 @@ def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float,
                 out["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
                 out["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
     return out
+
+
+def _decay_grid(model, numerics: NoiseNumerics):
+    """The excitation positions (above the central sleeper, midspan), the rail nodes of EN 15461's sum (from
+    midspan over ``decay_length``), the sleeper nodes 3 to 20 bays on (the free wave) and their distances."""
+    spacing = model.params.support.sleeper_spacing
+    centre_bay = model.params.n_bays // 2
+    positions = (centre_bay * spacing, (centre_bay + 0.5) * spacing)
+    x_nodes = model.node_x
+    decay_nodes = slice(
+        np.searchsorted(x_nodes, positions[1]), np.searchsorted(x_nodes, positions[1] + numerics.decay_length)
+    )
+    free_bays = np.arange(3, 21)
+    free_nodes = np.arange(0, len(x_nodes), numerics.elements_per_bay)[centre_bay + free_bays]
+    return positions, decay_nodes, free_nodes, free_bays * spacing
+
+
+def track_decay_rates(
+    track: TrackParameters | None = None, numerics: NoiseNumerics | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The vertical decay rates of the noise model's track alone (step 3 of the module docstring; the same
+    numbers as :func:`track_noise_model`'s without its other steps): the lengthened FE track of ``track``
+    (default the paper's), excited at midspan only.
+
+    Returns
+    -------
+    (frequency_hz, decay_rate_db_per_m, free_wave_decay_db_per_m) : ndarrays
+        Exact band centres 50 Hz-10 kHz; EN 15461's decay rate and the free wave's, dB/m.
+    """
+    from wheelrail.core.track import assemble_track
+
+    track = TrackParameters() if track is None else track
+    numerics = NoiseNumerics() if numerics is None else numerics
+    model = assemble_track(replace(track, n_bays=numerics.track_bays), numerics.elements_per_bay)
+    solve = _banded_solver(model)
+    positions, decay_nodes, free_nodes, free_distance = _decay_grid(model, numerics)
+    load = model.load_vector(positions[1])
+    freqs = band_frequencies(numerics.points_per_band)
+    vib = {
+        "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
+        "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
+        "free_distance": free_distance,
+        "dx": model.element_length,
+    }
+    for (b, _), f in np.ndenumerate(freqs):
+        rail = solve(f, load)[model.w_dof]
+        vib["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
+        vib["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
+    decay, free = _decay_rates(vib)
+    return noise_bands(), decay, free
 
 
 def _decay_rates(vib: dict) -> tuple[np.ndarray, np.ndarray]:

@@ -2,13 +2,16 @@
 
 Model
 -----
-The rail is a chain of undamped Rayleigh-Timoshenko beam elements (Friedman & Kosmatka's shear-
-dependent interpolation, consistent translational and rotary mass) over ``n_bays`` sleeper bays,
-free at both ends. At every sleeper position x = j L_S (j = 0..n_bays) a rail pad (k_P, c_P) joins
-the rail to a (half) sleeper mass, which rests on ballast (k_B, c_B) on rigid ground.
+The rail is a chain of Rayleigh-Timoshenko beam elements (Friedman & Kosmatka's shear-dependent
+interpolation, consistent translational and rotary mass) over ``n_bays`` sleeper bays, free at both
+ends; undamped as in the paper, or with a loss factor on its bending and shear stiffness
+(``RailParameters.loss_factor``: exact in the frequency domain, relaxation terms in the time domain,
+``fe.rail_relaxation``). At every sleeper position x = j L_S (j = 0..n_bays) a rail pad (k_P, c_P) joins
+the rail to a (half) sleeper mass, which rests on ballast (k_B, c_B) on rigid ground; the pad acts at a
+point as in the paper, or spread over its width (``SupportParameters.pad_width``).
 
 DOFs are numbered node by node (w_i, theta_i[, sleeper_i]) so that every matrix is banded with
-half-bandwidth 4; all solves are banded.
+half-bandwidth 4 (wider under pads of a width: ``TrackFEModel.half_bandwidth``); all solves are banded.
 
 Moving Green's functions (eq. 2)
 --------------------------------

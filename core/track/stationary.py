@@ -16,21 +16,44 @@ if TYPE_CHECKING:
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
-from wheelrail.core.track.fe import HALF_BANDWIDTH, TrackFEModel, _to_upper_band, assemble_track
+from wheelrail.core.track.fe import TrackFEModel, _to_upper_band, assemble_track, rail_relaxation
 from wheelrail.core.track.progress import Progress, current_progress
 
 
 def _upper_band_arrays(model: TrackFEModel, time_step: float):
-    """Upper band forms of M, C and the Cholesky factor of the Newmark effective stiffness."""
+    """Upper band forms of M, C, the rail's stiffness K_rail, the Cholesky factors of the Newmark effective
+    stiffness and of M, and the rail's relaxation terms for this step (``_relaxation_terms``)."""
     from scipy.linalg import cholesky_banded
 
     dt = time_step
-    keff = model.K + (2.0 / dt) * model.C + (4.0 / dt**2) * model.M
-    mb = _to_upper_band(model.M, HALF_BANDWIDTH)
-    cb = _to_upper_band(model.C, HALF_BANDWIDTH)
-    k_chol = cholesky_banded(_to_upper_band(keff, HALF_BANDWIDTH), check_finite=False)
+    u = model.half_bandwidth
+    c0, weights, b = _relaxation_terms(model.params.rail.loss_factor, dt)
+    stiffness = model.K
+    if len(weights):  # K_rail (c0 + sum_j g_j / (1 + b_j)) in place of K_rail: _newmark_block
+        stiffness = model.K + (c0 - 1.0 + float(np.sum(weights / (1.0 + b)))) * model.K_rail
+    keff = stiffness + (2.0 / dt) * model.C + (4.0 / dt**2) * model.M
+    mb = _to_upper_band(model.M, u)
+    cb = _to_upper_band(model.C, u)
+    krb = _to_upper_band(model.K_rail, u) if len(weights) else np.zeros((u + 1, 0))
+    k_chol = cholesky_banded(_to_upper_band(keff, u), check_finite=False)
     m_chol = cholesky_banded(mb, check_finite=False)
-    return mb, cb, k_chol, m_chol
+    return mb, cb, krb, k_chol, m_chol, weights, b
+
+
+def _relaxation_terms(loss_factor: float, dt: float) -> tuple[float, np.ndarray, np.ndarray]:
+    """The rail's c0, relaxation weights g_j and b_j = dt / (2 tau_j) for the trapezoidal rule (no terms when
+    undamped), from ``fe.rail_relaxation``.
+
+    Internal variables q_j (one per DOF and term) with tau_j dq_j/dt = u - q_j add the force
+    K_rail sum_j g_j (u - q_j) to the rail's K_rail c0 u. The trapezoidal rule, as the Newmark average
+    acceleration scheme is for u, gives q_j' = ((1 - b_j) q_j + b_j (u + u')) / (1 + b_j) over a step (u' the
+    new displacement): the effective stiffness gains K_rail g_j / (1 + b_j) and the right-hand side
+    K_rail z with z = sum_j g_j ((1 - b_j) q_j + b_j u) / (1 + b_j).
+    """
+    if loss_factor == 0:
+        return 1.0, np.zeros(0), np.zeros(0)
+    relax = rail_relaxation(loss_factor)
+    return relax.c0, np.asarray(relax.weights, dtype=float), dt / (2.0 * relax.times)
 
 
 @njit(cache=True, fastmath=True)
@@ -94,16 +117,46 @@ def _band_matvec2(ab1, x1, ab2, x2, out):
                 out[j, c] += a1 * x1[i, c] + a2 * x2[i, c]
 
 
-# A numba loop over time steps: 15 arguments because every array it reads or fills is one, so that the whole
+@njit(cache=True, fastmath=True)
+def _relaxation_load(krb, weights, b, q, u, z, extra, out):
+    """out += K_rail z with z = sum_j g_j ((1 - b_j) q_j + b_j u) / (1 + b_j) (``_relaxation_terms``)."""
+    n, m = u.shape
+    for i in range(n):
+        for c in range(m):
+            z[i, c] = 0.0
+    for j in range(len(weights)):
+        s = weights[j] / (1.0 + b[j])
+        for i in range(n):
+            for c in range(m):
+                z[i, c] += s * ((1.0 - b[j]) * q[j, i, c] + b[j] * u[i, c])
+    _band_matvec(krb, z, extra)
+    for i in range(n):
+        for c in range(m):
+            out[i, c] += extra[i, c]
+
+
+@njit(cache=True, fastmath=True)
+def _relaxation_update(b, q, u_old, u_new):
+    """q_j <- ((1 - b_j) q_j + b_j (u_old + u_new)) / (1 + b_j): the trapezoidal rule on tau_j dq_j/dt = u - q_j."""
+    n, m = u_new.shape
+    for j in range(len(b)):
+        for i in range(n):
+            for c in range(m):
+                q[j, i, c] = ((1.0 - b[j]) * q[j, i, c] + b[j] * (u_old[i, c] + u_new[i, c])) / (1.0 + b[j])
+
+
+# A numba loop over time steps: 18 arguments because every array it reads or fills is one, so that the whole
 # loop compiles to one function numba caches on disk (a structure or a jitted callable would defeat the cache).
 @njit(cache=True, fastmath=True)
 def _newmark_block(
-    mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out, impulse
-):
+    mb, cb, krb, k_chol, m_chol, weights, b, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out,
+    impulse,
+):  # fmt: skip
     """Newmark (average acceleration) responses to the loads in the columns of ``load``.
 
     ``impulse``: a unit impulse at t = 0 (the continuous impulse response, sampled); otherwise a unit
     force at step 0 only, the track at rest before (the discrete impulse response of the trapezoidal rule).
+    The rail's relaxation terms (``weights``, ``b``; none for an undamped rail) act through ``krb``, K_rail's band.
     Recorded on the wedge: stored step s = k / stride keeps, for column e, w and theta of the nodes
     nodes[e, 0 .. counts[e, s] - 1] in out[offsets[e, s] + r, 0:2].
     A few columns at a time (``_newmark_columns``) keep the work arrays in the processor's cache.
@@ -113,6 +166,9 @@ def _newmark_block(
     c2 = 4.0 / dt
     c3 = 2.0 / dt
     a = np.empty((n, m))
+    q = np.zeros((len(weights), n, m))
+    z = np.empty((n, m))
+    extra = np.empty((n, m))
     if impulse:
         u = np.zeros((n, m))
         v = load.copy()
@@ -125,6 +181,7 @@ def _newmark_block(
         _band_cho_solve(k_chol, u)  # one step from rest: K_eff u0 = f
         v = c3 * u
         a[:, :] = c1 * u
+        _relaxation_update(b, q, np.zeros((n, m)), u)
     tm = np.empty((n, m))
     tc = np.empty((n, m))
     rhs = np.empty((n, m))
@@ -135,7 +192,11 @@ def _newmark_block(
                     tm[i, c] = c1 * u[i, c] + c2 * v[i, c] + a[i, c]
                     tc[i, c] = c3 * u[i, c] + v[i, c]
             _band_matvec2(mb, tm, cb, tc, rhs)
-            _band_cho_solve(k_chol, rhs)  # K_eff u_k = M (..) + C (..)
+            if len(weights):
+                _relaxation_load(krb, weights, b, q, u, z, extra, rhs)
+            _band_cho_solve(k_chol, rhs)  # K_eff u_k = M (..) + C (..) [+ K_rail z]
+            if len(weights):
+                _relaxation_update(b, q, u, rhs)
             for i in range(n):
                 for c in range(m):
                     du = rhs[i, c] - u[i, c]
@@ -160,19 +221,23 @@ COLUMN_BLOCK = 8
 
 @njit(cache=True, parallel=True)
 def _newmark_columns(
-    mb, cb, k_chol, m_chol, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out, impulse
-):
+    mb, cb, krb, k_chol, m_chol, weights, b, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out,
+    impulse,
+):  # fmt: skip
     """``_newmark_block`` over blocks of ``COLUMN_BLOCK`` columns, the blocks in parallel threads."""
     m = load.shape[1]
     n_blocks = (m + COLUMN_BLOCK - 1) // COLUMN_BLOCK
-    for b in prange(n_blocks):
-        c0 = b * COLUMN_BLOCK
+    for blk in prange(n_blocks):
+        c0 = blk * COLUMN_BLOCK
         c1 = min(m, c0 + COLUMN_BLOCK)
         _newmark_block(
             mb,
             cb,
+            krb,
             k_chol,
             m_chol,
+            weights,
+            b,
             np.ascontiguousarray(load[:, c0:c1]),
             dt,
             n_steps,
@@ -311,7 +376,7 @@ def _integrate(
     """Newmark responses to unit loads at x_e, stored at ``nodes`` (see _newmark_block). With ``progress``, the
     columns are integrated in groups that fill the threads once (the same blocks, the same results), and
     ``progress("integrating ...", done, total)`` is called after each group."""
-    mb, cb, k_chol, m_chol = _upper_band_arrays(model, dt)
+    mb, cb, krb, k_chol, m_chol, weights, b = _upper_band_arrays(model, dt)
     loads = np.stack([model.load_vector(float(x)) for x in x_e], axis=1)
     out = np.zeros((int(counts.sum()), 2))
     m = loads.shape[1]
@@ -324,8 +389,11 @@ def _integrate(
         _newmark_columns(
             mb,
             cb,
+            krb,
             k_chol,
             m_chol,
+            weights,
+            b,
             np.ascontiguousarray(loads[:, c0:c1]),
             dt,
             n_steps,
@@ -506,3 +574,22 @@ def _node_count(track: TrackParameters, numerics: TrackNumerics) -> int:
     """Rail nodes of ``numerics_model`` (without assembling it)."""
     refined = min(numerics.refined_bays, track.n_bays - track.n_bays // 2)
     return (track.n_bays - refined) * numerics.elements_per_bay + refined * numerics.refined_elements_per_bay + 1
+
+
+def rail_impulse_responses(
+    model: TrackFEModel, x_excitation: float, response_nodes, time_step: float, duration: float
+) -> np.ndarray:
+    """Rail displacement per unit impulse at ``x_excitation`` (m), at the rail nodes ``response_nodes``, by the
+    Newmark integration the Green's functions use (the rail's loss factor by its relaxation terms).
+
+    Returns
+    -------
+    ndarray (n_samples, len(response_nodes))
+        h(t_k) at t_k = k ``time_step``, k = 0 .. duration / time_step, m/(N s).
+    """
+    nodes = np.atleast_1d(np.asarray(response_nodes, dtype=np.int64))
+    n_steps = int(round(duration / time_step)) + 1
+    counts = np.full((1, n_steps), len(nodes), dtype=np.int64)
+    offsets = (np.arange(n_steps, dtype=np.int64) * len(nodes))[None, :]
+    out = _integrate(model, [x_excitation], time_step, n_steps, 1, nodes[None, :], counts, offsets, impulse=True)
+    return out[:, 0].reshape(n_steps, len(nodes))

@@ -173,7 +173,7 @@ def test_track_plot_must_be_png_and_files_are_written_atomically(tmp_path, capsy
     summary = json.loads(out)
     assert summary["plot"] == str(png) and png.read_bytes()[:4] == b"\x89PNG"
     assert csv_path.read_text().startswith("frequency_hz,")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.png"]  # no temporary left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.png", "r_decay.csv"]  # no temporary left
 
 
 @pytest.mark.parametrize("damage", ["metadata", "two_d_force", "nan_force", "short_time"])

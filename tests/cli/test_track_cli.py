@@ -40,6 +40,23 @@ def test_track_json_csv(tmp_path, capsys):
     # around the pinned-pinned frequency the midspan receptance is the larger one
     near = np.argmin(np.abs(data[:, 0] - 940))
     assert data[near, 3] > 3 * data[near, 1]
+    # the decay rate per band beside EN ISO 3095:2013's lower limit (JSON and the _decay CSV)
+    decay = summary["decay_rate"]
+    f = np.array(decay["frequency_hz"])
+    assert len(f) == len(decay["decay_rate_dB_per_m"]) == len(decay["limit_dB_per_m"]) == 24
+    limits = {round(fc, -1): v for fc, v in zip(f, decay["limit_dB_per_m"], strict=True) if v is not None}
+    assert limits == {250: 2.0, 320: 2.0, 400: 6.0, 500: 6.0, 630: 6.0, 790: 2.19, 1000: 0.8, 1260: 0.8,
+                      1580: 0.8, 2000: 0.8, 2510: 0.8, 3160: 0.8, 3980: 0.8, 5010: 0.8}  # fmt: skip
+    rates = np.array(decay["decay_rate_dB_per_m"])
+    below = [fc for fc, rate, v in zip(f, rates, decay["limit_dB_per_m"], strict=True) if v is not None and rate < v]
+    assert decay["below_limit_hz"] == pytest.approx(below) and decay["meets_limit"] is (not below)
+    assert summary["track"]["rail"]["loss_factor"] == 0.0 and summary["track"]["support"]["pad_width"] == 0.0
+    receptance = summary["point_receptance"]
+    assert len(receptance["frequency_hz"]) == len(receptance["midspan_m_per_n"]) == len(data)
+    with open(tmp_path / "receptance_decay.csv") as handle:
+        decay_rows = list(csv.reader(handle))
+    assert decay_rows[0][:2] == ["frequency_hz", "decay_rate_dB_per_m"] and len(decay_rows) == 25
+    np.testing.assert_allclose([float(r[1]) for r in decay_rows[1:]], rates, rtol=1e-5)
     # second call: loaded from cache
     assert main(["track", "--json", "--speed-kmh", "140"]) == 0
     again = json.loads(capsys.readouterr().out)

@@ -1,0 +1,78 @@
+"""The track's vertical decay rate against the lower limit of the standard for type testing.
+
+The decay rate is EN 15461's, computed on the noise model's lengthened FE track
+(:func:`wheelrail.core.noise.twins.track_noise_model`: 240 bays, excitation at midspan). The limit is the lower
+limit of the vertical track decay rate of EN ISO 3095:2013 (6.2.6, Figure 3, curve A), to which the TSI Noise
+(Regulation (EU) No 1304/2014 as amended by (EU) 2019/774) refers for the reference track of a type test; its
+values and their provenance are in ``data/iso3095_vertical_decay_limit.csv``. The limit applies to the bands
+250 Hz to 5 kHz.
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+LIMIT_FILE = Path(__file__).parent / "data" / "iso3095_vertical_decay_limit.csv"
+
+
+@dataclass(frozen=True, eq=False)
+class DecayLimit:
+    """The lower limit of the vertical track decay rate: nominal band centres (Hz), limits (dB/m) and the data
+    file's comment header (``source``)."""
+
+    frequency_hz: np.ndarray
+    limit_db_per_m: np.ndarray
+    source: str
+
+    def at(self, frequency_hz) -> np.ndarray:
+        """The limit in the bands of ``frequency_hz`` (exact or nominal centres; NaN where it sets none)."""
+        f = np.atleast_1d(np.asarray(frequency_hz, dtype=float))
+        out = np.full(f.shape, np.nan)
+        for centre, limit in zip(self.frequency_hz, self.limit_db_per_m, strict=True):
+            out[np.abs(10 * np.log10(f / centre)) < 0.5] = limit  # the same one-third octave band
+        return out
+
+
+@functools.cache
+def vertical_decay_limit() -> DecayLimit:
+    """EN ISO 3095:2013's lower limit of the vertical track decay rate, from its data file."""
+    comments, rows = [], []
+    with LIMIT_FILE.open(encoding="utf-8", newline="") as handle:
+        for line in handle:
+            if line.startswith("#"):
+                comments.append(line[1:].strip())
+            elif line.strip():
+                rows.append(line)
+    _, *body = list(csv.reader(rows))
+    values = np.array([[float(cell) for cell in row] for row in body])
+    return DecayLimit(frequency_hz=values[:, 0], limit_db_per_m=values[:, 1], source=" ".join(comments))
+
+
+def decay_against_limit(frequency_hz, decay_rate_db_per_m) -> dict:
+    """Decay rates per band beside the limit: the JSON layout of ``wheelrail track`` (key ``decay_rate``).
+
+    Returns
+    -------
+    dict
+        ``frequency_hz``, ``decay_rate_dB_per_m``, ``limit_dB_per_m`` (None where the standard sets none),
+        ``below_limit_hz`` (the bands where the decay rate is below the limit), ``meets_limit`` and
+        ``limit_source``.
+    """
+    limit = vertical_decay_limit()
+    f = np.asarray(frequency_hz, dtype=float)
+    decay = np.asarray(decay_rate_db_per_m, dtype=float)
+    bound = limit.at(f)
+    below = np.isfinite(bound) & (decay < bound)
+    return {
+        "frequency_hz": f,
+        "decay_rate_dB_per_m": decay,
+        "limit_dB_per_m": [None if np.isnan(b) else float(b) for b in bound],
+        "below_limit_hz": [float(x) for x in f[below]],
+        "meets_limit": not bool(np.any(below)),
+        "limit_source": "EN ISO 3095:2013, 6.2.6, Figure 3 curve A (vertical), 250 Hz-5 kHz",
+    }
