@@ -23,6 +23,8 @@ TRACK_OPTIONS = (
     "--sleeper-spacing-m",
     "--ballast-stiffness-mn-m",
     "--ballast-damping-kns-m",
+    "--rail-loss-factor",
+    "--pad-width-mm",
 )
 
 
@@ -46,6 +48,7 @@ def test_every_declared_input_has_a_default_within_its_range_and_a_group():
     [
         (["--pad-stiffness-mn-m", "0"], "--pad-stiffness-mn-m 0 is outside the accepted 10 to 3000 MN/m ("),
         (["--sleeper-spacing-m", "nan"], "--sleeper-spacing-m 'nan': not a number"),
+        (["--rail-loss-factor", "-0.01"], "--rail-loss-factor -0.01 is outside the accepted 0 to 0.1 ("),
         (["--ballast-damping-kns-m", "-1"], "--ballast-damping-kns-m -1 is outside the accepted 20 to 1000 kNs/m ("),
     ],
 )
