@@ -516,14 +516,27 @@ class ExplorerApp:
         """Everything of the configuration shown: every tab, and the 3D view, readout, slider and progress (its
         run's last step, or cleared)."""
         with self._lock:
-            config = self.shown
-            entries = self.store.entries(config.case()) if config else {}
-            model = self._model_to_show(entries)
-            shown = Shown(config=config, store=self.store, model=model, overlay=self._overlay())
+            shown, entries = self._shown_now()
             with self.server.atomic():
                 for tab in self.tabs:
                     tab.show(shown)
-                self._set_replay(entries.get(model) if model else None)
+                self._set_replay(entries.get(shown.model) if shown.model else None)
+
+    def _shown_now(self) -> tuple[Shown, dict]:
+        """What the page shows now (the configuration of the controls, its model shown, the overlay) and the
+        configuration's results by model."""
+        config = self.shown
+        entries = self.store.entries(config.case()) if config else {}
+        return Shown(
+            config=config, store=self.store, model=self._model_to_show(entries), overlay=self._overlay()
+        ), entries
+
+    def redraw_tab(self, tab) -> None:
+        """Redraw one tab for what the page shows now (a tab whose curves were computed in the background)."""
+        with self._lock:
+            shown, _ = self._shown_now()
+            with self.server.atomic():
+                tab.show(shown)
 
     def _shows_the_run(self, config: RunConfig) -> bool:
         """Whether the page shows the configuration ``config`` (a run's, of any model)."""

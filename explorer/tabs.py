@@ -9,6 +9,7 @@ drawn comes from the :class:`~wheelrail.explorer.results.ResultStore` and from c
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,6 +17,7 @@ import viser
 
 from wheelrail.core.bands import frequency_bands, map_levels
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import describe_words
 from wheelrail.core.models import REFERENCE_MODEL, model_entry
 from wheelrail.core.noise.levels import a_weighting, energy_sum
 from wheelrail.core.noise.run_noise import (
@@ -536,6 +538,126 @@ def _without_empty_bands(levels: np.ndarray) -> np.ndarray:
     return np.where(levels >= np.nanmax(levels) - EMPTY_BAND_DB, levels, np.nan)
 
 
+class TrackTab(ResultsTab):
+    """The track of the configuration shown: its point receptance above a sleeper and at midspan and its vertical
+    decay rate against EN ISO 3095:2013's lower limit (core's ``noise.decay``), and those of the track of the run
+    overlaid (Spectra and Noise tabs) when it is another. A new track's curves are computed once in the
+    background (a few seconds of FE solves, then kept on disk) and drawn when they are ready."""
+
+    title, icon = "Track", viser.Icon.TRAIN
+
+    def __init__(self, app, tab) -> None:
+        super().__init__(app, tab)
+        gui = self.gui
+        self.receptance = Plot(gui, tab, "Point receptance", "band (Hz)", "dB re 1 m/N", bands=True)
+        self.decay = Plot(gui, tab, "Vertical decay rate", "band (Hz)", "dB/m", bands=True)
+        with tab:
+            self.track_md = gui.add_markdown("")
+            gui.add_markdown(
+                "Solid: the track of the settings on the left (its *Track* folder). Dotted: EN ISO 3095:2013's lower "
+                "limit of the vertical decay rate (Figure 3, curve A), which a test track must meet. Dashed: the "
+                "track of the run overlaid in the Spectra or Noise tab, when it is another."
+            )
+            self._plot_export()
+        self._curves: dict = {}  # track -> (bands, decay) or the error's words, once computed
+        self._computing: set = set()
+        self._last: Shown | None = None
+
+    def plots(self) -> dict[str, Plot]:
+        return {"point receptance": self.receptance, "decay rate": self.decay}
+
+    def curves(self, track):
+        """The track's (bands, decay) once computed (None: not yet; it is being computed in the background)."""
+        found = self._curves.get(track)
+        if found is None and track not in self._computing:
+            self._computing.add(track)
+            threading.Thread(target=self._compute, args=(track,), daemon=True, name="wheelrail-track-tab").start()
+        return found
+
+    def _compute(self, track) -> None:
+        from wheelrail.core.noise.decay import band_receptances, track_decay
+
+        try:
+            self._curves[track] = (band_receptances(track), track_decay(track))
+        except WheelrailError as error:
+            self._curves[track] = page_message(error)
+        finally:
+            self._computing.discard(track)
+        if self._last is not None:  # redraw what is shown now, if it still wants this track
+            self.app.redraw_tab(self)
+
+    def show(self, shown: Shown) -> None:
+        self._last = shown
+        config = shown.config
+        if config is None:
+            for plot in (self.receptance, self.decay):
+                plot.clear("fix the settings on the left")
+            self.track_md.content = ""
+            return
+        track = config.params().track
+        self.track_md.content = f"**Track:** {describe_words(config.params(), 'track')}."
+        own = self.curves(track)
+        if own is None or isinstance(own, str):
+            why = "computing the track's receptance and decay rate (once per track) ..." if own is None else own
+            for plot in (self.receptance, self.decay):
+                plot.clear(why, title=f"Track: {config.case_label()}")
+            return
+        overlay = shown.overlay.params().track if shown.overlay is not None else None
+        other = self.curves(overlay) if overlay is not None and overlay != track else None
+        other = other if isinstance(other, tuple) else None
+        self._draw(own, other, shown.overlay.case_label() if other is not None else "")
+
+    def _draw(self, own: tuple, other: tuple | None, other_label: str) -> None:
+        (bands, decay), f = own, own[0]["frequency_hz"]
+        curves = [
+            ("above a sleeper", "#1f77b4", SOLID, 20 * np.log10(bands["above_sleeper_m_per_n"])),
+            ("midspan", "#d62728", SOLID, 20 * np.log10(bands["midspan_m_per_n"])),
+        ]
+        if other is not None:
+            curves += [
+                (
+                    f"above a sleeper [{other_label}]",
+                    "#1f77b4",
+                    DASHED,
+                    20 * np.log10(other[0]["above_sleeper_m_per_n"]),
+                ),
+                (f"midspan [{other_label}]", "#d62728", DASHED, 20 * np.log10(other[0]["midspan_m_per_n"])),
+            ]
+        self.receptance.show(
+            bands_with_data(f, [c[3] for c in curves]), tuple(c[:3] for c in curves), title="Point receptance"
+        )
+        on_bands = {float(x): i for i, x in enumerate(decay["frequency_hz"])}
+        rows = [on_bands.get(float(x)) for x in f]
+
+        def per_band(values) -> np.ndarray:
+            values = [np.nan if v is None else v for v in values]
+            return np.array([np.nan if i is None else values[i] for i in rows], dtype=float)
+
+        lines = [
+            ("decay rate", "#2ca02c", SOLID, per_band(decay["decay_rate_dB_per_m"])),
+            ("EN ISO 3095:2013 limit", ISO_LIMIT_COLOUR, DOTTED, per_band(decay["limit_dB_per_m"])),
+        ]
+        if other is not None:
+            lines.append((f"decay rate [{other_label}]", "#2ca02c", DASHED, per_band(other[1]["decay_rate_dB_per_m"])))
+        verdict = "meets" if decay["meets_limit"] else "is below"
+        self.decay.show(
+            bands_with_data(f, [c[3] for c in lines]),
+            tuple(c[:3] for c in lines),
+            title=f"Vertical decay rate: {verdict} the EN ISO 3095 limit",
+        )
+
+
+def _receptance_curves(bands: dict, style: str, suffix: str) -> list:
+    """The point receptances above a sleeper and at midspan as curves in dB re 1 m/N."""
+    return [
+        (f"{where}{suffix}", colour, style, 20 * np.log10(bands[key]))
+        for where, colour, key in (
+            ("above a sleeper", "#1f77b4", "above_sleeper_m_per_n"),
+            ("midspan", "#d62728", "midspan_m_per_n"),
+        )
+    ]
+
+
 class HelpTab(ResultsTab):
     """The models, the contact filter, the geometry and the inputs in words."""
 
@@ -584,4 +706,4 @@ def help_text() -> str:
     )
 
 
-RESULT_TABS = (PatchTab, SpectraTab, NoiseTab, RoughnessTab, HelpTab)
+RESULT_TABS = (PatchTab, SpectraTab, NoiseTab, TrackTab, RoughnessTab, HelpTab)

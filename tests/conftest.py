@@ -27,6 +27,8 @@ CACHED_CODE = (
     "core/track/*.py",
     "core/wheel.py",
     "core/noise/radiation.py",
+    "core/noise/decay.py",
+    "core/noise/twins.py",
     "core/commands/track.py",
 )
 KEEP_FOLDERS = 2  # code versions whose entries are kept (the whole suite fills ~570 MB per version)

@@ -18,6 +18,7 @@ from wheelrail.core.commands._common import (
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe
+from wheelrail.core.noise.decay import band_receptances, track_decay
 
 MIN_DF_HZ = 0.05
 """Finest --df-hz: 99 601 frequencies over 20 Hz-5 kHz, a few minutes of FE solves (1e-9 Hz asked
@@ -89,42 +90,6 @@ def _peaks(track, numerics) -> dict[str, float]:
     peaks = track_module.receptance_peaks(track_module.assemble_track(track, numerics.elements_per_bay))
     cache.save_entry("track-peaks", key, {name: np.array(peaks[name]) for name in names})
     return peaks
-
-
-def _decay(track) -> dict:
-    """The vertical decay rate per band (EN 15461 on the noise model's track) beside the EN ISO 3095 limit,
-    kept in the disk cache (a few seconds of FE solves); the key holds the source of the functions."""
-    import hashlib
-    import inspect
-    from dataclasses import asdict
-
-    import numpy as np
-
-    from wheelrail.core import cache
-    from wheelrail.core.noise import twins
-    from wheelrail.core.noise.decay import decay_against_limit
-    from wheelrail.core.track import fe
-
-    numerics = twins.NoiseNumerics()
-    functions = (twins.track_decay_rates, twins._decay_grid, twins._decay_rates, fe.assemble_track, fe._pad_couplings)
-    code = "".join(inspect.getsource(f) for f in functions)
-    key = cache.cache_key(
-        "track-decay",
-        {"track": asdict(track), "numerics": asdict(numerics), "code": hashlib.sha256(code.encode()).hexdigest()},
-    )
-    names = ("frequency_hz", "decay_rate", "free_wave_decay")
-    arrays = cache.load_entry("track-decay", key, names)
-    if arrays is None or not all(np.all(np.isfinite(arrays[name])) for name in names):
-        f, decay, free = twins.track_decay_rates(track, numerics)
-        arrays = {"frequency_hz": f, "decay_rate": decay, "free_wave_decay": free}
-        cache.save_entry("track-decay", key, arrays)
-    out = decay_against_limit(arrays["frequency_hz"], arrays["decay_rate"])
-    out["free_wave_decay_dB_per_m"] = arrays["free_wave_decay"]
-    out["method"] = (
-        f"EN 15461 formula on the FE track lengthened to {numerics.track_bays} bays, excited at midspan, "
-        f"{numerics.points_per_band} frequencies per band"
-    )
-    return out
 
 
 def _receptances(track, numerics, df_hz):
@@ -275,26 +240,6 @@ def _print_bands(bands: dict, decay: dict) -> None:
         print(f"  the decay rate is below the limit at {below} Hz ({decay['limit_source']})")
 
 
-def _band_receptances(track, numerics) -> dict:
-    """The point receptance magnitudes above the central sleeper and at midspan at the exact band centres
-    50 Hz-5 kHz (the decay rate's bands up to the limit's last)."""
-    import numpy as np
-
-    from wheelrail.core.noise.levels import noise_bands
-    from wheelrail.core.track import assemble_track, track_receptance
-
-    f = noise_bands()
-    f = f[f < 5100]
-    L = track.support.sleeper_spacing
-    x_sleeper = (track.n_bays // 2) * L
-    model = assemble_track(track, numerics.elements_per_bay)
-    return {
-        "frequency_hz": f,
-        "above_sleeper_m_per_n": np.abs(track_receptance(model, f, x_sleeper)),
-        "midspan_m_per_n": np.abs(track_receptance(model, f, x_sleeper + L / 2)),
-    }
-
-
 def run(args) -> int:
     import numpy as np
 
@@ -317,7 +262,7 @@ def run(args) -> int:
         numerics = replace(numerics, max_speed=speed)
     built = _green_functions(track, numerics, speed)
     green, static = built["green"], built["static"]
-    decay = _decay(track)
+    decay = track_decay(track)
     receptances = _receptances(track, numerics, args.df_hz) if (csv_path or plot_path or args.json) else None
     if csv_path or plot_path:
         from wheelrail.core.atomic import all_or_none
@@ -344,7 +289,7 @@ def run(args) -> int:
         },
         "cache": built["cache"],
         "decay_rate": decay,
-        "bands": _band_receptances(track, numerics),
+        "bands": band_receptances(track, numerics.elements_per_bay),
     }
     if receptances is not None:
         freq, above, midspan = receptances

@@ -76,3 +76,60 @@ def decay_against_limit(frequency_hz, decay_rate_db_per_m) -> dict:
         "meets_limit": not bool(np.any(below)),
         "limit_source": "EN ISO 3095:2013, 6.2.6, Figure 3 curve A (vertical), 250 Hz-5 kHz",
     }
+
+
+def track_decay(track) -> dict:
+    """The vertical decay rate per band (EN 15461 on the noise model's 240-bay track) of ``track``
+    (``TrackParameters``) beside the EN ISO 3095 limit (:func:`decay_against_limit`'s layout, with
+    ``free_wave_decay_dB_per_m`` and ``method``), kept in the disk cache (a few seconds of FE solves); the key
+    holds the source of the functions."""
+    import hashlib
+    import inspect
+    from dataclasses import asdict
+
+    import numpy as np
+
+    from wheelrail.core import cache
+    from wheelrail.core.noise import twins
+    from wheelrail.core.track import fe
+
+    numerics = twins.NoiseNumerics()
+    functions = (twins.track_decay_rates, twins._decay_grid, twins._decay_rates, fe.assemble_track, fe._pad_couplings)
+    code = "".join(inspect.getsource(f) for f in functions)
+    key = cache.cache_key(
+        "track-decay",
+        {"track": asdict(track), "numerics": asdict(numerics), "code": hashlib.sha256(code.encode()).hexdigest()},
+    )
+    names = ("frequency_hz", "decay_rate", "free_wave_decay")
+    arrays = cache.load_entry("track-decay", key, names)
+    if arrays is None or not all(np.all(np.isfinite(arrays[name])) for name in names):
+        f, decay, free = twins.track_decay_rates(track, numerics)
+        arrays = {"frequency_hz": f, "decay_rate": decay, "free_wave_decay": free}
+        cache.save_entry("track-decay", key, arrays)
+    out = decay_against_limit(arrays["frequency_hz"], arrays["decay_rate"])
+    out["free_wave_decay_dB_per_m"] = arrays["free_wave_decay"]
+    out["method"] = (
+        f"EN 15461 formula on the FE track lengthened to {numerics.track_bays} bays, excited at midspan, "
+        f"{numerics.points_per_band} frequencies per band"
+    )
+    return out
+
+
+def band_receptances(track, elements_per_bay: int = 16) -> dict:
+    """The point receptance magnitudes (m/N) of ``track`` above its central sleeper and at midspan at the exact
+    band centres 50 Hz-5 kHz (the decay rate's bands up to the limit's last), on ``elements_per_bay`` elements."""
+    import numpy as np
+
+    from wheelrail.core.noise.levels import noise_bands
+    from wheelrail.core.track import assemble_track, track_receptance
+
+    f = noise_bands()
+    f = f[f < 5100]
+    L = track.support.sleeper_spacing
+    x_sleeper = (track.n_bays // 2) * L
+    model = assemble_track(track, elements_per_bay)
+    return {
+        "frequency_hz": f,
+        "above_sleeper_m_per_n": np.abs(track_receptance(model, f, x_sleeper)),
+        "midspan_m_per_n": np.abs(track_receptance(model, f, x_sleeper + L / 2)),
+    }

@@ -26,14 +26,16 @@ if not CHROMIUM.exists():
     )
 from playwright import sync_api as playwright_api  # noqa: E402  (the test extra installs it)
 
+from wheelrail.explorer.tabs import RESULT_TABS, HelpTab  # noqa: E402
+
 pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
 
 ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
 SIZES = ((1280, 800), (1920, 1080))
 MIN_INSIDE = 0.9  # share of the first plot's area inside the window
 MIN_WIDTH = 480  # px
-TABS = ("Patch", "Spectra and filters", "Noise", "Roughness", "Help")
-PLOT_TABS = TABS[:4]
+TABS = tuple(tab.title for tab in RESULT_TABS)  # the page's tabs, in order
+PLOT_TABS = tuple(tab.title for tab in RESULT_TABS if tab is not HelpTab)
 COLOUR_BAR = "contact pressure (MPa)"  # the colour bar's label in the Patch tab
 
 # every uPlot chart of the page with its box on screen (zero size: in a tab not shown)

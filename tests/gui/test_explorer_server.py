@@ -509,3 +509,23 @@ def test_runs_of_another_configuration_are_overlaid_only_on_purpose(app):
     assert np.allclose(app.spectra.spectra.handle.data[index + 1], theirs["hertz"][1][keep])
     app.spectra.overlay_dropdown.value = "none"
     assert [label for label, _, _ in app.spectra.spectra.series] == ["hertz"]
+
+
+def test_the_track_tab_draws_receptance_and_decay_against_the_limit(app):
+    from wheelrail.explorer.tabs import TrackTab
+
+    _reset(app)
+    tab = next(t for t in app.tabs if isinstance(t, TrackTab))
+    track = app.shown.params().track
+    tab._compute(track)  # what its background thread does for a new track (then it redraws)
+    assert "pad stiffness 120 MN/m" in tab.track_md.content
+    assert [label for label, *_ in tab.receptance.series] == ["above a sleeper", "midspan"]
+    receptance = tab.receptance.data
+    assert 40 < receptance[0][0] < 70 and receptance[0][-1] > 4000  # Hz: the bands 50 Hz-5 kHz
+    assert np.all(receptance[1] < -150) and np.all(receptance[1] > -220)  # dB re 1 m/N: 1e-11 to 1e-7.5 m/N
+    # the paper's track is below the limit at 400-800 Hz (2.3-3.7 dB/m against 6; tests/physics/test_track_decay.py)
+    assert tab.decay.handle.title == "Vertical decay rate: is below the EN ISO 3095 limit"
+    decay, limit = tab.decay.data[1], tab.decay.data[2]
+    f = tab.decay.data[0]
+    at_500 = int(np.argmin(np.abs(f - 500)))
+    assert decay[at_500] < limit[at_500] == 6.0
