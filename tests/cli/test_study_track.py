@@ -63,3 +63,29 @@ def test_soft_pads_carry_more_rail_noise_than_stiff_ones(tmp_path, capsys):
     assert rail[0] > rail[1] + 2.0, rail  # margin: the effect is several dB for pads 60 vs 1000 MN/m
     assert (tmp_path / "track_corrugated-rail_force_levels.csv").is_file()
     assert (tmp_path / "track_track.png").is_file()
+
+
+@pytest.mark.slow
+def test_the_track_study_on_dask_gives_the_pools_tables(tmp_path):
+    # two tracks' runs spread over a local Dask cluster (each worker loads or computes its track's Green's
+    # functions, shared through the disk cache) give the process pool's tables to round-off
+    distributed = pytest.importorskip("distributed")
+    from wheelrail.core.study import run_study
+
+    tracks = _tracks(60e6, 1000e6)
+    pool = run_study("track", ["corrugated-rail"], tmp_path / "pool", length=0.6, params=tracks, progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        dask = run_study(
+            "track",
+            ["corrugated-rail"],
+            tmp_path / "dask",
+            length=0.6,
+            params=tracks,
+            progress=False,
+            figures=False,
+            dask_address=cluster.scheduler_address,
+        )
+    assert dask.report.backend.startswith("dask") and dask.report.computed == pool.report.computed
+    for mine, theirs in zip(pool.tables, dask.tables, strict=True):
+        for column in mine.columns:
+            np.testing.assert_allclose(theirs.columns[column], mine.columns[column], rtol=1e-12, equal_nan=True)
