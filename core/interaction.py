@@ -75,6 +75,12 @@ __all__ = [
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
 CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets them in time
+# 3d's run-in law (InteractionRun._run_in_table), in units of the static approach: T_0 and T_1 solved every 8 %,
+# T_1 also every 0.5 % where F is within RUN_IN_TABLE_BAND x P (kinks placed where the lines meet), both up to
+# RUN_IN_TABLE_FORCE x P and extended linearly beyond
+RUN_IN_TABLE_SPACING = (0.08, (0.08, 0.04))
+RUN_IN_TABLE_BAND = (0.8, 1.25)
+RUN_IN_TABLE_FORCE = 1.5
 
 # --------------------------------------------------------------------------------------------------
 # Compiled pieces: eqs. 1-2 (_history, _scatter, _commit) and the chunk loop of the compiled laws.
@@ -234,6 +240,50 @@ def _define_run_chunk_3d(stamp):
 _run_chunk = _define_run_chunk(sources_stamp(hertz, winkler))
 
 
+@njit(cache=True, inline="always")
+def _tabulated_force(table, weight, approach_known, compliance, segment):
+    """F solving F = T(delta_known - c F) for the piecewise-linear law T = (1 - w) T_0 + w T_1 on the breakpoints
+    ``grid`` (``table`` = (grid, T_0, T_1) at them; T = 0 at the first, the last segment extended).
+
+    H(delta) = delta + c T(delta) increases strictly, so the segment with H(lo) <= delta_known <= H(hi) is
+    found by walking from the last step's (``segment[0]``, a few moves at most) and the linear equation
+    on it solved exactly. Returns (F, delta)."""
+    grid, smooth, rough = table
+    if approach_known <= grid[0]:
+        return 0.0, approach_known
+    i = segment[0]
+    while True:
+        lo, hi = grid[i], grid[i + 1]
+        low = (1.0 - weight) * smooth[i] + weight * rough[i]
+        high = (1.0 - weight) * smooth[i + 1] + weight * rough[i + 1]
+        if approach_known < lo + compliance * low and i > 0:
+            i -= 1
+        elif approach_known > hi + compliance * high and i < grid.size - 2:
+            i += 1
+        else:
+            break
+    segment[0] = i
+    slope = (high - low) / (hi - lo)
+    delta = lo + (approach_known - lo - compliance * low) / (1.0 + compliance * slope)
+    return low + slope * (delta - lo), delta
+
+
+@njit(cache=True)
+def _run_in_chunk(j0, j1, track, wheel, constants, table, ramp, segment, out):
+    """The run-in of the ``3d`` law over history indices j0..j1-1 with its tabulated law (:func:`_tabulated_force`
+    with w = the step's fade-in factor). ``constants`` = (preload, xi_w0, n_hist); ``out`` = (xi_wheel, xi_rail).
+    Returns the approach of the last step, m."""
+    preload, xi_w0, offset = constants
+    xi_wheel, xi_rail = out
+    delta = 0.0
+    for j in range(j0, j1):
+        delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+        s = j - offset
+        f, delta = _tabulated_force(table, ramp[s], delta_known, c, segment)
+        xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
+    return delta
+
+
 # --------------------------------------------------------------------------------------------------
 # The run
 # --------------------------------------------------------------------------------------------------
@@ -283,8 +333,12 @@ class InteractionRun(HeaderView):
         self._law = contact.law_inputs() if traits.compiled else None
         self._chunk = (CHUNK_3D if traits.law == LAW_HALFSPACE else CHUNK) if traits.compiled else 1
         self._maps = self._maps_first = None  # the compiled 3D law's pressure maps of the last chunk, if not kept
+        self._table = None  # the 3d law's run-in law (breakpoints, T_0, T_1), built on first use
+        self._segment = np.zeros(1, dtype=np.int64)  # its segment of the last run-in step
         if traits.law == LAW_HALFSPACE and self.pressure is None:
             self._maps = np.zeros((CHUNK_3D, len(self.window_y), len(self.window_x)), dtype=np.float32)
+
+    tabulated_run_in = True  # 3d: the run-in with the tabulated 3D law (False: the 3D solve at every step)
 
     # what produced the run ------------------------------------------------------------------------------
     @property
@@ -355,6 +409,11 @@ class InteractionRun(HeaderView):
         from wheelrail.core.contact.halfspace_steps import STEP_NEEDS_ROOM
 
         loop = self.loop
+        if s0 < loop.n_run_in and self.tabulated_run_in:
+            self._run_in_3d(s0, min(s1, loop.n_run_in))
+            s0 = min(s1, loop.n_run_in)
+            if s0 == s1:
+                return
         maps, first = (self.pressure, loop.n_run_in) if self._maps is None else (self._maps, s0)
         outputs = (self.xi_wheel, self.xi_rail, self.contact_length, self.contact_area, maps)
         j = loop.n_hist + s0
@@ -375,12 +434,62 @@ class InteractionRun(HeaderView):
         if j >= 0:
             raise WheelrailError(self.contact.failure_message(status, j - loop.n_hist))
 
+    def _run_in_3d(self, s0: int, s1: int) -> None:
+        """Run-in steps s0..s1-1 of the ``3d`` law with its tabulated law (:meth:`_run_in_table`); at the
+        run-in's end the 3D law's warm state is put at the last approach, on the first recorded step's gap."""
+        from wheelrail.core.contact.halfspace_steps import warm_start
+
+        loop = self.loop
+        if self._table is None:
+            self._table = self._run_in_table()
+        approach = _run_in_chunk(
+            loop.n_hist + s0,
+            loop.n_hist + s1,
+            loop.track,
+            loop.wheel,
+            (self.params.contact.preload, loop.xi_w0, loop.n_hist),
+            self._table,
+            loop.ramp,
+            self._segment,
+            (self.xi_wheel, self.xi_rail),
+        )
+        if s1 == loop.n_run_in:
+            warm_start(self._law, loop.n_run_in, approach)
+
+    def _run_in_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The run-in's law of the ``3d`` model, tabulated: during the run-in the window stays on the roughness
+        under step 0, faded in (gap h_0 - w r, w from 0 to 1), so the 3D law is F(delta, w). Tabulated exactly
+        (``halfspace_steps.tabulate_law``) at w = 0 (T_0, smooth) and w = 1 (T_1, the first recorded step's
+        gap) up to ``RUN_IN_TABLE_FORCE`` x P; in between (the fade's first half of the run-in)
+        (1 - w) T_0 + w T_1 stands for it. Returns (breakpoints, T_0, T_1 at them)."""
+        from wheelrail.core.contact.halfspace_steps import tabulate_law
+
+        loop = self.loop
+        preload = self.params.contact.preload
+        static = loop.xi_w0 - preload * float(np.mean(loop.weights.sum(axis=1)))  # run_setup.static_equilibrium
+        smooth, rough = RUN_IN_TABLE_SPACING
+        band = (RUN_IN_TABLE_BAND[0] * preload, RUN_IN_TABLE_BAND[1] * preload)
+        stop = RUN_IN_TABLE_FORCE * preload
+        tables = (
+            tabulate_law(self._law, 0, (smooth * static, smooth * static), None, stop),
+            tabulate_law(self._law, loop.n_run_in, (rough[0] * static, rough[1] * static), band, stop),
+        )
+        far = max(delta[-1] for delta, _ in tables) + 1.0  # m: the last segments extended (beyond any approach)
+        grid = np.union1d(np.concatenate([delta for delta, _ in tables]), [far])
+        values = []
+        for delta, force in tables:
+            slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
+            values.append(np.interp(grid, [*delta, far], [*force, force[-1] + slope * (far - delta[-1])], left=0.0))
+        return grid, values[0], values[1]
+
     def _advance_to(self, s_end: int, progress: Callable[[int, int], None] | None = None) -> None:
         chunk = self._chunk
         while self._done < s_end:
             if self._cancel.is_set():
                 return
             stop = min(s_end, self._done + chunk)
+            if self._done < self.loop.n_run_in and self.traits.law == LAW_HALFSPACE and self.tabulated_run_in:
+                stop = min(s_end, self.loop.n_run_in)  # the tabulated run-in in one call (1-3 us a step)
             self._advance(self._done, stop)
             self._done = stop
             if progress is not None and (chunk > 1 or stop % 64 == 0 or stop == s_end):

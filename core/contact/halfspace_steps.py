@@ -56,6 +56,7 @@ from wheelrail.core.contact.halfspace_solver import (
     _factor_full,
     _tension_elements,
 )
+from wheelrail.core.errors import WheelrailError
 
 __all__ = [
     "FULL_MATRIX_ELEMENTS",
@@ -560,3 +561,142 @@ def _define_python_step(stamp):
 
 
 _python_step = _define_python_step(sources_stamp(halfspace_solver))
+
+
+# ---------------------------------------------------------------------------------------------------
+# The law of one window tabulated: F(delta) for the smooth run-in (interaction: the run-in's law)
+# ---------------------------------------------------------------------------------------------------
+
+
+def _define_sweep(stamp):
+    @njit(cache=True)
+    def sweep(s, deltas, force_stop, law, out):
+        """Displacement-controlled solves (compliance 0: delta = the given approach) of step s's gap at the
+        approaches ``deltas`` (m, ascending), each warm-started from the last, until F reaches ``force_stop``.
+        ``out`` = (F, dF/ddelta, elements in the set, sum of their indices) per approach.
+
+        On a fixed set F = A_e (delta z.z - z.y) (:func:`_pressure_on_set`): linear in delta, slope A_e z.z.
+        Returns (points solved, status of the solve that stopped it or ``STEP_CONVERGED``).
+        """
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
+        forces, slopes, sizes, sums = out
+        state = law[1]
+        order, z, counts = state[0], state[2], state[3]
+        area = law[4][2]
+        for k in range(deltas.size):
+            status, force, _, _ = _halfspace_step(s, deltas[k], 0.0, law)
+            if status != STEP_CONVERGED and status != STEP_AT_EDGE:
+                return k, status
+            m = counts[0] if force > 0.0 else 0
+            zz = 0.0
+            total = 0
+            for a in range(m):
+                zz += z[a] * z[a]
+                total += order[a]
+            forces[k], slopes[k], sizes[k], sums[k] = force, area * zz, m, total
+            if force >= force_stop:
+                return k + 1, STEP_CONVERGED
+        return deltas.size, STEP_CONVERGED
+
+    return sweep
+
+
+_sweep = _define_sweep(sources_stamp(halfspace_solver))
+
+
+def _solve_at(steps: HalfSpaceSteps, s: int, deltas: np.ndarray, force_stop: float = math.inf):
+    """:func:`_sweep` from Python (the factor's buffer grown where the set outgrew it): the approaches
+    solved and (F, slope, set size, set index sum) at them."""
+    n = deltas.size
+    out = (np.empty(n), np.empty(n), np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64))
+    done = 0
+    while done < n:
+        count, status = _sweep(s, deltas[done:], force_stop, steps.law, tuple(a[done:] for a in out))
+        done += count
+        if status == STEP_NEEDS_ROOM:
+            steps.grow()  # repeat that point with a larger factor buffer
+            continue
+        if status != STEP_CONVERGED:
+            raise WheelrailError(f"3d: the contact solve of the run-in's law did not converge (status {status})")
+        break
+    return deltas[:done], *(a[:done] for a in out)
+
+
+def warm_start(steps: HalfSpaceSteps, s: int, approach: float) -> None:
+    """Leave the warm state (set and factor) at the solution of step s's gap at this approach (m): the state
+    the next step starts from."""
+    _solve_at(steps, s, np.array([approach]))
+
+
+def step_gap(steps: HalfSpaceSteps, s: int) -> np.ndarray:
+    """The undeformed gap of step s's window (ny, nx), m (as :func:`_halfspace_step` builds it)."""
+    ny, nx = steps.shape
+    base, lines, start_index, ramp, half_x, _ = steps._parts[2]
+    i = int(start_index[s])
+    return base.reshape(ny, nx) - ramp[s] * lines[:, i - half_x : i + half_x + 1]
+
+
+def tabulate_law(
+    steps: HalfSpaceSteps, s: int, spacing: tuple[float, float], band: tuple[float, float] | None, force_stop: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``3d`` law on step s's gap as a function of the approach alone: breakpoints (delta, F) of the
+    piecewise-linear F(delta), m and N, from delta = min h (F = 0) until F >= ``force_stop`` (N).
+
+    On a fixed contact set the discretised law is exactly linear in delta (:func:`_sweep`); it has a kink
+    where the set changes. The law is solved with its slope every ``spacing[0]`` (m), and every ``spacing[1]``
+    where F is within ``band`` (N, optional); where the set differs between two neighbouring solves, a kink is
+    put where their two lines meet: exact for one change of set between them (F is continuous). Within the
+    band, where the sets differ by more than one element, the law is solved again there
+    (:func:`_resolve_kinks`), so the table is the law there to the solver's tolerance; elsewhere it is off by
+    at most (slope change) x (spacing) / 4. Leaves the warm state at the last solve.
+    """
+    first = float(step_gap(steps, s).min())
+    coarse, fine = spacing
+    points = _solve_at(steps, s, first + coarse * np.arange(4096), force_stop)
+    if band is not None:
+        lo, hi = np.interp(band, points[1], points[0])
+        points = _merged(points, _solve_at(steps, s, np.arange(lo, hi + fine, fine)))
+        points = _resolve_kinks(steps, s, points, (lo, hi), 1e-9 * force_stop)
+    delta, force, slope, size, total = points
+    x = _meeting_points(points)
+    inside = ((size[1:] != size[:-1]) | (total[1:] != total[:-1])) & (x > delta[:-1]) & (x < delta[1:])
+    kink_x = x[inside]
+    kink_f = force[:-1][inside] + slope[:-1][inside] * (kink_x - delta[:-1][inside])
+    order = np.argsort(np.concatenate([delta, kink_x]), kind="stable")
+    return np.concatenate([delta, kink_x])[order], np.concatenate([force, kink_f])[order]
+
+
+def _merged(points, more):
+    """Two sets of solves (delta, F, slope, set size, set index sum) as one, sorted by delta."""
+    joined = tuple(np.concatenate(pair) for pair in zip(points, more, strict=True))
+    order = np.argsort(joined[0], kind="stable")
+    return tuple(a[order] for a in joined)
+
+
+def _meeting_points(points) -> np.ndarray:
+    """Where the lines F_k + s_k (x - delta_k) of neighbouring solves meet (nan where parallel)."""
+    delta, force, slope = points[:3]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (force[1:] - force[:-1] + slope[:-1] * delta[:-1] - slope[1:] * delta[1:]) / (slope[:-1] - slope[1:])
+
+
+def _resolve_kinks(steps: HalfSpaceSteps, s: int, points, span: tuple[float, float], tolerance: float, rounds=8):
+    """Solve again where neighbouring solves within ``span`` (m) have sets that differ by more than one
+    element (several kinks may lie between): at the point where their lines meet. If the law is on both
+    lines there (within ``tolerance``, N), that point is the only kink (several elements joining at once, as
+    on a symmetric gap); else it splits the interval, which is looked at again, up to ``rounds`` times."""
+    exact = np.zeros(points[0].size, dtype=bool)  # the interval to the right of a solve holds at most one kink
+    for _ in range(rounds):
+        delta, force, slope, size, total = points
+        x = _meeting_points(points)
+        several = (np.abs(size[1:] - size[:-1]) != 1) & (total[1:] != total[:-1]) & ~exact[:-1]
+        several &= (x > delta[:-1]) & (x < delta[1:]) & (delta[1:] >= span[0]) & (delta[:-1] <= span[1])
+        if not several.any():
+            break
+        at = np.flatnonzero(several)
+        more = _solve_at(steps, s, x[at])
+        on_lines = np.abs(more[1] - (force[at] + slope[at] * (x[at] - delta[at]))) <= tolerance
+        exact[at[on_lines]] = True
+        points = _merged(points, more)
+        exact = np.concatenate([exact, on_lines])[np.argsort(np.concatenate([delta, x[at]]), kind="stable")]
+    return points
