@@ -80,7 +80,7 @@ CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets
 # RUN_IN_TABLE_FORCE x P and extended linearly beyond
 RUN_IN_TABLE_SPACING = (0.08, (0.08, 0.04))
 RUN_IN_TABLE_BAND = (0.8, 1.25)
-RUN_IN_TABLE_FORCE = 1.5
+RUN_IN_TABLE_FORCE = 1.3
 
 # --------------------------------------------------------------------------------------------------
 # Compiled pieces: eqs. 1-2 (_history, _scatter, _commit) and the chunk loop of the compiled laws.

@@ -59,7 +59,7 @@ def test_the_3d_laws_table_is_the_law_itself():
     steps, s, preload = run.contact.law_inputs(), run.loop.n_run_in, run.params.contact.preload
     static = run.loop.xi_w0 - preload * float(np.mean(run.loop.weights.sum(axis=1)))
     band = (RUN_IN_TABLE_BAND[0] * preload, RUN_IN_TABLE_BAND[1] * preload)
-    delta, force = tabulate_law(steps, s, (0.08 * static, 0.04 * static), band, 1.5 * preload)
+    delta, force = tabulate_law(steps, s, (0.08 * static, 0.04 * static), band, 1.3 * preload)
     lo, hi = np.interp(band, force, delta)
     probe = np.random.default_rng(1).uniform(lo, hi, 200)
     probe.sort()
