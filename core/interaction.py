@@ -14,11 +14,12 @@ The wheel moves along the rail one element per step (x = v t, eq. 7; dt = Delta 
   contact model solves its own nonlinear law together with this relation, so the current force is
   consistent with the current displacements (implicit, one solve per step).
 
-The loop owns eqs. 1-2, once: ``_history`` (the known part of the approach) and ``_commit`` (the step's
-force into the wheel state and the rail history). A contact model (``wheelrail.core.models``: ``3d``,
-``2d``, ``hertz``, ``hertz-winkler``, ``hertz-average`` and any registered one) only gives its law: a
-compiled one-line law runs inside ``_run_chunk`` (``CHUNK`` steps per call), the compiled 3D law inside
-``_run_chunk_3d`` (``CHUNK_3D`` steps per call, without the GIL), a per-step law is called from Python.
+The loop owns eqs. 1-2, once (``wheelrail.core.loop_kernels``): ``_history`` (the known part of the approach)
+and ``_commit`` (the step's force into the wheel state and the rail history). A contact model
+(``wheelrail.core.models``: ``3d``, ``2d``, ``hertz``, ``hertz-winkler``, ``hertz-average`` and any registered
+one) only gives its law: a compiled one-line law runs inside ``_run_chunk`` (``CHUNK`` steps per call), the
+compiled 3D law inside ``_run_chunk_3d`` (``CHUNK_3D`` steps per call, without the GIL; its run-in on the
+law tabulated, ``contact.halfspace_table``), a per-step law is called from Python.
 How a run is built (margins, roughness along the track, history, static equilibrium, run-in) is in
 ``wheelrail.core.run_setup``.
 """
@@ -32,6 +33,7 @@ from collections.abc import Callable, Iterator
 import numpy as np
 from numba import njit
 
+from wheelrail.core import loop_kernels
 from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.compiled import sources_stamp
 from wheelrail.core.contact import hertz, winkler
@@ -39,6 +41,7 @@ from wheelrail.core.contact.hertz import _hertz_law
 from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
+from wheelrail.core.loop_kernels import _commit, _history, _scatter_range
 from wheelrail.core.models import LAW_HALFSPACE, LAW_HERTZ, MODELS, ContactModel, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
@@ -75,76 +78,10 @@ __all__ = [
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
 CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets them in time
-# 3d's run-in law (InteractionRun._run_in_table), in units of the static approach: T_0 and T_1 solved every 8 %,
-# T_1 also every 0.5 % where F is within RUN_IN_TABLE_BAND x P (kinks placed where the lines meet), both up to
-# RUN_IN_TABLE_FORCE x P and extended linearly beyond
-RUN_IN_TABLE_SPACING = (0.08, (0.08, 0.04))
-RUN_IN_TABLE_BAND = (0.8, 1.25)
-RUN_IN_TABLE_FORCE = 1.3
 
 # --------------------------------------------------------------------------------------------------
-# Compiled pieces: eqs. 1-2 (_history, _scatter, _commit) and the chunk loop of the compiled laws.
-# ``track`` = (force, lo, hi, frac, weights, acc) and ``wheel`` = (phi, gamma0, gamma1, state): see
-# run_setup.History.
+# Compiled pieces: the chunk loops of the compiled laws (eqs. 1-2: loop_kernels, inlined).
 # --------------------------------------------------------------------------------------------------
-
-
-@njit(cache=True, inline="always")
-def _history(j, track, wheel, preload, xi_w0):
-    """Known part of the approach at history index j: returns (delta_known, compliance, q_rail, w0, s_pred).
-
-    The wheel state is predicted with the force still at F[j-1] (eq. 1 in its exact discrete form), the
-    rail displacement ``acc[j]`` holds the response to all earlier forces (eq. 2, see ``_scatter``);
-    delta = xi_W - xi_R = delta_known - c F[j] with the compliance c = Gamma1 + w_0.
-    """
-    force, lo, hi, frac, weights, acc = track
-    phi, gamma0, gamma1, state = wheel
-    q = acc[j]
-    w0 = (1.0 - frac[j]) * weights[lo[j], 0] + frac[j] * weights[hi[j], 0]
-    s_pred = np.empty(4)
-    df = force[j - 1] - preload
-    for a in range(4):
-        v = gamma0[a] * df
-        for b in range(4):
-            v += phi[a, b] * state[b]
-        s_pred[a] = v
-    delta_known = xi_w0 - s_pred[1] + gamma1[1] * preload - q
-    return delta_known, gamma1[1] + w0, q, w0, s_pred
-
-
-@njit(cache=True, fastmath=True)
-def _scatter(j, f, lo, hi, frac, weights, acc):
-    """Add the rail displacement that force f at index j causes at the later steps (eq. 2, scattered
-    forward: contiguous memory, so the n_lags multiply-adds vectorise; over views from index 0, which numba
-    indexes without negative-index wraparound: 2.5x faster than indexing from j + 1, measured)."""
-    n_lags = weights.shape[1]
-    a = (1.0 - frac[j]) * f
-    b = frac[j] * f
-    row_lo = weights[lo[j], 1:]
-    row_hi = weights[hi[j], 1:]
-    later = acc[j + 1 : j + n_lags]
-    for m in range(later.size):
-        later[m] += a * row_lo[m] + b * row_hi[m]
-
-
-@njit(cache=True)
-def _scatter_range(j0, j1, track):
-    force, lo, hi, frac, weights, acc = track
-    for j in range(j0, j1):
-        _scatter(j, force[j], lo, hi, frac, weights, acc)
-
-
-@njit(cache=True, inline="always")
-def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
-    """Make f the force of index j: into the rail's history (eq. 2) and the wheel state (eq. 1).
-    Returns (xi_W, xi_R) at this step."""
-    force, lo, hi, frac, weights, acc = track
-    phi, gamma0, gamma1, state = wheel
-    force[j] = f
-    _scatter(j, f, lo, hi, frac, weights, acc)
-    for i in range(4):
-        state[i] = s_pred[i] + gamma1[i] * (f - preload)
-    return xi_w0 - state[1], q + w0 * f
 
 
 @njit(cache=True, inline="always")
@@ -199,7 +136,7 @@ def _run_chunk_3d():
     from wheelrail.core.contact import halfspace_solver, halfspace_steps
     from wheelrail.core.contact.halfspace_steps import STEP_CONVERGED, _halfspace_step
 
-    return _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver))
+    return _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver, loop_kernels))
 
 
 def _define_run_chunk_3d(stamp):
@@ -237,51 +174,7 @@ def _define_run_chunk_3d(stamp):
     return run_chunk_3d
 
 
-_run_chunk = _define_run_chunk(sources_stamp(hertz, winkler))
-
-
-@njit(cache=True, inline="always")
-def _tabulated_force(table, weight, approach_known, compliance, segment):
-    """F solving F = T(delta_known - c F) for the piecewise-linear law T = (1 - w) T_0 + w T_1 on the breakpoints
-    ``grid`` (``table`` = (grid, T_0, T_1) at them; T = 0 at the first, the last segment extended).
-
-    H(delta) = delta + c T(delta) increases strictly, so the segment with H(lo) <= delta_known <= H(hi) is
-    found by walking from the last step's (``segment[0]``, a few moves at most) and the linear equation
-    on it solved exactly. Returns (F, delta)."""
-    grid, smooth, rough = table
-    if approach_known <= grid[0]:
-        return 0.0, approach_known
-    i = segment[0]
-    while True:
-        lo, hi = grid[i], grid[i + 1]
-        low = (1.0 - weight) * smooth[i] + weight * rough[i]
-        high = (1.0 - weight) * smooth[i + 1] + weight * rough[i + 1]
-        if approach_known < lo + compliance * low and i > 0:
-            i -= 1
-        elif approach_known > hi + compliance * high and i < grid.size - 2:
-            i += 1
-        else:
-            break
-    segment[0] = i
-    slope = (high - low) / (hi - lo)
-    delta = lo + (approach_known - lo - compliance * low) / (1.0 + compliance * slope)
-    return low + slope * (delta - lo), delta
-
-
-@njit(cache=True)
-def _run_in_chunk(j0, j1, track, wheel, constants, table, ramp, segment, out):
-    """The run-in of the ``3d`` law over history indices j0..j1-1 with its tabulated law (:func:`_tabulated_force`
-    with w = the step's fade-in factor). ``constants`` = (preload, xi_w0, n_hist); ``out`` = (xi_wheel, xi_rail).
-    Returns the approach of the last step, m."""
-    preload, xi_w0, offset = constants
-    xi_wheel, xi_rail = out
-    delta = 0.0
-    for j in range(j0, j1):
-        delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
-        s = j - offset
-        f, delta = _tabulated_force(table, ramp[s], delta_known, c, segment)
-        xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
-    return delta
+_run_chunk = _define_run_chunk(sources_stamp(hertz, winkler, loop_kernels))
 
 
 # --------------------------------------------------------------------------------------------------
@@ -435,52 +328,21 @@ class InteractionRun(HeaderView):
             raise WheelrailError(self.contact.failure_message(status, j - loop.n_hist))
 
     def _run_in_3d(self, s0: int, s1: int) -> None:
-        """Run-in steps s0..s1-1 of the ``3d`` law with its tabulated law (:meth:`_run_in_table`); at the
+        """Run-in steps s0..s1-1 of the ``3d`` law on its tabulated law (``contact.halfspace_table``); at the
         run-in's end the 3D law's warm state is put at the last approach, on the first recorded step's gap."""
-        from wheelrail.core.contact.halfspace_steps import warm_start
+        from wheelrail.core.contact.halfspace_table import _run_in_chunk, run_in_table, warm_start
 
-        loop = self.loop
-        if self._table is None:
-            self._table = self._run_in_table()
+        loop, preload = self.loop, self.params.contact.preload
+        if self._table is None:  # the static approach under the preload (run_setup.static_equilibrium) as scale
+            static = loop.xi_w0 - preload * float(np.mean(loop.weights.sum(axis=1)))
+            self._table = run_in_table(self._law, loop.n_run_in, preload, static)
+        j0, j1, constants = loop.n_hist + s0, loop.n_hist + s1, (preload, loop.xi_w0, loop.n_hist)
+        outputs = (self.xi_wheel, self.xi_rail)
         approach = _run_in_chunk(
-            loop.n_hist + s0,
-            loop.n_hist + s1,
-            loop.track,
-            loop.wheel,
-            (self.params.contact.preload, loop.xi_w0, loop.n_hist),
-            self._table,
-            loop.ramp,
-            self._segment,
-            (self.xi_wheel, self.xi_rail),
+            j0, j1, loop.track, loop.wheel, constants, self._table, loop.ramp, self._segment, outputs
         )
         if s1 == loop.n_run_in:
             warm_start(self._law, loop.n_run_in, approach)
-
-    def _run_in_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The run-in's law of the ``3d`` model, tabulated: during the run-in the window stays on the roughness
-        under step 0, faded in (gap h_0 - w r, w from 0 to 1), so the 3D law is F(delta, w). Tabulated exactly
-        (``halfspace_steps.tabulate_law``) at w = 0 (T_0, smooth) and w = 1 (T_1, the first recorded step's
-        gap) up to ``RUN_IN_TABLE_FORCE`` x P; in between (the fade's first half of the run-in)
-        (1 - w) T_0 + w T_1 stands for it. Returns (breakpoints, T_0, T_1 at them)."""
-        from wheelrail.core.contact.halfspace_steps import tabulate_law
-
-        loop = self.loop
-        preload = self.params.contact.preload
-        static = loop.xi_w0 - preload * float(np.mean(loop.weights.sum(axis=1)))  # run_setup.static_equilibrium
-        smooth, rough = RUN_IN_TABLE_SPACING
-        band = (RUN_IN_TABLE_BAND[0] * preload, RUN_IN_TABLE_BAND[1] * preload)
-        stop = RUN_IN_TABLE_FORCE * preload
-        tables = (
-            tabulate_law(self._law, 0, (smooth * static, smooth * static), None, stop),
-            tabulate_law(self._law, loop.n_run_in, (rough[0] * static, rough[1] * static), band, stop),
-        )
-        far = max(delta[-1] for delta, _ in tables) + 1.0  # m: the last segments extended (beyond any approach)
-        grid = np.union1d(np.concatenate([delta for delta, _ in tables]), [far])
-        values = []
-        for delta, force in tables:
-            slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
-            values.append(np.interp(grid, [*delta, far], [*force, force[-1] + slope * (far - delta[-1])], left=0.0))
-        return grid, values[0], values[1]
 
     def _advance_to(self, s_end: int, progress: Callable[[int, int], None] | None = None) -> None:
         chunk = self._chunk
