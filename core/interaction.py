@@ -78,6 +78,9 @@ __all__ = [
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
 CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets them in time
+# s: a 3d run-in this long or longer runs on the law tabulated (contact.halfspace_table); its fade-in's blend then
+# leaves at most 0.014 N (0.108 s at 100 km/h), 0.2-2.4 N after a run-in of 1-36 ms, which the 3D solver steps
+TABULATED_RUN_IN_TIME = 0.1
 
 # --------------------------------------------------------------------------------------------------
 # Compiled pieces: the chunk loops of the compiled laws (eqs. 1-2: loop_kernels, inlined).
@@ -231,7 +234,16 @@ class InteractionRun(HeaderView):
         if traits.law == LAW_HALFSPACE and self.pressure is None:
             self._maps = np.zeros((CHUNK_3D, len(self.window_y), len(self.window_x)), dtype=np.float32)
 
-    tabulated_run_in = True  # 3d: the run-in with the tabulated 3D law (False: the 3D solve at every step)
+    tabulated_run_in = True  # 3d: a run-in of TABULATED_RUN_IN_TIME or more on the tabulated law (False: 3D solves)
+
+    @property
+    def _tabulated(self) -> bool:
+        loop = self.loop
+        return (
+            self.tabulated_run_in
+            and self.traits.law == LAW_HALFSPACE
+            and loop.n_run_in * loop.dt >= TABULATED_RUN_IN_TIME
+        )
 
     # what produced the run ------------------------------------------------------------------------------
     @property
@@ -302,7 +314,7 @@ class InteractionRun(HeaderView):
         from wheelrail.core.contact.halfspace_steps import STEP_NEEDS_ROOM
 
         loop = self.loop
-        if s0 < loop.n_run_in and self.tabulated_run_in:
+        if s0 < loop.n_run_in and self._tabulated:
             self._run_in_3d(s0, min(s1, loop.n_run_in))
             s0 = min(s1, loop.n_run_in)
             if s0 == s1:
@@ -350,7 +362,7 @@ class InteractionRun(HeaderView):
             if self._cancel.is_set():
                 return
             stop = min(s_end, self._done + chunk)
-            if self._done < self.loop.n_run_in and self.traits.law == LAW_HALFSPACE and self.tabulated_run_in:
+            if self._done < self.loop.n_run_in and self._tabulated:
                 stop = min(s_end, self.loop.n_run_in)  # the tabulated run-in in one call (1-3 us a step)
             self._advance(self._done, stop)
             self._done = stop

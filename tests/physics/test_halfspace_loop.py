@@ -144,9 +144,7 @@ def models():
 def test_3d_run_equals_the_per_step_reference(models, roughness, geometry, model):
     # a whole run: the force feeds back through the wheel and track history, so a difference would grow
     params = ModelParameters(contact=ContactParameters(**geometry))
-    fast = prepare_run(roughness, model=model, params=params, length=0.3, run_in_length=0.1)
-    fast.tabulated_run_in = False  # the run-in stepped with the law too (its tabulated form: test_run_in.py)
-    fast = fast.run()
+    fast = prepare_run(roughness, model=model, params=params, length=0.3, run_in_length=0.1).run()
     slow = prepare_run(roughness, model="3d-reference", params=params, length=0.3, run_in_length=0.1).run()
     assert np.max(np.abs(fast.force - slow.force)) <= TOLERANCE * params.contact.preload
     np.testing.assert_array_equal(fast.contact_area, slow.contact_area)
