@@ -14,11 +14,12 @@ The wheel moves along the rail one element per step (x = v t, eq. 7; dt = Delta 
   contact model solves its own nonlinear law together with this relation, so the current force is
   consistent with the current displacements (implicit, one solve per step).
 
-The loop owns eqs. 1-2, once: ``_history`` (the known part of the approach) and ``_commit`` (the step's
-force into the wheel state and the rail history). A contact model (``wheelrail.core.models``: ``3d``,
-``2d``, ``hertz``, ``hertz-winkler``, ``hertz-average`` and any registered one) only gives its law: a
-compiled one-line law runs inside ``_run_chunk`` (``CHUNK`` steps per call), the compiled 3D law inside
-``_run_chunk_3d`` (``CHUNK_3D`` steps per call, without the GIL), a per-step law is called from Python.
+The loop owns eqs. 1-2, once (``wheelrail.core.loop_kernels``): ``_history`` (the known part of the approach)
+and ``_commit`` (the step's force into the wheel state and the rail history). A contact model
+(``wheelrail.core.models``: ``3d``, ``2d``, ``hertz``, ``hertz-winkler``, ``hertz-average`` and any registered
+one) only gives its law: a compiled one-line law runs inside ``_run_chunk`` (``CHUNK`` steps per call), the
+compiled 3D law inside ``_run_chunk_3d`` (``CHUNK_3D`` steps per call, without the GIL; its run-in on the
+law tabulated, ``contact.halfspace_table``), a per-step law is called from Python.
 How a run is built (margins, roughness along the track, history, static equilibrium, run-in) is in
 ``wheelrail.core.run_setup``.
 """
@@ -32,6 +33,7 @@ from collections.abc import Callable, Iterator
 import numpy as np
 from numba import njit
 
+from wheelrail.core import loop_kernels
 from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.compiled import sources_stamp
 from wheelrail.core.contact import hertz, winkler
@@ -39,6 +41,7 @@ from wheelrail.core.contact.hertz import _hertz_law
 from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
+from wheelrail.core.loop_kernels import _commit, _history, _scatter_range
 from wheelrail.core.models import LAW_HALFSPACE, LAW_HERTZ, MODELS, ContactModel, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
@@ -75,70 +78,13 @@ __all__ = [
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
 CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets them in time
+# s: a 3d run-in this long or longer runs on the law tabulated (contact.halfspace_table); its fade-in's blend then
+# leaves at most 0.014 N (0.108 s at 100 km/h), 0.2-2.4 N after a run-in of 1-36 ms, which the 3D solver steps
+TABULATED_RUN_IN_TIME = 0.1
 
 # --------------------------------------------------------------------------------------------------
-# Compiled pieces: eqs. 1-2 (_history, _scatter, _commit) and the chunk loop of the compiled laws.
-# ``track`` = (force, lo, hi, frac, weights, acc) and ``wheel`` = (phi, gamma0, gamma1, state): see
-# run_setup.History.
+# Compiled pieces: the chunk loops of the compiled laws (eqs. 1-2: loop_kernels, inlined).
 # --------------------------------------------------------------------------------------------------
-
-
-@njit(cache=True, inline="always")
-def _history(j, track, wheel, preload, xi_w0):
-    """Known part of the approach at history index j: returns (delta_known, compliance, q_rail, w0, s_pred).
-
-    The wheel state is predicted with the force still at F[j-1] (eq. 1 in its exact discrete form), the
-    rail displacement ``acc[j]`` holds the response to all earlier forces (eq. 2, see ``_scatter``);
-    delta = xi_W - xi_R = delta_known - c F[j] with the compliance c = Gamma1 + w_0.
-    """
-    force, lo, hi, frac, weights, acc = track
-    phi, gamma0, gamma1, state = wheel
-    q = acc[j]
-    w0 = (1.0 - frac[j]) * weights[lo[j], 0] + frac[j] * weights[hi[j], 0]
-    s_pred = np.empty(4)
-    df = force[j - 1] - preload
-    for a in range(4):
-        v = gamma0[a] * df
-        for b in range(4):
-            v += phi[a, b] * state[b]
-        s_pred[a] = v
-    delta_known = xi_w0 - s_pred[1] + gamma1[1] * preload - q
-    return delta_known, gamma1[1] + w0, q, w0, s_pred
-
-
-@njit(cache=True, fastmath=True)
-def _scatter(j, f, lo, hi, frac, weights, acc):
-    """Add the rail displacement that force f at index j causes at the later steps (eq. 2, scattered
-    forward: contiguous memory, so the n_lags multiply-adds vectorise; over views from index 0, which numba
-    indexes without negative-index wraparound: 2.5x faster than indexing from j + 1, measured)."""
-    n_lags = weights.shape[1]
-    a = (1.0 - frac[j]) * f
-    b = frac[j] * f
-    row_lo = weights[lo[j], 1:]
-    row_hi = weights[hi[j], 1:]
-    later = acc[j + 1 : j + n_lags]
-    for m in range(later.size):
-        later[m] += a * row_lo[m] + b * row_hi[m]
-
-
-@njit(cache=True)
-def _scatter_range(j0, j1, track):
-    force, lo, hi, frac, weights, acc = track
-    for j in range(j0, j1):
-        _scatter(j, force[j], lo, hi, frac, weights, acc)
-
-
-@njit(cache=True, inline="always")
-def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
-    """Make f the force of index j: into the rail's history (eq. 2) and the wheel state (eq. 1).
-    Returns (xi_W, xi_R) at this step."""
-    force, lo, hi, frac, weights, acc = track
-    phi, gamma0, gamma1, state = wheel
-    force[j] = f
-    _scatter(j, f, lo, hi, frac, weights, acc)
-    for i in range(4):
-        state[i] = s_pred[i] + gamma1[i] * (f - preload)
-    return xi_w0 - state[1], q + w0 * f
 
 
 @njit(cache=True, inline="always")
@@ -193,7 +139,7 @@ def _run_chunk_3d():
     from wheelrail.core.contact import halfspace_solver, halfspace_steps
     from wheelrail.core.contact.halfspace_steps import STEP_CONVERGED, _halfspace_step
 
-    return _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver))
+    return _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver, loop_kernels))
 
 
 def _define_run_chunk_3d(stamp):
@@ -231,7 +177,7 @@ def _define_run_chunk_3d(stamp):
     return run_chunk_3d
 
 
-_run_chunk = _define_run_chunk(sources_stamp(hertz, winkler))
+_run_chunk = _define_run_chunk(sources_stamp(hertz, winkler, loop_kernels))
 
 
 # --------------------------------------------------------------------------------------------------
@@ -283,8 +229,21 @@ class InteractionRun(HeaderView):
         self._law = contact.law_inputs() if traits.compiled else None
         self._chunk = (CHUNK_3D if traits.law == LAW_HALFSPACE else CHUNK) if traits.compiled else 1
         self._maps = self._maps_first = None  # the compiled 3D law's pressure maps of the last chunk, if not kept
+        self._table = None  # the 3d law's run-in law (breakpoints, T_0, T_1), built on first use
+        self._segment = np.zeros(1, dtype=np.int64)  # its segment of the last run-in step
         if traits.law == LAW_HALFSPACE and self.pressure is None:
             self._maps = np.zeros((CHUNK_3D, len(self.window_y), len(self.window_x)), dtype=np.float32)
+
+    tabulated_run_in = True  # 3d: a run-in of TABULATED_RUN_IN_TIME or more on the tabulated law (False: 3D solves)
+
+    @property
+    def _tabulated(self) -> bool:
+        loop = self.loop
+        return (
+            self.tabulated_run_in
+            and self.traits.law == LAW_HALFSPACE
+            and loop.n_run_in * loop.dt >= TABULATED_RUN_IN_TIME
+        )
 
     # what produced the run ------------------------------------------------------------------------------
     @property
@@ -355,6 +314,11 @@ class InteractionRun(HeaderView):
         from wheelrail.core.contact.halfspace_steps import STEP_NEEDS_ROOM
 
         loop = self.loop
+        if s0 < loop.n_run_in and self._tabulated:
+            self._run_in_3d(s0, min(s1, loop.n_run_in))
+            s0 = min(s1, loop.n_run_in)
+            if s0 == s1:
+                return
         maps, first = (self.pressure, loop.n_run_in) if self._maps is None else (self._maps, s0)
         outputs = (self.xi_wheel, self.xi_rail, self.contact_length, self.contact_area, maps)
         j = loop.n_hist + s0
@@ -375,12 +339,31 @@ class InteractionRun(HeaderView):
         if j >= 0:
             raise WheelrailError(self.contact.failure_message(status, j - loop.n_hist))
 
+    def _run_in_3d(self, s0: int, s1: int) -> None:
+        """Run-in steps s0..s1-1 of the ``3d`` law on its tabulated law (``contact.halfspace_table``); at the
+        run-in's end the 3D law's warm state is put at the last approach, on the first recorded step's gap."""
+        from wheelrail.core.contact.halfspace_table import _run_in_chunk, run_in_table, warm_start
+
+        loop, preload = self.loop, self.params.contact.preload
+        if self._table is None:  # the static approach under the preload (run_setup.static_equilibrium) as scale
+            static = loop.xi_w0 - preload * float(np.mean(loop.weights.sum(axis=1)))
+            self._table = run_in_table(self._law, loop.n_run_in, preload, static)
+        j0, j1, constants = loop.n_hist + s0, loop.n_hist + s1, (preload, loop.xi_w0, loop.n_hist)
+        outputs = (self.xi_wheel, self.xi_rail)
+        approach = _run_in_chunk(
+            j0, j1, loop.track, loop.wheel, constants, self._table, loop.ramp, self._segment, outputs
+        )
+        if s1 == loop.n_run_in:
+            warm_start(self._law, loop.n_run_in, approach)
+
     def _advance_to(self, s_end: int, progress: Callable[[int, int], None] | None = None) -> None:
         chunk = self._chunk
         while self._done < s_end:
             if self._cancel.is_set():
                 return
             stop = min(s_end, self._done + chunk)
+            if self._done < self.loop.n_run_in and self._tabulated:
+                stop = min(s_end, self.loop.n_run_in)  # the tabulated run-in in one call (1-3 us a step)
             self._advance(self._done, stop)
             self._done = stop
             if progress is not None and (chunk > 1 or stop % 64 == 0 or stop == s_end):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.interaction import prepare_run, simulate
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
 from wheelrail.core.roughness import load_roughness
 from wheelrail.core.run_setup import DEFAULT_RUN_IN_TIME, default_run_in_length
@@ -43,3 +43,55 @@ def test_the_default_run_in_is_a_time_and_every_output_states_it():
     assert header["run_in_length_m"] == pytest.approx(25.0) and header["run_in_time_s"] == pytest.approx(0.3)
     # an explicit run-in is kept as given
     assert simulate(RAIL, length=0.05, run_in_length=0.5).run_in_length == pytest.approx(0.5)
+
+
+def test_the_3d_laws_table_is_the_law_itself():
+    # The discretised 3D law on a fixed window is piecewise linear in the approach (linear on each contact set,
+    # eqs. 8-11), so the run-in's table (halfspace_table.tabulate_law: solves with their slopes, a kink where
+    # the lines of neighbouring solves meet, solved again there where the sets differ by more than one
+    # element) is the law itself in its band. Against direct solves at 200 approaches across the band on the
+    # first recorded step's gap (corrugated rail, 65 kN): within 1e-6 N, round-off of the solver's 1e-9
+    # (measured 1.2e-10 N; the solves alone, every 0.5 % of the static approach, without the kinks: 90 N).
+    from wheelrail.core.contact.halfspace_table import RUN_IN_TABLE_BAND, _solve_at, tabulate_law
+
+    run = prepare_run(RAIL, model="3d", length=0.05, keep_pressure=False)
+    steps, s, preload = run.contact.law_inputs(), run.loop.n_run_in, run.params.contact.preload
+    static = run.loop.xi_w0 - preload * float(np.mean(run.loop.weights.sum(axis=1)))
+    band = (RUN_IN_TABLE_BAND[0] * preload, RUN_IN_TABLE_BAND[1] * preload)
+    delta, force = tabulate_law(steps, s, (0.08 * static, 0.04 * static), band, 1.3 * preload)
+    lo, hi = np.interp(band, force, delta)
+    probe = np.random.default_rng(1).uniform(lo, hi, 200)
+    probe.sort()
+    direct = _solve_at(steps, s, probe)[1]
+    assert np.max(np.abs(np.interp(probe, delta, force) - direct)) <= 1e-6
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kmh", [100.0, 300.0])
+def test_3d_run_in_with_the_tabulated_law_records_the_force_of_the_3d_solver(kmh):
+    # The 3d model's run-in runs on its law tabulated (contact.halfspace_table.run_in_table: T_1 exact on
+    # the first recorded step's gap, T_0 smooth, blended while the roughness fades in) at ~1 us a step instead
+    # of ~13 us, and hands over to the 3D solver at step 0 from the warm state of the last approach. The record
+    # must be that of the run-in stepped with the 3D solver within 1 N (issue target); the law is exact near
+    # the preload, so it is far closer: measured 0.0001 N at 100 km/h and 0.0010 N at 300 km/h over 1 m of
+    # the corrugated rail (the fade's blend, decayed) (4-7 s on a quiet machine).
+    params = ModelParameters(run=RunParameters(speed=kmh * KMH))
+    forces = []
+    for tabulated in (True, False):
+        run = prepare_run(RAIL, model="3d", params=params, length=1.0, keep_pressure=False)
+        run.tabulated_run_in = tabulated
+        forces.append(run.run().force)
+    assert np.max(np.abs(forces[0] - forces[1])) <= 0.1
+
+
+def test_a_short_3d_run_in_is_stepped_with_the_3d_solver():
+    # Below interaction.TABULATED_RUN_IN_TIME (0.1 s) the tabulated law's fade-in would not have decayed by the
+    # record (0.2-2.4 N after 1-36 ms of run-in, measured): such a run-in is stepped with the 3D solver, so the
+    # result is that of tabulated_run_in = False to the bit.
+    forces = []
+    for tabulated in (True, False):
+        run = prepare_run(RAIL, model="3d", length=0.05, run_in_length=0.5, keep_pressure=False)
+        run.tabulated_run_in = tabulated
+        forces.append(run.run().force)
+        assert run._table is None
+    np.testing.assert_array_equal(forces[0], forces[1])

@@ -1,0 +1,74 @@
+"""Eqs. 1-2 of the interaction loop, compiled: the known part of a step's approach and the commit of its force.
+
+``_history`` (the wheel predicted with the last force, eq. 1 in its exact discrete form, and the rail's
+displacement from all earlier forces, eq. 2) and ``_commit`` (the step's force into the rail's history and the
+wheel state) are inlined into the loops that step a law: ``wheelrail.core.interaction`` (the compiled laws'
+chunk loops) and ``wheelrail.core.contact.halfspace_table`` (the ``3d`` model's run-in on its tabulated law).
+``track`` = (force, lo, hi, frac, weights, acc) and ``wheel`` = (phi, gamma0, gamma1, state): see
+``run_setup.History``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__: list[str] = []
+
+
+@njit(cache=True, inline="always")
+def _history(j, track, wheel, preload, xi_w0):
+    """Known part of the approach at history index j: returns (delta_known, compliance, q_rail, w0, s_pred).
+
+    The wheel state is predicted with the force still at F[j-1] (eq. 1 in its exact discrete form), the
+    rail displacement ``acc[j]`` holds the response to all earlier forces (eq. 2, see ``_scatter``);
+    delta = xi_W - xi_R = delta_known - c F[j] with the compliance c = Gamma1 + w_0.
+    """
+    force, lo, hi, frac, weights, acc = track
+    phi, gamma0, gamma1, state = wheel
+    q = acc[j]
+    w0 = (1.0 - frac[j]) * weights[lo[j], 0] + frac[j] * weights[hi[j], 0]
+    s_pred = np.empty(4)
+    df = force[j - 1] - preload
+    for a in range(4):
+        v = gamma0[a] * df
+        for b in range(4):
+            v += phi[a, b] * state[b]
+        s_pred[a] = v
+    delta_known = xi_w0 - s_pred[1] + gamma1[1] * preload - q
+    return delta_known, gamma1[1] + w0, q, w0, s_pred
+
+
+@njit(cache=True, fastmath=True)
+def _scatter(j, f, lo, hi, frac, weights, acc):
+    """Add the rail displacement that force f at index j causes at the later steps (eq. 2, scattered
+    forward: contiguous memory, so the n_lags multiply-adds vectorise; over views from index 0, which numba
+    indexes without negative-index wraparound: 2.5x faster than indexing from j + 1, measured)."""
+    n_lags = weights.shape[1]
+    a = (1.0 - frac[j]) * f
+    b = frac[j] * f
+    row_lo = weights[lo[j], 1:]
+    row_hi = weights[hi[j], 1:]
+    later = acc[j + 1 : j + n_lags]
+    for m in range(later.size):
+        later[m] += a * row_lo[m] + b * row_hi[m]
+
+
+@njit(cache=True)
+def _scatter_range(j0, j1, track):
+    force, lo, hi, frac, weights, acc = track
+    for j in range(j0, j1):
+        _scatter(j, force[j], lo, hi, frac, weights, acc)
+
+
+@njit(cache=True, inline="always")
+def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
+    """Make f the force of index j: into the rail's history (eq. 2) and the wheel state (eq. 1).
+    Returns (xi_W, xi_R) at this step."""
+    force, lo, hi, frac, weights, acc = track
+    phi, gamma0, gamma1, state = wheel
+    force[j] = f
+    _scatter(j, f, lo, hi, frac, weights, acc)
+    for i in range(4):
+        state[i] = s_pred[i] + gamma1[i] * (f - preload)
+    return xi_w0 - state[1], q + w0 * f
