@@ -15,6 +15,7 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.jsonready import strict_json
 from wheelrail.core.models import MODELS  # noqa: F401 - re-exported: the registry holds the one list
 from wheelrail.core.parameters import ModelParameters, as_dict, from_dict
 
@@ -262,7 +263,7 @@ class RunResult(HeaderView):
             arrays["window_x"] = self.window_x
             arrays["window_y"] = self.window_y
         meta = {**self.header.to_dict(), "loss_of_contact_steps": self.loss_of_contact_steps}
-        return atomic_write(target, lambda handle: np.savez(handle, metadata=np.array(json.dumps(meta)), **arrays))
+        return atomic_write(target, lambda handle: np.savez(handle, metadata=np.array(strict_json(meta)), **arrays))
 
     @classmethod
     def load_npz(cls, path: str | os.PathLike) -> RunResult:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 from pathlib import Path
@@ -168,7 +167,7 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
 
 def print_json(summary: dict) -> None:
     """Print a machine-readable summary on stdout (SI units; non-SI keys carry their unit; NaN as null)."""
-    from wheelrail.core.jsonready import json_ready
+    from wheelrail.core.jsonready import strict_json
 
-    json.dump(json_ready(summary), sys.stdout, indent=2)
+    sys.stdout.write(strict_json(summary, indent=2))
     sys.stdout.write("\n")

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wheelrail.core.jsonready import json_ready
+from wheelrail.core.jsonready import strict_json
 from wheelrail.core.results import RunHeader
 
 __all__ = [
@@ -194,7 +194,7 @@ def parameters_text(document: dict, description: str = "") -> str:
     return (
         f"# wheelrail run{': ' + description if description else ''}\n\n"
         "SI units (m, s, N, Pa, kg) unless a key names its unit.\n\n"
-        f"```json\n{json.dumps(json_ready(document), indent=2)}\n```\n"
+        f"```json\n{strict_json(document, indent=2)}\n```\n"
     )
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.outputs import Outputs
 from wheelrail.core.recording.pressure import ContactPatch, hertz_geometry, hertz_semi_axes
@@ -388,7 +389,6 @@ class RecordingSink:
 
     def _log_sound_power(self, result: RunResult) -> None:
         """``spectra/sound_power/<component>`` bar charts and a summary document (wheelrail.core.noise.run_noise)."""
-        import json
 
         from wheelrail.core.noise.run_noise import run_noise
 
@@ -413,7 +413,7 @@ class RecordingSink:
             "wheel": noise.configuration["wheel"],
         }
         self.stream.log(
-            f"{SOUND_POWER}/summary", self._rr.TextDocument(json.dumps(totals, indent=2)), static=True, strict=True
+            f"{SOUND_POWER}/summary", self._rr.TextDocument(strict_json(totals, indent=2)), static=True, strict=True
         )
 
     def abort(self) -> None:

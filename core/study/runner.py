@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -12,7 +11,7 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.jsonready import json_ready
+from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import KMH, ContactParameters, as_dict
 from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_address
 from wheelrail.core.study.figures import plot_study
@@ -125,7 +124,7 @@ def run_study(
         files += plot_study(name, tables, folder)
     summary = _summary_document(name, plan, report, tables, speed=speed, folder=folder, files=files)
     summary_path = folder / f"{name}_summary.json"
-    atomic_write(summary_path, lambda handle: json.dump(json_ready(summary), handle, indent=2), mode="w")
+    atomic_write(summary_path, lambda handle: handle.write(strict_json(summary, indent=2)), mode="w")
     files.append(summary_path)
     summary["files"].append(str(summary_path))
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
