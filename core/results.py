@@ -290,6 +290,13 @@ class RunResult(HeaderView):
         return cls(header=header, loss_of_contact_steps=int(meta.get("loss_of_contact_steps", 0)), **arrays, **optional)
 
 
+def result_of_run(label: str, value) -> RunResult:
+    """``value`` if it is a finished run (:class:`RunResult`), else one WheelrailError naming ``label``."""
+    if not isinstance(value, RunResult):
+        raise WheelrailError(f"{label} must be a finished run (RunResult), got {type(value).__name__}")
+    return value
+
+
 _STEP_ARRAYS = (
     "time",
     "x",

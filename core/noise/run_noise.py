@@ -220,8 +220,10 @@ def run_noise(
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model
+    from wheelrail.core.results import result_of_run
     from wheelrail.core.spectra import force_spectrum
 
+    result = result_of_run("run_noise: result", result)
     train_axles, train_length = checked_train(train_axles, train_length)
     params = result.header.params
     track = track_noise_model(params, numerics)
