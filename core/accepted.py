@@ -125,12 +125,21 @@ ACCEPTED: dict[str, Accepted] = {
             "inf: a cylindrical or conical tread; negative: a concave, worn one",
             magnitude=True,
         ),
+        Accepted(
+            "train_length",
+            "m",
+            2.0,
+            5000.0,
+            "from one short wagon to a heavy-haul freight train (about 3.5 km)",
+        ),
+        Accepted("train_axles", "", 1, 2000, "one axle to a heavy-haul freight train's (about 1 200)"),
     )
 }
 """The accepted ranges by key (SI). Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU
 table's 360 to 920 mm wheels and the paper's 780 mm (R = 0.39 m) with room for small wagon and large
 locomotive wheels; rail crowns 0.05 to 5 m; treads at least 0.05 m in magnitude (no tread is curved more
-sharply than a rail crown); loads 1 to 500 kN around the table's 25 to 100 kN wheel loads."""
+sharply than a rail crown); loads 1 to 500 kN around the table's 25 to 100 kN wheel loads; a pass-by's train
+2 m to 5 km long with 1 to 2 000 axles (and at most one axle per ``run_noise.MIN_AXLE_SPACING`` = 1 m)."""
 
 
 def check_patch(

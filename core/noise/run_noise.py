@@ -55,6 +55,9 @@ ISO3095_HEIGHT = 1.2  # m above the rail head
 DEFAULT_TRAIN_AXLES = 40
 DEFAULT_TRAIN_LENGTH = 200.0  # m
 COMPONENTS = ("rail", "sleeper", "wheel")
+# Closest accepted even axle spacing of a train, m: no bogie has axles closer than about 1.4 m (tram and
+# light-rail bogies; wheels of 0.6 to 1 m diameter); 40 axles in a 2.5 m train (one every 6 cm) is a typo
+MIN_AXLE_SPACING = 1.0
 AXLE_DB = 10 * math.log10(2)  # an axle: two wheels on two rails, incoherent (a run is one wheel on one rail)
 
 
@@ -225,6 +228,7 @@ def run_noise(
 
     result = result_of_run("run_noise: result", result)
     train_axles, train_length = checked_train(train_axles, train_length)
+    _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
     params = result.header.params
     track = track_noise_model(params, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
@@ -271,15 +275,45 @@ def run_noise(
     )
 
 
+def _check_run_length(result) -> None:
+    """The run holds a force spectrum (:func:`wheelrail.core.spectra.shortest_spectrum_run`), else one
+    WheelrailError that names no option (the noise has no length or skip of its own)."""
+    from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP, shortest_spectrum_run
+
+    shortest = shortest_spectrum_run(result.speed, result.element_size)
+    length = result.n_steps * result.element_size
+    if length < shortest - 1e-9 * result.element_size:
+        raise WheelrailError(
+            f"the run is {length:.4g} m long ({result.n_steps} steps): too short for its sound power at "
+            f"{result.speed * 3.6:.4g} km/h, whose force spectrum leaves out the first {FORCE_SKIP * 1e3:g} ms "
+            f"(start-up) and needs {FORCE_MIN_STEPS} steps after them, at least {shortest:.4g} m; make a longer run"
+        )
+
+
 def checked_train(train_axles, train_length) -> tuple[int, float]:
-    """(axles, length in m) of a train, or one WheelrailError."""
+    """(axles, length in m) of a train, or one WheelrailError: each within its accepted range
+    (``accepted.ACCEPTED``: 1 to 2 000 axles, 2 m to 5 km) and the axles, evenly along the train, at least
+    :data:`MIN_AXLE_SPACING` apart."""
+    from wheelrail.core.accepted import ACCEPTED
+
     if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
         raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=train_axles)
     if isinstance(train_length, bool) or not (
         isinstance(train_length, int | float | np.floating) and math.isfinite(train_length) and train_length > 0
     ):
         raise WheelrailError("not a positive length", parameter="train_length", value=train_length, unit="m")
-    return int(train_axles), float(train_length)
+    axles = int(ACCEPTED["train_axles"].check(int(train_axles)))
+    length = ACCEPTED["train_length"].check(float(train_length))
+    most = 1 + math.floor(length / MIN_AXLE_SPACING + 1e-9)
+    if axles > most:
+        raise WheelrailError(
+            None,
+            parameter="train_axles",
+            value=axles,
+            maximum=most,
+            reason=f"in a {length:g} m train: axles evenly along it at least {MIN_AXLE_SPACING:g} m apart",
+        )
+    return axles, length
 
 
 def _synthesise(noise: RunNoise, *, lead: float, seed: int):
