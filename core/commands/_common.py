@@ -144,6 +144,8 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
     """
     from wheelrail.core.atomic import temporary_beside
 
+    if not str(path).strip():  # Path("") is the current folder: an empty option would write nothing, silently
+        raise WheelrailError(f"{option} is empty; give a file name")
     target = Path(path)
     if suffix is not None and target.suffix.lower() != suffix:
         raise WheelrailError(f"{option} {path}: the file name must end in {suffix}")

@@ -126,7 +126,7 @@ def _checked_args(args):
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     inputs = input_files(args.set, args.wheel_set)
-    out = writable_output(args.out, "--out", ".npz", inputs) if args.out else None
+    out = writable_output(args.out, "--out", ".npz", inputs) if args.out is not None else None
     rrd = getattr(args, "rrd", None)
     for source in inputs:
         if rrd is not None and same_file(rrd, source):

@@ -43,6 +43,8 @@ class StudyContact:
 
 def check_output_folder(out: str | os.PathLike) -> Path:
     """Create ``out`` if needed and check it is a writable folder (WheelrailError otherwise)."""
+    if not str(out).strip():  # Path("") is the current folder: the study would write there unasked
+        raise WheelrailError("the output folder is empty; give a folder name")
     folder = Path(out)
     if folder.exists() and not folder.is_dir():
         raise WheelrailError(f"output {folder} exists and is not a folder")
@@ -101,7 +103,35 @@ def run_study(
     -------
     StudyResult
     """
+    created = _missing_folders(Path(out))
     folder = check_output_folder(out)
+    try:
+        return _run_study(name, sets, folder, speed, length, workers, dask_address, contact, progress, figures)
+    except BaseException:
+        _remove_if_empty(created)  # a refused or failed study leaves no empty folder of its own behind
+        raise
+
+
+def _missing_folders(folder: Path) -> list[Path]:
+    """``folder`` and those of its parents that do not exist yet, deepest first."""
+    missing = []
+    while not folder.exists() and folder != folder.parent:
+        missing.append(folder)
+        folder = folder.parent
+    return missing
+
+
+def _remove_if_empty(created: list[Path]) -> None:
+    """Remove the folders this study created (deepest first, with its ``runs`` folder) if they hold nothing."""
+    for folder in [created[0] / "runs", *created] if created else []:
+        try:
+            folder.rmdir()  # only an empty folder is removed: nothing a user or a finished run wrote
+        except OSError:
+            pass
+
+
+def _run_study(name, sets, folder, speed, length, workers, dask_address, contact, progress, figures) -> StudyResult:
+    """:func:`run_study` in its checked output folder."""
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
     if contact is not None and not isinstance(contact, StudyContact | ContactParameters):
