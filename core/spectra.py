@@ -59,6 +59,12 @@ def nominal_band_label(centre: float) -> str:
     return f"{best * 10.0**exponent:.4g}"
 
 
+def band_labels(centres) -> list[str]:
+    """:func:`nominal_band_label` of every exact centre: the one naming of bands in text, JSON (``band_labels``
+    beside the exact ``band_centres_hz``) and CSV (a ``band`` column beside ``centre_hz``)."""
+    return [nominal_band_label(float(centre)) for centre in np.asarray(centres, dtype=float).reshape(-1)]
+
+
 def narrowband_spectrum(signal: np.ndarray, sample_rate: float) -> tuple[np.ndarray, np.ndarray]:
     """One-sided power spectral density from a single Hann-windowed FFT of each row (paper section 3.1).
 

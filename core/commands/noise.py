@@ -17,6 +17,7 @@ import numpy as np
 from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.commands._common import accepted_help, print_json, speed_from_kmh, writable_output
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.spectra import nominal_band_label
 
 METHODS = ("cnossos", "twins")
 
@@ -144,7 +145,13 @@ def _cnossos(args) -> dict:
         axles=args.axles,
         rule=args.roughness_interpolation,
     )
-    return {"frequency_hz": result.frequency_hz, "cnossos": result.to_dict()}
+    from wheelrail.core.spectra import band_labels
+
+    return {
+        "band_labels": band_labels(result.frequency_hz),
+        "frequency_hz": result.frequency_hz,
+        "cnossos": result.to_dict(),
+    }
 
 
 def _fmt(value: float) -> str:
@@ -156,7 +163,7 @@ def _print_table(title: str, frequency, columns: dict, totals: dict) -> None:
     names = list(columns)
     print("  band Hz " + " ".join(f"{name:>11}" for name in names))
     for i, f in enumerate(frequency):
-        print(f"  {f:7g} " + " ".join(f"{_fmt(columns[n][i]):>11}" for n in names))
+        print(f"  {nominal_band_label(f):>7} " + " ".join(f"{_fmt(columns[n][i]):>11}" for n in names))
     print("  " + ", ".join(f"{name} {_fmt(value).strip()}" for name, value in totals.items()))
 
 
@@ -231,7 +238,7 @@ def _run_file(args) -> int:
         row = [noise.sound_power_db[name][i] for name in (*COMPONENTS, "total")]
         cells = " ".join("     -" if not np.isfinite(v) else f"{v:6.1f}" for v in row)
         force = "     -" if not np.isfinite(noise.force_db[i]) else f"{noise.force_db[i]:8.1f}"
-        print(f"  {f:7.0f} {force}   {cells}")
+        print(f"  {nominal_band_label(f):>7} {force}   {cells}")
     print(
         "  L_WA per wheel: "
         + ", ".join(f"{k} {v:.1f}" for k, v in noise.sound_power_dba.items())

@@ -202,7 +202,7 @@ def _summary(args, result, params, times) -> dict:
     """What ``--json`` prints (SI; keys name their unit), the force spectrum included when the run allows one."""
     import numpy as np
 
-    from wheelrail.core.spectra import check_spectrum_length, force_spectrum
+    from wheelrail.core.spectra import band_labels, check_spectrum_length, force_spectrum
 
     start, prepared, finished = times
     try:
@@ -234,6 +234,7 @@ def _summary(args, result, params, times) -> dict:
         "prepare_time_s": prepared - start,
         "run_time_s": finished - prepared,
         "steps_per_s": result.n_steps / max(finished - prepared, 1e-9),
+        "band_labels": band_labels(centres),
         "band_centres_hz": centres,
         "levels_db": levels,
     }
@@ -265,9 +266,9 @@ def _print_summary(args, result, summary, sink) -> None:
         print(f"  no force spectrum: {summary['spectrum_note']}")
     else:
         print("  third-octave force levels, dB re 1 N:")
-    for fc, level in zip(summary["band_centres_hz"], summary["levels_db"], strict=True):
+    for label, level in zip(summary["band_labels"], summary["levels_db"], strict=True):
         text = "   n/a" if not np.isfinite(level) else f"{level:6.1f}"
-        print(f"    {fc:7.0f} Hz {text}")
+        print(f"    {label:>7} Hz {text}")
     if "out" in summary:
         print(f"  arrays written to {summary['out']}")
     if sink is not None and sink.path is not None:

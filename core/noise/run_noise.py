@@ -124,7 +124,10 @@ class RunNoise:
 
     def to_dict(self) -> dict:
         """The JSON layout of ``wheelrail noise --run F.npz --json``."""
+        from wheelrail.core.spectra import band_labels
+
         return {
+            "band_labels": band_labels(self.frequency_hz),
             "frequency_hz": self.frequency_hz,
             "force_dB_re_1N": self.force_db,
             "effective_roughness_dB_re_1um": self.effective_roughness_db,

@@ -171,6 +171,8 @@ def _summary_document(
     files: list[Path],
 ) -> dict:
     """The JSON summary of a study (SI units; what ``wheelrail study --json`` prints)."""
+    from wheelrail.core.spectra import band_labels
+
     summaries = [report.summaries[spec.key] for spec in plan.specs]
     summary = {
         "study": name,
@@ -193,7 +195,11 @@ def _summary_document(
             table.name: {
                 "figure": table.figure,
                 "title": table.title,
-                ("band_centres_hz" if table.axis_name == "band_centre_hz" else table.axis_name): table.band_centres,
+                **(
+                    {"band_labels": band_labels(table.band_centres), "band_centres_hz": table.band_centres}
+                    if table.axis_name == "band_centre_hz"
+                    else {table.axis_name: table.band_centres}
+                ),
                 **{
                     column: [None if not np.isfinite(v) else round(float(v), 3) for v in values]
                     for column, values in table.columns.items()

@@ -113,3 +113,22 @@ class _no_raise:
 
     def __exit__(self, *exc):
         return False
+
+
+def test_band_labels_are_the_nominal_names_everywhere(capsys):
+    """One convention: nominal band names in text and in ``band_labels``, exact centres in ``band_centres_hz``
+    (the text once printed 79, 126, 158, 251 Hz where ``spectra`` printed 80, 125, 160, 250)."""
+    from wheelrail.core.spectra import nominal_band_label
+
+    argv = ["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "1.0"]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    for name in ("80", "125", "160", "250", "1000", "8000"):
+        assert f" {name} Hz" in text, name
+    for exact in ("79", "126", "158", "251", "1585", "7943"):
+        assert f" {exact} Hz" not in text, exact
+    assert main([*argv, "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["band_labels"] == [nominal_band_label(c) for c in summary["band_centres_hz"]]
+    assert summary["band_labels"][:4] == ["50", "63", "80", "100"]
+    assert summary["band_centres_hz"][0] == pytest.approx(50.1187, abs=1e-4)  # exact: 10^(17/10)
