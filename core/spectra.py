@@ -56,7 +56,8 @@ def nominal_band_label(centre: float) -> str:
     mantissa = centre / 10.0**exponent
     nominal = [1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0, 10.0]
     best = min(nominal, key=lambda m: abs(math.log10(m / mantissa)))
-    return f"{best * 10.0**exponent:.4g}"
+    value = best * 10.0**exponent
+    return f"{value:.0f}" if value >= 1e4 else f"{value:.4g}"  # 10000, not .4g's 1e+04
 
 
 def band_labels(centres) -> list[str]:

@@ -116,6 +116,12 @@ def _add_train_options(parser) -> None:
         "--train-length-m", type=float, default=None, help="--run: train length, m, for the pass-by level (default 200)"
     )
     parser.add_argument("--wav", metavar="FILE.wav", help="--run: write the pass-by as a WAV file")
+    parser.add_argument(
+        "--csv",
+        metavar="FILE.csv",
+        help="--run: write the sound power per band as CSV (band, centre_hz, force and rail, sleeper, wheel, "
+        "total dB re 1 pW), headed by a comment naming the run",
+    )
 
 
 def _speed(args) -> float:
@@ -174,6 +180,8 @@ def run(args) -> int:
         return _run_file(args)
     if args.wav is not None:
         raise WheelrailError("--wav needs --run RESULT.npz (the pass-by is synthesised from a run's contact force)")
+    if args.csv is not None:
+        raise WheelrailError("--csv needs --run RESULT.npz (the sound power per band of a run)")
     if args.method is None:
         raise WheelrailError("choose --method cnossos, --method twins or --run RESULT.npz")
     if args.method == "cnossos":
@@ -210,6 +218,7 @@ def _run_file(args) -> int:
     from wheelrail.core.results import RunResult
 
     wav_path = None if args.wav is None else writable_output(args.wav, "--wav", ".wav", inputs=[args.run])
+    csv_path = None if args.csv is None else writable_output(args.csv, "--csv", ".csv", inputs=[args.run])
     if args.speed_kmh is not None:
         raise WheelrailError("--speed-kmh does not apply with --run: the run's own speed is used")
     result = RunResult.load_npz(args.run)
@@ -225,6 +234,10 @@ def _run_file(args) -> int:
             "full_scale_pa": full_scale,
             "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
         }
+    if csv_path is not None:
+        text = noise.csv_text(result.header.csv_comment(f"rolling noise of {args.run}"))
+        atomic_write(csv_path, lambda handle: handle.write(text), mode="w", encoding="utf-8")
+        summary["csv"] = str(csv_path)
     if args.json:
         print_json(summary)
         return 0
@@ -253,6 +266,8 @@ def _run_file(args) -> int:
         f"(track {beside.track_dba:.1f}, vehicle {beside.vehicle_dba:.1f}); "
         f"pass-by {noise.cnossos_pass_by_dba():.1f} dB(A)"
     )
+    if csv_path is not None:
+        print(f"  wrote {csv_path}")
     if wav_path is not None:
         print(f"  wrote {wav_path} (full scale = {summary['wav']['full_scale_pa']:.3g} Pa)")
     return 0

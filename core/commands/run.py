@@ -72,6 +72,12 @@ def add_parser(sub):
         help="write the run's arrays to this .npz file (3d: with every pressure map, so it is "
         "held in memory for the whole run; --rrd records the maps without that)",
     )
+    parser.add_argument(
+        "--csv",
+        metavar="F.csv",
+        help="write the time history as CSV: time_s, x_m, force_N, xi_wheel_m, xi_rail_m, roughness_m, "
+        "equivalent_roughness_m, headed by a comment naming the configuration",
+    )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     _recording_arguments(parser)
     return parser
@@ -127,6 +133,9 @@ def _checked_args(args):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     inputs = input_files(args.set, args.wheel_set)
     out = writable_output(args.out, "--out", ".npz", inputs) if args.out is not None else None
+    csv_path = getattr(args, "csv", None)
+    if csv_path is not None:
+        writable_output(csv_path, "--csv", ".csv", [*inputs, *([] if out is None else [out])])
     rrd = getattr(args, "rrd", None)
     for source in inputs:
         if rrd is not None and same_file(rrd, source):
@@ -271,6 +280,8 @@ def _print_summary(args, result, summary, sink) -> None:
         print(f"    {label:>7} Hz {text}")
     if "out" in summary:
         print(f"  arrays written to {summary['out']}")
+    if "csv" in summary:
+        print(f"  time history written to {summary['csv']}")
     if sink is not None and sink.path is not None:
         print(f"  recording written to {sink.path}")
 
@@ -291,9 +302,13 @@ def run(args) -> int:
         sink.finish(result)
     if out is not None:
         result.save_npz(out)
+    if getattr(args, "csv", None) is not None:
+        result.save_csv(args.csv)
     summary = _summary(args, result, params, (start, prepared, finished))
     if out is not None:
         summary["out"] = str(out)
+    if getattr(args, "csv", None) is not None:
+        summary["csv"] = str(args.csv)
     if args.json:
         print_json(summary)
         return 0

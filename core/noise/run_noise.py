@@ -140,6 +140,27 @@ class RunNoise:
             **({} if self.cnossos is None else {"cnossos": self.cnossos_summary()}),
         }
 
+    def csv_text(self, comment: str = "") -> str:
+        """The sound power per band as CSV: ``comment`` (``#`` lines naming the run, e.g.
+        :meth:`wheelrail.core.results.RunHeader.csv_comment`), a line with the train and the totals, then
+        ``band, centre_hz``, the force level and the rail, sleeper, wheel and total sound power of one wheel on
+        one rail (dB re 1 pW; empty where a band is above the run's Nyquist frequency)."""
+        from wheelrail.core.spectra import band_labels
+
+        axles, length = self.train
+        lines = [
+            comment.rstrip("\n"),
+            f"# sound power of one wheel on one rail, dB re 1 pW; L_WA per wheel {self.sound_power_dba['total']:.2f}"
+            f" dB(A), per axle {self.axle_dba:.2f} dB(A); pass-by L_pAeq,Tp {self.pass_by_laeq_dba:.2f} dB(A) at "
+            f"{ISO3095_DISTANCE:g} m / {ISO3095_HEIGHT:g} m for {axles} axles in {length:g} m",
+            "band,centre_hz,force_dB_re_1N," + ",".join(f"{name}_dB" for name in (*COMPONENTS, "total")),
+        ]
+        columns = [self.force_db, *(self.sound_power_db[name] for name in (*COMPONENTS, "total"))]
+        for i, (label, centre) in enumerate(zip(band_labels(self.frequency_hz), self.frequency_hz, strict=True)):
+            cells = ["" if not np.isfinite(column[i]) else f"{column[i]:.3f}" for column in columns]
+            lines.append(",".join([label, f"{centre:.6g}", *cells]))
+        return "\n".join(line for line in lines if line) + "\n"
+
     @property
     def train(self) -> tuple[int, float]:
         """Axles and length (m) of the train of the pass-by level and WAV."""

@@ -62,3 +62,8 @@ def test_impossible_trains_are_refused(tmp_path, capsys, argv, expected):
     path = _run_file(tmp_path, 2000)
     code, out, err = _noise(capsys, "--run", str(path), *argv)
     assert code != 0 and out == "" and err.count("\n") == 1 and expected in err, err
+
+
+def test_csv_needs_a_run(tmp_path, capsys):
+    code, out, err = _noise(capsys, "--method", "cnossos", "--csv", str(tmp_path / "x.csv"))
+    assert code != 0 and err.count("\n") == 1 and "--csv needs --run" in err, err

@@ -161,12 +161,28 @@ def test_cli_run_and_twins(tmp_path, wheel_run):
     path = tmp_path / "run.npz"
     wheel_run.save_npz(path)
     wav = tmp_path / "pass.wav"
-    done = _cli("--run", str(path), "--json", "--wav", str(wav), "--train-axles", "8", "--train-length-m", "40")
+    table = tmp_path / "power.csv"
+    done = _cli(
+        "--run",
+        str(path),
+        "--json",
+        "--wav",
+        str(wav),
+        "--csv",
+        str(table),
+        "--train-axles",
+        "8",
+        "--train-length-m",
+        "40",
+    )
     assert done.returncode == 0, done.stderr
     out = json.loads(done.stdout)
     for key in ("rail", "sleeper", "wheel", "total"):
         assert len(out["sound_power_dB"][key]) == 24
     assert {"total_dBA", "pass_by_LpAeq_dBA"} <= set(out)
+    rows = [line.split(",") for line in table.read_text().splitlines() if not line.startswith("#")]
+    assert rows[0][:2] == ["band", "centre_hz"] and len(rows) == 25 and out["csv"] == str(table)
+    assert float(rows[1 + 10][-1]) == pytest.approx(out["sound_power_dB"]["total"][10], abs=1e-3)  # 500 Hz
     assert len(out["cnossos"]["total_dB"]) == 24 and out["cnossos"]["per"] == "axle"
     text = _cli("--run", str(path))
     assert text.returncode == 0 and "CNOSSOS-EU beside it" in text.stdout, text.stderr
