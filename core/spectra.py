@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from wheelrail.core.checks import integer, level_arrays, real
+from wheelrail.core.checks import finite_array, integer, level_arrays, real
 from wheelrail.core.errors import WheelrailError
 
 BAND_HALF_WIDTH = 10.0 ** (1.0 / 20.0)  # upper edge / centre of a third-octave band (base 10)
@@ -63,7 +63,8 @@ def nominal_band_label(centre: float) -> str:
 def band_labels(centres) -> list[str]:
     """:func:`nominal_band_label` of every exact centre: the one naming of bands in text, JSON (``band_labels``
     beside the exact ``band_centres_hz``) and CSV (a ``band`` column beside ``centre_hz``)."""
-    return [nominal_band_label(float(centre)) for centre in np.asarray(centres, dtype=float).reshape(-1)]
+    values = finite_array("band_labels: centres", centres, "Hz").reshape(-1)
+    return [nominal_band_label(float(centre)) for centre in values]
 
 
 def narrowband_spectrum(signal: np.ndarray, sample_rate: float) -> tuple[np.ndarray, np.ndarray]:

@@ -77,10 +77,15 @@ def level(mean_square, reference: float) -> np.ndarray:
 
 
 def power_level(power_w) -> np.ndarray:
-    """Sound power level, dB re 1 pW, of a power in W (0 W gives -inf)."""
-    power = finite_array("power_level: power_w", power_w, "W")
-    if np.any(power < 0):
-        raise WheelrailError("power_level: power_w must be zero or positive (W)")
+    """Sound power level, dB re 1 pW, of a power in W (0 W gives -inf; NaN, a band without a value, stays NaN)."""
+    if power_w is None or isinstance(power_w, str):
+        raise WheelrailError(f"power_level: power_w must be numbers in W, got {power_w!r}")
+    try:
+        power = np.asarray(power_w, dtype=float)
+    except (TypeError, ValueError):
+        raise WheelrailError("power_level: power_w must be numbers in W") from None
+    if np.any(power < 0) or np.any(power == np.inf):
+        raise WheelrailError("power_level: power_w must be zero or positive and finite (W)")
     with np.errstate(divide="ignore"):
         return 10.0 * np.log10(power / SOUND_POWER_REFERENCE)
 

@@ -149,8 +149,13 @@ def parameters_document(
     decimation: tuple[int, int],
     window: tuple[np.ndarray, np.ndarray] | None,
     geometry: tuple[float, float] | None,
+    recorded_steps: int | None = None,
 ) -> dict:
     """The run's description as recorded (keys in file order; SI, keys name their unit).
+
+    It is logged when a recording starts (``recorded_steps`` None) and again when it is finished, with the
+    number of steps recorded: only a finished recording holds ``recorded_steps`` (the reader's mark of a
+    complete file; a recording killed before its end keeps the first document).
 
     Parameters
     ----------
@@ -186,6 +191,7 @@ def parameters_document(
         "hertz_radius_m": None if geometry is None else geometry[0],
         "hertz_peak_pressure_pa": None if geometry is None else geometry[1],
         "parameters": head.get("parameters", {}),
+        "recorded_steps": recorded_steps,
     }
 
 

@@ -220,7 +220,8 @@ class RecordingSink:
             strict=True,
         )
 
-    def _log_parameters(self) -> None:
+    def _log_parameters(self, *, final: bool = False) -> None:
+        """The parameters document; ``final``: with the steps recorded, the mark of a finished recording."""
         patch = self._patch
         document = parameters_document(
             self._header,
@@ -229,6 +230,7 @@ class RecordingSink:
             decimation=(self.record_every, self.surface_every),
             window=patch.window,
             geometry=patch.geometry,
+            recorded_steps=self._steps_recorded if final else None,
         )
         text = parameters_text(document, self.description)
         self.stream.log(PARAMETERS, self._rr.TextDocument(text, media_type="text/markdown"), static=True, strict=True)
@@ -331,7 +333,7 @@ class RecordingSink:
                 self._complete(result, roughness)
             elif self._patch.geometry is None:
                 self._patch.set_geometry(self._geometry(), log=False, semi_axes=self._semi_axes())
-            self._log_parameters()
+            self._log_parameters(final=True)
             self._log_spectrum(result)
             if self.sound_power and result is not None:
                 self._log_sound_power(result)

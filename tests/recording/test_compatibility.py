@@ -107,8 +107,9 @@ _NEW_CONTACT_PARAMETERS = ("wheel_radius", "rail_crown_radius", "wheel_transvers
 
 def _without_new_parameters(component: dict) -> dict:
     """The parameters document without the geometry fields added since the old files (their defaults, None and
-    an infinite tread, keep the old files' circle) and without the run-in's duration (``run_in_time_s``, the
-    run-in length over the speed), re-rendered as the writer renders it."""
+    an infinite tread, keep the old files' circle), without the run-in's duration (``run_in_time_s``, the
+    run-in length over the speed) and without ``recorded_steps`` (the mark of a finished recording),
+    re-rendered as the writer renders it."""
     import json
 
     from wheelrail.core.recording.schema import parameters_from_text
@@ -119,6 +120,8 @@ def _without_new_parameters(component: dict) -> dict:
         contact = document["parameters"]["contact"]
         for name in _NEW_CONTACT_PARAMETERS:
             assert contact.pop(name) is None, name  # defaults: None (the radius), an infinite tread (JSON null)
+        # the mark of a finished recording, added since: null at the start, the steps at the end
+        assert document.pop("recorded_steps") in (None, N_STEPS)
         run_in_time = document.pop("run_in_time_s")
         assert run_in_time == document["run_in_length_m"] / document["speed_m_per_s"]
         head = text.split("```json", 1)[0]
