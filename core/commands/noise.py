@@ -213,7 +213,13 @@ def run(args) -> int:
 def _run_file(args) -> int:
     """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
     from wheelrail.core.atomic import atomic_write
-    from wheelrail.core.noise.run_noise import COMPONENTS, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, run_noise
+    from wheelrail.core.noise.run_noise import (
+        COMPONENTS,
+        DEFAULT_TRAIN_AXLES,
+        DEFAULT_TRAIN_LENGTH,
+        WAV_RATE,
+        run_noise,
+    )
     from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
     from wheelrail.core.results import RunResult
 
@@ -232,6 +238,7 @@ def _run_file(args) -> int:
         summary["wav"] = {
             "path": str(wav_path),
             "full_scale_pa": full_scale,
+            "sample_rate_hz": WAV_RATE,
             "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
         }
     if csv_path is not None:

@@ -24,9 +24,10 @@ per unit force at the closest distance, |p / F|^2 = rho c (T_rail + T_sleeper + 
 FIR interpolated in lg f between the band values; each wheel of each axle gets its own stretch of the force record
 (cyclically shifted at random, so the wheels are incoherent; a record shorter than the pass-by repeats), is
 weighted by the distance law d / r(t) of its own position, and all are summed. Doppler shift is not applied.
-Calibration: the samples are pressure in Pa divided by the ``full_scale_pa`` written in the summary (16-bit PCM,
-peak at half of full scale); the L_pAeq over T_p computed from the WAV's samples matches the pass-by level above
-within 1 dB (``tests/physics/test_noise_run.py``).
+The pressure is resampled to 48 kHz and scaled so that its own L_pAeq over T_p is the pass-by level above (the
+random stretches alone move it by -0.6 to +0.8 dB between seeds). Calibration: the samples are pressure in Pa
+divided by the ``full_scale_pa`` written in the summary (16-bit PCM, peak at half of full scale); the level
+computed from the WAV's samples is the pass-by level within 0.05 dB for any seed (``tests/unit/test_wav.py``).
 """
 
 from __future__ import annotations
@@ -55,6 +56,7 @@ ISO3095_HEIGHT = 1.2  # m above the rail head
 DEFAULT_TRAIN_AXLES = 40
 DEFAULT_TRAIN_LENGTH = 200.0  # m
 COMPONENTS = ("rail", "sleeper", "wheel")
+WAV_RATE = 48_000  # Hz: the pass-by WAV's sample rate (a standard one; the run's own is v / dx)
 # Closest accepted even axle spacing of a train, m: no bogie has axles closer than about 1.4 m (tram and
 # light-rail bogies; wheels of 0.6 to 1 m diameter); 40 axles in a 2.5 m train (one every 6 cm) is a typo
 MIN_AXLE_SPACING = 1.0
@@ -191,15 +193,40 @@ class RunNoise:
         """
         return _synthesise(self, lead=lead, seed=seed)
 
-    def wav_bytes(self, *, lead: float = 1.0) -> tuple[bytes, float]:
-        """The pass-by as a 16-bit PCM WAV file's bytes and its calibration (Pa at full scale)."""
+    def calibrated_pass_by(self, *, lead: float = 1.0, seed: int = 0, rate: int = WAV_RATE):
+        """The pass-by pressure (Pa) at ``rate`` Hz, scaled so that its own L_pAeq over T_p is the pass-by
+        level; returns (pressure, rate, (first, last) samples of T_p, the correction applied in dB).
+
+        The synthesis (module docstring) gives the spectrum's shape; its level moves with the random
+        stretches of the record each wheel gets (-0.6 to +0.8 dB between seeds on a 2 m run) and with the
+        gain interpolated between bands (+0.1 dB), so the level is set here: the correction is what it
+        took. The run's rate (v / dx, e.g. 27 778 Hz) is resampled (``scipy.signal.resample_poly``, the ratio
+        to within 1e-6) to ``rate``, one every player handles.
+        """
+        from fractions import Fraction
+
+        from scipy.signal import resample_poly
+
+        pressure, own_rate, (first, last) = self.pass_by_pressure(lead=lead, seed=seed)
+        ratio = Fraction(rate / own_rate).limit_denominator(2000)
+        pressure = resample_poly(pressure, ratio.numerator, ratio.denominator)
+        first, last = int(round(first * ratio)), min(len(pressure), int(round(last * ratio)))
+        correction = 0.0
+        if math.isfinite(self.pass_by_laeq_dba) and last - first > 1 and np.any(pressure[first:last]):
+            correction = self.pass_by_laeq_dba - laeq_of_pressure(pressure[first:last], float(rate))
+            pressure = pressure * 10 ** (correction / 20)
+        return pressure, float(rate), (first, last), correction
+
+    def wav_bytes(self, *, lead: float = 1.0, seed: int = 0, rate: int = WAV_RATE) -> tuple[bytes, float]:
+        """The pass-by as a 16-bit PCM WAV file's bytes at ``rate`` Hz and its calibration (Pa at full scale):
+        its own L_pAeq over T_p is the pass-by level (:meth:`calibrated_pass_by`)."""
         from scipy.io import wavfile
 
-        pressure, rate, _ = self.pass_by_pressure(lead=lead)
+        pressure, rate, _, _ = self.calibrated_pass_by(lead=lead, seed=seed, rate=rate)
         full_scale = 2.0 * float(np.max(np.abs(pressure)))  # peak at half of full scale
         samples = np.round(pressure / full_scale * 32767).astype(np.int16)
         buffer = io.BytesIO()
-        wavfile.write(buffer, int(round(rate)), samples)
+        wavfile.write(buffer, int(rate), samples)
         return buffer.getvalue(), full_scale
 
 
