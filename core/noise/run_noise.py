@@ -358,11 +358,11 @@ def checked_train(train_axles, train_length) -> tuple[int, float]:
     most = 1 + math.floor(length / MIN_AXLE_SPACING + 1e-9)
     if axles > most:
         raise WheelrailError(
-            None,
+            f"too many for a {length:g} m train",
             parameter="train_axles",
             value=axles,
             maximum=most,
-            reason=f"in a {length:g} m train: axles evenly along it at least {MIN_AXLE_SPACING:g} m apart",
+            reason=f"axles evenly along the train, at least {MIN_AXLE_SPACING:g} m apart",
         )
     return axles, length
 

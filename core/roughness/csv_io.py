@@ -246,7 +246,7 @@ def read_csv(path: str | os.PathLike, *, kind: str | None = None, label: str | N
     dx = _spacing(values[:, 0], numbers, name)
     heights_um = values[:, 1:].T
     try:
-        check_file_geometry(dx, np.asarray(y_mm) * _MM, [f"column {i + 2}" for i in range(len(y_mm))])
+        check_file_geometry(dx, np.asarray(y_mm) * _MM, [f"column {i + 2} (y_mm={y:g})" for i, y in enumerate(y_mm)])
     except WheelrailError as error:
         raise WheelrailError(f"{name}: {error}") from None
     _check_heights_um(heights_um, numbers, name)

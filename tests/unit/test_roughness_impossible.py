@@ -27,8 +27,14 @@ def _rows(dx: float, n: int = 50, scale=(1.0, 1.0, 1.0)) -> str:
     [
         (HEADER + _rows(1e-300), r"spacing 1e-300 m is outside"),
         (HEADER + _rows(1e300), r"spacing 1e\+300 m is outside"),
-        ("# kind: rail\nx_m,y_mm=-1e300,y_mm=0\n0,1,2\n0.001,2,1\n", r"column 2: lateral position .* outside"),
-        ("# kind: rail\nx_m,y_mm=0,y_mm=1e300\n0,1,2\n0.001,2,1\n", r"column 3: lateral position .* outside"),
+        (
+            "# kind: rail\nx_m,y_mm=-1e300,y_mm=0\n0,1,2\n0.001,2,1\n",
+            r"column 2 \(y_mm=-1e\+300\): lateral position .* outside",
+        ),
+        (
+            "# kind: rail\nx_m,y_mm=0,y_mm=1e300\n0,1,2\n0.001,2,1\n",
+            r"column 3 \(y_mm=1e\+300\): lateral position .* outside",
+        ),
         # one column in metres among µm columns: 3 µm rms against 3e-6 "µm"
         (HEADER + _rows(1e-3, scale=(1.0, 1e-6, 1.0)), r"column 3 \(y_mm=0\).*metres"),
         (HEADER + "0,1,2,3\n0.001,1_0,2,3\n", r"line 4: height \(µm\) in column 2 must be a number, got '1_0'"),
