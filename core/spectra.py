@@ -50,7 +50,7 @@ def third_octave_bands(lowest: float, highest: float) -> tuple[np.ndarray, np.nd
 
 
 def nominal_band_label(centre: float) -> str:
-    """The usual rounded name of an exact base-10 band centre (e.g. 501.19 -> '500', 0.0562 -> '0.056')."""
+    """The usual rounded name of an exact base-10 band centre (e.g. 501.19 -> '500', 0.0631 -> '0.063')."""
     centre = real("nominal_band_label: centre", centre, "Hz")
     exponent = math.floor(math.log10(centre))
     mantissa = centre / 10.0**exponent
