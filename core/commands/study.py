@@ -24,7 +24,7 @@ def add_parser(sub):
         description=(
             "Batch of independent runs reproducing a figure of the paper on any roughness set: filters "
             "(Fig. 10), line-spread (Figs 12-14), averaged-input (Fig. 16), lateral-resolution (Fig. 17), "
-            "speeds (Fig. 11). Writes one CSV per figure table (band centres in Hz, levels in dB), a PNG "
+            "speeds (Fig. 11). Writes one CSV per figure table (band name, exact centre in Hz, levels in dB), a PNG "
             "laid out like the paper's figure and a JSON summary into --out; finished runs are kept in "
             "OUT/runs, so an interrupted study resumes with the missing runs only."
         ),
