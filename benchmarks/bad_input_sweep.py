@@ -45,6 +45,26 @@ def _files(folder: Path) -> dict[str, str]:
     damaged.write_bytes(bytes(data))
     (folder / "empty.csv").write_text("")
     (folder / "handmade.npz").write_bytes(Path(good_npz).read_bytes())  # a roughness file, not a run file
+    (folder / "underscore.csv").write_text("# kind: rail\nx_m,y_mm=0\n0,1\n0.001,1_0\n")
+    (folder / "tinystep.csv").write_text("# kind: rail\nx_m,y_mm=0\n0,1\n1e-300,2\n")
+    (folder / "wide.csv").write_text("# kind: rail\nx_m,y_mm=0,y_mm=1e300\n0,1,2\n0.001,2,1\n")
+    from wheelrail.core.parameters import ModelParameters
+    from wheelrail.core.results import RunHeader, RunResult
+
+    n = 500  # a 0.5 m run: too short for a force spectrum at 100 km/h (0.572 m)
+    t = np.arange(n) * 3.6e-5
+    RunResult(
+        header=RunHeader(model="hertz", line=0, roughness_name="corrugated-rail", params=ModelParameters()),
+        time=t,
+        x=np.arange(n) * 1e-3,
+        force=65e3 + 1e3 * np.sin(2e3 * np.pi * t),
+        xi_wheel=np.zeros(n),
+        xi_rail=np.zeros(n),
+        roughness=np.zeros(n),
+        contact_length=np.full(n, 0.011),
+        contact_area=np.full(n, 9.4e-5),
+        equivalent_roughness=np.zeros(n),
+    ).save_npz(folder / "short-run.npz")
     long_cell = folder / "longcell.csv"
     long_cell.write_text("# kind: rail\nx_m,y_mm=0\n" + "0," + "1" * 200_000 + "\n")
     return {
@@ -56,6 +76,10 @@ def _files(folder: Path) -> dict[str, str]:
         "empty": str(folder / "empty.csv"),
         "handmade": str(folder / "handmade.npz"),
         "longcell": str(long_cell),
+        "underscore": str(folder / "underscore.csv"),
+        "tinystep": str(folder / "tinystep.csv"),
+        "wide": str(folder / "wide.csv"),
+        "short_run": str(folder / "short-run.npz"),
     }
 
 
@@ -127,6 +151,15 @@ def _cases(f: dict[str, str]) -> list[tuple[str, list[str]]]:
         ("clear", ["track", "--speed-kmh", "401"]),
         ("clear", ["track", "--speed-kmh", "4"]),
         ("clear", [*run, "--wheel-set", "sinter-wheel-1", "--length-m", "0.5"]),
+        # impossible files and outputs: each once read or ran silently
+        ("clear", ["run", "--set", f["underscore"]]),
+        ("clear", ["run", "--set", f["tinystep"]]),
+        ("clear", ["run", "--set", f["wide"]]),
+        ("clear", [*run, "--length-m", "0.1", "--out", ""]),
+        ("clear", ["study", "filters", "--set", "corrugated-rail", "--out", ""]),
+        ("clear", ["noise", "--run", f["short_run"]]),
+        ("clear", ["noise", "--run", f["short_run"], "--train-length-m", "1e300"]),
+        ("clear", ["noise", "--run", f["short_run"], "--train-axles", "40", "--train-length-m", "2.5"]),
         ("ok", [*run, "--speed-kmh", "5", "--length-m", "0.5"]),
         ("ok", [*run, "--speed-kmh", "6.85", "--length-m", "0.5"]),
         ("ok", [*run, "--speed-kmh", "400", "--length-m", "1.0"]),

@@ -54,7 +54,7 @@ def main() -> None:
             t = _table(folder / f"fig{fig}_{name}_2d_minus_{what}.csv")
             print(f"  {name:16s} {np.nanmax(np.abs(t['mean_db'])):5.1f}")
     t = _table(folder / "fig16_3d_minus_2d_averaged_input.csv")
-    f = t["band_centre_hz"]
+    f = t["centre_hz"]
     print("Fig. 16, |L_3D - L_2D,av| (dB): largest up to 2 kHz (its band) | 2.5 kHz | 5 kHz")
     for name in SETS:
         column = next(v for k, v in t.items() if k.startswith(name))
@@ -64,7 +64,7 @@ def main() -> None:
         print(f"  {name:16s} {abs(column[worst]):5.1f} ({f[worst]:.0f} Hz) | {at[0]:5.1f} | {at[1]:5.1f}")
     for spacing in ("4mm", "8mm"):
         t = _table(folder / f"fig17_3d_minus_3d_{spacing}.csv")
-        f = t["band_centre_hz"]
+        f = t["centre_hz"]
         print(f"Fig. 17, 3D on all lines - 3D on lines {spacing} apart (dB): largest |difference| up to 2 kHz")
         for name in SETS:
             column = next(v for k, v in t.items() if k.startswith(name))

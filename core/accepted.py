@@ -171,6 +171,14 @@ ACCEPTED: dict[str, Accepted] = {
             "per half sleeper, around the paper's 165 kNs/m; below 20 kNs/m a heavy sleeper on soft ballast rings "
             "beyond the 50 ms of response the loop keeps (the time stepping is then unstable at low speeds)",
         ),
+        Accepted(
+            "train_length",
+            "m",
+            2.0,
+            5000.0,
+            "from one short wagon to a heavy-haul freight train (about 3.5 km)",
+        ),
+        Accepted("train_axles", "", 1, 2000, "one axle to a heavy-haul freight train's (about 1 200)"),
     )
 }
 """The accepted ranges by key (SI). Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU
@@ -180,8 +188,9 @@ sharply than a rail crown); loads 1 to 500 kN around the table's 25 to 100 kN wh
 hold real ballasted and slab tracks with room to spare (Thompson, *Railway Noise and Vibration*, Elsevier 2009,
 section 3.6 and table 3.1: pads from about 20 MN/m, the soft baseplate fastenings of slab track, to over 1 GN/m,
 stiff studded HDPE pads; half concrete sleepers of 100-160 kg, half timber ones around 40 kg; spacings of
-0.6-0.7 m; ballast of 50-200 MN/m per half sleeper). The user-facing inputs (``wheelrail.core.inputs``) take
-their ranges from here."""
+0.6-0.7 m; ballast of 50-200 MN/m per half sleeper). A pass-by's train is 2 m to 5 km long with 1 to 2 000
+axles (and at most one axle per ``run_noise.MIN_AXLE_SPACING`` = 1 m). The user-facing inputs
+(``wheelrail.core.inputs``) take their ranges from here."""
 
 
 def check_patch(

@@ -18,7 +18,6 @@ transfer functions (filters), so roughness spectra and contact filters use the s
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -53,8 +52,10 @@ class Bands:
     def __post_init__(self) -> None:
         if self.axis not in AXES:
             raise WheelrailError(f"band axis must be one of {', '.join(AXES)}, got {self.axis!r}")
-        if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0):
-            raise WheelrailError(f"band speed must be a positive number in m/s, got {self.speed!r}")
+        if self.speed is not None:
+            from wheelrail.core.checks import real
+
+            real("band speed", self.speed, "m/s")
 
     @property
     def lower(self) -> np.ndarray:
@@ -87,7 +88,11 @@ def wavelength_bands(
 
     The EN 15610 roughness range 800 .. 3.15 mm is ``wavelength_bands(0.8, 0.00315)`` (24 bands).
     """
-    if not (math.isfinite(longest) and math.isfinite(shortest) and 0 < shortest <= longest):
+    from wheelrail.core.checks import real
+
+    longest = real("wavelength_bands: longest", longest, "m")
+    shortest = real("wavelength_bands: shortest", shortest, "m")
+    if not shortest <= longest:
         raise WheelrailError(
             f"wavelength range must satisfy 0 < shortest <= longest (m), got {longest!r} .. {shortest!r}"
         )

@@ -13,7 +13,7 @@ import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 
-__all__ = ["finite_array", "integer", "poisson_ratio", "positive", "real"]
+__all__ = ["finite_array", "integer", "level_arrays", "poisson_ratio", "positive", "real"]
 
 _SIGNS = {
     "positive": ("positive and finite", lambda v: v > 0.0),
@@ -57,8 +57,31 @@ def poisson_ratio(where: str, value) -> float:
     return nu
 
 
+def level_arrays(label: str, levels, *, at_least: int = 1) -> list[np.ndarray]:
+    """``levels`` (a sequence of band-level arrays, dB) as float arrays of one shape, at least ``at_least`` of
+    them. NaN passes (a band a record cannot resolve); +inf does not (no finite power has it)."""
+    if isinstance(levels, str | bytes) or not hasattr(levels, "__len__"):
+        raise WheelrailError(f"{label} must be a sequence of band-level arrays (dB), got {type(levels).__name__}")
+    if len(levels) < at_least:
+        raise WheelrailError(f"{label} must hold at least {at_least} band-level array(s) (dB), got {len(levels)}")
+    arrays = []
+    for level in levels:
+        try:
+            arrays.append(np.asarray(level, dtype=float))
+        except (TypeError, ValueError):
+            raise WheelrailError(f"{label} must be numbers (dB), got {level!r:.60}") from None
+    shapes = sorted({array.shape for array in arrays})
+    if len(shapes) > 1:
+        raise WheelrailError(f"{label}: band-level arrays of different shapes {', '.join(map(str, shapes))}")
+    if any(np.any(array == np.inf) for array in arrays):
+        raise WheelrailError(f"{label}: a level of +inf dB (no finite power has one)")
+    return arrays
+
+
 def finite_array(label: str, value, unit: str) -> np.ndarray:
     """``value`` as a float array with no NaN or infinity."""
+    if value is None:
+        raise WheelrailError(f"{label} must be numbers in {unit}, got None")
     try:
         array = np.asarray(value, dtype=float)
     except (TypeError, ValueError):

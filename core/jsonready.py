@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -23,3 +24,12 @@ def json_ready(value):
     if isinstance(value, float) and not math.isfinite(value):
         return None
     return value
+
+
+def strict_json(value, **options) -> str:
+    """``value`` as strict JSON text (via :func:`json_ready`: no ``Infinity`` or ``NaN``; they read back as null).
+
+    Every metadata string the package writes (run files, recordings, study summaries) goes through here;
+    ``options`` are :func:`json.dumps`'s (``indent``, ``sort_keys``).
+    """
+    return json.dumps(json_ready(value), allow_nan=False, **options)

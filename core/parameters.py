@@ -436,6 +436,9 @@ class ContactParameters:
         nu = self.poisson_ratio
         if not (isinstance(nu, int | float) and math.isfinite(nu) and 0.0 <= nu < 0.5):
             raise WheelrailError(f"ContactParameters.poisson_ratio must be in [0, 0.5), got {nu!r}")
+        for name in ("radius", "preload"):  # only the radii default to another field when None
+            if getattr(self, name) is None:
+                raise WheelrailError("not a number", parameter=name, value=None, argument=f"ContactParameters.{name}")
         if self.wheel_transverse_radius is None:  # JSON has no infinity: a written file says null
             object.__setattr__(self, "wheel_transverse_radius", math.inf)
         for name in ("radius", "preload", "wheel_radius", "rail_crown_radius", "wheel_transverse_radius"):
@@ -573,11 +576,15 @@ class ModelParameters:
 
 def as_dict(params: object) -> dict:
     """Nested plain-dict view of a parameter dataclass (for JSON, cache keys and recordings)."""
+    if not is_dataclass(params) or isinstance(params, type):
+        raise WheelrailError(f"as_dict: expected a parameter dataclass instance, got {type(params).__name__}")
     return asdict(params)
 
 
 def field_names(cls: type) -> list[str]:
     """Names of a parameter dataclass's fields, in declaration order."""
+    if not is_dataclass(cls):
+        raise WheelrailError(f"field_names: expected a parameter dataclass, got {cls!r:.60}")
     return [f.name for f in fields(cls)]
 
 

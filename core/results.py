@@ -15,6 +15,7 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.jsonready import strict_json
 from wheelrail.core.models import MODELS  # noqa: F401 - re-exported: the registry holds the one list
 from wheelrail.core.parameters import ModelParameters, as_dict, from_dict
 
@@ -82,6 +83,25 @@ class RunHeader:
         if self.wheel_roughness_name is not None:
             values["wheel_roughness"] = self.wheel_roughness_name
         return values
+
+    def description(self) -> str:
+        """One line for people: set, line, model, speed, preload, contact radii and the track's supports."""
+        contact, support = self.params.contact, self.params.track.support
+        wheel = f" + wheel set {self.wheel_roughness_name}" if self.wheel_roughness_name is not None else ""
+        tread = contact.wheel_transverse_radius
+        return (
+            f"{self.roughness_name}{wheel} line {self.line}, model {self.model}, {self.speed * 3.6:g} km/h, "
+            f"preload {contact.preload / 1e3:g} kN, element {self.element_size * 1e3:g} mm; wheel radius "
+            f"{contact.radius_along * 1e3:g} mm, rail crown {contact.crown_radius * 1e3:g} mm, tread "
+            f"{'flat' if tread == float('inf') else f'{tread * 1e3:g} mm'}; track {self.params.track.n_bays} bays "
+            f"of {support.sleeper_spacing:g} m, pads {support.pad_stiffness / 1e6:g} MN/m, ballast "
+            f"{support.ballast_stiffness / 1e6:g} MN/m, sleepers {support.sleeper_mass:g} kg"
+        )
+
+    def csv_comment(self, what: str) -> str:
+        """Two ``#`` comment lines heading a CSV export: ``what`` and :meth:`description`, then the whole
+        configuration (:meth:`to_dict`) as strict JSON."""
+        return f"# wheelrail {what}: {self.description()}\n# configuration (SI): {strict_json(self.to_dict())}\n"
 
     @classmethod
     def from_dict(cls, values: dict) -> RunHeader:
@@ -262,7 +282,25 @@ class RunResult(HeaderView):
             arrays["window_x"] = self.window_x
             arrays["window_y"] = self.window_y
         meta = {**self.header.to_dict(), "loss_of_contact_steps": self.loss_of_contact_steps}
-        return atomic_write(target, lambda handle: np.savez(handle, metadata=np.array(json.dumps(meta)), **arrays))
+        return atomic_write(target, lambda handle: np.savez(handle, metadata=np.array(strict_json(meta)), **arrays))
+
+    def save_csv(self, path: str | os.PathLike) -> Path:
+        """Write the time history as CSV atomically: a comment naming the configuration
+        (:meth:`RunHeader.csv_comment`), then ``time_s, x_m, force_N, xi_wheel_m, xi_rail_m, roughness_m,
+        equivalent_roughness_m`` per step (the roughness under the wheel as given, and as the contact model
+        sees it), 10 significant digits."""
+        target = Path(path)
+        columns = ("time_s", "x_m", "force_N", "xi_wheel_m", "xi_rail_m", "roughness_m", "equivalent_roughness_m")
+        table = np.column_stack(
+            [self.time, self.x, self.force, self.xi_wheel, self.xi_rail, self.roughness, self.equivalent_roughness]
+        )
+
+        def write(handle) -> None:
+            handle.write(self.header.csv_comment("run time history"))
+            handle.write(",".join(columns) + "\n")
+            np.savetxt(handle, table, fmt="%.10g", delimiter=",")
+
+        return atomic_write(target, write, mode="w", encoding="utf-8")
 
     @classmethod
     def load_npz(cls, path: str | os.PathLike) -> RunResult:
@@ -287,6 +325,13 @@ class RunResult(HeaderView):
         except WheelrailError as error:
             raise WheelrailError(f"{target}: {error}") from None
         return cls(header=header, loss_of_contact_steps=int(meta.get("loss_of_contact_steps", 0)), **arrays, **optional)
+
+
+def result_of_run(label: str, value) -> RunResult:
+    """``value`` if it is a finished run (:class:`RunResult`), else one WheelrailError naming ``label``."""
+    if not isinstance(value, RunResult):
+        raise WheelrailError(f"{label} must be a finished run (RunResult), got {type(value).__name__}")
+    return value
 
 
 _STEP_ARRAYS = (

@@ -373,6 +373,14 @@ def roughness_along_track(
     if n_steps < 1:
         raise WheelrailError(f"run length {length} m is shorter than one element ({dx} m)")
     total_length = margin + n_steps * dx + margin
+    if not grid.periodic and 2 * margin + dx > grid.x[-1] + 1e-12:  # not even one step fits: no length to offer
+        raise WheelrailError(
+            f"the {grid.x[-1]:g} m of rail roughness data hold no run at an element size of {dx:g} m: the "
+            f"window margins take {margin:g} m at each end",
+            parameter="element_size",
+            value=dx,
+            unit="m",
+        )
     if not grid.periodic and total_length > grid.x[-1] + 1e-12:
         raise WheelrailError(
             f"with the {margin * 1e3:.0f} mm window margins at each end the run needs more than the "

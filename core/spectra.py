@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from wheelrail.core.checks import finite_array, integer, level_arrays, real
 from wheelrail.core.errors import WheelrailError
 
 BAND_HALF_WIDTH = 10.0 ** (1.0 / 20.0)  # upper edge / centre of a third-octave band (base 10)
@@ -49,12 +50,21 @@ def third_octave_bands(lowest: float, highest: float) -> tuple[np.ndarray, np.nd
 
 
 def nominal_band_label(centre: float) -> str:
-    """The usual rounded name of an exact base-10 band centre (e.g. 501.19 -> '500', 0.0562 -> '0.056')."""
+    """The usual rounded name of an exact base-10 band centre (e.g. 501.19 -> '500', 0.0631 -> '0.063')."""
+    centre = real("nominal_band_label: centre", centre, "Hz")
     exponent = math.floor(math.log10(centre))
     mantissa = centre / 10.0**exponent
     nominal = [1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0, 10.0]
     best = min(nominal, key=lambda m: abs(math.log10(m / mantissa)))
-    return f"{best * 10.0**exponent:.4g}"
+    value = best * 10.0**exponent
+    return f"{value:.0f}" if value >= 1e4 else f"{value:.4g}"  # 10000, not .4g's 1e+04
+
+
+def band_labels(centres) -> list[str]:
+    """:func:`nominal_band_label` of every exact centre: the one naming of bands in text, JSON (``band_labels``
+    beside the exact ``band_centres_hz``) and CSV (a ``band`` column beside ``centre_hz``)."""
+    values = finite_array("band_labels: centres", centres, "Hz").reshape(-1)
+    return [nominal_band_label(float(centre)) for centre in values]
 
 
 def narrowband_spectrum(signal: np.ndarray, sample_rate: float) -> tuple[np.ndarray, np.ndarray]:
@@ -103,6 +113,7 @@ def narrowband_spectrum(signal: np.ndarray, sample_rate: float) -> tuple[np.ndar
 def hann_window(n: int) -> np.ndarray:
     """The periodic Hann window of n samples, 0.5 + 0.5 cos(phi) on n + 1 points from -pi to pi less the last:
     ``scipy.signal.get_window("hann", n)`` to the bit (the same expression)."""
+    n = integer("hann_window: n", n, 1)
     phase = np.linspace(-np.pi, np.pi, n + 1)[:-1]
     window = np.zeros(n)
     window += 0.5 * np.cos(0.0 * phase)
@@ -459,13 +470,14 @@ def mean_level(levels) -> np.ndarray:
     >>> mean_level([[60.0, 50.0], [62.0, 54.0]]).tolist()    # two runs, two bands, dB
     [61.0, 52.0]
     """
-    stack = np.vstack([np.asarray(v, dtype=float) for v in levels])
+    stack = np.vstack(level_arrays("mean_level: levels", levels))
     return stack.mean(axis=0)
 
 
 def level_difference(levels_a: np.ndarray, levels_b: np.ndarray) -> np.ndarray:
-    """L_a - L_b per band, dB (Figs 12-14, 16, 17)."""
-    return np.asarray(levels_a, dtype=float) - np.asarray(levels_b, dtype=float)
+    """L_a - L_b per band, dB (Figs 12-14, 16, 17); the two on the same bands (one shape)."""
+    levels_a, levels_b = level_arrays("level_difference: levels_a and levels_b", (levels_a, levels_b))
+    return levels_a - levels_b
 
 
 def energetic_sum(*levels) -> np.ndarray:
@@ -475,7 +487,7 @@ def energetic_sum(*levels) -> np.ndarray:
     total roughness of CNOSSOS-EU (Commission Directive (EU) 2015/996, Annex II, 2.3.2) is this sum of the
     rail and the wheel roughness levels.
     """
-    stack = np.vstack([np.asarray(v, dtype=float) for v in levels])
+    stack = np.vstack(level_arrays("energetic_sum: levels", levels))
     return 10.0 * np.log10(np.sum(10.0 ** (stack / 10.0), axis=0))
 
 

@@ -920,14 +920,13 @@ class ExplorerApp:
     def download_noise_json(self, client=None) -> tuple[str, bytes]:
         """The rolling noise of the model shown (sound power, totals, pass-by for the tab's train, CNOSSOS-EU beside
         it and the configuration) as JSON, named after the configuration."""
-        import json
 
-        from wheelrail.core.jsonready import json_ready
+        from wheelrail.core.jsonready import strict_json
 
         entry = self._shown_noise()
         noise = entry.noise.with_train(*self.noise_tab.train())
         summary = {"explorer": entry.config.label(), **noise.to_dict()}
-        content = (json.dumps(json_ready(summary), indent=1) + "\n").encode()
+        content = (strict_json(summary, indent=1) + "\n").encode()
         name = entry.config.file_stem() + "-noise.json"
         self._send(name, content, client)
         return name, content

@@ -21,7 +21,7 @@ import numpy as np
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL, model_names
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, run_reference_filters
-from wheelrail.core.spectra import contact_filter
+from wheelrail.core.spectra import contact_filter, nominal_band_label
 from wheelrail.explorer.config import RunConfig
 
 __all__ = ["Entry", "ResultStore", "case_reference_filters"]
@@ -110,10 +110,12 @@ class ResultStore:
         out = io.StringIO()
         out.write(f"# wheelrail explorer: {config.case_label()}\n")
         writer = csv.writer(out, lineterminator="\n")
-        writer.writerow(["band_centre_hz", *(name for name, _ in columns)])
+        writer.writerow(["band", "centre_hz", *(name for name, _ in columns)])
         for i, f in enumerate(centres):
             values = [column[i] for _, column in columns]
-            writer.writerow([f"{f:.6g}", *("" if not np.isfinite(v) else f"{v:.3f}" for v in values)])
+            writer.writerow(
+                [nominal_band_label(f), f"{f:.6g}", *("" if not np.isfinite(v) else f"{v:.3f}" for v in values)]
+            )
         return out.getvalue()
 
 

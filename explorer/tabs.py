@@ -353,7 +353,9 @@ class NoiseTab(ResultsTab):
         noise = entry.noise.with_train(axles, length)
         data, full_scale = noise.wav_bytes()
         config = entry.config
-        rate = round(1.0 / entry.result.time_step)
+        from wheelrail.core.noise.run_noise import WAV_RATE
+
+        rate = WAV_RATE
         name = f"{config.file_stem()}-pass-by-{axles}axles-{length:g}m.wav"
         caption = (
             f"Pass-by of **{config.model}** on {config.case_label()}: {axles} axles in {length:g} m, "

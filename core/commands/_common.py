@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 from pathlib import Path
@@ -155,6 +154,8 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
     """
     from wheelrail.core.atomic import temporary_beside
 
+    if not str(path).strip():  # Path("") is the current folder: an empty option would write nothing, silently
+        raise WheelrailError(f"{option} is empty; give a file name")
     target = Path(path)
     if suffix is not None and target.suffix.lower() != suffix:
         raise WheelrailError(f"{option} {path}: the file name must end in {suffix}")
@@ -178,7 +179,7 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
 
 def print_json(summary: dict) -> None:
     """Print a machine-readable summary on stdout (SI units; non-SI keys carry their unit; NaN as null)."""
-    from wheelrail.core.jsonready import json_ready
+    from wheelrail.core.jsonready import strict_json
 
-    json.dump(json_ready(summary), sys.stdout, indent=2)
+    sys.stdout.write(strict_json(summary, indent=2))
     sys.stdout.write("\n")

@@ -26,6 +26,7 @@ from wheelrail.core.commands._common import (
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_words, inputs_of
+from wheelrail.core.spectra import nominal_band_label
 
 METHODS = ("cnossos", "twins")
 _TRACK_HELP = {  # the track options name the method that uses them
@@ -128,6 +129,12 @@ def _add_train_options(parser) -> None:
         "--train-length-m", type=float, default=None, help="--run: train length, m, for the pass-by level (default 200)"
     )
     parser.add_argument("--wav", metavar="FILE.wav", help="--run: write the pass-by as a WAV file")
+    parser.add_argument(
+        "--csv",
+        metavar="FILE.csv",
+        help="--run: write the sound power per band as CSV (band, centre_hz, force and rail, sleeper, wheel, "
+        "total dB re 1 pW), headed by a comment naming the run",
+    )
 
 
 def _speed(args) -> float:
@@ -157,7 +164,13 @@ def _cnossos(args) -> dict:
         axles=args.axles,
         rule=args.roughness_interpolation,
     )
-    return {"frequency_hz": result.frequency_hz, "cnossos": result.to_dict()}
+    from wheelrail.core.spectra import band_labels
+
+    return {
+        "band_labels": band_labels(result.frequency_hz),
+        "frequency_hz": result.frequency_hz,
+        "cnossos": result.to_dict(),
+    }
 
 
 def _fmt(value: float) -> str:
@@ -169,7 +182,7 @@ def _print_table(title: str, frequency, columns: dict, totals: dict) -> None:
     names = list(columns)
     print("  band Hz " + " ".join(f"{name:>11}" for name in names))
     for i, f in enumerate(frequency):
-        print(f"  {f:7g} " + " ".join(f"{_fmt(columns[n][i]):>11}" for n in names))
+        print(f"  {nominal_band_label(f):>7} " + " ".join(f"{_fmt(columns[n][i]):>11}" for n in names))
     print("  " + ", ".join(f"{name} {_fmt(value).strip()}" for name, value in totals.items()))
 
 
@@ -183,6 +196,8 @@ def run(args) -> int:
         return _run_file(args)
     if args.wav is not None:
         raise WheelrailError("--wav needs --run RESULT.npz (the pass-by is synthesised from a run's contact force)")
+    if args.csv is not None:
+        raise WheelrailError("--csv needs --run RESULT.npz (the sound power per band of a run)")
     if args.method is None:
         raise WheelrailError("choose --method cnossos, --method twins or --run RESULT.npz")
     if args.method == "cnossos":
@@ -214,11 +229,18 @@ def run(args) -> int:
 def _run_file(args) -> int:
     """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
     from wheelrail.core.atomic import atomic_write
-    from wheelrail.core.noise.run_noise import COMPONENTS, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, run_noise
+    from wheelrail.core.noise.run_noise import (
+        COMPONENTS,
+        DEFAULT_TRAIN_AXLES,
+        DEFAULT_TRAIN_LENGTH,
+        WAV_RATE,
+        run_noise,
+    )
     from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
     from wheelrail.core.results import RunResult
 
     wav_path = None if args.wav is None else writable_output(args.wav, "--wav", ".wav", inputs=[args.run])
+    csv_path = None if args.csv is None else writable_output(args.csv, "--csv", ".csv", inputs=[args.run])
     if args.speed_kmh is not None:
         raise WheelrailError("--speed-kmh does not apply with --run: the run's own speed is used")
     result = RunResult.load_npz(args.run)
@@ -232,8 +254,13 @@ def _run_file(args) -> int:
         summary["wav"] = {
             "path": str(wav_path),
             "full_scale_pa": full_scale,
+            "sample_rate_hz": WAV_RATE,
             "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
         }
+    if csv_path is not None:
+        text = noise.csv_text(result.header.csv_comment(f"rolling noise of {args.run}"))
+        atomic_write(csv_path, lambda handle: handle.write(text), mode="w", encoding="utf-8")
+        summary["csv"] = str(csv_path)
     if args.json:
         print_json(summary)
         return 0
@@ -247,7 +274,7 @@ def _run_file(args) -> int:
         row = [noise.sound_power_db[name][i] for name in (*COMPONENTS, "total")]
         cells = " ".join("     -" if not np.isfinite(v) else f"{v:6.1f}" for v in row)
         force = "     -" if not np.isfinite(noise.force_db[i]) else f"{noise.force_db[i]:8.1f}"
-        print(f"  {f:7.0f} {force}   {cells}")
+        print(f"  {nominal_band_label(f):>7} {force}   {cells}")
     print(
         "  L_WA per wheel: "
         + ", ".join(f"{k} {v:.1f}" for k, v in noise.sound_power_dba.items())
@@ -262,6 +289,8 @@ def _run_file(args) -> int:
         f"(track {beside.track_dba:.1f}, vehicle {beside.vehicle_dba:.1f}); "
         f"pass-by {noise.cnossos_pass_by_dba():.1f} dB(A)"
     )
+    if csv_path is not None:
+        print(f"  wrote {csv_path}")
     if wav_path is not None:
         print(f"  wrote {wav_path} (full scale = {summary['wav']['full_scale_pa']:.3g} Pa)")
     return 0

@@ -69,6 +69,12 @@ def add_parser(sub):
         help="write the run's arrays to this .npz file (3d: with every pressure map, so it is "
         "held in memory for the whole run; --rrd records the maps without that)",
     )
+    parser.add_argument(
+        "--csv",
+        metavar="F.csv",
+        help="write the time history as CSV: time_s, x_m, force_N, xi_wheel_m, xi_rail_m, roughness_m, "
+        "equivalent_roughness_m, headed by a comment naming the configuration",
+    )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     add_input_options(parser, *RUN_GROUPS)
     _recording_arguments(parser)
@@ -122,7 +128,10 @@ def _checked_args(args):
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     inputs = input_files(args.set, args.wheel_set)
-    out = writable_output(args.out, "--out", ".npz", inputs) if args.out else None
+    out = writable_output(args.out, "--out", ".npz", inputs) if args.out is not None else None
+    csv_path = getattr(args, "csv", None)
+    if csv_path is not None:
+        writable_output(csv_path, "--csv", ".csv", [*inputs, *([] if out is None else [out])])
     rrd = getattr(args, "rrd", None)
     for source in inputs:
         if rrd is not None and same_file(rrd, source):
@@ -196,7 +205,7 @@ def _summary(args, result, params, times) -> dict:
     """What ``--json`` prints (SI; keys name their unit), the force spectrum included when the run allows one."""
     import numpy as np
 
-    from wheelrail.core.spectra import check_spectrum_length, force_spectrum
+    from wheelrail.core.spectra import band_labels, check_spectrum_length, force_spectrum
 
     start, prepared, finished = times
     try:
@@ -229,6 +238,7 @@ def _summary(args, result, params, times) -> dict:
         "prepare_time_s": prepared - start,
         "run_time_s": finished - prepared,
         "steps_per_s": result.n_steps / max(finished - prepared, 1e-9),
+        "band_labels": band_labels(centres),
         "band_centres_hz": centres,
         "levels_db": levels,
     }
@@ -262,11 +272,13 @@ def _print_summary(args, result, params, summary, sink) -> None:
         print(f"  no force spectrum: {summary['spectrum_note']}")
     else:
         print("  third-octave force levels, dB re 1 N:")
-    for fc, level in zip(summary["band_centres_hz"], summary["levels_db"], strict=True):
+    for label, level in zip(summary["band_labels"], summary["levels_db"], strict=True):
         text = "   n/a" if not np.isfinite(level) else f"{level:6.1f}"
-        print(f"    {fc:7.0f} Hz {text}")
+        print(f"    {label:>7} Hz {text}")
     if "out" in summary:
         print(f"  arrays written to {summary['out']}")
+    if "csv" in summary:
+        print(f"  time history written to {summary['csv']}")
     if sink is not None and sink.path is not None:
         print(f"  recording written to {sink.path}")
 
@@ -292,9 +304,13 @@ def run(args) -> int:
             raise
     if sink is not None:
         sink.finish(result)
+    if getattr(args, "csv", None) is not None:
+        result.save_csv(args.csv)
     summary = _summary(args, result, params, (start, prepared, finished))
     if out is not None:
         summary["out"] = str(out)
+    if getattr(args, "csv", None) is not None:
+        summary["csv"] = str(args.csv)
     if args.json:
         print_json(summary)
         return 0

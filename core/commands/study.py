@@ -23,7 +23,7 @@ def add_parser(sub):
             "(Fig. 10), line-spread (Figs 12-14), averaged-input (Fig. 16), lateral-resolution (Fig. 17), "
             "speeds (Fig. 11); noise (rolling noise against speed); track (force and noise on several tracks: give "
             "a track option several values, e.g. --pad-stiffness-mn-m 60 120 300 1000). Writes one CSV per "
-            "figure table (band centres in Hz, levels in dB), a PNG "
+            "figure table (band name, exact centre in Hz, levels in dB), a PNG "
             "laid out like the paper's figure and a JSON summary into --out; finished runs are kept in "
             "OUT/runs, so an interrupted study resumes with the missing runs only."
         ),

@@ -248,8 +248,8 @@ def run(args) -> int:
     speed = speed_from_kmh(args.speed_kmh)
     if not math.isfinite(args.df_hz) or not MIN_DF_HZ <= args.df_hz <= 100:
         raise WheelrailError(f"--df-hz must be in [{MIN_DF_HZ:g}, 100] Hz, got {args.df_hz:g}")
-    csv_path = writable_output(args.csv, "--csv") if args.csv else None
-    plot_path = writable_output(args.plot, "--plot", ".png") if args.plot else None
+    csv_path = writable_output(args.csv, "--csv") if args.csv is not None else None
+    plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
     if csv_path and plot_path and csv_path.resolve() == plot_path.resolve():
         raise WheelrailError("--csv and --plot name the same file")
 

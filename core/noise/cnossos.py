@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise.levels import a_weighted_total, check_positive, energy_sum
 from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ, load_table
@@ -254,9 +255,14 @@ class CnossosResult:
 
 
 def _bands(values, what: str) -> np.ndarray:
-    array = np.asarray(values, dtype=float)
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise WheelrailError(f"{what}: not numbers (dB on the 24 bands 50 Hz - 10 kHz)") from None
     if array.shape != (len(NOMINAL_FREQUENCIES_HZ),):
         raise WheelrailError(f"{what}: {array.size} values, the 24 bands 50 Hz - 10 kHz need 24")
+    if np.any(array == np.inf):
+        raise WheelrailError(f"{what}: a level of +inf dB")
     return array
 
 
@@ -267,6 +273,8 @@ def _roughness_and_filter(speed, rail, wheel, load, wheel_diameter, rule, contac
     else:
         rail, values = roughness
         rail_db, wheel_db, wheel = _bands(values, "roughness"), np.full(len(NOMINAL_FREQUENCIES_HZ), -np.inf), "none"
+        if np.all(np.isnan(rail_db)):  # NaN marks a band without a value: none at all is no roughness
+            raise WheelrailError("roughness: no band has a level (all NaN); a zero roughness is -inf dB")
     if contact_filter is None:
         return rail_db, wheel_db, contact_filter_a3(load, wheel_diameter, speed, rule), rail, wheel, "A3"
     name, values = contact_filter
@@ -312,7 +320,9 @@ def cnossos_rolling_noise(
         ``(name, dB re 1 um on the 24 frequency bands)``: a combined (rail + wheel) roughness used instead of
         Tables G-1a and G-1b (the directive allows measured roughness), e.g. a roughness set's spectrum.
     """
-    speed = check_positive(speed, "speed", "m/s")
+    # the accepted train speeds (5 to 400 km/h) hold the directive's 50 to 320 km/h and more; a speed far outside
+    # shifts every printed wavelength out of the bands (1e300 m/s once gave 148.9 dB(A) from the edge values)
+    speed = ACCEPTED["speed"].check(speed, "cnossos_rolling_noise: speed")
     load = check_positive(load, "preload", "N", argument="load")
     wheel_diameter = check_positive(wheel_diameter, "wheel_diameter", "m")
     if isinstance(axles, bool) or not isinstance(axles, int | np.integer) or axles < 1:

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from wheelrail.core.checks import finite_array, level_arrays
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.spectra import third_octave_bands
 
@@ -30,8 +31,11 @@ def noise_bands() -> np.ndarray:
 
 
 def a_weighting(frequency) -> np.ndarray:
-    """A-weighting in dB at ``frequency`` (Hz), IEC 61672-1 closed form (0 dB at 1 kHz)."""
-    f2 = np.asarray(frequency, dtype=float) ** 2
+    """A-weighting in dB at ``frequency`` (Hz, >= 0), IEC 61672-1 closed form (0 dB at 1 kHz; -inf at 0 Hz)."""
+    f = finite_array("a_weighting: frequency", frequency, "Hz")
+    if np.any(f < 0):
+        raise WheelrailError("a_weighting: frequency must be zero or positive (Hz)")
+    f2 = f**2
 
     def raw(f_sq):
         return 20 * np.log10(
@@ -47,18 +51,20 @@ def energy_sum(*levels_db, axis=None) -> np.ndarray:
     ``-inf`` levels contribute nothing; NaN propagates.
     """
     if axis is not None:
-        (levels,) = levels_db
+        if len(levels_db) != 1:
+            raise WheelrailError(f"energy_sum: one array of levels with axis={axis!r}, got {len(levels_db)}")
+        (levels,) = level_arrays("energy_sum: levels_db", levels_db)
         with np.errstate(divide="ignore"):
             return 10.0 * np.log10(np.sum(10.0 ** (np.asarray(levels, dtype=float) / 10.0), axis=axis))
-    total = sum(10.0 ** (np.asarray(level, dtype=float) / 10.0) for level in levels_db)
+    total = sum(10.0 ** (level / 10.0) for level in level_arrays("energy_sum: levels_db", levels_db))
     with np.errstate(divide="ignore"):
         return 10.0 * np.log10(total)
 
 
 def a_weighted_total(levels_db, frequencies=None) -> float:
     """The A-weighted total (dB(A)) of band levels on the 24 bands (or on ``frequencies``, Hz)."""
-    levels = np.asarray(levels_db, dtype=float)
-    f = noise_bands() if frequencies is None else np.asarray(frequencies, dtype=float)
+    (levels,) = level_arrays("a_weighted_total: levels_db", [levels_db])
+    f = noise_bands() if frequencies is None else finite_array("a_weighted_total: frequencies", frequencies, "Hz")
     if levels.shape != f.shape:
         raise WheelrailError(f"A-weighted total: {levels.size} levels for {f.size} bands")
     return float(energy_sum(levels + a_weighting(f), axis=0))
@@ -71,9 +77,17 @@ def level(mean_square, reference: float) -> np.ndarray:
 
 
 def power_level(power_w) -> np.ndarray:
-    """Sound power level, dB re 1 pW, of a power in W (0 W gives -inf)."""
+    """Sound power level, dB re 1 pW, of a power in W (0 W gives -inf; NaN, a band without a value, stays NaN)."""
+    if power_w is None or isinstance(power_w, str):
+        raise WheelrailError(f"power_level: power_w must be numbers in W, got {power_w!r}")
+    try:
+        power = np.asarray(power_w, dtype=float)
+    except (TypeError, ValueError):
+        raise WheelrailError("power_level: power_w must be numbers in W") from None
+    if np.any(power < 0) or np.any(power == np.inf):
+        raise WheelrailError("power_level: power_w must be zero or positive and finite (W)")
     with np.errstate(divide="ignore"):
-        return 10.0 * np.log10(np.asarray(power_w, dtype=float) / SOUND_POWER_REFERENCE)
+        return 10.0 * np.log10(power / SOUND_POWER_REFERENCE)
 
 
 def check_positive(value, key: str, unit: str, argument: str | None = None) -> float:

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.special as sps
 
+from wheelrail.core.checks import finite_array, real
 from wheelrail.core.errors import WheelrailError
 
 AIR_DENSITY = 1.21  # kg/m^3, air at 20 degC, 101.325 kPa
@@ -76,7 +77,9 @@ UIC60_CHIEF_POINTS = np.array(
 
 def polygon_area(vertices) -> float:
     """Area (m^2) of a simple polygon given counter-clockwise (shoelace formula)."""
-    v = np.asarray(vertices, dtype=float)
+    v = finite_array("polygon_area: vertices", vertices, "m")
+    if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3:
+        raise WheelrailError(f"polygon_area: vertices must be at least 3 (x, y) pairs (m), got shape {v.shape}")
     x, y = v[:, 0], v[:, 1]
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
@@ -227,7 +230,9 @@ def vertical_radiation_efficiency(
 
 def cylinder_radiation_efficiency(ka) -> np.ndarray:
     """Exact sigma of a rigid circular cylinder oscillating transversely: 2 / (pi ka |H1'(ka)|^2)."""
-    ka = np.asarray(ka, dtype=float)
+    ka = finite_array("cylinder_radiation_efficiency: ka", ka, "-")
+    if np.any(ka <= 0):
+        raise WheelrailError("cylinder_radiation_efficiency: ka must be positive")
     return 2.0 / (np.pi * ka * np.abs(sps.h1vp(1, ka)) ** 2)
 
 
@@ -242,6 +247,10 @@ def rail_boundary(
     frequency: float, per_wavelength: int = RAIL_ELEMENTS_PER_WAVELENGTH, max_element: float = RAIL_MAX_ELEMENT
 ) -> Boundary:
     """The 60E1 section's BEM mesh for ``frequency`` (Hz): elements of at most lambda / per_wavelength."""
+    frequency = real("rail_boundary: frequency", frequency, "Hz")
+    # the mesh grows as f: above 1 MHz (elements of 43 um) no audible question is asked
+    if frequency > 1e6:
+        raise WheelrailError(f"rail_boundary: frequency {frequency:g} Hz is above 1 MHz")
     return discretise(UIC60_POLYGON, max_element=min(max_element, SOUND_SPEED / frequency / per_wavelength))
 
 
@@ -274,8 +283,10 @@ def _rail_sigma_table() -> tuple[np.ndarray, np.ndarray]:
 
 def rail_radiation_efficiency(frequency) -> np.ndarray:
     """sigma of the 60E1 rail in vertical motion at ``frequency`` (Hz), from the BEM (interpolated in lg f)."""
+    f = finite_array("rail_radiation_efficiency: frequency", frequency, "Hz")
+    if np.any(f <= 0):
+        raise WheelrailError("rail_radiation_efficiency: frequency must be positive (Hz)")
     f_tab, s_tab = _rail_sigma_table()
-    f = np.asarray(frequency, dtype=float)
     return 10 ** np.interp(np.log10(f), np.log10(f_tab), np.log10(s_tab))
 
 

@@ -24,9 +24,10 @@ per unit force at the closest distance, |p / F|^2 = rho c (T_rail + T_sleeper + 
 FIR interpolated in lg f between the band values; each wheel of each axle gets its own stretch of the force record
 (cyclically shifted at random, so the wheels are incoherent; a record shorter than the pass-by repeats), is
 weighted by the distance law d / r(t) of its own position, and all are summed. Doppler shift is not applied.
-Calibration: the samples are pressure in Pa divided by the ``full_scale_pa`` written in the summary (16-bit PCM,
-peak at half of full scale); the L_pAeq over T_p computed from the WAV's samples matches the pass-by level above
-within 1 dB (``tests/physics/test_noise_run.py``).
+The pressure is resampled to 48 kHz and scaled so that its own L_pAeq over T_p is the pass-by level above (the
+random stretches alone move it by -0.6 to +0.8 dB between seeds). Calibration: the samples are pressure in Pa
+divided by the ``full_scale_pa`` written in the summary (16-bit PCM, peak at half of full scale); the level
+computed from the WAV's samples is the pass-by level within 0.05 dB for any seed (``tests/unit/test_wav.py``).
 """
 
 from __future__ import annotations
@@ -55,6 +56,10 @@ ISO3095_HEIGHT = 1.2  # m above the rail head
 DEFAULT_TRAIN_AXLES = 40
 DEFAULT_TRAIN_LENGTH = 200.0  # m
 COMPONENTS = ("rail", "sleeper", "wheel")
+WAV_RATE = 48_000  # Hz: the pass-by WAV's sample rate (a standard one; the run's own is v / dx)
+# Closest accepted even axle spacing of a train, m: no bogie has axles closer than about 1.4 m (tram and
+# light-rail bogies; wheels of 0.6 to 1 m diameter); 40 axles in a 2.5 m train (one every 6 cm) is a typo
+MIN_AXLE_SPACING = 1.0
 AXLE_DB = 10 * math.log10(2)  # an axle: two wheels on two rails, incoherent (a run is one wheel on one rail)
 
 
@@ -121,7 +126,10 @@ class RunNoise:
 
     def to_dict(self) -> dict:
         """The JSON layout of ``wheelrail noise --run F.npz --json``."""
+        from wheelrail.core.spectra import band_labels
+
         return {
+            "band_labels": band_labels(self.frequency_hz),
             "frequency_hz": self.frequency_hz,
             "force_dB_re_1N": self.force_db,
             "effective_roughness_dB_re_1um": self.effective_roughness_db,
@@ -133,6 +141,27 @@ class RunNoise:
             "configuration": self.configuration,
             **({} if self.cnossos is None else {"cnossos": self.cnossos_summary()}),
         }
+
+    def csv_text(self, comment: str = "") -> str:
+        """The sound power per band as CSV: ``comment`` (``#`` lines naming the run, e.g.
+        :meth:`wheelrail.core.results.RunHeader.csv_comment`), a line with the train and the totals, then
+        ``band, centre_hz``, the force level and the rail, sleeper, wheel and total sound power of one wheel on
+        one rail (dB re 1 pW; empty where a band is above the run's Nyquist frequency)."""
+        from wheelrail.core.spectra import band_labels
+
+        axles, length = self.train
+        lines = [
+            comment.rstrip("\n"),
+            f"# sound power of one wheel on one rail, dB re 1 pW; L_WA per wheel {self.sound_power_dba['total']:.2f}"
+            f" dB(A), per axle {self.axle_dba:.2f} dB(A); pass-by L_pAeq,Tp {self.pass_by_laeq_dba:.2f} dB(A) at "
+            f"{ISO3095_DISTANCE:g} m / {ISO3095_HEIGHT:g} m for {axles} axles in {length:g} m",
+            "band,centre_hz,force_dB_re_1N," + ",".join(f"{name}_dB" for name in (*COMPONENTS, "total")),
+        ]
+        columns = [self.force_db, *(self.sound_power_db[name] for name in (*COMPONENTS, "total"))]
+        for i, (label, centre) in enumerate(zip(band_labels(self.frequency_hz), self.frequency_hz, strict=True)):
+            cells = ["" if not np.isfinite(column[i]) else f"{column[i]:.3f}" for column in columns]
+            lines.append(",".join([label, f"{centre:.6g}", *cells]))
+        return "\n".join(line for line in lines if line) + "\n"
 
     @property
     def train(self) -> tuple[int, float]:
@@ -164,15 +193,40 @@ class RunNoise:
         """
         return _synthesise(self, lead=lead, seed=seed)
 
-    def wav_bytes(self, *, lead: float = 1.0) -> tuple[bytes, float]:
-        """The pass-by as a 16-bit PCM WAV file's bytes and its calibration (Pa at full scale)."""
+    def calibrated_pass_by(self, *, lead: float = 1.0, seed: int = 0, rate: int = WAV_RATE):
+        """The pass-by pressure (Pa) at ``rate`` Hz, scaled so that its own L_pAeq over T_p is the pass-by
+        level; returns (pressure, rate, (first, last) samples of T_p, the correction applied in dB).
+
+        The synthesis (module docstring) gives the spectrum's shape; its level moves with the random
+        stretches of the record each wheel gets (-0.6 to +0.8 dB between seeds on a 2 m run) and with the
+        gain interpolated between bands (+0.1 dB), so the level is set here: the correction is what it
+        took. The run's rate (v / dx, e.g. 27 778 Hz) is resampled (``scipy.signal.resample_poly``, the ratio
+        to within 1e-6) to ``rate``, one every player handles.
+        """
+        from fractions import Fraction
+
+        from scipy.signal import resample_poly
+
+        pressure, own_rate, (first, last) = self.pass_by_pressure(lead=lead, seed=seed)
+        ratio = Fraction(rate / own_rate).limit_denominator(2000)
+        pressure = resample_poly(pressure, ratio.numerator, ratio.denominator)
+        first, last = int(round(first * ratio)), min(len(pressure), int(round(last * ratio)))
+        correction = 0.0
+        if math.isfinite(self.pass_by_laeq_dba) and last - first > 1 and np.any(pressure[first:last]):
+            correction = self.pass_by_laeq_dba - laeq_of_pressure(pressure[first:last], float(rate))
+            pressure = pressure * 10 ** (correction / 20)
+        return pressure, float(rate), (first, last), correction
+
+    def wav_bytes(self, *, lead: float = 1.0, seed: int = 0, rate: int = WAV_RATE) -> tuple[bytes, float]:
+        """The pass-by as a 16-bit PCM WAV file's bytes at ``rate`` Hz and its calibration (Pa at full scale):
+        its own L_pAeq over T_p is the pass-by level (:meth:`calibrated_pass_by`)."""
         from scipy.io import wavfile
 
-        pressure, rate, _ = self.pass_by_pressure(lead=lead)
+        pressure, rate, _, _ = self.calibrated_pass_by(lead=lead, seed=seed, rate=rate)
         full_scale = 2.0 * float(np.max(np.abs(pressure)))  # peak at half of full scale
         samples = np.round(pressure / full_scale * 32767).astype(np.int16)
         buffer = io.BytesIO()
-        wavfile.write(buffer, int(round(rate)), samples)
+        wavfile.write(buffer, int(rate), samples)
         return buffer.getvalue(), full_scale
 
 
@@ -220,9 +274,12 @@ def run_noise(
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model
+    from wheelrail.core.results import result_of_run
     from wheelrail.core.spectra import force_spectrum
 
+    result = result_of_run("run_noise: result", result)
     train_axles, train_length = checked_train(train_axles, train_length)
+    _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
     params = result.header.params
     track = track_noise_model(params, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
@@ -269,15 +326,45 @@ def run_noise(
     )
 
 
+def _check_run_length(result) -> None:
+    """The run holds a force spectrum (:func:`wheelrail.core.spectra.shortest_spectrum_run`), else one
+    WheelrailError that names no option (the noise has no length or skip of its own)."""
+    from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP, shortest_spectrum_run
+
+    shortest = shortest_spectrum_run(result.speed, result.element_size)
+    length = result.n_steps * result.element_size
+    if length < shortest - 1e-9 * result.element_size:
+        raise WheelrailError(
+            f"the run is {length:.4g} m long ({result.n_steps} steps): too short for its sound power at "
+            f"{result.speed * 3.6:.4g} km/h, whose force spectrum leaves out the first {FORCE_SKIP * 1e3:g} ms "
+            f"(start-up) and needs {FORCE_MIN_STEPS} steps after them, at least {shortest:.4g} m; make a longer run"
+        )
+
+
 def checked_train(train_axles, train_length) -> tuple[int, float]:
-    """(axles, length in m) of a train, or one WheelrailError."""
+    """(axles, length in m) of a train, or one WheelrailError: each within its accepted range
+    (``accepted.ACCEPTED``: 1 to 2 000 axles, 2 m to 5 km) and the axles, evenly along the train, at least
+    :data:`MIN_AXLE_SPACING` apart."""
+    from wheelrail.core.accepted import ACCEPTED
+
     if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
         raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=train_axles)
     if isinstance(train_length, bool) or not (
         isinstance(train_length, int | float | np.floating) and math.isfinite(train_length) and train_length > 0
     ):
         raise WheelrailError("not a positive length", parameter="train_length", value=train_length, unit="m")
-    return int(train_axles), float(train_length)
+    axles = int(ACCEPTED["train_axles"].check(int(train_axles)))
+    length = ACCEPTED["train_length"].check(float(train_length))
+    most = 1 + math.floor(length / MIN_AXLE_SPACING + 1e-9)
+    if axles > most:
+        raise WheelrailError(
+            f"too many for a {length:g} m train",
+            parameter="train_axles",
+            value=axles,
+            maximum=most,
+            reason=f"axles evenly along the train, at least {MIN_AXLE_SPACING:g} m apart",
+        )
+    return axles, length
 
 
 def _synthesise(noise: RunNoise, *, lead: float, seed: int):

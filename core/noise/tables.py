@@ -92,11 +92,15 @@ class Table:
         return self.columns[key]
 
 
-@functools.cache
 def load_table(name: str) -> Table:
-    """Read the table ``name`` (a key of :data:`TABLE_FILES`) from its data file."""
-    if name not in TABLE_FILES:
+    """Read the table ``name`` (a key of :data:`TABLE_FILES`) from its data file (once per process)."""
+    if not isinstance(name, str) or name not in TABLE_FILES:
         raise WheelrailError(f"unknown CNOSSOS-EU table {name!r}; choose one of {', '.join(TABLE_FILES)}")
+    return _load_table(name)
+
+
+@functools.cache
+def _load_table(name: str) -> Table:
     path = DATA / TABLE_FILES[name]
     comments, rows = [], []
     with path.open(encoding="utf-8", newline="") as handle:

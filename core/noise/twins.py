@@ -102,6 +102,9 @@ class NoiseNumerics:
 
 def band_frequencies(points_per_band: int) -> np.ndarray:
     """(24, points) frequencies, Hz: each band's width split evenly in lg f, the middle of each part."""
+    from wheelrail.core.checks import integer
+
+    points_per_band = integer("band_frequencies: points_per_band", points_per_band, 1)
     centres = noise_bands()
     parts = (np.arange(points_per_band) + 0.5) / points_per_band  # fractions of the band's width in lg f
     return centres[:, None] / BAND_HALF_WIDTH * BAND_HALF_WIDTH ** (2 * parts[None, :])
@@ -186,8 +189,10 @@ class TrackNoiseModel:
 
 def nearest_table_diameter_mm(wheel_radius: float) -> int:
     """The CNOSSOS-EU Table G-3b wheel diameter (mm) nearest 2 R (R in m)."""
+    from wheelrail.core.accepted import ACCEPTED
     from wheelrail.core.noise.cnossos import WHEEL_DIAMETERS_MM
 
+    wheel_radius = ACCEPTED["wheel_radius"].check(wheel_radius, "nearest_table_diameter_mm: wheel_radius")
     return min(WHEEL_DIAMETERS_MM, key=lambda d: abs(d - 2e3 * wheel_radius))
 
 
@@ -195,6 +200,10 @@ def track_noise_model(params: ModelParameters | None = None, numerics: NoiseNume
     """The model track's noise transfer functions (module docstring) for the wheel, track and contact of
     ``params`` (default: the paper's). Cached per process by the parameters."""
     params = ModelParameters() if params is None else params
+    if not isinstance(params, ModelParameters):
+        raise WheelrailError(f"track_noise_model: params must be ModelParameters, got {type(params).__name__}")
+    if numerics is not None and not isinstance(numerics, NoiseNumerics):
+        raise WheelrailError(f"track_noise_model: numerics must be NoiseNumerics, got {type(numerics).__name__}")
     # the transfer functions do not depend on the speed: cache on the wheel, track and contact only
     return _track_noise_model(
         ModelParameters(wheel=params.wheel, track=params.track, contact=params.contact),

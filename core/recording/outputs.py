@@ -1,17 +1,25 @@
 """Where a recording goes: a ``.rrd`` file (written under a temporary name, renamed when complete), a
 spawned rerun viewer and/or a running viewer reached over gRPC. Paths and addresses are checked before a
 run starts, so a bad one never wastes a run.
+
+The temporary file is ``.<name>.<host>-<pid>-<random>.partial`` beside the target. A writer killed outright
+(``kill -9``, a power cut) cannot remove its own; the next recording into that folder removes such files
+whose host is this one and whose process no longer runs (:func:`remove_stale_partials`), and never a file
+named otherwise, written on another host, or of a process still running.
 """
 
 from __future__ import annotations
 
 import os
+import re
+import secrets
+import socket
 import tempfile
 import uuid
 import weakref
 from pathlib import Path
 
-from wheelrail.core.atomic import publish, temporary_beside
+from wheelrail.core.atomic import publish
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.recording.schema import APPLICATION_ID, _rr, default_blueprint
 
@@ -77,6 +85,58 @@ def _remove(path: Path) -> None:
     path.unlink(missing_ok=True)
 
 
+def _host() -> str:
+    """This host's name as it goes into a partial file's name (letters, digits, '.', '_' and '-' only)."""
+    return re.sub(r"[^A-Za-z0-9._-]", "_", socket.gethostname()) or "host"
+
+
+def partial_beside(path: Path) -> Path:
+    """Create the empty hidden ``.partial`` file of a recording to ``path``, named after this host and
+    process (module docstring)."""
+    for _ in range(100):
+        temporary = path.parent / f".{path.name}.{_host()}-{os.getpid()}-{secrets.token_hex(4)}.partial"
+        try:
+            fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        except FileExistsError:
+            continue
+        os.close(fd)
+        return temporary
+    raise FileExistsError(f"no free temporary name beside {path}")
+
+
+def _running(pid: int) -> bool:
+    """Whether a process ``pid`` runs on this host (one we may not signal still runs)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def remove_stale_partials(folder: Path) -> list[Path]:
+    """Remove the ``.partial`` recordings in ``folder`` left by killed writers of this host: named
+    ``.<name>.rrd.<this host>-<pid>-<8 hex>.partial`` with no process ``pid`` running. Returns them."""
+    pattern = re.compile(rf"\..+\.rrd\.{re.escape(_host())}-([0-9]+)-[0-9a-f]{{8}}\.partial")
+    removed = []
+    try:
+        entries = list(folder.iterdir())
+    except OSError:
+        return removed
+    for entry in entries:
+        match = pattern.fullmatch(entry.name)
+        if match is None or int(match.group(1)) == os.getpid() or _running(int(match.group(1))):
+            continue
+        try:
+            if entry.is_file() and not entry.is_symlink():
+                entry.unlink()
+                removed.append(entry)
+        except OSError:
+            pass  # another process removed it first, or the folder is read-only: nothing to do
+    return removed
+
+
 class Outputs:
     """One rerun recording stream and the places it goes (file, spawned viewer, connected viewer).
 
@@ -103,7 +163,8 @@ class Outputs:
         sinks = []
         self._temporary = None
         if self.path is not None:
-            self._temporary = temporary_beside(self.path, suffix=".partial")
+            remove_stale_partials(self.path.parent)
+            self._temporary = partial_beside(self.path)
             # dropped without close() or discard() (e.g. the run raised): no partial file is left behind
             self._finalizer = weakref.finalize(self, _remove, self._temporary)
             sinks.append(rr.FileSink(str(self._temporary)))

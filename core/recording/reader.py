@@ -124,6 +124,25 @@ def _series(decoded: _Decoded, path: str, n: int) -> np.ndarray:
     return out
 
 
+def _warn_if_incomplete(source: Path, meta: dict, n: int) -> None:
+    """Warn (one line) when the file is not a finished recording of ``n`` steps.
+
+    A finished recording's last parameters document holds ``recorded_steps`` (schema.parameters_document);
+    files written before that key existed hold instead the run's ``loss_of_contact_steps``, which is known
+    only at the end. A recording whose writer was killed (its hidden ``.partial`` file renamed by hand)
+    holds neither: it reads as the steps it got, with this warning.
+    """
+    recorded = meta.get("recorded_steps")
+    finished = recorded == n if "recorded_steps" in meta else meta.get("loss_of_contact_steps") is not None
+    if not finished:
+        of = "" if recorded is None else f" of the {recorded} recorded"
+        warnings.warn(
+            f"{source} is an incomplete recording: it holds {n} steps{of} and no mark of a finished run "
+            "(its writer was stopped before the end); what is read is only the part of the run recorded",
+            stacklevel=3,
+        )
+
+
 def read_recording(path: str | os.PathLike) -> RunResult:
     """Read a ``.rrd`` written by this package back into a :class:`RunResult`.
 
@@ -150,6 +169,7 @@ def read_recording(path: str | os.PathLike) -> RunResult:
     n = len(all_steps)
     if not np.array_equal(all_steps, np.arange(n)):
         raise WheelrailError(f"{source}: the recorded steps are not 0..{n - 1} (incomplete recording)")
+    _warn_if_incomplete(source, meta, n)
     time = np.full(n, np.nan)
     for steps, _, time_ns in force_parts:
         time[steps] = time_ns * 1e-9

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wheelrail.core.jsonready import json_ready
+from wheelrail.core.jsonready import strict_json
 from wheelrail.core.results import RunHeader
 
 __all__ = [
@@ -149,8 +149,13 @@ def parameters_document(
     decimation: tuple[int, int],
     window: tuple[np.ndarray, np.ndarray] | None,
     geometry: tuple[float, float] | None,
+    recorded_steps: int | None = None,
 ) -> dict:
     """The run's description as recorded (keys in file order; SI, keys name their unit).
+
+    It is logged when a recording starts (``recorded_steps`` None) and again when it is finished, with the
+    number of steps recorded: only a finished recording holds ``recorded_steps`` (the reader's mark of a
+    complete file; a recording killed before its end keeps the first document).
 
     Parameters
     ----------
@@ -186,6 +191,7 @@ def parameters_document(
         "hertz_radius_m": None if geometry is None else geometry[0],
         "hertz_peak_pressure_pa": None if geometry is None else geometry[1],
         "parameters": head.get("parameters", {}),
+        "recorded_steps": recorded_steps,
     }
 
 
@@ -194,7 +200,7 @@ def parameters_text(document: dict, description: str = "") -> str:
     return (
         f"# wheelrail run{': ' + description if description else ''}\n\n"
         "SI units (m, s, N, Pa, kg) unless a key names its unit.\n\n"
-        f"```json\n{json.dumps(json_ready(document), indent=2)}\n```\n"
+        f"```json\n{strict_json(document, indent=2)}\n```\n"
     )
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.outputs import Outputs
 from wheelrail.core.recording.pressure import ContactPatch, hertz_geometry, hertz_semi_axes
@@ -219,7 +220,8 @@ class RecordingSink:
             strict=True,
         )
 
-    def _log_parameters(self) -> None:
+    def _log_parameters(self, *, final: bool = False) -> None:
+        """The parameters document; ``final``: with the steps recorded, the mark of a finished recording."""
         patch = self._patch
         document = parameters_document(
             self._header,
@@ -228,6 +230,7 @@ class RecordingSink:
             decimation=(self.record_every, self.surface_every),
             window=patch.window,
             geometry=patch.geometry,
+            recorded_steps=self._steps_recorded if final else None,
         )
         text = parameters_text(document, self.description)
         self.stream.log(PARAMETERS, self._rr.TextDocument(text, media_type="text/markdown"), static=True, strict=True)
@@ -330,7 +333,7 @@ class RecordingSink:
                 self._complete(result, roughness)
             elif self._patch.geometry is None:
                 self._patch.set_geometry(self._geometry(), log=False, semi_axes=self._semi_axes())
-            self._log_parameters()
+            self._log_parameters(final=True)
             self._log_spectrum(result)
             if self.sound_power and result is not None:
                 self._log_sound_power(result)
@@ -388,7 +391,6 @@ class RecordingSink:
 
     def _log_sound_power(self, result: RunResult) -> None:
         """``spectra/sound_power/<component>`` bar charts and a summary document (wheelrail.core.noise.run_noise)."""
-        import json
 
         from wheelrail.core.noise.run_noise import run_noise
 
@@ -413,7 +415,7 @@ class RecordingSink:
             "wheel": noise.configuration["wheel"],
         }
         self.stream.log(
-            f"{SOUND_POWER}/summary", self._rr.TextDocument(json.dumps(totals, indent=2)), static=True, strict=True
+            f"{SOUND_POWER}/summary", self._rr.TextDocument(strict_json(totals, indent=2)), static=True, strict=True
         )
 
     def abort(self) -> None:

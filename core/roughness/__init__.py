@@ -37,7 +37,15 @@ from wheelrail.core.roughness.grid import (
     to_model_grid,
 )
 from wheelrail.core.roughness.io import SAMPLE_DATA_PACKAGE, bundled_names, load_roughness, read_roughness
-from wheelrail.core.roughness.model import KINDS, MAX_HEIGHT, MAX_VALUES, RoughnessSet, check_value_count
+from wheelrail.core.roughness.model import (
+    KINDS,
+    MAX_HEIGHT,
+    MAX_LATERAL,
+    MAX_VALUES,
+    SPACING_RANGE,
+    RoughnessSet,
+    check_value_count,
+)
 from wheelrail.core.roughness.npz_io import MAX_HEADER_BYTES, MAX_TEXT_CHARS, read_npz, write_npz
 from wheelrail.core.roughness.preprocessing import (
     curvature,
@@ -57,9 +65,11 @@ __all__ = [
     "LATERAL_TOLERANCE",
     "MAX_HEADER_BYTES",
     "MAX_HEIGHT",
+    "MAX_LATERAL",
     "MAX_LINE_CHARS",
     "MAX_TEXT_CHARS",
     "MAX_VALUES",
+    "SPACING_RANGE",
     "ROUGHNESS_REFERENCE",
     "SAMPLE_DATA_PACKAGE",
     "WAVELENGTH_RANGE",

@@ -16,6 +16,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+import re
 from array import array
 from pathlib import Path
 
@@ -23,13 +24,21 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.roughness.model import KINDS, MAX_HEIGHT, RoughnessSet, check_value_count
+from wheelrail.core.roughness.model import KINDS, MAX_HEIGHT, RoughnessSet, check_file_geometry, check_value_count
 
 MAX_LINE_CHARS = 1_000_000  # characters in one CSV line (a row of 1 000 lines takes about 25 000)
 _MIN_CSV_PEAK_UM = 1e-3  # µm; a set whose largest |height| is below 1 nm was written in metres
 _UM = 1e-6  # m per µm
 _MM = 1e-3  # m per mm
 _SPACING_RTOL = 1e-3  # relative tolerance on uniform x spacing (CSV files round x to a few digits)
+# One column in metres among µm columns: its rms is ~1e6 times below the others'. Real lines across one rail
+# head or wheel tread differ by at most a few times in rms (1.02 to 1.6 in the bundled sets); a nonzero
+# column 1e4 times (80 dB) below the median column is two orders from each case. An all-zero column (a
+# deliberately smooth line) is left alone.
+_METRES_COLUMN_RATIO = 1e-4
+# A decimal number as people and spreadsheets write it: Python's float() also reads "1_0" as 10 and
+# non-ASCII digits; inf and nan are matched here to be refused as not finite, with their own message
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|[+-]?(?:inf|infinity|nan)", re.IGNORECASE)
 
 
 def write_csv(roughness: RoughnessSet, path: str | os.PathLike) -> Path:
@@ -56,10 +65,9 @@ def write_csv(roughness: RoughnessSet, path: str | os.PathLike) -> Path:
 
 
 def _parse_float(text: str, where: str, what: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        raise WheelrailError(f"{where}: {what} must be a number, got {text.strip()!r}") from None
+    if not _NUMBER.fullmatch(text.strip()):
+        raise WheelrailError(f"{where}: {what} must be a number, got {text.strip()!r}")
+    return float(text)
 
 
 def _lines(stream, name: str):
@@ -178,6 +186,22 @@ def _check_heights_um(heights_um: np.ndarray, numbers: list[int], name: str) -> 
         )
 
 
+def _check_columns_um(heights_um: np.ndarray, y_mm: list[float], name: str) -> None:
+    """Refuse a column whose rms is far below the others' (``_METRES_COLUMN_RATIO``): written in metres."""
+    rms = np.sqrt(np.mean(heights_um**2, axis=1))
+    nonzero = rms[rms > 0]
+    if nonzero.size < 2:
+        return
+    typical = float(np.median(nonzero))
+    for column, value in enumerate(rms.tolist(), start=2):
+        if 0 < value < _METRES_COLUMN_RATIO * typical:
+            raise WheelrailError(
+                f"{name}, column {column} (y_mm={y_mm[column - 2]:g}): rms height {value:.3g} µm, "
+                f"{typical / value:.2g} times below the columns' median {typical:.3g} µm: the column seems to "
+                "hold metres, heights must be in µm"
+            )
+
+
 def _read_text(path: Path, name: str):
     """Metadata, lateral positions (mm), data rows and their line numbers of a CSV file."""
     try:
@@ -221,7 +245,12 @@ def read_csv(path: str | os.PathLike, *, kind: str | None = None, label: str | N
     metadata, y_mm, values, numbers = _read_text(path, name)
     dx = _spacing(values[:, 0], numbers, name)
     heights_um = values[:, 1:].T
+    try:
+        check_file_geometry(dx, np.asarray(y_mm) * _MM, [f"column {i + 2} (y_mm={y:g})" for i, y in enumerate(y_mm)])
+    except WheelrailError as error:
+        raise WheelrailError(f"{name}: {error}") from None
     _check_heights_um(heights_um, numbers, name)
+    _check_columns_um(heights_um, y_mm, name)
     file_kind = metadata.get("kind")
     description = metadata.get("description", "")
     if file_kind is None:

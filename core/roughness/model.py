@@ -8,6 +8,12 @@ Heights must lie within ``MAX_HEIGHT`` = 10 mm of zero. Wheel/rail roughness is 
 (corrugation tens of µm, paper section 1: "from below 1 up to 50 µm"), so a larger height is a unit
 mistake (mm or m read as µm), not roughness.
 
+A roughness file's sample spacing must lie in ``SPACING_RANGE`` = 1 µm to 10 mm and its lateral positions
+within ``MAX_LATERAL`` = 0.2 m of the centre (:func:`check_file_geometry`). Profilometers sample every few µm
+to a millimetre; a spacing over 10 mm resolves no wavelength below 20 mm, leaving out most of the EN 15610
+bands (800 to 3.15 mm) and putting one sample under the ~10 mm contact patch; a rail head (72 mm wide,
+60E1) and a wheel tread (about 140 mm) lie well within 0.2 m. A value outside is a unit mistake or damage.
+
 A set, as read or as interpolated onto a model grid, holds at most ``MAX_VALUES`` heights (see
 :func:`check_value_count`): enough for 19 lines of 1 km at 1 mm, and small enough (160 MB as float64) that
 the few copies a run makes stay well inside a workstation's memory. Larger requests are refused with the
@@ -25,6 +31,8 @@ from wheelrail.core.errors import WheelrailError
 
 KINDS = ("rail", "wheel")
 MAX_HEIGHT = 10e-3  # m; see the module docstring for why larger heights are refused
+SPACING_RANGE = (1e-6, 10e-3)  # m: a file's accepted sample spacing (module docstring)
+MAX_LATERAL = 0.2  # m: largest |lateral position| of a file's line (module docstring)
 MAX_VALUES = 20_000_000  # heights in one set or one interpolated grid (160 MB as float64); module docstring
 _BYTES_PER_VALUE = 8  # float64
 
@@ -40,6 +48,23 @@ def check_value_count(count: int, what: str) -> int:
             f"more than the limit of {MAX_VALUES:,} ({MAX_VALUES * _BYTES_PER_VALUE / 1e6:.0f} MB)"
         )
     return count
+
+
+def check_file_geometry(dx: float, y_m, line_names) -> None:
+    """Refuse a file's spacing ``dx`` (m) outside :data:`SPACING_RANGE` or a lateral position (m) beyond
+    :data:`MAX_LATERAL`; ``line_names[i]`` names line i in the file ("column 3 (y_mm=5)", "row 0")."""
+    low, high = SPACING_RANGE
+    if not low <= dx <= high:
+        raise WheelrailError(
+            f"sample spacing {dx:g} m is outside the accepted {low:g} to {high:g} m (a profilometer's µm to a "
+            "10 mm spacing that still resolves the roughness bands; check the unit of x)"
+        )
+    for name, position in zip(line_names, np.asarray(y_m, dtype=float).tolist(), strict=True):
+        if not abs(position) <= MAX_LATERAL:
+            raise WheelrailError(
+                f"{name}: lateral position {position:g} m is outside ±{MAX_LATERAL:g} m (no rail head or wheel "
+                "tread is wider; check the unit)"
+            )
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

@@ -27,7 +27,7 @@ import numpy.lib.format as npy_format
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.roughness.model import KINDS, RoughnessSet, check_value_count
+from wheelrail.core.roughness.model import KINDS, RoughnessSet, check_file_geometry, check_value_count
 
 try:  # zipfile reads LZMA members when the interpreter has lzma; its errors are then LZMAError
     from lzma import LZMAError
@@ -138,7 +138,14 @@ def _read_member(archive: zipfile.ZipFile, key: str, *, text: bool = False) -> n
 
 def _read_members(path: Path) -> dict[str, np.ndarray]:
     with zipfile.ZipFile(path) as archive:
-        present = {name.removesuffix(".npy") for name in archive.namelist()}
+        names = [name.removesuffix(".npy") for name in archive.namelist()]
+        twice = sorted({name for name in names if names.count(name) > 1})
+        if twice:  # numpy.load takes whichever comes last: the file means two things
+            raise WheelrailError(
+                f"the archive holds member(s) {', '.join(f'{name}.npy' for name in twice)} twice (as written, "
+                "or as both 'name' and 'name.npy'): which one is meant is not known"
+            )
+        present = set(names)
         missing = [key for key in _REQUIRED if key not in present]
         if missing:
             raise WheelrailError(
@@ -184,6 +191,12 @@ def _to_set(arrays: dict[str, np.ndarray]) -> RoughnessSet:
         raise WheelrailError(f"z_m must be finite, got {z[row, col]} at line row {row}, sample {col}")
     if y.shape[0] > 1 and np.unique(y).size != y.size:
         raise WheelrailError(f"duplicate lateral positions in y_m: {y.tolist()}")
+    try:
+        dx_value = float(dx.reshape(-1)[0])
+    except (TypeError, ValueError):
+        raise WheelrailError(f"dx_m must be a spacing in m, got {dx!r}") from None
+    if math.isfinite(dx_value) and dx_value > 0:  # else the data model's own message
+        check_file_geometry(dx_value, y, [f"y_m row {row}" for row in range(y.shape[0])])
     order = np.argsort(y, kind="stable")
     if np.any(order != np.arange(order.size)):
         z, y = z[order], y[order]

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
@@ -13,7 +12,7 @@ import numpy as np
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe
-from wheelrail.core.jsonready import json_ready
+from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_address
 from wheelrail.core.study.figures import plot_study
@@ -34,6 +33,8 @@ class StudyResult:
 
 def check_output_folder(out: str | os.PathLike) -> Path:
     """Create ``out`` if needed and check it is a writable folder (WheelrailError otherwise)."""
+    if not str(out).strip():  # Path("") is the current folder: the study would write there unasked
+        raise WheelrailError("the output folder is empty; give a folder name")
     folder = Path(out)
     if folder.exists() and not folder.is_dir():
         raise WheelrailError(f"output {folder} exists and is not a folder")
@@ -93,7 +94,35 @@ def run_study(
     -------
     StudyResult
     """
+    created = _missing_folders(Path(out))
     folder = check_output_folder(out)
+    try:
+        return _run_study(name, sets, folder, params, wheel_set, length, workers, dask_address, progress, figures)
+    except BaseException:
+        _remove_if_empty(created)  # a refused or failed study leaves no empty folder of its own behind
+        raise
+
+
+def _missing_folders(folder: Path) -> list[Path]:
+    """``folder`` and those of its parents that do not exist yet, deepest first."""
+    missing = []
+    while not folder.exists() and folder != folder.parent:
+        missing.append(folder)
+        folder = folder.parent
+    return missing
+
+
+def _remove_if_empty(created: list[Path]) -> None:
+    """Remove the folders this study created (deepest first, with its ``runs`` folder) if they hold nothing."""
+    for folder in [created[0] / "runs", *created] if created else []:
+        try:
+            folder.rmdir()  # only an empty folder is removed: nothing a user or a finished run wrote
+        except OSError:
+            pass
+
+
+def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_address, progress, figures) -> StudyResult:
+    """:func:`run_study` in its checked output folder."""
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
     plan = plan_study(name, sets, params=params, length=length, wheel_set=wheel_set)
@@ -111,7 +140,7 @@ def run_study(
         files += plot_study(name, tables, folder)
     summary = _summary_document(name, plan, report, tables, folder=folder, files=files)
     summary_path = folder / f"{name}_summary.json"
-    atomic_write(summary_path, lambda handle: json.dump(json_ready(summary), handle, indent=2), mode="w")
+    atomic_write(summary_path, lambda handle: handle.write(strict_json(summary, indent=2)), mode="w")
     files.append(summary_path)
     summary["files"].append(str(summary_path))
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
@@ -127,6 +156,8 @@ def _summary_document(
     files: list[Path],
 ) -> dict:
     """The JSON summary of a study (SI units; what ``wheelrail study --json`` prints)."""
+    from wheelrail.core.spectra import band_labels
+
     summaries = [report.summaries[spec.key] for spec in plan.specs]
     speed = plan.speed
     summary = {
@@ -152,7 +183,11 @@ def _summary_document(
             table.name: {
                 "figure": table.figure,
                 "title": table.title,
-                ("band_centres_hz" if table.axis_name == "band_centre_hz" else table.axis_name): table.band_centres,
+                **(
+                    {"band_labels": band_labels(table.band_centres), "band_centres_hz": table.band_centres}
+                    if table.axis_name == "band_centre_hz"
+                    else {table.axis_name: table.band_centres}
+                ),
                 **{
                     column: [None if not np.isfinite(v) else round(float(v), 3) for v in values]
                     for column, values in table.columns.items()

@@ -4,10 +4,16 @@ A run file that cannot be read (truncated, a damaged ZIP header byte: ``zipfile`
 ``RuntimeError`` "encrypted" or ``NotImplementedError`` "compression method"), belongs to another spec, or
 holds arrays of the wrong shape, a NaN where the spectrum has an estimate, or impossible force statistics
 is not used: a warning names it and the run is computed again (its file then replaced atomically).
+
+Each run file carries ``digest``, the SHA-256 of its arrays (name, dtype, shape and bytes, in a fixed
+order), written with them: a file edited afterwards (a level raised by 50 dB, say, which every check of
+shape and range would pass) or written without one no longer matches, and is computed again. The digest
+guards against edits and damage, not against someone who recomputes it on purpose.
 """
 
 from __future__ import annotations
 
+import hashlib
 import math
 import warnings
 from pathlib import Path
@@ -25,9 +31,23 @@ def cache_path(cache: Path, key: str) -> Path:
     return cache / f"run-{key[:32]}.npz"
 
 
+def arrays_digest(arrays: dict) -> str:
+    """SHA-256 (hex) of the run file's arrays :data:`_ARRAYS`: each one's name, dtype, shape and bytes."""
+    digest = hashlib.sha256()
+    for name in _ARRAYS:
+        array = np.ascontiguousarray(arrays[name])
+        digest.update(f"{name}|{array.dtype.str}|{array.shape}|".encode())
+        digest.update(array.tobytes())
+    return digest.hexdigest()
+
+
 def save_cached(cache: Path, summary: RunSummary) -> None:
-    """Write ``summary`` to its run file atomically (a reader never sees half a file)."""
-    atomic_write(cache_path(cache, summary.key), lambda handle: np.savez(handle, **summary.to_arrays()))
+    """Write ``summary`` and the digest of its arrays to its run file atomically (a reader never sees half a
+    file)."""
+    arrays = summary.to_arrays()
+    atomic_write(
+        cache_path(cache, summary.key), lambda handle: np.savez(handle, digest=arrays_digest(arrays), **arrays)
+    )
 
 
 def load_cached(cache: Path, spec: RunSpec) -> RunSummary | None:
@@ -52,10 +72,13 @@ def load_cached(cache: Path, spec: RunSpec) -> RunSummary | None:
 
 def _read(path: Path) -> RunSummary:
     with np.load(path, allow_pickle=False) as data:
-        missing = [name for name in _ARRAYS if name not in data.files]
+        missing = [name for name in (*_ARRAYS, "digest") if name not in data.files]
         if missing:
             raise KeyError(f"missing arrays {', '.join(missing)}")
         arrays = {name: data[name] for name in _ARRAYS}
+        digest = data["digest"]
+    if digest.shape != () or str(digest) != arrays_digest(arrays):
+        raise ValueError("its content does not match the digest written with it (edited or damaged)")
     for name in ("run_key", *SUMMARY_SCALARS):
         if arrays[name].shape != ():
             raise ValueError(f"{name} has shape {arrays[name].shape}, expected a scalar")

@@ -1,4 +1,5 @@
-"""Study tables: one CSV per figure table, band centres in Hz and one column per curve in dB."""
+"""Study tables: one CSV per figure table, the bands (nominal name and exact centre in Hz) and one column per
+curve in dB."""
 
 from __future__ import annotations
 
@@ -42,19 +43,24 @@ class Table:
     axis_name: str = "band_centre_hz"
 
     def header(self) -> list[str]:
-        return [self.axis_name, *self.columns]
+        """The CSV header: ``band,centre_hz`` (nominal name, exact centre) for bands, else the axis's name."""
+        axis = ["band", "centre_hz"] if self.axis_name == "band_centre_hz" else [self.axis_name]
+        return [*axis, *self.columns]
 
 
 def write_table(table: Table, folder: Path) -> Path:
     """Write ``table`` as ``folder/<name>.csv`` atomically (header row, then one row per band)."""
     path = folder / f"{table.name}.csv"
 
+    from wheelrail.core.spectra import nominal_band_label
+
+    bands = table.axis_name == "band_centre_hz"
+
     def write(handle):
         handle.write(",".join(table.header()) + "\n")
         for i, centre in enumerate(table.band_centres):
-            cells = [f"{centre:.2f}"] + [
-                ("nan" if not np.isfinite(v[i]) else f"{v[i]:.3f}") for v in table.columns.values()
-            ]
+            axis = [nominal_band_label(centre), f"{centre:.6g}"] if bands else [f"{centre:.6g}"]
+            cells = axis + [("nan" if not np.isfinite(v[i]) else f"{v[i]:.3f}") for v in table.columns.values()]
             handle.write(",".join(cells) + "\n")
 
     atomic_write(path, write, mode="w", encoding="utf-8")

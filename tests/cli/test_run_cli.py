@@ -125,3 +125,36 @@ def test_3d_on_a_one_line_set_says_how_wide_a_set_must_be(tmp_path, capsys):
     assert main(["run", "--set", str(path), "--model", "3d"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("wheelrail run: error: --line 0: a set of one line has no width") and "14 mm" in err
+
+
+def test_band_labels_are_the_nominal_names_everywhere(capsys):
+    """One convention: nominal band names in text and in ``band_labels``, exact centres in ``band_centres_hz``
+    (the text once printed 79, 126, 158, 251 Hz where ``spectra`` printed 80, 125, 160, 250)."""
+    from wheelrail.core.spectra import nominal_band_label
+
+    argv = ["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "1.0"]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    for name in ("80", "125", "160", "250", "1000", "8000"):
+        assert f" {name} Hz" in text, name
+    for exact in ("79", "126", "158", "251", "1585", "7943"):
+        assert f" {exact} Hz" not in text, exact
+    assert main([*argv, "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["band_labels"] == [nominal_band_label(c) for c in summary["band_centres_hz"]]
+    assert summary["band_labels"][:4] == ["50", "63", "80", "100"]
+    assert summary["band_centres_hz"][0] == pytest.approx(50.1187, abs=1e-4)  # exact: 10^(17/10)
+
+
+def test_run_writes_its_time_history_as_csv(tmp_path, capsys):
+    path = tmp_path / "history.csv"
+    argv = ["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "0.1", "--csv", str(path)]
+    assert main(argv) == 0
+    assert f"time history written to {path}" in capsys.readouterr().out
+    lines = path.read_text().splitlines()
+    assert lines[0].startswith("# wheelrail run time history: corrugated-rail line 0, model hertz, 100 km/h")
+    table = np.loadtxt(path, delimiter=",", comments="#", skiprows=3)
+    assert table.shape == (100, 7) and np.all(table[:, 2] > 0)  # 100 steps of 1 mm, a positive force
+    # refused before the run: a CSV name that is not one, or the input itself
+    assert main(["run", "--set", "corrugated-rail", "--csv", str(tmp_path / "h.txt")]) != 0
+    assert "--csv" in capsys.readouterr().err

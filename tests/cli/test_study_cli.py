@@ -42,9 +42,10 @@ def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys)
     levels = out / "fig10_sinter-wheel-1_force_levels.csv"
     filters = out / "fig10_sinter-wheel-1_contact_filters.csv"
     header = levels.read_text().splitlines()[0].split(",")
-    assert header == ["band_centre_hz", "3d_db", "2d_db", "hertz_db", "hertz_winkler_db", "hertz_average_db"]
+    assert header == ["band", "centre_hz", "3d_db", "2d_db", "hertz_db", "hertz_winkler_db", "hertz_average_db"]
     assert filters.read_text().splitlines()[0].split(",") == [
-        "band_centre_hz",
+        "band",
+        "centre_hz",
         "3d_db",
         "2d_db",
         "hertz_winkler_db",
@@ -55,12 +56,14 @@ def test_filters_writes_tables_figure_and_summary_then_resumes(tmp_path, capsys)
         "ref_patch_incoherent_db",
     ]
     data = np.genfromtxt(filters, delimiter=",", names=True)
-    assert data["band_centre_hz"][0] == pytest.approx(50.12, abs=0.01) and data["band_centre_hz"][-1] == pytest.approx(
+    # nominal names in "band", exact centres (6 significant digits) in "centre_hz"
+    assert filters.read_text().splitlines()[1].startswith("50,50.1187,")
+    assert data["centre_hz"][0] == pytest.approx(50.1187, abs=1e-4) and data["centre_hz"][-1] == pytest.approx(
         7943.28, abs=0.01
     )
     # the 2D filter is L_2D - L_hertz: small (|.| < 1 dB) where the wavelength is long (< 500 Hz: > 5.5 cm)
     # and strongly negative at 8 kHz (3.5 mm waves fill the contact: measured about -20 dB)
-    low = np.isfinite(data["2d_db"]) & (data["band_centre_hz"] < 450)
+    low = np.isfinite(data["2d_db"]) & (data["centre_hz"] < 450)
     assert low.sum() >= 3 and np.all(np.abs(data["2d_db"][low]) < 1.0)
     assert data["2d_db"][-1] < -10.0
     png = out / "fig10_filters.png"
@@ -338,7 +341,7 @@ def test_user_csv_set_and_human_output(tmp_path, capsys):
     assert code == 0
     assert "4 runs (4 computed, 0 from" in text and "in-process" in text
     header = (tmp_path / "o" / "fig16_3d_minus_2d_averaged_input.csv").read_text().splitlines()[0]
-    assert header == "band_centre_hz,my-wheel_db,cast-iron-wheel_db"
+    assert header == "band,centre_hz,my-wheel_db,cast-iron-wheel_db"
     assert (tmp_path / "o" / "fig16_averaged-input.png").exists()
 
 

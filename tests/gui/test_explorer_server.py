@@ -208,7 +208,7 @@ def test_stale_contact_filters_disappear_when_the_configuration_changes(app):
     assert name == "wheelrail-spectra-corrugated-rail-line0-100kmh-65kN-0.8m.csv"
     text = content.decode().splitlines()
     assert text[0] == "# wheelrail explorer: corrugated-rail, line 0, 100 km/h, 65 kN, 0.8 m"
-    assert text[1].startswith("band_centre_hz,3d_level_db") and "reference_cnossos_db" in text[1]
+    assert text[1].startswith("band,centre_hz,3d_level_db") and "reference_cnossos_db" in text[1]
 
 
 def test_downloads_are_named_after_the_configuration(app, tmp_path):

@@ -107,9 +107,9 @@ _NEW_CONTACT_PARAMETERS = ("wheel_radius", "rail_crown_radius", "wheel_transvers
 
 def _without_new_parameters(component: dict) -> dict:
     """The parameters document without the geometry fields added since the old files (their defaults, None and
-    an infinite tread, keep the old files' circle), the rail's loss factor and the pads' width (0) and without
-    the run-in's duration (``run_in_time_s``, the
-    run-in length over the speed), re-rendered as the writer renders it."""
+    an infinite tread, keep the old files' circle), the rail's loss factor and the pads' width (0), without
+    the run-in's duration (``run_in_time_s``, the run-in length over the speed) and without ``recorded_steps``
+    (the mark of a finished recording), re-rendered as the writer renders it."""
     import json
 
     from wheelrail.core.recording.schema import parameters_from_text
@@ -122,6 +122,8 @@ def _without_new_parameters(component: dict) -> dict:
             assert contact.pop(name) is None, name  # defaults: None (the radius), an infinite tread (JSON null)
         track = document["parameters"]["track"]  # the rail's loss factor and the pads' width: 0, the paper's
         assert track["rail"].pop("loss_factor") == 0.0 and track["support"].pop("pad_width") == 0.0
+        # the mark of a finished recording, added since: null at the start, the steps at the end
+        assert document.pop("recorded_steps") in (None, N_STEPS)
         run_in_time = document.pop("run_in_time_s")
         assert run_in_time == document["run_in_length_m"] / document["speed_m_per_s"]
         head = text.split("```json", 1)[0]
