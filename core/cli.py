@@ -25,7 +25,7 @@ from wheelrail.core.errors import WheelrailError
 # fast (importing every command, scipy.signal among them, took 0.8 s before anything ran).
 # tests/cli/test_cli_reliability.py checks these lines against each module's own help.
 COMMANDS = {
-    "track": "track receptance peaks (sleeper-on-ballast, rail-on-pad, pinned-pinned) and Green's function cache",
+    "track": "track receptances, resonances, decay rate against the type-test limit, and Green's function cache",
     "run": "simulate the wheel rolling over a roughness set with one contact model",
     "datasets": "list the bundled roughness sets",
     "roughness": "third-octave roughness spectra and lateral coherence of a roughness set",

@@ -830,11 +830,11 @@ class ExplorerApp:
 
     def download_session(self, client=None) -> tuple[str, bytes]:
         """The session (:meth:`session`) as a .json download, named after the configuration when it is valid."""
-        import json
+        from wheelrail.core.jsonready import strict_json
 
         stem = self.shown.for_model(self.shown.model).file_stem() if self.shown is not None else "wheelrail"
         name = f"{stem}-session.json"
-        content = json.dumps(self.session(), indent=2).encode()
+        content = strict_json(self.session(), indent=2).encode()
         self._send(name, content, client)
         return name, content
 

@@ -93,6 +93,7 @@ def track_decay(track) -> dict:
     from wheelrail.core.noise import twins
     from wheelrail.core.track import fe
 
+    _check_track(track, "track_decay")
     numerics = twins.NoiseNumerics()
     functions = (twins.track_decay_rates, twins._decay_grid, twins._decay_rates, fe.assemble_track, fe._pad_couplings)
     code = "".join(inspect.getsource(f) for f in functions)
@@ -123,6 +124,7 @@ def band_receptances(track, elements_per_bay: int = 16) -> dict:
     from wheelrail.core.noise.levels import noise_bands
     from wheelrail.core.track import assemble_track, track_receptance
 
+    _check_track(track, "band_receptances")
     f = noise_bands()
     f = f[f < 5100]
     L = track.support.sleeper_spacing
@@ -133,3 +135,11 @@ def band_receptances(track, elements_per_bay: int = 16) -> dict:
         "above_sleeper_m_per_n": np.abs(track_receptance(model, f, x_sleeper)),
         "midspan_m_per_n": np.abs(track_receptance(model, f, x_sleeper + L / 2)),
     }
+
+
+def _check_track(track, where: str) -> None:
+    from wheelrail.core.errors import WheelrailError
+    from wheelrail.core.parameters import TrackParameters
+
+    if not isinstance(track, TrackParameters):
+        raise WheelrailError(f"{where}: track must be TrackParameters, got {type(track).__name__}")

@@ -292,6 +292,10 @@ def track_decay_rates(
 
     track = TrackParameters() if track is None else track
     numerics = NoiseNumerics() if numerics is None else numerics
+    if not isinstance(track, TrackParameters):
+        raise WheelrailError(f"track_decay_rates: track must be TrackParameters, got {type(track).__name__}")
+    if not isinstance(numerics, NoiseNumerics):
+        raise WheelrailError(f"track_decay_rates: numerics must be NoiseNumerics, got {type(numerics).__name__}")
     model = assemble_track(replace(track, n_bays=numerics.track_bays), numerics.elements_per_bay)
     solve = _banded_solver(model)
     positions, decay_nodes, free_nodes, free_distance = _decay_grid(model, numerics)
