@@ -126,12 +126,16 @@ class Input:
             value = getattr(value, part)
         return value
 
+    def to_shown(self, value: float) -> float:
+        """A value (SI) in the shown unit, rounded to 12 significant digits (80 km/h, not 79.99999999999999)."""
+        return float(f"{value * self.shown.scale:.12g}")
+
     def shown_default(self) -> float | None:
         """The default in the shown unit, or None when it is not a finite number (see ``unset``)."""
         value = self.default()
         if value is None or not math.isfinite(value):
             return None
-        return float(f"{value * self.shown.scale:.12g}")
+        return self.to_shown(value)
 
     @property
     def accepted(self) -> Accepted:

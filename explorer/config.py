@@ -169,7 +169,7 @@ class RunConfig:
         values = {"model": self.model, "set": self.set_label, "line": self.line, "length_m": self.length}
         if self.wheel_set_label is not None:
             values["wheel_set"] = self.wheel_set_label
-        values.update((entry.dest, self.value(entry.key) * entry.shown.scale) for entry in self._shown())
+        values.update((entry.dest, entry.to_shown(self.value(entry.key))) for entry in self._shown())
         return values
 
 

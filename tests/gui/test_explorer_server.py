@@ -352,7 +352,7 @@ def test_geometry_fields_refuse_bad_values_in_words(app):
         field.value = ""
     # a patch too wide across for the set: said in words, no line offered is pretended
     app.fields["rail_crown_radius"].value, app.fields["wheel_transverse_radius"].value = "800", "-1000"
-    assert "The 3d contact patch at 65 kN is 32.3 mm wide across the rail: no line of corrugated-rail" in (
+    assert "The 3d contact patch at 65 kN is 32.3 mm wide across the rail and 3d needs data 36 mm across" in (
         app.check_md.content
     )
     assert not app.start_run()
