@@ -703,8 +703,14 @@ def help_text() -> str:
         "with A3. The table: L_WA per axle and the pass-by L_pAeq,Tp at 7.5 m for the train set below it. "
         "*Pass-by audio* makes the pass-by of the model shown to hear and download (its calibration under the "
         "player).\n\n"
+        "**Track**: the *Track* folder sets the pads, sleepers, ballast, the rail's loss factor and the pads' "
+        "width (empty fields are not allowed: each shows the paper's value). A new track computes its Green's "
+        "functions once (13-60 s, kept on disk); the Track tab shows its receptance and decay rate against the "
+        "EN ISO 3095 limit.\n\n"
         "**Run length**: at least long enough for a force spectrum at the chosen speed, at most what the "
-        "roughness set holds; the page shows the range."
+        "roughness set holds; the page shows the range.\n\n"
+        "**One shared session**: every browser tab open on this explorer shows the same form and the same "
+        "results (a change in one is seen in all); *Session* saves the settings to a file and loads them back."
     )
 
 

@@ -225,6 +225,7 @@ def _summary(args, result, params, times) -> dict:
         "speed_kmh": args.speed_kmh,
         "preload_n": params.contact.preload,
         **describe(params, "geometry", "track"),  # the contact geometry and track it ran on, SI
+        "hertz_semi_axes_m": list(params.contact.hertz_semi_axes()),  # a along the rail, b across, at the preload
         "steps": result.n_steps,
         "length_m": result.n_steps * result.element_size,
         "time_step_s": result.time_step,
@@ -257,7 +258,11 @@ def _print_summary(args, result, params, summary, sink) -> None:
         f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m"
     )
     print(f"  track: {describe_words(params, 'track')}")
-    print(f"  contact geometry: {describe_words(params, 'geometry')}")
+    a, b = params.contact.hertz_semi_axes()
+    print(
+        f"  contact geometry: {describe_words(params, 'geometry')}; Hertz patch at the preload "
+        f"a = {a * 1e3:.2f} mm along, b = {b * 1e3:.2f} mm across"
+    )
     print(
         f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
         f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN"

@@ -176,3 +176,18 @@ def test_an_unstable_step_is_refused_not_run(monkeypatch):
     ringing = np.tile((-1.0) ** np.arange(8) * (-2.0 / stiffness / 8), (4, 1))
     with pytest.raises(WheelrailError, match="time stepping would be unstable"):
         check_step_stability(params, ringing, system)
+
+
+def test_a_run_states_its_track_and_contact_geometry(capsys):
+    import json
+
+    argv = ["run", "--set", "corrugated-rail", "--length-m", "0.6", "--pad-stiffness-mn-m", "120"]
+    assert main([*argv, "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["track"]["pad_stiffness"] == 120e6 and summary["track"]["rail_loss_factor"] == 0.0
+    assert summary["geometry"]["wheel_radius"] == 0.39 and summary["geometry"]["wheel_transverse_radius"] is None
+    assert summary["hertz_semi_axes_m"] == pytest.approx([5.482e-3, 5.482e-3], rel=1e-3)  # the paper's a
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "  track: pad stiffness 120 MN/m, pad damping 16 kNs/m, sleeper mass 125 kg" in text
+    assert "a = 5.48 mm along, b = 5.48 mm across" in text
