@@ -112,14 +112,6 @@ def given_inputs(args, *groups: str) -> list:
     return found
 
 
-def refuse_inputs(args, groups: tuple[str, ...], mode: str) -> None:
-    """One WheelrailError if an option of the declared inputs of ``groups`` was set where ``mode`` (words such as
-    "with --run: the run's own track is used") does not use it."""
-    given = given_inputs(args, *groups)
-    if given:
-        raise WheelrailError(f"{', '.join(entry.option for entry in given)}: not used {mode}")
-
-
 def params_from_args(args, *groups: str, base=None):
     """``ModelParameters`` with the declared inputs of ``groups`` the command line set (in their option's unit,
     converted to SI here) on ``base`` (default: the paper's). An option left at its default changes nothing

@@ -20,7 +20,6 @@ from wheelrail.core.commands._common import (
     add_input_options,
     params_from_args,
     print_json,
-    refuse_inputs,
     speed_from_kmh,
     writable_output,
 )
@@ -56,7 +55,48 @@ def add_parser(sub):
     _add_train_options(parser)
     add_input_options(parser, "track", helps=_TRACK_HELP)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
+    # every option with its default, so that run() can refuse one a mode does not use (given, even if invalid)
+    parser.set_defaults(
+        _options={a.dest: (a.option_strings[0], a.default) for a in parser._actions if a.option_strings[1:2] != ["-h"]}
+    )
     return parser
+
+
+_ALWAYS = {"method", "run", "json", "help"}
+_USED_BY = {  # the options each mode uses (besides _ALWAYS); any other given is refused, naming the mode
+    "cnossos": {
+        "speed_kmh",
+        "rail_roughness",
+        "wheel_roughness",
+        "track_type",
+        "wheel_diameter_mm",
+        "preload_kn",
+        "axles",
+        "roughness_interpolation",
+    },
+    "twins": set(),  # and the track's inputs (below)
+    "run": {"train_axles", "train_length_m", "wav", "csv"},
+}
+
+
+def _refuse_unused(args) -> None:
+    """One WheelrailError naming every option given that the chosen mode does not use (``--method twins
+    --preload-kn nan`` was accepted and ignored), with the mode."""
+    mode = "run" if args.run is not None else args.method
+    if mode is None:
+        return
+    used = _ALWAYS | _USED_BY[mode] | ({entry.dest for entry in inputs_of("track")} if mode == "twins" else set())
+    given = []
+    for dest, (option, default) in args._options.items():
+        value = getattr(args, dest, default)
+        same = value == default or (value is None and default is None)
+        if dest not in used and not same:
+            given.append(option)
+    if given:
+        words = "--run (a run's sound power and pass-by)" if mode == "run" else f"--method {mode}"
+        raise WheelrailError(
+            f"{', '.join(given)}: not used by {words}; leave {'it' if len(given) == 1 else 'them'} out"
+        )
 
 
 def _add_source_options(parser) -> None:
@@ -187,12 +227,10 @@ def _print_table(title: str, frequency, columns: dict, totals: dict) -> None:
 
 
 def run(args) -> int:
-    if args.method != "twins":  # the model track is the TWINS-like method's alone
-        used = "with --run (the run's own track is used)" if args.run else "by --method cnossos (a table's track)"
-        refuse_inputs(args, ("track",), used)
+    if args.run is not None and args.method is not None:
+        raise WheelrailError("--run and --method exclude each other: --run uses the run's own model and track")
+    _refuse_unused(args)
     if args.run is not None:
-        if args.method is not None:
-            raise WheelrailError("--run and --method exclude each other: --run uses the run's own model and track")
         return _run_file(args)
     if args.wav is not None:
         raise WheelrailError("--wav needs --run RESULT.npz (the pass-by is synthesised from a run's contact force)")
