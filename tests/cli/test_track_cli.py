@@ -50,7 +50,7 @@ def test_track_json_csv(tmp_path, capsys):
     rates = np.array(decay["decay_rate_dB_per_m"])
     below = [fc for fc, rate, v in zip(f, rates, decay["limit_dB_per_m"], strict=True) if v is not None and rate < v]
     assert decay["below_limit_hz"] == pytest.approx(below) and decay["meets_limit"] is (not below)
-    assert summary["track"]["rail"]["loss_factor"] == 0.0 and summary["track"]["support"]["pad_width"] == 0.0
+    assert summary["track_parameters"]["rail"]["loss_factor"] == 0.0 and summary["track"]["pad_width"] == 0.0
     receptance = summary["point_receptance"]
     assert len(receptance["frequency_hz"]) == len(receptance["midspan_m_per_n"]) == len(data)
     with open(tmp_path / "receptance_decay.csv") as handle:

@@ -188,7 +188,7 @@ def test_bad_uploads_in_the_page(app, browser):
     page.goto(f"http://127.0.0.1:{app.port}")
     page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
     before = app.replay
-    upload = page.locator("input[type=file]")
+    upload = page.locator("input[type=file]").first  # the Run folder's upload; the Session folder's comes after
     upload.set_input_files(files=[{"name": "broken.csv", "mimeType": "text/csv", "buffer": b"x_m,heights\n0,abc\n"}])
     _wait_for(lambda: (app.last_error or "").startswith("upload 'broken.csv'"), 60, "the malformed-CSV message")
     page.get_by_text("Error: upload 'broken.csv'", exact=False).first.wait_for(timeout=60_000)
