@@ -49,7 +49,7 @@ def test_several_values_sweep_the_track_study_only(capsys, tmp_path):
 
 
 @pytest.mark.slow
-def test_soft_pads_carry_more_rail_noise_than_stiff_ones(tmp_path, capsys):
+def test_stiff_pads_make_the_sleepers_radiate_more(tmp_path, capsys):
     # two tracks, two precomputes (about 15-30 s each) and the noise model's track for each; 1 m runs
     argv = ["study", "track", "--set", "corrugated-rail", "--length-m", "1", "--out", str(tmp_path)]
     assert main([*argv, "--pad-stiffness-mn-m", "60", "1000", "--workers", "2", "--json"]) == 0
@@ -57,10 +57,11 @@ def test_soft_pads_carry_more_rail_noise_than_stiff_ones(tmp_path, capsys):
     assert [t["pad_stiffness"] for t in summary["tracks"]] == [60e6, 1000e6]
     table = summary["tables"]["track_corrugated-rail_noise"]
     assert table["pad_stiffness_mn_m"] == [60.0, 1000.0]
-    # a soft pad decouples the rail from the sleepers: the rail's vibration decays slowly along the track and it
-    # radiates more (Thompson, Railway Noise and Vibration, 2009, section 6.4.4); a stiff pad the opposite
-    rail = np.array(table["hertz_rail_LWA_dBA"])
-    assert rail[0] > rail[1] + 2.0, rail  # margin: the effect is several dB for pads 60 vs 1000 MN/m
+    # a stiff pad ties the sleepers to the rail: they vibrate and radiate far more (Thompson, Railway Noise and
+    # Vibration, 2009, section 6.4); the rail's own power moves less, as the force rises where its decay does
+    # (docs/examples/plot_07: sleepers 94.2 against 102.6 dB(A) per wheel, rail 110.3 against 109.3)
+    sleeper = np.array(table["hertz_sleeper_LWA_dBA"])
+    assert sleeper[1] > sleeper[0] + 5.0, sleeper  # margin: measured 8.4 dB on a 2 m run
     assert (tmp_path / "track_corrugated-rail_force_levels.csv").is_file()
     assert (tmp_path / "track_track.png").is_file()
 
