@@ -2,11 +2,12 @@
 
 The interaction's track (``TrackParameters.n_bays``: 70 bays, free ends) must behave as an infinite one where
 the wheel is: waves reflected at its ends must come back attenuated by the track's own decay. This prints, for
-the paper's track and for soft (60 MN/m) and stiff (1000 MN/m, the lowest decay above the pinned-pinned
-frequency) pads, undamped or with a rail loss factor of 0.02, the band-mean point receptance level (20 frequencies
-per one-third octave band, 100 Hz-5 kHz) above the central sleeper and at midspan of the 70-bay track minus that
-of a 280-bay track, the largest difference, and the 20-bay track's for scale. Frequency domain, the same FE
-mesh as the Green's functions outside their refined bays (16 elements per bay).
+the paper's track, soft (60 MN/m) and stiff (1000 MN/m, the lowest decay above the pinned-pinned frequency)
+pads and the ends of the accepted range (10 and 3000 MN/m), undamped or with a rail loss factor of 0.02, the
+band-mean point receptance level (20 frequencies per one-third octave band, 100 Hz-5 kHz) above the central
+sleeper and at midspan of the 70-bay track minus that of a 280-bay track, the largest difference, and the
+20-bay track's for scale. Frequency domain, the same FE mesh as the Green's functions outside their refined
+bays (16 elements per bay).
 
 Run: ``python3 benchmarks/track_ends.py``.
 """
@@ -28,6 +29,9 @@ TRACKS = {
     "stiff pads 1000 MN/m, eta 0.02": TrackParameters(
         rail=RailParameters(loss_factor=0.02), support=SupportParameters(pad_stiffness=1000e6)
     ),
+    # the ends of the accepted range (wheelrail.core.accepted.ACCEPTED["pad_stiffness"])
+    "softest accepted pads 10 MN/m": TrackParameters(support=SupportParameters(pad_stiffness=10e6)),
+    "stiffest accepted pads 3000 MN/m": TrackParameters(support=SupportParameters(pad_stiffness=3000e6)),
 }
 
 
