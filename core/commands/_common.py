@@ -39,9 +39,8 @@ def cli_error_names() -> dict[str, Name]:
     return {**CLI_NAMES, **cli_names()}
 
 
-_GEOMETRY_NOTE = (
-    f"the Hertz patch at the preload must stay within {PATCH_FRACTION * 100:g} %% of the radii"  # %%: argparse
-)
+# an argument group's description is printed as written (not %-formatted, unlike an option's help)
+_GEOMETRY_NOTE = f"the Hertz patch at the preload must stay within {PATCH_FRACTION * 100:g} % of the radii"
 
 
 def accepted_help(key: str) -> str:
@@ -86,15 +85,14 @@ def add_input_options(
     An option's default is its dataclass default in the option's unit (None where that is not a number)."""
     helps, unset = helps or {}, unset or {}
     for group in groups:
-        options = parser.add_argument_group(f"{GROUPS[group].lower()} inputs")
+        note = _GEOMETRY_NOTE if group == "geometry" else None
+        options = parser.add_argument_group(f"{GROUPS[group].lower()} inputs", description=note)
         for entry in inputs_of(group):
             default = unset.get(entry.key) or entry.default_text()
             unit = f", {entry.shown.name}" if entry.shown.name else ""
             text = f"{helps.get(entry.key, entry.help + unit)} (default {default}; {_accepted_words(entry)})"
             nargs = "+" if group in several else None
             options.add_argument(entry.option, type=float, nargs=nargs, default=entry.shown_default(), help=text)
-        if group == "geometry":
-            options.description = _GEOMETRY_NOTE
 
 
 def _accepted_words(entry) -> str:
