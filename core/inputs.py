@@ -185,7 +185,7 @@ class Input:
 
 
 def _track(key: str, field: str, shown: Unit, label: str, help_text: str, stem: str) -> Input:
-    part = "rail" if field in ("loss_factor",) else "support"
+    part = "rail" if field == "loss_factor" else "support"  # the rail's own input; the others the support's
     return Input(key, f"track.{part}.{field}", shown, label, "track", help_text, stem=stem)
 
 

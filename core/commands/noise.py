@@ -57,7 +57,7 @@ def add_parser(sub):
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     # every option with its default, so that run() can refuse one a mode does not use (given, even if invalid)
     parser.set_defaults(
-        _options={a.dest: (a.option_strings[0], a.default) for a in parser._actions if a.option_strings[1:2] != ["-h"]}
+        _options={a.dest: (a.option_strings[-1], a.default) for a in parser._actions if a.dest != "help"}
     )
     return parser
 
@@ -89,8 +89,7 @@ def _refuse_unused(args) -> None:
     given = []
     for dest, (option, default) in args._options.items():
         value = getattr(args, dest, default)
-        same = value == default or (value is None and default is None)
-        if dest not in used and not same:
+        if dest not in used and value != default:  # NaN given is never its default: refused too
             given.append(option)
     if given:
         words = "--run (a run's sound power and pass-by)" if mode == "run" else f"--method {mode}"

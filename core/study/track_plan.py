@@ -111,6 +111,8 @@ def plan_track(infos, params, tracks, spec_of):
 
 def _total(levels) -> float:
     """The energy sum of band levels (dB), unresolved (NaN) bands left out."""
+    from wheelrail.core.noise.levels import energy_sum
+
     values = np.asarray(levels, dtype=float)
     values = values[np.isfinite(values)]
-    return float(10 * np.log10(np.sum(10 ** (values / 10)))) if values.size else float("nan")
+    return float(energy_sum(values, axis=0)) if values.size else float("nan")
