@@ -11,12 +11,16 @@ starts empty: the first session computes the tracks it needs. ``WHEELRAIL_TEST_C
 elsewhere (an empty folder gives a cold session, as on a fresh clone).
 """
 
+import dataclasses
 import hashlib
 import os
 import shutil
 from pathlib import Path
 
+import numpy as np
 import pytest
+
+from wheelrail.core.results import RunResult
 
 ROOT = Path(__file__).resolve().parents[1]
 # the sources whose code decides the content of a cache entry (its key holds only the parameters): every module
@@ -64,3 +68,14 @@ def _tests_cache():
         os.environ.pop("WHEELRAIL_CACHE_DIR", None)
     else:
         os.environ["WHEELRAIL_CACHE_DIR"] = old
+
+
+# the arrays a run holds over its steps (time, x, force, ...): RunResult's fields typed as one array, read from the
+# class so that a test comparing two runs array by array compares every one, a new one included
+STEP_ARRAYS = tuple(f.name for f in dataclasses.fields(RunResult) if f.type in ("np.ndarray", np.ndarray))
+
+
+@pytest.fixture(scope="session")
+def step_arrays() -> tuple[str, ...]:
+    """The names of a run's arrays over its steps (:data:`STEP_ARRAYS`)."""
+    return STEP_ARRAYS

@@ -9,13 +9,6 @@ import numpy as np
 import pytest
 
 from wheelrail.core import cache
-from wheelrail.core.cli import main
-
-
-def _run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture
@@ -43,11 +36,11 @@ def _track_entry():
     return cache.save_entry("track-wedge", key, {"data": np.zeros(250_000)}, info={"compute_s": 20.0})
 
 
-def test_cache_lists_its_entries(folder, capsys):
+def test_cache_lists_its_entries(folder, cli):
     track = _track_entry()
     wheel = cache.save_entry("wheel-foh", "1" * 64, {"phi": np.eye(4)})
     (folder / ".someone-elses.tmp").write_text("x")
-    code, out, err = _run(capsys, "cache", "--json")
+    code, out, err = cli("cache", "--json")
     assert code == 0 and err == ""
     listing = json.loads(out)
     assert listing["folder"] == str(folder) and listing["limit_bytes"] == 4_000_000_000
@@ -56,39 +49,39 @@ def test_cache_lists_its_entries(folder, capsys):
     first = listing["entries"][1]
     assert first["kind"] == "track-wedge" and first["size_bytes"] == track.stat().st_size
     assert first["holds"] == "pad 300 MN/m, sleeper 125 kg every 0.6 m, ballast 140 MN/m, 70 bays"
-    code, out, err = _run(capsys, "cache")
+    code, out, err = cli("cache")
     assert code == 0 and err == "" and str(folder) in out and "WHEELRAIL_CACHE_MAX_GB" in out
     assert "pad 300 MN/m" in out and f"{track.stat().st_size / 1e6:9.1f}" in out
-    code, out, err = _run(capsys, "cache", "list", "--kind", "wheel-foh", "--json")
+    code, out, err = cli("cache", "list", "--kind", "wheel-foh", "--json")
     assert [entry["kind"] for entry in json.loads(out)["entries"]] == ["wheel-foh"]
 
 
-def test_cache_clear_removes_its_own_entries_only(folder, capsys):
+def test_cache_clear_removes_its_own_entries_only(folder, cli):
     track = _track_entry()
     wheel = cache.save_entry("wheel-foh", "1" * 64, {"phi": np.eye(4)})
     foreign = [folder / ".x.tmp", folder / "notes.txt", folder / "track-wedge-notes.npz"]
     for path in foreign:
         path.write_text("not the cache's")
-    code, out, err = _run(capsys, "cache", "clear", "--kind", "track-wedge", "--json")
+    code, out, err = cli("cache", "clear", "--kind", "track-wedge", "--json")
     assert code == 0 and err == "" and json.loads(out)["removed"] == [track.name]
     assert wheel.exists() and not track.exists()
-    code, out, _ = _run(capsys, "cache", "clear")
+    code, out, _ = cli("cache", "clear")
     assert code == 0 and "removed 1 entry" in out and not wheel.exists()
     assert sorted(folder.iterdir()) == sorted(foreign)
 
 
 @pytest.mark.parametrize("setting", ["WHEELRAIL_CACHE_DIR", "WHEELRAIL_CACHE_MAX_GB"])
-def test_a_bad_cache_setting_is_one_line(tmp_path, monkeypatch, capsys, setting):
+def test_a_bad_cache_setting_is_one_line(tmp_path, monkeypatch, cli, setting):
     afile = tmp_path / "afile"
     afile.write_text("x")
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(afile if setting == "WHEELRAIL_CACHE_DIR" else tmp_path))
     monkeypatch.setenv("WHEELRAIL_CACHE_MAX_GB", "-2" if setting == "WHEELRAIL_CACHE_MAX_GB" else "4")
     for argv in (["cache"], ["track", "--json"]):
-        code, out, err = _run(capsys, *argv)
+        code, out, err = cli(*argv)
         assert code == 2 and out == "" and err.count("\n") == 1 and setting in err and "Errno" not in err, err
 
 
-def test_filters_leaves_no_table_when_its_figure_fails(tmp_path, monkeypatch, capsys):
+def test_filters_leaves_no_table_when_its_figure_fails(tmp_path, monkeypatch, cli):
     # before: `filters --csv F --plot G` left F when G failed (a full disk)
     import matplotlib.figure
 
@@ -96,7 +89,7 @@ def test_filters_leaves_no_table_when_its_figure_fails(tmp_path, monkeypatch, ca
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", full)
-    code, _, err = _run(capsys, "filters", "--csv", str(tmp_path / "f.csv"), "--plot", str(tmp_path / "g.png"))
+    code, _, err = cli("filters", "--csv", str(tmp_path / "f.csv"), "--plot", str(tmp_path / "g.png"))
     assert code == 2 and "--plot" in err and "No space left" in err
     assert list(tmp_path.iterdir()) == []
 
@@ -131,7 +124,7 @@ def test_a_new_track_is_announced_on_a_terminal(folder):
 
 
 @pytest.mark.slow
-def test_run_leaves_no_recording_when_its_arrays_fail(tmp_path, monkeypatch, capsys):
+def test_run_leaves_no_recording_when_its_arrays_fail(tmp_path, monkeypatch, cli):
     # before: the recording was published first, then --out failed on the full disk: a .rrd without its .npz
     from wheelrail.core.results import RunResult
 
@@ -141,6 +134,6 @@ def test_run_leaves_no_recording_when_its_arrays_fail(tmp_path, monkeypatch, cap
     monkeypatch.setattr(RunResult, "save_npz", full)
     out, rrd = tmp_path / "run.npz", tmp_path / "run.rrd"
     argv = ["run", "--set", "corrugated-rail", "--length-m", "0.05", "--out", str(out), "--rrd", str(rrd), "--json"]
-    code, _, err = _run(capsys, *argv)
+    code, _, err = cli(*argv)
     assert code == 1 and "No space left" in err
     assert list(tmp_path.iterdir()) == []

@@ -12,16 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from wheelrail.cli import EXPLORER_COMMANDS, main  # the `wheelrail` command: core's commands and `explore`
+from wheelrail.cli import EXPLORER_COMMANDS  # the `wheelrail` command: core's commands and `explore`
 from wheelrail.core.cli import COMMANDS
 
 SAMPLE = Path(__file__).resolve().parents[2] / "sample_data" / "corrugated-rail.npz"
-
-
-def _run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def _one_error_line(code, err, command, text):
@@ -31,7 +25,7 @@ def _one_error_line(code, err, command, text):
 
 
 # item 2: an output that is one of the inputs -----------------------------------------------------------------
-def test_output_that_is_the_input_is_refused_in_any_spelling(tmp_path, capsys, monkeypatch):
+def test_output_that_is_the_input_is_refused_in_any_spelling(tmp_path, cli, monkeypatch):
     monkeypatch.chdir(tmp_path)
     shutil.copy(SAMPLE, "in.npz")
     os.symlink(tmp_path / "in.npz", "link.npz")
@@ -42,18 +36,18 @@ def test_output_that_is_the_input_is_refused_in_any_spelling(tmp_path, capsys, m
         ["run", "--set", "link.npz", "--length-m", "0.05", "--out", "in.npz"],
         ["run", "--set", "in.npz", "--length-m", "0.05", "--rrd", "in.npz"],
     ):
-        code, out, err = _run(capsys, *argv)
+        code, out, err = cli(*argv)
         _one_error_line(code, err, "run", "is the input file")
     Path("plot.png").symlink_to(tmp_path / "in.npz")
-    code, out, err = _run(capsys, "roughness", "--set", "in.npz", "--plot", "plot.png")
+    code, out, err = cli("roughness", "--set", "in.npz", "--plot", "plot.png")
     _one_error_line(code, err, "roughness", "is the input file")
     assert Path("in.npz").read_bytes() == before
 
 
-def test_unwritable_output_is_refused_before_the_run(tmp_path, capsys):
-    code, out, err = _run(capsys, "run", "--set", "corrugated-rail", "--out", "/proc/x.npz")
+def test_unwritable_output_is_refused_before_the_run(tmp_path, cli):
+    code, out, err = cli("run", "--set", "corrugated-rail", "--out", "/proc/x.npz")
     _one_error_line(code, err, "run", "cannot write in folder /proc")
-    code, out, err = _run(capsys, "run", "--set", "corrugated-rail", "--out", str(tmp_path))
+    code, out, err = cli("run", "--set", "corrugated-rail", "--out", str(tmp_path))
     _one_error_line(code, err, "run", "must end in .npz")
 
 
@@ -77,22 +71,22 @@ def test_unwritable_output_is_refused_before_the_run(tmp_path, capsys):
     ],
 )
 @pytest.mark.slow
-def test_sizes_are_refused_with_a_figure(argv, text, capsys, tmp_path, monkeypatch):
+def test_sizes_are_refused_with_a_figure(argv, text, cli, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    code, out, err = _run(capsys, *argv)
+    code, out, err = cli(*argv)
     _one_error_line(code, err, argv[0], text)
     assert not Path("x.npz").exists() and not Path("x.rrd").exists()
 
 
 @pytest.mark.slow
-def test_3d_keeps_pressure_maps_only_for_out(tmp_path, capsys, monkeypatch):
+def test_3d_keeps_pressure_maps_only_for_out(tmp_path, cli, monkeypatch):
     # 0.3 m of 3d after the 8.334 m run-in: 8.7k elements x 600 B without maps (4.96 MiB), + 300 maps of
     # 2.5 kB with them (5.68 MiB)
     monkeypatch.setenv("WHEELRAIL_MEMORY_LIMIT_GB", str(5.3 / 1024))
     argv = ["run", "--set", "corrugated-rail", "--model", "3d", "--length-m", "0.3", "--json"]
-    code, out, err = _run(capsys, *argv)
+    code, out, err = cli(*argv)
     assert code == 0, err
-    code, out, err = _run(capsys, *argv, "--out", str(tmp_path / "run.npz"))
+    code, out, err = cli(*argv, "--out", str(tmp_path / "run.npz"))
     _one_error_line(code, err, "run", "are the pressure maps kept for the result")
 
 
@@ -129,7 +123,7 @@ def test_ctrl_c_during_a_3d_run_is_interrupted_130():
     assert err.strip() == "wheelrail run: interrupted"
 
 
-def test_interrupt_turned_into_systemerror_by_compiled_code_is_reported_as_interrupted(capsys, monkeypatch):
+def test_interrupt_turned_into_systemerror_by_compiled_code_is_reported_as_interrupted(cli, monkeypatch):
     # what numba does when Ctrl-C arrives while it calls back into Python
     from wheelrail.core.commands import datasets
 
@@ -142,7 +136,7 @@ def test_interrupt_turned_into_systemerror_by_compiled_code_is_reported_as_inter
             ) from error
 
     monkeypatch.setattr(datasets, "run", interrupted)
-    code, out, err = _run(capsys, "datasets")
+    code, out, err = cli("datasets")
     assert code == 130 and err == "wheelrail datasets: interrupted\n"
 
 
@@ -156,19 +150,19 @@ def test_interrupt_turned_into_systemerror_by_compiled_code_is_reported_as_inter
         (["--host", "192.0.2.1"], "cannot listen on 192.0.2.1"),
     ],
 )
-def test_explore_refuses_bad_addresses_before_starting(argv, text, capsys):
-    code, out, err = _run(capsys, "explore", *argv)
+def test_explore_refuses_bad_addresses_before_starting(argv, text, cli):
+    code, out, err = cli("explore", *argv)
     _one_error_line(code, err, "explore", text)
 
 
 # item 9: track, roughness, spectra files --------------------------------------------------------------------
 @pytest.mark.slow
-def test_track_plot_must_be_png_and_files_are_written_atomically(tmp_path, capsys):
+def test_track_plot_must_be_png_and_files_are_written_atomically(tmp_path, cli):
     for name in ("r.txt", "rplot"):
-        code, out, err = _run(capsys, "track", "--plot", str(tmp_path / name))
+        code, out, err = cli("track", "--plot", str(tmp_path / name))
         _one_error_line(code, err, "track", "must end in .png")
     csv_path, png = tmp_path / "r.csv", tmp_path / "r.png"
-    code, out, err = _run(capsys, "track", "--df-hz", "100", "--csv", str(csv_path), "--plot", str(png), "--json")
+    code, out, err = cli("track", "--df-hz", "100", "--csv", str(csv_path), "--plot", str(png), "--json")
     assert code == 0, err
     summary = json.loads(out)
     assert summary["plot"] == str(png) and png.read_bytes()[:4] == b"\x89PNG"
@@ -177,7 +171,7 @@ def test_track_plot_must_be_png_and_files_are_written_atomically(tmp_path, capsy
 
 
 @pytest.mark.parametrize("damage", ["metadata", "two_d_force", "nan_force", "short_time"])
-def test_spectra_refuses_hand_made_run_files_in_one_line(damage, tmp_path, capsys):
+def test_spectra_refuses_hand_made_run_files_in_one_line(damage, tmp_path, cli):
     from tests.cli.test_spectra_cli import _result
 
     path = _result(n=2000).save_npz(tmp_path / "run.npz")
@@ -193,35 +187,33 @@ def test_spectra_refuses_hand_made_run_files_in_one_line(damage, tmp_path, capsy
     else:
         arrays["time"] = arrays["time"][:10]
     np.savez(tmp_path / "hand.npz", **arrays)
-    code, out, err = _run(capsys, "spectra", str(tmp_path / "hand.npz"))
+    code, out, err = cli("spectra", str(tmp_path / "hand.npz"))
     _one_error_line(code, err, "spectra", "cannot read run file")
 
 
 @pytest.mark.slow
-def test_edge_of_window_advice_names_what_the_cli_can_change(capsys, tmp_path):
+def test_edge_of_window_advice_names_what_the_cli_can_change(cli, tmp_path):
     import dataclasses
 
     from wheelrail.core.roughness import load_roughness, write_csv
 
     rail = load_roughness("corrugated-rail")
     write_csv(dataclasses.replace(rail, heights=rail.heights * 200), tmp_path / "rough.csv")  # up to 8 mm
-    code, out, err = _run(
-        capsys, "run", "--set", str(tmp_path / "rough.csv"), "--model", "hertz-winkler", "--length-m", "0.1"
-    )
+    code, out, err = cli("run", "--set", str(tmp_path / "rough.csv"), "--model", "hertz-winkler", "--length-m", "0.1")
     _one_error_line(code, err, "run", "--model hertz-winkler: the bedding contact reaches the end of its window")
     assert err.rstrip().endswith("use a smoother line or set, or the hertz model")
     assert "half_window" not in err  # a keyword argument the CLI does not have
 
 
 # item 11: start-up ------------------------------------------------------------------------------------------
-def test_help_imports_no_command_module_and_lists_each_modules_help():
+def test_help_imports_no_command_module_and_lists_each_modules_help(python_probe):
     probe = (
         "import sys, io, contextlib\nfrom wheelrail.core.cli import main\n"
         "with contextlib.redirect_stdout(io.StringIO()):\n"
         "    try:\n        main(['--help'])\n    except SystemExit:\n        pass\n"
         "print(sorted(m for m in sys.modules if m.startswith(('wheelrail.core.commands.', 'numpy', 'scipy'))))"
     )
-    loaded = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout
+    loaded = python_probe(probe)
     assert loaded.strip() == "[]"
     import argparse
     import importlib

@@ -6,18 +6,11 @@ import json
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
 from wheelrail.core.reference_filters import CNOSSOS_A3, reference_filters
 
 
-def _run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def test_filters_json_layout(capsys):
-    code, out, err = _run(capsys, "filters", "--json", "--preload-kn", "50", "--wheel-radius-mm", "460")
+def test_filters_json_layout(cli):
+    code, out, err = cli("filters", "--json", "--preload-kn", "50", "--wheel-radius-mm", "460")
     assert code == 0 and err == ""
     result = json.loads(out)  # strict JSON: undefined levels are null
     assert len(result["wavelength_mm"]) == 35
@@ -35,10 +28,10 @@ def test_filters_json_layout(capsys):
     assert result["speed_m_s"] == pytest.approx(100 / 3.6)
 
 
-def test_filters_on_an_elliptic_patch(capsys):
+def test_filters_on_an_elliptic_patch(cli):
     """A 0.46 m wheel on a 0.30 m crown: Hertz's ellipse, a = 6.20 mm along the rail and b = 4.67 mm
     across (Johnson 4.2); the analytic filters follow a, the CNOSSOS column stays the table's for D = 920 mm."""
-    code, out, err = _run(capsys, "filters", "--json", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300")
+    code, out, err = cli("filters", "--json", "--wheel-radius-mm", "460", "--rail-crown-radius-mm", "300")
     assert code == 0 and err == ""
     result = json.loads(out)
     a, b = result["semi_axes_m"]
@@ -48,21 +41,21 @@ def test_filters_on_an_elliptic_patch(capsys):
     expected = [None if not np.isfinite(v) else pytest.approx(v) for v in circle.by_wavelength["cnossos"]]
     assert result["by_wavelength"]["cnossos"] == expected
     assert result["by_wavelength"]["averaging"] != pytest.approx(list(circle.by_wavelength["averaging"]))
-    code, _, err = _run(capsys, "filters", "--wheel-transverse-radius-mm", "-300")
+    code, _, err = cli("filters", "--wheel-transverse-radius-mm", "-300")
     assert code != 0 and "the surfaces conform" in err and len(err.strip().splitlines()) == 1
 
 
-def test_filters_null_where_undefined(capsys):
-    code, out, _ = _run(capsys, "filters", "--json")  # the paper's 65 kN, R = 390 mm: interpolated CNOSSOS
+def test_filters_null_where_undefined(cli):
+    code, out, _ = cli("filters", "--json")  # the paper's 65 kN, R = 390 mm: interpolated CNOSSOS
     assert code == 0
     cnossos = json.loads(out)["by_wavelength"]["cnossos"]
     assert cnossos[-1] is None and all(v is not None for v in cnossos[:-1])
 
 
 @pytest.mark.slow
-def test_filters_table_csv_and_plot(capsys, tmp_path):
+def test_filters_table_csv_and_plot(cli, tmp_path):
     table, figure = tmp_path / "f.csv", tmp_path / "f.png"
-    code, out, err = _run(capsys, "filters", "--speed-kmh", "140", "--csv", str(table), "--plot", str(figure))
+    code, out, err = cli("filters", "--speed-kmh", "140", "--csv", str(table), "--plot", str(figure))
     assert code == 0 and err == "" and "at 140 km/h" in out and "patch-incoherent" in out
     with open(table, newline="", encoding="utf-8") as handle:
         rows = list(csv.DictReader(handle))
@@ -82,14 +75,14 @@ def test_filters_table_csv_and_plot(capsys, tmp_path):
         (["--plot", "/no/such/folder/f.png"], "does not exist"),
     ],
 )
-def test_filters_bad_input_is_one_line(capsys, argv, message):
-    code, out, err = _run(capsys, "filters", *argv)
+def test_filters_bad_input_is_one_line(cli, argv, message):
+    code, out, err = cli("filters", *argv)
     assert code == 2 and out == "" and message in err and err.count("\n") == 1
 
 
 @pytest.mark.slow
-def test_roughness_iso3095_margin_for_rail_sets(capsys, tmp_path):
-    code, out, _ = _run(capsys, "roughness", "--set", "corrugated-rail", "--json", "--plot", str(tmp_path / "r.png"))
+def test_roughness_iso3095_margin_for_rail_sets(cli, tmp_path):
+    code, out, _ = cli("roughness", "--set", "corrugated-rail", "--json", "--plot", str(tmp_path / "r.png"))
     assert code == 0
     bands = json.loads(out)["wavelength_bands"]
     labels, limit, margin = bands["band_labels_mm"], bands["iso3095_limit_db"], bands["iso3095_margin_db"]
@@ -98,5 +91,5 @@ def test_roughness_iso3095_margin_for_rail_sets(capsys, tmp_path):
     levels = np.array([np.nan if v is None else v for v in bands["levels_db"]])
     expected = np.array(limit[3:], dtype=float) - levels[3:]
     np.testing.assert_allclose(np.array(margin[3:], dtype=float), expected, atol=1e-9)
-    code, out, _ = _run(capsys, "roughness", "--set", "cast-iron-wheel", "--json")
+    code, out, _ = cli("roughness", "--set", "cast-iron-wheel", "--json")
     assert code == 0 and "iso3095_margin_db" not in json.loads(out)["wavelength_bands"]  # a rail limit only

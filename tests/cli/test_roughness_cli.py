@@ -7,18 +7,11 @@ import sys
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
 from wheelrail.core.roughness import RoughnessSet, write_csv
 
 
-def _run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def test_datasets_json(capsys):
-    code, out, err = _run(capsys, "datasets", "--json")
+def test_datasets_json(cli):
+    code, out, err = cli("datasets", "--json")
     assert code == 0 and err == ""
     sets = {s["name"]: s for s in json.loads(out)["datasets"]}
     assert set(sets) == {"corrugated-rail", "cast-iron-wheel", "sinter-wheel-1", "sinter-wheel-2"}
@@ -29,13 +22,13 @@ def test_datasets_json(capsys):
     assert wheel["lateral_spacing_m"] == pytest.approx(2e-3) and wheel["length_m"] == pytest.approx(2.9)
 
 
-def test_datasets_table(capsys):
-    code, out, _ = _run(capsys, "datasets")
+def test_datasets_table(cli):
+    code, out, _ = cli("datasets")
     assert code == 0 and "corrugated-rail" in out and "synthetic" in out
 
 
-def test_roughness_json_for_bundled_set(capsys):
-    code, out, err = _run(capsys, "roughness", "--set", "corrugated-rail", "--json")
+def test_roughness_json_for_bundled_set(cli):
+    code, out, err = cli("roughness", "--set", "corrugated-rail", "--json")
     assert code == 0 and err == ""
     result = json.loads(out)  # strict JSON: unresolved bands are null, never NaN
     centres = np.array(result["band_centres_hz"])
@@ -48,7 +41,7 @@ def test_roughness_json_for_bundled_set(capsys):
     assert len(result["wavelength_bands"]["levels_db"]) == 25  # 800 mm .. 3.15 mm
 
 
-def test_roughness_user_csv_and_options(capsys, tmp_path):
+def test_roughness_user_csv_and_options(cli, tmp_path):
     rng = np.random.default_rng(2)
     x = np.arange(4000) * 1e-3
     common = 5e-6 * np.sin(2 * np.pi * x / 0.04)  # 40 mm wavelength, the same on every line
@@ -57,8 +50,7 @@ def test_roughness_user_csv_and_options(capsys, tmp_path):
         RoughnessSet(heights=heights, dx=1e-3, y=np.arange(-2, 3) * 1e-3, kind="rail", description="mine"),
         tmp_path / "mine.csv",
     )
-    code, out, err = _run(
-        capsys,
+    code, out, err = cli(
         "roughness",
         "--set",
         str(path),
@@ -85,9 +77,9 @@ def test_roughness_user_csv_and_options(capsys, tmp_path):
 
 
 @pytest.mark.slow
-def test_roughness_plot(capsys, tmp_path):
+def test_roughness_plot(cli, tmp_path):
     target = tmp_path / "r.png"
-    code, out, err = _run(capsys, "roughness", "--set", "sinter-wheel-1", "--plot", str(target))
+    code, out, err = cli("roughness", "--set", "sinter-wheel-1", "--plot", str(target))
     assert code == 0, err
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "figure written" in out and "EN 15610 wavelength bands" in out
@@ -106,16 +98,16 @@ def test_roughness_plot(capsys, tmp_path):
         (["roughness", "--set", "cast-iron-wheel", "--blocks", "1000"], "samples per block"),
     ],
 )
-def test_bad_input_one_line_nonzero(capsys, argv, message):
-    code, out, err = _run(capsys, *argv)
+def test_bad_input_one_line_nonzero(cli, argv, message):
+    code, out, err = cli(*argv)
     assert code != 0 and out == ""
     assert err.count("\n") == 1 and message in err
 
 
-def test_malformed_user_file(capsys, tmp_path):
+def test_malformed_user_file(cli, tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("# kind: rail\nx_m,y_mm=0,y_mm=1\n0,1,2\n0.001,3\n")
-    code, out, err = _run(capsys, "roughness", "--set", str(bad))
+    code, out, err = cli("roughness", "--set", str(bad))
     assert code != 0 and out == ""
     assert err.count("\n") == 1 and f"{bad}, line 4: ragged row" in err
 
@@ -135,12 +127,12 @@ def test_module_entry_point_reports_one_line(tmp_path):
 
 
 @pytest.mark.parametrize("model", ["hertz", "3d"])
-def test_run_refuses_roughness_whose_model_grid_would_need_gigabytes(capsys, tmp_path, model):
+def test_run_refuses_roughness_whose_model_grid_would_need_gigabytes(cli, tmp_path, model):
     # Two samples 1e6 m apart: the 1 mm model grid needs 1e9 heights (8 GB) a line; this was a MemoryError
     # after trying to allocate them. Now one line with the figure, before allocating.
     coarse = tmp_path / "coarse.csv"
     coarse.write_text("x_m,y_mm=-1,y_mm=0,y_mm=1\n0,1,2,3\n1000000,2,3,4\n")
-    code, out, err = _run(capsys, "run", "--set", str(coarse), "--model", model)
+    code, out, err = cli("run", "--set", str(coarse), "--model", model)
     assert code != 0 and out == ""
     # refused by the reader's accepted spacing (1 µm to 10 mm) before any grid is sized; sets made in memory
     # meet the grid's own height count (tests/unit/test_roughness_damaged.py)

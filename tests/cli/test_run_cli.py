@@ -11,7 +11,7 @@ from wheelrail.core.roughness import load_roughness, write_csv
 
 @pytest.mark.parametrize("model", ["3d", "2d", "hertz", "hertz-winkler", "hertz-average"])
 @pytest.mark.slow
-def test_run_every_model_writes_npz(model, tmp_path, capsys):
+def test_run_every_model_writes_npz(model, tmp_path, capsys, step_arrays):
     out = tmp_path / "run.npz"
     argv = [
         "run",
@@ -37,7 +37,7 @@ def test_run_every_model_writes_npz(model, tmp_path, capsys):
     assert summary["run_in_length_m"] == pytest.approx(6.667)
     assert summary["speed_m_per_s"] == pytest.approx(80 / 3.6)
     data = np.load(out)
-    for name in ("time", "x", "force", "xi_wheel", "xi_rail"):
+    for name in step_arrays:
         assert data[name].shape == (50,)
     assert np.allclose(np.diff(data["time"]), 1e-3 / (80 / 3.6))
     assert np.all(data["force"] > 0)

@@ -7,7 +7,6 @@ import json
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
 from wheelrail.core.parameters import ModelParameters
 from wheelrail.core.recording import record_result
 from wheelrail.core.results import RunHeader, RunResult
@@ -34,18 +33,12 @@ def _result(n: int = 2000) -> RunResult:
     )
 
 
-def _run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def test_npz_and_rrd_give_the_same_spectrum(tmp_path, capsys):
+def test_npz_and_rrd_give_the_same_spectrum(tmp_path, cli):
     result = _result()
     npz = result.save_npz(tmp_path / "run.npz")
     rrd = record_result(result, tmp_path / "run.rrd")
-    code_npz, out_npz, err_npz = _run(capsys, "spectra", str(npz), "--json")
-    code_rrd, out_rrd, err_rrd = _run(capsys, "spectra", str(rrd), "--json")
+    code_npz, out_npz, err_npz = cli("spectra", str(npz), "--json")
+    code_rrd, out_rrd, err_rrd = cli("spectra", str(rrd), "--json")
     assert code_npz == code_rrd == 0 and err_npz == err_rrd == ""
     from_npz, from_rrd = json.loads(out_npz), json.loads(out_rrd)
     # exact: both files hold the force as float64 and the same time step
@@ -60,9 +53,9 @@ def test_npz_and_rrd_give_the_same_spectrum(tmp_path, capsys):
     assert from_npz["model"] == "hertz" and from_npz["steps"] == 2000 and from_npz["skip_s"] == pytest.approx(0.02)
 
 
-def test_table_output_and_skip(tmp_path, capsys):
+def test_table_output_and_skip(tmp_path, cli):
     npz = _result().save_npz(tmp_path / "run.npz")
-    code, out, err = _run(capsys, "spectra", str(npz), "--skip-ms", "5")
+    code, out, err = cli("spectra", str(npz), "--skip-ms", "5")
     assert code == 0 and err == ""
     assert "first 5 ms skipped" in out and "dB re 1 N" in out
     assert len([line for line in out.splitlines() if line.strip().split()[0] in ("500", "8000")]) == 2
@@ -78,21 +71,21 @@ def test_table_output_and_skip(tmp_path, capsys):
         ("run.csv", b"x_m,y_mm=0\n0,1\n", "must be a .npz"),
     ],
 )
-def test_bad_files_are_one_clear_line(tmp_path, capsys, name, content, message):
+def test_bad_files_are_one_clear_line(tmp_path, cli, name, content, message):
     path = tmp_path / name
     if content is not None:
         path.write_bytes(content)
-    code, out, err = _run(capsys, "spectra", str(path))
+    code, out, err = cli("spectra", str(path))
     assert code != 0 and out == ""
     assert len(err.strip().splitlines()) == 1 and message in err and err.startswith("wheelrail spectra: error:")
 
 
-def test_npz_without_force_and_too_short_run(tmp_path, capsys):
+def test_npz_without_force_and_too_short_run(tmp_path, cli):
     np.savez(tmp_path / "other.npz", z_m=np.zeros((3, 10)))
-    code, _, err = _run(capsys, "spectra", str(tmp_path / "other.npz"))
+    code, _, err = cli("spectra", str(tmp_path / "other.npz"))
     assert code != 0 and "no 'force' array" in err
     short = _result(n=100).save_npz(tmp_path / "short.npz")  # 3.6 ms < the 20 ms start-up skip
-    code, _, err = _run(capsys, "spectra", str(short))
+    code, _, err = cli("spectra", str(short))
     assert code != 0 and len(err.strip().splitlines()) == 1
     assert (
         err.startswith(

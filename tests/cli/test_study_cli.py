@@ -430,17 +430,14 @@ def test_every_named_study_is_known_to_the_cli(capsys):
 
 
 @pytest.mark.slow
-def test_explorer_does_not_load_the_study_package():
+def test_explorer_does_not_load_the_study_package(python_probe):
     # the explorer's contact filters come from core.spectra; importing the study package would load the
     # process-pool and Dask machinery into the GUI for nothing
-    import subprocess
-    import sys
-
     code = (
         "import sys, wheelrail.explorer.app; "
         "print(sorted(m for m in sys.modules if m.startswith('wheelrail.core.study')))"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    out = python_probe(code)
     assert out.strip() == "[]", out
 
 
