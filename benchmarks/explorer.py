@@ -24,7 +24,6 @@ explore`` starts has finished.
 from __future__ import annotations
 
 import argparse
-import socket
 import statistics
 import time
 from pathlib import Path
@@ -32,15 +31,9 @@ from pathlib import Path
 from wheelrail.core.run_setup import default_run_in_length
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def _press(app, model: str, length: float) -> tuple[float, float, int, int, float]:
-    app.model_dropdown.value = model
-    app.length_text.value = f"{length:g}"
+    app.form.model_dropdown.value = model
+    app.form.length_text.value = f"{length:g}"
     first = []
     draw = type(app).frame  # the benchmark times the listener's first frame (the app keeps no timer)
 
@@ -52,14 +45,14 @@ def _press(app, model: str, length: float) -> tuple[float, float, int, int, floa
     app.frame = timed
     start = time.perf_counter()
     try:
-        assert app.start_run(), app.last_error
+        assert app.start_run(), app.page.last_error
         app.controller.wait()
     finally:
         del app.frame
     elapsed = time.perf_counter() - start
-    if app.last_error:
-        raise SystemExit(app.last_error)
-    return first[0] - start, elapsed, app.scene.frames_drawn, app.replay.result.n_steps, start
+    if app.page.last_error:
+        raise SystemExit(app.page.last_error)
+    return first[0] - start, elapsed, app.scene.frames_drawn, app.replay.entry.result.n_steps, start
 
 
 def server_side(app, repeats: int, length: float) -> None:
@@ -121,7 +114,7 @@ COUNT_PATCHES = """async () => {
 
 
 def browser_frames(page, app, length: float) -> None:
-    app.length_text.value = f"{length:g}"
+    app.form.length_text.value = f"{length:g}"
     frames, first, latest = page.evaluate(COUNT_PATCHES)
     app.controller.wait()
     rate = (frames - 1) / ((latest - first) / 1e3) if frames > 1 and latest > first else float("nan")
@@ -141,8 +134,8 @@ def browser_side(app, repeats: int) -> None:
         "--no-sandbox",
         "--disable-gpu",
     ]
-    app.model_dropdown.value = "3d"
-    app.length_text.value = "1"
+    app.form.model_dropdown.value = "3d"
+    app.form.length_text.value = "1"
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path="/usr/bin/chromium", args=args)
         page = browser.new_page(viewport={"width": 1200, "height": 800})
@@ -173,9 +166,9 @@ def first_run(warm_up: bool) -> None:
 
     warmed = threading.Event()
     start = time.perf_counter()
-    app = ExplorerApp(port=_free_port())
+    app = ExplorerApp(port=0)  # a port the system chooses (app.port: the one bound)
     if warm_up:  # what ExplorerApp(warm_up=True) starts, with a signal at its end
-        app.controller.warm_up(app.shown, app.roughness, done=lambda seconds: warmed.set())
+        app.controller.warm_up(app.shown, app.form.roughness, done=lambda seconds: warmed.set())
         warmed.wait()
         print(
             f"background warm-up (as `wheelrail explore` starts it): {time.perf_counter() - start:.1f} s "
@@ -197,7 +190,7 @@ def first_run(warm_up: bool) -> None:
     app.status, app.frame = timed_status, timed_frame
     try:
         start = time.perf_counter()
-        assert app.start_run(), app.last_error
+        assert app.start_run(), app.page.last_error
         app.controller.wait()
         done = time.perf_counter()
     finally:
@@ -244,7 +237,7 @@ def main() -> None:
         return
     from wheelrail.explorer.app import ExplorerApp
 
-    app = ExplorerApp(port=_free_port())
+    app = ExplorerApp(port=0)  # a port the system chooses (app.port: the one bound)
     try:
         server_side(app, args.repeats, args.length_m)
         if args.browser:

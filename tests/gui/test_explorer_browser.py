@@ -6,36 +6,17 @@ bad uploads give a message; screenshots go to ``test-artifacts/``. Software WebG
 slow to draw its first frames, hence the generous timeouts.
 """
 
-import socket
 import time
 from pathlib import Path
 
 import pytest
 
-CHROMIUM = Path("/usr/bin/chromium")
-ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
-LAUNCH_ARGS = [
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-sandbox",
-    "--disable-gpu",
-]
+from wheelrail.explorer.tabs import SpectraTab
 
-if not CHROMIUM.exists():
-    pytest.skip(
-        "Debian's chromium is not installed at /usr/bin/chromium (apt-get install chromium); CI installs it",
-        allow_module_level=True,
-    )
-from playwright import sync_api as playwright_api  # noqa: E402  (the test extra installs it)
+ARTIFACTS = Path(__file__).resolve().parents[2] / "test-artifacts"
+
 
 pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def _wait_for(condition, timeout: float, what: str) -> None:
@@ -50,22 +31,12 @@ def _wait_for(condition, timeout: float, what: str) -> None:
 
 
 @pytest.fixture(scope="module")
-def app():
-    from wheelrail.explorer.app import ExplorerApp
-
-    explorer = ExplorerApp(port=_free_port())
-    explorer.model_dropdown.value = "hertz"  # the page changes it
-    explorer.length_text.value = "0.8"
-    yield explorer
-    explorer.close()
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with playwright_api.sync_playwright() as p:
-        chromium = p.chromium.launch(executable_path=str(CHROMIUM), args=LAUNCH_ARGS)
-        yield chromium
-        chromium.close()
+def app(app):
+    """The module's explorer (conftest) set to hertz, 0.8 m."""
+    explorer = app
+    explorer.form.model_dropdown.value = "hertz"  # the page changes it
+    explorer.form.length_text.value = "0.8"
+    return explorer
 
 
 PLOTS_IN_PAGE = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(t => ({
@@ -107,11 +78,11 @@ def test_compare_in_the_page_then_change_speed_the_old_filters_go(app, browser):
     run_button = page.get_by_role("button", name="Run", exact=True)
     run_button.wait_for(timeout=90_000)
     _choose(page, "Contact model", "compare")
-    _wait_for(lambda: app.model_dropdown.value == "compare", 30, "the page's model to reach the server")
+    _wait_for(lambda: app.form.model_dropdown.value == "compare", 30, "the page's model to reach the server")
     run_button.click()
     page.get_by_text("Done: compare on corrugated-rail, line 0, 100 km/h", exact=False).wait_for(timeout=300_000)
-    assert app.last_error is None
-    page.get_by_role("tab", name="Spectra and filters").click()
+    assert app.page.last_error is None
+    page.get_by_role("tab", name=SpectraTab.title).click()
     _wait_for(
         lambda: "3d - hertz" in (_plot(page, "Contact filters") or {}).get("labels", []),
         60,
@@ -158,11 +129,11 @@ def test_3d_offers_only_the_lines_its_window_fits(app, browser):
     page.goto(f"http://127.0.0.1:{app.port}")
     page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
     _choose(page, "Contact model", "hertz")
-    _wait_for(lambda: len(app.line_dropdown.options) == 19, 30, "every line for hertz")
+    _wait_for(lambda: len(app.form.line_dropdown.options) == 19, 30, "every line for hertz")
     _wait_for(lambda: _options(page, "Line") == [str(n) for n in range(-9, 10)], 30, "every line in the page")
     _choose(page, "Line", "7")
     _choose(page, "Contact model", "3d")
-    _wait_for(lambda: app.model_dropdown.value == "3d", 30, "3d to reach the server")
+    _wait_for(lambda: app.form.model_dropdown.value == "3d", 30, "3d to reach the server")
     expected = [str(n) for n in window_lines(load_roughness("corrugated-rail"))]
     assert expected == ["-2", "-1", "0", "1", "2"]
     _wait_for(lambda: _options(page, "Line") == expected, 30, "the 3d lines in the page")
@@ -187,24 +158,24 @@ def test_bad_uploads_in_the_page(app, browser):
     page.on("pageerror", lambda error: errors.append(str(error)))
     page.goto(f"http://127.0.0.1:{app.port}")
     page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
-    before = app.replay
+    before = app.replay.entry
     upload = page.locator("input[type=file]").first  # the Run folder's upload; the Session folder's comes after
     upload.set_input_files(files=[{"name": "broken.csv", "mimeType": "text/csv", "buffer": b"x_m,heights\n0,abc\n"}])
-    _wait_for(lambda: (app.last_error or "").startswith("upload 'broken.csv'"), 60, "the malformed-CSV message")
+    _wait_for(lambda: (app.page.last_error or "").startswith("upload 'broken.csv'"), 60, "the malformed-CSV message")
     page.get_by_text("Error: upload 'broken.csv'", exact=False).first.wait_for(timeout=60_000)
 
-    limit = app.max_upload_bytes
-    app.max_upload_bytes = 100_000  # keep the test's upload small
+    limit = app.page.max_upload_bytes
+    app.page.max_upload_bytes = 100_000  # keep the test's upload small
     try:
         upload.set_input_files(files=[{"name": "huge.csv", "mimeType": "text/csv", "buffer": b"0" * 150_000}])
-        _wait_for(lambda: "huge.csv" in (app.last_error or ""), 60, "the over-limit message")
+        _wait_for(lambda: "huge.csv" in (app.page.last_error or ""), 60, "the over-limit message")
         # refused when announced, before its bytes were buffered
-        assert app.last_error == "upload 'huge.csv' (146 kB) is over the 98 kB limit; refused before sending"
+        assert app.page.last_error == "upload 'huge.csv' (146 kB) is over the 98 kB limit; refused before sending"
         page.get_by_text("Error: upload 'huge.csv'", exact=False).first.wait_for(timeout=60_000)
     finally:
-        app.max_upload_bytes = limit
+        app.page.max_upload_bytes = limit
     page.screenshot(path=str(ARTIFACTS / "explorer-bad-upload.png"))
-    assert app.roughness_label == "corrugated-rail" and app.replay is before
+    assert app.form.roughness_label == "corrugated-rail" and app.replay.entry is before
     # viser's own notice that the bytes arrived is not shown beside the refusal (it is in the page, hidden)
     arrived = page.get_by_text("File uploaded successfully")
     assert all(not arrived.nth(i).is_visible() for i in range(arrived.count()))
@@ -218,7 +189,7 @@ NOTICES = """() => Array.from(document.querySelectorAll('.mantine-Notification-r
 
 def test_the_page_is_titled_and_keeps_one_notice(app, browser):
     """The browser tab says what it is; refused presses of Run replace their notice instead of piling up."""
-    from wheelrail.explorer.app import NOTICE_SECONDS
+    from wheelrail.explorer.page import NOTICE_SECONDS
 
     errors = []
     page = browser.new_page(viewport={"width": 1280, "height": 800})
@@ -228,34 +199,34 @@ def test_the_page_is_titled_and_keeps_one_notice(app, browser):
     run_button.wait_for(timeout=90_000)
     assert page.title() == "wheelrail explorer"
     speed = _text_field(page, "Speed (km/h)")
-    old = app.fields["speed"].value
-    app.notice_seconds = 600.0  # none closes by itself meanwhile: only a replacement takes one away
+    old = app.form.fields["speed"].value
+    app.page.notice_seconds = 600.0  # none closes by itself meanwhile: only a replacement takes one away
     try:
         for typo in ("1OO", "abc", "-5"):
             speed.fill(typo)
             speed.press("Enter")
             _wait_for(
-                lambda typo=typo: app.fields["speed"].value == typo, 30, f"the speed {typo!r} to reach the server"
+                lambda typo=typo: app.form.fields["speed"].value == typo, 30, f"the speed {typo!r} to reach the server"
             )
             run_button.click()
-            _wait_for(lambda typo=typo: typo in (app.last_error or ""), 30, f"the message about {typo!r}")
+            _wait_for(lambda typo=typo: typo in (app.page.last_error or ""), 30, f"the message about {typo!r}")
         # once the page has shown the last notice and taken the others away (they fade out): one notice
-        assert app.last_error.startswith("Speed -5 km/h is outside the accepted 5 to 400 km/h")
-        last = f"Cannot do that\n{app.last_error}"
+        assert app.page.last_error.startswith("Speed -5 km/h is outside the accepted 5 to 400 km/h")
+        last = f"Cannot do that\n{app.page.last_error}"
         page.wait_for_function(
             f"() => JSON.stringify(({NOTICES})().filter(t => t.startsWith('Cannot do that')))"
             f" === JSON.stringify([{last!r}])",
             timeout=30_000,
         )
-        app.notice_seconds = NOTICE_SECONDS
+        app.page.notice_seconds = NOTICE_SECONDS
         run_button.click()  # and a notice closes by itself
         _wait_for(
-            lambda: app._notices and next(iter(app._notices.values())).auto_close_seconds == NOTICE_SECONDS,
+            lambda: app.page.notices and next(iter(app.page.notices.values())).auto_close_seconds == NOTICE_SECONDS,
             30,
             "a notice that closes by itself",
         )
     finally:
-        app.notice_seconds = NOTICE_SECONDS
-        app.fields["speed"].value = old
+        app.page.notice_seconds = NOTICE_SECONDS
+        app.form.fields["speed"].value = old
     assert not errors, errors
     page.close()

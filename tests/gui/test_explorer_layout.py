@@ -6,27 +6,11 @@ tab the pressure colour bar is on screen; plot titles wrap inside their plot. Sc
 both sizes go to ``test-artifacts/``. Every wait is for a condition in the page, never a fixed time.
 """
 
-import socket
 from pathlib import Path
 
 import pytest
 
-CHROMIUM = Path("/usr/bin/chromium")
-LAUNCH_ARGS = [
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-sandbox",
-    "--disable-gpu",
-]
-if not CHROMIUM.exists():
-    pytest.skip(
-        "Debian's chromium is not installed at /usr/bin/chromium (apt-get install chromium); CI installs it",
-        allow_module_level=True,
-    )
-from playwright import sync_api as playwright_api  # noqa: E402  (the test extra installs it)
-
-from wheelrail.explorer.tabs import RESULT_TABS, HelpTab  # noqa: E402
+from wheelrail.explorer.tabs import RESULT_TABS, HelpTab, NoiseTab, PatchTab
 
 pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
 
@@ -57,29 +41,6 @@ def inside_share(box, width, height) -> float:
     return w * h / (box["width"] * box["height"])
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-@pytest.fixture(scope="module")
-def app():
-    from wheelrail.explorer.app import ExplorerApp
-
-    explorer = ExplorerApp(port=_free_port())  # the defaults: 3d on the corrugated rail, 3 m
-    yield explorer
-    explorer.close()
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with playwright_api.sync_playwright() as p:
-        chromium = p.chromium.launch(executable_path=str(CHROMIUM), args=LAUNCH_ARGS)
-        yield chromium
-        chromium.close()
-
-
 def _open(browser, app, width, height):
     """A page of the app at this window size, once its Run button is there; and its script errors."""
     errors = []
@@ -100,7 +61,7 @@ def test_after_the_default_run_every_tab_shows_its_first_plot(app, browser):
     page, errors = _open(browser, app, *SIZES[0])
     page.get_by_role("button", name="Run", exact=True).click()
     page.get_by_text("Done: 3d on corrugated-rail, line 0, 100 km/h, 65 kN, 3 m", exact=False).wait_for(timeout=300_000)
-    assert app.last_error is None
+    assert app.page.last_error is None
     page.close()
     problems = []
     for width, height in SIZES:
@@ -120,7 +81,7 @@ def test_after_the_default_run_every_tab_shows_its_first_plot(app, browser):
                         f"{first['width']:.0f} px wide, title {'' if first['title_fits'] else 'not '}"
                         "wrapped"
                     )
-            if title == "Patch":
+            if title == PatchTab.title:
                 bar = page.get_by_text(COLOUR_BAR, exact=True).locator("xpath=following::img[1]").bounding_box()
                 if bar is None or inside_share(bar, width, height) < 0.99:
                     problems.append(f"{width}x{height}: the colour bar is not on screen ({bar})")
@@ -135,9 +96,9 @@ def test_long_plot_titles_wrap_inside_their_plot(app, browser):
     page, errors = _open(browser, app, *SIZES[0])
     try:
         (
-            app.fields["wheel_radius"].value,
-            app.fields["rail_crown_radius"].value,
-            app.fields["wheel_transverse_radius"].value,
+            app.form.fields["wheel_radius"].value,
+            app.form.fields["rail_crown_radius"].value,
+            app.form.fields["wheel_transverse_radius"].value,
         ) = "460", "300", "-1000"
         page.wait_for_function(
             f"() => ({PLOT_BOXES})().some(b => b.title.includes('tread radius across -1000'))", timeout=60_000
@@ -147,7 +108,7 @@ def test_long_plot_titles_wrap_inside_their_plot(app, browser):
         assert first["width"] >= MIN_WIDTH
         assert not errors, errors
     finally:
-        app.fields["wheel_radius"].value = app.fields["rail_crown_radius"].value = app.fields[
+        app.form.fields["wheel_radius"].value = app.form.fields["rail_crown_radius"].value = app.form.fields[
             "wheel_transverse_radius"
         ].value = ""
         page.close()
@@ -158,13 +119,13 @@ def test_the_pass_by_plays_in_the_page(app, browser):
     duration is the pass-by's: T_p of the 40-axle, 200 m train and 1 s either side), and offers the download."""
     page, errors = _open(browser, app, *SIZES[0])
     try:
-        if app.replay is None:  # this test alone: the default run first
+        if app.replay.entry is None:  # this test alone: the default run first
             page.get_by_role("button", name="Run", exact=True).click()
             page.get_by_text("Done: 3d on corrugated-rail", exact=False).wait_for(timeout=300_000)
         page.wait_for_function(f"({FRAMES_RENDERED}) > 2", timeout=90_000)  # the 3D view has been drawn
         for close in page.locator(".mantine-Notification-closeButton").all():  # viser's software-WebGL notice
             close.click()
-        page.get_by_role("tab", name="Noise").click()
+        page.get_by_role("tab", name=NoiseTab.title).click()
         page.get_by_role("button", name="Pass-by audio").click()
         page.wait_for_function(
             "() => { const a = document.querySelector('audio'); return a && isFinite(a.duration) && a.duration > 0 }",

@@ -5,7 +5,6 @@ calling what the button calls (``ExplorerApp.start_run``); the runs are wheelrai
 """
 
 import io
-import socket
 import threading
 from types import SimpleNamespace
 
@@ -15,45 +14,27 @@ import pytest
 from wheelrail.core.drawing import colour_table, table_colours
 from wheelrail.core.models import model_names
 from wheelrail.core.parameters import ContactParameters
-from wheelrail.explorer.app import ExplorerApp
+from wheelrail.explorer.panel import NO_OVERLAY
 from wheelrail.explorer.scene import PRESSURE_HEIGHT, PRESSURE_TOP, SCENE_PER_MM
+from wheelrail.explorer.tabs import NoiseTab, PatchTab, RoughnessTab, SpectraTab
 
 pytestmark = pytest.mark.slow  # every test here starts a server and runs the model: `pytest -m 'not slow'` skips them
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-@pytest.fixture(scope="module")
-def app():
-    explorer = ExplorerApp(port=_free_port(), max_upload_bytes=1_000_000)
-    yield explorer
-    explorer.close()
-
-
-def _run(app, timeout=300.0):
-    assert app.start_run(), app.last_error
-    assert app.controller.wait(timeout), "run did not finish"
-    return app.replay.result
-
-
 def _reset(app, *, model="3d", speed="100", length="0.6", geometry_mm=("", "", "")):
-    app.wheel_set_dropdown.value = "none"
+    app.form.wheel_set_dropdown.value = "none"
     (
-        app.fields["wheel_radius"].value,
-        app.fields["rail_crown_radius"].value,
-        app.fields["wheel_transverse_radius"].value,
+        app.form.fields["wheel_radius"].value,
+        app.form.fields["rail_crown_radius"].value,
+        app.form.fields["wheel_transverse_radius"].value,
     ) = geometry_mm
-    app.set_dropdown.value = "corrugated-rail"
-    app.model_dropdown.value = model
-    app.line_dropdown.value = "0"
-    app.fields["speed"].value = speed
-    app.fields["preload"].value = "65"
-    app.length_text.value = length
-    app.last_error = None
+    app.form.set_dropdown.value = "corrugated-rail"
+    app.form.model_dropdown.value = model
+    app.form.line_dropdown.value = "0"
+    app.form.fields["speed"].value = speed
+    app.form.fields["preload"].value = "65"
+    app.form.length_text.value = length
+    app.page.last_error = None
 
 
 def _heat_map_of(result, step, contact=None):
@@ -70,19 +51,27 @@ def _heat_map_of(result, step, contact=None):
 def _assert_cleared(app):
     scene = app.scene
     assert not scene.heatmap.visible and not scene.strip.visible and not scene.surface.visible
-    assert "no run of this configuration yet" in app.readout_md.content.lower()
-    assert app.time_slider.disabled and app.play_button.disabled and app.rrd_button.disabled
-    assert app.progress_bar.value == 0
+    assert "no run of this configuration yet" in app.tab(PatchTab).readout_md.content.lower()
+    assert (
+        app.tab(PatchTab).time_slider.disabled
+        and app.tab(PatchTab).play_button.disabled
+        and app.tab(PatchTab).rrd_button.disabled
+    )
+    assert app.form.progress_bar.value == 0
 
 
 def _assert_shows_last_step(app, result):
     n = result.n_steps
     assert app.scene.heatmap.visible
-    assert app.time_slider.max == n - 1 and app.time_slider.value == n - 1 and not app.time_slider.disabled
-    assert f"step {n - 1}:" in app.readout_md.content
-    assert f"x = {result.x[-1]:.4f} m" in app.readout_md.content
+    assert (
+        app.tab(PatchTab).time_slider.max == n - 1
+        and app.tab(PatchTab).time_slider.value == n - 1
+        and not app.tab(PatchTab).time_slider.disabled
+    )
+    assert f"step {n - 1}:" in app.tab(PatchTab).readout_md.content
+    assert f"x = {result.x[-1]:.4f} m" in app.tab(PatchTab).readout_md.content
     assert np.array_equal(app.scene.heatmap.image, _heat_map_of(result, n - 1, result_contact(result)))
-    assert app.progress_bar.value == 100
+    assert app.form.progress_bar.value == 100
 
 
 def result_contact(result):
@@ -90,35 +79,35 @@ def result_contact(result):
     return ContactParameters(**contact)
 
 
-def test_the_view_follows_the_configuration_shown(app):
+def test_the_view_follows_the_configuration_shown(app, finish_run):
     """The 3D view, readout, slider and progress of the configuration the controls describe, or cleared."""
     _reset(app, length="0.8")
-    longer = _run(app)
+    longer = finish_run(app)
     _reset(app, length="0.6")
     _assert_cleared(app)  # a configuration without a run: the 0.8 m patch is not left on screen
-    result = _run(app)
+    result = finish_run(app)
     _assert_shows_last_step(app, result)
-    app.fields["speed"].value = "200"
+    app.form.fields["speed"].value = "200"
     _assert_cleared(app)
-    app.fields["speed"].value = "100"
+    app.form.fields["speed"].value = "100"
     _assert_shows_last_step(app, result)
-    app.length_text.value = "0.8"  # the longer run: its own steps, positions and slider range
+    app.form.length_text.value = "0.8"  # the longer run: its own steps, positions and slider range
     _assert_shows_last_step(app, longer)
-    app.length_text.value = "0.6"
-    app.fields["wheel_radius"].value, app.fields["rail_crown_radius"].value = "460", "300"
+    app.form.length_text.value = "0.6"
+    app.form.fields["wheel_radius"].value, app.form.fields["rail_crown_radius"].value = "460", "300"
     _assert_cleared(app)  # the old circle patch does not lie under the new ellipse
-    app.fields["wheel_radius"].value = app.fields["rail_crown_radius"].value = ""
+    app.form.fields["wheel_radius"].value = app.form.fields["rail_crown_radius"].value = ""
     _assert_shows_last_step(app, result)
-    app.time_slider.value = 100  # scrubbing draws that step of this run
-    assert "step 100:" in app.readout_md.content
+    app.tab(PatchTab).time_slider.value = 100  # scrubbing draws that step of this run
+    assert "step 100:" in app.tab(PatchTab).readout_md.content
     assert np.array_equal(app.scene.heatmap.image, _heat_map_of(result, 100))
 
 
-def test_the_view_is_cleared_after_an_upload(app, tmp_path):
+def test_the_view_is_cleared_after_an_upload(app, tmp_path, finish_run):
     from wheelrail.core.roughness import load_roughness, write_csv
 
     _reset(app)
-    _run(app)
+    finish_run(app)
     rail = load_roughness("corrugated-rail")
     small = rail.with_heights(rail.heights[:, :1500], note="explorer view test")
     path = tmp_path / "view.csv"
@@ -126,60 +115,60 @@ def test_the_view_is_cleared_after_an_upload(app, tmp_path):
     event = SimpleNamespace(
         target=SimpleNamespace(value=SimpleNamespace(name="view.csv", content=path.read_bytes())), client=None
     )
-    app._on_upload(event)
-    assert app.roughness_label == "upload: view.csv"
+    app.page.upload(event, app.form.load_upload)
+    assert app.form.roughness_label == "upload: view.csv"
     _assert_cleared(app)  # the corrugated rail's heat map does not stay
 
 
-def test_a_compare_replays_and_downloads_the_model_chosen(app):
+def test_a_compare_replays_and_downloads_the_model_chosen(app, finish_run):
     """After compare, a model selector chooses what is replayed, plotted as displacement and downloaded."""
     _reset(app, model="compare")
-    _run(app)
-    app.fields["speed"].value = "80"
-    app.fields["speed"].value = "100"  # back on the compare's configuration
+    finish_run(app)
+    app.form.fields["speed"].value = "80"
+    app.form.fields["speed"].value = "100"  # back on the compare's configuration
     models = [m for m in model_names() if m in app.store.entries(app.shown.case())]
     first = models[0]  # registry order: 3d
-    assert app.patch.displacement.handle.title.startswith(f"Displacement, {first}:")
-    assert app.replay.config.model == first  # the view replays what the plots name
-    assert app.shown_model.options == tuple(models) and not app.shown_model.disabled
-    assert app.shown_model.value == first
-    assert app.download_rrd()[0].startswith(f"wheelrail-{first}-")
-    app.shown_model.value = "2d"
-    assert app.replay.config.model == "2d"
-    assert app.patch.displacement.handle.title.startswith("Displacement, 2d:")
-    assert app.readout_md.content.startswith("**2d**")
+    assert app.tab(PatchTab).displacement.handle.title.startswith(f"Displacement, {first}:")
+    assert app.replay.entry.config.model == first  # the view replays what the plots name
+    assert app.tab(PatchTab).model_shown.options == tuple(models) and not app.tab(PatchTab).model_shown.disabled
+    assert app.tab(PatchTab).model_shown.value == first
+    assert app.downloads.rrd()[0].startswith(f"wheelrail-{first}-")
+    app.tab(PatchTab).model_shown.value = "2d"
+    assert app.replay.entry.config.model == "2d"
+    assert app.tab(PatchTab).displacement.handle.title.startswith("Displacement, 2d:")
+    assert app.tab(PatchTab).readout_md.content.startswith("**2d**")
     assert app.scene.strip.visible and not app.scene.heatmap.visible  # a one-line model's strip
-    name, _ = app.download_rrd()
+    name, _ = app.downloads.rrd()
     assert name == "wheelrail-2d-corrugated-rail-line0-100kmh-65kN-0.6m.rrd"
 
 
-def test_the_raised_surface_is_drawn_before_it_is_shown(app):
+def test_the_raised_surface_is_drawn_before_it_is_shown(app, finish_run):
     """Ticked after a run, the raised pressure surface has the vertices of the step shown (no stale mesh)."""
     _reset(app)
-    result = _run(app)
-    app.raised_box.value = True
+    result = finish_run(app)
+    app.tab(PatchTab).raised_box.value = True
     try:
         surface = app.scene.surface
         ny, nx = result.pressure.shape[1:]
         assert surface.visible
         assert surface.vertices.shape == (ny * nx, 3) and int(surface.faces.max()) < ny * nx
-        step = int(app.time_slider.value)
+        step = int(app.tab(PatchTab).time_slider.value)
         height = surface.vertices[:, 2].reshape(ny, nx) / SCENE_PER_MM  # mm
         expected = result.pressure[step] / 1e9 * PRESSURE_HEIGHT
         assert np.allclose(height, expected, atol=1e-4)  # float32 vertices
     finally:
-        app.raised_box.value = False
+        app.tab(PatchTab).raised_box.value = False
 
 
-def test_exported_pngs_keep_their_whole_title(app):
+def test_exported_pngs_keep_their_whole_title(app, finish_run):
     """A long title (configuration with a geometry) wraps inside the PNG instead of running off both sides."""
     from PIL import Image
 
     _reset(app, model="hertz", geometry_mm=("460", "300", "-1000"))
-    _run(app)
-    assert len(app.patch.force.handle.title) > 120
+    finish_run(app)
+    assert len(app.tab(PatchTab).force.handle.title) > 120
     for which in ("contact force", "displacement", "force spectra", "contact filters"):
-        _, content = app.download_plot_png(which)
+        _, content = app.downloads.plot_png(which)
         grey = np.asarray(Image.open(io.BytesIO(content)).convert("L"))
         top = grey[: grey.shape[0] // 6]  # the title's band
         assert top.min() < 100  # the title is drawn
@@ -187,7 +176,7 @@ def test_exported_pngs_keep_their_whole_title(app):
             assert edge.min() > 200, f"{which}: the title touches the edge of the PNG"
 
 
-def test_the_3d_view_explains_itself(app):
+def test_the_3d_view_explains_itself(app, finish_run):
     """From above by default, the Hertz semi-axes labelled, p0 said; surfaces at the step shown, never over
     the patch."""
     camera = app.server.initial_camera
@@ -197,21 +186,21 @@ def test_the_3d_view_explains_itself(app):
     contact = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.3)
     a, b = (v * 1e3 for v in contact.hertz_semi_axes())
     assert app.scene.a_label.text == f"a = {a:.2f} mm" and app.scene.b_label.text == f"b = {b:.2f} mm"
-    result = _run(app)
-    assert f"p0 = {contact.hertz_peak_pressure() / 1e6:.0f} MPa" in app.readout_md.content
-    app.time_slider.value = 150
-    app.surfaces_box.value = True
+    result = finish_run(app)
+    assert f"p0 = {contact.hertz_peak_pressure() / 1e6:.0f} MPa" in app.tab(PatchTab).readout_md.content
+    app.tab(PatchTab).time_slider.value = 150
+    app.tab(PatchTab).surfaces_box.value = True
     try:
         scene = app.scene
         rail, wheel = scene.rail_mesh.vertices, scene.wheel_lines.points
         assert rail[:, 2].max() < 0 < wheel[..., 2].min()  # the patch lies at z = 0, between them
-        expected, _ = scene._surface_vertices(app.roughness, float(result.x[150]), 0, contact)
+        expected, _ = scene._surface_vertices(app.form.roughness, float(result.x[150]), 0, contact)
         assert np.allclose(rail, expected)  # drawn where the wheel is at the step shown
-        app.time_slider.value = 400
-        expected, _ = scene._surface_vertices(app.roughness, float(result.x[400]), 0, contact)
+        app.tab(PatchTab).time_slider.value = 400
+        expected, _ = scene._surface_vertices(app.form.roughness, float(result.x[400]), 0, contact)
         assert np.allclose(scene.rail_mesh.vertices, expected)
     finally:
-        app.surfaces_box.value = False
+        app.tab(PatchTab).surfaces_box.value = False
 
 
 def _upload(app, name, rough, tmp_path):
@@ -219,12 +208,13 @@ def _upload(app, name, rough, tmp_path):
 
     path = tmp_path / name
     write_csv(rough, path)
-    app._on_upload(
+    app.page.upload(
         SimpleNamespace(
             target=SimpleNamespace(value=SimpleNamespace(name=name, content=path.read_bytes())), client=None
-        )
+        ),
+        app.form.load_upload,
     )
-    assert app.roughness_label == f"upload: {name}", app.last_error
+    assert app.form.roughness_label == f"upload: {name}", app.page.last_error
 
 
 def test_the_line_menu_and_the_run_length_follow_the_set_loaded(app, tmp_path):
@@ -234,17 +224,17 @@ def test_the_line_menu_and_the_run_length_follow_the_set_loaded(app, tmp_path):
     _reset(app, length="3")
     _upload(app, "three-lines.csv", rail.with_heights(rail.heights[8:11, :1500], y=rail.y[8:11]), tmp_path)
     # the run length is brought within what the file holds, saying so
-    assert app.length_text.value == "1.459" and "1.459 m is set" in app.status_md.content
+    assert app.form.length_text.value == "1.459" and "1.459 m is set" in app.page.status_md.content
     # 3d needs more room across than three lines 1 mm apart: no line is offered, and the page says why
-    assert app.line_dropdown.options == ("no line fits",)
-    assert "no line of upload: three-lines.csv leaves room for it" in app.check_md.content
+    assert app.form.line_dropdown.options == ("no line fits",)
+    assert "no line of upload: three-lines.csv leaves room for it" in app.form.check_md.content
     assert not app.start_run()
-    app.model_dropdown.value = "hertz"
-    assert app.line_dropdown.options == ("-1", "0", "1")
+    app.form.model_dropdown.value = "hertz"
+    assert app.form.line_dropdown.options == ("-1", "0", "1")
     _reset(app, geometry_mm=("", "5000", ""))  # a 5 m crown: a patch too wide for every line
-    assert app.line_dropdown.options == ("no line fits",)
-    app.fields["rail_crown_radius"].value = ""
-    assert app.line_dropdown.options == ("-2", "-1", "0", "1", "2")
+    assert app.form.line_dropdown.options == ("no line fits",)
+    app.form.fields["rail_crown_radius"].value = ""
+    assert app.form.line_dropdown.options == ("-2", "-1", "0", "1", "2")
 
 
 def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
@@ -252,8 +242,8 @@ def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
     from wheelrail.core.spectra import energetic_sum
 
     _reset(app)
-    app.wheel_set_dropdown.value = "sinter-wheel-1"
-    plot = app.roughness_tab.spectrum
+    app.form.wheel_set_dropdown.value = "sinter-wheel-1"
+    plot = app.tab(RoughnessTab).spectrum
     labels = [label for label, _, _ in plot.series]
     assert labels == [
         "rail: corrugated-rail, lines -3..3",
@@ -281,17 +271,17 @@ def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
     top = plot.figure().axes[1]  # and in the PNG
     for f, label in zip(top.get_xticks(), top.get_xticklabels(), strict=True):
         assert float(label.get_text()) == pytest.approx(speed / f * 1e3)
-    assert app.roughness_tab.coherence.handle.scales["y"]["range"] == [0.0, 1.0]
-    app.wheel_set_dropdown.value = "none"
+    assert app.tab(RoughnessTab).coherence.handle.scales["y"]["range"] == [0.0, 1.0]
+    app.form.wheel_set_dropdown.value = "none"
     # a pure sine: the bands without roughness are not drawn at the FFT's numerical floor
     base = load_roughness("corrugated-rail")
     x = np.arange(3000) * base.dx
     sine = base.with_heights(np.tile(5e-6 * np.sin(2 * np.pi * x / 0.05), (3, 1)), y=base.y[8:11])
     _upload(app, "sine.csv", sine, tmp_path)
-    levels = app.roughness_tab.spectrum.data[1]
+    levels = app.tab(RoughnessTab).spectrum.data[1]
     finite = levels[np.isfinite(levels)]
     assert finite.size and finite.min() >= finite.max() - 120.0
-    assert app.roughness_tab.spectrum.handle.scales["y"]["range"][0] >= finite.max() - 125.0
+    assert app.tab(RoughnessTab).spectrum.handle.scales["y"]["range"][0] >= finite.max() - 125.0
 
 
 class HeldRun:
@@ -353,24 +343,24 @@ def test_a_run_reaches_the_view_only_while_its_configuration_is_shown(app):
         _reset(app, model="hertz", speed="90", length="3")
         assert app.start_run()
         assert run.reached.wait(60.0)
-        assert app.scene.strip.visible and "step 1499:" in app.readout_md.content
-        app.fields["speed"].value = "91"  # another configuration while the run goes on
+        assert app.scene.strip.visible and "step 1499:" in app.tab(PatchTab).readout_md.content
+        app.form.fields["speed"].value = "91"  # another configuration while the run goes on
         _assert_cleared(app)
         drawn = app.scene.frames_drawn
         run.release.set()
         assert app.controller.wait(60.0)
-        assert app.scene.frames_drawn == drawn and app.progress_bar.value == 0  # nothing of the run arrived
+        assert app.scene.frames_drawn == drawn and app.form.progress_bar.value == 0  # nothing of the run arrived
         _assert_cleared(app)
-        app.fields["speed"].value = "90"  # back: its run, last step
-        assert app.scene.strip.visible and "step 2999:" in app.readout_md.content
-        assert app.progress_bar.value == 100 and app.time_slider.max == 2999
+        app.form.fields["speed"].value = "90"  # back: its run, last step
+        assert app.scene.strip.visible and "step 2999:" in app.tab(PatchTab).readout_md.content
+        assert app.form.progress_bar.value == 100 and app.tab(PatchTab).time_slider.max == 2999
     finally:
         run.release.set()
         app.controller.wait(60.0)
         app.controller = own
 
 
-def test_the_noise_tab_shows_the_runs_sound_power_beside_cnossos_and_plays_its_pass_by(app, tmp_path):
+def test_the_noise_tab_shows_the_runs_sound_power_beside_cnossos_and_plays_its_pass_by(app, tmp_path, finish_run):
     """Noise tab: per-component sound power (A-weighted, per axle) of the model shown and CNOSSOS-EU beside it,
     from the run's own RunNoise; totals and pass-by level for the train of the tab's fields; the pass-by as a
     playable, calibrated WAV; an overlaid run dashed; the recording carries the sound power."""
@@ -385,11 +375,11 @@ def test_the_noise_tab_shows_the_runs_sound_power_beside_cnossos_and_plays_its_p
     from wheelrail.core.noise.run_noise import pass_by_level
 
     _reset(app, model="hertz", length="1")
-    result = _run(app)
-    entry = app.replay
+    result = finish_run(app)
+    entry = app.replay.entry
     noise = entry.noise
     assert noise is not None and noise.configuration["run"]["model"] == "hertz"
-    tab = app.noise_tab
+    tab = app.tab(NoiseTab)
     labels = [label for label, _, _ in tab.power.series]
     assert labels[:4] == ["hertz: rail", "hertz: sleeper", "hertz: wheel", "hertz: total"]
     assert labels[-3:] == ["CNOSSOS-EU: track", "CNOSSOS-EU: vehicle", "CNOSSOS-EU: total"]
@@ -413,35 +403,35 @@ def test_the_noise_tab_shows_the_runs_sound_power_beside_cnossos_and_plays_its_p
     assert tab.audio_button.disabled
     tab.axles_text.value = "8"
     # the pass-by: played from the page, downloaded as the same WAV; its level is the table's (calibration)
-    name, data = app.make_pass_by()
+    name, data = app.tab(NoiseTab).make_pass_by()
     assert name == "wheelrail-hertz-corrugated-rail-line0-100kmh-65kN-1m-pass-by-8axles-40m.wav"
     embedded = re.search(r'src="data:audio/wav;base64,([^"]+)"', tab.audio_html.content).group(1)
-    assert base64.b64decode(embedded) == data and app.download_pass_by_wav()[1] == data
+    assert base64.b64decode(embedded) == data and app.tab(NoiseTab).download_wav()[1] == data
     rate, samples = wavfile.read(io.BytesIO(data))
     assert rate == 48_000  # a standard rate; the run's own is v / dx
     assert len(samples) == pytest.approx((40.0 / result.speed + 2.0) * rate, abs=2)  # T_p and 1 s either side
     assert f"L_pAeq,Tp {pass_by_level(total, 8, 40.0):.1f} dB(A)" in tab.audio_html.content
-    summary = json.loads(app.download_noise_json()[1])
+    summary = json.loads(app.tab(NoiseTab).download_json()[1])
     assert summary["pass_by_LpAeq_dBA"] == pytest.approx(pass_by_level(total, 8, 40.0))
     assert summary["cnossos"]["total_dBA"] == pytest.approx(noise.cnossos.total_dba)
     tab.axles_text.value = "9"  # the player held the 8-axle pass-by: it goes
     assert tab.audio_html.content == "" and tab.wav_button.disabled
     # the recording of the run carries its sound-power spectra
     path = tmp_path / "noise.rrd"
-    path.write_bytes(app.download_rrd()[1])
+    path.write_bytes(app.downloads.rrd()[1])
     assert any(c.entity_path == "/spectra/sound_power/total" for c in RrdReader(path).stream())
     # another configuration overlaid from the Noise tab's menu: both menus show it, its total is dashed
     _reset(app, model="hertz", speed="120", length="1")
-    _run(app)
+    finish_run(app)
     other = app.shown.case_label()
-    app.fields["speed"].value = "100"
+    app.form.fields["speed"].value = "100"
     tab.overlay_dropdown.value = other
-    assert app.spectra.overlay_dropdown.value == other
+    assert app.tab(SpectraTab).overlay_dropdown.value == other
     dashed = [label for label, _, style in tab.power.series if style == "dashed"]
     assert dashed == [f"hertz: total [{other}]"]
     assert any(line.startswith(f"| hertz [{other}]") for line in tab.totals_md.content.splitlines())
-    tab.overlay_dropdown.value = app.no_overlay
-    app.fields["speed"].value = "130"  # no run of this configuration
+    tab.overlay_dropdown.value = NO_OVERLAY
+    app.form.fields["speed"].value = "130"  # no run of this configuration
     assert "no run of this configuration yet" in tab.power.series[0][0] and tab.audio_button.disabled
 
 
@@ -470,7 +460,7 @@ def test_the_top_view_is_fitted_again_when_the_view_resizes_until_the_user_moves
 
     camera = Camera()
     client = SimpleNamespace(camera=camera, atomic=contextlib.nullcontext)
-    app._on_connect(client)
+    app.page.fit_camera(client)
     camera.report(1280, 800)  # before the panels dock: fitted to the whole window
     assert camera.position == pytest.approx(top_view(1.6)["position"])
     camera.report(372, 800)  # docked: fitted again to the 3D view between the panels

@@ -1,0 +1,265 @@
+"""The Noise tab: rolling noise of the case (sound power per component and band, A-weighted, per axle, of the
+model shown; every model's total; CNOSSOS-EU beside it on the run's own roughness; another run overlaid), the
+totals and pass-by level for a train the user sets, and the pass-by to hear and download."""
+
+from __future__ import annotations
+
+import numpy as np
+import viser
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.noise.levels import a_weighting, energy_sum
+from wheelrail.core.noise.run_noise import (
+    AXLE_DB,
+    COMPONENTS,
+    DEFAULT_TRAIN_AXLES,
+    DEFAULT_TRAIN_LENGTH,
+    pass_by_level,
+)
+from wheelrail.core.parameters import KMH
+from wheelrail.explorer.config import RunConfig, page_message, read_train
+from wheelrail.explorer.panel import NO_RUN, ResultsTab, Shown, TabParts
+from wheelrail.explorer.plots import DASHED, DOTTED, SOLID, Plot, bands_with_data, model_colour
+
+__all__ = ["NoiseTab", "superstructure_words"]
+
+NOISE_RANGE_DB = 60.0  # the sound-power plot shows the loudest band down by this (A-weighted, quieter bands
+# matter little to the total)
+COMPONENT_COLOURS = {"rail": "#e6550d", "sleeper": "#31a354", "wheel": "#756bb1"}
+CNOSSOS_COLOURS = {"track": "#636363", "vehicle": "#8c6d31", "total": "#000000"}
+AUDIO_HINT = (
+    "The pass-by of the train set below at the ISO 3095 position, synthesised from the run's contact force "
+    "(the model shown); a few seconds to make"
+)
+NOISE_NOTE = (
+    "*Sound power* per axle (two wheels on two rails), A-weighted per band, of the model shown: rail, sleeper and "
+    "wheel (solid, their colours) and every model's total (model colours), from the run's contact force through "
+    "the model track's transfer functions (the TWINS approach). Dotted: the CNOSSOS-EU source (Directive (EU) "
+    "2015/996, Annex II 2.3) on the run's own roughness with its fixed contact filter A3: track, vehicle and the "
+    "total, which also holds the small superstructure term (said under the table). Dashed: a run overlaid. "
+    "*Pass-by audio*: the model shown, at 7.5 m; listen for the high bands (above about 1 kHz) that a finite "
+    "patch (3d, 2d) takes out and the point contact (hertz) keeps."
+)
+
+
+class NoiseTab(ResultsTab):
+    """Rolling noise of the case: sound power per component and band (A-weighted, per axle) of the model shown,
+    every model's total, CNOSSOS-EU beside it on the run's own roughness, another run overlaid; the totals and the
+    pass-by level for a train the user sets; the pass-by to hear and download."""
+
+    title, icon = "Noise", viser.Icon.VOLUME
+
+    def __init__(self, parts: TabParts, tab) -> None:
+        super().__init__(parts, tab)
+        gui, page = self.gui, self.page
+        self.power = Plot(gui, tab, "Sound power per axle", "band (Hz)", "dB(A) re 1 pW", bands=True)
+        with tab:
+            self.totals_md = gui.add_markdown("")
+            self.audio_button = gui.add_button(
+                "Pass-by audio", icon=viser.Icon.HEADPHONES, disabled=True, hint=AUDIO_HINT
+            )
+            self.audio_button.on_click(lambda event: page.guarded(self.make_pass_by, client=event.client))
+            self.audio_html = gui.add_html("")
+            self.axles_text = gui.add_text(
+                "Train axles", str(DEFAULT_TRAIN_AXLES), hint="Axles of the train passing by (pass-by level, audio)"
+            )
+            self.train_length_text = gui.add_text(
+                "Train length (m)", f"{DEFAULT_TRAIN_LENGTH:g}", hint="From the first axle to the last, m"
+            )
+            for field in (self.axles_text, self.train_length_text):
+                field.on_update(lambda event: page.guarded(parts.redraw, self))
+            self.overlay_dropdown = self._overlay_menu("totals dashed (the same choice as in Spectra)")
+            self.wav_button = gui.add_button("Download pass-by (.wav)", icon=viser.Icon.DOWNLOAD, disabled=True)
+            self.wav_button.on_click(lambda event: page.guarded(self.download_wav, event.client, client=event.client))
+            self.json_button = gui.add_button("Download noise (.json)", icon=viser.Icon.DOWNLOAD, disabled=True)
+            self.json_button.on_click(lambda event: page.guarded(self.download_json, event.client, client=event.client))
+            gui.add_markdown(NOISE_NOTE)
+            self._plot_export()
+        self.audio_key = None  # (case, model, train) of the pass-by in the player
+        self.wav: tuple[str, bytes] | None = None  # its file name and bytes
+
+    def plots(self) -> dict[str, Plot]:
+        return {"sound power": self.power}
+
+    def show(self, shown: Shown) -> None:
+        self._show_overlay_menu(self.overlay_dropdown, shown)
+        config = shown.config
+        noises = {} if config is None else shown.store.noise(config.case())
+        model = shown.model if shown.model in noises else next(iter(noises), None)
+        try:
+            train, train_problem = self.train(), None
+        except WheelrailError as error:
+            train, train_problem = None, error
+        if model is None or self.audio_key != (config.case(), model, train):
+            self.clear_audio()  # the player holds only the pass-by of what the tab shows
+        self.audio_button.disabled = model is None or train is None
+        self.json_button.disabled = model is None
+        if config is None:
+            self.power.clear("fix the settings on the left")
+            self.totals_md.content = ""
+            return
+        label = config.case_label()
+        if model is None:
+            self.power.clear(NO_RUN, title=f"Sound power per axle: {label}")
+            problems = [e.noise_problem for e in shown.store.entries(config.case()).values() if e.noise_problem]
+            self.totals_md.content = problems[0] if problems else ""
+            return
+        overlay = None if shown.overlay is None or shown.overlay.case() == config.case() else shown.overlay
+        extra = {} if overlay is None else shown.store.noise(overlay.case())
+        self._plot(noises, model, label, extra, overlay)
+        self.totals_md.content = self._totals(noises, model, extra, overlay, train, train_problem)
+
+    def make_pass_by(self) -> tuple[str, bytes]:
+        """Pass-by audio: the pass-by of the model shown for the tab's train, in the player."""
+        entry = self.parts.downloads.shown_noise()
+        self.train()  # a bad train field is said before the work starts
+        self.audio_html.content = "<i>Making the pass-by ...</i>"
+        try:
+            return self.pass_by(entry)
+        except BaseException:
+            self.clear_audio()
+            raise
+
+    def download_wav(self, client=None) -> tuple[str, bytes]:
+        """The pass-by in the player as a WAV file."""
+        if self.wav is None:
+            raise WheelrailError("no pass-by made yet: press Pass-by audio first")
+        return self.page.send(*self.wav, client)
+
+    def download_json(self, client=None) -> tuple[str, bytes]:
+        """The rolling noise of the model shown, with the pass-by for the tab's train, as JSON."""
+        return self.parts.downloads.noise_json(self.train(), client)
+
+    def pass_by(self, entry) -> tuple[str, bytes]:
+        """Make the pass-by of ``entry`` (an Entry with its noise) for the train of the fields: the player shows it
+        with its calibration, the download button offers it; its file name and WAV bytes."""
+        import base64
+
+        axles, length = self.train()
+        noise = entry.noise.with_train(axles, length)
+        data, full_scale = noise.wav_bytes()
+        config = entry.config
+        from wheelrail.core.noise.run_noise import WAV_RATE
+
+        rate = WAV_RATE
+        name = f"{config.file_stem()}-pass-by-{axles}axles-{length:g}m.wav"
+        caption = (
+            f"Pass-by of **{config.model}** on {config.case_label()}: {axles} axles in {length:g} m, "
+            f"L_pAeq,Tp {noise.pass_by_laeq_dba:.1f} dB(A) at 7.5 m. WAV {rate} Hz, 16 bit; a sample of 1.0 "
+            f"is {full_scale:.3g} Pa."
+        )
+        self.audio_html.content = (
+            f'<audio controls preload="auto" style="width:100%" src="data:audio/wav;base64,'
+            f'{base64.b64encode(data).decode()}"></audio>'
+            f'<div style="font-size:0.8em">{_markdown_bold(caption)}</div>'
+        )
+        self.audio_key = (config.case(), config.model, (axles, length))
+        self.wav = (name, data)
+        self.wav_button.disabled = False
+        return name, data
+
+    def train(self) -> tuple[int, float]:
+        """(axles, length in m) of the train fields, or one WheelrailError."""
+        return read_train(self.axles_text.value, self.train_length_text.value)
+
+    def clear_audio(self) -> None:
+        self.audio_key, self.wav = None, None
+        if self.audio_html.content:
+            self.audio_html.content = ""
+        self.wav_button.disabled = True
+
+    def _plot(self, noises: dict, model: str, label: str, extra: dict, overlay: RunConfig | None) -> None:
+        shown_noise = noises[model]
+        f = shown_noise.frequency_hz
+        weight = a_weighting(f) + AXLE_DB
+        curves = [
+            (f"{model}: {name}", COMPONENT_COLOURS[name], SOLID, shown_noise.sound_power_db[name] + weight)
+            for name in COMPONENTS
+        ]
+        curves += [
+            (f"{m}: total", model_colour(m), SOLID, n.sound_power_db["total"] + weight) for m, n in noises.items()
+        ]
+        beside = shown_noise.cnossos
+        cnossos = {"track": beside.track_db, "vehicle": beside.vehicle_db, "total": beside.total_db}
+        curves += [
+            (f"CNOSSOS-EU: {name}", CNOSSOS_COLOURS[name], DOTTED, levels + a_weighting(f))
+            for name, levels in cnossos.items()
+        ]
+        title = f"Sound power per axle, A-weighted: {label}"
+        if overlay is not None and extra:
+            curves += [
+                (f"{m}: total [{overlay.case_label()}]", model_colour(m), DASHED, n.sound_power_db["total"] + weight)
+                for m, n in extra.items()
+            ]
+            title += f" (dashed: {overlay.case_label()})"
+        columns = [np.where(np.isfinite(levels), levels, np.nan) for *_, levels in curves]
+        loudest = max(float(np.nanmax(c)) for c in columns if np.any(np.isfinite(c)))
+        self.power.y_range = (
+            float(10 * np.floor((loudest - NOISE_RANGE_DB) / 10)),
+            float(10 * np.ceil(loudest / 10 + 0.05)),
+        )
+        self.power.show(
+            bands_with_data(f, columns), tuple((name, colour, style) for name, colour, style, _ in curves), title=title
+        )
+
+    def _totals(self, noises, model, extra, overlay, train, train_problem) -> str:
+        """L_WA per axle (dB(A)) by component and the pass-by level as a table, and what they are."""
+        rows = ["| L_WA, dB(A) | rail | sleeper | track | wheel | total | pass-by |", "|---|---|---|---|---|---|---|"]
+
+        def passing(level: float) -> str:
+            return "-" if train is None else _db(pass_by_level(level, *train))
+
+        runs = list(noises.items())
+        runs += [] if overlay is None else [(f"{m} [{overlay.case_label()}]", n) for m, n in extra.items()]
+        for name, n in runs:
+            dba = {k: v + AXLE_DB for k, v in n.sound_power_dba.items()}
+            track = energy_sum(dba["rail"], dba["sleeper"])
+            shown = f"**{name}**" if name == model else name
+            rows.append(
+                f"| {shown} | {_db(dba['rail'])} | {_db(dba['sleeper'])} | {_db(track)} | {_db(dba['wheel'])} | "
+                f"{_db(dba['total'])} | {passing(dba['total'])} |"
+            )
+        beside = noises[model].cnossos
+        cfg = beside.configuration
+        rows.append(
+            f"| CNOSSOS-EU | | | {_db(beside.track_dba)} | {_db(beside.vehicle_dba)} | {_db(beside.total_dba)} | "
+            f"{passing(beside.total_dba)} |"
+        )
+        if train is None:
+            where = f"**Train:** {page_message(train_problem)}"
+        else:
+            where = (
+                f"Pass-by: L_pAeq,Tp (dB(A)) at 7.5 m from the track, 1.2 m above the rail, {train[0]} axles in "
+                f"{train[1]:g} m at {noises[model].configuration['run']['speed_m_s'] / KMH:g} km/h"
+            )
+        return (
+            "\n".join(rows) + f"\n\nL_WA per axle, re 1 pW. {where}. CNOSSOS-EU: the run's roughness, A3, "
+            f"{cfg['track_type']}, {cfg['wheel_diameter_m'] * 1e3:g} mm wheels; {superstructure_words(beside)} "
+            f"Wheel: {noises[model].configuration['wheel']}"
+        )
+
+
+def superstructure_words(beside) -> str:
+    """What CNOSSOS-EU's superstructure term (in its total, not in the table's columns) is, with its level."""
+    below = beside.track_dba - beside.superstructure_dba
+    return (
+        f"its total also holds the *superstructure* term, {_db(beside.superstructure_dba)} dB(A): the third "
+        "source of CNOSSOS-EU's rolling noise beside track and vehicle: the vehicle's superstructure (its body) "
+        "excited by the same roughness, L_W,0,sup = L_R,TOT + L_H,veh,sup + 10 lg N_a (Directive (EU) 2015/996, "
+        "Annex II eq. 2.3.10). The directive tabulates one superstructure transfer L_H,veh,sup, 0 dB in every "
+        "band (Table G-3c), so this term is the total effective roughness L_R,TOT (dB re 1 µm) read as a sound "
+        f"power: {_db(below)} dB below the track term here, it adds nothing audible. (Not a bridge: no bridge or "
+        "impact-noise term is added.)"
+    )
+
+
+def _markdown_bold(text: str) -> str:
+    """``**x**`` as HTML bold (the caption sits in HTML), everything else escaped."""
+    import html
+    import re
+
+    return re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", html.escape(text))
+
+
+def _db(value: float) -> str:
+    return f"{value:.1f}" if np.isfinite(value) else "-"

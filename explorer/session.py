@@ -1,0 +1,78 @@
+"""Save and load the page's settings: the Session folder of the run form.
+
+A session document (:meth:`SessionFiles.session`) holds the set, the wheel set, the model, the line, the run length
+and every declared input's field as typed; it downloads as a .json file and loads back
+(:func:`wheelrail.explorer.config.read_session` checks it).
+"""
+
+from __future__ import annotations
+
+import viser
+
+from wheelrail.core.inputs import inputs_of
+from wheelrail.explorer.config import RunConfig, field_text, read_session
+from wheelrail.explorer.form import RunForm
+from wheelrail.explorer.page import Page
+
+__all__ = ["SESSION_VERSION", "SessionFiles"]
+
+SESSION_VERSION = 1  # of the session document
+
+
+class SessionFiles:
+    """The Session folder: Save session (.json) and Load session (.json), built where it is made."""
+
+    def __init__(self, page: Page, form: RunForm, shown) -> None:
+        """``shown()``: the configuration the page shows (None: not valid), which names the file."""
+        self.page, self.form, self._shown = page, form, shown
+        gui = page.server.gui
+        with gui.add_folder("Session", expand_by_default=False):
+            self.save_button = gui.add_button("Save session (.json)", icon=viser.Icon.DOWNLOAD)
+            self.save_button.on_click(lambda event: page.guarded(self.download, event.client, client=event.client))
+            self.load_button = page.add_upload(
+                "Load session (.json)",
+                "A session saved here: its set, wheel set, model, line, run length and every input.",
+                lambda name, content, client: self.load(content),
+            )
+
+    def session(self) -> dict:
+        """The page's settings as a session document (JSON-able): set, wheel set, model, line, run length and
+        every declared input's field as typed (by its option's name: ``speed_kmh``, ``pad_stiffness_mn_m``)."""
+        form = self.form
+        return {
+            "wheelrail_session": SESSION_VERSION,
+            "set": form.roughness_label,
+            "wheel_set": form.wheel_set_dropdown.value,
+            "model": form.model_dropdown.value,
+            "line": form.line_dropdown.value,
+            "length_m": form.length_text.value,
+            "inputs": form.typed(),
+        }
+
+    def download(self, client=None) -> tuple[str, bytes]:
+        """The session (:meth:`session`) as a .json download, named after the configuration when it is valid."""
+        from wheelrail.core.jsonready import strict_json
+
+        shown: RunConfig | None = self._shown()
+        stem = shown.for_model(shown.model).file_stem() if shown is not None else "wheelrail"
+        return self.page.send(f"{stem}-session.json", strict_json(self.session(), indent=2).encode(), client)
+
+    def load(self, content: bytes) -> None:
+        """Set the page from a session document (:meth:`session`); one WheelrailError, and nothing changed, if it
+        is not one or names a set this page does not have (upload the set first)."""
+        form, page = self.form, self.page
+        session = read_session(content, tuple(form.set_dropdown.options), tuple(form.wheel_set_dropdown.options))
+        with page.quietly():
+            form.set_dropdown.value = session["set"]
+            form.wheel_set_dropdown.value = session["wheel_set"]
+            form.model_dropdown.value = session["model"]
+            form.length_text.value = session["length_m"]
+            for entry in inputs_of():
+                form.fields[entry.key].value = session["inputs"].get(entry.dest, field_text(entry))
+        form.select_set(session["set"])
+        with page.quietly():
+            if session["line"] in form.line_dropdown.options:
+                form.line_dropdown.value = session["line"]
+        form.refresh()
+        shown = self._shown()
+        page.status(f"Session loaded: {shown.label() if shown is not None else 'not a valid run yet'}.")

@@ -1,0 +1,127 @@
+"""The Track tab: the track of the configuration shown, its point receptance and vertical decay rate against the
+EN ISO 3095:2013 limit, beside the track of the run overlaid."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import viser
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import describe_words
+from wheelrail.explorer.config import page_message
+from wheelrail.explorer.panel import ResultsTab, Shown, TabParts
+from wheelrail.explorer.plots import DASHED, DOTTED, SOLID, Plot, bands_with_data
+from wheelrail.explorer.roughness_tab import ISO_LIMIT_COLOUR
+
+__all__ = ["TrackTab"]
+
+
+class TrackTab(ResultsTab):
+    """The track of the configuration shown: its point receptance above a sleeper and at midspan and its vertical
+    decay rate against EN ISO 3095:2013's lower limit (core's ``noise.decay``), and those of the track of the run
+    overlaid (Spectra and Noise tabs) when it is another. A new track's curves are computed once in the
+    background (a few seconds of FE solves, then kept on disk) and drawn when they are ready."""
+
+    title, icon = "Track", viser.Icon.TRAIN
+
+    def __init__(self, parts: TabParts, tab) -> None:
+        super().__init__(parts, tab)
+        gui = self.gui
+        self.receptance = Plot(gui, tab, "Point receptance", "band (Hz)", "dB re 1 m/N", bands=True)
+        self.decay = Plot(gui, tab, "Vertical decay rate", "band (Hz)", "dB/m", bands=True)
+        with tab:
+            self.track_md = gui.add_markdown("")
+            gui.add_markdown(
+                "Solid: the track of the settings on the left (its *Track* folder). Dotted: EN ISO 3095:2013's lower "
+                "limit of the vertical decay rate (Figure 3, curve A), which a test track must meet. Dashed: the "
+                "track of the run overlaid in the Spectra or Noise tab, when it is another."
+            )
+            self._plot_export()
+        self._curves: dict = {}  # track -> (bands, decay) or the error's words, once computed
+        self._computing: set = set()
+        self._last: Shown | None = None
+
+    def plots(self) -> dict[str, Plot]:
+        return {"point receptance": self.receptance, "decay rate": self.decay}
+
+    def curves(self, track):
+        """The track's (bands, decay) once computed (None: not yet; it is being computed in the background)."""
+        found = self._curves.get(track)
+        if found is None and track not in self._computing:
+            self._computing.add(track)
+            threading.Thread(target=self._compute, args=(track,), daemon=True, name="wheelrail-track-tab").start()
+        return found
+
+    def _compute(self, track) -> None:
+        from wheelrail.core.noise.decay import band_receptances, track_decay
+
+        try:
+            self._curves[track] = (band_receptances(track), track_decay(track))
+        except WheelrailError as error:
+            self._curves[track] = page_message(error)
+        finally:
+            self._computing.discard(track)
+        if self._last is not None:  # redraw what is shown now, if it still wants this track
+            self.parts.redraw(self)
+
+    def show(self, shown: Shown) -> None:
+        self._last = shown
+        config = shown.config
+        if config is None:
+            for plot in (self.receptance, self.decay):
+                plot.clear("fix the settings on the left")
+            self.track_md.content = ""
+            return
+        track = config.params().track
+        self.track_md.content = f"**Track:** {describe_words(config.params(), 'track')}."
+        own = self.curves(track)
+        if own is None or isinstance(own, str):
+            why = "computing the track's receptance and decay rate (once per track) ..." if own is None else own
+            for plot in (self.receptance, self.decay):
+                plot.clear(why, title=f"Track: {config.case_label()}")
+            return
+        overlay = shown.overlay.params().track if shown.overlay is not None else None
+        other = self.curves(overlay) if overlay is not None and overlay != track else None
+        other = other if isinstance(other, tuple) else None
+        self._draw(own, other, shown.overlay.case_label() if other is not None else "")
+
+    def _draw(self, own: tuple, other: tuple | None, other_label: str) -> None:
+        (bands, decay), f = own, own[0]["frequency_hz"]
+        curves = _receptance_curves(bands, SOLID, "")
+        if other is not None:
+            curves += _receptance_curves(other[0], DASHED, f" [{other_label}]")
+        self.receptance.show(
+            bands_with_data(f, [c[3] for c in curves]), tuple(c[:3] for c in curves), title="Point receptance"
+        )
+        on_bands = {float(x): i for i, x in enumerate(decay["frequency_hz"])}
+        rows = [on_bands.get(float(x)) for x in f]
+
+        def per_band(values) -> np.ndarray:
+            values = [np.nan if v is None else v for v in values]
+            return np.array([np.nan if i is None else values[i] for i in rows], dtype=float)
+
+        lines = [
+            ("decay rate", "#2ca02c", SOLID, per_band(decay["decay_rate_dB_per_m"])),
+            ("EN ISO 3095:2013 limit", ISO_LIMIT_COLOUR, DOTTED, per_band(decay["limit_dB_per_m"])),
+        ]
+        if other is not None:
+            lines.append((f"decay rate [{other_label}]", "#2ca02c", DASHED, per_band(other[1]["decay_rate_dB_per_m"])))
+        verdict = "meets" if decay["meets_limit"] else "is below"
+        self.decay.show(
+            bands_with_data(f, [c[3] for c in lines]),
+            tuple(c[:3] for c in lines),
+            title=f"Vertical decay rate: {verdict} the EN ISO 3095 limit",
+        )
+
+
+def _receptance_curves(bands: dict, style: str, suffix: str) -> list:
+    """The point receptances above a sleeper and at midspan as curves in dB re 1 m/N."""
+    return [
+        (f"{where}{suffix}", colour, style, 20 * np.log10(bands[key]))
+        for where, colour, key in (
+            ("above a sleeper", "#1f77b4", "above_sleeper_m_per_n"),
+            ("midspan", "#d62728", "midspan_m_per_n"),
+        )
+    ]
