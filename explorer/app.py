@@ -51,6 +51,7 @@ LOG = logging.getLogger("wheelrail.explorer")
 CONTROL_PANEL_WIDTH = 340  # px: the run form, docked left
 RESULTS_PANEL_WIDTH = 560  # px: the results panel, docked right; its plots are about 520 px wide
 READY = "Ready: choose a set, a line and a model, then press **Run**."
+FIX_FIRST = "The settings are not a run yet: the line above **Run** says what to fix."
 # The browser tab's title (React hoists a <title> rendered from markdown into the document's head), and viser's
 # own "File uploaded successfully" notice (a green check) hidden, since it only means that the bytes arrived:
 # the page says itself whether the file was loaded. If viser's markup changes, its notice shows again.
@@ -151,9 +152,9 @@ class ExplorerApp:
     def show_config(self, config: RunConfig | None) -> None:
         """After any control of the form changed: the configuration it describes (None: not valid) is shown."""
         with self._lock:
-            if config is not None and self.page.last_error is not None and config != self.shown:
-                self.page.last_error = None  # the configuration it was about has changed: it no longer applies
-                self.status(READY)
+            if self.page.last_error is not None and (config is None or config != self.shown):
+                self.page.last_error = None  # the settings it was about have changed: it no longer applies
+                self.status(READY if config is not None else FIX_FIRST)
             changed = config is None or self.shown is None or config != self.shown
             self.shown = config
             if changed:

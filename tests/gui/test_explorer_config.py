@@ -143,3 +143,27 @@ def test_a_speed_that_is_no_finite_number_is_worded_not_raised(typed):
     with pytest.raises(WheelrailError) as info:
         read_config(RAIL, "corrugated-rail", **{**FIELDS, "speed_kmh": typed})
     assert page_message(info.value) == f"Speed '{typed}': not a number"
+
+
+def test_the_noise_tab_says_what_the_cnossos_superstructure_term_is():
+    # the Noise tab printed "superstructure 15.6 dB(A)" with no word on what it is: now its source, equation,
+    # table and size against the track term (core.noise.cnossos: L_W,0,sup with Table G-3c, 0 dB in every band)
+    from types import SimpleNamespace
+
+    from wheelrail.core.noise.cnossos import superstructure_transfer
+    from wheelrail.explorer.noise_tab import NOISE_NOTE, superstructure_words
+
+    assert not superstructure_transfer().any()  # the one tabulated transfer: 0 dB in every band, as the words say
+    words = superstructure_words(SimpleNamespace(superstructure_dba=15.6, track_dba=101.2))
+    assert "*superstructure* term, 15.6 dB(A)" in words
+    assert "L_W,0,sup = L_R,TOT + L_H,veh,sup + 10 lg N_a" in words and "eq. 2.3.10" in words
+    assert "0 dB in every band (Table G-3c)" in words and "85.6 dB below the track term" in words
+    assert "superstructure term" in NOISE_NOTE
+
+
+def test_the_page_says_that_it_is_one_shared_session():
+    # every browser tab shows one form and one set of results (the server's GUI is global): the page says so
+    from wheelrail.explorer.help_tab import help_text
+
+    text = help_text()
+    assert "**One shared session**: every browser tab open on this explorer shows the same form and the same" in text

@@ -250,7 +250,7 @@ def test_a_wheel_set_and_the_geometry_reach_prepare_and_key_the_results():
 
 
 def test_the_first_preparation_at_a_speed_says_its_steps_and_that_it_goes_on():
-    """The track's Green's functions first (once per speed), then the run's set-up; while a step lasts, the
+    """The track's Green's functions first (once per track), then the run's set-up; while a step lasts, the
     status line repeats it with the seconds elapsed. The stand-in Green's functions wait until a repeat
     has been said (an event, not a time)."""
     ticked = threading.Event()

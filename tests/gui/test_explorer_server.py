@@ -103,8 +103,10 @@ def test_a_session_saves_and_loads_back(app):
 
 def test_an_error_shown_goes_once_the_fields_are_fixed(app):
     _reset(app)
-    app.form.fields["speed"].value = "inf"  # a callback used to raise OverflowError here
-    assert "Speed 'inf': not a number" in app.form.check_md.content
+    for typed in ("inf", "nan", "1e999"):  # a callback used to raise OverflowError here ("unexpected error")
+        app.form.fields["speed"].value = typed
+        assert f"Speed '{typed}': not a number" in app.form.check_md.content and app.page.last_error is None
+        assert not app.start_run() and app.page.last_error == f"Speed '{typed}': not a number"  # Run says the same
     app.page.report_error("something about that configuration")
     app.form.fields["speed"].value = "100"
     assert app.page.last_error is None and "**Error:**" not in app.page.status_md.content
