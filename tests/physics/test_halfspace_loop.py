@@ -1,4 +1,4 @@
-"""The compiled 3D loop gives the results of the per-step solver it replaced (issue: real-time 3D).
+"""The compiled 3D loop (the 3d model in real time) gives the results of the per-step solver it replaced.
 
 Two pins, both independent of the track's Green's functions:
 

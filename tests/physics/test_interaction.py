@@ -33,7 +33,7 @@ def _smooth(length=3.0, lines=19):
 @pytest.mark.parametrize("model", ["hertz", "2d", "3d"])
 def test_smooth_surfaces_mean_force_and_sleeper_passing(model):
     # Smooth wheel and rail: the only excitation is the varying track stiffness within a bay. The mean
-    # force equals the preload within 0.5 % (issue target; the run starts in static equilibrium and the
+    # force equals the preload within 0.5 % (the run starts in static equilibrium and the
     # soft suspension carries the mean), and the force is periodic with the sleeper-passing period
     # L_S / v: its strongest spectral line above 5 Hz lies within one frequency bin of v / L_S.
     length = 4 * L_S if model == "3d" else 8 * L_S

@@ -5,7 +5,7 @@ The tables in ``core/noise/data`` are one print (phonometry's transcription of t
 ``tests/data/cnossos_2021_rail.csv`` the A3 columns. The expected sound powers below are computed from the
 second print with this file's own plain-Python reading of the directive's formulas (eqs. 2.3.7-2.3.10 and
 the two conversion rules), not with the implementation's functions.
-Tolerance 0.05 dB per band (the issue's target): the two prints differ by rounding to 0.1 dB at most
+Tolerance 0.05 dB per band: the two prints differ by rounding to 0.1 dB at most
 (NoiseModelling keeps the unrounded wheel roughness), i.e. by <= 0.05 dB, and both rules interpolate with
 convex weights, so a correct implementation stays within 0.05 dB of the second print.
 """
@@ -341,7 +341,7 @@ def test_axles_and_the_filter_in_place_of_a3():
 
 
 def test_the_two_rules_differ_by_up_to_about_one_db():
-    # the issue: up to ~1 dB per band, ~0.3 dB(A) in total; measured 0.93 dB and 0.32 dB(A) at 100 km/h
+    # expected up to ~1 dB per band, ~0.3 dB(A) in total; measured 0.93 dB and 0.32 dB(A) at 100 km/h
     per_band, total = interpolation_difference(100 / 3.6, rail="network-average", wheel="cast-iron")
     assert 0.5 < np.max(np.abs(per_band)) < 1.2
     assert 0.1 < abs(total) < 0.5

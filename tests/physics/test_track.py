@@ -81,7 +81,7 @@ def test_supports_give_the_two_bounce_frequencies_of_a_rigid_rail():
 
 @pytest.mark.slow
 def test_pinned_pinned_and_support_resonances(model):
-    # Paper: pinned-pinned resonance at 943 Hz for these parameters; within +-3 % (issue target).
+    # Paper: pinned-pinned resonance at 943 Hz for these parameters; the model's peak within +-3 % of it.
     peaks = receptance_peaks(model)
     assert peaks["pinned_pinned_hz"] == pytest.approx(943.0, rel=0.03)
     # The support resonances of a UIC60 track on these pads and ballast: the sleeper-on-ballast mode
