@@ -327,7 +327,7 @@ def read_config(
 
 
 def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, ...]) -> dict:
-    """A session document saved by the explorer (``ExplorerApp.session``) read back and checked: its settings as
+    """A session document saved by the explorer (``SessionFiles.session``) read back and checked: its settings as
     text fields, or one WheelrailError (not a session, a set or wheel set this page does not have, a model it does
     not know, an input it does not declare). The values are checked as the fields are, when they are set."""
     import json

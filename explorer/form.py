@@ -65,7 +65,7 @@ class RunForm:
         self.length_note = ""  # what the last change of set did to the run length, if anything
         self._lock = threading.RLock()
         gui = page.server.gui
-        self.folder = gui.add_folder("Run")
+        self.folder = gui.add_folder(GROUPS["run"])  # the run group's fields in it, the other groups folded
         with self.folder:
             self._add_sets(roughness)
             self.model_dropdown = gui.add_dropdown(
