@@ -20,12 +20,17 @@ LAUNCH_ARGS = [
 SHARED_UPLOAD_BYTES = 1_000_000  # the explorers' upload limit: the tests send a file over it
 
 
-@pytest.fixture
-def free_port() -> int:
-    """A TCP port of 127.0.0.1 free at the moment (for a server started in another process)."""
+def _free_port() -> int:
+    """A TCP port of 127.0.0.1 free at the moment (viser moves to the next one if it is taken meanwhile)."""
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+@pytest.fixture
+def free_port() -> int:
+    """A free port for a server started in another process (``wheelrail explore --port``)."""
+    return _free_port()
 
 
 @pytest.fixture(scope="module")
@@ -34,10 +39,7 @@ def app():
     would not do: a test expects a configuration that another module has run to have no run yet)."""
     from wheelrail.explorer.app import ExplorerApp
 
-    with socket.socket() as s:  # a port free now; viser moves to the next one if it is taken meanwhile
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    explorer = ExplorerApp(port=port, max_upload_bytes=SHARED_UPLOAD_BYTES)
+    explorer = ExplorerApp(port=_free_port(), max_upload_bytes=SHARED_UPLOAD_BYTES)
     yield explorer
     explorer.close()
 
