@@ -30,6 +30,11 @@ def _wait_for(condition, timeout: float, what: str) -> None:
     raise AssertionError(f"timed out after {timeout:g} s waiting for {what}")
 
 
+def _two_frames(page) -> None:
+    """Let the page draw twice more before a screenshot: driven by its own animation frames, not by a sleep."""
+    page.evaluate("() => new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)))")
+
+
 @pytest.fixture(scope="module")
 def app(app):
     """The module's explorer (conftest) set to hertz, 0.8 m."""
@@ -100,7 +105,7 @@ def test_compare_in_the_page_then_change_speed_the_old_filters_go(app, browser):
         "patch-correlated",
         "patch-incoherent",
     ]
-    time.sleep(1.0)
+    _two_frames(page)
     page.screenshot(path=str(ARTIFACTS / "explorer-filters.png"))
 
     speed = _text_field(page, "Speed (km/h)")
@@ -145,7 +150,7 @@ def test_3d_offers_only_the_lines_its_window_fits(app, browser):
     page.get_by_role("button", name="Run", exact=True).click()
     page.get_by_text("Done: 3d on corrugated-rail, line 2", exact=False).wait_for(timeout=300_000)
     _wait_for(lambda: page.evaluate(FRAMES_RENDERED) > 2, 90, "WebGL frames")
-    time.sleep(1.0)
+    _two_frames(page)
     page.screenshot(path=str(ARTIFACTS / "explorer-3d-run.png"))
     assert not errors, errors
     page.close()
