@@ -18,7 +18,7 @@ from wheelrail.core.commands._common import (
     writable_output,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe, describe_words
+from wheelrail.core.inputs import describe, describe_contact, describe_words
 from wheelrail.core.models import model_names
 
 RUN_GROUPS = ("run", "geometry", "track")  # the declared inputs a run takes (wheelrail.core.inputs.GROUPS)
@@ -258,11 +258,7 @@ def _print_summary(args, result, params, summary, sink) -> None:
         f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m"
     )
     print(f"  track: {describe_words(params, 'track')}")
-    a, b = params.contact.hertz_semi_axes()
-    print(
-        f"  contact geometry: {describe_words(params, 'geometry')}; Hertz patch at the preload "
-        f"a = {a * 1e3:.2f} mm along, b = {b * 1e3:.2f} mm across"
-    )
+    print(f"  contact geometry: {describe_contact(params)}")
     print(
         f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
         f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN"
