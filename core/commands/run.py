@@ -20,6 +20,7 @@ from wheelrail.core.commands._common import (
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_contact, describe_words
 from wheelrail.core.models import model_names
+from wheelrail.core.recording.cli import add_recording_arguments, sink_from_args
 
 RUN_GROUPS = ("run", "geometry", "track")  # the declared inputs a run takes (wheelrail.core.inputs.GROUPS)
 
@@ -77,16 +78,8 @@ def add_parser(sub):
     )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     add_input_options(parser, *RUN_GROUPS)
-    _recording_arguments(parser)
-    return parser
-
-
-def _recording_arguments(parser) -> None:
-    try:
-        from wheelrail.core.recording import add_recording_arguments
-    except ImportError:
-        return
     add_recording_arguments(parser)
+    return parser
 
 
 class _StopOnCtrlC:
@@ -286,27 +279,23 @@ def _print_summary(args, result, params, summary, sink) -> None:
 
 def run(args) -> int:
     params, out = _checked_args(args)
-    sink = None
-    if hasattr(args, "rrd"):
-        from wheelrail.core.recording import sink_from_args
-
-        sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}")
+    sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}")
     start = time.perf_counter()
     interaction = _prepare(args, params, out, sink)
     prepared = time.perf_counter()
     result = _execute(args, interaction, sink)
     finished = time.perf_counter()
-    if out is not None:
-        try:
+    try:  # the files first: a viewer lost during the run (reported by finish) costs none of them
+        if out is not None:
             result.save_npz(out)
-        except BaseException:  # e.g. a full disk: no recording without its arrays either
-            if sink is not None:
-                sink.abort()
-            raise
+        if getattr(args, "csv", None) is not None:
+            result.save_csv(args.csv)
+    except BaseException:  # e.g. a full disk: no recording without its arrays either
+        if sink is not None:
+            sink.abort()
+        raise
     if sink is not None:
         sink.finish(result)
-    if getattr(args, "csv", None) is not None:
-        result.save_csv(args.csv)
     summary = _summary(args, result, params, (start, prepared, finished))
     if out is not None:
         summary["out"] = str(out)

@@ -94,3 +94,37 @@ def test_nothing_cites_the_issue_tracker():
                     if pattern.search(line):
                         offenders.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
     assert offenders == []
+
+
+def _required_imports() -> set[str]:
+    """The import names of pyproject's required dependencies ("rerun-sdk>=0.41" -> "rerun"), and wheelrail."""
+    import tomllib
+
+    with open(ROOT / "pyproject.toml", "rb") as handle:
+        requirements = tomllib.load(handle)["project"]["dependencies"]
+    names = {re.split(r"[<>=!~\[; ]", requirement, maxsplit=1)[0].lower() for requirement in requirements}
+    return {{"rerun-sdk": "rerun"}.get(name, name).replace("-", "_") for name in names} | {"wheelrail"}
+
+
+def test_no_import_guard_around_what_is_always_installed():
+    """``except ImportError`` guards only what may be absent (an extra, a part of the standard library a build
+    can leave out): an import of a required dependency or of wheelrail itself cannot fail, and a guard there
+    hides a broken installation behind a missing feature."""
+    required = _required_imports()
+    assert {"rerun", "numpy", "viser"} <= required
+    offenders = []
+    for path in sorted((*CORE.rglob("*.py"), *(ROOT / "explorer").rglob("*.py"), *(ROOT / "package").rglob("*.py"))):
+        for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+            guarded = isinstance(node, ast.Try) and any(
+                isinstance(h.type, ast.Name) and h.type.id in ("ImportError", "ModuleNotFoundError")
+                for h in node.handlers
+            )
+            if not guarded:
+                continue
+            for inner in (n for statement in node.body for n in ast.walk(statement)):
+                modules = [inner.module or ""] if isinstance(inner, ast.ImportFrom) and inner.level == 0 else []
+                modules += [alias.name for alias in inner.names] if isinstance(inner, ast.Import) else []
+                offenders += [
+                    f"{path.relative_to(ROOT)}:{inner.lineno} {m}" for m in modules if m.split(".")[0] in required
+                ]
+    assert offenders == []
