@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.models import model_entry
 from wheelrail.core.recording.sink import RecordingSink
 
 __all__ = ["add_recording_arguments", "sink_from_args"]
@@ -44,7 +45,9 @@ def sink_from_args(args, *, description: str = "") -> RecordingSink | None:
         if sound_power:
             raise WheelrailError("--sound-power needs --rrd, --spawn or --connect")
         return None
+    model = getattr(args, "model", None)
     return RecordingSink(
+        pressure_maps=model is None or model_entry(model).traits.pressure_map,
         rrd=args.rrd,
         spawn=args.spawn,
         connect=args.connect,

@@ -258,9 +258,13 @@ class Outputs:
         Address of a running viewer, ``HOST:PORT`` or a ``rerun+http://HOST:PORT/proxy`` URL.
     description : str
         Name of the recording shown by the viewer.
+    blueprint : rerun.blueprint.Blueprint, optional
+        The layout the viewer opens with (default: :func:`~.schema.default_blueprint`).
     """
 
-    def __init__(self, *, rrd=None, spawn: bool = False, connect: str | None = None, description: str = "") -> None:
+    def __init__(
+        self, *, rrd=None, spawn: bool = False, connect: str | None = None, description: str = "", blueprint=None
+    ) -> None:
         if rrd is None and not spawn and connect is None:
             raise WheelrailError("a recording needs a .rrd file, a viewer to spawn or an address to connect to")
         self.path = None if rrd is None else check_recording_path(rrd)
@@ -294,7 +298,7 @@ class Outputs:
             except Exception as error:  # noqa: BLE001
                 self.discard()
                 raise WheelrailError(str(error), parameter="connect", value=connect) from None
-        self.stream.set_sinks(*sinks, default_blueprint=default_blueprint())
+        self.stream.set_sinks(*sinks, default_blueprint=default_blueprint() if blueprint is None else blueprint)
         if description:
             self.stream.send_recording_name(description)
 

@@ -14,6 +14,7 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.schema import (
     NOMINAL_CIRCLE,
+    NOMINAL_CIRCLE_IMAGE,
     PRESSURE,
     PRESSURE_RANGE_P0,
     PRESSURE_SURFACE,
@@ -99,7 +100,7 @@ class ContactPatch:
         dy = float(y[1] - y[0]) if len(y) > 1 else dx
         pixels = np.c_[(circle[:, 0] - x[0]) / dx + 0.5, (circle[:, 1] - y[0]) / dy + 0.5]
         self.stream.log(
-            NOMINAL_CIRCLE,
+            NOMINAL_CIRCLE_IMAGE,
             _rr().LineStrips2D([pixels], colors=[(255, 255, 255)], draw_order=10.0),
             static=True,
             strict=True,
