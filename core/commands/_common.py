@@ -23,6 +23,7 @@ CLI_NAMES: dict[str, Name] = {
     "record_every": Name("--record-every", unit_in_label=True),
     "connect": Name("--connect", unit_in_label=True),
     "spawn": Name("--spawn", unit_in_label=True),
+    "sound_power": Name("--sound-power", unit_in_label=True),
     "dask": Name("--dask", unit_in_label=True),
     "workers": Name("--workers", unit_in_label=True),
     "model": Name("--model", unit_in_label=True),

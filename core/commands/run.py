@@ -11,6 +11,7 @@ import time
 from wheelrail.core.commands._common import (
     CLI_NAMES,
     add_input_options,
+    cli_error_names,
     input_files,
     params_from_args,
     print_json,
@@ -279,7 +280,7 @@ def _print_summary(args, result, params, summary, sink) -> None:
 
 def run(args) -> int:
     params, out = _checked_args(args)
-    sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}")
+    sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}", names=cli_error_names())
     start = time.perf_counter()
     interaction = _prepare(args, params, out, sink)
     prepared = time.perf_counter()

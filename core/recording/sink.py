@@ -11,11 +11,13 @@ sent as a column of image buffers (one static ``ImageFormat``), decimated with `
 from __future__ import annotations
 
 import os
+import warnings
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.outputs import Outputs
@@ -112,6 +114,9 @@ class RecordingSink:
     pressure_maps : bool
         The run has pressure maps (a model with ``ModelTraits.pressure_map``: ``3d``): the layout the viewer opens
         with has the pressure views (:func:`~.schema.default_blueprint`).
+    names : mapping of str to Name, optional
+        How the front end names the inputs (``WheelrailError.render``), for the warning when the sound power
+        asked for cannot be computed (the run too short); None: the API's names.
     """
 
     def __init__(
@@ -126,8 +131,10 @@ class RecordingSink:
         description: str = "",
         sound_power: bool = False,
         pressure_maps: bool = True,
+        names: Mapping[str, Name] | None = None,
     ) -> None:
         _check_counts(record_every, surface_every, chunk_steps)
+        self.names = dict(names or {})  # how the front end names its options, for the warnings it is given
         self.sound_power = bool(sound_power)  # finish() adds the run's sound-power spectra (needs the RunResult)
         self.record_every = int(record_every)
         self.surface_every = int(surface_every)
@@ -400,8 +407,13 @@ class RecordingSink:
 
         try:
             noise = run_noise(result)
-        except WheelrailError:
-            return  # run too short for a force spectrum
+        except WheelrailError as error:  # e.g. a run too short for a force spectrum: said, in the file and aloud
+            reason = error.render(self.names)
+            document = strict_json({"sound_power": "not computed", "reason": reason}, indent=2)
+            self.stream.log(f"{SOUND_POWER}/summary", self._rr.TextDocument(document), static=True, strict=True)
+            option = self.names["sound_power"].label if "sound_power" in self.names else "sound_power"
+            warnings.warn(f"{option}: no sound power recorded: {reason}", stacklevel=3)
+            return
         for component in SOUND_POWER_COMPONENTS:
             chart = band_chart(noise.frequency_hz, noise.sound_power_db[component])
             self.stream.log(f"{SOUND_POWER}/{component}", chart, static=True, strict=True)
