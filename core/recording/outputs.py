@@ -115,8 +115,8 @@ def check_viewer(url: str, address: str) -> None:
     problem = _listening(host, port)
     if problem:
         raise WheelrailError(
-            f"no rerun viewer answers there ({problem.lower()}); start one (`rerun`) first, or write --rrd "
-            "FILE.rrd and open it later",
+            f"no rerun viewer answers there ({problem.lower()}); start one (`rerun`) first, or record to a "
+            ".rrd file and open it later",
             parameter="connect",
             value=address,
         )
@@ -134,7 +134,7 @@ def viewer_executable() -> Path:
         return Path(on_path)
     raise WheelrailError(
         f"the rerun viewer executable is missing: no {name} in {beside.parent} (where rerun-sdk installs it "
-        "beside this Python) nor on PATH; reinstall rerun-sdk in this environment, or write --rrd FILE.rrd instead",
+        "beside this Python) nor on PATH; reinstall rerun-sdk in this environment, or record to a .rrd file instead",
         parameter="spawn",
     )
 
@@ -145,8 +145,8 @@ def _check_desktop() -> None:
         os.environ.get(name) for name in ("DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET")
     ):
         raise WheelrailError(
-            "no desktop for the viewer's window (neither DISPLAY nor WAYLAND_DISPLAY is set); write --rrd "
-            "FILE.rrd and open it with `rerun FILE.rrd` where there is one, or --connect to a running viewer",
+            "no desktop for the viewer's window (neither DISPLAY nor WAYLAND_DISPLAY is set); record to a "
+            ".rrd file and open it with `rerun FILE.rrd` where there is one, or connect to a running viewer",
             parameter="spawn",
         )
 
@@ -183,8 +183,8 @@ def _spawn_viewer(stream) -> None:
     problem = _listening("127.0.0.1", DEFAULT_VIEWER_PORT)
     if problem:
         raise WheelrailError(
-            f"the rerun viewer did not open its port {DEFAULT_VIEWER_PORT} ({problem.lower()}); write --rrd "
-            "FILE.rrd and open it with `rerun FILE.rrd` instead",
+            f"the rerun viewer did not open its port {DEFAULT_VIEWER_PORT} ({problem.lower()}); record to a "
+            ".rrd file and open it with `rerun FILE.rrd` instead",
             parameter="spawn",
         )
 

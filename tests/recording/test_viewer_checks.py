@@ -58,7 +58,7 @@ def test_spawn_without_a_desktop_is_one_line_before_the_run(tmp_path, capfd, no_
     assert main([*RUN, "--spawn", "--rrd", str(tmp_path / "r.rrd")]) != 0
     error = _one_line_error(capfd)
     assert "--spawn: no desktop for the viewer's window (neither DISPLAY nor WAYLAND_DISPLAY is set)" in error
-    assert "--rrd" in error  # what to do instead
+    assert "record to a .rrd file" in error  # what to do instead
     assert list(tmp_path.iterdir()) == []
 
 
