@@ -62,7 +62,7 @@ EMPTY_BAND_DB = 120.0  # a roughness band this far below the set's highest band 
 NO_RUN = "no run of this configuration yet"
 NOISE_RANGE_DB = 60.0  # the sound-power plot shows the loudest band down by this (A-weighted, quieter bands
 # matter little to the total)
-COMPONENT_COLOURS = {"rail": "#e6550d", "sleeper": "#31a354", "wheel": "#756bb1"}
+COMPONENT_COLOURS = dict(zip(COMPONENTS, ("#e6550d", "#31a354", "#756bb1"), strict=True))  # rail, sleeper, wheel
 CNOSSOS_COLOURS = {"track": "#636363", "vehicle": "#8c6d31", "total": "#000000"}
 AUDIO_HINT = (
     "The pass-by of the train set below at the ISO 3095 position, synthesised from the run's contact force "
@@ -418,7 +418,11 @@ class NoiseTab(ResultsTab):
 
     def _totals(self, noises, model, extra, overlay, train, train_problem) -> str:
         """L_WA per axle (dB(A)) by component and the pass-by level as a table, and what they are."""
-        rows = ["| L_WA, dB(A) | rail | sleeper | track | wheel | total | pass-by |", "|---|---|---|---|---|---|---|"]
+        rail, sleeper, wheel = COMPONENTS
+        rows = [
+            f"| L_WA, dB(A) | {rail} | {sleeper} | track | {wheel} | total | pass-by |",
+            "|---|---|---|---|---|---|---|",
+        ]
 
         def passing(level: float) -> str:
             return "-" if train is None else _db(pass_by_level(level, *train))
@@ -427,10 +431,10 @@ class NoiseTab(ResultsTab):
         runs += [] if overlay is None else [(f"{m} [{overlay.case_label()}]", n) for m, n in extra.items()]
         for name, n in runs:
             dba = {k: v + AXLE_DB for k, v in n.sound_power_dba.items()}
-            track = energy_sum(dba["rail"], dba["sleeper"])
+            track = energy_sum(dba[rail], dba[sleeper])
             shown = f"**{name}**" if name == model else name
             rows.append(
-                f"| {shown} | {_db(dba['rail'])} | {_db(dba['sleeper'])} | {_db(track)} | {_db(dba['wheel'])} | "
+                f"| {shown} | {_db(dba[rail])} | {_db(dba[sleeper])} | {_db(track)} | {_db(dba[wheel])} | "
                 f"{_db(dba['total'])} | {passing(dba['total'])} |"
             )
         beside = noises[model].cnossos
