@@ -25,11 +25,13 @@ from wheelrail.core.noise.run_noise import (
     COMPONENTS,
     DEFAULT_TRAIN_AXLES,
     DEFAULT_TRAIN_LENGTH,
+    ISO3095_DISTANCE,
+    ISO3095_HEIGHT,
     pass_by_level,
 )
-from wheelrail.core.parameters import KMH
+from wheelrail.core.parameters import KMH, ContactParameters
 from wheelrail.core.roughness import lateral_coherence, roughness_spectrum
-from wheelrail.core.roughness.analysis import FREQUENCY_RANGE
+from wheelrail.core.roughness.analysis import DEFAULT_LINES, FREQUENCY_RANGE
 from wheelrail.core.roughness_limits import iso3095_limit
 from wheelrail.core.spectra import energetic_sum
 from wheelrail.explorer.config import COMPARE, MODEL_CHOICES, RunConfig, page_message, read_train
@@ -73,7 +75,8 @@ NOISE_NOTE = (
     "wheel (solid, their colours) and every model's total (model colours), from the run's contact force through "
     "the model track's transfer functions (the TWINS approach). Dotted: the CNOSSOS-EU source (Directive (EU) "
     "2015/996, Annex II 2.3) on the run's own roughness with its fixed contact filter A3. Dashed: a run overlaid. "
-    "*Pass-by audio*: the model shown, at 7.5 m; listen for the high bands (above about 1 kHz) that a finite "
+    f"*Pass-by audio*: the model shown, at {ISO3095_DISTANCE:g} m; listen for the high bands (above about 1 kHz) "
+    "that a finite "
     "patch (3d, 2d) takes out and the point contact (hertz) keeps."
 )
 
@@ -359,7 +362,8 @@ class NoiseTab(ResultsTab):
         name = f"{config.file_stem()}-pass-by-{axles}axles-{length:g}m.wav"
         caption = (
             f"Pass-by of **{config.model}** on {config.case_label()}: {axles} axles in {length:g} m, "
-            f"L_pAeq,Tp {noise.pass_by_laeq_dba:.1f} dB(A) at 7.5 m. WAV {rate} Hz, 16 bit; a sample of 1.0 "
+            f"L_pAeq,Tp {noise.pass_by_laeq_dba:.1f} dB(A) at {ISO3095_DISTANCE:g} m. WAV {rate} Hz, 16 bit; "
+            "a sample of 1.0 "
             f"is {full_scale:.3g} Pa."
         )
         self.audio_html.content = (
@@ -447,7 +451,8 @@ class NoiseTab(ResultsTab):
             where = f"**Train:** {page_message(train_problem)}"
         else:
             where = (
-                f"Pass-by: L_pAeq,Tp (dB(A)) at 7.5 m from the track, 1.2 m above the rail, {train[0]} axles in "
+                f"Pass-by: L_pAeq,Tp (dB(A)) at {ISO3095_DISTANCE:g} m from the track, {ISO3095_HEIGHT:g} m above the "
+                f"rail, {train[0]} axles in "
                 f"{train[1]:g} m at {noises[model].configuration['run']['speed_m_s'] / KMH:g} km/h"
             )
         return (
@@ -492,7 +497,7 @@ class RoughnessTab(ResultsTab):
 
     def show_roughness(self, rough, label: str, speed: float, wheel=None, wheel_label: str | None = None) -> None:
         """Spectra of the set ``rough`` (and of the wheel set ``wheel`` with the combined roughness) at ``speed``
-        (m/s), averaged over its lines -3..3 (the paper's), and its lateral coherence."""
+        (m/s), averaged over its lines ``DEFAULT_LINES`` (-3..3, the paper's), and its lateral coherence."""
         curves = []
         lines = self._lines(rough)
         rail = roughness_spectrum(rough, speed=speed, lines=lines)
@@ -693,18 +698,21 @@ def help_text() -> str:
         "and b (across); the colour bar marks its peak pressure p0. *Top view* / *Oblique view* set the camera.\n\n"
         "**Contact geometry**: wheel radius (rolling, along the rail), rail crown radius (across) and wheel "
         "tread radius across (empty: a cylindrical tread; negative: a concave, worn tread, which must stay "
-        "flatter than the crown), in mm; empty fields keep the paper's crossed cylinders of 390 mm (a circular "
+        f"flatter than the crown), in mm; empty fields keep the paper's crossed cylinders of "
+        f"{ContactParameters().radius * 1e3:g} mm (a circular "
         "patch). Otherwise the patch is an ellipse, drawn with its Hertz semi-axes.\n\n"
         "**Wheel roughness**: a bundled wheel set added to a rail set (r = r_rail + r_wheel, the wheel's lines "
         "repeating with its circumference); `none`: a smooth wheel, as in the paper. The Roughness tab then "
         "shows the rail, the wheel and their energetic sum.\n\n"
         "**Roughness spectrum**: dB re 1 µm against frequency at the speed and wavelength (top axis), averaged "
-        "over lines -3..3; dotted, for rail sets: the ISO 3095:2013 limit, put on these bands by the "
-        "CNOSSOS-EU rule. Bands more than 120 dB below the highest hold no roughness and are not drawn.\n\n"
+        f"over lines {DEFAULT_LINES[0]}..{DEFAULT_LINES[-1]}; dotted, for rail sets: the ISO 3095:2013 limit, put on "
+        f"these bands by the CNOSSOS-EU rule. Bands more than {EMPTY_BAND_DB:g} dB below the highest hold no "
+        "roughness and are not drawn.\n\n"
         "**Noise**: the run's contact force through the model track's transfer functions (rail and sleeper sound "
         "power) and, for the wheel, the effective roughness through CNOSSOS-EU's L_H,veh (the 2-DOF wheel has no "
         "radiating modes); per axle, A-weighted per band, beside the CNOSSOS-EU source on the run's own roughness "
-        "with A3. The table: L_WA per axle and the pass-by L_pAeq,Tp at 7.5 m for the train set below it. "
+        f"with A3. The table: L_WA per axle and the pass-by L_pAeq,Tp at {ISO3095_DISTANCE:g} m for the train set "
+        "below it. "
         "*Pass-by audio* makes the pass-by of the model shown to hear and download (its calibration under the "
         "player).\n\n"
         "**Track**: the *Track* folder sets the pads, sleepers, ballast, the rail's loss factor and the pads' "

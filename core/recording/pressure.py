@@ -9,14 +9,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from wheelrail.core.drawing import circle_points, colour_table, grid_triangles, packed_rgba, table_colours
+from wheelrail.core.drawing import (
+    PRESSURE_RANGE_P0,
+    circle_points,
+    colour_table,
+    grid_triangles,
+    packed_rgba,
+    table_colours,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.schema import (
     NOMINAL_CIRCLE,
     NOMINAL_CIRCLE_IMAGE,
     PRESSURE,
-    PRESSURE_RANGE_P0,
     PRESSURE_SURFACE,
     _rr,
     time_columns,

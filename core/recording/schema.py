@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wheelrail.core.drawing import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.noise.levels import SOUND_POWER_PARTS
 from wheelrail.core.results import RunHeader
@@ -34,7 +35,6 @@ __all__ = [
 
 APPLICATION_ID = "wheelrail"
 TIMELINES = ("step", "time", "position_um")
-PRESSURE_RANGE_P0 = 2.0  # colour map of the pressure image spans 0 .. 2 p0 (rough contacts exceed p0)
 ROUGHNESS_LINES_SHOWN = 3  # roughness/lines shows the set's lines k-3 .. k+3 around the run's line k
 
 PARAMETERS = "parameters"

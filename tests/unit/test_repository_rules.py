@@ -149,3 +149,44 @@ def test_the_noise_components_are_named_once():
         if {match.group(1), match.group(2)} != {"rail", "wheel"}  # the two kinds of roughness set, not parts
     ]
     assert restated == []
+
+
+_RETYPED = ("7.5 m", "1.2 m above", "-3..3", "120 dB", "390 mm", "65 kN", "100 km/h", "0 to 1.5")
+
+
+def _prose(path: Path):
+    """(line, text) of every string in ``path`` a user reads (docstrings aside: they explain the code)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    docstrings = {
+        id(node.body[0].value)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef)
+        and node.body
+        and isinstance(node.body[0], ast.Expr)
+        and isinstance(node.body[0].value, ast.Constant)
+    }
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docstrings:
+            yield node.lineno, node.value
+
+
+def test_the_explorer_states_defaults_from_their_constants():
+    """The explorer's page text reads the values core declares (ISO 3095 distance and height, the paper's lines,
+    the empty-band floor, the paper's radius, preload and speed, the pressure colour range) instead of retyping
+    them, so a change in core shows on the page."""
+    found = [
+        f"{path.relative_to(ROOT)}:{line}: {word!r}"
+        for path in sorted((ROOT / "explorer").rglob("*.py"))
+        for line, text in _prose(path)
+        for word in _RETYPED
+        if word in text
+    ]
+    assert found == []
+
+
+def test_both_front_ends_draw_pressure_on_one_colour_range():
+    from wheelrail.core import drawing
+    from wheelrail.core.recording import pressure
+    from wheelrail.explorer import scene
+
+    assert scene.PRESSURE_TOP is drawing.PRESSURE_RANGE_P0 and pressure.PRESSURE_RANGE_P0 is drawing.PRESSURE_RANGE_P0
