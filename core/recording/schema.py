@@ -230,7 +230,7 @@ def _series_view(title: str, *extra: str):
 
 
 BAR_WIDTH = 0.9  # of a band: the bars of a band chart stand side by side, a gap between them
-BANDS_NOTE = "by band number 10 lg(f/Hz): 17 = 50 Hz, 20 = 100 Hz, 30 = 1 kHz, 39 = 8 kHz"
+BANDS_NOTE = "bands 10 lg f: 17 = 50 Hz, 30 = 1 kHz"  # the bars' abscissa (band_numbers), in a view's title
 
 
 def band_numbers(centres: np.ndarray) -> np.ndarray:
@@ -250,10 +250,10 @@ def band_chart(centres: np.ndarray, levels: np.ndarray):
 
 def _spectra_views(sound_power: bool) -> list:
     rrb = _rr().blueprint
-    views = [rrb.BarChartView(origin=FORCE_SPECTRUM, name=f"Force spectrum, dB re 1 N, {BANDS_NOTE}")]
+    views = [rrb.BarChartView(origin=FORCE_SPECTRUM, name=f"Force spectrum (dB re 1 N; {BANDS_NOTE})")]
     if sound_power:
         views += [
-            rrb.BarChartView(origin=f"{SOUND_POWER}/{part}", name=f"Sound power, {part}, dB re 1 pW, {BANDS_NOTE}")
+            rrb.BarChartView(origin=f"{SOUND_POWER}/{part}", name=f"Sound power, {part} (dB re 1 pW; {BANDS_NOTE})")
             for part in SOUND_POWER_COMPONENTS
         ]
         views.append(rrb.TextDocumentView(origin=f"{SOUND_POWER}/summary", name="Sound power, totals"))
