@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wheelrail.core.checks import level_arrays
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.spectra import BAND_HALF_WIDTH, FORCE_BAND_RANGE, nominal_band_label, third_octave_bands
 
@@ -50,11 +51,16 @@ class Bands:
     speed: float | None = None
 
     def __post_init__(self) -> None:
+        from wheelrail.core.checks import finite_array, real
+
         if self.axis not in AXES:
             raise WheelrailError(f"band axis must be one of {', '.join(AXES)}, got {self.axis!r}")
+        unit = "m" if self.axis == "wavelength" else "Hz"
+        centres = finite_array("Bands.centres", self.centres, unit)
+        if centres.ndim != 1 or centres.size == 0 or np.any(centres <= 0):
+            raise WheelrailError(f"Bands.centres must be a 1-D array of positive band centres ({unit})")
+        object.__setattr__(self, "centres", centres)
         if self.speed is not None:
-            from wheelrail.core.checks import real
-
             real("band speed", self.speed, "m/s")
 
     @property
@@ -102,6 +108,10 @@ def wavelength_bands(
 
 def frequency_bands(speed: float | None, band_range: tuple[float, float] = FORCE_BAND_RANGE) -> Bands:
     """Frequency bands (Hz) with centres in ``band_range`` (default 50 Hz .. 8 kHz) at train speed ``speed`` (m/s)."""
+    if isinstance(band_range, str | bytes) or not hasattr(band_range, "__len__") or len(band_range) != 2:
+        raise WheelrailError(
+            f"frequency_bands: band_range must be (lowest, highest) in Hz, got {type(band_range).__name__}"
+        )
     centres, _, _ = third_octave_bands(*band_range)
     return Bands(centres=centres, axis="frequency", speed=speed)
 
@@ -127,7 +137,7 @@ def map_levels(levels_db, source: Bands, target: Bands) -> np.ndarray:
     numpy.ndarray
         One level per target band, dB, same reference as ``levels_db``.
     """
-    levels = np.asarray(levels_db, dtype=float)
+    (levels,) = level_arrays("map_levels: levels_db", [levels_db])
     if levels.shape != np.shape(source.centres):
         raise WheelrailError(f"map_levels: {levels.size} levels for {np.size(source.centres)} source bands")
     s_lo, s_hi = (np.log10(edge) for edge in source.wavenumber_edges())

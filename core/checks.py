@@ -13,7 +13,22 @@ import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 
-__all__ = ["finite_array", "integer", "level_arrays", "poisson_ratio", "positive", "real"]
+__all__ = [
+    "LEVEL_LIMIT_DB",
+    "finite_array",
+    "integer",
+    "level_arrays",
+    "mean_squares",
+    "poisson_ratio",
+    "positive",
+    "real",
+    "samples",
+]
+
+LEVEL_LIMIT_DB = 1000.0
+"""The largest magnitude a level may have, dB: 10^100 times its reference, beyond any physical quantity (sound in
+air ends near 194 dB re 20 uPa, a force of 1e10 N is 200 dB re 1 N), and far enough inside float64 (10^308) that
+energetic sums of levels, 10^(L/10), never overflow. -inf (no power) and NaN (no estimate) pass."""
 
 _SIGNS = {
     "positive": ("positive and finite", lambda v: v > 0.0),
@@ -22,17 +37,23 @@ _SIGNS = {
 }
 
 
+def _shown(value) -> str:
+    """``repr(value)`` on one line, at most 60 characters (an array's repr spans lines)."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def real(label: str, value, unit: str, *, sign: str = "positive") -> float:
     """``value`` as a finite float of the given sign ("positive", "nonnegative" or "any")."""
-    if isinstance(value, bool):
-        raise WheelrailError(f"{label} must be a number in {unit}, got {value!r}")
+    if isinstance(value, bool) or (isinstance(value, np.ndarray) and value.ndim > 0):
+        raise WheelrailError(f"{label} must be a number in {unit}, got {_shown(value)}")
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise WheelrailError(f"{label} must be a number in {unit}, got {value!r}") from None
+        raise WheelrailError(f"{label} must be a number in {unit}, got {_shown(value)}") from None
     words, accept = _SIGNS[sign]
     if not (math.isfinite(number) and accept(number)):
-        raise WheelrailError(f"{label} must be {words} ({unit}), got {value!r}")
+        raise WheelrailError(f"{label} must be {words} ({unit}), got {_shown(value)}")
     return number
 
 
@@ -44,7 +65,7 @@ def positive(where: str, name: str, value, unit: str) -> float:
 def integer(label: str, value, minimum: int) -> int:
     """``value`` as an int >= ``minimum`` (bools and floats refused)."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
-        raise WheelrailError(f"{label} must be an integer >= {minimum}, got {value!r}")
+        raise WheelrailError(f"{label} must be an integer >= {minimum}, got {_shown(value)}")
     return int(value)
 
 
@@ -66,22 +87,52 @@ def level_arrays(label: str, levels, *, at_least: int = 1) -> list[np.ndarray]:
         raise WheelrailError(f"{label} must hold at least {at_least} band-level array(s) (dB), got {len(levels)}")
     arrays = []
     for level in levels:
+        if level is None or isinstance(level, str | bytes):  # numpy reads None as NaN and digits in a string
+            raise WheelrailError(f"{label} must be numbers (dB), got {_shown(level)}")
         try:
             arrays.append(np.asarray(level, dtype=float))
         except (TypeError, ValueError):
-            raise WheelrailError(f"{label} must be numbers (dB), got {level!r:.60}") from None
+            raise WheelrailError(f"{label} must be numbers (dB), got {_shown(level)}") from None
     shapes = sorted({array.shape for array in arrays})
     if len(shapes) > 1:
         raise WheelrailError(f"{label}: band-level arrays of different shapes {', '.join(map(str, shapes))}")
     if any(np.any(array == np.inf) for array in arrays):
         raise WheelrailError(f"{label}: a level of +inf dB (no finite power has one)")
+    if any(np.any(np.isfinite(array) & (np.abs(array) > LEVEL_LIMIT_DB)) for array in arrays):
+        raise WheelrailError(f"{label}: a level beyond +-{LEVEL_LIMIT_DB:g} dB (10^100 times its reference)")
     return arrays
+
+
+def mean_squares(label: str, value, unit: str) -> np.ndarray:
+    """``value`` as a float array of mean squares or powers (``unit``): zero or positive and finite; NaN passes
+    (a band with no estimate)."""
+    if value is None or isinstance(value, str | bytes):
+        raise WheelrailError(f"{label} must be numbers in {unit}, got {_shown(value)}")
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise WheelrailError(f"{label} must be numbers in {unit}") from None
+    if np.any(np.isinf(array)) or np.any(array < 0):
+        raise WheelrailError(f"{label} must be zero or positive and finite ({unit}), got a negative or infinite value")
+    return array
+
+
+def samples(label: str, value, unit: str, *, rows: bool = True, at_least: int = 2) -> np.ndarray:
+    """``value`` as finite samples: one signal (1-D) or, with ``rows``, one per row (2-D), each of at least
+    ``at_least`` samples."""
+    array = finite_array(label, value, unit)
+    shapes = "a 1-D array of samples" + (" (or 2-D, one signal per row)" if rows else "")
+    if array.ndim not in ((1, 2) if rows else (1,)):
+        raise WheelrailError(f"{label} must be {shapes}, got shape {array.shape}")
+    if array.shape[-1] < at_least:
+        raise WheelrailError(f"{label} needs at least {at_least} samples, got {array.shape[-1]}")
+    return array
 
 
 def finite_array(label: str, value, unit: str) -> np.ndarray:
     """``value`` as a float array with no NaN or infinity."""
-    if value is None:
-        raise WheelrailError(f"{label} must be numbers in {unit}, got None")
+    if value is None or isinstance(value, str | bytes):
+        raise WheelrailError(f"{label} must be numbers in {unit}, got {_shown(value)}")
     try:
         array = np.asarray(value, dtype=float)
     except (TypeError, ValueError):

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "PRESSURE_RANGE_P0",
     "VIRIDIS_ANCHORS",
     "circle_points",
     "circle_segments",
@@ -17,6 +18,11 @@ __all__ = [
     "packed_rgba",
     "table_colours",
 ]
+
+PRESSURE_RANGE_P0 = 2.0
+"""Top of the pressure colour ramp in both front ends (the recording's image and surface, the explorer's heat map
+and colour bar), times the Hertz peak pressure p0 at the preload: rough contacts exceed p0, so the ramp runs on
+to twice it and p0 sits at its middle."""
 
 # viridis (matplotlib's default colour map) at 0, 1/4, 1/2, 3/4 and 1, sRGB 0..255; linear interpolation
 # between these five stays within 26/255 of the full map in every channel, enough for a readable ramp

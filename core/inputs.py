@@ -30,6 +30,7 @@ __all__ = [
     "by_key",
     "cli_names",
     "describe",
+    "describe_contact",
     "describe_words",
     "inputs_of",
     "model_parameters",
@@ -285,14 +286,20 @@ def _replaced(owner, path: list[str], value):
     return replace(owner, **{path[0]: _replaced(getattr(owner, path[0]), path[1:], value)})
 
 
+_IN_USE = {"wheel_radius": "radius_along", "rail_crown_radius": "crown_radius"}
+"""An unset radius is the one ``ContactParameters`` uses, read from it: the one rule, declared there (unset, the
+wheel's and the rail crown's radius are its ``radius``, the paper's R = 0.39 m, each whatever the other is)."""
+
+
 def describe(params, *groups: str) -> dict[str, dict[str, float | None]]:
     """The inputs of ``params`` by group (all groups when none is named), SI, for every result's record:
-    ``{"track": {"pad_stiffness": 1.2e8, ...}, ...}`` (an infinite tread radius as None, as JSON has it)."""
+    ``{"track": {"pad_stiffness": 1.2e8, ...}, ...}`` (an unset radius as the one in use; an infinite tread
+    radius as None, as JSON has it)."""
     found: dict[str, dict[str, float | None]] = {}
     for entry in inputs_of(*groups):
         value = entry.value_in(params)
-        if entry.path.startswith("contact.") and value is None:  # an unset radius: the one in use
-            value = params.contact.radius
+        if value is None and entry.key in _IN_USE:
+            value = getattr(params.contact, _IN_USE[entry.key])
         number = None if value is None or not math.isfinite(value) else float(value)
         found.setdefault(entry.group, {})[entry.key] = number
     return found
@@ -300,10 +307,27 @@ def describe(params, *groups: str) -> dict[str, dict[str, float | None]]:
 
 def describe_words(params, group: str) -> str:
     """The inputs of one group of ``params`` as a line of text: "pad stiffness 120 MN/m, pad damping 16 kNs/m, ..."
-    (an unset radius as the words of its ``unset``)."""
+    (an unset radius as the one in use followed by its ``unset`` words, "rail crown radius 390 mm (the paper's
+    R)"; an infinite tread as its ``unset`` words)."""
     values = describe(params, group)[group]
     parts = []
     for key, value in values.items():
         entry = by_key(key)
-        parts.append(entry.unset if value is None else entry.words(value))
+        if value is None:
+            parts.append(entry.unset)
+        elif entry.unset and entry.value_in(params) is None:
+            parts.append(f"{entry.words(value)} ({entry.unset})")
+        else:
+            parts.append(entry.words(value))
     return ", ".join(parts)
+
+
+def describe_contact(params) -> str:
+    """The contact geometry of ``params`` and its Hertz patch as a line of text, as ``run``, ``filters`` and
+    ``study`` print it: the radii (:func:`describe_words`) and the semi-axes a along and b across the rail."""
+    contact = params.contact
+    a, b = contact.hertz_semi_axes()
+    return (
+        f"{describe_words(params, 'geometry')}; Hertz patch at {contact.preload / 1e3:g} kN "
+        f"a = {a * 1e3:.2f} mm along, b = {b * 1e3:.2f} mm across"
+    )

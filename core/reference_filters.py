@@ -298,20 +298,15 @@ def reference_filters(
         Train speed, m/s (5 to 400 km/h); omitted: wavelength bands only.
     contact : ContactParameters, optional
         Material (E, nu) and geometry across the rail for the Hertz semi-axes (paper defaults); its preload
-        and rolling radius are replaced by ``load`` and ``wheel_radius`` (and ``radius``, so that a rail
-        crown left unset follows the wheel: the circle of radius R); set ``rail_crown_radius`` (and
-        ``wheel_transverse_radius``) for the elliptic patch of a real wheel on a real rail.
+        and rolling radius are replaced by ``load`` and ``wheel_radius``. Its rail crown is the one a run
+        with it has (:attr:`ContactParameters.crown_radius`: unset, the paper's R = 0.39 m whatever the
+        wheel), so another wheel radius alone gives an ellipse, as in ``run``.
     frequency_range : (float, float)
         Lowest and highest frequency band centre, Hz.
     """
     load = ACCEPTED["preload"].check(load, "load")
     wheel_radius = ACCEPTED["wheel_radius"].check(wheel_radius, "wheel_radius")
-    contact = replace(
-        ContactParameters() if contact is None else contact,
-        radius=wheel_radius,
-        wheel_radius=wheel_radius,
-        preload=load,
-    )
+    contact = replace(ContactParameters() if contact is None else contact, wheel_radius=wheel_radius, preload=load)
     a, b = hertz_semi_axes(contact)
     by_wavelength = {"cnossos": cnossos_filter(load, 2.0 * wheel_radius, contact)}
     lambda_bands = wavelength_bands()
@@ -347,15 +342,7 @@ def run_reference_filters(
     contact: ContactParameters, speed: float, frequency_range: tuple[float, float] = FORCE_BAND_RANGE
 ) -> ReferenceFilterSet:
     """The reference filters beside a run's dynamic ones: for the run's own preload, rolling radius and geometry
-    across the rail, exactly as the run has them.
-
-    :func:`reference_filters` lets an unset rail crown follow the wheel radius it is given (the circle the
-    CNOSSOS table assumes); a run's unset crown is its ``radius`` instead, so it is pinned here before the call.
-    """
+    across the rail, exactly as the run has them."""
     return reference_filters(
-        contact.preload,
-        contact.radius_along,
-        speed,
-        contact=replace(contact, rail_crown_radius=contact.crown_radius),
-        frequency_range=frequency_range,
+        contact.preload, contact.radius_along, speed, contact=contact, frequency_range=frequency_range
     )

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from wheelrail.core.checks import finite_array, integer, level_arrays, real
+from wheelrail.core.checks import finite_array, integer, level_arrays, mean_squares, real, samples
 from wheelrail.core.errors import WheelrailError
 
 BAND_HALF_WIDTH = 10.0 ** (1.0 / 20.0)  # upper edge / centre of a third-octave band (base 10)
@@ -41,7 +41,9 @@ def third_octave_bands(lowest: float, highest: float) -> tuple[np.ndarray, np.nd
     >>> centres.size, [nominal_band_label(c) for c in centres[:4]]
     (23, ['50', '63', '80', '100'])
     """
-    if not (math.isfinite(lowest) and math.isfinite(highest) and 0 < lowest <= highest):
+    lowest = real("third_octave_bands: lowest", lowest, "the unit of the centres")
+    highest = real("third_octave_bands: highest", highest, "the unit of the centres")
+    if not lowest <= highest:
         raise WheelrailError(f"third-octave range must satisfy 0 < lowest <= highest, got {lowest!r} .. {highest!r}")
     first = math.ceil(10 * math.log10(lowest) - 0.05)
     last = math.floor(10 * math.log10(highest) + 0.05)
@@ -57,7 +59,7 @@ def nominal_band_label(centre: float) -> str:
     nominal = [1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0, 10.0]
     best = min(nominal, key=lambda m: abs(math.log10(m / mantissa)))
     value = best * 10.0**exponent
-    return f"{value:.0f}" if value >= 1e4 else f"{value:.4g}"  # 10000, not .4g's 1e+04
+    return f"{value:.0f}" if 1e4 <= value < 1e16 else f"{value:.4g}"  # 10000, not .4g's 1e+04
 
 
 def band_labels(centres) -> list[str]:
@@ -95,10 +97,9 @@ def narrowband_spectrum(signal: np.ndarray, sample_rate: float) -> tuple[np.ndar
     psd : numpy.ndarray
         One-sided PSD, U² per (cycle per unit), same leading shape as ``signal``.
     """
-    signal = np.asarray(signal, dtype=float)
+    signal = samples("spectrum: signal", signal, "any unit")
+    sample_rate = real("spectrum: sample_rate", sample_rate, "samples per unit of the sampling axis")
     n = signal.shape[-1]
-    if n < 2:
-        raise WheelrailError(f"spectrum needs at least 2 samples, got {n}")
     window = hann_window(n)
     spectrum = np.fft.rfft(window * signal, n=n, axis=-1)
     psd = np.conjugate(spectrum) * spectrum
@@ -127,9 +128,14 @@ def band_power(frequencies: np.ndarray, psd: np.ndarray, lower: np.ndarray, uppe
     Returns the band mean squares (U²), shape ``psd.shape[:-1] + (bands,)``. A band that holds no bin
     (too narrow for the frequency resolution) gives NaN: there is no estimate there.
     """
-    frequencies = np.asarray(frequencies, dtype=float)
+    frequencies = samples("band_power: frequencies", frequencies, "cycles per unit", rows=False)
     df = frequencies[1] - frequencies[0]
-    psd = np.asarray(psd, dtype=float)
+    if not np.all(np.diff(frequencies) > 0):
+        raise WheelrailError("band_power: frequencies must increase (the bins of a spectrum)")
+    psd = mean_squares("band_power: psd", psd, "the signal's unit squared per cycle")
+    if psd.ndim == 0 or psd.shape[-1] != frequencies.size:
+        raise WheelrailError(f"band_power: psd of shape {psd.shape} for {frequencies.size} frequencies")
+    lower, upper = _band_edges("band_power", lower, upper)
     out = np.full(psd.shape[:-1] + (len(lower),), np.nan)
     for band, (lo, hi) in enumerate(zip(lower, upper, strict=True)):
         inside = (frequencies >= lo) & (frequencies < hi)
@@ -138,10 +144,29 @@ def band_power(frequencies: np.ndarray, psd: np.ndarray, lower: np.ndarray, uppe
     return out
 
 
+def _band_edges(where: str, lower, upper) -> tuple[np.ndarray, np.ndarray]:
+    """Band edges: two 1-D arrays of one length, positive and finite, each lower edge below its upper one."""
+    lower = finite_array(f"{where}: lower", lower, "cycles per unit")
+    upper = finite_array(f"{where}: upper", upper, "cycles per unit")
+    if lower.ndim != 1 or lower.shape != upper.shape or np.any(lower <= 0) or np.any(upper <= lower):
+        raise WheelrailError(f"{where}: band edges must be two 1-D arrays of one length with 0 < lower < upper")
+    return lower, upper
+
+
 def level_db(mean_square: np.ndarray, reference: float) -> np.ndarray:
-    """Level ``10 log10(mean_square / reference²)`` in dB re ``reference`` (NaN stays NaN, 0 -> -inf)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return 10.0 * np.log10(np.asarray(mean_square, dtype=float) / reference**2)
+    """Level ``10 log10(mean_square / reference²)`` in dB re ``reference`` (NaN stays NaN, 0 -> -inf), computed
+    as ``10 lg(mean_square) - 20 lg(reference)`` (no overflow for any finite inputs)."""
+    reference = real("level_db: reference", reference, "the mean square's unit, square-rooted")
+    mean_square = mean_squares("level_db: mean_square", mean_square, "the reference's unit squared")
+    with np.errstate(divide="ignore"):
+        return 10.0 * np.log10(mean_square) - 20.0 * math.log10(reference)
+
+
+def _band_range(band_range) -> tuple[float, float]:
+    """``band_range`` as (lowest, highest) band centre; the values are checked by :func:`third_octave_bands`."""
+    if isinstance(band_range, str | bytes) or not hasattr(band_range, "__len__") or len(band_range) != 2:
+        raise WheelrailError(f"band_range must be (lowest, highest) band centres, got {type(band_range).__name__}")
+    return band_range[0], band_range[1]
 
 
 def third_octave_levels(
@@ -185,7 +210,8 @@ def third_octave_spectrum(
     levels : numpy.ndarray
         dB re ``reference``, averaged energetically over rows; NaN where a band holds no bin.
     """
-    centres, lower, upper = third_octave_bands(*band_range)
+    sample_rate = real("third_octave_spectrum: sample_rate", sample_rate, "samples per unit of the sampling axis")
+    centres, lower, upper = third_octave_bands(*_band_range(band_range))
     levels = third_octave_levels(signals, sample_rate, lower, upper, reference)
     nyquist = 0.5 * sample_rate
     return centres, np.where(upper <= nyquist, levels, np.nan)
@@ -211,8 +237,11 @@ def block_spectra(
     s0m : numpy.ndarray
         Cross-spectra centre x other (complex), shape (others, bins).
     """
-    centre = np.asarray(centre, dtype=float)
-    others = np.atleast_2d(np.asarray(others, dtype=float))
+    centre = samples("block_spectra: centre", centre, "any unit", rows=False)
+    others = np.atleast_2d(samples("block_spectra: others", others, "any unit"))
+    if others.shape[-1] != centre.size:
+        raise WheelrailError(f"block_spectra: others of {others.shape[-1]} samples beside a centre of {centre.size}")
+    sample_rate = real("block_spectra: sample_rate", sample_rate, "samples per unit of the sampling axis")
     if isinstance(blocks, bool) or int(blocks) != blocks or blocks < 1:
         raise WheelrailError(f"number of blocks B must be a positive integer, got {blocks!r}")
     segment = centre.shape[-1] // int(blocks)
@@ -267,6 +296,7 @@ def band_coherence(
         γ² per band, in [0, 1]; NaN where the band holds no bin of the block spectra.
     """
     frequencies, s00, smm, s0m = block_spectra(centre, others, sample_rate, blocks)
+    lower, upper = _band_edges("band_coherence", lower, upper)
     out = np.full(len(lower), np.nan)
     for band, (lo, hi) in enumerate(zip(lower, upper, strict=True)):
         inside = (frequencies >= lo) & (frequencies < hi)
@@ -296,12 +326,22 @@ def shortest_spectrum_run(speed: float, element_size: float, skip: float = FORCE
     >>> round(shortest_spectrum_run(100 / 3.6, 1e-3), 3)    # m at 100 km/h, 1 mm steps: 556 skipped + 16
     0.572
     """
-    return (math.ceil(skip * speed / element_size - 1e-9) + FORCE_MIN_STEPS) * element_size
+    speed = real("shortest_spectrum_run: speed", speed, "m/s")
+    element_size = real("shortest_spectrum_run: element_size", element_size, "m")
+    skip = real("shortest_spectrum_run: skip", skip, "s", sign="nonnegative")
+    steps = skip * speed / element_size
+    if steps > 1e15:  # more steps than a float counts exactly, and than any run has
+        raise WheelrailError(f"shortest_spectrum_run: a skip of {steps:.3g} steps (speed x skip / element_size)")
+    return (math.ceil(steps - 1e-9) + FORCE_MIN_STEPS) * element_size
 
 
 def check_spectrum_length(length: float, speed: float, element_size: float) -> None:
     """A run of ``length`` m at ``speed`` m/s has a force spectrum; else one WheelrailError blaming the length
     (key ``length``) with the shortest that has one (:func:`shortest_spectrum_run`)."""
+    if isinstance(length, bool) or not isinstance(length, int | float):
+        raise WheelrailError(f"check_spectrum_length: length must be a number in m, got {type(length).__name__}")
+    if not (math.isfinite(length) and length > 0):
+        raise WheelrailError("not a positive length", parameter="length", value=length, unit="m")
     shortest = shortest_spectrum_run(speed, element_size)
     if length < shortest - 1e-9 * element_size:
         raise WheelrailError(
@@ -440,8 +480,11 @@ def resolved_force_bands(
     resolved : numpy.ndarray of bool
         True where the band has an estimate.
     """
-    centres, lower, upper = third_octave_bands(*band_range)
-    kept = int(n_steps) - int(math.ceil(skip / time_step - 1e-9))
+    n_steps = integer("resolved_force_bands: n_steps", n_steps, 0)
+    time_step = real("resolved_force_bands: time_step", time_step, "s")
+    skip = real("resolved_force_bands: skip", skip, "s", sign="nonnegative")
+    centres, lower, upper = third_octave_bands(*_band_range(band_range))
+    kept = min(n_steps, 2**40) - min(int(math.ceil(skip / time_step - 1e-9)), n_steps)  # a spectrum's bins only
     if kept < 2:
         return centres, np.zeros(centres.shape, dtype=bool)
     frequencies, _ = narrowband_spectrum(np.zeros(kept), 1.0 / time_step)  # the bins force_spectrum integrates
@@ -488,7 +531,8 @@ def energetic_sum(*levels) -> np.ndarray:
     rail and the wheel roughness levels.
     """
     stack = np.vstack(level_arrays("energetic_sum: levels", levels))
-    return 10.0 * np.log10(np.sum(10.0 ** (stack / 10.0), axis=0))
+    with np.errstate(divide="ignore"):  # every level -inf (no power): the sum is -inf too
+        return 10.0 * np.log10(np.sum(10.0 ** (stack / 10.0), axis=0))
 
 
 def contact_filter(levels_model: np.ndarray, levels_hertz: np.ndarray) -> np.ndarray:

@@ -5,8 +5,12 @@ from __future__ import annotations
 import viser
 
 from wheelrail.core.models import REFERENCE_MODEL, model_entry
+from wheelrail.core.noise.run_noise import ISO3095_DISTANCE
+from wheelrail.core.parameters import ContactParameters
+from wheelrail.core.roughness.analysis import DEFAULT_LINES
 from wheelrail.explorer.config import COMPARE, MODEL_CHOICES
 from wheelrail.explorer.panel import ResultsTab, TabParts
+from wheelrail.explorer.roughness_tab import EMPTY_BAND_DB
 
 __all__ = ["HelpTab", "help_text"]
 
@@ -40,18 +44,21 @@ def help_text() -> str:
         "and b (across); the colour bar marks its peak pressure p0. *Top view* / *Oblique view* set the camera.\n\n"
         "**Contact geometry**: wheel radius (rolling, along the rail), rail crown radius (across) and wheel "
         "tread radius across (empty: a cylindrical tread; negative: a concave, worn tread, which must stay "
-        "flatter than the crown), in mm; empty fields keep the paper's crossed cylinders of 390 mm (a circular "
+        f"flatter than the crown), in mm; empty fields keep the paper's crossed cylinders of "
+        f"{ContactParameters().radius * 1e3:g} mm (a circular "
         "patch). Otherwise the patch is an ellipse, drawn with its Hertz semi-axes.\n\n"
         "**Wheel roughness**: a bundled wheel set added to a rail set (r = r_rail + r_wheel, the wheel's lines "
         "repeating with its circumference); `none`: a smooth wheel, as in the paper. The Roughness tab then "
         "shows the rail, the wheel and their energetic sum.\n\n"
         "**Roughness spectrum**: dB re 1 µm against frequency at the speed and wavelength (top axis), averaged "
-        "over lines -3..3; dotted, for rail sets: the ISO 3095:2013 limit, put on these bands by the "
-        "CNOSSOS-EU rule. Bands more than 120 dB below the highest hold no roughness and are not drawn.\n\n"
+        f"over lines {DEFAULT_LINES[0]}..{DEFAULT_LINES[-1]}; dotted, for rail sets: the ISO 3095:2013 limit, put on "
+        f"these bands by the CNOSSOS-EU rule. Bands more than {EMPTY_BAND_DB:g} dB below the highest hold no "
+        "roughness and are not drawn.\n\n"
         "**Noise**: the run's contact force through the model track's transfer functions (rail and sleeper sound "
         "power) and, for the wheel, the effective roughness through CNOSSOS-EU's L_H,veh (the 2-DOF wheel has no "
         "radiating modes); per axle, A-weighted per band, beside the CNOSSOS-EU source on the run's own roughness "
-        "with A3. The table: L_WA per axle and the pass-by L_pAeq,Tp at 7.5 m for the train set below it. "
+        f"with A3. The table: L_WA per axle and the pass-by L_pAeq,Tp at {ISO3095_DISTANCE:g} m for the train set "
+        "below it. "
         "*Pass-by audio* makes the pass-by of the model shown to hear and download (its calibration under the "
         "player).\n\n"
         "**Track**: the *Track* folder sets the pads, sleepers, ballast, the rail's loss factor and the pads' "

@@ -14,6 +14,8 @@ from wheelrail.core.noise.run_noise import (
     COMPONENTS,
     DEFAULT_TRAIN_AXLES,
     DEFAULT_TRAIN_LENGTH,
+    ISO3095_DISTANCE,
+    ISO3095_HEIGHT,
     pass_by_level,
 )
 from wheelrail.core.parameters import KMH
@@ -25,7 +27,7 @@ __all__ = ["NoiseTab", "superstructure_words"]
 
 NOISE_RANGE_DB = 60.0  # the sound-power plot shows the loudest band down by this (A-weighted, quieter bands
 # matter little to the total)
-COMPONENT_COLOURS = {"rail": "#e6550d", "sleeper": "#31a354", "wheel": "#756bb1"}
+COMPONENT_COLOURS = dict(zip(COMPONENTS, ("#e6550d", "#31a354", "#756bb1"), strict=True))  # rail, sleeper, wheel
 CNOSSOS_COLOURS = {"track": "#636363", "vehicle": "#8c6d31", "total": "#000000"}
 AUDIO_HINT = (
     "The pass-by of the train set below at the ISO 3095 position, synthesised from the run's contact force "
@@ -37,7 +39,8 @@ NOISE_NOTE = (
     "the model track's transfer functions (the TWINS approach). Dotted: the CNOSSOS-EU source (Directive (EU) "
     "2015/996, Annex II 2.3) on the run's own roughness with its fixed contact filter A3: track, vehicle and the "
     "total, which also holds the small superstructure term (said under the table). Dashed: a run overlaid. "
-    "*Pass-by audio*: the model shown, at 7.5 m; listen for the high bands (above about 1 kHz) that a finite "
+    f"*Pass-by audio*: the model shown, at {ISO3095_DISTANCE:g} m; listen for the high bands (above about 1 kHz) "
+    "that a finite "
     "patch (3d, 2d) takes out and the point contact (hertz) keeps."
 )
 
@@ -145,7 +148,8 @@ class NoiseTab(ResultsTab):
         name = f"{config.file_stem()}-pass-by-{axles}axles-{length:g}m.wav"
         caption = (
             f"Pass-by of **{config.model}** on {config.case_label()}: {axles} axles in {length:g} m, "
-            f"L_pAeq,Tp {noise.pass_by_laeq_dba:.1f} dB(A) at 7.5 m. WAV {rate} Hz, 16 bit; a sample of 1.0 "
+            f"L_pAeq,Tp {noise.pass_by_laeq_dba:.1f} dB(A) at {ISO3095_DISTANCE:g} m. WAV {rate} Hz, 16 bit; "
+            "a sample of 1.0 "
             f"is {full_scale:.3g} Pa."
         )
         self.audio_html.content = (
@@ -204,7 +208,11 @@ class NoiseTab(ResultsTab):
 
     def _totals(self, noises, model, extra, overlay, train, train_problem) -> str:
         """L_WA per axle (dB(A)) by component and the pass-by level as a table, and what they are."""
-        rows = ["| L_WA, dB(A) | rail | sleeper | track | wheel | total | pass-by |", "|---|---|---|---|---|---|---|"]
+        rail, sleeper, wheel = COMPONENTS
+        rows = [
+            f"| L_WA, dB(A) | {rail} | {sleeper} | track | {wheel} | total | pass-by |",
+            "|---|---|---|---|---|---|---|",
+        ]
 
         def passing(level: float) -> str:
             return "-" if train is None else _db(pass_by_level(level, *train))
@@ -213,10 +221,10 @@ class NoiseTab(ResultsTab):
         runs += [] if overlay is None else [(f"{m} [{overlay.case_label()}]", n) for m, n in extra.items()]
         for name, n in runs:
             dba = {k: v + AXLE_DB for k, v in n.sound_power_dba.items()}
-            track = energy_sum(dba["rail"], dba["sleeper"])
+            track = energy_sum(dba[rail], dba[sleeper])
             shown = f"**{name}**" if name == model else name
             rows.append(
-                f"| {shown} | {_db(dba['rail'])} | {_db(dba['sleeper'])} | {_db(track)} | {_db(dba['wheel'])} | "
+                f"| {shown} | {_db(dba[rail])} | {_db(dba[sleeper])} | {_db(track)} | {_db(dba[wheel])} | "
                 f"{_db(dba['total'])} | {passing(dba['total'])} |"
             )
         beside = noises[model].cnossos
@@ -229,7 +237,8 @@ class NoiseTab(ResultsTab):
             where = f"**Train:** {page_message(train_problem)}"
         else:
             where = (
-                f"Pass-by: L_pAeq,Tp (dB(A)) at 7.5 m from the track, 1.2 m above the rail, {train[0]} axles in "
+                f"Pass-by: L_pAeq,Tp (dB(A)) at {ISO3095_DISTANCE:g} m from the track, {ISO3095_HEIGHT:g} m above the "
+                f"rail, {train[0]} axles in "
                 f"{train[1]:g} m at {noises[model].configuration['run']['speed_m_s'] / KMH:g} km/h"
             )
         return (

@@ -66,7 +66,7 @@ class RoughnessTab(ResultsTab):
 
     def show_roughness(self, rough, label: str, speed: float, wheel=None, wheel_label: str | None = None) -> None:
         """Spectra of the set ``rough`` (and of the wheel set ``wheel`` with the combined roughness) at ``speed``
-        (m/s), averaged over its lines -3..3 (the paper's), and its lateral coherence."""
+        (m/s), averaged over its lines ``DEFAULT_LINES`` (-3..3, the paper's), and its lateral coherence."""
         curves = []
         lines = self._lines(rough)
         rail = roughness_spectrum(rough, speed=speed, lines=lines)

@@ -7,8 +7,9 @@ across. The view opens from straight above (:func:`top_view`: an ellipse keeps i
 ellipse at the preload with its semi-axes a (along) and b (across) drawn and labelled
 (``ContactParameters.hertz_semi_axes``; a circle in the paper's case).
 
-For ``3d`` (a model with a pressure map) the window's pressure is a heat map (viridis, 0 to 1.5 times the
-Hertz peak pressure p0 at the preload, the colour bar of :func:`colour_bar_image`, which marks p0) and,
+For ``3d`` (a model with a pressure map) the window's pressure is a heat map (viridis, 0 to ``PRESSURE_TOP``
+times the Hertz peak pressure p0 at the preload, as recordings draw it; the colour bar of :func:`colour_bar_image`,
+which marks p0) and,
 when switched on, the same pressure as a raised surface; for the one-line models the contact length is a
 strip and the Hertz ellipse at the current force is drawn. :meth:`PatchScene.clear` takes every drawn run
 away (a configuration without a run). Rail and wheel surfaces with their roughness (exaggerated) and
@@ -23,14 +24,14 @@ import math
 import numpy as np
 import viser
 
-from wheelrail.core.drawing import circle_segments, colour_table, grid_triangles, table_colours
+from wheelrail.core.drawing import PRESSURE_RANGE_P0, circle_segments, colour_table, grid_triangles, table_colours
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.roughness import at_lateral_positions, covers
 
 __all__ = ["PRESSURE_TOP", "SCENE_PER_MM", "PatchScene", "colour_bar_image", "oblique_view", "top_view"]
 
 SCENE_PER_MM = 0.1
-PRESSURE_TOP = 1.5  # colour scale top, times the Hertz peak pressure p0 at the preload
+PRESSURE_TOP = PRESSURE_RANGE_P0  # colour scale top, times the Hertz peak pressure p0 at the preload (core's)
 PRESSURE_HEIGHT = 3.0  # mm of raised surface per GPa
 ROUGHNESS_EXAGGERATION = 200.0  # roughness surfaces drawn 200 times their size (10 um -> 2 mm)
 SURFACE_GAP = 1.5  # mm: the rail surface's highest point this far below the patch, the wheel's lowest above

@@ -22,6 +22,8 @@ CLI_NAMES: dict[str, Name] = {
     "skip": Name("--skip-ms", "ms", 1e3, True),
     "record_every": Name("--record-every", unit_in_label=True),
     "connect": Name("--connect", unit_in_label=True),
+    "spawn": Name("--spawn", unit_in_label=True),
+    "sound_power": Name("--sound-power", unit_in_label=True),
     "dask": Name("--dask", unit_in_label=True),
     "workers": Name("--workers", unit_in_label=True),
     "model": Name("--model", unit_in_label=True),

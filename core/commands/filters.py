@@ -20,10 +20,9 @@ from wheelrail.core.commands._common import (
     writable_output,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import ContactParameters
+from wheelrail.core.inputs import describe, describe_contact
+from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
-
-_DEFAULTS = ContactParameters()
 
 
 def add_parser(sub):
@@ -37,18 +36,21 @@ def add_parser(sub):
             "it (this project's construction, not a filter of the literature)."
         ),
     )
-    add_input_options(parser, "run", "geometry", unset={"rail_crown_radius": "the wheel radius, a circle"})
+    add_input_options(parser, "run", "geometry")
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     parser.add_argument("--csv", metavar="FILE.csv", help="write the bands and levels as a CSV table")
     parser.add_argument("--plot", metavar="FILE.png", help="save a figure of the filters")
     return parser
 
 
-def summary(load: float, wheel_radius: float, speed: float, contact: ContactParameters | None = None) -> dict:
-    """The filters as a JSON-ready dict (SI except keys that carry their unit). ``contact``
-    carries the geometry across the rail (crown and tread radii); the analytic filters use the semi-axis a
-    along the rail, the CNOSSOS columns stay the table's (circles of the wheel diameter)."""
+def summary(contact: ContactParameters, speed: float) -> dict:
+    """The filters for ``contact``'s load and geometry at ``speed`` as a JSON-ready dict (SI except keys that carry
+    their unit), with the geometry as ``run --json`` states it (``geometry``: the radii in use). The analytic
+    filters use the semi-axis a along the rail, the CNOSSOS columns stay the table's (circles of the wheel
+    diameter)."""
+    load, wheel_radius = contact.preload, contact.radius_along
     filters = reference_filters(load, wheel_radius, speed, contact=contact)
+    params = ModelParameters(contact=contact)
     return {
         "wavelength_mm": filters.wavelength_bands.centres * 1e3,
         "wavelength_labels_mm": filters.wavelength_bands.labels(),
@@ -59,8 +61,8 @@ def summary(load: float, wheel_radius: float, speed: float, contact: ContactPara
         "semi_axes_m": list(filters.semi_axes),
         "preload_n": load,
         "wheel_radius_m": wheel_radius,
-        "rail_crown_radius_m": None if contact is None else contact.rail_crown_radius,
-        "wheel_transverse_radius_m": None if contact is None else contact.wheel_transverse_radius,
+        **describe(params, "geometry"),  # the radii in use, SI (an infinite tread as null)
+        "contact_geometry": describe_contact(params),
         "speed_m_s": speed,
         "reference": (
             "levels in dB (10 log10 |H|^2, averaged over each band); cnossos: Directive (EU) 2015/996 Appendix G "
@@ -126,11 +128,8 @@ def _plot(result: dict, path) -> None:
 
 
 def _print_table(result: dict) -> None:
-    a, b = result["semi_axes_m"]
-    print(
-        f"reference contact filters, dB: wheel load {result['preload_n'] / 1e3:g} kN, wheel radius "
-        f"{result['wheel_radius_m'] * 1e3:g} mm, Hertz semi-axes a = {a * 1e3:.2f} mm, b = {b * 1e3:.2f} mm"
-    )
+    print("reference contact filters, dB")
+    print(f"  contact geometry: {result['contact_geometry']}")
     header = "".join(f"{name:>18}" for name in REFERENCE_FILTERS)
     print(f"{'wavelength mm':>14}{header}")
     for i, label in enumerate(result["wavelength_labels_mm"]):
@@ -147,15 +146,10 @@ def run(args) -> int:
     speed = speed_from_kmh(args.speed_kmh)
     load = args.preload_kn * 1e3
     geometry = {entry.key: getattr(args, entry.dest) * entry.shown.si for entry in given_inputs(args, "geometry")}
-    wheel_radius = geometry.get("wheel_radius", _DEFAULTS.radius)
-    # the load and every radius checked now, as the run of reference_filters will see them (an unset crown
-    # follows the wheel: a circle)
-    ContactParameters(preload=load, radius=wheel_radius, **geometry)
-    geometry.pop("wheel_radius", None)
+    contact = ContactParameters(preload=load, **geometry)  # checked before any file is touched, as a run has it
     csv_path = writable_output(args.csv, "--csv", ".csv") if args.csv is not None else None
     plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
-    contact = ContactParameters(**geometry) if geometry else None  # the geometry across the rail
-    result = summary(load, wheel_radius, speed, contact)
+    result = summary(contact, speed)
     with all_or_none():  # the table and the figure appear together or not at all
         if csv_path is not None:
             _write_csv(result, csv_path)

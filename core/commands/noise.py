@@ -266,8 +266,8 @@ def run(args) -> int:
 def _run_file(args) -> int:
     """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
     from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.noise.levels import SOUND_POWER_PARTS
     from wheelrail.core.noise.run_noise import (
-        COMPONENTS,
         DEFAULT_TRAIN_AXLES,
         DEFAULT_TRAIN_LENGTH,
         WAV_RATE,
@@ -306,9 +306,9 @@ def _run_file(args) -> int:
         f"Rolling noise of {args.run}: model {cfg['model']}, {cfg['roughness']} line {cfg['line']}, "
         f"{cfg['speed_m_s'] * 3.6:g} km/h; sound power of one wheel on one rail, dB re 1 pW"
     )
-    print("  band Hz   force dB   rail  sleeper  wheel  total")
+    print("  band Hz   force dB " + " ".join(f"{name:>6}" for name in SOUND_POWER_PARTS))
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
-        row = [noise.sound_power_db[name][i] for name in (*COMPONENTS, "total")]
+        row = [noise.sound_power_db[name][i] for name in SOUND_POWER_PARTS]
         cells = " ".join("     -" if not np.isfinite(v) else f"{v:6.1f}" for v in row)
         force = "     -" if not np.isfinite(noise.force_db[i]) else f"{noise.force_db[i]:8.1f}"
         print(f"  {nominal_band_label(f):>7} {force}   {cells}")

@@ -11,6 +11,7 @@ import time
 from wheelrail.core.commands._common import (
     CLI_NAMES,
     add_input_options,
+    cli_error_names,
     input_files,
     params_from_args,
     print_json,
@@ -18,8 +19,9 @@ from wheelrail.core.commands._common import (
     writable_output,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe, describe_words
+from wheelrail.core.inputs import describe, describe_contact, describe_words
 from wheelrail.core.models import model_names
+from wheelrail.core.recording.cli import add_recording_arguments, sink_from_args
 
 RUN_GROUPS = ("run", "geometry", "track")  # the declared inputs a run takes (wheelrail.core.inputs.GROUPS)
 
@@ -77,16 +79,8 @@ def add_parser(sub):
     )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     add_input_options(parser, *RUN_GROUPS)
-    _recording_arguments(parser)
-    return parser
-
-
-def _recording_arguments(parser) -> None:
-    try:
-        from wheelrail.core.recording import add_recording_arguments
-    except ImportError:
-        return
     add_recording_arguments(parser)
+    return parser
 
 
 class _StopOnCtrlC:
@@ -258,11 +252,7 @@ def _print_summary(args, result, params, summary, sink) -> None:
         f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m"
     )
     print(f"  track: {describe_words(params, 'track')}")
-    a, b = params.contact.hertz_semi_axes()
-    print(
-        f"  contact geometry: {describe_words(params, 'geometry')}; Hertz patch at the preload "
-        f"a = {a * 1e3:.2f} mm along, b = {b * 1e3:.2f} mm across"
-    )
+    print(f"  contact geometry: {describe_contact(params)}")
     print(
         f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
         f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN"
@@ -290,27 +280,23 @@ def _print_summary(args, result, params, summary, sink) -> None:
 
 def run(args) -> int:
     params, out = _checked_args(args)
-    sink = None
-    if hasattr(args, "rrd"):
-        from wheelrail.core.recording import sink_from_args
-
-        sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}")
+    sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}", names=cli_error_names())
     start = time.perf_counter()
     interaction = _prepare(args, params, out, sink)
     prepared = time.perf_counter()
     result = _execute(args, interaction, sink)
     finished = time.perf_counter()
-    if out is not None:
-        try:
+    try:  # the files first: a viewer lost during the run (reported by finish) costs none of them
+        if out is not None:
             result.save_npz(out)
-        except BaseException:  # e.g. a full disk: no recording without its arrays either
-            if sink is not None:
-                sink.abort()
-            raise
+        if getattr(args, "csv", None) is not None:
+            result.save_csv(args.csv)
+    except BaseException:  # e.g. a full disk: no recording without its arrays either
+        if sink is not None:
+            sink.abort()
+        raise
     if sink is not None:
         sink.finish(result)
-    if getattr(args, "csv", None) is not None:
-        result.save_csv(args.csv)
     summary = _summary(args, result, params, (start, prepared, finished))
     if out is not None:
         summary["out"] = str(out)

@@ -8,7 +8,7 @@ from dataclasses import replace
 
 from wheelrail.core.commands._common import add_input_options, params_from_args, print_json
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe_words
+from wheelrail.core.inputs import describe_contact, describe_words
 from wheelrail.core.study import STUDIES
 
 STUDY_GROUPS = ("run", "geometry", "track")  # the declared inputs of every run (wheelrail.core.inputs.GROUPS)
@@ -142,7 +142,7 @@ def run(args) -> int:
                 f"  track {number}: " + ", ".join(w for w in words if any(w.startswith(e.label.lower()) for e in swept))
             )
         print(f"  every track: {describe_words(params, 'track')} (but for the inputs swept)")
-    print(f"  contact: {params.contact.preload / 1e3:g} kN, {describe_words(params, 'geometry')}")
+    print(f"  contact geometry: {describe_contact(params)}")
     if summary["loss_of_contact_steps"]:
         print(f"  loss of contact in {summary['loss_of_contact_steps']} steps over all runs")
     for table in result.tables:

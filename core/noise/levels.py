@@ -12,10 +12,13 @@ import math
 
 import numpy as np
 
-from wheelrail.core.checks import finite_array, level_arrays
+from wheelrail.core.checks import finite_array, level_arrays, mean_squares, real
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.spectra import third_octave_bands
 
+COMPONENTS = ("rail", "sleeper", "wheel")  # the radiating parts of the noise chain, one sound power each
+TOTAL = "total"  # their energetic sum
+SOUND_POWER_PARTS = (*COMPONENTS, TOTAL)  # every sound power of a run's noise, in the order outputs list them
 NOISE_BAND_RANGE = (50.0, 10000.0)  # Hz: the 24 bands of CNOSSOS-EU Appendix G and of the noise outputs
 SOUND_POWER_REFERENCE = 1e-12  # W: sound power levels in dB re 1 pW
 PRESSURE_REFERENCE = 20e-6  # Pa: sound pressure levels in dB re 20 uPa
@@ -30,19 +33,34 @@ def noise_bands() -> np.ndarray:
     return third_octave_bands(*NOISE_BAND_RANGE)[0]
 
 
+def _lg_sum_of_squares(f: np.ndarray, pole: float) -> np.ndarray:
+    """lg(f^2 + pole^2), without squaring f (no overflow for any finite f)."""
+    big, small = np.maximum(f, pole), np.minimum(f, pole)
+    return 2.0 * np.log10(big) + np.log1p((small / big) ** 2) / math.log(10.0)
+
+
+def _a_weighting_raw(f: np.ndarray) -> np.ndarray:
+    """20 lg(f4^2 f^4 / ((f^2 + f1^2) sqrt(f^2 + f2^2) sqrt(f^2 + f3^2) (f^2 + f4^2))), in logarithms."""
+    with np.errstate(divide="ignore"):  # lg 0 = -inf: the weighting at 0 Hz
+        lg_f = np.log10(f)
+    return 20.0 * (
+        2.0 * math.log10(_F4)
+        + 4.0 * lg_f
+        - _lg_sum_of_squares(f, _F1)
+        - 0.5 * (_lg_sum_of_squares(f, _F2) + _lg_sum_of_squares(f, _F3))
+        - _lg_sum_of_squares(f, _F4)
+    )
+
+
 def a_weighting(frequency) -> np.ndarray:
-    """A-weighting in dB at ``frequency`` (Hz, >= 0), IEC 61672-1 closed form (0 dB at 1 kHz; -inf at 0 Hz)."""
+    """A-weighting in dB at ``frequency`` (Hz, >= 0), IEC 61672-1 closed form (0 dB at 1 kHz; -inf at 0 Hz).
+
+    Computed in logarithms, so any finite frequency has its value (-40 lg f + 94.9 dB far above 12 kHz) without
+    overflow; a NaN, an infinity or a negative frequency is one WheelrailError."""
     f = finite_array("a_weighting: frequency", frequency, "Hz")
     if np.any(f < 0):
         raise WheelrailError("a_weighting: frequency must be zero or positive (Hz)")
-    f2 = f**2
-
-    def raw(f_sq):
-        return 20 * np.log10(
-            _F4**2 * f_sq**2 / ((f_sq + _F1**2) * np.sqrt((f_sq + _F2**2) * (f_sq + _F3**2)) * (f_sq + _F4**2))
-        )
-
-    return raw(f2) - raw(1000.0**2)
+    return _a_weighting_raw(f) - _a_weighting_raw(np.array(1000.0))
 
 
 def energy_sum(*levels_db, axis=None) -> np.ndarray:
@@ -71,23 +89,20 @@ def a_weighted_total(levels_db, frequencies=None) -> float:
 
 
 def level(mean_square, reference: float) -> np.ndarray:
-    """10 lg(mean_square / reference^2) for amplitudes, or pass ``reference`` as the power reference squared."""
+    """10 lg(mean_square / reference^2) for amplitudes (0 gives -inf; NaN, a band without a value, stays NaN).
+
+    Computed as 10 lg(mean_square) - 20 lg(reference): no overflow for any finite inputs."""
+    reference = real("level: reference", reference, "the mean square's unit, square-rooted")
+    mean_square = mean_squares("level: mean_square", mean_square, "the reference's unit squared")
     with np.errstate(divide="ignore"):
-        return 10.0 * np.log10(np.asarray(mean_square, dtype=float) / reference**2)
+        return 10.0 * np.log10(mean_square) - 20.0 * math.log10(reference)
 
 
 def power_level(power_w) -> np.ndarray:
     """Sound power level, dB re 1 pW, of a power in W (0 W gives -inf; NaN, a band without a value, stays NaN)."""
-    if power_w is None or isinstance(power_w, str):
-        raise WheelrailError(f"power_level: power_w must be numbers in W, got {power_w!r}")
-    try:
-        power = np.asarray(power_w, dtype=float)
-    except (TypeError, ValueError):
-        raise WheelrailError("power_level: power_w must be numbers in W") from None
-    if np.any(power < 0) or np.any(power == np.inf):
-        raise WheelrailError("power_level: power_w must be zero or positive and finite (W)")
+    power = mean_squares("power_level: power_w", power_w, "W")
     with np.errstate(divide="ignore"):
-        return 10.0 * np.log10(power / SOUND_POWER_REFERENCE)
+        return 10.0 * np.log10(power) - 10.0 * math.log10(SOUND_POWER_REFERENCE)
 
 
 def check_positive(value, key: str, unit: str, argument: str | None = None) -> float:

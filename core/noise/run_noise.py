@@ -41,8 +41,11 @@ import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise.levels import (
+    COMPONENTS,
     NOISE_BAND_RANGE,
     PRESSURE_REFERENCE,
+    SOUND_POWER_PARTS,
+    TOTAL,
     a_weighted_total,
     a_weighting,
     energy_sum,
@@ -55,7 +58,6 @@ ISO3095_DISTANCE = 7.5  # m from the track centre line
 ISO3095_HEIGHT = 1.2  # m above the rail head
 DEFAULT_TRAIN_AXLES = 40
 DEFAULT_TRAIN_LENGTH = 200.0  # m
-COMPONENTS = ("rail", "sleeper", "wheel")
 WAV_RATE = 48_000  # Hz: the pass-by WAV's sample rate (a standard one; the run's own is v / dx)
 # Closest accepted even axle spacing of a train, m: no bogie has axles closer than about 1.4 m (tram and
 # light-rail bogies; wheels of 0.6 to 1 m diameter); 40 axles in a 2.5 m train (one every 6 cm) is a typo
@@ -155,9 +157,9 @@ class RunNoise:
             f"# sound power of one wheel on one rail, dB re 1 pW; L_WA per wheel {self.sound_power_dba['total']:.2f}"
             f" dB(A), per axle {self.axle_dba:.2f} dB(A); pass-by L_pAeq,Tp {self.pass_by_laeq_dba:.2f} dB(A) at "
             f"{ISO3095_DISTANCE:g} m / {ISO3095_HEIGHT:g} m for {axles} axles in {length:g} m",
-            "band,centre_hz,force_dB_re_1N," + ",".join(f"{name}_dB" for name in (*COMPONENTS, "total")),
+            "band,centre_hz,force_dB_re_1N," + ",".join(f"{name}_dB" for name in SOUND_POWER_PARTS),
         ]
-        columns = [self.force_db, *(self.sound_power_db[name] for name in (*COMPONENTS, "total"))]
+        columns = [self.force_db, *(self.sound_power_db[name] for name in SOUND_POWER_PARTS)]
         for i, (label, centre) in enumerate(zip(band_labels(self.frequency_hz), self.frequency_hz, strict=True)):
             cells = ["" if not np.isfinite(column[i]) else f"{column[i]:.3f}" for column in columns]
             lines.append(",".join([label, f"{centre:.6g}", *cells]))
@@ -251,7 +253,8 @@ def sound_power_from_force(force_db, track) -> dict:
     sleeper = power_level(track.sleeper_power_per_force * mean_sq_force)
     roughness = force_db + track.effective_roughness_per_force_db
     wheel = roughness + track.wheel_transfer_db - AXLE_DB
-    powers = {"rail": rail, "sleeper": sleeper, "wheel": wheel, "total": energy_sum(rail, sleeper, wheel)}
+    powers = dict(zip(COMPONENTS, (rail, sleeper, wheel), strict=True))
+    powers[TOTAL] = energy_sum(*powers.values())
     dba = {name: a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf)) for name, levels in powers.items()}
     return {"db": powers, "dba": dba, "axle_dba": dba["total"] + AXLE_DB, "roughness_db": roughness}
 

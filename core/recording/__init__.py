@@ -33,9 +33,12 @@ Entity tree (mirrors the physical system; SI units, m, s, N, Pa)::
                                rises to the Hertz radius a), coloured by pressure; x', y' in m; at every
                                ``surface_every``-th recorded map
     contact/nominal_circle     Hertz circle of radius a at the preload (5.48 mm at 65 kN), computed from the
-                               contact parameters: LineStrips2D in the image's pixels and LineStrips3D in m
+                               contact parameters: LineStrips3D in m (files before 0.41's check: also the
+                               LineStrips2D now at nominal_circle_image)
+    contact/nominal_circle_image  the same circle, LineStrips2D in the pressure image's pixels
     spectra/force              BarChart, third-octave contact-force levels 50 Hz-8 kHz, dB re 1 N, abscissa
-                               = band centre, Hz (:func:`wheelrail.core.spectra.force_spectrum`); at the end
+                               = band number 10 lg(f/Hz) (17 = 50 Hz, 39 = 8 kHz), bars 0.9 wide
+                               (:func:`wheelrail.core.spectra.force_spectrum`); at the end
 
 Timelines: ``step`` (sequence, step index), ``time`` (duration, t = step dt, stored in whole ns) and
 ``position_um`` (sequence, wheel position x in µm). The exact x is the ``wheel/position`` series.

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-from wheelrail.core.errors import WheelrailError
+from collections.abc import Mapping
+
+from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.models import model_entry
 from wheelrail.core.recording.sink import RecordingSink
 
 __all__ = ["add_recording_arguments", "sink_from_args"]
@@ -30,12 +33,13 @@ def add_recording_arguments(parser) -> None:
     )
 
 
-def sink_from_args(args, *, description: str = "") -> RecordingSink | None:
+def sink_from_args(args, *, description: str = "", names: Mapping[str, Name] | None = None) -> RecordingSink | None:
     """The recording sink the parsed options ask for, or None when no recording option was given.
 
     ``args`` is the namespace of a parser given :func:`add_recording_arguments`. Call it before the run: a
     bad ``--rrd`` path, ``--connect`` address or ``--record-every`` raises a :class:`WheelrailError` at once,
-    so no run is wasted. ``description`` becomes the recording's name.
+    so no run is wasted. ``description`` becomes the recording's name; ``names`` word the sink's warnings as the
+    command names its options (``WheelrailError.render``).
     """
     sound_power = bool(getattr(args, "sound_power", False))
     if args.rrd is None and not args.spawn and args.connect is None:
@@ -44,11 +48,14 @@ def sink_from_args(args, *, description: str = "") -> RecordingSink | None:
         if sound_power:
             raise WheelrailError("--sound-power needs --rrd, --spawn or --connect")
         return None
+    model = getattr(args, "model", None)
     return RecordingSink(
+        pressure_maps=model is None or model_entry(model).traits.pressure_map,
         rrd=args.rrd,
         spawn=args.spawn,
         connect=args.connect,
         record_every=args.record_every,
         description=description,
         sound_power=sound_power,
+        names=names,
     )

@@ -10,22 +10,27 @@ named otherwise, written on another host, or of a process still running.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import secrets
+import shutil
 import socket
+import sys
 import tempfile
 import uuid
 import weakref
 from pathlib import Path
+from urllib.parse import urlsplit
 
 from wheelrail.core.atomic import publish
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.recording.schema import APPLICATION_ID, _rr, default_blueprint
 
-__all__ = ["Outputs", "check_recording_path", "grpc_url"]
+__all__ = ["Outputs", "check_recording_path", "check_viewer", "grpc_url", "viewer_executable"]
 
 DEFAULT_VIEWER_PORT = 9876  # rerun's default gRPC port
+VIEWER_CHECK_TIMEOUT_S = 2.0  # a viewer on this host or a LAN answers a TCP connect well within this
 
 
 def check_recording_path(path: str | os.PathLike) -> Path:
@@ -79,6 +84,109 @@ def grpc_url(address: str) -> str:
             "not a viewer address; use HOST:PORT (e.g. 127.0.0.1:9876)", parameter="connect", value=address
         )
     return f"rerun+http://{host}:{int(port)}/proxy"
+
+
+def _listening(host: str, port: int) -> str:
+    """'' when something accepts a TCP connection at ``host:port``, else why not (a plain socket: no rerun log)."""
+    try:
+        with socket.create_connection((host, port), timeout=VIEWER_CHECK_TIMEOUT_S):
+            return ""
+    except OSError as error:
+        return error.strerror or str(error) or type(error).__name__
+
+
+def check_viewer(url: str, address: str) -> None:
+    """Check, before a run starts, that a viewer listens at ``url`` (:func:`grpc_url` of ``address``).
+
+    A TCP connection with a short timeout (:data:`VIEWER_CHECK_TIMEOUT_S`), not rerun's client, which would
+    retry for many seconds and log over the terminal before giving up at the end of the run.
+
+    Raises
+    ------
+    WheelrailError
+        One line naming ``address`` (parameter ``connect``) and the reason.
+    """
+    parts = urlsplit(url)
+    default = 443 if parts.scheme == "rerun+https" else DEFAULT_VIEWER_PORT
+    try:
+        host, port = parts.hostname or "127.0.0.1", parts.port or default
+    except ValueError:
+        raise WheelrailError("not a viewer address", parameter="connect", value=address) from None
+    problem = _listening(host, port)
+    if problem:
+        raise WheelrailError(
+            f"no rerun viewer answers there ({problem.lower()}); start one (`rerun`) first, or record to a "
+            ".rrd file and open it later",
+            parameter="connect",
+            value=address,
+        )
+
+
+def viewer_executable() -> Path:
+    """The rerun viewer to spawn: the ``rerun`` installed with rerun-sdk beside the running Python (its bin
+    or Scripts folder, found whether or not that folder is on PATH), else ``rerun`` on PATH."""
+    name = "rerun.exe" if sys.platform == "win32" else "rerun"
+    beside = Path(sys.executable).parent / name
+    if beside.is_file():
+        return beside
+    on_path = shutil.which("rerun")
+    if on_path is not None:
+        return Path(on_path)
+    raise WheelrailError(
+        f"the rerun viewer executable is missing: no {name} in {beside.parent} (where rerun-sdk installs it "
+        "beside this Python) nor on PATH; reinstall rerun-sdk in this environment, or record to a .rrd file instead",
+        parameter="spawn",
+    )
+
+
+def _check_desktop() -> None:
+    """A spawned viewer opens a window: on Linux and BSD it needs an X11 or Wayland session."""
+    if sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")) and not any(
+        os.environ.get(name) for name in ("DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET")
+    ):
+        raise WheelrailError(
+            "no desktop for the viewer's window (neither DISPLAY nor WAYLAND_DISPLAY is set); record to a "
+            ".rrd file and open it with `rerun FILE.rrd` where there is one, or connect to a running viewer",
+            parameter="spawn",
+        )
+
+
+@contextlib.contextmanager
+def _quiet_stderr():
+    """Standard error (file descriptor 2) to the null device meanwhile: rerun's own log lines while it waits for
+    a spawned viewer, and the viewer's (which inherits it), stay off the terminal; the outcome is one line."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        with open(os.devnull, "wb") as null:
+            os.dup2(null.fileno(), 2)
+        yield
+    finally:
+        sys.stderr.flush()
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
+def _spawn_viewer(stream) -> None:
+    """Start a viewer listening at :data:`DEFAULT_VIEWER_PORT` (or use the one already there), checked first."""
+    if _listening("127.0.0.1", DEFAULT_VIEWER_PORT):  # no viewer open yet: one must be started
+        _check_desktop()
+        executable = viewer_executable()
+        try:
+            from rerun.sinks import spawn  # noqa: PLC0415 - rerun is imported only when recording
+
+            with _quiet_stderr():
+                spawn(port=DEFAULT_VIEWER_PORT, connect=False, executable_path=str(executable), recording=stream)
+        except Exception as error:  # noqa: BLE001 - rerun raises several types; report one line
+            first = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+            raise WheelrailError(f"could not start the rerun viewer {executable}: {first}", parameter="spawn") from None
+    problem = _listening("127.0.0.1", DEFAULT_VIEWER_PORT)
+    if problem:
+        raise WheelrailError(
+            f"the rerun viewer did not open its port {DEFAULT_VIEWER_PORT} ({problem.lower()}); record to a "
+            ".rrd file and open it with `rerun FILE.rrd` instead",
+            parameter="spawn",
+        )
 
 
 def _remove(path: Path) -> None:
@@ -150,13 +258,19 @@ class Outputs:
         Address of a running viewer, ``HOST:PORT`` or a ``rerun+http://HOST:PORT/proxy`` URL.
     description : str
         Name of the recording shown by the viewer.
+    blueprint : rerun.blueprint.Blueprint, optional
+        The layout the viewer opens with (default: :func:`~.schema.default_blueprint`).
     """
 
-    def __init__(self, *, rrd=None, spawn: bool = False, connect: str | None = None, description: str = "") -> None:
+    def __init__(
+        self, *, rrd=None, spawn: bool = False, connect: str | None = None, description: str = "", blueprint=None
+    ) -> None:
         if rrd is None and not spawn and connect is None:
             raise WheelrailError("a recording needs a .rrd file, a viewer to spawn or an address to connect to")
         self.path = None if rrd is None else check_recording_path(rrd)
         url = None if connect is None else grpc_url(connect)
+        if url is not None:
+            check_viewer(url, connect)
         rr = _rr()
         self.recording_id = str(uuid.uuid4())
         self.stream = rr.RecordingStream(APPLICATION_ID, recording_id=self.recording_id)
@@ -171,10 +285,10 @@ class Outputs:
         self.spawned = bool(spawn)
         if spawn:
             try:
-                self.stream.spawn(port=DEFAULT_VIEWER_PORT, connect=False)
-            except Exception as error:  # noqa: BLE001 - rerun raises several types; report one line
+                _spawn_viewer(self.stream)
+            except WheelrailError:
                 self.discard()
-                raise WheelrailError(f"could not start the rerun viewer: {error}") from None
+                raise
             spawned = f"rerun+http://127.0.0.1:{DEFAULT_VIEWER_PORT}/proxy"
             if spawned != url:
                 sinks.append(rr.GrpcSink(spawned))
@@ -184,19 +298,20 @@ class Outputs:
             except Exception as error:  # noqa: BLE001
                 self.discard()
                 raise WheelrailError(str(error), parameter="connect", value=connect) from None
-        self.stream.set_sinks(*sinks, default_blueprint=default_blueprint())
+        self.stream.set_sinks(*sinks, default_blueprint=default_blueprint() if blueprint is None else blueprint)
         if description:
             self.stream.send_recording_name(description)
 
     def disconnect(self) -> str:
         """Flush and close every sink; returns why a viewer could not be reached ('' if all went out)."""
         problem = ""
-        try:
-            self.stream.flush()
-        except RuntimeError as error:  # rerun gives up on an unreachable viewer after ~7 s
-            problem = str(error).splitlines()[0] if str(error) else type(error).__name__
-        finally:
-            self.stream.disconnect()  # drops the file sink: the file is completed (footer) and closed
+        with _quiet_stderr():  # rerun's log lines about a lost viewer: the caller says it in one line
+            try:
+                self.stream.flush()
+            except RuntimeError as error:  # rerun gives up on an unreachable viewer after ~7 s
+                problem = str(error).splitlines()[0] if str(error) else type(error).__name__
+            finally:
+                self.stream.disconnect()  # drops the file sink: the file is completed (footer) and closed
         return problem
 
     def publish(self) -> None:

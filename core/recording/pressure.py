@@ -9,13 +9,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from wheelrail.core.drawing import circle_points, colour_table, grid_triangles, packed_rgba, table_colours
+from wheelrail.core.drawing import (
+    PRESSURE_RANGE_P0,
+    circle_points,
+    colour_table,
+    grid_triangles,
+    packed_rgba,
+    table_colours,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.schema import (
     NOMINAL_CIRCLE,
+    NOMINAL_CIRCLE_IMAGE,
     PRESSURE,
-    PRESSURE_RANGE_P0,
     PRESSURE_SURFACE,
     _rr,
     time_columns,
@@ -99,7 +106,7 @@ class ContactPatch:
         dy = float(y[1] - y[0]) if len(y) > 1 else dx
         pixels = np.c_[(circle[:, 0] - x[0]) / dx + 0.5, (circle[:, 1] - y[0]) / dy + 0.5]
         self.stream.log(
-            NOMINAL_CIRCLE,
+            NOMINAL_CIRCLE_IMAGE,
             _rr().LineStrips2D([pixels], colors=[(255, 255, 255)], draw_order=10.0),
             static=True,
             strict=True,

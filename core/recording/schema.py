@@ -12,15 +12,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wheelrail.core.drawing import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
 from wheelrail.core.jsonready import strict_json
+from wheelrail.core.noise.levels import SOUND_POWER_PARTS
 from wheelrail.core.results import RunHeader
 
 __all__ = [
     "APPLICATION_ID",
+    "BAR_WIDTH",
     "ENTITY_PATHS",
     "SCALAR_FIELDS",
     "STEP_FIELDS",
     "ScalarField",
+    "band_chart",
+    "band_numbers",
     "default_blueprint",
     "parameters_document",
     "parameters_from_text",
@@ -30,19 +35,21 @@ __all__ = [
 
 APPLICATION_ID = "wheelrail"
 TIMELINES = ("step", "time", "position_um")
-PRESSURE_RANGE_P0 = 2.0  # colour map of the pressure image spans 0 .. 2 p0 (rough contacts exceed p0)
 ROUGHNESS_LINES_SHOWN = 3  # roughness/lines shows the set's lines k-3 .. k+3 around the run's line k
 
 PARAMETERS = "parameters"
 ROUGHNESS_LINES = "roughness/lines"
 PRESSURE = "contact/pressure"
 PRESSURE_SURFACE = "contact/pressure_surface"
-NOMINAL_CIRCLE = "contact/nominal_circle"
+NOMINAL_CIRCLE = "contact/nominal_circle"  # LineStrips3D, m (the 3D view)
+# LineStrips2D in the pressure image's pixels (the 2D view): an entity of its own, as a view draws only its own
+# kind (a 3D strip in a 2D view, or a 2D one in a 3D view, is an error badge without a camera between them)
+NOMINAL_CIRCLE_IMAGE = "contact/nominal_circle_image"
 FORCE_SPECTRUM = "spectra/force"
 # optional (``--sound-power``, ``record_result(sound_power=True)``): the run's rolling noise, one wheel on one rail,
 # dB re 1 pW per band 50 Hz-10 kHz (wheelrail.core.noise.run_noise), and a document with the totals
 SOUND_POWER = "spectra/sound_power"
-SOUND_POWER_COMPONENTS = ("rail", "sleeper", "wheel", "total")
+SOUND_POWER_COMPONENTS = SOUND_POWER_PARTS  # spectra/sound_power/<part>, as wheelrail.core.noise.levels names them
 
 # titles of the blueprint's time-series views
 FORCE_VIEW = "Contact force (N)"
@@ -125,6 +132,7 @@ ENTITY_PATHS = (
     PRESSURE,
     PRESSURE_SURFACE,
     NOMINAL_CIRCLE,
+    NOMINAL_CIRCLE_IMAGE,
     FORCE_SPECTRUM,
 )
 
@@ -221,13 +229,51 @@ def _series_view(title: str, *extra: str):
     return _rr().blueprint.TimeSeriesView(origin="/", contents=[*contents, *extra], name=title)
 
 
-def default_blueprint(*, pressure: bool = True):
-    """The layout a replay opens with: time series left, pressure map and surface right, spectrum, parameters.
+BAR_WIDTH = 0.9  # of a band: the bars of a band chart stand side by side, a gap between them
+BANDS_NOTE = "bands 10 lg f: 17 = 50 Hz, 30 = 1 kHz"  # the bars' abscissa (band_numbers), in a view's title
+
+
+def band_numbers(centres: np.ndarray) -> np.ndarray:
+    """The band numbers n = 10 lg(f / 1 Hz) of third-octave band centres (IEC 61260-1: 17 for 50 Hz, 30 for
+    1 kHz), whole numbers: a bar chart's abscissa on which the bands are equally spaced."""
+    return np.round(10.0 * np.log10(np.asarray(centres, dtype=float)))
+
+
+def band_chart(centres: np.ndarray, levels: np.ndarray):
+    """A ``BarChart`` of band levels (dB; NaN and -inf drawn as 0) over their band numbers (:func:`band_numbers`).
+
+    The viewer draws bars ``widths`` wide in abscissa units (1 by default): over band centres in Hz the bars of a
+    50 Hz-8 kHz spectrum would be 1 Hz slivers on an 8 kHz axis, an empty-looking panel."""
+    values = np.nan_to_num(np.asarray(levels, dtype=float), nan=0.0, neginf=0.0)
+    return _rr().BarChart(values, abscissa=band_numbers(centres), widths=np.full(values.size, BAR_WIDTH))
+
+
+def _spectra_views(sound_power: bool) -> list:
+    rrb = _rr().blueprint
+    views = [rrb.BarChartView(origin=FORCE_SPECTRUM, name=f"Force spectrum (dB re 1 N; {BANDS_NOTE})")]
+    if sound_power:
+        views += [
+            rrb.BarChartView(origin=f"{SOUND_POWER}/{part}", name=f"Sound power, {part} (dB re 1 pW; {BANDS_NOTE})")
+            for part in SOUND_POWER_COMPONENTS
+        ]
+        views.append(rrb.TextDocumentView(origin=f"{SOUND_POWER}/summary", name="Sound power, totals"))
+    return views
+
+
+def default_blueprint(*, pressure: bool = True, sound_power: bool = False):
+    """The layout a replay opens with: time series left, pressure map and surface right, spectra, parameters.
+
+    Every view shows only the entities of its own kind (``tests/recording/test_blueprint.py`` checks it against
+    recordings): the pressure image and the Hertz circle in pixels in the 2D view, the surface and the circle in
+    metres in the 3D view, scalars in the time series, one bar chart per bar chart view.
 
     Parameters
     ----------
     pressure : bool
-        Include the pressure views (3D model); without them the time series take the whole width.
+        Include the pressure views (a model with pressure maps: ``3d``); without them the time series and the
+        spectra share the width.
+    sound_power : bool
+        Include the sound-power spectra and their totals (``--sound-power``).
     """
     rrb = _rr().blueprint
     series = rrb.Vertical(
@@ -236,22 +282,17 @@ def default_blueprint(*, pressure: bool = True):
         _series_view(ROUGHNESS_VIEW, ROUGHNESS_LINES),
         rrb.Tabs(_series_view(LENGTH_VIEW), _series_view(AREA_VIEW)),
     )
-    side = [
-        rrb.Tabs(
-            rrb.BarChartView(origin=FORCE_SPECTRUM, name="Force spectrum (dB re 1 N)"),
-            rrb.TextDocumentView(origin=PARAMETERS, name="Parameters"),
-        )
-    ]
+    side = [rrb.Tabs(*_spectra_views(sound_power), rrb.TextDocumentView(origin=PARAMETERS, name="Parameters"))]
     if pressure:
         side = [
             rrb.Spatial2DView(
                 origin="contact",
-                contents=["$origin/pressure", "$origin/nominal_circle"],
+                contents=[f"/{PRESSURE}", f"/{NOMINAL_CIRCLE_IMAGE}"],
                 name="Contact pressure (Pa), Hertz circle",
             ),
             rrb.Spatial3DView(
                 origin="contact",
-                contents=["$origin/pressure_surface", "$origin/nominal_circle"],
+                contents=[f"/{PRESSURE_SURFACE}", f"/{NOMINAL_CIRCLE}"],
                 name="Pressure surface (z = a p/p0)",
             ),
             *side,

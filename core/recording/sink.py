@@ -11,11 +11,13 @@ sent as a column of image buffers (one static ``ImageFormat``), decimated with `
 from __future__ import annotations
 
 import os
+import warnings
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.outputs import Outputs
@@ -31,6 +33,8 @@ from wheelrail.core.recording.schema import (
     SOUND_POWER_COMPONENTS,
     STEP_FIELDS,
     _rr,
+    band_chart,
+    default_blueprint,
     parameters_document,
     parameters_text,
     time_columns,
@@ -105,6 +109,14 @@ class RecordingSink:
         Steps per columnar send.
     description : str
         Name of the recording shown by the viewer.
+    sound_power : bool
+        Add the run's rolling-noise sound-power spectra at :meth:`finish` (``--sound-power``), and their views.
+    pressure_maps : bool
+        The run has pressure maps (a model with ``ModelTraits.pressure_map``: ``3d``): the layout the viewer opens
+        with has the pressure views (:func:`~.schema.default_blueprint`).
+    names : mapping of str to Name, optional
+        How the front end names the inputs (``WheelrailError.render``), for the warning when the sound power
+        asked for cannot be computed (the run too short); None: the API's names.
     """
 
     def __init__(
@@ -118,14 +130,18 @@ class RecordingSink:
         chunk_steps: int = DEFAULT_CHUNK_STEPS,
         description: str = "",
         sound_power: bool = False,
+        pressure_maps: bool = True,
+        names: Mapping[str, Name] | None = None,
     ) -> None:
         _check_counts(record_every, surface_every, chunk_steps)
+        self.names = dict(names or {})  # how the front end names its options, for the warnings it is given
         self.sound_power = bool(sound_power)  # finish() adds the run's sound-power spectra (needs the RunResult)
         self.record_every = int(record_every)
         self.surface_every = int(surface_every)
         self.chunk_steps = int(chunk_steps)
         self.description = description
-        self._outputs = Outputs(rrd=rrd, spawn=spawn, connect=connect, description=description)
+        blueprint = default_blueprint(pressure=pressure_maps, sound_power=self.sound_power)
+        self._outputs = Outputs(rrd=rrd, spawn=spawn, connect=connect, description=description, blueprint=blueprint)
         self.path = self._outputs.path
         self.recording_id = self._outputs.recording_id
         self.stream = self._outputs.stream
@@ -382,12 +398,7 @@ class RecordingSink:
             centres, levels = force_spectrum(force, time_step)
         except WheelrailError:
             return  # run too short for a spectrum (fewer than 16 steps after the start-up skip)
-        self.stream.log(
-            FORCE_SPECTRUM,
-            self._rr.BarChart(np.nan_to_num(levels, nan=0.0), abscissa=centres),
-            static=True,
-            strict=True,
-        )
+        self.stream.log(FORCE_SPECTRUM, band_chart(centres, levels), static=True, strict=True)
 
     def _log_sound_power(self, result: RunResult) -> None:
         """``spectra/sound_power/<component>`` bar charts and a summary document (wheelrail.core.noise.run_noise)."""
@@ -396,16 +407,16 @@ class RecordingSink:
 
         try:
             noise = run_noise(result)
-        except WheelrailError:
-            return  # run too short for a force spectrum
+        except WheelrailError as error:  # e.g. a run too short for a force spectrum: said, in the file and aloud
+            reason = error.render(self.names)
+            document = strict_json({"sound_power": "not computed", "reason": reason}, indent=2)
+            self.stream.log(f"{SOUND_POWER}/summary", self._rr.TextDocument(document), static=True, strict=True)
+            option = self.names["sound_power"].label if "sound_power" in self.names else "sound_power"
+            warnings.warn(f"{option}: no sound power recorded: {reason}", stacklevel=3)
+            return
         for component in SOUND_POWER_COMPONENTS:
-            levels = np.nan_to_num(noise.sound_power_db[component], nan=0.0, neginf=0.0)
-            self.stream.log(
-                f"{SOUND_POWER}/{component}",
-                self._rr.BarChart(levels, abscissa=noise.frequency_hz),
-                static=True,
-                strict=True,
-            )
+            chart = band_chart(noise.frequency_hz, noise.sound_power_db[component])
+            self.stream.log(f"{SOUND_POWER}/{component}", chart, static=True, strict=True)
         totals = {
             "sound_power_dBA_per_wheel": noise.sound_power_dba,
             "axle_dBA": noise.axle_dba,
@@ -481,6 +492,7 @@ def record_result(
         chunk_steps=chunk_steps,
         description=description,
         sound_power=sound_power,
+        pressure_maps=result.pressure is not None,
     )
     try:
         sink.start(result, roughness=roughness)

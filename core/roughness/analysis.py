@@ -10,11 +10,11 @@ import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness.model import RoughnessSet
-from wheelrail.core.spectra import band_coherence, third_octave_bands, third_octave_levels
+from wheelrail.core.spectra import FORCE_BAND_RANGE, band_coherence, third_octave_bands, third_octave_levels
 
 ROUGHNESS_REFERENCE = 1e-6  # m: roughness levels are in dB re 1 µm
 DEFAULT_LINES = tuple(range(-3, 4))  # the paper averages the 7 lines -3..3
-FREQUENCY_RANGE = (50.0, 8000.0)  # Hz, the band range of the paper's figures
+FREQUENCY_RANGE = FORCE_BAND_RANGE  # Hz, the band range of the paper's figures
 WAVELENGTH_RANGE = (0.8, 0.00315)  # m, EN 15610 / CNOSSOS-EU wavelength bands 800 mm .. 3.15 mm
 
 

@@ -7,7 +7,11 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.atomic import atomic_write
+from wheelrail.core.parameters import KMH, RunParameters
 from wheelrail.core.study.tables import Table
+
+# the columns at the paper's speed (the dataclass default, 100 km/h) are marked in the speed figure
+_REFERENCE_SPEED_COLUMN = f"{RunParameters().speed / KMH:g}_kmh"
 
 _STYLES = {  # Fig. 10's legend: thick grey 3D, then the one-line models
     "3d_db": {"color": "0.55", "linewidth": 3.0, "label": "3D"},
@@ -108,7 +112,7 @@ def _draw_per_line(group: list[Table], figure_id: str):
                     values,
                     linewidth=0.9,
                     label=column.removesuffix("_db").replace("_", " "),
-                    marker="x" if column.startswith("100_kmh") else None,
+                    marker="x" if column.startswith(_REFERENCE_SPEED_COLUMN) else None,
                 )
         _frequency_axis(ax, table, "L_F (dB re 1 N)" if figure_id == "11" else "level difference (dB)")
         ax.set_title(table.title, fontsize=9)

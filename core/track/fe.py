@@ -13,6 +13,7 @@ if TYPE_CHECKING:
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import TrackParameters
+from wheelrail.core.spectra import FORCE_BAND_RANGE
 
 HALF_BANDWIDTH = 4
 
@@ -78,7 +79,7 @@ def timoshenko_shape_functions(xi, length: float, phi: float) -> np.ndarray:
 RELAXATION_FREQUENCIES_HZ = (20.0, 100.0, 490.0, 2450.0, 12000.0)
 """Relaxation frequencies 1 / (2 pi tau_j) of the rail's time-domain damping, spaced evenly in lg f around the
 fitted band (one per 0.7 decade: the loss factor's ripple is then within 4 %, more terms change nothing)."""
-RELAXATION_FIT_BAND_HZ = (50.0, 8000.0)
+RELAXATION_FIT_BAND_HZ = FORCE_BAND_RANGE
 """Band over which the relaxation terms fit the constant loss factor (the force spectra's 50 Hz-8 kHz)."""
 
 

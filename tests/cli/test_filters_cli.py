@@ -6,6 +6,7 @@ import json
 import numpy as np
 import pytest
 
+from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.reference_filters import CNOSSOS_A3, reference_filters
 
 
@@ -23,8 +24,9 @@ def test_filters_json_layout(cli):
     # a tabulated case (50 kN, 920 mm) prints its CNOSSOS column exactly
     assert result["by_wavelength"]["cnossos"] == pytest.approx(list(CNOSSOS_A3[(50e3, 0.92)]))
     assert len(result["band_centres_hz"]) == 23 == len(result["by_frequency"]["averaging"])
-    a, b = result["semi_axes_m"]
-    assert a == pytest.approx(b) and a == pytest.approx(reference_filters(50e3, 0.46).semi_axes[0])
+    a, b = result["semi_axes_m"]  # an unset crown is the paper's R = 0.39 m: an ellipse under a 0.46 m wheel
+    assert [a, b] == pytest.approx(ContactParameters(preload=50e3, wheel_radius=0.46).hertz_semi_axes(), rel=1e-12)
+    assert a > b and result["geometry"]["rail_crown_radius"] == pytest.approx(0.39)
     assert result["speed_m_s"] == pytest.approx(100 / 3.6)
 
 
@@ -36,7 +38,7 @@ def test_filters_on_an_elliptic_patch(cli):
     result = json.loads(out)
     a, b = result["semi_axes_m"]
     assert a == pytest.approx(6.20e-3, abs=0.01e-3) and b == pytest.approx(4.67e-3, abs=0.01e-3)
-    assert result["rail_crown_radius_m"] == pytest.approx(0.30)
+    assert result["geometry"]["rail_crown_radius"] == pytest.approx(0.30)
     circle = reference_filters(65e3, 0.46, 100 / 3.6)
     expected = [None if not np.isfinite(v) else pytest.approx(v) for v in circle.by_wavelength["cnossos"]]
     assert result["by_wavelength"]["cnossos"] == expected

@@ -158,3 +158,25 @@ def test_run_writes_its_time_history_as_csv(tmp_path, capsys):
     # refused before the run: a CSV name that is not one, or the input itself
     assert main(["run", "--set", "corrugated-rail", "--csv", str(tmp_path / "h.txt")]) != 0
     assert "--csv" in capsys.readouterr().err
+
+
+def test_sound_power_asked_for_on_a_short_run_is_said_not_dropped(tmp_path, capsys):
+    """--sound-power on a run too short for a force spectrum: one warning line in the command's words, and the
+    recording's sound-power document says why it holds no spectra."""
+    from rerun.chunk import RrdReader
+
+    rrd = tmp_path / "short.rrd"
+    argv = ["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "0.05", "--rrd", str(rrd)]
+    with pytest.warns(UserWarning) as caught:  # the command prints each as "wheelrail run: warning: <message>"
+        assert main([*argv, "--sound-power"]) == 0
+    messages = [str(w.message) for w in caught if "sound power" in str(w.message)]
+    assert len(messages) == 1 and "\n" not in messages[0], messages
+    assert messages[0].startswith(
+        "--sound-power: no sound power recorded: the run is 0.05 m long (50 steps): too short"
+    )
+    documents = [
+        c.to_record_batch().column("TextDocument:text").to_pylist()[-1][0]
+        for c in RrdReader(rrd).stream()
+        if c.entity_path == "/spectra/sound_power/summary"
+    ]
+    assert len(documents) == 1 and "not computed" in documents[0] and "0.05 m long (50 steps)" in documents[0]

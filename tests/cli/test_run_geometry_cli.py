@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.cli import main
+from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.results import RunResult
 
 
@@ -65,3 +66,32 @@ def test_bad_wheel_set_or_geometry_is_one_line(extra, fragment, capsys):
     assert main(["run", "--set", "corrugated-rail", "--length-m", "0.05", *extra]) != 0
     err = capsys.readouterr().err.strip()
     assert fragment in err and len(err.splitlines()) == 1
+
+
+def _contact_line(text: str, start: str) -> str:
+    return next(line.split(start, 1)[1] for line in text.splitlines() if start in line)
+
+
+def test_the_unset_crown_is_one_rule_in_run_and_filters(capsys):
+    """An unset rail crown is the paper's R = 0.39 m whatever the wheel (``ContactParameters.crown_radius``):
+    ``filters`` and ``run`` with a 0.46 m wheel give the same ellipse (Hertz, a = 5.95 mm along the rail for
+    R_x = 0.46 m, b = 5.33 mm across for R_y = 0.39 m) and state the same geometry, text and JSON."""
+    wheel = ["--wheel-radius-mm", "460"]
+    assert main(["filters", "--json", *wheel]) == 0
+    filters = json.loads(capsys.readouterr().out)
+    argv = ["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "0.1", *wheel]
+    assert main([*argv, "--json"]) == 0
+    run = json.loads(capsys.readouterr().out)
+    expected = ContactParameters(wheel_radius=0.46).hertz_semi_axes()
+    assert expected[0] > 1.05 * expected[1]  # an ellipse: the crown did not follow the wheel
+    assert filters["semi_axes_m"] == pytest.approx(expected, rel=1e-12)  # one formula: equal to rounding
+    assert run["hertz_semi_axes_m"] == pytest.approx(expected, rel=1e-12)
+    assert filters["geometry"] == run["geometry"]
+    assert run["geometry"]["rail_crown_radius"] == pytest.approx(0.39)
+    assert main(["filters", *wheel]) == 0
+    filters_text = capsys.readouterr().out
+    assert main(argv) == 0
+    run_text = capsys.readouterr().out
+    words = _contact_line(run_text, "contact geometry: ")
+    assert "rail crown radius 390 mm (the paper's R)" in words and "a = 5.95 mm along" in words
+    assert _contact_line(filters_text, "contact geometry: ") == words

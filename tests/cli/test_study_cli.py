@@ -340,6 +340,9 @@ def test_user_csv_set_and_human_output(tmp_path, capsys):
     text = capsys.readouterr().out
     assert code == 0
     assert "4 runs (4 computed, 0 from" in text and "in-process" in text
+    # the contact geometry as run and filters state it: the radii in use (unset: the paper's R) and the patch
+    assert "contact geometry: wheel radius 390 mm (the paper's R), rail crown radius 390 mm (the paper's R)" in text
+    assert "Hertz patch at 65 kN a = 5.48 mm along, b = 5.48 mm across" in text
     header = (tmp_path / "o" / "fig16_3d_minus_2d_averaged_input.csv").read_text().splitlines()[0]
     assert header == "band,centre_hz,my-wheel_db,cast-iron-wheel_db"
     assert (tmp_path / "o" / "fig16_averaged-input.png").exists()

@@ -263,14 +263,14 @@ def test_iso3095_limit_matches_the_cnossos_class_e_print():
 
 def test_run_reference_filters_use_the_runs_own_geometry():
     """Beside a run's dynamic filters the references are for the run's own patch: a 0.46 m wheel with the crown
-    left unset runs on the paper's 0.39 m crown (an ellipse: a = 5.95 mm along, b = 5.33 mm across), not the
-    0.46 m circle that reference_filters gives an unset crown."""
+    left unset runs on the paper's 0.39 m crown (an ellipse: a = 5.95 mm along, b = 5.33 mm across), and
+    reference_filters gives an unset crown the same (one rule: ``ContactParameters.crown_radius``)."""
     run = ContactParameters(wheel_radius=0.46)
     refs = run_reference_filters(run, 100 / 3.6)
     a, b = run.hertz_semi_axes()
     assert refs.semi_axes == pytest.approx((a, b), rel=1e-12) and a != pytest.approx(b, rel=1e-3)
-    circle = reference_filters(run.preload, 0.46, 100 / 3.6)
-    assert circle.semi_axes[0] == pytest.approx(circle.semi_axes[1])  # the table's convention, unchanged
+    same = reference_filters(run.preload, 0.46, 100 / 3.6)
+    assert same.semi_axes == pytest.approx((a, b), rel=1e-12)
     # the paper's case: the same as reference_filters, to the bit
     paper = run_reference_filters(ContactParameters(), 100 / 3.6).by_frequency["averaging"]
     np.testing.assert_array_equal(paper, reference_filters(65e3, 0.39, 100 / 3.6).by_frequency["averaging"])

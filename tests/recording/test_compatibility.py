@@ -95,11 +95,38 @@ def test_writer_writes_what_the_old_writer_wrote(tmp_path, model):
             description=DESCRIPTION,
         )
     )
+    _as_the_old_layout(new)
     assert sorted(new) == sorted(old)
     for key in old:
         if key == ("/parameters", True):  # the contact geometry (wheel, crown, tread radii) added three
             new[key] = _without_new_parameters(new[key])  # parameters, the time-based run-in its duration
+        if key == ("/spectra/force", True):  # the old centres in Hz, today's band numbers 10 lg f
+            from wheelrail.core.recording.schema import band_numbers
+
+            numbers, old_centres = new[key].pop("BarChart:abscissa"), old[key].pop("BarChart:abscissa")
+            assert len(numbers) == len(old_centres) == 1
+            for number, centres in zip(numbers, old_centres, strict=True):
+                centres = np.array(centres["buffer"], dtype=np.uint8).view(np.float64)
+                np.testing.assert_array_equal(number, band_numbers(centres))
         assert new[key] == old[key], key
+
+
+def _as_the_old_layout(new: dict) -> None:
+    """Today's file in the old files' layout, where it changed on purpose for the viewer (the blueprint test,
+    ``test_blueprint.py``): the Hertz circle in pixels has its own entity (one entity held LineStrips2D and
+    LineStrips3D, an error badge in both spatial views), and the force spectrum's bars stand over band numbers
+    10 lg f with widths (over centres in Hz, 1 Hz wide by default, they were invisible)."""
+    from wheelrail.core.recording.schema import BAR_WIDTH
+
+    pixels = new.pop(("/contact/nominal_circle_image", True), None)
+    if pixels is not None:
+        new[("/contact/nominal_circle", True)].update(pixels)
+    bars = new.get(("/spectra/force", True))
+    if bars is not None:
+        widths = bars.pop("BarChart:widths")
+        assert all(w == [BAR_WIDTH] * len(w) for w in widths)
+        numbers = [np.array(a["buffer"], dtype=np.uint8).view(np.float64) for a in bars["BarChart:abscissa"]]
+        bars["BarChart:abscissa"] = numbers  # compared with the old centres below
 
 
 _NEW_CONTACT_PARAMETERS = ("wheel_radius", "rail_crown_radius", "wheel_transverse_radius")

@@ -441,17 +441,21 @@ def test_sound_power_spectra_are_recorded_on_request(tmp_path):
     # spectra/sound_power/{rail,sleeper,wheel,total} (dB re 1 pW, NaN recorded as 0) equal to run_noise's, and a
     # summary document; without the option nothing is added (the older files' entity tree is unchanged)
     from wheelrail.core.interaction import simulate
+    from wheelrail.core.noise.levels import SOUND_POWER_PARTS
     from wheelrail.core.noise.run_noise import run_noise
 
     result = simulate("cast-iron-wheel", model="hertz", line=0, length=1.0)
     path = record_result(result, tmp_path / "noise.rrd", sound_power=True)
     expected = run_noise(result)
-    for component in ("rail", "sleeper", "wheel", "total"):
+    for component in SOUND_POWER_PARTS:
         (chunk,) = chunks_of(path, f"spectra/sound_power/{component}", static=True)
         batch = chunk.to_record_batch()
         levels = np.array(batch.column("BarChart:values")[0].as_py()[0]["buffer"]).view(np.float64)
         np.testing.assert_array_equal(levels, np.nan_to_num(expected.sound_power_db[component], nan=0.0))
         assert len(levels) == 24  # 50 Hz .. 10 kHz
     assert chunks_of(path, "spectra/sound_power/summary", static=True)
+    from test_blueprint import check_blueprint
+
+    assert check_blueprint(path) == []  # the sound-power views show these bar charts and the totals
     plain = record_result(result, tmp_path / "plain.rrd")
     assert not chunks_of(plain, "spectra/sound_power/total")

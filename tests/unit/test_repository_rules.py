@@ -96,3 +96,99 @@ def test_nothing_cites_the_issue_tracker():
                     if pattern.search(line):
                         offenders.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
     assert offenders == []
+
+
+def _required_imports() -> set[str]:
+    """The import names of pyproject's required dependencies ("rerun-sdk>=0.41" -> "rerun"), and wheelrail."""
+    import tomllib
+
+    with open(ROOT / "pyproject.toml", "rb") as handle:
+        requirements = tomllib.load(handle)["project"]["dependencies"]
+    names = {re.split(r"[<>=!~\[; ]", requirement, maxsplit=1)[0].lower() for requirement in requirements}
+    return {{"rerun-sdk": "rerun"}.get(name, name).replace("-", "_") for name in names} | {"wheelrail"}
+
+
+def test_no_import_guard_around_what_is_always_installed():
+    """``except ImportError`` guards only what may be absent (an extra, a part of the standard library a build
+    can leave out): an import of a required dependency or of wheelrail itself cannot fail, and a guard there
+    hides a broken installation behind a missing feature."""
+    required = _required_imports()
+    assert {"rerun", "numpy", "viser"} <= required
+    offenders = []
+    for path in sorted((*CORE.rglob("*.py"), *(ROOT / "explorer").rglob("*.py"), *(ROOT / "package").rglob("*.py"))):
+        for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+            guarded = isinstance(node, ast.Try) and any(
+                isinstance(h.type, ast.Name) and h.type.id in ("ImportError", "ModuleNotFoundError")
+                for h in node.handlers
+            )
+            if not guarded:
+                continue
+            for inner in (n for statement in node.body for n in ast.walk(statement)):
+                modules = [inner.module or ""] if isinstance(inner, ast.ImportFrom) and inner.level == 0 else []
+                modules += [alias.name for alias in inner.names] if isinstance(inner, ast.Import) else []
+                offenders += [
+                    f"{path.relative_to(ROOT)}:{inner.lineno} {m}" for m in modules if m.split(".")[0] in required
+                ]
+    assert offenders == []
+
+
+def test_the_noise_components_are_named_once():
+    """The sound-power parts (rail, sleeper, wheel, total) are one tuple in core (noise.levels); everything that
+    lists them derives from it, and no other module writes two of them side by side (rail and wheel alone are also
+    the kinds of a roughness set)."""
+    from wheelrail.core.noise import levels, run_noise
+    from wheelrail.core.recording import schema
+
+    assert levels.SOUND_POWER_PARTS == (*levels.COMPONENTS, levels.TOTAL)
+    assert run_noise.COMPONENTS is levels.COMPONENTS and schema.SOUND_POWER_COMPONENTS is levels.SOUND_POWER_PARTS
+    listed = re.compile(r"""["'](rail|sleeper|wheel|total)["'],\s*["'](rail|sleeper|wheel|total)["']""")
+    restated = [
+        f"{path.relative_to(ROOT)}:{text.count(chr(10), 0, match.start()) + 1}"
+        for path in sorted((*CORE.rglob("*.py"), *(ROOT / "explorer").rglob("*.py")))
+        if path != CORE / "noise" / "levels.py"
+        for text in [path.read_text(encoding="utf-8")]
+        for match in listed.finditer(text)
+        if {match.group(1), match.group(2)} != {"rail", "wheel"}  # the two kinds of roughness set, not parts
+    ]
+    assert restated == []
+
+
+_RETYPED = ("7.5 m", "1.2 m above", "-3..3", "120 dB", "390 mm", "65 kN", "100 km/h", "0 to 1.5")
+
+
+def _prose(path: Path):
+    """(line, text) of every string in ``path`` a user reads (docstrings aside: they explain the code)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    docstrings = {
+        id(node.body[0].value)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef)
+        and node.body
+        and isinstance(node.body[0], ast.Expr)
+        and isinstance(node.body[0].value, ast.Constant)
+    }
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docstrings:
+            yield node.lineno, node.value
+
+
+def test_the_explorer_states_defaults_from_their_constants():
+    """The explorer's page text reads the values core declares (ISO 3095 distance and height, the paper's lines,
+    the empty-band floor, the paper's radius, preload and speed, the pressure colour range) instead of retyping
+    them, so a change in core shows on the page."""
+    found = [
+        f"{path.relative_to(ROOT)}:{line}: {word!r}"
+        for path in sorted((ROOT / "explorer").rglob("*.py"))
+        for line, text in _prose(path)
+        for word in _RETYPED
+        if word in text
+    ]
+    assert found == []
+
+
+def test_both_front_ends_draw_pressure_on_one_colour_range():
+    from wheelrail.core import drawing
+    from wheelrail.core.recording import pressure
+    from wheelrail.explorer import scene
+
+    assert scene.PRESSURE_TOP is drawing.PRESSURE_RANGE_P0 and pressure.PRESSURE_RANGE_P0 is drawing.PRESSURE_RANGE_P0
