@@ -150,7 +150,7 @@ def main() -> None:
         for kmh in ARGS.speeds:
             table[config, kmh] = _levels(numerics, kmh)
         print(f"# {config}: precompute {build:.1f} s (70 bays, up to {numerics.max_speed * 3.6:g} km/h)", flush=True)
-        track._MEMORY.clear()
+        track.clear_memory()
     for kmh in ARGS.speeds:
         print(f"\n## {kmh:g} km/h, smooth rail: force amplitude at k v/L_S (N), k = {HARMONICS}; peak-to-peak (N)")
         for config in ARGS.configs:

@@ -14,8 +14,8 @@ The wheel moves along the rail one element per step (x = v t, eq. 7; dt = Delta 
   contact model solves its own nonlinear law together with this relation, so the current force is
   consistent with the current displacements (implicit, one solve per step).
 
-The loop owns eqs. 1-2, once (``wheelrail.core.loop_kernels``): ``_history`` (the known part of the approach)
-and ``_commit`` (the step's force into the wheel state and the rail history). A contact model
+The loop owns eqs. 1-2, once (``wheelrail.core.loop_kernels``): ``known_approach`` (the known part of the approach)
+and ``commit_force`` (the step's force into the wheel state and the rail history). A contact model
 (``wheelrail.core.models``: ``3d``, ``2d``, ``hertz``, ``hertz-winkler``, ``hertz-average`` and any registered
 one) only gives its law: a compiled one-line law runs inside ``_run_chunk`` (``CHUNK`` steps per call), the
 compiled 3D law inside ``_run_chunk_3d`` (``CHUNK_3D`` steps per call, without the GIL; its run-in on the
@@ -41,7 +41,7 @@ from wheelrail.core.contact.hertz import _hertz_law
 from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
-from wheelrail.core.loop_kernels import _commit, _history, _scatter_range
+from wheelrail.core.loop_kernels import commit_force, known_approach, scatter_history
 from wheelrail.core.models import LAW_HALFSPACE, LAW_HERTZ, MODELS, ContactModel, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
@@ -114,14 +114,14 @@ def _define_run_chunk(stamp):
         xi_wheel, xi_rail, length, area = out
         offset = track[0].shape[0] - roughness.shape[0]
         for j in range(j0, j1):
-            delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+            delta_known, c, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
             s = j - offset
             f, contact_length, contact_area, edge = _law(law, delta_known, c, roughness, s, shape, constants)
             if edge:
                 return j
             length[s] = contact_length
             area[s] = contact_area
-            xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
+            xi_wheel[s], xi_rail[s] = commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
         return -1
 
     return run_chunk
@@ -159,7 +159,7 @@ def _define_run_chunk_3d(stamp):
         n = maps.shape[1] * maps.shape[2]
         pressure = law[2][0]
         for j in range(j0, j1):
-            delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+            delta_known, c, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
             s = j - offset
             status, f, on_centre, count = _halfspace_step(s, delta_known, c, law)
             if status != STEP_CONVERGED:
@@ -171,7 +171,7 @@ def _define_run_chunk_3d(stamp):
                 flat = maps[k].reshape(n)
                 for i in range(n):
                     flat[i] = pressure[i] if f > 0.0 else 0.0
-            xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
+            xi_wheel[s], xi_rail[s] = commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
         return -1, STEP_CONVERGED
 
     return run_chunk_3d
@@ -300,9 +300,11 @@ class InteractionRun(HeaderView):
         track, wheel, preload, xi_w0 = loop.track, loop.wheel, self.params.contact.preload, loop.xi_w0
         for s in range(s0, s1):
             j = loop.n_hist + s
-            delta_known, compliance, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+            delta_known, compliance, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
             state = self.contact.solve(s, delta_known, compliance)
-            self.xi_wheel[s], self.xi_rail[s] = _commit(j, state.force, track, wheel, s_pred, preload, xi_w0, q, w0)
+            self.xi_wheel[s], self.xi_rail[s] = commit_force(
+                j, state.force, track, wheel, s_pred, preload, xi_w0, q, w0
+            )
             self.contact_length[s] = state.contact_length
             self.contact_area[s] = state.contact_area
             if state.pressure is not None:
@@ -522,7 +524,7 @@ def prepare_run(
     )
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     history = history_arrays(track, params, run_in_length, track_numerics)
-    _scatter_range(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
+    scatter_history(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
     header = _header(entry, line, name, params, history.n_run_in * dx, wheel_name)
     contact = entry.create()
     static_approach = contact.prepare(model_inputs(track, history, params))

@@ -1,7 +1,7 @@
 """Eqs. 1-2 of the interaction loop, compiled: the known part of a step's approach and the commit of its force.
 
-``_history`` (the wheel predicted with the last force, eq. 1 in its exact discrete form, and the rail's
-displacement from all earlier forces, eq. 2) and ``_commit`` (the step's force into the rail's history and the
+``known_approach`` (the wheel predicted with the last force, eq. 1 in its exact discrete form, and the rail's
+displacement from all earlier forces, eq. 2) and ``commit_force`` (the step's force into the rail's history and the
 wheel state) are inlined into the loops that step a law: ``wheelrail.core.interaction`` (the compiled laws'
 chunk loops) and ``wheelrail.core.contact.halfspace_table`` (the ``3d`` model's run-in on its tabulated law).
 ``track`` = (force, lo, hi, frac, weights, acc) and ``wheel`` = (phi, gamma0, gamma1, state): see
@@ -17,7 +17,7 @@ __all__: list[str] = []
 
 
 @njit(cache=True, inline="always")
-def _history(j, track, wheel, preload, xi_w0):
+def known_approach(j, track, wheel, preload, xi_w0):
     """Known part of the approach at history index j: returns (delta_known, compliance, q_rail, w0, s_pred).
 
     The wheel state is predicted with the force still at F[j-1] (eq. 1 in its exact discrete form), the
@@ -55,14 +55,14 @@ def _scatter(j, f, lo, hi, frac, weights, acc):
 
 
 @njit(cache=True)
-def _scatter_range(j0, j1, track):
+def scatter_history(j0, j1, track):
     force, lo, hi, frac, weights, acc = track
     for j in range(j0, j1):
         _scatter(j, force[j], lo, hi, frac, weights, acc)
 
 
 @njit(cache=True, inline="always")
-def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
+def commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
     """Make f the force of index j: into the rail's history (eq. 2) and the wheel state (eq. 1).
     Returns (xi_W, xi_R) at this step."""
     force, lo, hi, frac, weights, acc = track

@@ -21,7 +21,7 @@ from pathlib import Path
 
 from wheelrail.core.atomic import publish
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.recording.schema import APPLICATION_ID, _rr, default_blueprint
+from wheelrail.core.recording.schema import APPLICATION_ID, default_blueprint, rerun_module
 
 __all__ = ["Outputs", "check_recording_path", "grpc_url"]
 
@@ -157,7 +157,7 @@ class Outputs:
             raise WheelrailError("a recording needs a .rrd file, a viewer to spawn or an address to connect to")
         self.path = None if rrd is None else check_recording_path(rrd)
         url = None if connect is None else grpc_url(connect)
-        rr = _rr()
+        rr = rerun_module()
         self.recording_id = str(uuid.uuid4())
         self.stream = rr.RecordingStream(APPLICATION_ID, recording_id=self.recording_id)
         sinks = []

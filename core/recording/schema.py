@@ -25,6 +25,7 @@ __all__ = [
     "parameters_document",
     "parameters_from_text",
     "parameters_text",
+    "rerun_module",
     "time_columns",
 ]
 
@@ -129,7 +130,7 @@ ENTITY_PATHS = (
 )
 
 
-def _rr():
+def rerun_module():
     """Import rerun on first use: the package stays importable (and the CLI fast) without recording."""
     import rerun
 
@@ -218,7 +219,7 @@ def parameters_from_text(text: str | None) -> dict | None:
 
 def _series_view(title: str, *extra: str):
     contents = [field.path for field in SCALAR_FIELDS if field.view == title]
-    return _rr().blueprint.TimeSeriesView(origin="/", contents=[*contents, *extra], name=title)
+    return rerun_module().blueprint.TimeSeriesView(origin="/", contents=[*contents, *extra], name=title)
 
 
 def default_blueprint(*, pressure: bool = True):
@@ -229,7 +230,7 @@ def default_blueprint(*, pressure: bool = True):
     pressure : bool
         Include the pressure views (3D model); without them the time series take the whole width.
     """
-    rrb = _rr().blueprint
+    rrb = rerun_module().blueprint
     series = rrb.Vertical(
         _series_view(FORCE_VIEW),
         _series_view(DISPLACEMENT_VIEW),
@@ -266,7 +267,7 @@ def time_columns(steps: np.ndarray, time: np.ndarray, x: np.ndarray) -> list:
     Rerun timelines are integers (sequence, nanosecond duration or timestamp), so a position in metres
     cannot be a timeline; micrometres keep it exact to 1 µm and say their unit.
     """
-    rr = _rr()
+    rr = rerun_module()
     return [
         rr.TimeColumn("step", sequence=steps),
         rr.TimeColumn("time", duration=np.round(np.asarray(time) * 1e9).astype("timedelta64[ns]")),

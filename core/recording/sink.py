@@ -30,9 +30,9 @@ from wheelrail.core.recording.schema import (
     SOUND_POWER,
     SOUND_POWER_COMPONENTS,
     STEP_FIELDS,
-    _rr,
     parameters_document,
     parameters_text,
+    rerun_module,
     time_columns,
 )
 from wheelrail.core.results import RunHeader, RunResult, StepState
@@ -129,7 +129,7 @@ class RecordingSink:
         self.path = self._outputs.path
         self.recording_id = self._outputs.recording_id
         self.stream = self._outputs.stream
-        self._rr = _rr()
+        self._rr = rerun_module()
         self._patch = ContactPatch(self.stream, record_every=self.record_every, surface_every=self.surface_every)
         self._header: RunHeader | None = None
         self._loss_of_contact_steps: int | None = None

@@ -53,13 +53,13 @@ from wheelrail.core.track.moving import (
     trapezoidal_weights,
 )
 from wheelrail.core.track.stationary import (
-    _MEMORY,  # noqa: F401 - the in-memory cache (tests and benchmarks clear it)
     StationaryTrackResponse,
-    _track_key,  # noqa: F401 - the cache key (tests)
+    clear_memory,
     compute_stationary_response,
     numerics_model,
     stationary_track_response,
     track_cache_path,
+    track_key,
 )
 
 __all__ = [
@@ -70,6 +70,7 @@ __all__ = [
     "TrackFEModel",
     "assemble_track",
     "bay_rows",
+    "clear_memory",
     "compute_stationary_response",
     "moving_from_stationary",
     "moving_green_functions",
@@ -80,6 +81,7 @@ __all__ = [
     "timoshenko_element_matrices",
     "timoshenko_shape_functions",
     "track_cache_path",
+    "track_key",
     "track_receptance",
     "trapezoidal_weights",
 ]

@@ -233,7 +233,7 @@ def _to_band(matrix, lower: int, upper: int) -> np.ndarray:
     return ab
 
 
-def _to_upper_band(matrix, upper: int) -> np.ndarray:
+def to_upper_band(matrix, upper: int) -> np.ndarray:
     """Symmetric matrix in LAPACK upper band form (for ``cholesky_banded``)."""
     import scipy.sparse as sp
 

@@ -17,12 +17,12 @@ from wheelrail.core.parameters import FOH_MAX_STEP, TrackNumerics, TrackParamete
 from wheelrail.core.track.fe import TrackFEModel, shear_parameter_of, timoshenko_shape_functions
 from wheelrail.core.track.stationary import (
     StationaryTrackResponse,
-    _excitation_nodes,
-    _integrate,
-    _stored_nodes,
-    _stored_times,
+    excitation_nodes,
+    integrate_responses,
     numerics_model,
     stationary_track_response,
+    stored_nodes,
+    stored_times,
 )
 
 # Rows of the moving Green's functions per stored excitation position: the functions handed to the loop are
@@ -307,10 +307,10 @@ def trapezoidal_weights(
         _MODELS.clear()
         _MODELS[key] = numerics_model(track, numerics)
     model = _MODELS[key]
-    _, x_e, _ = _excitation_nodes(model, numerics)
+    _, x_e, _ = excitation_nodes(model, numerics)
     t = np.arange(n_lags) * time_step
-    nodes, stored_x, counts, offsets = _stored_nodes(model, numerics, x_e, speed, t)
-    out = _integrate(model, x_e, time_step, n_lags, 1, nodes, counts, offsets, impulse=False)
+    nodes, stored_x, counts, offsets = stored_nodes(model, numerics, x_e, speed, t)
+    out = integrate_responses(model, x_e, time_step, n_lags, 1, nodes, counts, offsets, impulse=False)
     return _rows_from_wedge(
         out,
         counts,
@@ -368,7 +368,7 @@ def moving_green_functions(
         Use the disk cache.
     """
     track, numerics = _resolved(speed, track, numerics)
-    n_samples = len(_stored_times(numerics)[0])
+    n_samples = len(stored_times(numerics)[0])
     shape = (numerics.positions_per_bay * numerics.rows_per_position, n_samples)
     key = _reading_key("track-moving", track, numerics, speed)
     values = _cached_array("track-moving", key, shape) if use_cache else None
@@ -412,10 +412,10 @@ def _reading_key(kind: str, track: TrackParameters, numerics: TrackNumerics, spe
     """Cache key of what is read off the stationary responses of ``track`` for ``speed``: their key, the speed,
     the rows per position, the reading's version and constants, and ``more``."""
     from wheelrail.core.cache import cache_key
-    from wheelrail.core.track.stationary import _track_key
+    from wheelrail.core.track.stationary import track_key
 
     description = {
-        "wedge": _track_key(track, numerics),
+        "wedge": track_key(track, numerics),
         "speed": float(speed),
         "rows_per_position": numerics.rows_per_position,
         "reading": [READING_VERSION, SHEAR_CROSSINGS, NEAR_FIELD_TIME, FOH_MAX_STEP],
