@@ -305,7 +305,7 @@ class TrackNumerics:
         Excitation positions x0 per bay at which Green's functions are computed (nodes of the refined
         mesh). In between, each row handed to the loop is read from its two neighbouring positions at the
         same rail point (``track.bay_rows``). 32 (every 20.3 mm) is converged to 0.2 dB per third-octave
-        band against 64 (``benchmarks/bay_convergence.py``).
+        band against 64 (``validation/bay_convergence.py``).
     refined_elements_per_bay : int
         Elements per bay in the central bay (where the excitation positions are) and the
         ``refined_bays - 1`` bays after it; a multiple of ``positions_per_bay`` and ``elements_per_bay``.

@@ -11,7 +11,7 @@ That start is not the moving steady state (the rail under the wheel is not at it
 the wheel-on-track resonance (~66 Hz on the paper's track) rings from it with some hundred newtons and decays
 about tenfold every 55 ms, in time, whatever the speed. So the run-in is a time, ``DEFAULT_RUN_IN_TIME``
 (0.3 s: 8.3 m at 100 km/h, 25 m at 300 km/h; :func:`default_run_in_length`), after which the recorded force
-is that of a 40 m run-in within 0.2 N from 5 to 400 km/h (``benchmarks/run_in.py``, test_run_in.py).
+is that of a 40 m run-in within 0.2 N from 5 to 400 km/h (``validation/run_in.py``, test_run_in.py).
 """
 
 from __future__ import annotations
@@ -459,7 +459,7 @@ def check_step_stability(params: ModelParameters, weights: np.ndarray, wheel_sys
     at every position in the bay, alternating in sign, and the wheel's discrete system) must leave
     1/k_H + H(-1) > 0 (``tests/physics/test_stability.py``: where it is negative the implicit update diverges
     with period two steps). On the accepted tracks and speeds it holds with a margin (k_H (1/k_H + H(-1)) of
-    0.34-0.85, ``benchmarks/step_stability.py``); a track whose supports ring longer than the responses the loop
+    0.34-0.85, ``validation/step_stability.py``); a track whose supports ring longer than the responses the loop
     keeps could break it, and is refused here rather than run. Returns that margin, k_H (1/k_H + H(-1))."""
     phi, gamma0, gamma1 = wheel_system
     rail = float(np.min(weights @ (-1.0) ** np.arange(weights.shape[1])))

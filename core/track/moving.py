@@ -33,7 +33,7 @@ ROWS_PER_POSITION = 4
 # A row between two stored positions reads both at its own offset from their loads for the first
 # SHEAR_CROSSINGS[0] times the shear wave's crossing of the spacing, at its own rail point after
 # SHEAR_CROSSINGS[1] of them, blended in between (see ``_rows_between``); never shorter than NEAR_FIELD_TIME.
-# Both chosen by measurement (the tone at v P / L_S on a smooth rail, benchmarks/bay_convergence.py).
+# Both chosen by measurement (the tone at v P / L_S on a smooth rail, validation/bay_convergence.py).
 SHEAR_CROSSINGS = (10.0, 20.0)
 NEAR_FIELD_TIME = (50e-6, 100e-6)  # s: and for at least this long (finer spacings need it: 128 positions)
 
@@ -71,7 +71,7 @@ def bay_rows(n_positions: int, rows_per_position: int = ROWS_PER_POSITION):
     + f h(x0 + v t, x_hi, t). Interpolating the source at a fixed receiver keeps the kinks of the response
     where the receiver crosses a support (x0 + v t = j L_S) at their places; interpolating g at a fixed
     time between the rows of two sources would smear them across the bay and lose the sleeper-passing
-    harmonics they carry (see ``benchmarks/bay_convergence.py``).
+    harmonics they carry (see ``validation/bay_convergence.py``).
 
     Returns
     -------

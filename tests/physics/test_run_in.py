@@ -23,7 +23,7 @@ def test_recorded_force_is_that_of_a_long_run_in(kmh, rough, model):
     # it. Against a 40 m run-in, compared at the same positions, the default run-in must leave at most 1 N
     # (issue target): a 1 m run-in left 391-399 N at 100 km/h and 396-429 N at 300 km/h here. Measured with
     # the default (0.3 s: 8.334 m, 25 m): 0.007 N (100 km/h) and 0.074 N (300 km/h), smooth or rough, hertz
-    # or 2d; over 5-400 km/h in 5 km/h steps at most 0.17 N (benchmarks/run_in.py).
+    # or 2d; over 5-400 km/h in 5 km/h steps at most 0.17 N (validation/run_in.py).
     rail = RAIL if rough else RAIL.with_heights(0.0 * RAIL.heights)
     params = ModelParameters(run=RunParameters(speed=kmh * KMH))
     default = simulate(rail, model=model, params=params, length=0.5)

@@ -14,10 +14,10 @@ each discretisation and prints
 Run (each configuration is a one-off precompute of its own; a private cache directory is used unless
 ``--cache`` is given):
 
-    python3 benchmarks/bay_convergence.py --configs default doubled --speeds 100 200
-    python3 benchmarks/bay_convergence.py --configs default positions_per_bay=64,refined_elements_per_bay=64
-    python3 benchmarks/bay_convergence.py --configs default rows_per_position=8 --speeds 50 300
-    python3 benchmarks/bay_convergence.py --configs default doubled --speeds 100 --pad-width-mm 150
+    python3 validation/bay_convergence.py --configs default doubled --speeds 100 200
+    python3 validation/bay_convergence.py --configs default positions_per_bay=64,refined_elements_per_bay=64
+    python3 validation/bay_convergence.py --configs default rows_per_position=8 --speeds 50 300
+    python3 validation/bay_convergence.py --configs default doubled --speeds 100 --pad-width-mm 150
 
 A configuration is ``default`` (``TrackNumerics()``), ``doubled`` (every per-bay resolution of the default
 doubled: positions, elements in and outside the refined bays, refined bays, near field, rows) or
