@@ -22,6 +22,7 @@ from functools import cached_property
 
 import numpy as np
 
+from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.checks import real
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry
@@ -139,6 +140,17 @@ def resolve_roughness(roughness):
     if isinstance(roughness, str) or hasattr(roughness, "__fspath__"):
         return load_roughness(roughness), str(roughness)
     raise WheelrailError(f"roughness must be a RoughnessSet, a bundled set name or a file path, got {roughness!r}")
+
+
+def resolve_surfaces(roughness, wheel_roughness, params: ModelParameters):
+    """The rail (or wheel) set and the optional wheel set with their names, checked as a pair: a rail set and a
+    wheel set going round this wheel (``accepted.check_wheel_circumference``)."""
+    rough, name = resolve_roughness(roughness)
+    wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
+    if wheel is not None:
+        check_roughness_pair(rough, wheel)
+        check_wheel_circumference(wheel.length, params.contact.radius_along, wheel_name)
+    return rough, name, wheel, wheel_name
 
 
 @dataclass(frozen=True)

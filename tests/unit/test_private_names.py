@@ -30,9 +30,9 @@ PENDING_CONTACT_REWRITE = {
     ("core/contact/halfspace_table.py", "_halfspace_step"),
     ("core/contact/prefilter.py", "_bedding_approach"),
     ("core/contact/prefilter.py", "_roughness"),
-    # the compiled laws core/contact/ defines and the loop in core/interaction.py inlines
-    ("core/interaction.py", "_hertz_law"),
-    ("core/interaction.py", "_bedding_law"),
+    # the compiled laws core/contact/ defines and the compiled loops in core/loop_kernels.py and interaction.py inline
+    ("core/loop_kernels.py", "_hertz_law"),
+    ("core/loop_kernels.py", "_bedding_law"),
     ("core/interaction.py", "_halfspace_step"),
     ("core/interaction.py", "_run_in_chunk"),
 }
