@@ -12,6 +12,7 @@ from __future__ import annotations
 import functools
 import threading
 from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
@@ -24,6 +25,9 @@ from wheelrail.core.loop_kernels import commit_force, known_approach, run_chunk,
 from wheelrail.core.models import LAW_HALFSPACE, MODELS, ContactModel, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
+
+if TYPE_CHECKING:  # the roughness package is imported with the first set a run reads
+    from wheelrail.core.roughness import RoughnessLike
 from wheelrail.core.run_setup import (
     DEFAULT_RUN_IN_TIME,
     RUN_MARGIN,
@@ -442,9 +446,9 @@ class InteractionRun(HeaderView):
 
 
 def prepare_run(
-    roughness,
+    roughness: RoughnessLike,
     *,
-    wheel_roughness=None,
+    wheel_roughness: RoughnessLike | None = None,
     model: str = "hertz",
     line: int = 0,
     params: ModelParameters | None = None,
@@ -555,7 +559,7 @@ def _header(entry, line, name, params, run_in_length, wheel_name) -> RunHeader:
 
 
 def simulate(
-    roughness,
+    roughness: RoughnessLike,
     *,
     model: str = "hertz",
     line: int = 0,

@@ -159,6 +159,19 @@ def cnossos_filter(load: float, wheel_diameter: float, contact: ContactParameter
     -------
     numpy.ndarray
         35 levels, dB; NaN in bands the rule does not cover.
+
+    Raises
+    ------
+    WheelrailError
+        For a load or diameter that is not a positive number.
+
+    See Also
+    --------
+    reference_filters : every reference filter, also by frequency band.
+
+    References
+    ----------
+    .. [1] Commission Directive (EU) 2015/996, Annex II, 2.3.2 (CNOSSOS-EU), Table G-2 (contact filter A3).
     """
     load = _positive(load, "CNOSSOS filter: wheel load", "N")
     wheel_diameter = _positive(wheel_diameter, "CNOSSOS filter: wheel diameter", "m")
@@ -303,6 +316,30 @@ def reference_filters(
         ``wheel_transverse_radius``) for the elliptic patch of a real wheel on a real rail.
     frequency_range : (float, float)
         Lowest and highest frequency band centre, Hz.
+
+    Returns
+    -------
+    ReferenceFilterSet
+        Each filter's levels by wavelength band and, with a speed, by frequency band, dB.
+
+    Raises
+    ------
+    WheelrailError
+        For a load, radius or speed outside its accepted range.
+
+    See Also
+    --------
+    cnossos_filter : the CNOSSOS-EU A3 filter alone.
+    wheelrail.core.spectra.contact_filter : a model's filter, to compare with these.
+
+    Examples
+    --------
+    >>> from wheelrail.core.reference_filters import reference_filters
+    >>> filters = reference_filters(65e3, 0.39, 100 / 3.6)      # the paper's case: N, m, m/s
+    >>> filters.frequency_bands.centres.size                     # the force bands, 50 Hz to 8 kHz
+    23
+    >>> sorted(filters.by_frequency)
+    ['averaging', 'cnossos', 'patch-correlated', 'patch-incoherent']
     """
     load = ACCEPTED["preload"].check(load, "load")
     wheel_radius = ACCEPTED["wheel_radius"].check(wheel_radius, "wheel_radius")

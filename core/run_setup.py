@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,6 +28,9 @@ from wheelrail.core.checks import real
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
+
+if TYPE_CHECKING:  # the roughness package is imported when a set is read
+    from wheelrail.core.roughness import RoughnessLike, RoughnessSet
 
 __all__ = [
     "DEFAULT_RUN_IN_TIME",
@@ -131,7 +135,7 @@ def checked_inputs(
     return entry, params, int(line), run_in_length
 
 
-def resolve_roughness(roughness):
+def resolve_roughness(roughness: RoughnessLike) -> tuple[RoughnessSet, str]:
     """A RoughnessSet and its name from a set, a bundled set name or a file path."""
     from wheelrail.core.roughness import RoughnessSet, load_roughness
 
@@ -142,7 +146,7 @@ def resolve_roughness(roughness):
     raise WheelrailError(f"roughness must be a RoughnessSet, a bundled set name or a file path, got {roughness!r}")
 
 
-def resolve_surfaces(roughness, wheel_roughness, params: ModelParameters):
+def resolve_surfaces(roughness: RoughnessLike, wheel_roughness: RoughnessLike | None, params: ModelParameters):
     """The rail (or wheel) set and the optional wheel set with their names, checked as a pair: a rail set and a
     wheel set going round this wheel (``accepted.check_wheel_circumference``)."""
     rough, name = resolve_roughness(roughness)

@@ -34,6 +34,15 @@ def third_octave_bands(lowest: float, highest: float) -> tuple[np.ndarray, np.nd
     centres, lower, upper : numpy.ndarray
         Band centres ``10^(n/10)`` in increasing order and their edges ``centre x 10^(∓1/20)``.
 
+    Raises
+    ------
+    WheelrailError
+        Unless 0 < lowest <= highest, both finite.
+
+    See Also
+    --------
+    third_octave_levels : band levels of signals in these bands.
+
     Examples
     --------
     >>> from wheelrail.core.spectra import nominal_band_label, third_octave_bands
@@ -157,10 +166,25 @@ def third_octave_levels(
     (:func:`band_power`); the band mean squares of all rows are averaged (the paper averages 7 roughness
     lines, section 3.1) and expressed in dB re ``reference`` (:func:`level_db`).
 
+    Parameters
+    ----------
+    signals : numpy.ndarray
+        One signal (n,) or several as rows (rows, n), uniformly sampled.
+    sample_rate : float
+        Samples per unit of the sampling axis (per s: Hz; per m: cycles/m).
+    lower, upper : numpy.ndarray
+        Band edges, in the unit of ``sample_rate`` (:func:`third_octave_bands`).
+    reference : float
+        Reference value of the levels, in the signals' unit (1 N for forces).
+
     Returns
     -------
     levels : numpy.ndarray
         dB re ``reference``, one per band (NaN where a band holds no bin).
+
+    See Also
+    --------
+    force_spectrum : the contact force's levels, start-up left out and mean removed.
     """
     frequencies, psd = narrowband_spectrum(np.atleast_2d(signals), sample_rate)
     return level_db(band_power(frequencies, psd, lower, upper).mean(axis=0), reference)
@@ -265,6 +289,10 @@ def band_coherence(
     -------
     numpy.ndarray
         γ² per band, in [0, 1]; NaN where the band holds no bin of the block spectra.
+
+    See Also
+    --------
+    third_octave_bands : the band edges.
     """
     frequencies, s00, smm, s0m = block_spectra(centre, others, sample_rate, blocks)
     out = np.full(len(lower), np.nan)
@@ -287,8 +315,21 @@ FORCE_MIN_STEPS = 16  # steps a force spectrum needs after FORCE_SKIP
 
 
 def shortest_spectrum_run(speed: float, element_size: float, skip: float = FORCE_SKIP) -> float:
-    """The shortest run with a force spectrum, m: ``skip`` s left out (whole steps, as :func:`force_spectrum`
-    counts them) and ``FORCE_MIN_STEPS`` after it, at ``speed`` m/s and ``element_size`` m per step.
+    """The shortest run that has a force spectrum: ``skip`` left out and ``FORCE_MIN_STEPS`` steps after it.
+
+    Parameters
+    ----------
+    speed : float
+        Train speed, m/s.
+    element_size : float
+        Step length along the rail, m.
+    skip : float
+        Start of the run left out, s (whole steps, as :func:`force_spectrum` counts them).
+
+    Returns
+    -------
+    float
+        Run length, m.
 
     Examples
     --------
@@ -385,6 +426,17 @@ def force_spectrum(
     levels : numpy.ndarray
         Band levels of the dynamic contact force, dB re 1 N (NaN where a band is not resolved).
 
+    Raises
+    ------
+    WheelrailError
+        For a force that is not one finite number per step, a missing or inconsistent time step, or a record
+        with fewer than ``FORCE_MIN_STEPS`` steps after ``skip``.
+
+    See Also
+    --------
+    contact_filter : the difference of two models' levels.
+    shortest_spectrum_run : the shortest run that has a spectrum.
+
     Examples
     --------
     A tone of 100 N amplitude at 1 kHz on the 65 kN preload reads 20 log10(100 / sqrt(2)) = 37.0 dB in its band:
@@ -464,6 +516,21 @@ def mean_level(levels) -> np.ndarray:
     curves" for the contact filters, which are level differences in dB; averaging in dB keeps the two
     consistent (the mean filter equals the difference of the mean levels).
 
+    Parameters
+    ----------
+    levels : sequence of array_like
+        Band levels of each run, dB, all on the same bands.
+
+    Returns
+    -------
+    numpy.ndarray
+        The mean level per band, dB.
+
+    Raises
+    ------
+    WheelrailError
+        If the runs' levels are not numbers on the same bands.
+
     Examples
     --------
     >>> from wheelrail.core.spectra import mean_level
@@ -475,7 +542,23 @@ def mean_level(levels) -> np.ndarray:
 
 
 def level_difference(levels_a: np.ndarray, levels_b: np.ndarray) -> np.ndarray:
-    """L_a - L_b per band, dB (Figs 12-14, 16, 17); the two on the same bands (one shape)."""
+    """Level difference L_a - L_b per band (paper Figs 12-14, 16, 17).
+
+    Parameters
+    ----------
+    levels_a, levels_b : numpy.ndarray
+        Band levels, dB, on the same bands (one shape).
+
+    Returns
+    -------
+    numpy.ndarray
+        L_a - L_b per band, dB.
+
+    Raises
+    ------
+    WheelrailError
+        If the levels are not numbers of one shape.
+    """
     levels_a, levels_b = level_arrays("level_difference: levels_a and levels_b", (levels_a, levels_b))
     return levels_a - levels_b
 
@@ -496,6 +579,27 @@ def contact_filter(levels_model: np.ndarray, levels_hertz: np.ndarray) -> np.nda
 
     Section 3.3: the Hertz spring without roughness pre-filtering has no contact filtering, so the level
     difference characterises the filtering of the other models (Fig. 10, right column).
+
+    Parameters
+    ----------
+    levels_model : numpy.ndarray
+        The model's force levels per band, dB re 1 N (:func:`force_spectrum`).
+    levels_hertz : numpy.ndarray
+        The ``hertz`` model's on the same line and bands, dB re 1 N.
+
+    Returns
+    -------
+    numpy.ndarray
+        The contact filter per band, dB (negative where the model filters the roughness).
+
+    Raises
+    ------
+    WheelrailError
+        If the levels are not numbers of one shape.
+
+    See Also
+    --------
+    wheelrail.core.reference_filters.reference_filters : analytic and CNOSSOS-EU filters to compare with.
 
     Examples
     --------

@@ -150,6 +150,16 @@ def read_recording(path: str | os.PathLike) -> RunResult:
     ``pressure`` is filled only if a map was recorded at every step (``record_every`` 1), else None;
     ``equivalent_roughness`` equals ``roughness`` unless ``roughness/equivalent`` was recorded.
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.rrd`` file.
+
+    Returns
+    -------
+    RunResult
+        The recorded run: header, per-step force, displacements, roughness and contact size, SI units.
+
     Raises
     ------
     WheelrailError

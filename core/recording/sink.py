@@ -171,6 +171,11 @@ class RecordingSink:
         roughness : RoughnessSet, optional
             The set the run rolls over: its lines around the run's line are recorded as
             ``roughness/lines``. Without it that entity is not recorded.
+
+        Raises
+        ------
+        WheelrailError
+            If the recording is already finished.
         """
         if self._closed:
             raise WheelrailError("the recording is already finished")
@@ -324,6 +329,11 @@ class RecordingSink:
         -------
         pathlib.Path or None
             The ``.rrd`` file written, if any.
+
+        Raises
+        ------
+        WheelrailError
+            If the rerun viewer the sink streams to could not be reached (the file is written all the same).
         """
         if self._closed:
             return self.path
@@ -469,6 +479,11 @@ def record_result(
     -------
     pathlib.Path or None
         The file written, if any.
+
+    Raises
+    ------
+    WheelrailError
+        If ``result`` is not a RunResult, or the viewer could not be reached.
     """
     if not isinstance(result, RunResult):
         raise WheelrailError(f"record_result needs a RunResult, got {type(result).__name__}")

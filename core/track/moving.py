@@ -351,21 +351,36 @@ def moving_green_functions(
     *,
     use_cache: bool = True,
 ) -> MovingGreenFunctions:
-    """Moving Green's functions of the track for train speed ``speed`` (eq. 2).
+    """Moving Green's functions of the track for a train speed (eq. 2).
 
-    Read off the cached stationary responses (see the module docstring), and cached on disk per speed
-    (``core.cache``, kind ``track-moving``: 10 MB on the default track, read back in milliseconds instead
-    of read off the 208 MB stationary responses in half a second; bit-identical, the entry holds the very
-    array). A speed above ``numerics.max_speed`` widens the wedge, which means a new one-off precompute.
+    Read off the cached stationary responses (see the module docstring) and cached on disk per speed
+    (``core.cache``, kind ``track-moving``; bit-identical). A speed above ``numerics.max_speed`` widens the
+    wedge, which means a new one-off precompute.
 
     Parameters
     ----------
     speed : float
         v, m/s (> 0).
-    track, numerics : optional
-        Default: the paper's track, ``TrackNumerics()``.
+    track : TrackParameters, optional
+        Default: the paper's track.
+    numerics : TrackNumerics, optional
+        Default: ``TrackNumerics()``.
     use_cache : bool
         Use the disk cache.
+
+    Returns
+    -------
+    MovingGreenFunctions
+        g_{R,v}^{x0}(t) at the bay's excitation positions, m/N, and their first-order-hold weights.
+
+    Raises
+    ------
+    WheelrailError
+        For a speed that is not a positive number or out of the accepted range.
+
+    See Also
+    --------
+    stationary_track_response : the responses they are read off.
     """
     track, numerics = _resolved(speed, track, numerics)
     n_samples = len(stored_times(numerics)[0])
@@ -478,9 +493,27 @@ def moving_weights(
 def moving_from_stationary(
     response: StationaryTrackResponse, speed: float, rows_per_position: int | None = None
 ) -> MovingGreenFunctions:
-    """Read the moving Green's functions for ``speed`` (m/s) off stored stationary responses, at
-    ``rows_per_position`` rows per stored excitation position (``bay_rows``; default from the response's
-    numerics)."""
+    """Read the moving Green's functions for a speed off stored stationary responses.
+
+    Parameters
+    ----------
+    response : StationaryTrackResponse
+        The stored responses (:func:`stationary_track_response`).
+    speed : float
+        v, m/s, up to the responses' ``numerics.max_speed``.
+    rows_per_position : int, optional
+        Rows per stored excitation position (``bay_rows``); default from the response's numerics.
+
+    Returns
+    -------
+    MovingGreenFunctions
+        g_{R,v}^{x0}(t) = h(x0 + v t, x0, t), m/N.
+
+    Raises
+    ------
+    WheelrailError
+        For a speed above the one the stored responses cover.
+    """
     if rows_per_position is None:
         rows_per_position = response.numerics.rows_per_position
     if speed > response.numerics.max_speed * (1 + 1e-12):

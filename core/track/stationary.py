@@ -516,6 +516,11 @@ def stationary_track_response(
     progress : callable, optional
         Told the phases of a computation, if one is needed (``wheelrail.core.track.progress``); default: the
         callable of an enclosing ``track_progress`` block.
+
+    Returns
+    -------
+    StationaryTrackResponse
+        The impulse responses h(x, x0, t) on the wedge a wheel can reach, m/N per N s.
     """
     from wheelrail.core import cache
 
