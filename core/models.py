@@ -19,19 +19,10 @@ This module is cheap to import (no numba, no SciPy): the command line, the studi
 model names and traits from it (:func:`model_names`, :func:`model_entry`); the implementation is imported on
 first use.
 
-Adding a model: write its class (a :class:`ContactModel`) and one :class:`ModelEntry`, then either
-
-* add the entry to ``_BUILTIN`` below (a model of this package);
-* declare it in another package as an entry point of the group ``wheelrail.contact_models`` (the entry point's
-  name is the model's name; it loads the ``ModelEntry``), e.g. in that package's ``pyproject.toml``::
-
-      [project.entry-points."wheelrail.contact_models"]
-      linear-spring = "my_package.models:LINEAR_SPRING"
-
-  The registry finds installed plug-ins the first time it is asked for a model (no import, no call), so the
-  command line, the studies and the explorer offer them; a plug-in that fails to load is skipped with one
-  :class:`PluginWarning` naming it;
-* or call :func:`register` at run time (this process only: not seen by a study's worker processes).
+Adding a model: one :class:`ContactModel` class and one :class:`ModelEntry`, added to ``_BUILTIN`` below, declared
+by another package as an entry point of the group ``wheelrail.contact_models`` (a plug-in, named as its model: found
+the first time a model is asked for; one that fails to load is skipped with a :class:`PluginWarning`), or given to
+:func:`register` (this process only). The user guide's "Adding a contact model" shows one.
 """
 
 from __future__ import annotations

@@ -3,15 +3,10 @@
 ``interaction.prepare_run`` composes them; each step is a function of what the previous ones returned, so
 a study or a test can reuse one (``usable_length`` is the one rule for margins and default lengths).
 
-Start-up (paper section 3.1 leaves it open): before step 0 the history is filled with the preload P, the
-wheel sits at the static approach of the chosen contact model plus the bay-averaged static rail deflection,
-and a run-in on smooth surfaces lets the sleeper-passing response settle; the roughness under the wheel at
-step 0 is faded in over the first half of the run-in with a raised cosine and the run-in is discarded.
-That start is not the moving steady state (the rail under the wheel is not at its bay average, nor at rest):
-the wheel-on-track resonance (~66 Hz on the paper's track) rings from it with some hundred newtons and decays
-about tenfold every 55 ms, in time, whatever the speed. So the run-in is a time, ``DEFAULT_RUN_IN_TIME``
-(0.3 s: 8.3 m at 100 km/h, 25 m at 300 km/h; :func:`default_run_in_length`), after which the recorded force
-is that of a 40 m run-in within 0.2 N from 5 to 400 km/h (``validation/run_in.py``, test_run_in.py).
+Start-up: the history is filled with the preload in static equilibrium, and a run-in on smooth surfaces (the
+roughness faded in over its first half with a raised cosine, then discarded) lets the start-up transient decay.
+It decays in time, whatever the speed, so the run-in is a time, ``DEFAULT_RUN_IN_TIME`` (the documentation's
+physics page, "How a step is solved", gives what it leaves: ``validation/run_in.py``, test_run_in.py).
 """
 
 from __future__ import annotations
