@@ -51,7 +51,7 @@ def known_approach(j, track, wheel, preload, xi_w0):
 def _scatter(j, f, lo, hi, frac, weights, acc):
     """Add the rail displacement that force f at index j causes at the later steps (eq. 2, scattered
     forward: contiguous memory, so the n_lags multiply-adds vectorise; over views from index 0, which numba
-    indexes without negative-index wraparound: 2.5x faster than indexing from j + 1, measured)."""
+    indexes without negative-index wraparound, faster than indexing from j + 1: docs, benchmarks page)."""
     n_lags = weights.shape[1]
     a = (1.0 - frac[j]) * f
     b = frac[j] * f
