@@ -18,7 +18,7 @@ os.environ["WHEELRAIL_CACHE_DIR"] = tempfile.mkdtemp(prefix="wheelrail-bench-cac
 
 from wheelrail.core import cache, track  # noqa: E402
 from wheelrail.core.parameters import TrackNumerics, TrackParameters  # noqa: E402
-from wheelrail.core.track.stationary import _WEDGE_ARRAYS, _track_key  # noqa: E402
+from wheelrail.core.track.stationary import _WEDGE_ARRAYS, track_key  # noqa: E402
 
 
 def best(function, repeats: int = 3) -> float:
@@ -50,7 +50,7 @@ def main() -> None:
 
     path = Path(response.cache_path)
     print(f"entry: {path.stat().st_size / 1e6:.1f} MB ({path.name})")
-    key = _track_key(params, numerics)
+    key = track_key(params, numerics)
     arrays = {name: getattr(response, name) for name in _WEDGE_ARRAYS}
     data = memoryview(np.ascontiguousarray(response.data)).cast("B")
     for name in ("sha256", "blake2b"):

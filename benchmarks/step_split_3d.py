@@ -29,7 +29,8 @@ from numba import njit
 
 from wheelrail.core.contact import halfspace_steps as steps
 from wheelrail.core.contact.halfspace_model import HalfSpaceReferenceModel
-from wheelrail.core.interaction import _commit, _history, prepare_run
+from wheelrail.core.interaction import prepare_run
+from wheelrail.core.loop_kernels import commit_force, known_approach
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 
 SET = "corrugated-rail"
@@ -41,10 +42,10 @@ def _loop_without_law(j0, j1, track, wheel, preload, xi_w0, forces, offset):
     known = np.empty(j1 - j0)
     compliance = np.empty(j1 - j0)
     for j in range(j0, j1):
-        delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+        delta_known, c, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
         known[j - j0] = delta_known
         compliance[j - j0] = c
-        _commit(j, forces[j - offset], track, wheel, s_pred, preload, xi_w0, q, w0)
+        commit_force(j, forces[j - offset], track, wheel, s_pred, preload, xi_w0, q, w0)
     return known, compliance
 
 
@@ -196,7 +197,7 @@ def _decisions_from_reference(params, length):
     counts = []
     for s in range(run.loop.n_total):
         j = run.loop.n_hist + s
-        delta_known, c, q, w0, s_pred = _history(
+        delta_known, c, q, w0, s_pred = known_approach(
             j, run.loop.track, run.loop.wheel, params.contact.preload, run.loop.xi_w0
         )
         before = model._window._warm[0]
@@ -204,7 +205,9 @@ def _decisions_from_reference(params, length):
         last = model._window.last
         after = np.flatnonzero(last.contact)
         counts.append((last.iterations, np.setdiff1d(after, before).size, np.setdiff1d(before, after).size, after.size))
-        _commit(j, state.force, run.loop.track, run.loop.wheel, s_pred, params.contact.preload, run.loop.xi_w0, q, w0)
+        commit_force(
+            j, state.force, run.loop.track, run.loop.wheel, s_pred, params.contact.preload, run.loop.xi_w0, q, w0
+        )
     return np.array(counts, dtype=float)
 
 

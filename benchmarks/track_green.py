@@ -95,7 +95,7 @@ def main() -> None:
 
     reloads = []
     for _ in range(3):
-        track._MEMORY.clear()
+        track.clear_memory()
         start = time.perf_counter()
         response = track.stationary_track_response(params, numerics)
         reloads.append(time.perf_counter() - start)
@@ -110,7 +110,7 @@ def main() -> None:
     track.moving_weights(120 / 3.6, dt, params, numerics)  # computes and caches this speed's weights
     cached = []
     for _ in range(5):
-        track._MEMORY.clear()
+        track.clear_memory()
         start = time.perf_counter()
         track.moving_weights(120 / 3.6, dt, params, numerics)
         cached.append(time.perf_counter() - start)

@@ -53,7 +53,7 @@ PATCH_FRACTION = 0.1  # largest Hertz semi-axis at the preload / the bodies' rad
 CIRCUMFERENCE_TOLERANCE = 0.01  # largest |C - 2 pi R| / (2 pi R) of a wheel set C added to a wheel of radius R
 ROUND_OFF = 1e-12  # relative: a bound met after a unit conversion (km/h -> m/s) is met
 # Accepted train speeds: the range over which the interaction loop is shown stable (FOH_MAX_STEP in
-# parameters.py; smooth-rail speed scans in tests/physics/test_stability.py and benchmarks/speed_scan.py).
+# parameters.py; smooth-rail speed scans in tests/physics/test_stability.py and validation/speed_scan.py).
 # Below MIN_SPEED_KMH steps get so long (7.2 ms at 0.5 km/h: 8 lags) that the 50 ms truncation of the
 # trapezoidal weights matters and the loop chattered again at 0.5 km/h. MAX_SPEED_KMH is the reach of the
 # cached track responses (``TrackNumerics.max_speed``).

@@ -57,6 +57,24 @@ class WheelrailError(ValueError):
         The range bounds the value's magnitude (a radius that may be negative).
 
     A message with no parameter (``WheelrailError("file x.npz is damaged")``) reads the same everywhere.
+
+    Raises
+    ------
+    TypeError
+        If neither ``problem`` nor ``parameter`` is given.
+
+    See Also
+    --------
+    render : the message worded for a front end.
+
+    Examples
+    --------
+    >>> from wheelrail.core.errors import Name, WheelrailError
+    >>> error = WheelrailError(parameter="preload", value=5e6, minimum=1e3, maximum=5e5, unit="N")
+    >>> str(error)
+    'preload 5e+06 N is outside the accepted 1000 to 500000 N'
+    >>> error.render({"preload": Name("--preload-kn", "kN", 1e-3, True)})
+    '--preload-kn 5000 is outside the accepted 1 to 500 kN'
     """
 
     def __init__(
@@ -109,7 +127,19 @@ class WheelrailError(ValueError):
         return own if own is not None else Name(self.argument or self.parameter or "", self.unit)
 
     def render(self, names: Mapping[str, Name] | None = None) -> str:
-        """The one-line message, the input named as ``names`` (key -> :class:`Name`) name it; None: the API's."""
+        """The one-line message, with the input named as a front end names it.
+
+        Parameters
+        ----------
+        names : mapping of str to Name, optional
+            Input key -> how the front end names it and the unit it shows (the command line's
+            ``CLI_NAMES``, the explorer's ``FIELD_NAMES``); None: the Python API's names, SI units.
+
+        Returns
+        -------
+        str
+            One line: the input, its value and the accepted range in the front end's units, or the problem.
+        """
         if self.parameter is None:
             text = self.problem
         else:

@@ -18,9 +18,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 from wheelrail.core.accepted import ACCEPTED, Accepted
 from wheelrail.core.errors import Name, WheelrailError
+
+if TYPE_CHECKING:  # parameters is imported on first use: the command line's start stays cheap
+    from wheelrail.core.parameters import ModelParameters
 
 __all__ = [
     "GROUPS",
@@ -68,7 +72,7 @@ GROUPS = {"run": "Run", "geometry": "Contact geometry", "track": "Track"}
 
 @dataclass(frozen=True)
 class Input:
-    """One user-facing input (module docstring).
+    """One user-facing input, declared once (module docstring): its key, place, units, label and group.
 
     Attributes
     ----------
@@ -91,6 +95,18 @@ class Input:
         Its short name in file names ("R", "kP"); empty: the value and unit alone ("100kmh").
     always_shown : bool
         Named in every case label and file name, even at its default (speed, preload).
+
+    See Also
+    --------
+    model_parameters : sets inputs on a ``ModelParameters``.
+    wheelrail.core.accepted.ACCEPTED : the accepted range of each input, by key.
+
+    Examples
+    --------
+    >>> from wheelrail.core.inputs import by_key
+    >>> pads = by_key("pad_stiffness")
+    >>> pads.option, pads.dest, pads.default(), pads.shown.name
+    ('--pad-stiffness-mn-m', 'pad_stiffness_mn_m', 120000000.0, 'MN/m')
     """
 
     key: str
@@ -114,8 +130,14 @@ class Input:
         """The option's attribute name in argparse's namespace (``pad_stiffness_mn_m``)."""
         return self.option[2:].replace("-", "_")
 
-    def default(self):
-        """Its default, SI, read from ``ModelParameters()`` (None where the dataclass has None)."""
+    def default(self) -> float | None:
+        """Its default, read from ``ModelParameters()``.
+
+        Returns
+        -------
+        float or None
+            The default in SI units; None where the dataclass has None (a radius that defaults to another).
+        """
         from wheelrail.core.parameters import ModelParameters
 
         return self.value_in(ModelParameters())
@@ -149,7 +171,25 @@ class Input:
         return self.accepted.unit
 
     def check(self, value, argument: str | None = None) -> float:
-        """``value`` (SI) as a float within the range, else one WheelrailError keyed by ``key``."""
+        """Check a value against the input's accepted range.
+
+        Parameters
+        ----------
+        value : float
+            The value, SI units.
+        argument : str, optional
+            How the Python API names it in the error (``"SupportParameters.pad_stiffness"``).
+
+        Returns
+        -------
+        float
+            ``value`` as a float.
+
+        Raises
+        ------
+        WheelrailError
+            Keyed by ``key``, if the value is not a finite number within the range.
+        """
         return self.accepted.check(value, argument)
 
     def in_shown(self) -> tuple[float, float]:
@@ -261,10 +301,38 @@ def page_names() -> dict[str, Name]:
     return {e.key: Name(e.label, e.shown.name, e.shown.scale) for e in INPUTS}
 
 
-def model_parameters(values: dict, base=None):
-    """``ModelParameters`` with the inputs ``values`` (key -> SI value; None: the default) set on ``base``
-    (default: the paper's). Each value is checked against its declared range first (one WheelrailError keyed
-    by the input), then by the dataclasses (the rules that relate inputs: the patch, the tread)."""
+def model_parameters(values: dict[str, float | None], base: ModelParameters | None = None) -> ModelParameters:
+    """Model parameters with some inputs set, each checked against its declared range.
+
+    Parameters
+    ----------
+    values : dict
+        Input key (``"pad_stiffness"``, see :data:`INPUTS`) -> value in SI units; None keeps the default.
+    base : ModelParameters, optional
+        The parameters the values are set on; default: the paper's.
+
+    Returns
+    -------
+    ModelParameters
+        ``base`` with the values set.
+
+    Raises
+    ------
+    WheelrailError
+        For an unknown key; keyed by the input for a value outside its range; from the dataclasses for values
+        that do not go together (a Hertz patch too large for the radii, a tread that conforms with the crown).
+
+    See Also
+    --------
+    describe : the inputs of a ``ModelParameters``, by group.
+
+    Examples
+    --------
+    >>> from wheelrail.core.inputs import model_parameters
+    >>> params = model_parameters({"speed": 50.0, "pad_stiffness": 600e6})   # SI: m/s, N/m
+    >>> params.run.speed, params.track.support.pad_stiffness
+    (50.0, 600000000.0)
+    """
     from wheelrail.core.parameters import ModelParameters
 
     params = ModelParameters() if base is None else base
@@ -291,10 +359,33 @@ _IN_USE = {"wheel_radius": "radius_along", "rail_crown_radius": "crown_radius"}
 wheel's and the rail crown's radius are its ``radius``, the paper's R = 0.39 m, each whatever the other is)."""
 
 
-def describe(params, *groups: str) -> dict[str, dict[str, float | None]]:
-    """The inputs of ``params`` by group (all groups when none is named), SI, for every result's record:
-    ``{"track": {"pad_stiffness": 1.2e8, ...}, ...}`` (an unset radius as the one in use; an infinite tread
-    radius as None, as JSON has it)."""
+def describe(params: ModelParameters, *groups: str) -> dict[str, dict[str, float | None]]:
+    """The inputs of some parameters by group, SI, as every result records them.
+
+    Parameters
+    ----------
+    params : ModelParameters
+        The parameters to describe.
+    *groups : str
+        Keys of :data:`GROUPS` (``"run"``, ``"geometry"``, ``"track"``); none: all of them.
+
+    Returns
+    -------
+    dict
+        Group -> input key -> value in SI units (``{"track": {"pad_stiffness": 1.2e8, ...}, ...}``); an unset
+        radius as the radius in use (``_IN_USE``), an infinite tread radius as None (as JSON has it).
+
+    See Also
+    --------
+    model_parameters : the inverse: parameters from input values.
+
+    Examples
+    --------
+    >>> from wheelrail.core.inputs import describe
+    >>> from wheelrail.core.parameters import ModelParameters
+    >>> describe(ModelParameters(), "run")
+    {'run': {'speed': 27.77777777777778, 'preload': 65000.0}}
+    """
     found: dict[str, dict[str, float | None]] = {}
     for entry in inputs_of(*groups):
         value = entry.value_in(params)

@@ -1,27 +1,10 @@
-"""Time-domain vertical wheel/rail interaction (paper section 2, eqs. 1-14) with five contact variants.
+"""Time-domain vertical wheel/rail interaction (paper section 2, eqs. 1-14): :func:`prepare_run`, :func:`simulate`.
 
-The wheel moves along the rail one element per step (x = v t, eq. 7; dt = Delta x / v). Each step:
-
-* the **wheel** (eq. 1) is advanced with its exact discrete-time form for a force linear between steps
-  (``wheel_discrete_system``), equivalent to convolving with g_W but without truncating its slowly
-  decaying suspension mode; the wheel responds to the dynamic force F - P around its static position;
-* the **rail** displacement at the contact point (eq. 2) is the convolution of the force history with the
-  moving Green's functions, using the first-order-hold weights w_m^{x0} of
-  :meth:`MovingGreenFunctions.weights` at each past force's excitation position x0 (interpolated between
-  the stored positions of the bay);
-* both are split into a part known from the history and a part proportional to the current force:
-  ``delta = xi_W - xi_R = delta_known - c F`` with the instantaneous compliance c = Gamma1 + w_0 > 0; the
-  contact model solves its own nonlinear law together with this relation, so the current force is
-  consistent with the current displacements (implicit, one solve per step).
-
-The loop owns eqs. 1-2, once (``wheelrail.core.loop_kernels``): ``_history`` (the known part of the approach)
-and ``_commit`` (the step's force into the wheel state and the rail history). A contact model
-(``wheelrail.core.models``: ``3d``, ``2d``, ``hertz``, ``hertz-winkler``, ``hertz-average`` and any registered
-one) only gives its law: a compiled one-line law runs inside ``_run_chunk`` (``CHUNK`` steps per call), the
-compiled 3D law inside ``_run_chunk_3d`` (``CHUNK_3D`` steps per call, without the GIL; its run-in on the
-law tabulated, ``contact.halfspace_table``), a per-step law is called from Python.
-How a run is built (margins, roughness along the track, history, static equilibrium, run-in) is in
-``wheelrail.core.run_setup``.
+The wheel moves one element per step (eq. 7). Each step the contact law is solved together with the wheel (eq. 1)
+and the rail (eq. 2), both written as a part known from the history plus the current force times a compliance:
+implicit, one solve per step (the documentation's physics page, "How a step is solved"). The loop owns eqs. 1-2
+(``loop_kernels``); a contact model (``models``) gives its law: compiled laws run ``CHUNK`` or ``CHUNK_3D``
+steps per call of a compiled loop, a per-step law is called from Python. How a run is built: ``run_setup``.
 """
 
 from __future__ import annotations
@@ -29,33 +12,32 @@ from __future__ import annotations
 import functools
 import threading
 from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
 
 from wheelrail.core import loop_kernels
-from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.compiled import sources_stamp
-from wheelrail.core.contact import hertz, winkler
-from wheelrail.core.contact.hertz import _hertz_law
-from wheelrail.core.contact.winkler import _bedding_law
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
-from wheelrail.core.loop_kernels import _commit, _history, _scatter_range
-from wheelrail.core.models import LAW_HALFSPACE, LAW_HERTZ, MODELS, ContactModel, ModelTraits
+from wheelrail.core.loop_kernels import commit_force, known_approach, run_chunk, scatter_history
+from wheelrail.core.models import LAW_HALFSPACE, MODELS, ContactModel, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
+
+if TYPE_CHECKING:  # the roughness package is imported with the first set a run reads
+    from wheelrail.core.roughness import RoughnessLike
 from wheelrail.core.run_setup import (
     DEFAULT_RUN_IN_TIME,
     RUN_MARGIN,
     WINDOW_HALF_WIDTH,
     History,
     TrackRoughness,
-    check_roughness_pair,
     checked_inputs,
     history_arrays,
     model_inputs,
-    resolve_roughness,
+    resolve_surfaces,
     roughness_along_track,
     run_margin,
     static_equilibrium,
@@ -83,48 +65,8 @@ CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets
 TABULATED_RUN_IN_TIME = 0.1
 
 # --------------------------------------------------------------------------------------------------
-# Compiled pieces: the chunk loops of the compiled laws (eqs. 1-2: loop_kernels, inlined).
+# The 3D law's chunk loop (the one-line laws': loop_kernels.run_chunk)
 # --------------------------------------------------------------------------------------------------
-
-
-@njit(cache=True, inline="always")
-def _law(law, approach_known, compliance, roughness, s, shape, constants):
-    """A compiled law (models.LAW_*) at step s: (F, contact length, contact area, reached the window's end)."""
-    if law == LAW_HERTZ:
-        f, length, area = _hertz_law(
-            approach_known, compliance, roughness[s, 0], constants[0], constants[1], constants[2]
-        )
-        return f, length, area, False
-    return _bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
-
-
-# The chunk loops call compiled code of other modules: numba's cache keys them on those sources too
-# (wheelrail.core.compiled).
-def _define_run_chunk(stamp):
-    @njit(cache=True)
-    def run_chunk(law, j0, j1, track, wheel, preload, xi_w0, law_inputs, out):
-        """Advance a compiled law over history indices j0..j1-1. One function, not a Python loop over steps:
-        the steps are the hot loop (1 us each). ``law_inputs`` = (roughness, shape, constants) of
-        models.LawInputs; ``out`` = (xi_wheel, xi_rail, contact_length, contact_area) per step s.
-
-        Returns -1 if all went well, else the index j at which the law reached its window's end.
-        """
-        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called
-        roughness, shape, constants = law_inputs
-        xi_wheel, xi_rail, length, area = out
-        offset = track[0].shape[0] - roughness.shape[0]
-        for j in range(j0, j1):
-            delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
-            s = j - offset
-            f, contact_length, contact_area, edge = _law(law, delta_known, c, roughness, s, shape, constants)
-            if edge:
-                return j
-            length[s] = contact_length
-            area[s] = contact_area
-            xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
-        return -1
-
-    return run_chunk
 
 
 @functools.cache
@@ -159,7 +101,7 @@ def _define_run_chunk_3d(stamp):
         n = maps.shape[1] * maps.shape[2]
         pressure = law[2][0]
         for j in range(j0, j1):
-            delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+            delta_known, c, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
             s = j - offset
             status, f, on_centre, count = _halfspace_step(s, delta_known, c, law)
             if status != STEP_CONVERGED:
@@ -171,13 +113,10 @@ def _define_run_chunk_3d(stamp):
                 flat = maps[k].reshape(n)
                 for i in range(n):
                     flat[i] = pressure[i] if f > 0.0 else 0.0
-            xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
+            xi_wheel[s], xi_rail[s] = commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
         return -1, STEP_CONVERGED
 
     return run_chunk_3d
-
-
-_run_chunk = _define_run_chunk(sources_stamp(hertz, winkler, loop_kernels))
 
 
 # --------------------------------------------------------------------------------------------------
@@ -188,14 +127,23 @@ _run_chunk = _define_run_chunk(sources_stamp(hertz, winkler, loop_kernels))
 class InteractionRun(HeaderView):
     """One prepared run: iterate :meth:`steps` (streaming) or call :meth:`run`; then :meth:`result`.
 
-    Built by :func:`prepare_run` from its steps (``wheelrail.core.run_setup``). :meth:`cancel` (from any
-    thread) stops it between steps.
+    Built by :func:`prepare_run`, not by hand. :meth:`cancel` (from any thread) stops it between steps.
 
-    Public attributes (read-only): ``header`` (RunHeader: model, line, roughness, parameters, run-in) and its
-    shortcuts ``model``, ``line``, ``params``, ``roughness_name``, ``dx`` (m); ``traits`` (ModelTraits);
-    ``x_start`` (m, wheel position of step 0), ``n_steps``, and for a model with a pressure map ``window_x`` /
-    ``window_y``: the element centres of the contact window relative to the wheel centre, m (columns along
-    the rail, rows across it), the grid of every ``StepState.pressure``.
+    Attributes
+    ----------
+    header : RunHeader
+        Also through its shortcuts ``model``, ``line``, ``params``, ``roughness_name`` and ``dx`` (m).
+    traits : ModelTraits
+        What the model computes.
+    x_start : float
+        Wheel position of step 0, m.
+    window_x, window_y : ndarray or None
+        For a model with a pressure map: the element centres of the contact window relative to the wheel
+        centre, m (columns along the rail, rows across it), the grid of every ``StepState.pressure``.
+
+    See Also
+    --------
+    simulate : prepares and runs in one call.
     """
 
     def __init__(
@@ -260,18 +208,32 @@ class InteractionRun(HeaderView):
 
     @property
     def n_steps(self) -> int:
+        """Number of recorded steps (the run-in not counted)."""
         return self.loop.n_steps
 
     def position_of(self, s: int) -> float:
-        """Wheel position of step s (run-in included: s = n_run_in is step 0), m."""
+        """Wheel position of a step, counting the run-in's steps.
+
+        Parameters
+        ----------
+        s : int
+            Step index, run-in included: ``s = n_run_in`` is recorded step 0.
+
+        Returns
+        -------
+        float
+            Wheel position along the track, m.
+        """
         return self.x_start + (s - self.loop.n_run_in) * self.dx
 
     def cancel(self) -> None:
-        """Ask the run to stop at the next step (thread-safe)."""
+        """Ask the run to stop at the next step (thread-safe): :meth:`steps` ends, :meth:`run` returns the steps
+        done so far."""
         self._cancel.set()
 
     @property
     def cancelled(self) -> bool:
+        """Whether :meth:`cancel` was called."""
         return self._cancel.is_set()
 
     # stepping -------------------------------------------------------------------------------------------
@@ -283,7 +245,7 @@ class InteractionRun(HeaderView):
             return
         if self._law is not None:
             law = self._law
-            status = _run_chunk(
+            status = run_chunk(
                 self.traits.law,
                 loop.n_hist + s0,
                 loop.n_hist + s1,
@@ -300,9 +262,11 @@ class InteractionRun(HeaderView):
         track, wheel, preload, xi_w0 = loop.track, loop.wheel, self.params.contact.preload, loop.xi_w0
         for s in range(s0, s1):
             j = loop.n_hist + s
-            delta_known, compliance, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+            delta_known, compliance, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
             state = self.contact.solve(s, delta_known, compliance)
-            self.xi_wheel[s], self.xi_rail[s] = _commit(j, state.force, track, wheel, s_pred, preload, xi_w0, q, w0)
+            self.xi_wheel[s], self.xi_rail[s] = commit_force(
+                j, state.force, track, wheel, s_pred, preload, xi_w0, q, w0
+            )
             self.contact_length[s] = state.contact_length
             self.contact_area[s] = state.contact_area
             if state.pressure is not None:
@@ -394,9 +358,17 @@ class InteractionRun(HeaderView):
         )
 
     def steps(self) -> Iterator[StepState]:
-        """Run (run-in first, not yielded) and yield the :class:`StepState` of every step.
+        """Run (run-in first, not yielded) and yield the state of every recorded step, as it is computed.
 
-        Stops early, without error, if :meth:`cancel` was called.
+        Yields
+        ------
+        StepState
+            One step's force, displacements, contact size and pressure map; none after :meth:`cancel`.
+
+        Raises
+        ------
+        WheelrailError
+            If the contact model fails (e.g. the contact leaves the 3D model's window).
         """
         loop = self.loop
         self._advance_to(loop.n_run_in)
@@ -413,10 +385,24 @@ class InteractionRun(HeaderView):
         callback: Callable[[StepState], None] | None = None,
         progress: Callable[[int, int], None] | None = None,
     ) -> RunResult:
-        """Run to the end (or until cancelled); return :meth:`result`.
+        """Run to the end (or until cancelled).
 
-        ``callback(state)`` is called for every step (streaming); ``progress(done, total)`` is called now
-        and then with the number of steps done (cheap: use it for progress bars).
+        Parameters
+        ----------
+        callback : callable, optional
+            ``callback(state)`` with the :class:`StepState` of every step (streaming).
+        progress : callable, optional
+            ``progress(done, total)`` now and then with the number of steps done (cheap: for progress bars).
+
+        Returns
+        -------
+        RunResult
+            :meth:`result`: every step, or those done before :meth:`cancel`.
+
+        Raises
+        ------
+        WheelrailError
+            If the contact model fails (e.g. the contact leaves the 3D model's window).
         """
         if callback is None:
             self._advance_to(self.loop.n_total, progress)
@@ -428,7 +414,13 @@ class InteractionRun(HeaderView):
         return self.result()
 
     def result(self) -> RunResult:
-        """Arrays of the steps done so far (all of them after a complete run)."""
+        """The arrays of the steps done so far.
+
+        Returns
+        -------
+        RunResult
+            All recorded steps after a complete run; fewer after :meth:`cancel` (or before :meth:`run`).
+        """
         loop = self.loop
         done = max(0, self._done - loop.n_run_in)
         sl = slice(loop.n_run_in, loop.n_run_in + done)
@@ -454,9 +446,9 @@ class InteractionRun(HeaderView):
 
 
 def prepare_run(
-    roughness,
+    roughness: RoughnessLike,
     *,
-    wheel_roughness=None,
+    wheel_roughness: RoughnessLike | None = None,
     model: str = "hertz",
     line: int = 0,
     params: ModelParameters | None = None,
@@ -501,6 +493,29 @@ def prepare_run(
     Returns
     -------
     InteractionRun
+        The run, its history in static equilibrium under the preload; no step computed yet.
+
+    Raises
+    ------
+    WheelrailError
+        For an unknown model, a line outside the set, parameters outside the accepted ranges, a run that would
+        not fit in memory or whose coupled step would be unstable, or a rail and wheel set that do not pair.
+
+    See Also
+    --------
+    simulate : prepares and runs in one call.
+    wheelrail.core.models.model_names : the registered contact models.
+    wheelrail.core.roughness.load_roughness : reads a roughness set.
+
+    Notes
+    -----
+    The time step is the element size over the speed (eq. 7). The run starts in static equilibrium under the
+    preload, after a smooth run-in (discarded) long enough for the start-up transient to die out.
+
+    References
+    ----------
+    .. [1] A. Pieringer, W. Kropp, D.J. Thompson, "Investigation of the dynamic contact filter effect in vertical
+       wheel/rail interaction using a 2D and a 3D non-Hertzian contact model", Wear 271 (2011) 328-338.
 
     Examples
     --------
@@ -515,14 +530,14 @@ def prepare_run(
     (200, True)
     """
     entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
-    rough, name, wheel, wheel_name = _surfaces(roughness, wheel_roughness, params)
+    rough, name, wheel, wheel_name = resolve_surfaces(roughness, wheel_roughness, params)
     dx = params.run.element_size
     check_run_memory(
         entry, params, usable_length(rough, dx) if length is None else length, run_in_length, keep_pressure
     )
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     history = history_arrays(track, params, run_in_length, track_numerics)
-    _scatter_range(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
+    scatter_history(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
     header = _header(entry, line, name, params, history.n_run_in * dx, wheel_name)
     contact = entry.create()
     static_approach = contact.prepare(model_inputs(track, history, params))
@@ -543,18 +558,8 @@ def _header(entry, line, name, params, run_in_length, wheel_name) -> RunHeader:
     )
 
 
-def _surfaces(roughness, wheel_roughness, params):
-    """The rail (or wheel) set and the optional wheel set with their names, checked as a pair."""
-    rough, name = resolve_roughness(roughness)
-    wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
-    if wheel is not None:  # a rail set and a wheel set, going round this wheel (accepted.py)
-        check_roughness_pair(rough, wheel)
-        check_wheel_circumference(wheel.length, params.contact.radius_along, wheel_name)
-    return rough, name, wheel, wheel_name
-
-
 def simulate(
-    roughness,
+    roughness: RoughnessLike,
     *,
     model: str = "hertz",
     line: int = 0,
@@ -565,10 +570,35 @@ def simulate(
     progress: Callable[[int, int], None] | None = None,
     **options,
 ) -> RunResult:
-    """Run the wheel/rail interaction and return the whole-run result (see :func:`prepare_run`).
+    """Run the wheel/rail interaction and return the whole-run result.
 
-    ``callback(state)`` is called for every step; setting the ``cancel`` event stops the run between
-    steps and returns the steps done so far; ``progress(done, total)`` is called now and then.
+    Parameters
+    ----------
+    roughness, model, line, params, length
+        As for :func:`prepare_run`.
+    callback : callable, optional
+        ``callback(state)`` with the :class:`StepState` of every step.
+    cancel : threading.Event, optional
+        Setting it stops the run between steps; the steps done so far are returned.
+    progress : callable, optional
+        ``progress(done, total)`` now and then.
+    **options
+        The other keywords of :func:`prepare_run`.
+
+    Returns
+    -------
+    RunResult
+        Force, displacements, roughness, contact size (and pressure maps) per step, SI units.
+
+    Raises
+    ------
+    WheelrailError
+        For any input :func:`prepare_run` refuses, or if the contact model fails during the run.
+
+    See Also
+    --------
+    prepare_run : the same run, stepped on demand.
+    wheelrail.core.spectra.force_spectrum : the force's third-octave spectrum.
 
     Examples
     --------

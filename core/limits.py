@@ -16,13 +16,9 @@ The estimate (bytes, per element of the run: run-in and the two margins included
 * a pressure-map model (``3d``) keeping its maps: ``4`` bytes (float32) per window element per step;
   without them the run keeps only the last map.
 
-``tests/unit/test_limits.py`` checks it against the peak traced with ``tracemalloc``: measured growth of
-the peak per element 192 B (``hertz``), 200 B (``hertz-winkler``), 464 B (``2d``) and 2819 B (``3d`` keeping
-its maps) against the estimated 216, 216, 616 and 3100 B; the test asks for an estimate between 1 and 2 times
-the measured growth. Fixed costs (the
-Green's functions, about 35 MB of stationary responses, and their weights, under 1 MB at any accepted
-speed; the 3D window's influence matrix, 1.8 MB for the paper's window and at most 54 MB,
-``contact.halfspace_steps.FULL_MATRIX_ELEMENTS``) are left out: they do not grow with the run.
+Costs that do not grow with the run (the Green's functions, the 3D window's influence matrix) are left out.
+``tests/unit/test_limits.py`` holds the estimate between 1 and 2 times the peak traced with ``tracemalloc``
+(the measured figures: the documentation's benchmarks page, "Memory of a run").
 """
 
 from __future__ import annotations

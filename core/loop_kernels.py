@@ -1,23 +1,31 @@
-"""Eqs. 1-2 of the interaction loop, compiled: the known part of a step's approach and the commit of its force.
+"""The compiled pieces of the interaction loop: eqs. 1-2 of a step and the one-line laws' chunk loop.
 
-``_history`` (the wheel predicted with the last force, eq. 1 in its exact discrete form, and the rail's
-displacement from all earlier forces, eq. 2) and ``_commit`` (the step's force into the rail's history and the
-wheel state) are inlined into the loops that step a law: ``wheelrail.core.interaction`` (the compiled laws'
-chunk loops) and ``wheelrail.core.contact.halfspace_table`` (the ``3d`` model's run-in on its tabulated law).
+``known_approach`` (the wheel predicted with the last force, eq. 1 in its exact discrete form, and the rail's
+displacement from all earlier forces, eq. 2) and ``commit_force`` (the step's force into the rail's history and
+the wheel state) are inlined into every loop that steps a law: :data:`run_chunk` here (``hertz`` and bedding
+laws), the 3D law's in ``wheelrail.core.interaction`` and the ``3d`` run-in's in ``contact.halfspace_table``.
 ``track`` = (force, lo, hi, frac, weights, acc) and ``wheel`` = (phi, gamma0, gamma1, state): see
 ``run_setup.History``.
 """
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 from numba import njit
 
-__all__: list[str] = []
+from wheelrail.core.compiled import sources_stamp
+from wheelrail.core.contact import hertz, winkler
+from wheelrail.core.contact.hertz import _hertz_law
+from wheelrail.core.contact.winkler import _bedding_law
+from wheelrail.core.models import LAW_HERTZ
+
+__all__ = ["commit_force", "known_approach", "run_chunk", "scatter_history"]
 
 
 @njit(cache=True, inline="always")
-def _history(j, track, wheel, preload, xi_w0):
+def known_approach(j, track, wheel, preload, xi_w0):
     """Known part of the approach at history index j: returns (delta_known, compliance, q_rail, w0, s_pred).
 
     The wheel state is predicted with the force still at F[j-1] (eq. 1 in its exact discrete form), the
@@ -43,7 +51,7 @@ def _history(j, track, wheel, preload, xi_w0):
 def _scatter(j, f, lo, hi, frac, weights, acc):
     """Add the rail displacement that force f at index j causes at the later steps (eq. 2, scattered
     forward: contiguous memory, so the n_lags multiply-adds vectorise; over views from index 0, which numba
-    indexes without negative-index wraparound: 2.5x faster than indexing from j + 1, measured)."""
+    indexes without negative-index wraparound, faster than indexing from j + 1: docs, benchmarks page)."""
     n_lags = weights.shape[1]
     a = (1.0 - frac[j]) * f
     b = frac[j] * f
@@ -55,14 +63,14 @@ def _scatter(j, f, lo, hi, frac, weights, acc):
 
 
 @njit(cache=True)
-def _scatter_range(j0, j1, track):
+def scatter_history(j0, j1, track):
     force, lo, hi, frac, weights, acc = track
     for j in range(j0, j1):
         _scatter(j, force[j], lo, hi, frac, weights, acc)
 
 
 @njit(cache=True, inline="always")
-def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
+def commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
     """Make f the force of index j: into the rail's history (eq. 2) and the wheel state (eq. 1).
     Returns (xi_W, xi_R) at this step."""
     force, lo, hi, frac, weights, acc = track
@@ -72,3 +80,51 @@ def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
     for i in range(4):
         state[i] = s_pred[i] + gamma1[i] * (f - preload)
     return xi_w0 - state[1], q + w0 * f
+
+
+# --------------------------------------------------------------------------------------------------
+# The one-line laws' chunk loop (models.LAW_HERTZ, LAW_BEDDING); eqs. 1-2 above, inlined
+# --------------------------------------------------------------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def _law(law, approach_known, compliance, roughness, s, shape, constants):
+    """A compiled law (models.LAW_*) at step s: (F, contact length, contact area, reached the window's end)."""
+    if law == LAW_HERTZ:
+        f, length, area = _hertz_law(
+            approach_known, compliance, roughness[s, 0], constants[0], constants[1], constants[2]
+        )
+        return f, length, area, False
+    return _bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
+
+
+# The chunk loop calls compiled code of other modules: numba's cache keys it on those sources too
+# (wheelrail.core.compiled).
+def _define_run_chunk(stamp):
+    @njit(cache=True)
+    def run_chunk(law, j0, j1, track, wheel, preload, xi_w0, law_inputs, out):
+        """Advance a compiled law over history indices j0..j1-1. One function, not a Python loop over steps:
+        the steps are the hot loop (1 us each). ``law_inputs`` = (roughness, shape, constants) of
+        models.LawInputs; ``out`` = (xi_wheel, xi_rail, contact_length, contact_area) per step s.
+
+        Returns -1 if all went well, else the index j at which the law reached its window's end.
+        """
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called
+        roughness, shape, constants = law_inputs
+        xi_wheel, xi_rail, length, area = out
+        offset = track[0].shape[0] - roughness.shape[0]
+        for j in range(j0, j1):
+            delta_known, c, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
+            s = j - offset
+            f, contact_length, contact_area, edge = _law(law, delta_known, c, roughness, s, shape, constants)
+            if edge:
+                return j
+            length[s] = contact_length
+            area[s] = contact_area
+            xi_wheel[s], xi_rail[s] = commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
+        return -1
+
+    return run_chunk
+
+
+run_chunk = _define_run_chunk(sources_stamp(hertz, winkler, sys.modules[__name__]))

@@ -19,19 +19,10 @@ This module is cheap to import (no numba, no SciPy): the command line, the studi
 model names and traits from it (:func:`model_names`, :func:`model_entry`); the implementation is imported on
 first use.
 
-Adding a model: write its class (a :class:`ContactModel`) and one :class:`ModelEntry`, then either
-
-* add the entry to ``_BUILTIN`` below (a model of this package);
-* declare it in another package as an entry point of the group ``wheelrail.contact_models`` (the entry point's
-  name is the model's name; it loads the ``ModelEntry``), e.g. in that package's ``pyproject.toml``::
-
-      [project.entry-points."wheelrail.contact_models"]
-      linear-spring = "my_package.models:LINEAR_SPRING"
-
-  The registry finds installed plug-ins the first time it is asked for a model (no import, no call), so the
-  command line, the studies and the explorer offer them; a plug-in that fails to load is skipped with one
-  :class:`PluginWarning` naming it;
-* or call :func:`register` at run time (this process only: not seen by a study's worker processes).
+Adding a model: one :class:`ContactModel` class and one :class:`ModelEntry`, added to ``_BUILTIN`` below, declared
+by another package as an entry point of the group ``wheelrail.contact_models`` (a plug-in, named as its model: found
+the first time a model is asked for; one that fails to load is skipped with a :class:`PluginWarning`), or given to
+:func:`register` (this process only). The user guide's "Adding a contact model" shows one.
 """
 
 from __future__ import annotations
@@ -90,6 +81,11 @@ class ModelTraits:
         None: the model's ``solve`` is called from Python once per step (streamed step by step).
     pressure_map : bool
         Every step has a pressure map on the window (``StepState.pressure``); needs ``lateral_window``.
+
+    Raises
+    ------
+    WheelrailError
+        For an unknown ``law``, or a pressure map without a lateral window.
     """
 
     lateral_window: bool = False
@@ -173,9 +169,19 @@ class LawInputs:
 
 
 class ContactState(NamedTuple):
-    """A per-step law's answer: force F (N), contact length along the chosen line (m), contact area (m^2,
-    NaN where the model has none), pressure map on the window (Pa, or None). (A NamedTuple: one is made per
-    step.)"""
+    """A per-step law's answer (a NamedTuple: one is made per step).
+
+    Attributes
+    ----------
+    force : float
+        Contact force F, N.
+    contact_length : float
+        Contact length along the chosen line, m.
+    contact_area : float
+        Contact area, m^2 (NaN where the model has none).
+    pressure : numpy.ndarray or None
+        Pressure map on the window, Pa (models with one).
+    """
 
     force: float
     contact_length: float
@@ -187,9 +193,17 @@ class ContactModel:
     """A contact model inside the loop. Subclasses implement :meth:`prepare` and, by their traits, either
     :meth:`law_inputs` (compiled law) or :meth:`solve` (per step).
 
-    After :meth:`prepare`, ``equivalent_line`` is the roughness the model sees on the chosen line along the
-    track (r_eq for the Hertz variants, r otherwise) and ``window_x`` the element centres of its window
-    along the rail relative to the wheel (m), or None.
+    Attributes
+    ----------
+    equivalent_line : numpy.ndarray
+        After :meth:`prepare`: the roughness the model sees on the chosen line along the track, m (r_eq for
+        the Hertz variants, r otherwise).
+    window_x : numpy.ndarray or None
+        The element centres of its window along the rail relative to the wheel, m; None without a window.
+
+    See Also
+    --------
+    ModelEntry : registers a model under a name.
     """
 
     equivalent_line: np.ndarray
@@ -215,8 +229,28 @@ class ContactModel:
 
 @dataclass(frozen=True, kw_only=True)
 class ModelEntry:
-    """One registered model: name (as typed by users), one-line label, traits and the implementation
-    (a :class:`ContactModel` subclass, or ``"module:Class"`` imported on first use)."""
+    """One registered contact model.
+
+    Attributes
+    ----------
+    name : str
+        As users type it (letters, digits, ``-``, ``_``): it becomes part of file names and table columns.
+    label : str
+        One line describing the model.
+    traits : ModelTraits
+        What the model computes and how the loop runs it.
+    implementation : str or type
+        A :class:`ContactModel` subclass, or ``"module:Class"`` imported on first use.
+
+    Raises
+    ------
+    WheelrailError
+        For a name that is not a plain word, a label that is not one line, or traits of the wrong type.
+
+    See Also
+    --------
+    register : adds an entry at run time (plug-ins: the module docstring).
+    """
 
     name: str
     label: str
@@ -327,8 +361,30 @@ def _plugin_problem(point) -> str | None:
 
 
 def register(entry: ModelEntry) -> ModelEntry:
-    """Add a model at run time (e.g. from a test); its name must be new. A model meant for other people is
-    better a plug-in (the module docstring): it then reaches a study's worker processes too."""
+    """Add a model to the registry at run time (e.g. from a test).
+
+    A model meant for other people is better a plug-in (the module docstring): it then reaches a study's
+    worker processes too.
+
+    Parameters
+    ----------
+    entry : ModelEntry
+        The model; its name must be new.
+
+    Returns
+    -------
+    ModelEntry
+        ``entry``, registered.
+
+    Raises
+    ------
+    WheelrailError
+        If ``entry`` is not a ModelEntry or its name is taken.
+
+    See Also
+    --------
+    model_names, model_entry
+    """
     if not isinstance(entry, ModelEntry):
         raise WheelrailError(f"register() takes a ModelEntry, got {type(entry).__name__}")
     _load_plugins()
@@ -346,13 +402,41 @@ def unregister(name: str) -> None:
 
 
 def model_names() -> tuple[str, ...]:
-    """Every registered model: the built-in ones first, then the plug-ins and those added by :func:`register`."""
+    """The names of the registered contact models.
+
+    Returns
+    -------
+    tuple of str
+        The built-in models first (``MODELS``), then the plug-ins and those added by :func:`register`.
+
+    Examples
+    --------
+    >>> from wheelrail.core.models import model_names
+    >>> model_names()[:5]
+    ('3d', '2d', 'hertz', 'hertz-winkler', 'hertz-average')
+    """
     _load_plugins()
     return tuple(_REGISTRY)
 
 
 def model_entry(name: str) -> ModelEntry:
-    """The registry entry of a model; an unknown name is one WheelrailError listing the choices."""
+    """The registry entry of a model.
+
+    Parameters
+    ----------
+    name : str
+        A registered model's name (:func:`model_names`).
+
+    Returns
+    -------
+    ModelEntry
+        Its label, traits and implementation.
+
+    Raises
+    ------
+    WheelrailError
+        For an unknown name, listing the choices.
+    """
     _load_plugins()
     try:
         return _REGISTRY[name]

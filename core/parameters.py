@@ -40,16 +40,8 @@ __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re
     "reduced_modulus",
 ]
 
-# Longest loop time step (s) at which wheel (eq. 1) and rail (eq. 2) are discretised with a first-order hold
-# (exact for a force linear between steps). A longer step (below 14.4 km/h at 1 mm) uses the trapezoidal rule
-# (Newmark average acceleration) for both instead: the first-order hold's sampled compliance at the Nyquist
-# frequency 1/(2 dt) is a positive mix of the receptance's real part there, which is negative (mass-like)
-# above the track's resonances, and when it outweighs the contact's own compliance the implicit contact
-# update diverges with period two steps (2.6-3.5 and 6.8-6.9 km/h on the paper's track: Nyquist frequency
-# just above the rail-on-pad and the pinned-pinned resonances). The trapezoidal rule maps the continuous
-# coupled system onto the discrete one conformally (s = 2/dt (z - 1)/(z + 1)), so the discrete loop is
-# stable wherever the physical system is; at the Nyquist frequency its compliance is that at infinite
-# frequency, zero.
+# Longest loop time step (s) at which wheel (eq. 1) and rail (eq. 2) are discretised with a first-order hold; a
+# longer step uses the trapezoidal rule, stable wherever the physical system is (docs: physics, Accepted speeds)
 FOH_MAX_STEP = 0.25e-3
 
 # Wheel and rail material, steel: the paper gives neither E nor nu; these common values reproduce its stated
@@ -224,9 +216,6 @@ class RailParameters:
 class SupportParameters:
     """One discrete support: rail pad, (half) sleeper, ballast (paper Figure 3).
 
-    Every attribute must lie in its accepted range (``wheelrail.core.inputs.INPUTS``: pads 10 to 3000 MN/m, ...),
-    else one WheelrailError keyed by the input (``"pad_stiffness"``).
-
     Attributes
     ----------
     sleeper_spacing : float
@@ -241,6 +230,12 @@ class SupportParameters:
         w, the length of rail the pad supports, m: k_P and c_P spread evenly over x_S - w/2 .. x_S + w/2 (a
         Winkler layer k_P / w per metre under the rail, the sleeper rigid); 0: the paper's point support.
         ``accepted.ACCEPTED["pad_width"]``: 0 to 0.3 m, and at most half the sleeper spacing.
+
+    Raises
+    ------
+    WheelrailError
+        Keyed by the input (``"pad_stiffness"``) if a value is outside its accepted range
+        (``wheelrail.core.inputs.INPUTS``: pads 10 to 3000 MN/m, ...).
     """
 
     sleeper_spacing: float = 0.65
@@ -305,7 +300,7 @@ class TrackNumerics:
         Excitation positions x0 per bay at which Green's functions are computed (nodes of the refined
         mesh). In between, each row handed to the loop is read from its two neighbouring positions at the
         same rail point (``track.bay_rows``). 32 (every 20.3 mm) is converged to 0.2 dB per third-octave
-        band against 64 (``benchmarks/bay_convergence.py``).
+        band against 64 (``validation/bay_convergence.py``).
     refined_elements_per_bay : int
         Elements per bay in the central bay (where the excitation positions are) and the
         ``refined_bays - 1`` bays after it; a multiple of ``positions_per_bay`` and ``elements_per_bay``.
@@ -332,6 +327,12 @@ class TrackNumerics:
         Rows of the moving Green's functions handed to the loop per stored excitation position
         (``track.bay_rows``: each read between its two neighbouring positions at the same rail point); the
         loop interpolates linearly between rows. Not part of the stored responses (nor their cache key).
+
+    Raises
+    ------
+    WheelrailError
+        If a count or length is not positive, a count does not divide ``refined_elements_per_bay`` or the
+        duration is under 20 time steps.
     """
 
     elements_per_bay: int = 16
@@ -401,10 +402,12 @@ class ContactParameters:
         reads as infinite), negative for a concave (worn, hollow) tread. The relative curvature across,
         1 / rail_crown_radius + 1 / wheel_transverse_radius, must stay positive.
 
-    The preload and the radii must lie in their accepted ranges (``wheelrail.core.accepted.ACCEPTED``: 1 to
-    500 kN; wheel 0.1 to 1.25 m, crown 0.05 to 5 m, tread at least 0.05 m in magnitude) and the Hertz patch at
-    the preload within a tenth of the radii (``accepted.check_patch``); else one WheelrailError naming the
-    input.
+    Raises
+    ------
+    WheelrailError
+        Naming the input, unless the preload and the radii lie in their accepted ranges
+        (``wheelrail.core.accepted.ACCEPTED``: 1 to 500 kN; wheel 0.1 to 1.25 m, crown 0.05 to 5 m, tread at least
+        0.05 m in magnitude) and the Hertz patch at the preload within a tenth of the radii (``accepted.check_patch``).
 
     Examples
     --------
@@ -566,7 +569,15 @@ class RunParameters:
 
 @dataclass(frozen=True, kw_only=True)
 class ModelParameters:
-    """Everything that defines a wheel/rail interaction model, paper defaults throughout."""
+    """Everything that defines a wheel/rail interaction model, paper defaults throughout.
+
+    Attributes
+    ----------
+    wheel : WheelParameters
+    track : TrackParameters
+    contact : ContactParameters
+    run : RunParameters
+    """
 
     wheel: WheelParameters = field(default_factory=WheelParameters)
     track: TrackParameters = field(default_factory=TrackParameters)

@@ -19,13 +19,10 @@ Other loads and diameters (:func:`cnossos_filter`): each column is read as a fun
 the Hertz semi-axis along the rail, a(P, R) = (3 P R / (4 E*))^(1/3) of the circular contact of
 :class:`wheelrail.core.parameters.ContactParameters` with R the wheel radius: the column is shifted in
 log wavelength by the ratio of semi-axes and the two columns whose semi-axes bracket the wanted one are
-interpolated linearly in log a (outside the tabulated range, the nearest column alone). What was checked
-(``tests/physics/test_reference_filters.py``): every column rebuilt this way from its neighbours alone
-differs from the table by at most :data:`CNOSSOS_RULE_ERROR_DB` in any band. The load dependence is
-consistent with a ∝ P^(1/3) (doubling the load at 920 mm shifts the column by one band, within 1 dB); the
-diameter dependence of the table is stronger than R^(1/3) (about D^(1/2) fits to 0.9 dB), which is what
-the 3.2 dB of the worst case (the 360 mm wheel, rebuilt from 680/920 mm columns) comes from. Bands the
-shifted columns do not cover are NaN.
+interpolated linearly in log a (outside the tabulated range, the nearest column alone); bands the shifted
+columns do not cover are NaN. Every column rebuilt this way from its neighbours alone is within
+:data:`CNOSSOS_RULE_ERROR_DB` of the table (``tests/physics/test_reference_filters.py``; why the worst case
+is what it is: the documentation's physics page, "Reference filters").
 
 **Analytic filters**, for a contact patch of semi-axis a along the rail, as band levels averaged over each band
 (the mean of |H(k)|^2 over the band's wavenumbers, i.e. the filter white roughness sees; not |H|^2 at
@@ -159,6 +156,19 @@ def cnossos_filter(load: float, wheel_diameter: float, contact: ContactParameter
     -------
     numpy.ndarray
         35 levels, dB; NaN in bands the rule does not cover.
+
+    Raises
+    ------
+    WheelrailError
+        For a load or diameter that is not a positive number.
+
+    See Also
+    --------
+    reference_filters : every reference filter, also by frequency band.
+
+    References
+    ----------
+    .. [1] Commission Directive (EU) 2015/996, Annex II, 2.3.2 (CNOSSOS-EU), Table G-2 (contact filter A3).
     """
     load = _positive(load, "CNOSSOS filter: wheel load", "N")
     wheel_diameter = _positive(wheel_diameter, "CNOSSOS filter: wheel diameter", "m")
@@ -303,6 +313,30 @@ def reference_filters(
         wheel), so another wheel radius alone gives an ellipse, as in ``run``.
     frequency_range : (float, float)
         Lowest and highest frequency band centre, Hz.
+
+    Returns
+    -------
+    ReferenceFilterSet
+        Each filter's levels by wavelength band and, with a speed, by frequency band, dB.
+
+    Raises
+    ------
+    WheelrailError
+        For a load, radius or speed outside its accepted range.
+
+    See Also
+    --------
+    cnossos_filter : the CNOSSOS-EU A3 filter alone.
+    wheelrail.core.spectrum_levels.contact_filter : a model's filter, to compare with these.
+
+    Examples
+    --------
+    >>> from wheelrail.core.reference_filters import reference_filters
+    >>> filters = reference_filters(65e3, 0.39, 100 / 3.6)      # the paper's case: N, m, m/s
+    >>> filters.frequency_bands.centres.size                     # the force bands, 50 Hz to 8 kHz
+    23
+    >>> sorted(filters.by_frequency)
+    ['averaging', 'cnossos', 'patch-correlated', 'patch-incoherent']
     """
     load = ACCEPTED["preload"].check(load, "load")
     wheel_radius = ACCEPTED["wheel_radius"].check(wheel_radius, "wheel_radius")

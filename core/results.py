@@ -147,7 +147,7 @@ class StepState:
     contact_area : float
         Contact area, m^2. 3D: the elements in contact (p > 0) times the element area, a staircase of whole
         elements around the patch that exceeds Hertz's pi a b on smooth surfaces by 2.3-8.5 % at 65 kN on the
-        1 mm grid (0.5-16 % over 20-200 kN and the geometries of benchmarks/contact_geometry_accuracy.py;
+        1 mm grid (0.5-16 % over 20-200 kN and the geometries of validation/contact_geometry_accuracy.py;
         0.5-3.7 % at 0.5 mm); Hertz variants: pi a b of the Hertz law at the step's force; 2D: nan.
     pressure : ndarray or None
         3D only: contact pressure on the window, Pa, shape (ny, nx), rows = lateral y', columns = x'.

@@ -3,15 +3,10 @@
 ``interaction.prepare_run`` composes them; each step is a function of what the previous ones returned, so
 a study or a test can reuse one (``usable_length`` is the one rule for margins and default lengths).
 
-Start-up (paper section 3.1 leaves it open): before step 0 the history is filled with the preload P, the
-wheel sits at the static approach of the chosen contact model plus the bay-averaged static rail deflection,
-and a run-in on smooth surfaces lets the sleeper-passing response settle; the roughness under the wheel at
-step 0 is faded in over the first half of the run-in with a raised cosine and the run-in is discarded.
-That start is not the moving steady state (the rail under the wheel is not at its bay average, nor at rest):
-the wheel-on-track resonance (~66 Hz on the paper's track) rings from it with some hundred newtons and decays
-about tenfold every 55 ms, in time, whatever the speed. So the run-in is a time, ``DEFAULT_RUN_IN_TIME``
-(0.3 s: 8.3 m at 100 km/h, 25 m at 300 km/h; :func:`default_run_in_length`), after which the recorded force
-is that of a 40 m run-in within 0.2 N from 5 to 400 km/h (``benchmarks/run_in.py``, test_run_in.py).
+Start-up: the history is filled with the preload in static equilibrium, and a run-in on smooth surfaces (the
+roughness faded in over its first half with a raised cosine, then discarded) lets the start-up transient decay.
+It decays in time, whatever the speed, so the run-in is a time, ``DEFAULT_RUN_IN_TIME`` (the documentation's
+physics page, "How a step is solved", gives what it leaves: ``validation/run_in.py``, test_run_in.py).
 """
 
 from __future__ import annotations
@@ -19,13 +14,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.checks import real
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
+
+if TYPE_CHECKING:  # the roughness package is imported when a set is read
+    from wheelrail.core.roughness import RoughnessLike, RoughnessSet
 
 __all__ = [
     "DEFAULT_RUN_IN_TIME",
@@ -130,7 +130,7 @@ def checked_inputs(
     return entry, params, int(line), run_in_length
 
 
-def resolve_roughness(roughness):
+def resolve_roughness(roughness: RoughnessLike) -> tuple[RoughnessSet, str]:
     """A RoughnessSet and its name from a set, a bundled set name or a file path."""
     from wheelrail.core.roughness import RoughnessSet, load_roughness
 
@@ -139,6 +139,17 @@ def resolve_roughness(roughness):
     if isinstance(roughness, str) or hasattr(roughness, "__fspath__"):
         return load_roughness(roughness), str(roughness)
     raise WheelrailError(f"roughness must be a RoughnessSet, a bundled set name or a file path, got {roughness!r}")
+
+
+def resolve_surfaces(roughness: RoughnessLike, wheel_roughness: RoughnessLike | None, params: ModelParameters):
+    """The rail (or wheel) set and the optional wheel set with their names, checked as a pair: a rail set and a
+    wheel set going round this wheel (``accepted.check_wheel_circumference``)."""
+    rough, name = resolve_roughness(roughness)
+    wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
+    if wheel is not None:
+        check_roughness_pair(rough, wheel)
+        check_wheel_circumference(wheel.length, params.contact.radius_along, wheel_name)
+    return rough, name, wheel, wheel_name
 
 
 @dataclass(frozen=True)
@@ -459,7 +470,7 @@ def check_step_stability(params: ModelParameters, weights: np.ndarray, wheel_sys
     at every position in the bay, alternating in sign, and the wheel's discrete system) must leave
     1/k_H + H(-1) > 0 (``tests/physics/test_stability.py``: where it is negative the implicit update diverges
     with period two steps). On the accepted tracks and speeds it holds with a margin (k_H (1/k_H + H(-1)) of
-    0.34-0.85, ``benchmarks/step_stability.py``); a track whose supports ring longer than the responses the loop
+    0.34-0.85, ``validation/step_stability.py``); a track whose supports ring longer than the responses the loop
     keeps could break it, and is refused here rather than run. Returns that margin, k_H (1/k_H + H(-1))."""
     phi, gamma0, gamma1 = wheel_system
     rail = float(np.min(weights @ (-1.0) ** np.arange(weights.shape[1])))

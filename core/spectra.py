@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from wheelrail.core.checks import finite_array, integer, level_arrays, mean_squares, real, samples
+from wheelrail.core.checks import finite_array, integer, mean_squares, real, samples
 from wheelrail.core.errors import WheelrailError
 
 BAND_HALF_WIDTH = 10.0 ** (1.0 / 20.0)  # upper edge / centre of a third-octave band (base 10)
@@ -33,6 +33,15 @@ def third_octave_bands(lowest: float, highest: float) -> tuple[np.ndarray, np.nd
     -------
     centres, lower, upper : numpy.ndarray
         Band centres ``10^(n/10)`` in increasing order and their edges ``centre x 10^(∓1/20)``.
+
+    Raises
+    ------
+    WheelrailError
+        Unless 0 < lowest <= highest, both finite.
+
+    See Also
+    --------
+    third_octave_levels : band levels of signals in these bands.
 
     Examples
     --------
@@ -182,10 +191,25 @@ def third_octave_levels(
     (:func:`band_power`); the band mean squares of all rows are averaged (the paper averages 7 roughness
     lines, section 3.1) and expressed in dB re ``reference`` (:func:`level_db`).
 
+    Parameters
+    ----------
+    signals : numpy.ndarray
+        One signal (n,) or several as rows (rows, n), uniformly sampled.
+    sample_rate : float
+        Samples per unit of the sampling axis (per s: Hz; per m: cycles/m).
+    lower, upper : numpy.ndarray
+        Band edges, in the unit of ``sample_rate`` (:func:`third_octave_bands`).
+    reference : float
+        Reference value of the levels, in the signals' unit (1 N for forces).
+
     Returns
     -------
     levels : numpy.ndarray
         dB re ``reference``, one per band (NaN where a band holds no bin).
+
+    See Also
+    --------
+    force_spectrum : the contact force's levels, start-up left out and mean removed.
     """
     frequencies, psd = narrowband_spectrum(np.atleast_2d(signals), sample_rate)
     return level_db(band_power(frequencies, psd, lower, upper).mean(axis=0), reference)
@@ -294,6 +318,10 @@ def band_coherence(
     -------
     numpy.ndarray
         γ² per band, in [0, 1]; NaN where the band holds no bin of the block spectra.
+
+    See Also
+    --------
+    third_octave_bands : the band edges.
     """
     frequencies, s00, smm, s0m = block_spectra(centre, others, sample_rate, blocks)
     lower, upper = _band_edges("band_coherence", lower, upper)
@@ -317,8 +345,27 @@ FORCE_MIN_STEPS = 16  # steps a force spectrum needs after FORCE_SKIP
 
 
 def shortest_spectrum_run(speed: float, element_size: float, skip: float = FORCE_SKIP) -> float:
-    """The shortest run with a force spectrum, m: ``skip`` s left out (whole steps, as :func:`force_spectrum`
-    counts them) and ``FORCE_MIN_STEPS`` after it, at ``speed`` m/s and ``element_size`` m per step.
+    """The shortest run that has a force spectrum: ``skip`` left out and ``FORCE_MIN_STEPS`` steps after it.
+
+    Parameters
+    ----------
+    speed : float
+        Train speed, m/s.
+    element_size : float
+        Step length along the rail, m.
+    skip : float
+        Start of the run left out, s (whole steps, as :func:`force_spectrum` counts them).
+
+    Returns
+    -------
+    float
+        Run length, m.
+
+    Raises
+    ------
+    WheelrailError
+        A speed, element size or skip that is not a finite number of its sign, or a skip of more steps than a
+        float counts exactly.
 
     Examples
     --------
@@ -425,6 +472,17 @@ def force_spectrum(
     levels : numpy.ndarray
         Band levels of the dynamic contact force, dB re 1 N (NaN where a band is not resolved).
 
+    Raises
+    ------
+    WheelrailError
+        For a force that is not one finite number per step, a missing or inconsistent time step, or a record
+        with fewer than ``FORCE_MIN_STEPS`` steps after ``skip``.
+
+    See Also
+    --------
+    contact_filter : the difference of two models' levels.
+    shortest_spectrum_run : the shortest run that has a spectrum.
+
     Examples
     --------
     A tone of 100 N amplitude at 1 kHz on the 65 kN preload reads 20 log10(100 / sqrt(2)) = 37.0 dB in its band:
@@ -497,55 +555,3 @@ def resolved_force_bands(
 # --------------------------------------------------------------------------------------------------
 # Level arithmetic (paper section 3.3)
 # --------------------------------------------------------------------------------------------------
-
-
-def mean_level(levels) -> np.ndarray:
-    """Arithmetic mean of band levels in dB over runs (the paper's averaged spectra of Fig. 10), dB.
-
-    A choice: the mean is taken of the levels in dB, not of the band powers (an energetic mean). Section
-    3.3 says only "an average of the seven spectra" for the force levels and "the average of the filter
-    curves" for the contact filters, which are level differences in dB; averaging in dB keeps the two
-    consistent (the mean filter equals the difference of the mean levels).
-
-    Examples
-    --------
-    >>> from wheelrail.core.spectra import mean_level
-    >>> mean_level([[60.0, 50.0], [62.0, 54.0]]).tolist()    # two runs, two bands, dB
-    [61.0, 52.0]
-    """
-    stack = np.vstack(level_arrays("mean_level: levels", levels))
-    return stack.mean(axis=0)
-
-
-def level_difference(levels_a: np.ndarray, levels_b: np.ndarray) -> np.ndarray:
-    """L_a - L_b per band, dB (Figs 12-14, 16, 17); the two on the same bands (one shape)."""
-    levels_a, levels_b = level_arrays("level_difference: levels_a and levels_b", (levels_a, levels_b))
-    return levels_a - levels_b
-
-
-def energetic_sum(*levels) -> np.ndarray:
-    """Band levels of uncorrelated signals added: 10 lg(sum 10^(L/10)) per band, dB (NaN where any is NaN).
-
-    The level of a sum of independent signals, such as the rail and the wheel roughness of one contact: the
-    total roughness of CNOSSOS-EU (Commission Directive (EU) 2015/996, Annex II, 2.3.2) is this sum of the
-    rail and the wheel roughness levels.
-    """
-    stack = np.vstack(level_arrays("energetic_sum: levels", levels))
-    with np.errstate(divide="ignore"):  # every level -inf (no power): the sum is -inf too
-        return 10.0 * np.log10(np.sum(10.0 ** (stack / 10.0), axis=0))
-
-
-def contact_filter(levels_model: np.ndarray, levels_hertz: np.ndarray) -> np.ndarray:
-    """Contact filter of a model: its level minus that of ``hertz`` (r_eq = r) on the same line, dB.
-
-    Section 3.3: the Hertz spring without roughness pre-filtering has no contact filtering, so the level
-    difference characterises the filtering of the other models (Fig. 10, right column).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from wheelrail.core.spectra import contact_filter
-    >>> contact_filter(np.array([60.0, 50.0]), np.array([60.0, 55.0])).tolist()   # dB: no filter, then -5 dB
-    [0.0, -5.0]
-    """
-    return level_difference(levels_model, levels_hertz)

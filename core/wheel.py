@@ -51,6 +51,26 @@ def wheel_receptance(wheel: WheelParameters, frequency) -> np.ndarray:
     -------
     ndarray of complex
         alpha_W(f) in m/N, convention x(t) = Re(X e^{i 2 pi f t}).
+
+    Raises
+    ------
+    WheelrailError
+        For a negative or non-finite frequency.
+
+    See Also
+    --------
+    wheel_green_function : its inverse Fourier transform.
+
+    Examples
+    --------
+    At 0 Hz the receptance is the static flexibility of the suspension and the contact spring in series:
+
+    >>> from wheelrail.core.parameters import WheelParameters
+    >>> from wheelrail.core.wheel import wheel_receptance
+    >>> wheel = WheelParameters()
+    >>> static = 1 / wheel.suspension_stiffness + 1 / wheel.wheel_stiffness    # m/N
+    >>> bool(abs(wheel_receptance(wheel, 0.0) - static) < 1e-9 * static)
+    True
     """
     f = np.asarray(frequency, dtype=float)
     if not np.all(np.isfinite(f)) or np.any(f < 0):
@@ -87,6 +107,15 @@ def wheel_green_function(wheel: WheelParameters, time) -> np.ndarray:
     -------
     ndarray
         g_W(t) in m/(N s). ``xi_W(t) = -int F(tau) g_W(t - tau) dtau + xi_S(P)`` (eq. 1).
+
+    Raises
+    ------
+    WheelrailError
+        For a negative or non-finite time.
+
+    See Also
+    --------
+    wheel_discrete_system : the exact discrete form the interaction loop uses instead.
     """
     t = np.asarray(time, dtype=float)
     if not np.all(np.isfinite(t)) or np.any(t < 0):
@@ -127,6 +156,15 @@ def wheel_discrete_system(wheel: WheelParameters, time_step: float, method: str 
     Phi : ndarray (4, 4)
     Gamma0, Gamma1 : ndarray (4,)
         Response to the force at the start and at the end of the step, per N.
+
+    Raises
+    ------
+    WheelrailError
+        For a time step that is not positive or an unknown ``method``.
+
+    See Also
+    --------
+    wheel_green_function : the continuous response it discretises.
     """
     if not np.isfinite(time_step) or time_step <= 0:
         raise WheelrailError(f"wheel_discrete_system: time_step must be positive (s), got {time_step}")

@@ -5,7 +5,7 @@ Every finished (or stopped) run is kept under ``(config.case(), model)`` with it
 case's entries (the case of the controls), so changing the set, wheel set, line, speed, preload, length or contact
 geometry never leaves another case's curves on a plot or in a download; going back to a case shows its runs again.
 Spectra from :func:`wheelrail.core.spectra.force_spectrum`, contact filters (model minus the reference model) from
-:func:`wheelrail.core.spectra.contact_filter`, reference filters from
+:func:`wheelrail.core.spectrum_levels.contact_filter`, reference filters from
 :func:`wheelrail.core.reference_filters.reference_filters`.
 """
 
@@ -21,7 +21,8 @@ import numpy as np
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL, model_names
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, run_reference_filters
-from wheelrail.core.spectra import contact_filter, nominal_band_label
+from wheelrail.core.spectra import nominal_band_label
+from wheelrail.core.spectrum_levels import contact_filter
 from wheelrail.explorer.config import RunConfig
 
 __all__ = ["Entry", "ResultStore", "case_reference_filters"]

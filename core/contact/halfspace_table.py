@@ -26,7 +26,7 @@ from wheelrail.core.contact.halfspace_steps import (
     _halfspace_step,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.loop_kernels import _commit, _history
+from wheelrail.core.loop_kernels import commit_force, known_approach
 
 __all__ = ["run_in_table", "tabulate_law", "warm_start"]
 
@@ -235,10 +235,10 @@ def _define_run_in_chunk(stamp):
         xi_wheel, xi_rail = out
         delta = 0.0
         for j in range(j0, j1):
-            delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
+            delta_known, c, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
             s = j - offset
             f, delta = _tabulated_force(table, ramp[s], delta_known, c, segment)
-            xi_wheel[s], xi_rail[s] = _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
+            xi_wheel[s], xi_rail[s] = commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
         return delta
 
     return run_in_chunk

@@ -28,7 +28,7 @@ bedding then equals Hertz at every approach, not only at the preload (load-appro
 is left is the midpoint rule on the 1 mm grid, as for the circle: over approaches of 40-150 um at most
 1.56 % from C delta^1.5 for the paper's circle, 1.00 % for 0.46 m on 0.30 m (with a cylindrical, concave or
 convex tread) and 2.78 % for a 0.2 m wheel on a 0.8 m crown, whose shorter patch spans fewer springs
-(``benchmarks/contact_geometry_accuracy.py``; ``tests/physics/test_contact_geometry.py`` bounds it at 2 % for
+(``validation/contact_geometry_accuracy.py``; ``tests/physics/test_contact_geometry.py`` bounds it at 2 % for
 the first two). The circle gives back eqs. 5-6 exactly (rho_x = R, k = E*).
 
 The ``_``-prefixed numba kernels are for the time-stepping loop (no checks); the public functions check.

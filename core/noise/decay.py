@@ -82,7 +82,7 @@ def track_decay(track) -> dict:
     """The vertical decay rate per band (EN 15461 on the noise model's 240-bay track) of ``track``
     (``TrackParameters``) beside the EN ISO 3095 limit (:func:`decay_against_limit`'s layout, with
     ``free_wave_decay_dB_per_m`` and ``method``), kept in the disk cache (a few seconds of FE solves); the key
-    holds the source of the functions."""
+    holds the source of the modules that compute it."""
     import hashlib
     import inspect
     from dataclasses import asdict
@@ -95,8 +95,7 @@ def track_decay(track) -> dict:
 
     _check_track(track, "track_decay")
     numerics = twins.NoiseNumerics()
-    functions = (twins.track_decay_rates, twins._decay_grid, twins._decay_rates, fe.assemble_track, fe._pad_couplings)
-    code = "".join(inspect.getsource(f) for f in functions)
+    code = inspect.getsource(twins) + inspect.getsource(fe)  # whole modules: their private helpers included
     key = cache.cache_key(
         "track-decay",
         {"track": asdict(track), "numerics": asdict(numerics), "code": hashlib.sha256(code.encode()).hexdigest()},

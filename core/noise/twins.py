@@ -71,9 +71,9 @@ class NoiseNumerics:
         Frequencies per one-third octave band, evenly spread in lg f (20: doubling it moves L_H,tr by <= 0.2 dB
         except in the 4 kHz band, 3.3 dB, where the undamped rail's second pinned-pinned resonance, a mode with
         still pads, is too sharp for any fixed sampling; doubling ``elements_per_bay`` moves the 4 and 8 kHz bands
-        by 5.2 and 3.4 dB for the same reason, every other band by <= 0.3 dB; ``benchmarks/noise.py``). With a
+        by 5.2 and 3.4 dB for the same reason, every other band by <= 0.3 dB; ``validation/noise.py``). With a
         rail loss factor of 0.02 (``RailParameters.loss_factor``) both doublings move every band up to 8 kHz by
-        <= 0.5 dB (``benchmarks/track_damping.py``).
+        <= 0.5 dB (``validation/track_damping.py``).
     decay_length : float
         m of rail over which EN 15461's sum is taken.
     sleeper_area : float

@@ -25,7 +25,7 @@ from urllib.parse import urlsplit
 
 from wheelrail.core.atomic import publish
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.recording.schema import APPLICATION_ID, _rr, default_blueprint
+from wheelrail.core.recording.schema import APPLICATION_ID, default_blueprint, rerun_module
 
 __all__ = ["Outputs", "check_recording_path", "check_viewer", "grpc_url", "viewer_executable"]
 
@@ -271,7 +271,7 @@ class Outputs:
         url = None if connect is None else grpc_url(connect)
         if url is not None:
             check_viewer(url, connect)
-        rr = _rr()
+        rr = rerun_module()
         self.recording_id = str(uuid.uuid4())
         self.stream = rr.RecordingStream(APPLICATION_ID, recording_id=self.recording_id)
         sinks = []

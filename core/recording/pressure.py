@@ -24,7 +24,7 @@ from wheelrail.core.recording.schema import (
     NOMINAL_CIRCLE_IMAGE,
     PRESSURE,
     PRESSURE_SURFACE,
-    _rr,
+    rerun_module,
     time_columns,
 )
 
@@ -82,7 +82,7 @@ class ContactPatch:
 
     def log_circle(self) -> None:
         """The Hertz circle of radius a: in m (3D view) and, once the window is known, in image pixels."""
-        rr = _rr()
+        rr = rerun_module()
         a = self.geometry[0]
         circle = circle_points(a)
         label = f"Hertz circle a = {a * 1e3:.2f} mm"
@@ -107,7 +107,7 @@ class ContactPatch:
         pixels = np.c_[(circle[:, 0] - x[0]) / dx + 0.5, (circle[:, 1] - y[0]) / dy + 0.5]
         self.stream.log(
             NOMINAL_CIRCLE_IMAGE,
-            _rr().LineStrips2D([pixels], colors=[(255, 255, 255)], draw_order=10.0),
+            rerun_module().LineStrips2D([pixels], colors=[(255, 255, 255)], draw_order=10.0),
             static=True,
             strict=True,
         )
@@ -117,7 +117,7 @@ class ContactPatch:
 
         Without a known window the maps are taken on a grid of ``element_size`` (m) centred on the wheel.
         """
-        rr = _rr()
+        rr = rerun_module()
         pressure = np.ascontiguousarray(pressure, dtype=np.float32)
         n, ny, nx = pressure.shape
         if self.window is None:  # no window given: element centres of a grid centred on the wheel
@@ -149,7 +149,7 @@ class ContactPatch:
 
     def _log_formats(self, nx: int, ny: int) -> None:
         """The static parts: image format and colour range, and the surface mesh's (x', y') and triangles."""
-        rr = _rr()
+        rr = rerun_module()
         p0 = self.geometry[1]
         self.stream.log(
             PRESSURE,
@@ -176,7 +176,7 @@ class ContactPatch:
 
     def _send_surface(self, pressure: np.ndarray, indexes: list) -> None:
         """The pressure surface meshes (z = a p / p0, viridis colours) of the given maps."""
-        rr = _rr()
+        rr = rerun_module()
         n, ny, nx = pressure.shape
         a, p0 = self.geometry
         vertices = np.empty((n, ny * nx, 3), dtype=np.float32)

@@ -23,8 +23,8 @@ from wheelrail.core.recording.schema import (
     PRESSURE,
     SCALAR_PATHS,
     STEP_FIELDS,
-    _rr,
     parameters_from_text,
+    rerun_module,
 )
 from wheelrail.core.results import RunHeader, RunResult
 
@@ -49,7 +49,7 @@ def _component(batch, name: str):
 
 def _chunks(source: Path) -> list:
     """The chunks of the file's wheelrail recording (one-line WheelrailErrors for bad files)."""
-    rr = _rr()
+    rr = rerun_module()
     try:
         with warnings.catch_warnings():
             # a file without footer (e.g. a run killed while recording) warns before being scanned: the
@@ -149,6 +149,16 @@ def read_recording(path: str | os.PathLike) -> RunResult:
     Scalars come back exactly (float64); ``time`` is the ``time`` timeline (whole nanoseconds);
     ``pressure`` is filled only if a map was recorded at every step (``record_every`` 1), else None;
     ``equivalent_roughness`` equals ``roughness`` unless ``roughness/equivalent`` was recorded.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.rrd`` file.
+
+    Returns
+    -------
+    RunResult
+        The recorded run: header, per-step force, displacements, roughness and contact size, SI units.
 
     Raises
     ------

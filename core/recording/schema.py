@@ -30,6 +30,7 @@ __all__ = [
     "parameters_document",
     "parameters_from_text",
     "parameters_text",
+    "rerun_module",
     "time_columns",
 ]
 
@@ -137,7 +138,7 @@ ENTITY_PATHS = (
 )
 
 
-def _rr():
+def rerun_module():
     """Import rerun on first use: the package stays importable (and the CLI fast) without recording."""
     import rerun
 
@@ -226,7 +227,7 @@ def parameters_from_text(text: str | None) -> dict | None:
 
 def _series_view(title: str, *extra: str):
     contents = [field.path for field in SCALAR_FIELDS if field.view == title]
-    return _rr().blueprint.TimeSeriesView(origin="/", contents=[*contents, *extra], name=title)
+    return rerun_module().blueprint.TimeSeriesView(origin="/", contents=[*contents, *extra], name=title)
 
 
 BAR_WIDTH = 0.9  # of a band: the bars of a band chart stand side by side, a gap between them
@@ -245,11 +246,11 @@ def band_chart(centres: np.ndarray, levels: np.ndarray):
     The viewer draws bars ``widths`` wide in abscissa units (1 by default): over band centres in Hz the bars of a
     50 Hz-8 kHz spectrum would be 1 Hz slivers on an 8 kHz axis, an empty-looking panel."""
     values = np.nan_to_num(np.asarray(levels, dtype=float), nan=0.0, neginf=0.0)
-    return _rr().BarChart(values, abscissa=band_numbers(centres), widths=np.full(values.size, BAR_WIDTH))
+    return rerun_module().BarChart(values, abscissa=band_numbers(centres), widths=np.full(values.size, BAR_WIDTH))
 
 
 def _spectra_views(sound_power: bool) -> list:
-    rrb = _rr().blueprint
+    rrb = rerun_module().blueprint
     views = [rrb.BarChartView(origin=FORCE_SPECTRUM, name=f"Force spectrum (dB re 1 N; {BANDS_NOTE})")]
     if sound_power:
         views += [
@@ -275,7 +276,7 @@ def default_blueprint(*, pressure: bool = True, sound_power: bool = False):
     sound_power : bool
         Include the sound-power spectra and their totals (``--sound-power``).
     """
-    rrb = _rr().blueprint
+    rrb = rerun_module().blueprint
     series = rrb.Vertical(
         _series_view(FORCE_VIEW),
         _series_view(DISPLACEMENT_VIEW),
@@ -307,7 +308,7 @@ def time_columns(steps: np.ndarray, time: np.ndarray, x: np.ndarray) -> list:
     Rerun timelines are integers (sequence, nanosecond duration or timestamp), so a position in metres
     cannot be a timeline; micrometres keep it exact to 1 µm and say their unit.
     """
-    rr = _rr()
+    rr = rerun_module()
     return [
         rr.TimeColumn("step", sequence=steps),
         rr.TimeColumn("time", duration=np.round(np.asarray(time) * 1e9).astype("timedelta64[ns]")),

@@ -32,11 +32,11 @@ from wheelrail.core.recording.schema import (
     SOUND_POWER,
     SOUND_POWER_COMPONENTS,
     STEP_FIELDS,
-    _rr,
     band_chart,
     default_blueprint,
     parameters_document,
     parameters_text,
+    rerun_module,
     time_columns,
 )
 from wheelrail.core.results import RunHeader, RunResult, StepState
@@ -145,7 +145,7 @@ class RecordingSink:
         self.path = self._outputs.path
         self.recording_id = self._outputs.recording_id
         self.stream = self._outputs.stream
-        self._rr = _rr()
+        self._rr = rerun_module()
         self._patch = ContactPatch(self.stream, record_every=self.record_every, surface_every=self.surface_every)
         self._header: RunHeader | None = None
         self._loss_of_contact_steps: int | None = None
@@ -187,6 +187,11 @@ class RecordingSink:
         roughness : RoughnessSet, optional
             The set the run rolls over: its lines around the run's line are recorded as
             ``roughness/lines``. Without it that entity is not recorded.
+
+        Raises
+        ------
+        WheelrailError
+            If the recording is already finished.
         """
         if self._closed:
             raise WheelrailError("the recording is already finished")
@@ -340,6 +345,11 @@ class RecordingSink:
         -------
         pathlib.Path or None
             The ``.rrd`` file written, if any.
+
+        Raises
+        ------
+        WheelrailError
+            If the rerun viewer the sink streams to could not be reached (the file is written all the same).
         """
         if self._closed:
             return self.path
@@ -480,6 +490,11 @@ def record_result(
     -------
     pathlib.Path or None
         The file written, if any.
+
+    Raises
+    ------
+    WheelrailError
+        If ``result`` is not a RunResult, or the viewer could not be reached.
     """
     if not isinstance(result, RunResult):
         raise WheelrailError(f"record_result needs a RunResult, got {type(result).__name__}")

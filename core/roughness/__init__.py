@@ -43,6 +43,7 @@ from wheelrail.core.roughness.model import (
     MAX_LATERAL,
     MAX_VALUES,
     SPACING_RANGE,
+    RoughnessLike,
     RoughnessSet,
     check_value_count,
 )
@@ -73,6 +74,7 @@ __all__ = [
     "ROUGHNESS_REFERENCE",
     "SAMPLE_DATA_PACKAGE",
     "WAVELENGTH_RANGE",
+    "RoughnessLike",
     "RoughnessSet",
     "RoughnessSpectrum",
     "at_lateral_positions",

@@ -34,9 +34,37 @@ def bundled_names() -> list[str]:
 
 
 def load_roughness(name_or_path: str | os.PathLike) -> RoughnessSet:
-    """A bundled set by name (see :func:`bundled_names`) or a user's ``.csv``/``.npz`` file by path.
+    """Load a roughness set: a bundled one by name or a user's ``.csv``/``.npz`` file by path.
 
     A user file works everywhere a bundled set does.
+
+    Parameters
+    ----------
+    name_or_path : str or os.PathLike
+        A bundled set's name (:func:`bundled_names`: ``"corrugated-rail"``, ...) or a file's path.
+
+    Returns
+    -------
+    RoughnessSet
+        The heights (m) of the set's lines, their spacing and lateral positions (m), kind and description.
+
+    Raises
+    ------
+    WheelrailError
+        For an unknown name, a missing file or folder, or a file that is not a valid roughness file (each
+        reader says what is wrong and where).
+
+    See Also
+    --------
+    read_roughness : a file by path alone.
+    wheelrail.core.roughness.write_csv : writes a set in the format read here.
+
+    Examples
+    --------
+    >>> from wheelrail.core.roughness import load_roughness
+    >>> rail = load_roughness("corrugated-rail")
+    >>> rail.kind, rail.heights.shape[0], rail.dx     # kind, lines, spacing in m
+    ('rail', 19, 0.001)
     """
     text = str(name_or_path)
     names = bundled_names()

@@ -23,7 +23,9 @@ figure before anything is allocated.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, replace
+from typing import TypeAlias
 
 import numpy as np
 
@@ -86,10 +88,30 @@ class RoughnessSet:
     description : str
         Free text: what the data is and where it comes from (provenance).
 
+    Raises
+    ------
+    WheelrailError
+        For a kind other than ``"rail"`` or ``"wheel"``, a spacing that is not positive, heights that are not a
+        finite (lines x samples) array within ``MAX_HEIGHT``, or lateral positions that are not strictly
+        increasing, one per line.
+
+    See Also
+    --------
+    wheelrail.core.roughness.load_roughness : a bundled set or a file.
+
     Notes
     -----
     Lines are numbered -M..M as in the paper's Figure 8: number 0 is the row whose lateral position is
     closest to y = 0, and number n is row ``centre_row + n`` (see :meth:`row_of_line`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.roughness import RoughnessSet
+    >>> x = np.arange(1000) * 1e-3                                      # m
+    >>> rail = RoughnessSet(heights=5e-6 * np.sin(2 * np.pi * x / 0.05), dx=1e-3, y=[0.0], kind="rail")
+    >>> rail.heights.shape, rail.length                                # one line of 1 m, 5 um at 50 mm
+    ((1, 1000), 1.0)
     """
 
     heights: np.ndarray
@@ -214,3 +236,7 @@ class RoughnessSet:
             y=self.y if y is None else y,
             description=description,
         )
+
+
+RoughnessLike: TypeAlias = RoughnessSet | str | os.PathLike
+"""What a run takes as roughness: a set, a bundled set's name or the path of a ``.csv``/``.npz`` file."""

@@ -42,7 +42,7 @@ Modules, by concern: ``specs`` (run specs, summaries, the worker task), ``store`
 :func:`contact_filter`, :func:`level_difference`) lives in :mod:`wheelrail.core.spectra` and is re-exported.
 """
 
-from wheelrail.core.spectra import contact_filter, level_difference, mean_level
+from wheelrail.core.spectrum_levels import contact_filter, level_difference, mean_level
 from wheelrail.core.study.execution import (
     ExecutionReport,
     StudyTerminated,

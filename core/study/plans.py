@@ -9,6 +9,7 @@ import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,7 +17,8 @@ from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.run_setup import run_lines
-from wheelrail.core.spectra import check_spectrum_length, contact_filter, level_difference, mean_level
+from wheelrail.core.spectra import check_spectrum_length
+from wheelrail.core.spectrum_levels import contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,
@@ -31,12 +33,15 @@ from wheelrail.core.study.specs import (
 )
 from wheelrail.core.study.tables import Table
 
+if TYPE_CHECKING:  # the roughness package is imported when a set is read
+    from wheelrail.core.roughness import RoughnessLike
+
 
 @dataclass(frozen=True, kw_only=True)
 class SetInfo:
     """A roughness set as used by a study: source, label, digest, lines, default length."""
 
-    source: object
+    source: RoughnessLike
     label: str
     digest: str
     kind: str
@@ -228,6 +233,17 @@ def plan_study(
     Returns
     -------
     StudyPlan
+        The runs (:class:`RunSpec`) and how their spectra become the study's tables.
+
+    Raises
+    ------
+    WheelrailError
+        For an unknown study, no sets, a length that is not positive, or a set or parameters the study cannot
+        use.
+
+    See Also
+    --------
+    run_study : plans, runs and tabulates.
     """
     if name not in STUDIES:
         raise WheelrailError(f"unknown study {name!r}; choose one of {', '.join(STUDIES)}")

@@ -6,6 +6,7 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,6 +19,9 @@ from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_
 from wheelrail.core.study.figures import plot_study
 from wheelrail.core.study.plans import StudyPlan, plan_study
 from wheelrail.core.study.tables import Table, write_table
+
+if TYPE_CHECKING:  # the roughness package is imported when a set is read
+    from wheelrail.core.roughness import RoughnessLike
 
 
 @dataclass(frozen=True)
@@ -51,11 +55,11 @@ def check_output_folder(out: str | os.PathLike) -> Path:
 
 def run_study(
     name: str,
-    sets: Sequence,
+    sets: Sequence[RoughnessLike],
     out: str | os.PathLike,
     *,
     params: ModelParameters | Sequence[ModelParameters] | None = None,
-    wheel_set=None,
+    wheel_set: RoughnessLike | None = None,
     length: float | None = None,
     workers: int = 2,
     dask_address: str | None = None,
@@ -93,6 +97,28 @@ def run_study(
     Returns
     -------
     StudyResult
+        Its tables (levels and level differences per band, dB), the files written and how the runs were
+        obtained (computed, read from the study's run cache).
+
+    Raises
+    ------
+    WheelrailError
+        For an unknown study, a set that cannot be read or does not fit the study, parameters outside their
+        ranges, an output folder that cannot be written, or a run that fails.
+
+    See Also
+    --------
+    plan_study : the runs and tables of a study, without running them.
+    wheelrail.core.spectra.contact_filter : the level arithmetic of the tables.
+
+    Notes
+    -----
+    Each run's spectrum is cached in the output folder under a hash of everything that defines it, so an
+    interrupted study resumes where it stopped.
+
+    References
+    ----------
+    .. [1] A. Pieringer, W. Kropp, D.J. Thompson, Wear 271 (2011) 328-338, sections 3.3-3.5 (Figs 10-17).
     """
     created = _missing_folders(Path(out))
     folder = check_output_folder(out)

@@ -7,12 +7,16 @@ import hashlib
 import json
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names  # noqa: F401 - REFERENCE_MODEL re-exported
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
+
+if TYPE_CHECKING:  # the roughness package is imported when a set is read
+    from wheelrail.core.roughness import RoughnessLike
 
 STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds", "noise", "track")
 PAPER_LINES = tuple(range(-3, 4))  # the seven lines -3..3 the paper averages over (section 3.3)
@@ -33,7 +37,7 @@ class RunSpec:
 
     Attributes
     ----------
-    source : str or RoughnessSet
+    source : RoughnessLike
         Bundled set name, CSV/NPZ path, or the set itself (as accepted by ``simulate``).
     set_label : str
         Short name of the set in tables (bundled name or file stem).
@@ -58,13 +62,13 @@ class RunSpec:
     run_in_length : float or None
         Smooth run-in before the first step, m (None: the interaction's default,
         ``run_setup.default_run_in_length``; the key holds the length used).
-    wheel_source, wheel_label, wheel_digest : object, str, str or None
+    wheel_source, wheel_label, wheel_digest : RoughnessLike, str, str or None
         A wheel set added to the rail set (combined roughness, ``simulate(wheel_roughness=...)``): as
         ``source``, ``set_label`` and ``set_digest``; None: a smooth wheel (the paper's case). Its label and
         digest are part of the run key when given (a run without one keeps the key it always had).
     """
 
-    source: object
+    source: RoughnessLike
     set_label: str
     set_digest: str
     model: str
@@ -74,7 +78,7 @@ class RunSpec:
     averaged_lines: tuple[int, ...] = ()
     lateral_lines_mm: tuple[float, ...] = ()
     run_in_length: float | None = None
-    wheel_source: object = None
+    wheel_source: RoughnessLike | None = None
     wheel_label: str | None = None
     wheel_digest: str | None = None
 

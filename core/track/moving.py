@@ -17,12 +17,12 @@ from wheelrail.core.parameters import FOH_MAX_STEP, TrackNumerics, TrackParamete
 from wheelrail.core.track.fe import TrackFEModel, shear_parameter_of, timoshenko_shape_functions
 from wheelrail.core.track.stationary import (
     StationaryTrackResponse,
-    _excitation_nodes,
-    _integrate,
-    _stored_nodes,
-    _stored_times,
+    excitation_nodes,
+    integrate_responses,
     numerics_model,
     stationary_track_response,
+    stored_nodes,
+    stored_times,
 )
 
 # Rows of the moving Green's functions per stored excitation position: the functions handed to the loop are
@@ -33,7 +33,7 @@ ROWS_PER_POSITION = 4
 # A row between two stored positions reads both at its own offset from their loads for the first
 # SHEAR_CROSSINGS[0] times the shear wave's crossing of the spacing, at its own rail point after
 # SHEAR_CROSSINGS[1] of them, blended in between (see ``_rows_between``); never shorter than NEAR_FIELD_TIME.
-# Both chosen by measurement (the tone at v P / L_S on a smooth rail, benchmarks/bay_convergence.py).
+# Both chosen by measurement (the tone at v P / L_S on a smooth rail, validation/bay_convergence.py).
 SHEAR_CROSSINGS = (10.0, 20.0)
 NEAR_FIELD_TIME = (50e-6, 100e-6)  # s: and for at least this long (finer spacings need it: 128 positions)
 
@@ -71,7 +71,7 @@ def bay_rows(n_positions: int, rows_per_position: int = ROWS_PER_POSITION):
     + f h(x0 + v t, x_hi, t). Interpolating the source at a fixed receiver keeps the kinks of the response
     where the receiver crosses a support (x0 + v t = j L_S) at their places; interpolating g at a fixed
     time between the rows of two sources would smear them across the bay and lose the sleeper-passing
-    harmonics they carry (see ``benchmarks/bay_convergence.py``).
+    harmonics they carry (see ``validation/bay_convergence.py``).
 
     Returns
     -------
@@ -307,10 +307,10 @@ def trapezoidal_weights(
         _MODELS.clear()
         _MODELS[key] = numerics_model(track, numerics)
     model = _MODELS[key]
-    _, x_e, _ = _excitation_nodes(model, numerics)
+    _, x_e, _ = excitation_nodes(model, numerics)
     t = np.arange(n_lags) * time_step
-    nodes, stored_x, counts, offsets = _stored_nodes(model, numerics, x_e, speed, t)
-    out = _integrate(model, x_e, time_step, n_lags, 1, nodes, counts, offsets, impulse=False)
+    nodes, stored_x, counts, offsets = stored_nodes(model, numerics, x_e, speed, t)
+    out = integrate_responses(model, x_e, time_step, n_lags, 1, nodes, counts, offsets, impulse=False)
     return _rows_from_wedge(
         out,
         counts,
@@ -351,24 +351,39 @@ def moving_green_functions(
     *,
     use_cache: bool = True,
 ) -> MovingGreenFunctions:
-    """Moving Green's functions of the track for train speed ``speed`` (eq. 2).
+    """Moving Green's functions of the track for a train speed (eq. 2).
 
-    Read off the cached stationary responses (see the module docstring), and cached on disk per speed
-    (``core.cache``, kind ``track-moving``: 10 MB on the default track, read back in milliseconds instead
-    of read off the 208 MB stationary responses in half a second; bit-identical, the entry holds the very
-    array). A speed above ``numerics.max_speed`` widens the wedge, which means a new one-off precompute.
+    Read off the cached stationary responses (see the module docstring) and cached on disk per speed
+    (``core.cache``, kind ``track-moving``; bit-identical). A speed above ``numerics.max_speed`` widens the
+    wedge, which means a new one-off precompute.
 
     Parameters
     ----------
     speed : float
         v, m/s (> 0).
-    track, numerics : optional
-        Default: the paper's track, ``TrackNumerics()``.
+    track : TrackParameters, optional
+        Default: the paper's track.
+    numerics : TrackNumerics, optional
+        Default: ``TrackNumerics()``.
     use_cache : bool
         Use the disk cache.
+
+    Returns
+    -------
+    MovingGreenFunctions
+        g_{R,v}^{x0}(t) at the bay's excitation positions, m/N, and their first-order-hold weights.
+
+    Raises
+    ------
+    WheelrailError
+        For a speed that is not a positive number or out of the accepted range.
+
+    See Also
+    --------
+    stationary_track_response : the responses they are read off.
     """
     track, numerics = _resolved(speed, track, numerics)
-    n_samples = len(_stored_times(numerics)[0])
+    n_samples = len(stored_times(numerics)[0])
     shape = (numerics.positions_per_bay * numerics.rows_per_position, n_samples)
     key = _reading_key("track-moving", track, numerics, speed)
     values = _cached_array("track-moving", key, shape) if use_cache else None
@@ -412,10 +427,10 @@ def _reading_key(kind: str, track: TrackParameters, numerics: TrackNumerics, spe
     """Cache key of what is read off the stationary responses of ``track`` for ``speed``: their key, the speed,
     the rows per position, the reading's version and constants, and ``more``."""
     from wheelrail.core.cache import cache_key
-    from wheelrail.core.track.stationary import _track_key
+    from wheelrail.core.track.stationary import track_key
 
     description = {
-        "wedge": _track_key(track, numerics),
+        "wedge": track_key(track, numerics),
         "speed": float(speed),
         "rows_per_position": numerics.rows_per_position,
         "reading": [READING_VERSION, SHEAR_CROSSINGS, NEAR_FIELD_TIME, FOH_MAX_STEP],
@@ -478,9 +493,27 @@ def moving_weights(
 def moving_from_stationary(
     response: StationaryTrackResponse, speed: float, rows_per_position: int | None = None
 ) -> MovingGreenFunctions:
-    """Read the moving Green's functions for ``speed`` (m/s) off stored stationary responses, at
-    ``rows_per_position`` rows per stored excitation position (``bay_rows``; default from the response's
-    numerics)."""
+    """Read the moving Green's functions for a speed off stored stationary responses.
+
+    Parameters
+    ----------
+    response : StationaryTrackResponse
+        The stored responses (:func:`stationary_track_response`).
+    speed : float
+        v, m/s, up to the responses' ``numerics.max_speed``.
+    rows_per_position : int, optional
+        Rows per stored excitation position (``bay_rows``); default from the response's numerics.
+
+    Returns
+    -------
+    MovingGreenFunctions
+        g_{R,v}^{x0}(t) = h(x0 + v t, x0, t), m/N.
+
+    Raises
+    ------
+    WheelrailError
+        For a speed above the one the stored responses cover.
+    """
     if rows_per_position is None:
         rows_per_position = response.numerics.rows_per_position
     if speed > response.numerics.max_speed * (1 + 1e-12):

@@ -1,4 +1,4 @@
-"""Progress of a track's Green's-function precompute (13-30 s for a track not yet in the disk cache).
+"""Progress of a track's Green's-function precompute (tens of seconds for a track not yet in the disk cache).
 
 ``compute_stationary_response`` and ``stationary_track_response`` take ``progress``, a callable
 ``progress(phase, done, total)``: ``phase`` a short sentence saying what is being done (it names the work and,

@@ -16,7 +16,7 @@ if TYPE_CHECKING:
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
-from wheelrail.core.track.fe import TrackFEModel, _to_upper_band, assemble_track, rail_relaxation
+from wheelrail.core.track.fe import TrackFEModel, assemble_track, rail_relaxation, to_upper_band
 from wheelrail.core.track.progress import Progress, current_progress
 
 
@@ -32,10 +32,10 @@ def _upper_band_arrays(model: TrackFEModel, time_step: float):
     if len(weights):  # K_rail (c0 + sum_j g_j / (1 + b_j)) in place of K_rail: _newmark_block
         stiffness = model.K + (c0 - 1.0 + float(np.sum(weights / (1.0 + b)))) * model.K_rail
     keff = stiffness + (2.0 / dt) * model.C + (4.0 / dt**2) * model.M
-    mb = _to_upper_band(model.M, u)
-    cb = _to_upper_band(model.C, u)
-    krb = _to_upper_band(model.K_rail, u) if len(weights) else np.zeros((u + 1, 0))
-    k_chol = cholesky_banded(_to_upper_band(keff, u), check_finite=False)
+    mb = to_upper_band(model.M, u)
+    cb = to_upper_band(model.C, u)
+    krb = to_upper_band(model.K_rail, u) if len(weights) else np.zeros((u + 1, 0))
+    k_chol = cholesky_banded(to_upper_band(keff, u), check_finite=False)
     m_chol = cholesky_banded(mb, check_finite=False)
     return mb, cb, krb, k_chol, m_chol, weights, b
 
@@ -312,7 +312,7 @@ def numerics_model(track: TrackParameters, numerics: TrackNumerics) -> TrackFEMo
     )
 
 
-def _excitation_nodes(model: TrackFEModel, numerics: TrackNumerics):
+def excitation_nodes(model: TrackFEModel, numerics: TrackNumerics):
     """Excitation positions within the central bay (m from its first sleeper), on the track (m), and their
     FE nodes (the positions are nodes of the refined mesh: TrackNumerics checks)."""
     track = model.params
@@ -325,7 +325,7 @@ def _excitation_nodes(model: TrackFEModel, numerics: TrackNumerics):
     return positions, x_e, nodes
 
 
-def _stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray, speed: float, t_samples: np.ndarray):
+def stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray, speed: float, t_samples: np.ndarray):
     """Which rail nodes are stored for each excitation position, and how many at each sample."""
     L = model.params.support.sleeper_spacing
     spacing = L / numerics.positions_per_bay
@@ -360,7 +360,7 @@ def _stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray,
     return nodes, stored_x, counts, offsets
 
 
-def _integrate(
+def integrate_responses(
     model: TrackFEModel,
     x_e,
     dt: float,
@@ -420,7 +420,8 @@ def _integrating_phase(columns: int, n_steps: int, n_nodes: int) -> str:
     return f"integrating the track's impulse responses ({columns} load positions x {n_steps} steps{about})"
 
 
-def _stored_times(numerics: TrackNumerics) -> tuple[np.ndarray, int]:
+def stored_times(numerics: TrackNumerics) -> tuple[np.ndarray, int]:
+    """The stored sample times (s) of the impulse responses and the number of integration steps behind them."""
     n_steps = int(round(numerics.duration / numerics.time_step)) + 1
     reach = numerics.max_speed * numerics.duration
     if not reach < 1e6:  # m: beyond 1000 km the node counts overflow int64 (1e308 km/h was once accepted)
@@ -442,10 +443,10 @@ def compute_stationary_response(
     if progress is not None:
         progress("assembling the FE track", 0, 1)
     model = numerics_model(track, numerics)
-    positions, x_e, _ = _excitation_nodes(model, numerics)
-    t_stored, n_steps = _stored_times(numerics)
-    nodes, stored_x, counts, offsets = _stored_nodes(model, numerics, x_e, numerics.max_speed, t_stored)
-    out = _integrate(
+    positions, x_e, _ = excitation_nodes(model, numerics)
+    t_stored, n_steps = stored_times(numerics)
+    nodes, stored_x, counts, offsets = stored_nodes(model, numerics, x_e, numerics.max_speed, t_stored)
+    out = integrate_responses(
         model,
         x_e,
         numerics.time_step,
@@ -469,7 +470,8 @@ def compute_stationary_response(
     )
 
 
-def _track_key(track: TrackParameters, numerics: TrackNumerics) -> str:
+def track_key(track: TrackParameters, numerics: TrackNumerics) -> str:
+    """The disk-cache key of the stationary responses of this track and these numerics."""
     from dataclasses import asdict
 
     from wheelrail.core.cache import cache_key
@@ -483,10 +485,15 @@ def track_cache_path(track: TrackParameters, numerics: TrackNumerics):
     """Path of the disk-cache entry for these parameters (it may not exist yet)."""
     from wheelrail.core.cache import entry_path
 
-    return entry_path("track-wedge", _track_key(track, numerics))
+    return entry_path("track-wedge", track_key(track, numerics))
 
 
 _MEMORY: dict[str, StationaryTrackResponse] = {}
+
+
+def clear_memory() -> None:
+    """Forget the track response held in memory, so that the next call reads the disk cache (or computes)."""
+    _MEMORY.clear()
 
 
 def stationary_track_response(
@@ -509,17 +516,22 @@ def stationary_track_response(
     progress : callable, optional
         Told the phases of a computation, if one is needed (``wheelrail.core.track.progress``); default: the
         callable of an enclosing ``track_progress`` block.
+
+    Returns
+    -------
+    StationaryTrackResponse
+        The impulse responses h(x, x0, t) on the wedge a wheel can reach, m/N per N s.
     """
     from wheelrail.core import cache
 
     track = TrackParameters() if track is None else track
     numerics = TrackNumerics() if numerics is None else numerics
-    key = _track_key(track, numerics)
+    key = track_key(track, numerics)
     if use_cache and key in _MEMORY:
         return _MEMORY[key]
     arrays = cache.load_entry("track-wedge", key, _WEDGE_ARRAYS) if use_cache else None
     if arrays is not None:
-        shape = (numerics.positions_per_bay, len(_stored_times(numerics)[0]))
+        shape = (numerics.positions_per_bay, len(stored_times(numerics)[0]))
         if (
             arrays["counts"].shape != shape
             or arrays["offsets"].shape != shape
@@ -562,7 +574,7 @@ def _computed(track, numerics, key: str, use_cache: bool, progress: Progress | N
     info = {
         "compute_s": time.perf_counter() - start,
         # what the estimate of the next track scales with (``track.progress.estimate_s``)
-        "work": float(len(response.excitation_positions)) * _stored_times(numerics)[1] * _node_count(track, numerics),
+        "work": float(len(response.excitation_positions)) * stored_times(numerics)[1] * _node_count(track, numerics),
     }
     path = cache.save_entry("track-wedge", key, {name: getattr(response, name) for name in _WEDGE_ARRAYS}, info=info)
     if progress is not None:
@@ -591,5 +603,7 @@ def rail_impulse_responses(
     n_steps = int(round(duration / time_step)) + 1
     counts = np.full((1, n_steps), len(nodes), dtype=np.int64)
     offsets = (np.arange(n_steps, dtype=np.int64) * len(nodes))[None, :]
-    out = _integrate(model, [x_excitation], time_step, n_steps, 1, nodes[None, :], counts, offsets, impulse=True)
+    out = integrate_responses(
+        model, [x_excitation], time_step, n_steps, 1, nodes[None, :], counts, offsets, impulse=True
+    )
     return out[:, 0].reshape(n_steps, len(nodes))

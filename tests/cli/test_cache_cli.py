@@ -109,7 +109,7 @@ def test_a_new_track_is_announced_on_a_terminal(folder):
     numerics = TrackNumerics(duration=0.005, positions_per_bay=16, max_speed=100 / 3.6)
     screen = _Terminal()
     with announce_track_precompute("run", screen):
-        track._MEMORY.clear()
+        track.clear_memory()
         track.stationary_track_response(None, numerics)
     text = screen.getvalue()
     assert "wheelrail run: this track is not in the disk cache" in text and str(folder) in text
@@ -118,7 +118,7 @@ def test_a_new_track_is_announced_on_a_terminal(folder):
     assert "0/16 [" in text and "load position/s" in text  # the integration's bar
     piped = io.StringIO()  # not a terminal: nothing (pipes and --json stay clean)
     with announce_track_precompute("run", piped):
-        track._MEMORY.clear()
+        track.clear_memory()
         track.stationary_track_response(None, dataclasses.replace(numerics, duration=0.004))
     assert piped.getvalue() == ""
 

@@ -239,7 +239,7 @@ def test_the_line_menu_and_the_run_length_follow_the_set_loaded(app, tmp_path):
 
 def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
     from wheelrail.core.roughness import load_roughness, roughness_spectrum
-    from wheelrail.core.spectra import energetic_sum
+    from wheelrail.core.spectrum_levels import energetic_sum
 
     _reset(app)
     app.form.wheel_set_dropdown.value = "sinter-wheel-1"

@@ -62,7 +62,7 @@ def _halfspace_errors(contact: ContactParameters, dx: float) -> dict:
 )
 def test_3d_solver_converges_to_the_hertz_ellipse(contact, axes_1mm):
     # Johnson, Contact Mechanics 4.2 (ContactParameters.hertz) against the half-space solver, which knows
-    # nothing of elliptic integrals. Measured at 1 mm / 0.5 mm (benchmarks/contact_geometry_accuracy.py):
+    # nothing of elliptic integrals. Measured at 1 mm / 0.5 mm (validation/contact_geometry_accuracy.py):
     # p0 within 0.19 / 0.05 %, approach 0.21 / 0.05 %; a and b from the pressure's second moments 0.18 / 0.05 %
     # for 0.46 m on 0.30 m and the concave tread, but 0.36 / 0.06 % for the convex +0.5 m tread (and up to
     # 0.77 % at 1 mm for other convex treads and long patches: the semi-axis across spans fewer elements);
@@ -105,7 +105,7 @@ def test_smooth_elliptic_patch_in_every_model(model):
     if model == "3d":
         # the patch area (elements in contact x dx^2, a staircase around the ellipse) within 3 % of pi a b on
         # the 1 mm grid here (measured 2.3 %; 0.5-16 % over the geometries and loads of
-        # benchmarks/contact_geometry_accuracy.py)
+        # validation/contact_geometry_accuracy.py)
         assert np.mean(result.contact_area) == pytest.approx(math.pi * a * b, rel=0.03)
         # the window follows the semi-axes: 2.2 a along the rail (29 columns here, 25 for the paper's circle)
         assert result.window_x[-1] == pytest.approx(round(2.2 * a / 1e-3) * 1e-3)

@@ -20,12 +20,12 @@ def response():
 def cache_with_wedge(tmp_path, monkeypatch, response):
     """An empty cache but for the stationary responses of SMALL (as after their one-off precompute)."""
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
-    track._MEMORY.clear()
+    track.clear_memory()
     wedge = {name: getattr(response, name) for name in ("data", "counts", "offsets", "stored_x")}
-    key = track._track_key(TrackParameters(), SMALL)
+    key = track.track_key(TrackParameters(), SMALL)
     cache.save_entry("track-wedge", key, {**wedge, "excitation_positions": response.excitation_positions})
     yield tmp_path
-    track._MEMORY.clear()
+    track.clear_memory()
 
 
 def _direct(response, speed, time_step, method="auto"):
@@ -42,7 +42,7 @@ def test_cached_weights_are_bit_identical_and_need_no_wedge(cache_with_wedge, re
     assert len(list(cache_with_wedge.glob("track-moving-*.npz"))) == 1
     for wedge in cache_with_wedge.glob("track-wedge-*.npz"):
         wedge.unlink()  # from now on nothing may need the stationary responses
-    track._MEMORY.clear()
+    track.clear_memory()
     np.testing.assert_array_equal(track.moving_weights(SPEED, time_step, None, SMALL), expected)
     green = track.moving_green_functions(SPEED, None, SMALL)
     np.testing.assert_array_equal(green.values, track.moving_from_stationary(response, SPEED).values)

@@ -18,12 +18,12 @@ LONG_RUN_IN = 40.0  # m: 0.48 s at 300 km/h, 1.4 s at 100 km/h; the transient de
 @pytest.mark.parametrize("rough", [False, True], ids=["smooth", "corrugated"])
 @pytest.mark.parametrize("kmh", [100.0, 300.0])
 def test_recorded_force_is_that_of_a_long_run_in(kmh, rough, model):
-    # The start (wheel at rest at the bay-averaged static deflection, history filled with the preload) is not the moving
-    # steady state: the wheel-on-track resonance (~66 Hz, decaying about 10x per 55 ms) rings from it. Against a 40 m
-    # run-in, compared at the same positions, the default run-in must leave at most 1 N (0.002 % of the 65 kN preload):
-    # a 1 m run-in left 391-399 N at 100 km/h and 396-429 N at 300 km/h here. Measured with the default (0.3 s: 8.334 m,
-    # 25 m): 0.007 N (100 km/h) and 0.074 N (300 km/h), smooth or rough, hertz or 2d; over 5-400 km/h in 5 km/h steps at
-    # most 0.17 N (benchmarks/run_in.py).
+    # The start (wheel at rest at the bay-averaged static deflection, history filled with the preload) is not
+    # the moving steady state: the wheel-on-track resonance (~66 Hz, decaying about 10x per 55 ms) rings from
+    # it. Against a 40 m run-in, compared at the same positions, the default run-in must leave at most 1 N
+    # (0.002 % of the 65 kN preload): a 1 m run-in left 391-399 N at 100 km/h and 396-429 N at 300 km/h here.
+    # Measured with the default (0.3 s: 8.334 m, 25 m): 0.007 N (100 km/h) and 0.074 N (300 km/h), smooth or rough,
+    # hertz or 2d; over 5-400 km/h in 5 km/h steps at most 0.17 N (validation/run_in.py).
     rail = RAIL if rough else RAIL.with_heights(0.0 * RAIL.heights)
     params = ModelParameters(run=RunParameters(speed=kmh * KMH))
     default = simulate(rail, model=model, params=params, length=0.5)

@@ -133,7 +133,7 @@ def test_sleeper_passing_excites_harmonics_up_to_the_pinned_pinned_range():
     # On a smooth rail the force is periodic with the bay: harmonics k v / L_S from the discrete supports. The
     # kinks of the moving Green's functions at the supports give them up to high k; around the pinned-pinned
     # resonance (k = 10-25, 430-1070 Hz at 100 km/h) they are tens of newtons, as the converged discretisation
-    # shows (benchmarks/bay_convergence.py: doubling every per-bay resolution moves the rough-rail force
+    # shows (validation/bay_convergence.py: doubling every per-bay resolution moves the rough-rail force
     # levels by <= 0.5 dB per band). A band-limited interpolation between 16 positions once deleted them
     # (k = 10-25 summed to 2.6 N); asserted: their amplitudes sum to more than HARMONIC_SUM_MIN_N.
     speed, bay = P.run.speed, P.track.support.sleeper_spacing

@@ -89,7 +89,7 @@ def test_time_domain_track_matches_the_hysteretic_rail(eta, pad_width, level_tol
 @pytest.mark.slow
 def test_track_transfer_function_converges_at_high_frequencies_with_a_damped_rail():
     # The undamped rail's L_H,tr moves by 3.3-5.2 dB in the 4 and 8 kHz bands when the elements per bay or the
-    # frequencies per band are doubled (sharp pinned-pinned modes; benchmarks/track_damping.py). With a loss
+    # frequencies per band are doubled (sharp pinned-pinned modes; validation/track_damping.py). With a loss
     # factor of 0.02 both doublings move every band up to 8 kHz by <= 0.5 dB (measured: 0.11 dB at 4 kHz and
     # 0.49 dB at 8 kHz, elements doubled; frequencies doubled <= 0.01 dB).
     from dataclasses import replace

@@ -13,7 +13,7 @@ import pytest
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters, RunParameters
-from wheelrail.core.spectra import contact_filter, energetic_sum, level_difference, mean_level
+from wheelrail.core.spectrum_levels import contact_filter, energetic_sum, level_difference, mean_level
 
 MODULES = (
     "wheelrail.core.spectra",

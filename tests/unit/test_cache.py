@@ -12,7 +12,7 @@ SMALL = TrackNumerics(duration=0.005, positions_per_bay=2, max_speed=100 / 3.6)
 
 
 def _fresh(numerics=SMALL, parameters=None):
-    track._MEMORY.clear()
+    track.clear_memory()
     return track.stationary_track_response(parameters, numerics)
 
 
@@ -27,14 +27,14 @@ def test_cache_lives_where_the_environment_says(tmp_path, monkeypatch):
 
 
 def test_key_covers_every_parameter():
-    base = track._track_key(TrackParameters(), SMALL)
+    base = track.track_key(TrackParameters(), SMALL)
     changed = [
-        track._track_key(dataclasses.replace(TrackParameters(), n_bays=71), SMALL),
-        track._track_key(
+        track.track_key(dataclasses.replace(TrackParameters(), n_bays=71), SMALL),
+        track.track_key(
             TrackParameters(support=dataclasses.replace(TrackParameters().support, pad_damping=17e3)), SMALL
         ),
-        track._track_key(TrackParameters(), dataclasses.replace(SMALL, time_step=4e-6)),
-        track._track_key(TrackParameters(), dataclasses.replace(SMALL, max_speed=30.0)),
+        track.track_key(TrackParameters(), dataclasses.replace(SMALL, time_step=4e-6)),
+        track.track_key(TrackParameters(), dataclasses.replace(SMALL, max_speed=30.0)),
     ]
     assert len({base, *changed}) == 5
 
@@ -58,7 +58,7 @@ def test_corrupt_entry_is_detected_and_rebuilt(tmp_path, monkeypatch):
 def test_stale_entry_is_not_used(tmp_path, monkeypatch):
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
     good = _fresh()
-    key = track._track_key(TrackParameters(), SMALL)
+    key = track.track_key(TrackParameters(), SMALL)
     # an entry under the right file name but written for other parameters
     cache.save_entry("track-wedge", "0" * 64, {"data": np.zeros(3)})
     (tmp_path / cache.entry_path("track-wedge", "0" * 64).name).replace(cache.entry_path("track-wedge", key))
@@ -259,7 +259,7 @@ def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
     numerics = dataclasses.replace(SMALL, positions_per_bay=32)  # 4 blocks of 8 load positions
     events = []
-    track._MEMORY.clear()
+    track.clear_memory()
     reported = track.stationary_track_response(None, numerics, progress=lambda *event: events.append(event))
     phases = list(dict.fromkeys(phase.split(" (")[0] for phase, _, _ in events))
     assert phases == ["assembling the FE track", "integrating the track's impulse responses", "writing the cache entry"]
@@ -277,7 +277,7 @@ def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
     from wheelrail.core.track.progress import track_progress
 
     with track_progress(lambda *event: events.append(event)):
-        track._MEMORY.clear()
+        track.clear_memory()
         track.stationary_track_response(other, numerics)
     assert any(phase.startswith("integrating") and ", about " in phase for phase, _, _ in events)
 

@@ -1,6 +1,6 @@
-"""House rules of core/ and explorer/: modules of at most ~600 lines, functions of at most 80 lines and 10
-arguments, except the numba loops named below, each with the reason in its own docstring or comment; the explorer's
-app (the page's wiring) under 400 lines; no module of the explorer imports another's private name."""
+"""House rules of core/ and explorer/: modules of at most ~600 lines, functions of at most 80 lines (docstrings not
+counted) and 10 arguments, except the numba loops named below, each with the reason in its own docstring or comment;
+the explorer's app (the page's wiring) under 400 lines; no module of the explorer imports another's private name."""
 
 from __future__ import annotations
 
@@ -28,6 +28,16 @@ def _functions(tree):
             yield node
 
 
+def _code_lines(node) -> int:
+    """Lines of a function without its docstring: the rule bounds code, and the public API's docstrings carry
+    full numpydoc sections (Parameters, Returns, Raises, See Also, Examples: often longer than the code)."""
+    length = node.end_lineno - node.lineno + 1
+    first = node.body[0]
+    if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant) and isinstance(first.value.value, str):
+        length -= first.end_lineno - first.lineno + 1
+    return length
+
+
 def _argument_count(node) -> int:
     args = node.args
     names = [a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)]
@@ -44,7 +54,7 @@ def test_modules_and_functions_of_core_and_the_explorer_stay_small():
         for node in _functions(ast.parse(text)):
             if node.name in EXEMPT:
                 continue
-            length = node.end_lineno - node.lineno + 1
+            length = _code_lines(node)
             if length > MAX_FUNCTION_LINES or _argument_count(node) > MAX_ARGUMENTS:
                 problems.append(f"{name}:{node.lineno} {node.name}: {length} lines, {_argument_count(node)} arguments")
     assert not problems, "\n".join(problems)

@@ -12,15 +12,22 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # module -> the functions and classes whose docstrings must carry an Examples section
 DOCUMENTED = {
+    "wheelrail.core.errors": ["WheelrailError"],
+    "wheelrail.core.inputs": ["Input", "model_parameters", "describe"],
     "wheelrail.core.interaction": ["prepare_run", "simulate"],
+    "wheelrail.core.models": ["model_names"],
+    "wheelrail.core.reference_filters": ["reference_filters"],
+    "wheelrail.core.roughness.io": ["load_roughness"],
+    "wheelrail.core.roughness.model": ["RoughnessSet"],
+    "wheelrail.core.track.fe": ["track_receptance"],
+    "wheelrail.core.wheel": ["wheel_receptance"],
     "wheelrail.core.parameters": ["ContactParameters"],
     "wheelrail.core.spectra": [
         "third_octave_bands",
         "force_spectrum",
         "shortest_spectrum_run",
-        "mean_level",
-        "contact_filter",
     ],
+    "wheelrail.core.spectrum_levels": ["mean_level", "contact_filter"],
 }
 
 

@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from wheelrail.core import bands, spectra
+from wheelrail.core import bands, spectra, spectrum_levels
 from wheelrail.core.checks import LEVEL_LIMIT_DB
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise import levels
@@ -71,10 +71,10 @@ CALLS = {  # each public function, one argument at a time replaced by the odd va
     "force_spectrum time_step": lambda v: spectra.force_spectrum(np.ones(2000), v),
     "resolved_force_bands": lambda v: spectra.resolved_force_bands(v, 1e-4),
     "resolved_force_bands time_step": lambda v: spectra.resolved_force_bands(1000, v),
-    "mean_level": lambda v: spectra.mean_level([v]),
-    "level_difference": lambda v: spectra.level_difference(v, [1.0]),
-    "energetic_sum": lambda v: spectra.energetic_sum(v, [1.0]),
-    "contact_filter": lambda v: spectra.contact_filter(v, [1.0]),
+    "mean_level": lambda v: spectrum_levels.mean_level([v]),
+    "level_difference": lambda v: spectrum_levels.level_difference(v, [1.0]),
+    "energetic_sum": lambda v: spectrum_levels.energetic_sum(v, [1.0]),
+    "contact_filter": lambda v: spectrum_levels.contact_filter(v, [1.0]),
 }
 
 
@@ -122,8 +122,8 @@ def test_extreme_but_valid_inputs_have_their_exact_answers():
     assert spectra.level_db(0.0, 1e-300) == -math.inf
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert spectra.energetic_sum([-math.inf], [-math.inf]) == -math.inf  # no power twice is no power
+        assert spectrum_levels.energetic_sum([-math.inf], [-math.inf]) == -math.inf  # no power twice is no power
         assert np.isnan(levels.energy_sum([math.nan], [60.0]))  # a band without an estimate stays without
     with pytest.raises(WheelrailError, match=f"beyond \\+-{LEVEL_LIMIT_DB:g} dB"):
-        spectra.mean_level([[1e300, 1.0]])
+        spectrum_levels.mean_level([[1e300, 1.0]])
     assert spectra.nominal_band_label(1e300) == "1e+300"

@@ -3,7 +3,7 @@
 For each bundled set: ``3d`` and ``hertz`` on line 0, whole set, paper defaults (65 kN, R = 0.39 m,
 100 km/h); contact filter L_3d - L_hertz (``wheelrail.core.study.contact_filter``) minus each reference
 filter of ``wheelrail.core.reference_filters.reference_filters`` per frequency band, dB. Run:
-``python3 benchmarks/reference_filters_3d.py`` (a few minutes on a 2-core VM with a cold cache).
+``python3 validation/reference_filters_3d.py`` (a few minutes on a 2-core VM with a cold cache).
 """
 
 from __future__ import annotations

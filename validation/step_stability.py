@@ -2,7 +2,7 @@
 track and the corners of the accepted track ranges (run_setup.check_step_stability refuses a run where it is not
 positive). Each new track costs its Green's functions once (13-60 s). Prints the worst margin and its speed.
 
-    python3 benchmarks/step_stability.py
+    python3 validation/step_stability.py
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ bay by up to 5.2 dB (the undamped rail's pinned-pinned modes are too sharp for a
 for loss factors 0 and 0.02, L_H,tr per band at the default resolution (16 elements per bay, 20 frequencies per
 band) and its change when each is doubled, and the largest change at 4 and 8 kHz.
 
-Run: ``python3 benchmarks/track_damping.py``.
+Run: ``python3 validation/track_damping.py``.
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@
    model (a fresh computation, the BEM table cached), run_noise, the WAV synthesis.
 5. Convergence of the track noise model (bays, elements, frequencies per band doubled) and of the sigma table.
 
-Run: ``python3 benchmarks/noise.py [--set corrugated-rail] [--repeats 3] [--wav-dir DIR]``.
+Run: ``python3 validation/noise.py [--set corrugated-rail] [--repeats 3] [--wav-dir DIR]``.
 """
 
 from __future__ import annotations

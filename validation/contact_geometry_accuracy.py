@@ -11,7 +11,7 @@ Prints, for the paper's circle (R = 0.39 m), a 0.46 m wheel on a 0.30 m crown wi
   dx^2) against pi a b;
 * that counted area against pi a b at 1 mm for loads of 20 to 200 kN.
 
-Run: ``python3 benchmarks/contact_geometry_accuracy.py`` (about a minute).
+Run: ``python3 validation/contact_geometry_accuracy.py`` (about a minute).
 """
 
 from __future__ import annotations

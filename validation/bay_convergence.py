@@ -14,10 +14,10 @@ each discretisation and prints
 Run (each configuration is a one-off precompute of its own; a private cache directory is used unless
 ``--cache`` is given):
 
-    python3 benchmarks/bay_convergence.py --configs default doubled --speeds 100 200
-    python3 benchmarks/bay_convergence.py --configs default positions_per_bay=64,refined_elements_per_bay=64
-    python3 benchmarks/bay_convergence.py --configs default rows_per_position=8 --speeds 50 300
-    python3 benchmarks/bay_convergence.py --configs default doubled --speeds 100 --pad-width-mm 150
+    python3 validation/bay_convergence.py --configs default doubled --speeds 100 200
+    python3 validation/bay_convergence.py --configs default positions_per_bay=64,refined_elements_per_bay=64
+    python3 validation/bay_convergence.py --configs default rows_per_position=8 --speeds 50 300
+    python3 validation/bay_convergence.py --configs default doubled --speeds 100 --pad-width-mm 150
 
 A configuration is ``default`` (``TrackNumerics()``), ``doubled`` (every per-bay resolution of the default
 doubled: positions, elements in and outside the refined bays, refined bays, near field, rows) or
@@ -150,7 +150,7 @@ def main() -> None:
         for kmh in ARGS.speeds:
             table[config, kmh] = _levels(numerics, kmh)
         print(f"# {config}: precompute {build:.1f} s (70 bays, up to {numerics.max_speed * 3.6:g} km/h)", flush=True)
-        track._MEMORY.clear()
+        track.clear_memory()
     for kmh in ARGS.speeds:
         print(f"\n## {kmh:g} km/h, smooth rail: force amplitude at k v/L_S (N), k = {HARMONICS}; peak-to-peak (N)")
         for config in ARGS.configs:

@@ -1,6 +1,6 @@
 """Dense smooth-rail speed scan for period-two chatter, 5-400 km/h.
 
-Run: python3 benchmarks/speed_scan.py [STEP_KMH]   (default 0.05 km/h up to 20 km/h, then 1 km/h)
+Run: python3 validation/speed_scan.py [STEP_KMH]   (default 0.05 km/h up to 20 km/h, then 1 km/h)
 Prints, per speed, the largest second difference of the force on a smooth rail (N; chatter of amplitude A
 gives 4 A) and the worst speeds; tests/physics/test_stability.py runs a sparse version of this scan.
 """

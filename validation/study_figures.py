@@ -6,7 +6,7 @@ Run the studies into one folder first, then this script on it:
         wheelrail study $s --set corrugated-rail --set cast-iron-wheel --set sinter-wheel-1 \
             --set sinter-wheel-2 --out DIR
     done
-    python3 benchmarks/study_figures.py DIR
+    python3 validation/study_figures.py DIR
 
 Prints, per set: L_3D - L_2D (Fig. 12: the mean over lines -3..3 and single lines, min and max over the bands),
 2D against the Winkler and averaging pre-filters (Figs 13-14: largest |mean|), the averaged input (Fig. 16:

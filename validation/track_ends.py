@@ -9,7 +9,7 @@ sleeper and at midspan of the 70-bay track minus that of a 280-bay track, the la
 20-bay track's for scale. Frequency domain, the same FE mesh as the Green's functions outside their refined
 bays (16 elements per bay).
 
-Run: ``python3 benchmarks/track_ends.py``.
+Run: ``python3 validation/track_ends.py``.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """The default run-in against a long one: what is left of the start-up transient in the recorded force.
 
-Run: python3 benchmarks/run_in.py [--models hertz 2d] [--step-kmh 5] [--3d] [--timing]
+Run: python3 validation/run_in.py [--models hertz 2d] [--step-kmh 5] [--3d] [--timing]
 
 For every speed from 5 to 400 km/h (``--step-kmh`` apart) the first 0.5 m of the corrugated rail (line 0) is
 run with the default run-in (``run_setup.DEFAULT_RUN_IN_TIME`` at the speed) and with a 40 m one (at least
