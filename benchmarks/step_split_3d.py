@@ -9,11 +9,11 @@ loaded). Prints
   shared, and the CPU figure is what the step costs when it has a core);
 * eqs. 1-2 alone (history and commit, the track convolution of ``_scatter``): the same loop with the law
   replaced by the forces the run found;
-* the contact law alone (``halfspace_steps._halfspace_step``: gap assembly and solve), replayed on the
+* the contact law alone (``halfspace_model._halfspace_step``: gap assembly and solve), replayed on the
   approaches the run handed it, from the same start;
-* inside the law: how many active-set iterations, additions and drops a step takes (counted by the
-  per-step reference solver on the same run: the compiled law takes the same decisions) and what each costs
-  at the run's contact set (each kernel timed alone in a compiled loop, on the state the run ended with).
+* inside the law: how many active-set iterations, additions and drops a step takes (counted by replaying the
+  law's solve, ``active_set._solve_step``, on the same approaches) and what each costs at the run's contact
+  set (each kernel timed alone in a compiled loop, on the state the run ended with).
 
 The sum of the itemised costs is printed against the measured law: the difference is what is not
 itemised (the tension check, bookkeeping, cache misses between the pieces).
@@ -27,8 +27,8 @@ import time
 import numpy as np
 from numba import njit
 
-from wheelrail.core.contact import halfspace_steps as steps
-from wheelrail.core.contact.halfspace_model import HalfSpaceReferenceModel
+from wheelrail.core.contact import active_set as steps
+from wheelrail.core.contact import halfspace_model
 from wheelrail.core.interaction import _commit, _history, prepare_run
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 
@@ -52,7 +52,7 @@ def _loop_without_law(j0, j1, track, wheel, preload, xi_w0, forces, offset):
 def _law_alone(known, compliance, law):
     total = 0.0
     for s in range(known.size):
-        status, force, on_centre, count = steps._halfspace_step(s, known[s], compliance[s], law)
+        status, force, on_centre, count = halfspace_model._halfspace_step(s, known[s], compliance[s], law)
         total += force
     return total
 
@@ -156,7 +156,9 @@ def main() -> None:
     print(f"  contact law (gap assembly + solve)                        {law_us:6.1f} us")
     print(f"  rest (outputs: pressure map, lengths; not itemised)       {cpu / n * 1e6 - history - law_us:6.1f} us")
 
-    decisions = _decisions_from_reference(params, args.length_m)
+    decisions = _decisions(
+        known, compliance, prepare_run(SET, model="3d", params=params, length=args.length_m)._law.law
+    )
     iterations, added, dropped, elements = decisions.mean(axis=0)
     m = int(round(elements))
     state_law = run._law.law
@@ -175,7 +177,7 @@ def main() -> None:
     update = _per_call(_repeat_append_remove, state_law, size, 5000, reps=5000)
     print(
         f"  inside the law, per step: {iterations:.2f} iterations, {added:.2f} elements added, {dropped:.2f} "
-        f"dropped, {m} in contact (decisions of the per-step reference solver)"
+        f"dropped, {m} in contact (the law's decisions, replayed)"
     )
     print(
         f"    per iteration: forward + backward substitution {forward:.1f} + {backward:.1f} us, deformed gap "
@@ -189,23 +191,28 @@ def main() -> None:
     )
 
 
-def _decisions_from_reference(params, length):
-    run = prepare_run(SET, model="3d", params=params, length=length)
-    model = HalfSpaceReferenceModel()
-    model.prepare(run.contact._inputs)
-    counts = []
-    for s in range(run.loop.n_total):
-        j = run.loop.n_hist + s
-        delta_known, c, q, w0, s_pred = _history(
-            j, run.loop.track, run.loop.wheel, params.contact.preload, run.loop.xi_w0
-        )
-        before = model._window._warm[0]
-        state = model.solve(s, delta_known, c)
-        last = model._window.last
-        after = np.flatnonzero(last.contact)
-        counts.append((last.iterations, np.setdiff1d(after, before).size, np.setdiff1d(before, after).size, after.size))
-        _commit(j, state.force, run.loop.track, run.loop.wheel, s_pred, params.contact.preload, run.loop.xi_w0, q, w0)
-    return np.array(counts, dtype=float)
+@njit
+def _decisions(known, compliance, law):
+    """(iterations, elements added, dropped, in contact) per step of the law replayed on these approaches."""
+    _, state, work, track, _ = law
+    base, lines, start_index, ramp, half_x, _ = track
+    nx = 2 * half_x + 1
+    ny = base.size // nx
+    gap, active = work[1], state[1]
+    out = np.zeros((known.size, 4))
+    for s in range(known.size):
+        before = active.copy()
+        first = start_index[s] - half_x
+        for row in range(ny):
+            for column in range(nx):
+                gap[row * nx + column] = base[row * nx + column] - ramp[s] * lines[row, first + column]
+        status, force, delta, iterations = steps._solve_step(law, True, known[s], compliance[s])
+        if force > 0.0:
+            out[s, 0] = iterations
+            out[s, 1] = (active & ~before).sum()
+            out[s, 2] = (before & ~active).sum()
+            out[s, 3] = state[3][0]
+    return out
 
 
 if __name__ == "__main__":

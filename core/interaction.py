@@ -19,7 +19,7 @@ and ``_commit`` (the step's force into the wheel state and the rail history). A 
 (``wheelrail.core.models``: ``3d``, ``2d``, ``hertz``, ``hertz-winkler``, ``hertz-average`` and any registered
 one) only gives its law: a compiled one-line law runs inside ``_run_chunk`` (``CHUNK`` steps per call), the
 compiled 3D law inside ``_run_chunk_3d`` (``CHUNK_3D`` steps per call, without the GIL; its run-in on the
-law tabulated, ``contact.halfspace_table``), a per-step law is called from Python.
+law tabulated, ``contact.run_in_law``), a per-step law is called from Python.
 How a run is built (margins, roughness along the track, history, static equilibrium, run-in) is in
 ``wheelrail.core.run_setup``.
 """
@@ -78,7 +78,7 @@ __all__ = [
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
 CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets them in time
-# s: a 3d run-in this long or longer runs on the law tabulated (contact.halfspace_table); its fade-in's blend then
+# s: a 3d run-in this long or longer runs on the law tabulated (contact.run_in_law); its fade-in's blend then
 # leaves at most 0.014 N (0.108 s at 100 km/h), 0.2-2.4 N after a run-in of 1-36 ms, which the 3D solver steps
 TABULATED_RUN_IN_TIME = 0.1
 
@@ -136,18 +136,19 @@ def _run_chunk_3d():
     includes the closure's values, and a compiled function pickles differently in every process.
     """
     global STEP_CONVERGED, _halfspace_step
-    from wheelrail.core.contact import halfspace_solver, halfspace_steps
-    from wheelrail.core.contact.halfspace_steps import STEP_CONVERGED, _halfspace_step
+    from wheelrail.core.contact import active_set, halfspace_model
+    from wheelrail.core.contact.active_set import STEP_CONVERGED
+    from wheelrail.core.contact.halfspace_model import _halfspace_step
 
-    return _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver, loop_kernels))
+    return _define_run_chunk_3d(sources_stamp(halfspace_model, active_set, loop_kernels))
 
 
 def _define_run_chunk_3d(stamp):
     @njit(cache=True, nogil=True)
     def run_chunk_3d(j0, j1, track, wheel, constants, law, out):
-        """Advance the compiled 3D law (``contact.halfspace_steps``) over history indices j0..j1-1, without
+        """Advance the compiled 3D law (``contact.halfspace_model``) over history indices j0..j1-1, without
         the GIL (a live view's threads run meanwhile). ``constants`` = (preload, xi_w0, n_hist, first step of
-        ``maps``, element size); ``law`` = ``HalfSpaceSteps.law``; ``out`` = (xi_wheel, xi_rail,
+        ``maps``, element size); ``law`` = ``ActiveSetSolver.law``; ``out`` = (xi_wheel, xi_rail,
         contact_length, contact_area per step s, and ``maps``: the float32 pressure map of steps
         first..first + len - 1).
 
@@ -311,7 +312,7 @@ class InteractionRun(HeaderView):
                 self.last_pressure = state.pressure
 
     def _advance_3d(self, s0: int, s1: int) -> None:
-        from wheelrail.core.contact.halfspace_steps import STEP_NEEDS_ROOM
+        from wheelrail.core.contact.active_set import STEP_NEEDS_ROOM
 
         loop = self.loop
         if s0 < loop.n_run_in and self._tabulated:
@@ -340,9 +341,9 @@ class InteractionRun(HeaderView):
             raise WheelrailError(self.contact.failure_message(status, j - loop.n_hist))
 
     def _run_in_3d(self, s0: int, s1: int) -> None:
-        """Run-in steps s0..s1-1 of the ``3d`` law on its tabulated law (``contact.halfspace_table``); at the
+        """Run-in steps s0..s1-1 of the ``3d`` law on its tabulated law (``contact.run_in_law``); at the
         run-in's end the 3D law's warm state is put at the last approach, on the first recorded step's gap."""
-        from wheelrail.core.contact.halfspace_table import _run_in_chunk, run_in_table, warm_start
+        from wheelrail.core.contact.run_in_law import _run_in_chunk, run_in_table, warm_start
 
         loop, preload = self.loop, self.params.contact.preload
         if self._table is None:  # the static approach under the preload (run_setup.static_equilibrium) as scale

@@ -22,7 +22,7 @@ its maps) against the estimated 216, 216, 616 and 3100 B; the test asks for an e
 the measured growth. Fixed costs (the
 Green's functions, about 35 MB of stationary responses, and their weights, under 1 MB at any accepted
 speed; the 3D window's influence matrix, 1.8 MB for the paper's window and at most 54 MB,
-``contact.halfspace_steps.FULL_MATRIX_ELEMENTS``) are left out: they do not grow with the run.
+``contact.active_set.FULL_MATRIX_ELEMENTS``) are left out: they do not grow with the run.
 """
 
 from __future__ import annotations

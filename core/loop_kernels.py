@@ -3,7 +3,7 @@
 ``_history`` (the wheel predicted with the last force, eq. 1 in its exact discrete form, and the rail's
 displacement from all earlier forces, eq. 2) and ``_commit`` (the step's force into the rail's history and the
 wheel state) are inlined into the loops that step a law: ``wheelrail.core.interaction`` (the compiled laws'
-chunk loops) and ``wheelrail.core.contact.halfspace_table`` (the ``3d`` model's run-in on its tabulated law).
+chunk loops) and ``wheelrail.core.contact.run_in_law`` (the ``3d`` model's run-in on its tabulated law).
 ``track`` = (force, lo, hi, frac, weights, acc) and ``wheel`` = (phi, gamma0, gamma1, state): see
 ``run_setup.History``.
 """

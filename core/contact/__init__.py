@@ -23,9 +23,9 @@ _HALFSPACE = (
 
 def __getattr__(name: str):
     if name in _HALFSPACE:
-        from wheelrail.core.contact import halfspace
+        from wheelrail.core.contact import window
 
-        return getattr(halfspace, name)
+        return getattr(window, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 

@@ -56,7 +56,7 @@ def test_window_too_small_for_the_load():
         ({"element_size": -1e-3}, "element_size must be positive"),
         ({"load": 0.0}, "load must be positive"),
         ({"load": float("inf")}, "load must be positive"),
-        ({"poisson_ratio": 0.5}, "poisson_ratio"),
+        ({"contact": {"poisson_ratio": 0.3}}, "contact must be ContactParameters"),
         ({"max_iterations": 0}, "max_iterations"),
         ({"initial": np.zeros((3, 3), dtype=bool)}, "initial must be"),
     ],

@@ -17,31 +17,16 @@ towards each other) the deformed gap of eq. (11) is
 
 and the contact conditions (10) are d >= 0, p >= 0, d p = 0.
 
-Model apart from solver
------------------------
-As in tamaas, the model and the solver are separate pieces:
-
-* :mod:`wheelrail.core.contact.halfspace_kernel`: the influence coefficients C of eq. (8) (Love's solution,
-  a block-Toeplitz kernel cached per shape, element size and material);
-* :mod:`wheelrail.core.contact.halfspace_solver`: the compiled active-set solver (solve on the contact
-  set, drop elements in tension, add penetrating elements) and its Cholesky updates;
-* :class:`HalfSpaceWindow` (here): one window's geometry, material and kernel, the solver settings and the
-  solver's warm state, with ``solve(gap, load=...)`` and ``solve_coupled(gap, approach_known=...,
-  compliance=...)``. The time-stepping loop keeps one window and calls ``solve_coupled`` once per step.
-
-Warm state: a window starts each solve from the contact set, and the Cholesky factor of ``C_AA`` in the
-same order, of its last solve that carried load (force > 0); a solve without contact (F = 0, the wheel
-lifted off) leaves it as it was, so contact is regained from the last loaded patch. The window moves with
-the wheel, so the patch stays centred: in the interaction loop this takes 1.8 instead of 5 active-set
-iterations per step compared with shifting the contact set by one element. The answer does not depend
-on the warm state beyond round-off.
-
-:func:`solve_normal_contact` and :func:`solve_coupled_contact` are stateless one-off forms: each builds a
-window, and their ``initial`` (a previous result or a contact mask) is the warm start. A result keeps,
-privately, the set and factor it ended with for that purpose only.
-
-A direct solve was chosen over FFT-based conjugate gradients (Polonsky-Keer) by measurement:
-``benchmarks/contact_solver.py`` compares with tamaas' PKR solver.
+How
+---
+:class:`HalfSpaceWindow` holds one window's geometry, material and influence kernel (``contact.influence``,
+eq. 8), the solver's settings and its warm state; each solve fills an
+:class:`~wheelrail.core.contact.active_set.ActiveSetSolver` (the one active-set method, also the ``3d``
+model's) from that state and solves ``solve(gap, load=...)`` or ``solve_coupled(gap, approach_known=...,
+compliance=...)``. A window warm-starts from the contact set and Cholesky factor of its last solve that
+carried load (a lift-off leaves it as it was); the answer does not depend on the start beyond round-off.
+:func:`solve_normal_contact` and :func:`solve_coupled_contact` are the one-off forms on a fresh window, their
+``initial`` (a previous result or a contact mask) the warm start.
 
 Failures are reported: by default a solve that does not converge within ``max_iterations`` or whose
 contact set reaches the window edge raises :class:`WheelrailError`; with ``raise_on_failure=False``
@@ -50,7 +35,6 @@ the result is returned with ``converged=False`` / ``at_edge=True`` and the calle
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field
 
@@ -58,18 +42,17 @@ import numpy as np
 
 from wheelrail.core.checks import integer as _integer
 from wheelrail.core.checks import positive as _positive
-from wheelrail.core.contact.halfspace_kernel import _cached_kernel, _material, influence_kernel
-from wheelrail.core.contact.halfspace_solver import (
-    _CAUTIOUS_AFTER,
-    _NO_FACTOR,
-    _STATUS_CONVERGED,
-    _STATUS_NOT_DEFINITE,
-    _active_set_solve,
-    _coordinates,
-    _displacement,
+from wheelrail.core.contact.active_set import (
+    CAUTIOUS_AFTER,
+    STEP_CONVERGED,
+    STEP_NOT_DEFINITE,
+    ActiveSetSolver,
+    displacement,
+    influence_grid,
 )
+from wheelrail.core.contact.influence import influence_kernel
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS, reduced_modulus
+from wheelrail.core.parameters import ContactParameters, reduced_modulus
 
 __all__ = [
     "HalfSpaceWindow",
@@ -108,8 +91,11 @@ class NormalContactResult:
     element_size : float
         Side of the square elements, m.
     separation : ndarray, shape (ny, nx)
-        Deformed gap d = h - delta + C p, eq. (11), m (zero, up to round-off, where in contact). Computed
-        on first access (the solver itself only needs it where the surfaces overlap).
+        Deformed gap d = h - delta + C p, eq. (11), m (zero, up to round-off, where in contact).
+
+    See Also
+    --------
+    HalfSpaceWindow.solve, solve_normal_contact, solve_coupled_contact : the solves that return it.
     """
 
     pressure: np.ndarray
@@ -122,24 +108,10 @@ class NormalContactResult:
     max_gap_violation: float
     min_pressure: float
     element_size: float
-    # (window key, final set in factor order, its Cholesky factor) of a converged solve, for the
-    # ``initial=`` of the one-off functions; a HalfSpaceWindow keeps its own warm state
+    separation: np.ndarray
+    # (window key, final set in factor order, (its Cholesky factor, z = U^-T 1)) of a converged solve, for
+    # the ``initial=`` of the one-off functions; a HalfSpaceWindow keeps its own warm state
     _warm: object = field(default=None, repr=False)
-    _gap: np.ndarray | None = field(default=None, repr=False)
-    _kernel: np.ndarray | None = field(default=None, repr=False)
-
-    @functools.cached_property
-    def separation(self) -> np.ndarray:
-        """Deformed gap d = h - delta + C p of eq. (11) on the whole window, m."""
-        ny, nx = self.pressure.shape
-        rows, columns = _coordinates(ny, nx)
-        flat = self.pressure.ravel()
-        order = np.flatnonzero(flat)
-        u = np.empty(ny * nx)
-        _displacement((self._kernel, rows, columns), order, order.size, flat, u)
-        separation = (self._gap - self.approach + u).reshape(ny, nx)
-        separation.setflags(write=False)
-        return separation
 
     @property
     def contact_area(self) -> float:
@@ -162,8 +134,9 @@ class HalfSpaceWindow:
         Window size (ny, nx) in elements, each >= 2 (rows across the rail, columns along it).
     element_size : float
         Side of the square elements, m (1e-3 in the paper).
-    youngs_modulus, poisson_ratio : float
-        E (Pa) and nu of both bodies (same material): E* = E / (2 (1 - nu^2)).
+    contact : ContactParameters, optional
+        The material: E (Pa) and nu of both bodies (same material), E* = E / (2 (1 - nu^2)); default
+        ``ContactParameters()`` (steel).
     tolerance : float
         Relative tolerance of the contact conditions: pressures down to ``-tolerance * max(p)`` and gaps
         down to ``-tolerance * (delta - min(h))`` count as zero.
@@ -176,8 +149,7 @@ class HalfSpaceWindow:
         shape: tuple[int, int],
         element_size: float,
         *,
-        youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-        poisson_ratio: float = STEEL_POISSON_RATIO,
+        contact: ContactParameters | None = None,
         tolerance: float = 1e-9,
         max_iterations: int = 100,
     ) -> None:
@@ -190,23 +162,25 @@ class HalfSpaceWindow:
             raise WheelrailError(f"{where}: shape must be two integers (ny, nx), got {shape!r}") from None
         if ny < 2 or nx < 2:
             raise WheelrailError(f"{where}: the window must be at least 2 x 2 elements, got shape {shape!r}")
-        self._configure(where, (ny, nx), element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations)
+        self._configure(where, (ny, nx), element_size, contact, tolerance, max_iterations)
 
-    def _configure(self, where, shape, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations):
+    def _configure(self, where, shape, element_size, contact, tolerance, max_iterations):
         element_size = _positive(where, "element_size", element_size, "m")
-        youngs_modulus, poisson_ratio = _material(where, youngs_modulus, poisson_ratio)
+        contact = ContactParameters() if contact is None else contact
+        if not isinstance(contact, ContactParameters):
+            raise WheelrailError(f"{where}: contact must be ContactParameters, got {type(contact).__name__}")
         self._tolerance = _positive(where, "tolerance", tolerance, "relative")
         self._max_iterations = _integer(f"{where}: max_iterations", max_iterations, 1)
-        self._key = (shape[0], shape[1], element_size, youngs_modulus, poisson_ratio)
-        self._kernel = _cached_kernel(*self._key)
-        self._warm = None  # (contact set in factor order, its upper Cholesky factor or 0 x 0)
+        self._key = (shape[0], shape[1], element_size, float(contact.youngs_modulus), float(contact.poisson_ratio))
+        self._kernel = influence_kernel(shape, element_size, contact)
+        self._warm = None  # (contact set in factor order, (its upper Cholesky factor, z) or None)
         self._last = None
 
     @classmethod
-    def _for_gap(cls, where, gap, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations):
+    def _for_gap(cls, where, gap, element_size, contact, tolerance, max_iterations):
         """A fresh window for the checked ``gap``, its errors named after the one-off function ``where``."""
         window = cls.__new__(cls)
-        window._configure(where, gap.shape, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations)
+        window._configure(where, gap.shape, element_size, contact, tolerance, max_iterations)
         return window
 
     # model and settings (read-only) ------------------------------------------------------------------
@@ -336,30 +310,29 @@ class HalfSpaceWindow:
         coupled, target, compliance = law
         ny, nx, element_size = self._key[:3]
         flat = gap.ravel()
-        if not flat.flags.writeable:
-            flat = flat.copy()  # one numba specialisation for all callers
         area = element_size**2
-        order, factor = start if start is not None else (None, _NO_FACTOR)
+        order, factor = start if start is not None else (None, None)
         if order is None:
             modulus = reduced_modulus(self.youngs_modulus, self.poisson_ratio)
             order = np.flatnonzero(_cold_start_set(flat, area, modulus, coupled, float(target), float(compliance)))
-        pressure, delta, iterations, status, upper, order, contact, summary = _active_set_solve(
-            self._kernel,
-            flat,
+        solver = ActiveSetSolver(
+            _grid(self._key, self._kernel),
             order,
-            factor,
-            (coupled, float(target), float(compliance), area),
-            (self._tolerance, self._max_iterations, _CAUTIOUS_AFTER),
+            (self._tolerance, self._max_iterations, area, self._cautious),
+            factor=factor,
         )
-        contact = contact.reshape(ny, nx)
-        pressure = pressure.reshape(ny, nx)
-        # the factor and its order stay writable (private to the result and the window): read-only arrays
-        # would make numba compile a second specialisation of the solver for warm starts
-        for array in (contact, pressure):
+        solver.gap[:] = flat
+        status, force, delta, iterations = solver.solve(coupled, float(target), float(compliance))
+        pressure = solver.pressure if force > 0.0 else np.zeros(ny * nx)
+        contact = np.zeros(ny * nx, dtype=bool)
+        if force > 0.0:
+            contact[solver.contact_set()] = True
+        separation = flat - delta + displacement(_grid(self._key, self._kernel), pressure)
+        contact, pressure, separation = (a.reshape(ny, nx) for a in (contact, pressure, separation))
+        for array in (contact, pressure, separation):
             array.setflags(write=False)
-        force, min_pressure, max_gap_violation, at_edge = summary
-        converged = status == _STATUS_CONVERGED
-        warm = (self._key, order, upper) if converged and order.size > 0 and upper.shape[0] == order.size else None
+        converged = status == STEP_CONVERGED
+        factor = solver.factor() if converged and force > 0.0 else None
         result = NormalContactResult(
             pressure=pressure,
             contact=contact,
@@ -367,25 +340,26 @@ class HalfSpaceWindow:
             approach=delta,
             iterations=iterations,
             converged=converged,
-            at_edge=at_edge,
-            max_gap_violation=max_gap_violation,
-            min_pressure=min_pressure,
+            at_edge=bool(contact[[0, -1], :].any() or contact[:, [0, -1]].any()),
+            max_gap_violation=max(0.0, -float(separation.min())),
+            min_pressure=float(pressure.min()),
             element_size=element_size,
-            _warm=warm,
-            _gap=flat.copy(),  # the caller may reuse its gap array; separation is computed later
-            _kernel=self._kernel,
+            separation=separation,
+            _warm=(self._key, solver.contact_set(), factor) if factor is not None else None,
         )
         if raise_on_failure:
             self._raise_failure(where, result, status)
         if result.force > 0:
             # the new warm state: this set and its factor, or (not converged) its contact set alone
-            self._warm = (order, upper) if warm is not None else (np.flatnonzero(contact), _NO_FACTOR)
+            self._warm = (result._warm[1], factor) if factor is not None else (np.flatnonzero(contact), None)
         self._last = result
         return result
 
+    _cautious = CAUTIOUS_AFTER  # iterations after which one element at a time changes (tests: 0)
+
     def _raise_failure(self, where: str, result: NormalContactResult, status: int) -> None:
         iterations = result.iterations
-        if status == _STATUS_NOT_DEFINITE:
+        if status == STEP_NOT_DEFINITE:
             raise WheelrailError(
                 f"{where}: the influence matrix of the contact set lost positive definiteness in round-off "
                 f"after {iterations} iterations; the solve failed"
@@ -402,6 +376,20 @@ class HalfSpaceWindow:
                 f"({ny * element_size * 1e3:.3g} x {nx * element_size * 1e3:.3g} mm); "
                 "the window is too small for the load, use a larger window"
             )
+
+
+_GRIDS: dict = {}  # window key -> the solver's influence grid (the last few windows')
+
+
+def _grid(key: tuple, kernel: np.ndarray) -> tuple:
+    """The solver's influence grid of a window (shape, element size, material) with this kernel, cached."""
+    grid = _GRIDS.pop(key, None)
+    if grid is None:
+        grid = influence_grid(kernel)
+        while len(_GRIDS) >= 4:
+            _GRIDS.pop(next(iter(_GRIDS)))
+    _GRIDS[key] = grid  # (re)inserted last: the oldest is dropped first
+    return grid
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -454,7 +442,7 @@ def _initial_set(where: str, initial, shape, key, name: str = "initial"):
             f"{where}: {name} must be a NormalContactResult or bool mask of shape {shape}, "
             f"got {type(initial).__name__} of shape {mask.shape}"
         )
-    return np.flatnonzero(mask), _NO_FACTOR
+    return np.flatnonzero(mask), None
 
 
 def _cold_start_set(
@@ -495,8 +483,7 @@ def solve_normal_contact(
     *,
     load: float,
     initial: NormalContactResult | np.ndarray | None = None,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
+    contact: ContactParameters | None = None,
     tolerance: float = 1e-9,
     max_iterations: int = 100,
     raise_on_failure: bool = True,
@@ -519,7 +506,7 @@ def solve_normal_contact(
     initial : NormalContactResult or bool ndarray, optional
         Warm start: a previous result on the same window shape, or a contact mask (e.g. the previous one
         shifted by the caller). Only the contact set is reused; the answer does not depend on it.
-    youngs_modulus, poisson_ratio, tolerance, max_iterations
+    contact, tolerance, max_iterations
         As in :class:`HalfSpaceWindow`.
     raise_on_failure : bool
         If True (default) non-convergence or contact at the window edge raises :class:`WheelrailError`;
@@ -532,9 +519,7 @@ def solve_normal_contact(
     where = "solve_normal_contact"
     load = _positive(where, "load", load, "N")
     gap = _check_gap(where, gap)
-    window = HalfSpaceWindow._for_gap(
-        where, gap, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations
-    )
+    window = HalfSpaceWindow._for_gap(where, gap, element_size, contact, tolerance, max_iterations)
     start = _initial_set(where, initial, gap.shape, window._key)
     return window._solve(where, gap, (False, load, 0.0), raise_on_failure, start)
 
@@ -546,8 +531,7 @@ def solve_coupled_contact(
     approach_known: float,
     compliance: float,
     initial: NormalContactResult | np.ndarray | None = None,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
+    contact: ContactParameters | None = None,
     tolerance: float = 1e-9,
     max_iterations: int = 100,
     raise_on_failure: bool = True,
@@ -574,7 +558,7 @@ def solve_coupled_contact(
         delta_known, m (positive = towards each other).
     compliance : float
         c >= 0, m/N.
-    initial, youngs_modulus, poisson_ratio, tolerance, max_iterations, raise_on_failure
+    initial, contact, tolerance, max_iterations, raise_on_failure
         As in :func:`solve_normal_contact`.
 
     Returns
@@ -585,8 +569,6 @@ def solve_coupled_contact(
     where = "solve_coupled_contact"
     approach_known, compliance = _coupling(where, approach_known, compliance)
     gap = _check_gap(where, gap)
-    window = HalfSpaceWindow._for_gap(
-        where, gap, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations
-    )
+    window = HalfSpaceWindow._for_gap(where, gap, element_size, contact, tolerance, max_iterations)
     start = _initial_set(where, initial, gap.shape, window._key)
     return window._solve(where, gap, (True, approach_known, compliance), raise_on_failure, start)

@@ -1,41 +1,19 @@
-"""The ``3d`` law stepped in compiled code: one contact solve per time step, its warm state kept in arrays.
+"""The active-set solver of the 3D half-space contact (paper section 2.3.2, eqs. 8-11), compiled by numba.
 
-The interaction loop's compiled chunk of steps (``wheelrail.core.interaction._run_chunk_3d``) calls
-:func:`_halfspace_step` once per step: the gap of the window under the wheel (eq. 11's h = x^2 / (2 R_x) +
-y^2 / (2 R_y) - r) and the solve of eqs. 8-11 coupled with delta = delta_known - c F, without a Python call.
+An exact active-set method (Kalker's scheme with the load, or the coupling delta = delta_known - c F, as an
+extra equation). Each iteration solves on the contact set A, ``C_AA p_A = delta - h_A`` with one Cholesky
+factor C_AA = U^T U (:func:`_pressure_on_set`); drops the elements in tension (eq. 10: p >= 0); if none,
+adds the elements that penetrate (eq. 10: d >= 0) until neither happens. The factor is updated, not
+recomputed, when few elements change (a new row per added element, rotations per dropped one), and
+z = U^-T 1 is kept with it, so a warm-started solve costs one forward and one backward substitution per
+iteration. :class:`ActiveSetSolver` holds the warm state (set, factor, z, pressure) in arrays that the
+``3d`` model's compiled loop steps in place (``halfspace_model``) and that one-off solves
+(``window.HalfSpaceWindow``) fill from a start. Design and measurements: ``docs/benchmarks.md``, "The 3D
+contact solver".
 
-The method, its decisions and its tolerance are those of ``halfspace_solver._active_set_solve`` (the one-off
-solves; the per-step model it replaced, ``HalfSpaceReferenceModel``): an active set warm-started from the
-last loaded step's set and Cholesky factor, drops of elements in tension before additions of penetrating ones,
-all at once (one at a time after ``_CAUTIOUS_AFTER`` iterations), downdates and new rows of the factor for
-few changes (a fresh factor for more than m / 8). What makes a step cheaper (``benchmarks/step_split_3d.py``
-itemises a step):
-
-* the warm state (set, factor, mask, pressures) stays in place from step to step: nothing is allocated,
-  copied or checked per step, and the factor is not touched when the set does not change (most steps);
-* with the factor C_AA = U^T U the vector z = U^-T 1 is kept with it: a new element adds one entry, a
-  dropped one applies the downdate's rotations to it (the same rotations as to the rows of U). Then with
-  y = U^-T h_A the coupled law needs 1^T C_AA^-1 1 = z.z, 1^T C_AA^-1 h_A = z.y and p_A = U^-1 (delta z - y):
-  one forward and one backward substitution per iteration instead of two of each (an exact reformulation
-  of p = delta C^-1 1 - C^-1 h: it changes round-off only, ~1e-15 relative);
-* the window's influence matrix C (n x n, from the kernel of eq. 8) is built once per run, up to
-  ``FULL_MATRIX_ELEMENTS`` elements (1.8 MB for the paper's 19 x 25 window): the deformed gap
-  d = h - delta + C p, needed only where it can be negative outside the set (inside, d = 0 by
-  construction), is then one contiguous dot product per element, C's row against the pressure over the span
-  of flat indices the set covers, four rows at a time. A larger window reads the kernel instead, row by row
-  of the set's bounding box (measured 4.1 instead of 2.9 us per iteration at 1 mm);
-* every inner loop runs over views that start at index 0, which numba vectorises;
-* loss of contact is recognised before the solve: the coupled law has F = 0 exactly when no element
-  penetrates at delta = delta_known, i.e. delta_known <= min h; then nothing is solved and the warm state
-  stays that of the last loaded step, as the per-step model kept it.
-
-The factor's buffer starts at twice the first set plus 64 rows; a set that outgrows it stops the step before
-its factor is rebuilt (``STEP_NEEDS_ROOM``: nothing committed, the set consistent), the caller gives a larger
-buffer (:meth:`HalfSpaceSteps.grow`) and repeats the step from that set.
-
-:func:`_solve_step` and :func:`_halfspace_step` are inlined into their callers: the compiled entry points
-(``interaction._run_chunk_3d`` and :data:`_python_step` here) are keyed in numba's cache by the sources of the
-modules they reach (``wheelrail.core.compiled``).
+Conventions of the compiled functions (no input checks: ``window`` does them): the window of ny x nx
+elements is flattened row by row (element i is row i // nx, column i % nx); the contact set is ``order[:m]``
+in the order of the rows of the upper factor ``upper[:m, :m]``, ``active`` its mask.
 """
 
 from __future__ import annotations
@@ -45,18 +23,6 @@ import math
 import numpy as np
 from numba import njit
 
-from wheelrail.core.compiled import sources_stamp
-from wheelrail.core.contact import halfspace_solver
-from wheelrail.core.contact.halfspace_solver import (
-    _CAUTIOUS_AFTER,
-    _STATUS_CONVERGED,
-    _STATUS_MAX_ITER,
-    _STATUS_NOT_DEFINITE,
-    _coordinates,
-    _factor_full,
-    _tension_elements,
-)
-
 __all__ = [
     "FULL_MATRIX_ELEMENTS",
     "STEP_AT_EDGE",
@@ -64,79 +30,160 @@ __all__ = [
     "STEP_MAX_ITER",
     "STEP_NEEDS_ROOM",
     "STEP_NOT_DEFINITE",
-    "HalfSpaceSteps",
+    "ActiveSetSolver",
+    "displacement",
+    "influence_grid",
 ]
 
-STEP_CONVERGED = _STATUS_CONVERGED
-STEP_MAX_ITER = _STATUS_MAX_ITER
-STEP_NOT_DEFINITE = _STATUS_NOT_DEFINITE
+STEP_CONVERGED = 0
+STEP_MAX_ITER = 1  # no convergence within the iterations allowed
+STEP_NOT_DEFINITE = 2  # the set's influence matrix lost positive definiteness in round-off
 STEP_AT_EDGE = 3  # converged, but the set touches the window's border
 STEP_NEEDS_ROOM = 4  # the set outgrew the factor's buffer: grow it and repeat the step
+CAUTIOUS_AFTER = 30  # iterations; then one element at a time is dropped or added (against add/drop cycling)
 FULL_MATRIX_ELEMENTS = 2601  # largest window (elements) whose influence matrix is built (51 x 51: 54 MB)
 
 
-class HalfSpaceSteps:
-    """The arrays of the compiled ``3d`` law: window, roughness along the track and the warm state.
+@njit(cache=True)
+def _coordinates(ny, nx):
+    """Row and column of every element of the flattened window."""
+    rows = np.empty(ny * nx, dtype=np.int64)
+    columns = np.empty(ny * nx, dtype=np.int64)
+    for i in range(ny * nx):
+        rows[i] = i // nx
+        columns[i] = i - rows[i] * nx
+    return rows, columns
+
+
+@njit(cache=True, fastmath=True)
+def _factor_full(grid, order, m, upper):
+    """Upper Cholesky factor U (C_AA = U^T U) of the contact set ``order[:m]`` into ``upper[:m, :m]``.
+
+    ``grid`` = (kernel, rows, columns). Computed as the lower factor L = U^T with row-wise dot products, then
+    transposed. Returns False if C_AA is not positive definite.
+    """
+    kernel, rows, columns = grid
+    ny = (kernel.shape[0] + 1) // 2
+    nx = (kernel.shape[1] + 1) // 2
+    lower = np.empty((m, m))
+    for a in range(m):
+        row = rows[order[a]] + ny - 1
+        column = columns[order[a]] + nx - 1
+        for b in range(a + 1):
+            lower[a, b] = kernel[row - rows[order[b]], column - columns[order[b]]]
+    for j in range(m):
+        pivot = lower[j, j]
+        for k in range(j):
+            pivot -= lower[j, k] * lower[j, k]
+        if pivot <= 0.0:
+            return False
+        d = math.sqrt(pivot)
+        lower[j, j] = d
+        for i in range(j + 1, m):
+            t = lower[i, j]
+            for k in range(j):
+                t -= lower[i, k] * lower[j, k]
+            lower[i, j] = t / d
+    for a in range(m):
+        for b in range(a + 1):
+            upper[b, a] = lower[a, b]
+    return True
+
+
+@njit(cache=True, inline="always")
+def _tension_elements(pressure, order, m, pmax, tol, one_at_a_time, removals):
+    """Positions in ``order`` of the set's elements in tension (eq. 10: p >= 0), into ``removals``; their count.
+
+    Pressures down to ``-tol * pmax`` count as zero. With ``one_at_a_time`` only the most tensile one.
+    """
+    plimit = -tol * pmax
+    n_remove = 0
+    worst = 0.0
+    for a in range(m):
+        value = pressure[order[a]]
+        if value < plimit or (pmax <= 0.0 and value <= 0.0):
+            if not one_at_a_time:
+                removals[n_remove] = a
+                n_remove += 1
+            elif n_remove == 0 or value < worst:
+                removals[0] = a
+                n_remove = 1
+                worst = value
+    return n_remove
+
+
+def influence_grid(kernel: np.ndarray, full_matrix: bool | None = None) -> tuple:
+    """The solver's view of a window's influence coefficients: (kernel, kernel reversed, influence matrix C or
+    0 x 0, row and column of each element).
+
+    ``C[i, j] = kernel[row_i - row_j + ny - 1, column_i - column_j + nx - 1]`` (eq. 8) is built for windows up
+    to ``FULL_MATRIX_ELEMENTS`` elements (default) or as ``full_matrix`` says: the deformed gap outside the
+    set is then one contiguous dot product per element.
+    """
+    kernel = np.array(kernel, dtype=np.float64)  # writable: one numba specialisation
+    ny, nx = (kernel.shape[0] + 1) // 2, (kernel.shape[1] + 1) // 2
+    rows, columns = _coordinates(ny, nx)
+    full = np.empty((0, 0))
+    if full_matrix or (full_matrix is None and ny * nx <= FULL_MATRIX_ELEMENTS):
+        full = np.ascontiguousarray(
+            kernel[rows[:, None] - rows[None, :] + ny - 1, columns[:, None] - columns[None, :] + nx - 1]
+        )
+    return kernel, np.ascontiguousarray(kernel[::-1, ::-1]), full, rows, columns
+
+
+class ActiveSetSolver:
+    """The warm state of the active-set solver on one window and its solves (eqs. 8-11).
 
     Parameters
     ----------
-    kernel : ndarray (2 ny - 1, 2 nx - 1)
-        Influence kernel of eq. (8), m/Pa (``halfspace_kernel``).
-    base_gap : ndarray (ny, nx)
-        The window's gap on smooth surfaces, m.
-    track : (lines, start_index, ramp, half_x, centre_row)
-        Roughness rows along the track (m), the sample under the wheel centre per step, the run-in's fade-in
-        factor per step, the window's half side along the rail (elements) and the chosen line's row
-        (``models.ModelInputs``).
-    start : ndarray of int
-        The first step's contact set (element indices of the flattened window), factored afresh.
-    limits : (float, int, float)
-        Relative tolerance of eq. (10), maximum active-set iterations per step, element area (m^2).
-    full_matrix : bool, optional
-        Build the window's influence matrix (default: for windows up to ``FULL_MATRIX_ELEMENTS``).
+    grid : tuple
+        The window's influence coefficients, from :func:`influence_grid`.
+    start : array_like of int
+        The first solve's contact set (element indices of the flattened window).
+    limits : (float, int, float) or (float, int, float, int)
+        Relative tolerance of eq. (10), maximum iterations per solve, element area (m^2) and, optionally, the
+        iterations after which one element at a time changes (default ``CAUTIOUS_AFTER``).
+    factor : (ndarray, ndarray), optional
+        The upper Cholesky factor of ``start`` in its order (m x m) and z = U^-T 1 (m): a warm start that
+        skips the first factorisation. By default ``start`` is factored afresh.
+    track : tuple, optional
+        What the ``3d`` model's step reads besides the solver (``halfspace_model.track_inputs``); the solver
+        itself does not use it.
     capacity : int, optional
         Rows of the factor's first buffer (default: twice the start set plus 64, at most the window).
 
-    ``law`` is the tuple the compiled functions take: (grid, state, work, track, limits) with grid = (kernel,
-    kernel reversed, influence matrix C or 0 x 0, row and column of each element) and state = (set in factor
-    order, its mask, z = U^-T 1, [m, factored], factor buffer); ``pressure`` is the current pressure on the
-    flattened window (Pa; stale after a step without contact, whose pressure is zero).
+    Notes
+    -----
+    ``law`` is the tuple the compiled functions take: (grid, state, work, track, limits) with state = (set
+    in factor order, its mask, z = U^-T 1, [m, factored], factor buffer) and work = (pressure, gap, three
+    scratch vectors); ``pressure`` is the current pressure on the flattened window (Pa; stale after a
+    coupled solve without contact, whose pressure is zero) and ``gap`` the gap a solve reads (m).
     """
 
-    def __init__(self, kernel, base_gap, track, start, limits, *, full_matrix=None, capacity=None) -> None:
-        ny, nx = base_gap.shape
-        n = ny * nx
-        kernel = np.array(kernel, dtype=np.float64)  # writable: one numba specialisation
-        rows, columns = _coordinates(ny, nx)
-        full = np.empty((0, 0))
-        if full_matrix or (full_matrix is None and n <= FULL_MATRIX_ELEMENTS):
-            # C[i, j] = kernel[row_i - row_j + ny - 1, column_i - column_j + nx - 1] (eq. 8)
-            full = np.ascontiguousarray(
-                kernel[rows[:, None] - rows[None, :] + ny - 1, columns[:, None] - columns[None, :] + nx - 1]
-            )
-        grid = (kernel, np.ascontiguousarray(kernel[::-1, ::-1]), full, rows, columns)
+    def __init__(self, grid, start, limits, *, factor=None, track=None, capacity=None) -> None:
+        n = grid[3].size
         order = np.zeros(n, dtype=np.int64)
         active = np.zeros(n, dtype=np.bool_)
         start = np.asarray(start, dtype=np.int64)
         order[: start.size] = start
         active[start] = True
+        z = np.zeros(n)
         counts = np.array([start.size, 0], dtype=np.int64)  # m, whether the buffer and z hold the set's factor
-        self._state = (order, active, np.zeros(n), counts)
+        self._state = (order, active, z, counts)
         self.pressure = np.zeros(n)
-        work = (self.pressure, np.empty(n), np.empty(n), np.empty(n, dtype=np.int64), np.empty(n), np.empty(n))
-        lines, start_index, ramp, half_x, centre_row = track
-        track = (
-            np.ascontiguousarray(base_gap, dtype=np.float64).ravel(),
-            np.ascontiguousarray(lines, dtype=np.float64),
-            np.ascontiguousarray(start_index, dtype=np.int64),
-            np.ascontiguousarray(ramp, dtype=np.float64),
-            int(half_x),
-            int(centre_row),
-        )
-        tolerance, max_iterations, area = limits
-        self._parts = (grid, work, track, (float(tolerance), int(max_iterations), float(area)))
-        self.shape = (ny, nx)
+        self.gap = np.empty(n)
+        work = (self.pressure, self.gap, np.empty(n), np.empty(n, dtype=np.int64), np.empty(n), np.empty(n))
+        if track is None:  # the one-off solves' placeholder (of the types of the model's)
+            track = (np.zeros(1), np.zeros((1, 1)), np.zeros(1, dtype=np.int64), np.zeros(1), 0, 0)
+        tolerance, max_iterations, area, *cautious = limits
+        limits = (float(tolerance), int(max_iterations), float(area), int(cautious[0] if cautious else CAUTIOUS_AFTER))
+        self._parts = (grid, work, track, limits)
         self.grow(min(n, 2 * start.size + 64) if capacity is None else int(capacity))
+        if factor is not None:
+            m = start.size
+            self.law[1][4][:m, :m] = factor[0]
+            z[:m] = factor[1]
+            counts[1] = 1
 
     def grow(self, capacity: int | None = None) -> None:
         """A new factor buffer of ``capacity`` rows (default: half as many again as the set, at most the
@@ -148,26 +195,43 @@ class HalfSpaceSteps:
         grid, work, track, limits = self._parts
         self.law = (grid, (order, active, z, counts, np.empty((capacity, capacity))), work, track, limits)
 
-    @property
-    def contact_count(self) -> int:
-        """Elements in the current warm set."""
-        return int(self._state[3][0])
+    def solve(self, coupled: bool, target: float, compliance: float = 0.0) -> tuple[int, float, float, int]:
+        """Solve on the gap in :attr:`gap` from the warm state: coupled (``target`` = delta_known, m;
+        ``compliance`` c, m/N) or load-controlled (``target`` = F, N). Returns (status, F (N), delta (m),
+        iterations); the pressure is in :attr:`pressure` (stale if F = 0)."""
+        iterations = 0
+        while True:
+            status, force, delta, count = _solve_gap(self.law, bool(coupled), float(target), float(compliance))
+            iterations += count
+            if status != STEP_NEEDS_ROOM:
+                return status, force, delta, iterations
+            self.grow()
 
     @property
-    def capacity(self) -> int:
-        """Rows of the factor's buffer."""
-        return int(self.law[1][4].shape[0])
+    def shape(self) -> tuple[int, int]:
+        """(ny, nx) of the window, elements."""
+        kernel = self._parts[0][0]
+        return (kernel.shape[0] + 1) // 2, (kernel.shape[1] + 1) // 2
+
+    @property
+    def track(self) -> tuple:
+        """The ``track`` given (or the placeholder)."""
+        return self._parts[2]
+
+    def contact_set(self) -> np.ndarray:
+        """The current set (element indices, in the factor's order), a copy."""
+        return self._state[0][: self._state[3][0]].copy()
+
+    def factor(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """(U, z) of the current set, copies, or None if the buffer does not hold its factor."""
+        order, _, z, counts = self._state
+        m = int(counts[0])
+        if counts[1] != 1 or m == 0:
+            return None
+        return self.law[1][4][:m, :m].copy(), z[:m].copy()
 
 
-# ---------------------------------------------------------------------------------------------------
-# Triangular solves and the factor's updates, z = U^-T 1 kept with the factor
-# ---------------------------------------------------------------------------------------------------
-
-
-# (The inner loops run over views that start at index 0: numba then needs no negative-index wraparound
-# and LLVM vectorises them, 2-3x faster than indexing the whole arrays from k + 1; four rows at a time share
-# the loads of the vector they meet, another 1.2-2x. Measured at 97-99 contact elements: forward 3.1 ->
-# 1.1 us, backward 4.5 -> 1.3 us.)
+# --- Triangular solves and the factor's updates, z = U^-T 1 kept with the factor ---------------------
 
 
 @njit(cache=True, fastmath=True)
@@ -261,8 +325,8 @@ def _remove(order, m, upper, z, scratch, position):
     """Remove the element at ``position`` from the factor of size m and from z = U^-T 1, O(m^2).
 
     The factor's trailing block gets the rank-1 update U33^T U33 + u u^T (u = U[position, position+1:]) by
-    rotations, as ``halfspace_solver._factor_remove``; the same rotations applied to (z3, z_position) give the
-    new trailing part of z (module docstring).
+    rotations (Golub and Van Loan, *Matrix Computations*, 4th ed., section 6.5.4); the same rotations applied
+    to (z3, z_position) give the new trailing part of z.
     """
     p = position
     x = scratch
@@ -298,15 +362,19 @@ def _remove(order, m, upper, z, scratch, position):
         order[i] = order[i + 1]
 
 
-# ---------------------------------------------------------------------------------------------------
-# The active-set steps on the persistent state
-# ---------------------------------------------------------------------------------------------------
+# --- The active-set steps on the persistent state ---------------------------------------------------
 
 
 @njit(cache=True, fastmath=True)
-def _pressure_on_set(upper, order, m, gap, z, y, pressure, approach_known, compliance_area):
-    """Pressure on the set with d = 0 there and delta = delta_known - c A_e sum(p) (eqs. 8, 9, 11); returns
-    (delta, max pressure). With y = U^-T h_A: sum(p) = delta z.z - z.y, p_A = U^-1 (delta z - y)."""
+def _pressure_on_set(upper, order, m, gap, z, y, pressure, law):
+    """Pressure on the set with d = 0 there (eqs. 8, 11) and the approach from ``law``; returns (delta, max
+    pressure).
+
+    With y = U^-T h_A: sum(p) = delta z.z - z.y and p_A = U^-1 (delta z - y). ``law`` = (coupled, target,
+    c A_e): coupled, delta = delta_known - c A_e sum(p) (``target`` = delta_known, m); else A_e sum(p) = F
+    (eq. 9; ``target`` = F / A_e, Pa).
+    """
+    coupled, target, compliance_area = law
     for a in range(m):
         y[a] = gap[order[a]]
     _forward(upper, m, y)
@@ -315,7 +383,10 @@ def _pressure_on_set(upper, order, m, gap, z, y, pressure, approach_known, compl
     for a in range(m):
         zz += z[a] * z[a]
         zy += z[a] * y[a]
-    delta = (approach_known + compliance_area * zy) / (1.0 + compliance_area * zz)
+    if coupled:
+        delta = (target + compliance_area * zy) / (1.0 + compliance_area * zz)
+    else:
+        delta = (target + zy) / zz
     for a in range(m):
         y[a] = delta * z[a] - y[a]
     _backward(upper, m, y)
@@ -388,7 +459,7 @@ def _displacement_kernel(grid, order, m, pressure, candidates, count, u):
 def _penetrating(grid, order, m, work, active, limits):
     """Elements outside the set that penetrate (eq. 10: d >= 0, d below ``glimit``) into ``work[3]``; their
     count. d = h - delta + C p (eq. 11) is computed where h - delta < ``margin`` only (u = C p >= 0
-    elsewhere). ``limits`` = (delta, margin, glimit, one_at_a_time): as in ``halfspace_solver``.
+    elsewhere). ``limits`` = (delta, margin, glimit, one_at_a_time): as in :func:`_solve_step`.
     """
     pressure, gap, _, changes, _, u = work
     delta, margin, glimit, one_at_a_time = limits
@@ -464,8 +535,9 @@ def _add(grid, state, m, factored, changes, n_add, scratch):
 
 
 @njit(cache=True, inline="always")
-def _solve_step(law, approach_known, compliance):
-    """Eqs. 8-11 coupled with delta = delta_known - c F on the gap in ``work[1]``, from the warm state.
+def _solve_step(law, coupled, target, compliance):
+    """Eqs. 8-11 on the gap in ``work[1]`` from the warm state: coupled (``target`` = delta_known, m; delta =
+    delta_known - c F) or load-controlled (``target`` = F, N; ``compliance`` unused).
 
     Returns (status, F (N), delta (m), iterations); the pressure is in ``work[0]`` (stale if F = 0).
     """
@@ -473,19 +545,25 @@ def _solve_step(law, approach_known, compliance):
     grid3 = (grid[0], grid[3], grid[4])
     order, active, z, counts, upper = state
     pressure, gap, y, changes, scratch, _ = work
-    tol, max_iter, area = limits
+    tol, max_iter, area, cautious_after = limits
     gap_min = gap.min()
-    if approach_known <= gap_min:  # no element penetrates at delta = delta_known: F = 0 (module docstring)
-        return STEP_CONVERGED, 0.0, approach_known, 0
+    if coupled and target <= gap_min:  # no element penetrates at delta = delta_known: F = 0 (module docstring)
+        return STEP_CONVERGED, 0.0, target, 0
+    on_set = (coupled, target, compliance * area) if coupled else (coupled, target / area, 0.0)
     m, factored = counts[0], counts[1] == 1  # factored: upper and z hold the set's factor and U^-T 1
-    delta = approach_known
+    delta = target
     iterations = 0
     status = STEP_MAX_ITER
     while iterations < max_iter:
         iterations += 1
-        one_at_a_time = iterations > _CAUTIOUS_AFTER
+        one_at_a_time = iterations > cautious_after
+        if m == 0 and not coupled:  # a load needs contact: start from the lowest point
+            order[0] = np.argmin(gap)
+            active[order[0]] = True
+            m, factored = 1, False
+            continue
         if m == 0:
-            delta = approach_known
+            delta = target
         else:
             if not factored:
                 if m > upper.shape[0]:
@@ -498,7 +576,7 @@ def _solve_step(law, approach_known, compliance):
                     z[a] = 1.0
                 _forward(upper, m, z)
                 factored = True
-            delta, pmax = _pressure_on_set(upper, order, m, gap, z, y, pressure, approach_known, compliance * area)
+            delta, pmax = _pressure_on_set(upper, order, m, gap, z, y, pressure, on_set)
             n_drop = _tension_elements(pressure, order, m, pmax, tol, one_at_a_time, changes)
             if n_drop > 0:
                 m, factored = _drop(state, m, pressure, changes, n_drop, scratch)
@@ -516,47 +594,21 @@ def _solve_step(law, approach_known, compliance):
     return status, total * area, delta, iterations
 
 
-@njit(cache=True, inline="always")
-def _halfspace_step(s, approach_known, compliance, law):
-    """Step s of the ``3d`` law: the window's gap under the wheel, then :func:`_solve_step`.
-
-    Returns (status, F (N), elements in contact on the centre row, elements in contact); ``STEP_AT_EDGE`` when
-    the converged set touches the window's border, ``STEP_NEEDS_ROOM`` when the step must be repeated with a
-    larger factor buffer.
-    """
-    grid, state, work, track, _ = law
-    base, lines, start_index, ramp, half_x, centre_row = track
-    gap = work[1]
-    nx = 2 * half_x + 1
-    ny = base.size // nx
-    first = start_index[s] - half_x
-    fade = ramp[s]
-    for row in range(ny):
-        for column in range(nx):
-            gap[row * nx + column] = base[row * nx + column] - fade * lines[row, first + column]
-    status, force, _, _ = _solve_step(law, approach_known, compliance)
-    if force == 0.0 or status != STEP_CONVERGED:
-        return status, force, 0, 0
-    rows, columns = grid[3], grid[4]
-    order, m = state[0], state[3][0]
-    on_centre = 0
-    for a in range(m):
-        i = order[a]
-        if rows[i] == 0 or rows[i] == ny - 1 or columns[i] == 0 or columns[i] == nx - 1:
-            status = STEP_AT_EDGE
-        if rows[i] == centre_row:
-            on_centre += 1
-    return status, force, on_centre, m
+@njit(cache=True)
+def _solve_gap(law, coupled, target, compliance):
+    """:func:`_solve_step` called from Python (:class:`ActiveSetSolver`'s one-off solves)."""
+    return _solve_step(law, coupled, target, compliance)
 
 
-def _define_python_step(stamp):
-    @njit(cache=True)
-    def python_step(s, approach_known, compliance, law):
-        """:func:`_halfspace_step` called from Python (``HalfSpaceModel.solve``)."""
-        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
-        return _halfspace_step(s, approach_known, compliance, law)
-
-    return python_step
-
-
-_python_step = _define_python_step(sources_stamp(halfspace_solver))
+def displacement(grid: tuple, pressure: np.ndarray) -> np.ndarray:
+    """u = C p (eq. 8) on the whole flattened window for the flattened pressure (Pa), m."""
+    pressure = np.ascontiguousarray(pressure, dtype=np.float64)
+    order = np.flatnonzero(pressure)
+    n = pressure.size
+    u = np.empty(n)
+    everywhere = np.arange(n, dtype=np.int64)
+    if grid[2].shape[0] > 0:
+        _displacement_matrix(grid[2], order, order.size, pressure, everywhere, n, u)
+    else:
+        _displacement_kernel(grid, order, order.size, pressure, everywhere, n, u)
+    return u
