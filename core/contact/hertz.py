@@ -17,10 +17,10 @@ from numba import njit
 
 from wheelrail.core import checks
 from wheelrail.core.checks import finite_array
+from wheelrail.core.contact.winkler import checked_contact
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
-from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS
-from wheelrail.core.parameters import hertz_constant as _hertz_constant
+from wheelrail.core.parameters import ContactParameters
 
 __all__ = [
     "HertzAverageModel",
@@ -117,20 +117,9 @@ class HertzWinklerModel(HertzModel):
 
     def equivalent_roughness(self, inputs, line):
         from wheelrail.core.contact.prefilter import winkler_equivalent_roughness
-        from wheelrail.core.contact.winkler import calibrated_bedding
 
-        c = inputs.params.contact
-        stiffness, radius = calibrated_bedding(c)
         try:
-            return winkler_equivalent_roughness(
-                line,
-                inputs.element_size,
-                preload=c.preload,
-                radius=radius,
-                youngs_modulus=c.youngs_modulus,
-                poisson_ratio=c.poisson_ratio,
-                stiffness=stiffness,
-            )
+            return winkler_equivalent_roughness(line, inputs.element_size, inputs.params.contact)
         except WheelrailError as error:
             if error.parameter != "half_window":
                 raise
@@ -154,30 +143,40 @@ class HertzAverageModel(HertzModel):
         return average_roughness(line, inputs.element_size, contact_length=2 * a)
 
 
-def hertz_constant(
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS, poisson_ratio: float = STEEL_POISSON_RATIO, radius: float = 0.39
-) -> float:
-    """Hertzian constant C_H = (2/3) E / (1 - nu^2) sqrt(R) of eq. (13), N/m^1.5.
+def hertz_constant(contact: ContactParameters | None = None) -> float:
+    """Hertzian constant C_H of F = C_H delta^1.5, eq. (13), N/m^1.5.
 
     Parameters
     ----------
-    youngs_modulus : float
-        E of wheel and rail (same material), Pa.
-    poisson_ratio : float
-        nu, 0 <= nu < 0.5.
-    radius : float
-        R, wheel rolling radius = railhead transverse radius, m.
+    contact : ContactParameters, optional
+        Material and radii; default ``ContactParameters()`` (the paper's crossed cylinders, R = 0.39 m).
 
     Returns
     -------
     float
-        C_H in N/m^1.5 (9.608e10 at the paper's values).
+        C_H in N/m^1.5: (2/3) E / (1 - nu^2) sqrt(R) for the paper's circle (9.608e10 at its values), Hertz's
+        elliptic constant (``ContactParameters.hertz``) otherwise.
+
+    Raises
+    ------
+    WheelrailError
+        If ``contact`` is not ContactParameters.
+
+    See Also
+    --------
+    hertz_force, hertz_approach : the spring law with this constant.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, eq. (13).
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact import hertz_constant
+    >>> f"{hertz_constant():.4g}"
+    '9.608e+10'
     """
-    where = "hertz_constant"
-    youngs_modulus = checks.positive(where, "youngs_modulus", youngs_modulus, "Pa")
-    radius = checks.positive(where, "radius", radius, "m")
-    nu = checks.poisson_ratio(where, poisson_ratio)
-    return _hertz_constant(youngs_modulus, nu, radius)
+    return checked_contact("hertz_constant", contact).hertz_constant
 
 
 def hertz_force(compression, constant: float) -> np.ndarray:

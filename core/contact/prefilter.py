@@ -35,9 +35,15 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.checks import positive as _positive
-from wheelrail.core.contact.winkler import _bedding_approach, _roughness, bedding_stiffness, wheel_profile
+from wheelrail.core.contact.winkler import (
+    _bedding_approach,
+    _roughness,
+    calibrated_bedding,
+    checked_contact,
+    wheel_profile,
+)
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS
+from wheelrail.core.parameters import ContactParameters
 
 __all__ = ["average_roughness", "averaging_weights", "winkler_equivalent_roughness"]
 
@@ -101,14 +107,10 @@ def _check_boundary(where: str, boundary: str) -> str:
 def winkler_equivalent_roughness(
     roughness,
     element_size: float,
+    contact: ContactParameters | None = None,
     *,
-    preload: float = 65e3,
-    radius: float = 0.39,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
     half_window: float | None = None,
     boundary: str = "nearest",
-    stiffness: float | None = None,
 ) -> np.ndarray:
     """Ford & Thompson equivalent roughness r_eq for the Hertzian spring (eqs. 3-6, 12-14).
 
@@ -119,20 +121,15 @@ def winkler_equivalent_roughness(
         surfaces together, eq. 3).
     element_size : float
         Sample spacing dx, m (the bedding has one spring per sample).
-    preload : float
-        Static load P, N.
-    radius : float
-        R, m (the bedding uses R_m = R / 2, eq. 6).
-    youngs_modulus, poisson_ratio : float
-        E in Pa and nu (bedding stiffness of eq. 5).
+    contact : ContactParameters, optional
+        The preload P and the bedding of ``contact.winkler.calibrated_bedding`` (eqs. 5-6 for the paper's
+        circle: k = E*, R_m = R / 2); default ``ContactParameters()``.
     half_window : float, optional
-        a' of eq. (4), m: the bedding spans [-a', a'] around the wheel. Default 3 a (Hertz radius at the
-        preload), which holds roughness up to ~8 a^2 / R (0.6 mm at the defaults) without reaching the end.
+        a' of eq. (4), m: the bedding spans [-a', a'] around the wheel. Default 3 a (a = (3 P R / (4 k))^(1/3),
+        the Hertz radius at the preload), which holds roughness up to ~8 a^2 / R (0.6 mm at the defaults)
+        without reaching the end.
     boundary : {"nearest", "wrap"}
         How the line is extended beyond its ends.
-    stiffness : float, optional
-        k of the bedding, N/m^2; default E / (2 (1 - nu^2)) of eq. (5). An elliptic patch passes the
-        calibrated k and R of ``contact.winkler.calibrated_bedding``.
 
     Returns
     -------
@@ -148,14 +145,10 @@ def winkler_equivalent_roughness(
     where = "winkler_equivalent_roughness"
     line = _roughness(where, roughness)
     element_size = _positive(where, "element_size", element_size, "m")
-    preload = _positive(where, "preload", preload, "N")
-    radius = _positive(where, "radius", radius, "m")
+    contact = checked_contact(where, contact)
+    preload = contact.preload
+    k, radius = calibrated_bedding(contact)
     boundary = _check_boundary(where, boundary)
-    k = (
-        bedding_stiffness(youngs_modulus, poisson_ratio)
-        if stiffness is None
-        else _positive(where, "stiffness", stiffness, "N/m^2")
-    )
     a = (3.0 * preload * radius / (4.0 * k)) ** (1.0 / 3.0)
     half_window = 3.0 * a if half_window is None else _positive(where, "half_window", half_window, "m")
     half = max(2, int(math.ceil(half_window / element_size)))
@@ -208,12 +201,9 @@ def averaging_weights(contact_length: float, element_size: float) -> np.ndarray:
 def average_roughness(
     roughness,
     element_size: float,
+    contact: ContactParameters | None = None,
     *,
     contact_length: float | None = None,
-    preload: float = 65e3,
-    radius: float = 0.39,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
     boundary: str = "nearest",
 ) -> np.ndarray:
     """Equivalent roughness by averaging over the nominal contact length 2a (paper section 2.3.3).
@@ -224,11 +214,11 @@ def average_roughness(
         Combined roughness line r, m, spacing ``element_size``.
     element_size : float
         dx, m.
+    contact : ContactParameters, optional
+        Used only for the default ``contact_length``; default ``ContactParameters()``.
     contact_length : float, optional
-        Averaging length 2a, m. Default: twice the Hertz radius a = (3 P R / (4 E*))^(1/3) at the preload
-        (10.96 mm at the paper's values).
-    preload, radius, youngs_modulus, poisson_ratio : float
-        P (N), R (m), E (Pa), nu: used only for the default ``contact_length``.
+        Averaging length 2a, m. Default: twice Hertz's semi-axis along the rail at the preload (10.96 mm at
+        the paper's values, a = (3 P R / (4 E*))^(1/3)).
     boundary : {"nearest", "wrap"}
         How the line is extended beyond its ends.
 
@@ -242,10 +232,7 @@ def average_roughness(
     element_size = _positive(where, "element_size", element_size, "m")
     boundary = _check_boundary(where, boundary)
     if contact_length is None:
-        preload = _positive(where, "preload", preload, "N")
-        radius = _positive(where, "radius", radius, "m")
-        k = bedding_stiffness(youngs_modulus, poisson_ratio)
-        contact_length = 2.0 * (3.0 * preload * radius / (4.0 * k)) ** (1.0 / 3.0)
+        contact_length = 2.0 * checked_contact(where, contact).hertz_semi_axes()[0]
     contact_length = _positive(where, "contact_length", contact_length, "m")
     weights = averaging_weights(contact_length, element_size)
     half = weights.size // 2

@@ -76,8 +76,8 @@ def test_coupled_bad_compliance_and_approach():
 
 
 def test_hertz_and_winkler_inputs():
-    with pytest.raises(WheelrailError, match="radius"):
-        hertz_constant(radius=0.0)
+    with pytest.raises(WheelrailError, match="hertz_constant: contact must be ContactParameters"):
+        hertz_constant(0.39)
     with pytest.raises(WheelrailError, match="compression must be finite"):
         hertz_force([1e-6, np.nan], 1e11)
     with pytest.raises(WheelrailError, match="force must be >= 0"):

@@ -12,6 +12,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # module -> the functions and classes whose docstrings must carry an Examples section
 DOCUMENTED = {
+    "wheelrail.core.contact.hertz": ["hertz_constant"],
+    "wheelrail.core.contact.influence": ["influence_kernel"],
+    "wheelrail.core.contact.winkler": ["bedding_stiffness", "winkler_contact"],
     "wheelrail.core.interaction": ["prepare_run", "simulate"],
     "wheelrail.core.parameters": ["ContactParameters"],
     "wheelrail.core.spectra": [
