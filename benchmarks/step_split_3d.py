@@ -9,10 +9,10 @@ loaded). Prints
   shared, and the CPU figure is what the step costs when it has a core);
 * eqs. 1-2 alone (history and commit, the track convolution of ``_scatter``): the same loop with the law
   replaced by the forces the run found;
-* the contact law alone (``halfspace_model._halfspace_step``: gap assembly and solve), replayed on the
+* the contact law alone (``halfspace_model.halfspace_step``: gap assembly and solve), replayed on the
   approaches the run handed it, from the same start;
 * inside the law: how many active-set iterations, additions and drops a step takes (counted by replaying the
-  law's solve, ``active_set._solve_step``, on the same approaches) and what each costs at the run's contact
+  law's solve, ``active_set.solve_step``, on the same approaches) and what each costs at the run's contact
   set (each kernel timed alone in a compiled loop, on the state the run ended with).
 
 The sum of the itemised costs is printed against the measured law: the difference is what is not
@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.contact import active_set as steps
-from wheelrail.core.contact import halfspace_model
+from wheelrail.core.contact import cholesky, halfspace_model
 from wheelrail.core.interaction import _commit, _history, prepare_run
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 
@@ -52,7 +52,7 @@ def _loop_without_law(j0, j1, track, wheel, preload, xi_w0, forces, offset):
 def _law_alone(known, compliance, law):
     total = 0.0
     for s in range(known.size):
-        status, force, on_centre, count = halfspace_model._halfspace_step(s, known[s], compliance[s], law)
+        status, force, on_centre, count = halfspace_model.halfspace_step(s, known[s], compliance[s], law)
         total += force
     return total
 
@@ -62,7 +62,7 @@ def _repeat_forward(upper, m, rhs, reps):
     for _ in range(reps):
         for a in range(m):
             rhs[a] = 1.0
-        steps._forward(upper, m, rhs)
+        cholesky.forward(upper, m, rhs)
 
 
 @njit
@@ -70,7 +70,7 @@ def _repeat_backward(upper, m, rhs, reps):
     for _ in range(reps):
         for a in range(m):
             rhs[a] = 1.0
-        steps._backward(upper, m, rhs)
+        cholesky.backward(upper, m, rhs)
 
 
 @njit
@@ -89,8 +89,8 @@ def _repeat_append_remove(law, m, reps):
     order, active, z, counts, upper = state
     for _ in range(reps):
         element = order[m // 2]
-        steps._remove(order, m, upper, z, work[4], m // 2)
-        steps._append(grid, order, m - 1, upper, z, work[4], element)
+        cholesky.remove(order, m, upper, z, work[4], m // 2)
+        cholesky.append(grid, order, m - 1, upper, z, work[4], element)
 
 
 def _params(args) -> ModelParameters:
@@ -206,7 +206,7 @@ def _decisions(known, compliance, law):
         for row in range(ny):
             for column in range(nx):
                 gap[row * nx + column] = base[row * nx + column] - ramp[s] * lines[row, first + column]
-        status, force, delta, iterations = steps._solve_step(law, True, known[s], compliance[s])
+        status, force, delta, iterations = steps.solve_step(law, True, known[s], compliance[s])
         if force > 0.0:
             out[s, 0] = iterations
             out[s, 1] = (active & ~before).sum()

@@ -135,12 +135,12 @@ def _run_chunk_3d():
     The law's names become globals of this module, not values the loop closes over: numba's cache key
     includes the closure's values, and a compiled function pickles differently in every process.
     """
-    global STEP_CONVERGED, _halfspace_step
-    from wheelrail.core.contact import active_set, halfspace_model
+    global STEP_CONVERGED, halfspace_step
+    from wheelrail.core.contact import active_set, cholesky, halfspace_model
     from wheelrail.core.contact.active_set import STEP_CONVERGED
-    from wheelrail.core.contact.halfspace_model import _halfspace_step
+    from wheelrail.core.contact.halfspace_model import halfspace_step
 
-    return _define_run_chunk_3d(sources_stamp(halfspace_model, active_set, loop_kernels))
+    return _define_run_chunk_3d(sources_stamp(halfspace_model, active_set, cholesky, loop_kernels))
 
 
 def _define_run_chunk_3d(stamp):
@@ -162,7 +162,7 @@ def _define_run_chunk_3d(stamp):
         for j in range(j0, j1):
             delta_known, c, q, w0, s_pred = _history(j, track, wheel, preload, xi_w0)
             s = j - offset
-            status, f, on_centre, count = _halfspace_step(s, delta_known, c, law)
+            status, f, on_centre, count = halfspace_step(s, delta_known, c, law)
             if status != STEP_CONVERGED:
                 return j, status
             length[s] = on_centre * dx
@@ -343,7 +343,7 @@ class InteractionRun(HeaderView):
     def _run_in_3d(self, s0: int, s1: int) -> None:
         """Run-in steps s0..s1-1 of the ``3d`` law on its tabulated law (``contact.run_in_law``); at the
         run-in's end the 3D law's warm state is put at the last approach, on the first recorded step's gap."""
-        from wheelrail.core.contact.run_in_law import _run_in_chunk, run_in_table, warm_start
+        from wheelrail.core.contact.run_in_law import run_in_chunk, run_in_table, warm_start
 
         loop, preload = self.loop, self.params.contact.preload
         if self._table is None:  # the static approach under the preload (run_setup.static_equilibrium) as scale
@@ -351,7 +351,7 @@ class InteractionRun(HeaderView):
             self._table = run_in_table(self._law, loop.n_run_in, preload, static)
         j0, j1, constants = loop.n_hist + s0, loop.n_hist + s1, (preload, loop.xi_w0, loop.n_hist)
         outputs = (self.xi_wheel, self.xi_rail)
-        approach = _run_in_chunk(
+        approach = run_in_chunk(
             j0, j1, loop.track, loop.wheel, constants, self._table, loop.ramp, self._segment, outputs
         )
         if s1 == loop.n_run_in:

@@ -18,10 +18,12 @@ in the order of the rows of the upper factor ``upper[:m, :m]``, ``active`` its m
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
+
+import wheelrail.core.contact.cholesky as cholesky  # (not `from the package import`: the package imports this lazily)
+from wheelrail.core.compiled import sources_stamp
+from wheelrail.core.contact.cholesky import append, backward, factorize, forward, remove
 
 __all__ = [
     "FULL_MATRIX_ELEMENTS",
@@ -31,8 +33,11 @@ __all__ = [
     "STEP_NEEDS_ROOM",
     "STEP_NOT_DEFINITE",
     "ActiveSetSolver",
+    "cached_grid",
+    "cold_start_set",
     "displacement",
     "influence_grid",
+    "solve_step",
 ]
 
 STEP_CONVERGED = 0
@@ -53,41 +58,6 @@ def _coordinates(ny, nx):
         rows[i] = i // nx
         columns[i] = i - rows[i] * nx
     return rows, columns
-
-
-@njit(cache=True, fastmath=True)
-def _factor_full(grid, order, m, upper):
-    """Upper Cholesky factor U (C_AA = U^T U) of the contact set ``order[:m]`` into ``upper[:m, :m]``.
-
-    ``grid`` = (kernel, rows, columns). Computed as the lower factor L = U^T with row-wise dot products, then
-    transposed. Returns False if C_AA is not positive definite.
-    """
-    kernel, rows, columns = grid
-    ny = (kernel.shape[0] + 1) // 2
-    nx = (kernel.shape[1] + 1) // 2
-    lower = np.empty((m, m))
-    for a in range(m):
-        row = rows[order[a]] + ny - 1
-        column = columns[order[a]] + nx - 1
-        for b in range(a + 1):
-            lower[a, b] = kernel[row - rows[order[b]], column - columns[order[b]]]
-    for j in range(m):
-        pivot = lower[j, j]
-        for k in range(j):
-            pivot -= lower[j, k] * lower[j, k]
-        if pivot <= 0.0:
-            return False
-        d = math.sqrt(pivot)
-        lower[j, j] = d
-        for i in range(j + 1, m):
-            t = lower[i, j]
-            for k in range(j):
-                t -= lower[i, k] * lower[j, k]
-            lower[i, j] = t / d
-    for a in range(m):
-        for b in range(a + 1):
-            upper[b, a] = lower[a, b]
-    return True
 
 
 @njit(cache=True, inline="always")
@@ -116,9 +86,22 @@ def influence_grid(kernel: np.ndarray, full_matrix: bool | None = None) -> tuple
     """The solver's view of a window's influence coefficients: (kernel, kernel reversed, influence matrix C or
     0 x 0, row and column of each element).
 
-    ``C[i, j] = kernel[row_i - row_j + ny - 1, column_i - column_j + nx - 1]`` (eq. 8) is built for windows up
-    to ``FULL_MATRIX_ELEMENTS`` elements (default) or as ``full_matrix`` says: the deformed gap outside the
-    set is then one contiguous dot product per element.
+    Parameters
+    ----------
+    kernel : ndarray, shape (2 ny - 1, 2 nx - 1)
+        Influence kernel of eq. (8), m/Pa (``contact.influence.influence_kernel``).
+    full_matrix : bool, optional
+        Build the influence matrix C (default: for windows up to ``FULL_MATRIX_ELEMENTS`` elements).
+
+    Returns
+    -------
+    tuple
+        (kernel, kernel reversed, C (n x n) or 0 x 0, row of each element, column of each element).
+
+    Notes
+    -----
+    ``C[i, j] = kernel[row_i - row_j + ny - 1, column_i - column_j + nx - 1]``: with it the deformed gap
+    outside the set is one contiguous dot product per element (``docs/benchmarks.md``, "The contact solver").
     """
     kernel = np.array(kernel, dtype=np.float64)  # writable: one numba specialisation
     ny, nx = (kernel.shape[0] + 1) // 2, (kernel.shape[1] + 1) // 2
@@ -129,6 +112,21 @@ def influence_grid(kernel: np.ndarray, full_matrix: bool | None = None) -> tuple
             kernel[rows[:, None] - rows[None, :] + ny - 1, columns[:, None] - columns[None, :] + nx - 1]
         )
     return kernel, np.ascontiguousarray(kernel[::-1, ::-1]), full, rows, columns
+
+
+_GRIDS: dict = {}  # window key -> the solver's influence grid (the last few windows')
+
+
+def cached_grid(key: tuple, kernel: np.ndarray) -> tuple:
+    """The influence grid (:func:`influence_grid`) of the window ``key`` (any hashable naming its shape, element
+    size and material) with this kernel, cached for the last few windows."""
+    grid = _GRIDS.pop(key, None)
+    if grid is None:
+        grid = influence_grid(kernel)
+        while len(_GRIDS) >= 4:
+            _GRIDS.pop(next(iter(_GRIDS)))
+    _GRIDS[key] = grid  # (re)inserted last: the oldest is dropped first
+    return grid
 
 
 class ActiveSetSolver:
@@ -151,6 +149,11 @@ class ActiveSetSolver:
         itself does not use it.
     capacity : int, optional
         Rows of the factor's first buffer (default: twice the start set plus 64, at most the window).
+
+    See Also
+    --------
+    wheelrail.core.contact.window.HalfSpaceWindow : one-off solves that fill a solver from a start.
+    wheelrail.core.contact.halfspace_model.HalfSpaceModel : the ``3d`` model, which steps one in its loop.
 
     Notes
     -----
@@ -231,137 +234,6 @@ class ActiveSetSolver:
         return self.law[1][4][:m, :m].copy(), z[:m].copy()
 
 
-# --- Triangular solves and the factor's updates, z = U^-T 1 kept with the factor ---------------------
-
-
-@njit(cache=True, fastmath=True)
-def _forward(upper, m, rhs):
-    """Solve U^T y = rhs in place: rows of U contiguous, axpys on the unsolved tail, four rows at a time."""
-    k = 0
-    while k + 4 <= m:
-        y0 = rhs[k] / upper[k, k]
-        y1 = (rhs[k + 1] - upper[k, k + 1] * y0) / upper[k + 1, k + 1]
-        y2 = (rhs[k + 2] - upper[k, k + 2] * y0 - upper[k + 1, k + 2] * y1) / upper[k + 2, k + 2]
-        y3 = (rhs[k + 3] - upper[k, k + 3] * y0 - upper[k + 1, k + 3] * y1 - upper[k + 2, k + 3] * y2) / upper[
-            k + 3, k + 3
-        ]
-        rhs[k], rhs[k + 1], rhs[k + 2], rhs[k + 3] = y0, y1, y2, y3
-        r0, r1, r2, r3 = upper[k, k + 4 : m], upper[k + 1, k + 4 : m], upper[k + 2, k + 4 : m], upper[k + 3, k + 4 : m]
-        tail = rhs[k + 4 : m]
-        for j in range(tail.size):
-            tail[j] -= r0[j] * y0 + r1[j] * y1 + r2[j] * y2 + r3[j] * y3
-        k += 4
-    for i in range(k, m):
-        y = rhs[i] / upper[i, i]
-        rhs[i] = y
-        row = upper[i, i + 1 : m]
-        tail = rhs[i + 1 : m]
-        for j in range(tail.size):
-            tail[j] -= row[j] * y
-
-
-@njit(cache=True, fastmath=True)
-def _backward(upper, m, rhs):
-    """Solve U x = rhs in place: dot products of rows of U with the solved tail, four rows at a time."""
-    k = m
-    while k >= 4:
-        r0, r1, r2, r3 = upper[k - 4, k:m], upper[k - 3, k:m], upper[k - 2, k:m], upper[k - 1, k:m]
-        tail = rhs[k:m]
-        s0 = s1 = s2 = s3 = 0.0
-        for j in range(tail.size):
-            x = tail[j]
-            s0 += r0[j] * x
-            s1 += r1[j] * x
-            s2 += r2[j] * x
-            s3 += r3[j] * x
-        x3 = (rhs[k - 1] - s3) / upper[k - 1, k - 1]
-        x2 = (rhs[k - 2] - s2 - upper[k - 2, k - 1] * x3) / upper[k - 2, k - 2]
-        x1 = (rhs[k - 3] - s1 - upper[k - 3, k - 2] * x2 - upper[k - 3, k - 1] * x3) / upper[k - 3, k - 3]
-        x0 = (rhs[k - 4] - s0 - upper[k - 4, k - 3] * x1 - upper[k - 4, k - 2] * x2 - upper[k - 4, k - 1] * x3) / upper[
-            k - 4, k - 4
-        ]
-        rhs[k - 4], rhs[k - 3], rhs[k - 2], rhs[k - 1] = x0, x1, x2, x3
-        k -= 4
-    for i in range(k - 1, -1, -1):
-        row = upper[i, i + 1 : m]
-        tail = rhs[i + 1 : m]
-        s = 0.0
-        for j in range(tail.size):
-            s += row[j] * tail[j]
-        rhs[i] = (rhs[i] - s) / upper[i, i]
-
-
-@njit(cache=True, fastmath=True)
-def _append(grid, order, m, upper, z, column, element):
-    """Add ``element`` as row/column m of the factor and entry m of z = U^-T 1, O(m^2): U^T w = C_Ae,
-    U[m, m] = sqrt(C_ee - w.w), z_m = (1 - w.z) / U[m, m]. Returns False if not positive definite."""
-    kernel, _, full, rows, columns = grid
-    ny = (kernel.shape[0] + 1) // 2
-    nx = (kernel.shape[1] + 1) // 2
-    if full.shape[0] > 0:
-        row = full[element]
-        for a in range(m):
-            column[a] = row[order[a]]
-    else:
-        for a in range(m):
-            column[a] = kernel[rows[element] - rows[order[a]] + ny - 1, columns[element] - columns[order[a]] + nx - 1]
-    _forward(upper, m, column)
-    square = kernel[ny - 1, nx - 1]
-    s = 1.0
-    for k in range(m):
-        upper[k, m] = column[k]
-        square -= column[k] * column[k]
-        s -= column[k] * z[k]
-    if square <= 0.0:
-        return False
-    upper[m, m] = math.sqrt(square)
-    z[m] = s / upper[m, m]
-    order[m] = element
-    return True
-
-
-@njit(cache=True, fastmath=True)
-def _remove(order, m, upper, z, scratch, position):
-    """Remove the element at ``position`` from the factor of size m and from z = U^-T 1, O(m^2).
-
-    The factor's trailing block gets the rank-1 update U33^T U33 + u u^T (u = U[position, position+1:]) by
-    rotations (Golub and Van Loan, *Matrix Computations*, 4th ed., section 6.5.4); the same rotations applied
-    to (z3, z_position) give the new trailing part of z.
-    """
-    p = position
-    x = scratch
-    for j in range(p + 1, m):
-        x[j] = upper[p, j]
-    t = z[p]
-    for i in range(p + 1, m):
-        diagonal = upper[i, i]
-        xi = x[i]
-        r = math.sqrt(diagonal * diagonal + xi * xi)
-        c = r / diagonal
-        s = xi / diagonal
-        upper[i, i] = r
-        row = upper[i, i + 1 : m]
-        rest = x[i + 1 : m]
-        for j in range(row.size):
-            updated = (row[j] + s * rest[j]) / c
-            row[j] = updated
-            rest[j] = c * rest[j] - s * updated
-        zi = (z[i] + s * t) / c
-        z[i] = zi
-        t = c * t - s * zi
-    for i in range(p):
-        row = upper[i, p:m]
-        for j in range(row.size - 1):
-            row[j] = row[j + 1]
-    for i in range(p, m - 1):
-        target = upper[i, i : m - 1]
-        source = upper[i + 1, i + 1 : m]
-        for j in range(target.size):
-            target[j] = source[j]
-        z[i] = z[i + 1]
-        order[i] = order[i + 1]
-
-
 # --- The active-set steps on the persistent state ---------------------------------------------------
 
 
@@ -377,7 +249,7 @@ def _pressure_on_set(upper, order, m, gap, z, y, pressure, law):
     coupled, target, compliance_area = law
     for a in range(m):
         y[a] = gap[order[a]]
-    _forward(upper, m, y)
+    forward(upper, m, y)
     zz = 0.0
     zy = 0.0
     for a in range(m):
@@ -389,7 +261,7 @@ def _pressure_on_set(upper, order, m, gap, z, y, pressure, law):
         delta = (target + zy) / zz
     for a in range(m):
         y[a] = delta * z[a] - y[a]
-    _backward(upper, m, y)
+    backward(upper, m, y)
     pmax = 0.0
     for a in range(m):
         pressure[order[a]] = y[a]
@@ -459,7 +331,7 @@ def _displacement_kernel(grid, order, m, pressure, candidates, count, u):
 def _penetrating(grid, order, m, work, active, limits):
     """Elements outside the set that penetrate (eq. 10: d >= 0, d below ``glimit``) into ``work[3]``; their
     count. d = h - delta + C p (eq. 11) is computed where h - delta < ``margin`` only (u = C p >= 0
-    elsewhere). ``limits`` = (delta, margin, glimit, one_at_a_time): as in :func:`_solve_step`.
+    elsewhere). ``limits`` = (delta, margin, glimit, one_at_a_time): as in :func:`solve_step`.
     """
     pressure, gap, _, changes, _, u = work
     delta, margin, glimit, one_at_a_time = limits
@@ -506,7 +378,7 @@ def _drop(state, m, pressure, changes, n_drop, scratch):
                 kept += 1
         return kept, False
     for r in range(n_drop - 1, -1, -1):
-        _remove(order, m, upper, z, scratch, changes[r])
+        remove(order, m, upper, z, scratch, changes[r])
         m -= 1
     return m, True
 
@@ -523,7 +395,7 @@ def _add(grid, state, m, factored, changes, n_add, scratch):
         active[changes[r]] = True
     if factored and 8 * n_add <= m and m + n_add <= upper.shape[0]:
         for r in range(n_add):
-            if not (factored and _append(grid, order, m, upper, z, scratch, changes[r])):
+            if not (factored and append(grid, order, m, upper, z, scratch, changes[r])):
                 factored = False  # (numerically) not positive definite: factor afresh next time
                 order[m] = changes[r]
             m += 1
@@ -535,7 +407,7 @@ def _add(grid, state, m, factored, changes, n_add, scratch):
 
 
 @njit(cache=True, inline="always")
-def _solve_step(law, coupled, target, compliance):
+def solve_step(law, coupled, target, compliance):
     """Eqs. 8-11 on the gap in ``work[1]`` from the warm state: coupled (``target`` = delta_known, m; delta =
     delta_known - c F) or load-controlled (``target`` = F, N; ``compliance`` unused).
 
@@ -569,12 +441,12 @@ def _solve_step(law, coupled, target, compliance):
                 if m > upper.shape[0]:
                     status = STEP_NEEDS_ROOM
                     break
-                if not _factor_full(grid3, order, m, upper):
+                if not factorize(grid3, order, m, upper):
                     status = STEP_NOT_DEFINITE
                     break
                 for a in range(m):
                     z[a] = 1.0
-                _forward(upper, m, z)
+                forward(upper, m, z)
                 factored = True
             delta, pmax = _pressure_on_set(upper, order, m, gap, z, y, pressure, on_set)
             n_drop = _tension_elements(pressure, order, m, pmax, tol, one_at_a_time, changes)
@@ -594,14 +466,61 @@ def _solve_step(law, coupled, target, compliance):
     return status, total * area, delta, iterations
 
 
-@njit(cache=True)
-def _solve_gap(law, coupled, target, compliance):
-    """:func:`_solve_step` called from Python (:class:`ActiveSetSolver`'s one-off solves)."""
-    return _solve_step(law, coupled, target, compliance)
+def _define_solve_gap(stamp):
+    @njit(cache=True)
+    def solve_gap(law, coupled, target, compliance):
+        """:func:`solve_step` called from Python (:class:`ActiveSetSolver`'s one-off solves)."""
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
+        return solve_step(law, coupled, target, compliance)
+
+    return solve_gap
+
+
+_solve_gap = _define_solve_gap(sources_stamp(cholesky))
+
+
+def cold_start_set(
+    flat: np.ndarray, area: float, modulus: float, coupled: bool, target: float, compliance: float
+) -> np.ndarray:
+    """First guess of the contact set: the rigid overlap at half the approach, as for Hertz.
+
+    For quadratic surfaces Hertz gives a contact area half the rigid overlap area at the same approach
+    (the overlap at depth delta/2) and F = (4/3) E* a delta. Taking A_g(t) = overlap area at depth t
+    below the lowest point, a_c = sqrt(A_g(t) / pi) and delta = 2 t, the guess solves F(t) = load
+    (or 2 t + c F(t) = delta_known - min h in the coupled form). Any set works; a good one saves
+    factorisations.
+    """
+    order = np.sort(flat - flat.min())
+    count = np.arange(1, order.size + 1)
+    # test depth t = order[k]: overlap count k+1 (approximately), estimated force and approach
+    force = (4.0 / 3.0) * modulus * np.sqrt(count * area / np.pi) * 2.0 * order
+    if coupled:
+        lhs = 2.0 * order + compliance * force
+        available = target - flat.min()
+        if available <= 0.0:
+            return np.zeros(flat.size, dtype=bool)
+        k = int(np.searchsorted(lhs, available))
+    else:
+        k = int(np.searchsorted(force, target))
+    k = min(max(k, 0), order.size - 1)
+    return (flat - flat.min()) <= order[k]
 
 
 def displacement(grid: tuple, pressure: np.ndarray) -> np.ndarray:
-    """u = C p (eq. 8) on the whole flattened window for the flattened pressure (Pa), m."""
+    """u = C p (eq. 8) on the whole flattened window for the flattened pressure (Pa), m.
+
+    Parameters
+    ----------
+    grid : tuple
+        The window's influence grid (:func:`influence_grid`).
+    pressure : ndarray, shape (ny nx,)
+        Element pressures, Pa.
+
+    Returns
+    -------
+    ndarray, shape (ny nx,)
+        Combined normal displacement u at the element centres, m.
+    """
     pressure = np.ascontiguousarray(pressure, dtype=np.float64)
     order = np.flatnonzero(pressure)
     n = pressure.size

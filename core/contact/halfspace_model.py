@@ -4,7 +4,7 @@ The window (2 half_x + 1 elements along the rail, the rows of ``ModelInputs.line
 the wheel. Each step builds the window's undeformed gap h = x^2 / (2 R_x) + y^2 / (2 R_y) - r (eq. 11; the
 relative radii of ``ContactParameters``, (x^2 + y^2) / (2 R) for the paper's crossed cylinders) and solves
 eqs. 8-11 coupled with delta = delta_known - c F by the active set of ``contact.active_set``, warm-started
-from the last loaded step. :func:`_halfspace_step` is that step in compiled code, inlined into the loop's
+from the last loaded step. :func:`halfspace_step` is that step in compiled code, inlined into the loop's
 compiled chunk (``interaction._run_chunk_3d``) and into :data:`_python_step` (:meth:`HalfSpaceModel.solve`).
 """
 
@@ -14,20 +14,20 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.compiled import sources_stamp
-from wheelrail.core.contact import active_set
+from wheelrail.core.contact import active_set, cholesky
 from wheelrail.core.contact.active_set import (
     STEP_AT_EDGE,
     STEP_CONVERGED,
     STEP_NEEDS_ROOM,
     ActiveSetSolver,
-    _solve_step,
     influence_grid,
+    solve_step,
 )
 from wheelrail.core.contact.window import HalfSpaceWindow
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, ContactState, ModelInputs
 
-__all__ = ["HalfSpaceModel"]
+__all__ = ["HalfSpaceModel", "halfspace_step", "track_inputs"]
 
 
 class HalfSpaceModel(ContactModel):
@@ -105,7 +105,7 @@ class HalfSpaceModel(ContactModel):
 
 
 def track_inputs(base_gap: np.ndarray, inputs: ModelInputs) -> tuple:
-    """What :func:`_halfspace_step` reads of the track: (smooth gap flattened (m), roughness rows (m), sample
+    """What :func:`halfspace_step` reads of the track: (smooth gap flattened (m), roughness rows (m), sample
     under the wheel centre per step, the run-in's fade-in factor per step, half_x, the chosen line's row)."""
     return (
         np.ascontiguousarray(base_gap, dtype=np.float64).ravel(),
@@ -118,7 +118,7 @@ def track_inputs(base_gap: np.ndarray, inputs: ModelInputs) -> tuple:
 
 
 @njit(cache=True, inline="always")
-def _halfspace_step(s, approach_known, compliance, law):
+def halfspace_step(s, approach_known, compliance, law):
     """Step s of the ``3d`` law: the window's gap under the wheel, then the coupled solve.
 
     Returns (status, F (N), elements in contact on the centre row, elements in contact); ``STEP_AT_EDGE`` when
@@ -135,7 +135,7 @@ def _halfspace_step(s, approach_known, compliance, law):
     for row in range(ny):
         for column in range(nx):
             gap[row * nx + column] = base[row * nx + column] - fade * lines[row, first + column]
-    status, force, _, _ = _solve_step(law, True, approach_known, compliance)
+    status, force, _, _ = solve_step(law, True, approach_known, compliance)
     if force == 0.0 or status != STEP_CONVERGED:
         return status, force, 0, 0
     rows, columns = grid[3], grid[4]
@@ -153,11 +153,11 @@ def _halfspace_step(s, approach_known, compliance, law):
 def _define_python_step(stamp):
     @njit(cache=True)
     def python_step(s, approach_known, compliance, law):
-        """:func:`_halfspace_step` called from Python (``HalfSpaceModel.solve``)."""
+        """:func:`halfspace_step` called from Python (``HalfSpaceModel.solve``)."""
         stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
-        return _halfspace_step(s, approach_known, compliance, law)
+        return halfspace_step(s, approach_known, compliance, law)
 
     return python_step
 
 
-_python_step = _define_python_step(sources_stamp(active_set))
+_python_step = _define_python_step(sources_stamp(active_set, cholesky))

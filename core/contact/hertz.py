@@ -193,6 +193,25 @@ def hertz_force(compression, constant: float) -> np.ndarray:
     -------
     ndarray
         F_n in N, same shape as ``compression``; 0 where compression < 0.
+
+    Raises
+    ------
+    WheelrailError
+        If ``compression`` is not finite numbers or ``constant`` not a positive number.
+
+    See Also
+    --------
+    hertz_constant, hertz_stiffness, hertz_approach
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, eq. (12).
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact import hertz_constant, hertz_force
+    >>> round(float(hertz_force(77.07e-6, hertz_constant())) / 1e3, 1)   # kN at the static approach
+    65.0
     """
     compression = finite_array("hertz_force: compression", compression, "m")
     constant = checks.positive("hertz_force", "constant", constant, "N/m^1.5")
@@ -214,6 +233,21 @@ def hertz_stiffness(compression, constant: float) -> np.ndarray:
     -------
     ndarray
         N/m, same shape as ``compression``.
+
+    Raises
+    ------
+    WheelrailError
+        As :func:`hertz_force`.
+
+    See Also
+    --------
+    hertz_force
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact import hertz_constant, hertz_stiffness
+    >>> f"{float(hertz_stiffness(77.07e-6, hertz_constant())):.3g}"   # N/m: 1.5 F / delta
+    '1.27e+09'
     """
     compression = finite_array("hertz_stiffness: compression", compression, "m")
     constant = checks.positive("hertz_stiffness", "constant", constant, "N/m^1.5")
@@ -234,6 +268,21 @@ def hertz_approach(force, constant: float) -> np.ndarray:
     -------
     ndarray
         Delta zeta in m (77.07 um at 65 kN with the paper's values).
+
+    Raises
+    ------
+    WheelrailError
+        If ``force`` is not finite numbers >= 0 or ``constant`` not a positive number.
+
+    See Also
+    --------
+    hertz_force
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact import hertz_approach, hertz_constant
+    >>> round(float(hertz_approach(65e3, hertz_constant())) * 1e6, 2)   # um
+    77.07
     """
     force = finite_array("hertz_approach: force", force, "N")
     constant = checks.positive("hertz_approach", "constant", constant, "N/m^1.5")

@@ -4,7 +4,7 @@ During the run-in the window stays on the roughness under step 0 (faded in), so 
 function of the approach (and the fade) alone. On a fixed contact set it is exactly linear in the approach
 (``active_set._pressure_on_set``: p_A = C_AA^-1 (delta 1 - h_A)), with a kink where the set changes:
 :func:`tabulate_law` finds it with the 3D solver itself (displacement-controlled solves with their slopes),
-:func:`run_in_table` builds the run-in's law from two such tables, and the compiled :data:`_run_in_chunk`
+:func:`run_in_table` builds the run-in's law from two such tables, and the compiled :data:`run_in_chunk`
 steps the run-in on it (``interaction.InteractionRun``; ``docs/physics.md``, "How a step is solved").
 """
 
@@ -17,13 +17,13 @@ from numba import njit
 
 from wheelrail.core import loop_kernels
 from wheelrail.core.compiled import sources_stamp
-from wheelrail.core.contact import active_set, halfspace_model
+from wheelrail.core.contact import active_set, cholesky, halfspace_model
 from wheelrail.core.contact.active_set import STEP_AT_EDGE, STEP_CONVERGED, STEP_NEEDS_ROOM, ActiveSetSolver
-from wheelrail.core.contact.halfspace_model import _halfspace_step
+from wheelrail.core.contact.halfspace_model import halfspace_step
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.loop_kernels import _commit, _history
 
-__all__ = ["run_in_table", "tabulate_law", "warm_start"]
+__all__ = ["run_in_chunk", "run_in_table", "step_gap", "tabulate_law", "warm_start"]
 
 # 3d's run-in law (run_in_table), in units of the static approach: T_0 and T_1 solved every 8 %, T_1 also every
 # 4 % where F is within RUN_IN_TABLE_BAND x P and again at its kinks there (exact), both up to RUN_IN_TABLE_FORCE
@@ -49,7 +49,7 @@ def _define_sweep(stamp):
         order, z, counts = state[0], state[2], state[3]
         area = law[4][2]
         for k in range(deltas.size):
-            status, force, _, _ = _halfspace_step(s, deltas[k], 0.0, law)
+            status, force, _, _ = halfspace_step(s, deltas[k], 0.0, law)
             if status != STEP_CONVERGED and status != STEP_AT_EDGE:
                 return k, status
             m = counts[0] if force > 0.0 else 0
@@ -66,7 +66,7 @@ def _define_sweep(stamp):
     return sweep
 
 
-_sweep = _define_sweep(sources_stamp(halfspace_model, active_set))
+_sweep = _define_sweep(sources_stamp(halfspace_model, active_set, cholesky))
 
 
 def _solve_at(steps: ActiveSetSolver, s: int, deltas: np.ndarray, force_stop: float = math.inf):
@@ -94,7 +94,7 @@ def warm_start(steps: ActiveSetSolver, s: int, approach: float) -> None:
 
 
 def step_gap(steps: ActiveSetSolver, s: int) -> np.ndarray:
-    """The undeformed gap of step s's window (ny, nx), m (as :func:`_halfspace_step` builds it)."""
+    """The undeformed gap of step s's window (ny, nx), m (as :func:`halfspace_step` builds it)."""
     base, lines, start_index, ramp, half_x, _ = steps.track
     i = int(start_index[s])
     return base.reshape(-1, 2 * half_x + 1) - ramp[s] * lines[:, i - half_x : i + half_x + 1]
@@ -238,4 +238,4 @@ def _define_run_in_chunk(stamp):
     return run_in_chunk
 
 
-_run_in_chunk = _define_run_in_chunk(sources_stamp(loop_kernels))
+run_in_chunk = _define_run_in_chunk(sources_stamp(loop_kernels))

@@ -1,21 +1,10 @@
 """3D non-Hertzian normal contact of two elastic half-spaces (paper section 2.3.2, eqs. 8-11).
 
-Geometry and sign convention (z positive downwards into the rail, as in the paper)
------------------------------------------------------------------------------------
-The potential contact area is a window of ``ny x nx`` square elements of side ``element_size``
-(rows = lateral y', columns = rolling direction x'). For each element the *undeformed gap* is
-
-    h_e = z_Re - z_We - r_e                                   (the x-independent part of eq. 11)
-
-in m, positive where the surfaces are apart. For crossed cylinders of equal radius R (the paper's wheel
-and railhead) ``z_Re - z_We = (x'^2 + y'^2) / (2 R)``: a sphere of radius R on a flat. ``r = r_W - r_R`` is the
-combined roughness (r_W, r_R positive downwards), so a bump on the wheel (r_W > 0) or on the rail (r_R < 0)
-*reduces* the gap. With the approach ``delta = xi_W - xi_R`` (m, positive when wheel and rail move
-towards each other) the deformed gap of eq. (11) is
-
-    d_e = h_e - delta + u_e,     u = C p   (eq. 8),     F = A_e sum(p)   (eq. 9),
-
-and the contact conditions (10) are d >= 0, p >= 0, d p = 0.
+The window is ``ny x nx`` square elements of side ``element_size`` (rows across the rail, columns along
+it); a solve takes the undeformed gap h (m, positive where the surfaces are apart: for the paper's crossed
+cylinders (x^2 + y^2) / (2 R) - r) and finds the pressure p >= 0 with the deformed gap d = h - delta + C p
+>= 0, d p = 0 (eqs. 8, 10, 11) under a load F = A_e sum(p) (eq. 9) or with delta = delta_known - c F.
+Sign convention: ``wheelrail.core.contact``.
 
 How
 ---
@@ -47,8 +36,9 @@ from wheelrail.core.contact.active_set import (
     STEP_CONVERGED,
     STEP_NOT_DEFINITE,
     ActiveSetSolver,
+    cached_grid,
+    cold_start_set,
     displacement,
-    influence_grid,
 )
 from wheelrail.core.contact.influence import influence_kernel
 from wheelrail.core.errors import WheelrailError
@@ -142,6 +132,44 @@ class HalfSpaceWindow:
         down to ``-tolerance * (delta - min(h))`` count as zero.
     max_iterations : int
         Maximum number of active-set iterations (linear solves) per solve.
+
+    Raises
+    ------
+    WheelrailError
+        If the shape is not two integers of at least 2, the element size, tolerance or iteration count not
+        positive, or ``contact`` not ContactParameters.
+
+    See Also
+    --------
+    solve_normal_contact, solve_coupled_contact : one-off solves on a fresh window.
+    wheelrail.core.contact.halfspace_model.HalfSpaceModel : the ``3d`` model, which steps the same solver.
+
+    Notes
+    -----
+    The solver is :class:`~wheelrail.core.contact.active_set.ActiveSetSolver` (module docstring of
+    ``contact.active_set``); a window fills one from its warm state for each solve.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, section 2.3.2, eqs. (8)-(11).
+    J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer, 1990 (the active set).
+
+    Examples
+    --------
+    The paper's crossed cylinders (R = 0.39 m) on 1 mm elements, then two steps of a rolling run:
+
+    >>> import numpy as np
+    >>> from wheelrail.core.contact import HalfSpaceWindow
+    >>> c = (np.arange(24) - 11.5) * 1e-3
+    >>> gap = (c[:, None] ** 2 + c[None, :] ** 2) / (2 * 0.39)
+    >>> window = HalfSpaceWindow(gap.shape, 1e-3)
+    >>> static = window.solve(gap, load=65e3)
+    >>> round(static.approach * 1e6, 1), int(static.contact.sum())   # um (Hertz: 77.07), elements
+    (77.1, 96)
+    >>> for known in (80e-6, 82e-6):
+    ...     step = window.solve_coupled(gap, approach_known=known, compliance=1e-9)
+    >>> bool(abs(step.approach - (82e-6 - 1e-9 * step.force)) < 1e-15)
+    True
     """
 
     def __init__(
@@ -314,9 +342,9 @@ class HalfSpaceWindow:
         order, factor = start if start is not None else (None, None)
         if order is None:
             modulus = reduced_modulus(self.youngs_modulus, self.poisson_ratio)
-            order = np.flatnonzero(_cold_start_set(flat, area, modulus, coupled, float(target), float(compliance)))
+            order = np.flatnonzero(cold_start_set(flat, area, modulus, coupled, float(target), float(compliance)))
         solver = ActiveSetSolver(
-            _grid(self._key, self._kernel),
+            cached_grid(self._key, self._kernel),
             order,
             (self._tolerance, self._max_iterations, area, self._cautious),
             factor=factor,
@@ -327,7 +355,7 @@ class HalfSpaceWindow:
         contact = np.zeros(ny * nx, dtype=bool)
         if force > 0.0:
             contact[solver.contact_set()] = True
-        separation = flat - delta + displacement(_grid(self._key, self._kernel), pressure)
+        separation = flat - delta + displacement(cached_grid(self._key, self._kernel), pressure)
         contact, pressure, separation = (a.reshape(ny, nx) for a in (contact, pressure, separation))
         for array in (contact, pressure, separation):
             array.setflags(write=False)
@@ -376,20 +404,6 @@ class HalfSpaceWindow:
                 f"({ny * element_size * 1e3:.3g} x {nx * element_size * 1e3:.3g} mm); "
                 "the window is too small for the load, use a larger window"
             )
-
-
-_GRIDS: dict = {}  # window key -> the solver's influence grid (the last few windows')
-
-
-def _grid(key: tuple, kernel: np.ndarray) -> tuple:
-    """The solver's influence grid of a window (shape, element size, material) with this kernel, cached."""
-    grid = _GRIDS.pop(key, None)
-    if grid is None:
-        grid = influence_grid(kernel)
-        while len(_GRIDS) >= 4:
-            _GRIDS.pop(next(iter(_GRIDS)))
-    _GRIDS[key] = grid  # (re)inserted last: the oldest is dropped first
-    return grid
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -445,33 +459,6 @@ def _initial_set(where: str, initial, shape, key, name: str = "initial"):
     return np.flatnonzero(mask), None
 
 
-def _cold_start_set(
-    flat: np.ndarray, area: float, modulus: float, coupled: bool, target: float, compliance: float
-) -> np.ndarray:
-    """First guess of the contact set: the rigid overlap at half the approach, as for Hertz.
-
-    For quadratic surfaces Hertz gives a contact area half the rigid overlap area at the same approach
-    (the overlap at depth delta/2) and F = (4/3) E* a delta. Taking A_g(t) = overlap area at depth t
-    below the lowest point, a_c = sqrt(A_g(t) / pi) and delta = 2 t, the guess solves F(t) = load
-    (or 2 t + c F(t) = delta_known - min h in the coupled form). Any set works; a good one saves
-    factorisations.
-    """
-    order = np.sort(flat - flat.min())
-    count = np.arange(1, order.size + 1)
-    # test depth t = order[k]: overlap count k+1 (approximately), estimated force and approach
-    force = (4.0 / 3.0) * modulus * np.sqrt(count * area / np.pi) * 2.0 * order
-    if coupled:
-        lhs = 2.0 * order + compliance * force
-        available = target - flat.min()
-        if available <= 0.0:
-            return np.zeros(flat.size, dtype=bool)
-        k = int(np.searchsorted(lhs, available))
-    else:
-        k = int(np.searchsorted(force, target))
-    k = min(max(k, 0), order.size - 1)
-    return (flat - flat.min()) <= order[k]
-
-
 # ---------------------------------------------------------------------------------------------------
 # One-off solves
 # ---------------------------------------------------------------------------------------------------
@@ -515,6 +502,36 @@ def solve_normal_contact(
     Returns
     -------
     NormalContactResult
+
+    Raises
+    ------
+    WheelrailError
+        On bad input; unless ``raise_on_failure`` is False, also when the solve does not converge or the
+        contact reaches the window's edge.
+
+    See Also
+    --------
+    HalfSpaceWindow.solve : the same on a window that keeps its warm state.
+    solve_coupled_contact : the approach coupled to the wheel and rail instead of a load.
+
+    Notes
+    -----
+    An exact active-set method (module docstring of ``contact.active_set``): the answer satisfies eq. (10)
+    to ``tolerance`` relative, whatever the start.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, eqs. (8)-(11).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.contact import solve_normal_contact
+    >>> c = (np.arange(24) - 11.5) * 1e-3
+    >>> gap = (c[:, None] ** 2 + c[None, :] ** 2) / (2 * 0.39)   # the paper's crossed cylinders, m
+    >>> result = solve_normal_contact(gap, 1e-3, load=65e3)
+    >>> round(result.pressure.max() / 1e6), round(result.force)   # MPa (Hertz p0: 1033), N
+    (1027, 65000)
     """
     where = "solve_normal_contact"
     load = _positive(where, "load", load, "N")
@@ -565,6 +582,31 @@ def solve_coupled_contact(
     -------
     NormalContactResult
         ``approach`` is the consistent delta = approach_known - compliance * force.
+
+    Raises
+    ------
+    WheelrailError
+        As :func:`solve_normal_contact`.
+
+    See Also
+    --------
+    HalfSpaceWindow.solve_coupled : the same on a window that keeps its warm state.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, eqs. (1), (2), (8)-(11).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.contact import solve_coupled_contact
+    >>> c = (np.arange(24) - 11.5) * 1e-3
+    >>> gap = (c[:, None] ** 2 + c[None, :] ** 2) / (2 * 0.39)
+    >>> step = solve_coupled_contact(gap, 1e-3, approach_known=80e-6, compliance=1e-9)
+    >>> round(step.force / 1e3, 1), round(step.approach * 1e6, 2)   # kN, um
+    (32.0, 48.02)
+    >>> solve_coupled_contact(gap, 1e-3, approach_known=-1e-6, compliance=1e-9).force   # lifted off
+    0.0
     """
     where = "solve_coupled_contact"
     approach_known, compliance = _coupling(where, approach_known, compliance)

@@ -12,8 +12,10 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # module -> the functions and classes whose docstrings must carry an Examples section
 DOCUMENTED = {
-    "wheelrail.core.contact.hertz": ["hertz_constant"],
+    "wheelrail.core.contact.hertz": ["hertz_constant", "hertz_force", "hertz_stiffness", "hertz_approach"],
     "wheelrail.core.contact.influence": ["influence_kernel"],
+    "wheelrail.core.contact.prefilter": ["winkler_equivalent_roughness", "average_roughness"],
+    "wheelrail.core.contact.window": ["HalfSpaceWindow", "solve_normal_contact", "solve_coupled_contact"],
     "wheelrail.core.contact.winkler": ["bedding_stiffness", "winkler_contact"],
     "wheelrail.core.interaction": ["prepare_run", "simulate"],
     "wheelrail.core.parameters": ["ContactParameters"],
