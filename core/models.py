@@ -261,19 +261,19 @@ _BUILTIN = (
         name="hertz",
         label="Hertz spring, unfiltered roughness (eqs. 12-14)",
         traits=ModelTraits(law=LAW_HERTZ),
-        implementation="wheelrail.core.contact.hertz:HertzModel",
+        implementation="wheelrail.core.contact.hertz_model:HertzModel",
     ),
     ModelEntry(
         name="hertz-winkler",
         label="Hertz spring, roughness pre-filtered by the Winkler bedding",
         traits=ModelTraits(law=LAW_HERTZ),
-        implementation="wheelrail.core.contact.hertz:HertzWinklerModel",
+        implementation="wheelrail.core.contact.hertz_model:HertzWinklerModel",
     ),
     ModelEntry(
         name="hertz-average",
         label="Hertz spring, roughness averaged over the contact length 2a",
         traits=ModelTraits(law=LAW_HERTZ),
-        implementation="wheelrail.core.contact.hertz:HertzAverageModel",
+        implementation="wheelrail.core.contact.hertz_model:HertzAverageModel",
     ),
 )
 

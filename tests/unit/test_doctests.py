@@ -12,7 +12,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # module -> the functions and classes whose docstrings must carry an Examples section
 DOCUMENTED = {
-    "wheelrail.core.contact.hertz": ["hertz_constant", "hertz_force", "hertz_stiffness", "hertz_approach"],
+    "wheelrail.core.contact.hertz": ["hertz_force", "hertz_stiffness", "hertz_approach"],
+    "wheelrail.core.contact.hertz_model": ["hertz_constant"],
     "wheelrail.core.contact.influence": ["influence_kernel"],
     "wheelrail.core.contact.prefilter": ["winkler_equivalent_roughness", "average_roughness"],
     "wheelrail.core.contact.window": ["HalfSpaceWindow", "solve_normal_contact", "solve_coupled_contact"],
