@@ -9,11 +9,11 @@ loaded). Prints
   shared, and the CPU figure is what the step costs when it has a core);
 * eqs. 1-2 alone (history and commit, the track convolution of ``_scatter``): the same loop with the law
   replaced by the forces the run found;
-* the contact law alone (``halfspace_steps._halfspace_step``: gap assembly and solve), replayed on the
+* the contact law alone (``halfspace_model.halfspace_step``: gap assembly and solve), replayed on the
   approaches the run handed it, from the same start;
-* inside the law: how many active-set iterations, additions and drops a step takes (counted by the
-  per-step reference solver on the same run: the compiled law takes the same decisions) and what each costs
-  at the run's contact set (each kernel timed alone in a compiled loop, on the state the run ended with).
+* inside the law: how many active-set iterations, additions and drops a step takes (counted by replaying the
+  law's solve, ``active_set.solve_step``, on the same approaches) and what each costs at the run's contact
+  set (each kernel timed alone in a compiled loop, on the state the run ended with).
 
 The sum of the itemised costs is printed against the measured law: the difference is what is not
 itemised (the tension check, bookkeeping, cache misses between the pieces).
@@ -27,8 +27,8 @@ import time
 import numpy as np
 from numba import njit
 
-from wheelrail.core.contact import halfspace_steps as steps
-from wheelrail.core.contact.halfspace_model import HalfSpaceReferenceModel
+from wheelrail.core.contact import active_set as steps
+from wheelrail.core.contact import cholesky, halfspace_model
 from wheelrail.core.interaction import prepare_run
 from wheelrail.core.loop_kernels import commit_force, known_approach
 from wheelrail.core.parameters import ContactParameters, ModelParameters
@@ -50,10 +50,19 @@ def _loop_without_law(j0, j1, track, wheel, preload, xi_w0, forces, offset):
 
 
 @njit
+def _law_alone_from(first, known, compliance, law):
+    total = 0.0
+    for s in range(first, known.size):
+        status, force, on_centre, count = halfspace_model.halfspace_step(s, known[s], compliance[s], law)
+        total += force
+    return total
+
+
+@njit
 def _law_alone(known, compliance, law):
     total = 0.0
     for s in range(known.size):
-        status, force, on_centre, count = steps._halfspace_step(s, known[s], compliance[s], law)
+        status, force, on_centre, count = halfspace_model.halfspace_step(s, known[s], compliance[s], law)
         total += force
     return total
 
@@ -63,7 +72,7 @@ def _repeat_forward(upper, m, rhs, reps):
     for _ in range(reps):
         for a in range(m):
             rhs[a] = 1.0
-        steps._forward(upper, m, rhs)
+        cholesky.forward(upper, m, rhs)
 
 
 @njit
@@ -71,7 +80,7 @@ def _repeat_backward(upper, m, rhs, reps):
     for _ in range(reps):
         for a in range(m):
             rhs[a] = 1.0
-        steps._backward(upper, m, rhs)
+        cholesky.backward(upper, m, rhs)
 
 
 @njit
@@ -90,8 +99,8 @@ def _repeat_append_remove(law, m, reps):
     order, active, z, counts, upper = state
     for _ in range(reps):
         element = order[m // 2]
-        steps._remove(order, m, upper, z, work[4], m // 2)
-        steps._append(grid, order, m - 1, upper, z, work[4], element)
+        cholesky.remove(order, m, upper, z, work[4], m // 2)
+        cholesky.append(grid, order, m - 1, upper, z, work[4], element)
 
 
 def _params(args) -> ModelParameters:
@@ -120,14 +129,15 @@ def main() -> None:
     prepare_run(SET, model="3d", params=params, length=0.05).run()  # warm-up
 
     run = prepare_run(SET, model="3d", params=params, length=args.length_m)
+    loop = run.loop
+    run._advance_to(loop.n_run_in)  # the run-in (on its tabulated law) is not timed: recorded steps only
     wall, cpu = time.perf_counter(), time.process_time()
     run.run()
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
-    loop = run.loop
-    n = loop.n_total
+    n, r = loop.n_steps, loop.n_run_in
     radii = f"{params.contact.radius_along * 1e3:g} / {params.contact.radius_across * 1e3:g} mm"
     print(
-        f"{SET}, {args.length_m:g} m + {loop.n_run_in} run-in steps, window {run._law.shape[0]} x "
+        f"{SET}, {args.length_m:g} m ({n} recorded steps timed; {r} run-in steps before), window {run._law.shape[0]} x "
         f"{run._law.shape[1]}, relative radii along / across {radii}"
     )
     print(
@@ -143,21 +153,27 @@ def main() -> None:
     _loop_without_law(j0, j0 + 1, f.track, f.wheel, params.contact.preload, f.xi_w0, forces, 0)
     fresh = prepare_run(SET, model="3d", params=params, length=args.length_m)
     f = fresh.loop
+    before = _loop_without_law(j0, j0 + r, f.track, f.wheel, params.contact.preload, f.xi_w0, forces, 0)
     start = time.process_time()
-    known, compliance = _loop_without_law(j0, j1, f.track, f.wheel, params.contact.preload, f.xi_w0, forces, 0)
+    after = _loop_without_law(j0 + r, j1, f.track, f.wheel, params.contact.preload, f.xi_w0, forces, 0)
     history = (time.process_time() - start) / n * 1e6
+    known, compliance = (np.concatenate(pair) for pair in zip(before, after, strict=True))
     print(f"  eqs. 1-2 (history, track convolution of {loop.weights.shape[1]} lags, commit) {history:6.1f} us")
 
     # the law alone on the same approaches, from the same start
     _law_alone(known[:1], compliance[:1], prepare_run(SET, model="3d", params=params, length=0.05)._law.law)
     law = fresh._law.law
+    _law_alone(known[:r], compliance[:r], law)  # the run-in's steps, replayed on the 3D law, untimed
+    _law_alone_from(known.size, known, compliance, law)  # compile (no step)
     start = time.process_time()
-    _law_alone(known, compliance, law)
+    _law_alone_from(r, known, compliance, law)
     law_us = (time.process_time() - start) / n * 1e6
     print(f"  contact law (gap assembly + solve)                        {law_us:6.1f} us")
     print(f"  rest (outputs: pressure map, lengths; not itemised)       {cpu / n * 1e6 - history - law_us:6.1f} us")
 
-    decisions = _decisions_from_reference(params, args.length_m)
+    decisions = _decisions(
+        known, compliance, prepare_run(SET, model="3d", params=params, length=args.length_m)._law.law
+    )[r:]
     iterations, added, dropped, elements = decisions.mean(axis=0)
     m = int(round(elements))
     state_law = run._law.law
@@ -176,7 +192,7 @@ def main() -> None:
     update = _per_call(_repeat_append_remove, state_law, size, 5000, reps=5000)
     print(
         f"  inside the law, per step: {iterations:.2f} iterations, {added:.2f} elements added, {dropped:.2f} "
-        f"dropped, {m} in contact (decisions of the per-step reference solver)"
+        f"dropped, {m} in contact (the law's decisions, replayed)"
     )
     print(
         f"    per iteration: forward + backward substitution {forward:.1f} + {backward:.1f} us, deformed gap "
@@ -190,25 +206,28 @@ def main() -> None:
     )
 
 
-def _decisions_from_reference(params, length):
-    run = prepare_run(SET, model="3d", params=params, length=length)
-    model = HalfSpaceReferenceModel()
-    model.prepare(run.contact._inputs)
-    counts = []
-    for s in range(run.loop.n_total):
-        j = run.loop.n_hist + s
-        delta_known, c, q, w0, s_pred = known_approach(
-            j, run.loop.track, run.loop.wheel, params.contact.preload, run.loop.xi_w0
-        )
-        before = model._window._warm[0]
-        state = model.solve(s, delta_known, c)
-        last = model._window.last
-        after = np.flatnonzero(last.contact)
-        counts.append((last.iterations, np.setdiff1d(after, before).size, np.setdiff1d(before, after).size, after.size))
-        commit_force(
-            j, state.force, run.loop.track, run.loop.wheel, s_pred, params.contact.preload, run.loop.xi_w0, q, w0
-        )
-    return np.array(counts, dtype=float)
+@njit
+def _decisions(known, compliance, law):
+    """(iterations, elements added, dropped, in contact) per step of the law replayed on these approaches."""
+    _, state, work, track, _ = law
+    base, lines, start_index, ramp, half_x, _ = track
+    nx = 2 * half_x + 1
+    ny = base.size // nx
+    gap, active = work[1], state[1]
+    out = np.zeros((known.size, 4))
+    for s in range(known.size):
+        before = active.copy()
+        first = start_index[s] - half_x
+        for row in range(ny):
+            for column in range(nx):
+                gap[row * nx + column] = base[row * nx + column] - ramp[s] * lines[row, first + column]
+        status, force, delta, iterations = steps.solve_step(law, True, known[s], compliance[s])
+        if force > 0.0:
+            out[s, 0] = iterations
+            out[s, 1] = (active & ~before).sum()
+            out[s, 2] = (before & ~active).sum()
+            out[s, 3] = state[3][0]
+    return out
 
 
 if __name__ == "__main__":

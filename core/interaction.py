@@ -60,7 +60,7 @@ __all__ = [
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
 CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets them in time
-# s: a 3d run-in this long or longer runs on the law tabulated (contact.halfspace_table); its fade-in's blend then
+# s: a 3d run-in this long or longer runs on the law tabulated (contact.run_in_law); its fade-in's blend then
 # leaves at most 0.014 N (0.108 s at 100 km/h), 0.2-2.4 N after a run-in of 1-36 ms, which the 3D solver steps
 TABULATED_RUN_IN_TIME = 0.1
 
@@ -77,19 +77,20 @@ def _run_chunk_3d():
     The law's names become globals of this module, not values the loop closes over: numba's cache key
     includes the closure's values, and a compiled function pickles differently in every process.
     """
-    global STEP_CONVERGED, _halfspace_step
-    from wheelrail.core.contact import halfspace_solver, halfspace_steps
-    from wheelrail.core.contact.halfspace_steps import STEP_CONVERGED, _halfspace_step
+    global STEP_CONVERGED, halfspace_step
+    from wheelrail.core.contact import active_set, cholesky, halfspace_model
+    from wheelrail.core.contact.active_set import STEP_CONVERGED
+    from wheelrail.core.contact.halfspace_model import halfspace_step
 
-    return _define_run_chunk_3d(sources_stamp(halfspace_steps, halfspace_solver, loop_kernels))
+    return _define_run_chunk_3d(sources_stamp(halfspace_model, active_set, cholesky, loop_kernels))
 
 
 def _define_run_chunk_3d(stamp):
     @njit(cache=True, nogil=True)
     def run_chunk_3d(j0, j1, track, wheel, constants, law, out):
-        """Advance the compiled 3D law (``contact.halfspace_steps``) over history indices j0..j1-1, without
+        """Advance the compiled 3D law (``contact.halfspace_model``) over history indices j0..j1-1, without
         the GIL (a live view's threads run meanwhile). ``constants`` = (preload, xi_w0, n_hist, first step of
-        ``maps``, element size); ``law`` = ``HalfSpaceSteps.law``; ``out`` = (xi_wheel, xi_rail,
+        ``maps``, element size); ``law`` = ``ActiveSetSolver.law``; ``out`` = (xi_wheel, xi_rail,
         contact_length, contact_area per step s, and ``maps``: the float32 pressure map of steps
         first..first + len - 1).
 
@@ -103,7 +104,7 @@ def _define_run_chunk_3d(stamp):
         for j in range(j0, j1):
             delta_known, c, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
             s = j - offset
-            status, f, on_centre, count = _halfspace_step(s, delta_known, c, law)
+            status, f, on_centre, count = halfspace_step(s, delta_known, c, law)
             if status != STEP_CONVERGED:
                 return j, status
             length[s] = on_centre * dx
@@ -275,7 +276,7 @@ class InteractionRun(HeaderView):
                 self.last_pressure = state.pressure
 
     def _advance_3d(self, s0: int, s1: int) -> None:
-        from wheelrail.core.contact.halfspace_steps import STEP_NEEDS_ROOM
+        from wheelrail.core.contact.active_set import STEP_NEEDS_ROOM
 
         loop = self.loop
         if s0 < loop.n_run_in and self._tabulated:
@@ -304,9 +305,9 @@ class InteractionRun(HeaderView):
             raise WheelrailError(self.contact.failure_message(status, j - loop.n_hist))
 
     def _run_in_3d(self, s0: int, s1: int) -> None:
-        """Run-in steps s0..s1-1 of the ``3d`` law on its tabulated law (``contact.halfspace_table``); at the
+        """Run-in steps s0..s1-1 of the ``3d`` law on its tabulated law (``contact.run_in_law``); at the
         run-in's end the 3D law's warm state is put at the last approach, on the first recorded step's gap."""
-        from wheelrail.core.contact.halfspace_table import _run_in_chunk, run_in_table, warm_start
+        from wheelrail.core.contact.run_in_law import run_in_chunk, run_in_table, warm_start
 
         loop, preload = self.loop, self.params.contact.preload
         if self._table is None:  # the static approach under the preload (run_setup.static_equilibrium) as scale
@@ -314,7 +315,7 @@ class InteractionRun(HeaderView):
             self._table = run_in_table(self._law, loop.n_run_in, preload, static)
         j0, j1, constants = loop.n_hist + s0, loop.n_hist + s1, (preload, loop.xi_w0, loop.n_hist)
         outputs = (self.xi_wheel, self.xi_rail)
-        approach = _run_in_chunk(
+        approach = run_in_chunk(
             j0, j1, loop.track, loop.wheel, constants, self._table, loop.ramp, self._segment, outputs
         )
         if s1 == loop.n_run_in:

@@ -3,7 +3,7 @@
 ``known_approach`` (the wheel predicted with the last force, eq. 1 in its exact discrete form, and the rail's
 displacement from all earlier forces, eq. 2) and ``commit_force`` (the step's force into the rail's history and
 the wheel state) are inlined into every loop that steps a law: :data:`run_chunk` here (``hertz`` and bedding
-laws), the 3D law's in ``wheelrail.core.interaction`` and the ``3d`` run-in's in ``contact.halfspace_table``.
+laws), the 3D law's in ``wheelrail.core.interaction`` and the ``3d`` run-in's in ``contact.run_in_law``.
 ``track`` = (force, lo, hi, frac, weights, acc) and ``wheel`` = (phi, gamma0, gamma1, state): see
 ``run_setup.History``.
 """
@@ -17,8 +17,8 @@ from numba import njit
 
 from wheelrail.core.compiled import sources_stamp
 from wheelrail.core.contact import hertz, winkler
-from wheelrail.core.contact.hertz import _hertz_law
-from wheelrail.core.contact.winkler import _bedding_law
+from wheelrail.core.contact.hertz import hertz_law
+from wheelrail.core.contact.winkler import bedding_law
 from wheelrail.core.models import LAW_HERTZ
 
 __all__ = ["commit_force", "known_approach", "run_chunk", "scatter_history"]
@@ -91,11 +91,11 @@ def commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
 def _law(law, approach_known, compliance, roughness, s, shape, constants):
     """A compiled law (models.LAW_*) at step s: (F, contact length, contact area, reached the window's end)."""
     if law == LAW_HERTZ:
-        f, length, area = _hertz_law(
+        f, length, area = hertz_law(
             approach_known, compliance, roughness[s, 0], constants[0], constants[1], constants[2]
         )
         return f, length, area, False
-    return _bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
+    return bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
 
 
 # The chunk loop calls compiled code of other modules: numba's cache keys it on those sources too

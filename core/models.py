@@ -60,9 +60,9 @@ __all__ = [
     "unregister",
 ]
 
-LAW_HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz._hertz_law
-LAW_BEDDING = 1  # Winkler bedding on the line under the wheel (eqs. 3-6): contact.winkler._bedding_law
-LAW_HALFSPACE = 2  # 3D half-space on the window (eqs. 8-11): contact.halfspace_steps._halfspace_step
+LAW_HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz.hertz_law
+LAW_BEDDING = 1  # Winkler bedding on the line under the wheel (eqs. 3-6): contact.winkler.bedding_law
+LAW_HALFSPACE = 2  # 3D half-space on the window (eqs. 8-11): contact.halfspace_model.halfspace_step
 _LAWS = (None, LAW_HERTZ, LAW_BEDDING, LAW_HALFSPACE)
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 
@@ -215,7 +215,7 @@ class ContactModel:
 
     def law_inputs(self) -> LawInputs:
         """Compiled law: the kernel's inputs for every step (``LAW_HALFSPACE``: a
-        ``contact.halfspace_steps.HalfSpaceSteps``)."""
+        ``contact.active_set.ActiveSetSolver``)."""
         raise NotImplementedError
 
     def solve(self, s: int, approach_known: float, compliance: float) -> ContactState:
@@ -295,19 +295,19 @@ _BUILTIN = (
         name="hertz",
         label="Hertz spring, unfiltered roughness (eqs. 12-14)",
         traits=ModelTraits(law=LAW_HERTZ),
-        implementation="wheelrail.core.contact.hertz:HertzModel",
+        implementation="wheelrail.core.contact.hertz_model:HertzModel",
     ),
     ModelEntry(
         name="hertz-winkler",
         label="Hertz spring, roughness pre-filtered by the Winkler bedding",
         traits=ModelTraits(law=LAW_HERTZ),
-        implementation="wheelrail.core.contact.hertz:HertzWinklerModel",
+        implementation="wheelrail.core.contact.hertz_model:HertzWinklerModel",
     ),
     ModelEntry(
         name="hertz-average",
         label="Hertz spring, roughness averaged over the contact length 2a",
         traits=ModelTraits(law=LAW_HERTZ),
-        implementation="wheelrail.core.contact.hertz:HertzAverageModel",
+        implementation="wheelrail.core.contact.hertz_model:HertzAverageModel",
     ),
 )
 

@@ -15,6 +15,7 @@ from dataclasses import asdict, dataclass, field, fields, is_dataclass
 
 from wheelrail.core.accepted import ACCEPTED, MAX_SPEED_KMH, MIN_SPEED_KMH, check_patch, raise_concave_tread
 from wheelrail.core.checks import integer, real
+from wheelrail.core.contact.hertz import HertzContact, elliptic_hertz
 from wheelrail.core.errors import WheelrailError
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
@@ -24,7 +25,6 @@ __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re
     "MAX_SPEED_KMH",
     "MIN_SPEED_KMH",
     "ContactParameters",
-    "HertzContact",
     "ModelParameters",
     "RailParameters",
     "RunParameters",
@@ -33,7 +33,6 @@ __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re
     "TrackParameters",
     "WheelParameters",
     "as_dict",
-    "elliptic_hertz",
     "field_names",
     "from_dict",
     "hertz_constant",
@@ -62,75 +61,6 @@ def reduced_modulus(youngs_modulus: float, poisson_ratio: float) -> float:
 def hertz_constant(youngs_modulus: float, poisson_ratio: float, radius: float) -> float:
     """C_H = (2/3) E / (1 - nu^2) sqrt(R) = (4/3) E* sqrt(R) of eq. (13), N/m^1.5 (9.608e10 at the defaults)."""
     return 4.0 / 3.0 * reduced_modulus(youngs_modulus, poisson_ratio) * math.sqrt(radius)
-
-
-class HertzContact(typing.NamedTuple):
-    """Hertz's solution for two bodies whose undeformed gap is x^2 / (2 R_x) + y^2 / (2 R_y).
-
-    ``semi_axis_along`` a (along x, the rail) and ``semi_axis_across`` b (across, y), m; ``peak_pressure``
-    p0, Pa; ``approach`` delta, m; ``constant`` C of F = C delta^1.5, N/m^1.5. Both semi-axes grow as
-    sqrt(delta), so ``radius_along`` = a^2 / delta and ``radius_across`` = b^2 / delta (m) give them at any
-    approach (both are R for a circle: a = sqrt(R delta)).
-    """
-
-    semi_axis_along: float
-    semi_axis_across: float
-    peak_pressure: float
-    approach: float
-    constant: float
-
-    @property
-    def radius_along(self) -> float:
-        return self.semi_axis_along**2 / self.approach
-
-    @property
-    def radius_across(self) -> float:
-        return self.semi_axis_across**2 / self.approach
-
-
-def _ellipse_eccentricity(ratio: float) -> float:
-    """m = e^2 = 1 - (b/a)^2 of the ellipse whose curvature ratio is ``ratio`` = B / A >= 1 (Johnson, Contact
-    Mechanics, eq. 4.39a: B/A = ((a/b)^2 E(e) - K(e)) / (K(e) - E(e)), a >= b). Written with Carlson's R_D,
-    (K - E)/m = R_D(0, 1-m, 1)/3 and (E - (1-m) K)/m = (1-m) R_D(0, 1, 1-m)/3, which do not cancel near
-    the circle; solved for k = b/a by Brent's method to round-off."""
-    from scipy.optimize import brentq
-    from scipy.special import elliprd
-
-    def excess(k: float) -> float:  # B/A - ratio as a function of k = b/a (1 at k = 1, growing as k falls)
-        k2 = k * k
-        return elliprd(0.0, 1.0, k2) / elliprd(0.0, k2, 1.0) - ratio
-
-    k = brentq(excess, 1e-9, 1.0, xtol=1e-17, rtol=1e-15, maxiter=200)
-    return 1.0 - float(k) * float(k)
-
-
-def elliptic_hertz(load: float, radius_x: float, radius_y: float, modulus: float) -> HertzContact:
-    """Hertz's elliptic contact (Johnson, Contact Mechanics, section 4.2) under ``load`` (N) for the relative
-    radii of curvature ``radius_x`` along the rail and ``radius_y`` across it (m) and E* = ``modulus`` (Pa).
-
-    With A = 1/(2 R) the smaller and B the larger relative curvature, the major semi-axis a lies along A's
-    direction and, for m = e^2 = 1 - (b/a)^2 (eq. 4.39a fixes it from B/A),
-    a^3 = 3 P (K - E) / (2 pi m A E*),  p0 = 3 P / (2 pi a b),  delta = p0 b K(e) / E*  (eqs. 4.36-4.38),
-    and C = P / delta^1.5. Equal radii give the circle, a = b = (3 P R / (4 E*))^(1/3), delta = a^2 / R,
-    C = (4/3) E* sqrt(R) (computed with those closed forms, so the paper's case is unchanged to the bit).
-    """
-    if radius_x == radius_y:
-        a = (3.0 * load * radius_x / (4.0 * modulus)) ** (1.0 / 3.0)
-        constant = 4.0 / 3.0 * modulus * math.sqrt(radius_x)
-        return HertzContact(a, a, 3.0 * load / (2.0 * math.pi * a**2), (load / constant) ** (2.0 / 3.0), constant)
-    from scipy.special import ellipk, elliprd
-
-    r_major, r_minor = max(radius_x, radius_y), min(radius_x, radius_y)
-    m = _ellipse_eccentricity(r_major / r_minor)
-    curvature = 1.0 / (2.0 * r_major)
-    k_minus_e_over_m = elliprd(0.0, 1.0 - m, 1.0) / 3.0
-    major = (3.0 * load * k_minus_e_over_m / (2.0 * math.pi * curvature * modulus)) ** (1.0 / 3.0)
-    major = float(major)
-    minor = major * math.sqrt(1.0 - m)
-    p0 = 3.0 * load / (2.0 * math.pi * major * minor)
-    approach = p0 * minor * float(ellipk(m)) / modulus
-    a, b = (major, minor) if radius_x >= radius_y else (minor, major)
-    return HertzContact(a, b, p0, approach, load / approach**1.5)
 
 
 def _check(owner: object, name: str, unit: str, *, allow_zero: bool = False) -> None:
@@ -496,7 +426,18 @@ class ContactParameters:
         return reduced_modulus(self.youngs_modulus, self.poisson_ratio)
 
     def hertz(self, load: float | None = None) -> HertzContact:
-        """Hertz's (elliptic) contact of these radii under ``load`` (default the preload): :func:`elliptic_hertz`."""
+        """Hertz's (elliptic) contact of these radii under a load.
+
+        Parameters
+        ----------
+        load : float, optional
+            Normal load, N; default the preload.
+
+        Returns
+        -------
+        HertzContact
+            Semi-axes, peak pressure, approach and constant of :func:`~wheelrail.core.contact.hertz.elliptic_hertz`.
+        """
         load = self.preload if load is None else load
         return elliptic_hertz(load, self.radius_along, self.radius_across, self.reduced_modulus)
 
@@ -508,21 +449,48 @@ class ContactParameters:
         return self.hertz().constant
 
     def patch_radii(self) -> tuple[float, float]:
-        """(rho_x, rho_y) with the Hertz semi-axes a = sqrt(rho_x delta), b = sqrt(rho_y delta) at any approach
-        delta, m: (R, R) for the paper's circle, a^2 / delta and b^2 / delta of :func:`elliptic_hertz` else."""
+        """The radii that give the Hertz semi-axes at any approach: a = sqrt(rho_x delta), b = sqrt(rho_y delta).
+
+        Returns
+        -------
+        tuple of float
+            (rho_x, rho_y), m: (R, R) for the paper's circle, a^2 / delta and b^2 / delta of the elliptic solution
+            otherwise.
+        """
         if self.circular:
             return self.radius_along, self.radius_along
         contact = self.hertz()
         return contact.radius_along, contact.radius_across
 
     def hertz_semi_axes(self, load: float | None = None) -> tuple[float, float]:
-        """Hertz semi-axes (a along the rail, b across it), m (5.48 mm each at the defaults)."""
+        """Hertz semi-axes, a along the rail and b across it.
+
+        Parameters
+        ----------
+        load : float, optional
+            Normal load, N; default the preload.
+
+        Returns
+        -------
+        tuple of float
+            (a, b), m (5.48 mm each at the defaults, the paper's value).
+        """
         contact = self.hertz(load)
         return contact.semi_axis_along, contact.semi_axis_across
 
     def hertz_radius(self, load: float | None = None) -> float:
-        """Hertz contact radius a = (3 P R / (4 E*))^(1/3), m (5.48 mm at the defaults); for an elliptic patch
-        the radius of the circle of the same area, sqrt(a b)."""
+        """Hertz contact radius a = (3 P R / (4 E*))^(1/3); for an elliptic patch that of the same area, sqrt(a b).
+
+        Parameters
+        ----------
+        load : float, optional
+            Normal load, N; default the preload.
+
+        Returns
+        -------
+        float
+            Radius, m (5.48 mm at the defaults).
+        """
         load = self.preload if load is None else load
         if self.circular:
             return (3.0 * load * self.radius_along / (4.0 * self.reduced_modulus)) ** (1.0 / 3.0)
@@ -530,12 +498,34 @@ class ContactParameters:
         return math.sqrt(a * b)
 
     def hertz_approach(self, load: float | None = None) -> float:
-        """Hertz approach delta = (P / C)^(2/3), m (77.07 um at the defaults)."""
+        """Hertz approach delta = (P / C)^(2/3).
+
+        Parameters
+        ----------
+        load : float, optional
+            Normal load, N; default the preload.
+
+        Returns
+        -------
+        float
+            Approach, m (77.07 µm at the defaults).
+        """
         load = self.preload if load is None else load
         return (load / self.hertz_constant) ** (2.0 / 3.0)
 
     def hertz_peak_pressure(self, load: float | None = None) -> float:
-        """Hertz peak pressure p0 = 3 P / (2 pi a b), Pa (1032.6 MPa at the defaults)."""
+        """Hertz peak pressure p0 = 3 P / (2 pi a b).
+
+        Parameters
+        ----------
+        load : float, optional
+            Normal load, N; default the preload.
+
+        Returns
+        -------
+        float
+            Peak pressure, Pa (1032.6 MPa at the defaults).
+        """
         load = self.preload if load is None else load
         if self.circular:
             return 3.0 * load / (2.0 * math.pi * self.hertz_radius(load) ** 2)

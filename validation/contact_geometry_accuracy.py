@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from wheelrail.core.contact.halfspace import solve_normal_contact
+from wheelrail.core.contact.window import solve_normal_contact
 from wheelrail.core.contact.winkler import _winkler_force, calibrated_bedding, wheel_profile
 from wheelrail.core.parameters import ContactParameters
 
@@ -58,9 +58,7 @@ def solver_errors(contact: ContactParameters, dx: float, load: float | None = No
     nx, ny = math.ceil(1.3 * a / dx), math.ceil(1.3 * b / dx)
     x, y = np.arange(-nx, nx + 1) * dx, np.arange(-ny, ny + 1) * dx
     gap = x[None, :] ** 2 / (2 * contact.radius_along) + y[:, None] ** 2 / (2 * contact.radius_across)
-    result = solve_normal_contact(
-        gap, dx, load=load, youngs_modulus=contact.youngs_modulus, poisson_ratio=contact.poisson_ratio
-    )
+    result = solve_normal_contact(gap, dx, load=load, contact=contact)
     p = result.pressure
     total = p.sum() * dx * dx
     return {

@@ -7,7 +7,7 @@ run with the default run-in (``run_setup.DEFAULT_RUN_IN_TIME`` at the speed) and
 0.36 s), and the largest difference of the recorded force at the same positions is printed (target: 1 N).
 Also the same for shorter and longer run-in times, so the choice of the default can be seen, and for the
 old 1 m run-in. ``--3d`` adds the 3d model at 100 and 300 km/h: its default run-in (the tabulated 3D law,
-``contact.halfspace_table``) and the run-in stepped with the 3D solver, both against a 40 m run-in stepped
+``contact.run_in_law``) and the run-in stepped with the 3D solver, both against a 40 m run-in stepped
 with the 3D solver (slow: 40 m of 3d steps each).
 
 ``--timing``: a 3 m ``3d`` run on the corrugated rail (line 0, no pressure maps kept) at 100 and 300 km/h, the

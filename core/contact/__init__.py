@@ -6,26 +6,33 @@ r = r_W - r_R is positive when it pushes the surfaces together; the 3D gap is h 
 where the surfaces are apart. All quantities are SI.
 """
 
-from wheelrail.core.contact.hertz import hertz_approach, hertz_constant, hertz_force, hertz_stiffness
-from wheelrail.core.contact.prefilter import average_roughness, averaging_weights, winkler_equivalent_roughness
-from wheelrail.core.contact.winkler import WinklerContact, bedding_stiffness, wheel_profile, winkler_contact
+import importlib
 
-# The 3D half-space (its solver: ~20 compiled functions, whose set-up by numba a run of a one-line model
-# would pay at start) is imported on first use of one of its names.
-_HALFSPACE = (
-    "HalfSpaceWindow",
-    "NormalContactResult",
-    "influence_kernel",
-    "solve_coupled_contact",
-    "solve_normal_contact",
-)
+from wheelrail.core.contact.hertz import hertz_approach, hertz_force, hertz_stiffness
+
+# The rest is imported on first use of one of its names: ``parameters.ContactParameters`` imports Hertz's
+# solution from ``contact.hertz`` (so this package must not import ``parameters`` on the way), and the 3D
+# half-space's ~20 compiled functions would cost a run of a one-line model numba's set-up at start.
+_LAZY = {
+    "HalfSpaceWindow": "window",
+    "NormalContactResult": "window",
+    "influence_kernel": "influence",
+    "solve_coupled_contact": "window",
+    "solve_normal_contact": "window",
+    "hertz_constant": "hertz_model",
+    "average_roughness": "prefilter",
+    "averaging_weights": "prefilter",
+    "winkler_equivalent_roughness": "prefilter",
+    "WinklerContact": "winkler",
+    "bedding_stiffness": "winkler",
+    "wheel_profile": "winkler",
+    "winkler_contact": "winkler",
+}
 
 
 def __getattr__(name: str):
-    if name in _HALFSPACE:
-        from wheelrail.core.contact import halfspace
-
-        return getattr(halfspace, name)
+    if name in _LAZY:
+        return getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 

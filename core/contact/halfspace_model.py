@@ -1,42 +1,51 @@
 """``3d``: the elastic half-space on a window of roughness lines as a contact model of the loop (eqs. 8-11).
 
 The window (2 half_x + 1 elements along the rail, the rows of ``ModelInputs.lines`` across it) moves with
-the wheel. Each step solves the coupled contact of ``contact.halfspace`` on the undeformed gap
-h = x^2 / (2 R_x) + y^2 / (2 R_y) - r with the relative radii of ``ContactParameters`` (along: the wheel's
-rolling radius; across: rail crown and tread), (x^2 + y^2) / (2 R) for the paper's crossed cylinders, with
-delta = delta_known - c F.
-
-Two implementations of the same law:
-
-* :class:`HalfSpaceModel` (the registered ``3d``): compiled, stepped inside the loop's compiled chunk
-  (``contact.halfspace_steps``), tens of microseconds a step;
-* :class:`HalfSpaceReferenceModel`: the per-step form it replaced, one Python call of
-  ``HalfSpaceWindow.solve_coupled`` per step; kept as the reference the compiled law is tested against
-  (``tests/physics/test_halfspace_loop.py``).
+the wheel. Each step builds the window's undeformed gap h = x^2 / (2 R_x) + y^2 / (2 R_y) - r (eq. 11; the
+relative radii of ``ContactParameters``, (x^2 + y^2) / (2 R) for the paper's crossed cylinders) and solves
+eqs. 8-11 coupled with delta = delta_known - c F by the active set of ``contact.active_set``, warm-started
+from the last loaded step. :func:`halfspace_step` is that step in compiled code, inlined into the loop's
+compiled chunk (``interaction._run_chunk_3d``) and into :data:`_python_step` (:meth:`HalfSpaceModel.solve`).
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
-from wheelrail.core.contact.halfspace import HalfSpaceWindow
-from wheelrail.core.contact.halfspace_steps import (
+from wheelrail.core.compiled import sources_stamp
+from wheelrail.core.contact import active_set, cholesky
+from wheelrail.core.contact.active_set import (
     STEP_AT_EDGE,
     STEP_CONVERGED,
     STEP_NEEDS_ROOM,
-    HalfSpaceSteps,
-    _python_step,
+    ActiveSetSolver,
+    influence_grid,
+    solve_step,
 )
+from wheelrail.core.contact.window import HalfSpaceWindow
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, ContactState, ModelInputs
 
-__all__ = ["HalfSpaceModel", "HalfSpaceReferenceModel"]
+__all__ = ["HalfSpaceModel", "halfspace_step", "track_inputs"]
 
 
-class _HalfSpaceBase(ContactModel):
-    """The window's geometry and the static solve under the preload (shared by both implementations)."""
+class HalfSpaceModel(ContactModel):
+    """The ``3d`` contact model (``LAW_HALFSPACE``): eqs. 8-11 on a window that moves with the wheel.
+
+    The warm state lives in an :class:`~wheelrail.core.contact.active_set.ActiveSetSolver`'s arrays and every
+    step runs inside the loop's compiled chunk; :meth:`solve` steps it once from Python (the same arithmetic).
+
+    See Also
+    --------
+    wheelrail.core.contact.window.HalfSpaceWindow : one-off solves of the same equations.
+    """
+
+    step_options: dict = {}  # the solver's options (tests: full_matrix, capacity)
 
     def prepare(self, inputs: ModelInputs) -> float:
+        """The window's geometry, the static solve under the preload and the solver's first state; returns the
+        static approach, m."""
         contact = inputs.params.contact
         dx, hx = inputs.element_size, inputs.half_x
         x = np.arange(-hx, hx + 1) * dx
@@ -49,18 +58,24 @@ class _HalfSpaceBase(ContactModel):
         self._inputs = inputs
         self.window_x = x
         self.equivalent_line = inputs.centre_line
-        self._window = HalfSpaceWindow(
-            self._base_gap.shape, dx, youngs_modulus=contact.youngs_modulus, poisson_ratio=contact.poisson_ratio
+        window = HalfSpaceWindow(self._base_gap.shape, dx, contact=contact)
+        smooth = window.solve(self._base_gap, load=contact.preload)
+        options = dict(self.step_options)
+        self._steps = ActiveSetSolver(
+            influence_grid(window.kernel, options.pop("full_matrix", None)),
+            np.flatnonzero(smooth.contact),  # the first step from the preload's set, factored afresh
+            (window.tolerance, window.max_iterations, dx**2),
+            track=track_inputs(self._base_gap, inputs),
+            **options,
         )
-        smooth = self._window.solve(self._base_gap, load=contact.preload)
-        self._start(smooth.contact)  # the first step from the preload's set, factored afresh
         return float(smooth.approach)
 
-    def _start(self, contact: np.ndarray) -> None:
-        raise NotImplementedError
+    def law_inputs(self) -> ActiveSetSolver:
+        """The solver whose ``law`` the compiled loop steps."""
+        return self._steps
 
     def failure_message(self, status: int, s: int) -> str:
-        """Why the law stopped at step s (``halfspace_steps`` status)."""
+        """Why the law stopped at step s (``active_set`` status)."""
         inputs = self._inputs
         ny, nx = self._base_gap.shape
         if status == STEP_AT_EDGE:
@@ -70,28 +85,8 @@ class _HalfSpaceBase(ContactModel):
             )
         return f"3d: the contact solve did not converge at x = {inputs.position_of(s):.4f} m"
 
-
-class HalfSpaceModel(_HalfSpaceBase):
-    """Compiled law (``LAW_HALFSPACE``): the warm state lives in :class:`HalfSpaceSteps`' arrays and every step
-    runs inside the loop's compiled chunk; :meth:`solve` steps it once from Python (the same arithmetic)."""
-
-    def _start(self, contact: np.ndarray) -> None:
-        inputs, window = self._inputs, self._window
-        self._steps = HalfSpaceSteps(
-            window.kernel,
-            self._base_gap,
-            (inputs.lines, inputs.start_index, inputs.ramp, inputs.half_x, inputs.centre_row),
-            np.flatnonzero(contact),
-            (window.tolerance, window.max_iterations, inputs.element_size**2),
-            **self.step_options,
-        )
-
-    step_options: dict = {}  # HalfSpaceSteps' keyword options (tests: full_matrix, capacity)
-
-    def law_inputs(self) -> HalfSpaceSteps:
-        return self._steps
-
     def solve(self, s: int, approach_known: float, compliance: float) -> ContactState:
+        """Step s from Python: the contact state for this known approach (m) and compliance (m/N)."""
         status = STEP_NEEDS_ROOM
         while status == STEP_NEEDS_ROOM:
             status, force, on_centre, count = _python_step(
@@ -109,32 +104,60 @@ class HalfSpaceModel(_HalfSpaceBase):
         )
 
 
-class HalfSpaceReferenceModel(_HalfSpaceBase):
-    """Per-step law: warm-started active set on the moving window, pressure map at every step (the form the
-    compiled :class:`HalfSpaceModel` replaced, kept as its reference)."""
+def track_inputs(base_gap: np.ndarray, inputs: ModelInputs) -> tuple:
+    """What :func:`halfspace_step` reads of the track: (smooth gap flattened (m), roughness rows (m), sample
+    under the wheel centre per step, the run-in's fade-in factor per step, half_x, the chosen line's row)."""
+    return (
+        np.ascontiguousarray(base_gap, dtype=np.float64).ravel(),
+        np.ascontiguousarray(inputs.lines, dtype=np.float64),
+        np.ascontiguousarray(inputs.start_index, dtype=np.int64),
+        np.ascontiguousarray(inputs.ramp, dtype=np.float64),
+        int(inputs.half_x),
+        int(inputs.centre_row),
+    )
 
-    def _start(self, contact: np.ndarray) -> None:
-        self._window.start_from(contact)
 
-    def solve(self, s: int, approach_known: float, compliance: float) -> ContactState:
-        inputs = self._inputs
-        dx, hx = inputs.element_size, inputs.half_x
-        i = inputs.start_index[s]
-        gap = self._base_gap - inputs.ramp[s] * inputs.lines[:, i - hx : i + hx + 1]
-        # the window warm-starts from its last solve with F > 0 (contact set and Cholesky factor: the window
-        # moves with the wheel, so the patch stays centred; 1.8 instead of 5 active-set iterations per step)
-        # and keeps this one as its warm state only if it carries load
-        result = self._window.solve_coupled(
-            gap, approach_known=approach_known, compliance=compliance, raise_on_failure=False
-        )
-        if result.at_edge:
-            raise WheelrailError(self.failure_message(STEP_AT_EDGE, s))
-        if not result.converged:
-            raise WheelrailError(self.failure_message(-1, s))
-        mask = result.contact
-        return ContactState(
-            force=float(result.force),
-            contact_length=mask[inputs.centre_row].sum() * dx,
-            contact_area=mask.sum() * (dx * dx),
-            pressure=result.pressure,
-        )
+@njit(cache=True, inline="always")
+def halfspace_step(s, approach_known, compliance, law):
+    """Step s of the ``3d`` law: the window's gap under the wheel, then the coupled solve.
+
+    Returns (status, F (N), elements in contact on the centre row, elements in contact); ``STEP_AT_EDGE`` when
+    the converged set touches the window's border, ``STEP_NEEDS_ROOM`` when the step must be repeated with a
+    larger factor buffer.
+    """
+    grid, state, work, track, _ = law
+    base, lines, start_index, ramp, half_x, centre_row = track
+    gap = work[1]
+    nx = 2 * half_x + 1
+    ny = base.size // nx
+    first = start_index[s] - half_x
+    fade = ramp[s]
+    for row in range(ny):
+        for column in range(nx):
+            gap[row * nx + column] = base[row * nx + column] - fade * lines[row, first + column]
+    status, force, _, _ = solve_step(law, True, approach_known, compliance)
+    if force == 0.0 or status != STEP_CONVERGED:
+        return status, force, 0, 0
+    rows, columns = grid[3], grid[4]
+    order, m = state[0], state[3][0]
+    on_centre = 0
+    for a in range(m):
+        i = order[a]
+        if rows[i] == 0 or rows[i] == ny - 1 or columns[i] == 0 or columns[i] == nx - 1:
+            status = STEP_AT_EDGE
+        if rows[i] == centre_row:
+            on_centre += 1
+    return status, force, on_centre, m
+
+
+def _define_python_step(stamp):
+    @njit(cache=True)
+    def python_step(s, approach_known, compliance, law):
+        """:func:`halfspace_step` called from Python (``HalfSpaceModel.solve``)."""
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
+        return halfspace_step(s, approach_known, compliance, law)
+
+    return python_step
+
+
+_python_step = _define_python_step(sources_stamp(active_set, cholesky))

@@ -1,16 +1,17 @@
-"""Non-linear Hertzian contact spring (paper section 2.3.3, eqs. 12-14).
+"""Hertz's solution and the non-linear Hertzian contact spring (paper section 2.3.3, eqs. 12-14).
 
-Sign convention: the spring compression is Delta zeta = xi_W - xi_R + r_eq (eq. 14), m, with z positive
-downwards into the rail; the wheel pressing into the rail (or roughness sticking out of the wheel) is a
-positive compression. F = C_H Delta zeta^1.5 for Delta zeta >= 0 and F = 0 otherwise (loss of contact).
-
-The ``_``-prefixed functions are numba kernels for the time-stepping loop (scalar in, scalar out, no
-checks); the public functions check their input and work on arrays.
+:func:`elliptic_hertz` is Hertz's contact of two bodies whose gap is x^2 / (2 R_x) + y^2 / (2 R_y) (Johnson,
+*Contact Mechanics*, section 4.2; the circle in closed form), which ``parameters.ContactParameters`` reads.
+The spring: the compression is Delta zeta = xi_W - xi_R + r_eq (eq. 14), m, z positive downwards into the
+rail; F = C_H Delta zeta^1.5 for Delta zeta >= 0 and F = 0 otherwise (loss of contact). The ``_``-prefixed
+functions are numba kernels for the time-stepping loop (scalar in, scalar out, no checks); the public
+functions check their input and work on arrays. The ``hertz*`` contact models are in ``contact.hertz_model``.
 """
 
 from __future__ import annotations
 
 import math
+import typing
 
 import numpy as np
 from numba import njit
@@ -18,19 +19,118 @@ from numba import njit
 from wheelrail.core import checks
 from wheelrail.core.checks import finite_array
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
-from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS
-from wheelrail.core.parameters import hertz_constant as _hertz_constant
 
-__all__ = [
-    "HertzAverageModel",
-    "HertzModel",
-    "HertzWinklerModel",
-    "hertz_approach",
-    "hertz_constant",
-    "hertz_force",
-    "hertz_stiffness",
-]
+__all__ = ["HertzContact", "elliptic_hertz", "hertz_approach", "hertz_force", "hertz_stiffness"]
+
+
+class HertzContact(typing.NamedTuple):
+    """Hertz's solution for two bodies whose undeformed gap is x^2 / (2 R_x) + y^2 / (2 R_y).
+
+    ``semi_axis_along`` a (along x, the rail) and ``semi_axis_across`` b (across, y), m; ``peak_pressure``
+    p0, Pa; ``approach`` delta, m; ``constant`` C of F = C delta^1.5, N/m^1.5. Both semi-axes grow as
+    sqrt(delta), so ``radius_along`` = a^2 / delta and ``radius_across`` = b^2 / delta (m) give them at any
+    approach (both are R for a circle: a = sqrt(R delta)).
+
+    Attributes
+    ----------
+    semi_axis_along, semi_axis_across : float
+        a along the rail and b across it, m.
+    peak_pressure : float
+        p0, Pa.
+    approach : float
+        delta, m.
+    constant : float
+        C of F = C delta^1.5, N/m^1.5.
+
+    See Also
+    --------
+    elliptic_hertz : the solution for given radii and load.
+    """
+
+    semi_axis_along: float
+    semi_axis_across: float
+    peak_pressure: float
+    approach: float
+    constant: float
+
+    @property
+    def radius_along(self) -> float:
+        return self.semi_axis_along**2 / self.approach
+
+    @property
+    def radius_across(self) -> float:
+        return self.semi_axis_across**2 / self.approach
+
+
+def _ellipse_eccentricity(ratio: float) -> float:
+    """m = e^2 = 1 - (b/a)^2 of the ellipse whose curvature ratio is ``ratio`` = B / A >= 1 (Johnson, Contact
+    Mechanics, eq. 4.39a: B/A = ((a/b)^2 E(e) - K(e)) / (K(e) - E(e)), a >= b). Written with Carlson's R_D,
+    (K - E)/m = R_D(0, 1-m, 1)/3 and (E - (1-m) K)/m = (1-m) R_D(0, 1, 1-m)/3, which do not cancel near
+    the circle; solved for k = b/a by Brent's method to round-off."""
+    from scipy.optimize import brentq
+    from scipy.special import elliprd
+
+    def excess(k: float) -> float:  # B/A - ratio as a function of k = b/a (1 at k = 1, growing as k falls)
+        k2 = k * k
+        return elliprd(0.0, 1.0, k2) / elliprd(0.0, k2, 1.0) - ratio
+
+    k = brentq(excess, 1e-9, 1.0, xtol=1e-17, rtol=1e-15, maxiter=200)
+    return 1.0 - float(k) * float(k)
+
+
+def elliptic_hertz(load: float, radius_x: float, radius_y: float, modulus: float) -> HertzContact:
+    """Hertz's elliptic contact (Johnson, Contact Mechanics, section 4.2) under ``load`` (N) for the relative
+    radii of curvature ``radius_x`` along the rail and ``radius_y`` across it (m) and E* = ``modulus`` (Pa).
+
+    With A = 1/(2 R) the smaller and B the larger relative curvature, the major semi-axis a lies along A's
+    direction and, for m = e^2 = 1 - (b/a)^2 (eq. 4.39a fixes it from B/A),
+    a^3 = 3 P (K - E) / (2 pi m A E*),  p0 = 3 P / (2 pi a b),  delta = p0 b K(e) / E*  (eqs. 4.36-4.38),
+    and C = P / delta^1.5. Equal radii give the circle, a = b = (3 P R / (4 E*))^(1/3), delta = a^2 / R,
+    C = (4/3) E* sqrt(R) (computed with those closed forms, so the paper's case is unchanged to the bit).
+
+    Parameters
+    ----------
+    load : float
+        Normal load P, N.
+    radius_x, radius_y : float
+        Relative radii of curvature along and across the rail, m.
+    modulus : float
+        E* = E / (2 (1 - nu^2)) for two bodies of one material, Pa.
+
+    Returns
+    -------
+    HertzContact
+        The semi-axes, peak pressure, approach and constant.
+
+    References
+    ----------
+    K. L. Johnson, Contact Mechanics, Cambridge University Press, 1985, section 4.2.
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact.hertz import elliptic_hertz
+    >>> from wheelrail.core.parameters import ContactParameters
+    >>> contact = elliptic_hertz(65e3, 0.39, 0.39, ContactParameters().reduced_modulus)
+    >>> round(contact.semi_axis_along * 1e3, 2)   # mm, the paper's a
+    5.48
+    """
+    if radius_x == radius_y:
+        a = (3.0 * load * radius_x / (4.0 * modulus)) ** (1.0 / 3.0)
+        constant = 4.0 / 3.0 * modulus * math.sqrt(radius_x)
+        return HertzContact(a, a, 3.0 * load / (2.0 * math.pi * a**2), (load / constant) ** (2.0 / 3.0), constant)
+    from scipy.special import ellipk, elliprd
+
+    r_major, r_minor = max(radius_x, radius_y), min(radius_x, radius_y)
+    m = _ellipse_eccentricity(r_major / r_minor)
+    curvature = 1.0 / (2.0 * r_major)
+    k_minus_e_over_m = elliprd(0.0, 1.0 - m, 1.0) / 3.0
+    major = (3.0 * load * k_minus_e_over_m / (2.0 * math.pi * curvature * modulus)) ** (1.0 / 3.0)
+    major = float(major)
+    minor = major * math.sqrt(1.0 - m)
+    p0 = 3.0 * load / (2.0 * math.pi * major * minor)
+    approach = p0 * minor * float(ellipk(m)) / modulus
+    a, b = (major, minor) if radius_x >= radius_y else (minor, major)
+    return HertzContact(a, b, p0, approach, load / approach**1.5)
 
 
 @njit(cache=True)
@@ -70,7 +170,7 @@ def _hertz_compression(target, compliance, constant):
 
 
 @njit(cache=True, inline="always")
-def _hertz_law(approach_known, compliance, roughness, constant, radius_along, radius_across):
+def hertz_law(approach_known, compliance, roughness, constant, radius_along, radius_across):
     """The interaction loop's Hertz law (eqs. 12-14 coupled with delta = delta_known - c F).
 
     The compression is u = delta + r_eq, so u + c C u^1.5 = delta_known + r_eq. Returns (F = C u^1.5,
@@ -81,103 +181,6 @@ def _hertz_law(approach_known, compliance, roughness, constant, radius_along, ra
     length = 2.0 * math.sqrt(radius_along * u)
     half = length / 2.0
     return _hertz_force(u, constant), length, math.pi * (half * math.sqrt(radius_across * u))
-
-
-class HertzModel(ContactModel):
-    """``hertz``: the Hertz spring on the roughness of the line itself (r_eq = r); elliptic for unequal radii
-    (``ContactParameters.hertz``: C of F = C delta^1.5, contact length 2a along the rail, area pi a b)."""
-
-    def equivalent_roughness(self, inputs: ModelInputs, line: np.ndarray) -> np.ndarray:
-        """r_eq along the track for the line r (here r itself)."""
-        return line
-
-    def prepare(self, inputs: ModelInputs) -> float:
-        contact = inputs.params.contact
-        self.equivalent_line = self.equivalent_roughness(inputs, inputs.centre_line)
-        r_eq = np.ascontiguousarray(self.equivalent_line[inputs.start_index] * inputs.ramp)
-        self._law = LawInputs(
-            roughness=r_eq.reshape(-1, 1),
-            shape=np.zeros(1),
-            constants=np.array([contact.hertz_constant, *contact.patch_radii()]),
-        )
-        return contact.hertz_approach()
-
-    def law_inputs(self) -> LawInputs:
-        return self._law
-
-
-class HertzWinklerModel(HertzModel):
-    """``hertz-winkler``: r_eq from the Ford & Thompson bedding pre-filter (``contact.prefilter``).
-
-    The bedding is the ``2d`` model's (``contact.winkler.calibrated_bedding``: the paper's for the circle).
-    The pre-filter runs on the line along the track; the run's margins (``run_setup.run_margin``, 20 mm at
-    1 mm elements, at least 3a) cover its half-length 3a (16.4 mm at the defaults), so its end treatment never
-    reaches a step of the run.
-    """
-
-    def equivalent_roughness(self, inputs, line):
-        from wheelrail.core.contact.prefilter import winkler_equivalent_roughness
-        from wheelrail.core.contact.winkler import calibrated_bedding
-
-        c = inputs.params.contact
-        stiffness, radius = calibrated_bedding(c)
-        try:
-            return winkler_equivalent_roughness(
-                line,
-                inputs.element_size,
-                preload=c.preload,
-                radius=radius,
-                youngs_modulus=c.youngs_modulus,
-                poisson_ratio=c.poisson_ratio,
-                stiffness=stiffness,
-            )
-        except WheelrailError as error:
-            if error.parameter != "half_window":
-                raise
-            # a run sizes the pre-filter's window itself (3a): what its user can change is the roughness
-            raise WheelrailError(
-                error.problem,
-                parameter="model",
-                value="hertz-winkler",
-                advice="use a smoother line or set, or the hertz model",
-            ) from None
-
-
-class HertzAverageModel(HertzModel):
-    """``hertz-average``: r_eq = mean of r over the nominal contact length 2a along the rail (a the Hertz
-    semi-axis along the rail at the preload; a + 1 mm < the run margin)."""
-
-    def equivalent_roughness(self, inputs, line):
-        from wheelrail.core.contact.prefilter import average_roughness
-
-        a, _ = inputs.params.contact.hertz_semi_axes()
-        return average_roughness(line, inputs.element_size, contact_length=2 * a)
-
-
-def hertz_constant(
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS, poisson_ratio: float = STEEL_POISSON_RATIO, radius: float = 0.39
-) -> float:
-    """Hertzian constant C_H = (2/3) E / (1 - nu^2) sqrt(R) of eq. (13), N/m^1.5.
-
-    Parameters
-    ----------
-    youngs_modulus : float
-        E of wheel and rail (same material), Pa.
-    poisson_ratio : float
-        nu, 0 <= nu < 0.5.
-    radius : float
-        R, wheel rolling radius = railhead transverse radius, m.
-
-    Returns
-    -------
-    float
-        C_H in N/m^1.5 (9.608e10 at the paper's values).
-    """
-    where = "hertz_constant"
-    youngs_modulus = checks.positive(where, "youngs_modulus", youngs_modulus, "Pa")
-    radius = checks.positive(where, "radius", radius, "m")
-    nu = checks.poisson_ratio(where, poisson_ratio)
-    return _hertz_constant(youngs_modulus, nu, radius)
 
 
 def hertz_force(compression, constant: float) -> np.ndarray:
@@ -194,6 +197,25 @@ def hertz_force(compression, constant: float) -> np.ndarray:
     -------
     ndarray
         F_n in N, same shape as ``compression``; 0 where compression < 0.
+
+    Raises
+    ------
+    WheelrailError
+        If ``compression`` is not finite numbers or ``constant`` not a positive number.
+
+    See Also
+    --------
+    hertz_constant, hertz_stiffness, hertz_approach
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, eq. (12).
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact import hertz_constant, hertz_force
+    >>> round(float(hertz_force(77.07e-6, hertz_constant())) / 1e3, 1)   # kN at the static approach
+    65.0
     """
     compression = finite_array("hertz_force: compression", compression, "m")
     constant = checks.positive("hertz_force", "constant", constant, "N/m^1.5")
@@ -215,6 +237,21 @@ def hertz_stiffness(compression, constant: float) -> np.ndarray:
     -------
     ndarray
         N/m, same shape as ``compression``.
+
+    Raises
+    ------
+    WheelrailError
+        As :func:`hertz_force`.
+
+    See Also
+    --------
+    hertz_force
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact import hertz_constant, hertz_stiffness
+    >>> f"{float(hertz_stiffness(77.07e-6, hertz_constant())):.3g}"   # N/m: 1.5 F / delta
+    '1.27e+09'
     """
     compression = finite_array("hertz_stiffness: compression", compression, "m")
     constant = checks.positive("hertz_stiffness", "constant", constant, "N/m^1.5")
@@ -235,6 +272,21 @@ def hertz_approach(force, constant: float) -> np.ndarray:
     -------
     ndarray
         Delta zeta in m (77.07 um at 65 kN with the paper's values).
+
+    Raises
+    ------
+    WheelrailError
+        If ``force`` is not finite numbers >= 0 or ``constant`` not a positive number.
+
+    See Also
+    --------
+    hertz_force
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact import hertz_approach, hertz_constant
+    >>> round(float(hertz_approach(65e3, hertz_constant())) * 1e6, 2)   # um
+    77.07
     """
     force = finite_array("hertz_approach: force", force, "N")
     constant = checks.positive("hertz_approach", "constant", constant, "N/m^1.5")

@@ -35,9 +35,15 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.checks import positive as _positive
-from wheelrail.core.contact.winkler import _bedding_approach, _roughness, bedding_stiffness, wheel_profile
+from wheelrail.core.contact.winkler import (
+    bedding_approach,
+    calibrated_bedding,
+    checked_contact,
+    checked_roughness,
+    wheel_profile,
+)
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS
+from wheelrail.core.parameters import ContactParameters
 
 __all__ = ["average_roughness", "averaging_weights", "winkler_equivalent_roughness"]
 
@@ -80,7 +86,7 @@ def _winkler_equivalent(padded, profile, k_dx, load, reference):
                 solved = True
                 break
         if not solved:
-            delta, count = _bedding_approach(values, k_dx, load)
+            delta, count = bedding_approach(values, k_dx, load)
         if delta + values[0] > 0.0 or delta + values[window - 1] > 0.0:
             at_edge += 1
         out[i] = reference - delta
@@ -101,38 +107,28 @@ def _check_boundary(where: str, boundary: str) -> str:
 def winkler_equivalent_roughness(
     roughness,
     element_size: float,
+    contact: ContactParameters | None = None,
     *,
-    preload: float = 65e3,
-    radius: float = 0.39,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
     half_window: float | None = None,
     boundary: str = "nearest",
-    stiffness: float | None = None,
 ) -> np.ndarray:
     """Ford & Thompson equivalent roughness r_eq for the Hertzian spring (eqs. 3-6, 12-14).
 
     Parameters
     ----------
     roughness : array_like, shape (n,)
-        Combined roughness line r = r_W - r_R, m, sampled every ``element_size`` (positive pushes the
-        surfaces together, eq. 3).
+        Combined roughness line r = r_W - r_R, m, every ``element_size`` (positive pushes together, eq. 3).
     element_size : float
-        Sample spacing dx, m (the bedding has one spring per sample).
-    preload : float
-        Static load P, N.
-    radius : float
-        R, m (the bedding uses R_m = R / 2, eq. 6).
-    youngs_modulus, poisson_ratio : float
-        E in Pa and nu (bedding stiffness of eq. 5).
+        Sample spacing dx, m (one spring per sample).
+    contact : ContactParameters, optional
+        The preload P and the bedding of ``contact.winkler.calibrated_bedding`` (eqs. 5-6 for the paper's
+        circle: k = E*, R_m = R / 2); default ``ContactParameters()``.
     half_window : float, optional
-        a' of eq. (4), m: the bedding spans [-a', a'] around the wheel. Default 3 a (Hertz radius at the
-        preload), which holds roughness up to ~8 a^2 / R (0.6 mm at the defaults) without reaching the end.
+        a' of eq. (4), m: the bedding spans [-a', a'] around the wheel. Default 3 a (a = (3 P R / (4 k))^(1/3),
+        the Hertz radius at the preload), which holds roughness up to ~8 a^2 / R (0.6 mm at the defaults)
+        without reaching the end.
     boundary : {"nearest", "wrap"}
         How the line is extended beyond its ends.
-    stiffness : float, optional
-        k of the bedding, N/m^2; default E / (2 (1 - nu^2)) of eq. (5). An elliptic patch passes the
-        calibrated k and R of ``contact.winkler.calibrated_bedding``.
 
     Returns
     -------
@@ -144,24 +140,38 @@ def winkler_equivalent_roughness(
     WheelrailError
         On bad input, or if the bedding's contact reaches the end of its window somewhere (roughness too
         large for ``half_window``).
+
+    See Also
+    --------
+    average_roughness : the other pre-filter of section 2.3.3.
+    wheelrail.core.contact.winkler.winkler_contact : the bedding itself.
+
+    References
+    ----------
+    Ford & Thompson, J. Sound Vib. 291 (2006) 1065-1082; Pieringer et al., Wear 271 (2011), section 2.3.3.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.contact import winkler_equivalent_roughness
+    >>> x = np.arange(2000) * 1e-3
+    >>> r_eq = winkler_equivalent_roughness(10e-6 * np.sin(2 * np.pi * x / 5e-3), 1e-3, boundary="wrap")
+    >>> bool(np.abs(r_eq).max() < 2e-6)   # a 10 um, 5 mm corrugation under the 11 mm contact: filtered out
+    True
     """
     where = "winkler_equivalent_roughness"
-    line = _roughness(where, roughness)
+    line = checked_roughness(where, roughness)
     element_size = _positive(where, "element_size", element_size, "m")
-    preload = _positive(where, "preload", preload, "N")
-    radius = _positive(where, "radius", radius, "m")
+    contact = checked_contact(where, contact)
+    preload = contact.preload
+    k, radius = calibrated_bedding(contact)
     boundary = _check_boundary(where, boundary)
-    k = (
-        bedding_stiffness(youngs_modulus, poisson_ratio)
-        if stiffness is None
-        else _positive(where, "stiffness", stiffness, "N/m^2")
-    )
     a = (3.0 * preload * radius / (4.0 * k)) ** (1.0 / 3.0)
     half_window = 3.0 * a if half_window is None else _positive(where, "half_window", half_window, "m")
     half = max(2, int(math.ceil(half_window / element_size)))
     profile = wheel_profile(2 * half + 1, element_size, radius)
     k_dx = k * element_size
-    reference, _ = _bedding_approach(-profile, k_dx, preload)
+    reference, _ = bedding_approach(-profile, k_dx, preload)
     r_eq, at_edge = _winkler_equivalent(_pad(line, half, boundary), profile, k_dx, preload, reference)
     if at_edge:
         raise WheelrailError(
@@ -208,12 +218,9 @@ def averaging_weights(contact_length: float, element_size: float) -> np.ndarray:
 def average_roughness(
     roughness,
     element_size: float,
+    contact: ContactParameters | None = None,
     *,
     contact_length: float | None = None,
-    preload: float = 65e3,
-    radius: float = 0.39,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
     boundary: str = "nearest",
 ) -> np.ndarray:
     """Equivalent roughness by averaging over the nominal contact length 2a (paper section 2.3.3).
@@ -224,11 +231,11 @@ def average_roughness(
         Combined roughness line r, m, spacing ``element_size``.
     element_size : float
         dx, m.
+    contact : ContactParameters, optional
+        Used only for the default ``contact_length``; default ``ContactParameters()``.
     contact_length : float, optional
-        Averaging length 2a, m. Default: twice the Hertz radius a = (3 P R / (4 E*))^(1/3) at the preload
-        (10.96 mm at the paper's values).
-    preload, radius, youngs_modulus, poisson_ratio : float
-        P (N), R (m), E (Pa), nu: used only for the default ``contact_length``.
+        Averaging length 2a, m. Default: twice Hertz's semi-axis along the rail at the preload (10.96 mm at
+        the paper's values, a = (3 P R / (4 E*))^(1/3)).
     boundary : {"nearest", "wrap"}
         How the line is extended beyond its ends.
 
@@ -236,16 +243,36 @@ def average_roughness(
     -------
     ndarray, shape (n,)
         r_eq in m.
+
+    Raises
+    ------
+    WheelrailError
+        On bad input (a non-finite line, a length that is not positive, an unknown ``boundary``).
+
+    See Also
+    --------
+    averaging_weights : the weights of the mean.
+    winkler_equivalent_roughness : the other pre-filter of section 2.3.3.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, section 2.3.3.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.contact import average_roughness
+    >>> x = np.arange(2000) * 1e-3
+    >>> long_wave = 10e-6 * np.sin(2 * np.pi * x / 0.1)     # 100 mm: passes nearly unchanged
+    >>> bool(np.abs(average_roughness(long_wave, 1e-3, boundary="wrap") - long_wave).max() < 0.2e-6)
+    True
     """
     where = "average_roughness"
-    line = _roughness(where, roughness)
+    line = checked_roughness(where, roughness)
     element_size = _positive(where, "element_size", element_size, "m")
     boundary = _check_boundary(where, boundary)
     if contact_length is None:
-        preload = _positive(where, "preload", preload, "N")
-        radius = _positive(where, "radius", radius, "m")
-        k = bedding_stiffness(youngs_modulus, poisson_ratio)
-        contact_length = 2.0 * (3.0 * preload * radius / (4.0 * k)) ** (1.0 / 3.0)
+        contact_length = 2.0 * checked_contact(where, contact).hertz_semi_axes()[0]
     contact_length = _positive(where, "contact_length", contact_length, "m")
     weights = averaging_weights(contact_length, element_size)
     half = weights.size // 2

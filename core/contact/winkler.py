@@ -42,16 +42,16 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from wheelrail.core.checks import poisson_ratio as _poisson
 from wheelrail.core.checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
-from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS, reduced_modulus
+from wheelrail.core.parameters import ContactParameters, reduced_modulus
 
 __all__ = [
     "BeddingModel",
     "WinklerContact",
     "bedding_stiffness",
+    "checked_contact",
     "calibrated_bedding",
     "wheel_profile",
     "winkler_contact",
@@ -98,7 +98,7 @@ def _winkler_force(approach, roughness, profile, stiffness_dx):
 
 
 @njit(cache=True, inline="always")
-def _bedding_law(approach_known, compliance, roughness, profile, stiffness_dx, element_size):
+def bedding_law(approach_known, compliance, roughness, profile, stiffness_dx, element_size):
     """The interaction loop's bedding law: solve delta + c F(delta) = delta_known (eqs. 3-5 coupled with
     delta = delta_known - c F). F is piecewise linear and convex in delta: Newton from delta = delta_known.
 
@@ -121,13 +121,13 @@ def calibrated_bedding(contact) -> tuple[float, float]:
     whose half is the modified radius R_m of eq. 6 (m). The paper's circle: (E*, R), eqs. 5-6 exactly; an
     elliptic patch: (3 C / (4 sqrt(rho_x)), rho_x), the module docstring's rule."""
     if contact.circular:
-        return bedding_stiffness(contact.youngs_modulus, contact.poisson_ratio), contact.radius_along
+        return bedding_stiffness(contact), contact.radius_along
     rho_x, _ = contact.patch_radii()
     return 3.0 * contact.hertz_constant / (4.0 * math.sqrt(rho_x)), rho_x
 
 
 @njit(cache=True)
-def _bedding_approach(values, k_dx, load):
+def bedding_approach(values, k_dx, load):
     """Approach delta with k_dx * sum(max(delta + s_j, 0)) = load, exactly (the force is piecewise linear).
 
     values : s_j = r_j - x'_j^2 / (2 R_m), m. Returns (delta, count of springs in contact).
@@ -161,7 +161,7 @@ class BeddingModel(ContactModel):
         window = np.ascontiguousarray(line[inputs.start_index[:, None] + offsets[None, :]] * inputs.ramp[:, None])
         self._law = LawInputs(roughness=window, shape=profile, constants=np.array([k_dx, dx]))
         self._half, self._dx, self._position_of = half, dx, inputs.position_of
-        delta, _ = _bedding_approach(-profile, k_dx, contact.preload)
+        delta, _ = bedding_approach(-profile, k_dx, contact.preload)
         return float(delta)
 
     def law_inputs(self) -> LawInputs:
@@ -175,29 +175,53 @@ class BeddingModel(ContactModel):
         )
 
 
-def bedding_stiffness(
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS, poisson_ratio: float = STEEL_POISSON_RATIO
-) -> float:
+def checked_contact(where: str, contact) -> ContactParameters:
+    """``contact``, or ``ContactParameters()`` (the paper's case) for None; one WheelrailError naming ``where``
+    for anything else."""
+    if contact is None:
+        return ContactParameters()
+    if not isinstance(contact, ContactParameters):
+        raise WheelrailError(f"{where}: contact must be ContactParameters, got {type(contact).__name__}")
+    return contact
+
+
+def bedding_stiffness(contact: ContactParameters | None = None) -> float:
     """Stiffness per unit length of the bedding, k = E / (2 (1 - nu^2)) of eq. (5), N/m^2.
 
     Parameters
     ----------
-    youngs_modulus : float
-        E, Pa.
-    poisson_ratio : float
-        nu, 0 <= nu < 0.5.
+    contact : ContactParameters, optional
+        The material (E, nu); default ``ContactParameters()`` (steel).
 
     Returns
     -------
     float
         k in N/m per m of bedding (= E*, Pa).
+
+    Raises
+    ------
+    WheelrailError
+        If ``contact`` is not ContactParameters.
+
+    See Also
+    --------
+    calibrated_bedding : the bedding of an elliptic patch.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, eq. (5).
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact import bedding_stiffness
+    >>> f"{bedding_stiffness():.4g}"
+    '1.154e+11'
     """
-    youngs_modulus = _positive("bedding_stiffness", "youngs_modulus", youngs_modulus, "Pa")
-    nu = _poisson("bedding_stiffness", poisson_ratio)
-    return reduced_modulus(youngs_modulus, nu)
+    contact = checked_contact("bedding_stiffness", contact)
+    return reduced_modulus(contact.youngs_modulus, contact.poisson_ratio)
 
 
-def wheel_profile(n_samples: int, element_size: float, radius: float = 0.39) -> np.ndarray:
+def wheel_profile(n_samples: int, element_size: float, radius: float) -> np.ndarray:
     """Height of the wheel above its lowest point at the bedding springs, x'^2 / (2 R_m), R_m = R / 2.
 
     Parameters
@@ -207,12 +231,18 @@ def wheel_profile(n_samples: int, element_size: float, radius: float = 0.39) -> 
     element_size : float
         dx, m.
     radius : float
-        R (not R_m), m; the modified radius R_m = R / 2 of eq. (6) is applied here.
+        R (not R_m), m (``calibrated_bedding``'s radius; the paper's 0.39 m); the modified radius R_m = R / 2
+        of eq. (6) is applied here.
 
     Returns
     -------
     ndarray, shape (n_samples,)
         -z_W(x'_j) in m.
+
+    Raises
+    ------
+    WheelrailError
+        If ``n_samples`` is not an integer >= 3 or a length is not a positive number.
     """
     where = "wheel_profile"
     if isinstance(n_samples, bool) or not isinstance(n_samples, int | np.integer) or n_samples < 3:
@@ -224,13 +254,7 @@ def wheel_profile(n_samples: int, element_size: float, radius: float = 0.39) -> 
 
 
 def winkler_contact(
-    approach,
-    roughness,
-    element_size: float,
-    *,
-    radius: float = 0.39,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
+    approach, roughness, element_size: float, contact: ContactParameters | None = None
 ) -> WinklerContact:
     """Force, contact length and dF/d delta of the Winkler bedding, eqs. (3)-(6).
 
@@ -244,23 +268,44 @@ def winkler_contact(
         stay uncompressed (the integration domain [-a', a'] of eq. 4).
     element_size : float
         dx, m (1e-3 in the paper).
-    radius : float
-        R, m; the bedding uses R_m = R / 2 (eq. 6).
-    youngs_modulus, poisson_ratio : float
-        E in Pa and nu (eq. 5).
+    contact : ContactParameters, optional
+        Material and radii; default ``ContactParameters()``. The bedding is :func:`calibrated_bedding`'s
+        (eqs. 5-6 exactly for the paper's circle: k = E*, R_m = R / 2).
 
     Returns
     -------
     WinklerContact
         force (N), contact_length (m), stiffness (N/m), each of the shape of ``approach``.
+
+    Raises
+    ------
+    WheelrailError
+        On bad input, or if the contact reaches the end of the roughness segment.
+
+    See Also
+    --------
+    wheelrail.core.contact.prefilter.winkler_equivalent_roughness : the bedding as a pre-filter.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, eqs. (3)-(6).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.contact import winkler_contact
+    >>> result = winkler_contact(77e-6, np.zeros(41), 1e-3)
+    >>> round(float(result.force) / 1e3, 1), round(float(result.contact_length) * 1e3)   # kN, mm
+    (65.2, 11)
     """
     where = "winkler_contact"
     delta = np.asarray(approach, dtype=float) if _numeric(approach) else None
     if delta is None or not np.all(np.isfinite(delta)):
         raise WheelrailError(f"{where}: approach must be finite numbers in m, got {approach!r}")
-    r = _roughness(where, roughness)
+    r = checked_roughness(where, roughness)
     element_size = _positive(where, "element_size", element_size, "m")
-    k_dx = bedding_stiffness(youngs_modulus, poisson_ratio) * element_size
+    stiffness, radius = calibrated_bedding(checked_contact(where, contact))
+    k_dx = stiffness * element_size
     profile = wheel_profile(r.size, element_size, radius)
     force = np.empty(delta.shape)
     stiffness = np.empty(delta.shape)
@@ -284,7 +329,7 @@ def _numeric(value) -> bool:
     return True
 
 
-def _roughness(where: str, roughness) -> np.ndarray:
+def checked_roughness(where: str, roughness) -> np.ndarray:
     if not _numeric(roughness):
         raise WheelrailError(f"{where}: roughness must be a 1D array of numbers in m")
     r = np.ascontiguousarray(roughness, dtype=float)

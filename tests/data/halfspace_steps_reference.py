@@ -8,10 +8,12 @@ part of the approach and the compliance that the loop handed the model in a real
 (force, contact area and length along the centre line, and the pressure map every ``PRESSURE_EVERY`` steps).
 Replaying the same per-step calls on any implementation of the ``3d`` law must give the same answers.
 
-The file was written once, at the commit before the compiled 3D loop, by the ``3d`` model of that commit; the
-script now runs that solver as ``HalfSpaceReferenceModel`` (kept unchanged), and on the same track's Green's
-functions rewrites the file to the bit. Rerunning it after a change to the solver or the track would
-overwrite the pin (don't, unless the physics is meant to change). Run from the repository root:
+The file was written once, at the commit before the compiled 3D loop (its ``source`` entry names it), by the
+``3d`` model of that commit; the script ran that per-step solver. That solver is gone (one active-set solver,
+``contact.active_set``): the script now records the dense oracle of the tests
+(``tests/physics/halfspace_oracle.py``), whose answers agree with the pin to about 1e-14 of the preload, so
+rerunning it would replace the previous solver's answers by the oracle's (don't, unless the physics is meant
+to change). Run from the repository root:
 
     .venv/bin/python tests/data/halfspace_steps_reference.py
 """
@@ -19,15 +21,18 @@ overwrite the pin (don't, unless the physics is meant to change). Run from the r
 from __future__ import annotations
 
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.contact.halfspace_model import HalfSpaceReferenceModel
 from wheelrail.core.interaction import prepare_run
 from wheelrail.core.models import ModelEntry, ModelTraits, register, unregister
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.roughness import RoughnessSet
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "physics"))
+from halfspace_oracle import OracleModel  # noqa: E402 - the oracle lives beside the tests that use it
 
 OUT = Path(__file__).with_suffix(".npz")
 PRESSURE_EVERY = 25
@@ -54,7 +59,7 @@ def record(roughness, contact: ContactParameters, length: float, run_in: float) 
         roughness, model=REFERENCE, params=ModelParameters(contact=contact), length=length, run_in_length=run_in
     )
     model = run.contact
-    assert type(model) is HalfSpaceReferenceModel
+    assert type(model) is OracleModel
     inputs = model._inputs
     calls = []
     solve = model.solve
@@ -105,15 +110,15 @@ def main() -> None:
     register(
         ModelEntry(
             name=REFERENCE,
-            label="3d, per-step solver",
-            implementation=HalfSpaceReferenceModel,
+            label="3d, dense oracle",
+            implementation=OracleModel,
             traits=ModelTraits(lateral_window=True, pressure_map=True),
         )
     )
     commit = subprocess.run(
         ["git", "rev-parse", "HEAD"], capture_output=True, text=True, cwd=Path(__file__).parent
     ).stdout.strip()
-    arrays = {"source": np.array(f"HalfSpaceWindow.solve_coupled per step, wheelrail commit {commit}")}
+    arrays = {"source": np.array(f"tests/physics/halfspace_oracle.py per step, wheelrail commit {commit}")}
     for name, case in CASES.items():
         for key, value in record(*case).items():
             arrays[f"{name}/{key}"] = value

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from wheelrail.core.contact.halfspace import solve_normal_contact
+from wheelrail.core.contact.window import solve_normal_contact
 from wheelrail.core.contact.winkler import _winkler_force, calibrated_bedding, wheel_profile
 from wheelrail.core.interaction import prepare_run, simulate
 from wheelrail.core.models import MODELS
@@ -38,9 +38,7 @@ def _halfspace_errors(contact: ContactParameters, dx: float) -> dict:
     nx, ny = math.ceil(1.3 * a / dx), math.ceil(1.3 * b / dx)
     x, y = np.arange(-nx, nx + 1) * dx, np.arange(-ny, ny + 1) * dx
     gap = x[None, :] ** 2 / (2 * contact.radius_along) + y[:, None] ** 2 / (2 * contact.radius_across)
-    result = solve_normal_contact(
-        gap, dx, load=contact.preload, youngs_modulus=contact.youngs_modulus, poisson_ratio=contact.poisson_ratio
-    )
+    result = solve_normal_contact(gap, dx, load=contact.preload, contact=contact)
     p = result.pressure
     load = p.sum() * dx * dx
     # an ellipsoidal pressure has the second moments a^2/5 (along) and b^2/5 (across) per unit load

@@ -62,7 +62,7 @@ def test_winkler_reproduces_hertz_for_smooth_surfaces(dx, force_tolerance):
 
 def test_winkler_kernel_and_roughness_sign():
     dx = 1e-3
-    profile = wheel_profile(41, dx)
+    profile = wheel_profile(41, dx, CONTACT.radius)
     k_dx = bedding_stiffness() * dx
     smooth = np.zeros(41)
     force, stiffness, count, edge = _winkler_force(77e-6, smooth, profile, k_dx)

@@ -186,23 +186,17 @@ def test_window_edge_is_reported():
 def test_one_element_at_a_time_mode_reaches_the_same_answer():
     # the anti-cycling mode (used after 30 iterations) adds / drops only the worst element per iteration;
     # forced from the start here it must still end at the same solution, only in more iterations
-    from wheelrail.core.contact.halfspace_kernel import _cached_kernel
-    from wheelrail.core.contact.halfspace_solver import _NO_FACTOR, _active_set_solve
-
     dx, n = 1e-3, 24
     gap = rough_gap(n, dx, seed=21)
     reference = solve_normal_contact(gap, dx, load=LOAD)
-    kernel = _cached_kernel(n, n, dx, CONTACT.youngs_modulus, CONTACT.poisson_ratio)
-    start = np.array([int(np.argmin(gap))], dtype=np.int64)
-    # law (load-controlled, F, no compliance, A_e); limits (tolerance, iterations, cautious from the start)
-    pressure, approach, iterations, status, *_ = _active_set_solve(
-        kernel, gap.ravel(), start, _NO_FACTOR, (False, LOAD, 0.0, dx * dx), (1e-9, 1000, 0)
-    )
-    assert status == 0
-    assert iterations > reference.iterations
+    window = HalfSpaceWindow((n, n), dx, max_iterations=1000)
+    window._cautious = 0  # one element at a time from the first iteration
+    window.start_from(gap == gap.min())
+    cautious = window.solve(gap, load=LOAD)
+    assert cautious.iterations > reference.iterations
     # same solution up to round-off of different factorisation histories (allow 1e-9 relative)
-    np.testing.assert_allclose(pressure.reshape(n, n), reference.pressure, rtol=0, atol=1e-9 * reference.pressure.max())
-    assert approach == pytest.approx(reference.approach, rel=1e-9)
+    np.testing.assert_allclose(cautious.pressure, reference.pressure, rtol=0, atol=1e-9 * reference.pressure.max())
+    assert cautious.approach == pytest.approx(reference.approach, rel=1e-9)
 
 
 def assert_same_result(first, second):
@@ -258,7 +252,7 @@ def test_window_reproduces_the_one_off_solves_and_keeps_the_last_loaded_state():
 
 def test_window_hertz_and_failed_solve_leaves_state():
     dx, n = 1e-3, 24
-    window = HalfSpaceWindow((n, n), dx, youngs_modulus=CONTACT.youngs_modulus, poisson_ratio=CONTACT.poisson_ratio)
+    window = HalfSpaceWindow((n, n), dx, contact=CONTACT)
     gap, r2 = sphere_gap(n, dx)
     smooth = window.solve(gap, load=LOAD)
     # Hertz through the window as through solve_normal_contact (tolerances of test_hertz_sphere_on_flat...)
@@ -273,3 +267,24 @@ def test_window_hertz_and_failed_solve_leaves_state():
     # without raising, the failed result is returned and kept as the last one (the caller checks it)
     edge = window.solve(gap, load=10 * LOAD, raise_on_failure=False)
     assert edge.at_edge and window.last is edge
+
+
+def test_window_solves_agree_with_the_dense_oracle():
+    # the same discrete problem (eqs. 8-11) solved by a dense NNLS (tests/physics/halfspace_oracle.py): the
+    # solver's eq. 10 holds to 1e-9 relative and NNLS solves to round-off, so pressures agree to 1e-9 of the
+    # largest (measured 3e-15 and 5e-15) and the contact sets are the same
+    from halfspace_oracle import coupled_pressure, influence_matrix, loaded_pressure
+
+    dx, n = 1e-3, 24
+    gap = rough_gap(n, dx, seed=13)
+    matrix = influence_matrix((n, n), dx, CONTACT)
+    loaded = solve_normal_contact(gap, dx, load=LOAD)
+    pressure, approach = loaded_pressure(matrix, gap, LOAD, dx * dx)
+    np.testing.assert_allclose(loaded.pressure.ravel(), pressure, rtol=0, atol=1e-9 * pressure.max())
+    assert loaded.approach == pytest.approx(approach, rel=1e-9)
+    known, compliance = 1.5 * CONTACT.hertz_approach(), 1.0 / 5e8
+    coupled = solve_coupled_contact(gap, dx, approach_known=known, compliance=compliance)
+    pressure, approach = coupled_pressure(matrix, gap, known, compliance, dx * dx)
+    np.testing.assert_allclose(coupled.pressure.ravel(), pressure, rtol=0, atol=1e-9 * pressure.max())
+    assert np.array_equal(coupled.contact.ravel(), pressure > 0)
+    assert coupled.approach == pytest.approx(approach, rel=1e-9)

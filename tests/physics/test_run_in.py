@@ -47,12 +47,12 @@ def test_the_default_run_in_is_a_time_and_every_output_states_it():
 
 def test_the_3d_laws_table_is_the_law_itself():
     # The discretised 3D law on a fixed window is piecewise linear in the approach (linear on each contact set,
-    # eqs. 8-11), so the run-in's table (halfspace_table.tabulate_law: solves with their slopes, a kink where
+    # eqs. 8-11), so the run-in's table (run_in_law.tabulate_law: solves with their slopes, a kink where
     # the lines of neighbouring solves meet, solved again there where the sets differ by more than one
     # element) is the law itself in its band. Against direct solves at 200 approaches across the band on the
     # first recorded step's gap (corrugated rail, 65 kN): within 1e-6 N, round-off of the solver's 1e-9
     # (measured 1.2e-10 N; the solves alone, every 0.5 % of the static approach, without the kinks: 90 N).
-    from wheelrail.core.contact.halfspace_table import RUN_IN_TABLE_BAND, _solve_at, tabulate_law
+    from wheelrail.core.contact.run_in_law import RUN_IN_TABLE_BAND, _solve_at, tabulate_law
 
     run = prepare_run(RAIL, model="3d", length=0.05, keep_pressure=False)
     steps, s, preload = run.contact.law_inputs(), run.loop.n_run_in, run.params.contact.preload
@@ -69,7 +69,7 @@ def test_the_3d_laws_table_is_the_law_itself():
 @pytest.mark.slow
 @pytest.mark.parametrize("kmh", [100.0, 300.0])
 def test_3d_run_in_with_the_tabulated_law_records_the_force_of_the_3d_solver(kmh):
-    # The 3d model's run-in runs on its law tabulated (contact.halfspace_table.run_in_table: T_1 exact on
+    # The 3d model's run-in runs on its law tabulated (contact.run_in_law.run_in_table: T_1 exact on
     # the first recorded step's gap, T_0 smooth, blended while the roughness fades in) at ~1 us a step instead
     # of ~13 us, and hands over to the 3D solver at step 0 from the warm state of the last approach. The record
     # must be that of the run-in stepped with the 3D solver within 1 N (as the run-in above); the law is exact near

@@ -56,7 +56,7 @@ def test_window_too_small_for_the_load():
         ({"element_size": -1e-3}, "element_size must be positive"),
         ({"load": 0.0}, "load must be positive"),
         ({"load": float("inf")}, "load must be positive"),
-        ({"poisson_ratio": 0.5}, "poisson_ratio"),
+        ({"contact": {"poisson_ratio": 0.3}}, "contact must be ContactParameters"),
         ({"max_iterations": 0}, "max_iterations"),
         ({"initial": np.zeros((3, 3), dtype=bool)}, "initial must be"),
     ],
@@ -76,8 +76,8 @@ def test_coupled_bad_compliance_and_approach():
 
 
 def test_hertz_and_winkler_inputs():
-    with pytest.raises(WheelrailError, match="radius"):
-        hertz_constant(radius=0.0)
+    with pytest.raises(WheelrailError, match="hertz_constant: contact must be ContactParameters"):
+        hertz_constant(0.39)
     with pytest.raises(WheelrailError, match="compression must be finite"):
         hertz_force([1e-6, np.nan], 1e11)
     with pytest.raises(WheelrailError, match="force must be >= 0"):

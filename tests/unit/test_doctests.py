@@ -14,6 +14,12 @@ ROOT = Path(__file__).resolve().parents[2]
 DOCUMENTED = {
     "wheelrail.core.errors": ["WheelrailError"],
     "wheelrail.core.inputs": ["Input", "model_parameters", "describe"],
+    "wheelrail.core.contact.hertz": ["hertz_force", "hertz_stiffness", "hertz_approach"],
+    "wheelrail.core.contact.hertz_model": ["hertz_constant"],
+    "wheelrail.core.contact.influence": ["influence_kernel"],
+    "wheelrail.core.contact.prefilter": ["winkler_equivalent_roughness", "average_roughness"],
+    "wheelrail.core.contact.window": ["HalfSpaceWindow", "solve_normal_contact", "solve_coupled_contact"],
+    "wheelrail.core.contact.winkler": ["bedding_stiffness", "winkler_contact"],
     "wheelrail.core.interaction": ["prepare_run", "simulate"],
     "wheelrail.core.models": ["model_names"],
     "wheelrail.core.reference_filters": ["reference_filters"],

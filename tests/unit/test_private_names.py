@@ -7,35 +7,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 FOLDERS = {"package": "wheelrail", "core": "wheelrail.core", "explorer": "wheelrail.explorer"}
 
-# Exceptions while the 3D contact solver's modules are merged and renamed in parallel work (core/contact/ is being
-# rewritten there, with its own imports): (file, private name) -> empty this once that work is merged.
-PENDING_CONTACT_REWRITE = {
-    ("core/contact/halfspace.py", "_cached_kernel"),
-    ("core/contact/halfspace.py", "_material"),
-    ("core/contact/halfspace.py", "_CAUTIOUS_AFTER"),
-    ("core/contact/halfspace.py", "_NO_FACTOR"),
-    ("core/contact/halfspace.py", "_STATUS_CONVERGED"),
-    ("core/contact/halfspace.py", "_STATUS_NOT_DEFINITE"),
-    ("core/contact/halfspace.py", "_active_set_solve"),
-    ("core/contact/halfspace.py", "_coordinates"),
-    ("core/contact/halfspace.py", "_displacement"),
-    ("core/contact/halfspace_model.py", "_python_step"),
-    ("core/contact/halfspace_steps.py", "_CAUTIOUS_AFTER"),
-    ("core/contact/halfspace_steps.py", "_STATUS_CONVERGED"),
-    ("core/contact/halfspace_steps.py", "_STATUS_MAX_ITER"),
-    ("core/contact/halfspace_steps.py", "_STATUS_NOT_DEFINITE"),
-    ("core/contact/halfspace_steps.py", "_coordinates"),
-    ("core/contact/halfspace_steps.py", "_factor_full"),
-    ("core/contact/halfspace_steps.py", "_tension_elements"),
-    ("core/contact/halfspace_table.py", "_halfspace_step"),
-    ("core/contact/prefilter.py", "_bedding_approach"),
-    ("core/contact/prefilter.py", "_roughness"),
-    # the compiled laws core/contact/ defines and the compiled loops in core/loop_kernels.py and interaction.py inline
-    ("core/loop_kernels.py", "_hertz_law"),
-    ("core/loop_kernels.py", "_bedding_law"),
-    ("core/interaction.py", "_halfspace_step"),
-    ("core/interaction.py", "_run_in_chunk"),
-}
+PENDING_CONTACT_REWRITE: set[tuple[str, str]] = set()  # emptied: the 3D solver's rewrite is merged
 
 
 def _module_name(path: Path) -> str:

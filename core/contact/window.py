@@ -1,47 +1,21 @@
 """3D non-Hertzian normal contact of two elastic half-spaces (paper section 2.3.2, eqs. 8-11).
 
-Geometry and sign convention (z positive downwards into the rail, as in the paper)
------------------------------------------------------------------------------------
-The potential contact area is a window of ``ny x nx`` square elements of side ``element_size``
-(rows = lateral y', columns = rolling direction x'). For each element the *undeformed gap* is
+The window is ``ny x nx`` square elements of side ``element_size`` (rows across the rail, columns along
+it); a solve takes the undeformed gap h (m, positive where the surfaces are apart: for the paper's crossed
+cylinders (x^2 + y^2) / (2 R) - r) and finds the pressure p >= 0 with the deformed gap d = h - delta + C p
+>= 0, d p = 0 (eqs. 8, 10, 11) under a load F = A_e sum(p) (eq. 9) or with delta = delta_known - c F.
+Sign convention: ``wheelrail.core.contact``.
 
-    h_e = z_Re - z_We - r_e                                   (the x-independent part of eq. 11)
-
-in m, positive where the surfaces are apart. For crossed cylinders of equal radius R (the paper's wheel
-and railhead) ``z_Re - z_We = (x'^2 + y'^2) / (2 R)``: a sphere of radius R on a flat. ``r = r_W - r_R`` is the
-combined roughness (r_W, r_R positive downwards), so a bump on the wheel (r_W > 0) or on the rail (r_R < 0)
-*reduces* the gap. With the approach ``delta = xi_W - xi_R`` (m, positive when wheel and rail move
-towards each other) the deformed gap of eq. (11) is
-
-    d_e = h_e - delta + u_e,     u = C p   (eq. 8),     F = A_e sum(p)   (eq. 9),
-
-and the contact conditions (10) are d >= 0, p >= 0, d p = 0.
-
-Model apart from solver
------------------------
-As in tamaas, the model and the solver are separate pieces:
-
-* :mod:`wheelrail.core.contact.halfspace_kernel`: the influence coefficients C of eq. (8) (Love's solution,
-  a block-Toeplitz kernel cached per shape, element size and material);
-* :mod:`wheelrail.core.contact.halfspace_solver`: the compiled active-set solver (solve on the contact
-  set, drop elements in tension, add penetrating elements) and its Cholesky updates;
-* :class:`HalfSpaceWindow` (here): one window's geometry, material and kernel, the solver settings and the
-  solver's warm state, with ``solve(gap, load=...)`` and ``solve_coupled(gap, approach_known=...,
-  compliance=...)``. The time-stepping loop keeps one window and calls ``solve_coupled`` once per step.
-
-Warm state: a window starts each solve from the contact set, and the Cholesky factor of ``C_AA`` in the
-same order, of its last solve that carried load (force > 0); a solve without contact (F = 0, the wheel
-lifted off) leaves it as it was, so contact is regained from the last loaded patch. The window moves with
-the wheel, so the patch stays centred: in the interaction loop this takes 1.8 instead of 5 active-set
-iterations per step compared with shifting the contact set by one element. The answer does not depend
-on the warm state beyond round-off.
-
-:func:`solve_normal_contact` and :func:`solve_coupled_contact` are stateless one-off forms: each builds a
-window, and their ``initial`` (a previous result or a contact mask) is the warm start. A result keeps,
-privately, the set and factor it ended with for that purpose only.
-
-A direct solve was chosen over FFT-based conjugate gradients (Polonsky-Keer) by measurement:
-``benchmarks/contact_solver.py`` compares with tamaas' PKR solver.
+How
+---
+:class:`HalfSpaceWindow` holds one window's geometry, material and influence kernel (``contact.influence``,
+eq. 8), the solver's settings and its warm state; each solve fills an
+:class:`~wheelrail.core.contact.active_set.ActiveSetSolver` (the one active-set method, also the ``3d``
+model's) from that state and solves ``solve(gap, load=...)`` or ``solve_coupled(gap, approach_known=...,
+compliance=...)``. A window warm-starts from the contact set and Cholesky factor of its last solve that
+carried load (a lift-off leaves it as it was); the answer does not depend on the start beyond round-off.
+:func:`solve_normal_contact` and :func:`solve_coupled_contact` are the one-off forms on a fresh window, their
+``initial`` (a previous result or a contact mask) the warm start.
 
 Failures are reported: by default a solve that does not converge within ``max_iterations`` or whose
 contact set reaches the window edge raises :class:`WheelrailError`; with ``raise_on_failure=False``
@@ -50,7 +24,6 @@ the result is returned with ``converged=False`` / ``at_edge=True`` and the calle
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field
 
@@ -58,18 +31,18 @@ import numpy as np
 
 from wheelrail.core.checks import integer as _integer
 from wheelrail.core.checks import positive as _positive
-from wheelrail.core.contact.halfspace_kernel import _cached_kernel, _material, influence_kernel
-from wheelrail.core.contact.halfspace_solver import (
-    _CAUTIOUS_AFTER,
-    _NO_FACTOR,
-    _STATUS_CONVERGED,
-    _STATUS_NOT_DEFINITE,
-    _active_set_solve,
-    _coordinates,
-    _displacement,
+from wheelrail.core.contact.active_set import (
+    CAUTIOUS_AFTER,
+    STEP_CONVERGED,
+    STEP_NOT_DEFINITE,
+    ActiveSetSolver,
+    cached_grid,
+    cold_start_set,
+    displacement,
 )
+from wheelrail.core.contact.influence import influence_kernel
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS, reduced_modulus
+from wheelrail.core.parameters import ContactParameters, reduced_modulus
 
 __all__ = [
     "HalfSpaceWindow",
@@ -108,8 +81,11 @@ class NormalContactResult:
     element_size : float
         Side of the square elements, m.
     separation : ndarray, shape (ny, nx)
-        Deformed gap d = h - delta + C p, eq. (11), m (zero, up to round-off, where in contact). Computed
-        on first access (the solver itself only needs it where the surfaces overlap).
+        Deformed gap d = h - delta + C p, eq. (11), m (zero, up to round-off, where in contact).
+
+    See Also
+    --------
+    HalfSpaceWindow.solve, solve_normal_contact, solve_coupled_contact : the solves that return it.
     """
 
     pressure: np.ndarray
@@ -122,24 +98,10 @@ class NormalContactResult:
     max_gap_violation: float
     min_pressure: float
     element_size: float
-    # (window key, final set in factor order, its Cholesky factor) of a converged solve, for the
-    # ``initial=`` of the one-off functions; a HalfSpaceWindow keeps its own warm state
+    separation: np.ndarray
+    # (window key, final set in factor order, (its Cholesky factor, z = U^-T 1)) of a converged solve, for
+    # the ``initial=`` of the one-off functions; a HalfSpaceWindow keeps its own warm state
     _warm: object = field(default=None, repr=False)
-    _gap: np.ndarray | None = field(default=None, repr=False)
-    _kernel: np.ndarray | None = field(default=None, repr=False)
-
-    @functools.cached_property
-    def separation(self) -> np.ndarray:
-        """Deformed gap d = h - delta + C p of eq. (11) on the whole window, m."""
-        ny, nx = self.pressure.shape
-        rows, columns = _coordinates(ny, nx)
-        flat = self.pressure.ravel()
-        order = np.flatnonzero(flat)
-        u = np.empty(ny * nx)
-        _displacement((self._kernel, rows, columns), order, order.size, flat, u)
-        separation = (self._gap - self.approach + u).reshape(ny, nx)
-        separation.setflags(write=False)
-        return separation
 
     @property
     def contact_area(self) -> float:
@@ -162,13 +124,52 @@ class HalfSpaceWindow:
         Window size (ny, nx) in elements, each >= 2 (rows across the rail, columns along it).
     element_size : float
         Side of the square elements, m (1e-3 in the paper).
-    youngs_modulus, poisson_ratio : float
-        E (Pa) and nu of both bodies (same material): E* = E / (2 (1 - nu^2)).
+    contact : ContactParameters, optional
+        The material: E (Pa) and nu of both bodies (same material), E* = E / (2 (1 - nu^2)); default
+        ``ContactParameters()`` (steel).
     tolerance : float
         Relative tolerance of the contact conditions: pressures down to ``-tolerance * max(p)`` and gaps
         down to ``-tolerance * (delta - min(h))`` count as zero.
     max_iterations : int
         Maximum number of active-set iterations (linear solves) per solve.
+
+    Raises
+    ------
+    WheelrailError
+        If the shape is not two integers of at least 2, the element size, tolerance or iteration count not
+        positive, or ``contact`` not ContactParameters.
+
+    See Also
+    --------
+    solve_normal_contact, solve_coupled_contact : one-off solves on a fresh window.
+    wheelrail.core.contact.halfspace_model.HalfSpaceModel : the ``3d`` model, which steps the same solver.
+
+    Notes
+    -----
+    The solver is :class:`~wheelrail.core.contact.active_set.ActiveSetSolver` (module docstring of
+    ``contact.active_set``); a window fills one from its warm state for each solve.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, section 2.3.2, eqs. (8)-(11).
+    J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer, 1990 (the active set).
+
+    Examples
+    --------
+    The paper's crossed cylinders (R = 0.39 m) on 1 mm elements, then two steps of a rolling run:
+
+    >>> import numpy as np
+    >>> from wheelrail.core.contact import HalfSpaceWindow
+    >>> c = (np.arange(24) - 11.5) * 1e-3
+    >>> gap = (c[:, None] ** 2 + c[None, :] ** 2) / (2 * 0.39)
+    >>> window = HalfSpaceWindow(gap.shape, 1e-3)
+    >>> static = window.solve(gap, load=65e3)
+    >>> round(static.approach * 1e6, 1), int(static.contact.sum())   # um (Hertz: 77.07), elements
+    (77.1, 96)
+    >>> for known in (80e-6, 82e-6):
+    ...     step = window.solve_coupled(gap, approach_known=known, compliance=1e-9)
+    >>> bool(abs(step.approach - (82e-6 - 1e-9 * step.force)) < 1e-15)
+    True
     """
 
     def __init__(
@@ -176,8 +177,7 @@ class HalfSpaceWindow:
         shape: tuple[int, int],
         element_size: float,
         *,
-        youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-        poisson_ratio: float = STEEL_POISSON_RATIO,
+        contact: ContactParameters | None = None,
         tolerance: float = 1e-9,
         max_iterations: int = 100,
     ) -> None:
@@ -190,23 +190,25 @@ class HalfSpaceWindow:
             raise WheelrailError(f"{where}: shape must be two integers (ny, nx), got {shape!r}") from None
         if ny < 2 or nx < 2:
             raise WheelrailError(f"{where}: the window must be at least 2 x 2 elements, got shape {shape!r}")
-        self._configure(where, (ny, nx), element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations)
+        self._configure(where, (ny, nx), element_size, contact, tolerance, max_iterations)
 
-    def _configure(self, where, shape, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations):
+    def _configure(self, where, shape, element_size, contact, tolerance, max_iterations):
         element_size = _positive(where, "element_size", element_size, "m")
-        youngs_modulus, poisson_ratio = _material(where, youngs_modulus, poisson_ratio)
+        contact = ContactParameters() if contact is None else contact
+        if not isinstance(contact, ContactParameters):
+            raise WheelrailError(f"{where}: contact must be ContactParameters, got {type(contact).__name__}")
         self._tolerance = _positive(where, "tolerance", tolerance, "relative")
         self._max_iterations = _integer(f"{where}: max_iterations", max_iterations, 1)
-        self._key = (shape[0], shape[1], element_size, youngs_modulus, poisson_ratio)
-        self._kernel = _cached_kernel(*self._key)
-        self._warm = None  # (contact set in factor order, its upper Cholesky factor or 0 x 0)
+        self._key = (shape[0], shape[1], element_size, float(contact.youngs_modulus), float(contact.poisson_ratio))
+        self._kernel = influence_kernel(shape, element_size, contact)
+        self._warm = None  # (contact set in factor order, (its upper Cholesky factor, z) or None)
         self._last = None
 
     @classmethod
-    def _for_gap(cls, where, gap, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations):
+    def _for_gap(cls, where, gap, element_size, contact, tolerance, max_iterations):
         """A fresh window for the checked ``gap``, its errors named after the one-off function ``where``."""
         window = cls.__new__(cls)
-        window._configure(where, gap.shape, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations)
+        window._configure(where, gap.shape, element_size, contact, tolerance, max_iterations)
         return window
 
     # model and settings (read-only) ------------------------------------------------------------------
@@ -336,30 +338,29 @@ class HalfSpaceWindow:
         coupled, target, compliance = law
         ny, nx, element_size = self._key[:3]
         flat = gap.ravel()
-        if not flat.flags.writeable:
-            flat = flat.copy()  # one numba specialisation for all callers
         area = element_size**2
-        order, factor = start if start is not None else (None, _NO_FACTOR)
+        order, factor = start if start is not None else (None, None)
         if order is None:
             modulus = reduced_modulus(self.youngs_modulus, self.poisson_ratio)
-            order = np.flatnonzero(_cold_start_set(flat, area, modulus, coupled, float(target), float(compliance)))
-        pressure, delta, iterations, status, upper, order, contact, summary = _active_set_solve(
-            self._kernel,
-            flat,
+            order = np.flatnonzero(cold_start_set(flat, area, modulus, coupled, float(target), float(compliance)))
+        solver = ActiveSetSolver(
+            cached_grid(self._key, self._kernel),
             order,
-            factor,
-            (coupled, float(target), float(compliance), area),
-            (self._tolerance, self._max_iterations, _CAUTIOUS_AFTER),
+            (self._tolerance, self._max_iterations, area, self._cautious),
+            factor=factor,
         )
-        contact = contact.reshape(ny, nx)
-        pressure = pressure.reshape(ny, nx)
-        # the factor and its order stay writable (private to the result and the window): read-only arrays
-        # would make numba compile a second specialisation of the solver for warm starts
-        for array in (contact, pressure):
+        solver.gap[:] = flat
+        status, force, delta, iterations = solver.solve(coupled, float(target), float(compliance))
+        pressure = solver.pressure if force > 0.0 else np.zeros(ny * nx)
+        contact = np.zeros(ny * nx, dtype=bool)
+        if force > 0.0:
+            contact[solver.contact_set()] = True
+        separation = flat - delta + displacement(cached_grid(self._key, self._kernel), pressure)
+        contact, pressure, separation = (a.reshape(ny, nx) for a in (contact, pressure, separation))
+        for array in (contact, pressure, separation):
             array.setflags(write=False)
-        force, min_pressure, max_gap_violation, at_edge = summary
-        converged = status == _STATUS_CONVERGED
-        warm = (self._key, order, upper) if converged and order.size > 0 and upper.shape[0] == order.size else None
+        converged = status == STEP_CONVERGED
+        factor = solver.factor() if converged and force > 0.0 else None
         result = NormalContactResult(
             pressure=pressure,
             contact=contact,
@@ -367,25 +368,26 @@ class HalfSpaceWindow:
             approach=delta,
             iterations=iterations,
             converged=converged,
-            at_edge=at_edge,
-            max_gap_violation=max_gap_violation,
-            min_pressure=min_pressure,
+            at_edge=bool(contact[[0, -1], :].any() or contact[:, [0, -1]].any()),
+            max_gap_violation=max(0.0, -float(separation.min())),
+            min_pressure=float(pressure.min()),
             element_size=element_size,
-            _warm=warm,
-            _gap=flat.copy(),  # the caller may reuse its gap array; separation is computed later
-            _kernel=self._kernel,
+            separation=separation,
+            _warm=(self._key, solver.contact_set(), factor) if factor is not None else None,
         )
         if raise_on_failure:
             self._raise_failure(where, result, status)
         if result.force > 0:
             # the new warm state: this set and its factor, or (not converged) its contact set alone
-            self._warm = (order, upper) if warm is not None else (np.flatnonzero(contact), _NO_FACTOR)
+            self._warm = (result._warm[1], factor) if factor is not None else (np.flatnonzero(contact), None)
         self._last = result
         return result
 
+    _cautious = CAUTIOUS_AFTER  # iterations after which one element at a time changes (tests: 0)
+
     def _raise_failure(self, where: str, result: NormalContactResult, status: int) -> None:
         iterations = result.iterations
-        if status == _STATUS_NOT_DEFINITE:
+        if status == STEP_NOT_DEFINITE:
             raise WheelrailError(
                 f"{where}: the influence matrix of the contact set lost positive definiteness in round-off "
                 f"after {iterations} iterations; the solve failed"
@@ -454,34 +456,7 @@ def _initial_set(where: str, initial, shape, key, name: str = "initial"):
             f"{where}: {name} must be a NormalContactResult or bool mask of shape {shape}, "
             f"got {type(initial).__name__} of shape {mask.shape}"
         )
-    return np.flatnonzero(mask), _NO_FACTOR
-
-
-def _cold_start_set(
-    flat: np.ndarray, area: float, modulus: float, coupled: bool, target: float, compliance: float
-) -> np.ndarray:
-    """First guess of the contact set: the rigid overlap at half the approach, as for Hertz.
-
-    For quadratic surfaces Hertz gives a contact area half the rigid overlap area at the same approach
-    (the overlap at depth delta/2) and F = (4/3) E* a delta. Taking A_g(t) = overlap area at depth t
-    below the lowest point, a_c = sqrt(A_g(t) / pi) and delta = 2 t, the guess solves F(t) = load
-    (or 2 t + c F(t) = delta_known - min h in the coupled form). Any set works; a good one saves
-    factorisations.
-    """
-    order = np.sort(flat - flat.min())
-    count = np.arange(1, order.size + 1)
-    # test depth t = order[k]: overlap count k+1 (approximately), estimated force and approach
-    force = (4.0 / 3.0) * modulus * np.sqrt(count * area / np.pi) * 2.0 * order
-    if coupled:
-        lhs = 2.0 * order + compliance * force
-        available = target - flat.min()
-        if available <= 0.0:
-            return np.zeros(flat.size, dtype=bool)
-        k = int(np.searchsorted(lhs, available))
-    else:
-        k = int(np.searchsorted(force, target))
-    k = min(max(k, 0), order.size - 1)
-    return (flat - flat.min()) <= order[k]
+    return np.flatnonzero(mask), None
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -495,8 +470,7 @@ def solve_normal_contact(
     *,
     load: float,
     initial: NormalContactResult | np.ndarray | None = None,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
+    contact: ContactParameters | None = None,
     tolerance: float = 1e-9,
     max_iterations: int = 100,
     raise_on_failure: bool = True,
@@ -519,7 +493,7 @@ def solve_normal_contact(
     initial : NormalContactResult or bool ndarray, optional
         Warm start: a previous result on the same window shape, or a contact mask (e.g. the previous one
         shifted by the caller). Only the contact set is reused; the answer does not depend on it.
-    youngs_modulus, poisson_ratio, tolerance, max_iterations
+    contact, tolerance, max_iterations
         As in :class:`HalfSpaceWindow`.
     raise_on_failure : bool
         If True (default) non-convergence or contact at the window edge raises :class:`WheelrailError`;
@@ -528,13 +502,41 @@ def solve_normal_contact(
     Returns
     -------
     NormalContactResult
+
+    Raises
+    ------
+    WheelrailError
+        On bad input; unless ``raise_on_failure`` is False, also when the solve does not converge or the
+        contact reaches the window's edge.
+
+    See Also
+    --------
+    HalfSpaceWindow.solve : the same on a window that keeps its warm state.
+    solve_coupled_contact : the approach coupled to the wheel and rail instead of a load.
+
+    Notes
+    -----
+    An exact active-set method (module docstring of ``contact.active_set``): the answer satisfies eq. (10)
+    to ``tolerance`` relative, whatever the start.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, eqs. (8)-(11).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.contact import solve_normal_contact
+    >>> c = (np.arange(24) - 11.5) * 1e-3
+    >>> gap = (c[:, None] ** 2 + c[None, :] ** 2) / (2 * 0.39)   # the paper's crossed cylinders, m
+    >>> result = solve_normal_contact(gap, 1e-3, load=65e3)
+    >>> round(result.pressure.max() / 1e6), round(result.force)   # MPa (Hertz p0: 1033), N
+    (1027, 65000)
     """
     where = "solve_normal_contact"
     load = _positive(where, "load", load, "N")
     gap = _check_gap(where, gap)
-    window = HalfSpaceWindow._for_gap(
-        where, gap, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations
-    )
+    window = HalfSpaceWindow._for_gap(where, gap, element_size, contact, tolerance, max_iterations)
     start = _initial_set(where, initial, gap.shape, window._key)
     return window._solve(where, gap, (False, load, 0.0), raise_on_failure, start)
 
@@ -546,8 +548,7 @@ def solve_coupled_contact(
     approach_known: float,
     compliance: float,
     initial: NormalContactResult | np.ndarray | None = None,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
+    contact: ContactParameters | None = None,
     tolerance: float = 1e-9,
     max_iterations: int = 100,
     raise_on_failure: bool = True,
@@ -574,19 +575,42 @@ def solve_coupled_contact(
         delta_known, m (positive = towards each other).
     compliance : float
         c >= 0, m/N.
-    initial, youngs_modulus, poisson_ratio, tolerance, max_iterations, raise_on_failure
+    initial, contact, tolerance, max_iterations, raise_on_failure
         As in :func:`solve_normal_contact`.
 
     Returns
     -------
     NormalContactResult
         ``approach`` is the consistent delta = approach_known - compliance * force.
+
+    Raises
+    ------
+    WheelrailError
+        As :func:`solve_normal_contact`.
+
+    See Also
+    --------
+    HalfSpaceWindow.solve_coupled : the same on a window that keeps its warm state.
+
+    References
+    ----------
+    A. Pieringer, W. Kropp, D. J. Thompson, Wear 271 (2011) 328-338, eqs. (1), (2), (8)-(11).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.contact import solve_coupled_contact
+    >>> c = (np.arange(24) - 11.5) * 1e-3
+    >>> gap = (c[:, None] ** 2 + c[None, :] ** 2) / (2 * 0.39)
+    >>> step = solve_coupled_contact(gap, 1e-3, approach_known=80e-6, compliance=1e-9)
+    >>> round(step.force / 1e3, 1), round(step.approach * 1e6, 2)   # kN, um
+    (32.0, 48.02)
+    >>> solve_coupled_contact(gap, 1e-3, approach_known=-1e-6, compliance=1e-9).force   # lifted off
+    0.0
     """
     where = "solve_coupled_contact"
     approach_known, compliance = _coupling(where, approach_known, compliance)
     gap = _check_gap(where, gap)
-    window = HalfSpaceWindow._for_gap(
-        where, gap, element_size, youngs_modulus, poisson_ratio, tolerance, max_iterations
-    )
+    window = HalfSpaceWindow._for_gap(where, gap, element_size, contact, tolerance, max_iterations)
     start = _initial_set(where, initial, gap.shape, window._key)
     return window._solve(where, gap, (True, approach_known, compliance), raise_on_failure, start)

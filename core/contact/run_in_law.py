@@ -2,9 +2,9 @@
 
 During the run-in the window stays on the roughness under step 0 (faded in), so the discretised 3D law is a
 function of the approach (and the fade) alone. On a fixed contact set it is exactly linear in the approach
-(``halfspace_steps._pressure_on_set``: p_A = C_AA^-1 (delta 1 - h_A)), with a kink where the set changes:
+(``active_set._pressure_on_set``: p_A = C_AA^-1 (delta 1 - h_A)), with a kink where the set changes:
 :func:`tabulate_law` finds it with the 3D solver itself (displacement-controlled solves with their slopes),
-:func:`run_in_table` builds the run-in's law from two such tables, and the compiled :data:`_run_in_chunk`
+:func:`run_in_table` builds the run-in's law from two such tables, and the compiled :data:`run_in_chunk`
 steps the run-in on it (``interaction.InteractionRun``; ``docs/physics.md``, "How a step is solved").
 """
 
@@ -17,18 +17,13 @@ from numba import njit
 
 from wheelrail.core import loop_kernels
 from wheelrail.core.compiled import sources_stamp
-from wheelrail.core.contact import halfspace_solver, halfspace_steps
-from wheelrail.core.contact.halfspace_steps import (
-    STEP_AT_EDGE,
-    STEP_CONVERGED,
-    STEP_NEEDS_ROOM,
-    HalfSpaceSteps,
-    _halfspace_step,
-)
+from wheelrail.core.contact import active_set, cholesky, halfspace_model
+from wheelrail.core.contact.active_set import STEP_AT_EDGE, STEP_CONVERGED, STEP_NEEDS_ROOM, ActiveSetSolver
+from wheelrail.core.contact.halfspace_model import halfspace_step
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.loop_kernels import commit_force, known_approach
 
-__all__ = ["run_in_table", "tabulate_law", "warm_start"]
+__all__ = ["run_in_chunk", "run_in_table", "step_gap", "tabulate_law", "warm_start"]
 
 # 3d's run-in law (run_in_table), in units of the static approach: T_0 and T_1 solved every 8 %, T_1 also every
 # 4 % where F is within RUN_IN_TABLE_BAND x P and again at its kinks there (exact), both up to RUN_IN_TABLE_FORCE
@@ -54,7 +49,7 @@ def _define_sweep(stamp):
         order, z, counts = state[0], state[2], state[3]
         area = law[4][2]
         for k in range(deltas.size):
-            status, force, _, _ = _halfspace_step(s, deltas[k], 0.0, law)
+            status, force, _, _ = halfspace_step(s, deltas[k], 0.0, law)
             if status != STEP_CONVERGED and status != STEP_AT_EDGE:
                 return k, status
             m = counts[0] if force > 0.0 else 0
@@ -71,10 +66,10 @@ def _define_sweep(stamp):
     return sweep
 
 
-_sweep = _define_sweep(sources_stamp(halfspace_steps, halfspace_solver))
+_sweep = _define_sweep(sources_stamp(halfspace_model, active_set, cholesky))
 
 
-def _solve_at(steps: HalfSpaceSteps, s: int, deltas: np.ndarray, force_stop: float = math.inf):
+def _solve_at(steps: ActiveSetSolver, s: int, deltas: np.ndarray, force_stop: float = math.inf):
     """:func:`_sweep` from Python (the factor's buffer grown where the set outgrew it): the approaches
     solved and (F, slope, set size, set index sum) at them."""
     n = deltas.size
@@ -92,22 +87,21 @@ def _solve_at(steps: HalfSpaceSteps, s: int, deltas: np.ndarray, force_stop: flo
     return deltas[:done], *(a[:done] for a in out)
 
 
-def warm_start(steps: HalfSpaceSteps, s: int, approach: float) -> None:
+def warm_start(steps: ActiveSetSolver, s: int, approach: float) -> None:
     """Leave the warm state (set and factor) at the solution of step s's gap at this approach (m): the state
     the next step starts from."""
     _solve_at(steps, s, np.array([approach]))
 
 
-def step_gap(steps: HalfSpaceSteps, s: int) -> np.ndarray:
-    """The undeformed gap of step s's window (ny, nx), m (as :func:`_halfspace_step` builds it)."""
-    ny, nx = steps.shape
-    base, lines, start_index, ramp, half_x, _ = steps._parts[2]
+def step_gap(steps: ActiveSetSolver, s: int) -> np.ndarray:
+    """The undeformed gap of step s's window (ny, nx), m (as :func:`halfspace_step` builds it)."""
+    base, lines, start_index, ramp, half_x, _ = steps.track
     i = int(start_index[s])
-    return base.reshape(ny, nx) - ramp[s] * lines[:, i - half_x : i + half_x + 1]
+    return base.reshape(-1, 2 * half_x + 1) - ramp[s] * lines[:, i - half_x : i + half_x + 1]
 
 
 def tabulate_law(
-    steps: HalfSpaceSteps, s: int, spacing: tuple[float, float], band: tuple[float, float] | None, force_stop: float
+    steps: ActiveSetSolver, s: int, spacing: tuple[float, float], band: tuple[float, float] | None, force_stop: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """The ``3d`` law on step s's gap as a function of the approach alone: breakpoints (delta, F) of the
     piecewise-linear F(delta), m and N, from delta = min h (F = 0) until F >= ``force_stop`` (N).
@@ -150,7 +144,7 @@ def _meeting_points(points) -> np.ndarray:
         return (force[1:] - force[:-1] + slope[:-1] * delta[:-1] - slope[1:] * delta[1:]) / (slope[:-1] - slope[1:])
 
 
-def _resolve_kinks(steps: HalfSpaceSteps, s: int, points, span: tuple[float, float], tolerance: float, rounds=8):
+def _resolve_kinks(steps: ActiveSetSolver, s: int, points, span: tuple[float, float], tolerance: float, rounds=8):
     """Solve again where neighbouring solves within ``span`` (m) have sets that differ by more than one
     element (several kinks may lie between): at the point where their lines meet. If the law is on both
     lines there (within ``tolerance``, N), that point is the only kink (several elements joining at once, as
@@ -172,7 +166,7 @@ def _resolve_kinks(steps: HalfSpaceSteps, s: int, points, span: tuple[float, flo
     return points
 
 
-def run_in_table(steps: HalfSpaceSteps, n_run_in: int, preload: float, static: float) -> tuple:
+def run_in_table(steps: ActiveSetSolver, n_run_in: int, preload: float, static: float) -> tuple:
     """The run-in's law of the ``3d`` model, tabulated: during the run-in the window stays on the roughness
     under step 0, faded in (gap h_0 - w r, w from 0 to 1), so the 3D law is F(delta, w). Tabulated exactly
     (:func:`tabulate_law`) at w = 0 (T_0, smooth) and w = 1 (T_1, the first recorded step's
@@ -244,4 +238,4 @@ def _define_run_in_chunk(stamp):
     return run_in_chunk
 
 
-_run_in_chunk = _define_run_in_chunk(sources_stamp(loop_kernels))
+run_in_chunk = _define_run_in_chunk(sources_stamp(loop_kernels))

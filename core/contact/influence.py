@@ -7,8 +7,7 @@ normal displacement of two bodies of the same material is
 
 i.e. twice the single-body value (1 - nu^2) / (pi E). The matrix C of u = C p is block-Toeplitz (it only
 depends on the offset between two elements), so only the kernel of offsets (2 ny - 1, 2 nx - 1) is stored
-and cached per (shape, element size, material). E* comes from :func:`wheelrail.core.parameters.reduced_modulus`,
-the one place that formula lives.
+and cached per (shape, element size, material). E* comes from :func:`wheelrail.core.parameters.reduced_modulus`.
 """
 
 from __future__ import annotations
@@ -18,10 +17,9 @@ import math
 
 import numpy as np
 
-from wheelrail.core.checks import poisson_ratio as _poisson
 from wheelrail.core.checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.parameters import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS, reduced_modulus
+from wheelrail.core.parameters import ContactParameters, reduced_modulus
 
 __all__ = ["influence_kernel"]
 
@@ -55,16 +53,8 @@ def _cached_kernel(ny: int, nx: int, element_size: float, youngs_modulus: float,
     return kernel
 
 
-def _material(where: str, youngs_modulus, poisson_ratio) -> tuple[float, float]:
-    return _positive(where, "youngs_modulus", youngs_modulus, "Pa"), _poisson(where, poisson_ratio)
-
-
 def influence_kernel(
-    shape: tuple[int, int],
-    element_size: float,
-    *,
-    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
-    poisson_ratio: float = STEEL_POISSON_RATIO,
+    shape: tuple[int, int], element_size: float, contact: ContactParameters | None = None
 ) -> np.ndarray:
     """Influence coefficients of eq. (8) as a kernel of element offsets (Johnson eq. 3.25).
 
@@ -74,18 +64,46 @@ def influence_kernel(
         Window size (ny, nx) in elements.
     element_size : float
         Side of the square elements, m.
-    youngs_modulus, poisson_ratio : float
-        E in Pa and nu of both bodies (same material).
+    contact : ContactParameters, optional
+        The material E (Pa) and nu of both bodies; default ``ContactParameters()`` (steel).
 
     Returns
     -------
     ndarray, shape (2 ny - 1, 2 nx - 1), read-only
         ``K[dy + ny - 1, dx + nx - 1]`` is the combined normal displacement (m) at an element centre per
         unit uniform pressure (Pa) on an element offset by (dy, dx) elements, m/Pa. Cached per arguments.
+
+    Raises
+    ------
+    WheelrailError
+        If the shape is not two positive integers, the element size not a positive number or ``contact`` not
+        ContactParameters.
+
+    See Also
+    --------
+    wheelrail.core.contact.window.HalfSpaceWindow : solves eqs. (8)-(11) with this kernel.
+
+    Notes
+    -----
+    For uniform pressure on a square of side s the displacement at its centre is 4 s asinh(1) / (pi E*)
+    (two bodies, E* = E / (2 (1 - nu^2))).
+
+    References
+    ----------
+    K. L. Johnson, *Contact Mechanics*, Cambridge University Press, 1985, eq. (3.25).
+
+    Examples
+    --------
+    >>> from wheelrail.core.contact import influence_kernel
+    >>> kernel = influence_kernel((3, 3), 1e-3)
+    >>> kernel.shape, f"{kernel[2, 2]:.4e}"
+    ((5, 5), '9.7257e-15')
     """
     ny, nx = (int(shape[0]), int(shape[1]))
     if ny < 1 or nx < 1:
         raise WheelrailError(f"influence_kernel: shape must be two positive integers, got {shape!r}")
     element_size = _positive("influence_kernel", "element_size", element_size, "m")
-    youngs_modulus, poisson_ratio = _material("influence_kernel", youngs_modulus, poisson_ratio)
-    return _cached_kernel(ny, nx, element_size, youngs_modulus, poisson_ratio)
+    contact = ContactParameters() if contact is None else contact
+    if not isinstance(contact, ContactParameters):
+        raise WheelrailError(f"influence_kernel: contact must be ContactParameters, got {type(contact).__name__}")
+    return _cached_kernel(ny, nx, element_size, float(contact.youngs_modulus), float(contact.poisson_ratio))
