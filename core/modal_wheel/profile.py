@@ -94,8 +94,7 @@ class WheelProfile:
         rim_inner = self.wheel_radius - self.tyre_depth
         if self.hub_outer_radius <= self.hub_inner_radius or rim_inner - self.hub_outer_radius < 2 * self.web_thickness:
             raise WheelrailError(
-                f"the web must span at least twice its thickness from the hub to the rim: hub {self.hub_inner_radius:g}"
-                f" to {self.hub_outer_radius:g} m, rim from {rim_inner:g} m, web {self.web_thickness:g} m thick",
+                "the web must span at least twice its thickness between the hub and the rim",
                 parameter="wheel_hub_outer_radius",
                 value=self.hub_outer_radius,
                 unit="m",
@@ -289,11 +288,9 @@ def read_outline(path, contact_z_mm: float) -> OutlineProfile:
         except ValueError:
             if not rows and number == 1:
                 continue  # a header
-            raise WheelrailError(f"{path}: line {number} is not two numbers (r, z in mm)", parameter="line",
-                                 value=number) from None  # fmt: skip
+            raise WheelrailError(f"{path}: line {number} is not two numbers (r, z in mm)") from None
         if len(values) != 2:
-            raise WheelrailError(f"{path}: line {number} has {len(values)} values, not two (r, z in mm)",
-                                 parameter="line", value=number)  # fmt: skip
+            raise WheelrailError(f"{path}: line {number} has {len(values)} values, not two (r, z in mm)")
         rows.append(values)
     return outline_profile(np.array(rows) * 1e-3 if rows else [], contact_z_mm * 1e-3, name=path.stem)
 
@@ -326,5 +323,6 @@ NAMED_WHEELS: dict[str, WheelProfile] = {
 def named_profile(name: str) -> WheelProfile:
     """The named wheel ``name`` (a key of :data:`NAMED_WHEELS`), or one WheelrailError line listing them."""
     if name not in NAMED_WHEELS:
-        raise WheelrailError(f"unknown wheel {name!r}; named wheels are {', '.join(NAMED_WHEELS)}", parameter="wheel")
+        names = ", ".join(NAMED_WHEELS)
+        raise WheelrailError(f"unknown wheel {name!r}; named wheels are {names}", parameter="wheel_name")
     return NAMED_WHEELS[name]
