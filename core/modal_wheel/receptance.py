@@ -87,7 +87,10 @@ def _frequencies(frequencies) -> np.ndarray:
 def _modal_denominator(modes, f: np.ndarray, added_loss_factor: float) -> np.ndarray:
     """(nf, n_modes): omega_m^2 (1 + i eta_m) - omega^2, rad^2/s^2."""
     wm2 = (2 * np.pi * modes.frequency) ** 2 * (1 + 1j * modes.loss_factor(added_loss_factor))
-    return wm2[None, :] - (2 * np.pi * f[:, None]) ** 2
+    denominator = wm2[None, :] - (2 * np.pi * f[:, None]) ** 2
+    if np.any(denominator == 0):  # a free wheel's rigid-body modes at 0 Hz
+        raise WheelrailError("a free wheel moves without bound at 0 Hz; give frequencies above 0")
+    return denominator
 
 
 def _residual(modes) -> np.ndarray:

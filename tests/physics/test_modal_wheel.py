@@ -56,6 +56,23 @@ def test_the_modal_receptance_with_its_static_correction_matches_a_direct_soluti
     assert np.max(np.abs(20 * np.log10(np.abs(truncated.radial / direct[:, 0, 0])))) > 1.0
 
 
+def test_a_free_wheel_below_its_first_mode_is_its_rigid_mass():
+    # a free wheel (bore not held) has rigid-body modes: pushed radially at the contact (on the web's plane, so
+    # no rocking), well below its first elastic mode it moves as a mass, alpha_rr = -1 / (M omega^2), with M the
+    # wheel's mass from its outline, rho 2 pi (first moment of the section's area about the axis). At 5 Hz the
+    # elastic modes' share is of order (5 Hz / 500 Hz)^2 of it: tolerance 0.1 %
+    profile = named_profile("wheel_640")
+    modes = wheel_modes(profile, max_frequency=3e3, max_harmonic=3, element_size=COARSE, clamped=False)
+    r, z = profile.outline().T
+    r1, z1 = np.roll(r, -1), np.roll(z, -1)
+    moment = np.sum((r + r1) * (r * z1 - r1 * z)) / 6  # int r dA over the section, m^3
+    mass = modes.material.density * 2 * np.pi * moment
+    omega = 2 * np.pi * 5.0
+    receptance = contact_receptance(modes, [5.0]).radial[0]
+    assert receptance.real == pytest.approx(-1 / (mass * omega**2), rel=1e-3)
+    assert 100 < mass < 200  # kg: a 640 mm solid wheel
+
+
 def _symmetric(contact_offset):
     return WheelProfile(
         wheel_radius=0.32, tyre_width=0.12, tyre_depth=0.04, web_thickness=0.022, hub_inner_radius=0.08,
