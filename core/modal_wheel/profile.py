@@ -37,6 +37,7 @@ __all__ = [
     "named_profile",
     "outline_profile",
     "read_outline",
+    "wheel_profile_for",
 ]
 
 _WEB_POINTS = 16  # points along each face of the web (its curvature); the mesher adds its own between them
@@ -326,3 +327,15 @@ def named_profile(name: str) -> WheelProfile:
         names = ", ".join(NAMED_WHEELS)
         raise WheelrailError(f"unknown wheel {name!r}; named wheels are {names}", parameter="wheel_name")
     return NAMED_WHEELS[name]
+
+
+def wheel_profile_for(wheel_radius: float, name: str | None = None) -> WheelProfile:
+    """A named wheel at the rolling radius ``wheel_radius`` (m; the run's or the noise chain's wheel radius): ``name``,
+    or else the named wheel nearest in radius, its other dimensions kept (checked as any profile: a radius too
+    small for its hub and rim is one WheelrailError naming it)."""
+    from dataclasses import replace
+
+    radius = ACCEPTED["wheel_radius"].check(wheel_radius, "wheel_radius")
+    if name is None:
+        name = min(NAMED_WHEELS, key=lambda key: abs(NAMED_WHEELS[key].wheel_radius - radius))
+    return replace(named_profile(name), wheel_radius=radius)
