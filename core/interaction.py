@@ -499,8 +499,7 @@ def prepare_run(
     track_numerics : TrackNumerics, optional
         Numerics of the track's Green's functions.
     wheel_system : tuple, optional
-        The wheel as ``(Phi, Gamma0, Gamma1)`` (state 1 the contact): default the paper's 2-DOF wheel;
-        ``wheelrail.core.modal_wheel.time_domain.modal_wheel_system`` gives the modal wheel's.
+        The wheel's ``(Phi, Gamma0, Gamma1)``, default the 2-DOF's; ``modal_wheel.time_domain.modal_wheel_system``.
 
     Returns
     -------
