@@ -457,6 +457,7 @@ def prepare_run(
     run_in_length: float | None = None,
     keep_pressure: bool = True,
     track_numerics: TrackNumerics | None = None,
+    wheel_system: tuple | None = None,
 ) -> InteractionRun:
     """Set up a wheel/rail interaction run.
 
@@ -490,6 +491,8 @@ def prepare_run(
         Keep every pressure map in the result (steps x ny x nx float32), for models that have them.
     track_numerics : TrackNumerics, optional
         Numerics of the track's Green's functions.
+    wheel_system : tuple, optional
+        The wheel's ``(Phi, Gamma0, Gamma1)``, default the 2-DOF's; ``modal_wheel.time_domain.modal_wheel_system``.
 
     Returns
     -------
@@ -537,25 +540,21 @@ def prepare_run(
         entry, params, usable_length(rough, dx) if length is None else length, run_in_length, keep_pressure
     )
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
-    history = history_arrays(track, params, run_in_length, track_numerics)
+    history = history_arrays(track, params, run_in_length, track_numerics, wheel_system)
     scatter_history(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
-    header = _header(entry, line, name, params, history.n_run_in * dx, wheel_name)
+    header = RunHeader(
+        model=entry.name,
+        line=line,
+        roughness_name=name,
+        params=params,
+        run_in_length=history.n_run_in * dx,
+        wheel_roughness_name=wheel_name,
+    )
     contact = entry.create()
     static_approach = contact.prepare(model_inputs(track, history, params))
     history.xi_w0 = static_equilibrium(static_approach, params.contact.preload, history.weights)
     return InteractionRun(
         header=header, traits=entry.traits, contact=contact, track=track, history=history, keep_pressure=keep_pressure
-    )
-
-
-def _header(entry, line, name, params, run_in_length, wheel_name) -> RunHeader:
-    return RunHeader(
-        model=entry.name,
-        line=line,
-        roughness_name=name,
-        params=params,
-        run_in_length=run_in_length,
-        wheel_roughness_name=wheel_name,
     )
 
 
