@@ -279,6 +279,7 @@ def _vibration(
         "rail_radiated": np.empty(shape),
         "sleeper": np.empty(shape),
         "alpha_sq": np.empty(shape),
+        "alpha_track": np.empty(shape, dtype=complex),
         "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
         "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
         "free_distance": free_distance,
@@ -294,7 +295,8 @@ def _vibration(
             out["rail"][b, p, j] = w**2 * np.sum(weights * np.abs(rail) ** 2)
             out["rail_radiated"][b, p, j] = decaying_rail_radiation(w * rail, model.element_length, f)
             out["sleeper"][b, p, j] = w**2 * np.sum(np.abs(u[model.sleeper_dof]) ** 2)
-            out["alpha_sq"][b, p, j] = abs(alpha_w + shape_n @ u[dofs] + 1.0 / k_hertz) ** 2
+            out["alpha_track"][b, p, j] = shape_n @ u[dofs] + 1.0 / k_hertz
+            out["alpha_sq"][b, p, j] = abs(alpha_w + out["alpha_track"][b, p, j]) ** 2
             if j == 1:  # midspan excitation: EN 15461 and the free wave
                 out["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
                 out["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
@@ -379,11 +381,13 @@ def _wheel_receptances(params: ModelParameters, freqs: np.ndarray, wheel_model: 
     return alpha, {}
 
 
-def _wheel_transfer(params: ModelParameters, modal: dict, force_per_r_sq: np.ndarray) -> dict:
+def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.ndarray) -> dict:
     """Step 6: the wheel's transfer function per axle (dB), its source in words and, for the modal wheel, the
-    band means of W / F^2 (W/N^2)."""
+    band means of W / F^2 (W/N^2), on the wheel's own dense band sampling
+    (:func:`wheelrail.core.noise.wheel_power.modal_wheel_band_means`) with alpha_R + alpha_C interpolated in
+    lg f (real and imaginary parts) between the chain's points."""
     from wheelrail.core.noise.cnossos import vehicle_transfer
-    from wheelrail.core.noise.wheel_power import profile_name
+    from wheelrail.core.noise.wheel_power import modal_wheel_band_means, profile_name
 
     radius = params.contact.radius_along
     diameter = nearest_table_diameter_mm(radius)
@@ -394,11 +398,18 @@ def _wheel_transfer(params: ModelParameters, modal: dict, force_per_r_sq: np.nda
             "power_per_force": None,
             "source": f"{directive}: the 2-DOF wheel model has no radiating modes",
         }
-    power = modal["power_per_force"]
+    lg_f = np.log10(freqs.ravel())
+    track = vib["alpha_track"].reshape(-1, vib["alpha_track"].shape[-1])
+
+    def alpha_track(f):
+        x = np.log10(f)
+        return np.stack([np.interp(x, lg_f, t.real) + 1j * np.interp(x, lg_f, t.imag) for t in track.T], axis=1)
+
     profile = modal["modes"].profile
+    means = modal_wheel_band_means(profile, params.wheel.unsprung_mass, alpha_track)
     return {
-        "db": 10 * np.log10(2 * np.mean(power[..., None] * force_per_r_sq, axis=(1, 2))),  # (1 um)^2 / 1 pW = 1
-        "power_per_force": np.mean(power, axis=1),
+        "db": 10 * np.log10(2 * means["power_per_roughness"]),  # (1 um)^2 / 1 pW = 1
+        "power_per_force": means["power_per_force"],
         "source": f"modal wheel ({profile_name(profile)}, 2R = {2e3 * profile.wheel_radius:.0f} mm): axisymmetric "
         f"FE modes n = 0..{modal['modes'].max_harmonic} and their radiation (wheelrail.core.modal_wheel); "
         f"not the directive's {directive}",
@@ -426,7 +437,7 @@ def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics, wheel_m
     rail_tr = 10 * np.log10(2 * np.mean(t_rail * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
     sleeper_tr = 10 * np.log10(2 * np.mean(t_sleeper * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
     decay, free_decay = _decay_rates(vib)
-    wheel = _wheel_transfer(params, modal, force_per_r_sq)
+    wheel = _wheel_transfer(params, modal, vib, freqs)
     configuration = {
         "method": "twins",
         "track_bays": numerics.track_bays,

@@ -42,6 +42,10 @@ DEFAULT_WHEEL_MODEL = choice("wheel_model").default
 MAX_HARMONIC = 10  # n = 0..10 nodal diameters: every wheel mode of the 640-920 mm wheels below 10 kHz
 MAX_FREQUENCY = 12.5e3  # Hz: modes up to the top band's upper edge (11.2 kHz) and some above
 SIGMA_TABLE_HZ = (35.0, 12500.0, 77)  # radiation efficiency table: 30 points per decade, interpolated in lg f
+# Frequencies per band of the wheel's band means: its modes have loss factors of 1e-4 (n >= 2; 1e-3 for n = 0, 1),
+# half-power widths of 1e-4 f, far below the track's 20 points per band; the L_H,veh-equivalent of the 920 mm
+# wheel moves by <= 0.6 dB per band 500 Hz-5 kHz from 1 000 to 4 000 points (tests/physics/test_modal_wheel_noise.py)
+WHEEL_POINTS_PER_BAND = 1000
 
 
 def checked_wheel_model(wheel_model) -> str:
@@ -133,3 +137,24 @@ def modal_wheel_response(profile, frequencies, unsprung_mass: float) -> dict:
         "radial": (rho_c * parts["radial"]).reshape(f.shape),
         "modes": modes,
     }
+
+
+def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, points_per_band: int = WHEEL_POINTS_PER_BAND):
+    """Band means (24 bands) of the modal wheel's W / F^2 (W/N^2) and of W / F^2 |F / r|^2 (W/m^2) with
+    |F / r| = 1 / |alpha_W + alpha_T| for each excitation position, on ``points_per_band`` frequencies per band
+    evenly in lg f. ``alpha_track(f)`` gives alpha_R + alpha_C (m/N) at frequencies f (n,) as (n, positions):
+    the track's receptance, smooth beside the wheel's modes, interpolated by the caller between its own points.
+
+    Returns ``power_per_force`` (24,), ``power_per_roughness`` (24,) (the mean over positions too) and ``modes``."""
+    from wheelrail.core.noise.twins import band_frequencies
+
+    freqs = band_frequencies(points_per_band)
+    power, per_roughness = np.empty(freqs.shape[0]), np.empty(freqs.shape[0])
+    modes = None
+    for b, f in enumerate(freqs):  # a band at a time: the modal sums hold (points, modes, surface points)
+        response = modal_wheel_response(profile, f, unsprung_mass)
+        modes = response["modes"]
+        force_sq = 1.0 / np.abs(response["receptance"][:, None] + alpha_track(f)) ** 2
+        power[b] = np.mean(response["power_per_force"])
+        per_roughness[b] = np.mean(response["power_per_force"][:, None] * force_sq)
+    return {"power_per_force": power, "power_per_roughness": per_roughness, "modes": modes}
