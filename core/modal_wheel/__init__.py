@@ -11,6 +11,7 @@ from wheelrail.core.modal_wheel.profile import (
     named_profile,
     outline_profile,
     read_outline,
+    wheel_profile_for,
 )
 from wheelrail.core.modal_wheel.receptance import (
     SurfaceVelocity,
@@ -36,4 +37,5 @@ __all__ = [
     "outline_profile",
     "read_outline",
     "wheel_modes",
+    "wheel_profile_for",
 ]

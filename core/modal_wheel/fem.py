@@ -172,12 +172,14 @@ def fixed_dofs(mesh: Mesh, harmonic: int, bore_radius: float | None) -> np.ndarr
 @dataclass(frozen=True)
 class HarmonicModes:
     """Modes of one harmonic: ``frequency`` (k,) Hz; ``shapes`` (k, 3 n_nodes), mass-normalised; ``family``
-    (k,) indices into FAMILIES; ``static`` (2, 2): static flexibility at the contact (radial, axial), m/N."""
+    (k,) indices into FAMILIES; ``static`` (2, 2): static flexibility at the contact (radial, axial), m/N;
+    ``static_fields`` (2, 3 n_nodes): the static displacement per unit radial and axial force there, m/N."""
 
     frequency: np.ndarray
     shapes: np.ndarray
     family: np.ndarray
     static: np.ndarray
+    static_fields: np.ndarray
 
 
 def harmonic_modes(
@@ -203,8 +205,11 @@ def harmonic_modes(
     shapes *= np.sign(shapes[np.arange(len(shapes)), np.argmax(np.abs(shapes), axis=1)])[:, None]
     frequency = np.sqrt(np.maximum(values[keep], 0.0)) / (2 * np.pi)
     singular = bore_radius is None and harmonic < 2  # a free hub's rigid-body motions: no static flexibility
-    static = np.zeros((2, 2)) if singular else _static(k, free, contact_node)
-    return HarmonicModes(frequency, shapes, _families(shapes, mass), static)
+    fields = np.zeros((2, size))
+    if not singular:
+        fields[:, free] = _static(k, free, contact_node).T
+    static = fields[:, [3 * contact_node, 3 * contact_node + 1]].T
+    return HarmonicModes(frequency, shapes, _families(shapes, mass), static, fields)
 
 
 def _families(shapes: np.ndarray, mass: sp.csr_matrix) -> np.ndarray:
@@ -214,9 +219,8 @@ def _families(shapes: np.ndarray, mass: sp.csr_matrix) -> np.ndarray:
 
 
 def _static(k, free: np.ndarray, contact_node: int) -> np.ndarray:
-    """Static displacements (radial, axial) at the contact per unit radial and axial force there, m/N."""
+    """(free DOFs, 2): static displacements per unit radial and axial force at the contact, m/N."""
     where = np.searchsorted(free, [3 * contact_node, 3 * contact_node + 1])
     load = np.zeros((len(free), 2))
     load[where, [0, 1]] = 1.0
-    solution = splu(k).solve(load)
-    return solution[where, :]
+    return splu(k).solve(load)

@@ -32,11 +32,12 @@ __all__ = [
     "wheel_modes",
 ]
 
-MODES_VERSION = 1  # bump when the meshing, the elements or the stored arrays change (the cache's key)
+MODES_VERSION = 2  # bump when the meshing, the elements or the stored arrays change (the cache's key)
 DEFAULT_ELEMENT_SIZE = 0.012  # m: frequencies up to 10 kHz within 1 % of a mesh twice as fine (tests/physics)
 LOSS_FACTOR_HUB = 1e-3  # n = 0, 1: coupled to the axle (module docstring)
 LOSS_FACTOR_WHEEL = 1e-4  # n >= 2
-_ARRAYS = ("frequency", "harmonic", "family", "shapes", "nodes", "triangles", "boundary", "static", "contact_node")
+_ARRAYS = ("frequency", "harmonic", "family", "shapes", "nodes", "triangles", "boundary", "static", "static_fields",
+           "contact_node")  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -59,6 +60,9 @@ class WheelModes:
         Mass-normalised shapes (U_r, U_z, U_theta per node), m per unit modal coordinate (kg^-1/2).
     static : ndarray (N + 1, 2, 2)
         Static flexibility at the contact per harmonic, (radial, axial) x (radial, axial), m/N.
+    static_fields : ndarray (N + 1, 2, 3 n_nodes)
+        Static displacement of every node per unit radial and axial force at the contact, per harmonic, m/N (zero
+        for a free hub's n = 0, 1).
     contact_node : int
         The mesh node at the contact.
     max_frequency, max_harmonic, element_size, material, clamped :
@@ -72,6 +76,7 @@ class WheelModes:
     family: np.ndarray
     shapes: np.ndarray
     static: np.ndarray
+    static_fields: np.ndarray
     contact_node: int
     max_frequency: float
     max_harmonic: int
@@ -185,6 +190,7 @@ def _computed(profile, max_frequency, max_harmonic, element_size, material, clam
         family=np.array(FAMILIES)[np.concatenate([p.family for p in parts]).astype(np.int64)],
         shapes=np.concatenate([p.shapes for p in parts]),
         static=np.stack([p.static for p in parts]),
+        static_fields=np.stack([p.static_fields for p in parts]),
         contact_node=contact,
         max_frequency=max_frequency,
         max_harmonic=max_harmonic,
@@ -206,6 +212,7 @@ def _saved(modes: WheelModes, key: str, compute_s: float) -> WheelModes:
         "triangles": modes.mesh.triangles,
         "boundary": modes.mesh.boundary,
         "static": modes.static,
+        "static_fields": modes.static_fields,
         "contact_node": np.array(modes.contact_node),
         "settings": np.array([modes.max_frequency, modes.max_harmonic, modes.element_size]),
     }
@@ -228,6 +235,7 @@ def _from_cache(profile, key: str, material: Material, clamped: bool) -> WheelMo
         family=np.array(FAMILIES)[arrays["family"]],
         shapes=arrays["shapes"],
         static=arrays["static"],
+        static_fields=arrays["static_fields"],
         contact_node=int(arrays["contact_node"]),
         max_frequency=float(max_frequency),
         max_harmonic=int(max_harmonic),

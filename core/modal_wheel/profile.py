@@ -37,6 +37,7 @@ __all__ = [
     "named_profile",
     "outline_profile",
     "read_outline",
+    "wheel_profile_for",
 ]
 
 _WEB_POINTS = 16  # points along each face of the web (its curvature); the mesher adds its own between them
@@ -94,8 +95,7 @@ class WheelProfile:
         rim_inner = self.wheel_radius - self.tyre_depth
         if self.hub_outer_radius <= self.hub_inner_radius or rim_inner - self.hub_outer_radius < 2 * self.web_thickness:
             raise WheelrailError(
-                f"the web must span at least twice its thickness from the hub to the rim: hub {self.hub_inner_radius:g}"
-                f" to {self.hub_outer_radius:g} m, rim from {rim_inner:g} m, web {self.web_thickness:g} m thick",
+                "the web must span at least twice its thickness between the hub and the rim",
                 parameter="wheel_hub_outer_radius",
                 value=self.hub_outer_radius,
                 unit="m",
@@ -289,11 +289,9 @@ def read_outline(path, contact_z_mm: float) -> OutlineProfile:
         except ValueError:
             if not rows and number == 1:
                 continue  # a header
-            raise WheelrailError(f"{path}: line {number} is not two numbers (r, z in mm)", parameter="line",
-                                 value=number) from None  # fmt: skip
+            raise WheelrailError(f"{path}: line {number} is not two numbers (r, z in mm)") from None
         if len(values) != 2:
-            raise WheelrailError(f"{path}: line {number} has {len(values)} values, not two (r, z in mm)",
-                                 parameter="line", value=number)  # fmt: skip
+            raise WheelrailError(f"{path}: line {number} has {len(values)} values, not two (r, z in mm)")
         rows.append(values)
     return outline_profile(np.array(rows) * 1e-3 if rows else [], contact_z_mm * 1e-3, name=path.stem)
 
@@ -326,5 +324,18 @@ NAMED_WHEELS: dict[str, WheelProfile] = {
 def named_profile(name: str) -> WheelProfile:
     """The named wheel ``name`` (a key of :data:`NAMED_WHEELS`), or one WheelrailError line listing them."""
     if name not in NAMED_WHEELS:
-        raise WheelrailError(f"unknown wheel {name!r}; named wheels are {', '.join(NAMED_WHEELS)}", parameter="wheel")
+        names = ", ".join(NAMED_WHEELS)
+        raise WheelrailError(f"unknown wheel {name!r}; named wheels are {names}", parameter="wheel_name")
     return NAMED_WHEELS[name]
+
+
+def wheel_profile_for(wheel_radius: float, name: str | None = None) -> WheelProfile:
+    """A named wheel at the rolling radius ``wheel_radius`` (m; the run's or the noise chain's wheel radius): ``name``,
+    or else the named wheel nearest in radius, its other dimensions kept (checked as any profile: a radius too
+    small for its hub and rim is one WheelrailError naming it)."""
+    from dataclasses import replace
+
+    radius = ACCEPTED["wheel_radius"].check(wheel_radius, "wheel_radius")
+    if name is None:
+        name = min(NAMED_WHEELS, key=lambda key: abs(NAMED_WHEELS[key].wheel_radius - radius))
+    return replace(named_profile(name), wheel_radius=radius)

@@ -27,7 +27,8 @@ both faces of the web, the rim's and the hub's sides) and the outward-facing rad
 the wheel (the tread and the flange's top, n_r > |n_z|); the bore (on the axle) and the inward-facing cylinders
 (under the rim) are left out, as in Thompson's wheel radiation model (radial motion radiates from the tyre's
 outer surface, axial motion from the wheel's sides). Their normal velocity is averaged over the surface of
-revolution (a factor 1/2 for n > 0: the mean of cos^2 around the circumference).
+revolution (a factor 1/2 for n > 0: the mean of cos^2 around the circumference). Each harmonic's static
+correction (its static field less its modes' static share) moves with the force and is included.
 """
 
 from __future__ import annotations
@@ -87,7 +88,10 @@ def _frequencies(frequencies) -> np.ndarray:
 def _modal_denominator(modes, f: np.ndarray, added_loss_factor: float) -> np.ndarray:
     """(nf, n_modes): omega_m^2 (1 + i eta_m) - omega^2, rad^2/s^2."""
     wm2 = (2 * np.pi * modes.frequency) ** 2 * (1 + 1j * modes.loss_factor(added_loss_factor))
-    return wm2[None, :] - (2 * np.pi * f[:, None]) ** 2
+    denominator = wm2[None, :] - (2 * np.pi * f[:, None]) ** 2
+    if np.any(denominator == 0):  # a free wheel's rigid-body modes at 0 Hz
+        raise WheelrailError("a free wheel moves without bound at 0 Hz; give frequencies above 0")
+    return denominator
 
 
 def _residual(modes) -> np.ndarray:
@@ -152,18 +156,26 @@ def surfaces(modes) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
     return found
 
 
-def _normal_displacements(modes, chosen, normal, shape) -> np.ndarray:
-    """(n_modes, n_edges * 3): each mode's normal displacement at the chosen edges' Gauss points."""
+def _normal_displacements(modes, shapes, chosen, normal, shape) -> np.ndarray:
+    """(n_shapes, n_edges * 3): each shape's normal displacement at the chosen edges' Gauss points."""
     edges = modes.mesh.boundary[chosen]  # (E, 3)
-    ur = modes.shapes[:, 3 * edges]  # (m, E, 3)
-    uz = modes.shapes[:, 3 * edges + 1]
-    at_r = np.einsum("gk,mek->meg", shape, ur)
-    at_z = np.einsum("gk,mek->meg", shape, uz)
-    return (at_r * normal[None, ..., 0] + at_z * normal[None, ..., 1]).reshape(len(modes.shapes), -1)
+    at_r = np.einsum("gk,mek->meg", shape, shapes[:, 3 * edges])
+    at_z = np.einsum("gk,mek->meg", shape, shapes[:, 3 * edges + 1])
+    return (at_r * normal[None, ..., 0] + at_z * normal[None, ..., 1]).reshape(len(shapes), -1)
+
+
+def _residual_fields(modes, harmonic: int) -> np.ndarray:
+    """(2, 3 n_nodes): harmonic n's static displacement per unit radial and axial contact force that its modes
+    leave out (the field of the receptance's static correction), m/N."""
+    mine = (modes.harmonic == harmonic) & (modes.frequency > 1.0)
+    if not np.any(modes.static_fields[harmonic]):
+        return np.zeros_like(modes.static_fields[harmonic])
+    weights = modes.contact_shapes()[mine] / ((2 * np.pi * modes.frequency[mine]) ** 2)[:, None]  # (m, 2)
+    return modes.static_fields[harmonic] - weights.T @ modes.shapes[mine]
 
 
 def mean_square_velocity(
-    modes, frequencies, force_radial=1.0, force_axial=0.0, added_loss_factor: float = 0.0
+    modes, frequencies, force_radial=1.0, force_axial=0.0, added_loss_factor: float = 0.0, residual: bool = True
 ) -> SurfaceVelocity:
     """Mean-square normal velocity of the wheel's axially and radially facing surfaces, per harmonic.
 
@@ -176,12 +188,14 @@ def mean_square_velocity(
         RMS forces at the contact, N (radial: away from the axle; axial: towards the field side).
     added_loss_factor : float
         A damper's loss factor added to every mode's.
+    residual : bool
+        Add each harmonic's static correction (the field of the modes above ``modes.max_frequency``, moving with
+        the force): it matters for the harmonics driven far below their first mode.
 
     Returns
     -------
     SurfaceVelocity
-        <v_n^2> per harmonic and direction (module docstring); the residual (static) correction is not included
-        (it has no shape): the modes up to ``modes.max_frequency`` carry the velocity.
+        <v_n^2> per harmonic and direction (module docstring).
     """
     f = _frequencies(frequencies)
     force = np.stack(np.broadcast_arrays(np.asarray(force_radial, dtype=complex), np.asarray(force_axial,
@@ -195,12 +209,14 @@ def mean_square_velocity(
     for name, (chosen, normal, area, shape) in surfaces(modes).items():
         areas[name] = float(area.sum())
         weight = area.reshape(-1) / max(areas[name], 1e-300)
-        u = _normal_displacements(modes, chosen, normal, shape)  # (n_modes, n_points)
+        u = _normal_displacements(modes, modes.shapes, chosen, normal, shape)  # (n_modes, n_points)
         result = np.zeros((len(f), len(harmonics)))
         for n in harmonics:
             mine = modes.harmonic == n
-            if np.any(mine):
-                field = velocity[:, mine] @ u[mine]  # (nf, n_points)
-                result[:, n] = (np.abs(field) ** 2 @ weight) * (1.0 if n == 0 else 0.5)
+            field = velocity[:, mine] @ u[mine]  # (nf, n_points)
+            if residual:
+                static = _normal_displacements(modes, _residual_fields(modes, n), chosen, normal, shape)  # (2, points)
+                field = field + 1j * 2 * np.pi * f[:, None] * (force @ static)
+            result[:, n] = (np.abs(field) ** 2 @ weight) * (1.0 if n == 0 else 0.5)
         out[name] = result
     return SurfaceVelocity(f, harmonics, out["axial"], out["radial"], areas["axial"], areas["radial"])

@@ -16,6 +16,7 @@ from wheelrail.core.modal_wheel import (
     outline_profile,
     read_outline,
     wheel_modes,
+    wheel_profile_for,
 )
 
 
@@ -125,3 +126,13 @@ def test_bad_settings_are_refused(call, parameter):
     with pytest.raises(WheelrailError) as caught:
         call(named_profile("wheel_640"))
     assert caught.value.parameter == parameter
+
+
+def test_a_wheel_for_a_rolling_radius_is_the_nearest_named_one_at_that_radius():
+    # the paper's 780 mm wheel (R = 0.39 m): nearest is the 840 mm wheel, its rim, web and hub kept
+    profile = wheel_profile_for(0.39)
+    assert profile.wheel_radius == 0.39 and profile.tyre_depth == NAMED_WHEELS["wheel_840"].tyre_depth
+    assert wheel_profile_for(0.46, "wheel_640").hub_width == NAMED_WHEELS["wheel_640"].hub_width
+    with pytest.raises(WheelrailError) as caught:
+        wheel_profile_for(0.18, "freight_920")  # no room for the 920 mm wheel's hub and rim
+    assert caught.value.parameter == "wheel_hub_outer_radius"
