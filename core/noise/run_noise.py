@@ -269,6 +269,7 @@ def run_noise(
     train_length: float = DEFAULT_TRAIN_LENGTH,
     numerics=None,
     wheel_model: str = "directive",
+    wheel_profile=None,
 ) -> RunNoise:
     """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.results.RunResult`).
 
@@ -285,6 +286,8 @@ def run_noise(
     wheel_model : str
         "directive" (CNOSSOS-EU's L_H,veh on the effective roughness) or "modal" (the modal wheel's radiation
         from the run's contact force): :mod:`wheelrail.core.noise.wheel_power`.
+    wheel_profile : WheelProfile, optional
+        The modal wheel's cross-section (default: the named wheel nearest the run's R, at R).
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model
@@ -295,7 +298,7 @@ def run_noise(
     train_axles, train_length = checked_train(train_axles, train_length)
     _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
     params = result.header.params
-    track = track_noise_model(params, numerics, wheel_model)
+    track = track_noise_model(params, numerics, wheel_model, wheel_profile)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
     power = sound_power_from_force(force_db, track)

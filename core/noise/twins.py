@@ -227,11 +227,15 @@ def nearest_table_diameter_mm(wheel_radius: float) -> int:
 
 
 def track_noise_model(
-    params: ModelParameters | None = None, numerics: NoiseNumerics | None = None, wheel_model: str = "directive"
+    params: ModelParameters | None = None,
+    numerics: NoiseNumerics | None = None,
+    wheel_model: str = "directive",
+    wheel_profile=None,
 ) -> TrackNoiseModel:
     """The model track's noise transfer functions (module docstring) for the wheel, track and contact of
-    ``params`` (default: the paper's) and the wheel's ``wheel_model`` ("directive" or "modal", step 6). Cached
-    per process by the parameters."""
+    ``params`` (default: the paper's) and the wheel's ``wheel_model`` ("directive" or "modal", step 6; the modal
+    wheel's cross-section ``wheel_profile``, a :class:`wheelrail.core.modal_wheel.WheelProfile`, default the named
+    wheel nearest R at R). Cached per process by the parameters."""
     from wheelrail.core.noise.wheel_power import checked_wheel_model
 
     params = ModelParameters() if params is None else params
@@ -244,7 +248,23 @@ def track_noise_model(
         ModelParameters(wheel=params.wheel, track=params.track, contact=params.contact),
         NoiseNumerics() if numerics is None else numerics,
         checked_wheel_model(wheel_model),
+        _checked_profile(wheel_profile, wheel_model),
     )
+
+
+def _checked_profile(wheel_profile, wheel_model: str):
+    from wheelrail.core.modal_wheel import OutlineProfile, WheelProfile
+
+    if wheel_profile is None:
+        return None
+    if wheel_model != "modal":
+        raise WheelrailError("track_noise_model: wheel_profile is the modal wheel's; give wheel_model='modal'")
+    if not isinstance(wheel_profile, WheelProfile | OutlineProfile):
+        raise WheelrailError(
+            "track_noise_model: wheel_profile must be a WheelProfile or OutlineProfile, got "
+            f"{type(wheel_profile).__name__}"
+        )
+    return wheel_profile
 
 
 def _vibration(
@@ -365,15 +385,17 @@ def _decay_rates(vib: dict) -> tuple[np.ndarray, np.ndarray]:
     return LOG10_E / sum_ratio, -slope
 
 
-def _wheel_receptances(params: ModelParameters, freqs: np.ndarray, wheel_model: str) -> tuple[np.ndarray, dict]:
+def _wheel_receptances(
+    params: ModelParameters, freqs: np.ndarray, wheel_model: str, profile
+) -> tuple[np.ndarray, dict]:
     """alpha_W at ``freqs`` (step 1) for the wheel model (step 6), and the modal wheel's response (else {})."""
     from wheelrail.core.noise.wheel_power import modal_wheel_profile, modal_wheel_response
     from wheelrail.core.wheel import wheel_receptance
 
     if wheel_model == "modal":
-        response = modal_wheel_response(
-            modal_wheel_profile(params.contact.radius_along), freqs, params.wheel.unsprung_mass
-        )
+        if profile is None:
+            profile = modal_wheel_profile(params.contact.radius_along)
+        response = modal_wheel_response(profile, freqs, params.wheel.unsprung_mass)
         return response["receptance"], response
     alpha = np.empty(freqs.shape, dtype=complex)
     for index, f in np.ndenumerate(freqs):
@@ -417,13 +439,13 @@ def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.n
 
 
 @functools.lru_cache(maxsize=8)
-def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics, wheel_model: str) -> TrackNoiseModel:
+def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics, wheel_model: str, profile) -> TrackNoiseModel:
     contact = params.contact
     k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
     section = rail_section()
     area = numerics.sleeper_area
     freqs = band_frequencies(numerics.points_per_band)
-    alpha_wheel, modal = _wheel_receptances(params, freqs, wheel_model)
+    alpha_wheel, modal = _wheel_receptances(params, freqs, wheel_model, profile)
     vib = _vibration(params, numerics, k_hertz, freqs, alpha_wheel)
     sigma_rail = rail_radiation_efficiency(freqs)
     sigma_sleeper = piston_radiation_efficiency(freqs, area)

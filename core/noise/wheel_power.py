@@ -21,10 +21,10 @@ Two wheel models (:data:`WHEEL_MODELS`; the command line's ``--wheel-model``, de
   4. the L_H,veh-equivalent (the same definition as ``twins.wheel_transfer_dB``): sound power of the two wheels
      of an axle for 0 dB re 1 um effective roughness, 10 lg(2 <W / F^2 |F / r|^2> (1 um)^2 / 1 pW).
 
-  The wheel's profile is the named wheel of the same running radius (:data:`wheelrail.core.modal_wheel.NAMED_WHEELS`:
-  920, 840, 640 mm) when the model's R is one of theirs, else the parametric profile of that radius with its
-  default rim, web and hub (:func:`modal_wheel_profile`). Only radial (vertical) excitation is modelled, as for
-  the track: the lateral force and the rigid wheelset's own radiation are left out.
+  The wheel's profile is given (``wheel_profile``), or the named wheel nearest the model's R, at R
+  (:func:`modal_wheel_profile`; :data:`wheelrail.core.modal_wheel.NAMED_WHEELS`: 920, 840, 640 mm). Only radial
+  (vertical) excitation is modelled, as for the track: the lateral force and the rigid wheelset's own radiation
+  are left out.
 """
 
 from __future__ import annotations
@@ -54,14 +54,12 @@ def checked_wheel_model(wheel_model) -> str:
 
 
 def modal_wheel_profile(wheel_radius: float):
-    """The modal wheel's cross-section for a running radius (m): the named wheel of that radius (within 0.5 mm),
-    else :class:`wheelrail.core.modal_wheel.WheelProfile` of that radius with its default rim, web and hub."""
-    from wheelrail.core.modal_wheel import NAMED_WHEELS, WheelProfile
+    """The modal wheel's cross-section for a running radius (m): the wheel helper's rule
+    (:func:`wheelrail.core.modal_wheel.profile.wheel_profile_for`): the named wheel nearest in radius, at that
+    radius, its other dimensions kept (a named wheel itself at its own radius)."""
+    from wheelrail.core.modal_wheel.profile import wheel_profile_for
 
-    for profile in NAMED_WHEELS.values():
-        if abs(profile.wheel_radius - wheel_radius) < 5e-4:
-            return profile
-    return WheelProfile(wheel_radius=float(wheel_radius))
+    return wheel_profile_for(float(wheel_radius))
 
 
 def profile_name(profile) -> str:

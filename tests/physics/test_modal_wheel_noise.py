@@ -90,7 +90,9 @@ def test_wheel_model_and_profile_choice():
     with pytest.raises(WheelrailError, match="directive, modal"):
         checked_wheel_model("fem")
     assert modal_wheel_profile(0.42).wheel_radius == 0.42 and modal_wheel_profile(0.42).web_curvature == 0.01
-    assert modal_wheel_profile(0.39).wheel_radius == 0.39  # the paper's: a parametric profile of that radius
+    assert modal_wheel_profile(0.39).wheel_radius == 0.39  # the paper's: the 840 mm wheel at 780 mm
+    with pytest.raises(WheelrailError, match="wheel_model='modal'"):
+        track_noise_model(WHEEL_920, wheel_profile=modal_wheel_profile(0.46))
     with pytest.raises(WheelrailError):
         track_noise_model(WHEEL_920, wheel_model="none")
 
