@@ -31,8 +31,8 @@ def modal_920():
 def test_modal_920_wheel_against_the_directive(modal_920):
     """The 920 mm freight wheel's L_H,veh-equivalent against CNOSSOS-EU Table G-3b's 920 mm column, 500 Hz-5 kHz.
 
-    The issue's target is within 6 dB per band and 3 dB on average. Measured (TRACK; the default 240-bay track
-    gives the same within 0.2 dB): on average +2.2 dB (asserted within 3 dB), but per band -9.3, -7.4, +12.8,
+    The target is within 6 dB per band and 3 dB on average. Measured (TRACK; the default 240-bay track within
+    0.4 dB: benchmarks/noise_wheels.py): on average +2.2 dB (asserted within 3 dB), but per band -9.3, -7.4, +12.8,
     -4.6, +10.6, +10.4, +4.0, +1.1, +0.2, +3.1, +2.9 dB: five bands miss 6 dB, by up to 6.8 dB (asserted: within
     13.5 dB, the honest tolerance). What differs: the directive's column is a smooth measured average over wheels,
     rolling, with the wheel's damping in service; this is one non-rotating wheel with the solid wheel's loss

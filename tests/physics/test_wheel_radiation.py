@@ -84,6 +84,17 @@ def test_wheel_families_and_power():
     assert np.allclose(power, AIR_DENSITY * SOUND_SPEED * 0.5 * axial * np.array([1e-6, 4e-6]), rtol=1e-15)
 
 
+def test_radiation_summary_of_a_named_wheel():
+    from wheelrail.core.modal_wheel import named_profile
+    from wheelrail.core.modal_wheel.radiation import radiation_summary
+
+    summary = radiation_summary(named_profile("freight_920"), [500.0, 2000.0])
+    assert len(summary["axial"]) == 11 and len(summary["radial"]) == 11
+    assert np.array_equal(
+        summary["axial"][3], disc_radiation_efficiency([500.0, 2000.0], RADIUS, 3, inner_radius=0.095)
+    )
+
+
 @pytest.mark.parametrize(
     "call",
     [
