@@ -291,6 +291,7 @@ def run_noise(
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model
+    from wheelrail.core.noise.wheel_power import checked_wheel_model, with_modal_wheel
     from wheelrail.core.results import result_of_run
     from wheelrail.core.spectra import force_spectrum
 
@@ -298,7 +299,9 @@ def run_noise(
     train_axles, train_length = checked_train(train_axles, train_length)
     _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
     params = result.header.params
-    track = track_noise_model(params, numerics, wheel_model, wheel_profile)
+    track = track_noise_model(params, numerics)
+    if checked_wheel_model(wheel_model) == "modal":  # it radiates the run's force: the 2-DOF wheel's interaction
+        track = with_modal_wheel(track, params, wheel_profile)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
     power = sound_power_from_force(force_db, track)

@@ -63,13 +63,20 @@ def modal_wheel_profile(wheel_radius: float):
 
 
 def profile_name(profile) -> str:
-    """The named wheel's name, or "parametric" with its radius."""
-    from wheelrail.core.modal_wheel import NAMED_WHEELS
+    """The named wheel's name ("freight_920"), "<name>'s shape" for a named wheel at another radius, else
+    "parametric" or "outline"."""
+    import dataclasses
 
+    from wheelrail.core.modal_wheel import NAMED_WHEELS, WheelProfile
+
+    if not isinstance(profile, WheelProfile):
+        return "outline"
     for name, named in NAMED_WHEELS.items():
         if named == profile:
             return name
-    return f"parametric {2e3 * profile.wheel_radius:.0f} mm"
+        if dataclasses.replace(named, wheel_radius=profile.wheel_radius) == profile:
+            return f"{name}'s shape"
+    return "parametric"
 
 
 @functools.lru_cache(maxsize=16)
@@ -156,3 +163,36 @@ def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, points_pe
         power[b] = np.mean(response["power_per_force"])
         per_roughness[b] = np.mean(response["power_per_force"][:, None] * force_sq)
     return {"power_per_force": power, "power_per_roughness": per_roughness, "modes": modes}
+
+
+@functools.lru_cache(maxsize=8)
+def modal_wheel_power_per_force(profile, unsprung_mass: float) -> np.ndarray:
+    """Band means (24 bands) of the modal wheel's W / F^2 (W/N^2, one wheel, unit RMS radial force) on
+    :data:`WHEEL_POINTS_PER_BAND` frequencies per band: what a run's force needs (no track)."""
+    means = modal_wheel_band_means(profile, unsprung_mass, lambda f: np.ones((len(f), 1)))
+    return means["power_per_force"]
+
+
+def with_modal_wheel(track, params, wheel_profile=None):
+    """``track`` (a :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the 2-DOF wheel) with the modal wheel's
+    W / F^2 for radiating a given contact force (a run's, the ``noise`` study's), its rail and sleeper transfer
+    functions and effective roughness unchanged (those of the force's own wheel, the 2-DOF). It has no
+    L_H,veh-equivalent (``wheel_transfer_db`` NaN): that needs the modal wheel's own force
+    (``track_noise_model(..., wheel_model="modal")``)."""
+    import dataclasses
+
+    profile = modal_wheel_profile(params.contact.radius_along) if wheel_profile is None else wheel_profile
+    power = modal_wheel_power_per_force(profile, params.wheel.unsprung_mass)
+    source = (
+        f"modal wheel ({profile_name(profile)}, 2R = {2e3 * profile.wheel_radius:.0f} mm) radiating the contact force: "
+        f"axisymmetric FE modes n = 0..{MAX_HARMONIC} and their radiation (wheelrail.core.modal_wheel); not the "
+        "directive's L_H,veh"
+    )
+    return dataclasses.replace(
+        track,
+        wheel_model="modal",
+        wheel_power_per_force=power,
+        wheel_source=source,
+        wheel_transfer_db=np.full_like(track.wheel_transfer_db, np.nan),
+        configuration={**track.configuration, "wheel_model": "modal", "wheel": source},
+    )

@@ -85,6 +85,27 @@ def test_the_chain_states_its_wheel_and_the_run_uses_the_wheels_own_power():
     np.testing.assert_allclose(power, 10 * np.log10(per_force * 1e6 / 1e-12), atol=1e-9)
 
 
+def test_a_given_force_radiated_by_the_modal_wheel():
+    """with_modal_wheel (a run's force, the noise study): the 2-DOF chain's rail, sleepers and effective roughness
+    unchanged, the modal wheel's W / F^2 (the paper's R: the 840 mm wheel's shape at 780 mm), no L_H,veh."""
+    from wheelrail.core.noise.wheel_power import with_modal_wheel
+    from wheelrail.core.parameters import ModelParameters
+
+    params = ModelParameters()
+    small = NoiseNumerics(track_bays=60, elements_per_bay=8, points_per_band=2)
+    directive = track_noise_model(params, small)
+    modal = with_modal_wheel(directive, params)
+    assert modal.wheel_source.startswith("modal wheel (wheel_840's shape, 2R = 780 mm) radiating the contact force")
+    assert np.array_equal(modal.rail_power_per_force, directive.rail_power_per_force)
+    assert np.all(np.isnan(modal.wheel_transfer_db)) and np.all(modal.wheel_power_per_force > 0)
+    # the same W / F^2 as the modal chain's own for that wheel (the force per roughness aside)
+    np.testing.assert_allclose(
+        modal.wheel_power_per_force,
+        track_noise_model(params, small, wheel_model="modal").wheel_power_per_force,
+        rtol=1e-12,
+    )
+
+
 def test_wheel_model_and_profile_choice():
     assert checked_wheel_model("modal") == "modal"
     with pytest.raises(WheelrailError, match="directive, modal"):

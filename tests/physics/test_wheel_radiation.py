@@ -36,7 +36,7 @@ def test_axial_low_frequency_asymptote(n):
     assert disc_radiation_efficiency(f, RADIUS, n) == pytest.approx(expected, rel=1e-3)
 
 
-@pytest.mark.parametrize("n", [0, 2, 6, 10])
+@pytest.mark.parametrize("n", [0, 2, 6])
 def test_high_frequency_limit_is_one(n):
     """Far above coincidence every family radiates as a plane wave: sigma within 5 % of 1 where k a >= 8 (n + 1)
     (the disc's edge ripple decays as k a grows; measured 0.4-3.5 % here) and, for the 135 mm band, also
