@@ -165,34 +165,25 @@ def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, points_pe
     return {"power_per_force": power, "power_per_roughness": per_roughness, "modes": modes}
 
 
-@functools.lru_cache(maxsize=8)
-def modal_wheel_power_per_force(profile, unsprung_mass: float) -> np.ndarray:
-    """Band means (24 bands) of the modal wheel's W / F^2 (W/N^2, one wheel, unit RMS radial force) on
-    :data:`WHEEL_POINTS_PER_BAND` frequencies per band: what a run's force needs (no track)."""
-    means = modal_wheel_band_means(profile, unsprung_mass, lambda f: np.ones((len(f), 1)))
-    return means["power_per_force"]
-
-
-def with_modal_wheel(track, params, wheel_profile=None):
-    """``track`` (a :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the 2-DOF wheel) with the modal wheel's
-    W / F^2 for radiating a given contact force (a run's, the ``noise`` study's), its rail and sleeper transfer
-    functions and effective roughness unchanged (those of the force's own wheel, the 2-DOF). It has no
-    L_H,veh-equivalent (``wheel_transfer_db`` NaN): that needs the modal wheel's own force
-    (``track_noise_model(..., wheel_model="modal")``)."""
+def with_modal_wheel(track, params, wheel_profile=None, numerics=None):
+    """``track`` (a :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the 2-DOF wheel, as a run's force was
+    computed) with the modal wheel's L_H,veh-equivalent in the place of the directive's: a given force (a run's,
+    the ``noise`` study's) becomes the effective roughness that causes it in the run's own linear model (the
+    2-DOF wheel's alpha_W), and that roughness excites the modal wheel's chain (its own coupled contact force),
+    as L_H,veh does in the directive's place. Radiating the run's force directly with the modal wheel's W / F^2
+    would put the 2-DOF wheel's force into the modal wheel's undamped resonances (+16 dB(A) on a run), a force the
+    modal wheel's own receptance would have cut there. The rail and sleeper transfer functions and the effective
+    roughness stay the 2-DOF chain's."""
     import dataclasses
 
-    profile = modal_wheel_profile(params.contact.radius_along) if wheel_profile is None else wheel_profile
-    power = modal_wheel_power_per_force(profile, params.wheel.unsprung_mass)
-    source = (
-        f"modal wheel ({profile_name(profile)}, 2R = {2e3 * profile.wheel_radius:.0f} mm) radiating the contact force: "
-        f"axisymmetric FE modes n = 0..{MAX_HARMONIC} and their radiation (wheelrail.core.modal_wheel); not the "
-        "directive's L_H,veh"
-    )
+    from wheelrail.core.noise.twins import track_noise_model
+
+    modal = track_noise_model(params, numerics, "modal", wheel_profile)
+    source = f"{modal.wheel_source}; on the effective roughness of the force"
     return dataclasses.replace(
         track,
         wheel_model="modal",
-        wheel_power_per_force=power,
+        wheel_transfer_db=modal.wheel_transfer_db,
         wheel_source=source,
-        wheel_transfer_db=np.full_like(track.wheel_transfer_db, np.nan),
         configuration={**track.configuration, "wheel_model": "modal", "wheel": source},
     )
