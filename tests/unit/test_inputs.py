@@ -200,13 +200,13 @@ def test_the_wheel_model_is_a_declared_choice():
     from wheelrail.core.inputs import choice
     from wheelrail.core.noise.wheel_power import DEFAULT_WHEEL_MODEL, WHEEL_MODELS
 
-    entry = choice("wheel_model")
+    entry = choice("noise_wheel_model")
     assert entry.values == WHEEL_MODELS == ("directive", "modal") and entry.default == DEFAULT_WHEEL_MODEL
-    assert entry.option == "--wheel-model" and CLI_NAMES["wheel_model"].label == "--wheel-model"
+    assert entry.option == "--wheel-model" and CLI_NAMES["noise_wheel_model"].label == "--wheel-model"
     assert "directive: CNOSSOS-EU" in entry.help_text() and "default directive" in entry.help_text()
     try:
         entry.check("fem")
     except WheelrailError as error:
-        assert error.parameter == "wheel_model"
+        assert error.parameter == "noise_wheel_model"
     else:
         raise AssertionError("an unknown wheel model was accepted")
