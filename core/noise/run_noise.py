@@ -9,7 +9,7 @@ One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10
   alpha_C|^2> (dB re 1 um), plus, per axle (two wheels: minus 3 dB), ``wheel_model`` "directive" (the default):
   CNOSSOS-EU's L_H,veh for the nearest tabulated diameter (the 2-DOF wheel model has no radiating modes,
   :mod:`wheelrail.core.noise.twins`); "modal": the modal wheel's L_H,veh-equivalent, its own chain excited by that
-  roughness (:func:`wheelrail.core.noise.wheel_power.with_modal_wheel`);
+  roughness (:func:`wheelrail.core.noise.twins.with_modal_wheel`);
 - total and L_WA per wheel; per axle +3 dB (two wheels on two rails, incoherent).
 
 **Pass-by level** at the ISO 3095 position (7.5 m from the track centre, 1.2 m above the rail head): every axle a
@@ -286,8 +286,8 @@ def run_noise(
         The modal wheel's cross-section (default: the named wheel nearest the run's R, at R).
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
-    from wheelrail.core.noise.twins import track_noise_model
-    from wheelrail.core.noise.wheel_power import checked_wheel_model, with_modal_wheel
+    from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
+    from wheelrail.core.noise.wheel_power import checked_wheel_model
     from wheelrail.core.results import result_of_run
     from wheelrail.core.spectra import force_spectrum
 

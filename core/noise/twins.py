@@ -408,6 +408,7 @@ def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.n
     band means of W / F^2 (W/N^2), on the wheel's own dense band sampling
     (:func:`wheelrail.core.noise.wheel_power.modal_wheel_band_means`) with alpha_R + alpha_C interpolated in
     lg f (real and imaginary parts) between the chain's points."""
+    from wheelrail.core.noise import wheel_power
     from wheelrail.core.noise.cnossos import vehicle_transfer
     from wheelrail.core.noise.wheel_power import modal_wheel_band_means, profile_name
 
@@ -428,7 +429,8 @@ def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.n
         return np.stack([np.interp(x, lg_f, t.real) + 1j * np.interp(x, lg_f, t.imag) for t in track.T], axis=1)
 
     profile = modal["modes"].profile
-    means = modal_wheel_band_means(profile, params.wheel.unsprung_mass, alpha_track)
+    dense = band_frequencies(wheel_power.WHEEL_POINTS_PER_BAND)  # read at the call: a test may change it
+    means = modal_wheel_band_means(profile, params.wheel.unsprung_mass, alpha_track, dense)
     return {
         "db": 10 * np.log10(2 * means["power_per_roughness"]),  # (1 um)^2 / 1 pW = 1
         "power_per_force": means["power_per_force"],
@@ -494,4 +496,26 @@ def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics, wheel_m
         wheel_model=wheel_model,
         wheel_power_per_force=wheel["power_per_force"],
         wheel_source=wheel["source"],
+    )
+
+
+def with_modal_wheel(track, params, wheel_profile=None, numerics=None):
+    """``track`` (a :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the 2-DOF wheel, as a run's force was
+    computed) with the modal wheel's L_H,veh-equivalent in the place of the directive's: a given force (a run's,
+    the ``noise`` study's) becomes the effective roughness that causes it in the run's own linear model (the
+    2-DOF wheel's alpha_W), and that roughness excites the modal wheel's chain (its own coupled contact force),
+    as L_H,veh does in the directive's place. Radiating the run's force directly with the modal wheel's W / F^2
+    would put the 2-DOF wheel's force into the modal wheel's undamped resonances (+16 dB(A) on a run), a force the
+    modal wheel's own receptance would have cut there. The rail and sleeper transfer functions and the effective
+    roughness stay the 2-DOF chain's."""
+    import dataclasses
+
+    modal = track_noise_model(params, numerics, "modal", wheel_profile)
+    source = f"{modal.wheel_source}; on the effective roughness of the force"
+    return dataclasses.replace(
+        track,
+        wheel_model="modal",
+        wheel_transfer_db=modal.wheel_transfer_db,
+        wheel_source=source,
+        configuration={**track.configuration, "wheel_model": "modal", "wheel": source},
     )

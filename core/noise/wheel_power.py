@@ -144,16 +144,14 @@ def modal_wheel_response(profile, frequencies, unsprung_mass: float) -> dict:
     }
 
 
-def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, points_per_band: int = WHEEL_POINTS_PER_BAND):
-    """Band means (24 bands) of the modal wheel's W / F^2 (W/N^2) and of W / F^2 |F / r|^2 (W/m^2) with
-    |F / r| = 1 / |alpha_W + alpha_T| for each excitation position, on ``points_per_band`` frequencies per band
-    evenly in lg f. ``alpha_track(f)`` gives alpha_R + alpha_C (m/N) at frequencies f (n,) as (n, positions):
-    the track's receptance, smooth beside the wheel's modes, interpolated by the caller between its own points.
+def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, freqs):
+    """Band means (over axis 1 of ``freqs``, (bands, points) Hz: :data:`WHEEL_POINTS_PER_BAND` per band evenly in
+    lg f, ``twins.band_frequencies``) of the modal wheel's W / F^2 (W/N^2) and of W / F^2 |F / r|^2 (W/m^2) with
+    |F / r| = 1 / |alpha_W + alpha_T| for each excitation position. ``alpha_track(f)`` gives alpha_R + alpha_C
+    (m/N) at frequencies f (n,) as (n, positions): the track's receptance, smooth beside the wheel's modes,
+    interpolated by the caller between its own points.
 
     Returns ``power_per_force`` (24,), ``power_per_roughness`` (24,) (the mean over positions too) and ``modes``."""
-    from wheelrail.core.noise.twins import band_frequencies
-
-    freqs = band_frequencies(points_per_band)
     power, per_roughness = np.empty(freqs.shape[0]), np.empty(freqs.shape[0])
     modes = None
     for b, f in enumerate(freqs):  # a band at a time: the modal sums hold (points, modes, surface points)
@@ -163,27 +161,3 @@ def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, points_pe
         power[b] = np.mean(response["power_per_force"])
         per_roughness[b] = np.mean(response["power_per_force"][:, None] * force_sq)
     return {"power_per_force": power, "power_per_roughness": per_roughness, "modes": modes}
-
-
-def with_modal_wheel(track, params, wheel_profile=None, numerics=None):
-    """``track`` (a :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the 2-DOF wheel, as a run's force was
-    computed) with the modal wheel's L_H,veh-equivalent in the place of the directive's: a given force (a run's,
-    the ``noise`` study's) becomes the effective roughness that causes it in the run's own linear model (the
-    2-DOF wheel's alpha_W), and that roughness excites the modal wheel's chain (its own coupled contact force),
-    as L_H,veh does in the directive's place. Radiating the run's force directly with the modal wheel's W / F^2
-    would put the 2-DOF wheel's force into the modal wheel's undamped resonances (+16 dB(A) on a run), a force the
-    modal wheel's own receptance would have cut there. The rail and sleeper transfer functions and the effective
-    roughness stay the 2-DOF chain's."""
-    import dataclasses
-
-    from wheelrail.core.noise.twins import track_noise_model
-
-    modal = track_noise_model(params, numerics, "modal", wheel_profile)
-    source = f"{modal.wheel_source}; on the effective roughness of the force"
-    return dataclasses.replace(
-        track,
-        wheel_model="modal",
-        wheel_transfer_db=modal.wheel_transfer_db,
-        wheel_source=source,
-        configuration={**track.configuration, "wheel_model": "modal", "wheel": source},
-    )

@@ -7,7 +7,7 @@ From each run's contact-force levels (the study's run summaries: 50 Hz - 8 kHz, 
 the sound power of the TWINS-like chain (:func:`wheelrail.core.noise.run_noise.sound_power_from_force`, per axle:
 two wheels on two rails) and the pass-by level (40 axles, 200 m, ISO 3095 position), with the directive's wheel
 (L_H,veh), and for the reference model also with the modal wheel's L_H,veh-equivalent in its place
-(``hertz_modal_wheel_...``, :func:`wheelrail.core.noise.wheel_power.with_modal_wheel`). Beside them the CNOSSOS-EU
+(``hertz_modal_wheel_...``, :func:`wheelrail.core.noise.twins.with_modal_wheel`). Beside them the CNOSSOS-EU
 source by the rule of :mod:`wheelrail.core.noise.beside` (one axle; track type ``mono-block-soft``, the Table G-3b
 wheel diameter nearest 2R, A3 for the preload and 2R), on the same roughness: the set's line 0 as the combined
 roughness (its spectrum at the speed, dB re 1 um; the directive allows measured roughness); once with A3 and once
@@ -87,8 +87,7 @@ def plan_noise(infos, study_params, spec_of, params_of):
         from wheelrail.core.noise.beside import cnossos_beside
         from wheelrail.core.noise.cnossos import contact_filter_a3
         from wheelrail.core.noise.run_noise import sound_power_from_force
-        from wheelrail.core.noise.twins import track_noise_model
-        from wheelrail.core.noise.wheel_power import with_modal_wheel
+        from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
 
         track = track_noise_model(study_params)
         modal = with_modal_wheel(track, study_params)  # the modal wheel's L_H,veh-equivalent in the place of the table

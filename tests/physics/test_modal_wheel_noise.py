@@ -54,13 +54,13 @@ def test_wheel_band_sampling_is_converged(modal_920):
     import wheelrail.core.noise.wheel_power as wheel_power
     from wheelrail.core.noise.twins import _track_noise_model
 
-    defaults = wheel_power.modal_wheel_band_means.__defaults__
+    points = wheel_power.WHEEL_POINTS_PER_BAND
     try:
-        wheel_power.modal_wheel_band_means.__defaults__ = (4000,)
+        wheel_power.WHEEL_POINTS_PER_BAND = 4000
         _track_noise_model.cache_clear()
         finer = track_noise_model(WHEEL_920, TRACK, wheel_model="modal")
     finally:
-        wheel_power.modal_wheel_band_means.__defaults__ = defaults
+        wheel_power.WHEEL_POINTS_PER_BAND = points
         _track_noise_model.cache_clear()
     f = noise_bands()
     bands = (f > 450) & (f < 5700)
@@ -73,7 +73,7 @@ def test_a_force_becomes_roughness_and_either_wheel_radiates_it():
     power is that roughness plus the wheel's transfer per axle, minus 3 dB, exactly: the directive's L_H,veh or
     the modal wheel's L_H,veh-equivalent (with_modal_wheel), the rail, sleepers and roughness unchanged. The
     paper's R = 390 mm: the 840 mm wheel's shape at 780 mm."""
-    from wheelrail.core.noise.wheel_power import with_modal_wheel
+    from wheelrail.core.noise.twins import with_modal_wheel
     from wheelrail.core.parameters import ModelParameters
 
     params = ModelParameters()
