@@ -27,11 +27,14 @@ if TYPE_CHECKING:  # parameters is imported on first use: the command line's sta
     from wheelrail.core.parameters import ModelParameters
 
 __all__ = [
+    "CHOICES",
     "GROUPS",
+    "Choice",
     "INPUTS",
     "Input",
     "Unit",
     "by_key",
+    "choice",
     "cli_names",
     "describe",
     "describe_contact",
@@ -422,3 +425,66 @@ def describe_contact(params) -> str:
         f"{describe_words(params, 'geometry')}; Hertz patch at {contact.preload / 1e3:g} kN "
         f"a = {a * 1e3:.2f} mm along, b = {b * 1e3:.2f} mm across"
     )
+
+
+@dataclass(frozen=True)
+class Choice:
+    """One user-facing choice among named values (not a number): its stable ``key`` (the ``parameter`` of its
+    errors), the ``values`` in the order front ends offer them, the ``default``, a page ``label``, a ``help``
+    sentence and ``words``: what each value means, for help texts and hints."""
+
+    key: str
+    values: tuple[str, ...]
+    default: str
+    label: str
+    help: str
+    words: tuple[str, ...]
+    cli: str = ""
+
+    @property
+    def option(self) -> str:
+        """The command-line option: ``cli`` if given (``--wheel-model`` for ``noise_wheel_model``: the command
+        names its own wheel), else ``--`` + the key."""
+        return self.cli or "--" + self.key.replace("_", "-")
+
+    @property
+    def dest(self) -> str:
+        """The option's attribute name in argparse's namespace (``wheel_model``)."""
+        return self.option[2:].replace("-", "_")
+
+    def check(self, value) -> str:
+        """``value`` if it is one of ``values``, else one WheelrailError keyed by ``key``."""
+        if not isinstance(value, str) or value not in self.values:
+            raise WheelrailError(f"must be one of {', '.join(self.values)}", parameter=self.key, value=value)
+        return value
+
+    def help_text(self) -> str:
+        """The help: the sentence, then each value with its meaning and the default."""
+        meanings = "; ".join(f"{v}: {w}" for v, w in zip(self.values, self.words, strict=True))
+        return f"{self.help} ({meanings}; default {self.default})"
+
+
+CHOICES: tuple[Choice, ...] = (
+    Choice(
+        "noise_wheel_model",
+        ("directive", "modal"),
+        "directive",
+        "Wheel model (noise)",
+        "the wheel's sound power in the TWINS-like chain",
+        (
+            "CNOSSOS-EU's L_H,veh, Table G-3b, for the tabulated diameter nearest 2R",
+            "the axisymmetric FE wheel of radius R radiating from its own modes",
+        ),
+        cli="--wheel-model",  # `wheelrail noise --wheel-model`; `run --wheel-model` (2dof|modal) is the interaction's
+    ),
+)
+"""Every user-facing choice among named values (front ends offer ``values``; ``wheelrail.core.noise.wheel_power``
+uses ``noise_wheel_model``'s)."""
+
+
+def choice(key: str) -> Choice:
+    """The choice declared with ``key`` (KeyError if none is)."""
+    for entry in CHOICES:
+        if entry.key == key:
+            return entry
+    raise KeyError(key)

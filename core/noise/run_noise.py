@@ -6,8 +6,10 @@ One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10
 - rail and sleepers: L_W = L_F + 10 lg(T / 1 pW) with T the model track's sound power per unit mean-square force
   (:func:`wheelrail.core.noise.twins.track_noise_model`, same wheel, track and contact as the run);
 - wheel: the effective roughness that causes L_F in the linear model, L_r = L_F + 10 lg <|alpha_W + alpha_R +
-  alpha_C|^2> (dB re 1 um), plus CNOSSOS-EU's L_H,veh for the nearest tabulated diameter, minus 3 dB (L_H,veh is
-  per axle, two wheels): the 2-DOF wheel model has no radiating modes (:mod:`wheelrail.core.noise.twins`);
+  alpha_C|^2> (dB re 1 um), plus, per axle (two wheels: minus 3 dB), ``wheel_model`` "directive" (the default):
+  CNOSSOS-EU's L_H,veh for the nearest tabulated diameter (the 2-DOF wheel model has no radiating modes,
+  :mod:`wheelrail.core.noise.twins`); "modal": the modal wheel's L_H,veh-equivalent, its own chain excited by that
+  roughness (:func:`wheelrail.core.noise.twins.with_modal_wheel`);
 - total and L_WA per wheel; per axle +3 dB (two wheels on two rails, incoherent).
 
 **Pass-by level** at the ISO 3095 position (7.5 m from the track centre, 1.2 m above the rail head): every axle a
@@ -252,7 +254,7 @@ def sound_power_from_force(force_db, track) -> dict:
     rail = power_level(track.rail_power_per_force * mean_sq_force)
     sleeper = power_level(track.sleeper_power_per_force * mean_sq_force)
     roughness = force_db + track.effective_roughness_per_force_db
-    wheel = roughness + track.wheel_transfer_db - AXLE_DB
+    wheel = roughness + track.wheel_transfer_db - AXLE_DB  # L_H,veh (or the modal wheel's) per axle
     powers = dict(zip(COMPONENTS, (rail, sleeper, wheel), strict=True))
     powers[TOTAL] = energy_sum(*powers.values())
     dba = {name: a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf)) for name, levels in powers.items()}
@@ -260,7 +262,13 @@ def sound_power_from_force(force_db, track) -> dict:
 
 
 def run_noise(
-    result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: float = DEFAULT_TRAIN_LENGTH, numerics=None
+    result,
+    *,
+    train_axles: int = DEFAULT_TRAIN_AXLES,
+    train_length: float = DEFAULT_TRAIN_LENGTH,
+    numerics=None,
+    wheel_model: str = "directive",
+    wheel_profile=None,
 ) -> RunNoise:
     """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.results.RunResult`).
 
@@ -274,9 +282,15 @@ def run_noise(
         Train length, m.
     numerics : NoiseNumerics, optional
         How the track's transfer functions are computed (default :class:`wheelrail.core.noise.twins.NoiseNumerics`).
+    wheel_model : str
+        "directive" (CNOSSOS-EU's L_H,veh on the effective roughness) or "modal" (the modal wheel's
+        L_H,veh-equivalent on it): :mod:`wheelrail.core.noise.wheel_power`.
+    wheel_profile : WheelProfile, optional
+        The modal wheel's cross-section (default: the named wheel nearest the run's R, at R).
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
-    from wheelrail.core.noise.twins import track_noise_model
+    from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
+    from wheelrail.core.noise.wheel_power import checked_wheel_model
     from wheelrail.core.results import result_of_run
     from wheelrail.core.spectra import force_spectrum
 
@@ -285,6 +299,8 @@ def run_noise(
     _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
     params = result.header.params
     track = track_noise_model(params, numerics)
+    if checked_wheel_model(wheel_model) == "modal":  # its L_H,veh-equivalent on the run's effective roughness
+        track = with_modal_wheel(track, params, wheel_profile, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
     power = sound_power_from_force(force_db, track)
@@ -294,25 +310,7 @@ def run_noise(
     t_total = track.rail_power_per_force + track.sleeper_power_per_force + t_wheel
     d = receiver_distance()
     undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True) if not np.isfinite(value)]
-    configuration = {
-        "run": {
-            "model": result.model,
-            "roughness": result.roughness_name,
-            "line": result.line,
-            "wheel_roughness": result.wheel_roughness_name,
-            "speed_m_s": result.speed,
-            "element_size_m": result.element_size,
-        },
-        "parameters": result.parameters,
-        "train_axles": int(train_axles),
-        "train_length_m": float(train_length),
-        "receiver": {"distance_m": ISO3095_DISTANCE, "height_m": ISO3095_HEIGHT},
-        "wheel": track.configuration["wheel"],
-        "track": {k: v for k, v in track.configuration.items() if k != "rail_section"},
-        "sound_power_per": "one wheel on one rail (axle: +3 dB)",
-        # bands above the run's Nyquist frequency (v / (2 dx)): null, left out of the dB(A) totals
-        "undefined_bands_hz": undefined,
-    }
+    configuration = _configuration(result, track, train_axles, train_length, undefined)
     return RunNoise(
         frequency_hz=noise_bands(),
         force_db=force_db,
@@ -327,6 +325,30 @@ def run_noise(
         _time_step=result.time_step,
         _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
     )
+
+
+def _configuration(result, track, train_axles, train_length, undefined) -> dict:
+    """What produced a run's noise (``RunNoise.configuration``)."""
+    return {
+        "run": {
+            "model": result.model,
+            "roughness": result.roughness_name,
+            "line": result.line,
+            "wheel_roughness": result.wheel_roughness_name,
+            "speed_m_s": result.speed,
+            "element_size_m": result.element_size,
+        },
+        "parameters": result.parameters,
+        "train_axles": int(train_axles),
+        "train_length_m": float(train_length),
+        "receiver": {"distance_m": ISO3095_DISTANCE, "height_m": ISO3095_HEIGHT},
+        "wheel_model": track.wheel_model,
+        "wheel": track.configuration["wheel"],
+        "track": {k: v for k, v in track.configuration.items() if k != "rail_section"},
+        "sound_power_per": "one wheel on one rail (axle: +3 dB)",
+        # bands above the run's Nyquist frequency (v / (2 dx)): null, left out of the dB(A) totals
+        "undefined_bands_hz": undefined,
+    }
 
 
 def _check_run_length(result) -> None:

@@ -40,7 +40,9 @@ def test_free_wave_decay_matches_the_continuously_supported_beam(small_track):
     # Known answer: an Euler-Bernoulli beam on a continuous support of the same pads, sleepers and ballast per
     # unit length, EI k^4 = m' w^2 - s(w); decay = 20 lg(e) |Im k| of the propagating wave. Valid well below
     # the pinned-pinned frequency (discrete supports) and where shear is negligible: 50-250 Hz and 400-800 Hz
-    # (around the pad resonance, 315 Hz, the discrete supports differ by 15 %). Tolerance 10 % (measured 6 %).
+    # (around the pad resonance, 315 Hz, the discrete supports differ by 14-18 %). Tolerance 6.5 %: the documented
+    # 6 % with a margin for the 2 frequencies per band (measured 5.6 % at 630 Hz here, 5.9 % on the default
+    # numerics: validation/free_wave_decay.py).
     p = ModelParameters()
     rail, sup = p.track.rail, p.track.support
     f = noise_bands()
@@ -52,7 +54,7 @@ def test_free_wave_decay_matches_the_continuously_supported_beam(small_track):
     roots = k4**0.25 * np.exp(0.5j * np.pi * np.arange(4))[:, None]
     analytic = 20 * math.log10(math.e) * np.min(np.abs(roots.imag), axis=0)
     bands = (f < 270) | ((f > 350) & (f < 900))
-    np.testing.assert_allclose(small_track.free_wave_decay_db_per_m[bands], analytic[bands], rtol=0.10)
+    np.testing.assert_allclose(small_track.free_wave_decay_db_per_m[bands], analytic[bands], rtol=0.065)
 
 
 @pytest.mark.slow
@@ -102,6 +104,9 @@ def test_cnossos_beside_a_run_on_its_own_roughness(wheel_run):
     np.testing.assert_allclose(beside.track_db, total_roughness + track_transfer("mono-block-soft"), atol=1e-9)
     np.testing.assert_allclose(beside.vehicle_db, total_roughness + vehicle_transfer(840), atol=1e-9)
     assert beside.configuration["wheel_diameter_m"] == 0.84 and beside.configuration["axles"] == 1
+    # both diameters said: A3 took the model's 2R, L_H,veh the column nearest it
+    assert beside.configuration["contact_filter_wheel_diameter_m"] == pytest.approx(0.78)
+    assert beside.configuration["vehicle_transfer_wheel_diameter_m"] == 0.84
     assert beside.configuration["rail_roughness"] == "cast-iron-wheel line 0 (the run's)"
     summary = noise.to_dict()["cnossos"]
     assert summary["pass_by_LpAeq_dBA"] == pytest.approx(pass_by_level(beside.total_dba, 40, 200.0))
@@ -186,6 +191,11 @@ def test_cli_run_and_twins(tmp_path, wheel_run):
     assert len(out["cnossos"]["total_dB"]) == 24 and out["cnossos"]["per"] == "axle"
     text = _cli("--run", str(path))
     assert text.returncode == 0 and "CNOSSOS-EU beside it" in text.stdout, text.stderr
+    assert "A3 for the model's 2R = 780 mm" in text.stdout and "L_H,veh of the 840 mm column" in text.stdout
+    modal = _cli("--run", str(path), "--wheel-model", "modal", "--json")
+    assert modal.returncode == 0, modal.stderr
+    configuration = json.loads(modal.stdout)["configuration"]
+    assert configuration["wheel_model"] == "modal" and configuration["wheel"].startswith("modal wheel (wheel_840's")
     assert wav.stat().st_size > 1000 and out["wav"]["full_scale_pa"] > 0
     bad = _cli("--run", str(tmp_path / "missing.npz"))
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1
