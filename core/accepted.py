@@ -179,6 +179,19 @@ ACCEPTED: dict[str, Accepted] = {
             "from one short wagon to a heavy-haul freight train (about 3.5 km)",
         ),
         Accepted("train_axles", "", 1, 2000, "one axle to a heavy-haul freight train's (about 1 200)"),
+        # the modal wheel's cross-section (wheelrail.core.modal_wheel.profile): solid wheels of 0.2 to 2.5 m with room
+        # to spare around the 640 to 1250 mm wheels of wagons, coaches and locomotives
+        Accepted("wheel_tyre_width", "m", 0.08, 0.2, "a rim's width: 135 mm on standard-gauge wheels"),
+        Accepted("wheel_tyre_depth", "m", 0.015, 0.12, "a rim's depth under the tread, worn to new"),
+        Accepted("wheel_web_thickness", "m", 0.01, 0.08, "a solid wheel's web, about 20 to 35 mm thick"),
+        Accepted("wheel_web_offset", "m", -0.15, 0.15, "the dish of the web, hub to rim, within a hub's width"),
+        Accepted("wheel_web_curvature", "m", -0.08, 0.08, "the bulge of a curved (S- or C-shaped) web at mid-height"),
+        Accepted("wheel_hub_inner_radius", "m", 0.03, 0.2, "the axle seat: axles of 60 to 400 mm diameter"),
+        Accepted("wheel_hub_outer_radius", "m", 0.05, 0.3, "a hub's outer radius, beyond the axle seat"),
+        Accepted("wheel_hub_width", "m", 0.05, 0.3, "a hub's length along the axle"),
+        Accepted("wheel_contact_offset", "m", -0.08, 0.08, "the running circle's offset from the web, on the rim"),
+        Accepted("wheel_flange_height", "m", 0.0, 0.05, "0: no flange; standard flanges are about 28 to 30 mm high"),
+        Accepted("wheel_flange_thickness", "m", 0.0, 0.05, "0: no flange; standard flanges are about 30 mm thick"),
     )
 }
 """The accepted ranges by key (SI). Wheel radii 0.1 to 1.25 m (diameters 0.2 to 2.5 m) hold the CNOSSOS-EU

@@ -33,6 +33,7 @@ COMMANDS = {
     "study": "run one of the paper's studies (force spectra, contact filters, model differences)",
     "filters": "reference contact filters (CNOSSOS-EU A3, analytic) by wavelength and frequency band",
     "noise": "rolling noise: CNOSSOS-EU source, the model track's transfer function, or a run's sound power and WAV",
+    "wheel": "the modal wheel: natural frequencies by family and nodal diameters, receptances at the contact",
     "cache": "list or clear the disk cache (the Green's functions of each track computed, ~208 MB each)",
 }
 

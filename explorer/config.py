@@ -16,7 +16,7 @@ import math
 import re
 from dataclasses import dataclass, replace
 
-from wheelrail.core.accepted import check_wheel_circumference
+from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
 from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.inputs import Input, by_key, inputs_of, model_parameters, page_names
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
@@ -72,6 +72,12 @@ FIELD_NAMES: dict[str, Name] = {
     "wheel_set": Name("Wheel roughness"),
     "train_axles": Name("Train axles"),  # the Noise tab's train
     "train_length": Name("Train length", "m"),
+    # the modal wheel's shape (core.accepted's wheel_<field> ranges, in mm; "Tyre width", "Web offset", ...)
+    **{
+        key: Name(key.removeprefix("wheel_").replace("_", " ").capitalize(), "mm", 1e3)
+        for key in ACCEPTED
+        if key.startswith("wheel_") and key not in page_names()
+    },
 }
 NO_LINE_FITS = "no line fits"  # the Line menu when the model cannot run on any line of the set(s)
 

@@ -30,6 +30,7 @@ CACHED_CODE = (
     "core/parameters.py",
     "core/track/*.py",
     "core/wheel.py",
+    "core/modal_wheel/*.py",
     "core/noise/radiation.py",
     "core/noise/decay.py",
     "core/noise/twins.py",

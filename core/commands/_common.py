@@ -10,6 +10,16 @@ from wheelrail.core.accepted import ACCEPTED, PATCH_FRACTION
 from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.inputs import GROUPS, by_key, cli_names, inputs_of
 
+WHEEL_SHAPE_KEYS = tuple(k for k in ACCEPTED if k.startswith("wheel_") and k != "wheel_transverse_radius")
+"""The modal wheel's profile inputs (``wheelrail wheel``): ``wheel_radius`` and the ``wheel_<field>`` ranges."""
+
+
+def wheel_shape_option(key: str) -> str:
+    """The option of a profile input: ``--wheel-radius-mm``, ``--tyre-width-mm`` (``wheel_tyre_width``), ..."""
+    field = key if key == "wheel_radius" else key.removeprefix("wheel_")
+    return f"--{field.replace('_', '-')}-mm"
+
+
 # What the command line calls each input an error can name (WheelrailError.parameter): its option, the unit it
 # takes and that unit per SI unit. The declared inputs' names come from their declaration
 # (``wheelrail.core.inputs``); the rest are the commands' own options. ``wheelrail.core.cli`` renders every
@@ -31,6 +41,15 @@ CLI_NAMES: dict[str, Name] = {
     "axles": Name("--axles", unit_in_label=True),
     "train_axles": Name("--train-axles", unit_in_label=True),
     "train_length": Name("--train-length-m", "m", 1.0, True),
+    # wheelrail wheel: the modal wheel's shape (core.accepted's wheel_<field> ranges) and settings
+    **{key: Name(wheel_shape_option(key), "mm", 1e3, True) for key in WHEEL_SHAPE_KEYS if key != "wheel_radius"},
+    "wheel_name": Name("--wheel", unit_in_label=True),
+    "outline": Name("--outline", unit_in_label=True),
+    "contact_z": Name("--contact-z-mm", "mm", 1e3, True),
+    "wheel_element_size": Name("--element-size-mm", "mm", 1e3, True),
+    "max_frequency": Name("--max-frequency-hz", "Hz", 1.0, True),
+    "max_harmonic": Name("--max-harmonic", unit_in_label=True),
+    "added_loss_factor": Name("--added-loss-factor", unit_in_label=True),
 }
 
 

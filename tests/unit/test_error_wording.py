@@ -89,7 +89,17 @@ def test_every_physical_input_has_a_name_on_the_command_line_and_in_the_page():
         assert isinstance(CLI_NAMES[key], Name) and CLI_NAMES[key].label.startswith("--")
         assert isinstance(FIELD_NAMES[key], Name) and not FIELD_NAMES[key].label.startswith("-")
     for key, name in CLI_NAMES.items():  # an option in mm carries mm values: its scale is that of its unit
-        scale = {"km/h": 3.6, "kN": 1e-3, "mm": 1e3, "m": 1.0, "ms": 1e3, "MN/m": 1e-6, "kNs/m": 1e-3, "kg": 1.0}
+        scale = {
+            "km/h": 3.6,
+            "kN": 1e-3,
+            "mm": 1e3,
+            "m": 1.0,
+            "ms": 1e3,
+            "MN/m": 1e-6,
+            "kNs/m": 1e-3,
+            "kg": 1.0,
+            "Hz": 1.0,
+        }
         assert name.scale == pytest.approx({**scale, "": 1.0}[name.unit]), key
         unit = name.unit.replace("/", "-").lower().replace("km-h", "kmh")  # --pad-stiffness-mn-m, --speed-kmh
         assert name.unit_in_label and (not name.unit or name.label.endswith(unit)), key

@@ -1,0 +1,341 @@
+"""The wheel's cross-section: a parametric profile, named standard-like wheels, an outline read from a CSV file.
+
+Coordinates of a cross-section: r, the distance from the axle's axis, and z, along the axle (m), with z = 0 at
+the web's midplane where the web meets the rim, z < 0 towards the flange (the inner, flange side of the
+wheel) and z > 0 towards the field side. The contact point is on the tread at the running circle, r = R (the
+wheel radius), z = ``contact_offset``: its lateral offset from the web couples radial and axial motion
+(``receptance``).
+
+The parametric profile (:class:`WheelProfile`) is the cross-section of a solid wheel made of three parts: a
+rectangular rim (tyre) of ``tyre_width`` x ``tyre_depth`` under the tread, with an optional rectangular
+flange on its inner side; a web of constant ``web_thickness`` from the hub to the rim, whose midline runs from
+z = ``web_offset`` at the hub to z = 0 at the rim and bulges by ``web_curvature`` (a sagitta) at mid-height;
+a rectangular hub from the bore (``hub_inner_radius``) to ``hub_outer_radius``, ``hub_width`` wide, centred on
+the web's midline. Fillets, the tread's conicity and the flange's shape are not modelled. Accepted ranges
+are in :data:`wheelrail.core.accepted.ACCEPTED` (keys ``"wheel_" + field``), with their reasons.
+
+:func:`outline_profile` takes any closed outline of (r, z) points instead (:func:`read_outline` reads one
+from a CSV file).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+
+import numpy as np
+
+from wheelrail.core.accepted import ACCEPTED
+from wheelrail.core.errors import WheelrailError
+
+__all__ = [
+    "NAMED_WHEELS",
+    "OutlineProfile",
+    "WheelProfile",
+    "named_profile",
+    "outline_profile",
+    "read_outline",
+    "wheel_profile_for",
+]
+
+_WEB_POINTS = 16  # points along each face of the web (its curvature); the mesher adds its own between them
+
+
+@dataclass(frozen=True, kw_only=True)
+class WheelProfile:
+    """A parametric solid wheel's cross-section (module docstring). All lengths in m.
+
+    Attributes
+    ----------
+    wheel_radius : float
+        Radius of the running circle (the tread at the contact), m.
+    tyre_width : float
+        Axial width of the rim (tyre), flange excluded, m.
+    tyre_depth : float
+        Radial depth of the rim below the tread, m.
+    web_thickness : float
+        Axial thickness of the web, m.
+    web_offset : float
+        Axial position of the web's midline at the hub relative to the rim (the wheel's dish), m.
+    web_curvature : float
+        Axial bulge of the web's midline at mid-height (a sagitta; 0: a straight web), m.
+    hub_inner_radius, hub_outer_radius : float
+        The bore (the axle seat) and the hub's outer radius, m.
+    hub_width : float
+        Axial width of the hub, m.
+    contact_offset : float
+        Axial position of the running circle (the contact) from the web's midplane at the rim, m.
+    flange_height, flange_thickness : float
+        Radial height of the flange above the tread and its axial thickness, m (0, 0: no flange).
+    """
+
+    wheel_radius: float
+    tyre_width: float = 0.135
+    tyre_depth: float = 0.05
+    web_thickness: float = 0.025
+    web_offset: float = 0.0
+    web_curvature: float = 0.0
+    hub_inner_radius: float = 0.095
+    hub_outer_radius: float = 0.125
+    hub_width: float = 0.18
+    contact_offset: float = 0.0
+    flange_height: float = 0.0
+    flange_thickness: float = 0.0
+
+    def __post_init__(self):
+        for item in fields(self):
+            ACCEPTED[f"wheel_{item.name}" if item.name != "wheel_radius" else "wheel_radius"].check(
+                getattr(self, item.name), f"WheelProfile.{item.name}"
+            )
+        self._check_parts_fit()
+
+    def _check_parts_fit(self):
+        rim_inner = self.wheel_radius - self.tyre_depth
+        if self.hub_outer_radius <= self.hub_inner_radius or rim_inner - self.hub_outer_radius < 2 * self.web_thickness:
+            raise WheelrailError(
+                "the web must span at least twice its thickness between the hub and the rim",
+                parameter="wheel_hub_outer_radius",
+                value=self.hub_outer_radius,
+                unit="m",
+            )
+        if self.web_thickness >= min(self.hub_width, self.tyre_width):
+            raise WheelrailError(
+                "the web must be thinner than the hub and the rim are wide",
+                parameter="wheel_web_thickness",
+                value=self.web_thickness,
+                unit="m",
+            )
+        if abs(self.contact_offset) > self.tyre_width / 2 - 0.005 or (
+            self.flange_thickness > 0 and self.contact_offset < -self.tyre_width / 2 + self.flange_thickness + 0.005
+        ):
+            raise WheelrailError(
+                "the contact must be on the tread, at least 5 mm from its edges and the flange",
+                parameter="wheel_contact_offset",
+                value=self.contact_offset,
+                unit="m",
+            )
+
+    @property
+    def bore_radius(self) -> float:
+        """The hub's inner radius, m (where the wheel sits on the axle)."""
+        return self.hub_inner_radius
+
+    def contact_point(self) -> tuple[float, float]:
+        """(r, z) of the contact, m."""
+        return self.wheel_radius, self.contact_offset
+
+    def web_midline(self, r) -> np.ndarray:
+        """z of the web's midline at radii ``r`` (hub to rim), m."""
+        s = (np.asarray(r, dtype=float) - self.hub_outer_radius) / (
+            self.wheel_radius - self.tyre_depth - self.hub_outer_radius
+        )
+        return self.web_offset * (1 - s) + self.web_curvature * 4 * s * (1 - s)
+
+    def outline(self) -> np.ndarray:
+        """The closed outline, (m, 2) of (r, z), counter-clockwise in the (r, z) plane, the contact a vertex."""
+        R, half = self.wheel_radius, self.tyre_width / 2
+        rim_inner = R - self.tyre_depth
+        hub_z, hub_half, t = self.web_offset, self.hub_width / 2, self.web_thickness / 2
+        web_r = np.linspace(self.hub_outer_radius, rim_inner, _WEB_POINTS)
+        web_z = self.web_midline(web_r)
+        points = [(self.hub_inner_radius, hub_z + hub_half), (self.hub_inner_radius, hub_z - hub_half)]
+        points += [(self.hub_outer_radius, hub_z - hub_half)]
+        points += list(zip(web_r, web_z - t, strict=True))
+        points += [(rim_inner, -half)]
+        if self.flange_height > 0 and self.flange_thickness > 0:
+            points += [(R + self.flange_height, -half), (R + self.flange_height, -half + self.flange_thickness)]
+            points += [(R, -half + self.flange_thickness)]
+        else:
+            points += [(R, -half)]
+        points += [(R, self.contact_offset), (R, half), (rim_inner, half)]
+        points += list(zip(web_r[::-1], web_z[::-1] + t, strict=True))
+        points += [(self.hub_outer_radius, hub_z + hub_half)]
+        return _counter_clockwise(np.array(points, dtype=float))
+
+    def describe(self) -> dict:
+        """What defines the cross-section (the cache's key, a result's record)."""
+        return {"kind": "parametric", **asdict(self)}
+
+
+@dataclass(frozen=True)
+class OutlineProfile:
+    """A cross-section given as a closed outline of (r, z) points, m, and the contact point on it (module
+    docstring); made by :func:`outline_profile`."""
+
+    points: tuple[tuple[float, float], ...]
+    contact: tuple[float, float]
+    name: str = "outline"
+
+    @property
+    def wheel_radius(self) -> float:
+        return self.contact[0]
+
+    @property
+    def bore_radius(self) -> float:
+        return min(r for r, _ in self.points)
+
+    def contact_point(self) -> tuple[float, float]:
+        return self.contact
+
+    def outline(self) -> np.ndarray:
+        return np.array(self.points, dtype=float)
+
+    def describe(self) -> dict:
+        return {"kind": "outline", "name": self.name, "points": [list(p) for p in self.points], "contact": self.contact}
+
+
+def _counter_clockwise(points: np.ndarray) -> np.ndarray:
+    return points if _signed_area(points) > 0 else points[::-1].copy()
+
+
+def _signed_area(points: np.ndarray) -> float:
+    r, z = points[:, 0], points[:, 1]
+    return 0.5 * float(np.sum(r * np.roll(z, -1) - np.roll(r, -1) * z))
+
+
+def _segments_cross(points: np.ndarray) -> bool:
+    """Whether two non-adjacent edges of the closed polygon cross (a self-intersecting outline)."""
+    a, b = points, np.roll(points, -1, axis=0)
+    m = len(points)
+    for i in range(m):
+        j = np.arange(i + 2, m if i > 0 else m - 1)
+        if not len(j):
+            continue
+        d1 = _cross(a[i], b[i], a[j])
+        d2 = _cross(a[i], b[i], b[j])
+        d3 = _cross(a[j], b[j], a[i][None, :])
+        d4 = _cross(a[j], b[j], b[i][None, :])
+        if np.any((d1 * d2 < 0) & (d3 * d4 < 0)):
+            return True
+    return False
+
+
+def _cross(p, q, s) -> np.ndarray:
+    p, q, s = np.atleast_2d(p), np.atleast_2d(q), np.atleast_2d(s)
+    return (q[:, 0] - p[:, 0]) * (s[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (s[:, 0] - p[:, 0])
+
+
+def outline_profile(points, contact_z: float, name: str = "outline") -> OutlineProfile:
+    """A cross-section from a closed outline of (r, z) points (m) and the axial position of the contact.
+
+    The contact is put on the outline where the vertical line z = ``contact_z`` meets it at its largest r (the
+    tread); it becomes a vertex. Refused in one WheelrailError line: fewer than 4 points, values not finite,
+    r <= 0, an outline that crosses itself or encloses no area, a size outside the wheel radius's accepted
+    range, a ``contact_z`` outside the outline.
+    """
+    array = np.asarray(points, dtype=float) if _numeric(points) else None
+    if array is None or array.ndim != 2 or array.shape[1] != 2 or len(array) < 4:
+        raise WheelrailError("a wheel outline needs at least 4 (r, z) points, two numbers each", parameter="outline")
+    if not np.all(np.isfinite(array)) or np.any(array[:, 0] <= 0):
+        raise WheelrailError("a wheel outline's points must be finite with r > 0 (no point on the axle's axis)",
+                             parameter="outline")  # fmt: skip
+    if np.allclose(array[0], array[-1]):
+        array = array[:-1]
+    keep = np.r_[True, np.any(np.abs(np.diff(array, axis=0)) > 1e-9, axis=1)]
+    array = _counter_clockwise(array[keep])
+    if abs(_signed_area(array)) < 1e-6 or _segments_cross(array):
+        raise WheelrailError("a wheel outline must be one closed curve that does not cross itself, enclosing an area "
+                             "of at least 1 cm^2", parameter="outline")  # fmt: skip
+    ACCEPTED["wheel_radius"].check(float(array[:, 0].max()), "the outline's largest r")
+    array, contact = _insert_contact(array, float(contact_z))
+    return OutlineProfile(tuple(map(tuple, array.tolist())), contact, name)
+
+
+def _numeric(points) -> bool:
+    try:
+        np.asarray(points, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+def _insert_contact(array: np.ndarray, z: float) -> tuple[np.ndarray, tuple[float, float]]:
+    """The outline with the tread point at axial position z inserted; that point."""
+    a, b = array, np.roll(array, -1, axis=0)
+    best = None
+    for i in range(len(array)):
+        (r0, z0), (r1, z1) = a[i], b[i]
+        if min(z0, z1) <= z <= max(z0, z1) and z0 != z1:
+            r = r0 + (r1 - r0) * (z - z0) / (z1 - z0)
+            if best is None or r > best[1]:
+                best = (i, r)
+    if not math.isfinite(z) or best is None:
+        raise WheelrailError("the contact's axial position must be within the outline", parameter="contact_z",
+                             value=z, unit="m")  # fmt: skip
+    i, r = best
+    point = np.array([r, z])
+    if np.min(np.hypot(*(array - point).T)) < 1e-9:
+        return array, (float(r), float(z))
+    return np.insert(array, i + 1, point, axis=0), (float(r), float(z))
+
+
+def read_outline(path, contact_z_mm: float) -> OutlineProfile:
+    """A cross-section from a CSV file of (r, z) points in mm, one per line, in order around the outline (a header
+    line of words is skipped); the contact at ``contact_z_mm``. Bad files are one WheelrailError line."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise WheelrailError(f"cannot read the wheel outline {path}: {error}") from None
+    rows = []
+    for number, row in enumerate(csv.reader(text.splitlines()), start=1):
+        cells = [cell.strip() for cell in row if cell.strip()]
+        if not cells or cells[0].startswith("#"):
+            continue
+        try:
+            values = [float(cell) for cell in cells]
+        except ValueError:
+            if not rows and number == 1:
+                continue  # a header
+            raise WheelrailError(f"{path}: line {number} is not two numbers (r, z in mm)") from None
+        if len(values) != 2:
+            raise WheelrailError(f"{path}: line {number} has {len(values)} values, not two (r, z in mm)")
+        rows.append(values)
+    return outline_profile(np.array(rows) * 1e-3 if rows else [], contact_z_mm * 1e-3, name=path.stem)
+
+
+# Named standard-like wheels: approximate dimensions of common solid wheels, rounded to 5 mm. The 920 mm freight
+# wheel follows the UIC/BR freight wheel Thompson analysed (Thompson, "Wheel-rail noise generation, part II:
+# wheel vibration", J. Sound Vib. 161 (1993) 401-419; Thompson, "Railway Noise and Vibration", Elsevier 2009,
+# chapter 5): 920 mm new diameter, a rim about 135 mm wide and 50 mm deep, a dished web about 25 mm thick; the
+# 840 mm and 640 mm wheels are scaled versions with the rims of passenger-coach and small wagon wheels. None is a
+# drawing of a real wheel: they are plausible shapes for comparing designs, not certified geometries.
+NAMED_WHEELS: dict[str, WheelProfile] = {
+    "freight_920": WheelProfile(
+        wheel_radius=0.46, tyre_width=0.135, tyre_depth=0.05, web_thickness=0.025, web_offset=0.06,
+        web_curvature=0.0, hub_inner_radius=0.095, hub_outer_radius=0.13, hub_width=0.18, contact_offset=0.0,
+        flange_height=0.028, flange_thickness=0.03,
+    ),
+    "wheel_840": WheelProfile(
+        wheel_radius=0.42, tyre_width=0.135, tyre_depth=0.045, web_thickness=0.022, web_offset=0.05,
+        web_curvature=0.01, hub_inner_radius=0.095, hub_outer_radius=0.13, hub_width=0.175, contact_offset=0.0,
+        flange_height=0.028, flange_thickness=0.03,
+    ),
+    "wheel_640": WheelProfile(
+        wheel_radius=0.32, tyre_width=0.135, tyre_depth=0.04, web_thickness=0.022, web_offset=0.03,
+        web_curvature=0.0, hub_inner_radius=0.08, hub_outer_radius=0.11, hub_width=0.16, contact_offset=0.0,
+        flange_height=0.028, flange_thickness=0.03,
+    ),
+}  # fmt: skip
+
+
+def named_profile(name: str) -> WheelProfile:
+    """The named wheel ``name`` (a key of :data:`NAMED_WHEELS`), or one WheelrailError line listing them."""
+    if name not in NAMED_WHEELS:
+        names = ", ".join(NAMED_WHEELS)
+        raise WheelrailError(f"unknown wheel {name!r}; named wheels are {names}", parameter="wheel_name")
+    return NAMED_WHEELS[name]
+
+
+def wheel_profile_for(wheel_radius: float, name: str | None = None) -> WheelProfile:
+    """A named wheel at the rolling radius ``wheel_radius`` (m; the run's or the noise chain's wheel radius): ``name``,
+    or else the named wheel nearest in radius, its other dimensions kept (checked as any profile: a radius too
+    small for its hub and rim is one WheelrailError naming it)."""
+    from dataclasses import replace
+
+    radius = ACCEPTED["wheel_radius"].check(wheel_radius, "wheel_radius")
+    if name is None:
+        name = min(NAMED_WHEELS, key=lambda key: abs(NAMED_WHEELS[key].wheel_radius - radius))
+    return replace(named_profile(name), wheel_radius=radius)

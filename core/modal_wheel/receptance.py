@@ -1,0 +1,222 @@
+"""The modal wheel's receptances at the contact and the mean-square velocity of its surfaces (for its radiation).
+
+Receptance by modal summation. A force F at the contact (theta = 0) excites, in every harmonic n, the modes
+of the symmetric set (``fem``), each with a full weight cos(0) = 1; the displacement at the contact, in
+direction a, per unit force in direction b (a, b: radial r, axial z) is::
+
+    alpha_ab(omega) = sum_modes phi_a phi_b / (omega_m^2 (1 + i eta_m) - omega^2) + sum_n R_n,ab
+
+with mass-normalised shapes phi, loss factors eta_m (``modes.modal_loss_factor``), convention
+x = Re(X e^{i omega t}). The residual R_n = G_n - sum_{modes of n} phi_a phi_b / omega_m^2 is the static
+flexibility G_n of harmonic n (computed by a static solve) not carried by its modes below the highest
+frequency computed: it restores, below that frequency, the stiffness-like contribution of the modes above it
+(the usual static correction). Harmonics above N and the contact's local (Hertzian) deformation are not
+included: the contact spring is the contact model's.
+
+Why the radial and axial motions couple: the contact lies on the tread at the running circle, at an axial
+distance ``contact_offset`` from the web's midplane (and the web itself is dished). A radial force there does
+not act in the web's plane: about the web's junction with the rim it is also a moment, F_r times the offset,
+that bends the web out of its plane and moves the rim axially; and the dished web turns radial load into
+bending too. So the axial modes (web bending) appear in the radial receptance and the cross receptance
+alpha_rz = alpha_zr (reciprocity) is not zero; for a flat web with the contact on its midplane it vanishes for
+every mode whose shape is symmetric about the midplane. TWINS's wheel (Thompson 1993, part II) is built the
+same way.
+
+Surfaces for radiation (:func:`mean_square_velocity`): the outline's edges facing axially (|n_z| >= |n_r|:
+both faces of the web, the rim's and the hub's sides) and the outward-facing radial ones in the outer half of
+the wheel (the tread and the flange's top, n_r > |n_z|); the bore (on the axle) and the inward-facing cylinders
+(under the rim) are left out, as in Thompson's wheel radiation model (radial motion radiates from the tyre's
+outer surface, axial motion from the wheel's sides). Their normal velocity is averaged over the surface of
+revolution (a factor 1/2 for n > 0: the mean of cos^2 around the circumference). Each harmonic's static
+correction (its static field less its modes' static share) moves with the force and is included.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+
+__all__ = ["SurfaceVelocity", "WheelReceptance", "contact_receptance", "mean_square_velocity", "surfaces"]
+
+
+@dataclass(frozen=True)
+class WheelReceptance:
+    """Receptances at the contact: ``frequency`` (nf,) Hz; ``radial``, ``axial``, ``cross`` (nf,) complex, m/N
+    (displacement per force at the contact; radial positive away from the axle, axial towards the field side)."""
+
+    frequency: np.ndarray
+    radial: np.ndarray
+    axial: np.ndarray
+    cross: np.ndarray
+
+
+@dataclass(frozen=True)
+class SurfaceVelocity:
+    """The wheel's surface velocity per harmonic (module docstring).
+
+    Attributes
+    ----------
+    frequency : ndarray (nf,)
+        Hz.
+    harmonic : ndarray (N + 1,)
+        n = 0..N.
+    axial, radial : ndarray (nf, N + 1)
+        Spatial and time mean-square normal velocity over the axially facing surfaces and over the radially
+        facing (tread) surface, per harmonic, m^2/s^2 (for RMS forces; they add up over n).
+    area_axial, area_radial : float
+        The surfaces' areas, m^2 (both sides of the wheel counted).
+    """
+
+    frequency: np.ndarray
+    harmonic: np.ndarray
+    axial: np.ndarray
+    radial: np.ndarray
+    area_axial: float
+    area_radial: float
+
+
+def _frequencies(frequencies) -> np.ndarray:
+    f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise WheelrailError("the wheel's frequencies must be finite and >= 0 Hz", parameter="frequency")
+    return f
+
+
+def _modal_denominator(modes, f: np.ndarray, added_loss_factor: float) -> np.ndarray:
+    """(nf, n_modes): omega_m^2 (1 + i eta_m) - omega^2, rad^2/s^2."""
+    wm2 = (2 * np.pi * modes.frequency) ** 2 * (1 + 1j * modes.loss_factor(added_loss_factor))
+    denominator = wm2[None, :] - (2 * np.pi * f[:, None]) ** 2
+    if np.any(denominator == 0):  # a free wheel's rigid-body modes at 0 Hz
+        raise WheelrailError("a free wheel moves without bound at 0 Hz; give frequencies above 0")
+    return denominator
+
+
+def _residual(modes) -> np.ndarray:
+    """(2, 2): the static flexibility the computed modes leave out, summed over the harmonics, m/N."""
+    total = np.zeros((2, 2))
+    shapes = modes.contact_shapes()
+    for n in range(modes.max_harmonic + 1):
+        static = modes.static[n]
+        if not np.any(static):
+            continue  # a free hub's n = 0, 1: no static flexibility
+        mine = (modes.harmonic == n) & (modes.frequency > 1.0)
+        phi = shapes[mine]
+        total += static - np.einsum("ma,mb,m->ab", phi, phi, 1 / (2 * np.pi * modes.frequency[mine]) ** 2)
+    return total
+
+
+def contact_receptance(modes, frequencies, added_loss_factor: float = 0.0, residual: bool = True) -> WheelReceptance:
+    """The radial, axial and cross receptances at the contact (module docstring).
+
+    Parameters
+    ----------
+    modes : WheelModes
+        From ``wheel_modes``.
+    frequencies : array_like
+        Hz, >= 0.
+    added_loss_factor : float
+        A damper's loss factor added to every mode's.
+    residual : bool
+        Add the static correction for the modes above the highest frequency computed.
+    """
+    f = _frequencies(frequencies)
+    phi = modes.contact_shapes()
+    denominator = _modal_denominator(modes, f, added_loss_factor)
+    terms = np.einsum("ma,mb->mab", phi, phi)
+    alpha = np.einsum("fm,mab->fab", 1 / denominator, terms)
+    if residual:
+        alpha = alpha + _residual(modes)[None, :, :]
+    return WheelReceptance(frequency=f, radial=alpha[:, 0, 0], axial=alpha[:, 1, 1], cross=alpha[:, 0, 1])
+
+
+def surfaces(modes) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The radiating surfaces' Gauss points (module docstring): for "axial" and "radial", (element indices into the
+    boundary's edges per Gauss point, normal (n_r, n_z) per Gauss point, the area weight 2 pi r ds per Gauss point,
+    m^2), with the shape functions applied by :func:`_normal_displacements`."""
+    nodes, edges = modes.mesh.nodes, modes.mesh.boundary
+    s, w = np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)]), np.array([5.0, 8.0, 5.0]) / 9.0
+    shape = np.stack([s * (s - 1) / 2, 1 - s**2, s * (s + 1) / 2], axis=1)  # (3 points, 3 edge nodes)
+    d_shape = np.stack([s - 0.5, -2 * s, s + 0.5], axis=1)
+    x = nodes[edges]  # (E, 3, 2)
+    position = np.einsum("gk,ekc->egc", shape, x)
+    tangent = np.einsum("gk,ekc->egc", d_shape, x)
+    length = np.hypot(tangent[..., 0], tangent[..., 1])
+    normal = np.stack([tangent[..., 1], -tangent[..., 0]], axis=-1) / length[..., None]
+    area = 2 * np.pi * position[..., 0] * length * w[None, :]
+    r_mid = 0.5 * (nodes[:, 0].min() + modes.profile.wheel_radius)
+    edge_normal = normal.mean(axis=1)
+    axial = np.abs(edge_normal[:, 1]) >= np.abs(edge_normal[:, 0])
+    radial = ~axial & (edge_normal[:, 0] > 0) & (position[:, 1, 0] > r_mid)
+    found = {}
+    for name, chosen in (("axial", axial), ("radial", radial)):
+        found[name] = (np.flatnonzero(chosen), normal[chosen], area[chosen], shape)
+    return found
+
+
+def _normal_displacements(modes, shapes, chosen, normal, shape) -> np.ndarray:
+    """(n_shapes, n_edges * 3): each shape's normal displacement at the chosen edges' Gauss points."""
+    edges = modes.mesh.boundary[chosen]  # (E, 3)
+    at_r = np.einsum("gk,mek->meg", shape, shapes[:, 3 * edges])
+    at_z = np.einsum("gk,mek->meg", shape, shapes[:, 3 * edges + 1])
+    return (at_r * normal[None, ..., 0] + at_z * normal[None, ..., 1]).reshape(len(shapes), -1)
+
+
+def _residual_fields(modes, harmonic: int) -> np.ndarray:
+    """(2, 3 n_nodes): harmonic n's static displacement per unit radial and axial contact force that its modes
+    leave out (the field of the receptance's static correction), m/N."""
+    mine = (modes.harmonic == harmonic) & (modes.frequency > 1.0)
+    if not np.any(modes.static_fields[harmonic]):
+        return np.zeros_like(modes.static_fields[harmonic])
+    weights = modes.contact_shapes()[mine] / ((2 * np.pi * modes.frequency[mine]) ** 2)[:, None]  # (m, 2)
+    return modes.static_fields[harmonic] - weights.T @ modes.shapes[mine]
+
+
+def mean_square_velocity(
+    modes, frequencies, force_radial=1.0, force_axial=0.0, added_loss_factor: float = 0.0, residual: bool = True
+) -> SurfaceVelocity:
+    """Mean-square normal velocity of the wheel's axially and radially facing surfaces, per harmonic.
+
+    Parameters
+    ----------
+    modes : WheelModes
+    frequencies : array_like
+        Hz, >= 0.
+    force_radial, force_axial : complex or array_like (nf,)
+        RMS forces at the contact, N (radial: away from the axle; axial: towards the field side).
+    added_loss_factor : float
+        A damper's loss factor added to every mode's.
+    residual : bool
+        Add each harmonic's static correction (the field of the modes above ``modes.max_frequency``, moving with
+        the force): it matters for the harmonics driven far below their first mode.
+
+    Returns
+    -------
+    SurfaceVelocity
+        <v_n^2> per harmonic and direction (module docstring).
+    """
+    f = _frequencies(frequencies)
+    force = np.stack(np.broadcast_arrays(np.asarray(force_radial, dtype=complex), np.asarray(force_axial,
+                     dtype=complex), f), axis=-1)[..., :2]  # fmt: skip
+    if not np.all(np.isfinite(force)):
+        raise WheelrailError("the forces on the wheel must be finite", parameter="force")
+    modal_force = force @ modes.contact_shapes().T  # (nf, n_modes)
+    velocity = 1j * 2 * np.pi * f[:, None] * modal_force / _modal_denominator(modes, f, added_loss_factor)
+    harmonics = np.arange(modes.max_harmonic + 1)
+    out, areas = {}, {}
+    for name, (chosen, normal, area, shape) in surfaces(modes).items():
+        areas[name] = float(area.sum())
+        weight = area.reshape(-1) / max(areas[name], 1e-300)
+        u = _normal_displacements(modes, modes.shapes, chosen, normal, shape)  # (n_modes, n_points)
+        result = np.zeros((len(f), len(harmonics)))
+        for n in harmonics:
+            mine = modes.harmonic == n
+            field = velocity[:, mine] @ u[mine]  # (nf, n_points)
+            if residual:
+                static = _normal_displacements(modes, _residual_fields(modes, n), chosen, normal, shape)  # (2, points)
+                field = field + 1j * 2 * np.pi * f[:, None] * (force @ static)
+            result[:, n] = (np.abs(field) ** 2 @ weight) * (1.0 if n == 0 else 0.5)
+        out[name] = result
+    return SurfaceVelocity(f, harmonics, out["axial"], out["radial"], areas["axial"], areas["radial"])
