@@ -195,7 +195,8 @@ class WheelTab(ResultsTab):
 
         low, high = RECEPTANCE_RANGE_HZ
         natural = modes.frequency[(modes.frequency > low) & (modes.frequency < high)]
-        f = np.unique(np.concatenate([np.geomspace(low, high, GRID_POINTS), natural]))
+        centres = track["frequency_hz"] if track is not None else np.zeros(0)
+        f = np.unique(np.concatenate([np.geomspace(low, high, GRID_POINTS), natural, centres]))
         wheel = contact_receptance(modes, f, added_loss_factor=added)
         curves = {
             "wheel radial": wheel.radial,

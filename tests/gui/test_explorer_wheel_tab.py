@@ -1,0 +1,164 @@
+"""The explorer's Wheel tab without a browser: the wheel it states, its natural frequencies by family and n, its
+receptances at the contact beside the Track tab's, and its shape fields' errors in the page's words.
+
+The tab's modes are computed on a coarse mesh up to 3 kHz and n = 0..4 (half a second, not the page's 10 kHz and
+n = 0..10): what is tested is what the tab draws from core's modes, not the modes (tests/physics/test_modal_wheel*).
+The tests with the explorer (a server, seconds to start) are marked slow; reading the tab's fields is not.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import inputs_of
+from wheelrail.core.modal_wheel import contact_receptance, wheel_modes, wheel_profile_for
+from wheelrail.explorer import wheel_tab
+from wheelrail.explorer.config import NEAREST_WHEEL, page_message, read_wheel
+from wheelrail.explorer.tabs import TrackTab, WheelTab
+
+COARSE = {"max_frequency": 3000.0, "max_harmonic": 4, "element_size": 0.03}
+
+
+@pytest.fixture(scope="module", autouse=True)
+def coarse_wheel():
+    """The module's explorer (conftest's ``app``, made after this) computes its wheels on a coarse mesh."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(wheel_tab, "MODE_SETTINGS", COARSE)
+        yield
+
+
+def _shown(app, **shape):
+    """The paper's configuration (its R = 390 mm: the nearest named wheel is wheel_840), the tab's fields set, the
+    wheel's modes and the track's curves computed here (what the background threads do), the tab redrawn."""
+    for key in ("wheel_radius", "rail_crown_radius", "wheel_transverse_radius"):
+        app.form.fields[key].value = ""
+    for entry in inputs_of("track"):
+        app.form.fields[entry.key].value = f"{entry.shown_default():g}"
+    tab = app.tab(WheelTab)
+    tab.name_dropdown.value = shape.pop("name", wheel_tab.NEAREST_WHEEL)
+    tab.added_text.value = shape.pop("added", "")
+    for key, field in tab.shape_fields.items():
+        field.value = shape.get(key, "")
+    app.page.last_error = None
+    track_tab = app.tab(TrackTab)
+    track = app.shown.params().track
+    if not isinstance(track_tab.curves(track), tuple):
+        track_tab._compute(track)
+    try:
+        profile, _ = tab.read(app.shown)
+    except Exception:  # a refused shape: nothing to compute
+        profile = None
+    if profile is not None:
+        tab.compute((profile, tuple(sorted(tab.mode_settings.items()))))
+    app.redraw_tab(tab)
+    return tab
+
+
+@pytest.mark.slow
+def test_the_wheel_tab_states_its_wheel_and_draws_the_natural_frequencies_by_family_and_n(app):
+    tab = _shown(app)
+    assert tab.mode_settings == COARSE
+    words = tab.wheel_md.content
+    assert "**Wheel:** wheel_840's shape at the run's rolling radius, diameter 780 mm (wheel_840: 840 mm)" in words
+    assert "rim 135 mm wide, 45 mm deep; web 22 mm thick" in words and "up to 3000 Hz, n = 0..4" in words
+    modes = wheel_modes(wheel_profile_for(0.39), **COARSE)  # core's own, read from the cache the tab filled
+    assert words.endswith(f"{len(modes.frequency)} modes up to 3000 Hz, n = 0..4.")
+    x, *columns = tab.frequencies.data
+    assert list(x) == [0, 1, 2, 3, 4]
+    labels = [label for label, *_ in tab.frequencies.series]
+    assert labels[0] == "axial 1st"
+    lowest_axial = [np.min(modes.frequency[(modes.harmonic == n) & (modes.family == "axial")]) for n in range(5)]
+    np.testing.assert_allclose(columns[0], lowest_axial, rtol=1e-12)  # drawn as computed
+    assert np.all(np.diff(columns[0][2:]) > 0)  # axial (n, 0) modes rise with n from n = 2 (a wheel's fan)
+    for family in ("radial", "circumferential"):
+        if np.any(modes.family == family):
+            assert f"{family} 1st" in labels
+    row_2 = next(line for line in tab.table_md.content.splitlines() if line.startswith("| 2 |"))
+    axial_2 = np.sort(modes.frequency[(modes.harmonic == 2) & (modes.family == "axial")])
+    assert row_2.split(" | ")[1] == ", ".join(f"{f:.0f}" for f in axial_2)
+
+
+@pytest.mark.slow
+def test_the_wheel_receptance_is_drawn_beside_the_tracks_on_its_bands(app):
+    tab = _shown(app)
+    track_tab = app.tab(TrackTab)
+    assert tab in track_tab.followers  # redrawn when the track's curves are computed
+    labels = [label for label, *_ in tab.receptance.series]
+    assert labels == ["wheel radial", "wheel axial", "wheel cross", "track above a sleeper", "track midspan"]
+    f, radial, axial, cross, sleeper, midspan = tab.receptance.data
+    bands = track_tab.curves(app.shown.params().track)[0]
+    at = np.searchsorted(f, bands["frequency_hz"])
+    np.testing.assert_allclose(f[at], bands["frequency_hz"], rtol=1e-12)  # every band centre is on the axis
+    # the track's levels at its band centres are the Track tab's (interpolated only between them)
+    np.testing.assert_allclose(sleeper[at], 20 * np.log10(bands["above_sleeper_m_per_n"]), atol=1e-9)
+    np.testing.assert_allclose(midspan[at], 20 * np.log10(bands["midspan_m_per_n"]), atol=1e-9)
+    modes = wheel_modes(wheel_profile_for(0.39), **COARSE)
+    wheel = contact_receptance(modes, f)
+    np.testing.assert_allclose(radial, 20 * np.log10(np.abs(wheel.radial)), atol=1e-9)
+    np.testing.assert_allclose(cross, 20 * np.log10(np.abs(wheel.cross)), atol=1e-9)
+    # below its first modes the clamped wheel is far stiffer than the track: at 100 Hz its radial receptance
+    # (about 1e-9 m/N: -181 dB) is more than 15 dB below the paper's track's (about 8e-9 m/N: -162 dB)
+    at_100 = int(np.argmin(np.abs(f - 100.0)))
+    assert radial[at_100] < sleeper[at_100] - 15
+    # each natural frequency in range is on the axis: the lowest radial n >= 2 mode's peak stands > 10 dB above the
+    # curve 0.2 % either side (its half-power width is eta f = 0.01 % of f)
+    f_radial = np.min(modes.frequency[(modes.family == "radial") & (modes.harmonic >= 2)])
+    peak = int(np.argmin(np.abs(f - f_radial)))
+    assert f[peak] == pytest.approx(f_radial, rel=1e-12)
+    near = np.abs(f / f_radial - 1) > 0.002
+    neighbours = [np.flatnonzero(near & (f < f_radial))[-1], np.flatnonzero(near & (f > f_radial))[0]]
+    assert radial[peak] > max(radial[neighbours]) + 10
+    assert np.all(np.isfinite(axial))
+
+
+@pytest.mark.slow
+def test_an_added_loss_factor_lowers_the_wheels_resonance(app):
+    tab = _shown(app)
+    f, radial = tab.receptance.data[0], tab.receptance.data[1]
+    modes = wheel_modes(wheel_profile_for(0.39), **COARSE)
+    f_radial = np.min(modes.frequency[(modes.family == "radial") & (modes.harmonic >= 2)])
+    undamped = radial[int(np.argmin(np.abs(f - f_radial)))]
+    tab = _shown(app, added="0.01")
+    assert "added loss factor 0.01." in tab.wheel_md.content
+    f, radial = tab.receptance.data[0], tab.receptance.data[1]
+    damped = radial[int(np.argmin(np.abs(f - f_radial)))]
+    # the mode's peak falls as 1 / eta (1e-4 to 1.01e-2: 40 dB) until the other modes' background is reached
+    assert damped < undamped - 20
+
+
+@pytest.mark.slow
+def test_shape_fields_change_the_wheel_or_say_what_is_wrong(app):
+    tab = _shown(app, wheel_web_thickness="30", name="freight_920")
+    assert "**Wheel:** freight_920's shape (changed: web thickness)" in tab.wheel_md.content
+    assert "diameter 780 mm (freight_920: 920 mm)" in tab.wheel_md.content
+    assert "web 30 mm thick" in tab.wheel_md.content
+    tab = _shown(app, wheel_tyre_width="500")
+    assert tab.wheel_md.content == (
+        "**Cannot make this wheel:** Tyre width 500 mm is outside the accepted 80 to 200 mm "
+        "(a rim's width: 135 mm on standard-gauge wheels)"
+    )
+    assert [label for label, *_ in tab.receptance.series] == ["fix the wheel's shape"]
+    tab = _shown(app, wheel_hub_width="wide")
+    assert tab.wheel_md.content == "**Cannot make this wheel:** Hub width 'wide': not a number"
+    tab = _shown(app, added="2")
+    assert "Added loss factor 2 is outside the accepted 0 to 1" in tab.wheel_md.content
+    assert app.page.last_error is None  # the tab says it; nothing was pressed
+    _shown(app)
+
+
+def test_the_wheel_fields_read_as_the_named_wheel_at_the_runs_radius_with_the_dimensions_typed():
+    profile, added = read_wheel(NEAREST_WHEEL, 0.39, {"wheel_tyre_width": "", "wheel_web_thickness": "30"}, "")
+    assert profile == replace(wheel_profile_for(0.39, "wheel_840"), web_thickness=0.03)
+    assert added == 0.0
+    profile, added = read_wheel("wheel_640", 0.32, {}, "0,05")  # a decimal comma, as the run form takes
+    assert profile == wheel_profile_for(0.32, "wheel_640") and added == 0.05
+    with pytest.raises(WheelrailError) as error:
+        read_wheel("wheel_999", 0.39, {}, "")
+    assert page_message(error.value).startswith("Wheel shape: unknown wheel 'wheel_999'")
+    with pytest.raises(WheelrailError) as error:
+        read_wheel(NEAREST_WHEEL, 0.39, {"wheel_contact_offset": "70"}, "")
+    assert "Contact offset" in page_message(error.value)
