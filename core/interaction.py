@@ -464,6 +464,7 @@ def prepare_run(
     run_in_length: float | None = None,
     keep_pressure: bool = True,
     track_numerics: TrackNumerics | None = None,
+    wheel_system: tuple | None = None,
 ) -> InteractionRun:
     """Set up a wheel/rail interaction run.
 
@@ -497,6 +498,8 @@ def prepare_run(
         Keep every pressure map in the result (steps x ny x nx float32), for models that have them.
     track_numerics : TrackNumerics, optional
         Numerics of the track's Green's functions.
+    wheel_system : tuple, optional
+        The wheel's ``(Phi, Gamma0, Gamma1)``, default the 2-DOF's; ``modal_wheel.time_domain.modal_wheel_system``.
 
     Returns
     -------
@@ -521,7 +524,7 @@ def prepare_run(
         entry, params, usable_length(rough, dx) if length is None else length, run_in_length, keep_pressure
     )
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
-    history = history_arrays(track, params, run_in_length, track_numerics)
+    history = history_arrays(track, params, run_in_length, track_numerics, wheel_system)
     _scatter_range(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
     header = _header(entry, line, name, params, history.n_run_in * dx, wheel_name)
     contact = entry.create()

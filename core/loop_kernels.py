@@ -28,11 +28,12 @@ def _history(j, track, wheel, preload, xi_w0):
     phi, gamma0, gamma1, state = wheel
     q = acc[j]
     w0 = (1.0 - frac[j]) * weights[lo[j], 0] + frac[j] * weights[hi[j], 0]
-    s_pred = np.empty(4)
+    n = state.size  # 4 for the paper's wheel; more for the modal wheel (modal_wheel.time_domain)
+    s_pred = np.empty(n)
     df = force[j - 1] - preload
-    for a in range(4):
+    for a in range(n):
         v = gamma0[a] * df
-        for b in range(4):
+        for b in range(n):
             v += phi[a, b] * state[b]
         s_pred[a] = v
     delta_known = xi_w0 - s_pred[1] + gamma1[1] * preload - q
@@ -69,6 +70,6 @@ def _commit(j, f, track, wheel, s_pred, preload, xi_w0, q, w0):
     phi, gamma0, gamma1, state = wheel
     force[j] = f
     _scatter(j, f, lo, hi, frac, weights, acc)
-    for i in range(4):
+    for i in range(state.size):
         state[i] = s_pred[i] + gamma1[i] * (f - preload)
     return xi_w0 - state[1], q + w0 * f

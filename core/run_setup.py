@@ -463,7 +463,7 @@ def check_step_stability(params: ModelParameters, weights: np.ndarray, wheel_sys
     keeps could break it, and is refused here rather than run. Returns that margin, k_H (1/k_H + H(-1))."""
     phi, gamma0, gamma1 = wheel_system
     rail = float(np.min(weights @ (-1.0) ** np.arange(weights.shape[1])))
-    wheel = float(np.linalg.solve(-np.eye(4) - phi, gamma0 - gamma1)[1])
+    wheel = float(np.linalg.solve(-np.eye(len(phi)) - phi, gamma0 - gamma1)[1])
     stiffness = 1.5 * params.contact.preload / params.contact.hertz_approach()
     margin = 1.0 + stiffness * (rail + wheel)
     if not margin > 0.0:
@@ -480,8 +480,12 @@ def history_arrays(
     params: ModelParameters,
     run_in_length: float,
     track_numerics: TrackNumerics | None = None,
+    wheel_system: tuple | None = None,
 ) -> History:
     """Step 3: Green's functions and wheel system, positions in the bay, the preload's force history (eqs. 1-2).
+
+    ``wheel_system``: the wheel's ``(Phi, Gamma0, Gamma1)``, state 1 the contact's displacement (default the paper's
+    2-DOF wheel, ``wheel_discrete_system``; ``modal_wheel.time_domain.modal_wheel_system`` gives the modal wheel's).
 
     The rail displacement that history causes (``acc``) is left at zero: the interaction loop, which owns the
     compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``)."""
@@ -492,7 +496,7 @@ def history_arrays(
     # the weights alone, cached per speed and step: a cached run never reads the stationary responses
     weights = moving_weights(params.run.speed, dt, params.track, track_numerics)
     n_lags = weights.shape[1]
-    phi, gamma0, gamma1 = wheel_discrete_system(params.wheel, dt)
+    phi, gamma0, gamma1 = wheel_discrete_system(params.wheel, dt) if wheel_system is None else wheel_system
     check_step_stability(params, weights, (phi, gamma0, gamma1))
     n_steps = track_roughness.n_steps
     n_run_in = int(round(run_in_length / dx))
@@ -519,7 +523,7 @@ def history_arrays(
         phi=phi,
         gamma0=gamma0,
         gamma1=gamma1,
-        state=np.zeros(4),
+        state=np.zeros(len(phi)),
         ramp=_fade_in(n_run_in, n_total),
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
     )

@@ -75,6 +75,14 @@ def add_parser(sub):
         help="write the time history as CSV: time_s, x_m, force_N, xi_wheel_m, xi_rail_m, roughness_m, "
         "equivalent_roughness_m, headed by a comment naming the configuration",
     )
+    parser.add_argument(
+        "--wheel-model",
+        choices=("2dof", "modal"),
+        default="2dof",
+        help="the wheel: the paper's 2-DOF wheel (default) or the modal wheel (the named wheel nearest the run's "
+        "radius, at that radius, clamped on the axle, modes to 10 kHz, in series with the paper's wheelset mass "
+        "and suspension: see wheelrail wheel); modal runs print their summary only (no --out, --csv, --rrd)",
+    )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     add_input_options(parser, *RUN_GROUPS)
     _recording_arguments(parser)
@@ -133,6 +141,8 @@ def _checked_args(args):
     if csv_path is not None:
         writable_output(csv_path, "--csv", ".csv", [*inputs, *([] if out is None else [out])])
     rrd = getattr(args, "rrd", None)
+    if args.wheel_model == "modal" and (out is not None or csv_path is not None or rrd is not None):
+        raise WheelrailError("--wheel-model modal is not recorded in --out, --csv or --rrd files yet; run without them")
     for source in inputs:
         if rrd is not None and same_file(rrd, source):
             raise WheelrailError(
@@ -142,11 +152,22 @@ def _checked_args(args):
     return params, out
 
 
+def modal_wheel_of(params):
+    """(profile, discrete system) of ``--wheel-model modal``: the named wheel nearest the run's rolling radius, at
+    that radius (``modal_wheel.wheel_profile_for``), and its ``modal_wheel_system`` at the run's time step."""
+    from wheelrail.core.modal_wheel import wheel_modes, wheel_profile_for
+    from wheelrail.core.modal_wheel.time_domain import modal_wheel_system
+
+    profile = wheel_profile_for(params.contact.radius_along)
+    return profile, modal_wheel_system(wheel_modes(profile), params.wheel, params.run.time_step)
+
+
 def _prepare(args, params, out, sink):
     """The prepared run, and the recording started on it (aborted if preparing fails)."""
     from wheelrail.core.commands._progress import announce_track_precompute
     from wheelrail.core.interaction import prepare_run
 
+    wheel_system = modal_wheel_of(params)[1] if args.wheel_model == "modal" else None
     try:
         # 3d: every pressure map is kept only for --out (a recording takes them step by step)
         with announce_track_precompute("run"):  # a track not yet cached: its phases and progress on a terminal
@@ -158,6 +179,7 @@ def _prepare(args, params, out, sink):
                 params=params,
                 length=args.length_m,
                 keep_pressure=out is not None,
+                wheel_system=wheel_system,
             )
         if sink is not None and sink.record_every > interaction.n_steps:
             raise WheelrailError(f"--record-every {sink.record_every} exceeds the run's {interaction.n_steps} steps")
@@ -224,6 +246,8 @@ def _summary(args, result, params, times) -> dict:
         "speed_m_per_s": result.speed,
         "speed_kmh": args.speed_kmh,
         "preload_n": params.contact.preload,
+        "wheel_model": args.wheel_model,
+        **({"modal_wheel": modal_wheel_of(params)[0].describe()} if args.wheel_model == "modal" else {}),
         **describe(params, "geometry", "track"),  # the contact geometry and track it ran on, SI
         "hertz_semi_axes_m": list(params.contact.hertz_semi_axes()),  # a along the rail, b across, at the preload
         "steps": result.n_steps,
@@ -258,6 +282,13 @@ def _print_summary(args, result, params, summary, sink) -> None:
         f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m"
     )
     print(f"  track: {describe_words(params, 'track')}")
+    if args.wheel_model == "modal":
+        wheel = summary["modal_wheel"]
+        print(
+            f"  wheel: modal, {wheel['wheel_radius'] * 2e3:g} mm (rim {wheel['tyre_width'] * 1e3:g} x "
+            f"{wheel['tyre_depth'] * 1e3:g} mm, web {wheel['web_thickness'] * 1e3:g} mm; wheelrail wheel shows it) "
+            "with the paper's wheelset mass and suspension"
+        )
     a, b = params.contact.hertz_semi_axes()
     print(
         f"  contact geometry: {describe_words(params, 'geometry')}; Hertz patch at the preload "

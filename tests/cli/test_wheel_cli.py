@@ -83,3 +83,26 @@ def test_bad_wheel_input_is_one_line_naming_the_option(argv, words, capsys):
     assert main(["wheel", *argv]) != 0
     err = capsys.readouterr().err
     assert words in err and err.count("\n") == 1
+
+
+def test_a_run_with_the_modal_wheel_states_it_and_differs_from_the_2dof(capsys):
+    # the interaction with the modal wheel (the 840 mm wheel at the paper's R = 0.39 m): the mean force is the
+    # preload (0.5 %, as the 2-DOF's smooth-run test) and the force levels differ from the 2-DOF wheel's in the
+    # bands where their receptances differ (above a few hundred Hz: tests/physics/test_modal_wheel_interaction.py)
+    argv = ["run", "--set", "corrugated-rail", "--length-m", "1.5", "--json"]
+    assert main([*argv, "--wheel-model", "modal"]) == 0
+    modal = json.loads(capsys.readouterr().out)
+    assert main(argv) == 0
+    paper = json.loads(capsys.readouterr().out)
+    assert modal["wheel_model"] == "modal" and paper["wheel_model"] == "2dof"
+    assert modal["modal_wheel"]["wheel_radius"] == pytest.approx(0.39)
+    assert modal["force_mean_n"] == pytest.approx(65e3, rel=5e-3)
+    levels = [np.array([np.nan if v is None else v for v in run["levels_db"]]) for run in (modal, paper)]
+    assert np.nanmax(np.abs(levels[0] - levels[1])) > 1.0  # bands without a level are null in the JSON
+
+
+def test_a_modal_wheel_run_is_not_written_to_files_yet(tmp_path, capsys):
+    out = tmp_path / "r.npz"
+    assert main(["run", "--set", "corrugated-rail", "--wheel-model", "modal", "--out", str(out)]) != 0
+    err = capsys.readouterr().err
+    assert "--wheel-model modal is not recorded in --out" in err and err.count("\n") == 1 and not out.exists()
