@@ -23,11 +23,14 @@ from wheelrail.core.accepted import ACCEPTED, Accepted
 from wheelrail.core.errors import Name, WheelrailError
 
 __all__ = [
+    "CHOICES",
     "GROUPS",
+    "Choice",
     "INPUTS",
     "Input",
     "Unit",
     "by_key",
+    "choice",
     "cli_names",
     "describe",
     "describe_words",
@@ -307,3 +310,63 @@ def describe_words(params, group: str) -> str:
         entry = by_key(key)
         parts.append(entry.unset if value is None else entry.words(value))
     return ", ".join(parts)
+
+
+@dataclass(frozen=True)
+class Choice:
+    """One user-facing choice among named values (not a number): its stable ``key`` (the ``parameter`` of its
+    errors), the ``values`` in the order front ends offer them, the ``default``, a page ``label``, a ``help``
+    sentence and ``words``: what each value means, for help texts and hints."""
+
+    key: str
+    values: tuple[str, ...]
+    default: str
+    label: str
+    help: str
+    words: tuple[str, ...]
+
+    @property
+    def option(self) -> str:
+        """The command-line option: ``--`` + the key (``--wheel-model``)."""
+        return "--" + self.key.replace("_", "-")
+
+    @property
+    def dest(self) -> str:
+        """The option's attribute name in argparse's namespace (``wheel_model``)."""
+        return self.key
+
+    def check(self, value) -> str:
+        """``value`` if it is one of ``values``, else one WheelrailError keyed by ``key``."""
+        if not isinstance(value, str) or value not in self.values:
+            raise WheelrailError(f"must be one of {', '.join(self.values)}", parameter=self.key, value=value)
+        return value
+
+    def help_text(self) -> str:
+        """The help: the sentence, then each value with its meaning and the default."""
+        meanings = "; ".join(f"{v}: {w}" for v, w in zip(self.values, self.words, strict=True))
+        return f"{self.help} ({meanings}; default {self.default})"
+
+
+CHOICES: tuple[Choice, ...] = (
+    Choice(
+        "wheel_model",
+        ("directive", "modal"),
+        "directive",
+        "Wheel model (noise)",
+        "the wheel's sound power in the TWINS-like chain",
+        (
+            "CNOSSOS-EU's L_H,veh, Table G-3b, for the tabulated diameter nearest 2R",
+            "the axisymmetric FE wheel of radius R radiating from its own modes",
+        ),
+    ),
+)
+"""Every user-facing choice among named values (front ends offer ``values``; ``wheelrail.core.noise.wheel_power``
+uses ``wheel_model``'s)."""
+
+
+def choice(key: str) -> Choice:
+    """The choice declared with ``key`` (KeyError if none is)."""
+    for entry in CHOICES:
+        if entry.key == key:
+            return entry
+    raise KeyError(key)

@@ -34,6 +34,7 @@ CACHED_CODE = (
     "core/noise/radiation.py",
     "core/noise/decay.py",
     "core/noise/twins.py",
+    "core/noise/wheel_power.py",
     "core/commands/track.py",
 )
 KEEP_FOLDERS = 2  # code versions whose entries are kept (the whole suite fills ~570 MB per version)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from wheelrail.core.accepted import ACCEPTED, PATCH_FRACTION
 from wheelrail.core.errors import Name, WheelrailError
-from wheelrail.core.inputs import GROUPS, by_key, cli_names, inputs_of
+from wheelrail.core.inputs import CHOICES, GROUPS, by_key, choice, cli_names, inputs_of
 
 WHEEL_SHAPE_KEYS = tuple(k for k in ACCEPTED if k.startswith("wheel_") and k != "wheel_transverse_radius")
 """The modal wheel's profile inputs (``wheelrail wheel``): ``wheel_radius`` and the ``wheel_<field>`` ranges."""
@@ -50,6 +50,7 @@ CLI_NAMES: dict[str, Name] = {
     "max_frequency": Name("--max-frequency-hz", "Hz", 1.0, True),
     "max_harmonic": Name("--max-harmonic", unit_in_label=True),
     "added_loss_factor": Name("--added-loss-factor", unit_in_label=True),
+    **{entry.key: Name(entry.option, unit_in_label=True) for entry in CHOICES},  # the declared choices
 }
 
 
@@ -112,6 +113,13 @@ def add_input_options(
             text = f"{helps.get(entry.key, entry.help + unit)} (default {default}; {_accepted_words(entry)})"
             nargs = "+" if group in several else None
             options.add_argument(entry.option, type=float, nargs=nargs, default=entry.shown_default(), help=text)
+
+
+def add_choice_option(parser, key: str, help_prefix: str = "") -> None:
+    """The option of a declared choice (``wheelrail.core.inputs.CHOICES``): its values, default and help from
+    the declaration; ``help_prefix`` says which mode uses it ("--method twins, --run: ")."""
+    entry = choice(key)
+    parser.add_argument(entry.option, choices=entry.values, default=entry.default, help=help_prefix + entry.help_text())
 
 
 def _accepted_words(entry) -> str:

@@ -17,6 +17,7 @@ import numpy as np
 from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.commands._common import (
     accepted_help,
+    add_choice_option,
     add_input_options,
     params_from_args,
     print_json,
@@ -28,8 +29,9 @@ from wheelrail.core.inputs import describe, describe_words, inputs_of
 from wheelrail.core.spectra import nominal_band_label
 
 METHODS = ("cnossos", "twins")
-_TRACK_HELP = {  # the track options name the method that uses them
-    entry.key: f"--method twins: {entry.help}, {entry.shown.name}" for entry in inputs_of("track")
+_TRACK_HELP = {  # the track and contact-geometry options name the method that uses them
+    entry.key: f"--method twins: {entry.help}{', ' + entry.shown.name if entry.shown.name else ''}"
+    for entry in inputs_of("track", "geometry")
 }
 
 
@@ -53,7 +55,8 @@ def add_parser(sub):
     parser.add_argument("--run", metavar="RESULT.npz", help="a run saved with `wheelrail run --out` (any model)")
     _add_source_options(parser)
     _add_train_options(parser)
-    add_input_options(parser, "track", helps=_TRACK_HELP)
+    add_choice_option(parser, "wheel_model", "--method twins and --run: ")
+    add_input_options(parser, "geometry", "track", helps=_TRACK_HELP)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     # every option with its default, so that run() can refuse one a mode does not use (given, even if invalid)
     parser.set_defaults(
@@ -74,8 +77,8 @@ _USED_BY = {  # the options each mode uses (besides _ALWAYS); any other given is
         "axles",
         "roughness_interpolation",
     },
-    "twins": set(),  # and the track's inputs (below)
-    "run": {"train_axles", "train_length_m", "wav", "csv"},
+    "twins": {"wheel_model"},  # and the track's and contact geometry's inputs (below)
+    "run": {"train_axles", "train_length_m", "wav", "csv", "wheel_model"},
 }
 
 
@@ -85,7 +88,8 @@ def _refuse_unused(args) -> None:
     mode = "run" if args.run is not None else args.method
     if mode is None:
         return
-    used = _ALWAYS | _USED_BY[mode] | ({entry.dest for entry in inputs_of("track")} if mode == "twins" else set())
+    twins_inputs = {entry.dest for entry in inputs_of("track", "geometry")}
+    used = _ALWAYS | _USED_BY[mode] | (twins_inputs if mode == "twins" else set())
     given = []
     for dest, (option, default) in args._options.items():
         value = getattr(args, dest, default)
@@ -283,7 +287,7 @@ def _run_file(args) -> int:
     result = RunResult.load_npz(args.run)
     axles = DEFAULT_TRAIN_AXLES if args.train_axles is None else args.train_axles
     length = DEFAULT_TRAIN_LENGTH if args.train_length_m is None else args.train_length_m
-    noise = run_noise(result, train_axles=axles, train_length=length)
+    noise = run_noise(result, train_axles=axles, train_length=length, wheel_model=args.wheel_model)
     summary = noise.to_dict()
     if wav_path is not None:
         data, full_scale = noise.wav_bytes()
@@ -320,12 +324,9 @@ def _run_file(args) -> int:
     print(f"  pass-by L_pAeq,Tp at 7.5 m / 1.2 m: {noise.pass_by_laeq_dba:.1f} dB(A) ({axles} axles, {length:g} m)")
     print("  wheel: " + summary["configuration"]["wheel"])
     beside = noise.cnossos
-    print(
-        f"  CNOSSOS-EU beside it (the run's roughness, A3, {beside.configuration['track_type']}, "
-        f"{beside.configuration['wheel_diameter_m'] * 1e3:g} mm wheels): L_WA per axle {beside.total_dba:.1f} dB(A) "
-        f"(track {beside.track_dba:.1f}, vehicle {beside.vehicle_dba:.1f}); "
-        f"pass-by {noise.cnossos_pass_by_dba():.1f} dB(A)"
-    )
+    print(f"  CNOSSOS-EU beside it ({beside_words(beside.configuration)}): L_WA per axle {beside.total_dba:.1f} dB(A) "
+          f"(track {beside.track_dba:.1f}, vehicle {beside.vehicle_dba:.1f}); "
+          f"pass-by {noise.cnossos_pass_by_dba():.1f} dB(A)")  # fmt: skip
     if csv_path is not None:
         print(f"  wrote {csv_path}")
     if wav_path is not None:
@@ -333,19 +334,33 @@ def _run_file(args) -> int:
     return 0
 
 
+def beside_words(cfg: dict) -> str:
+    """What the CNOSSOS-EU source beside a run used, in words: its roughness, the contact filter with the wheel
+    diameter it took (the model's 2R) and the L_H,veh column (the tabulated diameter nearest 2R)."""
+    filter_diameter = cfg.get("contact_filter_wheel_diameter_m")
+    contact_filter = cfg["contact_filter"]
+    if filter_diameter is not None:
+        contact_filter += f" for the model's 2R = {filter_diameter * 1e3:g} mm"
+    return (
+        f"the run's roughness, {contact_filter}, {cfg['track_type']}, L_H,veh of the "
+        f"{cfg['vehicle_transfer_wheel_diameter_m'] * 1e3:g} mm column"
+    )
+
+
 def _twins(args) -> int:
     """``wheelrail noise --method twins``: print the model track's transfer function beside the directive's."""
-    from wheelrail.core.noise.cnossos import TRACK_TYPES, track_transfer
+    from wheelrail.core.noise.cnossos import TRACK_TYPES, track_transfer, vehicle_transfer
     from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
     from wheelrail.core.noise.twins import track_noise_model
 
-    params = params_from_args(args, "track")
-    result = track_noise_model(params)
+    params = params_from_args(args, "track", "geometry")
+    result = track_noise_model(params, wheel_model=args.wheel_model)
     summary = {
         "frequency_hz": np.asarray(NOMINAL_FREQUENCIES_HZ),
         "twins": result.to_dict(),
         "cnossos_track_transfer_dB": {name: track_transfer(name) for name in TRACK_TYPES},
-        **describe(params, "track"),
+        "cnossos_vehicle_transfer_dB": vehicle_transfer(result.wheel_diameter_mm),
+        **describe(params, "track", "geometry"),
     }
     if args.json:
         print_json(summary)
@@ -355,14 +370,18 @@ def _twins(args) -> int:
         "Model track (lengthened to 240 bays) as a TWINS-like transfer function; rail + sleepers per "
         "axle for 0 dB re 1 um effective roughness (dB re 1 pW), beside CNOSSOS-EU L_H,tr mono-block-soft"
     )
-    print(f"  track: {describe_words(params, 'track')}")
-    print("  band Hz  L_H,tr model   rail  sleeper  CNOSSOS  decay EN15461  free wave  sigma rail  sigma sleeper")
+    print(f"  track: {describe_words(params, 'track')}; contact: {describe_words(params, 'geometry')}")
+    veh = summary["cnossos_vehicle_transfer_dB"]
+    print(
+        "  band Hz  L_H,tr model   rail  sleeper  CNOSSOS  decay EN15461  free wave  sigma rail  sigma sleeper"
+        f"   wheel  L_H,veh {result.wheel_diameter_mm}"
+    )
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
         print(
             f"  {f:7g}  {result.track_transfer_db[i]:12.1f} {result.rail_transfer_db[i]:6.1f} "
             f"{result.sleeper_transfer_db[i]:8.1f} {cn[i]:8.1f} {result.decay_rate_db_per_m[i]:14.2f} "
             f"{result.free_wave_decay_db_per_m[i]:10.2f} {result.rail_radiation_efficiency[i]:11.3f} "
-            f"{result.sleeper_radiation_efficiency[i]:14.3f}"
+            f"{result.sleeper_radiation_efficiency[i]:14.3f} {result.wheel_transfer_db[i]:7.1f} {veh[i]:12.1f}"
         )
-    print(f"  wheel: {result.to_dict()['wheel_transfer_source']}")
+    print(f"  wheel ({result.wheel_model}): {result.wheel_source}")
     return 0

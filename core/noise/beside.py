@@ -13,11 +13,16 @@ directive's source for the same case" means:
   sleepers; the model's 120 MN/m rail pads are softer than the directive's "soft" class (< 150 MN/m), so the
   softest class is the nearest;
 - vehicle transfer L_H,veh: the Table G-3b wheel diameter nearest 2 R
-  (:func:`wheelrail.core.noise.twins.nearest_table_diameter_mm`);
+  (:func:`wheelrail.core.noise.twins.nearest_table_diameter_mm`); the two diameters differ in general (the paper's
+  2R = 0.78 m takes the 0.84 m column), so the summary states both: ``contact_filter_wheel_diameter_m`` (2 R, or
+  None where a model's dynamic filter replaces A3) and ``vehicle_transfer_wheel_diameter_m`` (the column; the
+  directive's own ``wheel_diameter_m`` key holds the same), with ``model_wheel_diameter_m`` (2 R);
 - one axle (N_a = 1), so that it stands beside the model's sound power per axle (two wheels on two rails).
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 
@@ -52,19 +57,28 @@ def cnossos_beside(
     from wheelrail.core.noise.twins import nearest_table_diameter_mm
 
     contact, speed = params.contact, params.run.speed
+    model_diameter = 2 * contact.radius_along
+    filter_diameter = model_diameter if contact_filter is None else None
     if contact_filter is None:
-        contact_filter = ("A3", contact_filter_a3(contact.preload, 2 * contact.radius_along, speed, rule))
+        contact_filter = ("A3", contact_filter_a3(contact.preload, model_diameter, speed, rule))
     roughness_db = np.asarray(roughness_db, dtype=float)
-    return cnossos_rolling_noise(
+    column = nearest_table_diameter_mm(contact.radius_along) / 1e3
+    result = cnossos_rolling_noise(
         speed,
         track_type=CNOSSOS_TRACK_TYPE,
-        wheel_diameter=nearest_table_diameter_mm(contact.radius_along) / 1e3,
+        wheel_diameter=column,
         load=contact.preload,
         axles=1,
         rule=rule,
         contact_filter=contact_filter,
         roughness=(roughness_label, np.where(np.isfinite(roughness_db), roughness_db, -np.inf)),
     )
+    diameters = {
+        "model_wheel_diameter_m": model_diameter,
+        "contact_filter_wheel_diameter_m": filter_diameter,
+        "vehicle_transfer_wheel_diameter_m": column,
+    }
+    return dataclasses.replace(result, configuration={**result.configuration, **diameters})
 
 
 def cnossos_beside_run(result, *, rule: str = "proportional") -> CnossosResult:

@@ -5,9 +5,12 @@ One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10
 - contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force_spectrum`);
 - rail and sleepers: L_W = L_F + 10 lg(T / 1 pW) with T the model track's sound power per unit mean-square force
   (:func:`wheelrail.core.noise.twins.track_noise_model`, same wheel, track and contact as the run);
-- wheel: the effective roughness that causes L_F in the linear model, L_r = L_F + 10 lg <|alpha_W + alpha_R +
-  alpha_C|^2> (dB re 1 um), plus CNOSSOS-EU's L_H,veh for the nearest tabulated diameter, minus 3 dB (L_H,veh is
-  per axle, two wheels): the 2-DOF wheel model has no radiating modes (:mod:`wheelrail.core.noise.twins`);
+- wheel, ``wheel_model`` "directive" (the default): the effective roughness that causes L_F in the linear model,
+  L_r = L_F + 10 lg <|alpha_W + alpha_R + alpha_C|^2> (dB re 1 um), plus CNOSSOS-EU's L_H,veh for the nearest
+  tabulated diameter, minus 3 dB (L_H,veh is per axle, two wheels): the 2-DOF wheel model has no radiating modes
+  (:mod:`wheelrail.core.noise.twins`); "modal": L_W = L_F + 10 lg(T_wheel / 1 pW) with T_wheel the modal wheel's
+  sound power per unit mean-square radial force (:mod:`wheelrail.core.noise.wheel_power`; the run's force is
+  the 2-DOF wheel's interaction, the modal wheel only radiates it);
 - total and L_WA per wheel; per axle +3 dB (two wheels on two rails, incoherent).
 
 **Pass-by level** at the ISO 3095 position (7.5 m from the track centre, 1.2 m above the rail head): every axle a
@@ -250,14 +253,23 @@ def sound_power_from_force(force_db, track) -> dict:
     rail = power_level(track.rail_power_per_force * mean_sq_force)
     sleeper = power_level(track.sleeper_power_per_force * mean_sq_force)
     roughness = force_db + track.effective_roughness_per_force_db
-    wheel = roughness + track.wheel_transfer_db - AXLE_DB
+    if track.wheel_power_per_force is None:  # the directive's L_H,veh per axle on the effective roughness
+        wheel = roughness + track.wheel_transfer_db - AXLE_DB
+    else:  # the modal wheel radiates from the contact force itself
+        wheel = power_level(track.wheel_power_per_force * mean_sq_force)
     powers = {"rail": rail, "sleeper": sleeper, "wheel": wheel, "total": energy_sum(rail, sleeper, wheel)}
     dba = {name: a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf)) for name, levels in powers.items()}
     return {"db": powers, "dba": dba, "axle_dba": dba["total"] + AXLE_DB, "roughness_db": roughness}
 
 
 def run_noise(
-    result, *, train_axles: int = DEFAULT_TRAIN_AXLES, train_length: float = DEFAULT_TRAIN_LENGTH, numerics=None
+    result,
+    *,
+    train_axles: int = DEFAULT_TRAIN_AXLES,
+    train_length: float = DEFAULT_TRAIN_LENGTH,
+    numerics=None,
+    wheel_model: str = "directive",
+    wheel_profile=None,
 ) -> RunNoise:
     """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.results.RunResult`).
 
@@ -271,6 +283,11 @@ def run_noise(
         Train length, m.
     numerics : NoiseNumerics, optional
         How the track's transfer functions are computed (default :class:`wheelrail.core.noise.twins.NoiseNumerics`).
+    wheel_model : str
+        "directive" (CNOSSOS-EU's L_H,veh on the effective roughness) or "modal" (the modal wheel's radiation
+        from the run's contact force): :mod:`wheelrail.core.noise.wheel_power`.
+    wheel_profile : WheelProfile, optional
+        The modal wheel's cross-section (default: the named wheel nearest the run's R, at R).
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model
@@ -281,13 +298,16 @@ def run_noise(
     train_axles, train_length = checked_train(train_axles, train_length)
     _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
     params = result.header.params
-    track = track_noise_model(params, numerics)
+    track = track_noise_model(params, numerics, wheel_model, wheel_profile)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
     power = sound_power_from_force(force_db, track)
     powers, powers_dba, axle_dba, roughness = power["db"], power["dba"], power["axle_dba"], power["roughness_db"]
     # |p/F|^2 at the closest distance, per band: rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2)
-    t_wheel = 10 ** ((track.wheel_transfer_db - AXLE_DB + track.effective_roughness_per_force_db) / 10) * 1e-12
+    if track.wheel_power_per_force is None:
+        t_wheel = 10 ** ((track.wheel_transfer_db - AXLE_DB + track.effective_roughness_per_force_db) / 10) * 1e-12
+    else:
+        t_wheel = track.wheel_power_per_force
     t_total = track.rail_power_per_force + track.sleeper_power_per_force + t_wheel
     d = receiver_distance()
     undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True) if not np.isfinite(value)]
@@ -304,6 +324,7 @@ def run_noise(
         "train_axles": int(train_axles),
         "train_length_m": float(train_length),
         "receiver": {"distance_m": ISO3095_DISTANCE, "height_m": ISO3095_HEIGHT},
+        "wheel_model": track.wheel_model,
         "wheel": track.configuration["wheel"],
         "track": {k: v for k, v in track.configuration.items() if k != "rail_section"},
         "sound_power_per": "one wheel on one rail (axle: +3 dB)",

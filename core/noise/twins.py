@@ -18,17 +18,25 @@ Chain, per frequency f (time convention e^{i w t}, amplitudes; band values are m
    node grid (every element) up to ``decay_length`` instead of the standard's measurement positions; and the
    decay of the free wave: the slope of the band level at the sleeper positions 3 to 20 bays from the load
    (a least-squares line in dB against distance).
-4. **Sound power per unit force^2**, W/N^2: rail rho c sigma_rail P <n_y^2> int |v(x)|^2 dx with the rail's
-   2D BEM radiation efficiency (:mod:`wheelrail.core.noise.radiation`; P the section's perimeter, <n_y^2> the
-   mean square of its normals' vertical component: the normal velocity of a vertical motion v is v n_y);
+4. **Sound power per unit force^2**, W/N^2: rail rho c P <n_y^2> (1 / 2 pi) int_{|k_x| < k} |V(k_x)|^2 (k / k_r)
+   sigma_rail(c k_r / 2 pi) dk_x, the rail's field v(x) radiated in the wavenumber domain with the rail's 2D BEM
+   radiation efficiency at the reduced wavenumber k_r = sqrt(k^2 - k_x^2)
+   (:func:`wheelrail.core.noise.radiation.decaying_rail_radiation`; P the section's perimeter, <n_y^2> the
+   mean square of its normals' vertical component: the normal velocity of a vertical motion v is v n_y). For a
+   field that decays slowly it is sigma_rail(f) int |v|^2 dx; at 50-100 Hz, where the field decays within a
+   wavelength, it is 1.5-4 dB less (``rail_decay_correction_dB``);
    sleepers rho c sigma_sleeper S sum_j |v_j|^2, baffled pistons of the half sleeper's area S per rail.
 5. **Track transfer function** (the quantity CNOSSOS-EU tabulates as L_H,tr): rail + sleeper sound power per
    axle (two wheels, two rails) for 0 dB re 1 um effective roughness in the band:
    L_H,tr = 10 lg(2 <(W_rail + W_sleeper) |F / r|^2> (1 um)^2 / 1 pW).
-6. **Wheel**: this project's wheel is the paper's 2-DOF model (a mass on a spring): it has no radiating modes,
-   so its sound power cannot be computed from it. The wheel's sound power is the directive's vehicle transfer
-   function L_H,veh (CNOSSOS-EU Table G-3b) for the tabulated diameter nearest the model's wheel (2 R), per
-   axle for the effective roughness, which this module states wherever it is used.
+6. **Wheel** (``wheel_model``, :mod:`wheelrail.core.noise.wheel_power`): ``directive`` (the default): this
+   project's wheel is the paper's 2-DOF model (a mass on a spring): it has no radiating modes, so its sound power
+   is the directive's vehicle transfer function L_H,veh (CNOSSOS-EU Table G-3b) for the tabulated diameter
+   nearest the model's wheel (2 R), per axle for the effective roughness. ``modal``: the axisymmetric FE wheel of
+   the same radius radiates from its own modes, W / F^2 per band, and its radial point receptance (plus the
+   unsprung mass's) replaces the 2-DOF's in alpha_W of step 1 (so the rail's and sleepers' transfer functions
+   are those of the modal wheel's contact force too); its L_H,veh-equivalent is 10 lg(2 <W / F^2 |F / r|^2>
+   (1 um)^2 / 1 pW). The model used is stated wherever it is (``wheel_transfer_source``).
 
 Only the vertical direction is modelled (no lateral rail or wheel vibration, no cross-coupling); the rail
 radiates in free field (no ground reflection) and the sleepers are rigid.
@@ -47,6 +55,7 @@ from wheelrail.core.noise.levels import NOISE_BAND_RANGE, noise_bands
 from wheelrail.core.noise.radiation import (
     AIR_DENSITY,
     SOUND_SPEED,
+    decaying_rail_radiation,
     piston_radiation_efficiency,
     rail_radiation_efficiency,
     rail_section,
@@ -144,13 +153,24 @@ class TrackNoiseModel:
     free_wave_decay_db_per_m : numpy.ndarray
         Decay of the free wave 3 to 20 bays from the load, dB/m.
     rail_radiation_efficiency, sleeper_radiation_efficiency : numpy.ndarray
-        Band means of sigma.
+        Band means of sigma (the rail's: the 2D cross-section's at f).
+    rail_decay_correction_db : numpy.ndarray
+        The rail's power radiated by its field in the wavenumber domain against the 2D ratio applied to the whole
+        field (step 4), dB: negative where the field decays within an acoustic wavelength (-4 dB at 50 Hz on the
+        paper's track).
     wheel_transfer_db : numpy.ndarray
-        CNOSSOS-EU L_H,veh (Table G-3b) used for the wheel, per axle.
+        The wheel's transfer function per axle, dB re 1 pW for 0 dB re 1 um: CNOSSOS-EU L_H,veh (Table G-3b) for
+        ``wheel_model`` "directive", the modal wheel's equivalent for "modal".
     wheel_diameter_mm : int
-        Its column (the tabulated diameter nearest the model's 2 R).
+        The directive's column nearest the model's 2 R (used by "directive"; stated beside "modal").
     configuration : dict
         What produced it.
+    wheel_model : str
+        "directive" or "modal" (:data:`wheelrail.core.noise.wheel_power.WHEEL_MODELS`).
+    wheel_power_per_force : numpy.ndarray or None
+        "modal": band means of one wheel's sound power per unit mean-square radial contact force, W/N^2.
+    wheel_source : str
+        What the wheel's transfer function is, in words (``wheel_transfer_source``).
     """
 
     frequency_hz: np.ndarray
@@ -168,6 +188,10 @@ class TrackNoiseModel:
     wheel_transfer_db: np.ndarray
     wheel_diameter_mm: int
     configuration: dict = field(default_factory=dict)
+    rail_decay_correction_db: np.ndarray | None = None
+    wheel_model: str = "directive"
+    wheel_power_per_force: np.ndarray | None = None
+    wheel_source: str = ""
 
     def to_dict(self) -> dict:
         """The JSON layout of ``wheelrail noise --method twins --json`` (key ``twins``)."""
@@ -178,11 +202,17 @@ class TrackNoiseModel:
             "decay_rate_dB_per_m": self.decay_rate_db_per_m,
             "free_wave_decay_dB_per_m": self.free_wave_decay_db_per_m,
             "rail_radiation_efficiency": self.rail_radiation_efficiency,
+            "rail_decay_correction_dB": self.rail_decay_correction_db,
             "sleeper_radiation_efficiency": self.sleeper_radiation_efficiency,
             "force_per_roughness_dB_re_1N_per_um": self.force_per_roughness_db,
             "wheel_transfer_dB": self.wheel_transfer_db,
-            "wheel_transfer_source": f"CNOSSOS-EU Table G-3b, {self.wheel_diameter_mm} mm wheel (the 2-DOF wheel "
-            "model has no radiating modes)",
+            "wheel_model": self.wheel_model,
+            "wheel_transfer_source": self.wheel_source,
+            **(
+                {}
+                if self.wheel_power_per_force is None
+                else {"wheel_power_per_force_W_per_N2": self.wheel_power_per_force}
+            ),
             "configuration": self.configuration,
         }
 
@@ -196,9 +226,18 @@ def nearest_table_diameter_mm(wheel_radius: float) -> int:
     return min(WHEEL_DIAMETERS_MM, key=lambda d: abs(d - 2e3 * wheel_radius))
 
 
-def track_noise_model(params: ModelParameters | None = None, numerics: NoiseNumerics | None = None) -> TrackNoiseModel:
+def track_noise_model(
+    params: ModelParameters | None = None,
+    numerics: NoiseNumerics | None = None,
+    wheel_model: str = "directive",
+    wheel_profile=None,
+) -> TrackNoiseModel:
     """The model track's noise transfer functions (module docstring) for the wheel, track and contact of
-    ``params`` (default: the paper's). Cached per process by the parameters."""
+    ``params`` (default: the paper's) and the wheel's ``wheel_model`` ("directive" or "modal", step 6; the modal
+    wheel's cross-section ``wheel_profile``, a :class:`wheelrail.core.modal_wheel.WheelProfile`, default the named
+    wheel nearest R at R). Cached per process by the parameters."""
+    from wheelrail.core.noise.wheel_power import checked_wheel_model
+
     params = ModelParameters() if params is None else params
     if not isinstance(params, ModelParameters):
         raise WheelrailError(f"track_noise_model: params must be ModelParameters, got {type(params).__name__}")
@@ -208,16 +247,35 @@ def track_noise_model(params: ModelParameters | None = None, numerics: NoiseNume
     return _track_noise_model(
         ModelParameters(wheel=params.wheel, track=params.track, contact=params.contact),
         NoiseNumerics() if numerics is None else numerics,
+        checked_wheel_model(wheel_model),
+        _checked_profile(wheel_profile, wheel_model),
     )
 
 
-def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float, freqs: np.ndarray) -> dict:
+def _checked_profile(wheel_profile, wheel_model: str):
+    from wheelrail.core.modal_wheel import OutlineProfile, WheelProfile
+
+    if wheel_profile is None:
+        return None
+    if wheel_model != "modal":
+        raise WheelrailError("track_noise_model: wheel_profile is the modal wheel's; give wheel_model='modal'")
+    if not isinstance(wheel_profile, WheelProfile | OutlineProfile):
+        raise WheelrailError(
+            "track_noise_model: wheel_profile must be a WheelProfile or OutlineProfile, got "
+            f"{type(wheel_profile).__name__}"
+        )
+    return wheel_profile
+
+
+def _vibration(
+    params: ModelParameters, numerics: NoiseNumerics, k_hertz: float, freqs: np.ndarray, alpha_wheel: np.ndarray
+) -> dict:
     """Steps 1-3 of the module docstring at every frequency of ``freqs`` (bands, points) and both excitation
-    positions: rail velocity integral, sleeper velocity sum, |alpha_W + alpha_R + alpha_C|^2 (each (b, p, 2)),
+    positions, with the wheel's receptance ``alpha_wheel`` (m/N, shaped as ``freqs``): rail velocity integral,
+    sleeper velocity sum, |alpha_W + alpha_R + alpha_C|^2 (each (b, p, 2)),
     and per band the midspan transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
     from wheelrail.core.track import assemble_track
     from wheelrail.core.track.fe import timoshenko_shape_functions
-    from wheelrail.core.wheel import wheel_receptance
 
     model = assemble_track(replace(params.track, n_bays=numerics.track_bays), numerics.elements_per_bay)
     solve = _banded_solver(model)
@@ -238,8 +296,10 @@ def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float,
     shape = (*freqs.shape, len(positions))
     out = {
         "rail": np.empty(shape),
+        "rail_radiated": np.empty(shape),
         "sleeper": np.empty(shape),
         "alpha_sq": np.empty(shape),
+        "alpha_track": np.empty(shape, dtype=complex),
         "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
         "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
         "free_distance": free_distance,
@@ -247,14 +307,16 @@ def _vibration(params: ModelParameters, numerics: NoiseNumerics, k_hertz: float,
     }
     for (b, p), f in np.ndenumerate(freqs):
         w = 2 * np.pi * f
-        alpha_w = wheel_receptance(params.wheel, f)
+        alpha_w = alpha_wheel[b, p]
         solutions = solve(f, loads)  # one factorisation for both excitation positions
         for j, (shape_n, dofs) in enumerate(point_dofs):
             u = solutions[:, j]
             rail = u[model.w_dof]
             out["rail"][b, p, j] = w**2 * np.sum(weights * np.abs(rail) ** 2)
+            out["rail_radiated"][b, p, j] = decaying_rail_radiation(w * rail, model.element_length, f)
             out["sleeper"][b, p, j] = w**2 * np.sum(np.abs(u[model.sleeper_dof]) ** 2)
-            out["alpha_sq"][b, p, j] = abs(alpha_w + shape_n @ u[dofs] + 1.0 / k_hertz) ** 2
+            out["alpha_track"][b, p, j] = shape_n @ u[dofs] + 1.0 / k_hertz
+            out["alpha_sq"][b, p, j] = abs(alpha_w + out["alpha_track"][b, p, j]) ** 2
             if j == 1:  # midspan excitation: EN 15461 and the free wave
                 out["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
                 out["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
@@ -323,27 +385,81 @@ def _decay_rates(vib: dict) -> tuple[np.ndarray, np.ndarray]:
     return LOG10_E / sum_ratio, -slope
 
 
-@functools.lru_cache(maxsize=8)
-def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> TrackNoiseModel:
-    from wheelrail.core.noise.cnossos import vehicle_transfer
+def _wheel_receptances(
+    params: ModelParameters, freqs: np.ndarray, wheel_model: str, profile
+) -> tuple[np.ndarray, dict]:
+    """alpha_W at ``freqs`` (step 1) for the wheel model (step 6), and the modal wheel's response (else {})."""
+    from wheelrail.core.noise.wheel_power import modal_wheel_profile, modal_wheel_response
+    from wheelrail.core.wheel import wheel_receptance
 
+    if wheel_model == "modal":
+        if profile is None:
+            profile = modal_wheel_profile(params.contact.radius_along)
+        response = modal_wheel_response(profile, freqs, params.wheel.unsprung_mass)
+        return response["receptance"], response
+    alpha = np.empty(freqs.shape, dtype=complex)
+    for index, f in np.ndenumerate(freqs):
+        alpha[index] = wheel_receptance(params.wheel, f)
+    return alpha, {}
+
+
+def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.ndarray) -> dict:
+    """Step 6: the wheel's transfer function per axle (dB), its source in words and, for the modal wheel, the
+    band means of W / F^2 (W/N^2), on the wheel's own dense band sampling
+    (:func:`wheelrail.core.noise.wheel_power.modal_wheel_band_means`) with alpha_R + alpha_C interpolated in
+    lg f (real and imaginary parts) between the chain's points."""
+    from wheelrail.core.noise.cnossos import vehicle_transfer
+    from wheelrail.core.noise.wheel_power import modal_wheel_band_means, profile_name
+
+    radius = params.contact.radius_along
+    diameter = nearest_table_diameter_mm(radius)
+    directive = f"CNOSSOS-EU Table G-3b L_H,veh, {diameter} mm (nearest the model's 2R = {2e3 * radius:.0f} mm)"
+    if not modal:
+        return {
+            "db": vehicle_transfer(diameter),
+            "power_per_force": None,
+            "source": f"{directive}: the 2-DOF wheel model has no radiating modes",
+        }
+    lg_f = np.log10(freqs.ravel())
+    track = vib["alpha_track"].reshape(-1, vib["alpha_track"].shape[-1])
+
+    def alpha_track(f):
+        x = np.log10(f)
+        return np.stack([np.interp(x, lg_f, t.real) + 1j * np.interp(x, lg_f, t.imag) for t in track.T], axis=1)
+
+    profile = modal["modes"].profile
+    means = modal_wheel_band_means(profile, params.wheel.unsprung_mass, alpha_track)
+    return {
+        "db": 10 * np.log10(2 * means["power_per_roughness"]),  # (1 um)^2 / 1 pW = 1
+        "power_per_force": means["power_per_force"],
+        "source": f"modal wheel ({profile_name(profile)}, 2R = {2e3 * profile.wheel_radius:.0f} mm): axisymmetric "
+        f"FE modes n = 0..{modal['modes'].max_harmonic} and their radiation (wheelrail.core.modal_wheel); "
+        f"not the directive's {directive}",
+    }
+
+
+@functools.lru_cache(maxsize=8)
+def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics, wheel_model: str, profile) -> TrackNoiseModel:
     contact = params.contact
     k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
     section = rail_section()
     area = numerics.sleeper_area
     freqs = band_frequencies(numerics.points_per_band)
-    vib = _vibration(params, numerics, k_hertz, freqs)
+    alpha_wheel, modal = _wheel_receptances(params, freqs, wheel_model, profile)
+    vib = _vibration(params, numerics, k_hertz, freqs, alpha_wheel)
     sigma_rail = rail_radiation_efficiency(freqs)
     sigma_sleeper = piston_radiation_efficiency(freqs, area)
     radiation_rail = AIR_DENSITY * SOUND_SPEED * section["perimeter_m"] * section["mean_normal_y_squared"]
-    t_rail = radiation_rail * sigma_rail[..., None] * vib["rail"]  # W/N^2 (rms force, rms velocity)
+    t_rail = radiation_rail * vib["rail_radiated"]  # W/N^2 (rms force, rms velocity), in the wavenumber domain
+    decay_correction = 10 * np.log10(np.mean(vib["rail_radiated"], axis=(1, 2)) / np.mean(
+        sigma_rail[..., None] * vib["rail"], axis=(1, 2)))  # fmt: skip
     t_sleeper = AIR_DENSITY * SOUND_SPEED * area * sigma_sleeper[..., None] * vib["sleeper"]
     force_per_r_sq = 1.0 / vib["alpha_sq"]  # (N/m)^2
     um2 = 1e-12  # (1 um)^2 in m^2; also 1 pW: the two 1e-12 cancel in L_H,tr
     rail_tr = 10 * np.log10(2 * np.mean(t_rail * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
     sleeper_tr = 10 * np.log10(2 * np.mean(t_sleeper * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
     decay, free_decay = _decay_rates(vib)
-    diameter = nearest_table_diameter_mm(contact.radius_along)
+    wheel = _wheel_transfer(params, modal, vib, freqs)
     configuration = {
         "method": "twins",
         "track_bays": numerics.track_bays,
@@ -355,8 +471,8 @@ def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> Trac
         "contact_stiffness_n_per_m": k_hertz,
         "rail_section": section,
         "band_range_hz": list(NOISE_BAND_RANGE),
-        "wheel": f"CNOSSOS-EU Table G-3b L_H,veh, {diameter} mm (nearest the model's 2R = "
-        f"{2e3 * contact.radius_along:.0f} mm)",
+        "wheel_model": wheel_model,
+        "wheel": wheel["source"],
     }
     return TrackNoiseModel(
         frequency_hz=noise_bands(),
@@ -370,8 +486,12 @@ def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics) -> Trac
         decay_rate_db_per_m=decay,
         free_wave_decay_db_per_m=free_decay,
         rail_radiation_efficiency=np.mean(sigma_rail, axis=1),
+        rail_decay_correction_db=decay_correction,
         sleeper_radiation_efficiency=np.mean(sigma_sleeper, axis=1),
-        wheel_transfer_db=vehicle_transfer(diameter),
-        wheel_diameter_mm=diameter,
+        wheel_transfer_db=wheel["db"],
+        wheel_diameter_mm=nearest_table_diameter_mm(contact.radius_along),
         configuration=configuration,
+        wheel_model=wheel_model,
+        wheel_power_per_force=wheel["power_per_force"],
+        wheel_source=wheel["source"],
     )

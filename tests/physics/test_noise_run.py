@@ -102,6 +102,9 @@ def test_cnossos_beside_a_run_on_its_own_roughness(wheel_run):
     np.testing.assert_allclose(beside.track_db, total_roughness + track_transfer("mono-block-soft"), atol=1e-9)
     np.testing.assert_allclose(beside.vehicle_db, total_roughness + vehicle_transfer(840), atol=1e-9)
     assert beside.configuration["wheel_diameter_m"] == 0.84 and beside.configuration["axles"] == 1
+    # both diameters said: A3 took the model's 2R, L_H,veh the column nearest it
+    assert beside.configuration["contact_filter_wheel_diameter_m"] == pytest.approx(0.78)
+    assert beside.configuration["vehicle_transfer_wheel_diameter_m"] == 0.84
     assert beside.configuration["rail_roughness"] == "cast-iron-wheel line 0 (the run's)"
     summary = noise.to_dict()["cnossos"]
     assert summary["pass_by_LpAeq_dBA"] == pytest.approx(pass_by_level(beside.total_dba, 40, 200.0))
@@ -186,6 +189,7 @@ def test_cli_run_and_twins(tmp_path, wheel_run):
     assert len(out["cnossos"]["total_dB"]) == 24 and out["cnossos"]["per"] == "axle"
     text = _cli("--run", str(path))
     assert text.returncode == 0 and "CNOSSOS-EU beside it" in text.stdout, text.stderr
+    assert "A3 for the model's 2R = 780 mm" in text.stdout and "L_H,veh of the 840 mm column" in text.stdout
     assert wav.stat().st_size > 1000 and out["wav"]["full_scale_pa"] > 0
     bad = _cli("--run", str(tmp_path / "missing.npz"))
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1

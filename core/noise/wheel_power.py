@@ -1,0 +1,158 @@
+"""The wheel's sound power in the TWINS-like chain: the directive's table or the modal wheel's own radiation.
+
+Two wheel models (:data:`WHEEL_MODELS`; the command line's ``--wheel-model``, declared in
+:data:`wheelrail.core.inputs.CHOICES`):
+
+- ``directive`` (the default): CNOSSOS-EU's vehicle transfer function L_H,veh (Table G-3b) for the tabulated
+  diameter nearest the model's 2 R; the paper's 2-DOF wheel has no radiating modes.
+- ``modal``: the wheel's own vibration and radiation (Thompson, *Railway Noise and Vibration*, 2009, ch. 5, the
+  TWINS wheel). Per unit RMS radial contact force, at every frequency of the chain's band sampling:
+
+  1. the axisymmetric FE wheel's modes (:func:`wheelrail.core.modal_wheel.wheel_modes`, bore clamped, n = 0..10,
+     up to 10 kHz) give the spatially averaged mean-square normal velocity <v_d,n^2> of its axially and radially
+     facing surfaces (areas S_d) per number of nodal diameters n
+     (:func:`wheelrail.core.modal_wheel.mean_square_velocity`);
+  2. W / F^2 = rho c sum_d S_d sum_n sigma_d,n(f) <v_d,n^2> with the radiation efficiency of each family
+     (:mod:`wheelrail.core.modal_wheel.radiation`, eq. 1);
+  3. the force per unit roughness |F / r| = 1 / |alpha_W + alpha_R + alpha_C| as for the rail
+     (:mod:`wheelrail.core.noise.twins`, step 1), with alpha_W the modal wheel's radial point receptance at the
+     contact plus the rigid unsprung mass's -1 / (M_W w^2) (the FE wheel is clamped at its bore: the axle's and
+     wheel's rigid motion is the paper's unsprung mass M_W; the primary suspension, a few Hz, is left out);
+  4. the L_H,veh-equivalent (the same definition as ``twins.wheel_transfer_dB``): sound power of the two wheels
+     of an axle for 0 dB re 1 um effective roughness, 10 lg(2 <W / F^2 |F / r|^2> (1 um)^2 / 1 pW).
+
+  The wheel's profile is given (``wheel_profile``), or the named wheel nearest the model's R, at R
+  (:func:`modal_wheel_profile`; :data:`wheelrail.core.modal_wheel.NAMED_WHEELS`: 920, 840, 640 mm). Only radial
+  (vertical) excitation is modelled, as for the track: the lateral force and the rigid wheelset's own radiation
+  are left out.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import choice
+from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
+
+WHEEL_MODELS = choice("wheel_model").values  # ("directive", "modal")
+DEFAULT_WHEEL_MODEL = choice("wheel_model").default
+MAX_HARMONIC = 10  # n = 0..10 nodal diameters: every wheel mode of the 640-920 mm wheels below 10 kHz
+MAX_FREQUENCY = 12.5e3  # Hz: modes up to the top band's upper edge (11.2 kHz) and some above
+SIGMA_TABLE_HZ = (35.0, 12500.0, 77)  # radiation efficiency table: 30 points per decade, interpolated in lg f
+# Frequencies per band of the wheel's band means: its modes have loss factors of 1e-4 (n >= 2; 1e-3 for n = 0, 1),
+# half-power widths of 1e-4 f, far below the track's 20 points per band; the L_H,veh-equivalent of the 920 mm
+# wheel moves by <= 0.6 dB per band 500 Hz-5 kHz from 1 000 to 4 000 points (tests/physics/test_modal_wheel_noise.py)
+WHEEL_POINTS_PER_BAND = 1000
+
+
+def checked_wheel_model(wheel_model) -> str:
+    """``wheel_model`` if it is one of :data:`WHEEL_MODELS`, else one WheelrailError naming them."""
+    return choice("wheel_model").check(wheel_model)
+
+
+def modal_wheel_profile(wheel_radius: float):
+    """The modal wheel's cross-section for a running radius (m): the wheel helper's rule
+    (:func:`wheelrail.core.modal_wheel.profile.wheel_profile_for`): the named wheel nearest in radius, at that
+    radius, its other dimensions kept (a named wheel itself at its own radius)."""
+    from wheelrail.core.modal_wheel.profile import wheel_profile_for
+
+    return wheel_profile_for(float(wheel_radius))
+
+
+def profile_name(profile) -> str:
+    """The named wheel's name, or "parametric" with its radius."""
+    from wheelrail.core.modal_wheel import NAMED_WHEELS
+
+    for name, named in NAMED_WHEELS.items():
+        if named == profile:
+            return name
+    return f"parametric {2e3 * profile.wheel_radius:.0f} mm"
+
+
+@functools.lru_cache(maxsize=16)
+def radiation_table(profile) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(f on :data:`SIGMA_TABLE_HZ`, sigma_axial (f, n), sigma_radial (f, n)) for n = 0..MAX_HARMONIC, disk-cached
+    by the geometry the radiation uses (its radius, tyre width and bore); a few seconds to build."""
+    from wheelrail.core.cache import cache_key, load_entry, save_entry
+    from wheelrail.core.modal_wheel.radiation import wheel_radiation_efficiency
+
+    geometry = {"radius": profile.wheel_radius, "tyre_width": profile.tyre_width, "hub": profile.bore_radius}
+    f = np.geomspace(*SIGMA_TABLE_HZ)
+    key = cache_key("wheel-radiation", {**geometry, "grid": list(SIGMA_TABLE_HZ), "n": MAX_HARMONIC, "version": 1})
+    entry = load_entry("wheel-radiation", key, ("axial", "radial"))
+    if entry is not None:
+        return f, entry["axial"], entry["radial"]
+    tables = {
+        d: np.stack(
+            [
+                wheel_radiation_efficiency(
+                    f, n, d, radius=geometry["radius"], tyre_width=geometry["tyre_width"], hub_radius=geometry["hub"]
+                )
+                for n in range(MAX_HARMONIC + 1)
+            ],
+            axis=1,
+        )
+        for d in ("axial", "radial")
+    }
+    save_entry("wheel-radiation", key, tables)
+    return f, tables["axial"], tables["radial"]
+
+
+def _on(frequencies: np.ndarray, f_table: np.ndarray, table: np.ndarray) -> np.ndarray:
+    """A sigma table (f, n) interpolated in lg f (lg sigma) onto ``frequencies`` (held at the table's ends)."""
+    lf, lt = np.log10(frequencies), np.log10(f_table)
+    with np.errstate(divide="ignore"):
+        log_sigma = np.log10(np.maximum(table, 1e-300))
+    return 10 ** np.stack([np.interp(lf, lt, log_sigma[:, n]) for n in range(table.shape[1])], axis=1)
+
+
+def modal_wheel_response(profile, frequencies, unsprung_mass: float) -> dict:
+    """The modal wheel at ``frequencies`` (Hz, any shape): ``receptance`` alpha_W (m/N, steps 3 of the module
+    docstring), ``power_per_force`` W / F^2 (W/N^2, step 2) and its ``axial`` and ``radial`` parts."""
+    from wheelrail.core.modal_wheel import contact_receptance, mean_square_velocity, wheel_modes
+
+    f = np.asarray(frequencies, dtype=float)
+    if not (np.all(np.isfinite(f)) and np.all(f > 0)):
+        raise WheelrailError("modal_wheel_response: frequencies must be positive and finite (Hz)")
+    modes = wheel_modes(profile, max_frequency=MAX_FREQUENCY, max_harmonic=MAX_HARMONIC)
+    flat = f.ravel()
+    alpha = contact_receptance(modes, flat).radial - 1.0 / (unsprung_mass * (2 * np.pi * flat) ** 2)
+    velocity = mean_square_velocity(modes, flat, force_radial=1.0)
+    f_table, axial, radial = radiation_table(profile)
+    harmonics = np.asarray(velocity.harmonic)
+    parts = {
+        "axial": velocity.area_axial * np.sum(_on(flat, f_table, axial)[:, harmonics] * velocity.axial, axis=1),
+        "radial": velocity.area_radial * np.sum(_on(flat, f_table, radial)[:, harmonics] * velocity.radial, axis=1),
+    }
+    rho_c = AIR_DENSITY * SOUND_SPEED
+    return {
+        "receptance": alpha.reshape(f.shape),
+        "power_per_force": (rho_c * (parts["axial"] + parts["radial"])).reshape(f.shape),
+        "axial": (rho_c * parts["axial"]).reshape(f.shape),
+        "radial": (rho_c * parts["radial"]).reshape(f.shape),
+        "modes": modes,
+    }
+
+
+def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, points_per_band: int = WHEEL_POINTS_PER_BAND):
+    """Band means (24 bands) of the modal wheel's W / F^2 (W/N^2) and of W / F^2 |F / r|^2 (W/m^2) with
+    |F / r| = 1 / |alpha_W + alpha_T| for each excitation position, on ``points_per_band`` frequencies per band
+    evenly in lg f. ``alpha_track(f)`` gives alpha_R + alpha_C (m/N) at frequencies f (n,) as (n, positions):
+    the track's receptance, smooth beside the wheel's modes, interpolated by the caller between its own points.
+
+    Returns ``power_per_force`` (24,), ``power_per_roughness`` (24,) (the mean over positions too) and ``modes``."""
+    from wheelrail.core.noise.twins import band_frequencies
+
+    freqs = band_frequencies(points_per_band)
+    power, per_roughness = np.empty(freqs.shape[0]), np.empty(freqs.shape[0])
+    modes = None
+    for b, f in enumerate(freqs):  # a band at a time: the modal sums hold (points, modes, surface points)
+        response = modal_wheel_response(profile, f, unsprung_mass)
+        modes = response["modes"]
+        force_sq = 1.0 / np.abs(response["receptance"][:, None] + alpha_track(f)) ** 2
+        power[b] = np.mean(response["power_per_force"])
+        per_roughness[b] = np.mean(response["power_per_force"][:, None] * force_sq)
+    return {"power_per_force": power, "power_per_roughness": per_roughness, "modes": modes}
