@@ -1,6 +1,7 @@
 """The Wheel tab: the modal wheel (``wheelrail.core.modal_wheel``) at the run's wheel radius, its shape, its natural
-frequencies by family and nodal diameters n, and its point and cross receptances at the contact beside the track's
-point receptance (the Track tab's curves, on the same frequency axis)."""
+frequencies by family and nodal diameters n, its point and cross receptances at the contact beside the track's
+point receptance (the Track tab's curves, on the same frequency axis) and its sound power per band for a unit
+radial force (``wheelrail.core.noise.wheel_power``, the noise chain's modal wheel)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.noise.wheel_power import MAX_FREQUENCY, MAX_HARMONIC, WHEEL_POINTS_PER_BAND
 from wheelrail.explorer.config import (
     FIELD_NAMES,
     NEAREST_WHEEL,
@@ -22,10 +24,11 @@ from wheelrail.explorer.panel import ResultsTab, Shown, TabParts
 from wheelrail.explorer.plots import SOLID, Plot, bands_with_data
 from wheelrail.explorer.track_tab import TrackTab
 
-__all__ = ["MODE_SETTINGS", "WheelTab", "frequency_rows", "wheel_words"]
+__all__ = ["MODE_SETTINGS", "WheelTab", "frequency_rows", "wheel_band_power", "wheel_words"]
 
 LOG = logging.getLogger("wheelrail.explorer")
-MODE_SETTINGS = {"max_frequency": 10e3, "max_harmonic": 10}  # wheelrail wheel's defaults: the same cache entry
+# the noise chain's modes (wheel_power: n = 0..10 up to 12.5 kHz): one computation serves the plots and the power
+MODE_SETTINGS = {"max_frequency": MAX_FREQUENCY, "max_harmonic": MAX_HARMONIC}
 RECEPTANCE_RANGE_HZ = (50.0 / 2 ** (1 / 6), 5000.0 * 2 ** (1 / 6))  # the Track tab's bands 50 Hz-5 kHz, edge to edge
 GRID_POINTS = 3000  # log-spaced frequencies of the wheel's curves, every natural frequency in range added
 MAX_ORDERS = 3  # the plot joins the 1st, 2nd and 3rd mode of a family by frequency across n; the table has all
@@ -41,6 +44,7 @@ RECEPTANCE_COLOURS = {
     "track above a sleeper": "#636363",
     "track midspan": "#bdbdbd",
 }
+POWER_COLOURS = {"total": "#756bb1", "axial surfaces": "#1f77b4", "radial surfaces": "#d62728"}
 WHEEL_NOTE = (
     "The modal wheel: axisymmetric finite elements of the wheel's cross-section with n nodal diameters "
     "(`wheelrail wheel`; the bore clamped on the axle, steel), at the rolling radius of the settings on the left "
@@ -49,7 +53,11 @@ WHEEL_NOTE = (
     "track's vertical), axial (along the axle) and cross (radial per axial force: the contact's offset from the "
     "web couples them), beside the track's vertical point receptance (the Track tab's, between its band centres); "
     "the wheel's curves pass through each natural frequency, so the peaks are at their full height (loss factors "
-    "1e-3 for n = 0, 1 and 1e-4 from n = 2, plus a damper's added loss factor)."
+    "1e-3 for n = 0, 1 and 1e-4 from n = 2, plus a damper's added loss factor). *Sound power*: one wheel's, "
+    "per third-octave band, for a radial force of 1 N RMS at the contact in each band (the band mean of W / F^2 "
+    "over 1000 frequencies, as the noise chain's `--wheel-model modal` computes it: each family's radiation "
+    "efficiency by n times its surfaces' mean-square velocity), split into the axially facing surfaces (web, "
+    "rim sides, hub) and the radially facing ones (tread); without the added loss factor, as the chain."
 )
 
 
@@ -66,6 +74,7 @@ class WheelTab(ResultsTab):
         self.mode_settings = dict(MODE_SETTINGS)
         self.frequencies = Plot(gui, tab, "Natural frequencies", "nodal diameters n", "frequency (Hz)")
         self.receptance = Plot(gui, tab, "Receptance at the contact", "frequency (Hz)", "dB re 1 m/N", bands=True)
+        self.power = Plot(gui, tab, "Sound power for 1 N", "band (Hz)", "dB re 1 pW", bands=True)
         with tab:
             self.wheel_md = gui.add_markdown("")
             self.table_md = gui.add_markdown("")
@@ -84,7 +93,9 @@ class WheelTab(ResultsTab):
                 handle.on_update(lambda event: None if page.is_quiet() else page.guarded(parts.redraw, self))
             gui.add_markdown(WHEEL_NOTE)
             self._plot_export()
+        self.points_per_band = WHEEL_POINTS_PER_BAND  # the sound power's band means
         self._modes: dict = {}  # (profile, settings) -> WheelModes, or the error's words
+        self._power: dict = {}  # (profile, points per band) -> wheel_band_power's, or the error's words
         self._wanted = None  # the key the worker computes next
         self._working = False
         self._lock = threading.Lock()
@@ -92,14 +103,19 @@ class WheelTab(ResultsTab):
         self._following = False
 
     def plots(self) -> dict[str, Plot]:
-        return {"wheel natural frequencies": self.frequencies, "wheel receptance": self.receptance}
+        return {
+            "wheel natural frequencies": self.frequencies,
+            "wheel receptance": self.receptance,
+            "wheel sound power": self.power,
+        }
 
-    # ------------------------------------------------------------------ the modes, in the background
-    def modes(self, profile):
-        """The wheel's modes once computed (None: not yet, being computed; a str: why they cannot be)."""
+    # ------------------------------------------------------------------ modes and power, in the background
+    def want(self, profile) -> tuple:
+        """The wheel's (modes, band power) once computed (None: not yet, being computed; a str: why they cannot be);
+        the worker computes what is missing, modes first."""
         key = (profile, tuple(sorted(self.mode_settings.items())))
-        found = self._modes.get(key)
-        if found is None:
+        found = self._modes.get(key), self._power.get(self._power_key(key))
+        if found[0] is None or found[1] is None:
             with self._lock:
                 self._wanted = key
                 if not self._working:
@@ -107,28 +123,40 @@ class WheelTab(ResultsTab):
                     threading.Thread(target=self._work, daemon=True, name="wheelrail-wheel-tab").start()
         return found
 
+    def _power_key(self, key) -> tuple:
+        return key[0], self.points_per_band
+
     def _work(self) -> None:
-        """Compute the shape asked for last, until it is computed (shapes typed meanwhile are skipped)."""
+        """Compute what the shape asked for last lacks, until it has all (shapes typed meanwhile are skipped)."""
         while True:
             with self._lock:
                 key = self._wanted
-                if key is None or key in self._modes:
+                job = None
+                if key is not None and key not in self._modes:
+                    job = self.compute
+                elif key is not None and self._power_key(key) not in self._power:
+                    job = self.compute_power
+                if job is None:
                     self._working = False
                     return
-            self.compute(key)
+            job(key)
 
     def compute(self, key) -> None:
         """The modes of ``key`` = (profile, settings), then a redraw (what the worker thread does)."""
         from wheelrail.core.modal_wheel import wheel_modes
 
         profile, settings = key
-        try:
-            self._modes[key] = wheel_modes(profile, **dict(settings))
-        except WheelrailError as error:
-            self._modes[key] = page_message(error)
-        except Exception as error:  # keep the tab usable; the log has the traceback
-            LOG.exception("wheel modes failed")
-            self._modes[key] = f"unexpected error: {type(error).__name__}: {error}"
+        self._modes[key] = _or_words(lambda: wheel_modes(profile, **dict(settings)))
+        if self._last is not None:
+            self.parts.redraw(self)
+
+    def compute_power(self, key) -> None:
+        """The sound power per band of ``key``'s wheel, then a redraw (what the worker thread does next)."""
+        modes = self._modes.get(key)
+        if isinstance(modes, str):
+            self._power[self._power_key(key)] = modes
+        else:
+            self._power[self._power_key(key)] = _or_words(lambda: wheel_band_power(key[0], self.points_per_band))
         if self._last is not None:
             self.parts.redraw(self)
 
@@ -150,7 +178,7 @@ class WheelTab(ResultsTab):
         except WheelrailError as error:
             self._clear("fix the wheel's shape", f"**Cannot make this wheel:** {page_message(error)}")
             return
-        modes = self.modes(profile)
+        modes, power = self.want(profile)
         words = wheel_words(profile, self.name_dropdown.value, added)
         if modes is None or isinstance(modes, str):
             why = "computing the wheel's modes (a few seconds, once per shape) ..." if modes is None else modes
@@ -162,9 +190,14 @@ class WheelTab(ResultsTab):
         self.table_md.content = _frequency_table(modes)
         self._draw_frequencies(modes)
         self._draw_receptance(modes, added, self._track_curves(config))
+        if power is None or isinstance(power, str):
+            why = "computing the wheel's sound power (up to a minute, once per shape) ..." if power is None else power
+            self.power.clear(why)
+        else:
+            self._draw_power(power)
 
     def _clear(self, why: str, words: str) -> None:
-        for plot in (self.frequencies, self.receptance):
+        for plot in (self.frequencies, self.receptance, self.power):
             plot.clear(why)
         self.wheel_md.content, self.table_md.content = words, ""
 
@@ -213,6 +246,48 @@ class WheelTab(ResultsTab):
         series = tuple((name, RECEPTANCE_COLOURS[name], SOLID) for name in columns)
         title = "Receptance at the contact" + ("" if track is not None else " (the track's: being computed ...)")
         self.receptance.show(bands_with_data(f, list(columns.values())), series, title=title)
+
+    def _draw_power(self, power: dict) -> None:
+        parts = {name: 10 * np.log10(np.maximum(power[key], 1e-30) / 1e-12) for name, key in _POWER_PARTS}
+        series = tuple((name, POWER_COLOURS[name], SOLID) for name in parts)
+        self.power.show(
+            bands_with_data(power["frequency_hz"], list(parts.values())),
+            series,
+            title="Sound power of one wheel for 1 N radial force at the contact",
+        )
+
+
+_POWER_PARTS = (("total", "power_per_force"), ("axial surfaces", "axial"), ("radial surfaces", "radial"))
+
+
+def wheel_band_power(profile, points_per_band: int = WHEEL_POINTS_PER_BAND) -> dict:
+    """One wheel's sound power per unit mean-square radial contact force, W/N^2, per band of the noise chain
+    (``frequency_hz``: 50 Hz-10 kHz): ``power_per_force`` and its ``axial`` and ``radial`` surfaces' parts, each
+    the mean over ``points_per_band`` frequencies spread evenly in lg f across the band
+    (:func:`wheelrail.core.noise.wheel_power.modal_wheel_response`, as ``modal_wheel_band_means``)."""
+    from wheelrail.core.noise.levels import noise_bands
+    from wheelrail.core.noise.twins import band_frequencies
+    from wheelrail.core.noise.wheel_power import modal_wheel_response
+    from wheelrail.core.parameters import ModelParameters
+
+    mass = ModelParameters().wheel.unsprung_mass  # enters only the receptance, not the power per force
+    means: dict = {key: [] for _, key in _POWER_PARTS}
+    for f in band_frequencies(points_per_band):  # a band at a time: the modal sums hold (points, modes, surfaces)
+        response = modal_wheel_response(profile, f, mass)
+        for key in means:
+            means[key].append(float(np.mean(response[key])))
+    return {"frequency_hz": noise_bands(), **{key: np.array(values) for key, values in means.items()}}
+
+
+def _or_words(compute):
+    """``compute()``, or the words of its error (a WheelrailError in the page's words; anything else logged)."""
+    try:
+        return compute()
+    except WheelrailError as error:
+        return page_message(error)
+    except Exception as error:  # keep the tab usable; the log has the traceback
+        LOG.exception("the Wheel tab's computation failed")
+        return f"unexpected error: {type(error).__name__}: {error}"
 
 
 def _named_wheels() -> tuple[str, ...]:

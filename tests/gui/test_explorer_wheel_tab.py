@@ -1,8 +1,10 @@
 """The explorer's Wheel tab without a browser: the wheel it states, its natural frequencies by family and n, its
-receptances at the contact beside the Track tab's, and its shape fields' errors in the page's words.
+receptances at the contact beside the Track tab's, its sound power per band, and its shape fields' errors in the
+page's words.
 
-The tab's modes are computed on a coarse mesh up to 3 kHz and n = 0..4 (half a second, not the page's 10 kHz and
-n = 0..10): what is tested is what the tab draws from core's modes, not the modes (tests/physics/test_modal_wheel*).
+The tab's modes, and the noise chain's that its sound power uses, are computed up to 3 kHz and n = 0..4 (seconds,
+not the page's 12.5 kHz and n = 0..10), its band means on 10 frequencies per band: what is tested is what the tab
+draws from core's modes and radiation, not them (tests/physics/test_modal_wheel*, test_wheel_radiation.py).
 The tests with the explorer (a server, seconds to start) are marked slow; reading the tab's fields is not.
 """
 
@@ -16,19 +18,29 @@ import pytest
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import inputs_of
 from wheelrail.core.modal_wheel import contact_receptance, wheel_modes, wheel_profile_for
+from wheelrail.core.noise import wheel_power
+from wheelrail.core.noise.twins import band_frequencies
 from wheelrail.explorer import wheel_tab
 from wheelrail.explorer.config import NEAREST_WHEEL, page_message, read_wheel
 from wheelrail.explorer.tabs import TrackTab, WheelTab
 
-COARSE = {"max_frequency": 3000.0, "max_harmonic": 4, "element_size": 0.03}
+COARSE = {"max_frequency": 3000.0, "max_harmonic": 4}
+POINTS_PER_BAND = 10
 
 
 @pytest.fixture(scope="module", autouse=True)
 def coarse_wheel():
-    """The module's explorer (conftest's ``app``, made after this) computes its wheels on a coarse mesh."""
+    """The module's explorer (conftest's ``app``, made after this) computes its wheels' modes up to 3 kHz and
+    n = 0..4, the noise chain's too (its radiation table then holds n = 0..4: the table's memory cache, keyed by
+    the profile alone, is emptied before and after)."""
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(wheel_tab, "MODE_SETTINGS", COARSE)
+        patch.setattr(wheel_tab, "WHEEL_POINTS_PER_BAND", POINTS_PER_BAND)
+        patch.setattr(wheel_power, "MAX_FREQUENCY", COARSE["max_frequency"])
+        patch.setattr(wheel_power, "MAX_HARMONIC", COARSE["max_harmonic"])
+        wheel_power.radiation_table.cache_clear()
         yield
+    wheel_power.radiation_table.cache_clear()
 
 
 def _shown(app, **shape):
@@ -53,7 +65,9 @@ def _shown(app, **shape):
     except Exception:  # a refused shape: nothing to compute
         profile = None
     if profile is not None:
-        tab.compute((profile, tuple(sorted(tab.mode_settings.items()))))
+        key = (profile, tuple(sorted(tab.mode_settings.items())))
+        tab.compute(key)
+        tab.compute_power(key)
     app.redraw_tab(tab)
     return tab
 
@@ -162,3 +176,22 @@ def test_the_wheel_fields_read_as_the_named_wheel_at_the_runs_radius_with_the_di
     with pytest.raises(WheelrailError) as error:
         read_wheel(NEAREST_WHEEL, 0.39, {"wheel_contact_offset": "70"}, "")
     assert "Contact offset" in page_message(error.value)
+
+
+@pytest.mark.slow
+def test_the_wheels_sound_power_per_band_is_the_noise_chains(app):
+    tab = _shown(app)
+    assert tab.points_per_band == POINTS_PER_BAND
+    assert [label for label, *_ in tab.power.series] == ["total", "axial surfaces", "radial surfaces"]
+    f, total, axial, radial = tab.power.data
+    assert f[0] == pytest.approx(50.1, abs=0.1) and f[-1] == pytest.approx(10e3) and len(f) == 24
+    profile = wheel_profile_for(0.39)
+    bands = band_frequencies(POINTS_PER_BAND)
+    for b in (3, 12, 17):  # 100 Hz, 800 Hz, 2.5 kHz: the chain's response averaged over the band, in dB re 1 pW
+        response = wheel_power.modal_wheel_response(profile, bands[b], 500.0)
+        assert total[b] == pytest.approx(10 * np.log10(np.mean(response["power_per_force"]) / 1e-12), abs=1e-9)
+    # the two surfaces' powers add up to the total (powers of different surfaces add)
+    np.testing.assert_allclose(10 ** (total / 10), 10 ** (axial / 10) + 10 ** (radial / 10), rtol=1e-9)
+    # far below its first modes a wheel radiates little (sigma ~ (ka)^2 or less): the 50-100 Hz bands are more than
+    # 30 dB below the loudest band of 1-3 kHz, where its axial modes radiate (about -12 to 8 dB against 50-60 dB)
+    assert np.max(total[:4]) < np.max(total[(f > 900) & (f < 3200)]) - 30
