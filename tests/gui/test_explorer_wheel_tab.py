@@ -195,3 +195,35 @@ def test_the_wheels_sound_power_per_band_is_the_noise_chains(app):
     # far below its first modes a wheel radiates little (sigma ~ (ka)^2 or less): the 50-100 Hz bands are more than
     # 30 dB below the loudest band of 1-3 kHz, where its axial modes radiate (about -12 to 8 dB against 50-60 dB)
     assert np.max(total[:4]) < np.max(total[(f > 900) & (f < 3200)]) - 30
+
+
+PLOTS_IN_PAGE = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(t => {
+    const r = t.chart.root.getBoundingClientRect();
+    return {title: String((t.chart.root.querySelector('.u-title') || {}).textContent || ''),
+            labels: t.chart.series.slice(1).map(s => String(s.label)), width: r.width, height: r.height};
+}).filter(p => p.width > 0 && p.height > 0)"""
+
+
+@pytest.mark.slow
+def test_the_wheel_tab_in_the_page_shows_its_plots(app, browser):
+    """Headless Chromium: the Wheel tab, clicked, shows its three plots with the curves the app drew."""
+    tab = _shown(app)
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    errors = []
+    page.on("pageerror", lambda error: errors.append(str(error)))
+    try:
+        page.goto(f"http://127.0.0.1:{app.port}")
+        page.get_by_role("tab", name=WheelTab.title).click()
+        page.wait_for_function(f"() => ({PLOTS_IN_PAGE})().length >= 3", timeout=90_000)
+        plots = {plot["title"]: plot for plot in page.evaluate(PLOTS_IN_PAGE)}
+        assert plots["Natural frequencies by family and n"]["labels"][:2] == ["axial 1st", "axial 2nd"]
+        assert plots["Receptance at the contact"]["labels"] == [label for label, *_ in tab.receptance.series]
+        assert plots["Sound power of one wheel for 1 N radial force at the contact"]["labels"] == [
+            "total",
+            "axial surfaces",
+            "radial surfaces",
+        ]
+        assert min(plot["width"] for plot in plots.values()) >= 480  # px: the results panel's plots
+        assert not errors, errors
+    finally:
+        page.close()
