@@ -31,6 +31,7 @@ LOG = logging.getLogger("wheelrail.explorer")
 MODE_SETTINGS = {"max_frequency": MAX_FREQUENCY, "max_harmonic": MAX_HARMONIC}
 RECEPTANCE_RANGE_HZ = (50.0 / 2 ** (1 / 6), 5000.0 * 2 ** (1 / 6))  # the Track tab's bands 50 Hz-5 kHz, edge to edge
 GRID_POINTS = 3000  # log-spaced frequencies of the wheel's curves, every natural frequency in range added
+KEPT_WHEELS = 8  # the shapes whose modes and power the tab keeps in memory (the disk cache keeps the modes)
 MAX_ORDERS = 3  # the plot joins the 1st, 2nd and 3rd mode of a family by frequency across n; the table has all
 FAMILY_COLOURS = {
     "axial": ("#1f77b4", "#6baed6", "#9ecae1"),
@@ -146,17 +147,15 @@ class WheelTab(ResultsTab):
         from wheelrail.core.modal_wheel import wheel_modes
 
         profile, settings = key
-        self._modes[key] = _or_words(lambda: wheel_modes(profile, **dict(settings)))
+        _keep(self._modes, key, _or_words(lambda: wheel_modes(profile, **dict(settings))))
         if self._last is not None:
             self.parts.redraw(self)
 
     def compute_power(self, key) -> None:
         """The sound power per band of ``key``'s wheel, then a redraw (what the worker thread does next)."""
         modes = self._modes.get(key)
-        if isinstance(modes, str):
-            self._power[self._power_key(key)] = modes
-        else:
-            self._power[self._power_key(key)] = _or_words(lambda: wheel_band_power(key[0], self.points_per_band))
+        power = modes if isinstance(modes, str) else _or_words(lambda: wheel_band_power(key[0], self.points_per_band))
+        _keep(self._power, self._power_key(key), power)
         if self._last is not None:
             self.parts.redraw(self)
 
@@ -277,6 +276,13 @@ def wheel_band_power(profile, points_per_band: int = WHEEL_POINTS_PER_BAND) -> d
         for key in means:
             means[key].append(float(np.mean(response[key])))
     return {"frequency_hz": noise_bands(), **{key: np.array(values) for key, values in means.items()}}
+
+
+def _keep(found: dict, key, value) -> None:
+    """``found[key] = value``, the oldest entries dropped beyond :data:`KEPT_WHEELS` (a wheel's modes hold MB)."""
+    found[key] = value
+    while len(found) > KEPT_WHEELS:
+        del found[next(iter(found))]
 
 
 def _or_words(compute):
