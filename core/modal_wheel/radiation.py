@@ -66,6 +66,7 @@ __all__ = [
     "band_radiation_efficiency",
     "disc_radiation_efficiency",
     "radiated_power",
+    "radiation_summary",
     "wheel_radiation_efficiency",
 ]
 
@@ -190,3 +191,20 @@ def radiated_power(mean_square_velocity, area: float, sigma, rho: float = AIR_DE
     ):
         raise WheelrailError(f"radiated_power: area must be a positive number (m^2), got {area!r}")
     return rho * c * float(area) * s * v_sq
+
+
+def radiation_summary(profile, frequencies) -> dict:
+    """The radiation efficiency of every family of a wheel ``profile`` (a ``WheelProfile``; its running radius,
+    tyre width and bore) at ``frequencies`` (Hz), for ``wheelrail wheel``'s summary: ``frequency_hz``, ``axial`` and
+    ``radial`` (each a list over n = 0..10 of sigma at the frequencies) and ``model`` (what sigma is, in words)."""
+    f = _frequencies("radiation_summary", frequencies)
+    geometry = {"radius": profile.wheel_radius, "tyre_width": profile.tyre_width, "hub_radius": profile.bore_radius}
+    return {
+        "frequency_hz": f,
+        **{
+            d: [wheel_radiation_efficiency(f, n, d, **geometry) for n in range(11)]
+            for d in DIRECTIONS  # n = 0..10: the chain's harmonics
+        },
+        "model": "axial n: a baffled annulus bore to running radius; radial n: the tread's band on a cylindrical "
+        "baffle (wheelrail.core.modal_wheel.radiation, eqs. 2 and 3)",
+    }

@@ -5,12 +5,11 @@ One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10
 - contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force_spectrum`);
 - rail and sleepers: L_W = L_F + 10 lg(T / 1 pW) with T the model track's sound power per unit mean-square force
   (:func:`wheelrail.core.noise.twins.track_noise_model`, same wheel, track and contact as the run);
-- wheel, ``wheel_model`` "directive" (the default): the effective roughness that causes L_F in the linear model,
-  L_r = L_F + 10 lg <|alpha_W + alpha_R + alpha_C|^2> (dB re 1 um), plus CNOSSOS-EU's L_H,veh for the nearest
-  tabulated diameter, minus 3 dB (L_H,veh is per axle, two wheels): the 2-DOF wheel model has no radiating modes
-  (:mod:`wheelrail.core.noise.twins`); "modal": L_W = L_F + 10 lg(T_wheel / 1 pW) with T_wheel the modal wheel's
-  sound power per unit mean-square radial force (:mod:`wheelrail.core.noise.wheel_power`; the run's force is
-  the 2-DOF wheel's interaction, the modal wheel only radiates it);
+- wheel: the effective roughness that causes L_F in the linear model, L_r = L_F + 10 lg <|alpha_W + alpha_R +
+  alpha_C|^2> (dB re 1 um), plus, per axle (two wheels: minus 3 dB), ``wheel_model`` "directive" (the default):
+  CNOSSOS-EU's L_H,veh for the nearest tabulated diameter (the 2-DOF wheel model has no radiating modes,
+  :mod:`wheelrail.core.noise.twins`); "modal": the modal wheel's L_H,veh-equivalent, its own chain excited by that
+  roughness (:func:`wheelrail.core.noise.wheel_power.with_modal_wheel`);
 - total and L_WA per wheel; per axle +3 dB (two wheels on two rails, incoherent).
 
 **Pass-by level** at the ISO 3095 position (7.5 m from the track centre, 1.2 m above the rail head): every axle a
@@ -253,10 +252,7 @@ def sound_power_from_force(force_db, track) -> dict:
     rail = power_level(track.rail_power_per_force * mean_sq_force)
     sleeper = power_level(track.sleeper_power_per_force * mean_sq_force)
     roughness = force_db + track.effective_roughness_per_force_db
-    if track.wheel_power_per_force is None:  # the directive's L_H,veh per axle on the effective roughness
-        wheel = roughness + track.wheel_transfer_db - AXLE_DB
-    else:  # the modal wheel radiates from the contact force itself
-        wheel = power_level(track.wheel_power_per_force * mean_sq_force)
+    wheel = roughness + track.wheel_transfer_db - AXLE_DB  # L_H,veh (or the modal wheel's) per axle
     powers = {"rail": rail, "sleeper": sleeper, "wheel": wheel, "total": energy_sum(rail, sleeper, wheel)}
     dba = {name: a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf)) for name, levels in powers.items()}
     return {"db": powers, "dba": dba, "axle_dba": dba["total"] + AXLE_DB, "roughness_db": roughness}
@@ -284,13 +280,14 @@ def run_noise(
     numerics : NoiseNumerics, optional
         How the track's transfer functions are computed (default :class:`wheelrail.core.noise.twins.NoiseNumerics`).
     wheel_model : str
-        "directive" (CNOSSOS-EU's L_H,veh on the effective roughness) or "modal" (the modal wheel's radiation
-        from the run's contact force): :mod:`wheelrail.core.noise.wheel_power`.
+        "directive" (CNOSSOS-EU's L_H,veh on the effective roughness) or "modal" (the modal wheel's
+        L_H,veh-equivalent on it): :mod:`wheelrail.core.noise.wheel_power`.
     wheel_profile : WheelProfile, optional
         The modal wheel's cross-section (default: the named wheel nearest the run's R, at R).
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model
+    from wheelrail.core.noise.wheel_power import checked_wheel_model, with_modal_wheel
     from wheelrail.core.results import result_of_run
     from wheelrail.core.spectra import force_spectrum
 
@@ -298,16 +295,15 @@ def run_noise(
     train_axles, train_length = checked_train(train_axles, train_length)
     _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
     params = result.header.params
-    track = track_noise_model(params, numerics, wheel_model, wheel_profile)
+    track = track_noise_model(params, numerics)
+    if checked_wheel_model(wheel_model) == "modal":  # it radiates the run's force: the 2-DOF wheel's interaction
+        track = with_modal_wheel(track, params, wheel_profile, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
     power = sound_power_from_force(force_db, track)
     powers, powers_dba, axle_dba, roughness = power["db"], power["dba"], power["axle_dba"], power["roughness_db"]
     # |p/F|^2 at the closest distance, per band: rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2)
-    if track.wheel_power_per_force is None:
-        t_wheel = 10 ** ((track.wheel_transfer_db - AXLE_DB + track.effective_roughness_per_force_db) / 10) * 1e-12
-    else:
-        t_wheel = track.wheel_power_per_force
+    t_wheel = 10 ** ((track.wheel_transfer_db - AXLE_DB + track.effective_roughness_per_force_db) / 10) * 1e-12
     t_total = track.rail_power_per_force + track.sleeper_power_per_force + t_wheel
     d = receiver_distance()
     undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True) if not np.isfinite(value)]

@@ -63,13 +63,20 @@ def modal_wheel_profile(wheel_radius: float):
 
 
 def profile_name(profile) -> str:
-    """The named wheel's name, or "parametric" with its radius."""
-    from wheelrail.core.modal_wheel import NAMED_WHEELS
+    """The named wheel's name ("freight_920"), "<name>'s shape" for a named wheel at another radius, else
+    "parametric" or "outline"."""
+    import dataclasses
 
+    from wheelrail.core.modal_wheel import NAMED_WHEELS, WheelProfile
+
+    if not isinstance(profile, WheelProfile):
+        return "outline"
     for name, named in NAMED_WHEELS.items():
         if named == profile:
             return name
-    return f"parametric {2e3 * profile.wheel_radius:.0f} mm"
+        if dataclasses.replace(named, wheel_radius=profile.wheel_radius) == profile:
+            return f"{name}'s shape"
+    return "parametric"
 
 
 @functools.lru_cache(maxsize=16)
@@ -156,3 +163,27 @@ def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, points_pe
         power[b] = np.mean(response["power_per_force"])
         per_roughness[b] = np.mean(response["power_per_force"][:, None] * force_sq)
     return {"power_per_force": power, "power_per_roughness": per_roughness, "modes": modes}
+
+
+def with_modal_wheel(track, params, wheel_profile=None, numerics=None):
+    """``track`` (a :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the 2-DOF wheel, as a run's force was
+    computed) with the modal wheel's L_H,veh-equivalent in the place of the directive's: a given force (a run's,
+    the ``noise`` study's) becomes the effective roughness that causes it in the run's own linear model (the
+    2-DOF wheel's alpha_W), and that roughness excites the modal wheel's chain (its own coupled contact force),
+    as L_H,veh does in the directive's place. Radiating the run's force directly with the modal wheel's W / F^2
+    would put the 2-DOF wheel's force into the modal wheel's undamped resonances (+16 dB(A) on a run), a force the
+    modal wheel's own receptance would have cut there. The rail and sleeper transfer functions and the effective
+    roughness stay the 2-DOF chain's."""
+    import dataclasses
+
+    from wheelrail.core.noise.twins import track_noise_model
+
+    modal = track_noise_model(params, numerics, "modal", wheel_profile)
+    source = f"{modal.wheel_source}; on the effective roughness of the force"
+    return dataclasses.replace(
+        track,
+        wheel_model="modal",
+        wheel_transfer_db=modal.wheel_transfer_db,
+        wheel_source=source,
+        configuration={**track.configuration, "wheel_model": "modal", "wheel": source},
+    )

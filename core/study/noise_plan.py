@@ -5,7 +5,9 @@ Runs: every contact model (:func:`noise_models`: the one-line models of the regi
 ``3d``) on line 0 of each set at each of :data:`NOISE_SPEEDS_KMH` (and at the study's speed).
 From each run's contact-force levels (the study's run summaries: 50 Hz - 8 kHz, so the 10 kHz band is left out)
 the sound power of the TWINS-like chain (:func:`wheelrail.core.noise.run_noise.sound_power_from_force`, per axle:
-two wheels on two rails) and the pass-by level (40 axles, 200 m, ISO 3095 position). Beside them the CNOSSOS-EU
+two wheels on two rails) and the pass-by level (40 axles, 200 m, ISO 3095 position), with the directive's wheel
+(L_H,veh), and for the reference model also with the modal wheel's L_H,veh-equivalent in its place
+(``hertz_modal_wheel_...``, :func:`wheelrail.core.noise.wheel_power.with_modal_wheel`). Beside them the CNOSSOS-EU
 source by the rule of :mod:`wheelrail.core.noise.beside` (one axle; track type ``mono-block-soft``, the Table G-3b
 wheel diameter nearest 2R, A3 for the preload and 2R), on the same roughness: the set's line 0 as the combined
 roughness (its spectrum at the speed, dB re 1 um; the directive allows measured roughness); once with A3 and once
@@ -27,6 +29,7 @@ from wheelrail.core.study.specs import REFERENCE_MODEL, one_line_models
 from wheelrail.core.study.tables import Table
 
 NOISE_SPEEDS_KMH = (50.0, 75.0, 100.0, 140.0, 200.0, 250.0, 300.0)
+MODAL_COLUMN = f"{REFERENCE_MODEL}_modal_wheel_LWA_dBA"  # the reference model with the modal wheel's transfer
 
 
 def noise_models() -> tuple[str, ...]:
@@ -85,11 +88,14 @@ def plan_noise(infos, study_params, spec_of, params_of):
         from wheelrail.core.noise.cnossos import contact_filter_a3
         from wheelrail.core.noise.run_noise import sound_power_from_force
         from wheelrail.core.noise.twins import track_noise_model
+        from wheelrail.core.noise.wheel_power import with_modal_wheel
 
         track = track_noise_model(study_params)
+        modal = with_modal_wheel(track, study_params)  # the modal wheel's L_H,veh-equivalent in the place of the table
         tables = []
         for label, (info, runs) in layout.items():
             lwa = {f"{_column(m)}_LWA_dBA": np.full(len(speeds), np.nan) for m in models}
+            lwa[MODAL_COLUMN] = np.full(len(speeds), np.nan)
             lwa["cnossos_a3_LWA_dBA"] = np.full(len(speeds), np.nan)
             lwa.update(
                 {
@@ -103,6 +109,7 @@ def plan_noise(infos, study_params, spec_of, params_of):
                 force = {m: _force_24(summaries[runs[m, v].key].levels) for m in models}
                 for m in models:
                     lwa[f"{_column(m)}_LWA_dBA"][i] = sound_power_from_force(force[m], track)["axle_dba"]
+                lwa[MODAL_COLUMN][i] = sound_power_from_force(force[REFERENCE_MODEL], modal)["axle_dba"]
                 roughness = (f"{label} line 0", _roughness_levels(info, v * KMH))
                 params = params_of(study_params, v * KMH)
                 a3 = contact_filter_a3(contact.preload, 2 * contact.radius_along, v * KMH)

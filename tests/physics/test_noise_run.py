@@ -40,7 +40,9 @@ def test_free_wave_decay_matches_the_continuously_supported_beam(small_track):
     # Known answer: an Euler-Bernoulli beam on a continuous support of the same pads, sleepers and ballast per
     # unit length, EI k^4 = m' w^2 - s(w); decay = 20 lg(e) |Im k| of the propagating wave. Valid well below
     # the pinned-pinned frequency (discrete supports) and where shear is negligible: 50-250 Hz and 400-800 Hz
-    # (around the pad resonance, 315 Hz, the discrete supports differ by 15 %). Tolerance 10 % (measured 6 %).
+    # (around the pad resonance, 315 Hz, the discrete supports differ by 14-18 %). Tolerance 6.5 %: the documented
+    # 6 % with a margin for the 2 frequencies per band (measured 5.6 % at 630 Hz here, 5.9 % on the default
+    # numerics: benchmarks/free_wave_decay.py).
     p = ModelParameters()
     rail, sup = p.track.rail, p.track.support
     f = noise_bands()
@@ -52,7 +54,7 @@ def test_free_wave_decay_matches_the_continuously_supported_beam(small_track):
     roots = k4**0.25 * np.exp(0.5j * np.pi * np.arange(4))[:, None]
     analytic = 20 * math.log10(math.e) * np.min(np.abs(roots.imag), axis=0)
     bands = (f < 270) | ((f > 350) & (f < 900))
-    np.testing.assert_allclose(small_track.free_wave_decay_db_per_m[bands], analytic[bands], rtol=0.10)
+    np.testing.assert_allclose(small_track.free_wave_decay_db_per_m[bands], analytic[bands], rtol=0.065)
 
 
 @pytest.mark.slow

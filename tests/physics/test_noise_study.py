@@ -26,6 +26,8 @@ def test_noise_study_tables_physics_and_resume(tmp_path, monkeypatch):
     # so 3d is quieter than 2d, and both quieter than the unfiltered hertz
     assert np.all(lwa.columns["3d_LWA_dBA"] < lwa.columns["2d_LWA_dBA"] - 1.0)
     assert np.all(lwa.columns["2d_LWA_dBA"] < lwa.columns["hertz_LWA_dBA"])
+    # the reference model's force radiated by the modal wheel instead of the directive's L_H,veh: a number per speed
+    assert np.all(np.isfinite(lwa.columns["hertz_modal_wheel_LWA_dBA"]))
     # rolling noise grows with speed (about 30 lg v for CNOSSOS-like roughness spectra)
     assert lwa.columns["cnossos_a3_LWA_dBA"][1] > lwa.columns["cnossos_a3_LWA_dBA"][0] + 3
     lpaeq = tables["noise_sinter-wheel-1_lpaeq_vs_speed"]
