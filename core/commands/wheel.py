@@ -108,7 +108,7 @@ def run(args) -> int:
 
     import numpy as np
 
-    from wheelrail.core.modal_wheel import contact_receptance, wheel_modes
+    from wheelrail.core.modal_wheel import contact_receptance, section_mass, wheel_modes
 
     settings = _checked(args)
     csv_path = writable_output(args.csv, "--csv") if args.csv is not None else None
@@ -125,6 +125,7 @@ def run(args) -> int:
     at_bands = contact_receptance(modes, bands, args.added_loss_factor)
     summary = {
         "wheel": profile.describe(),
+        "mass_kg": section_mass(profile, modes.material.density),
         "modes": {
             **{k: v for k, v in settings.items()},
             "count": len(modes.frequency),
@@ -176,6 +177,7 @@ def _print_summary(summary: dict) -> None:
         )
     else:
         print(f"Wheel: outline {wheel['name']} ({len(wheel['points'])} points), contact at {wheel['contact']} m")
+    print(f"  mass {summary['mass_kg']:.0f} kg (steel, the cross-section turned about the axle)")
     how = f"cached in {modes['cache']}" if modes["cache"] else "not cached"
     print(f"  {modes['count']} modes up to {modes['max_frequency']:g} Hz, n = 0..{modes['max_harmonic']}, "
           f"{modes['nodes']} nodes, {modes['time_s']:.2f} s ({how})")  # fmt: skip

@@ -11,6 +11,7 @@ from wheelrail.core.modal_wheel.profile import (
     named_profile,
     outline_profile,
     read_outline,
+    section_mass,
     wheel_profile_for,
 )
 from wheelrail.core.modal_wheel.receptance import (
@@ -36,6 +37,7 @@ __all__ = [
     "named_profile",
     "outline_profile",
     "read_outline",
+    "section_mass",
     "wheel_modes",
     "wheel_profile_for",
 ]

@@ -37,6 +37,7 @@ __all__ = [
     "named_profile",
     "outline_profile",
     "read_outline",
+    "section_mass",
     "wheel_profile_for",
 ]
 
@@ -184,6 +185,14 @@ class OutlineProfile:
 
     def describe(self) -> dict:
         return {"kind": "outline", "name": self.name, "points": [list(p) for p in self.points], "contact": self.contact}
+
+
+def section_mass(profile, density: float = 7850.0) -> float:
+    """The mass of the wheel of revolution ``profile`` describes, kg: density x 2 pi x the first moment of its
+    cross-section's area about the axis (Pappus), from its outline."""
+    r, z = profile.outline().T
+    r1, z1 = np.roll(r, -1), np.roll(z, -1)
+    return float(density * 2 * np.pi * abs(np.sum((r + r1) * (r * z1 - r1 * z))) / 6)
 
 
 def _counter_clockwise(points: np.ndarray) -> np.ndarray:

@@ -12,6 +12,7 @@ from wheelrail.core.modal_wheel import (
     contact_receptance,
     mean_square_velocity,
     named_profile,
+    section_mass,
     wheel_modes,
 )
 from wheelrail.core.modal_wheel.fem import fixed_dofs, harmonic_matrices
@@ -63,10 +64,7 @@ def test_a_free_wheel_below_its_first_mode_is_its_rigid_mass():
     # elastic modes' share is of order (5 Hz / 500 Hz)^2 of it: tolerance 0.1 %
     profile = named_profile("wheel_640")
     modes = wheel_modes(profile, max_frequency=3e3, max_harmonic=3, element_size=COARSE, clamped=False)
-    r, z = profile.outline().T
-    r1, z1 = np.roll(r, -1), np.roll(z, -1)
-    moment = np.sum((r + r1) * (r * z1 - r1 * z)) / 6  # int r dA over the section, m^3
-    mass = modes.material.density * 2 * np.pi * moment
+    mass = section_mass(profile, modes.material.density)
     omega = 2 * np.pi * 5.0
     receptance = contact_receptance(modes, [5.0]).radial[0]
     assert receptance.real == pytest.approx(-1 / (mass * omega**2), rel=1e-3)

@@ -15,6 +15,7 @@ from wheelrail.core.modal_wheel import (
     named_profile,
     outline_profile,
     read_outline,
+    section_mass,
     wheel_modes,
     wheel_profile_for,
 )
@@ -136,3 +137,9 @@ def test_a_wheel_for_a_rolling_radius_is_the_nearest_named_one_at_that_radius():
     with pytest.raises(WheelrailError) as caught:
         wheel_profile_for(0.18, "freight_920")  # no room for the 920 mm wheel's hub and rim
     assert caught.value.parameter == "wheel_hub_outer_radius"
+
+
+def test_the_section_mass_of_a_rectangle_is_its_ring():
+    # a rectangular section r = 0.1-0.4 m, 40 mm wide: a ring of pi (0.4^2 - 0.1^2) 0.04 m^3 of steel
+    profile = outline_profile([[0.1, -0.02], [0.4, -0.02], [0.4, 0.02], [0.1, 0.02]], contact_z=0.0)
+    assert section_mass(profile) == pytest.approx(7850 * np.pi * (0.4**2 - 0.1**2) * 0.04, rel=1e-12)
