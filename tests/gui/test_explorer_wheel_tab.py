@@ -94,6 +94,9 @@ def test_the_wheel_tab_states_its_wheel_and_draws_the_natural_frequencies_by_fam
     row_2 = next(line for line in tab.table_md.content.splitlines() if line.startswith("| 2 |"))
     axial_2 = np.sort(modes.frequency[(modes.harmonic == 2) & (modes.family == "axial")])
     assert row_2.split(" | ")[1] == ", ".join(f"{f:.0f}" for f in axial_2)
+    for which in ("wheel natural frequencies", "wheel receptance", "wheel sound power"):  # the PNG menu's
+        name, content = app.downloads.plot_png(which)
+        assert content[:4] == b"\x89PNG" and name.endswith(".png")
 
 
 @pytest.mark.slow
