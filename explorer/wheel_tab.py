@@ -56,16 +56,19 @@ WHEEL_NOTE = (
     "the wheel's curves pass through each natural frequency, so the peaks are at their full height (loss factors "
     "1e-3 for n = 0, 1 and 1e-4 from n = 2, plus a damper's added loss factor). *Sound power*: one wheel's, "
     "per third-octave band, for a radial force of 1 N RMS at the contact in each band (the band mean of W / F^2 "
-    "over 1000 frequencies, as the noise chain's `--wheel-model modal` computes it: each family's radiation "
-    "efficiency by n times its surfaces' mean-square velocity), split into the axially facing surfaces (web, "
-    "rim sides, hub) and the radially facing ones (tread); without the added loss factor, as the chain."
+    f"over {WHEEL_POINTS_PER_BAND} frequencies, as the noise chain's `--wheel-model modal` computes it: each "
+    "family's radiation efficiency by n times its surfaces' mean-square velocity), split into the axially "
+    "facing surfaces (web, rim sides, hub) and the radially facing ones (tread); without the added loss factor, "
+    "as the chain."
 )
 
 
 class WheelTab(ResultsTab):
-    """The modal wheel of the configuration shown (module docstring). Its modes are computed once per shape in the
-    background (a few seconds, then kept on disk), the latest shape asked for first; ``mode_settings`` are those
-    of :func:`wheelrail.core.modal_wheel.wheel_modes` (tests set a coarse mesh)."""
+    """The modal wheel of the configuration shown (module docstring). Its modes, then its sound power, are computed
+    once per shape in the background by one worker (seconds for the modes, then kept on disk; the radiation table
+    a minute or more the first time for a radius, tyre width and bore), the latest shape asked for first;
+    ``mode_settings`` are those of :func:`wheelrail.core.modal_wheel.wheel_modes` and ``points_per_band`` the
+    power's band means' (tests set fewer)."""
 
     title, icon = "Wheel", viser.Icon.DISC
 
@@ -190,7 +193,11 @@ class WheelTab(ResultsTab):
         self._draw_frequencies(modes)
         self._draw_receptance(modes, added, self._track_curves(config))
         if power is None or isinstance(power, str):
-            why = "computing the wheel's sound power (up to a minute, once per shape) ..." if power is None else power
+            why = (
+                "computing the wheel's sound power (seconds; a minute or more for a new radius or rim) ..."
+                if power is None
+                else power
+            )
             self.power.clear(why)
         else:
             self._draw_power(power)
@@ -200,15 +207,17 @@ class WheelTab(ResultsTab):
             plot.clear(why)
         self.wheel_md.content, self.table_md.content = words, ""
 
-    def _track_curves(self, config) -> dict | None:
-        """The Track tab's band receptances of the configuration's track (None: not computed yet or failed;
-        this tab is redrawn when they are)."""
+    def _track_curves(self, config) -> dict | str:
+        """The Track tab's band receptances of the configuration's track, or why there are none (being computed:
+        this tab is redrawn when they are; or the track's error)."""
         track_tab = self.parts.find_tab(TrackTab)
         if not self._following:
             track_tab.followers.append(self)
             self._following = True
         curves = track_tab.curves(config.params().track)
-        return curves[0] if isinstance(curves, tuple) else None
+        if curves is None:
+            return "being computed ..."
+        return curves[0] if isinstance(curves, tuple) else curves
 
     def _draw_frequencies(self, modes) -> None:
         n = np.arange(modes.max_harmonic + 1, dtype=float)
@@ -222,12 +231,12 @@ class WheelTab(ResultsTab):
             return
         self.frequencies.show((n, *columns), tuple(series), title="Natural frequencies by family and n")
 
-    def _draw_receptance(self, modes, added: float, track: dict | None) -> None:
+    def _draw_receptance(self, modes, added: float, track: dict | str) -> None:
         from wheelrail.core.modal_wheel import contact_receptance
 
         low, high = RECEPTANCE_RANGE_HZ
         natural = modes.frequency[(modes.frequency > low) & (modes.frequency < high)]
-        centres = track["frequency_hz"] if track is not None else np.zeros(0)
+        centres = track["frequency_hz"] if isinstance(track, dict) else np.zeros(0)
         f = np.unique(np.concatenate([np.geomspace(low, high, GRID_POINTS), natural, centres]))
         wheel = contact_receptance(modes, f, added_loss_factor=added)
         curves = {
@@ -236,14 +245,14 @@ class WheelTab(ResultsTab):
             "wheel cross": wheel.cross,
         }
         columns = {name: 20 * np.log10(np.maximum(np.abs(values), 1e-30)) for name, values in curves.items()}
-        if track is not None:
+        if isinstance(track, dict):
             bands = track["frequency_hz"]
             inside = (f >= bands[0]) & (f <= bands[-1])
             for name, key in (("track above a sleeper", "above_sleeper_m_per_n"), ("track midspan", "midspan_m_per_n")):
                 level = np.interp(np.log10(f), np.log10(bands), 20 * np.log10(track[key]))
                 columns[name] = np.where(inside, level, np.nan)
         series = tuple((name, RECEPTANCE_COLOURS[name], SOLID) for name in columns)
-        title = "Receptance at the contact" + ("" if track is not None else " (the track's: being computed ...)")
+        title = "Receptance at the contact" + ("" if isinstance(track, dict) else f" (the track's: {track})")
         self.receptance.show(bands_with_data(f, list(columns.values())), series, title=title)
 
     def _draw_power(self, power: dict) -> None:
