@@ -324,16 +324,18 @@ class Choice:
     label: str
     help: str
     words: tuple[str, ...]
+    cli: str = ""
 
     @property
     def option(self) -> str:
-        """The command-line option: ``--`` + the key (``--wheel-model``)."""
-        return "--" + self.key.replace("_", "-")
+        """The command-line option: ``cli`` if given (``--wheel-model`` for ``noise_wheel_model``: the command
+        names its own wheel), else ``--`` + the key."""
+        return self.cli or "--" + self.key.replace("_", "-")
 
     @property
     def dest(self) -> str:
         """The option's attribute name in argparse's namespace (``wheel_model``)."""
-        return self.key
+        return self.option[2:].replace("-", "_")
 
     def check(self, value) -> str:
         """``value`` if it is one of ``values``, else one WheelrailError keyed by ``key``."""
@@ -349,7 +351,7 @@ class Choice:
 
 CHOICES: tuple[Choice, ...] = (
     Choice(
-        "wheel_model",
+        "noise_wheel_model",
         ("directive", "modal"),
         "directive",
         "Wheel model (noise)",
@@ -358,10 +360,11 @@ CHOICES: tuple[Choice, ...] = (
             "CNOSSOS-EU's L_H,veh, Table G-3b, for the tabulated diameter nearest 2R",
             "the axisymmetric FE wheel of radius R radiating from its own modes",
         ),
+        cli="--wheel-model",  # `wheelrail noise --wheel-model`; `run --wheel-model` (2dof|modal) is the interaction's
     ),
 )
 """Every user-facing choice among named values (front ends offer ``values``; ``wheelrail.core.noise.wheel_power``
-uses ``wheel_model``'s)."""
+uses ``noise_wheel_model``'s)."""
 
 
 def choice(key: str) -> Choice:

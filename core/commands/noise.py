@@ -55,7 +55,7 @@ def add_parser(sub):
     parser.add_argument("--run", metavar="RESULT.npz", help="a run saved with `wheelrail run --out` (any model)")
     _add_source_options(parser)
     _add_train_options(parser)
-    add_choice_option(parser, "wheel_model", "--method twins and --run: ")
+    add_choice_option(parser, "noise_wheel_model", "--method twins and --run: ")
     add_input_options(parser, "geometry", "track", helps=_TRACK_HELP)
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     # every option with its default, so that run() can refuse one a mode does not use (given, even if invalid)

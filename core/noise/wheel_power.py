@@ -37,8 +37,8 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import choice
 from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
 
-WHEEL_MODELS = choice("wheel_model").values  # ("directive", "modal")
-DEFAULT_WHEEL_MODEL = choice("wheel_model").default
+WHEEL_MODELS = choice("noise_wheel_model").values  # ("directive", "modal")
+DEFAULT_WHEEL_MODEL = choice("noise_wheel_model").default
 MAX_HARMONIC = 10  # n = 0..10 nodal diameters: every wheel mode of the 640-920 mm wheels below 10 kHz
 MAX_FREQUENCY = 12.5e3  # Hz: modes up to the top band's upper edge (11.2 kHz) and some above
 SIGMA_TABLE_HZ = (35.0, 12500.0, 77)  # radiation efficiency table: 30 points per decade, interpolated in lg f
@@ -50,7 +50,7 @@ WHEEL_POINTS_PER_BAND = 1000
 
 def checked_wheel_model(wheel_model) -> str:
     """``wheel_model`` if it is one of :data:`WHEEL_MODELS`, else one WheelrailError naming them."""
-    return choice("wheel_model").check(wheel_model)
+    return choice("noise_wheel_model").check(wheel_model)
 
 
 def modal_wheel_profile(wheel_radius: float):

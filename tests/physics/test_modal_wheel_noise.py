@@ -67,6 +67,7 @@ def test_wheel_band_sampling_is_converged(modal_920):
     assert np.all(np.abs(finer.wheel_transfer_db[bands] - modal_920.wheel_transfer_db[bands]) < 0.6)
 
 
+@pytest.mark.slow
 def test_a_force_becomes_roughness_and_either_wheel_radiates_it():
     """A force (a run's, the study's) becomes the effective roughness of its own (2-DOF) linear model; the wheel's
     power is that roughness plus the wheel's transfer per axle, minus 3 dB, exactly: the directive's L_H,veh or

@@ -183,3 +183,22 @@ def test_a_run_states_its_track_and_contact_geometry(capsys):
     text = capsys.readouterr().out
     assert "  track: pad stiffness 120 MN/m, pad damping 16 kNs/m, sleeper mass 125 kg" in text
     assert "a = 5.48 mm along, b = 5.48 mm across" in text
+
+
+def test_the_wheel_model_is_a_declared_choice():
+    """--wheel-model is declared once (core.inputs.CHOICES): its values, default, option and error key."""
+    from wheelrail.core.commands._common import CLI_NAMES
+    from wheelrail.core.errors import WheelrailError
+    from wheelrail.core.inputs import choice
+    from wheelrail.core.noise.wheel_power import DEFAULT_WHEEL_MODEL, WHEEL_MODELS
+
+    entry = choice("noise_wheel_model")
+    assert entry.values == WHEEL_MODELS == ("directive", "modal") and entry.default == DEFAULT_WHEEL_MODEL
+    assert entry.option == "--wheel-model" and CLI_NAMES["noise_wheel_model"].label == "--wheel-model"
+    assert "directive: CNOSSOS-EU" in entry.help_text() and "default directive" in entry.help_text()
+    try:
+        entry.check("fem")
+    except WheelrailError as error:
+        assert error.parameter == "noise_wheel_model"
+    else:
+        raise AssertionError("an unknown wheel model was accepted")
