@@ -296,7 +296,7 @@ def run_noise(
     _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
     params = result.header.params
     track = track_noise_model(params, numerics)
-    if checked_wheel_model(wheel_model) == "modal":  # it radiates the run's force: the 2-DOF wheel's interaction
+    if checked_wheel_model(wheel_model) == "modal":  # its L_H,veh-equivalent on the run's effective roughness
         track = with_modal_wheel(track, params, wheel_profile, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
@@ -307,7 +307,26 @@ def run_noise(
     t_total = track.rail_power_per_force + track.sleeper_power_per_force + t_wheel
     d = receiver_distance()
     undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True) if not np.isfinite(value)]
-    configuration = {
+    configuration = _configuration(result, track, train_axles, train_length, undefined)
+    return RunNoise(
+        frequency_hz=noise_bands(),
+        force_db=force_db,
+        effective_roughness_db=roughness,
+        sound_power_db=powers,
+        sound_power_dba=powers_dba,
+        axle_dba=axle_dba,
+        pass_by_laeq_dba=pass_by_level(axle_dba, int(train_axles), float(train_length)),
+        configuration=configuration,
+        cnossos=cnossos_beside_run(result),
+        _force=np.asarray(result.force, dtype=float),
+        _time_step=result.time_step,
+        _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
+    )
+
+
+def _configuration(result, track, train_axles, train_length, undefined) -> dict:
+    """What produced a run's noise (``RunNoise.configuration``)."""
+    return {
         "run": {
             "model": result.model,
             "roughness": result.roughness_name,
@@ -327,20 +346,6 @@ def run_noise(
         # bands above the run's Nyquist frequency (v / (2 dx)): null, left out of the dB(A) totals
         "undefined_bands_hz": undefined,
     }
-    return RunNoise(
-        frequency_hz=noise_bands(),
-        force_db=force_db,
-        effective_roughness_db=roughness,
-        sound_power_db=powers,
-        sound_power_dba=powers_dba,
-        axle_dba=axle_dba,
-        pass_by_laeq_dba=pass_by_level(axle_dba, int(train_axles), float(train_length)),
-        configuration=configuration,
-        cnossos=cnossos_beside_run(result),
-        _force=np.asarray(result.force, dtype=float),
-        _time_step=result.time_step,
-        _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
-    )
 
 
 def _check_run_length(result) -> None:

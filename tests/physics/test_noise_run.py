@@ -192,6 +192,10 @@ def test_cli_run_and_twins(tmp_path, wheel_run):
     text = _cli("--run", str(path))
     assert text.returncode == 0 and "CNOSSOS-EU beside it" in text.stdout, text.stderr
     assert "A3 for the model's 2R = 780 mm" in text.stdout and "L_H,veh of the 840 mm column" in text.stdout
+    modal = _cli("--run", str(path), "--wheel-model", "modal", "--json")
+    assert modal.returncode == 0, modal.stderr
+    configuration = json.loads(modal.stdout)["configuration"]
+    assert configuration["wheel_model"] == "modal" and configuration["wheel"].startswith("modal wheel (wheel_840's")
     assert wav.stat().st_size > 1000 and out["wav"]["full_scale_pa"] > 0
     bad = _cli("--run", str(tmp_path / "missing.npz"))
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1
