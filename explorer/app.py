@@ -134,6 +134,7 @@ class ExplorerApp:
             choose_overlay=self.choose_overlay,
             choose_model=self.choose_model,
             redraw=self.redraw_tab,
+            find_tab=self.tab,
         )
         panel = gui.add_panel()
         self.tabs = tuple(tab_class(parts, panel.add_tab(tab_class.title, tab_class.icon)) for tab_class in RESULT_TABS)

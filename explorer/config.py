@@ -29,6 +29,7 @@ __all__ = [
     "COMPARE_ORDER",
     "FIELD_NAMES",
     "MODEL_CHOICES",
+    "NEAREST_WHEEL",
     "NO_LINE_FITS",
     "NO_WHEEL_SET",
     "RunConfig",
@@ -43,6 +44,8 @@ __all__ = [
     "read_inputs",
     "read_session",
     "read_train",
+    "read_wheel",
+    "WHEEL_SHAPE_KEYS",
 ]
 
 COMPARE = "compare"
@@ -78,7 +81,12 @@ FIELD_NAMES: dict[str, Name] = {
         for key in ACCEPTED
         if key.startswith("wheel_") and key not in page_names()
     },
+    "wheel_name": Name("Wheel shape"),  # the Wheel tab's named wheel
+    "added_loss_factor": Name("Added loss factor"),  # the Wheel tab's damper
 }
+NEAREST_WHEEL = "nearest"  # the Wheel tab's choice of the named wheel nearest the run's wheel radius
+WHEEL_SHAPE_KEYS = tuple(k for k in ACCEPTED if k.startswith("wheel_") and k not in page_names())
+"""The modal wheel's shape inputs besides its radius (the Wheel tab's fields): ``wheel_tyre_width``, ..."""
 NO_LINE_FITS = "no line fits"  # the Line menu when the model cannot run on any line of the set(s)
 
 
@@ -241,6 +249,20 @@ def read_train(axles_text, length_text) -> tuple[int, float]:
     if axles != round(axles):
         raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=str(axles_text))
     return checked_train(int(axles), _number(length_text, "train_length"))
+
+
+def read_wheel(name: str, wheel_radius: float, shape: dict[str, str], added_text) -> tuple[object, float]:
+    """The Wheel tab's wheel: the named wheel ``name`` (or the nearest, :data:`NEAREST_WHEEL`) at the run's rolling
+    radius (m), each shape field typed (mm; ``shape``: key -> text, empty: the named wheel's) set on it, and the
+    added loss factor (empty: 0); or one WheelrailError in the page's words."""
+    from wheelrail.core.modal_wheel import modal_loss_factor, wheel_profile_for
+
+    profile = wheel_profile_for(wheel_radius, None if name == NEAREST_WHEEL else name)
+    typed = {key: _number(text, key) * 1e-3 for key, text in shape.items() if str(text).strip()}
+    profile = replace(profile, **{key.removeprefix("wheel_"): value for key, value in typed.items()})
+    added = _number(added_text, "added_loss_factor") if str(added_text).strip() else 0.0
+    modal_loss_factor(0, "axial", added)  # its range, said now
+    return profile, added
 
 
 def _span(lines: tuple[int, ...]) -> str:

@@ -5,7 +5,7 @@ A tab's controls get their callbacks where they are built (viser's pattern), thr
 the :class:`~wheelrail.explorer.page.Page` guards them, the :class:`~wheelrail.explorer.replay.Replay` and
 :class:`~wheelrail.explorer.downloads.Downloads` do their work, and ``choose_overlay``/``choose_model`` tell the
 page a user's choice. The tabs themselves are in ``patch_tab``, ``spectra_tab``, ``noise_tab``, ``track_tab``,
-``roughness_tab`` and ``help_tab``; :data:`wheelrail.explorer.tabs.RESULT_TABS` lists them in page order.
+``wheel_tab``, ``roughness_tab`` and ``help_tab``; :data:`wheelrail.explorer.tabs.RESULT_TABS` lists them in page order.
 """
 
 from __future__ import annotations
@@ -36,7 +36,8 @@ NO_OVERLAY = "none"  # the overlay menus' choice of no run overlaid
 @dataclass(frozen=True)
 class TabParts:
     """What a tab is handed: the page, the run form, the replay, the downloads, and what a user's choice of the
-    run overlaid or of the model shown does, and how a tab asks to be redrawn (curves computed later)."""
+    run overlaid or of the model shown does, how a tab asks to be redrawn (curves computed later) and how it
+    finds another tab (``find_tab(TrackTab)``: the Wheel tab draws the Track tab's receptance)."""
 
     page: Page
     form: RunForm
@@ -45,6 +46,7 @@ class TabParts:
     choose_overlay: Callable[[str], None]
     choose_model: Callable[[str], None]
     redraw: Callable[[object], None]
+    find_tab: Callable[[type], object]
 
 
 @dataclass(frozen=True)

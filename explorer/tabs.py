@@ -9,7 +9,8 @@ from wheelrail.explorer.patch_tab import PatchTab
 from wheelrail.explorer.roughness_tab import RoughnessTab
 from wheelrail.explorer.spectra_tab import SpectraTab
 from wheelrail.explorer.track_tab import TrackTab
+from wheelrail.explorer.wheel_tab import WheelTab
 
-__all__ = ["RESULT_TABS", "HelpTab", "NoiseTab", "PatchTab", "RoughnessTab", "SpectraTab", "TrackTab"]
+__all__ = ["RESULT_TABS", "HelpTab", "NoiseTab", "PatchTab", "RoughnessTab", "SpectraTab", "TrackTab", "WheelTab"]
 
-RESULT_TABS = (PatchTab, SpectraTab, NoiseTab, TrackTab, RoughnessTab, HelpTab)
+RESULT_TABS = (PatchTab, SpectraTab, NoiseTab, TrackTab, WheelTab, RoughnessTab, HelpTab)

@@ -42,6 +42,7 @@ class TrackTab(ResultsTab):
         self._curves: dict = {}  # track -> (bands, decay) or the error's words, once computed
         self._computing: set = set()
         self._last: Shown | None = None
+        self.followers: list = []  # other tabs that draw these curves (the Wheel tab), redrawn with this one
 
     def plots(self) -> dict[str, Plot]:
         return {"point receptance": self.receptance, "decay rate": self.decay}
@@ -64,7 +65,8 @@ class TrackTab(ResultsTab):
         finally:
             self._computing.discard(track)
         if self._last is not None:  # redraw what is shown now, if it still wants this track
-            self.parts.redraw(self)
+            for tab in (self, *self.followers):
+                self.parts.redraw(tab)
 
     def show(self, shown: Shown) -> None:
         self._last = shown
