@@ -382,6 +382,14 @@ def _integrate(
     m = loads.shape[1]
     group = m if progress is None else COLUMN_BLOCK * max(1, numba.get_num_threads())
     phase = _integrating_phase(m, n_steps, len(model.node_x)) if progress is not None else ""
+    if progress is not None:  # numba's code for the loop loaded (compiled on a fresh install) as a phase of its own
+        progress(LOADING_PHASE, 0, 1)
+        first = int(counts[0, 0])  # one step of one column (offsets[0, 0] is 0) into a scratch array
+        _newmark_columns(
+            mb, cb, krb, k_chol, m_chol, weights, b, np.ascontiguousarray(loads[:, :1]), dt, 1, stride,
+            model.w_dof, model.theta_dof, nodes[:1], counts[:1], offsets[:1], np.zeros((first, 2)), impulse,
+        )  # fmt: skip
+        progress(LOADING_PHASE, 1, 1)
     for c0 in range(0, m, group):
         if progress is not None:
             progress(phase, c0, m)
@@ -409,6 +417,9 @@ def _integrate(
     if progress is not None:
         progress(phase, m, m)
     return out
+
+
+LOADING_PHASE = "loading the integration's compiled code (compiled once after installation)"
 
 
 def _integrating_phase(columns: int, n_steps: int, n_nodes: int) -> str:
