@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 _TICKER = re.compile(r" \.\.\.( \d+ s)?$")
-_DETAILS = re.compile(r" \(\d+ of \d+\)|,? about \d+ s( left)?|, estimate \d+ s")
+_DETAILS = re.compile(r", about \d+ s left| \(\d+ of \d+\)$")  # the estimate, then a counter at the end
 
 
 class _Recorder:
@@ -72,7 +72,11 @@ class _Recorder:
 
 
 def _phase(text: str) -> str:
-    return _DETAILS.sub("", _TICKER.sub("", text))
+    """A status line without its ticker, estimate and counter: the phase it names."""
+    text = _TICKER.sub("", text)
+    while _DETAILS.search(text):
+        text = _DETAILS.sub("", text)
+    return text
 
 
 def first_run_here() -> None:
@@ -95,7 +99,7 @@ def first_run_here() -> None:
             phases.append([name, when, when, 0, []])
         phases[-1][2] = when
         phases[-1][3] += 1
-        estimate = re.search(r"about (\d+) s( left)?", text)
+        estimate = re.search(r"about (\d+) s", text)
         if estimate:
             phases[-1][4].append(int(estimate.group(1)))
     print(f"first Run, fresh install (empty track and numba caches), {config.label()}: {recorder.outcome}")

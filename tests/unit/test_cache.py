@@ -259,9 +259,9 @@ def integrating_phase(events) -> str:
 
 
 def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
-    # before: a cold first run showed "1 of 2" for minutes; the integration now reports per group
+    # before: a cold first run showed "1 of 2" for minutes; the integration now reports per block
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
-    numerics = dataclasses.replace(SMALL, positions_per_bay=32)  # 4 blocks of 8 load positions
+    numerics = dataclasses.replace(SMALL, positions_per_bay=32)  # 2 blocks of 16 load positions
     events = []
     track._MEMORY.clear()
     reported = track.stationary_track_response(None, numerics, progress=lambda *event: events.append(event))
@@ -273,10 +273,10 @@ def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
         "writing the cache entry",
     ]
     integrating = [(done, total) for phase, done, total in events if phase.startswith("integrating")]
-    import numba
+    from wheelrail.core.track.stationary import COLUMN_BLOCK
 
-    groups = -(-32 // (8 * numba.get_num_threads()))  # one group of 8 load positions per thread
-    assert integrating == [(min(32, i * 32 // groups), 32) for i in range(groups)] + [(32, 32)]
+    # at the start, then as each block of load positions ends (in parallel threads: the columns done add up)
+    assert integrating == [(0, 32)] + [(min(32, (i + 1) * COLUMN_BLOCK), 32) for i in range(-(-32 // COLUMN_BLOCK))]
     assert "32 load positions x 1001 steps" in integrating_phase(events)
     quiet = track.compute_stationary_response(TrackParameters(), numerics)  # one call, no groups
     np.testing.assert_array_equal(reported.data, quiet.data)  # the same blocks, the same numbers
