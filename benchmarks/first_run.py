@@ -11,7 +11,7 @@ precompute and every compilation are counted, as on a fresh install.
 Phases are the status lines with the seconds ticker (`` ... 12 s``), the counters (``(3 of 8)``) and the
 estimates (``about 9 s left``) taken off. ``--base DIR`` runs the same in another checkout (with its
 ``DIR/.venv/bin/python``) right after, for a side-by-side figure; the load average is printed with each.
-Target (issue 29): under 60 s on a quiet 2-core machine, every phase named, a real progress bar and estimate.
+Target: under 60 s on a quiet 2-core machine, every phase named, a real progress bar and estimate.
 
     python3 benchmarks/first_run.py [--base /path/to/other/checkout]
 """
