@@ -44,14 +44,39 @@ def thread_cpu_times() -> dict[str, float]:
     return out
 
 
+class ThreadSampler:
+    """Samples each thread's CPU time every ``interval`` s while a block runs: the precompute's worker threads
+    end with it (their /proc entries go), so each keeps the last figure seen (at most ``interval`` s short)."""
+
+    def __init__(self, interval: float = 0.1) -> None:
+        import threading
+
+        self.interval, self.seen, self._stop = interval, {}, threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    def _run(self) -> None:
+        while not self._stop.wait(self.interval):
+            self.seen.update(thread_cpu_times())
+
+    def __enter__(self) -> ThreadSampler:
+        self.seen.update(thread_cpu_times())
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._stop.set()
+        self._thread.join()
+        self.seen.update(thread_cpu_times())
+
+
 def cores_used(before: dict[str, float], after: dict[str, float], total: float) -> str:
-    """Which threads did the work (numba's prange blocks): both cores used if two threads each took a share."""
+    """Which threads did the work (the blocks of columns): both cores used if two threads each took a share."""
     if not after:
         return "threads: not measured (no /proc)"
     spent = sorted((after[t] - before.get(t, 0.0) for t in after), reverse=True)
     busy = [s for s in spent if s > 0.1 * max(total, 1e-9)]
     verdict = "both cores used" if len(busy) >= 2 else "one core used"
-    return f"{verdict}: CPU s per busy thread {', '.join(f'{s:.1f}' for s in busy)} (numba threads {numba_threads()})"
+    return f"{verdict}: CPU s per busy thread {', '.join(f'{s:.1f}' for s in busy)} (threads {numba_threads()})"
 
 
 def numba_threads() -> int:
@@ -73,16 +98,17 @@ def main() -> None:
 
     threads_before = thread_cpu_times()
     load = os.getloadavg()[0]
-    start, cpu_start = time.perf_counter(), time.process_time()
-    response = track.stationary_track_response(params, numerics)
-    t_build, cpu_build = time.perf_counter() - start, time.process_time() - cpu_start
+    with ThreadSampler() as sampler:
+        start, cpu_start = time.perf_counter(), time.process_time()
+        response = track.stationary_track_response(params, numerics)
+        t_build, cpu_build = time.perf_counter() - start, time.process_time() - cpu_start
     size = Path(response.cache_path).stat().st_size
     print(
         f"one-off precompute (70 bays, {numerics.positions_per_bay} positions, "
         f"{numerics.duration * 1e3:.0f} ms at {numerics.time_step * 1e6:.0f} us): {t_build:6.2f} s wall, "
         f"{cpu_build:.2f} s CPU, load {load:.1f} before   target < 15 s on 2 cores"
     )
-    print("  " + cores_used(threads_before, thread_cpu_times(), cpu_build))
+    print("  " + cores_used(threads_before, sampler.seen, cpu_build))
     print(f"cache on disk: {size / 1e6:.1f} MB  ({response.cache_path})")
 
     times = []

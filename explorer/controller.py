@@ -75,6 +75,7 @@ class RunController:
         tick: float = TICK_INTERVAL,
     ) -> None:
         self._noise_transfer = None
+        self._loads_solver = prepare is None  # core's runs: a first preparation loads the solver as a step of its own
         if prepare is None:
             from wheelrail.core.interaction import prepare_run as prepare
 
@@ -238,20 +239,16 @@ class RunController:
     def _prepared(self, generation: int, config: RunConfig, roughness: tuple, first: bool):
         """The run of one model, prepared in honest steps: the first run on a track and speed computes the track's
         Green's functions (once per track, then cached on disk; a new track's precompute says its phases, with
-        the progress bar and an estimate) and compiles the solver; later ones only set up."""
+        the progress bar and an estimate of the time left) and loads the solver (compiled on a fresh install);
+        later ones only set up."""
         roughness, wheel = roughness
         combined = {} if wheel is None else {"wheel_roughness": _source(wheel, config.wheel_set_label)}
+        source = _source(roughness, config.set_label)
         speed = f"Preparing the track for {config.speed / KMH:g} km/h"
+        steps = 3 if self._loads_solver else 2
         if first:
-            now = {"text": f"{speed} (1 of 2): its Green's functions, computed once per track and kept on disk"}
-
-            def progress(phase: str, done: int, total: int) -> None:  # a new track's precompute, phase by phase
-                now["text"] = f"{speed} (1 of 2): {phase}" + (f" ({done} of {total})" if total > 1 else "")
-                if self._current(generation):
-                    self.listener.status(f"{now['text']} ...")
-                    if total > 1:
-                        self.listener.progress(done / total)
-
+            now = {"text": f"{speed} (1 of {steps}): its Green's functions, computed once per track and kept on disk"}
+            progress = self._precompute_progress(generation, f"{speed} (1 of {steps})", now)
             with self._ticking(generation, lambda: now["text"]):
                 with self._first_preparation:  # a warm-up under way finishes first
                     if self._precompute is not None:
@@ -259,20 +256,55 @@ class RunController:
                             self._precompute(config.params())
             if not self._current(generation):
                 return None
+            if self._loads_solver:
+                text = f"{speed} (2 of 3): loading the contact solver (compiled once after installation)"
+                with self._ticking(generation, text):
+                    self._load_solver(config, source, combined)
+                if not self._current(generation):
+                    return None
         text = (
-            f"{speed} (2 of 2): roughness and contact solver, which the first run compiles"
+            f"{speed} ({steps} of {steps}): roughness and run set-up"
+            + ("" if self._loads_solver else ", and the contact solver, which the first run compiles")
             if first
             else f"Preparing {config.label()}"
         )
         with self._ticking(generation, text):
             return self._prepare(
-                _source(roughness, config.set_label),
+                source,
                 model=config.model,
                 line=config.line,
                 params=config.params(),
                 length=config.length,
                 **combined,
             )
+
+    def _precompute_progress(self, generation: int, prefix: str, now: dict):
+        """The track precompute's ``progress(phase, done, total)`` for the page: the phase named, the bar, and
+        once a part is done the time left, from the pace so far (``now["text"]``: the line the ticker repeats)."""
+        began = {}
+
+        def progress(phase: str, done: int, total: int) -> None:
+            began.setdefault(phase, time.perf_counter())
+            text = f"{prefix}: {phase}" + (f" ({done} of {total})" if total > 1 else "")
+            if 0 < done < total:
+                left = (time.perf_counter() - began[phase]) * (total - done) / done
+                text += f", about {left:.0f} s left"
+            now["text"] = text
+            if self._current(generation):
+                self.listener.status(f"{text} ...")
+                if total > 1:
+                    self.listener.progress(done / total)
+
+        return progress
+
+    def _load_solver(self, config: RunConfig, source, combined: dict) -> None:
+        """The model's compiled stepping code loaded (compiled on a fresh install) by the first step of a
+        throw-away run of this configuration, as :meth:`warm_up` does: so that the page names this wait."""
+        run = self._prepare(
+            source, model=config.model, line=config.line, params=config.params(), length=config.length, **combined
+        )
+        next(iter(run.steps()), None)
+        run.cancel()
 
     def _one_model(
         self, generation: int, config: RunConfig, roughness: tuple, position: tuple[int, int], first: bool = False

@@ -1,4 +1,4 @@
-"""The command line's account of a track precompute: a track not yet in the disk cache costs tens of seconds (its
+"""The command line's account of a track precompute: a track not yet in the disk cache costs about 16 s of CPU (its
 Green's functions, ``wheelrail.core.track.progress``); on a terminal each phase is announced as it starts,
 the integration with a progress bar and its time estimate, like the run's own bar (nothing when stderr is
 not a terminal: pipes and ``--json`` stay clean)."""

@@ -192,28 +192,27 @@ def _prepare(args, params, out, sink):
 
 def _execute(args, interaction, sink):
     """Run with a progress bar on a terminal; Ctrl-C stops between steps (the recording aborted on any error)."""
-    from tqdm import tqdm
+    bar = None
+    if not args.json and sys.stderr.isatty():  # tqdm imported only to be shown (its import: ~15 ms)
+        from tqdm import tqdm
 
-    bar = tqdm(
-        total=interaction.n_steps,
-        unit="step",
-        disable=args.json or not sys.stderr.isatty(),
-        desc=f"{args.model} {args.speed_kmh:g} km/h",
-        file=sys.stderr,
-    )
+        bar = tqdm(
+            total=interaction.n_steps, unit="step", desc=f"{args.model} {args.speed_kmh:g} km/h", file=sys.stderr
+        )
 
     def progress(done, total):
         bar.update(done - bar.n)
 
     try:
         with _StopOnCtrlC(interaction):
-            result = interaction.run(callback=sink, progress=progress)
+            result = interaction.run(callback=sink, progress=progress if bar is not None else None)
     except BaseException:
         if sink is not None:
             sink.abort()
         raise
     finally:
-        bar.close()
+        if bar is not None:
+            bar.close()
     return result
 
 

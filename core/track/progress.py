@@ -1,11 +1,14 @@
-"""Progress of a track's Green's-function precompute (tens of seconds for a track not yet in the disk cache).
+"""Progress of a track's Green's-function precompute (16 s of CPU, about 8 s on 2 free cores, for a track
+not yet in the disk cache).
 
 ``compute_stationary_response`` and ``stationary_track_response`` take ``progress``, a callable
 ``progress(phase, done, total)``: ``phase`` a short sentence saying what is being done (it names the work and,
 when the cache knows how fast this machine computed an earlier track, an estimate of the time), ``done`` of
 ``total`` units of that phase. It is called a few times per phase, never per time step (cheap). The phases
-are ``PHASES``: the FE track assembled and factorised, the impulse responses integrated (one call per group
-of excitation positions integrated in parallel), the entry written to the cache.
+are ``PHASES``: the FE track assembled and factorised, the integration's compiled code loaded (numba compiles it
+on a fresh install: that wait is named, not counted in the integration), the impulse responses integrated (one
+call at the start and one as each block of excitation positions, integrated in parallel threads, ends), the
+entry written to the cache.
 
 A caller that does not call these functions itself (the command line prepares a run through
 ``prepare_run``) sets the callable for everything below it with ``with track_progress(callback): ...``.
@@ -18,7 +21,7 @@ import contextvars
 from collections.abc import Callable, Iterator
 
 Progress = Callable[[str, int, int], None]
-PHASES = ("assembling", "integrating", "saving")
+PHASES = ("assembling", "loading", "integrating", "saving")
 _CURRENT: contextvars.ContextVar[Progress | None] = contextvars.ContextVar("wheelrail_track_progress", default=None)
 
 

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 if TYPE_CHECKING:
     pass
@@ -147,7 +147,8 @@ def _relaxation_update(b, q, u_old, u_new):
 
 # A numba loop over time steps: 18 arguments because every array it reads or fills is one, so that the whole
 # loop compiles to one function numba caches on disk (a structure or a jitted callable would defeat the cache).
-@njit(cache=True, fastmath=True)
+# Without the GIL: blocks of columns run in parallel Python threads (``_integrate``).
+@njit(cache=True, fastmath=True, nogil=True)
 def _newmark_block(
     mb, cb, krb, k_chol, m_chol, weights, b, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out,
     impulse,
@@ -159,7 +160,7 @@ def _newmark_block(
     The rail's relaxation terms (``weights``, ``b``; none for an undamped rail) act through ``krb``, K_rail's band.
     Recorded on the wedge: stored step s = k / stride keeps, for column e, w and theta of the nodes
     nodes[e, 0 .. counts[e, s] - 1] in out[offsets[e, s] + r, 0:2].
-    A few columns at a time (``_newmark_columns``) keep the work arrays in the processor's cache.
+    A few columns at a time (``COLUMN_BLOCK``, from ``_integrate``) keep the work arrays in the processor's cache.
     """
     n, m = load.shape
     c1 = 4.0 / dt**2
@@ -214,42 +215,11 @@ def _newmark_block(
                     out[base + r, 1] = u[th_dof[node], e]
 
 
-# Columns integrated together: 8 doubles per row fill a cache line and keep the five work arrays of a
-# 70-bay track (a few thousand DOFs) within the processor's cache; blocks run in parallel (numba prange).
-COLUMN_BLOCK = 8
-
-
-@njit(cache=True, parallel=True)
-def _newmark_columns(
-    mb, cb, krb, k_chol, m_chol, weights, b, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out,
-    impulse,
-):  # fmt: skip
-    """``_newmark_block`` over blocks of ``COLUMN_BLOCK`` columns, the blocks in parallel threads."""
-    m = load.shape[1]
-    n_blocks = (m + COLUMN_BLOCK - 1) // COLUMN_BLOCK
-    for blk in prange(n_blocks):
-        c0 = blk * COLUMN_BLOCK
-        c1 = min(m, c0 + COLUMN_BLOCK)
-        _newmark_block(
-            mb,
-            cb,
-            krb,
-            k_chol,
-            m_chol,
-            weights,
-            b,
-            np.ascontiguousarray(load[:, c0:c1]),
-            dt,
-            n_steps,
-            stride,
-            w_dof,
-            th_dof,
-            nodes[c0:c1],
-            counts[c0:c1],
-            offsets[c0:c1],
-            out,
-            impulse,
-        )
+# Columns integrated together: 16 doubles per row, so that the compiler vectorises the loops over the columns
+# (with 8 it did not: the integration took 1.8x the CPU time, benchmarks/track_green.py; the same numbers), and
+# the work arrays of a 70-bay track (a few thousand DOFs) stay within the processor's cache. The blocks run in
+# parallel threads (``_integrate``; numba's own parallel loop took a minute or more to compile on a fresh install).
+COLUMN_BLOCK = 16
 
 
 # --------------------------------------------------------------------------------------------------
@@ -373,42 +343,42 @@ def integrate_responses(
     impulse: bool,
     progress: Progress | None = None,
 ) -> np.ndarray:
-    """Newmark responses to unit loads at x_e, stored at ``nodes`` (see _newmark_block). With ``progress``, the
-    columns are integrated in groups that fill the threads once (the same blocks, the same results), and
-    ``progress("integrating ...", done, total)`` is called after each group."""
+    """Newmark responses to unit loads at x_e, stored at ``nodes`` (see _newmark_block): blocks of
+    ``COLUMN_BLOCK`` columns in as many threads as numba would use (all cores, or ``NUMBA_NUM_THREADS``).
+    With ``progress``, ``progress("integrating ...", done, total)`` is called at the start and as each block
+    ends (``done`` columns of ``total``)."""
+    from concurrent.futures import ThreadPoolExecutor, as_completed
+
     mb, cb, krb, k_chol, m_chol, weights, b = _upper_band_arrays(model, dt)
     loads = np.stack([model.load_vector(float(x)) for x in x_e], axis=1)
     out = np.zeros((int(counts.sum()), 2))
     m = loads.shape[1]
-    group = m if progress is None else COLUMN_BLOCK * max(1, numba.get_num_threads())
-    phase = _integrating_phase(m, n_steps, len(model.node_x)) if progress is not None else ""
-    for c0 in range(0, m, group):
-        if progress is not None:
-            progress(phase, c0, m)
-        c1 = min(m, c0 + group)
-        _newmark_columns(
-            mb,
-            cb,
-            krb,
-            k_chol,
-            m_chol,
-            weights,
-            b,
-            np.ascontiguousarray(loads[:, c0:c1]),
-            dt,
-            n_steps,
-            stride,
-            model.w_dof,
-            model.theta_dof,
-            nodes[c0:c1],
-            counts[c0:c1],
-            offsets[c0:c1],
-            out,
-            impulse,
-        )
-    if progress is not None:
-        progress(phase, m, m)
+
+    def block(c0: int, c1: int, steps: int, into: np.ndarray) -> int:
+        load = np.ascontiguousarray(loads[:, c0:c1])
+        _newmark_block(
+            mb, cb, krb, k_chol, m_chol, weights, b, load, dt, steps, stride, model.w_dof, model.theta_dof,
+            nodes[c0:c1], counts[c0:c1], offsets[c0:c1], into, impulse,
+        )  # fmt: skip
+        return c1 - c0
+
+    if progress is not None:  # numba's code for the loop loaded (compiled on a fresh install) as a phase of its own
+        progress(LOADING_PHASE, 0, 1)
+        block(0, 1, 1, np.zeros((int(counts[0, 0]), 2)))  # one step of one column (offsets[0, 0] is 0), scratch
+        progress(LOADING_PHASE, 1, 1)
+        phase = _integrating_phase(m, n_steps, len(model.node_x))
+        progress(phase, 0, m)
+    done = 0
+    with ThreadPoolExecutor(max_workers=max(1, numba.config.NUMBA_NUM_THREADS)) as pool:
+        futures = [pool.submit(block, c0, min(m, c0 + COLUMN_BLOCK), n_steps, out) for c0 in range(0, m, COLUMN_BLOCK)]
+        for future in as_completed(futures):
+            done += future.result()
+            if progress is not None:
+                progress(phase, done, m)
     return out
+
+
+LOADING_PHASE = "loading the integration's compiled code (compiled once after installation)"
 
 
 def _integrating_phase(columns: int, n_steps: int, n_nodes: int) -> str:

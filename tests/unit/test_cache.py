@@ -254,21 +254,30 @@ def test_an_entry_describes_what_it_holds(tmp_path, monkeypatch):
     assert entry.meta["compute_s"] > 0 and entry.meta["work"] > 0
 
 
+def integrating_phase(events) -> str:
+    return next(phase for phase, _, _ in events if phase.startswith("integrating"))
+
+
 def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
-    # before: a cold first run showed "1 of 2" for minutes; the integration now reports per group
+    # before: a cold first run showed "1 of 2" for minutes; the integration now reports per block
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
-    numerics = dataclasses.replace(SMALL, positions_per_bay=32)  # 4 blocks of 8 load positions
+    numerics = dataclasses.replace(SMALL, positions_per_bay=32)  # 2 blocks of 16 load positions
     events = []
     track.clear_memory()
     reported = track.stationary_track_response(None, numerics, progress=lambda *event: events.append(event))
     phases = list(dict.fromkeys(phase.split(" (")[0] for phase, _, _ in events))
-    assert phases == ["assembling the FE track", "integrating the track's impulse responses", "writing the cache entry"]
+    assert phases == [
+        "assembling the FE track",
+        "loading the integration's compiled code",
+        "integrating the track's impulse responses",
+        "writing the cache entry",
+    ]
     integrating = [(done, total) for phase, done, total in events if phase.startswith("integrating")]
-    import numba
+    from wheelrail.core.track.stationary import COLUMN_BLOCK
 
-    groups = -(-32 // (8 * numba.get_num_threads()))  # one group of 8 load positions per thread
-    assert integrating == [(min(32, i * 32 // groups), 32) for i in range(groups)] + [(32, 32)]
-    assert "32 load positions x 1001 steps" in events[1][0]
+    # at the start, then as each block of load positions ends (in parallel threads: the columns done add up)
+    assert integrating == [(0, 32)] + [(min(32, (i + 1) * COLUMN_BLOCK), 32) for i in range(-(-32 // COLUMN_BLOCK))]
+    assert "32 load positions x 1001 steps" in integrating_phase(events)
     quiet = track.compute_stationary_response(TrackParameters(), numerics)  # one call, no groups
     np.testing.assert_array_equal(reported.data, quiet.data)  # the same blocks, the same numbers
     # a second track: the cache knows how fast this machine integrates, so the phase carries an estimate

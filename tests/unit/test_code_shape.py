@@ -18,7 +18,6 @@ EXEMPT = {
     # numba loops over time steps or Newmark steps: every array is an argument, so that the loop compiles to
     # one function that numba caches on disk (jitted functions passed as arguments defeat the cache)
     "_newmark_block",
-    "_newmark_columns",  # the same arguments, handed on to _newmark_block for each block of columns
 }
 
 
