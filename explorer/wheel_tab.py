@@ -93,6 +93,13 @@ class WheelTab(ResultsTab):
                 self.added_text = gui.add_text(
                     "Added loss factor", "", hint="A damper's loss factor added to every mode, 0 to 1; empty: 0"
                 )
+            self.compute_button = gui.add_button(
+                "Compute the wheel",
+                icon=viser.Icon.PLAYER_PLAY,
+                hint="Its modes (seconds) and sound power (a minute or more the first time for a radius, rim and "
+                "bore); asked for here, so a first Run does not share the machine with it. Later shapes follow.",
+            )
+            self.compute_button.on_click(lambda _: page.guarded(self.ask))
             for handle in (self.name_dropdown, *self.shape_fields.values(), self.added_text):
                 handle.on_update(lambda event: None if page.is_quiet() else page.guarded(parts.redraw, self))
             gui.add_markdown(WHEEL_NOTE)
@@ -100,6 +107,7 @@ class WheelTab(ResultsTab):
         self.points_per_band = WHEEL_POINTS_PER_BAND  # the sound power's band means
         self._modes: dict = {}  # (profile, settings) -> WheelModes, or the error's words
         self._power: dict = {}  # (profile, points per band) -> wheel_band_power's, or the error's words
+        self.asked = False  # the user pressed Compute the wheel: shapes are then computed as they are shown
         self._wanted = None  # the key the worker computes next
         self._working = False
         self._lock = threading.Lock()
@@ -119,13 +127,18 @@ class WheelTab(ResultsTab):
         the worker computes what is missing, modes first."""
         key = (profile, tuple(sorted(self.mode_settings.items())))
         found = self._modes.get(key), self._power.get(self._power_key(key))
-        if found[0] is None or found[1] is None:
+        if self.asked and (found[0] is None or found[1] is None):
             with self._lock:
                 self._wanted = key
                 if not self._working:
                     self._working = True
                     threading.Thread(target=self._work, daemon=True, name="wheelrail-wheel-tab").start()
         return found
+
+    def ask(self) -> None:
+        """Compute the wheel shown, and from now on every shape shown (the button's callback)."""
+        self.asked = True
+        self.parts.redraw(self)
 
     def _power_key(self, key) -> tuple:
         return key[0], self.points_per_band
@@ -183,7 +196,12 @@ class WheelTab(ResultsTab):
         modes, power = self.want(profile)
         words = wheel_words(profile, self.name_dropdown.value, added)
         if modes is None or isinstance(modes, str):
-            why = "computing the wheel's modes (a few seconds, once per shape) ..." if modes is None else modes
+            if modes is not None:
+                why = modes
+            elif self.asked:
+                why = "computing the wheel's modes (a few seconds, once per shape) ..."
+            else:
+                why = "press *Compute the wheel* (under the Wheel shape folder) for this wheel's modes and sound power"
             self._clear(why, words)
             return
         self.wheel_md.content = (
@@ -193,11 +211,12 @@ class WheelTab(ResultsTab):
         self._draw_frequencies(modes)
         self._draw_receptance(modes, added, self._track_curves(config))
         if power is None or isinstance(power, str):
-            why = (
-                "computing the wheel's sound power (seconds; a minute or more for a new radius or rim) ..."
-                if power is None
-                else power
-            )
+            if power is not None:
+                why = power
+            elif self.asked:
+                why = "computing the wheel's sound power (seconds; a minute or more for a new radius or rim) ..."
+            else:
+                why = "press Compute the wheel for its sound power"
             self.power.clear(why)
         else:
             self._draw_power(power)

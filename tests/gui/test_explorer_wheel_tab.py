@@ -230,3 +230,20 @@ def test_the_wheel_tab_in_the_page_shows_its_plots(app, browser):
         assert not errors, errors
     finally:
         page.close()
+
+
+@pytest.mark.slow
+def test_the_wheel_is_computed_only_once_asked(app):
+    """Opening the explorer computes no wheel (a first Run keeps the machine); Compute the wheel starts the worker on
+    the shape shown, and later shapes follow."""
+    tab = app.tab(WheelTab)
+    tab.asked = False
+    tab.shape_fields["wheel_web_thickness"].value = "27"  # a shape no other test computed
+    app.redraw_tab(tab)
+    profile, _ = tab.read(app.shown)
+    key = (profile, tuple(sorted(tab.mode_settings.items())))
+    assert key not in tab._modes and not tab._working and tab._wanted != key
+    assert [label for label, *_ in tab.receptance.series][0].startswith("press *Compute the wheel*")
+    tab.ask()
+    assert tab.asked and tab._wanted == key  # the worker was handed this shape (it computes it in the background)
+    tab.shape_fields["wheel_web_thickness"].value = ""
