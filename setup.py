@@ -14,6 +14,7 @@ HERE = Path(__file__).resolve().parent
 # installed package -> its folder in this repository
 PACKAGE_DIRS = {
     "wheelrail": "package",
+    "wheelrail.cli": "cli",
     "wheelrail.core": "core",
     "wheelrail.explorer": "explorer",
     "wheelrail.sample_data": "sample_data",

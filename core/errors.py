@@ -5,7 +5,7 @@ is to blame, which one: ``parameter``, a stable key such as ``"preload"`` (the k
 :data:`wheelrail.core.accepted.ACCEPTED` and a few more: ``length``, ``line``, ``skip``, ...), the value given
 and the accepted range, all in SI units. ``str(error)`` is the Python API's wording (the argument's name,
 SI units). :meth:`WheelrailError.render` words the same error for another front end from a mapping of keys
-to :class:`Name`: the command line's (``wheelrail.core.commands._common.CLI_NAMES``: ``--preload-kn 5000``,
+to :class:`Name`: the command line's (``wheelrail.cli.commands._common.CLI_NAMES``: ``--preload-kn 5000``,
 kN) and the explorer's (``wheelrail.explorer.config.FIELD_NAMES``: ``Preload 5000 kN``). No front end
 rewrites a finished sentence.
 """

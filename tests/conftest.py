@@ -35,7 +35,7 @@ CACHED_CODE = (
     "core/noise/decay.py",
     "core/noise/twins.py",
     "core/noise/wheel_power.py",
-    "core/commands/track.py",
+    "cli/commands/track.py",
 )
 KEEP_FOLDERS = 2  # code versions whose entries are kept (the whole suite fills ~570 MB per version)
 

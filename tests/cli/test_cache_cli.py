@@ -102,8 +102,8 @@ class _Terminal(io.StringIO):
 def test_a_new_track_is_announced_on_a_terminal(folder):
     import dataclasses
 
+    from wheelrail.cli.commands._progress import announce_track_precompute
     from wheelrail.core import track
-    from wheelrail.core.commands._progress import announce_track_precompute
     from wheelrail.core.parameters import TrackNumerics
 
     numerics = TrackNumerics(duration=0.005, positions_per_bay=16, max_speed=100 / 3.6)

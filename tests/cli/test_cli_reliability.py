@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from wheelrail.cli import EXPLORER_COMMANDS  # the `wheelrail` command: core's commands and `explore`
-from wheelrail.core.cli import COMMANDS
+from wheelrail.cli.dispatch import COMMANDS
 
 SAMPLE = Path(__file__).resolve().parents[2] / "sample_data" / "corrugated-rail.npz"
 
@@ -93,7 +93,7 @@ def test_3d_keeps_pressure_maps_only_for_out(tmp_path, cli, monkeypatch):
 # item 7: Ctrl-C ---------------------------------------------------------------------------------------------
 _CTRL_C_CHILD = """
 import signal, sys
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 from wheelrail.core.interaction import InteractionRun
 
 advance = InteractionRun._advance  # one chunk of steps (3d: 256, in compiled code)
@@ -125,7 +125,7 @@ def test_ctrl_c_during_a_3d_run_is_interrupted_130():
 
 def test_interrupt_turned_into_systemerror_by_compiled_code_is_reported_as_interrupted(cli, monkeypatch):
     # what numba does when Ctrl-C arrives while it calls back into Python
-    from wheelrail.core.commands import datasets
+    from wheelrail.cli.commands import datasets
 
     def interrupted(args):
         try:
@@ -208,17 +208,17 @@ def test_edge_of_window_advice_names_what_the_cli_can_change(cli, tmp_path):
 # item 11: start-up ------------------------------------------------------------------------------------------
 def test_help_imports_no_command_module_and_lists_each_modules_help(python_probe):
     probe = (
-        "import sys, io, contextlib\nfrom wheelrail.core.cli import main\n"
+        "import sys, io, contextlib\nfrom wheelrail.cli.dispatch import main\n"
         "with contextlib.redirect_stdout(io.StringIO()):\n"
         "    try:\n        main(['--help'])\n    except SystemExit:\n        pass\n"
-        "print(sorted(m for m in sys.modules if m.startswith(('wheelrail.core.commands.', 'numpy', 'scipy'))))"
+        "print(sorted(m for m in sys.modules if m.startswith(('wheelrail.cli.commands.', 'numpy', 'scipy'))))"
     )
     loaded = python_probe(probe)
     assert loaded.strip() == "[]"
     import argparse
     import importlib
 
-    modules = {name: (text, f"wheelrail.core.commands.{name}") for name, text in COMMANDS.items()}
+    modules = {name: (text, f"wheelrail.cli.commands.{name}") for name, text in COMMANDS.items()}
     for name, (help_text, module) in {**modules, **EXPLORER_COMMANDS}.items():
         sub = argparse.ArgumentParser().add_subparsers()
         importlib.import_module(module).add_parser(sub)

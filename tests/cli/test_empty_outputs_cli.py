@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 
 
 def _main(capsys, *argv):

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
+from wheelrail.cli.dispatch import build_parser, main
 from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.cli import build_parser, main
 
 RUN = ["run", "--set", "corrugated-rail", "--length-m", "0.05"]
 

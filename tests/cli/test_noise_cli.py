@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 from wheelrail.core.parameters import ModelParameters
 from wheelrail.core.results import RunHeader, RunResult
 

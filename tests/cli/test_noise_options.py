@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 
 
 @pytest.mark.parametrize(

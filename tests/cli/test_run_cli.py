@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 from wheelrail.core.roughness import load_roughness, write_csv
 
 
@@ -116,7 +116,7 @@ class _no_raise:
 
 
 def test_3d_on_a_one_line_set_says_how_wide_a_set_must_be(tmp_path, capsys):
-    from wheelrail.core.cli import main
+    from wheelrail.cli.dispatch import main
 
     path = tmp_path / "one.csv"
     path.write_text(

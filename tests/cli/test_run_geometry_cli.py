@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.results import RunResult
 

@@ -6,7 +6,7 @@ import warnings
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.roughness import load_roughness, write_csv
 from wheelrail.core.study import (
@@ -277,7 +277,7 @@ def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
     np.testing.assert_array_equal(taken.heights, wheel.heights[[wheel.row_of_line(n) for n in (-4, -2, 0, 2, 4)]])
     assert rail.y[rail.centre_row] == 0.0 and wheel.y[wheel.centre_row] == 0.0
     # a wheel set with no data under the paper's lines -3..3 (its lines 8..10: 16 .. 20 mm) blames the wheel set
-    from wheelrail.core.commands._common import CLI_NAMES
+    from wheelrail.cli.commands._common import CLI_NAMES
     from wheelrail.core.errors import WheelrailError
 
     rows = [wheel.row_of_line(n) for n in (8, 9, 10)]

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import model_parameters
 from wheelrail.core.study import plan_study

@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from wheelrail.core.commands._common import CLI_NAMES
+from wheelrail.cli.commands._common import CLI_NAMES
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.interaction import prepare_run, simulate
 from wheelrail.core.parameters import ContactParameters, ModelParameters

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from wheelrail.core.commands._common import CLI_NAMES
+from wheelrail.cli.commands._common import CLI_NAMES
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise.cnossos import (
     INTERPOLATION_RULES,

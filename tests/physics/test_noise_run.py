@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.io import wavfile
 
-from wheelrail.core.commands._common import CLI_NAMES
+from wheelrail.cli.commands._common import CLI_NAMES
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.interaction import simulate
 from wheelrail.core.noise.levels import noise_bands

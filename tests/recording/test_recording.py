@@ -276,7 +276,7 @@ def test_unwritable_or_bad_paths_fail_before_the_run(tmp_path):
     # the API's words (the argument's name); the command line names the option (tests/cli)
     with pytest.raises(WheelrailError, match="record_every 0: not a whole number of at least 1") as info:
         sink_from_args(parser.parse_args(["--rrd", str(tmp_path / "a.rrd"), "--record-every", "0"]))
-    from wheelrail.core.commands._common import CLI_NAMES
+    from wheelrail.cli.commands._common import CLI_NAMES
 
     assert info.value.render(CLI_NAMES).startswith("--record-every 0: not a whole number of at least 1")
     with pytest.raises(WheelrailError, match="connect 'nonsense': not a viewer address") as info:

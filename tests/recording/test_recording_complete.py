@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 from test_recording import N_STEPS, synthetic_result
 
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 from wheelrail.core.recording import read_recording, record_result
 from wheelrail.core.recording.outputs import _host
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 import wheelrail.core.recording.outputs as outputs
-from wheelrail.core.cli import main
+from wheelrail.cli.dispatch import main
 from wheelrail.core.errors import WheelrailError
 
 RUN = ["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "0.1"]
@@ -31,7 +31,7 @@ def no_run(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("the run started before the viewer was checked")
 
-    monkeypatch.setattr("wheelrail.core.commands.run._prepare", refuse)
+    monkeypatch.setattr("wheelrail.cli.commands.run._prepare", refuse)
 
 
 def _one_line_error(capfd) -> str:

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from wheelrail.cli.commands._common import CLI_NAMES
 from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.commands._common import CLI_NAMES
 from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.parameters import KMH, ContactParameters, RunParameters
 from wheelrail.explorer.config import FIELD_NAMES, page_message
@@ -105,7 +105,7 @@ def test_every_physical_input_has_a_name_on_the_command_line_and_in_the_page():
         assert name.unit_in_label and (not name.unit or name.label.endswith(unit)), key
 
 
-_CLI_MODULES = ("core/cli.py", "core/commands/", "core/recording/cli.py")
+_CLI_MODULES = ("cli/dispatch.py", "cli/commands/", "core/recording/cli.py")
 
 
 def _core_error_texts():

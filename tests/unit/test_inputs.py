@@ -8,10 +8,10 @@ import math
 
 import pytest
 
+from wheelrail.cli.commands._common import params_from_args
+from wheelrail.cli.dispatch import build_parser, main
 from wheelrail.core import inputs
 from wheelrail.core.accepted import ACCEPTED, Accepted
-from wheelrail.core.cli import build_parser, main
-from wheelrail.core.commands._common import params_from_args
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import GROUPS, INPUTS, Input, Unit, by_key, describe, inputs_of, model_parameters
 from wheelrail.core.parameters import ModelParameters, SupportParameters
@@ -187,7 +187,7 @@ def test_a_run_states_its_track_and_contact_geometry(capsys):
 
 def test_the_wheel_model_is_a_declared_choice():
     """--wheel-model is declared once (core.inputs.CHOICES): its values, default, option and error key."""
-    from wheelrail.core.commands._common import CLI_NAMES
+    from wheelrail.cli.commands._common import CLI_NAMES
     from wheelrail.core.errors import WheelrailError
     from wheelrail.core.inputs import choice
     from wheelrail.core.noise.wheel_power import DEFAULT_WHEEL_MODEL, WHEEL_MODELS

@@ -23,6 +23,7 @@ ROOT = Path(__file__).resolve().parents[2]
 # test checks the build, not the build script against itself)
 FOLDERS = {
     "package": "wheelrail",
+    "cli": "wheelrail.cli",
     "core": "wheelrail.core",
     "explorer": "wheelrail.explorer",
     "sample_data": "wheelrail.sample_data",

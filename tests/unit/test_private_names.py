@@ -5,7 +5,12 @@ import ast
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-FOLDERS = {"package": "wheelrail", "core": "wheelrail.core", "explorer": "wheelrail.explorer"}
+FOLDERS = {
+    "package": "wheelrail",
+    "cli": "wheelrail.cli",
+    "core": "wheelrail.core",
+    "explorer": "wheelrail.explorer",
+}
 
 PENDING_CONTACT_REWRITE: set[tuple[str, str]] = set()  # emptied: the 3D solver's rewrite is merged
 

@@ -50,7 +50,7 @@ def test_core_commands_load_no_explorer_module():
     # at run time too (an import by name is no import statement): every core command's module loaded, and no
     # explorer module (nor viser) comes with them
     probe = (
-        "import sys\nfrom wheelrail.core.cli import build_parser\nbuild_parser('*')\n"
+        "import sys\nfrom wheelrail.cli.dispatch import build_parser\nbuild_parser('*')\n"
         "print(sorted(m for m in sys.modules if m.startswith(('wheelrail.explorer', 'viser'))))"
     )
     loaded = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from wheelrail.core.commands._common import CLI_NAMES
+from wheelrail.cli.commands._common import CLI_NAMES
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise.run_noise import checked_train
 

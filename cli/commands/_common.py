@@ -22,7 +22,7 @@ def wheel_shape_option(key: str) -> str:
 
 # What the command line calls each input an error can name (WheelrailError.parameter): its option, the unit it
 # takes and that unit per SI unit. The declared inputs' names come from their declaration
-# (``wheelrail.core.inputs``); the rest are the commands' own options. ``wheelrail.core.cli`` renders every
+# (``wheelrail.core.inputs``); the rest are the commands' own options. ``wheelrail.cli.dispatch`` renders every
 # error with it, so core's messages never name an option and nothing rewrites them.
 CLI_NAMES: dict[str, Name] = {
     **cli_names(),
@@ -57,7 +57,7 @@ CLI_NAMES: dict[str, Name] = {
 
 
 def cli_error_names() -> dict[str, Name]:
-    """``CLI_NAMES`` with the declared inputs' names as declared now (``wheelrail.core.cli`` words errors so)."""
+    """``CLI_NAMES`` with the declared inputs' names as declared now (``wheelrail.cli.dispatch`` words errors so)."""
     return {**CLI_NAMES, **cli_names()}
 
 

@@ -11,14 +11,14 @@ import csv
 
 import numpy as np
 
-from wheelrail.core.atomic import all_or_none, atomic_write
-from wheelrail.core.commands._common import (
+from wheelrail.cli.commands._common import (
     add_input_options,
     given_inputs,
     print_json,
     speed_from_kmh,
     writable_output,
 )
+from wheelrail.core.atomic import all_or_none, atomic_write
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_contact
 from wheelrail.core.parameters import ContactParameters, ModelParameters

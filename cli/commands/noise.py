@@ -14,8 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.commands._common import (
+from wheelrail.cli.commands._common import (
     accepted_help,
     add_choice_option,
     add_input_options,
@@ -24,6 +23,7 @@ from wheelrail.core.commands._common import (
     speed_from_kmh,
     writable_output,
 )
+from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_words, inputs_of
 from wheelrail.core.spectra import nominal_band_label

@@ -8,7 +8,7 @@ import math
 import time
 from pathlib import Path
 
-from wheelrail.core.commands._common import (
+from wheelrail.cli.commands._common import (
     add_input_options,
     add_speed_option,
     params_from_args,
@@ -159,7 +159,7 @@ def _green_functions(track, numerics, speed: float) -> dict:
 
     cached_before = track_cache_path(track, numerics).exists()
     start = time.perf_counter()
-    from wheelrail.core.commands._progress import announce_track_precompute
+    from wheelrail.cli.commands._progress import announce_track_precompute
 
     with announce_track_precompute("track"):  # a track not yet cached: its phases and progress on a terminal
         response = stationary_track_response(track, numerics)

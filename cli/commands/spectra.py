@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.commands._common import print_json
+from wheelrail.cli.commands._common import print_json
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.results import RunResult
 from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, nominal_band_label

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import time
 
-from wheelrail.core.commands._common import print_json
+from wheelrail.cli.commands._common import print_json
 from wheelrail.core.errors import WheelrailError
 
 

@@ -12,10 +12,10 @@ import csv
 import math
 from pathlib import Path
 
+from wheelrail.cli.commands._common import WHEEL_SHAPE_KEYS as SHAPE_KEYS
+from wheelrail.cli.commands._common import print_json, writable_output
+from wheelrail.cli.commands._common import wheel_shape_option as shape_option
 from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.commands._common import WHEEL_SHAPE_KEYS as SHAPE_KEYS
-from wheelrail.core.commands._common import print_json, writable_output
-from wheelrail.core.commands._common import wheel_shape_option as shape_option
 from wheelrail.core.errors import WheelrailError
 
 BAND_RANGE_HZ = (100.0, 10e3)

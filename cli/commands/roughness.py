@@ -14,14 +14,14 @@ import math
 
 import numpy as np
 
-from wheelrail.core.bands import Bands
-from wheelrail.core.commands._common import (
+from wheelrail.cli.commands._common import (
     add_speed_option,
     input_files,
     print_json,
     speed_from_kmh,
     writable_output,
 )
+from wheelrail.core.bands import Bands
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness import (
     DEFAULT_LINES,

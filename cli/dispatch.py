@@ -1,10 +1,10 @@
-"""The command line's dispatcher and core's commands.
+"""The command line's dispatcher: the commands on core and the explorer's.
 
-Each sub-command lives in its own module that defines ``add_parser(subparsers)`` and ``run(args) -> int``;
-core's are under ``wheelrail.core.commands``, and the ``wheelrail`` console script (``wheelrail.cli``) adds the
-explorer's ``explore`` command to them, so that core never imports the explorer. This module only dispatches.
-Every error ends as one line on stderr and a non-zero exit code, a :class:`WheelrailError` worded with the
-command line's own names for its inputs (``commands._common.CLI_NAMES``: option, unit), a warning as one line
+Each sub-command lives in its own module that defines ``add_parser(subparsers)`` and ``run(args) -> int``; the
+commands on core are under ``wheelrail.cli.commands``, and the ``wheelrail`` console script (``wheelrail.cli``)
+adds the explorer's ``explore`` command to them, so that core never imports a front end. This module only
+dispatches. Every error ends as one line on stderr and a non-zero exit code, a :class:`WheelrailError` worded with
+the command line's own names for its inputs (``commands._common.CLI_NAMES``: option, unit), a warning as one line
 too; set ``WHEELRAIL_DEBUG=1`` to see the traceback of an unexpected failure.
 """
 
@@ -20,7 +20,7 @@ import warnings
 from wheelrail import __version__
 from wheelrail.core.errors import WheelrailError
 
-# name -> one-line help shown by `wheelrail --help`; the module wheelrail.core.commands.NAME (its
+# name -> one-line help shown by `wheelrail --help`; the module wheelrail.cli.commands.NAME (its
 # "-" written "_") is imported only when that command runs, so that `--help` and a cached `track` start
 # fast (importing every command, scipy.signal among them, took 0.8 s before anything ran).
 # tests/cli/test_cli_reliability.py checks these lines against each module's own help.
@@ -47,7 +47,7 @@ class _OneLineErrors(argparse.ArgumentParser):
 
 def _commands(extra: dict[str, tuple[str, str]] | None) -> dict[str, tuple[str, str]]:
     """name -> (one-line help, module): ``extra`` (e.g. the explorer's, from ``wheelrail.cli``), then core's."""
-    core = {name: (text, f"wheelrail.core.commands.{name.replace('-', '_')}") for name, text in COMMANDS.items()}
+    core = {name: (text, f"wheelrail.cli.commands.{name.replace('-', '_')}") for name, text in COMMANDS.items()}
     return {**(extra or {}), **core}
 
 
@@ -109,7 +109,7 @@ def main(argv: list[str] | None = None, *, extra: dict[str, tuple[str, str]] | N
             args = parser.parse_args(argv)
             return int(args._run(args) or 0)
     except WheelrailError as error:
-        from wheelrail.core.commands._common import cli_error_names  # not at import: `--help` loads no command
+        from wheelrail.cli.commands._common import cli_error_names  # not at import: `--help` loads no command
 
         print(f"wheelrail {name}: error: {error.render(cli_error_names())}", file=sys.stderr)
         return 2

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from wheelrail.core.commands._common import print_json
+from wheelrail.cli.commands._common import print_json
 from wheelrail.core.roughness import bundled_names, load_roughness
 
 

@@ -6,7 +6,7 @@ import math
 import sys
 from dataclasses import replace
 
-from wheelrail.core.commands._common import add_input_options, params_from_args, print_json
+from wheelrail.cli.commands._common import add_input_options, params_from_args, print_json
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe_contact, describe_words
 from wheelrail.core.study import STUDIES

@@ -8,7 +8,7 @@ import sys
 import threading
 import time
 
-from wheelrail.core.commands._common import (
+from wheelrail.cli.commands._common import (
     CLI_NAMES,
     add_input_options,
     cli_error_names,
@@ -158,7 +158,7 @@ def modal_wheel_of(params):
 
 def _prepare(args, params, out, sink):
     """The prepared run, and the recording started on it (aborted if preparing fails)."""
-    from wheelrail.core.commands._progress import announce_track_precompute
+    from wheelrail.cli.commands._progress import announce_track_precompute
     from wheelrail.core.interaction import prepare_run
 
     wheel_system = modal_wheel_of(params)[1] if args.wheel_model == "modal" else None

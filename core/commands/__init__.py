@@ -1,1 +1,0 @@
-"""Sub-commands of the ``wheelrail`` command line, one module each (see ``wheelrail.core.cli``)."""
