@@ -111,12 +111,14 @@ def _add_source_options(parser) -> None:
         WHEEL_DIAMETERS_MM,
         WHEEL_ROUGHNESS,
     )
+    from wheelrail.core.parameters import KMH, ContactParameters, RunParameters
 
+    speed_kmh, preload_kn = RunParameters().speed / KMH, ContactParameters().preload / 1e3
     parser.add_argument(
         "--speed-kmh",
         type=float,
         default=None,
-        help=f"train speed, km/h (default 100; with --run the run's own speed; {accepted_help('speed')})",
+        help=f"train speed, km/h (default {speed_kmh:g}; with --run the run's own speed; {accepted_help('speed')})",
     )
     parser.add_argument(
         "--rail-roughness",
@@ -147,7 +149,7 @@ def _add_source_options(parser) -> None:
         "--preload-kn",
         type=float,
         default=None,
-        help="static wheel load, kN, for the contact filter A3 (default 65: the model's preload; "
+        help=f"static wheel load, kN, for the contact filter A3 (default {preload_kn:g}: the model's preload; "
         f"{accepted_help('preload')})",
     )
     parser.add_argument("--axles", type=int, default=4, help="axles per vehicle, N_a (default 4)")
@@ -181,8 +183,10 @@ def _add_train_options(parser) -> None:
 
 
 def _speed(args) -> float:
-    """--speed-kmh in m/s within core's accepted range (default 100 km/h)."""
-    return speed_from_kmh(100.0 if args.speed_kmh is None else args.speed_kmh)
+    """--speed-kmh in m/s within core's accepted range (default: the model's speed, ``RunParameters().speed``)."""
+    from wheelrail.core.parameters import RunParameters
+
+    return RunParameters().speed if args.speed_kmh is None else speed_from_kmh(args.speed_kmh)
 
 
 def _load(args) -> float:
