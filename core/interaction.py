@@ -36,6 +36,7 @@ from wheelrail.core.run_setup import (
     TrackRoughness,
     checked_inputs,
     history_arrays,
+    interaction_wheel,
     model_inputs,
     resolve_surfaces,
     roughness_along_track,
@@ -491,8 +492,9 @@ def prepare_run(
         Keep every pressure map in the result (steps x ny x nx float32), for models that have them.
     track_numerics : TrackNumerics, optional
         Numerics of the track's Green's functions.
-    wheel_system : tuple, optional
-        The wheel's ``(Phi, Gamma0, Gamma1)``, default the 2-DOF's; ``modal_wheel.time_domain.modal_wheel_system``.
+    wheel_system : WheelProfile, OutlineProfile or tuple, optional
+        Default the paper's 2-DOF wheel; a modal wheel's cross-section, or a ``(Phi, Gamma0, Gamma1)``
+        (``modal_wheel.time_domain.modal_wheel_system``); the header says which (``run_setup.interaction_wheel``).
 
     Returns
     -------
@@ -510,11 +512,6 @@ def prepare_run(
     simulate : prepares and runs in one call.
     wheelrail.core.models.model_names : the registered contact models.
     wheelrail.core.roughness.load_roughness : reads a roughness set.
-
-    Notes
-    -----
-    The time step is the element size over the speed (eq. 7). The run starts in static equilibrium under the
-    preload, after a smooth run-in (discarded) long enough for the start-up transient to die out.
 
     References
     ----------
@@ -540,6 +537,7 @@ def prepare_run(
         entry, params, usable_length(rough, dx) if length is None else length, run_in_length, keep_pressure
     )
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
+    wheel_system, wheel_model, wheel_profile = interaction_wheel(wheel_system, params)
     history = history_arrays(track, params, run_in_length, track_numerics, wheel_system)
     scatter_history(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
     header = RunHeader(
@@ -549,6 +547,8 @@ def prepare_run(
         params=params,
         run_in_length=history.n_run_in * dx,
         wheel_roughness_name=wheel_name,
+        wheel_model=wheel_model,
+        wheel_profile=wheel_profile,
     )
     contact = entry.create()
     static_approach = contact.prepare(model_inputs(track, history, params))

@@ -38,6 +38,12 @@ class RunHeader:
         Length run before step 0 on smooth surfaces (discarded), m; ``run_in_time`` is its duration, s.
     wheel_roughness_name : str or None
         The wheel set added to the rail set ``roughness_name`` (combined roughness), or None: one set.
+    wheel_model : str
+        The wheel in the interaction (:data:`WHEEL_MODELS`): "2dof" (the paper's 2-DOF wheel), "modal" (a modal
+        wheel's Green's function, ``wheelrail.core.modal_wheel.time_domain``) or "given" (a caller's system).
+    wheel_profile : dict or None
+        The modal wheel's cross-section (``WheelProfile.describe()``, SI; ``modal_wheel.profile_from_description``
+        reads it back), or None (the 2-DOF wheel, or a modal wheel system given without its profile).
     """
 
     model: str
@@ -46,6 +52,8 @@ class RunHeader:
     params: ModelParameters = field(default_factory=ModelParameters)
     run_in_length: float = 0.0
     wheel_roughness_name: str | None = None
+    wheel_model: str = "2dof"
+    wheel_profile: dict | None = None
 
     @property
     def speed(self) -> float:
@@ -79,10 +87,29 @@ class RunHeader:
             "run_in_length_m": self.run_in_length,
             "run_in_time_s": self.run_in_time,
             "parameters": as_dict(self.params),
+            "wheel_model": self.wheel_model,
         }
+        if self.wheel_profile is not None:
+            values["wheel_profile"] = self.wheel_profile
         if self.wheel_roughness_name is not None:
             values["wheel_roughness"] = self.wheel_roughness_name
         return values
+
+    def wheel_words(self) -> str:
+        """The interaction's wheel in words: the paper's 2-DOF wheel, or the modal wheel and its cross-section."""
+        if self.wheel_model == "2dof":
+            return "the paper's 2-DOF wheel"
+        if self.wheel_model == "given":
+            return "a wheel system given to prepare_run (not recorded)"
+        shape = self.wheel_profile or {}
+        if shape.get("kind") == "parametric":
+            return (
+                f"modal wheel {shape['wheel_radius'] * 2e3:g} mm (rim {shape['tyre_width'] * 1e3:g} x "
+                f"{shape['tyre_depth'] * 1e3:g} mm, web {shape['web_thickness'] * 1e3:g} mm)"
+            )
+        if shape.get("kind") == "outline":
+            return f"modal wheel from the outline {shape.get('name', 'outline')}"
+        return "modal wheel (its cross-section damaged)"
 
     def description(self) -> str:
         """One line for people: set, line, model, speed, preload, contact radii and the track's supports."""
@@ -95,7 +122,7 @@ class RunHeader:
             f"{contact.radius_along * 1e3:g} mm, rail crown {contact.crown_radius * 1e3:g} mm, tread "
             f"{'flat' if tread == float('inf') else f'{tread * 1e3:g} mm'}; track {self.params.track.n_bays} bays "
             f"of {support.sleeper_spacing:g} m, pads {support.pad_stiffness / 1e6:g} MN/m, ballast "
-            f"{support.ballast_stiffness / 1e6:g} MN/m, sleepers {support.sleeper_mass:g} kg"
+            f"{support.ballast_stiffness / 1e6:g} MN/m, sleepers {support.sleeper_mass:g} kg; {self.wheel_words()}"
         )
 
     def csv_comment(self, what: str) -> str:
@@ -108,6 +135,7 @@ class RunHeader:
         """Inverse of :meth:`to_dict` (parameters validated again; headers written before a field existed read
         with its default); a damaged header is a WheelrailError."""
         wheel = values.get("wheel_roughness") if isinstance(values, dict) else None
+        profile = values.get("wheel_profile") if isinstance(values, dict) else None
         try:
             return cls(
                 model=str(values["model"]),
@@ -116,9 +144,22 @@ class RunHeader:
                 params=from_dict(ModelParameters, values.get("parameters", {})),
                 run_in_length=float(values.get("run_in_length_m", 0.0)),
                 wheel_roughness_name=None if wheel is None else str(wheel),
+                wheel_model=_checked_wheel_model(values.get("wheel_model") or "2dof"),
+                wheel_profile=None if profile is None else dict(profile),
             )
         except (KeyError, TypeError, ValueError) as error:
             raise WheelrailError(f"run header is incomplete or damaged ({error!r})") from None
+
+
+WHEEL_MODELS = ("2dof", "modal", "given")
+"""The interaction's wheels (``RunHeader.wheel_model``): the paper's 2-DOF wheel, the modal wheel of a recorded
+cross-section, a wheel system the caller built (``run_setup.interaction_wheel``)."""
+
+
+def _checked_wheel_model(value) -> str:
+    if value not in WHEEL_MODELS:
+        raise ValueError(f"wheel_model {value!r} is not one of {', '.join(WHEEL_MODELS)}")
+    return str(value)
 
 
 @dataclass(frozen=True, slots=True)

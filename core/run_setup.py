@@ -39,6 +39,7 @@ __all__ = [
     "checked_inputs",
     "default_run_in_length",
     "history_arrays",
+    "interaction_wheel",
     "model_inputs",
     "roughness_along_track",
     "run_lines",
@@ -566,3 +567,24 @@ def static_equilibrium(static_approach: float, preload: float, weights: np.ndarr
     """Step 4: wheel position xi_W0 at rest: the model's static approach delta(P) above the bay-averaged
     static rail deflection under the preload (eq. 1's xi_S(P)), m."""
     return static_approach + preload * float(np.mean(weights.sum(axis=1)))
+
+
+def interaction_wheel(wheel, params) -> tuple[tuple | None, str, dict | None]:
+    """What ``prepare_run``'s ``wheel_system`` gives the loop and records in the run's header:
+    ``(system, wheel_model, profile description)``.
+
+    ``wheel``: None (the paper's 2-DOF wheel: ``(None, "2dof", None)``), a modal wheel's cross-section (a
+    ``WheelProfile`` or ``OutlineProfile``: its clamped modes to 10 kHz, n = 0..10, cached as ``wheel_modes``,
+    as ``modal_wheel.time_domain.modal_wheel_system`` at the run's time step, recorded as ``"modal"`` with
+    ``profile.describe()``) or a ``(Phi, Gamma0, Gamma1)`` built by the caller (recorded as ``"given"``: its wheel
+    is not known here).
+    """
+    if wheel is None:
+        return None, "2dof", None
+    from wheelrail.core.modal_wheel.modes import wheel_modes
+    from wheelrail.core.modal_wheel.profile import OutlineProfile, WheelProfile
+    from wheelrail.core.modal_wheel.time_domain import modal_wheel_system
+
+    if isinstance(wheel, WheelProfile | OutlineProfile):
+        return modal_wheel_system(wheel_modes(wheel), params.wheel, params.run.time_step), "modal", wheel.describe()
+    return wheel, "given", None

@@ -71,13 +71,14 @@ class Downloads:
             raise WheelrailError(f"{entry.config.model} has no rolling noise: {entry.noise_problem or 'stopped early'}")
         return entry
 
-    def noise_json(self, train: tuple[int, float], client=None) -> tuple[str, bytes]:
+    def noise_json(self, train: tuple[int, float], client=None, noise=None) -> tuple[str, bytes]:
         """The rolling noise of the model shown (sound power, totals, pass-by for ``train``, (axles, length in m),
-        CNOSSOS-EU beside it and the configuration) as JSON, named after the configuration."""
+        CNOSSOS-EU beside it and the configuration) as JSON, named after the configuration; ``noise``: its rolling
+        noise with another wheel's sound power (the Noise tab's choice), default the run's own."""
         from wheelrail.core.jsonready import strict_json
 
         entry = self.shown_noise()
-        noise = entry.noise.with_train(*train)
+        noise = (entry.noise if noise is None else noise).with_train(*train)
         summary = {"explorer": entry.config.label(), **noise.to_dict()}
         content = (strict_json(summary, indent=1) + "\n").encode()
         return self.page.send(entry.config.file_stem() + "-noise.json", content, client)

@@ -8,6 +8,7 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import choice
 from wheelrail.core.noise.levels import a_weighting, energy_sum
 from wheelrail.core.noise.run_noise import (
     AXLE_DB,
@@ -41,8 +42,12 @@ NOISE_NOTE = (
     "total, which also holds the small superstructure term (said under the table). Dashed: a run overlaid. "
     f"*Pass-by audio*: the model shown, at {ISO3095_DISTANCE:g} m; listen for the high bands (above about 1 kHz) "
     "that a finite "
-    "patch (3d, 2d) takes out and the point contact (hertz) keeps."
+    "patch (3d, 2d) takes out and the point contact (hertz) keeps. *Wheel model (noise)*: whose wheel sound power "
+    "the tab shows (its curves, table, audio and download): the directive's L_H,veh or the modal wheel's (the run's "
+    "own modal wheel if it ran with one, else the named wheel nearest its R; computed on first choice, a few "
+    "seconds to a minute per wheel shape)."
 )
+WHEEL_CHOICE = choice("noise_wheel_model")  # the noise chain's wheel: one declaration (core.inputs.CHOICES)
 
 
 class NoiseTab(ResultsTab):
@@ -76,10 +81,17 @@ class NoiseTab(ResultsTab):
             self.wav_button.on_click(lambda event: page.guarded(self.download_wav, event.client, client=event.client))
             self.json_button = gui.add_button("Download noise (.json)", icon=viser.Icon.DOWNLOAD, disabled=True)
             self.json_button.on_click(lambda event: page.guarded(self.download_json, event.client, client=event.client))
+            wheel = WHEEL_CHOICE
+            self.wheel_dropdown = gui.add_dropdown(
+                wheel.label, wheel.values, initial_value=wheel.default, hint=wheel.help_text()
+            )
+            self.wheel_dropdown.on_update(lambda event: page.guarded(parts.redraw, self))
             gui.add_markdown(NOISE_NOTE)
             self._plot_export()
-        self.audio_key = None  # (case, model, train) of the pass-by in the player
+        self.audio_key = None  # (case, model, train, wheel model) of the pass-by in the player
         self.wav: tuple[str, bytes] | None = None  # its file name and bytes
+        # (id of a run's result, wheel model) -> (the result, its RunNoise or why there is none)
+        self._wheel_noises: dict = {}
 
     def plots(self) -> dict[str, Plot]:
         return {"sound power": self.power}
@@ -87,13 +99,13 @@ class NoiseTab(ResultsTab):
     def show(self, shown: Shown) -> None:
         self._show_overlay_menu(self.overlay_dropdown, shown)
         config = shown.config
-        noises = {} if config is None else shown.store.noise(config.case())
+        noises = {} if config is None else self._noises(shown.store, config.case())
         model = shown.model if shown.model in noises else next(iter(noises), None)
         try:
             train, train_problem = self.train(), None
         except WheelrailError as error:
             train, train_problem = None, error
-        if model is None or self.audio_key != (config.case(), model, train):
+        if model is None or self.audio_key != (config.case(), model, train, self.wheel_dropdown.value):
             self.clear_audio()  # the player holds only the pass-by of what the tab shows
         self.audio_button.disabled = model is None or train is None
         self.json_button.disabled = model is None
@@ -104,11 +116,12 @@ class NoiseTab(ResultsTab):
         label = config.case_label()
         if model is None:
             self.power.clear(NO_RUN, title=f"Sound power per axle: {label}")
-            problems = [e.noise_problem for e in shown.store.entries(config.case()).values() if e.noise_problem]
+            entries = shown.store.entries(config.case()).values()
+            problems = [e.noise_problem or self._problem(e) for e in entries if e.noise_problem or self._problem(e)]
             self.totals_md.content = problems[0] if problems else ""
             return
         overlay = None if shown.overlay is None or shown.overlay.case() == config.case() else shown.overlay
-        extra = {} if overlay is None else shown.store.noise(overlay.case())
+        extra = {} if overlay is None else self._noises(shown.store, overlay.case())
         self._plot(noises, model, label, extra, overlay)
         self.totals_md.content = self._totals(noises, model, extra, overlay, train, train_problem)
 
@@ -131,7 +144,8 @@ class NoiseTab(ResultsTab):
 
     def download_json(self, client=None) -> tuple[str, bytes]:
         """The rolling noise of the model shown, with the pass-by for the tab's train, as JSON."""
-        return self.parts.downloads.noise_json(self.train(), client)
+        entry = self.parts.downloads.shown_noise()
+        return self.parts.downloads.noise_json(self.train(), client, noise=self.noise_of(entry))
 
     def pass_by(self, entry) -> tuple[str, bytes]:
         """Make the pass-by of ``entry`` (an Entry with its noise) for the train of the fields: the player shows it
@@ -139,7 +153,7 @@ class NoiseTab(ResultsTab):
         import base64
 
         axles, length = self.train()
-        noise = entry.noise.with_train(axles, length)
+        noise = self.noise_of(entry).with_train(axles, length)
         data, full_scale = noise.wav_bytes()
         config = entry.config
         from wheelrail.core.noise.run_noise import WAV_RATE
@@ -157,10 +171,47 @@ class NoiseTab(ResultsTab):
             f'{base64.b64encode(data).decode()}"></audio>'
             f'<div style="font-size:0.8em">{_markdown_bold(caption)}</div>'
         )
-        self.audio_key = (config.case(), config.model, (axles, length))
+        self.audio_key = (config.case(), config.model, (axles, length), self.wheel_dropdown.value)
         self.wav = (name, data)
         self.wav_button.disabled = False
         return name, data
+
+    def noise_of(self, entry):
+        """The rolling noise of ``entry`` (an Entry with its noise) with the wheel's sound power of the tab's choice:
+        the run's own (the directive's L_H,veh) or the modal wheel's, computed once per run (one WheelrailError if it
+        cannot be)."""
+        wheel_model = WHEEL_CHOICE.check(self.wheel_dropdown.value)
+        if wheel_model == entry.noise.configuration["wheel_model"]:
+            return entry.noise
+        key = (id(entry.result), wheel_model)
+        if self._wheel_noises.get(key, (None,))[0] is not entry.result:  # not yet, or another run's id
+            from wheelrail.core.noise.run_noise import run_noise
+
+            try:
+                found = run_noise(entry.result, wheel_model=wheel_model)
+            except WheelrailError as error:
+                found = f"{entry.config.model}: no {wheel_model} wheel power: {page_message(error)}"
+            self._wheel_noises[key] = (entry.result, found)
+        found = self._wheel_noises[key][1]
+        if isinstance(found, str):
+            raise WheelrailError(found)
+        return found
+
+    def _problem(self, entry) -> str | None:
+        """Why ``entry`` has no noise with the tab's wheel, if it was tried and failed."""
+        kept = self._wheel_noises.get((id(entry.result), self.wheel_dropdown.value))
+        return kept[1] if kept is not None and kept[0] is entry.result and isinstance(kept[1], str) else None
+
+    def _noises(self, store, case) -> dict:
+        """Every model's rolling noise of ``case`` with the tab's wheel (those that have one)."""
+        noises = {}
+        for name, entry in store.entries(case).items():
+            if entry.noise is not None:
+                try:
+                    noises[name] = self.noise_of(entry)
+                except WheelrailError:
+                    pass  # said under the plot (show: the problems)
+        return noises
 
     def train(self) -> tuple[int, float]:
         """(axles, length in m) of the train fields, or one WheelrailError."""
@@ -190,6 +241,8 @@ class NoiseTab(ResultsTab):
             for name, levels in cnossos.items()
         ]
         title = f"Sound power per axle, A-weighted: {label}"
+        if shown_noise.configuration["wheel_model"] != WHEEL_CHOICE.default:
+            title += f" (wheel: {shown_noise.configuration['wheel_model']})"
         if overlay is not None and extra:
             curves += [
                 (f"{m}: total [{overlay.case_label()}]", model_colour(m), DASHED, n.sound_power_db["total"] + weight)
@@ -209,8 +262,9 @@ class NoiseTab(ResultsTab):
     def _totals(self, noises, model, extra, overlay, train, train_problem) -> str:
         """L_WA per axle (dB(A)) by component and the pass-by level as a table, and what they are."""
         rail, sleeper, wheel = COMPONENTS
+        wheel_model = noises[model].configuration["wheel_model"]
         rows = [
-            f"| L_WA, dB(A) | {rail} | {sleeper} | track | {wheel} | total | pass-by |",
+            f"| L_WA, dB(A) | {rail} | {sleeper} | track | {wheel} ({wheel_model}) | total | pass-by |",
             "|---|---|---|---|---|---|---|",
         ]
 
@@ -244,7 +298,7 @@ class NoiseTab(ResultsTab):
         return (
             "\n".join(rows) + f"\n\nL_WA per axle, re 1 pW. {where}. CNOSSOS-EU: the run's roughness, A3, "
             f"{cfg['track_type']}, {cfg['wheel_diameter_m'] * 1e3:g} mm wheels; {superstructure_words(beside)} "
-            f"Wheel: {noises[model].configuration['wheel']}"
+            f"Wheel ({WHEEL_CHOICE.label.lower()}: {wheel_model}): {noises[model].configuration['wheel']}"
         )
 
 

@@ -117,11 +117,14 @@ def add_input_options(
             options.add_argument(entry.option, type=float, nargs=nargs, default=entry.shown_default(), help=text)
 
 
-def add_choice_option(parser, key: str, help_prefix: str = "") -> None:
+def add_choice_option(parser, key: str, help_prefix: str = "", option: str | None = None) -> None:
     """The option of a declared choice (``wheelrail.core.inputs.CHOICES``): its values, default and help from
-    the declaration; ``help_prefix`` says which mode uses it ("--method twins, --run: ")."""
+    the declaration; ``help_prefix`` says which mode uses it ("--method twins, --run: "); ``option``: the command's
+    own name for it where the declared one means something else there (``run --noise-wheel-model``)."""
     entry = choice(key)
-    parser.add_argument(entry.option, choices=entry.values, default=entry.default, help=help_prefix + entry.help_text())
+    parser.add_argument(
+        option or entry.option, choices=entry.values, default=entry.default, help=help_prefix + entry.help_text()
+    )
 
 
 def _accepted_words(entry) -> str:

@@ -314,6 +314,7 @@ def _run_file(args) -> int:
         f"Rolling noise of {args.run}: model {cfg['model']}, {cfg['roughness']} line {cfg['line']}, "
         f"{cfg['speed_m_s'] * 3.6:g} km/h; sound power of one wheel on one rail, dB re 1 pW"
     )
+    print(f"  the run's wheel (its force): {result.header.wheel_words()}")
     print("  band Hz   force dB " + " ".join(f"{name:>6}" for name in SOUND_POWER_PARTS))
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
         row = [noise.sound_power_db[name][i] for name in SOUND_POWER_PARTS]

@@ -10,6 +10,7 @@ import time
 
 from wheelrail.cli.commands._common import (
     CLI_NAMES,
+    add_choice_option,
     add_input_options,
     cli_error_names,
     input_files,
@@ -83,11 +84,15 @@ def add_parser(sub):
         default="2dof",
         help="the wheel: the paper's 2-DOF wheel (default) or the modal wheel (the named wheel nearest the run's "
         "radius, at that radius, clamped on the axle, modes to 10 kHz, in series with the paper's wheelset mass "
-        "and suspension: see wheelrail wheel); modal runs print their summary only (no --out, --csv, --rrd)",
+        "and suspension: see wheelrail wheel); --out, --csv and --rrd record it. The sound power's wheel "
+        "(--sound-power) is --noise-wheel-model",
     )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     add_input_options(parser, *RUN_GROUPS)
     add_recording_arguments(parser)
+    add_choice_option(  # the sound power's wheel: one declaration (CHOICES), named apart from --wheel-model here
+        parser, "noise_wheel_model", "with --sound-power, the recorded sound power's wheel: ", "--noise-wheel-model"
+    )
     return parser
 
 
@@ -135,8 +140,8 @@ def _checked_args(args):
     if csv_path is not None:
         writable_output(csv_path, "--csv", ".csv", [*inputs, *([] if out is None else [out])])
     rrd = getattr(args, "rrd", None)
-    if args.wheel_model == "modal" and (out is not None or csv_path is not None or rrd is not None):
-        raise WheelrailError("--wheel-model modal is not recorded in --out, --csv or --rrd files yet; run without them")
+    if args.noise_wheel_model != "directive" and not getattr(args, "sound_power", False):
+        raise WheelrailError("--noise-wheel-model needs --sound-power (the recording's sound power)")
     for source in inputs:
         if rrd is not None and same_file(rrd, source):
             raise WheelrailError(
@@ -147,13 +152,11 @@ def _checked_args(args):
 
 
 def modal_wheel_of(params):
-    """(profile, discrete system) of ``--wheel-model modal``: the named wheel nearest the run's rolling radius, at
-    that radius (``modal_wheel.wheel_profile_for``), and its ``modal_wheel_system`` at the run's time step."""
-    from wheelrail.core.modal_wheel import wheel_modes, wheel_profile_for
-    from wheelrail.core.modal_wheel.time_domain import modal_wheel_system
+    """The cross-section of ``--wheel-model modal``: the named wheel nearest the run's rolling radius, at that
+    radius (``modal_wheel.wheel_profile_for``); ``prepare_run`` builds its Green's function at the run's step."""
+    from wheelrail.core.modal_wheel import wheel_profile_for
 
-    profile = wheel_profile_for(params.contact.radius_along)
-    return profile, modal_wheel_system(wheel_modes(profile), params.wheel, params.run.time_step)
+    return wheel_profile_for(params.contact.radius_along)
 
 
 def _prepare(args, params, out, sink):
@@ -161,7 +164,7 @@ def _prepare(args, params, out, sink):
     from wheelrail.cli.commands._progress import announce_track_precompute
     from wheelrail.core.interaction import prepare_run
 
-    wheel_system = modal_wheel_of(params)[1] if args.wheel_model == "modal" else None
+    wheel_system = modal_wheel_of(params) if args.wheel_model == "modal" else None
     try:
         # 3d: every pressure map is kept only for --out (a recording takes them step by step)
         with announce_track_precompute("run"):  # a track not yet cached: its phases and progress on a terminal
@@ -239,8 +242,8 @@ def _summary(args, result, params, times) -> dict:
         "speed_m_per_s": result.speed,
         "speed_kmh": args.speed_kmh,
         "preload_n": params.contact.preload,
-        "wheel_model": args.wheel_model,
-        **({"modal_wheel": modal_wheel_of(params)[0].describe()} if args.wheel_model == "modal" else {}),
+        "wheel_model": result.header.wheel_model,
+        **({"modal_wheel": result.header.wheel_profile} if result.header.wheel_profile is not None else {}),
         **describe(params, "geometry", "track"),  # the contact geometry and track it ran on, SI
         "hertz_semi_axes_m": list(params.contact.hertz_semi_axes()),  # a along the rail, b across, at the preload
         "steps": result.n_steps,
@@ -275,13 +278,9 @@ def _print_summary(args, result, params, summary, sink) -> None:
         f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m"
     )
     print(f"  track: {describe_words(params, 'track')}")
-    if args.wheel_model == "modal":
-        wheel = summary["modal_wheel"]
-        print(
-            f"  wheel: modal, {wheel['wheel_radius'] * 2e3:g} mm (rim {wheel['tyre_width'] * 1e3:g} x "
-            f"{wheel['tyre_depth'] * 1e3:g} mm, web {wheel['web_thickness'] * 1e3:g} mm; wheelrail wheel shows it) "
-            "with the paper's wheelset mass and suspension"
-        )
+    modal = result.header.wheel_model == "modal"
+    wheel = ", with the paper's wheelset mass and suspension (wheelrail wheel shows it)" if modal else ""
+    print(f"  wheel: {result.header.wheel_words()}{wheel}")
     print(f"  contact geometry: {describe_contact(params)}")
     print(
         f"  contact force: mean {force.mean() / 1e3:.3f} kN, std {force.std() / 1e3:.3f} kN, "
@@ -311,6 +310,7 @@ def _print_summary(args, result, params, summary, sink) -> None:
 def run(args) -> int:
     params, out = _checked_args(args)
     sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}", names=cli_error_names())
+
     start = time.perf_counter()
     interaction = _prepare(args, params, out, sink)
     prepared = time.perf_counter()

@@ -58,6 +58,8 @@ def load_force(path: str | Path) -> dict:
             "line": result.line,
             "speed": result.speed,
             "roughness": result.roughness_name,
+            "wheel_model": result.header.wheel_model,
+            "wheel": result.header.wheel_words(),
         }
     if suffix != ".npz":
         raise WheelrailError(f"run file {source} must be a .npz (wheelrail run --out) or a .rrd recording")
@@ -83,6 +85,8 @@ def load_force(path: str | Path) -> dict:
         "line": result.line,
         "speed": result.speed,
         "roughness": result.roughness_name,
+        "wheel_model": result.header.wheel_model,  # the interaction's wheel (RunHeader.wheel_model)
+        "wheel": result.header.wheel_words(),
     }
 
 
@@ -102,6 +106,8 @@ def run(args) -> int:
                 "line": saved["line"],
                 "speed_m_s": saved["speed"],
                 "roughness": saved["roughness"],
+                "wheel_model": saved["wheel_model"],
+                "wheel": saved["wheel"],
                 "time_step_s": saved["time_step"],
                 "steps": int(len(saved["force"])),
                 "skip_s": skip_ms * 1e-3,
@@ -116,6 +122,7 @@ def run(args) -> int:
         f"{args.file}: model {saved['model']}, line {saved['line']}, {len(saved['force'])} steps of "
         f"{saved['time_step'] * 1e6:.4g} us; first {skip_ms:g} ms skipped; dynamic force rms {rms:.4g} N"
     )
+    print(f"  wheel: {saved['wheel']}")
     print(f"{'band (Hz)':>10} {'level (dB re 1 N)':>18}")
     for centre, level in zip(centres, levels, strict=True):
         text = "-" if not math.isfinite(level) else f"{level:.1f}"

@@ -37,6 +37,7 @@ __all__ = [
     "named_profile",
     "outline_profile",
     "read_outline",
+    "profile_from_description",
     "section_mass",
     "wheel_profile_for",
 ]
@@ -185,6 +186,23 @@ class OutlineProfile:
 
     def describe(self) -> dict:
         return {"kind": "outline", "name": self.name, "points": [list(p) for p in self.points], "contact": self.contact}
+
+
+def profile_from_description(description: dict):
+    """The cross-section a ``describe()`` dict records (a run's header, a cache key): a ``WheelProfile`` or an
+    ``OutlineProfile``, checked again; anything else is one WheelrailError."""
+    values = dict(description) if isinstance(description, dict) else {}
+    kind = values.pop("kind", None)
+    try:
+        if kind == "parametric":
+            return WheelProfile(**values)
+        if kind == "outline":
+            points = tuple((float(r), float(z)) for r, z in values["points"])
+            contact = tuple(float(v) for v in values["contact"])
+            return OutlineProfile(points=points, contact=contact, name=str(values.get("name", "outline")))
+    except (KeyError, TypeError, ValueError) as error:
+        raise WheelrailError(f"the recorded wheel profile is damaged ({error!r})") from None
+    raise WheelrailError(f"the recorded wheel profile is not a wheel cross-section (kind {kind!r})")
 
 
 def section_mass(profile, density: float = 7850.0) -> float:

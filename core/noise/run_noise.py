@@ -286,7 +286,8 @@ def run_noise(
         "directive" (CNOSSOS-EU's L_H,veh on the effective roughness) or "modal" (the modal wheel's
         L_H,veh-equivalent on it): :mod:`wheelrail.core.noise.wheel_power`.
     wheel_profile : WheelProfile, optional
-        The modal wheel's cross-section (default: the named wheel nearest the run's R, at R).
+        The modal wheel's cross-section (default: the run's own, ``RunHeader.wheel_profile``, for a run with the
+        modal wheel; else the named wheel nearest the run's R, at R).
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
@@ -300,6 +301,10 @@ def run_noise(
     params = result.header.params
     track = track_noise_model(params, numerics)
     if checked_wheel_model(wheel_model) == "modal":  # its L_H,veh-equivalent on the run's effective roughness
+        if wheel_profile is None and result.header.wheel_profile is not None:  # the run's own modal wheel
+            from wheelrail.core.modal_wheel import profile_from_description
+
+            wheel_profile = profile_from_description(result.header.wheel_profile)
         track = with_modal_wheel(track, params, wheel_profile, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
@@ -335,6 +340,8 @@ def _configuration(result, track, train_axles, train_length, undefined) -> dict:
             "roughness": result.roughness_name,
             "line": result.line,
             "wheel_roughness": result.wheel_roughness_name,
+            "wheel_model": result.header.wheel_model,  # the interaction's wheel ("2dof", "modal"), its force's
+            **({"wheel_profile": result.header.wheel_profile} if result.header.wheel_profile is not None else {}),
             "speed_m_s": result.speed,
             "element_size_m": result.element_size,
         },

@@ -56,6 +56,7 @@ def sink_from_args(args, *, description: str = "", names: Mapping[str, Name] | N
         connect=args.connect,
         record_every=args.record_every,
         description=description,
-        sound_power=sound_power,
+        # whose wheel power: the noise_wheel_model choice (``run --noise-wheel-model``), the directive's by default
+        sound_power=getattr(args, "noise_wheel_model", "directive") if sound_power else False,
         names=names,
     )

@@ -190,6 +190,8 @@ def parameters_document(
         "time_step_s": head.get("time_step_s", time_step),
         "roughness": head.get("roughness"),
         **({"wheel_roughness": head["wheel_roughness"]} if "wheel_roughness" in head else {}),
+        "wheel_model": head.get("wheel_model"),  # the interaction's wheel: "2dof" (the paper's) or "modal"
+        **({"wheel_profile": head["wheel_profile"]} if "wheel_profile" in head else {}),
         "loss_of_contact_steps": loss_of_contact_steps,
         "run_in_length_m": head.get("run_in_length_m"),
         "run_in_time_s": head.get("run_in_time_s"),

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.inputs import choice
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.outputs import Outputs
@@ -109,8 +110,10 @@ class RecordingSink:
         Steps per columnar send.
     description : str
         Name of the recording shown by the viewer.
-    sound_power : bool
-        Add the run's rolling-noise sound-power spectra at :meth:`finish` (``--sound-power``), and their views.
+    sound_power : bool or str
+        Add the run's rolling-noise sound-power spectra at :meth:`finish` (``--sound-power``), and their views;
+        a value of the ``noise_wheel_model`` choice (``wheelrail.core.inputs.CHOICES``: "directive", "modal")
+        also says whose wheel power (True: the directive's L_H,veh), stated as ``wheel_transfer_source``.
     pressure_maps : bool
         The run has pressure maps (a model with ``ModelTraits.pressure_map``: ``3d``): the layout the viewer opens
         with has the pressure views (:func:`~.schema.default_blueprint`).
@@ -136,6 +139,8 @@ class RecordingSink:
         _check_counts(record_every, surface_every, chunk_steps)
         self.names = dict(names or {})  # how the front end names its options, for the warnings it is given
         self.sound_power = bool(sound_power)  # finish() adds the run's sound-power spectra (needs the RunResult)
+        wheel = sound_power if isinstance(sound_power, str) else "directive"
+        self.sound_power_wheel = choice("noise_wheel_model").check(wheel)  # whose wheel power the noise takes
         self.record_every = int(record_every)
         self.surface_every = int(surface_every)
         self.chunk_steps = int(chunk_steps)
@@ -416,7 +421,7 @@ class RecordingSink:
         from wheelrail.core.noise.run_noise import run_noise
 
         try:
-            noise = run_noise(result)
+            noise = run_noise(result, wheel_model=self.sound_power_wheel)  # a modal run's own wheel, if modal
         except WheelrailError as error:  # e.g. a run too short for a force spectrum: said, in the file and aloud
             reason = error.render(self.names)
             document = strict_json({"sound_power": "not computed", "reason": reason}, indent=2)
@@ -433,7 +438,8 @@ class RecordingSink:
             "pass_by_LpAeq_dBA": noise.pass_by_laeq_dba,
             "train_axles": noise.configuration["train_axles"],
             "train_length_m": noise.configuration["train_length_m"],
-            "wheel": noise.configuration["wheel"],
+            "wheel_model": noise.configuration["wheel_model"],
+            "wheel_transfer_source": noise.configuration["wheel"],
         }
         self.stream.log(
             f"{SOUND_POWER}/summary", self._rr.TextDocument(strict_json(totals, indent=2)), static=True, strict=True

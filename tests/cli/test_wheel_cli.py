@@ -99,10 +99,3 @@ def test_a_run_with_the_modal_wheel_states_it_and_differs_from_the_2dof(capsys):
     assert modal["force_mean_n"] == pytest.approx(65e3, rel=5e-3)
     levels = [np.array([np.nan if v is None else v for v in run["levels_db"]]) for run in (modal, paper)]
     assert np.nanmax(np.abs(levels[0] - levels[1])) > 1.0  # bands without a level are null in the JSON
-
-
-def test_a_modal_wheel_run_is_not_written_to_files_yet(tmp_path, capsys):
-    out = tmp_path / "r.npz"
-    assert main(["run", "--set", "corrugated-rail", "--wheel-model", "modal", "--out", str(out)]) != 0
-    err = capsys.readouterr().err
-    assert "--wheel-model modal is not recorded in --out" in err and err.count("\n") == 1 and not out.exists()

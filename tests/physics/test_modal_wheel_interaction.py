@@ -79,3 +79,16 @@ def test_small_sinusoidal_roughness_with_the_modal_wheel_matches_linear_theory()
         assert 20 * np.log10(amplitude / expected) == pytest.approx(0.0, abs=0.6), f
         two_dof = r0 / abs(wheel_receptance(P.wheel, [f])[0] + alpha_r + 1 / k_h)
         assert abs(20 * np.log10(amplitude / two_dof)) > 1.0, f
+
+
+def test_a_profile_given_to_the_run_is_its_modal_wheel_and_is_recorded():
+    # prepare_run(wheel_system=profile) builds the same system as modal_wheel_system(wheel_modes(profile), ...):
+    # the same force to the bit; its header says "modal" with the cross-section, a bare system's "given"
+    profile = wheel_profile_for(P.contact.radius)
+    system = modal_wheel_system(wheel_modes(profile), P.wheel, P.run.time_step)
+    by_profile = simulate("corrugated-rail", model="hertz", length=0.3, wheel_system=profile)
+    by_system = simulate("corrugated-rail", model="hertz", length=0.3, wheel_system=system)
+    np.testing.assert_array_equal(by_profile.force, by_system.force)
+    assert by_profile.header.wheel_model == "modal" and by_profile.header.wheel_profile == profile.describe()
+    assert by_system.header.wheel_model == "given" and by_system.header.wheel_profile is None
+    assert simulate("corrugated-rail", model="hertz", length=0.3).header.wheel_model == "2dof"

@@ -135,8 +135,8 @@ _NEW_CONTACT_PARAMETERS = ("wheel_radius", "rail_crown_radius", "wheel_transvers
 def _without_new_parameters(component: dict) -> dict:
     """The parameters document without the geometry fields added since the old files (their defaults, None and
     an infinite tread, keep the old files' circle), the rail's loss factor and the pads' width (0), without
-    the run-in's duration (``run_in_time_s``, the run-in length over the speed) and without ``recorded_steps``
-    (the mark of a finished recording), re-rendered as the writer renders it."""
+    the run-in's duration (``run_in_time_s``, the run-in length over the speed), without ``recorded_steps``
+    (the mark of a finished recording) and ``wheel_model`` (the paper's 2-DOF), re-rendered as the writer renders it."""
     import json
 
     from wheelrail.core.recording.schema import parameters_from_text
@@ -151,6 +151,7 @@ def _without_new_parameters(component: dict) -> dict:
         assert track["rail"].pop("loss_factor") == 0.0 and track["support"].pop("pad_width") == 0.0
         # the mark of a finished recording, added since: null at the start, the steps at the end
         assert document.pop("recorded_steps") in (None, N_STEPS)
+        assert document.pop("wheel_model") == "2dof"  # the interaction's wheel, recorded since: the paper's
         run_in_time = document.pop("run_in_time_s")
         assert run_in_time == document["run_in_length_m"] / document["speed_m_per_s"]
         head = text.split("```json", 1)[0]
