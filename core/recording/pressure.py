@@ -19,6 +19,7 @@ from wheelrail.core.drawing import (
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
+from wheelrail.core.recording.columns import blob_column, colour_column, position_column
 from wheelrail.core.recording.schema import (
     NOMINAL_CIRCLE,
     NOMINAL_CIRCLE_IMAGE,
@@ -117,7 +118,6 @@ class ContactPatch:
 
         Without a known window the maps are taken on a grid of ``element_size`` (m) centred on the wheel.
         """
-        rr = rerun_module()
         pressure = np.ascontiguousarray(pressure, dtype=np.float32)
         n, ny, nx = pressure.shape
         if self.window is None:  # no window given: element centres of a grid centred on the wheel
@@ -133,12 +133,7 @@ class ContactPatch:
         if self._surface_xy is None:
             self._log_formats(nx, ny)
         indexes = time_columns(pressure_steps, time, x)
-        self.stream.send_columns(
-            PRESSURE,
-            indexes,
-            rr.DepthImage.columns(buffer=pressure.reshape(n, -1).view(np.uint8)),
-            strict=True,
-        )
+        self.stream.send_columns(PRESSURE, indexes, [blob_column(pressure)], strict=True)
         surface = pressure_steps % self.surface_period == 0
         if surface.any():
             self._send_surface(
@@ -176,15 +171,12 @@ class ContactPatch:
 
     def _send_surface(self, pressure: np.ndarray, indexes: list) -> None:
         """The pressure surface meshes (z = a p / p0, viridis colours) of the given maps."""
-        rr = rerun_module()
         n, ny, nx = pressure.shape
         a, p0 = self.geometry
         vertices = np.empty((n, ny * nx, 3), dtype=np.float32)
         vertices[:, :, :2] = self._surface_xy
         vertices[:, :, 2] = pressure.reshape(n, -1) * (a / p0)
         colours = table_colours(pressure.reshape(n, -1), PRESSURE_RANGE_P0 * p0, _COLOUR_TABLE)
-        lengths = np.full(n, ny * nx)
-        surface = rr.Mesh3D.columns(vertex_positions=vertices.reshape(-1, 3), vertex_colors=colours.reshape(-1))
         self.stream.send_columns(
-            PRESSURE_SURFACE, indexes, [column.partition(lengths) for column in surface], strict=True
+            PRESSURE_SURFACE, indexes, [position_column(vertices), colour_column(colours)], strict=True
         )
