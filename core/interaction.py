@@ -28,6 +28,7 @@ from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
 
 if TYPE_CHECKING:  # the roughness package is imported with the first set a run reads
     from wheelrail.core.roughness import RoughnessLike
+from wheelrail.core.run_blocks import BlockSteps
 from wheelrail.core.run_setup import (
     DEFAULT_RUN_IN_TIME,
     RUN_MARGIN,
@@ -125,7 +126,7 @@ def _define_run_chunk_3d(stamp):
 # --------------------------------------------------------------------------------------------------
 
 
-class InteractionRun(HeaderView):
+class InteractionRun(BlockSteps, HeaderView):
     """One prepared run: iterate :meth:`steps` (streaming) or call :meth:`run`; then :meth:`result`.
 
     Built by :func:`prepare_run`, not by hand. :meth:`cancel` (from any thread) stops it between steps.
@@ -371,38 +372,9 @@ class InteractionRun(HeaderView):
         WheelrailError
             If the contact model fails (e.g. the contact leaves the 3D model's window).
         """
-        loop = self.loop
-        self._advance_to(loop.n_run_in)
-        s = loop.n_run_in
-        while s < loop.n_total and not self._cancel.is_set():
-            stop = min(loop.n_total, s + self._chunk)
-            self._advance_to(stop)
-            for t in range(s, min(stop, self._done)):
+        for s, end in self._stepped():
+            for t in range(s, end):
                 yield self._state(t)
-            s = stop
-
-    def blocks(self) -> Iterator[tuple[int, RunResult]]:
-        """Run (run-in first, not yielded) and yield the recorded steps a chunk at a time, as they are computed.
-
-        The same steps as :meth:`steps`, in arrays: a recorder takes a block at once instead of a
-        :class:`StepState` a step (building those costs ~4 us a step, a fifth of a 3D step).
-
-        Yields
-        ------
-        (int, RunResult)
-            The number of the block's first recorded step, and the block's steps (its ``time`` and ``x`` those of
-            the whole run; its pressure maps its own copy or, when the run keeps them, a view of the run's).
-        """
-        loop = self.loop
-        self._advance_to(loop.n_run_in)
-        s = loop.n_run_in
-        while s < loop.n_total and not self._cancel.is_set():
-            stop = min(loop.n_total, s + self._chunk)
-            self._advance_to(stop)
-            end = min(stop, self._done)
-            if end > s:
-                yield s - loop.n_run_in, self._between(s, end, block=True)
-            s = stop
 
     def run(
         self,
@@ -414,9 +386,8 @@ class InteractionRun(HeaderView):
         Parameters
         ----------
         callback : callable, optional
-            ``callback(state)`` with the :class:`StepState` of every step (streaming); a callback with a
-            ``log_block(first, block)`` method (``RecordingSink``) is given the steps a chunk at a time instead
-            (:meth:`blocks`).
+            ``callback(state)`` with the :class:`StepState` of every step (streaming); a callback with a method
+            ``log_block`` (``RecordingSink``) gets ``log_block(first, block)`` of :meth:`blocks` instead.
         progress : callable, optional
             ``progress(done, total)`` now and then with the number of steps done (cheap: for progress bars).
 
@@ -430,14 +401,10 @@ class InteractionRun(HeaderView):
         WheelrailError
             If the contact model fails (e.g. the contact leaves the 3D model's window).
         """
-        log_block = getattr(callback, "log_block", None)
         if callback is None:
             self._advance_to(self.loop.n_total, progress)
-        elif log_block is not None:  # a recorder that takes arrays (RecordingSink): no StepState a step
-            for first, block in self.blocks():
-                log_block(first, block)
-                if progress is not None:
-                    progress(first + block.n_steps, self.loop.n_steps)
+        elif hasattr(callback, "log_block"):  # a recorder of arrays: no StepState a step
+            self._log_blocks(callback.log_block, progress)
         else:
             for state in self.steps():
                 callback(state)
@@ -454,21 +421,11 @@ class InteractionRun(HeaderView):
             All recorded steps after a complete run; fewer after :meth:`cancel` (or before :meth:`run`).
         """
         loop = self.loop
-        return self._between(loop.n_run_in, max(loop.n_run_in, self._done))
-
-    def _between(self, s0: int, s1: int, *, block: bool = False) -> RunResult:
-        """The steps s0 .. s1 - 1 (run-in counted) as a RunResult; ``block``: of the last chunk stepped
-        (:meth:`blocks`), whose pressure maps may be in the chunk's buffer."""
-        loop = self.loop
-        sl = slice(s0, s1)
-        k = np.arange(s0 - loop.n_run_in, s1 - loop.n_run_in)
-        force = loop.force[loop.n_hist + s0 : loop.n_hist + s1].copy()
+        done = max(0, self._done - loop.n_run_in)
+        sl = slice(loop.n_run_in, loop.n_run_in + done)
+        k = np.arange(done)
+        force = loop.force[loop.n_hist + loop.n_run_in : loop.n_hist + loop.n_run_in + done].copy()
         idx = loop.start_index[sl]
-        pressure = None if self.pressure is None else self.pressure[s0 - loop.n_run_in : s1 - loop.n_run_in]
-        if block and pressure is None and self._maps is not None:  # not kept: the chunk's buffer, reused next
-            pressure = self._maps[s0 - self._maps_first : s1 - self._maps_first].copy()
-        elif block and pressure is None and self.last_pressure is not None:  # stepped one by one (1-step blocks)
-            pressure = np.asarray(self.last_pressure, dtype=np.float32)[None]
         return RunResult(
             header=self.header,
             time=k * loop.dt,
@@ -480,7 +437,7 @@ class InteractionRun(HeaderView):
             contact_length=self.contact_length[sl].copy(),
             contact_area=self.contact_area[sl].copy(),
             equivalent_roughness=self.contact.equivalent_line[idx].copy(),
-            pressure=pressure,
+            pressure=None if self.pressure is None else self.pressure[:done],
             window_x=self.window_x,
             window_y=self.window_y,
             loss_of_contact_steps=int(np.count_nonzero(force <= 0.0)),
