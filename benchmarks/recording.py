@@ -31,6 +31,7 @@ import numpy as np
 
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.recording import RecordingSink, read_recording, record_result
+from wheelrail.core.recording.sink import SURFACE_EVERY
 from wheelrail.core.results import RunHeader, RunResult
 from wheelrail.core.roughness import load_roughness
 
@@ -121,7 +122,7 @@ def part_synthetic(n: int, folder: Path) -> None:
     print(f"  (raw arrays: {raw / n * 1e3 / 1e6:.2f} MB per 1 000 steps; surface mesh every 4th map)")
 
 
-def part_real(length: float, folder: Path, repeat: int) -> None:
+def part_real(length: float, folder: Path, repeat: int, surface_every: int) -> None:
     from wheelrail.core.interaction import prepare_run
 
     roughness = load_roughness("corrugated-rail")
@@ -130,7 +131,9 @@ def part_real(length: float, folder: Path, repeat: int) -> None:
         run = prepare_run("corrugated-rail", model="3d", length=length)
         sink = None
         if callback_kind == "record":
-            sink = RecordingSink(rrd=folder / "real.rrd", description="3d corrugated-rail line 0 (benchmark)")
+            sink = RecordingSink(
+                rrd=folder / "real.rrd", description="3d corrugated-rail (benchmark)", surface_every=surface_every
+            )
         start, cpu = time.perf_counter(), time.process_time()
         if sink is not None:
             sink.start(run, roughness=roughness)
@@ -144,7 +147,10 @@ def part_real(length: float, folder: Path, repeat: int) -> None:
 
     timed("none")  # compile / load the kernels and the Green's functions once
     timed("record")  # and the recording's imports, threads and templates
-    print(f"real 3D run, corrugated rail, line 0, 100 km/h, {length:g} m (best of {repeat}; wall, CPU of the process)")
+    print(
+        f"real 3D run, corrugated rail, line 0, 100 km/h, {length:g} m, surface every {surface_every} maps "
+        f"(best of {repeat}; wall, CPU of the process)"
+    )
     best = {kind: [math.inf, math.inf] for kind in ("none", "noop", "record")}
     for _ in range(repeat):  # round robin, so that a busy spell of the machine hits every case alike
         for kind, figures in best.items():
@@ -174,13 +180,16 @@ def main() -> int:
     parser.add_argument("--length-m", type=float, default=7.9, help="real 3D run length, m (default 7.9)")
     parser.add_argument("--repeat", type=int, default=3, help="real runs per case, the fastest counts (default 3)")
     parser.add_argument("--skip-real", action="store_true", help="only the synthetic part")
+    parser.add_argument(
+        "--surface-every", type=int, default=SURFACE_EVERY, help=f"a surface every M maps ({SURFACE_EVERY})"
+    )
     args = parser.parse_args()
     load = ", ".join(f"{value:.1f}" for value in os.getloadavg())
     print(f"{os.cpu_count()} CPUs, load average {load} (1, 5, 15 min), Python {sys.version.split()[0]}")
     with tempfile.TemporaryDirectory() as folder:
         part_synthetic(args.steps, Path(folder))
         if not args.skip_real:
-            part_real(args.length_m, Path(folder), args.repeat)
+            part_real(args.length_m, Path(folder), args.repeat, args.surface_every)
     return 0
 
 

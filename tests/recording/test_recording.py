@@ -524,3 +524,24 @@ def test_direct_columns_equal_the_archetypes_columns():
         for (mine, array), (descriptor, expected) in zip(arrays(ours), arrays(theirs), strict=True):
             assert mine == descriptor
             assert array.type == expected.type and array.equals(expected)
+
+
+def test_surface_kernel_gives_numpys_vertices_and_colours():
+    """The compiled surface fill equals the numpy it replaced: z = p * float32(a / p0), table_colours' colours
+    (below 0, within, above the ramp's top, and a zero map), exactly."""
+    from wheelrail.core.drawing import PRESSURE_RANGE_P0, colour_table, packed_rgba, table_colours
+    from wheelrail.core.recording.pressure import surface_kernel
+
+    table = packed_rgba(colour_table())
+    a, p0 = ContactParameters().hertz_radius(), ContactParameters().hertz_peak_pressure()
+    rng = np.random.default_rng(3)
+    pressure = (rng.uniform(-0.1, 2.5, (6, 19 * 25)) * p0).astype(np.float32)  # beyond the ramp at both ends
+    pressure[0] = 0.0
+    xy = rng.random((19 * 25, 2)).astype(np.float32)
+    vertices = np.empty((6, 19 * 25, 3), np.float32)
+    colours = np.empty((6, 19 * 25), np.uint32)
+    scale = np.float32((len(table) - 1) / (PRESSURE_RANGE_P0 * p0))
+    surface_kernel()(pressure, xy, np.float32(a / p0), scale, table, vertices, colours)
+    np.testing.assert_array_equal(vertices[:, :, :2], np.broadcast_to(xy, (6, 19 * 25, 2)))
+    np.testing.assert_array_equal(vertices[:, :, 2], pressure * (a / p0))
+    np.testing.assert_array_equal(colours, table_colours(pressure, PRESSURE_RANGE_P0 * p0, table))
