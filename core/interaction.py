@@ -335,30 +335,6 @@ class InteractionRun(BlockSteps, HeaderView):
             if progress is not None and (chunk > 1 or stop % 64 == 0 or stop == s_end):
                 progress(max(0, stop - self.loop.n_run_in), self.loop.n_steps)
 
-    def _state(self, s: int) -> StepState:
-        loop = self.loop
-        k = s - loop.n_run_in
-        pressure = None
-        if self.traits.pressure_map:
-            if self.pressure is not None:
-                pressure = self.pressure[k]
-            elif self._maps is not None:  # (the buffer is reused by the next chunk)
-                pressure = self._maps[s - self._maps_first].copy()
-            else:
-                pressure = self.last_pressure
-        return StepState(
-            step=k,
-            time=k * loop.dt,
-            position=self.position_of(s),
-            force=float(loop.force[loop.n_hist + s]),
-            xi_wheel=float(self.xi_wheel[s]),
-            xi_rail=float(self.xi_rail[s]),
-            roughness=float(self.track.lines[self.track.centre_row][loop.start_index[s]]),
-            contact_length=float(self.contact_length[s]),
-            contact_area=float(self.contact_area[s]),
-            pressure=pressure,
-        )
-
     def steps(self) -> Iterator[StepState]:
         """Run (run-in first, not yielded) and yield the state of every recorded step, as it is computed.
 
@@ -373,8 +349,7 @@ class InteractionRun(BlockSteps, HeaderView):
             If the contact model fails (e.g. the contact leaves the 3D model's window).
         """
         for s, end in self._stepped():
-            for t in range(s, end):
-                yield self._state(t)
+            yield from self._chunk_states(s, end)
 
     def run(
         self,
