@@ -50,7 +50,7 @@ def surface_kernel():
     """The compiled fill of the surface meshes: vertices (x', y', a p / p0) and their viridis colours, in one pass.
 
     The same numbers as numpy's ``vertices[..., 2] = p * np.float32(a / p0)`` and ``table_colours`` (float32
-    products; the colour index truncated, clipped to the table) at 0.4 us a step where numpy took 1.8 us: its
+    products; the colour index truncated, clipped to the table) at 0.4 us a step where numpy took 1.4-3.3 us: its
     strided writes of the interleaved vertices cost most (``tests/recording/test_recording.py`` compares them).
     """
     from numba import njit
