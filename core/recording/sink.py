@@ -82,8 +82,9 @@ class _RoughnessLines:
 class RecordingSink:
     """Records a run to a ``.rrd`` file and/or a live rerun viewer, step by step or from a finished result.
 
-    Use it as the loop's per-step callback: ``sink(state)`` buffers the :class:`StepState` and every
-    ``chunk_steps`` steps the block is sent as columns. Typical use::
+    Use it as the loop's callback: ``InteractionRun.run(sink)`` hands it each chunk of steps as arrays
+    (:meth:`log_block`), a callback that takes a :class:`StepState` (``sink(state)``, :meth:`log_step`) buffers one
+    step; every ``chunk_steps`` steps the block is sent as columns, the same rows either way. Typical use::
 
         sink = RecordingSink(rrd="run.rrd")            # path checked here, before the run
         run = prepare_run(roughness, model="3d", length=0.5)
