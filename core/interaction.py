@@ -28,6 +28,7 @@ from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
 
 if TYPE_CHECKING:  # the roughness package is imported with the first set a run reads
     from wheelrail.core.roughness import RoughnessLike
+from wheelrail.core.run_blocks import BlockSteps
 from wheelrail.core.run_setup import (
     DEFAULT_RUN_IN_TIME,
     RUN_MARGIN,
@@ -126,7 +127,7 @@ def _define_run_chunk_3d(stamp):
 # --------------------------------------------------------------------------------------------------
 
 
-class InteractionRun(HeaderView):
+class InteractionRun(BlockSteps, HeaderView):
     """One prepared run: iterate :meth:`steps` (streaming) or call :meth:`run`; then :meth:`result`.
 
     Built by :func:`prepare_run`, not by hand. :meth:`cancel` (from any thread) stops it between steps.
@@ -335,30 +336,6 @@ class InteractionRun(HeaderView):
             if progress is not None and (chunk > 1 or stop % 64 == 0 or stop == s_end):
                 progress(max(0, stop - self.loop.n_run_in), self.loop.n_steps)
 
-    def _state(self, s: int) -> StepState:
-        loop = self.loop
-        k = s - loop.n_run_in
-        pressure = None
-        if self.traits.pressure_map:
-            if self.pressure is not None:
-                pressure = self.pressure[k]
-            elif self._maps is not None:  # (the buffer is reused by the next chunk)
-                pressure = self._maps[s - self._maps_first].copy()
-            else:
-                pressure = self.last_pressure
-        return StepState(
-            step=k,
-            time=k * loop.dt,
-            position=self.position_of(s),
-            force=float(loop.force[loop.n_hist + s]),
-            xi_wheel=float(self.xi_wheel[s]),
-            xi_rail=float(self.xi_rail[s]),
-            roughness=float(self.track.lines[self.track.centre_row][loop.start_index[s]]),
-            contact_length=float(self.contact_length[s]),
-            contact_area=float(self.contact_area[s]),
-            pressure=pressure,
-        )
-
     def steps(self) -> Iterator[StepState]:
         """Run (run-in first, not yielded) and yield the state of every recorded step, as it is computed.
 
@@ -372,15 +349,8 @@ class InteractionRun(HeaderView):
         WheelrailError
             If the contact model fails (e.g. the contact leaves the 3D model's window).
         """
-        loop = self.loop
-        self._advance_to(loop.n_run_in)
-        s = loop.n_run_in
-        while s < loop.n_total and not self._cancel.is_set():
-            stop = min(loop.n_total, s + self._chunk)
-            self._advance_to(stop)
-            for t in range(s, min(stop, self._done)):
-                yield self._state(t)
-            s = stop
+        for s, end in self._stepped():
+            yield from self._chunk_states(s, end)
 
     def run(
         self,
@@ -392,7 +362,8 @@ class InteractionRun(HeaderView):
         Parameters
         ----------
         callback : callable, optional
-            ``callback(state)`` with the :class:`StepState` of every step (streaming).
+            ``callback(state)`` with the :class:`StepState` of every step (streaming); a callback with a method
+            ``log_block`` (``RecordingSink``) gets ``log_block(first, block)`` of :meth:`blocks` instead.
         progress : callable, optional
             ``progress(done, total)`` now and then with the number of steps done (cheap: for progress bars).
 
@@ -408,6 +379,8 @@ class InteractionRun(HeaderView):
         """
         if callback is None:
             self._advance_to(self.loop.n_total, progress)
+        elif hasattr(callback, "log_block"):  # a recorder of arrays: no StepState a step
+            self._log_blocks(callback.log_block, progress)
         else:
             for state in self.steps():
                 callback(state)

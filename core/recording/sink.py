@@ -21,6 +21,7 @@ from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.inputs import choice
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
+from wheelrail.core.recording.columns import scalar_column
 from wheelrail.core.recording.outputs import Outputs
 from wheelrail.core.recording.pressure import ContactPatch, hertz_geometry, hertz_semi_axes
 from wheelrail.core.recording.schema import (
@@ -44,7 +45,7 @@ from wheelrail.core.results import RunHeader, RunResult, StepState
 
 __all__ = ["RecordingSink", "record_result"]
 
-DEFAULT_CHUNK_STEPS = 500  # steps buffered before one columnar send (a few ms of work per block)
+DEFAULT_CHUNK_STEPS = 2048  # steps buffered before one columnar send (~10 ms of work; 70 ms of a 3D run)
 SURFACE_EVERY = 4  # the pressure surface mesh is recorded at every 4th recorded pressure map
 
 _ROW_NAMES = ("step", "time", *(field.name for field in STEP_FIELDS))
@@ -82,8 +83,9 @@ class _RoughnessLines:
 class RecordingSink:
     """Records a run to a ``.rrd`` file and/or a live rerun viewer, step by step or from a finished result.
 
-    Use it as the loop's per-step callback: ``sink(state)`` buffers the :class:`StepState` and every
-    ``chunk_steps`` steps the block is sent as columns. Typical use::
+    Use it as the loop's callback: ``InteractionRun.run(sink)`` hands it each chunk of steps as arrays
+    (:meth:`log_block`), a callback that takes a :class:`StepState` (``sink(state)``, :meth:`log_step`) buffers one
+    step; every ``chunk_steps`` steps the block is sent as columns, the same rows either way. Typical use::
 
         sink = RecordingSink(rrd="run.rrd")            # path checked here, before the run
         run = prepare_run(roughness, model="3d", length=0.5)
@@ -158,7 +160,9 @@ class RecordingSink:
         self._closed = False
         self._lines: _RoughnessLines | None = None  # roughness/lines, when a set was given
         self._rows: list[tuple] = []  # buffered steps: (step, time, the STEP_FIELDS of StepState)
-        self._maps: list[tuple[int, np.ndarray]] = []  # buffered (step, pressure map) to record
+        self._map_steps: list[int] = []  # steps of the buffered pressure maps to record
+        self._block: np.ndarray | None = None  # (capacity, ny, nx) float32: the buffered maps, in _map_steps order
+        self._blocks: list[tuple] = []  # buffered blocks of log_block: (steps, columns, map steps, maps)
         self._steps_recorded = 0
         self._force: list[float] = []
         self._time_step: float | None = None  # measured from the recorded times (when no header says it)
@@ -266,26 +270,71 @@ class RecordingSink:
         """Buffer one step (the loop's callback); sends a block every ``chunk_steps`` steps."""
         if self._closed:
             raise WheelrailError("the recording is already finished")
+        if self._blocks:
+            self.flush()  # blocks given before go first
         self._rows.append(_ROW(state))
         if state.pressure is not None and state.step % self.record_every == 0:
-            # the loop may reuse its pressure buffer: keep a float32 copy
-            self._maps.append((state.step, np.array(state.pressure, dtype=np.float32)))
+            self._keep_map(state.step, state.pressure)
         if len(self._rows) >= self.chunk_steps:
             self.flush()
 
+    def _keep_map(self, step: int, pressure: np.ndarray) -> None:
+        """Copy one map into the block of maps to send (float32; the loop may reuse its buffer). A new block
+        is allocated after each send: rerun holds the sent one until it is encoded (:mod:`.columns`)."""
+        count = len(self._map_steps)
+        if self._block is None or count == len(self._block) or self._block.shape[1:] != np.shape(pressure):
+            if count:
+                self.flush()
+            capacity = self.chunk_steps // self.record_every + 1
+            self._block = np.empty((capacity, *np.shape(pressure)), dtype=np.float32)
+            count = 0
+        self._block[count] = pressure
+        self._map_steps.append(step)
+
     log_step = __call__  # the same, under a name that reads well as ``callback=sink.log_step``
+
+    def log_block(self, first: int, block: RunResult) -> None:
+        """Buffer the consecutive steps ``first``, ``first + 1``, ... of ``block`` at once; what the steps one by
+        one would record (``InteractionRun.run`` gives a sink its steps this way, :meth:`InteractionRun.blocks`).
+        A block's arrays are not kept: its pressure maps to record are copied."""
+        if self._closed:
+            raise WheelrailError("the recording is already finished")
+        if self._rows:
+            self.flush()  # steps given one by one before go first
+        columns, _ = _whole_run_columns(block, slice(None))  # r_eq is not streamed, as step by step
+        steps = first + np.arange(block.n_steps, dtype=np.int64)
+        pressure_steps = pressure = None
+        if block.pressure is not None:
+            keep = steps % self.record_every == 0
+            pressure_steps, pressure = steps[keep], np.array(block.pressure[keep], dtype=np.float32)
+        self._blocks.append((steps, columns, pressure_steps, pressure))
+        if sum(len(steps) for steps, *_ in self._blocks) >= self.chunk_steps:
+            self.flush()
 
     def flush(self) -> None:
         """Send the buffered steps as one block of columns."""
+        if self._blocks:
+            self._flush_blocks()
         if not self._rows:
             return
         table = np.array(self._rows, dtype=float)  # (steps, fields): one conversion for the whole block
-        maps = self._maps
-        self._rows, self._maps = [], []
+        count = len(self._map_steps)
+        pressure_steps = np.array(self._map_steps, dtype=np.int64)
+        pressure = self._block[:count] if count else None
+        self._rows, self._map_steps, self._block = [], [], None
         columns = {name: np.ascontiguousarray(table[:, i]) for i, name in enumerate(_ROW_NAMES)}
         steps = columns.pop("step").astype(np.int64)
-        pressure_steps = np.array([k for k, _ in maps], dtype=np.int64)
-        pressure = np.stack([p for _, p in maps]) if maps else None
+        self._send_block(steps, columns, pressure_steps, pressure)
+
+    def _flush_blocks(self) -> None:
+        """Send the blocks given to :meth:`log_block` as one block of columns."""
+        blocks, self._blocks = self._blocks, []
+        steps = np.concatenate([block[0] for block in blocks])
+        columns = {name: np.concatenate([block[1][name] for block in blocks]) for name in blocks[0][1]}
+        pressure_steps = pressure = None
+        if blocks[0][3] is not None:
+            pressure_steps = np.concatenate([block[2] for block in blocks])
+            pressure = np.concatenate([block[3] for block in blocks])
         self._send_block(steps, columns, pressure_steps, pressure)
 
     def _send_block(self, steps, columns: dict, pressure_steps=None, pressure=None, equivalent=None) -> None:
@@ -311,16 +360,16 @@ class RecordingSink:
             values = columns[field.name]
             finite = np.isfinite(values)
             if finite.all():
-                self.stream.send_columns(field.path, indexes, rr.Scalars.columns(scalars=values), strict=True)
+                self.stream.send_columns(field.path, indexes, [scalar_column(values)], strict=True)
             elif finite.any():  # e.g. no contact area in 2D: leave those steps out rather than log NaN
                 self.stream.send_columns(
                     field.path,
                     time_columns(steps[finite], time[finite], x[finite]),
-                    rr.Scalars.columns(scalars=values[finite]),
+                    [scalar_column(values[finite])],
                     strict=True,
                 )
         if equivalent is not None:
-            self.stream.send_columns(EQUIVALENT.path, indexes, rr.Scalars.columns(scalars=equivalent), strict=True)
+            self.stream.send_columns(EQUIVALENT.path, indexes, [scalar_column(equivalent)], strict=True)
         if self._lines is not None:
             self._send_roughness_lines(x, indexes)
         self._steps_recorded += len(steps)
@@ -330,9 +379,7 @@ class RecordingSink:
             self._patch.send(pressure_steps, time[where], x[where], pressure, element_size=element_size)
 
     def _send_roughness_lines(self, x, indexes) -> None:
-        self.stream.send_columns(
-            ROUGHNESS_LINES, indexes, self._rr.Scalars.columns(scalars=self._lines.heights(x)), strict=True
-        )
+        self.stream.send_columns(ROUGHNESS_LINES, indexes, [scalar_column(self._lines.heights(x))], strict=True)
 
     # -- end --------------------------------------------------------------------------------------------------
     def finish(self, result: RunResult | None = None, *, roughness=None) -> Path | None:
@@ -449,7 +496,7 @@ class RecordingSink:
         """Stop recording after a failure or cancellation: close the streams and delete the partial file."""
         if self._closed:
             return
-        self._rows, self._maps = [], []
+        self._rows, self._map_steps, self._block, self._blocks = [], [], None, []
         self._closed = True
         self._outputs.disconnect()
         self._outputs.discard()

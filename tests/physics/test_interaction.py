@@ -199,6 +199,25 @@ def test_streamed_states_equal_the_result():
     assert result.pressure.shape[1:] == (25, 25)
 
 
+def test_streamed_states_read_every_field_of_its_step():
+    """steps() reads a chunk's arrays at once: every field of every state is its step's number in the result
+    (exactly), and without the maps kept each state's map is its own step's, not the reused chunk buffer's."""
+    from dataclasses import astuple
+
+    kept = prepare_run("corrugated-rail", model="3d", length=0.6)
+    states = list(kept.steps())
+    result = kept.result()
+    assert len(states) == result.n_steps == 600
+    names = ("time", "x", "force", "xi_wheel", "xi_rail", "roughness", "contact_length", "contact_area")
+    rows = np.array([astuple(state)[:9] for state in states])
+    np.testing.assert_array_equal(rows[:, 0], np.arange(600))
+    for column, name in enumerate(names, start=1):
+        np.testing.assert_array_equal(rows[:, column], getattr(result, name), err_msg=name)
+    streamed = list(prepare_run("corrugated-rail", model="3d", length=0.6, keep_pressure=False).steps())
+    np.testing.assert_array_equal(np.array([state.pressure for state in streamed]), result.pressure)
+    assert result.pressure.max() > 5e8  # loaded maps (p0 ~ 1 GPa), not the empty window
+
+
 @pytest.mark.parametrize(
     ("kwargs", "fragment"),
     [

@@ -459,3 +459,89 @@ def test_sound_power_spectra_are_recorded_on_request(tmp_path):
     assert check_blueprint(path) == []  # the sound-power views show these bar charts and the totals
     plain = record_result(result, tmp_path / "plain.rrd")
     assert not chunks_of(plain, "spectra/sound_power/total")
+
+
+def _entity_chunks(path, entity: str) -> list:
+    """The rows of an entity's temporal chunks, in file order, column by column (not the row ids: new in every
+    recording; nor where the chunks end)."""
+    out: dict[str, list] = {}
+    for chunk in chunks_of(path, entity, static=False):
+        batch = chunk.to_record_batch()
+        for name in batch.schema.names:
+            if "RowId" not in name:
+                out.setdefault(name, []).extend(batch.column(name).to_pylist())
+    return out
+
+
+def test_blocks_and_steps_record_the_same_file_content(tmp_path):
+    """InteractionRun.run gives a RecordingSink its steps in blocks (log_block); the per-step callback
+    (sink.log_step) must write the same rows: every scalar, image and surface, value for value. The block run
+    keeps no maps (the loop's chunk buffer is reused), the per-step one keeps them."""
+    from wheelrail.core.interaction import prepare_run
+
+    roughness = load_roughness("corrugated-rail")
+    paths = {}
+    for how in ("blocks", "steps"):
+        run = prepare_run("corrugated-rail", model="3d", length=0.6, keep_pressure=how == "steps")
+        paths[how] = tmp_path / f"{how}.rrd"
+        sink = RecordingSink(rrd=paths[how], chunk_steps=200, record_every=3)
+        sink.start(run, roughness=roughness)
+        result = run.run(sink if how == "blocks" else sink.log_step)
+        sink.finish(result)
+    assert read_recording(paths["blocks"]).n_steps == 600
+    entities = ["contact/force", "wheel/position", "roughness/lines", "contact/area", "contact/pressure"]
+    for entity in [*entities, "contact/pressure_surface"]:
+        blocks, steps = _entity_chunks(paths["blocks"], entity), _entity_chunks(paths["steps"], entity)
+        assert len(blocks["step"]) == len(steps["step"]) > 0, entity
+        assert blocks == steps, entity  # exact: the same rows, the same values
+
+
+def test_direct_columns_equal_the_archetypes_columns():
+    """The sink's columns built over numpy buffers (recording.columns) are what rerun's archetypes build."""
+    import rerun as rr
+
+    from wheelrail.core.recording import columns
+
+    def arrays(column_list):
+        return [(column.component_descriptor(), column.as_arrow_array()) for column in column_list]
+
+    rng = np.random.default_rng(1)
+    values, lines = rng.random(7), rng.random((7, 3))
+    images = rng.random((5, 4, 3)).astype(np.float32)
+    vertices = rng.random((5, 12, 3)).astype(np.float32)
+    colours = rng.integers(0, 2**32, (5, 12), dtype=np.uint32)
+    mesh = rr.Mesh3D.columns(vertex_positions=vertices.reshape(-1, 3), vertex_colors=colours.reshape(-1))
+    cases = [
+        ([columns.scalar_column(values)], rr.Scalars.columns(scalars=values)),
+        ([columns.scalar_column(lines)], rr.Scalars.columns(scalars=lines)),
+        ([columns.blob_column(images)], rr.DepthImage.columns(buffer=images.reshape(5, -1).view(np.uint8))),
+        (
+            [columns.position_column(vertices), columns.colour_column(colours)],
+            [column.partition(np.full(5, 12)) for column in mesh],
+        ),
+    ]
+    for ours, theirs in cases:
+        for (mine, array), (descriptor, expected) in zip(arrays(ours), arrays(theirs), strict=True):
+            assert mine == descriptor
+            assert array.type == expected.type and array.equals(expected)
+
+
+def test_surface_kernel_gives_numpys_vertices_and_colours():
+    """The compiled surface fill equals the numpy it replaced: z = p * float32(a / p0), table_colours' colours
+    (below 0, within, above the ramp's top, and a zero map), exactly."""
+    from wheelrail.core.drawing import PRESSURE_RANGE_P0, colour_table, packed_rgba, table_colours
+    from wheelrail.core.recording.pressure import surface_kernel
+
+    table = packed_rgba(colour_table())
+    a, p0 = ContactParameters().hertz_radius(), ContactParameters().hertz_peak_pressure()
+    rng = np.random.default_rng(3)
+    pressure = (rng.uniform(-0.1, 2.5, (6, 19 * 25)) * p0).astype(np.float32)  # beyond the ramp at both ends
+    pressure[0] = 0.0
+    xy = rng.random((19 * 25, 2)).astype(np.float32)
+    vertices = np.empty((6, 19 * 25, 3), np.float32)
+    colours = np.empty((6, 19 * 25), np.uint32)
+    scale = np.float32((len(table) - 1) / (PRESSURE_RANGE_P0 * p0))
+    surface_kernel()(pressure, xy, np.float32(a / p0), scale, table, vertices, colours)
+    np.testing.assert_array_equal(vertices[:, :, :2], np.broadcast_to(xy, (6, 19 * 25, 2)))
+    np.testing.assert_array_equal(vertices[:, :, 2], pressure * (a / p0))
+    np.testing.assert_array_equal(colours, table_colours(pressure, PRESSURE_RANGE_P0 * p0, table))
