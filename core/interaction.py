@@ -396,28 +396,9 @@ class InteractionRun(BlockSteps, HeaderView):
         RunResult
             All recorded steps after a complete run; fewer after :meth:`cancel` (or before :meth:`run`).
         """
-        loop = self.loop
-        done = max(0, self._done - loop.n_run_in)
-        sl = slice(loop.n_run_in, loop.n_run_in + done)
-        k = np.arange(done)
-        force = loop.force[loop.n_hist + loop.n_run_in : loop.n_hist + loop.n_run_in + done].copy()
-        idx = loop.start_index[sl]
-        return RunResult(
-            header=self.header,
-            time=k * loop.dt,
-            x=self.x_start + k * self.dx,
-            force=force,
-            xi_wheel=self.xi_wheel[sl].copy(),
-            xi_rail=self.xi_rail[sl].copy(),
-            roughness=self.track.lines[self.track.centre_row][idx].copy(),
-            contact_length=self.contact_length[sl].copy(),
-            contact_area=self.contact_area[sl].copy(),
-            equivalent_roughness=self.contact.equivalent_line[idx].copy(),
-            pressure=None if self.pressure is None else self.pressure[:done],
-            window_x=self.window_x,
-            window_y=self.window_y,
-            loss_of_contact_steps=int(np.count_nonzero(force <= 0.0)),
-        )
+        start = self.loop.n_run_in
+        done = max(0, self._done - start)
+        return self._steps_result(start, start + done, None if self.pressure is None else self.pressure[:done])
 
 
 def prepare_run(

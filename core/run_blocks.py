@@ -67,17 +67,22 @@ class BlockSteps:
 
     def _chunk_result(self, s0: int, s1: int) -> RunResult:
         """The steps s0 .. s1 - 1 (run-in counted) of the chunk just stepped, as a RunResult (its own arrays)."""
-        loop, sl = self.loop, slice(s0, s1)
-        k = np.arange(s0 - loop.n_run_in, s1 - loop.n_run_in)
-        force = loop.force[loop.n_hist + s0 : loop.n_hist + s1].copy()
-        idx = loop.start_index[sl]
         pressure = None
         if self.pressure is not None:  # kept: a view of the run's maps (never written again)
-            pressure = self.pressure[k[0] : k[-1] + 1]
+            pressure = self.pressure[s0 - self.loop.n_run_in : s1 - self.loop.n_run_in]
         elif self._maps is not None:  # not kept: the chunk's buffer, which the next chunk reuses
             pressure = self._maps[s0 - self._maps_first : s1 - self._maps_first].copy()
         elif self.last_pressure is not None:  # a law stepped one by one (chunks of one step)
             pressure = np.asarray(self.last_pressure, dtype=np.float32)[None]
+        return self._steps_result(s0, s1, pressure)
+
+    def _steps_result(self, s0: int, s1: int, pressure) -> RunResult:
+        """The steps s0 .. s1 - 1 (run-in counted) as a RunResult of their own arrays, with ``pressure`` (their maps
+        or None): what a chunk and the whole run (:meth:`InteractionRun.result`) both return."""
+        loop, sl = self.loop, slice(s0, s1)
+        k = np.arange(s0 - loop.n_run_in, s1 - loop.n_run_in)
+        force = loop.force[loop.n_hist + s0 : loop.n_hist + s1].copy()
+        idx = loop.start_index[sl]
         return RunResult(
             header=self.header,
             time=k * loop.dt,

@@ -50,17 +50,7 @@ def load_force(path: str | Path) -> dict:
     if suffix == ".rrd":
         from wheelrail.core.recording import read_recording
 
-        result = read_recording(source)
-        return {
-            "force": result.force,
-            "time_step": result.time_step,
-            "model": result.model,
-            "line": result.line,
-            "speed": result.speed,
-            "roughness": result.roughness_name,
-            "wheel_model": result.header.wheel_model,
-            "wheel": result.header.wheel_words(),
-        }
+        return _run_fields(read_recording(source))
     if suffix != ".npz":
         raise WheelrailError(f"run file {source} must be a .npz (wheelrail run --out) or a .rrd recording")
     if not zipfile.is_zipfile(source):
@@ -78,6 +68,11 @@ def load_force(path: str | Path) -> dict:
         raise WheelrailError(f"cannot read run file {error}") from None
     if not np.all(np.isfinite(result.force)):
         raise WheelrailError(f"cannot read run file {source}: the force holds NaN or infinite values")
+    return _run_fields(result)
+
+
+def _run_fields(result: RunResult) -> dict:
+    """What ``spectra`` reads of a run, from a .npz or a recording alike."""
     return {
         "force": result.force,
         "time_step": result.time_step,
