@@ -7,6 +7,7 @@ step of the 3D model; a recorder that stores columns takes the chunk's arrays at
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Iterator
 
 import numpy as np
@@ -35,6 +36,22 @@ class BlockSteps:
         for s, end in self._stepped():
             if end > s:
                 yield s - self.loop.n_run_in, self._chunk_result(s, end)
+
+    def chunk_states(self) -> Iterator[StepState]:
+        """Run (run-in first, not yielded) and yield the state of the last step of every chunk, as it is computed.
+
+        What a live view draws: a chunk is 256 steps of the ``3d`` model (5-10 ms) or 2048 of a one-line model;
+        the steps in between are in :meth:`result`. Saves the ~3 us a step that a StepState of every step costs
+        (:meth:`steps`).
+
+        Yields
+        ------
+        StepState
+            The chunk's last step (its ``step`` counted from the record's start); none after :meth:`cancel`.
+        """
+        for first, block in self.blocks():
+            last = block.n_steps - 1
+            yield dataclasses.replace(block.state(last), step=first + last)
 
     def _stepped(self) -> Iterator[tuple[int, int]]:
         """Run (run-in first) and yield each chunk's steps s .. end - 1 (run-in counted) as they are computed."""

@@ -48,6 +48,9 @@ class FakeRun:
             self.done = s + 1
             yield SimpleNamespace(step=s, position=s * 1e-3, force=self.force[s], pressure=None)
 
+    def chunk_states(self):  # a chunk of one step each
+        return self.steps()
+
     def cancel(self):
         self._cancel.set()
         self.release.set()

@@ -308,6 +308,9 @@ class HeldRun:
             self.done = s + 1
             yield self._state(s)
 
+    def chunk_states(self):  # a chunk of one step each
+        return self.steps()
+
     def cancel(self):
         self._cancel.set()
 

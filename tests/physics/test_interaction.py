@@ -218,6 +218,24 @@ def test_streamed_states_read_every_field_of_its_step():
     assert result.pressure.max() > 5e8  # loaded maps (p0 ~ 1 GPa), not the empty window
 
 
+def test_chunk_states_are_the_steps_at_each_chunks_end():
+    """chunk_states() (what the explorer draws live) yields the state of each chunk's last step, field by field
+    and map for map the one steps() yields there, and the run's result is the same after either."""
+    from dataclasses import astuple
+
+    from wheelrail.core.interaction import CHUNK_3D
+
+    states = list(prepare_run("corrugated-rail", model="3d", length=0.6).steps())
+    run = prepare_run("corrugated-rail", model="3d", length=0.6)
+    ends = list(run.chunk_states())
+    steps = [state.step for state in ends]
+    assert steps == [min(k + CHUNK_3D, 600) - 1 for k in range(0, 600, CHUNK_3D)]
+    for state in ends:
+        assert astuple(state)[:9] == astuple(states[state.step])[:9]
+        np.testing.assert_array_equal(state.pressure, states[state.step].pressure)
+    np.testing.assert_array_equal(run.result().force, [state.force for state in states])
+
+
 @pytest.mark.parametrize(
     ("kwargs", "fragment"),
     [
