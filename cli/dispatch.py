@@ -102,9 +102,9 @@ def main(argv: list[str] | None = None, *, extra: dict[str, tuple[str, str]] | N
     try:
         with _one_line_warnings(name):
             if command in _commands(extra):  # every command imports numpy; `--help` alone stays without it
-                from wheelrail.core.startup import defer_numpy_submodules
+                from wheelrail.core.startup import fast_start
 
-                defer_numpy_submodules()  # before numba's first load (wheelrail.core.startup)
+                fast_start()  # before numba's first load (wheelrail.core.startup)
             parser = build_parser(command if command in _commands(extra) else None, extra)
             args = parser.parse_args(argv)
             return int(args._run(args) or 0)

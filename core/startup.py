@@ -1,26 +1,72 @@
-"""A process's start-up: numpy's rarely used sub-packages loaded on first use, not by numba's first cached load.
+"""A process's start-up: what numba's first cached load imports, cut to what it uses.
 
 numba's first call of a compiled function in a process, even one read from its disk cache, loads its whole
 CPU target (``numba.core.cpu.CPUContext.load_additional_registries``); its ``numba.np.arraymath`` checks
-for BLAS by importing ``scipy.linalg.cython_blas``, hence all of ``scipy.linalg``, whose
-``scipy._lib.array_api_compat.numpy`` copies every public name of numpy (``from numpy import *``): numpy then
-imports, on demand, ``numpy.f2py`` (with ``charset_normalizer``), ``numpy.ma`` and ``numpy.testing`` (with
-``unittest``). None of them is used by wheelrail; together they were 0.2-0.3 s of a cached ``wheelrail run``
-of 1.1-1.7 s (``python -X importtime``; ``benchmarks/startup.py``).
+for BLAS by importing ``scipy.linalg.cython_blas`` (``numba.np.linalg.ensure_blas``). Importing a submodule
+imports its package first, so that check ran all of ``scipy.linalg`` (0.24-0.48 s, against 3-7 ms for the
+extension module itself), whose ``scipy._lib.array_api_compat.numpy`` copies every public name of numpy
+(``from numpy import *``): numpy then imports, on demand, ``numpy.f2py`` (with ``charset_normalizer``),
+``numpy.ma`` and ``numpy.testing`` (with ``unittest``). A cached ``wheelrail run`` (hertz, 7.5 m) used 1.3 s
+of CPU, 0.5 s of it in these imports (``python -X importtime``; ``benchmarks/startup.py``).
 
-:func:`defer_numpy_submodules` gives numpy these sub-packages as modules that load themselves on their first
-attribute access (``importlib.util.LazyLoader``, the standard library's lazy import): copying the name costs
-nothing, and any use (``numpy.ma.masked_array``, ``import numpy.ma``) loads the real module as before.
-The command line and the study's worker processes call it first thing; a library user's process is left as
-it is.
+:func:`fast_start` does two things, both the standard library's import machinery, nothing of numba's:
+
+- :func:`load_cython_blas_alone` loads the extension module ``scipy.linalg.cython_blas`` from its file into
+  ``sys.modules`` without running ``scipy/linalg/__init__.py``. It is the same module (numba reads its
+  ``__pyx_capi__`` function pointers from it when a compiled function calls BLAS); the BLAS integer width numba
+  checks is read from ``scipy.__config__`` as before. ``import scipy.linalg`` later loads the whole package as
+  usual; ``from scipy.linalg import cython_blas`` then gives this module.
+- :func:`defer_numpy_submodules` gives numpy the sub-packages above as modules that load themselves on their
+  first attribute access (``importlib.util.LazyLoader``): copying a name costs nothing, and any use
+  (``numpy.ma.masked_array``, ``import numpy.ma``) loads the real module as before. It still counts when
+  something imports ``scipy.linalg`` (the noise model's banded solves do).
+
+The command line and the study's worker processes call :func:`fast_start` first thing; a library user's
+process is left as it is.
 """
 
 from __future__ import annotations
 
+import importlib.machinery
 import importlib.util
+import os
 import sys
 
-__all__ = ["DEFERRED_NUMPY_SUBMODULES", "defer_numpy_submodules"]
+__all__ = ["DEFERRED_NUMPY_SUBMODULES", "defer_numpy_submodules", "fast_start", "load_cython_blas_alone"]
+
+_CYTHON_BLAS = "scipy.linalg.cython_blas"
+
+
+def fast_start() -> None:
+    """Start-up of a command-line or worker process: :func:`load_cython_blas_alone`, then
+    :func:`defer_numpy_submodules` (before numba's first load)."""
+    load_cython_blas_alone()
+    defer_numpy_submodules()
+
+
+def load_cython_blas_alone() -> None:
+    """Load the extension module ``scipy.linalg.cython_blas`` from its file, without ``scipy.linalg``'s package
+    (numba's first load imports it to see that a BLAS is there). Does nothing if it or ``scipy.linalg`` is
+    loaded already, or if the file is not found or does not load (the usual import then does as before)."""
+    if _CYTHON_BLAS in sys.modules or "scipy.linalg" in sys.modules:
+        return
+    scipy = importlib.util.find_spec("scipy")
+    if scipy is None or not scipy.submodule_search_locations:
+        return
+    loaders = (importlib.machinery.ExtensionFileLoader, importlib.machinery.EXTENSION_SUFFIXES)
+    for folder in scipy.submodule_search_locations:
+        spec = importlib.machinery.FileFinder(os.path.join(folder, "linalg"), loaders).find_spec(_CYTHON_BLAS)
+        if spec is not None:
+            break
+    else:
+        return
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[_CYTHON_BLAS] = module
+    try:
+        spec.loader.exec_module(module)
+    except ImportError:
+        del sys.modules[_CYTHON_BLAS]
+
 
 DEFERRED_NUMPY_SUBMODULES = ("numpy.f2py", "numpy.ma", "numpy.testing")
 

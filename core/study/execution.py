@@ -236,9 +236,9 @@ def _start_worker(parent_pid: int) -> None:
     explorer) is not the end of the process.
     """
     threading.Thread(target=_watch_parent, args=(parent_pid,), name="wheelrail-parent-watch", daemon=True).start()
-    from wheelrail.core.startup import defer_numpy_submodules
+    from wheelrail.core.startup import fast_start
 
-    defer_numpy_submodules()  # the worker's first numba load without numpy.f2py and numpy.ma (core/startup.py)
+    fast_start()  # the worker's first numba load without scipy.linalg's package and numpy.f2py (core/startup.py)
 
 
 _POOLS: dict[int, ProcessPoolExecutor] = {}

@@ -1,5 +1,5 @@
-"""The command line's start-up (``wheelrail.core.startup``): numpy's unused sub-packages are not loaded by
-numba's first cached load, and still work when used."""
+"""The command line's start-up (``wheelrail.core.startup``): numba's first cached load imports neither
+``scipy.linalg``'s package nor numpy's unused sub-packages, and each still works when used."""
 
 from __future__ import annotations
 
@@ -31,3 +31,34 @@ def test_deferred_numpy_submodules_load_on_first_use_only():
     assert lines[0] == "loaded: []", done.stdout
     # and each still works as before once used (LazyLoader loads the real module on first attribute access)
     assert lines[1] == "f2py: True ma: module", done.stdout
+
+
+_BLAS = """
+import sys
+from wheelrail.core.startup import fast_start
+fast_start()
+import numpy as np
+from numba import njit
+from numba.np.linalg import ensure_blas
+ensure_blas()  # numba's BLAS check, as its first load does
+print("package:", "scipy.linalg" in sys.modules, type(sys.modules["scipy.linalg.cython_blas"]).__name__)
+
+@njit
+def product(a, b):
+    return np.dot(a, b)  # numba calls BLAS through the module's function pointers
+
+a = np.arange(9.0).reshape(3, 3)
+print("dot:", np.array_equal(product(a, a.T), a @ a.T))
+import scipy.linalg
+from scipy.linalg import cython_blas
+same = cython_blas is sys.modules["scipy.linalg.cython_blas"]
+print("later:", scipy.linalg.solve(np.eye(2) * 2.0, np.ones(2)).tolist(), same)
+"""
+
+
+def test_numbas_blas_check_loads_the_blas_module_without_scipy_linalg():
+    done = subprocess.run([sys.executable, "-c", _BLAS], capture_output=True, text=True, check=True, timeout=300)
+    lines = done.stdout.splitlines()
+    assert lines[0] == "package: False module", done.stdout  # the extension module alone, not its package
+    assert lines[1] == "dot: True", done.stdout  # and it is the real one: compiled BLAS calls work through it
+    assert lines[2] == "later: [0.5, 0.5] True", done.stdout  # scipy.linalg, imported later, is whole
