@@ -21,7 +21,7 @@ from wheelrail.core import loop_kernels
 from wheelrail.core.compiled import sources_stamp
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
-from wheelrail.core.loop_kernels import commit_force, known_approach, run_chunk, scatter_history
+from wheelrail.core.loop_kernels import commit_force, known_approach, law_curve, run_chunk, scatter_history
 from wheelrail.core.models import LAW_HALFSPACE, MODELS, ContactModel, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
@@ -42,6 +42,7 @@ from wheelrail.core.run_setup import (
     resolve_surfaces,
     roughness_along_track,
     run_margin,
+    run_start,
     static_equilibrium,
     usable_length,
     window_lines,
@@ -182,6 +183,7 @@ class InteractionRun(BlockSteps, HeaderView):
         self._maps = self._maps_first = None  # the compiled 3D law's pressure maps of the last chunk, if not kept
         self._table = None  # the 3d law's run-in law (breakpoints, T_0, T_1), built on first use
         self._segment = np.zeros(1, dtype=np.int64)  # its segment of the last run-in step
+        self.steady = None  # the steady state the run starts from (steady_start.SteadyState), found on first use
         if traits.law == LAW_HALFSPACE and self.pressure is None:
             self._maps = np.zeros((CHUNK_3D, len(self.window_y), len(self.window_x)), dtype=np.float32)
 
@@ -323,7 +325,41 @@ class InteractionRun(BlockSteps, HeaderView):
         if s1 == loop.n_run_in:
             warm_start(self._law, loop.n_run_in, approach)
 
+    def _start_steady(self) -> None:
+        """Fill the history with the moving load's steady state on the run-in's gap (``steady_start``) before the
+        first step; the ``3d`` law's warm state put at its approach."""
+        from wheelrail.core.steady_start import fill_history, steady_state
+
+        loop = self.loop
+        self.steady = steady_state(loop, self._steady_law(), self.params.contact.preload)
+        fill_history(loop, self.steady)
+        if self.traits.law == LAW_HALFSPACE:
+            from wheelrail.core.contact.run_in_law import warm_start
+
+            warm_start(self._law, 0, float(self.steady.approach[0]))
+
+    def _steady_law(self) -> Callable[[np.ndarray], np.ndarray]:
+        """The model's law F(delta) on the run-in's gap (that of step 0, not faded in), approaches -> forces: the
+        compiled law's own kernel, the ``3d`` law tabulated exactly near the preload (``run_in_law.step_law``),
+        or a per-step law's ``solve`` at compliance 0."""
+        s, law, loop, preload = self.loop.n_run_in, self._law, self.loop, self.params.contact.preload
+        if self.traits.law == LAW_HALFSPACE:
+            from wheelrail.core.contact.run_in_law import step_law
+
+            static = loop.xi_w0 - preload * float(np.mean(loop.weights.sum(axis=1)))
+            delta, force = step_law(law, s, preload, static)
+            slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
+            return lambda d: np.where(
+                d > delta[-1], force[-1] + slope * (d - delta[-1]), np.interp(d, delta, force, left=0.0)
+            )
+        if law is not None:
+            inputs = (law.roughness, law.shape, law.constants)
+            return lambda d: law_curve(self.traits.law, d, inputs, s)
+        return lambda d: np.array([self.contact.solve(s, float(x), 0.0).force for x in d])
+
     def _advance_to(self, s_end: int, progress: Callable[[int, int], None] | None = None) -> None:
+        if self.loop.steady and self.steady is None and self._done == 0 and s_end > 0:
+            self._start_steady()
         chunk = self._chunk
         while self._done < s_end:
             if self._cancel.is_set():
@@ -413,6 +449,7 @@ def prepare_run(
     keep_pressure: bool = True,
     track_numerics: TrackNumerics | None = None,
     wheel_system: tuple | None = None,
+    steady_start: bool | None = None,
 ) -> InteractionRun:
     """Set up a wheel/rail interaction run.
 
@@ -484,6 +521,12 @@ def prepare_run(
     >>> len(forces), min(forces) > 0.0
     (200, True)
     """
+    params = ModelParameters() if params is None else params
+    run_in_length, steady = (
+        run_start(params, run_in_length, steady_start)
+        if isinstance(params, ModelParameters)
+        else (run_in_length, False)
+    )
     entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
     rough, name, wheel, wheel_name = resolve_surfaces(roughness, wheel_roughness, params)
     dx = params.run.element_size
@@ -492,8 +535,9 @@ def prepare_run(
     )
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     wheel_system, wheel_model, wheel_profile = interaction_wheel(wheel_system, params)
-    history = history_arrays(track, params, run_in_length, track_numerics, wheel_system)
-    scatter_history(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
+    history = history_arrays(track, params, run_in_length, track_numerics, wheel_system, steady)
+    if not steady:  # the rail's response to the preload's history (eq. 2); a steady start fills its own
+        scatter_history(0, history.n_hist, history.track)
     header = RunHeader(
         model=entry.name,
         line=line,

@@ -29,6 +29,7 @@ if TYPE_CHECKING:  # the roughness package is imported when a set is read
 
 __all__ = [
     "DEFAULT_RUN_IN_TIME",
+    "PRELOAD_RUN_IN_TIME",
     "RUN_MARGIN",
     "WINDOW_HALF_WIDTH",
     "WINDOW_SEMI_AXES",
@@ -42,9 +43,11 @@ __all__ = [
     "interaction_wheel",
     "model_inputs",
     "roughness_along_track",
+    "run_start",
     "run_lines",
     "run_margin",
     "static_equilibrium",
+    "steady_start_possible",
     "usable_length",
     "window_half_elements",
     "window_lines",
@@ -53,7 +56,8 @@ __all__ = [
 
 WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
 WINDOW_SEMI_AXES = 2.2  # half side of the window in Hertz semi-axes at the preload (along and across)
-DEFAULT_RUN_IN_TIME = 0.3  # s of smooth run-in before step 0 (discarded); see the module docstring
+DEFAULT_RUN_IN_TIME = 0.002  # s of run-in from the moving load's steady state (discarded); see the module docstring
+PRELOAD_RUN_IN_TIME = 0.3  # s of smooth run-in from the preload at rest: where no steady start is taken
 RUN_MARGIN = 0.020  # m of roughness kept before the first and after the last wheel position
 
 
@@ -107,11 +111,35 @@ def usable_length(roughness, element_size: float, params: ModelParameters | None
     return n_steps * element_size
 
 
+def steady_start_possible(params: ModelParameters) -> bool:
+    """Whether a run on these parameters can start from the moving load's steady state: the sleeper bay is a
+    whole number of elements (``steady_start.bay_steps``; at the default 1 mm elements every bay in mm)."""
+    from wheelrail.core.steady_start import bay_steps
+
+    return bay_steps(params.track.support.sleeper_spacing, params.run.element_size) is not None
+
+
 def default_run_in_length(params: ModelParameters | None = None) -> float:
-    """The default run-in, m: ``DEFAULT_RUN_IN_TIME`` at the run's speed, rounded up to whole elements."""
+    """The default run-in, m, rounded up to whole elements: ``DEFAULT_RUN_IN_TIME`` at the run's speed from the
+    steady state, or ``PRELOAD_RUN_IN_TIME`` where the run cannot start from it (:func:`steady_start_possible`)."""
     params = ModelParameters() if params is None else params
     dx = params.run.element_size
-    return math.ceil(DEFAULT_RUN_IN_TIME * params.run.speed / dx - 1e-9) * dx
+    time = DEFAULT_RUN_IN_TIME if steady_start_possible(params) else PRELOAD_RUN_IN_TIME
+    return math.ceil(time * params.run.speed / dx - 1e-9) * dx
+
+
+def run_start(params: ModelParameters, run_in_length, steady_start: bool | None) -> tuple[float | None, bool]:
+    """How a run starts: (run-in length, m or None for the default; whether from the steady state).
+
+    ``steady_start`` None: from the steady state when the run-in is the default (None), from the preload at rest
+    when it is given (as every run did before the steady start); True or False choose. A bay that is not a whole
+    number of elements (:func:`steady_start_possible`) starts from the preload, with ``PRELOAD_RUN_IN_TIME``."""
+    steady = (run_in_length is None) if steady_start is None else bool(steady_start)
+    steady = steady and steady_start_possible(params)
+    if run_in_length is None and not steady:
+        run_in_length = math.ceil(PRELOAD_RUN_IN_TIME * params.run.speed / params.run.element_size - 1e-9)
+        run_in_length *= params.run.element_size
+    return run_in_length, steady
 
 
 def checked_inputs(
@@ -443,6 +471,8 @@ class History:
     ramp: np.ndarray  # (n_total,) roughness fade-in factor
     start_index: np.ndarray  # (n_total,) sample index of the wheel centre in the roughness lines
     xi_w0: float = 0.0
+    bay: int | None = None  # steps per sleeper bay (steady_start.bay_steps), None if not a whole number
+    steady: bool = False  # the run starts from the moving load's steady state (no fade-in; steady_start)
 
     @property
     def n_total(self) -> int:
@@ -493,6 +523,7 @@ def history_arrays(
     run_in_length: float,
     track_numerics: TrackNumerics | None = None,
     wheel_system: tuple | None = None,
+    steady: bool = False,
 ) -> History:
     """Step 3: Green's functions and wheel system, positions in the bay, the preload's force history (eqs. 1-2).
 
@@ -500,7 +531,10 @@ def history_arrays(
     2-DOF wheel, ``wheel_discrete_system``; ``modal_wheel.time_domain.modal_wheel_system`` gives the modal wheel's).
 
     The rail displacement that history causes (``acc``) is left at zero: the interaction loop, which owns the
-    compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``)."""
+    compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``). ``steady``:
+    the run starts from the moving load's steady state on the gap of step 0 (``steady_start``), so the run-in
+    keeps the roughness under step 0 as it is (no fade-in); else it is faded in from the preload at rest."""
+    from wheelrail.core.steady_start import bay_steps
     from wheelrail.core.track import moving_weights
     from wheelrail.core.wheel import wheel_discrete_system
 
@@ -536,8 +570,10 @@ def history_arrays(
         gamma0=gamma0,
         gamma1=gamma1,
         state=np.zeros(len(phi)),
-        ramp=_fade_in(n_run_in, n_total),
+        ramp=np.ones(n_total) if steady else _fade_in(n_run_in, n_total),
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
+        bay=bay_steps(spacing, dx),
+        steady=steady,
     )
     return history
 

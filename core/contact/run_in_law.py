@@ -23,7 +23,7 @@ from wheelrail.core.contact.halfspace_model import halfspace_step
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.loop_kernels import commit_force, known_approach
 
-__all__ = ["run_in_chunk", "run_in_table", "step_gap", "tabulate_law", "warm_start"]
+__all__ = ["run_in_chunk", "run_in_table", "step_gap", "step_law", "tabulate_law", "warm_start"]
 
 # 3d's run-in law (run_in_table), in units of the static approach: T_0 and T_1 solved every 8 %, T_1 also every
 # 4 % where F is within RUN_IN_TABLE_BAND x P and again at its kinks there (exact), both up to RUN_IN_TABLE_FORCE
@@ -166,6 +166,15 @@ def _resolve_kinks(steps: ActiveSetSolver, s: int, points, span: tuple[float, fl
     return points
 
 
+def step_law(steps: ActiveSetSolver, s: int, preload: float, static: float) -> tuple[np.ndarray, np.ndarray]:
+    """The ``3d`` law on step s's gap, tabulated exactly within ``RUN_IN_TABLE_BAND`` x P (:func:`tabulate_law`,
+    T_1 of :func:`run_in_table`; ``steady_start`` solves the run's steady state on it): (delta, F), m and N,
+    up to ``RUN_IN_TABLE_FORCE`` x P. ``static``: the static approach under the preload (m; the spacing's scale)."""
+    rough = RUN_IN_TABLE_SPACING[1]
+    band = (RUN_IN_TABLE_BAND[0] * preload, RUN_IN_TABLE_BAND[1] * preload)
+    return tabulate_law(steps, s, (rough[0] * static, rough[1] * static), band, RUN_IN_TABLE_FORCE * preload)
+
+
 def run_in_table(steps: ActiveSetSolver, n_run_in: int, preload: float, static: float) -> tuple:
     """The run-in's law of the ``3d`` model, tabulated: during the run-in the window stays on the roughness
     under step 0, faded in (gap h_0 - w r, w from 0 to 1), so the 3D law is F(delta, w). Tabulated exactly
@@ -174,12 +183,11 @@ def run_in_table(steps: ActiveSetSolver, n_run_in: int, preload: float, static: 
     (1 - w) T_0 + w T_1 stands for it (its error decays before the record). ``static``: the static approach
     under the preload (m; the spacing's scale). Returns (breakpoints, T_0, T_1 at them): the table that
     :func:`_tabulated_force` takes."""
-    smooth, rough = RUN_IN_TABLE_SPACING
-    band = (RUN_IN_TABLE_BAND[0] * preload, RUN_IN_TABLE_BAND[1] * preload)
+    smooth = RUN_IN_TABLE_SPACING[0]
     stop = RUN_IN_TABLE_FORCE * preload
     tables = (
         tabulate_law(steps, 0, (smooth * static, smooth * static), None, stop),
-        tabulate_law(steps, n_run_in, (rough[0] * static, rough[1] * static), band, stop),
+        step_law(steps, n_run_in, preload, static),
     )
     far = max(delta[-1] for delta, _ in tables) + 1.0  # m: the last segments extended (beyond any approach)
     grid = np.union1d(np.concatenate([delta for delta, _ in tables]), [far])

@@ -1,0 +1,238 @@
+"""The start of a run from the moving load's steady state (``interaction.InteractionRun``, ``run_setup``).
+
+During the run-in the wheel stays on the gap of step 0 (the roughness under it, not faded in: ``run_setup``) while
+the track moves under it: a wheel at constant speed on a periodically supported track, whose steady state is
+periodic with one sleeper bay, n = L_S / dx steps (a whole number of steps: :func:`bay_steps`). With a force
+periodic in n steps, the loop's own equations are linear maps of the bay's n forces:
+
+* eq. 2, the rail: xi_R = A F, the moving Green's functions over the loop's lags with the source's position in
+  the bay, the lags folded modulo n (:func:`folded_track`);
+* eq. 1, the wheel's exact discrete system: xi_W = xi_W0 - B (F - P), its impulse response summed over all
+  periods in closed form with (I - Phi^n)^-1 (:func:`folded_wheel`);
+
+and the model's own law on the gap of step 0 closes them: F = law(xi_W0 - B (F - P) - A F), n unknowns
+(:func:`steady_state`: chord iterations preconditioned with the circulant part of A + B by FFT, a dense Newton
+step where those stall). :func:`fill_history` puts that force into the history the loop convolves, the rail's
+displacement it causes and the wheel's state at the phase of the first step: a run started there stays on the
+steady state to round-off (``tests/physics/test_run_in.py``), so the run-in only has to absorb the hand-over.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from wheelrail.core.errors import WheelrailError
+
+__all__ = ["SteadyState", "bay_steps", "fill_history", "folded_track", "folded_wheel", "steady_state"]
+
+STEADY_TOLERANCE = 1e-11  # x P: the iterations stop when F - law(delta) is within this everywhere (round-off)
+STEADY_ITERATIONS = 100  # the most iterations (measured: 6-12)
+ANDERSON_DEPTH = 5  # differences kept by the Anderson mixing of the chord iterations
+
+
+@dataclass(frozen=True)
+class SteadyState:
+    """The periodic steady state over one bay: phase i is history index n_hist + i (mod n).
+
+    force, approach: F (N) and delta (m) at each phase; state: the wheel's state after phase n - 1's step (the
+    state the loop holds before the step of phase 0); iterations: the iterations taken."""
+
+    force: np.ndarray
+    approach: np.ndarray
+    state: np.ndarray
+    iterations: int
+
+
+def bay_steps(sleeper_spacing: float, element_size: float) -> int | None:
+    """Steps per sleeper bay, if the bay is a whole number of elements (within 1e-6 of one), else None."""
+    ratio = sleeper_spacing / element_size
+    n = int(round(ratio))
+    return n if n >= 2 and abs(ratio - n) <= 1e-6 * ratio else None
+
+
+def _phase_indices(n_array: int, n_hist: int, n: int) -> np.ndarray:
+    """One history index per phase 0..n-1 (index j has phase (j - n_hist) mod n): the last n of the array."""
+    j = np.arange(n_array - n, n_array)
+    return j[np.argsort((j - n_hist) % n)]
+
+
+@njit(cache=True)
+def _fold_lags(weights, n):
+    """Each row of the moving Green's functions with its lags summed modulo n: (rows, n)."""
+    rows, lags = weights.shape
+    out = np.zeros((rows, n))
+    for r in range(rows):
+        for start in range(0, lags, n):
+            for d in range(min(n, lags - start)):
+                out[r, d] += weights[r, start + d]
+    return out
+
+
+@njit(cache=True)
+def _assemble(folded, lo, hi, frac, wheel):
+    """(A + B) transposed (n, n) of the folded rows at each source phase k (``lo``, ``hi``, ``frac`` of phase k)
+    and the wheel's folded response ``wheel`` (n,): M[(k + d) mod n, k] = (1 - f_k) folded[lo_k, d]
+    + f_k folded[hi_k, d] + wheel[d], stored as M^T (each source's row contiguous); and the circulant part of M
+    (the mean over k at each d)."""
+    n = wheel.size
+    transposed = np.empty((n, n))
+    column = np.zeros(n)
+    for k in range(n):
+        f = frac[k]
+        a, b = folded[lo[k]], folded[hi[k]]
+        for d in range(n):
+            v = (1.0 - f) * a[d] + f * b[d] + wheel[d]
+            i = k + d if k + d < n else k + d - n
+            transposed[k, i] = v
+            column[d] += v
+    return transposed, column / n
+
+
+@njit(cache=True, fastmath=True)
+def _history_tail(weights, lo, hi, frac, force, out):
+    """out[t] (t = 0..lags-1): the rail's displacement at history index n_hist + t due to the periodic force
+    ``force`` (phase k at the indices n_hist + k - q n, q >= 1) before n_hist: eq. 2 as ``scatter_history``
+    scatters it, the sources of one phase summed first (tails[r, u + n] = sum_q>=1 weights[r, u + q n])."""
+    rows, lags = weights.shape
+    n = force.size
+    size = lags + n
+    tails = np.zeros((rows, size + n))
+    for r in range(rows):
+        for idx in range(size - 1, -1, -1):
+            lag = idx  # idx = u + n, the lag of q = 1
+            tails[r, idx] = (weights[r, lag] if lag < lags else 0.0) + tails[r, idx + n]
+    for k in range(n):
+        a, b = (1.0 - frac[k]) * force[k], frac[k] * force[k]
+        row_a, row_b = tails[lo[k], n - k : n - k + lags], tails[hi[k], n - k : n - k + lags]
+        for t in range(lags):  # views from index 0: no negative-index wraparound, so it vectorises
+            out[t] += a * row_a[t] + b * row_b[t]
+
+
+@njit(cache=True, fastmath=True)
+def _product(transposed, x):
+    """M x from M^T, without BLAS (whose threads contend for a busy machine's cores: 1.4 ms at n = 650, measured;
+    this 0.1 ms)."""
+    n = x.size
+    out = np.zeros(n)
+    for k in range(n):
+        row = transposed[k]
+        xk = x[k]
+        for i in range(n):
+            out[i] += xk * row[i]
+    return out
+
+
+@njit(cache=True)
+def _powers(phi, first, n):
+    """first, phi first, phi^2 first, ... (n + 1 of them)."""
+    out = np.empty((n + 1, first.size))
+    out[0] = first
+    for d in range(1, n + 1):
+        out[d] = phi @ out[d - 1]
+    return out
+
+
+def folded_track(weights, lo, hi, frac, rows: np.ndarray, wheel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(A + B)^T (n, n): the rail's displacement at phase i per unit force at phase k every bay (eq. 2 as the loop
+    sums it: lag m weighted with the source's row, the lags 0..n_lags-1 folded modulo n), plus the wheel's
+    (``wheel``: B's first column, B circulant); and the circulant part of A + B. ``rows``: the history index of
+    each phase (for ``lo``, ``hi``, ``frac``)."""
+    folded = _fold_lags(weights, wheel.size)
+    return _assemble(folded, lo[rows], hi[rows], frac[rows], wheel)
+
+
+def folded_wheel(phi: np.ndarray, gamma0: np.ndarray, gamma1: np.ndarray, n: int) -> np.ndarray:
+    """H (n, states): the wheel's state d steps after a unit force deviation, summed over every period (d, d + n,
+    ...), from the loop's s_j = Phi s_j-1 + Gamma0 e_j-1 + Gamma1 e_j: h_0 = Gamma1, h_m = Phi^(m-1) v with
+    v = Phi Gamma1 + Gamma0, so H_d = Phi^(d-1) (I - Phi^n)^-1 v (d >= 1) and H_0 = Gamma1 + H_n."""
+    size = len(phi)
+    periodic = np.linalg.solve(np.eye(size) - np.linalg.matrix_power(phi, n), phi @ gamma1 + gamma0)
+    h = np.empty((n + 1, size))
+    h[1:] = _powers(np.ascontiguousarray(phi), periodic, n - 1)
+    h[0] = gamma1 + h[n]
+    return h[:n]
+
+
+def _circulant_solver(column: np.ndarray, stiffness: float):
+    """x -> (I + k C)^-1 x for the circulant C of first column ``column``, by FFT."""
+    n = column.size
+    spectrum = 1.0 + stiffness * np.fft.rfft(column)
+    return lambda x: np.fft.irfft(np.fft.rfft(x) / spectrum, n)
+
+
+def steady_state(history, law, preload: float) -> SteadyState:
+    """The periodic steady state of a run's history (``run_setup.History``) under ``law`` (approaches (n,) m ->
+    forces (n,) N: the model's law on the run-in's gap), the wheel's rest position ``history.xi_w0``.
+
+    Solves R(F) = F - law(xi_W0 + B P - (A + B) F) = 0 by chord iterations F -= (I + k C)^-1 R(F) (k the law's
+    slope at the preload, C the circulant part of A + B: the track's mean over the bay, diagonal by FFT), with
+    Anderson mixing of the last ``ANDERSON_DEPTH`` iterations (the bay's variation of the supports, which C
+    leaves out, slows the plain iteration to a factor 0.4 a step: 24 iterations, measured).
+
+    Raises WheelrailError if neither converges (a law without a steady state near the preload)."""
+    n = bay_steps_of(history)
+    rows = _phase_indices(len(history.lo), history.n_hist, n)
+    h = folded_wheel(history.phi, history.gamma0, history.gamma1, n)
+    matrix, column = folded_track(
+        history.weights, history.lo, history.hi, history.frac, rows, np.ascontiguousarray(h[:, 1])
+    )
+    # the approach xi_W0 - M (F - P) - A P: the deviation from the preload times M (the wheel's folded response
+    # is large, ~1/k_S per step; its product with F itself would cancel to 1e-7 N)
+    known = history.xi_w0 - preload * (matrix.sum(axis=0) - h[:, 1].sum())
+    deviation = np.zeros(n)
+    step = 1e-9 * float(np.mean(np.abs(known))) + 1e-15
+    stiffness = float(np.mean(law(known + step) - law(known - step))) / (2 * step)
+    precondition = _circulant_solver(column, stiffness)
+    steps, changes, last = [], [], None  # Anderson's: differences of the deviation and of the preconditioned residual
+    for iteration in range(STEADY_ITERATIONS):
+        approach = known - _product(matrix, deviation)
+        residual = deviation + preload - law(approach)
+        if np.max(np.abs(residual)) <= STEADY_TOLERANCE * preload:
+            state = h[(n - 1 - np.arange(n)) % n].T @ deviation
+            return SteadyState(force=deviation + preload, approach=approach, state=state, iterations=iteration)
+        change = -precondition(residual)
+        if iteration:
+            steps.append(deviation - last[0])
+            changes.append(change - last[1])
+            del steps[:-ANDERSON_DEPTH], changes[:-ANDERSON_DEPTH]
+        last = (deviation, change)
+        if steps:
+            mix = np.linalg.lstsq(np.array(changes).T, change, rcond=None)[0]
+            deviation = deviation + change - (np.array(steps).T + np.array(changes).T) @ mix
+        else:
+            deviation = deviation + change
+    raise WheelrailError(
+        "the run's steady state on the run-in's gap could not be found (its iterations did not converge); "
+        "give the run an explicit run_in_length to start from the preload instead"
+    )
+
+
+def bay_steps_of(history) -> int:
+    """:func:`bay_steps` of a history (``run_setup.History.bay``); WheelrailError if it has none."""
+    if history.bay is None:
+        raise WheelrailError("the sleeper bay is not a whole number of elements: no steady start")
+    return history.bay
+
+
+def fill_history(history, steady: SteadyState) -> None:
+    """Put the steady state into the history before step 0: the force at every history index before it (phase
+    (j - n_hist) mod n), the rail displacement it causes later (eq. 2, scattered as ``prepare_run`` scatters the
+    preload's), and the wheel's state after index n_hist - 1 (phase n - 1)."""
+    n = len(steady.force)
+    n_hist = history.n_hist
+    history.force[:n_hist] = steady.force[(np.arange(n_hist) - n_hist) % n]
+    history.acc[:] = 0.0
+    rows = _phase_indices(len(history.lo), n_hist, n)
+    lags = history.weights.shape[1]
+    _history_tail(
+        history.weights,
+        history.lo[rows],
+        history.hi[rows],
+        history.frac[rows],
+        steady.force,
+        history.acc[n_hist : n_hist + lags],
+    )
+    history.state[:] = steady.state
