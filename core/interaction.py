@@ -21,7 +21,7 @@ from wheelrail.core import loop_kernels
 from wheelrail.core.compiled import sources_stamp
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.limits import check_run_memory
-from wheelrail.core.loop_kernels import commit_force, known_approach, law_curve, run_chunk, scatter_history
+from wheelrail.core.loop_kernels import commit_force, known_approach, run_chunk, scatter_history
 from wheelrail.core.models import LAW_HALFSPACE, MODELS, ContactModel, ModelTraits
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.results import HeaderView, RunHeader, RunResult, StepState
@@ -42,7 +42,7 @@ from wheelrail.core.run_setup import (
     resolve_surfaces,
     roughness_along_track,
     run_margin,
-    run_start,
+    starts_steady,
     static_equilibrium,
     usable_length,
     window_lines,
@@ -328,34 +328,16 @@ class InteractionRun(BlockSteps, HeaderView):
     def _start_steady(self) -> None:
         """Fill the history with the moving load's steady state on the run-in's gap (``steady_start``) before the
         first step; the ``3d`` law's warm state put at its approach."""
-        from wheelrail.core.steady_start import fill_history, steady_state
+        from wheelrail.core.steady_start import fill_history, model_law, steady_state
 
         loop = self.loop
-        self.steady = steady_state(loop, self._steady_law(), self.params.contact.preload)
+        law = model_law(self.traits.law, self._law, self.contact, loop, self.params.contact.preload)
+        self.steady = steady_state(loop, law, self.params.contact.preload)
         fill_history(loop, self.steady)
         if self.traits.law == LAW_HALFSPACE:
             from wheelrail.core.contact.run_in_law import warm_start
 
             warm_start(self._law, 0, float(self.steady.approach[0]))
-
-    def _steady_law(self) -> Callable[[np.ndarray], np.ndarray]:
-        """The model's law F(delta) on the run-in's gap (that of step 0, not faded in), approaches -> forces: the
-        compiled law's own kernel, the ``3d`` law tabulated exactly near the preload (``run_in_law.step_law``),
-        or a per-step law's ``solve`` at compliance 0."""
-        s, law, loop, preload = self.loop.n_run_in, self._law, self.loop, self.params.contact.preload
-        if self.traits.law == LAW_HALFSPACE:
-            from wheelrail.core.contact.run_in_law import step_law
-
-            static = loop.xi_w0 - preload * float(np.mean(loop.weights.sum(axis=1)))
-            delta, force = step_law(law, s, preload, static)
-            slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
-            return lambda d: np.where(
-                d > delta[-1], force[-1] + slope * (d - delta[-1]), np.interp(d, delta, force, left=0.0)
-            )
-        if law is not None:
-            inputs = (law.roughness, law.shape, law.constants)
-            return lambda d: law_curve(self.traits.law, d, inputs, s)
-        return lambda d: np.array([self.contact.solve(s, float(x), 0.0).force for x in d])
 
     def _advance_to(self, s_end: int, progress: Callable[[int, int], None] | None = None) -> None:
         if self.loop.steady and self.steady is None and self._done == 0 and s_end > 0:
@@ -449,7 +431,6 @@ def prepare_run(
     keep_pressure: bool = True,
     track_numerics: TrackNumerics | None = None,
     wheel_system: tuple | None = None,
-    steady_start: bool | None = None,
 ) -> InteractionRun:
     """Set up a wheel/rail interaction run.
 
@@ -477,8 +458,11 @@ def prepare_run(
         Run length, m. Default: ``run_setup.usable_length`` (the rail data less the margins, or one wheel
         circumference: wheel data repeats around it).
     run_in_length : float, optional
-        Smooth run-in before step 0, m (discarded). Default: ``DEFAULT_RUN_IN_TIME`` (0.3 s) at the run's
-        speed, long enough for the start-up transient to die out (``run_setup.default_run_in_length``).
+        Run-in before step 0 on the roughness under step 0, m (discarded). Default: the run starts from the
+        moving load's periodic steady state (``steady_start``: no start-up transient) and runs in for
+        ``DEFAULT_RUN_IN_TIME`` (0.5 ms) at its speed. A run-in given starts from the preload at rest (history
+        filled with P, the roughness faded in over its first half), as every run did before; so does the default
+        where the sleeper bay is no whole number of elements, with 0.3 s (``run_setup.default_run_in_length``).
     keep_pressure : bool
         Keep every pressure map in the result (steps x ny x nx float32), for models that have them.
     track_numerics : TrackNumerics, optional
@@ -490,7 +474,7 @@ def prepare_run(
     Returns
     -------
     InteractionRun
-        The run, its history in static equilibrium under the preload; no step computed yet.
+        The run; no step computed yet (a steady start fills its history at the first step).
 
     Raises
     ------
@@ -521,13 +505,9 @@ def prepare_run(
     >>> len(forces), min(forces) > 0.0
     (200, True)
     """
-    params = ModelParameters() if params is None else params
-    run_in_length, steady = (
-        run_start(params, run_in_length, steady_start)
-        if isinstance(params, ModelParameters)
-        else (run_in_length, False)
-    )
+    steady = run_in_length is None  # the default run-in follows the steady start (where the bay allows it)
     entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
+    steady = steady and starts_steady(params)
     rough, name, wheel, wheel_name = resolve_surfaces(roughness, wheel_roughness, params)
     dx = params.run.element_size
     check_run_memory(
@@ -608,8 +588,8 @@ def simulate(
     (500, 3.6e-05)
     >>> round(float(result.force.mean()) / 1e3, 1)     # kN: the preload and the roughness's dynamic force
     65.2
-    >>> result.loss_of_contact_steps, result.run_in_length   # the run-in: 0.3 s at 100 km/h, m
-    (0, 8.334)
+    >>> result.loss_of_contact_steps, result.run_in_length   # the run-in after the steady start: 0.5 ms, m
+    (0, 0.014)
     """
     run = prepare_run(roughness, model=model, line=line, params=params, length=length, **options)
     if cancel is not None:

@@ -43,11 +43,10 @@ __all__ = [
     "interaction_wheel",
     "model_inputs",
     "roughness_along_track",
-    "run_start",
+    "starts_steady",
     "run_lines",
     "run_margin",
     "static_equilibrium",
-    "steady_start_possible",
     "usable_length",
     "window_half_elements",
     "window_lines",
@@ -56,7 +55,7 @@ __all__ = [
 
 WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
 WINDOW_SEMI_AXES = 2.2  # half side of the window in Hertz semi-axes at the preload (along and across)
-DEFAULT_RUN_IN_TIME = 0.002  # s of run-in from the moving load's steady state (discarded); see the module docstring
+DEFAULT_RUN_IN_TIME = 0.0005  # s of run-in from the moving load's steady state (discarded); see the module docstring
 PRELOAD_RUN_IN_TIME = 0.3  # s of smooth run-in from the preload at rest: where no steady start is taken
 RUN_MARGIN = 0.020  # m of roughness kept before the first and after the last wheel position
 
@@ -111,9 +110,9 @@ def usable_length(roughness, element_size: float, params: ModelParameters | None
     return n_steps * element_size
 
 
-def steady_start_possible(params: ModelParameters) -> bool:
-    """Whether a run on these parameters can start from the moving load's steady state: the sleeper bay is a
-    whole number of elements (``steady_start.bay_steps``; at the default 1 mm elements every bay in mm)."""
+def starts_steady(params: ModelParameters) -> bool:
+    """Whether a run with the default run-in starts from the moving load's steady state: where the sleeper bay
+    is a whole number of elements (``steady_start.bay_steps``; at 1 mm elements any spacing in whole mm)."""
     from wheelrail.core.steady_start import bay_steps
 
     return bay_steps(params.track.support.sleeper_spacing, params.run.element_size) is not None
@@ -121,25 +120,11 @@ def steady_start_possible(params: ModelParameters) -> bool:
 
 def default_run_in_length(params: ModelParameters | None = None) -> float:
     """The default run-in, m, rounded up to whole elements: ``DEFAULT_RUN_IN_TIME`` at the run's speed from the
-    steady state, or ``PRELOAD_RUN_IN_TIME`` where the run cannot start from it (:func:`steady_start_possible`)."""
+    steady state, or ``PRELOAD_RUN_IN_TIME`` where the run cannot start from it (:func:`starts_steady`)."""
     params = ModelParameters() if params is None else params
     dx = params.run.element_size
-    time = DEFAULT_RUN_IN_TIME if steady_start_possible(params) else PRELOAD_RUN_IN_TIME
+    time = DEFAULT_RUN_IN_TIME if starts_steady(params) else PRELOAD_RUN_IN_TIME
     return math.ceil(time * params.run.speed / dx - 1e-9) * dx
-
-
-def run_start(params: ModelParameters, run_in_length, steady_start: bool | None) -> tuple[float | None, bool]:
-    """How a run starts: (run-in length, m or None for the default; whether from the steady state).
-
-    ``steady_start`` None: from the steady state when the run-in is the default (None), from the preload at rest
-    when it is given (as every run did before the steady start); True or False choose. A bay that is not a whole
-    number of elements (:func:`steady_start_possible`) starts from the preload, with ``PRELOAD_RUN_IN_TIME``."""
-    steady = (run_in_length is None) if steady_start is None else bool(steady_start)
-    steady = steady and steady_start_possible(params)
-    if run_in_length is None and not steady:
-        run_in_length = math.ceil(PRELOAD_RUN_IN_TIME * params.run.speed / params.run.element_size - 1e-9)
-        run_in_length *= params.run.element_size
-    return run_in_length, steady
 
 
 def checked_inputs(

@@ -25,8 +25,9 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.loop_kernels import law_curve
 
-__all__ = ["SteadyState", "bay_steps", "fill_history", "folded_track", "folded_wheel", "steady_state"]
+__all__ = ["SteadyState", "bay_steps", "fill_history", "folded_track", "folded_wheel", "model_law", "steady_state"]
 
 STEADY_TOLERANCE = 1e-11  # x P: the iterations stop when F - law(delta) is within this everywhere (round-off)
 STEADY_ITERATIONS = 100  # the most iterations (measured: 6-12)
@@ -71,7 +72,7 @@ def _fold_lags(weights, n):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True)
 def _assemble(folded, lo, hi, frac, wheel):
     """(A + B) transposed (n, n) of the folded rows at each source phase k (``lo``, ``hi``, ``frac`` of phase k)
     and the wheel's folded response ``wheel`` (n,): M[(k + d) mod n, k] = (1 - f_k) folded[lo_k, d]
@@ -82,12 +83,13 @@ def _assemble(folded, lo, hi, frac, wheel):
     column = np.zeros(n)
     for k in range(n):
         f = frac[k]
-        a, b = folded[lo[k]], folded[hi[k]]
+        a, b, row = folded[lo[k]], folded[hi[k]], transposed[k]
         for d in range(n):
-            v = (1.0 - f) * a[d] + f * b[d] + wheel[d]
-            i = k + d if k + d < n else k + d - n
-            transposed[k, i] = v
-            column[d] += v
+            column[d] += (1.0 - f) * a[d] + f * b[d] + wheel[d]
+        for i in range(k, n):  # d = i - k
+            row[i] = (1.0 - f) * a[i - k] + f * b[i - k] + wheel[i - k]
+        for i in range(k):  # d = i - k + n
+            row[i] = (1.0 - f) * a[i - k + n] + f * b[i - k + n] + wheel[i - k + n]
     return transposed, column / n
 
 
@@ -200,14 +202,39 @@ def steady_state(history, law, preload: float) -> SteadyState:
             del steps[:-ANDERSON_DEPTH], changes[:-ANDERSON_DEPTH]
         last = (deviation, change)
         if steps:
-            mix = np.linalg.lstsq(np.array(changes).T, change, rcond=None)[0]
-            deviation = deviation + change - (np.array(steps).T + np.array(changes).T) @ mix
+            differences = np.array(changes)
+            normal = differences @ differences.T  # least squares of the few columns by their normal equations
+            mix = np.linalg.solve(normal + 1e-30 * np.trace(normal) * np.eye(len(normal)), differences @ change)
+            deviation = deviation + change - (np.array(steps) + differences).T @ mix
         else:
             deviation = deviation + change
     raise WheelrailError(
         "the run's steady state on the run-in's gap could not be found (its iterations did not converge); "
         "give the run an explicit run_in_length to start from the preload instead"
     )
+
+
+def model_law(law_kind: int | None, law, contact, history, preload: float):
+    """A model's law F(delta) on the run-in's gap (that of step 0, not faded in), approaches (m) -> forces (N):
+    a compiled one-line law's own kernel (``loop_kernels.law_curve``), the ``3d`` law tabulated exactly near
+    the preload (``contact.run_in_law.step_law``, extended linearly), or a per-step law's ``solve`` at
+    compliance 0. ``law_kind``: ``ModelTraits.law``; ``law``: the compiled law's inputs (or the 3D solver)."""
+    from wheelrail.core.models import LAW_HALFSPACE
+
+    s = history.n_run_in
+    if law_kind == LAW_HALFSPACE:
+        from wheelrail.core.contact.run_in_law import step_law
+
+        static = history.xi_w0 - preload * float(np.mean(history.weights.sum(axis=1)))
+        delta, force = step_law(law, s, preload, static)
+        slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
+        return lambda d: np.where(
+            d > delta[-1], force[-1] + slope * (d - delta[-1]), np.interp(d, delta, force, left=0.0)
+        )
+    if law is not None:
+        inputs = (law.roughness, law.shape, law.constants)
+        return lambda d: law_curve(law_kind, d, inputs, s)
+    return lambda d: np.array([contact.solve(s, float(x), 0.0).force for x in d])
 
 
 def bay_steps_of(history) -> int:

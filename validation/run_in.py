@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core import run_setup
 from wheelrail.core.interaction import prepare_run
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
 from wheelrail.core.roughness import load_roughness
@@ -37,24 +38,26 @@ STEADY_TIMES = (0.0, 0.0005, 0.001, DEFAULT_RUN_IN_TIME, 0.005)  # s of run-in f
 ONE_LINE_MODELS = ("hertz", "2d", "hertz-winkler", "hertz-average")
 
 
-def recorded(rail, model: str, kmh: float, run_in_length=None, steady_start=None, tabulated=True) -> np.ndarray:
+def recorded(rail, model: str, kmh: float, run_in_length=None, tabulated=True, steady_time=None) -> np.ndarray:
+    """The recorded force: ``run_in_length`` None starts from the steady state (with ``steady_time`` s of run-in
+    instead of the default, if given), a length from the preload at rest (``prepare_run``)."""
     params = ModelParameters(run=RunParameters(speed=kmh * KMH))
-    run = prepare_run(
-        rail,
-        model=model,
-        params=params,
-        length=LENGTH,
-        run_in_length=run_in_length,
-        keep_pressure=False,
-        steady_start=steady_start,
-    )
+    default = run_setup.DEFAULT_RUN_IN_TIME
+    if steady_time is not None:  # the default run-in's time, for this run only (default_run_in_length reads it)
+        run_setup.DEFAULT_RUN_IN_TIME = steady_time
+    try:
+        run = prepare_run(
+            rail, model=model, params=params, length=LENGTH, run_in_length=run_in_length, keep_pressure=False
+        )
+    finally:
+        run_setup.DEFAULT_RUN_IN_TIME = default
     run.tabulated_run_in = tabulated
     return run.run().force
 
 
 def long_run_in(rail, model: str, kmh: float) -> np.ndarray:
     """The recorded force after a 40 m run-in from the preload at rest (3d: stepped with the 3D solver)."""
-    return recorded(rail, model, kmh, max(40.0, 0.36 * kmh * KMH), steady_start=False, tabulated=False)
+    return recorded(rail, model, kmh, max(40.0, 0.36 * kmh * KMH), tabulated=False)
 
 
 def differences(rail, model: str, kmh: float) -> dict:
@@ -62,8 +65,8 @@ def differences(rail, model: str, kmh: float) -> dict:
     reference = long_run_in(rail, model, kmh)
     out = {"default": np.max(np.abs(recorded(rail, model, kmh) - reference))}
     for t in STEADY_TIMES:
-        out[t] = np.max(np.abs(recorded(rail, model, kmh, t * kmh * KMH, steady_start=True) - reference))
-    old = recorded(rail, model, kmh, PRELOAD_RUN_IN_TIME * kmh * KMH, steady_start=False)
+        out[t] = np.max(np.abs(recorded(rail, model, kmh, steady_time=t) - reference))
+    old = recorded(rail, model, kmh, PRELOAD_RUN_IN_TIME * kmh * KMH)
     out["preload 0.3 s"] = np.max(np.abs(old - reference))
     return out
 
@@ -97,7 +100,7 @@ def three_d(rail) -> None:
     for kmh in (100.0, 300.0):
         reference = long_run_in(rail, "3d", kmh)
         default = recorded(rail, "3d", kmh)
-        old = recorded(rail, "3d", kmh, PRELOAD_RUN_IN_TIME * kmh * KMH, steady_start=False)
+        old = recorded(rail, "3d", kmh, PRELOAD_RUN_IN_TIME * kmh * KMH)
         print(
             f"  3d            {kmh:5.0f} km/h: default {np.max(np.abs(default - reference)):.4f} N, "
             f"preload 0.3 s (tabulated) {np.max(np.abs(old - reference)):.4f} N"
