@@ -328,11 +328,10 @@ class InteractionRun(BlockSteps, HeaderView):
     def _start_steady(self) -> None:
         """Fill the history with the moving load's steady state on the run-in's gap (``steady_start``) before the
         first step; the ``3d`` law's warm state put at its approach."""
-        from wheelrail.core.steady_start import fill_history, model_law, steady_state
+        from wheelrail.core.steady_start import fill_history, start_state
 
         loop = self.loop
-        law = model_law(self.traits.law, self._law, self.contact, loop, self.params.contact.preload)
-        self.steady = steady_state(loop, law, self.params.contact.preload)
+        self.steady = start_state(self.traits.law, self._law, self.contact, loop, self.params.contact.preload)
         fill_history(loop, self.steady)
         if self.traits.law == LAW_HALFSPACE:
             from wheelrail.core.contact.run_in_law import warm_start

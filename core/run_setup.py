@@ -458,6 +458,7 @@ class History:
     xi_w0: float = 0.0
     bay: int | None = None  # steps per sleeper bay (steady_start.bay_steps), None if not a whole number
     steady: bool = False  # the run starts from the moving load's steady state (no fade-in; steady_start)
+    phases: tuple | None = None  # steady: (lo, hi, frac) of the bay's phases, index n_hist + k for phase k
 
     @property
     def n_total(self) -> int:
@@ -478,6 +479,14 @@ def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
         fade = np.arange(n_run_in) / max(1, n_run_in // 2)
         ramp[:n_run_in] = np.where(fade < 1, 0.5 - 0.5 * np.cos(np.pi * np.minimum(fade, 1)), 1.0)
     return ramp
+
+
+def _bay_positions(x: np.ndarray, spacing: float, n_positions: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rows of the moving Green's functions (``track.bay_rows``, evenly across the bay) below and above rail
+    positions ``x`` (m; a sleeper at 0) and the weight of the upper: (lo, hi, frac)."""
+    pos = np.mod(x, spacing) / spacing * n_positions
+    lo = np.floor(pos).astype(np.int64) % n_positions
+    return lo, (lo + 1) % n_positions, pos - np.floor(pos)
 
 
 def check_step_stability(params: ModelParameters, weights: np.ndarray, wheel_system: tuple) -> float:
@@ -535,10 +544,11 @@ def history_arrays(
     n_total = n_run_in + n_steps
     # rail position of history index j (sleeper at x = 0 of the roughness data)
     x_hist = track_roughness.x_start + (np.arange(n_hist + n_total) - n_hist - n_run_in) * dx
-    n_positions = len(weights)  # the rows of track.bay_rows, evenly across the bay
     spacing = params.track.support.sleeper_spacing
-    pos = np.mod(x_hist, spacing) / spacing * n_positions
-    lo = np.floor(pos).astype(np.int64) % n_positions
+    lo, hi, frac = _bay_positions(x_hist, spacing, len(weights))
+    bay = bay_steps(spacing, dx)
+    if steady:  # one bay of phases from index n_hist on, however short the run (steady_start)
+        phases = _bay_positions(track_roughness.x_start + (np.arange(bay) - n_run_in) * dx, spacing, len(weights))
     first = track_roughness.first
     history = History(
         dt=dt,
@@ -548,8 +558,8 @@ def history_arrays(
         force=np.full(n_hist + n_total, params.contact.preload),
         acc=np.zeros(n_hist + n_total + n_lags),
         lo=lo,
-        hi=(lo + 1) % n_positions,
-        frac=pos - np.floor(pos),
+        hi=hi,
+        frac=frac,
         weights=weights,
         phi=phi,
         gamma0=gamma0,
@@ -557,8 +567,9 @@ def history_arrays(
         state=np.zeros(len(phi)),
         ramp=np.ones(n_total) if steady else _fade_in(n_run_in, n_total),
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
-        bay=bay_steps(spacing, dx),
+        bay=bay,
         steady=steady,
+        phases=phases if steady else None,
     )
     return history
 

@@ -27,11 +27,23 @@ from numba import njit
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.loop_kernels import law_curve
 
-__all__ = ["SteadyState", "bay_steps", "fill_history", "folded_track", "folded_wheel", "model_law", "steady_state"]
+__all__ = [
+    "SteadyState",
+    "bay_steps",
+    "fill_history",
+    "folded_track",
+    "folded_wheel",
+    "model_law",
+    "start_state",
+    "steady_state",
+]
 
 STEADY_TOLERANCE = 1e-11  # x P: the iterations stop when F - law(delta) is within this everywhere (round-off)
 STEADY_ITERATIONS = 100  # the most iterations (measured: 6-12)
 ANDERSON_DEPTH = 5  # differences kept by the Anderson mixing of the chord iterations
+# 3d: its law tabulated exactly within 0.9-1.1 P (run_in_law.step_law), the table from 0.75 of the static approach
+# beyond first contact (the steady force on the corrugated rail stays within 0.968-1.048 P at 100-400 km/h)
+STEADY_TABLE = ((0.9, 1.1), 0.75)
 
 
 @dataclass(frozen=True)
@@ -52,12 +64,6 @@ def bay_steps(sleeper_spacing: float, element_size: float) -> int | None:
     ratio = sleeper_spacing / element_size
     n = int(round(ratio))
     return n if n >= 2 and abs(ratio - n) <= 1e-6 * ratio else None
-
-
-def _phase_indices(n_array: int, n_hist: int, n: int) -> np.ndarray:
-    """One history index per phase 0..n-1 (index j has phase (j - n_hist) mod n): the last n of the array."""
-    j = np.arange(n_array - n, n_array)
-    return j[np.argsort((j - n_hist) % n)]
 
 
 @njit(cache=True)
@@ -137,13 +143,12 @@ def _powers(phi, first, n):
     return out
 
 
-def folded_track(weights, lo, hi, frac, rows: np.ndarray, wheel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def folded_track(weights, lo, hi, frac, wheel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(A + B)^T (n, n): the rail's displacement at phase i per unit force at phase k every bay (eq. 2 as the loop
     sums it: lag m weighted with the source's row, the lags 0..n_lags-1 folded modulo n), plus the wheel's
-    (``wheel``: B's first column, B circulant); and the circulant part of A + B. ``rows``: the history index of
-    each phase (for ``lo``, ``hi``, ``frac``)."""
-    folded = _fold_lags(weights, wheel.size)
-    return _assemble(folded, lo[rows], hi[rows], frac[rows], wheel)
+    (``wheel``: B's first column, B circulant); and the circulant part of A + B. ``lo``, ``hi``, ``frac``: the
+    rows of the moving Green's functions at each phase (``run_setup.History.phases``)."""
+    return _assemble(_fold_lags(weights, wheel.size), lo, hi, frac, wheel)
 
 
 def folded_wheel(phi: np.ndarray, gamma0: np.ndarray, gamma1: np.ndarray, n: int) -> np.ndarray:
@@ -176,11 +181,8 @@ def steady_state(history, law, preload: float) -> SteadyState:
 
     Raises WheelrailError if neither converges (a law without a steady state near the preload)."""
     n = bay_steps_of(history)
-    rows = _phase_indices(len(history.lo), history.n_hist, n)
     h = folded_wheel(history.phi, history.gamma0, history.gamma1, n)
-    matrix, column = folded_track(
-        history.weights, history.lo, history.hi, history.frac, rows, np.ascontiguousarray(h[:, 1])
-    )
+    matrix, column = folded_track(history.weights, *history.phases, np.ascontiguousarray(h[:, 1]))
     # the approach xi_W0 - M (F - P) - A P: the deviation from the preload times M (the wheel's folded response
     # is large, ~1/k_S per step; its product with F itself would cancel to 1e-7 N)
     known = history.xi_w0 - preload * (matrix.sum(axis=0) - h[:, 1].sum())
@@ -214,11 +216,11 @@ def steady_state(history, law, preload: float) -> SteadyState:
     )
 
 
-def model_law(law_kind: int | None, law, contact, history, preload: float):
+def model_law(law_kind: int | None, law, contact, history, preload: float, table=STEADY_TABLE):
     """A model's law F(delta) on the run-in's gap (that of step 0, not faded in), approaches (m) -> forces (N):
-    a compiled one-line law's own kernel (``loop_kernels.law_curve``), the ``3d`` law tabulated exactly near
-    the preload (``contact.run_in_law.step_law``, extended linearly), or a per-step law's ``solve`` at
-    compliance 0. ``law_kind``: ``ModelTraits.law``; ``law``: the compiled law's inputs (or the 3D solver)."""
+    a compiled one-line law's own kernel (``loop_kernels.law_curve``), the ``3d`` law tabulated exactly within
+    ``table``'s band (``contact.run_in_law.step_law``, extended linearly above), or a per-step law's ``solve``
+    at compliance 0. ``law_kind``: ``ModelTraits.law``; ``law``: the compiled law's inputs (or the 3D solver)."""
     from wheelrail.core.models import LAW_HALFSPACE
 
     s = history.n_run_in
@@ -226,15 +228,28 @@ def model_law(law_kind: int | None, law, contact, history, preload: float):
         from wheelrail.core.contact.run_in_law import step_law
 
         static = history.xi_w0 - preload * float(np.mean(history.weights.sum(axis=1)))
-        delta, force = step_law(law, s, preload, static)
+        delta, force = step_law(law, s, preload, static, *table)
         slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
-        return lambda d: np.where(
-            d > delta[-1], force[-1] + slope * (d - delta[-1]), np.interp(d, delta, force, left=0.0)
-        )
+        return lambda d: np.where(d > delta[-1], force[-1] + slope * (d - delta[-1]), np.interp(d, delta, force))
     if law is not None:
         inputs = (law.roughness, law.shape, law.constants)
         return lambda d: law_curve(law_kind, d, inputs, s)
     return lambda d: np.array([contact.solve(s, float(x), 0.0).force for x in d])
+
+
+def start_state(law_kind: int | None, law, contact, history, preload: float) -> SteadyState:
+    """The steady state a run starts from, on the model's law (:func:`model_law`): the ``3d`` law's table is
+    exact within ``STEADY_TABLE``'s band; should the steady force leave it, the law is tabulated again over the
+    force's range with a margin, from first contact, and the state solved on it."""
+    from wheelrail.core.models import LAW_HALFSPACE
+
+    steady = steady_state(history, model_law(law_kind, law, contact, history, preload), preload)
+    low, high = float(steady.force.min()) / preload, float(steady.force.max()) / preload
+    band = STEADY_TABLE[0]
+    if law_kind != LAW_HALFSPACE or band[0] <= low and high <= band[1]:
+        return steady
+    table = ((max(0.05, low - 0.1), high + 0.1), 0.0)
+    return steady_state(history, model_law(law_kind, law, contact, history, preload, table), preload)
 
 
 def bay_steps_of(history) -> int:
@@ -252,14 +267,6 @@ def fill_history(history, steady: SteadyState) -> None:
     n_hist = history.n_hist
     history.force[:n_hist] = steady.force[(np.arange(n_hist) - n_hist) % n]
     history.acc[:] = 0.0
-    rows = _phase_indices(len(history.lo), n_hist, n)
     lags = history.weights.shape[1]
-    _history_tail(
-        history.weights,
-        history.lo[rows],
-        history.hi[rows],
-        history.frac[rows],
-        steady.force,
-        history.acc[n_hist : n_hist + lags],
-    )
+    _history_tail(history.weights, *history.phases, steady.force, history.acc[n_hist : n_hist + lags])
     history.state[:] = steady.state

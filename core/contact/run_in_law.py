@@ -101,7 +101,12 @@ def step_gap(steps: ActiveSetSolver, s: int) -> np.ndarray:
 
 
 def tabulate_law(
-    steps: ActiveSetSolver, s: int, spacing: tuple[float, float], band: tuple[float, float] | None, force_stop: float
+    steps: ActiveSetSolver,
+    s: int,
+    spacing: tuple[float, float],
+    band: tuple[float, float] | None,
+    force_stop: float,
+    start: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The ``3d`` law on step s's gap as a function of the approach alone: breakpoints (delta, F) of the
     piecewise-linear F(delta), m and N, from delta = min h (F = 0) until F >= ``force_stop`` (N).
@@ -112,9 +117,10 @@ def tabulate_law(
     put where their two lines meet: exact for one change of set between them (F is continuous). Within the
     band, where the sets differ by more than one element, the law is solved again there
     (:func:`_resolve_kinks`), so the table is the law there to the solver's tolerance; elsewhere it is off by
-    at most (slope change) x (spacing) / 4. Leaves the warm state at the last solve.
+    at most (slope change) x (spacing) / 4. ``start`` (m): the first solve this far beyond first contact (the
+    table then holds nothing below it). Leaves the warm state at the last solve.
     """
-    first = float(step_gap(steps, s).min())
+    first = float(step_gap(steps, s).min()) + start
     coarse, fine = spacing
     points = _solve_at(steps, s, first + coarse * np.arange(4096), force_stop)
     if band is not None:
@@ -166,13 +172,17 @@ def _resolve_kinks(steps: ActiveSetSolver, s: int, points, span: tuple[float, fl
     return points
 
 
-def step_law(steps: ActiveSetSolver, s: int, preload: float, static: float) -> tuple[np.ndarray, np.ndarray]:
-    """The ``3d`` law on step s's gap, tabulated exactly within ``RUN_IN_TABLE_BAND`` x P (:func:`tabulate_law`,
-    T_1 of :func:`run_in_table`; ``steady_start`` solves the run's steady state on it): (delta, F), m and N,
-    up to ``RUN_IN_TABLE_FORCE`` x P. ``static``: the static approach under the preload (m; the spacing's scale)."""
+def step_law(
+    steps: ActiveSetSolver, s: int, preload: float, static: float, band=RUN_IN_TABLE_BAND, start: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``3d`` law on step s's gap, tabulated exactly within ``band`` x P (:func:`tabulate_law`; the
+    default: T_1 of :func:`run_in_table`; ``steady_start`` solves the run's steady state on a narrower band):
+    (delta, F), m and N, from ``start`` x ``static`` beyond first contact up to max(``RUN_IN_TABLE_FORCE``,
+    band) x P. ``static``: the static approach under the preload (m; the spacings' scale)."""
     rough = RUN_IN_TABLE_SPACING[1]
-    band = (RUN_IN_TABLE_BAND[0] * preload, RUN_IN_TABLE_BAND[1] * preload)
-    return tabulate_law(steps, s, (rough[0] * static, rough[1] * static), band, RUN_IN_TABLE_FORCE * preload)
+    stop = max(RUN_IN_TABLE_FORCE, band[1] + 0.05) * preload
+    spacing = (rough[0] * static, rough[1] * static)
+    return tabulate_law(steps, s, spacing, (band[0] * preload, band[1] * preload), stop, start * static)
 
 
 def run_in_table(steps: ActiveSetSolver, n_run_in: int, preload: float, static: float) -> tuple:
