@@ -63,8 +63,9 @@ __all__ = [
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
 CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets them in time
-# s: a 3d run-in this long or longer runs on the law tabulated (contact.run_in_law); its fade-in's blend then
-# leaves at most 0.014 N (0.108 s at 100 km/h), 0.2-2.4 N after a run-in of 1-36 ms, which the 3D solver steps
+# s: a 3d run-in from the preload (an explicit one) this long or longer runs on the law tabulated
+# (contact.run_in_law); its fade-in's blend then leaves at most 0.014 N (0.108 s at 100 km/h), 0.2-2.4 N after
+# a run-in of 1-36 ms, which the 3D solver steps; the steady start's run-in (0.5 ms) is stepped by it too
 TABULATED_RUN_IN_TIME = 0.1
 
 # --------------------------------------------------------------------------------------------------
@@ -187,7 +188,7 @@ class InteractionRun(BlockSteps, HeaderView):
         if traits.law == LAW_HALFSPACE and self.pressure is None:
             self._maps = np.zeros((CHUNK_3D, len(self.window_y), len(self.window_x)), dtype=np.float32)
 
-    tabulated_run_in = True  # 3d: a run-in of TABULATED_RUN_IN_TIME or more on the tabulated law (False: 3D solves)
+    tabulated_run_in = True  # 3d: a run-in from the preload of TABULATED_RUN_IN_TIME or more on the tabulated law
 
     @property
     def _tabulated(self) -> bool:

@@ -3,10 +3,15 @@
 ``interaction.prepare_run`` composes them; each step is a function of what the previous ones returned, so
 a study or a test can reuse one (``usable_length`` is the one rule for margins and default lengths).
 
-Start-up: the history is filled with the preload in static equilibrium, and a run-in on smooth surfaces (the
-roughness faded in over its first half with a raised cosine, then discarded) lets the start-up transient decay.
-It decays in time, whatever the speed, so the run-in is a time, ``DEFAULT_RUN_IN_TIME`` (the documentation's
-physics page, "How a step is solved", gives what it leaves: ``validation/run_in.py``, test_run_in.py).
+Start-up: by default the run starts from the moving load's steady state on the gap of step 0 (``steady_start``:
+the bay's periodic force from the loop's own folded equations and the model's law, filled into the history at
+the first step), so no start-up transient is left to decay; a run-in of ``DEFAULT_RUN_IN_TIME`` (0.5 ms, on the
+roughness under step 0 as it is, then discarded) follows. An explicit run-in, or a sleeper bay of no whole
+number of elements, starts as every run did before: the history filled with the preload in static equilibrium,
+and a run-in on smooth surfaces (the roughness faded in over its first half with a raised cosine) lets the
+transient decay, in time whatever the speed, so that run-in is a time, ``PRELOAD_RUN_IN_TIME`` (0.3 s). What
+either leaves against a 40 m run-in: the documentation's physics page, "How a step is solved"
+(``validation/run_in.py``, test_run_in.py).
 """
 
 from __future__ import annotations

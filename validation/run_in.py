@@ -1,6 +1,7 @@
 """The run's start against a long run-in: what is left of the start-up transient in the recorded force.
 
-Run: python3 validation/run_in.py [--models hertz 2d] [--step-kmh 5] [--3d] [--timing [--base DIR]]
+Run: python3 validation/run_in.py [--models hertz 2d] [--step-kmh 5 | --speeds-kmh 100 300] [--3d]
+     python3 validation/run_in.py --timing [--repeats 5] [--base DIR]
 
 A run starts from the moving load's steady state on the gap of step 0 (``core/steady_start.py``) and runs in for
 ``run_setup.DEFAULT_RUN_IN_TIME``. For every speed from 5 to 400 km/h (``--step-kmh`` apart) the first 0.5 m of the
@@ -152,6 +153,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--models", nargs="*", default=list(ONE_LINE_MODELS))
     parser.add_argument("--step-kmh", type=float, default=5.0)
+    parser.add_argument("--speeds-kmh", type=float, nargs="*", help="these speeds instead of the 5 km/h scan")
     parser.add_argument("--3d", dest="three_d", action="store_true")
     parser.add_argument("--timing", action="store_true", help="only the 3 m 3d run's timing")
     parser.add_argument("--repeats", type=int, default=5)
@@ -161,7 +163,7 @@ def main() -> None:
     if args.timing:
         timing(rail, args.repeats, args.base)
         return
-    speeds = np.arange(5.0, 400.0 + 1e-9, args.step_kmh)
+    speeds = np.array(args.speeds_kmh) if args.speeds_kmh else np.arange(5.0, 400.0 + 1e-9, args.step_kmh)
     scan(rail, args.models, speeds)
     if args.three_d:
         three_d(rail)

@@ -177,10 +177,10 @@ def step_law(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The ``3d`` law on step s's gap, tabulated exactly within ``band`` x P (:func:`tabulate_law`; the
     default: T_1 of :func:`run_in_table`; ``steady_start`` solves the run's steady state on a narrower band):
-    (delta, F), m and N, from ``start`` x ``static`` beyond first contact up to max(``RUN_IN_TABLE_FORCE``,
-    band) x P. ``static``: the static approach under the preload (m; the spacings' scale)."""
+    (delta, F), m and N, from ``start`` x ``static`` beyond first contact up to ``RUN_IN_TABLE_FORCE`` x P
+    (another band: 0.05 P beyond it). ``static``: the static approach under the preload (m; the spacings' scale)."""
     rough = RUN_IN_TABLE_SPACING[1]
-    stop = max(RUN_IN_TABLE_FORCE, band[1] + 0.05) * preload
+    stop = (RUN_IN_TABLE_FORCE if band == RUN_IN_TABLE_BAND else band[1] + 0.05) * preload
     spacing = (rough[0] * static, rough[1] * static)
     return tabulate_law(steps, s, spacing, (band[0] * preload, band[1] * preload), stop, start * static)
 
