@@ -3,15 +3,10 @@
 ``interaction.prepare_run`` composes them; each step is a function of what the previous ones returned, so
 a study or a test can reuse one (``usable_length`` is the one rule for margins and default lengths).
 
-Start-up: by default the run starts from the moving load's steady state on the gap of step 0 (``steady_start``:
-the bay's periodic force from the loop's own folded equations and the model's law, filled into the history at
-the first step), so no start-up transient is left to decay; a run-in of ``DEFAULT_RUN_IN_TIME`` (0.5 ms, on the
-roughness under step 0 as it is, then discarded) follows. An explicit run-in, or a sleeper bay of no whole
-number of elements, starts as every run did before: the history filled with the preload in static equilibrium,
-and a run-in on smooth surfaces (the roughness faded in over its first half with a raised cosine) lets the
-transient decay, in time whatever the speed, so that run-in is a time, ``PRELOAD_RUN_IN_TIME`` (0.3 s). What
-either leaves against a 40 m run-in: the documentation's physics page, "How a step is solved"
-(``validation/run_in.py``, test_run_in.py).
+Start-up: from the moving load's steady state on the gap of step 0 (``steady_start``), then a run-in of
+``DEFAULT_RUN_IN_TIME`` (discarded). An explicit run-in, or a bay of no whole number of elements, starts from the
+preload in static equilibrium, the roughness faded in over the run-in's first half, which must let the
+transient decay: ``PRELOAD_RUN_IN_TIME``. What each leaves: the physics page, "How a step is solved".
 """
 
 from __future__ import annotations
@@ -116,16 +111,14 @@ def usable_length(roughness, element_size: float, params: ModelParameters | None
 
 
 def starts_steady(params: ModelParameters) -> bool:
-    """Whether a run with the default run-in starts from the moving load's steady state: where the sleeper bay
-    is a whole number of elements (``steady_start.bay_steps``; at 1 mm elements any spacing in whole mm)."""
+    """Whether a run with the default run-in starts from the steady state: the bay is whole elements."""
     from wheelrail.core.steady_start import bay_steps
 
     return bay_steps(params.track.support.sleeper_spacing, params.run.element_size) is not None
 
 
 def default_run_in_length(params: ModelParameters | None = None) -> float:
-    """The default run-in, m, rounded up to whole elements: ``DEFAULT_RUN_IN_TIME`` at the run's speed from the
-    steady state, or ``PRELOAD_RUN_IN_TIME`` where the run cannot start from it (:func:`starts_steady`)."""
+    """The default run-in at the run's speed in whole elements, m (:func:`starts_steady`: which time)."""
     params = ModelParameters() if params is None else params
     dx = params.run.element_size
     time = DEFAULT_RUN_IN_TIME if starts_steady(params) else PRELOAD_RUN_IN_TIME
@@ -487,8 +480,7 @@ def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
 
 
 def _bay_positions(x: np.ndarray, spacing: float, n_positions: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The rows of the moving Green's functions (``track.bay_rows``, evenly across the bay) below and above rail
-    positions ``x`` (m; a sleeper at 0) and the weight of the upper: (lo, hi, frac)."""
+    """Rows (``track.bay_rows``) below and above rail positions ``x`` (m) and the upper's weight: lo, hi, frac."""
     pos = np.mod(x, spacing) / spacing * n_positions
     lo = np.floor(pos).astype(np.int64) % n_positions
     return lo, (lo + 1) % n_positions, pos - np.floor(pos)
@@ -552,7 +544,8 @@ def history_arrays(
     spacing = params.track.support.sleeper_spacing
     lo, hi, frac = _bay_positions(x_hist, spacing, len(weights))
     bay = bay_steps(spacing, dx)
-    if steady:  # one bay of phases from index n_hist on, however short the run (steady_start)
+    phases = None  # steady: one bay of phases from index n_hist on, however short the run (steady_start)
+    if steady:
         phases = _bay_positions(track_roughness.x_start + (np.arange(bay) - n_run_in) * dx, spacing, len(weights))
     first = track_roughness.first
     history = History(
@@ -574,7 +567,7 @@ def history_arrays(
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
         bay=bay,
         steady=steady,
-        phases=phases if steady else None,
+        phases=phases,
     )
     return history
 
