@@ -79,24 +79,17 @@ def _fold_lags(weights, n):
 
 
 @njit(cache=True, fastmath=True)
-def _assemble(folded, lo, hi, frac, wheel):
-    """(A + B) transposed (n, n) of the folded rows at each source phase k (``lo``, ``hi``, ``frac`` of phase k)
-    and the wheel's folded response ``wheel`` (n,): M[(k + d) mod n, k] = (1 - f_k) folded[lo_k, d]
-    + f_k folded[hi_k, d] + wheel[d], stored as M^T (each source's row contiguous); and the circulant part of M
-    (the mean over k at each d)."""
+def _circulant_part(folded, lo, hi, frac, wheel):
+    """The circulant part of A + B (its mean along each wrapped diagonal d = i - k mod n): the mean over the
+    source phases k of (1 - f_k) folded[lo_k, d] + f_k folded[hi_k, d], plus the wheel's wheel[d]."""
     n = wheel.size
-    transposed = np.empty((n, n))
     column = np.zeros(n)
     for k in range(n):
         f = frac[k]
-        a, b, row = folded[lo[k]], folded[hi[k]], transposed[k]
+        a, b = folded[lo[k]], folded[hi[k]]
         for d in range(n):
-            column[d] += (1.0 - f) * a[d] + f * b[d] + wheel[d]
-        for i in range(k, n):  # d = i - k
-            row[i] = (1.0 - f) * a[i - k] + f * b[i - k] + wheel[i - k]
-        for i in range(k):  # d = i - k + n
-            row[i] = (1.0 - f) * a[i - k + n] + f * b[i - k + n] + wheel[i - k + n]
-    return transposed, column / n
+            column[d] += (1.0 - f) * a[d] + f * b[d]
+    return column / n + wheel
 
 
 @njit(cache=True, fastmath=True)
@@ -136,16 +129,21 @@ def _history_tail(weights, lo, hi, frac, force, out):
 
 
 @njit(cache=True, fastmath=True)
-def _product(transposed, x):
-    """M x from M^T, without BLAS (whose threads contend for a busy machine's cores: 1.4 ms at n = 650, measured;
-    this 0.1 ms)."""
+def _product(folded, lo, hi, frac, wheel, x):
+    """(A + B) x from the folded rows (no dense matrix: the bay's rows, 256 x n, stay in cache across the
+    iterations; the dense n x n map streamed 3.4 MB a product): out[(k + d) mod n] += x_k ((1 - f_k)
+    folded[lo_k, d] + f_k folded[hi_k, d] + wheel[d])."""
     n = x.size
     out = np.zeros(n)
     for k in range(n):
-        row = transposed[k]
-        xk = x[k]
-        for i in range(n):
-            out[i] += xk * row[i]
+        a, b, c = (1.0 - frac[k]) * x[k], frac[k] * x[k], x[k]
+        row_a, row_b = folded[lo[k]], folded[hi[k]]
+        head = out[k:]
+        for d in range(n - k):
+            head[d] += a * row_a[d] + b * row_b[d] + c * wheel[d]
+        tail_a, tail_b, tail_w = row_a[n - k :], row_b[n - k :], wheel[n - k :]
+        for d in range(k):
+            out[d] += a * tail_a[d] + b * tail_b[d] + c * tail_w[d]
     return out
 
 
@@ -159,12 +157,13 @@ def _powers(phi, first, n):
     return out
 
 
-def folded_track(weights, lo, hi, frac, wheel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(A + B)^T (n, n): the rail's displacement at phase i per unit force at phase k every bay (eq. 2 as the loop
-    sums it: lag m weighted with the source's row, the lags 0..n_lags-1 folded modulo n), plus the wheel's
-    (``wheel``: B's first column, B circulant); and the circulant part of A + B. ``lo``, ``hi``, ``frac``: the
-    rows of the moving Green's functions at each phase (``run_setup.History.phases``)."""
-    return _assemble(_fold_lags(weights, wheel.size), lo, hi, frac, wheel)
+def folded_track(weights, lo, hi, frac, wheel: np.ndarray) -> np.ndarray:
+    """(A + B) (n, n), dense (for tests; :func:`steady_state` applies it by :func:`_product`): the rail's
+    displacement at phase i per unit force at phase k every bay (eq. 2 as the loop sums it: lag m weighted with
+    the source's row, the lags 0..n_lags-1 folded modulo n), plus the wheel's (``wheel``: B's first column,
+    B circulant). ``lo``, ``hi``, ``frac``: the rows at each phase (``run_setup.History.phases``)."""
+    folded = _fold_lags(weights, wheel.size)
+    return np.column_stack([_product(folded, lo, hi, frac, wheel, e) for e in np.eye(wheel.size)])
 
 
 def folded_wheel(phi: np.ndarray, gamma0: np.ndarray, gamma1: np.ndarray, n: int) -> np.ndarray:
@@ -198,17 +197,20 @@ def steady_state(history, law, preload: float) -> SteadyState:
     Raises WheelrailError if neither converges (a law without a steady state near the preload)."""
     n = bay_steps_of(history)
     h = folded_wheel(history.phi, history.gamma0, history.gamma1, n)
-    matrix, column = folded_track(history.weights, *history.phases, np.ascontiguousarray(h[:, 1]))
+    wheel = np.ascontiguousarray(h[:, 1])
+    folded = _fold_lags(history.weights, n)
+    lo, hi, frac = history.phases
+    column = _circulant_part(folded, lo, hi, frac, wheel)
     # the approach xi_W0 - M (F - P) - A P: the deviation from the preload times M (the wheel's folded response
     # is large, ~1/k_S per step; its product with F itself would cancel to 1e-7 N)
-    known = history.xi_w0 - preload * (matrix.sum(axis=0) - h[:, 1].sum())
+    known = history.xi_w0 - preload * (_product(folded, lo, hi, frac, wheel, np.ones(n)) - wheel.sum())
     deviation = np.zeros(n)
     step = 1e-9 * float(np.mean(np.abs(known))) + 1e-15
     stiffness = float(np.mean(law(known + step) - law(known - step))) / (2 * step)
     precondition = _circulant_solver(column, stiffness)
     steps, changes, last = [], [], None  # Anderson's: differences of the deviation and of the preconditioned residual
     for iteration in range(STEADY_ITERATIONS):
-        approach = known - _product(matrix, deviation)
+        approach = known - _product(folded, lo, hi, frac, wheel, deviation)
         residual = deviation + preload - law(approach)
         if np.max(np.abs(residual)) <= STEADY_TOLERANCE * preload:
             state = h[(n - 1 - np.arange(n)) % n].T @ deviation
