@@ -6,7 +6,7 @@ periodic with one sleeper bay, n = L_S / dx steps (a whole number of steps: :fun
 periodic in n steps, the loop's own equations are linear maps of the bay's n forces:
 
 * eq. 2, the rail: xi_R = A F, the moving Green's functions over the loop's lags with the source's position in
-  the bay, the lags folded modulo n (:func:`folded_track`);
+  the bay, the lags folded modulo n (each row of the moving Green's functions folded once, ``_fold_lags``);
 * eq. 1, the wheel's exact discrete system: xi_W = xi_W0 - B (F - P), its impulse response summed over all
   periods in closed form with (I - Phi^n)^-1 (:func:`folded_wheel`);
 
@@ -32,7 +32,6 @@ __all__ = [
     "SteadyState",
     "bay_steps",
     "fill_history",
-    "folded_track",
     "folded_wheel",
     "model_law",
     "start_state",
@@ -156,15 +155,6 @@ def _powers(phi, first, n):
     for d in range(1, n + 1):
         out[d] = phi @ out[d - 1]
     return out
-
-
-def folded_track(weights, lo, hi, frac, wheel: np.ndarray) -> np.ndarray:
-    """(A + B) (n, n), dense (for tests; :func:`steady_state` applies it by :func:`_product`): the rail's
-    displacement at phase i per unit force at phase k every bay (eq. 2 as the loop sums it: lag m weighted with
-    the source's row, the lags 0..n_lags-1 folded modulo n), plus the wheel's (``wheel``: B's first column,
-    B circulant). ``lo``, ``hi``, ``frac``: the rows at each phase (``run_setup.History.phases``)."""
-    folded = _fold_lags(weights, wheel.size)
-    return np.column_stack([_product(folded, lo, hi, frac, wheel, e) for e in np.eye(wheel.size)])
 
 
 def folded_wheel(phi: np.ndarray, gamma0: np.ndarray, gamma1: np.ndarray, n: int) -> np.ndarray:
