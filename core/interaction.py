@@ -42,6 +42,7 @@ from wheelrail.core.run_setup import (
     resolve_surfaces,
     roughness_along_track,
     run_margin,
+    starts_steady,
     static_equilibrium,
     usable_length,
     window_lines,
@@ -62,8 +63,9 @@ __all__ = [
 
 CHUNK = 2048  # steps per call of the compiled chunk loop (streaming and cancellation granularity)
 CHUNK_3D = 256  # the same for the 3D law: 5-10 ms of steps, so a live view gets them in time
-# s: a 3d run-in this long or longer runs on the law tabulated (contact.run_in_law); its fade-in's blend then
-# leaves at most 0.014 N (0.108 s at 100 km/h), 0.2-2.4 N after a run-in of 1-36 ms, which the 3D solver steps
+# s: a 3d run-in from the preload (an explicit one) this long or longer runs on the law tabulated
+# (contact.run_in_law); its fade-in's blend then leaves at most 0.014 N (0.108 s at 100 km/h), 0.2-2.4 N after
+# a run-in of 1-36 ms, which the 3D solver steps; the steady start's run-in (0.5 ms) is stepped by it too
 TABULATED_RUN_IN_TIME = 0.1
 
 # --------------------------------------------------------------------------------------------------
@@ -182,10 +184,11 @@ class InteractionRun(BlockSteps, HeaderView):
         self._maps = self._maps_first = None  # the compiled 3D law's pressure maps of the last chunk, if not kept
         self._table = None  # the 3d law's run-in law (breakpoints, T_0, T_1), built on first use
         self._segment = np.zeros(1, dtype=np.int64)  # its segment of the last run-in step
+        self.steady = None  # the steady state the run starts from (steady_start.SteadyState), found on first use
         if traits.law == LAW_HALFSPACE and self.pressure is None:
             self._maps = np.zeros((CHUNK_3D, len(self.window_y), len(self.window_x)), dtype=np.float32)
 
-    tabulated_run_in = True  # 3d: a run-in of TABULATED_RUN_IN_TIME or more on the tabulated law (False: 3D solves)
+    tabulated_run_in = True  # 3d: a run-in from the preload of TABULATED_RUN_IN_TIME or more on the tabulated law
 
     @property
     def _tabulated(self) -> bool:
@@ -323,7 +326,22 @@ class InteractionRun(BlockSteps, HeaderView):
         if s1 == loop.n_run_in:
             warm_start(self._law, loop.n_run_in, approach)
 
+    def _start_steady(self) -> None:
+        """Fill the history with the moving load's steady state on the run-in's gap (``steady_start``) before the
+        first step; the ``3d`` law's warm state put at its approach."""
+        from wheelrail.core.steady_start import fill_history, start_state
+
+        loop = self.loop
+        self.steady = start_state(self.traits.law, self._law, self.contact, loop, self.params.contact.preload)
+        fill_history(loop, self.steady)
+        if self.traits.law == LAW_HALFSPACE:
+            from wheelrail.core.contact.run_in_law import warm_start
+
+            warm_start(self._law, 0, float(self.steady.approach[0]))
+
     def _advance_to(self, s_end: int, progress: Callable[[int, int], None] | None = None) -> None:
+        if self.loop.steady and self.steady is None and self._done == 0 and s_end > 0:
+            self._start_steady()
         chunk = self._chunk
         while self._done < s_end:
             if self._cancel.is_set():
@@ -440,8 +458,11 @@ def prepare_run(
         Run length, m. Default: ``run_setup.usable_length`` (the rail data less the margins, or one wheel
         circumference: wheel data repeats around it).
     run_in_length : float, optional
-        Smooth run-in before step 0, m (discarded). Default: ``DEFAULT_RUN_IN_TIME`` (0.3 s) at the run's
-        speed, long enough for the start-up transient to die out (``run_setup.default_run_in_length``).
+        Run-in before step 0 on the roughness under step 0, m (discarded). Default: the run starts from the
+        moving load's periodic steady state (``steady_start``: no start-up transient) and runs in for
+        ``DEFAULT_RUN_IN_TIME`` (0.5 ms) at its speed. A run-in given starts from the preload at rest (history
+        filled with P, the roughness faded in over its first half), as every run did before; so does the default
+        where the sleeper bay is no whole number of elements, with 0.3 s (``run_setup.default_run_in_length``).
     keep_pressure : bool
         Keep every pressure map in the result (steps x ny x nx float32), for models that have them.
     track_numerics : TrackNumerics, optional
@@ -453,7 +474,7 @@ def prepare_run(
     Returns
     -------
     InteractionRun
-        The run, its history in static equilibrium under the preload; no step computed yet.
+        The run; no step computed yet (a steady start fills its history at the first step).
 
     Raises
     ------
@@ -484,7 +505,9 @@ def prepare_run(
     >>> len(forces), min(forces) > 0.0
     (200, True)
     """
+    steady = run_in_length is None  # the default run-in follows the steady start (where the bay allows it)
     entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
+    steady = steady and starts_steady(params)
     rough, name, wheel, wheel_name = resolve_surfaces(roughness, wheel_roughness, params)
     dx = params.run.element_size
     check_run_memory(
@@ -492,8 +515,9 @@ def prepare_run(
     )
     track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     wheel_system, wheel_model, wheel_profile = interaction_wheel(wheel_system, params)
-    history = history_arrays(track, params, run_in_length, track_numerics, wheel_system)
-    scatter_history(0, history.n_hist, history.track)  # the rail's response to the preload's history (eq. 2)
+    history = history_arrays(track, params, run_in_length, track_numerics, wheel_system, steady)
+    if not steady:  # the rail's response to the preload's history (eq. 2); a steady start fills its own
+        scatter_history(0, history.n_hist, history.track)
     header = RunHeader(
         model=entry.name,
         line=line,
@@ -564,8 +588,8 @@ def simulate(
     (500, 3.6e-05)
     >>> round(float(result.force.mean()) / 1e3, 1)     # kN: the preload and the roughness's dynamic force
     65.2
-    >>> result.loss_of_contact_steps, result.run_in_length   # the run-in: 0.3 s at 100 km/h, m
-    (0, 8.334)
+    >>> result.loss_of_contact_steps, result.run_in_length   # the run-in after the steady start: 0.5 ms, m
+    (0, 0.014)
     """
     run = prepare_run(roughness, model=model, line=line, params=params, length=length, **options)
     if cancel is not None:

@@ -21,7 +21,7 @@ from wheelrail.core.contact.hertz import hertz_law
 from wheelrail.core.contact.winkler import bedding_law
 from wheelrail.core.models import LAW_HERTZ
 
-__all__ = ["commit_force", "known_approach", "run_chunk", "scatter_history"]
+__all__ = ["commit_force", "known_approach", "law_curve", "run_chunk", "scatter_history"]
 
 
 @njit(cache=True, inline="always")
@@ -99,6 +99,21 @@ def _law(law, approach_known, compliance, roughness, s, shape, constants):
     return bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
 
 
+def _define_law_curve(stamp):
+    @njit(cache=True)
+    def law_curve(law, approaches, law_inputs, s):
+        """A compiled one-line law's force at step s at the given approaches (compliance 0: F(delta)), N: the
+        contact law of the run-in's steady state (``steady_start``)."""
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called
+        roughness, shape, constants = law_inputs
+        forces = np.empty(approaches.size)
+        for k in range(approaches.size):
+            forces[k] = _law(law, approaches[k], 0.0, roughness, s, shape, constants)[0]
+        return forces
+
+    return law_curve
+
+
 # The chunk loop calls compiled code of other modules: numba's cache keys it on those sources too
 # (wheelrail.core.compiled).
 def _define_run_chunk(stamp):
@@ -128,4 +143,6 @@ def _define_run_chunk(stamp):
     return run_chunk
 
 
-run_chunk = _define_run_chunk(sources_stamp(hertz, winkler, sys.modules[__name__]))
+_STAMP = sources_stamp(hertz, winkler, sys.modules[__name__])
+run_chunk = _define_run_chunk(_STAMP)
+law_curve = _define_law_curve(_STAMP)

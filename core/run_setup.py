@@ -3,10 +3,10 @@
 ``interaction.prepare_run`` composes them; each step is a function of what the previous ones returned, so
 a study or a test can reuse one (``usable_length`` is the one rule for margins and default lengths).
 
-Start-up: the history is filled with the preload in static equilibrium, and a run-in on smooth surfaces (the
-roughness faded in over its first half with a raised cosine, then discarded) lets the start-up transient decay.
-It decays in time, whatever the speed, so the run-in is a time, ``DEFAULT_RUN_IN_TIME`` (the documentation's
-physics page, "How a step is solved", gives what it leaves: ``validation/run_in.py``, test_run_in.py).
+Start-up: from the moving load's steady state on the gap of step 0 (``steady_start``), then a run-in of
+``DEFAULT_RUN_IN_TIME`` (discarded). An explicit run-in, or a bay of no whole number of elements, starts from the
+preload in static equilibrium, the roughness faded in over the run-in's first half, which must let the
+transient decay: ``PRELOAD_RUN_IN_TIME``. What each leaves: the physics page, "How a step is solved".
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ if TYPE_CHECKING:  # the roughness package is imported when a set is read
 
 __all__ = [
     "DEFAULT_RUN_IN_TIME",
+    "PRELOAD_RUN_IN_TIME",
     "RUN_MARGIN",
     "WINDOW_HALF_WIDTH",
     "WINDOW_SEMI_AXES",
@@ -42,6 +43,7 @@ __all__ = [
     "interaction_wheel",
     "model_inputs",
     "roughness_along_track",
+    "starts_steady",
     "run_lines",
     "run_margin",
     "static_equilibrium",
@@ -53,7 +55,8 @@ __all__ = [
 
 WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
 WINDOW_SEMI_AXES = 2.2  # half side of the window in Hertz semi-axes at the preload (along and across)
-DEFAULT_RUN_IN_TIME = 0.3  # s of smooth run-in before step 0 (discarded); see the module docstring
+DEFAULT_RUN_IN_TIME = 0.0005  # s of run-in from the moving load's steady state (discarded); see the module docstring
+PRELOAD_RUN_IN_TIME = 0.3  # s of smooth run-in from the preload at rest: where no steady start is taken
 RUN_MARGIN = 0.020  # m of roughness kept before the first and after the last wheel position
 
 
@@ -107,11 +110,19 @@ def usable_length(roughness, element_size: float, params: ModelParameters | None
     return n_steps * element_size
 
 
+def starts_steady(params: ModelParameters) -> bool:
+    """Whether a run with the default run-in starts from the steady state: the bay is whole elements."""
+    from wheelrail.core.steady_start import bay_steps
+
+    return bay_steps(params.track.support.sleeper_spacing, params.run.element_size) is not None
+
+
 def default_run_in_length(params: ModelParameters | None = None) -> float:
-    """The default run-in, m: ``DEFAULT_RUN_IN_TIME`` at the run's speed, rounded up to whole elements."""
+    """The default run-in at the run's speed in whole elements, m (:func:`starts_steady`: which time)."""
     params = ModelParameters() if params is None else params
     dx = params.run.element_size
-    return math.ceil(DEFAULT_RUN_IN_TIME * params.run.speed / dx - 1e-9) * dx
+    time = DEFAULT_RUN_IN_TIME if starts_steady(params) else PRELOAD_RUN_IN_TIME
+    return math.ceil(time * params.run.speed / dx - 1e-9) * dx
 
 
 def checked_inputs(
@@ -443,6 +454,9 @@ class History:
     ramp: np.ndarray  # (n_total,) roughness fade-in factor
     start_index: np.ndarray  # (n_total,) sample index of the wheel centre in the roughness lines
     xi_w0: float = 0.0
+    bay: int | None = None  # steps per sleeper bay (steady_start.bay_steps), None if not a whole number
+    steady: bool = False  # the run starts from the moving load's steady state (no fade-in; steady_start)
+    phases: tuple | None = None  # steady: (lo, hi, frac) of the bay's phases, index n_hist + k for phase k
 
     @property
     def n_total(self) -> int:
@@ -463,6 +477,13 @@ def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
         fade = np.arange(n_run_in) / max(1, n_run_in // 2)
         ramp[:n_run_in] = np.where(fade < 1, 0.5 - 0.5 * np.cos(np.pi * np.minimum(fade, 1)), 1.0)
     return ramp
+
+
+def _bay_positions(x: np.ndarray, spacing: float, n_positions: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows (``track.bay_rows``) below and above rail positions ``x`` (m) and the upper's weight: lo, hi, frac."""
+    pos = np.mod(x, spacing) / spacing * n_positions
+    lo = np.floor(pos).astype(np.int64) % n_positions
+    return lo, (lo + 1) % n_positions, pos - np.floor(pos)
 
 
 def check_step_stability(params: ModelParameters, weights: np.ndarray, wheel_system: tuple) -> float:
@@ -493,6 +514,7 @@ def history_arrays(
     run_in_length: float,
     track_numerics: TrackNumerics | None = None,
     wheel_system: tuple | None = None,
+    steady: bool = False,
 ) -> History:
     """Step 3: Green's functions and wheel system, positions in the bay, the preload's force history (eqs. 1-2).
 
@@ -500,7 +522,10 @@ def history_arrays(
     2-DOF wheel, ``wheel_discrete_system``; ``modal_wheel.time_domain.modal_wheel_system`` gives the modal wheel's).
 
     The rail displacement that history causes (``acc``) is left at zero: the interaction loop, which owns the
-    compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``)."""
+    compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``). ``steady``:
+    the run starts from the moving load's steady state on the gap of step 0 (``steady_start``), so the run-in
+    keeps the roughness under step 0 as it is (no fade-in); else it is faded in from the preload at rest."""
+    from wheelrail.core.steady_start import bay_steps
     from wheelrail.core.track import moving_weights
     from wheelrail.core.wheel import wheel_discrete_system
 
@@ -516,10 +541,12 @@ def history_arrays(
     n_total = n_run_in + n_steps
     # rail position of history index j (sleeper at x = 0 of the roughness data)
     x_hist = track_roughness.x_start + (np.arange(n_hist + n_total) - n_hist - n_run_in) * dx
-    n_positions = len(weights)  # the rows of track.bay_rows, evenly across the bay
     spacing = params.track.support.sleeper_spacing
-    pos = np.mod(x_hist, spacing) / spacing * n_positions
-    lo = np.floor(pos).astype(np.int64) % n_positions
+    lo, hi, frac = _bay_positions(x_hist, spacing, len(weights))
+    bay = bay_steps(spacing, dx)
+    phases = None  # steady: one bay of phases from index n_hist on, however short the run (steady_start)
+    if steady:
+        phases = _bay_positions(track_roughness.x_start + (np.arange(bay) - n_run_in) * dx, spacing, len(weights))
     first = track_roughness.first
     history = History(
         dt=dt,
@@ -529,15 +556,18 @@ def history_arrays(
         force=np.full(n_hist + n_total, params.contact.preload),
         acc=np.zeros(n_hist + n_total + n_lags),
         lo=lo,
-        hi=(lo + 1) % n_positions,
-        frac=pos - np.floor(pos),
+        hi=hi,
+        frac=frac,
         weights=weights,
         phi=phi,
         gamma0=gamma0,
         gamma1=gamma1,
         state=np.zeros(len(phi)),
-        ramp=_fade_in(n_run_in, n_total),
+        ramp=np.ones(n_total) if steady else _fade_in(n_run_in, n_total),
         start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
+        bay=bay,
+        steady=steady,
+        phases=phases,
     )
     return history
 

@@ -446,8 +446,8 @@ def force_spectrum(
     therefore reads ``20 log10(F̂ / sqrt(2))`` dB; a band holding no FFT bin (record too short) or lying
     above the Nyquist frequency is NaN.
 
-    Why skip the start: at step 0 the roughness starts acting on a system that was in static equilibrium
-    (the loop's run-in), and the response to that sudden onset is a transient, not a property of the
+    Why skip the start: at step 0 the roughness starts acting on a system in its steady state on the gap of
+    step 0 (the loop's start and run-in), and the response to that onset is a transient, not a property of the
     roughness. It decays within a few periods of the lowest, well-damped wheel-on-track resonances
     (~60-110 Hz); the default 20 ms is one period of the lowest band (50 Hz) and about 0.56 m at 100 km/h,
     7 % of the paper's 8 m run.

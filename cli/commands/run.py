@@ -287,7 +287,7 @@ def _print_summary(args, result, params, summary, sink) -> None:
         f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN"
     )
     print(f"  loss of contact: {result.loss_of_contact_steps} steps")
-    print(f"  run-in before the record (smooth, discarded): {result.run_in_length:.3f} m, {result.run_in_time:.3f} s")
+    print(f"  run-in before the record (discarded): {result.run_in_length:.3f} m, {result.run_in_time * 1e3:.1f} ms")
     print(
         f"  {summary['steps_per_s']:.0f} steps/s (prepare {summary['prepare_time_s']:.2f} s, "
         f"run {summary['run_time_s']:.2f} s)"

@@ -23,7 +23,7 @@ from wheelrail.core.contact.halfspace_model import halfspace_step
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.loop_kernels import commit_force, known_approach
 
-__all__ = ["run_in_chunk", "run_in_table", "step_gap", "tabulate_law", "warm_start"]
+__all__ = ["run_in_chunk", "run_in_table", "step_gap", "step_law", "tabulate_law", "warm_start"]
 
 # 3d's run-in law (run_in_table), in units of the static approach: T_0 and T_1 solved every 8 %, T_1 also every
 # 4 % where F is within RUN_IN_TABLE_BAND x P and again at its kinks there (exact), both up to RUN_IN_TABLE_FORCE
@@ -101,7 +101,12 @@ def step_gap(steps: ActiveSetSolver, s: int) -> np.ndarray:
 
 
 def tabulate_law(
-    steps: ActiveSetSolver, s: int, spacing: tuple[float, float], band: tuple[float, float] | None, force_stop: float
+    steps: ActiveSetSolver,
+    s: int,
+    spacing: tuple[float, float],
+    band: tuple[float, float] | None,
+    force_stop: float,
+    start: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The ``3d`` law on step s's gap as a function of the approach alone: breakpoints (delta, F) of the
     piecewise-linear F(delta), m and N, from delta = min h (F = 0) until F >= ``force_stop`` (N).
@@ -112,9 +117,10 @@ def tabulate_law(
     put where their two lines meet: exact for one change of set between them (F is continuous). Within the
     band, where the sets differ by more than one element, the law is solved again there
     (:func:`_resolve_kinks`), so the table is the law there to the solver's tolerance; elsewhere it is off by
-    at most (slope change) x (spacing) / 4. Leaves the warm state at the last solve.
+    at most (slope change) x (spacing) / 4. ``start`` (m): the first solve this far beyond first contact (the
+    table then holds nothing below it). Leaves the warm state at the last solve.
     """
-    first = float(step_gap(steps, s).min())
+    first = float(step_gap(steps, s).min()) + start
     coarse, fine = spacing
     points = _solve_at(steps, s, first + coarse * np.arange(4096), force_stop)
     if band is not None:
@@ -166,6 +172,19 @@ def _resolve_kinks(steps: ActiveSetSolver, s: int, points, span: tuple[float, fl
     return points
 
 
+def step_law(
+    steps: ActiveSetSolver, s: int, preload: float, static: float, band=RUN_IN_TABLE_BAND, start: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``3d`` law on step s's gap, tabulated exactly within ``band`` x P (:func:`tabulate_law`; the
+    default: T_1 of :func:`run_in_table`; ``steady_start`` solves the run's steady state on a narrower band):
+    (delta, F), m and N, from ``start`` x ``static`` beyond first contact up to ``RUN_IN_TABLE_FORCE`` x P
+    (another band: 0.05 P beyond it). ``static``: the static approach under the preload (m; the spacings' scale)."""
+    rough = RUN_IN_TABLE_SPACING[1]
+    stop = (RUN_IN_TABLE_FORCE if band == RUN_IN_TABLE_BAND else band[1] + 0.05) * preload
+    spacing = (rough[0] * static, rough[1] * static)
+    return tabulate_law(steps, s, spacing, (band[0] * preload, band[1] * preload), stop, start * static)
+
+
 def run_in_table(steps: ActiveSetSolver, n_run_in: int, preload: float, static: float) -> tuple:
     """The run-in's law of the ``3d`` model, tabulated: during the run-in the window stays on the roughness
     under step 0, faded in (gap h_0 - w r, w from 0 to 1), so the 3D law is F(delta, w). Tabulated exactly
@@ -174,12 +193,11 @@ def run_in_table(steps: ActiveSetSolver, n_run_in: int, preload: float, static: 
     (1 - w) T_0 + w T_1 stands for it (its error decays before the record). ``static``: the static approach
     under the preload (m; the spacing's scale). Returns (breakpoints, T_0, T_1 at them): the table that
     :func:`_tabulated_force` takes."""
-    smooth, rough = RUN_IN_TABLE_SPACING
-    band = (RUN_IN_TABLE_BAND[0] * preload, RUN_IN_TABLE_BAND[1] * preload)
+    smooth = RUN_IN_TABLE_SPACING[0]
     stop = RUN_IN_TABLE_FORCE * preload
     tables = (
         tabulate_law(steps, 0, (smooth * static, smooth * static), None, stop),
-        tabulate_law(steps, n_run_in, (rough[0] * static, rough[1] * static), band, stop),
+        step_law(steps, n_run_in, preload, static),
     )
     far = max(delta[-1] for delta, _ in tables) + 1.0  # m: the last segments extended (beyond any approach)
     grid = np.union1d(np.concatenate([delta for delta, _ in tables]), [far])

@@ -32,9 +32,9 @@ def test_run_every_model_writes_npz(model, tmp_path, capsys, step_arrays):
     assert main(argv) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["steps"] == 50 and summary["model"] == model
-    # the default run-in, 0.3 s at 80 km/h in whole elements
-    assert summary["run_in_time_s"] == pytest.approx(0.3, rel=1e-4)
-    assert summary["run_in_length_m"] == pytest.approx(6.667)
+    # the default run-in from the steady state, 0.5 ms at 80 km/h in whole elements (12 mm)
+    assert summary["run_in_time_s"] == pytest.approx(0.012 / (80 / 3.6), rel=1e-4)
+    assert summary["run_in_length_m"] == pytest.approx(0.012)
     assert summary["speed_m_per_s"] == pytest.approx(80 / 3.6)
     data = np.load(out)
     for name in step_arrays:
@@ -79,7 +79,7 @@ def test_human_output(capsys):
     assert main(["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "1.0"]) == 0
     out = capsys.readouterr().out
     assert "contact force: mean" in out and "dB re 1 N" in out
-    assert "run-in before the record (smooth, discarded): 8.334 m, 0.300 s" in out  # 0.3 s at 100 km/h
+    assert "run-in before the record (discarded): 0.014 m, 0.5 ms" in out  # 0.5 ms from the steady state, 100 km/h
     assert main(["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "0.1"]) == 0
     assert "no force spectrum" in capsys.readouterr().out
 

@@ -1,0 +1,281 @@
+"""The start of a run from the moving load's steady state (``interaction.InteractionRun``, ``run_setup``).
+
+During the run-in the wheel stays on the gap of step 0 (the roughness under it, not faded in: ``run_setup``) while
+the track moves under it: a wheel at constant speed on a periodically supported track, whose steady state is
+periodic with one sleeper bay, n = L_S / dx steps (a whole number of steps: :func:`bay_steps`). With a force
+periodic in n steps, the loop's own equations are linear maps of the bay's n forces:
+
+* eq. 2, the rail: xi_R = A F, the moving Green's functions over the loop's lags with the source's position in
+  the bay, the lags folded modulo n (each row of the moving Green's functions folded once, ``_fold_lags``);
+* eq. 1, the wheel's exact discrete system: xi_W = xi_W0 - B (F - P), its impulse response summed over all
+  periods in closed form with (I - Phi^n)^-1 (:func:`folded_wheel`);
+
+and the model's own law on the gap of step 0 closes them: F = law(xi_W0 - B (F - P) - A F), n unknowns
+(:func:`steady_state`: chord iterations preconditioned with the circulant part of A + B by FFT, with Anderson
+mixing). :func:`fill_history` puts that force into the history the loop convolves, the rail's displacement it
+causes and the wheel's state at the phase of the first step: a run started there stays on the steady state to
+round-off (``tests/physics/test_run_in.py``); the recorded force is that of a 40 m run-in from the preload
+within 0.0006 N at 100-300 km/h (``validation/run_in.py``), and 0 to 5 ms of run-in after it record the same.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.loop_kernels import law_curve
+
+__all__ = [
+    "SteadyState",
+    "bay_steps",
+    "fill_history",
+    "folded_wheel",
+    "model_law",
+    "start_state",
+    "steady_state",
+]
+
+STEADY_TOLERANCE = 1e-11  # x P: the iterations stop when F - law(delta) is within this everywhere (round-off)
+STEADY_ITERATIONS = 100  # the most iterations (measured: 11-15 at 5-400 km/h)
+ANDERSON_DEPTH = 5  # differences kept by the Anderson mixing of the chord iterations
+# 3d: its law tabulated exactly within 0.92-1.08 P (run_in_law.step_law), the table from 0.8 of the static approach
+# beyond first contact (the steady force on the corrugated rail stays within 0.968-1.048 P at 100-400 km/h)
+STEADY_TABLE = ((0.92, 1.08), 0.8)
+
+
+@dataclass(frozen=True)
+class SteadyState:
+    """The periodic steady state over one bay: phase i is history index n_hist + i (mod n).
+
+    force, approach: F (N) and delta (m) at each phase; state: the wheel's state after phase n - 1's step (the
+    state the loop holds before the step of phase 0); iterations: the iterations taken."""
+
+    force: np.ndarray
+    approach: np.ndarray
+    state: np.ndarray
+    iterations: int
+
+
+def bay_steps(sleeper_spacing: float, element_size: float) -> int | None:
+    """Steps per sleeper bay, if the bay is a whole number of elements (within 1e-6 of one), else None."""
+    ratio = sleeper_spacing / element_size
+    n = int(round(ratio))
+    return n if n >= 2 and abs(ratio - n) <= 1e-6 * ratio else None
+
+
+@njit(cache=True)
+def _fold_lags(weights, n):
+    """Each row of the moving Green's functions with its lags summed modulo n: (rows, n)."""
+    rows, lags = weights.shape
+    out = np.zeros((rows, n))
+    for r in range(rows):
+        for start in range(0, lags, n):
+            for d in range(min(n, lags - start)):
+                out[r, d] += weights[r, start + d]
+    return out
+
+
+@njit(cache=True, fastmath=True)
+def _circulant_part(folded, lo, hi, frac, wheel):
+    """The circulant part of A + B (its mean along each wrapped diagonal d = i - k mod n): the mean over the
+    source phases k of (1 - f_k) folded[lo_k, d] + f_k folded[hi_k, d], plus the wheel's wheel[d]."""
+    n = wheel.size
+    column = np.zeros(n)
+    for k in range(n):
+        f = frac[k]
+        a, b = folded[lo[k]], folded[hi[k]]
+        for d in range(n):
+            column[d] += (1.0 - f) * a[d] + f * b[d]
+    return column / n + wheel
+
+
+@njit(cache=True, fastmath=True)
+def _history_tail(weights, lo, hi, frac, force, out):
+    """out[t] (t = 0..lags-1): the rail's displacement at history index n_hist + t due to the periodic force
+    ``force`` (phase k at the indices n_hist + k - q n, q >= 1) before n_hist: eq. 2 as ``scatter_history``
+    scatters it, row by row of the moving Green's functions: the row's lags summed over the periods
+    (tail[u + n] = sum_q>=1 weights[r, u + q n], suffix sums of stride n), then added for each phase whose
+    position reads that row (weight (1 - frac) F below, frac F above). Each row is read once."""
+    rows, lags = weights.shape
+    n = force.size
+    first = np.zeros(rows + 1, dtype=np.int64)  # the (phase, weight) pairs of each row, by row
+    for k in range(n):
+        first[lo[k] + 1] += 1
+        first[hi[k] + 1] += 1
+    for r in range(rows):
+        first[r + 1] += first[r]
+    filled = first[:rows].copy()
+    phase = np.empty(2 * n, dtype=np.int64)
+    weight = np.empty(2 * n)
+    for k in range(n):
+        for r, w in ((lo[k], (1.0 - frac[k]) * force[k]), (hi[k], frac[k] * force[k])):
+            phase[filled[r]], weight[filled[r]] = k, w
+            filled[r] += 1
+    tail = np.zeros(lags + 2 * n)
+    for r in range(rows):
+        if first[r + 1] == first[r]:
+            continue
+        row = weights[r]
+        for idx in range(lags + n - 1, -1, -1):  # idx = u + n: the lag of q = 1
+            tail[idx] = (row[idx] if idx < lags else 0.0) + tail[idx + n]
+        for p in range(first[r], first[r + 1]):
+            k, w = phase[p], weight[p]
+            segment = tail[n - k : n - k + lags]
+            for t in range(lags):  # a view from index 0: no negative-index wraparound, so it vectorises
+                out[t] += w * segment[t]
+
+
+@njit(cache=True, fastmath=True)
+def _product(folded, lo, hi, frac, wheel, x):
+    """(A + B) x from the folded rows (no dense matrix: the bay's rows, 256 x n, stay in cache across the
+    iterations; the dense n x n map streamed 3.4 MB a product): out[(k + d) mod n] += x_k ((1 - f_k)
+    folded[lo_k, d] + f_k folded[hi_k, d] + wheel[d])."""
+    n = x.size
+    out = np.zeros(n)
+    for k in range(n):
+        a, b, c = (1.0 - frac[k]) * x[k], frac[k] * x[k], x[k]
+        row_a, row_b = folded[lo[k]], folded[hi[k]]
+        head = out[k:]
+        for d in range(n - k):
+            head[d] += a * row_a[d] + b * row_b[d] + c * wheel[d]
+        tail_a, tail_b, tail_w = row_a[n - k :], row_b[n - k :], wheel[n - k :]
+        for d in range(k):
+            out[d] += a * tail_a[d] + b * tail_b[d] + c * tail_w[d]
+    return out
+
+
+@njit(cache=True)
+def _powers(phi, first, n):
+    """first, phi first, phi^2 first, ... (n + 1 of them)."""
+    out = np.empty((n + 1, first.size))
+    out[0] = first
+    for d in range(1, n + 1):
+        out[d] = phi @ out[d - 1]
+    return out
+
+
+def folded_wheel(phi: np.ndarray, gamma0: np.ndarray, gamma1: np.ndarray, n: int) -> np.ndarray:
+    """H (n, states): the wheel's state d steps after a unit force deviation, summed over every period (d, d + n,
+    ...), from the loop's s_j = Phi s_j-1 + Gamma0 e_j-1 + Gamma1 e_j: h_0 = Gamma1, h_m = Phi^(m-1) v with
+    v = Phi Gamma1 + Gamma0, so H_d = Phi^(d-1) (I - Phi^n)^-1 v (d >= 1) and H_0 = Gamma1 + H_n."""
+    size = len(phi)
+    periodic = np.linalg.solve(np.eye(size) - np.linalg.matrix_power(phi, n), phi @ gamma1 + gamma0)
+    h = np.empty((n + 1, size))
+    h[1:] = _powers(np.ascontiguousarray(phi), periodic, n - 1)
+    h[0] = gamma1 + h[n]
+    return h[:n]
+
+
+def _circulant_solver(column: np.ndarray, stiffness: float):
+    """x -> (I + k C)^-1 x for the circulant C of first column ``column``, by FFT."""
+    n = column.size
+    spectrum = 1.0 + stiffness * np.fft.rfft(column)
+    return lambda x: np.fft.irfft(np.fft.rfft(x) / spectrum, n)
+
+
+def steady_state(history, law, preload: float) -> SteadyState:
+    """The periodic steady state of a run's history (``run_setup.History``) under ``law`` (approaches (n,) m ->
+    forces (n,) N: the model's law on the run-in's gap), the wheel's rest position ``history.xi_w0``.
+
+    Solves R(F) = F - law(xi_W0 + B P - (A + B) F) = 0 by chord iterations F -= (I + k C)^-1 R(F) (k the law's
+    slope at the preload, C the circulant part of A + B: the track's mean over the bay, diagonal by FFT), with
+    Anderson mixing of the last ``ANDERSON_DEPTH`` iterations (the bay's variation of the supports, which C
+    leaves out, slows the plain iteration to a factor 0.4 a step: 24 iterations, measured).
+
+    Raises WheelrailError if they do not converge (a law without a steady state near the preload)."""
+    n = bay_steps_of(history)
+    h = folded_wheel(history.phi, history.gamma0, history.gamma1, n)
+    wheel = np.ascontiguousarray(h[:, 1])
+    folded = _fold_lags(history.weights, n)
+    lo, hi, frac = history.phases
+    column = _circulant_part(folded, lo, hi, frac, wheel)
+    # the approach xi_W0 - M (F - P) - A P: the deviation from the preload times M (the wheel's folded response
+    # is large, ~1/k_S per step; its product with F itself would cancel to 1e-7 N)
+    known = history.xi_w0 - preload * (_product(folded, lo, hi, frac, wheel, np.ones(n)) - wheel.sum())
+    deviation = np.zeros(n)
+    step = 1e-9 * float(np.mean(np.abs(known))) + 1e-15
+    stiffness = float(np.mean(law(known + step) - law(known - step))) / (2 * step)
+    precondition = _circulant_solver(column, stiffness)
+    steps, changes, last = [], [], None  # Anderson's: differences of the deviation and of the preconditioned residual
+    for iteration in range(STEADY_ITERATIONS):
+        approach = known - _product(folded, lo, hi, frac, wheel, deviation)
+        residual = deviation + preload - law(approach)
+        if np.max(np.abs(residual)) <= STEADY_TOLERANCE * preload:
+            state = h[(n - 1 - np.arange(n)) % n].T @ deviation
+            return SteadyState(force=deviation + preload, approach=approach, state=state, iterations=iteration)
+        change = -precondition(residual)
+        if iteration:
+            steps.append(deviation - last[0])
+            changes.append(change - last[1])
+            del steps[:-ANDERSON_DEPTH], changes[:-ANDERSON_DEPTH]
+        last = (deviation, change)
+        if steps:
+            differences = np.array(changes)
+            normal = differences @ differences.T  # least squares of the few columns by their normal equations
+            mix = np.linalg.solve(normal + 1e-30 * np.trace(normal) * np.eye(len(normal)), differences @ change)
+            deviation = deviation + change - (np.array(steps) + differences).T @ mix
+        else:
+            deviation = deviation + change
+    raise WheelrailError(
+        "the run's steady state on the run-in's gap could not be found (its iterations did not converge); "
+        "give the run an explicit run_in_length to start from the preload instead"
+    )
+
+
+def model_law(law_kind: int | None, law, contact, history, preload: float, table=STEADY_TABLE):
+    """A model's law F(delta) on the run-in's gap (that of step 0, not faded in), approaches (m) -> forces (N):
+    a compiled one-line law's own kernel (``loop_kernels.law_curve``), the ``3d`` law tabulated exactly within
+    ``table``'s band (``contact.run_in_law.step_law``, extended linearly above), or a per-step law's ``solve``
+    at compliance 0. ``law_kind``: ``ModelTraits.law``; ``law``: the compiled law's inputs (or the 3D solver)."""
+    from wheelrail.core.models import LAW_HALFSPACE
+
+    s = history.n_run_in
+    if law_kind == LAW_HALFSPACE:
+        from wheelrail.core.contact.run_in_law import step_law
+
+        static = history.xi_w0 - preload * float(np.mean(history.weights.sum(axis=1)))
+        delta, force = step_law(law, s, preload, static, *table)
+        slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
+        return lambda d: np.where(d > delta[-1], force[-1] + slope * (d - delta[-1]), np.interp(d, delta, force))
+    if law is not None:
+        inputs = (law.roughness, law.shape, law.constants)
+        return lambda d: law_curve(law_kind, d, inputs, s)
+    return lambda d: np.array([contact.solve(s, float(x), 0.0).force for x in d])
+
+
+def start_state(law_kind: int | None, law, contact, history, preload: float) -> SteadyState:
+    """The steady state a run starts from, on the model's law (:func:`model_law`): the ``3d`` law's table is
+    exact within ``STEADY_TABLE``'s band; should the steady force leave it, the law is tabulated again over the
+    force's range with a margin, from first contact, and the state solved on it."""
+    from wheelrail.core.models import LAW_HALFSPACE
+
+    steady = steady_state(history, model_law(law_kind, law, contact, history, preload), preload)
+    low, high = float(steady.force.min()) / preload, float(steady.force.max()) / preload
+    band = STEADY_TABLE[0]
+    if law_kind != LAW_HALFSPACE or band[0] <= low and high <= band[1]:
+        return steady
+    table = ((max(0.05, low - 0.1), high + 0.1), 0.0)
+    return steady_state(history, model_law(law_kind, law, contact, history, preload, table), preload)
+
+
+def bay_steps_of(history) -> int:
+    """:func:`bay_steps` of a history (``run_setup.History.bay``); WheelrailError if it has none."""
+    if history.bay is None:
+        raise WheelrailError("the sleeper bay is not a whole number of elements: no steady start")
+    return history.bay
+
+
+def fill_history(history, steady: SteadyState) -> None:
+    """Put the steady state into the history before step 0: the force at every history index before it (phase
+    (j - n_hist) mod n), the rail displacement it causes later (eq. 2, scattered as ``prepare_run`` scatters the
+    preload's), and the wheel's state after index n_hist - 1 (phase n - 1)."""
+    n = len(steady.force)
+    n_hist = history.n_hist
+    history.force[:n_hist] = steady.force[(np.arange(n_hist) - n_hist) % n]
+    history.acc[:] = 0.0
+    lags = history.weights.shape[1]
+    _history_tail(history.weights, *history.phases, steady.force, history.acc[n_hist : n_hist + lags])
+    history.state[:] = steady.state
