@@ -296,7 +296,7 @@ def _penetrating(grid, order, m, work, active, limits):
         if not active[i] and gap[i] - delta < margin:
             changes[count] = i
             count += 1
-    count = screen(grid, order, m, pressure, gap, changes, count, delta + glimit)
+    count = screen(grid, order, m, pressure, gap, changes, np.int64(count), delta + glimit)
     if grid[2].shape[0] > 0:
         displacement_matrix(grid[2], order, m, pressure, changes, count, u)
     else:

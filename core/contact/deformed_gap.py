@@ -101,7 +101,8 @@ def displacement_kernel(grid, order, m, pressure, candidates, count, u):
     nx = (kernel.shape[1] + 1) // 2
     r0, r1, c0, c1 = _bounding_box(rows, columns, order, m, ny, nx)
     if r1 < 0:
-        u[:count] = 0.0
+        for c in range(count):
+            u[c] = 0.0
         return
     height, width = r1 + 1 - r0, c1 + 1 - c0
     band = np.empty((height + ny - 1) * (width + KERNEL_GROUP_COLUMNS))
@@ -122,11 +123,13 @@ def displacement_kernel(grid, order, m, pressure, candidates, count, u):
         q0, q1, d0, d1 = _bounding_box(rows, columns, elements, size, ny, nx)
         stride, depth = width + d1 - d0, height + q1 - q0
         # band[a S + b] = reversed[r0 - q1 + a + ny - 1, c0 - d1 + b + nx - 1]: offset (rj - ri, cj - ci)
-        for a in range(depth):
-            band[a * stride : (a + 1) * stride] = flipped[r0 - q1 + a + ny - 1, c0 - d1 + nx - 1 : c1 - d0 + nx]
-        span[: height * stride] = 0.0
+        for a in range(depth):  # (loops, not slice assignments: those cost numba seconds of compilation)
+            row = flipped[r0 - q1 + a + ny - 1]
+            for b in range(stride):
+                band[a * stride + b] = row[c0 - d1 + nx - 1 + b]
         for a in range(height):
-            span[a * stride : a * stride + width] = pressure[(r0 + a) * nx + c0 : (r0 + a) * nx + c1 + 1]
+            for b in range(stride):
+                span[a * stride + b] = pressure[(r0 + a) * nx + c0 + b] if b < width else 0.0
         for g in range(size):
             starts[g] = (q1 - rows[elements[g]]) * stride + d1 - columns[elements[g]]
         _dot_rows(band, span, starts[:size], group[:size], (height - 1) * stride + width, u)
