@@ -5,8 +5,9 @@ extra equation). Each iteration solves on the contact set A, ``C_AA p_A = delta 
 factor C_AA = U^T U (:func:`_pressure_on_set`); drops the elements in tension (eq. 10: p >= 0); if none,
 adds the elements that penetrate (eq. 10: d >= 0) until neither happens. The factor is updated, not
 recomputed, when few elements change (a new row per added element, rotations per dropped one), and
-z = U^-T 1 is kept with it, so a warm-started solve costs one forward and one backward substitution per
-iteration. :class:`ActiveSetSolver` holds the warm state (set, factor, z, pressure) in arrays that the
+z = U^-T 1 and, within a step, y = U^-T h_A are kept with it, so a warm-started solve costs one forward
+substitution per step and one backward substitution per iteration. The deformed gap outside the set is
+``contact.deformed_gap``'s. :class:`ActiveSetSolver` holds the warm state (set, factor, z, pressure) in arrays that the
 ``3d`` model's compiled loop steps in place (``halfspace_model``) and that one-off solves
 (``window.HalfSpaceWindow``) fill from a start. Design and measurements: ``docs/benchmarks.md``, "The 3D
 contact solver".
