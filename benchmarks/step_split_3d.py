@@ -31,7 +31,7 @@ from wheelrail.core.contact import active_set as steps
 from wheelrail.core.contact import cholesky, halfspace_model
 from wheelrail.core.interaction import prepare_run
 from wheelrail.core.loop_kernels import commit_force, known_approach
-from wheelrail.core.parameters import ContactParameters, ModelParameters
+from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
 
 SET = "corrugated-rail"
 
@@ -99,8 +99,8 @@ def _repeat_append_remove(law, m, reps):
     order, active, z, counts, upper = state
     for _ in range(reps):
         element = order[m // 2]
-        cholesky.remove(order, m, upper, z, work[4], m // 2)
-        cholesky.append(grid, order, m - 1, upper, z, work[4], element)
+        cholesky.remove(order, m, upper, (z, work[6]), work[4], m // 2)
+        cholesky.append(grid, order, m - 1, upper, (z, work[6], work[1]), work[4], element)
 
 
 def _params(args) -> ModelParameters:
@@ -109,7 +109,9 @@ def _params(args) -> ModelParameters:
         for name, value in (("wheel_radius", args.wheel_radius_mm), ("rail_crown_radius", args.rail_crown_radius_mm))
         if value is not None
     }
-    return ModelParameters(contact=ContactParameters(**geometry))
+    return ModelParameters(
+        contact=ContactParameters(**geometry), run=RunParameters(element_size=args.element_mm * 1e-3)
+    )
 
 
 def _per_call(function, *arguments, reps: int) -> float:
@@ -124,6 +126,7 @@ def main() -> None:
     parser.add_argument("--length-m", type=float, default=2.0)
     parser.add_argument("--wheel-radius-mm", type=float, default=None)
     parser.add_argument("--rail-crown-radius-mm", type=float, default=None)
+    parser.add_argument("--element-mm", type=float, default=1.0)
     args = parser.parse_args()
     params = _params(args)
     prepare_run(SET, model="3d", params=params, length=0.05).run()  # warm-up
@@ -184,7 +187,7 @@ def main() -> None:
     backward = _per_call(_repeat_backward, upper, size, rhs, 20000, reps=20000)
     gap, pressure, members = state_law[2][1], state_law[2][0], state_law[1][0][:size]
     # the last step's approach: d = h - delta + C p = 0 on the set
-    delta = float(np.mean(gap[members] + state_law[0][2][members][:, members] @ pressure[members]))
+    delta = float(np.mean(gap[members] + steps.displacement(state_law[0], pressure)[members]))
     scale = delta - gap.min()
     penetrating = _per_call(
         _repeat_penetrating, state_law, size, (delta, 1e-6 * scale, -1e-9 * scale, False), 5000, reps=5000

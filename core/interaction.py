@@ -82,11 +82,11 @@ def _run_chunk_3d():
     includes the closure's values, and a compiled function pickles differently in every process.
     """
     global STEP_CONVERGED, halfspace_step
-    from wheelrail.core.contact import active_set, cholesky, halfspace_model
+    from wheelrail.core.contact import active_set, cholesky, deformed_gap, halfspace_model
     from wheelrail.core.contact.active_set import STEP_CONVERGED
     from wheelrail.core.contact.halfspace_model import halfspace_step
 
-    return _define_run_chunk_3d(sources_stamp(halfspace_model, active_set, cholesky, loop_kernels))
+    return _define_run_chunk_3d(sources_stamp(halfspace_model, active_set, cholesky, deformed_gap, loop_kernels))
 
 
 def _define_run_chunk_3d(stamp):

@@ -5,8 +5,9 @@ extra equation). Each iteration solves on the contact set A, ``C_AA p_A = delta 
 factor C_AA = U^T U (:func:`_pressure_on_set`); drops the elements in tension (eq. 10: p >= 0); if none,
 adds the elements that penetrate (eq. 10: d >= 0) until neither happens. The factor is updated, not
 recomputed, when few elements change (a new row per added element, rotations per dropped one), and
-z = U^-T 1 is kept with it, so a warm-started solve costs one forward and one backward substitution per
-iteration. :class:`ActiveSetSolver` holds the warm state (set, factor, z, pressure) in arrays that the
+z = U^-T 1 and, within a step, y = U^-T h_A are kept with it, so a warm-started solve costs one forward
+substitution per step and one backward substitution per iteration. The deformed gap outside the set is
+``contact.deformed_gap``'s. :class:`ActiveSetSolver` holds the warm state (set, factor, z, pressure) in arrays that the
 ``3d`` model's compiled loop steps in place (``halfspace_model``) and that one-off solves
 (``window.HalfSpaceWindow``) fill from a start. Design and measurements: ``docs/benchmarks.md``, "The 3D
 contact solver".
@@ -22,8 +23,10 @@ import numpy as np
 from numba import njit
 
 import wheelrail.core.contact.cholesky as cholesky  # (not `from the package import`: the package imports this lazily)
+import wheelrail.core.contact.deformed_gap as deformed_gap
 from wheelrail.core.compiled import sources_stamp
 from wheelrail.core.contact.cholesky import append, backward, factorize, forward, remove
+from wheelrail.core.contact.deformed_gap import displacement_kernel, displacement_matrix, screen
 
 __all__ = [
     "FULL_MATRIX_ELEMENTS",
@@ -46,7 +49,7 @@ STEP_NOT_DEFINITE = 2  # the set's influence matrix lost positive definiteness i
 STEP_AT_EDGE = 3  # converged, but the set touches the window's border
 STEP_NEEDS_ROOM = 4  # the set outgrew the factor's buffer: grow it and repeat the step
 CAUTIOUS_AFTER = 30  # iterations; then one element at a time is dropped or added (against add/drop cycling)
-FULL_MATRIX_ELEMENTS = 2601  # largest window (elements) whose influence matrix is built (51 x 51: 54 MB)
+FULL_MATRIX_ELEMENTS = 1024  # largest window (elements) whose influence matrix is built (8 MB; docs/benchmarks.md)
 
 
 @njit(cache=True)
@@ -175,7 +178,15 @@ class ActiveSetSolver:
         self._state = (order, active, z, counts)
         self.pressure = np.zeros(n)
         self.gap = np.empty(n)
-        work = (self.pressure, self.gap, np.empty(n), np.empty(n, dtype=np.int64), np.empty(n), np.empty(n))
+        work = (
+            self.pressure,
+            self.gap,
+            np.empty(n),
+            np.empty(n, dtype=np.int64),
+            np.empty(n),
+            np.empty(n),
+            np.empty(n),
+        )
         if track is None:  # the one-off solves' placeholder (of the types of the model's)
             track = (np.zeros(1), np.zeros((1, 1)), np.zeros(1, dtype=np.int64), np.zeros(1), 0, 0)
         tolerance, max_iterations, area, *cautious = limits
@@ -238,29 +249,33 @@ class ActiveSetSolver:
 
 
 @njit(cache=True, fastmath=True)
-def _pressure_on_set(upper, order, m, gap, z, y, pressure, law):
+def _pressure_on_set(upper, order, m, gap, z, vectors, pressure, law):
     """Pressure on the set with d = 0 there (eqs. 8, 11) and the approach from ``law``; returns (delta, max
     pressure).
 
-    With y = U^-T h_A: sum(p) = delta z.z - z.y and p_A = U^-1 (delta z - y). ``law`` = (coupled, target,
-    c A_e): coupled, delta = delta_known - c A_e sum(p) (``target`` = delta_known, m); else A_e sum(p) = F
-    (eq. 9; ``target`` = F / A_e, Pa).
+    With y = U^-T h_A: sum(p) = delta z.z - z.y and p_A = U^-1 (delta z - y). ``vectors`` = (y, its state,
+    scratch): y is computed here unless its state is 1 (kept from this step's last solve and updated with the
+    factor: ``cholesky.append`` and ``remove``). ``law`` = (coupled, target, c A_e): coupled, delta =
+    delta_known - c A_e sum(p) (``target`` = delta_known, m); else A_e sum(p) = F (eq. 9; ``target`` = F / A_e,
+    Pa).
     """
     coupled, target, compliance_area = law
-    for a in range(m):
-        y[a] = gap[order[a]]
-    forward(upper, m, y)
+    kept, valid, y = vectors
+    if not valid:
+        for a in range(m):
+            kept[a] = gap[order[a]]
+        forward(upper, m, kept)
     zz = 0.0
     zy = 0.0
     for a in range(m):
         zz += z[a] * z[a]
-        zy += z[a] * y[a]
+        zy += z[a] * kept[a]
     if coupled:
         delta = (target + compliance_area * zy) / (1.0 + compliance_area * zz)
     else:
         delta = (target + zy) / zz
     for a in range(m):
-        y[a] = delta * z[a] - y[a]
+        y[a] = delta * z[a] - kept[a]
     backward(upper, m, y)
     pmax = 0.0
     for a in range(m):
@@ -269,81 +284,24 @@ def _pressure_on_set(upper, order, m, gap, z, y, pressure, law):
     return delta, pmax
 
 
-@njit(cache=True, fastmath=True)
-def _displacement_matrix(full, order, m, pressure, candidates, count, u):
-    """u = C p at ``candidates[:count]`` from C's rows over the span of flat indices the set covers (zero
-    between its elements), four rows at a time."""
-    lo, hi = pressure.size, 0
-    for a in range(m):
-        lo = min(lo, order[a])
-        hi = max(hi, order[a] + 1)
-    span = pressure[lo : max(lo, hi)]
-    size = span.size
-    for c in range(0, count, 4):
-        i0, i1 = candidates[c], candidates[min(c + 1, count - 1)]
-        i2, i3 = candidates[min(c + 2, count - 1)], candidates[min(c + 3, count - 1)]
-        r0, r1, r2, r3 = (
-            full[i0, lo : lo + size],
-            full[i1, lo : lo + size],
-            full[i2, lo : lo + size],
-            full[i3, lo : lo + size],
-        )
-        u0 = u1 = u2 = u3 = 0.0
-        for k in range(size):
-            x = span[k]
-            u0 += r0[k] * x
-            u1 += r1[k] * x
-            u2 += r2[k] * x
-            u3 += r3[k] * x
-        u[c] = u0
-        for b, value in ((1, u1), (2, u2), (3, u3)):
-            if c + b < count:
-                u[c + b] = value
-
-
-@njit(cache=True, fastmath=True)
-def _displacement_kernel(grid, order, m, pressure, candidates, count, u):
-    """u = C p at ``candidates[:count]`` from the reversed kernel, row by row of the set's bounding box."""
-    kernel, flipped, _, rows, columns = grid
-    ny = (kernel.shape[0] + 1) // 2
-    nx = (kernel.shape[1] + 1) // 2
-    r0, r1, c0, c1 = ny, -1, nx, -1
-    for a in range(m):
-        r0 = min(r0, rows[order[a]])
-        r1 = max(r1, rows[order[a]])
-        c0 = min(c0, columns[order[a]])
-        c1 = max(c1, columns[order[a]])
-    width = max(0, c1 + 1 - c0)
-    for c in range(count):
-        i = candidates[c]
-        offset = c0 - columns[i] + nx - 1
-        total = 0.0
-        for rj in range(r0, r1 + 1):
-            # K[row_i - rj, column_i - cj] = reversed[rj - row_i + ny - 1, cj - column_i + nx - 1]
-            k = flipped[rj - rows[i] + ny - 1, offset : offset + width]
-            p = pressure[rj * nx + c0 : rj * nx + c0 + width]
-            for t in range(width):
-                total += k[t] * p[t]
-        u[c] = total
-
-
 @njit(cache=True, inline="always")
 def _penetrating(grid, order, m, work, active, limits):
     """Elements outside the set that penetrate (eq. 10: d >= 0, d below ``glimit``) into ``work[3]``; their
     count. d = h - delta + C p (eq. 11) is computed where h - delta < ``margin`` only (u = C p >= 0
     elsewhere). ``limits`` = (delta, margin, glimit, one_at_a_time): as in :func:`solve_step`.
     """
-    pressure, gap, _, changes, _, u = work
+    pressure, gap, _, changes, _, u, _ = work
     delta, margin, glimit, one_at_a_time = limits
     count = 0
     for i in range(gap.size):
         if not active[i] and gap[i] - delta < margin:
             changes[count] = i
             count += 1
+    count = screen(grid, order, m, pressure, gap, changes, np.int64(count), delta + glimit)
     if grid[2].shape[0] > 0:
-        _displacement_matrix(grid[2], order, m, pressure, changes, count, u)
+        displacement_matrix(grid[2], order, m, pressure, changes, count, u)
     else:
-        _displacement_kernel(grid, order, m, pressure, changes, count, u)
+        displacement_kernel(grid, order, m, pressure, changes, count, u)
     n_add = 0
     worst = 0.0
     for c in range(count):
@@ -361,7 +319,7 @@ def _penetrating(grid, order, m, work, active, limits):
 
 
 @njit(cache=True, inline="always")
-def _drop(state, m, pressure, changes, n_drop, scratch):
+def _drop(state, m, pressure, changes, n_drop, vectors):
     """Drop the elements at positions ``changes[:n_drop]`` (ascending); returns (m, factored).
 
     Few: downdates of the factor and z. Many (more than m / 8): compact the set, factor afresh next time.
@@ -378,13 +336,13 @@ def _drop(state, m, pressure, changes, n_drop, scratch):
                 kept += 1
         return kept, False
     for r in range(n_drop - 1, -1, -1):
-        remove(order, m, upper, z, scratch, changes[r])
+        remove(order, m, upper, (z, vectors[0]), vectors[1], changes[r])
         m -= 1
     return m, True
 
 
 @njit(cache=True, inline="always")
-def _add(grid, state, m, factored, changes, n_add, scratch):
+def _add(grid, state, m, factored, changes, n_add, vectors):
     """Add the elements ``changes[:n_add]`` to the set; returns (m, factored).
 
     Few, to a factored set with room in its buffer: new rows of the factor (O(m^2) each) and new entries of
@@ -395,7 +353,7 @@ def _add(grid, state, m, factored, changes, n_add, scratch):
         active[changes[r]] = True
     if factored and 8 * n_add <= m and m + n_add <= upper.shape[0]:
         for r in range(n_add):
-            if not (factored and append(grid, order, m, upper, z, scratch, changes[r])):
+            if not (factored and append(grid, order, m, upper, (z, vectors[0], vectors[2]), vectors[1], changes[r])):
                 factored = False  # (numerically) not positive definite: factor afresh next time
                 order[m] = changes[r]
             m += 1
@@ -416,7 +374,7 @@ def solve_step(law, coupled, target, compliance):
     grid, state, work, _, limits = law
     grid3 = (grid[0], grid[3], grid[4])
     order, active, z, counts, upper = state
-    pressure, gap, y, changes, scratch, _ = work
+    pressure, gap, y, changes, scratch, _, kept = work
     tol, max_iter, area, cautious_after = limits
     gap_min = gap.min()
     if coupled and target <= gap_min:  # no element penetrates at delta = delta_known: F = 0 (module docstring)
@@ -425,6 +383,7 @@ def solve_step(law, coupled, target, compliance):
     m, factored = counts[0], counts[1] == 1  # factored: upper and z hold the set's factor and U^-T 1
     delta = target
     iterations = 0
+    valid = False  # kept = U^-T h_A holds this step's gap on the set
     status = STEP_MAX_ITER
     while iterations < max_iter:
         iterations += 1
@@ -448,17 +407,21 @@ def solve_step(law, coupled, target, compliance):
                     z[a] = 1.0
                 forward(upper, m, z)
                 factored = True
-            delta, pmax = _pressure_on_set(upper, order, m, gap, z, y, pressure, on_set)
+                valid = False
+            delta, pmax = _pressure_on_set(upper, order, m, gap, z, (kept, valid, y), pressure, on_set)
+            valid = True
             n_drop = _tension_elements(pressure, order, m, pmax, tol, one_at_a_time, changes)
             if n_drop > 0:
-                m, factored = _drop(state, m, pressure, changes, n_drop, scratch)
+                m, factored = _drop(state, m, pressure, changes, n_drop, (kept, scratch))
+                valid = valid and factored
                 continue
         scale = max(delta - gap_min, 1e-30)
         n_add = _penetrating(grid, order, m, work, active, (delta, 1e-6 * scale, -tol * scale, one_at_a_time))
         if n_add == 0:
             status = STEP_CONVERGED
             break
-        m, factored = _add(grid, state, m, factored, changes, n_add, scratch)
+        m, factored = _add(grid, state, m, factored, changes, n_add, (kept, scratch, gap))
+        valid = valid and factored
     counts[0], counts[1] = m, 1 if factored else 0
     total = 0.0
     for i in range(pressure.size):
@@ -476,7 +439,7 @@ def _define_solve_gap(stamp):
     return solve_gap
 
 
-_solve_gap = _define_solve_gap(sources_stamp(cholesky))
+_solve_gap = _define_solve_gap(sources_stamp(cholesky, deformed_gap))
 
 
 def cold_start_set(
@@ -527,7 +490,7 @@ def displacement(grid: tuple, pressure: np.ndarray) -> np.ndarray:
     u = np.empty(n)
     everywhere = np.arange(n, dtype=np.int64)
     if grid[2].shape[0] > 0:
-        _displacement_matrix(grid[2], order, order.size, pressure, everywhere, n, u)
+        displacement_matrix(grid[2], order, order.size, pressure, everywhere, n, u)
     else:
-        _displacement_kernel(grid, order, order.size, pressure, everywhere, n, u)
+        displacement_kernel(grid, order, order.size, pressure, everywhere, n, u)
     return u

@@ -111,9 +111,11 @@ def backward(upper, m, rhs):
 
 
 @njit(cache=True, fastmath=True)
-def append(grid, order, m, upper, z, column, element):
-    """Add ``element`` as row/column m of the factor and entry m of z = U^-T 1, O(m^2): U^T w = C_Ae,
-    U[m, m] = sqrt(C_ee - w.w), z_m = (1 - w.z) / U[m, m]. Returns False if not positive definite."""
+def append(grid, order, m, upper, vectors, column, element):
+    """Add ``element`` as row/column m of the factor and entry m of z = U^-T 1 and y = U^-T h, O(m^2): U^T w =
+    C_Ae, U[m, m] = sqrt(C_ee - w.w), z_m = (1 - w.z) / U[m, m], y_m = (h_e - w.y) / U[m, m]. ``vectors`` =
+    (z, y, h on the window). Returns False if not positive definite."""
+    z, y, h = vectors
     kernel, _, full, rows, columns = grid
     ny = (kernel.shape[0] + 1) // 2
     nx = (kernel.shape[1] + 1) // 2
@@ -127,31 +129,37 @@ def append(grid, order, m, upper, z, column, element):
     forward(upper, m, column)
     square = kernel[ny - 1, nx - 1]
     s = 1.0
+    t = h[element]
     for k in range(m):
         upper[k, m] = column[k]
         square -= column[k] * column[k]
         s -= column[k] * z[k]
+        t -= column[k] * y[k]
     if square <= 0.0:
         return False
     upper[m, m] = math.sqrt(square)
     z[m] = s / upper[m, m]
+    y[m] = t / upper[m, m]
     order[m] = element
     return True
 
 
 @njit(cache=True, fastmath=True)
-def remove(order, m, upper, z, scratch, position):
-    """Remove the element at ``position`` from the factor of size m and from z = U^-T 1, O(m^2).
+def remove(order, m, upper, vectors, scratch, position):
+    """Remove the element at ``position`` from the factor of size m and from z = U^-T 1 and y = U^-T h
+    (``vectors`` = (z, y)), O(m^2).
 
     The factor's trailing block gets the rank-1 update U33^T U33 + u u^T (u = U[position, position+1:]) by
     rotations (Golub and Van Loan, *Matrix Computations*, 4th ed., section 6.5.4); the same rotations applied
-    to (z3, z_position) give the new trailing part of z.
+    to (z3, z_position) give the new trailing part of z, and likewise of y.
     """
+    z, y = vectors
     p = position
     x = scratch
     for j in range(p + 1, m):
         x[j] = upper[p, j]
     t = z[p]
+    v = y[p]
     for i in range(p + 1, m):
         diagonal = upper[i, i]
         xi = x[i]
@@ -168,6 +176,9 @@ def remove(order, m, upper, z, scratch, position):
         zi = (z[i] + s * t) / c
         z[i] = zi
         t = c * t - s * zi
+        yi = (y[i] + s * v) / c
+        y[i] = yi
+        v = c * v - s * yi
     for i in range(p):
         row = upper[i, p:m]
         for j in range(row.size - 1):
@@ -178,4 +189,5 @@ def remove(order, m, upper, z, scratch, position):
         for j in range(target.size):
             target[j] = source[j]
         z[i] = z[i + 1]
+        y[i] = y[i + 1]
         order[i] = order[i + 1]

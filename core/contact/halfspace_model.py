@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.compiled import sources_stamp
-from wheelrail.core.contact import active_set, cholesky
+from wheelrail.core.contact import active_set, cholesky, deformed_gap
 from wheelrail.core.contact.active_set import (
     STEP_AT_EDGE,
     STEP_CONVERGED,
@@ -160,4 +160,4 @@ def _define_python_step(stamp):
     return python_step
 
 
-_python_step = _define_python_step(sources_stamp(active_set, cholesky))
+_python_step = _define_python_step(sources_stamp(active_set, cholesky, deformed_gap))

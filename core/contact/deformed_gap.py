@@ -1,0 +1,188 @@
+"""The deformed gap outside the contact set for the active set (``contact.active_set``), compiled: u = C p (eq. 8).
+
+An element outside the set penetrates (eq. 10) where d = h - delta + u < 0 (eq. 11). The solver computes u only
+where that can happen: in the rigid overlap (h < delta; u >= 0 elsewhere), less the elements that
+:func:`screen` shows cannot penetrate (a lower bound of u from block sums of the pressure). u is one contiguous
+dot product per element, from the window's influence matrix (:func:`displacement_matrix`, small windows) or from
+the kernel of eq. 8 laid out with the stride of the set's bounding box (:func:`displacement_kernel`). Design and
+measured figures: ``docs/benchmarks.md``, "The contact solver". Conventions as in ``contact.active_set``: the
+window of ny x nx elements flattened row by row, ``grid`` = (kernel, kernel reversed, C or 0 x 0, row and column
+of each element), the set ``order[:m]``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["KERNEL_GROUP_COLUMNS", "SCREEN_BLOCKS", "displacement_kernel", "displacement_matrix", "screen"]
+
+SCREEN_BLOCKS = 4  # blocks per side of the set's bounding box in the lower bound of u = C p (screen)
+KERNEL_GROUP_COLUMNS = 8  # candidates' columns per group in u = C p from the kernel (displacement_kernel)
+
+
+@njit(cache=True, fastmath=True)
+def displacement_matrix(full, order, m, pressure, candidates, count, u):
+    """u = C p at ``candidates[:count]`` from C's rows over the span of flat indices the set covers (zero
+    between its elements), four rows at a time."""
+    lo, hi = pressure.size, 0
+    for a in range(m):
+        lo = min(lo, order[a])
+        hi = max(hi, order[a] + 1)
+    span = pressure[lo : max(lo, hi)]
+    size = span.size
+    for c in range(0, count, 4):
+        i0, i1 = candidates[c], candidates[min(c + 1, count - 1)]
+        i2, i3 = candidates[min(c + 2, count - 1)], candidates[min(c + 3, count - 1)]
+        r0, r1, r2, r3 = (
+            full[i0, lo : lo + size],
+            full[i1, lo : lo + size],
+            full[i2, lo : lo + size],
+            full[i3, lo : lo + size],
+        )
+        u0 = u1 = u2 = u3 = 0.0
+        for k in range(size):
+            x = span[k]
+            u0 += r0[k] * x
+            u1 += r1[k] * x
+            u2 += r2[k] * x
+            u3 += r3[k] * x
+        u[c] = u0
+        for b, value in ((1, u1), (2, u2), (3, u3)):
+            if c + b < count:
+                u[c + b] = value
+
+
+@njit(cache=True, fastmath=True)
+def _bounding_box(rows, columns, elements, count, ny, nx):
+    """(first row, last row, first column, last column) of ``elements[:count]``; (ny, -1, nx, -1) if none."""
+    r0, r1, c0, c1 = ny, -1, nx, -1
+    for a in range(count):
+        r0 = min(r0, rows[elements[a]])
+        r1 = max(r1, rows[elements[a]])
+        c0 = min(c0, columns[elements[a]])
+        c1 = max(c1, columns[elements[a]])
+    return r0, r1, c0, c1
+
+
+@njit(cache=True, fastmath=True)
+def _dot_rows(band, span, starts, group, size, u):
+    """u[group[g]] = band[starts[g] : starts[g] + size] . span, four at a time (sharing the loads of span)."""
+    count = group.size
+    for c in range(0, count, 4):
+        s0, s1 = starts[c], starts[min(c + 1, count - 1)]
+        s2, s3 = starts[min(c + 2, count - 1)], starts[min(c + 3, count - 1)]
+        k0, k1, k2, k3 = band[s0 : s0 + size], band[s1 : s1 + size], band[s2 : s2 + size], band[s3 : s3 + size]
+        u0 = u1 = u2 = u3 = 0.0
+        for k in range(size):
+            x = span[k]
+            u0 += k0[k] * x
+            u1 += k1[k] * x
+            u2 += k2[k] * x
+            u3 += k3[k] * x
+        u[group[c]] = u0
+        for b, value in ((1, u1), (2, u2), (3, u3)):
+            if c + b < count:
+                u[group[c + b]] = value
+
+
+@njit(cache=True)
+def displacement_kernel(grid, order, m, pressure, candidates, count, u):
+    """u = C p at ``candidates[:count]`` from the reversed kernel: one contiguous dot product per element.
+
+    The candidates go in groups of ``KERNEL_GROUP_COLUMNS`` columns. For a group whose columns spread over
+    g, the set's bounding box of pressures (H x W) is laid out with the row stride S = W + g - 1, zero beyond
+    column W, and the kernel's offsets that occur are copied with the same stride: the terms of an element
+    are then one contiguous slice of that copy, of (H - 1) S + W terms (the zeros drop those that wrap into
+    the next row). Measured at 0.5 mm: ``docs/benchmarks.md``, "The contact solver".
+    """
+    kernel, flipped, _, rows, columns = grid
+    ny = (kernel.shape[0] + 1) // 2
+    nx = (kernel.shape[1] + 1) // 2
+    r0, r1, c0, c1 = _bounding_box(rows, columns, order, m, ny, nx)
+    if r1 < 0:
+        for c in range(count):
+            u[c] = 0.0
+        return
+    height, width = r1 + 1 - r0, c1 + 1 - c0
+    band = np.empty((height + ny - 1) * (width + KERNEL_GROUP_COLUMNS))
+    span = np.zeros(height * (width + KERNEL_GROUP_COLUMNS))
+    group = np.empty(count, dtype=np.int64)
+    elements = np.empty(count, dtype=np.int64)
+    starts = np.empty(count, dtype=np.int64)
+    _, _, first, last = _bounding_box(rows, columns, candidates, count, ny, nx)
+    for left in range(first, last + 1, KERNEL_GROUP_COLUMNS):
+        size = 0
+        for c in range(count):
+            if left <= columns[candidates[c]] < left + KERNEL_GROUP_COLUMNS:
+                group[size] = c
+                elements[size] = candidates[c]
+                size += 1
+        if size == 0:
+            continue
+        q0, q1, d0, d1 = _bounding_box(rows, columns, elements, size, ny, nx)
+        stride, depth = width + d1 - d0, height + q1 - q0
+        # band[a S + b] = reversed[r0 - q1 + a + ny - 1, c0 - d1 + b + nx - 1]: offset (rj - ri, cj - ci)
+        for a in range(depth):  # (loops, not slice assignments: those cost numba seconds of compilation)
+            row = flipped[r0 - q1 + a + ny - 1]
+            for b in range(stride):
+                band[a * stride + b] = row[c0 - d1 + nx - 1 + b]
+        for a in range(height):
+            for b in range(stride):
+                span[a * stride + b] = pressure[(r0 + a) * nx + c0 + b] if b < width else 0.0
+        for g in range(size):
+            starts[g] = (q1 - rows[elements[g]]) * stride + d1 - columns[elements[g]]
+        _dot_rows(band, span, starts[:size], group[:size], (height - 1) * stride + width, u)
+
+
+@njit(cache=True)
+def screen(grid, order, m, pressure, gap, candidates, count, limit):
+    """Keep of ``candidates[:count]`` those that may penetrate (h + C p below ``limit``); their count.
+
+    A lower bound of u_i = C_i p: the set's bounding box is cut into ``SCREEN_BLOCKS`` x ``SCREEN_BLOCKS``
+    blocks; the kernel decreases with each offset, so C_ij >= C at a block's farthest corner from i for
+    every j of the block, and u_i >= sum over blocks of C_far P+ (block) - C_0 P- (P+, P-: the sums of the
+    positive and negative pressures). An element whose h_i + bound is not below the limit does not penetrate
+    and is not computed (most of the rigid overlap outside the set, away from its border).
+    """
+    kernel, _, _, rows, columns = grid
+    ny = (kernel.shape[0] + 1) // 2
+    nx = (kernel.shape[1] + 1) // 2
+    r0, r1, c0, c1 = _bounding_box(rows, columns, order, m, ny, nx)
+    if r1 < 0:
+        return count
+    blocks = SCREEN_BLOCKS
+    edges = np.empty((2, blocks + 1), dtype=np.int64)  # first row / column of each block, and one past the last
+    for b in range(blocks + 1):
+        edges[0, b] = r0 + ((r1 + 1 - r0) * b) // blocks
+        edges[1, b] = c0 + ((c1 + 1 - c0) * b) // blocks
+    sums = np.zeros((blocks, blocks))
+    negative = 0.0
+    for a in range(m):
+        i = order[a]
+        value = pressure[i]
+        if value > 0.0:
+            # the block b with edges[b] <= row < edges[b + 1]
+            br = ((rows[i] - r0 + 1) * blocks + r1 - r0) // (r1 + 1 - r0) - 1
+            bc = ((columns[i] - c0 + 1) * blocks + c1 - c0) // (c1 + 1 - c0) - 1
+            sums[br, bc] += value
+        else:
+            negative -= value
+    slack = kernel[ny - 1, nx - 1] * negative
+    far_rows = np.empty(blocks, dtype=np.int64)
+    far_columns = np.empty(blocks, dtype=np.int64)
+    kept = 0
+    for c in range(count):
+        i = candidates[c]
+        for b in range(blocks):
+            last_row, last_column = max(edges[0, b], edges[0, b + 1] - 1), max(edges[1, b], edges[1, b + 1] - 1)
+            far_rows[b] = ny - 1 + max(abs(rows[i] - edges[0, b]), abs(rows[i] - last_row))
+            far_columns[b] = nx - 1 + max(abs(columns[i] - edges[1, b]), abs(columns[i] - last_column))
+        bound = gap[i] - slack
+        for br in range(blocks):
+            for bc in range(blocks):
+                bound += kernel[far_rows[br], far_columns[bc]] * sums[br, bc]
+        if bound < limit:
+            candidates[kept] = i
+            kept += 1
+    return kept

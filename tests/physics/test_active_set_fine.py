@@ -1,0 +1,113 @@
+"""The deformed gap outside the contact set on large windows (``contact.active_set``), and the ``3d`` law at 0.5 mm.
+
+* The screen of the rigid overlap (``deformed_gap.screen``) keeps every element that penetrates: its bound of
+  u = C p is a lower bound (the kernel of eq. 8 decreases with each offset), checked against u computed in full
+  on random sets and pressures, window shapes down to one row;
+* u = C p from the kernel (``deformed_gap.displacement_kernel``: one contiguous slice per element, the candidates in
+  groups of columns) equals u from the full influence matrix: tolerance 1e-12 of max u, round-off of
+  reordered sums of positive terms (measured below 5e-16);
+* steps of the ``3d`` law on a 31 x 41 window at 0.5 mm (over ``FULL_MATRIX_ELEMENTS``: the kernel path and the
+  screen) agree with the dense NNLS oracle (``halfspace_oracle``) to 1e-9 of the preload, as the 1 mm runs in
+  ``test_halfspace_loop.py``: the same equations, round-off of reordered sums left.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from wheelrail.core.contact import active_set, deformed_gap
+from wheelrail.core.contact.halfspace_model import HalfSpaceModel
+from wheelrail.core.contact.influence import influence_kernel
+from wheelrail.core.models import ModelInputs
+from wheelrail.core.parameters import ModelParameters, RunParameters
+
+TOLERANCE = 1e-9  # of the preload, as tests/physics/test_halfspace_loop.py (module docstring)
+
+
+def _random_state(rng, shape):
+    """A random contact set (a blob of the window, some pressures slightly negative) and its pressure."""
+    ny, nx = shape
+    rows, columns = np.divmod(np.arange(ny * nx), nx)
+    centre = rng.uniform(0, ny - 1), rng.uniform(0, nx - 1)
+    radius = rng.uniform(0.5, max(ny, nx) / 2)
+    inside = (rows - centre[0]) ** 2 + (columns - centre[1]) ** 2 <= radius**2
+    inside[rng.integers(ny * nx)] = True
+    pressure = np.where(inside, rng.uniform(-1e-3, 1.0, ny * nx) * 1e9, 0.0)
+    return np.flatnonzero(inside), pressure
+
+
+@pytest.mark.parametrize("shape", [(1, 7), (3, 5), (4, 9), (19, 25), (37, 49)])
+def test_screen_keeps_every_penetrating_element(shape):
+    rng = np.random.default_rng(sum(shape))
+    grid = active_set.influence_grid(influence_kernel(shape, 5e-4), full_matrix=True)
+    for _ in range(20):
+        order, pressure = _random_state(rng, shape)
+        u = active_set.displacement(grid, pressure)
+        outside = np.setdiff1d(np.arange(pressure.size), order)
+        gap = rng.uniform(0.0, 2.0, pressure.size) * u.max()
+        limit = rng.uniform(0.5, 1.5) * u.max()
+        candidates = np.zeros(pressure.size, dtype=np.int64)
+        candidates[: outside.size] = outside
+        kept = deformed_gap.screen(grid, order, order.size, pressure, gap, candidates, outside.size, limit)
+        penetrating = outside[gap[outside] + u[outside] < limit]
+        # every element that penetrates is kept (exactly: the bound is a lower bound)
+        assert set(penetrating) <= set(candidates[:kept])
+
+
+@pytest.mark.parametrize("shape", [(1, 7), (4, 9), (37, 49)])
+def test_kernel_displacement_equals_the_matrix(shape):
+    rng = np.random.default_rng(7)
+    kernel = influence_kernel(shape, 5e-4)
+    by_kernel = active_set.influence_grid(kernel, full_matrix=False)
+    by_matrix = active_set.influence_grid(kernel, full_matrix=True)
+    for _ in range(10):
+        order, pressure = _random_state(rng, shape)
+        pressure = np.abs(pressure)
+        candidates = rng.permutation(pressure.size)[: rng.integers(1, pressure.size + 1)]
+        u = np.empty(candidates.size)
+        deformed_gap.displacement_kernel(by_kernel, order, order.size, pressure, candidates, candidates.size, u)
+        expected = active_set.displacement(by_matrix, pressure)[candidates]
+        # round-off of reordered sums of positive terms (module docstring)
+        assert np.max(np.abs(u - expected)) <= 1e-12 * expected.max()
+
+
+@pytest.mark.slow  # ~5 s: the oracle's dense NNLS on ~700 elements per step
+def test_3d_law_at_half_a_millimetre_agrees_with_the_oracle():
+    from halfspace_oracle import coupled_pressure, influence_matrix
+
+    dx = 5e-4
+    params = ModelParameters(run=RunParameters(element_size=dx))
+    ny, half_x, steps = 31, 20, 3
+    window_y = (np.arange(ny) - ny // 2) * dx
+    samples = np.arange(2 * half_x + steps + 1) * dx
+    rng = np.random.default_rng(3)
+    # a corrugation 50 um deep and 40 mm long, with a lateral tilt and small random roughness (m)
+    lines = 25e-6 * np.sin(2 * np.pi * samples / 0.04)[None, :] * (1 + 10 * window_y[:, None])
+    lines = lines + rng.normal(0.0, 0.3e-6, lines.shape)
+    inputs = ModelInputs(
+        params=params,
+        element_size=dx,
+        lines=lines,
+        centre_row=ny // 2,
+        window_y=window_y,
+        half_x=half_x,
+        start_index=half_x + np.arange(steps),
+        ramp=np.ones(steps),
+        position_of=lambda s: s * dx,
+    )
+    model = HalfSpaceModel()
+    approach = model.prepare(inputs)
+    assert model.law_inputs().law[0][2].size == 0  # the kernel path (window over FULL_MATRIX_ELEMENTS)
+    matrix = influence_matrix((ny, 2 * half_x + 1), dx, params.contact)
+    base_gap = model.law_inputs().track[0].reshape(ny, -1)
+    compliance = 1e-10  # m/N: a coupled step, delta = delta_known - c F
+    preload = params.contact.preload
+    for s in range(steps):
+        known = approach + compliance * preload + 20e-6 * np.sin(s)
+        ours = model.solve(s, known, compliance)
+        gap = base_gap - lines[:, s : s + 2 * half_x + 1]
+        theirs = coupled_pressure(matrix, gap, known, compliance, dx * dx)[0]
+        assert theirs.sum() > 0.0
+        assert abs(ours.force - theirs.sum() * dx * dx) <= TOLERANCE * preload
+        assert np.max(np.abs(ours.pressure.ravel() - theirs)) <= TOLERANCE * theirs.max()
