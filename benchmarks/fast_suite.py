@@ -70,6 +70,9 @@ def one_session(args, env) -> tuple[float, float, str, list[str]]:
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     lines = done.stdout.strip().splitlines()
     summary = lines[-1] if lines else f"exit {done.returncode}"
+    for line in lines:
+        if line.startswith(("FAILED ", "ERROR ")):
+            print("    " + line)  # the summary's failures, so that a failed run says which
     return wall, cpu, summary, [line for line in lines if DURATION.match(line)]
 
 
