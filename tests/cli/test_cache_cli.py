@@ -104,13 +104,14 @@ def test_a_new_track_is_announced_on_a_terminal(folder):
 
     from wheelrail.cli.commands._progress import announce_track_precompute
     from wheelrail.core import track
-    from wheelrail.core.parameters import TrackNumerics
+    from wheelrail.core.parameters import TrackNumerics, TrackParameters
 
     numerics = TrackNumerics(duration=0.005, positions_per_bay=16, max_speed=100 / 3.6)
+    short = TrackParameters(n_bays=20)  # 20 bays, not 70: what is announced, not the track's physics
     screen = _Terminal()
     with announce_track_precompute("run", screen):
         track.clear_memory()
-        track.stationary_track_response(None, numerics)
+        track.stationary_track_response(short, numerics)
     text = screen.getvalue()
     assert "wheelrail run: this track is not in the disk cache" in text and str(folder) in text
     for phase in ("assembling the FE track", "integrating the track's impulse responses (16 load", "writing"):
@@ -119,7 +120,7 @@ def test_a_new_track_is_announced_on_a_terminal(folder):
     piped = io.StringIO()  # not a terminal: nothing (pipes and --json stay clean)
     with announce_track_precompute("run", piped):
         track.clear_memory()
-        track.stationary_track_response(None, dataclasses.replace(numerics, duration=0.004))
+        track.stationary_track_response(short, dataclasses.replace(numerics, duration=0.004))
     assert piped.getvalue() == ""
 
 

@@ -56,7 +56,23 @@ def test_spectra_states_the_run_s_wheel(modal_files, capsys):
     assert "wheel: modal wheel 780 mm" in capsys.readouterr().out
 
 
-def test_noise_of_a_modal_run_states_its_wheel(modal_files, capsys):
+@pytest.fixture
+def coarse_noise_track(monkeypatch):
+    """The noise chain's track coarse where none is given (60 bays, 8 elements per bay, 2 frequencies per band:
+    tests/physics/test_noise_run.py's SMALL), for tests of what a command states rather than of its levels (the
+    default track's 480 frequencies take 4-6 s)."""
+    from wheelrail.core.noise import twins
+
+    coarse = twins.NoiseNumerics(track_bays=60, elements_per_bay=8, points_per_band=2)
+    full = twins.track_noise_model
+
+    def track_noise_model(params=None, numerics=None, *args, **kwargs):
+        return full(params, coarse if numerics is None else numerics, *args, **kwargs)
+
+    monkeypatch.setattr(twins, "track_noise_model", track_noise_model)
+
+
+def test_noise_of_a_modal_run_states_its_wheel(modal_files, coarse_noise_track, capsys):
     assert main(["noise", "--run", str(modal_files["npz"]), "--json"]) == 0
     run = json.loads(capsys.readouterr().out)["configuration"]["run"]
     assert run["wheel_model"] == "modal" and run["wheel_profile"]["wheel_radius"] == 0.39

@@ -61,7 +61,8 @@ def test_track_json_csv(tmp_path, capsys):
     assert main(["track", "--json", "--speed-kmh", "140"]) == 0
     again = json.loads(capsys.readouterr().out)
     assert again["cache"]["was_cached"] is True
-    assert again["cache"]["speed_time_s"] < 1.0
+    # its timings are reported (no bound on them: a wall time depends on the machine's load; benchmarks/ time it)
+    assert again["cache"]["speed_time_s"] > 0.0 and again["cache"]["stationary_time_s"] > 0.0
 
 
 @pytest.mark.parametrize(

@@ -48,11 +48,14 @@ def _single_argument_functions():
             ]
             required = [p for p in params if p.default is p.empty]
             candidates = required if len(required) == 1 else params if not required else []
-            out += [(f"{module_name.rsplit('.', 1)[1]}.{name}", obj, p) for p in candidates]
+            label = f"{module_name.rsplit('.', 1)[1]}.{name}"
+            out += [pytest.param(label, obj, p, id=f"{label}({p.name})") for p in candidates]
     return out
 
 
-@pytest.mark.parametrize("label, function, argument", _single_argument_functions(), ids=lambda v: str(v)[:40])
+# ids name the function and the argument (never a repr with a memory address: pytest-xdist's workers must collect
+# the same ids)
+@pytest.mark.parametrize("label, function, argument", _single_argument_functions())
 def test_bad_values_are_one_wheelrail_error_or_a_finite_answer(label, function, argument):
     """The class: None, an empty list, text, NaN or -1 in any argument of a public function."""
     for bad in BAD:

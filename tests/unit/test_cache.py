@@ -9,9 +9,11 @@ from wheelrail.core import cache, track
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
 
 SMALL = TrackNumerics(duration=0.005, positions_per_bay=2, max_speed=100 / 3.6)
+# a short track (20 bays, not 70): these tests check the cache's keys, files and reports, not the track's physics
+COARSE = TrackParameters(n_bays=20)
 
 
-def _fresh(numerics=SMALL, parameters=None):
+def _fresh(numerics=SMALL, parameters=COARSE):
     track.clear_memory()
     return track.stationary_track_response(parameters, numerics)
 
@@ -58,7 +60,7 @@ def test_corrupt_entry_is_detected_and_rebuilt(tmp_path, monkeypatch):
 def test_stale_entry_is_not_used(tmp_path, monkeypatch):
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
     good = _fresh()
-    key = track.track_key(TrackParameters(), SMALL)
+    key = track.track_key(COARSE, SMALL)
     # an entry under the right file name but written for other parameters
     cache.save_entry("track-wedge", "0" * 64, {"data": np.zeros(3)})
     (tmp_path / cache.entry_path("track-wedge", "0" * 64).name).replace(cache.entry_path("track-wedge", key))
@@ -247,7 +249,7 @@ def test_a_bad_cache_limit_is_one_clear_error(tmp_path, monkeypatch, value):
 
 def test_an_entry_describes_what_it_holds(tmp_path, monkeypatch):
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
-    parameters = TrackParameters(support=dataclasses.replace(TrackParameters().support, pad_stiffness=300e6))
+    parameters = dataclasses.replace(COARSE, support=dataclasses.replace(COARSE.support, pad_stiffness=300e6))
     _fresh(parameters=parameters)
     (entry,) = cache.entries(describe=True)
     assert entry.kind == "track-wedge" and entry.meta["description"]["track"]["support"]["pad_stiffness"] == 300e6
@@ -264,7 +266,7 @@ def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
     numerics = dataclasses.replace(SMALL, positions_per_bay=32)  # 2 blocks of 16 load positions
     events = []
     track.clear_memory()
-    reported = track.stationary_track_response(None, numerics, progress=lambda *event: events.append(event))
+    reported = track.stationary_track_response(COARSE, numerics, progress=lambda *event: events.append(event))
     phases = list(dict.fromkeys(phase.split(" (")[0] for phase, _, _ in events))
     assert phases == [
         "assembling the FE track",
@@ -278,11 +280,11 @@ def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
     # at the start, then as each block of load positions ends (in parallel threads: the columns done add up)
     assert integrating == [(0, 32)] + [(min(32, (i + 1) * COLUMN_BLOCK), 32) for i in range(-(-32 // COLUMN_BLOCK))]
     assert "32 load positions x 1001 steps" in integrating_phase(events)
-    quiet = track.compute_stationary_response(TrackParameters(), numerics)  # one call, no groups
+    quiet = track.compute_stationary_response(COARSE, numerics)  # one call, no groups
     np.testing.assert_array_equal(reported.data, quiet.data)  # the same blocks, the same numbers
     # a second track: the cache knows how fast this machine integrates, so the phase carries an estimate
     events.clear()
-    other = TrackParameters(support=dataclasses.replace(TrackParameters().support, pad_stiffness=300e6))
+    other = dataclasses.replace(COARSE, support=dataclasses.replace(COARSE.support, pad_stiffness=300e6))
     from wheelrail.core.track.progress import track_progress
 
     with track_progress(lambda *event: events.append(event)):
