@@ -16,8 +16,9 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.compiled import sources_stamp
-from wheelrail.core.contact import hertz, winkler
-from wheelrail.core.contact.hertz import hertz_law
+from wheelrail.core.contact import hertz_law as hertz_kernels
+from wheelrail.core.contact import winkler
+from wheelrail.core.contact.hertz_law import hertz_law
 from wheelrail.core.contact.winkler import bedding_law
 from wheelrail.core.models import LAW_HERTZ
 
@@ -143,6 +144,6 @@ def _define_run_chunk(stamp):
     return run_chunk
 
 
-_STAMP = sources_stamp(hertz, winkler, sys.modules[__name__])
+_STAMP = sources_stamp(hertz_kernels, winkler, sys.modules[__name__])
 run_chunk = _define_run_chunk(_STAMP)
 law_curve = _define_law_curve(_STAMP)

@@ -59,7 +59,7 @@ __all__ = [
     "unregister",
 ]
 
-LAW_HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz.hertz_law
+LAW_HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz_law.hertz_law
 LAW_BEDDING = 1  # Winkler bedding on the line under the wheel (eqs. 3-6): contact.winkler.bedding_law
 LAW_HALFSPACE = 2  # 3D half-space on the window (eqs. 8-11): contact.halfspace_model.halfspace_step
 _LAWS = (None, LAW_HERTZ, LAW_BEDDING, LAW_HALFSPACE)

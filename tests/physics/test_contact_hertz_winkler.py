@@ -12,7 +12,7 @@ from wheelrail.core.contact import (
     winkler_contact,
     winkler_equivalent_roughness,
 )
-from wheelrail.core.contact.hertz import _hertz_force, _hertz_force_and_stiffness
+from wheelrail.core.contact.hertz_law import _hertz_force, _hertz_force_and_stiffness
 from wheelrail.core.contact.winkler import _winkler_force, bedding_stiffness, wheel_profile
 from wheelrail.core.parameters import ContactParameters
 

@@ -62,3 +62,11 @@ def test_numbas_blas_check_loads_the_blas_module_without_scipy_linalg():
     assert lines[0] == "package: False module", done.stdout  # the extension module alone, not its package
     assert lines[1] == "dot: True", done.stdout  # and it is the real one: compiled BLAS calls work through it
     assert lines[2] == "later: [0.5, 0.5] True", done.stdout  # scipy.linalg, imported later, is whole
+
+
+def test_reading_a_result_does_not_import_numba():
+    """``wheelrail spectra`` reads a saved run: parameters (Hertz's solution), results and spectra load without
+    numba (its import is ~0.2 s; the loop's compiled Hertz kernels are in contact.hertz_law)."""
+    code = "import sys, wheelrail.core.results, wheelrail.core.spectra; print('numba' in sys.modules)"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120)
+    assert done.stdout.strip() == "False", done.stdout
