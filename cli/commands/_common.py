@@ -91,6 +91,9 @@ def add_speed_option(parser, help_text: str | None = None) -> None:
     )
 
 
+RUN_INPUT_GROUPS = tuple(GROUPS)  # the declared input groups a run takes, and so each run of a study: all of them
+
+
 def add_input_options(
     parser,
     *groups: str,

@@ -10,6 +10,7 @@ import time
 
 from wheelrail.cli.commands._common import (
     CLI_NAMES,
+    RUN_INPUT_GROUPS,
     add_choice_option,
     add_input_options,
     cli_error_names,
@@ -23,8 +24,6 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_contact, describe_words
 from wheelrail.core.models import model_names
 from wheelrail.core.recording.cli import add_recording_arguments, sink_from_args
-
-RUN_GROUPS = ("run", "geometry", "track")  # the declared inputs a run takes (wheelrail.core.inputs.GROUPS)
 
 
 def add_parser(sub):
@@ -88,7 +87,7 @@ def add_parser(sub):
         "(--sound-power) is --noise-wheel-model",
     )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
-    add_input_options(parser, *RUN_GROUPS)
+    add_input_options(parser, *RUN_INPUT_GROUPS)
     add_recording_arguments(parser)
     add_choice_option(  # the sound power's wheel: one declaration (CHOICES), named apart from --wheel-model here
         parser, "noise_wheel_model", "with --sound-power, the recorded sound power's wheel: ", "--noise-wheel-model"
@@ -131,7 +130,7 @@ class _StopOnCtrlC:
 
 def _checked_args(args):
     """The run's parameters and output paths, checked before any work: (params, out)."""
-    params = params_from_args(args, *RUN_GROUPS)
+    params = params_from_args(args, *RUN_INPUT_GROUPS)
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     inputs = input_files(args.set, args.wheel_set)

@@ -6,12 +6,10 @@ import math
 import sys
 from dataclasses import replace
 
-from wheelrail.cli.commands._common import add_input_options, params_from_args, print_json
+from wheelrail.cli.commands._common import RUN_INPUT_GROUPS, add_input_options, params_from_args, print_json
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe_contact, describe_words
 from wheelrail.core.study import STUDIES
-
-STUDY_GROUPS = ("run", "geometry", "track")  # the declared inputs of every run (wheelrail.core.inputs.GROUPS)
 
 
 def add_parser(sub):
@@ -61,7 +59,7 @@ def add_parser(sub):
     parser.add_argument("--json", action="store_true", help="print the machine-readable summary (SI units)")
     add_input_options(
         parser,
-        *STUDY_GROUPS,
+        *RUN_INPUT_GROUPS,
         helps={"speed": "train speed, km/h (for `speeds` the half-mass case's)"},
         several=("track",),
     )
@@ -102,7 +100,7 @@ def run(args) -> int:
     if args.name not in STUDIES:
         raise WheelrailError(f"unknown study {args.name!r}; choose one of {', '.join(STUDIES)}")
     tracks = _tracks(args)  # several values of a track input: the track study's sweep
-    params = params_from_args(args, *STUDY_GROUPS)
+    params = params_from_args(args, *RUN_INPUT_GROUPS)
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     workers = 2 if args.workers is None else args.workers
