@@ -315,9 +315,8 @@ class InteractionRun(BlockSteps, HeaderView):
         from wheelrail.core.contact.run_in_law import run_in_chunk, run_in_table, warm_start
 
         loop, preload = self.loop, self.params.contact.preload
-        if self._table is None:  # the static approach under the preload (run_setup.static_equilibrium) as scale
-            static = loop.xi_w0 - preload * float(np.mean(loop.weights.sum(axis=1)))
-            self._table = run_in_table(self._law, loop.n_run_in, preload, static)
+        if self._table is None:  # the static approach under the preload as scale
+            self._table = run_in_table(self._law, loop.n_run_in, preload, loop.static_approach)
         j0, j1, constants = loop.n_hist + s0, loop.n_hist + s1, (preload, loop.xi_w0, loop.n_hist)
         outputs = (self.xi_wheel, self.xi_rail)
         approach = run_in_chunk(
@@ -530,6 +529,7 @@ def prepare_run(
     )
     contact = entry.create()
     static_approach = contact.prepare(model_inputs(track, history, params))
+    history.static_approach = static_approach
     history.xi_w0 = static_equilibrium(static_approach, params.contact.preload, history.weights)
     return InteractionRun(
         header=header, traits=entry.traits, contact=contact, track=track, history=history, keep_pressure=keep_pressure

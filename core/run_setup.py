@@ -203,8 +203,7 @@ def window_lines(roughness, params: ModelParameters | None = None) -> tuple[int,
     A line must fall on the lateral model grid (``element_size`` apart) and have data for the Hertz
     semi-axis across the rail (b) at the preload plus one element on both sides: nearer the edge of the set
     the window is cut and the patch, widened by the roughness, reaches its edge mid-run (the bundled
-    corrugated rail, 19 lines over +-9 mm, allows lines -2..2 at 65 kN). The explorer and the command line
-    offer only these.
+    corrugated rail, 19 lines over +-9 mm, allows lines -2..2 at 65 kN). The explorer and the CLI offer only these.
     """
     from wheelrail.core.roughness import to_model_grid
 
@@ -434,7 +433,7 @@ class History:
 
     The track part (``force``, ``lo``, ``hi``, ``frac``, ``weights``, ``acc``) and the wheel part (``phi``,
     ``gamma0``, ``gamma1``, ``state``) are also held as the tuples ``track`` and ``wheel`` that the compiled
-    kernels take. ``xi_w0`` (static equilibrium, step 4) is set last.
+    kernels take. ``xi_w0`` (static equilibrium, step 4) and the ``static_approach`` it stands on are set last.
     """
 
     dt: float
@@ -454,6 +453,7 @@ class History:
     ramp: np.ndarray  # (n_total,) roughness fade-in factor
     start_index: np.ndarray  # (n_total,) sample index of the wheel centre in the roughness lines
     xi_w0: float = 0.0
+    static_approach: float = 0.0  # the model's static approach delta(P), m (static_equilibrium: xi_w0's part)
     bay: int | None = None  # steps per sleeper bay (steady_start.bay_steps), None if not a whole number
     steady: bool = False  # the run starts from the moving load's steady state (no fade-in; steady_start)
     phases: tuple | None = None  # steady: (lo, hi, frac) of the bay's phases, index n_hist + k for phase k

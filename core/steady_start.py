@@ -243,8 +243,7 @@ def model_law(law_kind: int | None, law, contact, history, preload: float, table
     if law_kind == LAW_HALFSPACE:
         from wheelrail.core.contact.run_in_law import step_law
 
-        static = history.xi_w0 - preload * float(np.mean(history.weights.sum(axis=1)))
-        delta, force = step_law(law, s, preload, static, *table)
+        delta, force = step_law(law, s, preload, history.static_approach, *table)
         slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
         return lambda d: np.where(d > delta[-1], force[-1] + slope * (d - delta[-1]), np.interp(d, delta, force))
     if law is not None:
