@@ -523,8 +523,20 @@ def test_the_track_tab_draws_receptance_and_decay_against_the_limit(app):
     assert 40 < receptance[0][0] < 70 and receptance[0][-1] > 4000  # Hz: the bands 50 Hz-5 kHz
     assert np.all(receptance[1] < -150) and np.all(receptance[1] > -220)  # dB re 1 m/N: 1e-11 to 1e-7.5 m/N
     # the paper's track is below the limit at 400-800 Hz (2.3-3.7 dB/m against 6; tests/physics/test_track_decay.py)
-    assert tab.decay.handle.title == "Vertical decay rate: is below the EN ISO 3095 limit"
+    # and at 2.5 kHz
+    assert tab.decay.handle.title == (
+        "Vertical decay rate of the paper's track is below EN ISO 3095:2013's lower limit at 400, 500, 630, 800 "
+        "and 2500 Hz"
+    )
     decay, limit = tab.decay.data[1], tab.decay.data[2]
     f = tab.decay.data[0]
     at_500 = int(np.argmin(np.abs(f - 500)))
     assert decay[at_500] < limit[at_500] == 6.0
+    # each plot and its PNG name the track: the paper's, or the inputs that differ from it
+    assert tab.receptance.handle.title == "Point receptance of the paper's track"
+    app.form.fields["pad_stiffness"].value = "60"
+    tab._compute(app.shown.params().track)
+    words = "the track with pad stiffness 60 MN/m (else the paper's)"
+    assert tab.receptance.handle.title == f"Point receptance of {words}"
+    assert tab.decay.handle.title.startswith(f"Vertical decay rate of {words} ")
+    assert tab.receptance.figure().axes[0].get_title().replace("\n", " ") == f"Point receptance of {words}"
