@@ -112,7 +112,7 @@ class NoiseTab(ResultsTab):
             self.power.clear("fix the settings on the left")
             self.totals_md.content = ""
             return
-        label = config.case_label()
+        label = config.title_label()
         if model is None:
             self.power.clear(NO_RUN, title=f"Sound power per axle: {label}")
             entries = shown.store.entries(config.case()).values()
