@@ -8,7 +8,7 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.models import model_names
-from wheelrail.core.palette import COMPONENT_COLOURS, model_colour
+from wheelrail.core.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS, model_colour
 from wheelrail.core.parameters import KMH, RunParameters
 from wheelrail.core.study.tables import Table
 
@@ -26,7 +26,12 @@ _MODEL_LINES = {  # Fig. 10's legend: thick 3D, then the one-line models; colour
 }
 _STYLES = {
     # reference filters for the runs' load and wheel (dashed, thin), beside the dynamic ones
-    "ref_cnossos_db": {"color": "tab:purple", "linewidth": 1.0, "linestyle": (0, (5, 2)), "label": "CNOSSOS-EU A3"},
+    "ref_cnossos_db": {  # black as in the explorer's Spectra tab (dashed here, so apart from the solid 2D)
+        "color": CNOSSOS_COLOURS["total"],
+        "linewidth": 1.0,
+        "linestyle": (0, (5, 2)),
+        "label": "CNOSSOS-EU A3",
+    },
     "ref_averaging_db": {
         "color": "0.3",
         "linewidth": 0.8,
