@@ -70,3 +70,23 @@ def test_the_noise_of_a_run_names_its_track(tmp_path, coarse_noise_track, capsys
     assert main(["noise", "--run", str(run)]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert "  track (its force and the rail's and sleepers' sound): the paper's track" in lines
+
+
+def test_the_track_studys_text_states_what_the_tracks_share(monkeypatch, capsys, tmp_path):
+    """``study track`` with a swept input: each track by its swept values, then what every track shares (not the
+    first track's values for all of them)."""
+    from types import SimpleNamespace
+
+    from wheelrail.core import study
+
+    summary = {"wheel_set": None, "sets": ["corrugated-rail"], "runs": 10, "runs_computed": 10, "runs_cached": 0,
+               "wall_time_s": 1.0, "backend": "test", "loss_of_contact_steps": 0, "files": []}  # fmt: skip
+    monkeypatch.setattr(study, "run_study", lambda *args, **kwargs: SimpleNamespace(summary=summary, tables=[]))
+    argv = ["study", "track", "--set", "corrugated-rail", "--out", str(tmp_path), "--sleeper-mass-kg", "150"]
+    assert main([*argv, "--pad-stiffness-mn-m", "60", "120"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1:4] == [
+        "  track 1: pad stiffness 60 MN/m",
+        "  track 2: pad stiffness 120 MN/m",
+        "  every track with sleeper mass 150 kg, else the paper's but for its pad stiffness",
+    ]
