@@ -37,7 +37,10 @@ __all__ = [
     "choice",
     "cli_names",
     "describe",
+    "caption",
+    "describe_changes",
     "describe_contact",
+    "describe_track",
     "describe_words",
     "inputs_of",
     "model_parameters",
@@ -414,6 +417,83 @@ def describe_words(params, group: str) -> str:
         else:
             parts.append(entry.words(value))
     return ", ".join(parts)
+
+
+PAPER_TRACK = "the paper's track"
+"""How a caption names the track of ``TrackParameters()`` (paper section 2.2)."""
+
+
+def describe_changes(params, group: str, *, leave_out: tuple[str, ...] = ()) -> list[str]:
+    """The inputs of one group of ``params`` that differ from their defaults, each in words ("pad stiffness 60
+    MN/m"), in declaration order; the keys in ``leave_out`` are not looked at (a study's swept inputs)."""
+    return [
+        entry.words(entry.value_in(params))
+        for entry in inputs_of(group)
+        if entry.key not in leave_out and entry.value_in(params) != entry.default()
+    ]
+
+
+def describe_track(params, *, leave_out: tuple[str, ...] = ()) -> str:
+    """The track of ``params`` as figures name it: :data:`PAPER_TRACK`, or the inputs that differ from it ("the
+    track with pad stiffness 60 MN/m (else the paper's)"); with ``leave_out``, what the tracks of a sweep share
+    ("every track the paper's but for its pad stiffness")."""
+    changes = describe_changes(params, "track", leave_out=leave_out)
+    if leave_out:
+        swept = " and ".join(by_key(key).label.lower() for key in leave_out)
+        if not changes:
+            return f"every track the paper's but for its {swept}"
+        return f"every track with {', '.join(changes)}, else the paper's but for its {swept}"
+    return PAPER_TRACK if not changes else f"the track with {', '.join(changes)} (else the paper's)"
+
+
+def caption(
+    params,
+    *,
+    model: str | None = None,
+    run: bool = True,
+    geometry: bool = True,
+    track: bool = True,
+    wheel: str | None = None,
+    leave_out: tuple[str, ...] = (),
+) -> str:
+    """The configuration a figure shows, as its title names it: one source for every figure of every front end.
+
+    Parameters
+    ----------
+    params : ModelParameters
+        The configuration.
+    model : str, optional
+        The contact model, named first when given.
+    run, geometry, track : bool
+        Name the speed and preload; the contact geometry's inputs that differ from the paper's; the track
+        (:func:`describe_track`).
+    wheel : str, optional
+        The wheel in words (:func:`wheelrail.core.modal_wheel.describe_wheel`), named last when given.
+    leave_out : tuple of str
+        Inputs a figure shows on an axis (a study's speeds, its swept track inputs): left out of the words.
+
+    Returns
+    -------
+    str
+        The parts joined by "; ", e.g. "hertz; 100 km/h, 65 kN; the paper's track".
+
+    Examples
+    --------
+    >>> from wheelrail.core.inputs import caption, model_parameters
+    >>> caption(model_parameters({"pad_stiffness": 60e6}), run=False)
+    "the track with pad stiffness 60 MN/m (else the paper's)"
+    """
+    parts = [] if model is None else [model]
+    if run:
+        parts.append(", ".join(e.words(e.value_in(params)) for e in inputs_of("run") if e.key not in leave_out))
+    if geometry:
+        parts += describe_changes(params, "geometry", leave_out=leave_out)
+    if track:
+        swept = tuple(entry.key for entry in inputs_of("track") if entry.key in leave_out)
+        parts.append(describe_track(params, leave_out=swept))
+    if wheel is not None:
+        parts.append(wheel)
+    return "; ".join(parts)
 
 
 def describe_contact(params) -> str:

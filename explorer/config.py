@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 
 from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
 from wheelrail.core.errors import Name, WheelrailError
-from wheelrail.core.inputs import Input, by_key, inputs_of, model_parameters, page_names
+from wheelrail.core.inputs import Input, by_key, describe_track, inputs_of, model_parameters, page_names
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.run_setup import run_lines, usable_length, window_width
@@ -166,6 +166,12 @@ class RunConfig:
         head = [entry.words(self.value(entry.key)) for entry in self._shown() if entry.always_shown]
         rest = [entry.words(self.value(entry.key)) for entry in self._shown() if not entry.always_shown]
         return ", ".join([sets, f"line {self.line}", *head, f"{self.length:g} m", *rest])
+
+    def title_label(self) -> str:
+        """The case as a plot's title names it: its case label without the track's inputs, then the track in core's
+        words (``describe_track``): 'corrugated-rail, line 0, 100 km/h, 65 kN, 3 m; the paper's track'."""
+        kept = replace(self, inputs=tuple((k, v) for k, v in self.inputs if by_key(k).group != "track"))
+        return f"{kept.case_label()}; {describe_track(self.params())}"
 
     def label(self) -> str:
         return f"{self.model} on {self.case_label()}"

@@ -19,6 +19,7 @@ from wheelrail.core.noise.run_noise import (
     ISO3095_HEIGHT,
     pass_by_level,
 )
+from wheelrail.core.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS
 from wheelrail.core.parameters import KMH
 from wheelrail.explorer.config import RunConfig, page_message, read_train
 from wheelrail.explorer.panel import NO_RUN, ResultsTab, Shown, TabParts
@@ -28,8 +29,6 @@ __all__ = ["NoiseTab", "superstructure_words"]
 
 NOISE_RANGE_DB = 60.0  # the sound-power plot shows the loudest band down by this (A-weighted, quieter bands
 # matter little to the total)
-COMPONENT_COLOURS = dict(zip(COMPONENTS, ("#e6550d", "#31a354", "#756bb1"), strict=True))  # rail, sleeper, wheel
-CNOSSOS_COLOURS = {"track": "#636363", "vehicle": "#8c6d31", "total": "#000000"}
 AUDIO_HINT = (
     "The pass-by of the train set below at the ISO 3095 position, synthesised from the run's contact force "
     "(the model shown); a few seconds to make"
@@ -113,7 +112,7 @@ class NoiseTab(ResultsTab):
             self.power.clear("fix the settings on the left")
             self.totals_md.content = ""
             return
-        label = config.case_label()
+        label = config.title_label()
         if model is None:
             self.power.clear(NO_RUN, title=f"Sound power per axle: {label}")
             entries = shown.store.entries(config.case()).values()

@@ -85,7 +85,7 @@ class PatchTab(ResultsTab):
             for plot in (self.force, self.displacement):
                 plot.clear("fix the settings on the left")
             return
-        label = config.case_label()
+        label = config.title_label()
         finished = {m: e for m, e in shown.store.entries(config.case()).items() if e.result.n_steps}
         if not finished:
             self.force.clear(NO_RUN, title=f"Contact force: {label}")
@@ -128,6 +128,6 @@ class PatchTab(ResultsTab):
         self.force.show(
             (result.x[::step], result.force[::step] / 1e3),
             ((f"{result.model} (running)", model_colour(result.model), SOLID),),
-            title=f"Contact force: {config.case_label()}",
+            title=f"Contact force: {config.title_label()}",
         )
-        self._displacement(result, config.case_label(), running=True)
+        self._displacement(result, config.title_label(), running=True)

@@ -17,6 +17,7 @@ import threading
 
 import numpy as np
 
+from wheelrail.core import palette
 from wheelrail.core.models import model_names
 from wheelrail.core.parameters import KMH
 from wheelrail.core.spectra import nominal_band_label
@@ -38,7 +39,6 @@ SOLID, DASHED, DOTTED = "solid", "dashed", "dotted"
 STYLES = (SOLID, DASHED, DOTTED)
 _DASH = {DASHED: (6.0, 4.0), DOTTED: (1.5, 3.0)}  # uPlot dash patterns, px
 _MPL_LINESTYLE = {SOLID: "-", DASHED: "--", DOTTED: ":"}
-_PALETTE = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf")
 PLOT_ASPECT = 1.7  # width / height of the page's plots (about 310 px high at the results panel's width)
 PLOT_PADDING = (12, 24, 0, 0)  # px: top, right, bottom, left (room for the highest tick label)
 MAX_POINTS = 4000  # points per line sent to the page
@@ -51,9 +51,8 @@ _CONTAINER_LOCK = threading.Lock()  # a viser container is entered by one thread
 
 
 def model_colour(model: str) -> str:
-    """One colour per registered model, in registry order."""
-    names = model_names()
-    return _PALETTE[names.index(model) % len(_PALETTE)] if model in names else _PALETTE[-1]
+    """The model's colour of core's palette (``wheelrail.core.palette``), the same in every figure."""
+    return palette.model_colour(model, model_names())
 
 
 def finite_bands(centres: np.ndarray, columns: list[np.ndarray]) -> tuple[np.ndarray, ...]:

@@ -56,7 +56,7 @@ class SpectraTab(ResultsTab):
                 plot.clear("fix the settings on the left")
             self.csv_button.disabled = True
             return
-        label = config.case_label()
+        label = config.title_label()
         overlay = None if shown.overlay is None or shown.overlay.case() == config.case() else shown.overlay
         spectra = store.spectra(config.case())
         self.csv_button.disabled = not spectra
@@ -82,7 +82,7 @@ class SpectraTab(ResultsTab):
         centres = next(iter(references.values()))[0]
         own = store.contact_filters(config.case())
         curves = [(f"{m} - {REFERENCE_MODEL}", model_colour(m), SOLID, v) for m, v in own.items()]
-        title = f"Contact filters: {config.case_label()}"
+        title = f"Contact filters: {config.title_label()}"
         if overlay is not None:
             curves += [
                 (f"{m} - {REFERENCE_MODEL} [{overlay.case_label()}]", model_colour(m), DASHED, v)

@@ -9,7 +9,8 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe_words
+from wheelrail.core.inputs import describe_track, describe_words
+from wheelrail.core.noise.decay import decay_verdict
 from wheelrail.explorer.config import page_message
 from wheelrail.explorer.panel import ResultsTab, Shown, TabParts
 from wheelrail.explorer.plots import DASHED, DOTTED, SOLID, Plot, bands_with_data
@@ -82,20 +83,23 @@ class TrackTab(ResultsTab):
         if own is None or isinstance(own, str):
             why = "computing the track's receptance and decay rate (once per track) ..." if own is None else own
             for plot in (self.receptance, self.decay):
-                plot.clear(why, title=f"Track: {config.case_label()}")
+                plot.clear(why, title=f"{plot.title} of {describe_track(config.params())}")
             return
         overlay = shown.overlay.params().track if shown.overlay is not None else None
         other = self.curves(overlay) if overlay is not None and overlay != track else None
         other = other if isinstance(other, tuple) else None
-        self._draw(own, other, shown.overlay.case_label() if other is not None else "")
+        self._draw(own, other, shown.overlay.case_label() if other is not None else "", describe_track(config.params()))
 
-    def _draw(self, own: tuple, other: tuple | None, other_label: str) -> None:
+    def _draw(self, own: tuple, other: tuple | None, other_label: str, track_words: str) -> None:
+        """The curves of the track named by ``track_words`` (core's ``describe_track``), and ``other``'s dashed."""
         (bands, decay), f = own, own[0]["frequency_hz"]
         curves = _receptance_curves(bands, SOLID, "")
         if other is not None:
             curves += _receptance_curves(other[0], DASHED, f" [{other_label}]")
         self.receptance.show(
-            bands_with_data(f, [c[3] for c in curves]), tuple(c[:3] for c in curves), title="Point receptance"
+            bands_with_data(f, [c[3] for c in curves]),
+            tuple(c[:3] for c in curves),
+            title=f"Point receptance of {track_words}" + (f" (dashed: {other_label})" if other is not None else ""),
         )
         on_bands = {float(x): i for i, x in enumerate(decay["frequency_hz"])}
         rows = [on_bands.get(float(x)) for x in f]
@@ -110,11 +114,10 @@ class TrackTab(ResultsTab):
         ]
         if other is not None:
             lines.append((f"decay rate [{other_label}]", "#2ca02c", DASHED, per_band(other[1]["decay_rate_dB_per_m"])))
-        verdict = "meets" if decay["meets_limit"] else "is below"
         self.decay.show(
             bands_with_data(f, [c[3] for c in lines]),
             tuple(c[:3] for c in lines),
-            title=f"Vertical decay rate: {verdict} the EN ISO 3095 limit",
+            title=f"Vertical decay rate of {track_words} {decay_verdict(decay)}",
         )
 
 

@@ -12,7 +12,10 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import describe_track
+from wheelrail.core.modal_wheel import describe_wheel
 from wheelrail.core.noise.wheel_power import MAX_FREQUENCY, MAX_HARMONIC, WHEEL_POINTS_PER_BAND
+from wheelrail.core.palette import TOTAL_COLOUR, WHEEL_SURFACE_COLOURS
 from wheelrail.explorer.config import (
     FIELD_NAMES,
     NEAREST_WHEEL,
@@ -45,7 +48,7 @@ RECEPTANCE_COLOURS = {
     "track above a sleeper": "#636363",
     "track midspan": "#bdbdbd",
 }
-POWER_COLOURS = {"total": "#756bb1", "axial surfaces": "#1f77b4", "radial surfaces": "#d62728"}
+POWER_COLOURS = {**WHEEL_SURFACE_COLOURS, "total": TOTAL_COLOUR}  # core's palette; the total drawn last, on top
 WHEEL_NOTE = (
     "The modal wheel: axisymmetric finite elements of the wheel's cross-section with n nodal diameters "
     "(`wheelrail wheel`; the bore clamped on the axle, steel), at the rolling radius of the settings on the left "
@@ -113,6 +116,7 @@ class WheelTab(ResultsTab):
         self._lock = threading.Lock()
         self._last: Shown | None = None
         self._following = False
+        self.caption = self.track_caption = ""  # the wheel and the track shown, in words (show)
 
     def plots(self) -> dict[str, Plot]:
         return {
@@ -195,6 +199,8 @@ class WheelTab(ResultsTab):
             return
         modes, power = self.want(profile)
         words = wheel_words(profile, self.name_dropdown.value, added)
+        # each plot's title names the wheel, the receptance's the track too (core's words)
+        self.caption, self.track_caption = describe_wheel(profile), describe_track(config.params())
         if modes is None or isinstance(modes, str):
             if modes is not None:
                 why = modes
@@ -248,7 +254,8 @@ class WheelTab(ResultsTab):
         if not series:
             self.frequencies.clear(f"no mode below {modes.max_frequency:g} Hz")
             return
-        self.frequencies.show((n, *columns), tuple(series), title="Natural frequencies by family and n")
+        title = f"Natural frequencies by family and n: {self.caption}"
+        self.frequencies.show((n, *columns), tuple(series), title=title)
 
     def _draw_receptance(self, modes, added: float, track: dict | str) -> None:
         from wheelrail.core.modal_wheel import contact_receptance
@@ -271,7 +278,9 @@ class WheelTab(ResultsTab):
                 level = np.interp(np.log10(f), np.log10(bands), 20 * np.log10(track[key]))
                 columns[name] = np.where(inside, level, np.nan)
         series = tuple((name, RECEPTANCE_COLOURS[name], SOLID) for name in columns)
-        title = "Receptance at the contact" + ("" if isinstance(track, dict) else f" (the track's: {track})")
+        title = f"Receptance at the contact: {self.caption}; " + (
+            self.track_caption if isinstance(track, dict) else f"the track's: {track}"
+        )
         self.receptance.show(bands_with_data(f, list(columns.values())), series, title=title)
 
     def _draw_power(self, power: dict) -> None:
@@ -280,11 +289,12 @@ class WheelTab(ResultsTab):
         self.power.show(
             bands_with_data(power["frequency_hz"], list(parts.values())),
             series,
-            title="Sound power of one wheel for 1 N radial force at the contact",
+            title=f"Sound power of one wheel for 1 N radial force at the contact: {self.caption}",
         )
 
 
-_POWER_PARTS = (("total", "power_per_force"), ("axial surfaces", "axial"), ("radial surfaces", "radial"))
+# the total last: a later curve is drawn over an earlier one, so the total is never hidden under a part equal to it
+_POWER_PARTS = (("axial surfaces", "axial"), ("radial surfaces", "radial"), ("total", "power_per_force"))
 
 
 def wheel_band_power(profile, points_per_band: int = WHEEL_POINTS_PER_BAND) -> dict:

@@ -93,13 +93,17 @@ def _write_csv(result: dict, path) -> None:
         raise WheelrailError(f"--csv {path}: cannot write the table ({error})") from None
 
 
-def _plot(result: dict, path) -> None:
-    import matplotlib  # noqa: PLC0415 - plotting is optional, keep the CLI import light
+def filters_figure(result: dict):
+    """``--plot``'s figure (a matplotlib Figure, Agg): the filters by wavelength and by frequency, titled with the
+    speed and core's words for the contact (``describe_contact``: the radii and the Hertz patch at the preload)."""
+    import textwrap
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt  # noqa: PLC0415
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
-    fig, (ax_wl, ax_f) = plt.subplots(2, 1, figsize=(7, 7.5), constrained_layout=True)
+    fig = Figure(figsize=(7, 7.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    ax_wl, ax_f = fig.subplots(2, 1)
     styles = {"cnossos": "k-o", "averaging": "C0--", "patch-correlated": "C1--", "patch-incoherent": "C2--"}
     for name in REFERENCE_FILTERS:
         ax_wl.semilogx(result["wavelength_mm"], result["by_wavelength"][name], styles[name], label=name, ms=3)
@@ -107,14 +111,16 @@ def _plot(result: dict, path) -> None:
     ax_wl.invert_xaxis()
     ax_wl.set(xlabel="wavelength (mm)", ylabel="contact filter (dB)")
     ax_f.set(xlabel="frequency (Hz)", ylabel="contact filter (dB)")
-    a, b = result["semi_axes_m"]
-    ax_wl.set_title(
-        f"P = {result['preload_n'] / 1e3:g} kN, R = {result['wheel_radius_m'] * 1e3:g} mm, a = {a * 1e3:.2f} mm, "
-        f"b = {b * 1e3:.2f} mm; {result['speed_m_s'] * 3.6:g} km/h"
-    )
+    title = f"Reference contact filters at {result['speed_m_s'] * 3.6:g} km/h: {result['contact_geometry']}"
+    ax_wl.set_title("\n".join(textwrap.wrap(title, 80)), fontsize=9)
     for ax in (ax_wl, ax_f):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
+    return fig
+
+
+def _plot(result: dict, path) -> None:
+    fig = filters_figure(result)
 
     def write(handle):
         fig.savefig(handle, format="png", dpi=100)
@@ -123,8 +129,6 @@ def _plot(result: dict, path) -> None:
         atomic_write(path, write)
     except (OSError, ValueError) as error:
         raise WheelrailError(f"--plot {path}: cannot write the figure ({error})") from None
-    finally:
-        plt.close(fig)
 
 
 def _print_table(result: dict) -> None:

@@ -25,7 +25,7 @@ from wheelrail.cli.commands._common import (
 )
 from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe, describe_words, inputs_of
+from wheelrail.core.inputs import describe, describe_track, describe_words, inputs_of
 from wheelrail.core.spectra import nominal_band_label
 
 METHODS = ("cnossos", "twins")
@@ -315,6 +315,7 @@ def _run_file(args) -> int:
         f"{cfg['speed_m_s'] * 3.6:g} km/h; sound power of one wheel on one rail, dB re 1 pW"
     )
     print(f"  the run's wheel (its force): {result.header.wheel_words()}")
+    print(f"  track (its force and the rail's and sleepers' sound): {describe_track(result.header.params)}")
     print("  band Hz   force dB " + " ".join(f"{name:>6}" for name in SOUND_POWER_PARTS))
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
         row = [noise.sound_power_db[name][i] for name in SOUND_POWER_PARTS]

@@ -8,7 +8,7 @@ from dataclasses import replace
 
 from wheelrail.cli.commands._common import RUN_INPUT_GROUPS, add_input_options, params_from_args, print_json
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe_contact, describe_words
+from wheelrail.core.inputs import describe_contact, describe_track, describe_words
 from wheelrail.core.study import STUDIES
 
 
@@ -139,7 +139,7 @@ def run(args) -> int:
             print(
                 f"  track {number}: " + ", ".join(w for w in words if any(w.startswith(e.label.lower()) for e in swept))
             )
-        print(f"  every track: {describe_words(params, 'track')} (but for the inputs swept)")
+        print(f"  {describe_track(params, leave_out=tuple(entry.key for entry in swept))}")
     print(f"  contact geometry: {describe_contact(params)}")
     if summary["loss_of_contact_steps"]:
         print(f"  loss of contact in {summary['loss_of_contact_steps']} steps over all runs")

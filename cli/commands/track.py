@@ -18,7 +18,7 @@ from wheelrail.cli.commands._common import (
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe
-from wheelrail.core.noise.decay import band_receptances, track_decay
+from wheelrail.core.noise.decay import band_receptances, decay_verdict, track_decay
 
 MIN_DF_HZ = 0.05
 """Finest --df-hz: 99 601 frequencies over 20 Hz-5 kHz, a few minutes of FE solves (1e-9 Hz asked
@@ -124,7 +124,7 @@ def _write_decay_csv(path: Path, decay: dict) -> None:
     atomic_write(path, write, mode="w", newline="")
 
 
-def _receptance_outputs(receptances, csv_path, plot_path, response, peaks, decay) -> None:
+def _receptance_outputs(receptances, csv_path, plot_path, response, peaks, decay, params) -> None:
     """``--csv`` and ``--plot``: the point receptance above a sleeper and at midspan, 20 Hz-5 kHz, and the
     decay rate per band beside the limit."""
     import numpy as np
@@ -150,7 +150,7 @@ def _receptance_outputs(receptances, csv_path, plot_path, response, peaks, decay
 
         atomic_write(csv_path, write_csv, mode="w", newline="")
     if plot_path:
-        _plot(plot_path, receptances, response, peaks, decay)
+        _plot(plot_path, receptances, response, peaks, decay, params)
 
 
 def _green_functions(track, numerics, speed: float) -> dict:
@@ -233,11 +233,7 @@ def _print_bands(bands: dict, decay: dict) -> None:
         limit = limits.get(f)
         mark = "" if limit is None else f"  {limit:6.2f}" + ("  below" if rates[f] < limit else "")
         print(f"  {f:9.0f}   {above:11.3e} {mid:11.3e}  {rates[f]:6.2f}{mark}")
-    if decay["meets_limit"]:
-        print(f"  the decay rate meets the limit in every band 250 Hz-5 kHz ({decay['limit_source']})")
-    else:
-        below = ", ".join(f"{f:.0f}" for f in decay["below_limit_hz"])
-        print(f"  the decay rate is below the limit at {below} Hz ({decay['limit_source']})")
+    print(f"  the decay rate {decay_verdict(decay)} ({decay['limit_source']})")
 
 
 def run(args) -> int:
@@ -268,7 +264,9 @@ def run(args) -> int:
         from wheelrail.core.atomic import all_or_none
 
         with all_or_none():  # the tables and the figure appear together or not at all
-            _receptance_outputs(receptances, csv_path, plot_path, built["response"], peaks, decay)
+            _receptance_outputs(
+                receptances, csv_path, plot_path, built["response"], peaks, decay, params_from_args(args, "track")
+            )
     summary = {
         **describe(params_from_args(args, "track"), "track"),
         "track_parameters": as_dict(track),
@@ -310,19 +308,30 @@ def run(args) -> int:
     return 0
 
 
-def _plot(path, receptances, response, peaks, decay) -> None:
-    import matplotlib
-    import numpy as np
-
+def _plot(path, receptances, response, peaks, decay, params) -> None:
     from wheelrail.core.atomic import atomic_write
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    fig = track_figure(receptances, response, peaks, decay, params)
+    atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=110))
 
+
+def track_figure(receptances, response, peaks, decay, params):
+    """``--plot``'s figure (a matplotlib Figure, Agg): the point receptances, the moving Green's functions (Fig. 4)
+    and the decay rate against the limit, titled with the track (core's ``describe_track``)."""
+    import textwrap
+
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from wheelrail.core.inputs import describe_track
+    from wheelrail.core.noise.decay import decay_verdict
     from wheelrail.core.track import moving_from_stationary
 
     freq, above, midspan = receptances
-    fig, axes = plt.subplots(1, 4, figsize=(20, 4.2))
+    fig = Figure(figsize=(20, 4.6), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 4)
     ax = axes[0]
     ax.loglog(freq, np.abs(above), label="above sleeper")
     ax.loglog(freq, np.abs(midspan), label="midspan")
@@ -346,10 +355,9 @@ def _plot(path, receptances, response, peaks, decay) -> None:
     ax.loglog(decay["frequency_hz"], decay["decay_rate_dB_per_m"], "o-", label="track (EN 15461)")
     limit = np.array([np.nan if v is None else v for v in decay["limit_dB_per_m"]])
     ax.loglog(decay["frequency_hz"], limit, "k--", label="EN ISO 3095:2013 lower limit")
-    ax.set(xlabel="frequency (Hz)", ylabel="decay rate (dB/m)", title="Vertical track decay rate")
+    verdict = f"Vertical track decay rate: it {decay_verdict(decay)}"
+    ax.set(xlabel="frequency (Hz)", ylabel="decay rate (dB/m)", title="\n".join(textwrap.wrap(verdict, 52)))
+    ax.title.set_fontsize(9)
     ax.legend()
-    fig.tight_layout()
-    try:
-        atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=110))
-    finally:
-        plt.close(fig)
+    fig.suptitle(f"wheelrail track: {describe_track(params)}", fontsize=11)
+    return fig

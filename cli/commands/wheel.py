@@ -147,7 +147,7 @@ def run(args) -> int:
                 _write_csv(csv_path, fine, modes, args.added_loss_factor)
                 summary["csv"], summary["modes_csv"] = str(csv_path), str(_modes_path(csv_path))
             if plot_path:
-                _plot(plot_path, modes, fine)
+                _plot(plot_path, modes, fine, args.added_loss_factor)
                 summary["plot"] = str(plot_path)
     if args.json:
         print_json(summary)
@@ -226,16 +226,25 @@ def _write_csv(path: Path, receptance, modes, added_loss_factor: float) -> None:
     atomic_write(_modes_path(path), write_modes, mode="w", newline="")
 
 
-def _plot(path: Path, modes, receptance) -> None:
-    import matplotlib
-    import numpy as np
-
+def _plot(path: Path, modes, receptance, added_loss_factor: float = 0.0) -> None:
     from wheelrail.core.atomic import atomic_write
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    fig = wheel_figure(modes, receptance, added_loss_factor)
+    atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=100))
 
-    fig, axes = plt.subplots(1, 3, figsize=(16, 4.5))
+
+def wheel_figure(modes, receptance, added_loss_factor: float = 0.0):
+    """``--plot``'s figure (a matplotlib Figure, Agg): the cross-section and mesh, the natural frequencies and the
+    receptances at the contact, titled with the wheel (core's ``describe_wheel``)."""
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from wheelrail.core.modal_wheel import describe_wheel
+
+    fig = Figure(figsize=(16, 4.8), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 3)
     nodes, corners = modes.mesh.nodes * 1e3, modes.mesh.triangles[:, :3]
     axes[0].triplot(nodes[:, 1], nodes[:, 0], corners, lw=0.4)
     axes[0].plot(*(np.array(modes.profile.contact_point())[::-1] * 1e3), "r^", label="contact")
@@ -250,8 +259,11 @@ def _plot(path: Path, modes, receptance) -> None:
         axes[2].loglog(receptance.frequency, np.abs(values), label=label)
     axes[2].set(xlabel="frequency (Hz)", ylabel="|receptance| (m/N)", title="Receptance at the contact")
     axes[2].legend()
-    fig.tight_layout()
-    try:
-        atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=100))
-    finally:
-        plt.close(fig)
+    damper = f", a damper's added loss factor {added_loss_factor:g}" if added_loss_factor else ""
+    bore = "bore clamped" if modes.clamped else "bore free"
+    fig.suptitle(
+        f"wheelrail wheel: {describe_wheel(modes.profile)}; {bore}{damper}; {len(modes.frequency)} modes up to "
+        f"{modes.max_frequency:g} Hz, n = 0..{modes.max_harmonic}",
+        fontsize=10,
+    )
+    return fig

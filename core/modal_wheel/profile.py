@@ -34,6 +34,7 @@ __all__ = [
     "NAMED_WHEELS",
     "OutlineProfile",
     "WheelProfile",
+    "describe_wheel",
     "named_profile",
     "outline_profile",
     "read_outline",
@@ -430,3 +431,24 @@ def wheel_profile_for(wheel_radius: float, name: str | None = None) -> WheelProf
     if name is None:
         name = min(NAMED_WHEELS, key=lambda key: abs(NAMED_WHEELS[key].wheel_radius - radius))
     return replace(named_profile(name), wheel_radius=radius)
+
+
+def describe_wheel(profile) -> str:
+    """A wheel as figures name it: its named wheel at its diameter ("wheel freight_920, diameter 780 mm") with the
+    dimensions in which it differs from it ("..., web thickness 30 mm"; the named wheel it differs least from, then
+    the nearest in radius), or its outline ("wheel outline o1, diameter 920 mm at the contact")."""
+    if isinstance(profile, OutlineProfile):
+        return f"wheel outline {profile.name}, diameter {2e3 * profile.wheel_radius:.6g} mm at the contact"
+
+    def changed(named: WheelProfile) -> list[str]:
+        return [
+            f"{item.name.replace('_', ' ')} {1e3 * getattr(profile, item.name):.6g} mm"
+            for item in fields(WheelProfile)
+            if item.name != "wheel_radius" and getattr(profile, item.name) != getattr(named, item.name)
+        ]
+
+    name = min(
+        NAMED_WHEELS,
+        key=lambda key: (len(changed(NAMED_WHEELS[key])), abs(NAMED_WHEELS[key].wheel_radius - profile.wheel_radius)),
+    )
+    return ", ".join([f"wheel {name}", f"diameter {2e3 * profile.wheel_radius:.6g} mm", *changed(NAMED_WHEELS[name])])

@@ -78,6 +78,19 @@ def decay_against_limit(frequency_hz, decay_rate_db_per_m) -> dict:
     }
 
 
+def decay_verdict(decay: dict) -> str:
+    """The decay rate against the limit in words, for a title or a line of text: "meets EN ISO 3095:2013's lower
+    limit in every band 250 Hz-5 kHz" or "is below EN ISO 3095:2013's lower limit at 400, 500 and 630 Hz" (the
+    bands by their nominal names); ``decay`` in :func:`decay_against_limit`'s layout."""
+    from wheelrail.core.spectra import nominal_band_label
+
+    if decay["meets_limit"]:
+        return "meets EN ISO 3095:2013's lower limit in every band 250 Hz-5 kHz"
+    names = [nominal_band_label(f) for f in decay["below_limit_hz"]]
+    bands = names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"
+    return f"is below EN ISO 3095:2013's lower limit at {bands} Hz"
+
+
 def track_decay(track) -> dict:
     """The vertical decay rate per band (EN 15461 on the noise model's 240-bay track) of ``track``
     (``TrackParameters``) beside the EN ISO 3095 limit (:func:`decay_against_limit`'s layout, with

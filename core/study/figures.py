@@ -7,30 +7,31 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.atomic import atomic_write
+from wheelrail.core.models import model_names
+from wheelrail.core.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS, model_colour
 from wheelrail.core.parameters import KMH, RunParameters
 from wheelrail.core.study.tables import Table
+
+__all__ = ["model_of", "model_style", "plot_study", "study_figures"]
 
 # the columns at the paper's speed (the dataclass default, 100 km/h) are marked in the speed figure
 _REFERENCE_SPEED_COLUMN = f"{RunParameters().speed / KMH:g}_kmh"
 
-_STYLES = {  # Fig. 10's legend: thick grey 3D, then the one-line models
-    "3d_db": {"color": "0.55", "linewidth": 3.0, "label": "3D"},
-    "2d_db": {"color": "k", "linewidth": 1.2, "label": "2D"},
-    "hertz_db": {"color": "tab:red", "linewidth": 1.0, "linestyle": ":", "label": "Hertz, no pre-filter"},
-    "hertz_winkler_db": {
-        "color": "tab:blue",
-        "linewidth": 1.0,
-        "linestyle": "--",
-        "label": "Hertz, Winkler pre-filter",
-    },
-    "hertz_average_db": {
-        "color": "tab:green",
-        "linewidth": 1.0,
-        "linestyle": "-.",
-        "label": "Hertz, averaging pre-filter",
-    },
+_MODEL_LINES = {  # Fig. 10's legend: thick 3D, then the one-line models; colours: core's palette
+    "3d": {"linewidth": 3.0, "label": "3D"},
+    "2d": {"linewidth": 1.2, "label": "2D"},
+    "hertz": {"linewidth": 1.0, "linestyle": ":", "label": "Hertz, no pre-filter"},
+    "hertz-winkler": {"linewidth": 1.0, "linestyle": "--", "label": "Hertz, Winkler pre-filter"},
+    "hertz-average": {"linewidth": 1.0, "linestyle": "-.", "label": "Hertz, averaging pre-filter"},
+}
+_STYLES = {
     # reference filters for the runs' load and wheel (dashed, thin), beside the dynamic ones
-    "ref_cnossos_db": {"color": "tab:purple", "linewidth": 1.0, "linestyle": (0, (5, 2)), "label": "CNOSSOS-EU A3"},
+    "ref_cnossos_db": {  # black as in the explorer's Spectra tab (dashed here, so apart from the solid 2D)
+        "color": CNOSSOS_COLOURS["total"],
+        "linewidth": 1.0,
+        "linestyle": (0, (5, 2)),
+        "label": "CNOSSOS-EU A3",
+    },
     "ref_averaging_db": {
         "color": "0.3",
         "linewidth": 0.8,
@@ -53,6 +54,25 @@ _STYLES = {  # Fig. 10's legend: thick grey 3D, then the one-line models
 _SET_STYLES = ("-", "--", "-.", ":")
 
 
+def model_of(column: str) -> str | None:
+    """The contact model whose name begins a table column ("hertz_winkler_LWA_dBA": hertz-winkler), or None."""
+    for model in sorted(model_names(), key=len, reverse=True):  # hertz_winkler_... before hertz_...
+        if column.startswith(model.replace("-", "_") + "_"):
+            return model
+    return None
+
+
+def model_style(column: str) -> dict:
+    """matplotlib keywords of a model's level column ("hertz_winkler_db"): the model's colour of core's palette,
+    its Fig. 10 line and label; other columns: their reference style, or just their name as the label."""
+    if column in _STYLES:
+        return _STYLES[column]
+    model = model_of(column)
+    if model is None:
+        return {"label": column}
+    return {"color": model_colour(model, model_names()), **_MODEL_LINES.get(model, {"label": model})}
+
+
 def _axes_grid(n_rows: int, n_cols: int, *, height: float = 2.6):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -63,15 +83,15 @@ def _axes_grid(n_rows: int, n_cols: int, *, height: float = 2.6):
     return figure, axes
 
 
-def _frequency_axis(ax, table: Table, ylabel: str) -> None:
+_OCTAVES = ("63", "125", "250", "500", "1000", "2000", "4000", "8000")
+
+
+def _frequency_axis(ax, table: Table, ylabel: str, names: tuple[str, ...] = _OCTAVES) -> None:
+    """A log band axis ticked at the bands ``names`` (nominal), its label and ``ylabel``."""
     from wheelrail.core.spectra import nominal_band_label
 
     ax.set_xscale("log")
-    ticks = [
-        c
-        for c in table.band_centres
-        if nominal_band_label(c) in ("63", "125", "250", "500", "1000", "2000", "4000", "8000")
-    ]
+    ticks = [c for c in table.band_centres if nominal_band_label(c) in names]
     ax.set_xticks(ticks, [nominal_band_label(c) for c in ticks])
     ax.minorticks_off()
     ax.set_xlabel("third-octave band centre frequency (Hz)")
@@ -91,7 +111,7 @@ def _draw_filters(group: list[Table]):
             (axes[row, 1], filters, "contact filter (dB)"),
         ):
             for column, values in table.columns.items():
-                ax.plot(table.band_centres, values, **_STYLES.get(column, {"label": column}))
+                ax.plot(table.band_centres, values, **model_style(column))
             _frequency_axis(ax, table, ylabel)
             ax.set_title(panel, fontsize=9)
         axes[row, 0].legend(fontsize=7)
@@ -143,9 +163,24 @@ _NOISE_TITLES = {
     "noise": "A-weighted sound power per axle, dB(A) re 1 pW (dashed: CNOSSOS-EU)",
     "noise-lpaeq": "pass-by L_pAeq,Tp at 7.5 m / 1.2 m, dB(A) (dashed: CNOSSOS-EU)",
     "noise-filters": "contact filters (dB) and CNOSSOS-EU sound power per axle (dB re 1 pW) per band",
-    "track": "per track: force level (dB re 1 N), sound power per axle and pass-by level (dB(A))",
-    "track-force": "contact-force levels per model and track, dB re 1 N",
+    "track": "per track, on line 0: force level, sound power per axle and pass-by level",
+    "track-force": "contact-force levels per track, one panel per model, on line 0",
 }
+_TITLE_CHARACTERS = 150  # a suptitle line at 9 pt fits a 14 inch figure
+
+
+def _noise_style(column: str) -> dict:
+    """A noise study column's line: its model's palette colour (black: A3), solid for the model, dashed for
+    CNOSSOS-EU with the model's filter, dotted for a variant (the modal wheel's transfer)."""
+    cnossos = column.startswith("cnossos_")
+    body = column.removeprefix("cnossos_")
+    model = model_of(body)
+    exact = model is not None and body.removeprefix(model.replace("-", "_") + "_") in ("LWA_dBA", "LpAeq_dBA")
+    return {
+        "color": "k" if model is None else model_colour(model, model_names()),
+        "linestyle": "--" if cnossos else ("-" if exact else ":"),
+        "label": column.removesuffix("_dBA").removesuffix("_db").replace("_", " "),
+    }
 
 
 def _draw_noise(group: list[Table], figure_id: str):
@@ -154,42 +189,146 @@ def _draw_noise(group: list[Table], figure_id: str):
     for ax, table in zip(np.ravel(axes), group, strict=False):
         x = np.asarray(table.band_centres, dtype=float)
         levels = {c: v for c, v in table.columns.items() if c.lower().endswith(("_db", "_dba"))}  # not the inputs
-        for i, (column, values) in enumerate(levels.items()):
-            style = "--" if column.startswith("cnossos") else "-"
-            ax.plot(x, values, style, color=f"C{i % 10}", marker="o", ms=2.5, lw=1.2, label=column)
+        for column, values in levels.items():
+            ax.plot(x, values, marker="o", ms=2.5, lw=1.2, **_noise_style(column))
         if table.axis_name == "band_centre_hz":
             ax.set_xscale("log")
             ax.set_xlabel("frequency (Hz)")
         else:
-            ax.set_xlabel({"speed_kmh": "speed (km/h)", "track": "track number"}.get(table.axis_name, table.axis_name))
+            ax.set_xlabel({"speed_kmh": "speed (km/h)"}.get(table.axis_name, table.axis_name))
         ax.set_title(table.panel, fontsize=9)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=5, ncol=2)
     return fig
 
 
-def plot_study(name: str, tables: list[Table], folder: Path) -> list[Path]:
-    """Draw the study's figure(s) like the paper's (Agg backend, PNG) into ``folder``; returns the paths."""
+def _track_axis(table: Table) -> tuple[np.ndarray, list[str], str]:
+    """The tracks of a track study's noise table on an x axis: (positions, tick labels, axis label). One swept
+    input: its values in its option's units; several: one position per track, ticked with each one's values."""
+    from wheelrail.core.inputs import inputs_of
+
+    swept = [entry for entry in inputs_of("track") if entry.dest in table.columns]
+    if len(table.band_centres) == 1:
+        swept = []  # one track: nothing is swept (the columns hold every input)
+    values = [np.asarray(table.columns[entry.dest], dtype=float) for entry in swept]
+    units = [f"{entry.label.lower()}{f' ({entry.shown.name})' if entry.shown.name else ''}" for entry in swept]
+    if len(swept) == 1:
+        return values[0], [f"{v:g}" for v in values[0]], units[0]
+    ticks = ["\n".join(f"{v[k]:g}" for v in values) for k in range(len(table.band_centres))] if swept else ["track"]
+    return np.arange(1.0, len(table.band_centres) + 1), ticks, "track: " + ", ".join(units) if swept else "track"
+
+
+def track_labels(table: Table) -> list[str]:
+    """Each track of a track study's noise table by its swept values ("pad stiffness 60 MN/m")."""
+    from wheelrail.core.inputs import inputs_of
+
+    swept = [entry for entry in inputs_of("track") if entry.dest in table.columns]
+    if len(table.band_centres) == 1 or not swept:
+        return ["the track"] * len(table.band_centres)
+    return [
+        ", ".join(entry.words(table.columns[entry.dest][k] * entry.shown.si) for entry in swept)
+        for k in range(len(table.band_centres))
+    ]
+
+
+_TRACK_PANELS = (  # the summary figure of the track study: (column suffix, panel title, y label)
+    ("force_dB", "overall dynamic contact force", "L_F (dB re 1 N)"),
+    ("LWA_dBA", "sound power per axle", "L_WA (dB(A) re 1 pW)"),
+    ("LpAeq_dBA", "pass-by level at 7.5 m", "L_pAeq,Tp (dB(A))"),
+)
+_PARTS_MODEL = "3d"  # whose rail, sleeper and wheel the last panel splits (the paper's full model; else the first)
+
+
+def _draw_track(group: list[Table]):
+    """The track study's summary: one row per set; force, sound power and pass-by level per model against the
+    swept input, and one model's rail, sleeper and wheel sound power (colour: the part)."""
+    from wheelrail.core.noise.levels import COMPONENTS
+
+    figure, axes = _axes_grid(len(group), len(_TRACK_PANELS) + 1, height=3.6)
+    figure.set_size_inches(14.0, 3.8 * len(group) + 1.0)
+    for row, table in enumerate(group):
+        x, ticks, x_label = _track_axis(table)
+        models = [m for m in model_names() if f"{m.replace('-', '_')}_LWA_dBA" in table.columns]
+        for ax, (suffix, title, y_label) in zip(axes[row], _TRACK_PANELS, strict=False):
+            for model in models:
+                values = table.columns[f"{model.replace('-', '_')}_{suffix}"]
+                ax.plot(x, values, marker="o", ms=3, lw=1.4, color=model_colour(model, model_names()), label=model)
+            ax.set(ylabel=y_label, title=f"{table.panel}\n{title}")
+        ax = axes[row, -1]
+        split = _PARTS_MODEL if _PARTS_MODEL in models else models[0]
+        for part in COMPONENTS:
+            values = table.columns[f"{split.replace('-', '_')}_{part}_LWA_dBA"]
+            ax.plot(x, values, color=COMPONENT_COLOURS[part], marker="o", ms=3, lw=1.4, label=part)
+        ax.set(ylabel="L_WA (dB(A) re 1 pW)", title=f"{table.panel}\nrail, sleeper and wheel per axle ({split})")
+        for ax in axes[row]:
+            ax.set_xticks(x, ticks)
+            ax.set_xlabel(x_label)
+            ax.grid(True, alpha=0.3)
+            ax.title.set_fontsize(9)
+            ax.legend(fontsize=7)
+    return figure
+
+
+def _draw_track_force(group: list[Table], noise: dict[str, Table]):
+    """The track study's force spectra: per set a row, per model a panel, one curve per track (its values)."""
+    from wheelrail.core.drawing import colour_table
+
+    models = sorted({model_of(c) for t in group for c in t.columns} - {None}, key=list(model_names()).index)
+    figure, axes = _axes_grid(len(group), len(models), height=3.2)
+    figure.set_size_inches(max(3.2 * len(models), 8.0), 3.2 * len(group) + 1.0)
+    for row, table in enumerate(group):
+        labels = track_labels(noise[table.panel]) if table.panel in noise else []
+        for ax, model in zip(axes[row], models, strict=True):
+            columns = [c for c in table.columns if model_of(c) == model]
+            # tracks in order along viridis (dark to green-yellow; its palest end is too faint on white)
+            colours = colour_table()[np.linspace(0, 200, max(len(columns), 2)).astype(int)] / 255.0
+            for k, column in enumerate(columns):
+                label = labels[k] if k < len(labels) else column
+                ax.plot(table.band_centres, table.columns[column], color=colours[k], lw=1.2, label=label)
+            _frequency_axis(ax, table, "L_F (dB re 1 N)", names=("63", "250", "1000", "4000"))
+            ax.set_title(f"{table.panel}: {model}", fontsize=9)
+            ax.legend(fontsize=6)
+    return figure
+
+
+def study_figures(name: str, tables: list[Table], caption: str = "") -> dict[str, object]:
+    """The study's figures (matplotlib Figures, Agg) by file name, each titled with the study and ``caption``
+    (what its runs share: :func:`wheelrail.core.study.runner.study_caption`)."""
+    import textwrap
+
     by_figure: dict[str, list[Table]] = {}
     for table in tables:
         by_figure.setdefault(table.figure, []).append(table)
-    paths = []
+    noise = {t.panel: t for t in by_figure.get("track", [])}
+    figures = {}
     for figure_id, group in by_figure.items():
-        if figure_id.startswith(("noise", "track")):
-            figure = _draw_noise(group, figure_id)
-            figure.suptitle(f"wheelrail study {name}: {_NOISE_TITLES[figure_id]}", fontsize=9)
-            path = folder / f"{figure_id.replace('-', '_')}_{name}.png"
-            atomic_write(path, lambda handle, fig=figure: fig.savefig(handle, format="png", dpi=110))
-            paths.append(path)
-            continue
-        if figure_id == "10":
-            figure = _draw_filters(group)
+        if figure_id == "track":
+            figure, what = _draw_track(group), _NOISE_TITLES[figure_id]
+        elif figure_id == "track-force":
+            figure, what = _draw_track_force(group, noise), _NOISE_TITLES[figure_id]
+        elif figure_id.startswith("noise"):
+            figure, what = _draw_noise(group, figure_id), _NOISE_TITLES[figure_id]
+        elif figure_id == "10":
+            figure, what = _draw_filters(group), f"paper Fig. {figure_id}"
         elif figure_id in ("12", "13", "14", "11"):
-            figure = _draw_per_line(group, figure_id)
+            figure, what = _draw_per_line(group, figure_id), f"paper Fig. {figure_id}"
         else:
-            figure = _draw_per_set(group)
-        figure.suptitle(f"wheelrail study {name}: paper Fig. {figure_id}", fontsize=10)
-        path = folder / f"fig{figure_id}_{name}.png"
+            figure, what = _draw_per_set(group), f"paper Fig. {figure_id}"
+        title = f"wheelrail study {name}: {what}" + (f". {caption}" if caption else "")
+        width = max(60, int(_TITLE_CHARACTERS * figure.get_figwidth() / 14.0))
+        figure.suptitle("\n".join(textwrap.wrap(title, width)), fontsize=9)
+        own = figure_id.startswith(("noise", "track"))  # the project's own figures; the others the paper's
+        stem = f"{figure_id.replace('-', '_')}_{name}" if own else f"fig{figure_id}_{name}"
+        figures[f"{stem}.png"] = figure
+    return figures
+
+
+def plot_study(name: str, tables: list[Table], folder: Path, caption: str = "") -> list[Path]:
+    """Draw the study's figure(s) like the paper's (:func:`study_figures`; Agg backend, PNG) into ``folder``;
+    returns the paths."""
+    paths = []
+    for file_name, figure in study_figures(name, tables, caption).items():
+        path = folder / file_name
         atomic_write(path, lambda handle, fig=figure: fig.savefig(handle, format="png", dpi=110))
         paths.append(path)
     return paths

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -12,13 +12,14 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe
+from wheelrail.core.inputs import caption
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_address
 from wheelrail.core.study.figures import plot_study
 from wheelrail.core.study.plans import StudyPlan, plan_study
 from wheelrail.core.study.tables import Table, write_table
+from wheelrail.core.study.track_plan import swept_inputs, track_description
 
 if TYPE_CHECKING:  # the roughness package is imported when a set is read
     from wheelrail.core.roughness import RoughnessLike
@@ -163,13 +164,24 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
     tables = plan.tabulate(report.summaries)
     files = [write_table(table, folder) for table in tables]
     if figures:
-        files += plot_study(name, tables, folder)
+        files += plot_study(name, tables, folder, caption=study_caption(name, plan))
     summary = _summary_document(name, plan, report, tables, folder=folder, files=files)
     summary_path = folder / f"{name}_summary.json"
     atomic_write(summary_path, lambda handle: handle.write(strict_json(summary, indent=2)), mode="w")
     files.append(summary_path)
     summary["files"].append(str(summary_path))
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
+
+
+def study_caption(name: str, plan: StudyPlan) -> str:
+    """What every run of a study shares, as its figures name it (core's :func:`~wheelrail.core.inputs.caption`):
+    the speed unless the study sweeps it, the preload, the contact geometry and the track (the track study: what
+    its tracks share) and the wheel set added to every set."""
+    swept = [entry.key for entry in swept_inputs(plan.tracks)] if len(plan.tracks) > 1 else []
+    if name in ("speeds", "noise"):  # their figures put the speed on an axis or a curve per speed
+        swept.append("speed")
+    words = caption(plan.params, leave_out=tuple(swept))
+    return words if plan.wheel_set is None else f"{words}; wheel set {plan.wheel_set.label}"
 
 
 def _summary_document(
@@ -194,8 +206,7 @@ def _summary_document(
         "speed_kmh": speed / KMH,
         "length_m": {info.label: info.length for info in plan.sets},
         "contact": as_dict(plan.contact),
-        **describe(plan.params, "track"),  # the track of every run (the track study: its first), SI
-        "tracks": [describe(replace(plan.params, track=track), "track")["track"] for track in plan.tracks],
+        **track_description(plan.params, plan.tracks),  # what the tracks share, and each one's swept values
         "runs": len({spec.key for spec in plan.specs}),
         "runs_computed": report.computed,
         "runs_cached": report.cached,

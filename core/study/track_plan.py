@@ -23,7 +23,7 @@ from wheelrail.core.inputs import inputs_of
 from wheelrail.core.study.noise_plan import noise_models
 from wheelrail.core.study.tables import Table
 
-__all__ = ["plan_track", "swept_inputs"]
+__all__ = ["plan_track", "swept_inputs", "track_description"]
 
 
 def swept_inputs(tracks) -> list:
@@ -32,6 +32,26 @@ def swept_inputs(tracks) -> list:
     if len(tracks) == 1:
         return list(entries)
     return [entry for entry in entries if len({_value(track, entry) for track in tracks}) > 1]
+
+
+def track_description(params, tracks) -> dict:
+    """The tracks of a study as its JSON summary records them (SI, :func:`wheelrail.core.inputs.describe`'s keys).
+
+    Returns
+    -------
+    dict
+        ``track``: the inputs every track shares (one track: all of them); ``tracks``: per track, its own values of
+        the inputs that differ between the tracks (one track: all of them); ``swept_track_inputs``: their keys.
+    """
+    from wheelrail.core.inputs import describe
+
+    each = [describe(replace(params, track=track), "track")["track"] for track in tracks or (params.track,)]
+    swept = [entry.key for entry in swept_inputs(tracks)] if len(each) > 1 else []
+    return {
+        "track": {key: value for key, value in each[0].items() if key not in swept},
+        "tracks": [{key: values[key] for key in swept} if swept else values for values in each],
+        "swept_track_inputs": swept,
+    }
 
 
 def _value(track, entry) -> float:

@@ -55,7 +55,11 @@ def test_filters_null_where_undefined(cli):
 
 
 @pytest.mark.slow
-def test_filters_table_csv_and_plot(cli, tmp_path):
+def test_filters_table_csv_and_plot(cli, tmp_path, monkeypatch):
+    from wheelrail.cli.commands import filters
+
+    made, original = [], filters.filters_figure
+    monkeypatch.setattr(filters, "filters_figure", lambda result: made.append(original(result)) or made[-1])
     table, figure = tmp_path / "f.csv", tmp_path / "f.png"
     code, out, err = cli("filters", "--speed-kmh", "140", "--csv", str(table), "--plot", str(figure))
     assert code == 0 and err == "" and "at 140 km/h" in out and "patch-incoherent" in out
@@ -65,6 +69,10 @@ def test_filters_table_csv_and_plot(cli, tmp_path):
     assert rows[-1]["cnossos_db"] != "" and rows[34]["cnossos_db"] == ""  # 0.8 mm undefined after scaling
     assert figure.stat().st_size > 10_000
     assert not list(tmp_path.glob(".*"))  # atomic writes leave no temporary file
+    # the figure names its configuration in core's words (the radii in use and the Hertz patch at the preload)
+    title = made[0].axes[0].get_title().replace("\n", " ")
+    assert title.startswith("Reference contact filters at 140 km/h: wheel radius 390 mm (the paper's R)")
+    assert title.endswith("Hertz patch at 65 kN a = 5.48 mm along, b = 5.48 mm across")
 
 
 @pytest.mark.parametrize(

@@ -167,3 +167,17 @@ def test_the_page_says_that_it_is_one_shared_session():
 
     text = help_text()
     assert "**One shared session**: every browser tab open on this explorer shows the same form and the same" in text
+
+
+def test_a_plots_title_names_the_track_in_cores_words():
+    """The plots' titles (``RunConfig.title_label``): the case, then the paper's track or the track inputs that
+    differ from it, each once (core's ``describe_track``)."""
+    from wheelrail.explorer.config import RunConfig
+
+    paper = RunConfig("corrugated-rail", 0, "hertz", 0.6)
+    assert paper.title_label() == "corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m; the paper's track"
+    soft = RunConfig("corrugated-rail", 0, "hertz", 0.6, inputs=(("wheel_radius", 0.46), ("pad_stiffness", 60e6)))
+    assert soft.title_label() == (
+        "corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m, wheel radius 460 mm; the track with pad stiffness 60 MN/m "
+        "(else the paper's)"
+    )

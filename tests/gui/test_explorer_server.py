@@ -151,7 +151,7 @@ def test_controls_define_the_run(app, finish_run):
     # the force plot holds this run and is titled with its configuration
     plot = app.tab(PatchTab).force.handle
     assert np.allclose(plot.data[1], result.force / 1e3)
-    assert plot.title == "Contact force: cast-iron-wheel, line 2, 80 km/h, 50 kN, 1 m"
+    assert plot.title == "Contact force: cast-iron-wheel, line 2, 80 km/h, 50 kN, 1 m; the paper's track"
     centres, levels = force_spectrum(result)
     assert np.array_equal(app.store.spectra(app.shown.case())["2d"][1], levels, equal_nan=True)
 
@@ -178,10 +178,10 @@ def test_stale_contact_filters_disappear_when_the_configuration_changes(app, fin
     assert labels[:4] == ["3d - hertz", "2d - hertz", "hertz-winkler - hertz", "hertz-average - hertz"]
     assert labels[4:] == ["cnossos", "averaging", "patch-correlated", "patch-incoherent"]  # dotted references
     assert [style for _, _, style in app.tab(SpectraTab).filters.series] == ["solid"] * 4 + ["dotted"] * 4
-    assert app.tab(SpectraTab).filters.handle.title.endswith("line 0, 100 km/h, 65 kN, 0.8 m")
+    assert app.tab(SpectraTab).filters.handle.title.endswith("line 0, 100 km/h, 65 kN, 0.8 m; the paper's track")
     app.form.fields["speed"].value = "80"
     assert [label for label, _, _ in app.tab(SpectraTab).filters.series] == labels[4:]  # the old filters are gone
-    assert app.tab(SpectraTab).filters.handle.title.endswith("line 0, 80 km/h, 65 kN, 0.8 m")
+    assert app.tab(SpectraTab).filters.handle.title.endswith("line 0, 80 km/h, 65 kN, 0.8 m; the paper's track")
     assert app.tab(SpectraTab).csv_button.disabled and app.tab(PatchTab).rrd_button.disabled
     with pytest.raises(WheelrailError, match="no force spectrum yet for corrugated-rail, line 0, 80 km/h"):
         app.downloads.spectra_csv()
@@ -377,13 +377,13 @@ def test_a_run_with_a_wheel_set_names_both_sets(app, finish_run):
     assert app.page.status_md.content.startswith("Done: hertz on corrugated-rail + sinter-wheel-1, line 0")
     assert (
         app.tab(PatchTab).force.handle.title == "Contact force: corrugated-rail + sinter-wheel-1, line 0, 100 km/h, "
-        "65 kN, 0.6 m, wheel radius 461.5 mm"
+        "65 kN, 0.6 m, wheel radius 461.5 mm; the paper's track"
     )
     # the rail alone is another case: its plots do not show the combined run
     app.form.wheel_set_dropdown.value = "none"
     assert "hertz" not in app.store.entries(app.shown.case())
     assert app.tab(PatchTab).force.handle.title == (
-        "Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m, wheel radius 461.5 mm"
+        "Contact force: corrugated-rail, line 0, 100 km/h, 65 kN, 0.6 m, wheel radius 461.5 mm; the paper's track"
     )
 
 
@@ -417,7 +417,9 @@ def test_changing_the_geometry_hides_the_old_results(app, finish_run):
     assert (
         app.tab(PatchTab).rrd_button.disabled and app.tab(SpectraTab).csv_button.disabled and app.replay.entry is None
     )
-    assert app.tab(PatchTab).force.handle.title.endswith("0.6 m, wheel radius 460 mm, rail crown radius 300 mm")
+    assert app.tab(PatchTab).force.handle.title.endswith(
+        "0.6 m, wheel radius 460 mm, rail crown radius 300 mm; the paper's track"
+    )
     # the nominal Hertz outline is the ellipse of this geometry (semi-axes a along, b across; 1 scene unit 10 mm)
     contact = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.3)
     a, b = contact.hertz_semi_axes()
@@ -523,8 +525,20 @@ def test_the_track_tab_draws_receptance_and_decay_against_the_limit(app):
     assert 40 < receptance[0][0] < 70 and receptance[0][-1] > 4000  # Hz: the bands 50 Hz-5 kHz
     assert np.all(receptance[1] < -150) and np.all(receptance[1] > -220)  # dB re 1 m/N: 1e-11 to 1e-7.5 m/N
     # the paper's track is below the limit at 400-800 Hz (2.3-3.7 dB/m against 6; tests/physics/test_track_decay.py)
-    assert tab.decay.handle.title == "Vertical decay rate: is below the EN ISO 3095 limit"
+    # and at 2.5 kHz
+    assert tab.decay.handle.title == (
+        "Vertical decay rate of the paper's track is below EN ISO 3095:2013's lower limit at 400, 500, 630, 800 "
+        "and 2500 Hz"
+    )
     decay, limit = tab.decay.data[1], tab.decay.data[2]
     f = tab.decay.data[0]
     at_500 = int(np.argmin(np.abs(f - 500)))
     assert decay[at_500] < limit[at_500] == 6.0
+    # each plot and its PNG name the track: the paper's, or the inputs that differ from it
+    assert tab.receptance.handle.title == "Point receptance of the paper's track"
+    app.form.fields["pad_stiffness"].value = "60"
+    tab._compute(app.shown.params().track)
+    words = "the track with pad stiffness 60 MN/m (else the paper's)"
+    assert tab.receptance.handle.title == f"Point receptance of {words}"
+    assert tab.decay.handle.title.startswith(f"Vertical decay rate of {words} ")
+    assert tab.receptance.figure().axes[0].get_title().replace("\n", " ") == f"Point receptance of {words}"

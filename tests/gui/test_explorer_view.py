@@ -11,6 +11,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from wheelrail.core import palette
 from wheelrail.core.drawing import colour_table, table_colours
 from wheelrail.core.models import model_names
 from wheelrail.core.parameters import ContactParameters
@@ -140,6 +141,12 @@ def test_a_compare_replays_and_downloads_the_model_chosen(app, finish_run):
     assert app.scene.strip.visible and not app.scene.heatmap.visible  # a one-line model's strip
     name, _ = app.downloads.rrd()
     assert name == "wheelrail-2d-corrugated-rail-line0-100kmh-65kN-0.6m.rrd"
+    # the Noise tab draws the shown model's parts and every model's total solid, each in its own colour of core's
+    # palette (their distances under colour-vision deficiency: tests/unit/test_palette.py), the totals last
+    solid = [(label, colour) for label, colour, style in app.tab(NoiseTab).power.series if style == "solid"]
+    expected = [(f"2d: {part}", palette.COMPONENT_COLOURS[part]) for part in palette.COMPONENT_COLOURS]
+    expected += [(f"{m}: total", palette.model_colour(m, model_names())) for m in models]
+    assert solid == expected and len({colour for _, colour in solid}) == len(solid)
 
 
 def test_the_raised_surface_is_drawn_before_it_is_shown(app, finish_run):

@@ -185,8 +185,9 @@ def test_the_wheel_fields_read_as_the_named_wheel_at_the_runs_radius_with_the_di
 def test_the_wheels_sound_power_per_band_is_the_noise_chains(app):
     tab = _shown(app)
     assert tab.points_per_band == POINTS_PER_BAND
-    assert [label for label, *_ in tab.power.series] == ["total", "axial surfaces", "radial surfaces"]
-    f, total, axial, radial = tab.power.data
+    # the total last: drawn over its parts, never hidden under the one that carries it
+    assert [label for label, *_ in tab.power.series] == ["axial surfaces", "radial surfaces", "total"]
+    f, axial, radial, total = tab.power.data
     assert f[0] == pytest.approx(50.1, abs=0.1) and f[-1] == pytest.approx(10e3) and len(f) == 24
     profile = wheel_profile_for(0.39)
     bands = band_frequencies(POINTS_PER_BAND)
@@ -218,14 +219,18 @@ def test_the_wheel_tab_in_the_page_shows_its_plots(app, browser):
         page.goto(f"http://127.0.0.1:{app.port}")
         page.get_by_role("tab", name=WheelTab.title).click()
         page.wait_for_function(f"() => ({PLOTS_IN_PAGE})().length >= 3", timeout=90_000)
-        plots = {plot["title"]: plot for plot in page.evaluate(PLOTS_IN_PAGE)}
+        plots = {plot["title"].split(":")[0]: plot for plot in page.evaluate(PLOTS_IN_PAGE)}
         assert plots["Natural frequencies by family and n"]["labels"][:2] == ["axial 1st", "axial 2nd"]
         assert plots["Receptance at the contact"]["labels"] == [label for label, *_ in tab.receptance.series]
         assert plots["Sound power of one wheel for 1 N radial force at the contact"]["labels"] == [
-            "total",
             "axial surfaces",
             "radial surfaces",
+            "total",
         ]
+        # each names the wheel (core's describe_wheel), the receptance the track too
+        wheel = "wheel wheel_840, diameter 780 mm"
+        assert all(plot["title"].split(": ", 1)[1].startswith(wheel) for plot in plots.values())
+        assert plots["Receptance at the contact"]["title"].endswith(f"{wheel}; the paper's track")
         assert min(plot["width"] for plot in plots.values()) >= 480  # px: the results panel's plots
         assert not errors, errors
     finally:
