@@ -12,21 +12,27 @@ Options carry their unit (km/h, kN, mm); everything inside is SI.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from wheelrail.cli.commands._common import (
+    Files,
+    Output,
     accepted_help,
     add_choice_option,
     add_input_options,
     params_from_args,
     print_json,
     speed_from_kmh,
-    writable_output,
 )
 from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_words, inputs_of
 from wheelrail.core.spectra import nominal_band_label
+
+FILES = Files(reads=("run",), writes=(Output("wav", "--wav", ".wav"), Output("csv", "--csv", ".csv")))
+"""The run read and the files written (checked by the dispatcher: ``_common.check_files``)."""
 
 METHODS = ("cnossos", "twins")
 _TRACK_HELP = {  # the track and contact-geometry options name the method that uses them
@@ -284,8 +290,8 @@ def _run_file(args) -> int:
     from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
     from wheelrail.core.results import RunResult
 
-    wav_path = None if args.wav is None else writable_output(args.wav, "--wav", ".wav", inputs=[args.run])
-    csv_path = None if args.csv is None else writable_output(args.csv, "--csv", ".csv", inputs=[args.run])
+    wav_path = None if args.wav is None else Path(args.wav)  # checked by the dispatcher: FILES
+    csv_path = None if args.csv is None else Path(args.csv)
     if args.speed_kmh is not None:
         raise WheelrailError("--speed-kmh does not apply with --run: the run's own speed is used")
     result = RunResult.load_npz(args.run)

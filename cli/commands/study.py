@@ -6,10 +6,19 @@ import math
 import sys
 from dataclasses import replace
 
-from wheelrail.cli.commands._common import RUN_INPUT_GROUPS, add_input_options, params_from_args, print_json
+from wheelrail.cli.commands._common import (
+    RUN_INPUT_GROUPS,
+    Files,
+    add_input_options,
+    params_from_args,
+    print_json,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe_contact, describe_words
 from wheelrail.core.study import STUDIES
+
+FILES = Files(reads=("sets", "wheel_set"))
+"""The roughness sets read (the outputs go into the folder --out)."""
 
 
 def add_parser(sub):
