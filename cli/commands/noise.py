@@ -297,15 +297,22 @@ def _run_file(args) -> int:
     result = RunResult.load_npz(args.run)
     axles = DEFAULT_TRAIN_AXLES if args.train_axles is None else args.train_axles
     length = DEFAULT_TRAIN_LENGTH if args.train_length_m is None else args.train_length_m
+    if wav_path is not None:  # before any work: a WAV's length is bounded (core.noise.wav.MAX_WAV_S)
+        from wheelrail.core.noise.wav import check_wav_duration
+
+        duration = check_wav_duration(length, result.speed, 1.0, WAV_RATE)
     noise = run_noise(result, train_axles=axles, train_length=length, wheel_model=args.wheel_model)
     summary = noise.to_dict()
     if wav_path is not None:
-        data, full_scale = noise.wav_bytes()
-        atomic_write(wav_path, lambda handle: handle.write(data))
+        written = {}
+        atomic_write(wav_path, lambda handle: written.setdefault("full_scale", noise.write_wav(handle)))
+        full_scale = written["full_scale"]
         summary["wav"] = {
             "path": str(wav_path),
             "full_scale_pa": full_scale,
             "sample_rate_hz": WAV_RATE,
+            "duration_s": duration,
+            "size_bytes": wav_path.stat().st_size,
             "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
         }
     if csv_path is not None:
@@ -341,7 +348,11 @@ def _run_file(args) -> int:
     if csv_path is not None:
         print(f"  wrote {csv_path}")
     if wav_path is not None:
-        print(f"  wrote {wav_path} (full scale = {summary['wav']['full_scale_pa']:.3g} Pa)")
+        wav = summary["wav"]
+        print(
+            f"  wrote {wav_path} ({wav['duration_s']:.1f} s, {wav['size_bytes'] / 1e6:.1f} MB; full scale = "
+            f"{wav['full_scale_pa']:.3g} Pa)"
+        )
     return 0
 
 
