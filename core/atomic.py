@@ -61,6 +61,29 @@ def temporary_beside(path: str | os.PathLike) -> Path:
     raise FileExistsError(f"no free temporary name beside {path}")
 
 
+def same_file(a: str | os.PathLike, b: str | os.PathLike) -> bool:
+    """Whether paths ``a`` and ``b`` name the same file, however spelled (relative, ``..``, symbolic or hard
+    links): the same device and inode when both exist, else the same resolved path."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist (yet): compare where they would be
+        return Path(a).resolve() == Path(b).resolve()
+
+
+def refuse_inputs(outputs, inputs) -> None:
+    """One WheelrailError if any of ``outputs`` is one of ``inputs`` (:func:`same_file`): writing it would
+    destroy the input. Inputs that are not existing files (a bundled set's name, a roughness object) are
+    skipped."""
+    sources = [Path(item) for item in inputs if isinstance(item, str | os.PathLike) and Path(item).is_file()]
+    for output in outputs:
+        for source in sources:
+            if same_file(output, source):
+                raise WheelrailError(
+                    f"{output} is the input file {source}: writing it would destroy the input; choose another "
+                    "output name or folder"
+                )
+
+
 def _running(pid: int) -> bool:
     """Whether a process ``pid`` runs on this host (one we may not signal runs)."""
     try:

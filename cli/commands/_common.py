@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import os
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 from wheelrail.core.accepted import ACCEPTED, PATCH_FRACTION
+from wheelrail.core.atomic import same_file
 from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.inputs import CHOICES, GROUPS, by_key, choice, cli_names, inputs_of
 
@@ -156,14 +156,6 @@ def params_from_args(args, *groups: str, base=None):
 
     values = {entry.key: getattr(args, entry.dest) * entry.shown.si for entry in given_inputs(args, *groups)}
     return model_parameters(values, base)
-
-
-def same_file(a, b) -> bool:
-    """Whether paths ``a`` and ``b`` name the same file (any spelling: relative, ``..``, symbolic or hard links)."""
-    try:
-        return os.path.samefile(a, b)  # both exist: the same device and inode
-    except OSError:  # one of them does not exist (yet): compare where they would be
-        return Path(a).resolve() == Path(b).resolve()
 
 
 def input_files(*names) -> list[Path]:

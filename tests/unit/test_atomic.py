@@ -135,3 +135,17 @@ def test_the_temporary_of_a_writer_killed_mid_write_is_removed_by_the_next_write
         [".result.npz.0123abcd.tmp", running.name, "result.npz"]
     )
     assert (tmp_path / "result.npz").read_bytes() == b"complete"
+
+
+def test_an_output_that_is_an_input_is_refused_however_spelled(tmp_path, monkeypatch):
+    from wheelrail.core.atomic import refuse_inputs
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "set.csv").write_text("x_m,h\n")
+    os.link(tmp_path / "set.csv", tmp_path / "hard.csv")
+    (tmp_path / "soft.csv").symlink_to(tmp_path / "set.csv")
+    for output in ("set.csv", "sub/../set.csv", tmp_path / "hard.csv", "soft.csv"):
+        with pytest.raises(WheelrailError, match="is the input file set.csv: writing it would destroy the input"):
+            refuse_inputs([output], ["corrugated-rail", "set.csv"])  # a bundled name is no file: skipped
+    refuse_inputs(["other.csv", "sub/set.csv"], ["set.csv", None])
