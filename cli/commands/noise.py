@@ -298,9 +298,12 @@ def _run_file(args) -> int:
     axles = DEFAULT_TRAIN_AXLES if args.train_axles is None else args.train_axles
     length = DEFAULT_TRAIN_LENGTH if args.train_length_m is None else args.train_length_m
     if wav_path is not None:  # before any work: a WAV's length is bounded (core.noise.wav.MAX_WAV_S)
-        from wheelrail.core.noise.wav import check_wav_duration
+        from wheelrail.core.noise.run_noise import checked_train
+        from wheelrail.core.noise.wav import check_wav_duration, check_wav_work
 
+        axles, length = checked_train(axles, length)  # the train's own limits first
         duration = check_wav_duration(length, result.speed, 1.0, WAV_RATE)
+        check_wav_work(axles, length, result.speed, result.time_step, 1.0)
     noise = run_noise(result, train_axles=axles, train_length=length, wheel_model=args.wheel_model)
     summary = noise.to_dict()
     if wav_path is not None:

@@ -9,7 +9,10 @@ first finds the peak and the A-weighted energy over T_p (:func:`a_weighted_energ
 calibration (``RunNoise.calibrated_pass_by``); the second scales each block to 16-bit PCM and writes it.
 
 A WAV lasts at most :data:`MAX_WAV_S` (:func:`check_wav_duration`): a 5 km train at 5 km/h is an hour (346 MB
-at 48 kHz), written in minutes, for a pass-by level that needs no WAV at all.
+at 48 kHz), written in minutes, for a pass-by level that needs no WAV at all. Its synthesis adds one stretch of the
+record per wheel over the whole pass-by at the run's rate, :data:`SYNTHESIS_NS` a sample, so it sums at most
+:data:`MAX_WHEEL_SAMPLES` (:func:`check_wav_work`): 2 000 axles past a 5 km train at 100 km/h were 2e10 samples,
+about 20 minutes without a word.
 """
 
 from __future__ import annotations
@@ -24,11 +27,23 @@ import numpy as np
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise.levels import PRESSURE_REFERENCE, a_weighting
 
-__all__ = ["BLOCK_SAMPLES", "MAX_WAV_S", "a_weighted_energy", "check_wav_duration", "wav_duration", "write_wav"]
+__all__ = [
+    "BLOCK_SAMPLES",
+    "MAX_WAV_S",
+    "MAX_WHEEL_SAMPLES",
+    "SYNTHESIS_NS",
+    "a_weighted_energy",
+    "check_wav_duration",
+    "check_wav_work",
+    "wav_duration",
+    "write_wav",
+]
 
 BLOCK_SAMPLES = 1 << 21  # output samples per block: 44 s at 48 kHz, about 120 MB of working arrays
 MAX_WAV_S = 600.0  # s: the longest pass-by written as a WAV (57.6 MB at 48 kHz, 16 bit)
 _BYTES_PER_SAMPLE = 2  # 16-bit PCM, one channel
+SYNTHESIS_NS = 64.0  # ns per sample per wheel of the synthesis's sum, measured on a 2-core development machine
+MAX_WHEEL_SAMPLES = 2e9  # samples summed over the wheels: about 2 min at SYNTHESIS_NS
 
 
 def wav_duration(train_length: float, speed: float, lead: float) -> float:
@@ -52,6 +67,25 @@ def check_wav_duration(train_length: float, speed: float, lead: float, rate: flo
             unit="m",
         )
     return duration
+
+
+def check_wav_work(axles: int, train_length: float, speed: float, time_step: float, lead: float) -> float:
+    """The samples the pass-by's synthesis sums (two wheels an axle, each over the pass-by at the run's step
+    ``time_step``), or one WheelrailError over :data:`MAX_WHEEL_SAMPLES`, saying the estimated time and the most
+    axles that fit."""
+    samples = wav_duration(train_length, speed, lead) / time_step
+    work = 2 * axles * samples
+    if work > MAX_WHEEL_SAMPLES:
+        most = max(1, math.floor(MAX_WHEEL_SAMPLES / (2 * samples)))
+        raise WheelrailError(
+            f"a WAV of this pass-by sums {2 * axles} wheels' records of {samples / 1e6:.2g} million samples each "
+            f"({work:.2g} samples, about {work * SYNTHESIS_NS * 1e-9 / 60:.0f} min): at most {MAX_WHEEL_SAMPLES:.0e} "
+            f"are summed; give at most {most} axles or a shorter train for the WAV (the pass-by level itself needs "
+            "no WAV)",
+            parameter="train_axles",
+            value=axles,
+        )
+    return work
 
 
 def a_weighted_energy(pressure: np.ndarray, rate: float) -> float:
@@ -116,6 +150,7 @@ def write_wav(noise, handle, *, lead: float = 1.0, seed: int = 0, rate: int = 48
     by block (module docstring); returns its calibration, Pa at full scale (peak at half of full scale)."""
     cfg = noise.configuration
     check_wav_duration(cfg["train_length_m"], cfg["run"]["speed_m_s"], lead, rate)
+    check_wav_work(cfg["train_axles"], cfg["train_length_m"], cfg["run"]["speed_m_s"], noise._time_step, lead)
     pressure, own_rate, (first, last) = noise.pass_by_pressure(lead=lead, seed=seed)
     ratio = Fraction(rate / own_rate).limit_denominator(2000)
     total = -(-len(pressure) * ratio.numerator // ratio.denominator)

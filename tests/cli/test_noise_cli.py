@@ -91,3 +91,19 @@ def test_a_wav_longer_than_the_limit_is_refused_before_any_computation(tmp_path,
         )
     )
     assert not (tmp_path / "p.wav").exists()
+
+
+def test_a_wav_of_too_many_wheels_is_refused_before_any_computation(tmp_path, capsys, monkeypatch):
+    import wheelrail.core.noise.twins as twins
+
+    def not_reached(*args, **kwargs):
+        raise AssertionError("the noise was computed for a WAV that is refused")
+
+    monkeypatch.setattr(twins, "track_noise_model", not_reached)
+    path = _run_file(tmp_path, 2000)
+    argv = ["--run", str(path), "--train-length-m", "5000", "--train-axles", "2000", "--wav", str(tmp_path / "p.wav")]
+    code, out, err = _noise(capsys, *argv)
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert err.startswith("wheelrail noise: error: --train-axles 2000: a WAV of this pass-by sums 4000 wheels'")
+    assert "give at most 197 axles or a shorter train for the WAV" in err
+    assert not (tmp_path / "p.wav").exists()

@@ -117,3 +117,19 @@ def test_a_pass_by_longer_than_a_wav_holds_is_refused_before_any_work():
         "346 MB): at most 600 s are written; give a train of at most 830 m at this speed for the WAV (the pass-by "
         "level itself needs no WAV)"
     )
+
+
+def test_a_pass_by_of_too_many_wheels_to_sum_is_refused_before_any_work():
+    from wheelrail.core.errors import WheelrailError
+
+    noise = dataclasses.replace(
+        _noise(),
+        configuration={"run": {"speed_m_s": SPEED}, "train_axles": 2000, "train_length_m": 5000.0},
+    )  # 182 s within the WAV's limit, but 4 000 wheels over 5 million samples each
+    with pytest.raises(WheelrailError) as caught:
+        noise.wav_bytes()
+    assert str(caught.value) == (
+        "train_axles 2000: a WAV of this pass-by sums 4000 wheels' records of 5.1 million samples each (2e+10 "
+        "samples, about 22 min): at most 2e+09 are summed; give at most 197 axles or a shorter train for the WAV "
+        "(the pass-by level itself needs no WAV)"
+    )
