@@ -135,6 +135,7 @@ def _disk_full_for(suffix, monkeypatch):
     monkeypatch.setattr(results, "atomic_write", write_then_full)
 
 
+@pytest.mark.slow  # a run
 @pytest.mark.parametrize("full", [".csv", ".npz"])
 def test_run_outputs_are_all_or_none_on_a_full_disk(tmp_path, cli, monkeypatch, full):
     monkeypatch.chdir(tmp_path)
@@ -145,6 +146,7 @@ def test_run_outputs_are_all_or_none_on_a_full_disk(tmp_path, cli, monkeypatch, 
     assert list(tmp_path.iterdir()) == []  # neither file, no temporary
 
 
+@pytest.mark.slow  # a run
 def test_run_outputs_with_a_recording_are_all_or_none(tmp_path, cli, monkeypatch):
     monkeypatch.chdir(tmp_path)
     Path("r.rrd").write_text("an earlier recording")
@@ -156,6 +158,7 @@ def test_run_outputs_with_a_recording_are_all_or_none(tmp_path, cli, monkeypatch
     assert Path("r.rrd").read_text() == "an earlier recording"  # not replaced by this run's
 
 
+@pytest.mark.slow  # a run
 def test_a_recording_that_meets_a_full_disk_blames_the_disk_and_leaves_nothing(tmp_path, cli, monkeypatch):
     # rerun's file writer stops on a full disk and its flush says so; here the partial file is then the full
     # device (/dev/full), where the check of why it stopped meets ENOSPC as the writer did
