@@ -3,7 +3,9 @@
 Each sub-command lives in its own module that defines ``add_parser(subparsers)`` and ``run(args) -> int``; the
 commands on core are under ``wheelrail.cli.commands``, and the ``wheelrail`` console script (``wheelrail.cli``)
 adds the explorer's ``explore`` command to them, so that core never imports a front end. This module only
-dispatches. Every error ends as one line on stderr and a non-zero exit code, a :class:`WheelrailError` worded with
+dispatches, after one check common to all commands: the files a command's module declares (``FILES``, a
+``commands._common.Files``) are checked with ``commands._common.check_files`` before it runs. Every error ends
+as one line on stderr and a non-zero exit code, a :class:`WheelrailError` worded with
 the command line's own names for its inputs (``commands._common.CLI_NAMES``: option, unit), a warning as one line
 too; set ``WHEELRAIL_DEBUG=1`` to see the traceback of an unexpected failure.
 """
@@ -69,7 +71,7 @@ def build_parser(
         if command in (name, "*"):
             module = importlib.import_module(module_name)
             command_parser = module.add_parser(sub)
-            command_parser.set_defaults(_run=module.run)
+            command_parser.set_defaults(_run=module.run, _files=getattr(module, "FILES", None))
         else:
             sub.add_parser(name, help=help_text, add_help=False)
     return parser
@@ -107,6 +109,10 @@ def main(argv: list[str] | None = None, *, extra: dict[str, tuple[str, str]] | N
                 fast_start()  # before numba's first load (wheelrail.core.startup)
             parser = build_parser(command if command in _commands(extra) else None, extra)
             args = parser.parse_args(argv)
+            if args._files is not None:  # every command's outputs: none is an input, no two the same file
+                from wheelrail.cli.commands._common import check_files
+
+                check_files(args, args._files)
             return int(args._run(args) or 0)
     except WheelrailError as error:
         from wheelrail.cli.commands._common import cli_error_names  # not at import: `--help` loads no command

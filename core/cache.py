@@ -21,7 +21,10 @@ Bounded: after each write the least recently used entries (by modification time,
 refreshes) are removed until the folder's entries take at most ``WHEELRAIL_CACHE_MAX_GB`` (default
 ``DEFAULT_MAX_GB``); the entry just written is never removed. ``wheelrail cache`` lists and clears them.
 
-Only files the cache wrote are ever removed: entries named ``KIND-KEY.npz`` and temporaries named
+Only files the cache wrote are ever removed, known by more than their name: an entry is a file named
+``KIND-KEY.npz`` that is a NumPy archive holding the key its name begins (``cache_key``) and a digest
+(``cache_digest``), checked before it is listed, evicted or cleared (:func:`written_by_the_cache`); a file
+named like one but holding anything else (a user's copy, notes) is no entry and is left alone. Temporaries named
 ``.wheelrail-NAME.XXXXXXXX.HOST-PID.tmp`` (a write killed half-way, kill -9 during a Green's-function
 build, leaves one of up to 210 MB). A temporary is removed when the process of this host that wrote it no
 longer runs, or when it is older than ``STALE_TEMPORARY_S`` (other hosts sharing the folder, reused
@@ -35,7 +38,6 @@ import json
 import math
 import os
 import re
-import socket
 import time
 import warnings
 from dataclasses import dataclass
@@ -43,13 +45,12 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import publish, temporary_beside
+from wheelrail.core.atomic import publish, temporary_beside, writer
 from wheelrail.core.errors import WheelrailError
 
 FORMAT_VERSION = 1
 STALE_TEMPORARY_S = 3600.0  # s: a temporary file of ours this old is a leftover whoever wrote it
 DEFAULT_MAX_GB = 4.0  # GB (1e9 bytes): about 19 track entries of 208 MB
-TEMPORARY_PREFIX = ".wheelrail-"
 _ENTRY_NAME = re.compile(r"^(?P<kind>[a-z0-9]+(?:-[a-z0-9]+)*)-(?P<key>[0-9a-f]{24})\.npz$")
 # ours: TEMPORARY_PREFIX + entry name + token + writer (earlier versions wrote the same without the prefix)
 _TEMPORARY_NAME = re.compile(
@@ -184,7 +185,7 @@ def save_entry(kind: str, key: str, arrays: dict[str, np.ndarray], *, info: dict
     path = folder / f"{kind}-{key[:24]}.npz"
     try:
         remove_stale_temporaries(folder)
-        temporary = temporary_beside(path, suffix=f".{_writer()}.tmp", prefix=TEMPORARY_PREFIX)
+        temporary = temporary_beside(path)  # .wheelrail-NAME.XXXXXXXX.HOST-PID.tmp
         try:
             with open(temporary, "wb") as handle:
                 stored = {**arrays, "cache_key": np.array(key), "cache_meta": np.array(_meta(kind, key, info))}
@@ -238,15 +239,28 @@ class Entry:
     meta: dict | None
 
 
+def written_by_the_cache(path: Path, key: str) -> bool:
+    """Whether ``path`` is an entry the cache wrote: a NumPy archive holding a digest and a stored key that
+    begins with ``key`` (the 24 hex digits of its name). Reads the archive's directory and its key, a few kB."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if not isinstance(data, np.lib.npyio.NpzFile) or not {"cache_key", "cache_digest"} <= set(data.files):
+                return False
+            return str(data["cache_key"]).startswith(key)
+    except Exception:  # noqa: BLE001 - whatever else it is, it is not an entry we can vouch for
+        return False
+
+
 def entries(folder: Path | None = None, *, describe: bool = False) -> list[Entry]:
-    """The cache's entries (files named as this module names them), least recently used first.
+    """The cache's entries (files named as this module names them and holding their key:
+    :func:`written_by_the_cache`), least recently used first.
 
     ``describe``: read each entry's stored description (a few kB from its ZIP; None for an old entry)."""
     folder = cache_dir() if folder is None else Path(folder)
     found = []
     for path in folder.iterdir() if folder.is_dir() else ():
         match = _ENTRY_NAME.match(path.name)
-        if match is None:
+        if match is None or not written_by_the_cache(path, match["key"]):
             continue
         try:
             stat = path.stat()
@@ -302,12 +316,6 @@ def clear(kind: str | None = None) -> list[Path]:
     return removed
 
 
-def _writer() -> str:
-    """HOST-PID of this process, as written into its temporary files' names."""
-    host = re.sub(r"[^A-Za-z0-9_-]", "_", socket.gethostname()) or "host"
-    return f"{host}-{os.getpid()}"
-
-
 def _alive(pid: int) -> bool:
     try:
         os.kill(pid, 0)
@@ -326,7 +334,7 @@ def remove_stale_temporaries(folder: Path, now: float | None = None) -> list[Pat
     ``STALE_TEMPORARY_S``.
     """
     now = time.time() if now is None else now
-    host = _writer().rsplit("-", 1)[0]
+    host = writer().rsplit("-", 1)[0]
     removed = []
     for temporary in Path(folder).glob(".*.tmp"):
         match = _TEMPORARY_NAME.match(temporary.name)

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
-import os
 import sys
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 from wheelrail.core.accepted import ACCEPTED, PATCH_FRACTION
+from wheelrail.core.atomic import same_file
 from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.inputs import CHOICES, GROUPS, by_key, choice, cli_names, inputs_of
 
@@ -156,17 +158,78 @@ def params_from_args(args, *groups: str, base=None):
     return model_parameters(values, base)
 
 
-def same_file(a, b) -> bool:
-    """Whether paths ``a`` and ``b`` name the same file (any spelling, links followed)."""
-    try:
-        return os.path.samefile(a, b)
-    except OSError:  # one of them does not exist (yet): compare where they would be
-        return Path(a).resolve() == Path(b).resolve()
-
-
 def input_files(*names) -> list[Path]:
-    """The arguments that name existing files (a roughness set may also be a bundled name)."""
-    return [Path(name) for name in names if name is not None and Path(name).is_file()]
+    """The arguments that name existing files (a roughness set may also be a bundled name; a list of them, as
+    ``study --set`` repeated gives, counts each)."""
+    flat = [name for given in names for name in (given if isinstance(given, list | tuple) else [given])]
+    return [Path(name) for name in flat if name is not None and Path(name).is_file()]
+
+
+@dataclass(frozen=True)
+class Output:
+    """An option naming a file a command writes.
+
+    Attributes
+    ----------
+    dest : str
+        The option's attribute in the parsed namespace (``csv``).
+    option : str
+        The option as typed (``--csv``).
+    suffix : str, optional
+        The ending its name must have (``.png``); None: any.
+    beside : callable, optional
+        ``beside(path)`` -> the files the command writes next to it under names derived from it (``wheel --csv
+        r.csv`` also writes ``r_modes.csv``).
+    """
+
+    dest: str
+    option: str
+    suffix: str | None = None
+    beside: Callable[[Path], tuple[Path, ...]] | None = None
+
+
+@dataclass(frozen=True)
+class Files:
+    """The files a command reads (``reads``: namespace attributes naming input files, or bundled names, or lists
+    of them) and writes (``writes``). A command module declares them as ``FILES``; the dispatcher checks them
+    with :func:`check_files` before the command runs."""
+
+    reads: tuple[str, ...] = ()
+    writes: tuple[Output, ...] = ()
+
+
+def check_files(args, files: Files) -> dict[str, Path]:
+    """Check, before any work, every output a command was asked for against its inputs and each other.
+
+    Each output (and each file it writes beside it) must be writable (:func:`writable_output`), must not be any
+    input however either is spelled (:func:`same_file`: relative paths, ``..``, symbolic and hard links), and
+    no two outputs may be the same file. Returns option dest -> its path, for the outputs given; else one
+    WheelrailError naming the options and files.
+    """
+    inputs = input_files(*(getattr(args, dest, None) for dest in files.reads))
+    targets: list[tuple[Path, str]] = []  # (file, how the command came to write it), in option order
+    chosen = {}
+    for output in files.writes:
+        given = getattr(args, output.dest, None)
+        if given is None:
+            continue
+        path = chosen[output.dest] = Path(given)
+        targets.append((path, f"{output.option} {given}"))
+        for derived in output.beside(path) if output.beside is not None else ():
+            targets.append((derived, f"{derived} (written beside {output.option} {given})"))
+    for number, (path, what) in enumerate(targets):
+        for source in inputs:
+            if same_file(path, source):
+                raise WheelrailError(
+                    f"{what} is the input file {source}: writing it would destroy the input; choose another output name"
+                )
+        for other, other_what in targets[:number]:
+            if same_file(path, other):
+                raise WheelrailError(f"{other_what} and {what} name the same file; give each output its own name")
+    for output in files.writes:  # an input named first: the worse mistake than a wrong ending or folder
+        if output.dest in chosen:
+            writable_output(getattr(args, output.dest), output.option, output.suffix)
+    return chosen
 
 
 def writable_output(path: str, option: str, suffix: str | None = None, inputs=()) -> Path:
@@ -196,7 +259,7 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
                 "input; choose another output name"
             )
     try:
-        temporary_beside(target).unlink()
+        temporary_beside(target).unlink()  # its name says it is ours, should a kill -9 fall in between
     except OSError as error:
         raise WheelrailError(f"{option} {path}: cannot write in folder {folder} ({error.strerror})") from None
     return target

@@ -8,21 +8,26 @@ levels in dB, null where a filter is undefined.
 from __future__ import annotations
 
 import csv
+from pathlib import Path
 
 import numpy as np
 
 from wheelrail.cli.commands._common import (
+    Files,
+    Output,
     add_input_options,
     given_inputs,
     print_json,
     speed_from_kmh,
-    writable_output,
 )
 from wheelrail.core.atomic import all_or_none, atomic_write
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_contact
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
+
+FILES = Files(writes=(Output("csv", "--csv", ".csv"), Output("plot", "--plot", ".png")))
+"""The files written (checked by the dispatcher: ``_common.check_files``)."""
 
 
 def add_parser(sub):
@@ -87,10 +92,7 @@ def _write_csv(result: dict, path) -> None:
             for i, (centre, label) in enumerate(zip(centres, labels, strict=True)):
                 writer.writerow([axis, label, f"{centre:.6g}", unit, *(_cell(levels[n][i]) for n in REFERENCE_FILTERS)])
 
-    try:
-        atomic_write(path, write, mode="w", newline="", encoding="utf-8")
-    except OSError as error:
-        raise WheelrailError(f"--csv {path}: cannot write the table ({error})") from None
+    atomic_write(path, write, mode="w", newline="", encoding="utf-8")  # a failure names the file and why
 
 
 def filters_figure(result: dict):
@@ -126,9 +128,11 @@ def _plot(result: dict, path) -> None:
         fig.savefig(handle, format="png", dpi=100)
 
     try:
-        atomic_write(path, write)
-    except (OSError, ValueError) as error:
-        raise WheelrailError(f"--plot {path}: cannot write the figure ({error})") from None
+        atomic_write(path, write)  # a disk's failure names the file and why
+    except WheelrailError:
+        raise
+    except ValueError as error:
+        raise WheelrailError(f"--plot {path}: cannot draw the figure ({error})") from None
 
 
 def _print_table(result: dict) -> None:
@@ -151,8 +155,8 @@ def run(args) -> int:
     load = args.preload_kn * 1e3
     geometry = {entry.key: getattr(args, entry.dest) * entry.shown.si for entry in given_inputs(args, "geometry")}
     contact = ContactParameters(preload=load, **geometry)  # checked before any file is touched, as a run has it
-    csv_path = writable_output(args.csv, "--csv", ".csv") if args.csv is not None else None
-    plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
+    csv_path = Path(args.csv) if args.csv is not None else None  # checked by the dispatcher: FILES
+    plot_path = Path(args.plot) if args.plot is not None else None
     result = summary(contact, speed)
     with all_or_none():  # the table and the figure appear together or not at all
         if csv_path is not None:

@@ -12,21 +12,27 @@ Options carry their unit (km/h, kN, mm); everything inside is SI.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from wheelrail.cli.commands._common import (
+    Files,
+    Output,
     accepted_help,
     add_choice_option,
     add_input_options,
     params_from_args,
     print_json,
     speed_from_kmh,
-    writable_output,
 )
 from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_track, describe_words, inputs_of
 from wheelrail.core.spectra import nominal_band_label
+
+FILES = Files(reads=("run",), writes=(Output("wav", "--wav", ".wav"), Output("csv", "--csv", ".csv")))
+"""The run read and the files written (checked by the dispatcher: ``_common.check_files``)."""
 
 METHODS = ("cnossos", "twins")
 _TRACK_HELP = {  # the track and contact-geometry options name the method that uses them
@@ -284,22 +290,32 @@ def _run_file(args) -> int:
     from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
     from wheelrail.core.results import RunResult
 
-    wav_path = None if args.wav is None else writable_output(args.wav, "--wav", ".wav", inputs=[args.run])
-    csv_path = None if args.csv is None else writable_output(args.csv, "--csv", ".csv", inputs=[args.run])
+    wav_path = None if args.wav is None else Path(args.wav)  # checked by the dispatcher: FILES
+    csv_path = None if args.csv is None else Path(args.csv)
     if args.speed_kmh is not None:
         raise WheelrailError("--speed-kmh does not apply with --run: the run's own speed is used")
     result = RunResult.load_npz(args.run)
     axles = DEFAULT_TRAIN_AXLES if args.train_axles is None else args.train_axles
     length = DEFAULT_TRAIN_LENGTH if args.train_length_m is None else args.train_length_m
+    if wav_path is not None:  # before any work: a WAV's length is bounded (core.noise.wav.MAX_WAV_S)
+        from wheelrail.core.noise.run_noise import checked_train
+        from wheelrail.core.noise.wav import check_wav_duration, check_wav_work
+
+        axles, length = checked_train(axles, length)  # the train's own limits first
+        duration = check_wav_duration(length, result.speed, 1.0, WAV_RATE)
+        check_wav_work(axles, length, result.speed, result.time_step, 1.0)
     noise = run_noise(result, train_axles=axles, train_length=length, wheel_model=args.wheel_model)
     summary = noise.to_dict()
     if wav_path is not None:
-        data, full_scale = noise.wav_bytes()
-        atomic_write(wav_path, lambda handle: handle.write(data))
+        written = {}
+        atomic_write(wav_path, lambda handle: written.setdefault("full_scale", noise.write_wav(handle)))
+        full_scale = written["full_scale"]
         summary["wav"] = {
             "path": str(wav_path),
             "full_scale_pa": full_scale,
             "sample_rate_hz": WAV_RATE,
+            "duration_s": duration,
+            "size_bytes": wav_path.stat().st_size,
             "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
         }
     if csv_path is not None:
@@ -336,7 +352,11 @@ def _run_file(args) -> int:
     if csv_path is not None:
         print(f"  wrote {csv_path}")
     if wav_path is not None:
-        print(f"  wrote {wav_path} (full scale = {summary['wav']['full_scale_pa']:.3g} Pa)")
+        wav = summary["wav"]
+        print(
+            f"  wrote {wav_path} ({wav['duration_s']:.1f} s, {wav['size_bytes'] / 1e6:.1f} MB; full scale = "
+            f"{wav['full_scale_pa']:.3g} Pa)"
+        )
     return 0
 
 

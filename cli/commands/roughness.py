@@ -15,11 +15,11 @@ import math
 import numpy as np
 
 from wheelrail.cli.commands._common import (
+    Files,
+    Output,
     add_speed_option,
-    input_files,
     print_json,
     speed_from_kmh,
-    writable_output,
 )
 from wheelrail.core.bands import Bands
 from wheelrail.core.errors import WheelrailError
@@ -31,6 +31,9 @@ from wheelrail.core.roughness import (
 )
 from wheelrail.core.roughness_limits import iso3095_limit, iso3095_margin
 from wheelrail.core.spectra import nominal_band_label
+
+FILES = Files(reads=("set",), writes=(Output("plot", "--plot", ".png"),))
+"""The set read and the figure written (checked by the dispatcher: ``_common.check_files``)."""
 
 
 def add_parser(sub):
@@ -161,9 +164,11 @@ def _plot(result: dict, path: str) -> None:
     from wheelrail.core.atomic import atomic_write
 
     try:
-        atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=100))
-    except (OSError, ValueError) as error:
-        raise WheelrailError(f"--plot {path}: cannot write the figure ({error})") from None
+        atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=100))  # a disk's failure: named
+    except WheelrailError:
+        raise
+    except ValueError as error:
+        raise WheelrailError(f"--plot {path}: cannot draw the figure ({error})") from None
     finally:
         plt.close(fig)
 
@@ -174,10 +179,6 @@ def run(args) -> int:
         raise WheelrailError(f"--blocks must be a positive integer, got {args.blocks}")
     if args.half_lines < 1:
         raise WheelrailError(f"--m must be a positive integer, got {args.half_lines}")
-    if args.plot is not None:
-        if not args.plot.lower().endswith(".png"):
-            raise WheelrailError(f"--plot must name a .png file, got {args.plot!r}")
-        writable_output(args.plot, "--plot", ".png", input_files(args.set))
     result = analyse(args.set, speed, args.lines, args.half_lines, args.blocks)
     if args.plot is not None:
         _plot(result, args.plot)

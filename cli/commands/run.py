@@ -7,23 +7,29 @@ import signal
 import sys
 import threading
 import time
+from pathlib import Path
 
 from wheelrail.cli.commands._common import (
     CLI_NAMES,
     RUN_INPUT_GROUPS,
+    Files,
+    Output,
     add_choice_option,
     add_input_options,
     cli_error_names,
-    input_files,
     params_from_args,
     print_json,
-    same_file,
-    writable_output,
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_contact, describe_words
 from wheelrail.core.models import model_names
 from wheelrail.core.recording.cli import add_recording_arguments, sink_from_args
+
+FILES = Files(
+    reads=("set", "wheel_set"),
+    writes=(Output("out", "--out", ".npz"), Output("csv", "--csv", ".csv"), Output("rrd", "--rrd", ".rrd")),
+)
+"""The roughness sets read and the files written (checked by the dispatcher: ``_common.check_files``)."""
 
 
 def add_parser(sub):
@@ -133,20 +139,9 @@ def _checked_args(args):
     params = params_from_args(args, *RUN_INPUT_GROUPS)
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
-    inputs = input_files(args.set, args.wheel_set)
-    out = writable_output(args.out, "--out", ".npz", inputs) if args.out is not None else None
-    csv_path = getattr(args, "csv", None)
-    if csv_path is not None:
-        writable_output(csv_path, "--csv", ".csv", [*inputs, *([] if out is None else [out])])
-    rrd = getattr(args, "rrd", None)
+    out = Path(args.out) if args.out is not None else None  # the files: checked by the dispatcher (FILES)
     if args.noise_wheel_model != "directive" and not getattr(args, "sound_power", False):
         raise WheelrailError("--noise-wheel-model needs --sound-power (the recording's sound power)")
-    for source in inputs:
-        if rrd is not None and same_file(rrd, source):
-            raise WheelrailError(
-                f"--rrd {rrd} is the input file {source}: writing it would destroy the input; "
-                "choose another output name"
-            )
     return params, out
 
 
@@ -306,6 +301,32 @@ def _print_summary(args, result, params, summary, sink) -> None:
         print(f"  recording written to {sink.path}")
 
 
+def _write_outputs(args, result, out, sink) -> None:
+    """--out, --csv and --rrd all or none (``core.atomic.all_or_none``): a full disk while writing any of them
+    leaves none (one line naming the file and why); a viewer lost during the run costs none of them."""
+    from wheelrail.core.atomic import all_or_none
+    from wheelrail.core.recording.outputs import ViewerUnreachable
+
+    lost = None
+    try:
+        with all_or_none():
+            if out is not None:
+                result.save_npz(out)
+            if getattr(args, "csv", None) is not None:
+                result.save_csv(args.csv)
+            if sink is not None:
+                try:
+                    sink.finish(result)
+                except ViewerUnreachable as error:  # the files are written all the same
+                    lost = error
+    except BaseException:
+        if sink is not None:
+            sink.abort()
+        raise
+    if lost is not None:
+        raise lost
+
+
 def run(args) -> int:
     params, out = _checked_args(args)
     sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}", names=cli_error_names())
@@ -315,17 +336,7 @@ def run(args) -> int:
     prepared = time.perf_counter()
     result = _execute(args, interaction, sink)
     finished = time.perf_counter()
-    try:  # the files first: a viewer lost during the run (reported by finish) costs none of them
-        if out is not None:
-            result.save_npz(out)
-        if getattr(args, "csv", None) is not None:
-            result.save_csv(args.csv)
-    except BaseException:  # e.g. a full disk: no recording without its arrays either
-        if sink is not None:
-            sink.abort()
-        raise
-    if sink is not None:
-        sink.finish(result)
+    _write_outputs(args, result, out, sink)
     summary = _summary(args, result, params, (start, prepared, finished))
     if out is not None:
         summary["out"] = str(out)

@@ -15,10 +15,13 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.cli.commands._common import print_json
+from wheelrail.cli.commands._common import Files, print_json
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.results import RunResult
 from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, nominal_band_label
+
+FILES = Files(reads=("file",))
+"""The run read (nothing is written)."""
 
 
 def add_parser(sub):

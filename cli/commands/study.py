@@ -6,10 +6,19 @@ import math
 import sys
 from dataclasses import replace
 
-from wheelrail.cli.commands._common import RUN_INPUT_GROUPS, add_input_options, params_from_args, print_json
+from wheelrail.cli.commands._common import (
+    RUN_INPUT_GROUPS,
+    Files,
+    add_input_options,
+    params_from_args,
+    print_json,
+)
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe_contact, describe_track, describe_words
 from wheelrail.core.study import STUDIES
+
+FILES = Files(reads=("sets", "wheel_set"))
+"""The roughness sets read (the outputs go into the folder --out)."""
 
 
 def add_parser(sub):
@@ -94,6 +103,28 @@ def _tracks(args):
     return tracks
 
 
+def _say_track_cost(tracks, sets: int, workers: int, quiet: bool) -> None:
+    """Refuse a track study over its limits, else say on stderr what it will cost before it starts."""
+    from wheelrail.core.study.track_plan import check_track_count, track_study_cost
+
+    check_track_count(tracks)
+    cost = track_study_cost(tracks, sets, workers)
+    if quiet:
+        return
+    new = cost["new_tracks"]
+    work = (
+        f"{new} not in the disk cache: about {cost['precompute_cpu_s'] / 60:.1f} min of CPU for their Green's "
+        f"functions ({cost['precompute_wall_s'] / 60:.1f} min on {workers} worker{'s' * (workers > 1)}), "
+        if new
+        else "all in the disk cache, "
+    )
+    print(
+        f"wheelrail study: {cost['tracks']} tracks, {cost['runs']} runs; {work}"
+        f"{cost['cache_bytes'] / 1e9:.1f} GB of cache (limit {cost['cache_limit_bytes'] / 1e9:g} GB)",
+        file=sys.stderr,
+    )
+
+
 def run(args) -> int:
     from wheelrail.core.study import parse_dask_address, run_study
 
@@ -107,6 +138,8 @@ def run(args) -> int:
     if workers < 1:
         raise WheelrailError(f"--workers must be at least 1, got {workers}")
     address = parse_dask_address(args.dask) if args.dask is not None else None
+    if tracks is not None:
+        _say_track_cost(tracks, len(args.sets), workers, args.json)
     result = run_study(
         args.name,
         args.sets,

@@ -9,16 +9,25 @@ import time
 from pathlib import Path
 
 from wheelrail.cli.commands._common import (
+    Files,
+    Output,
     add_input_options,
     add_speed_option,
     params_from_args,
     print_json,
     speed_from_kmh,
-    writable_output,
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe
 from wheelrail.core.noise.decay import band_receptances, decay_verdict, track_decay
+
+FILES = Files(
+    writes=(
+        Output("csv", "--csv", beside=lambda path: (_decay_csv_path(path),)),
+        Output("plot", "--plot", ".png"),
+    )
+)
+"""The files written (checked by the dispatcher: ``_common.check_files``)."""
 
 MIN_DF_HZ = 0.05
 """Finest --df-hz: 99 601 frequencies over 20 Hz-5 kHz, a few minutes of FE solves (1e-9 Hz asked
@@ -244,10 +253,8 @@ def run(args) -> int:
     speed = speed_from_kmh(args.speed_kmh)
     if not math.isfinite(args.df_hz) or not MIN_DF_HZ <= args.df_hz <= 100:
         raise WheelrailError(f"--df-hz must be in [{MIN_DF_HZ:g}, 100] Hz, got {args.df_hz:g}")
-    csv_path = writable_output(args.csv, "--csv") if args.csv is not None else None
-    plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
-    if csv_path and plot_path and csv_path.resolve() == plot_path.resolve():
-        raise WheelrailError("--csv and --plot name the same file")
+    csv_path = Path(args.csv) if args.csv is not None else None  # checked by the dispatcher: FILES
+    plot_path = Path(args.plot) if args.plot is not None else None
 
     track = params_from_args(args, "track").track
     numerics = TrackNumerics()

@@ -13,10 +13,16 @@ import math
 from pathlib import Path
 
 from wheelrail.cli.commands._common import WHEEL_SHAPE_KEYS as SHAPE_KEYS
-from wheelrail.cli.commands._common import print_json, writable_output
+from wheelrail.cli.commands._common import Files, Output, print_json
 from wheelrail.cli.commands._common import wheel_shape_option as shape_option
 from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
+
+FILES = Files(
+    reads=("outline",),
+    writes=(Output("csv", "--csv", beside=lambda path: (_modes_path(path),)), Output("plot", "--plot", ".png")),
+)
+"""The outline read and the files written (checked by the dispatcher: ``_common.check_files``)."""
 
 BAND_RANGE_HZ = (100.0, 10e3)
 """The third-octave bands whose (exact) centres the summary states the receptances at."""
@@ -111,10 +117,8 @@ def run(args) -> int:
     from wheelrail.core.modal_wheel import contact_receptance, section_mass, wheel_modes
 
     settings = _checked(args)
-    csv_path = writable_output(args.csv, "--csv") if args.csv is not None else None
-    plot_path = writable_output(args.plot, "--plot", ".png") if args.plot is not None else None
-    if csv_path and plot_path and csv_path.resolve() == plot_path.resolve():
-        raise WheelrailError("--csv and --plot name the same file")
+    csv_path = Path(args.csv) if args.csv is not None else None  # checked with the outline: FILES
+    plot_path = Path(args.plot) if args.plot is not None else None
     profile = profile_from_args(args)
     start = time.perf_counter()
     modes = wheel_modes(profile, **settings)

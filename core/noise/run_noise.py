@@ -223,15 +223,19 @@ class RunNoise:
 
     def wav_bytes(self, *, lead: float = 1.0, seed: int = 0, rate: int = WAV_RATE) -> tuple[bytes, float]:
         """The pass-by as a 16-bit PCM WAV file's bytes at ``rate`` Hz and its calibration (Pa at full scale):
-        its own L_pAeq over T_p is the pass-by level (:meth:`calibrated_pass_by`)."""
-        from scipy.io import wavfile
-
-        pressure, rate, _, _ = self.calibrated_pass_by(lead=lead, seed=seed, rate=rate)
-        full_scale = 2.0 * float(np.max(np.abs(pressure)))  # peak at half of full scale
-        samples = np.round(pressure / full_scale * 32767).astype(np.int16)
+        its own L_pAeq over T_p is the pass-by level (:meth:`calibrated_pass_by`). :meth:`write_wav` writes the
+        same to a file without holding it."""
         buffer = io.BytesIO()
-        wavfile.write(buffer, int(rate), samples)
+        full_scale = self.write_wav(buffer, lead=lead, seed=seed, rate=rate)
         return buffer.getvalue(), full_scale
+
+    def write_wav(self, handle, *, lead: float = 1.0, seed: int = 0, rate: int = WAV_RATE) -> float:
+        """Write the pass-by to the binary file ``handle`` as a 16-bit PCM WAV at ``rate`` Hz, block by block
+        (:func:`wheelrail.core.noise.wav.write_wav`: memory bounded, at most ``MAX_WAV_S`` long, else one
+        WheelrailError); returns its calibration, Pa at full scale."""
+        from wheelrail.core.noise.wav import write_wav
+
+        return write_wav(self, handle, lead=lead, seed=seed, rate=rate)
 
 
 def _band_values_on(frequencies: np.ndarray, band_db: np.ndarray) -> np.ndarray:

@@ -6,6 +6,11 @@ The temporary file is ``.<name>.<host>-<pid>-<random>.partial`` beside the targe
 (``kill -9``, a power cut) cannot remove its own; the next recording into that folder removes such files
 whose host is this one and whose process no longer runs (:func:`remove_stale_partials`), and never a file
 named otherwise, written on another host, or of a process still running.
+
+A file that cannot be written (a full disk) fails the recording, not the run's other files' checks: rerun's
+file writer stops, and :meth:`Outputs.file_failure` finds why by writing where it wrote ("no space left on
+device writing r.rrd"); the partial file is removed and no viewer is blamed. Inside an
+:func:`~wheelrail.core.atomic.all_or_none` block the completed file is renamed with the block's other files.
 """
 
 from __future__ import annotations
@@ -23,11 +28,18 @@ import weakref
 from pathlib import Path
 from urllib.parse import urlsplit
 
-from wheelrail.core.atomic import publish
+from wheelrail.core.atomic import stage, write_failed
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.recording.schema import APPLICATION_ID, default_blueprint, rerun_module
 
-__all__ = ["Outputs", "check_recording_path", "check_viewer", "grpc_url", "viewer_executable"]
+__all__ = ["Outputs", "ViewerUnreachable", "check_recording_path", "check_viewer", "grpc_url", "viewer_executable"]
+
+_PROBE_BYTES = 1 << 20  # written where a stopped file writer wrote, to learn why it stopped
+
+
+class ViewerUnreachable(WheelrailError):
+    """A rerun viewer the recording streamed to could not be reached at the end (the file, if any, is written)."""
+
 
 DEFAULT_VIEWER_PORT = 9876  # rerun's default gRPC port
 VIEWER_CHECK_TIMEOUT_S = 2.0  # a viewer on this host or a LAN answers a TCP connect well within this
@@ -283,6 +295,7 @@ class Outputs:
             self._finalizer = weakref.finalize(self, _remove, self._temporary)
             sinks.append(rr.FileSink(str(self._temporary)))
         self.spawned = bool(spawn)
+        self.viewers = bool(spawn) or url is not None
         if spawn:
             try:
                 _spawn_viewer(self.stream)
@@ -298,7 +311,16 @@ class Outputs:
             except Exception as error:  # noqa: BLE001
                 self.discard()
                 raise WheelrailError(str(error), parameter="connect", value=connect) from None
-        self.stream.set_sinks(*sinks, default_blueprint=default_blueprint() if blueprint is None else blueprint)
+        try:
+            self.stream.set_sinks(*sinks, default_blueprint=default_blueprint() if blueprint is None else blueprint)
+        except RuntimeError as error:  # the file's first bytes could not be written (e.g. a full disk)
+            failure = self.file_failure(str(error)) or WheelrailError(
+                f"could not start the recording: {str(error).splitlines()[0] if str(error) else 'rerun failed'}"
+            )
+            with _quiet_stderr(), contextlib.suppress(Exception):  # rerun's line about the data it drops
+                self.stream.disconnect()
+            self.discard()
+            raise failure from None
         if description:
             self.stream.send_recording_name(description)
 
@@ -314,11 +336,30 @@ class Outputs:
                 self.stream.disconnect()  # drops the file sink: the file is completed (footer) and closed
         return problem
 
+    def file_failure(self, problem: str) -> WheelrailError | None:
+        """The error of a file sink that stopped (``problem``: what rerun said, '' if nothing), or None when the
+        file was written. rerun names a file writer that stopped, and with no viewer any problem is the file's;
+        why it stopped is found by writing where it wrote (a full disk: "no space left on device writing r.rrd")."""
+        if self._temporary is None or not problem:
+            return None
+        if self.viewers and "file" not in problem.lower():
+            return None  # a viewer's problem: the file is complete
+        try:
+            with open(self._temporary, "ab") as handle:
+                handle.write(bytes(_PROBE_BYTES))
+                handle.flush()
+                os.fsync(handle.fileno())
+        except OSError as error:
+            return write_failed(error, self.path)
+        first = problem.splitlines()[0]
+        return WheelrailError(f"could not complete the recording {self.path}: rerun's file writer stopped ({first})")
+
     def publish(self) -> None:
-        """Rename the completed temporary file to the final path (after :meth:`disconnect`)."""
+        """Rename the completed temporary file to the final path (after :meth:`disconnect`); inside an
+        :func:`~wheelrail.core.atomic.all_or_none` block, with its other files at its end."""
         if self._temporary is not None:
             self._finalizer.detach()
-            publish(self._temporary, self.path)
+            stage(self._temporary, self.path)
             self._temporary = None
 
     def discard(self) -> None:

@@ -22,7 +22,7 @@ from wheelrail.core.inputs import choice
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.columns import scalar_column
-from wheelrail.core.recording.outputs import Outputs
+from wheelrail.core.recording.outputs import Outputs, ViewerUnreachable
 from wheelrail.core.recording.pressure import ContactPatch, hertz_geometry, hertz_semi_axes
 from wheelrail.core.recording.schema import (
     EQUIVALENT,
@@ -401,7 +401,9 @@ class RecordingSink:
         Raises
         ------
         WheelrailError
-            If the rerun viewer the sink streams to could not be reached (the file is written all the same).
+            If the ``.rrd`` file could not be written (one line naming it and why: "no space left on device
+            writing r.rrd"; nothing is left under its name), or, as :class:`~.outputs.ViewerUnreachable`, if the
+            rerun viewer the sink streams to could not be reached (the file is written all the same).
         """
         if self._closed:
             return self.path
@@ -420,11 +422,15 @@ class RecordingSink:
             raise
         self._closed = True
         unreachable = self._outputs.disconnect()
+        failed = self._outputs.file_failure(unreachable)
+        if failed is not None:  # e.g. a full disk: no recording, and no viewer blamed for it
+            self._outputs.discard()
+            raise failed
         self._outputs.publish()
-        if unreachable:
+        if unreachable and self._outputs.viewers:
             written = f"the recording was written to {self.path}, but " if self.path is not None else ""
             hint = " (a spawned viewer needs a desktop session for its window)" if self._outputs.spawned else ""
-            raise WheelrailError(f"{written}the rerun viewer could not be reached{hint}: {unreachable}")
+            raise ViewerUnreachable(f"{written}the rerun viewer could not be reached{hint}: {unreachable}")
         return self.path
 
     def _complete(self, result: RunResult, roughness) -> None:

@@ -301,6 +301,9 @@ def study_parameters(name: str, params) -> tuple[ModelParameters, tuple]:
     tracks = tuple(p.track for p in many)
     if len(set(tracks)) != len(tracks):
         raise WheelrailError("the tracks of a track study must differ from each other")
+    from wheelrail.core.study.track_plan import check_track_count
+
+    check_track_count(tracks)  # before any work: bounded by a limit and by the disk cache
     return base, tracks
 
 

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
+from wheelrail.core.atomic import all_or_none, atomic_write, refuse_inputs
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import caption
 from wheelrail.core.jsonready import strict_json
@@ -162,14 +162,16 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
         description=f"study {name}",
     )
     tables = plan.tabulate(report.summaries)
-    files = [write_table(table, folder) for table in tables]
-    if figures:
-        files += plot_study(name, tables, folder, caption=study_caption(name, plan))
-    summary = _summary_document(name, plan, report, tables, folder=folder, files=files)
-    summary_path = folder / f"{name}_summary.json"
-    atomic_write(summary_path, lambda handle: handle.write(strict_json(summary, indent=2)), mode="w")
-    files.append(summary_path)
-    summary["files"].append(str(summary_path))
+    with all_or_none():  # the tables, figures and summary appear together, and none over an input
+        files = [write_table(table, folder) for table in tables]
+        if figures:
+            files += plot_study(name, tables, folder, caption=study_caption(name, plan))
+        summary = _summary_document(name, plan, report, tables, folder=folder, files=files)
+        summary_path = folder / f"{name}_summary.json"
+        atomic_write(summary_path, lambda handle: handle.write(strict_json(summary, indent=2)), mode="w")
+        files.append(summary_path)
+        summary["files"].append(str(summary_path))
+        refuse_inputs(files, [*sets, wheel_set])
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
 
 

@@ -15,15 +15,21 @@ and pass-by level, dB(A)) and ``track_<set>_force_levels`` (the force spectra, o
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
 
+from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import inputs_of
 from wheelrail.core.study.noise_plan import noise_models
 from wheelrail.core.study.tables import Table
 
-__all__ = ["plan_track", "swept_inputs", "track_description"]
+__all__ = ["MAX_TRACKS", "check_track_count", "plan_track", "swept_inputs", "track_description", "track_study_cost"]
+
+MAX_TRACKS = 100
+"""The most tracks one track study takes: each is a precompute (``track.progress.PRECOMPUTE_CPU_S``) and a cache
+entry (``ENTRY_BYTES``), so 100 are about 27 min of CPU and 21 GB of cache."""
 
 
 def swept_inputs(tracks) -> list:
@@ -52,6 +58,64 @@ def track_description(params, tracks) -> dict:
         "tracks": [{key: values[key] for key in swept} if swept else values for values in each],
         "swept_track_inputs": swept,
     }
+
+
+def track_study_cost(tracks, sets: int = 1, workers: int = 1) -> dict:
+    """What a track study on ``tracks`` will cost, from the project's own figures (``core.track.progress``).
+
+    Returns
+    -------
+    dict
+        ``tracks``; ``runs`` (every model of the study on each track and set); ``new_tracks`` (not in the disk
+        cache at the default numerics: each a precompute); ``precompute_cpu_s`` and ``precompute_wall_s`` (on
+        ``workers`` processes, at most one per core); ``cache_bytes`` (every track's entry) and
+        ``cache_limit_bytes`` (``WHEELRAIL_CACHE_MAX_GB``).
+    """
+    import os
+
+    from wheelrail.core.cache import max_bytes
+    from wheelrail.core.parameters import TrackNumerics
+    from wheelrail.core.track import track_cache_path
+    from wheelrail.core.track.progress import ENTRY_BYTES, PRECOMPUTE_CPU_S
+
+    new = sum(not track_cache_path(track, TrackNumerics()).exists() for track in tracks)
+    parallel = max(1, min(workers, os.cpu_count() or 1))
+    return {
+        "tracks": len(tracks),
+        "runs": len(tracks) * len(noise_models()) * sets,
+        "new_tracks": new,
+        "precompute_cpu_s": new * PRECOMPUTE_CPU_S,
+        "precompute_wall_s": math.ceil(new / parallel) * PRECOMPUTE_CPU_S,
+        "cache_bytes": len(tracks) * ENTRY_BYTES,
+        "cache_limit_bytes": max_bytes(),
+    }
+
+
+def check_track_count(tracks) -> None:
+    """Refuse, before any work, a track study of more than :data:`MAX_TRACKS` tracks, or of more tracks than the
+    disk cache holds (each track's entry would evict another's, the study's own among them, and every entry of
+    other work): one WheelrailError saying the cost, the limit and what to do."""
+    from wheelrail.core.cache import max_bytes
+    from wheelrail.core.track.progress import ENTRY_BYTES, PRECOMPUTE_CPU_S
+
+    count = len(tracks)
+    cost = (
+        f"each a Green's-function precompute of about {PRECOMPUTE_CPU_S:g} s of CPU and a "
+        f"{ENTRY_BYTES / 1e6:.0f} MB cache entry"
+    )
+    if count > MAX_TRACKS:
+        raise WheelrailError(
+            f"a track study of {count} tracks ({cost}: {count * PRECOMPUTE_CPU_S / 3600:.1f} h, "
+            f"{count * ENTRY_BYTES / 1e9:.0f} GB) is over the limit of {MAX_TRACKS} tracks; sweep fewer values"
+        )
+    fit = int(max_bytes() // ENTRY_BYTES)
+    if count > fit:
+        raise WheelrailError(
+            f"a track study of {count} tracks ({cost}) needs {count * ENTRY_BYTES / 1e9:.1f} GB of disk cache, over "
+            f"its limit of {max_bytes() / 1e9:g} GB (WHEELRAIL_CACHE_MAX_GB), which holds {fit}: each new track would "
+            f"evict another; sweep at most {fit} tracks, or set WHEELRAIL_CACHE_MAX_GB to at least "
+            f"{math.ceil(count * ENTRY_BYTES / 1e9)}"
+        )
 
 
 def _value(track, entry) -> float:

@@ -20,6 +20,12 @@ import contextlib
 import contextvars
 from collections.abc import Callable, Iterator
 
+PRECOMPUTE_CPU_S = 16.0
+"""CPU seconds of one track's precompute at the default numerics (``docs/benchmarks.md``): what a job that
+needs new tracks is estimated at before it starts."""
+ENTRY_BYTES = 208e6
+"""Bytes of one track's disk-cache entry at the default numerics (``wheelrail cache`` lists them)."""
+
 Progress = Callable[[str, int, int], None]
 PHASES = ("assembling", "loading", "integrating", "saving")
 _CURRENT: contextvars.ContextVar[Progress | None] = contextvars.ContextVar("wheelrail_track_progress", default=None)

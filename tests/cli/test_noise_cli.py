@@ -67,3 +67,43 @@ def test_impossible_trains_are_refused(tmp_path, capsys, argv, expected):
 def test_csv_needs_a_run(tmp_path, capsys):
     code, out, err = _noise(capsys, "--method", "cnossos", "--csv", str(tmp_path / "x.csv"))
     assert code != 0 and err.count("\n") == 1 and "--csv: not used by --method cnossos" in err, err
+
+
+def test_a_wav_longer_than_the_limit_is_refused_before_any_computation(tmp_path, capsys, monkeypatch):
+    """5 km at 100 km/h: a 182 s pass-by, over a limit of 120 s (the default, 600 s, refuses 5 km at 27 km/h)."""
+    import wheelrail.core.noise.twins as twins
+
+    def not_reached(*args, **kwargs):
+        raise AssertionError("the noise was computed for a WAV that is refused")
+
+    monkeypatch.setattr(twins, "track_noise_model", not_reached)
+    path = _run_file(tmp_path, 2000)
+    monkeypatch.setattr("wheelrail.core.noise.wav.MAX_WAV_S", 120.0)
+    code, out, err = _noise(capsys, "--run", str(path), "--train-length-m", "5000", "--wav", str(tmp_path / "p.wav"))
+    assert (
+        code == 2
+        and out == ""
+        and err
+        == (
+            "wheelrail noise: error: --train-length-m 5000: a WAV of this pass-by would last 182 s (5000 m at 100 km/h "
+            "and 1 s before and after; 17 MB): at most 120 s are written; give a train of at most 3277 m at this speed "
+            "for the WAV (the pass-by level itself needs no WAV)\n"
+        )
+    )
+    assert not (tmp_path / "p.wav").exists()
+
+
+def test_a_wav_of_too_many_wheels_is_refused_before_any_computation(tmp_path, capsys, monkeypatch):
+    import wheelrail.core.noise.twins as twins
+
+    def not_reached(*args, **kwargs):
+        raise AssertionError("the noise was computed for a WAV that is refused")
+
+    monkeypatch.setattr(twins, "track_noise_model", not_reached)
+    path = _run_file(tmp_path, 2000)
+    argv = ["--run", str(path), "--train-length-m", "5000", "--train-axles", "2000", "--wav", str(tmp_path / "p.wav")]
+    code, out, err = _noise(capsys, *argv)
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert err.startswith("wheelrail noise: error: --train-axles 2000: a WAV of this pass-by sums 4000 wheels'")
+    assert "give at most 197 axles or a shorter train for the WAV" in err
+    assert not (tmp_path / "p.wav").exists()

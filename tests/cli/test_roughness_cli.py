@@ -94,7 +94,7 @@ def test_roughness_plot(cli, tmp_path):
         ),
         (["roughness", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh -5 is outside the accepted"),
         (["roughness", "--set", "corrugated-rail", "--lines", "12"], "line 12 is not in this set"),
-        (["roughness", "--set", "corrugated-rail", "--plot", "x.pdf"], "--plot must name a .png file"),
+        (["roughness", "--set", "corrugated-rail", "--plot", "x.pdf"], "--plot x.pdf: the file name must end in .png"),
         (["roughness", "--set", "cast-iron-wheel", "--blocks", "1000"], "samples per block"),
     ],
 )

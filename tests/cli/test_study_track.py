@@ -90,3 +90,63 @@ def test_the_track_study_on_dask_gives_the_pools_tables(tmp_path):
     for mine, theirs in zip(pool.tables, dask.tables, strict=True):
         for column in mine.columns:
             np.testing.assert_allclose(theirs.columns[column], mine.columns[column], rtol=1e-12, equal_nan=True)
+
+
+def _values(start: float, count: int) -> list[str]:
+    return [f"{start + 10 * k:g}" for k in range(count)]
+
+
+@pytest.mark.parametrize(
+    ("sweep", "words"),
+    [
+        (  # 10 values of three inputs: 1 000 tracks
+            [
+                "--pad-stiffness-mn-m",
+                *_values(60, 10),
+                "--sleeper-mass-kg",
+                *_values(100, 10),
+                "--ballast-stiffness-mn-m",
+                *_values(100, 10),
+            ],
+            "a track study of 1000 tracks (each a Green's-function precompute of about 16 s of CPU and a 208 MB "
+            "cache entry: 4.4 h, 208 GB) is over the limit of 100 tracks; sweep fewer values",
+        ),
+        (  # within the limit of tracks, beyond what the disk cache holds
+            ["--pad-stiffness-mn-m", *_values(60, 5), "--sleeper-mass-kg", *_values(100, 4)],
+            "needs 4.2 GB of disk cache, over its limit of 4 GB (WHEELRAIL_CACHE_MAX_GB), which holds 19: each new "
+            "track would evict another; sweep at most 19 tracks, or set WHEELRAIL_CACHE_MAX_GB to at least 5",
+        ),
+    ],
+)
+def test_a_track_study_over_its_limits_is_refused_before_any_work(tmp_path, capsys, monkeypatch, sweep, words):
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path / "cache"))
+    out = tmp_path / "study"
+    assert main(["study", "track", "--set", "corrugated-rail", "--out", str(out), *sweep]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("wheelrail study: error: a track study of") and len(err.splitlines()) == 1
+    assert words in err
+    assert not out.exists() and not any((tmp_path / "cache").glob("track-*"))
+
+
+def test_a_track_study_says_what_it_will_cost_before_it_starts(tmp_path, capsys, monkeypatch):
+    import wheelrail.core.study as study
+
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path / "cache"))  # empty: every track is new
+
+    def started(*args, **kwargs):
+        print("started", file=__import__("sys").stderr)
+        raise WheelrailError("stopped here")
+
+    monkeypatch.setattr(study, "run_study", started)
+    argv = ["study", "track", "--set", "corrugated-rail", "--out", str(tmp_path / "s"), "--workers", "1"]
+    assert main([*argv, "--pad-stiffness-mn-m", "60", "120", "300"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    runs = 3 * len(noise_models())
+    assert err[0] == (
+        f"wheelrail study: 3 tracks, {runs} runs; 3 not in the disk cache: about 0.8 min of CPU for their Green's "
+        "functions (0.8 min on 1 worker), 0.6 GB of cache (limit 4 GB)"
+    )
+    assert err[1] == "started"  # said before the study starts
+    # the API is bounded too
+    with pytest.raises(WheelrailError, match="over the limit of 100 tracks"):
+        plan_study("track", ["corrugated-rail"], length=1.0, params=_tracks(*(10e6 + 1e6 * k for k in range(101))))

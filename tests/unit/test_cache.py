@@ -111,7 +111,7 @@ def test_temporary_of_a_killed_writer_is_removed(tmp_path, monkeypatch):
 
 
 def test_temporaries_of_live_writers_are_kept_until_stale(tmp_path):
-    mine = tmp_path / f".wheelrail-track-wedge-{'a' * 24}.npz.0123abcd.{cache._writer()}.tmp"  # this process: alive
+    mine = tmp_path / f".wheelrail-track-wedge-{'a' * 24}.npz.0123abcd.{cache.writer()}.tmp"  # this process: alive
     elsewhere = tmp_path / f".wheelrail-track-wedge-{'b' * 24}.npz.0123abcd.otherhost-1.tmp"  # judged by age
     for path in (mine, elsewhere):
         path.write_bytes(b"partial")
@@ -311,3 +311,21 @@ def test_a_cache_folder_that_cannot_be_created_keeps_the_result(tmp_path, monkey
     with pytest.warns(UserWarning, match="could not write the cache in .*not-allowed.*WHEELRAIL_CACHE_DIR"):
         response = _fresh()
     assert response.cache_path == "" and cache.entries() == [] and not target.exists()
+
+
+def test_a_file_named_like_an_entry_is_not_removed_unless_the_cache_wrote_it(tmp_path, monkeypatch):
+    monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
+    users = tmp_path / f"track-wedge-{'c' * 24}.npz"  # a user's own archive under an entry-like name
+    np.savez(users, data=np.arange(3))
+    notes = tmp_path / f"wheel-foh-{'d' * 24}.npz"
+    notes.write_text("notes")
+    renamed = tmp_path / f"track-wedge-{'e' * 24}.npz"  # an entry's copy under another key's name
+    cache.save_entry("track-wedge", "f" * 64, {"data": np.zeros(3)}).rename(renamed)
+    foreign = {path: path.read_bytes() for path in (users, notes, renamed)}
+    mine = cache.save_entry("track-wedge", "0" * 64, {"data": np.zeros(3)})
+    assert [entry.path for entry in cache.entries()] == [mine]
+    assert cache.evict(0) == [mine]
+    mine = cache.save_entry("track-wedge", "0" * 64, {"data": np.zeros(3)})
+    assert cache.clear() == [mine]
+    assert sorted(tmp_path.iterdir()) == sorted(foreign)
+    assert all(path.read_bytes() == content for path, content in foreign.items())
