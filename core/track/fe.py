@@ -340,6 +340,10 @@ def assemble_track(
 
 
 _GAUSS_POINTS = 4  # Gauss-Legendre points: exact for N^T N, of degree 6 in x
+POINT_PAD_WIDTH = 1e-9
+"""A pad narrower than this (m) is a point support: its blocks differ from the point support's by about (w / h)^2,
+under 1e-14 on elements h of 1 cm and more (round-off), and a narrower one is not resolved around a sleeper tens of
+metres along the rail (1e-311 m vanished there, and k_P / w overflowed)."""
 
 
 def _pad_couplings(track: TrackParameters, node_x, w_dof, th_dof, node: int):
@@ -347,10 +351,10 @@ def _pad_couplings(track: TrackParameters, node_x, w_dof, th_dof, node: int):
     P = (k_P / w) int N^T N dx, the coupling p = (k_P / w) int N dx to the sleeper and the sleeper's
     (k_P / w) x (length covered); over the element parts within x_S -+ w / 2 (clipped to the rail's ends: the
     two end sleepers' pads cover the half within the rail with the whole k_P, so that w -> 0 is the point
-    support everywhere). A point support (w = 0): the rail's w DOF at the node, k_P and c_P."""
+    support everywhere). A point support (w below ``POINT_PAD_WIDTH``): the rail's w DOF at the node, k_P and c_P."""
     sup = track.support
     width = sup.pad_width
-    if width == 0:
+    if width < POINT_PAD_WIDTH:
         one = np.ones((1, 1))
         k, c = sup.pad_stiffness, sup.pad_damping
         return [(np.array([w_dof[node]]), (k * one, k * one[0], k), (c * one, c * one[0], c))]

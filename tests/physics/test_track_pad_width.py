@@ -3,6 +3,8 @@ as its limit, the same track in both time and frequency domains."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -71,3 +73,14 @@ def test_pad_width_keeps_the_matrices_symmetric_and_banded_and_is_checked():
         SupportParameters(pad_width=-0.01)
     with pytest.raises(WheelrailError, match="pad_width"):
         SupportParameters(pad_width=0.3, sleeper_spacing=0.5)  # over half the spacing: it would reach the next pad
+
+
+def test_a_sub_nanometre_pad_is_the_point_support():
+    # --pad-width-mm 1e-308 (accepted: 0 to 300 mm) vanished around the sleepers (or overflowed
+    # k_P / w) and left a singular track. A pad narrower than 1 nm is the point support.
+    point = assemble_track(_track(0.0, n_bays=70))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tiny = assemble_track(_track(1e-311, n_bays=70))
+    for name in ("K", "M", "C"):
+        assert (getattr(tiny, name) != getattr(point, name)).nnz == 0, name
