@@ -78,3 +78,27 @@ def test_bad_input_is_one_line(argv, fragment, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert fragment in err and err.count("\n") == 1
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("pads_mn_m", ["10", "3000"])
+def test_track_answers_at_the_ends_of_the_pad_range(pads_mn_m, cli):
+    # Pads of 10, 30, 60, 90, 100, 1000 and 3000 MN/m (all accepted) ended in "could not find two
+    # support resonances below 700 Hz" before anything was printed. Each resonance is reported as found or not.
+    code, out, err = cli("track", "--pad-stiffness-mn-m", pads_mn_m, "--json")
+    assert code == 0, err
+    summary = json.loads(out)
+    resonances = summary["resonances"]
+    assert list(resonances) == ["sleeper_on_ballast", "rail_on_pad", "pinned_pinned"]
+    for kind, entry in resonances.items():
+        assert set(entry) == {"label", "frequency_hz", "band_edge_hz", "receptance", "reason"}
+        assert (entry["frequency_hz"] is None) == (entry["reason"] is not None)
+        assert summary["resonances_hz"][f"{kind}_hz"] == entry["frequency_hz"]
+    assert resonances["pinned_pinned"]["frequency_hz"] == pytest.approx(943, rel=0.01)
+    if pads_mn_m == "10":  # the soft pads' lower resonance is the rail's; the sleeper's is damped out
+        assert resonances["rail_on_pad"]["frequency_hz"] == pytest.approx(65, rel=0.05)
+        assert resonances["sleeper_on_ballast"]["frequency_hz"] is None
+    code, text, err = cli("track", "--pad-stiffness-mn-m", pads_mn_m)  # the text, from the cache
+    assert code == 0 and err == ""
+    for name in ("sleeper-on-ballast", "rail-on-pad", "pinned-pinned"):
+        assert f"  {name} resonance" in text

@@ -10,7 +10,7 @@ import pytest
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import SupportParameters, TrackParameters
-from wheelrail.core.track.fe import _pad_couplings, assemble_track, track_receptance
+from wheelrail.core.track.fe import assemble_track, pad_couplings, track_receptance
 
 
 def _track(width: float, n_bays: int = 8) -> TrackParameters:
@@ -30,7 +30,7 @@ def test_pad_layer_integrals_are_exact(per_bay):
     xs = model.node_x[node]
     k = track.support.pad_stiffness
     force = moment = total = 0.0
-    for dofs, (P, p, covered), _ in _pad_couplings(track, model.node_x, model.w_dof, model.theta_dof, node):
+    for dofs, (P, p, covered), _ in pad_couplings(track, model.node_x, model.w_dof, model.theta_dof, node):
         nodes = np.searchsorted(model.w_dof, dofs[::2])
         translation = np.ravel(np.column_stack([np.ones(2), np.zeros(2)]))
         rotation = np.ravel(np.column_stack([model.node_x[nodes] - xs, np.ones(2)]))
