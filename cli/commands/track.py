@@ -244,6 +244,9 @@ def _print_summary(track, summary: dict, peaks: dict) -> None:
 
 
 def _print_bands(bands: dict, decay: dict) -> None:
+    """The table per one-third octave band, each named by its nominal centre (``spectra.nominal_band_label``)."""
+    from wheelrail.core.spectra import band_labels, nominal_band_label
+
     print(
         "Point receptance at the band centres (m/N) and vertical decay rate (dB/m, EN 15461) against "
         "EN ISO 3095:2013's lower limit:"
@@ -251,16 +254,20 @@ def _print_bands(bands: dict, decay: dict) -> None:
     print("    band Hz   above sleeper     midspan   decay   limit")
     limits = dict(zip(decay["frequency_hz"], decay["limit_dB_per_m"], strict=True))
     rates = dict(zip(decay["frequency_hz"], decay["decay_rate_dB_per_m"], strict=True))
-    for f, above, mid in zip(
-        bands["frequency_hz"], bands["above_sleeper_m_per_n"], bands["midspan_m_per_n"], strict=True
+    for f, label, above, mid in zip(
+        bands["frequency_hz"],
+        band_labels(bands["frequency_hz"]),
+        bands["above_sleeper_m_per_n"],
+        bands["midspan_m_per_n"],
+        strict=True,
     ):
         limit = limits.get(f)
         mark = "" if limit is None else f"  {limit:6.2f}" + ("  below" if rates[f] < limit else "")
-        print(f"  {f:9.0f}   {above:11.3e} {mid:11.3e}  {rates[f]:6.2f}{mark}")
+        print(f"  {label:>9}   {above:11.3e} {mid:11.3e}  {rates[f]:6.2f}{mark}")
     if decay["meets_limit"]:
         print(f"  the decay rate meets the limit in every band 250 Hz-5 kHz ({decay['limit_source']})")
     else:
-        below = ", ".join(f"{f:.0f}" for f in decay["below_limit_hz"])
+        below = ", ".join(nominal_band_label(f) for f in decay["below_limit_hz"])
         print(f"  the decay rate is below the limit at {below} Hz ({decay['limit_source']})")
 
 
@@ -316,6 +323,10 @@ def run(args) -> int:
         "decay_rate": decay,
         "bands": band_receptances(track, numerics.elements_per_bay),
     }
+    from wheelrail.core.spectra import band_labels
+
+    for table in ("bands", "decay_rate"):  # the nominal names beside the exact centres, as every JSON gives them
+        summary[table]["band_labels"] = band_labels(summary[table]["frequency_hz"])
     if receptances is not None:
         freq, above, midspan = receptances
         summary["point_receptance"] = {
