@@ -155,6 +155,23 @@ def test_every_accepted_track_gets_its_resonances(key, value):
     assert peaks["pinned_pinned"].frequency_hz == pytest.approx(expected, rel=0.02)
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize(("key", "value"), SWEEP, ids=[f"{key}={value:.3g}" for key, value in SWEEP])
+def test_every_accepted_track_integrates_its_green_functions(key, value):
+    # The same sweep through the time domain (the Green's functions that run, track and noise --run use), on
+    # reduced numerics (30 ms, 4 positions per bay, up to 160 km/h): no numpy warning, finite responses.
+    from wheelrail.core.parameters import TrackNumerics
+    from wheelrail.core.track import moving_from_stationary, stationary_track_response
+
+    numerics = TrackNumerics(duration=0.03, positions_per_bay=4, max_speed=160 / 3.6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        response = stationary_track_response(_track(key, value), numerics, use_cache=False)
+        green = moving_from_stationary(response, 100 / 3.6)
+        weights = green.weights(1e-3 / (100 / 3.6))
+    assert np.all(np.isfinite(green.values)) and np.all(np.isfinite(weights))
+
+
 def test_support_parameters_at_their_exact_limits():
     # every track input at its exact minimum and maximum at once (the round-off allowance of ``Accepted.check``)
     for bound in ("minimum", "maximum"):
