@@ -62,10 +62,12 @@ def positive(where: str, name: str, value, unit: str) -> float:
     return real(f"{where}: {name}", value, unit)
 
 
-def integer(label: str, value, minimum: int) -> int:
-    """``value`` as an int >= ``minimum`` (bools and floats refused)."""
+def integer(label: str, value, minimum: int, maximum: int | None = None) -> int:
+    """``value`` as an int >= ``minimum`` and, when given, <= ``maximum`` (bools and floats refused)."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
         raise WheelrailError(f"{label} must be an integer >= {minimum}, got {_shown(value)}")
+    if maximum is not None and value > maximum:
+        raise WheelrailError(f"{label} must be an integer from {minimum} to {maximum}, got {_shown(value)}")
     return int(value)
 
 

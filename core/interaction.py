@@ -504,6 +504,10 @@ def prepare_run(
     >>> len(forces), min(forces) > 0.0
     (200, True)
     """
+    if track_numerics is not None and not isinstance(track_numerics, TrackNumerics):
+        raise WheelrailError(
+            f"prepare_run: track_numerics must be TrackNumerics or None, got {type(track_numerics).__name__}"
+        )
     steady = run_in_length is None  # the default run-in follows the steady start (where the bay allows it)
     entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
     steady = steady and starts_steady(params)

@@ -43,6 +43,11 @@ __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re
 # longer step uses the trapezoidal rule, stable wherever the physical system is (docs: physics, Accepted speeds)
 FOH_MAX_STEP = 0.25e-3
 
+# Most bays of a track model: 650 m of the paper's track, four times the noise model's 240 bays (whose ends are
+# already far enough for waves reflected there to be absorbed); the FE model's size, and its Green's functions'
+# time, grow with the bays (10**6 bays asked for millions of DOFs)
+MAX_TRACK_BAYS = 1000
+
 # Wheel and rail material, steel: the paper gives neither E nor nu; these common values reproduce its stated
 # a = 5.48 mm at 65 kN with R = 0.39 m. ContactParameters and every function's default read them from here.
 STEEL_YOUNGS_MODULUS = 210e9  # Pa
@@ -67,8 +72,8 @@ def _check(owner: object, name: str, unit: str, *, allow_zero: bool = False) -> 
     real(f"{type(owner).__name__}.{name}", getattr(owner, name), unit, sign="nonnegative" if allow_zero else "positive")
 
 
-def _check_int(owner: object, name: str, minimum: int) -> None:
-    integer(f"{type(owner).__name__}.{name}", getattr(owner, name), minimum)
+def _check_int(owner: object, name: str, minimum: int, maximum: int | None = None) -> None:
+    integer(f"{type(owner).__name__}.{name}", getattr(owner, name), minimum, maximum)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -200,7 +205,7 @@ class TrackParameters:
     rail : RailParameters
     support : SupportParameters
     n_bays : int
-        Number of sleeper bays of the finite track model (70 in the paper).
+        Number of sleeper bays of the finite track model (70 in the paper; 4 to ``MAX_TRACK_BAYS``).
     """
 
     rail: RailParameters = field(default_factory=RailParameters)
@@ -208,7 +213,7 @@ class TrackParameters:
     n_bays: int = 70
 
     def __post_init__(self) -> None:
-        _check_int(self, "n_bays", 4)
+        _check_int(self, "n_bays", 4, MAX_TRACK_BAYS)
 
     @property
     def length(self) -> float:

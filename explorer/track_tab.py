@@ -34,13 +34,14 @@ class TrackTab(ResultsTab):
         self.decay = Plot(gui, tab, "Vertical decay rate", "band (Hz)", "dB/m", bands=True)
         with tab:
             self.track_md = gui.add_markdown("")
+            self.resonances_md = gui.add_markdown("")
             gui.add_markdown(
                 "Solid: the track of the settings on the left (its *Track* folder). Dotted: EN ISO 3095:2013's lower "
                 "limit of the vertical decay rate (Figure 3, curve A), which a test track must meet. Dashed: the "
                 "track of the run overlaid in the Spectra or Noise tab, when it is another."
             )
             self._plot_export()
-        self._curves: dict = {}  # track -> (bands, decay) or the error's words, once computed
+        self._curves: dict = {}  # track -> (bands, decay, resonances) or the error's words, once computed
         self._computing: set = set()
         self._last: Shown | None = None
         self.followers: list = []  # other tabs that draw these curves (the Wheel tab), redrawn with this one
@@ -49,7 +50,8 @@ class TrackTab(ResultsTab):
         return {"point receptance": self.receptance, "decay rate": self.decay}
 
     def curves(self, track):
-        """The track's (bands, decay) once computed (None: not yet; it is being computed in the background)."""
+        """The track's (bands, decay, resonances) once computed (None: not yet; it is being computed in the
+        background)."""
         found = self._curves.get(track)
         if found is None and track not in self._computing:
             self._computing.add(track)
@@ -58,9 +60,10 @@ class TrackTab(ResultsTab):
 
     def _compute(self, track) -> None:
         from wheelrail.core.noise.decay import band_receptances, track_decay
+        from wheelrail.core.track.resonances import track_resonances
 
         try:
-            self._curves[track] = (band_receptances(track), track_decay(track))
+            self._curves[track] = (band_receptances(track), track_decay(track), track_resonances(track))
         except WheelrailError as error:
             self._curves[track] = page_message(error)
         finally:
@@ -75,11 +78,12 @@ class TrackTab(ResultsTab):
         if config is None:
             for plot in (self.receptance, self.decay):
                 plot.clear("fix the settings on the left")
-            self.track_md.content = ""
+            self.track_md.content = self.resonances_md.content = ""
             return
         track = config.params().track
         self.track_md.content = f"**Track:** {describe_words(config.params(), 'track')}."
         own = self.curves(track)
+        self.resonances_md.content = _resonance_words(own[2]) if isinstance(own, tuple) else ""
         if own is None or isinstance(own, str):
             why = "computing the track's receptance and decay rate (once per track) ..." if own is None else own
             for plot in (self.receptance, self.decay):
@@ -92,7 +96,7 @@ class TrackTab(ResultsTab):
 
     def _draw(self, own: tuple, other: tuple | None, other_label: str, track_words: str) -> None:
         """The curves of the track named by ``track_words`` (core's ``describe_track``), and ``other``'s dashed."""
-        (bands, decay), f = own, own[0]["frequency_hz"]
+        (bands, decay, _), f = own, own[0]["frequency_hz"]
         curves = _receptance_curves(bands, SOLID, "")
         if other is not None:
             curves += _receptance_curves(other[0], DASHED, f" [{other_label}]")
@@ -119,6 +123,13 @@ class TrackTab(ResultsTab):
             tuple(c[:3] for c in lines),
             title=f"Vertical decay rate of {track_words} {decay_verdict(decay)}",
         )
+
+
+def _resonance_words(resonances: dict) -> str:
+    """The track's resonances (core's ``track.resonances``): each one's receptance peak, or why it has none."""
+    return "**Resonances** (peaks of the point receptance): " + "; ".join(
+        f"{peak.label} {peak.in_words()}" for peak in resonances.values()
+    )
 
 
 def _receptance_curves(bands: dict, style: str, suffix: str) -> list:

@@ -67,10 +67,10 @@ def add_parser(sub):
     return parser
 
 
-def _peaks(track, numerics) -> dict[str, float]:
-    """``receptance_peaks`` of the track, kept in the disk cache: 2300 FE solves and importing
-    scipy.signal made most of a cached ``wheelrail track``'s 2 s. The key holds the source
-    of the functions that compute them, so a change of method recomputes."""
+def _peaks(track, numerics) -> dict:
+    """``track_resonances`` of the track (kind -> ``Resonance``), kept in the disk cache: several hundred FE solves
+    and importing scipy.signal made most of a cached ``wheelrail track``'s time. The key holds the source of the
+    modules that compute them, so a change of method recomputes."""
     import hashlib
     import inspect
     from dataclasses import asdict
@@ -78,12 +78,9 @@ def _peaks(track, numerics) -> dict[str, float]:
     import numpy as np
 
     from wheelrail.core import cache
-    from wheelrail.core import track as track_module
+    from wheelrail.core.track import fe, resonances
 
-    code = "".join(
-        inspect.getsource(f)
-        for f in (track_module.assemble_track, track_module.track_receptance, track_module.receptance_peaks)
-    )
+    code = "".join(inspect.getsource(module) for module in (fe, resonances))
     key = cache.cache_key(
         "track-peaks",
         {
@@ -92,12 +89,25 @@ def _peaks(track, numerics) -> dict[str, float]:
             "code": hashlib.sha256(code.encode()).hexdigest(),
         },
     )
-    names = ("sleeper_on_ballast_hz", "rail_on_pad_hz", "pinned_pinned_hz")
+    names = [f"{kind}_{part}" for kind in resonances.RESONANCE_KINDS for part in ("hz", "band_edge_hz")]
     arrays = cache.load_entry("track-peaks", key, names)
-    if arrays is not None and all(arrays[name].shape == () and np.isfinite(arrays[name]) for name in names):
-        return {name: float(arrays[name]) for name in names}
-    peaks = track_module.receptance_peaks(track_module.assemble_track(track, numerics.elements_per_bay))
-    cache.save_entry("track-peaks", key, {name: np.array(peaks[name]) for name in names})
+    if arrays is not None and all(arrays[name].shape == () for name in names):
+        found = {name: float(arrays[name]) for name in names}
+        if all(math.isfinite(found[f"{kind}_band_edge_hz"]) for kind in resonances.RESONANCE_KINDS):
+            return {
+                kind: resonances.Resonance(
+                    kind,
+                    found[f"{kind}_band_edge_hz"],
+                    found[f"{kind}_hz"] if math.isfinite(found[f"{kind}_hz"]) else None,
+                )
+                for kind in resonances.RESONANCE_KINDS
+            }
+    peaks = resonances.track_resonances(track, numerics.elements_per_bay)
+    entry = {}
+    for kind, peak in peaks.items():  # NaN: no peak of this kind
+        entry[f"{kind}_hz"] = np.array(np.nan if peak.frequency_hz is None else peak.frequency_hz)
+        entry[f"{kind}_band_edge_hz"] = np.array(peak.band_edge_hz)
+    cache.save_entry("track-peaks", key, entry)
     return peaks
 
 
@@ -191,8 +201,24 @@ def _green_functions(track, numerics, speed: float) -> dict:
     }
 
 
-def _print_summary(track, summary: dict) -> None:
-    peaks, cache = summary["resonances_hz"], summary["cache"]
+def _print_resonances(track, peaks: dict) -> None:
+    """One line per resonance: its receptance peak or why there is none, and the undamped track's band edge."""
+    from wheelrail.core.parameters import TrackParameters
+
+    for peak in peaks.values():
+        name = f"{peak.label} resonance"
+        if peak.frequency_hz is None:
+            print(f"  {name:<29} {peak.in_words()}")
+            continue
+        paper = "; paper: 943 Hz" if peak.kind == "pinned_pinned" and track == TrackParameters() else ""
+        print(
+            f"  {name:<29} {peak.frequency_hz:7.1f} Hz  (receptance {peak.receptance}; undamped track "
+            f"{peak.band_edge_hz:.0f} Hz{paper})"
+        )
+
+
+def _print_summary(track, summary: dict, peaks: dict) -> None:
+    cache = summary["cache"]
     green, static = summary["green_functions"], summary["static_moving_compliance_m_per_n"]
     speed_kmh = summary["speed_kmh"]
     sup = track.support
@@ -203,9 +229,7 @@ def _print_summary(track, summary: dict) -> None:
         + f"; sleepers {sup.sleeper_mass:g} kg; ballast {sup.ballast_stiffness / 1e6:g} MN/m, "
         f"{sup.ballast_damping / 1e3:g} kN s/m (paper section 2.2)"
     )
-    print(f"  sleeper-on-ballast resonance  {peaks['sleeper_on_ballast_hz']:7.1f} Hz")
-    print(f"  rail-on-pad resonance         {peaks['rail_on_pad_hz']:7.1f} Hz")
-    print(f"  pinned-pinned resonance       {peaks['pinned_pinned_hz']:7.1f} Hz  (paper: 943 Hz)")
+    _print_resonances(track, peaks)
     print(f"  sleeper-passing frequency     {summary['sleeper_passing_frequency_hz']:7.1f} Hz  at {speed_kmh:g} km/h")
     print(
         f"Moving Green's functions at {speed_kmh:g} km/h: {green['duration_s'] * 1e3:.0f} ms, "
@@ -229,6 +253,9 @@ def _print_summary(track, summary: dict) -> None:
 
 
 def _print_bands(bands: dict, decay: dict) -> None:
+    """The table per one-third octave band, each named by its nominal centre (``spectra.nominal_band_label``)."""
+    from wheelrail.core.spectra import band_labels
+
     print(
         "Point receptance at the band centres (m/N) and vertical decay rate (dB/m, EN 15461) against "
         "EN ISO 3095:2013's lower limit:"
@@ -236,12 +263,16 @@ def _print_bands(bands: dict, decay: dict) -> None:
     print("    band Hz   above sleeper     midspan   decay   limit")
     limits = dict(zip(decay["frequency_hz"], decay["limit_dB_per_m"], strict=True))
     rates = dict(zip(decay["frequency_hz"], decay["decay_rate_dB_per_m"], strict=True))
-    for f, above, mid in zip(
-        bands["frequency_hz"], bands["above_sleeper_m_per_n"], bands["midspan_m_per_n"], strict=True
+    for f, label, above, mid in zip(
+        bands["frequency_hz"],
+        band_labels(bands["frequency_hz"]),
+        bands["above_sleeper_m_per_n"],
+        bands["midspan_m_per_n"],
+        strict=True,
     ):
         limit = limits.get(f)
         mark = "" if limit is None else f"  {limit:6.2f}" + ("  below" if rates[f] < limit else "")
-        print(f"  {f:9.0f}   {above:11.3e} {mid:11.3e}  {rates[f]:6.2f}{mark}")
+        print(f"  {label:>9}   {above:11.3e} {mid:11.3e}  {rates[f]:6.2f}{mark}")
     print(f"  the decay rate {decay_verdict(decay)} ({decay['limit_source']})")
 
 
@@ -279,7 +310,8 @@ def run(args) -> int:
         "track_parameters": as_dict(track),
         "speed_m_per_s": speed,
         "speed_kmh": args.speed_kmh,
-        "resonances_hz": peaks,
+        "resonances_hz": {f"{kind}_hz": peak.frequency_hz for kind, peak in peaks.items()},
+        "resonances": {kind: peak.as_dict() for kind, peak in peaks.items()},
         "sleeper_passing_frequency_hz": speed / track.support.sleeper_spacing,
         "static_moving_compliance_m_per_n": {
             "above_sleeper": float(static[0]),
@@ -296,6 +328,10 @@ def run(args) -> int:
         "decay_rate": decay,
         "bands": band_receptances(track, numerics.elements_per_bay),
     }
+    from wheelrail.core.spectra import band_labels
+
+    for table in ("bands", "decay_rate"):  # the nominal names beside the exact centres, as every JSON gives them
+        summary[table]["band_labels"] = band_labels(summary[table]["frequency_hz"])
     if receptances is not None:
         freq, above, midspan = receptances
         summary["point_receptance"] = {
@@ -311,7 +347,7 @@ def run(args) -> int:
     if args.json:
         print_json(summary)
         return 0
-    _print_summary(track, summary)
+    _print_summary(track, summary, peaks)
     return 0
 
 
@@ -342,7 +378,8 @@ def track_figure(receptances, response, peaks, decay, params):
     ax = axes[0]
     ax.loglog(freq, np.abs(above), label="above sleeper")
     ax.loglog(freq, np.abs(midspan), label="midspan")
-    ax.axvline(peaks["pinned_pinned_hz"], color="grey", lw=0.8, ls=":")
+    if peaks["pinned_pinned"].frequency_hz is not None:
+        ax.axvline(peaks["pinned_pinned"].frequency_hz, color="grey", lw=0.8, ls=":")
     ax.set(xlabel="frequency (Hz)", ylabel="|receptance| (m/N)", title="Rail point receptance")
     ax.legend()
     for ax, midspan, title in (

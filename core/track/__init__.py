@@ -8,13 +8,12 @@ any lower speed is read off that wedge, g(t) = h(x_e + v t, x_e, t), and cached 
 run's step (``moving``). The method and its convergence: the documentation's physics page, "Wheel and track".
 """
 
-# The package by concern: ``fe`` (the FE model, receptances, resonances), ``stationary`` (the impulse
-# responses integrated once and their disk cache), ``moving`` (the moving Green's functions and weights).
+# The package by concern: ``fe`` (the FE model, receptances), ``resonances`` (which peaks are which), ``stationary``
+# (the impulse responses integrated once and their disk cache), ``moving`` (the moving Green's functions, weights).
 from wheelrail.core.track.fe import (
     HALF_BANDWIDTH,
     TrackFEModel,
     assemble_track,
-    receptance_peaks,
     timoshenko_element_matrices,
     timoshenko_shape_functions,
     track_receptance,
@@ -28,6 +27,7 @@ from wheelrail.core.track.moving import (
     moving_weights,
     trapezoidal_weights,
 )
+from wheelrail.core.track.resonances import RESONANCE_KINDS, Resonance, receptance_peaks
 from wheelrail.core.track.stationary import (
     StationaryTrackResponse,
     clear_memory,
@@ -39,9 +39,11 @@ from wheelrail.core.track.stationary import (
 )
 
 __all__ = [
+    "RESONANCE_KINDS",
     "ROWS_PER_POSITION",
     "HALF_BANDWIDTH",
     "MovingGreenFunctions",
+    "Resonance",
     "StationaryTrackResponse",
     "TrackFEModel",
     "assemble_track",

@@ -1,5 +1,5 @@
 """Track FE model (paper section 2.2): Rayleigh-Timoshenko rail elements on discrete supports, banded
-assembly, receptances and the resonance frequencies read off them. See ``wheelrail.core.track``."""
+assembly and receptances (their resonances: ``resonances``). See ``wheelrail.core.track``."""
 
 from __future__ import annotations
 
@@ -310,7 +310,7 @@ def assemble_track(
     M = sp.coo_matrix((np.concatenate(mv), (rows, cols)), shape=(n_dof, n_dof)).tolil()
     C = sp.lil_matrix((n_dof, n_dof))
     for node, s in zip(support_nodes, sleeper_dof, strict=True):
-        for dofs, stiffness, damping in _pad_couplings(track, node_x, w_dof, th_dof, node):
+        for dofs, stiffness, damping in pad_couplings(track, node_x, w_dof, th_dof, node):
             for mat, (P, p, total) in ((K, stiffness), (C, damping)):
                 # the pad's layer between the rail (dofs) and the rigid sleeper s: [[P, -p], [-p^T, total]]
                 for i, di in enumerate(dofs):
@@ -340,17 +340,21 @@ def assemble_track(
 
 
 _GAUSS_POINTS = 4  # Gauss-Legendre points: exact for N^T N, of degree 6 in x
+POINT_PAD_WIDTH = 1e-9
+"""A pad narrower than this (m) is a point support: its blocks differ from the point support's by about (w / h)^2,
+under 1e-14 on elements h of 1 cm and more (round-off), and a narrower one is not resolved around a sleeper tens of
+metres along the rail (1e-311 m vanished there, and k_P / w overflowed)."""
 
 
-def _pad_couplings(track: TrackParameters, node_x, w_dof, th_dof, node: int):
+def pad_couplings(track: TrackParameters, node_x, w_dof, th_dof, node: int):
     """The pad at the support ``node`` as (rail dofs, (k, c) parts) blocks: for each part, the rail block
     P = (k_P / w) int N^T N dx, the coupling p = (k_P / w) int N dx to the sleeper and the sleeper's
     (k_P / w) x (length covered); over the element parts within x_S -+ w / 2 (clipped to the rail's ends: the
     two end sleepers' pads cover the half within the rail with the whole k_P, so that w -> 0 is the point
-    support everywhere). A point support (w = 0): the rail's w DOF at the node, k_P and c_P."""
+    support everywhere). A point support (w below ``POINT_PAD_WIDTH``): the rail's w DOF at the node, k_P and c_P."""
     sup = track.support
     width = sup.pad_width
-    if width == 0:
+    if width < POINT_PAD_WIDTH:
         one = np.ones((1, 1))
         k, c = sup.pad_stiffness, sup.pad_damping
         return [(np.array([w_dof[node]]), (k * one, k * one[0], k), (c * one, c * one[0], c))]
@@ -400,7 +404,7 @@ def track_receptance(model: TrackFEModel, frequency, x_excitation: float, x_resp
     See Also
     --------
     assemble_track : the model.
-    receptance_peaks : its resonances.
+    wheelrail.core.track.resonances.receptance_peaks : its resonances.
 
     Examples
     --------
@@ -433,36 +437,3 @@ def track_receptance(model: TrackFEModel, frequency, x_excitation: float, x_resp
     if x_response is None or np.ndim(x_response) == 0:
         return out[:, 0]
     return out
-
-
-# --------------------------------------------------------------------------------------------------
-# Receptance peaks
-# --------------------------------------------------------------------------------------------------
-
-
-def receptance_peaks(model: TrackFEModel) -> dict[str, float]:
-    """Resonance frequencies of the track, Hz, read off its receptance in the central bay.
-
-    ``sleeper_on_ballast_hz`` and ``rail_on_pad_hz``: the two most prominent peaks of the point
-    receptance above a sleeper below 700 Hz (track mass on ballast; rail on pads with sleepers
-    nearly at rest). ``pinned_pinned_hz``: the highest peak of the midspan point receptance between
-    700 and 1500 Hz (bending wavelength twice the sleeper spacing).
-    """
-    from scipy.signal import find_peaks
-
-    L = model.params.support.sleeper_spacing
-    x_sleeper = (model.params.n_bays // 2) * L
-    f_low = np.arange(20.0, 700.0, 1.0)
-    a = np.abs(track_receptance(model, f_low, x_sleeper))
-    peaks, props = find_peaks(a, prominence=0.0)
-    top = peaks[np.argsort(props["prominences"])[-2:]]
-    if len(top) < 2:
-        raise WheelrailError("could not find two support resonances below 700 Hz in the receptance")
-    f_sb, f_rp = sorted(f_low[top])
-    f_pp = np.arange(700.0, 1500.0, 0.5)
-    a_mid = np.abs(track_receptance(model, f_pp, x_sleeper + L / 2))
-    return {
-        "sleeper_on_ballast_hz": float(f_sb),
-        "rail_on_pad_hz": float(f_rp),
-        "pinned_pinned_hz": float(f_pp[np.argmax(a_mid)]),
-    }

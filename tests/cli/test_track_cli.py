@@ -78,3 +78,56 @@ def test_bad_input_is_one_line(argv, fragment, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert fragment in err and err.count("\n") == 1
+
+
+def test_bands_are_named_by_their_nominal_centres(capsys):
+    # `wheelrail track` once named its bands 79, 126, 158, 251, 398, 1259, 2512 Hz (the exact centres
+    # rounded) where every other output says 80, 125, 160, 250, 400, 1250, 2500 (``spectra.band_labels``).
+    from wheelrail.cli.commands.track import _print_bands
+    from wheelrail.core.noise.levels import noise_bands
+
+    f = noise_bands()
+    f = f[f < 5100]
+    ones = np.ones(len(f))
+    bands = {"frequency_hz": f, "above_sleeper_m_per_n": 1e-9 * ones, "midspan_m_per_n": 2e-9 * ones}
+    below = [float(x) for x in f if 1200 < x < 2600]
+    decay = {
+        "frequency_hz": f,
+        "decay_rate_dB_per_m": [0.5] * len(f),
+        "limit_dB_per_m": [None if x < 240 else 0.8 for x in f],
+        "below_limit_hz": below,
+        "meets_limit": False,
+        "limit_source": "EN ISO 3095:2013",
+    }
+    _print_bands(bands, decay)
+    out = capsys.readouterr().out
+    names = [line.split()[0] for line in out.splitlines()[2:-1]]
+    assert names == ["50", "63", "80", "100", "125", "160", "200", "250", "315", "400", "500", "630", "800", "1000",
+                     "1250", "1600", "2000", "2500", "3150", "4000", "5000"]  # fmt: skip
+    assert "below EN ISO 3095:2013's lower limit at 1250, 1600, 2000 and 2500 Hz" in out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("pads_mn_m", ["10", "3000"])
+def test_track_answers_at_the_ends_of_the_pad_range(pads_mn_m, cli):
+    # Pads of 10, 30, 60, 90, 100, 1000 and 3000 MN/m (all accepted) ended in "could not find two
+    # support resonances below 700 Hz" before anything was printed. Each resonance is reported as found or not.
+    code, out, err = cli("track", "--pad-stiffness-mn-m", pads_mn_m, "--json")
+    assert code == 0, err
+    summary = json.loads(out)
+    resonances = summary["resonances"]
+    assert list(resonances) == ["sleeper_on_ballast", "rail_on_pad", "pinned_pinned"]
+    for kind, entry in resonances.items():
+        assert set(entry) == {"label", "frequency_hz", "band_edge_hz", "receptance", "reason"}
+        assert (entry["frequency_hz"] is None) == (entry["reason"] is not None)
+        assert summary["resonances_hz"][f"{kind}_hz"] == entry["frequency_hz"]
+    assert resonances["pinned_pinned"]["frequency_hz"] == pytest.approx(943, rel=0.01)
+    if pads_mn_m == "10":  # the soft pads' lower resonance is the rail's; the sleeper's is damped out
+        assert resonances["rail_on_pad"]["frequency_hz"] == pytest.approx(65, rel=0.05)
+        assert resonances["sleeper_on_ballast"]["frequency_hz"] is None
+    assert summary["bands"]["band_labels"][:4] == ["50", "63", "80", "100"]
+    code, text, err = cli("track", "--pad-stiffness-mn-m", pads_mn_m)  # the text, from the cache
+    assert code == 0 and err == ""
+    for name in ("sleeper-on-ballast", "rail-on-pad", "pinned-pinned"):
+        assert f"  {name} resonance" in text
+    assert " 1250   " in text and " 1259 " not in text

@@ -520,6 +520,10 @@ def test_the_track_tab_draws_receptance_and_decay_against_the_limit(app):
     track = app.shown.params().track
     tab._compute(track)  # what its background thread does for a new track (then it redraws)
     assert "pad stiffness 120 MN/m" in tab.track_md.content
+    # its resonances, each named (tests/physics/test_track_resonances.py)
+    words = tab.resonances_md.content
+    assert "sleeper-on-ballast 110.6 Hz" in words and "rail-on-pad 284.8 Hz" in words
+    assert "pinned-pinned 941.0 Hz" in words
     assert [label for label, *_ in tab.receptance.series] == ["above a sleeper", "midspan"]
     receptance = tab.receptance.data
     assert 40 < receptance[0][0] < 70 and receptance[0][-1] > 4000  # Hz: the bands 50 Hz-5 kHz

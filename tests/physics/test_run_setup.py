@@ -60,3 +60,9 @@ def test_the_outermost_window_lines_run_without_reaching_the_window_edge(line):
         params=ModelParameters(run=RunParameters()),
     ).run()
     assert result.n_steps == 1500 and np.all(np.isfinite(result.force))
+
+
+def test_track_numerics_of_another_type_is_one_clear_error():
+    # prepare_run(track_numerics="fine") ended in AttributeError deep in the moving Green's functions
+    with pytest.raises(WheelrailError, match="prepare_run: track_numerics must be TrackNumerics or None, got str"):
+        prepare_run("corrugated-rail", model="hertz", length=0.01, track_numerics="fine")

@@ -83,11 +83,11 @@ def test_supports_give_the_two_bounce_frequencies_of_a_rigid_rail():
 def test_pinned_pinned_and_support_resonances(model):
     # Paper: pinned-pinned resonance at 943 Hz for these parameters; the model's peak within +-3 % of it.
     peaks = receptance_peaks(model)
-    assert peaks["pinned_pinned_hz"] == pytest.approx(943.0, rel=0.03)
+    assert peaks["pinned_pinned"].frequency_hz == pytest.approx(943.0, rel=0.03)
     # The support resonances of a UIC60 track on these pads and ballast: the sleeper-on-ballast mode
     # in the 80-160 Hz range and the rail-on-pad mode between it and the pinned-pinned resonance.
-    assert 80 < peaks["sleeper_on_ballast_hz"] < 160
-    assert 1.5 * peaks["sleeper_on_ballast_hz"] < peaks["rail_on_pad_hz"] < 600
+    assert 80 < peaks["sleeper_on_ballast"].frequency_hz < 160
+    assert 1.5 * peaks["sleeper_on_ballast"].frequency_hz < peaks["rail_on_pad"].frequency_hz < 600
 
 
 def test_midspan_receptance_peaks_at_pinned_pinned_while_above_sleeper_dips(model):

@@ -107,3 +107,19 @@ def test_track_transfer_function_converges_at_high_frequencies_with_a_damped_rai
     upto = f < 9000
     for finer in levels[1:]:
         assert np.max(np.abs(finer - levels[0])[upto]) <= 0.5
+
+
+def test_a_negligible_loss_factor_is_the_undamped_rail_in_the_time_domain():
+    # A loss factor of 1e-311 (accepted: 0 to 0.1) gave relaxation weights of 1e-311, subnormal numbers on which
+    # the Newmark loop ran 20 times slower; below NEGLIGIBLE_LOSS_FACTOR (1e-12) the time domain has no terms, and
+    # the impulse response is the undamped rail's exactly (the terms' effect, ~1e-311 of it, rounds off anyway).
+    from wheelrail.core.track import stationary
+
+    assert stationary._relaxation_terms(1e-311, 5e-6)[1].size == 0
+    assert stationary._relaxation_terms(stationary.NEGLIGIBLE_LOSS_FACTOR, 5e-6)[1].size == 5
+    responses = [
+        rail_impulse_responses(assemble_track(TrackParameters(rail=RailParameters(loss_factor=eta), n_bays=8), 4),
+                               2.6, [16, 20], 5e-5, 2e-3)
+        for eta in (0.0, 1e-311)
+    ]  # fmt: skip
+    assert np.array_equal(*responses)

@@ -3,12 +3,14 @@ as its limit, the same track in both time and frequency domains."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import SupportParameters, TrackParameters
-from wheelrail.core.track.fe import _pad_couplings, assemble_track, track_receptance
+from wheelrail.core.track.fe import assemble_track, pad_couplings, track_receptance
 
 
 def _track(width: float, n_bays: int = 8) -> TrackParameters:
@@ -28,7 +30,7 @@ def test_pad_layer_integrals_are_exact(per_bay):
     xs = model.node_x[node]
     k = track.support.pad_stiffness
     force = moment = total = 0.0
-    for dofs, (P, p, covered), _ in _pad_couplings(track, model.node_x, model.w_dof, model.theta_dof, node):
+    for dofs, (P, p, covered), _ in pad_couplings(track, model.node_x, model.w_dof, model.theta_dof, node):
         nodes = np.searchsorted(model.w_dof, dofs[::2])
         translation = np.ravel(np.column_stack([np.ones(2), np.zeros(2)]))
         rotation = np.ravel(np.column_stack([model.node_x[nodes] - xs, np.ones(2)]))
@@ -71,3 +73,14 @@ def test_pad_width_keeps_the_matrices_symmetric_and_banded_and_is_checked():
         SupportParameters(pad_width=-0.01)
     with pytest.raises(WheelrailError, match="pad_width"):
         SupportParameters(pad_width=0.3, sleeper_spacing=0.5)  # over half the spacing: it would reach the next pad
+
+
+def test_a_sub_nanometre_pad_is_the_point_support():
+    # --pad-width-mm 1e-308 (accepted: 0 to 300 mm) vanished around the sleepers (or overflowed
+    # k_P / w) and left a singular track. A pad narrower than 1 nm is the point support.
+    point = assemble_track(_track(0.0, n_bays=70))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tiny = assemble_track(_track(1e-311, n_bays=70))
+    for name in ("K", "M", "C"):
+        assert (getattr(tiny, name) != getattr(point, name)).nnz == 0, name

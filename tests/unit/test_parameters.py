@@ -9,6 +9,7 @@ from wheelrail.core.parameters import (
     RunParameters,
     SupportParameters,
     TrackNumerics,
+    TrackParameters,
     WheelParameters,
 )
 
@@ -148,3 +149,11 @@ def test_old_files_with_only_radius_and_json_null_tread_read_back():
     written = as_dict(ModelParameters(contact=CONCAVE))
     written["contact"]["wheel_transverse_radius"] = None  # strict JSON writes the infinite default as null
     assert from_dict(ModelParameters, written).contact.wheel_transverse_radius == math.inf
+
+
+def test_track_parameters_bound_the_bays():
+    from wheelrail.core.parameters import MAX_TRACK_BAYS
+
+    assert TrackParameters(n_bays=MAX_TRACK_BAYS).n_bays == MAX_TRACK_BAYS
+    with pytest.raises(WheelrailError, match=r"TrackParameters.n_bays must be an integer from 4 to 1000, got 1000000"):
+        TrackParameters(n_bays=10**6)
