@@ -44,6 +44,7 @@ from wheelrail.explorer.scene import PatchScene
 from wheelrail.explorer.session import SessionFiles
 from wheelrail.explorer.tabs import RESULT_TABS
 from wheelrail.explorer.uploads import MAX_UPLOAD_BYTES
+from wheelrail.explorer.workers import Workers
 
 __all__ = ["ExplorerApp", "main", "serve"]
 
@@ -78,7 +79,8 @@ class ExplorerApp:
         self.server = viser.ViserServer(host=host, port=port, label="wheelrail explorer", verbose=verbose)
         self.port = self.server.get_port()
         self.store = ResultStore()
-        self.controller = RunController(self, self.store)
+        self.workers = Workers()  # every background thread of the page, joined by close()
+        self.controller = RunController(self, self.store, workers=self.workers)
         self.shown: RunConfig | None = None  # the configuration the controls describe (None: not valid)
         self.running: RunConfig | None = None  # the configuration being run, if any
         self._model_choice: str | None = None  # the user's choice in Model shown, for the configuration shown
@@ -124,7 +126,7 @@ class ExplorerApp:
         )
         with self.form.folder:
             self.session = SessionFiles(self.page, self.form, lambda: self.shown)
-        self.replay = Replay(self.page, self.scene, self.form, self._running_shown)
+        self.replay = Replay(self.page, self.scene, self.form, self._running_shown, self.workers)
         self.downloads = Downloads(self.page, self.form, self.store, self.replay, lambda: self.shown, self.plots)
         parts = TabParts(
             page=self.page,
@@ -135,6 +137,7 @@ class ExplorerApp:
             choose_model=self.choose_model,
             redraw=self.redraw_tab,
             find_tab=self.tab,
+            workers=self.workers,
         )
         panel = gui.add_panel()
         self.tabs = tuple(tab_class(parts, panel.add_tab(tab_class.title, tab_class.icon)) for tab_class in RESULT_TABS)
@@ -180,6 +183,8 @@ class ExplorerApp:
     def show_case(self) -> None:
         """Everything of the configuration shown: every tab, and the 3D view, readout, slider and progress (its
         run's last step, or cleared)."""
+        if self.workers.closed.is_set():
+            return
         with self._lock:
             shown, entries = self._shown_now()
             with self.server.atomic():
@@ -189,6 +194,8 @@ class ExplorerApp:
 
     def redraw_tab(self, tab) -> None:
         """Redraw one tab for what the page shows now (a tab whose curves were computed in the background)."""
+        if self.workers.closed.is_set():
+            return
         with self._lock:
             shown, _ = self._shown_now()
             with self.server.atomic():
@@ -253,21 +260,22 @@ class ExplorerApp:
         return True
 
     def status(self, text: str) -> None:
-        self.page.status(text)
+        if not self.workers.closed.is_set():
+            self.page.status(text)
 
     def progress(self, fraction: float) -> None:
-        if self._running_shown() is not None:
+        if self._running_shown() is not None and not self.workers.closed.is_set():
             self.form.progress_bar.value = round(100.0 * min(max(fraction, 0.0), 1.0), 1)
 
     def frame(self, state, view: RunView) -> None:
         """A run's step: drawn only while the page shows that run's configuration."""
         with self._lock:
-            if self._shows_the_run(view.config):
+            if self._shows_the_run(view.config) and not self.workers.closed.is_set():
                 self.replay.draw(state, view)
 
     def live(self, result, view: RunView) -> None:
         with self._lock:
-            if self._shows_the_run(view.config):
+            if self._shows_the_run(view.config) and not self.workers.closed.is_set():
                 for tab in self.tabs:
                     tab.live(result, view.config)
 
@@ -276,9 +284,12 @@ class ExplorerApp:
             self.show_case()
 
     def error(self, message: str) -> None:
-        self.page.report_error(message)
+        if not self.workers.closed.is_set():
+            self.page.report_error(message)
 
     def finished(self, config: RunConfig, outcome: str) -> None:
+        if self.workers.closed.is_set():
+            return
         with self._lock:
             self.running = None
             self.form.progress_bar.animated = False
@@ -289,9 +300,10 @@ class ExplorerApp:
             self.status(f"Done: {config.label()}. Scrub with the Step slider or press Play.")
 
     def close(self) -> None:
-        """Cancel any run and stop the server."""
+        """Cancel any run, stop and join every background thread (a run or a track still being prepared ends
+        once prepared; nothing is drawn meanwhile), then stop the server."""
         self.replay.playing = False
-        self.controller.cancel_current()
+        self.controller.close()  # marks the workers closed, supersedes the run and joins every thread
         self.server.stop()
 
 

@@ -131,8 +131,7 @@ class WheelTab(ResultsTab):
             with self._lock:
                 self._wanted = key
                 if not self._working:
-                    self._working = True
-                    threading.Thread(target=self._work, daemon=True, name="wheelrail-wheel-tab").start()
+                    self._working = self.parts.workers.start(self._work, name="wheelrail-wheel-tab") is not None
         return found
 
     def ask(self) -> None:
@@ -149,7 +148,9 @@ class WheelTab(ResultsTab):
             with self._lock:
                 key = self._wanted
                 job = None
-                if key is not None and key not in self._modes:
+                if self.parts.workers.closed.is_set():  # the page is closed: nothing more is computed
+                    pass
+                elif key is not None and key not in self._modes:
                     job = self.compute
                 elif key is not None and self._power_key(key) not in self._power:
                     job = self.compute_power
