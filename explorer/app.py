@@ -85,6 +85,8 @@ class ExplorerApp:
         self.running: RunConfig | None = None  # the configuration being run, if any
         self._model_choice: str | None = None  # the user's choice in Model shown, for the configuration shown
         self._overlay_choice = NO_OVERLAY  # the run overlaid (Spectra and Noise tabs)
+        self._done: tuple[RunConfig, str] | None = None  # the last run finished and its status line
+        self._done_elsewhere: str | None = None  # the status line put in its place while another config is shown
         self._lock = threading.RLock()
         try:
             self.page = Page(self.server, max_upload_bytes)
@@ -164,9 +166,27 @@ class ExplorerApp:
             if changed:
                 self._model_choice = None
                 self.show_case()
+                self._status_for_shown()
             self.scene.set_contact(self.form.contact())
             for tab in self.tabs:
                 tab.show_form(self.form)
+
+    def _status_for_shown(self) -> None:
+        """A status line about a finished run (Done) follows the configuration shown: Done again for the run's
+        own settings, else that the settings describe another configuration (its run or none)."""
+        if self._done is None or self.page.status_md.content not in (self._done[1], self._done_elsewhere):
+            return  # the status line says something else (a run under way, an error, a note): left as it is
+        config = self.shown
+        if config is None:
+            text = FIX_FIRST
+        elif config.case() == self._done[0].case():
+            text = self._done[1]
+        elif self.store.entries(config.case()):
+            text = f"Shown: the run of {config.label()} made before; **Run** runs it again."
+        else:
+            text = f"The settings changed: no run of {config.label()} yet; press **Run**."
+        self._done_elsewhere = text
+        self.status(text)
 
     def choose_overlay(self, label: str) -> None:
         """The run overlaid (either tab's menu): both menus show it."""
@@ -297,7 +317,9 @@ class ExplorerApp:
             if self._shows_the_run(config):
                 self.show_case()
         if outcome == "done":
-            self.status(f"Done: {config.label()}. Scrub with the Step slider or press Play.")
+            self._done = (config, f"Done: {config.label()}. Scrub with the Step slider or press Play.")
+            self._done_elsewhere = None
+            self.status(self._done[1])
 
     def close(self) -> None:
         """Cancel any run, stop and join every background thread (a run or a track still being prepared ends

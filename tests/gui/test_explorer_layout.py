@@ -1,8 +1,9 @@
 """Explorer in a real browser: after the default Run, what a user came to see is on screen without scrolling.
 
 Headless Chromium (Debian's /usr/bin/chromium, driven by Playwright) at 1280 x 800 and 1920 x 1080: on every
-results tab the first plot lies at least 90 % inside the window and is at least 480 px wide, and on the Patch
-tab the pressure colour bar is on screen; plot titles wrap inside their plot. Screenshots of every tab at
+results tab the first plot lies at least 90 % inside the window and is at least 480 px wide (the Wheel tab, which
+draws nothing before it is asked to: its Compute the wheel button is on screen), and on the Patch tab the pressure
+colour bar is on screen; plot titles wrap inside their plot. Screenshots of every tab at
 both sizes go to ``test-artifacts/``. Every wait is for a condition in the page, never a fixed time.
 """
 
@@ -10,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from wheelrail.explorer.tabs import RESULT_TABS, HelpTab, NoiseTab, PatchTab
+from wheelrail.explorer.tabs import RESULT_TABS, HelpTab, NoiseTab, PatchTab, WheelTab
 
 pytestmark = pytest.mark.slow  # every test here takes seconds: `pytest -m 'not slow'` skips them
 
@@ -19,7 +20,8 @@ SIZES = ((1280, 800), (1920, 1080))
 MIN_INSIDE = 0.9  # share of the first plot's area inside the window
 MIN_WIDTH = 480  # px
 TABS = tuple(tab.title for tab in RESULT_TABS)  # the page's tabs, in order
-PLOT_TABS = tuple(tab.title for tab in RESULT_TABS if tab is not HelpTab)
+# the Wheel tab draws nothing until Compute the wheel is pressed: its button is what must be on screen
+PLOT_TABS = tuple(tab.title for tab in RESULT_TABS if tab not in (HelpTab, WheelTab))
 COLOUR_BAR = "contact pressure (MPa)"  # the colour bar's label in the Patch tab
 
 # every uPlot chart of the page with its box on screen (zero size: in a tab not shown)
@@ -81,6 +83,10 @@ def test_after_the_default_run_every_tab_shows_its_first_plot(app, browser):
                         f"{first['width']:.0f} px wide, title {'' if first['title_fits'] else 'not '}"
                         "wrapped"
                     )
+            if title == WheelTab.title:
+                button = page.get_by_role("button", name="Compute the wheel", exact=True).bounding_box()
+                if button is None or inside_share(button, width, height) < 0.99:
+                    problems.append(f"{width}x{height}: the Compute the wheel button is not on screen ({button})")
             if title == PatchTab.title:
                 bar = page.get_by_text(COLOUR_BAR, exact=True).locator("xpath=following::img[1]").bounding_box()
                 if bar is None or inside_share(bar, width, height) < 0.99:

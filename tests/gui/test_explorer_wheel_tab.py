@@ -158,7 +158,7 @@ def test_shape_fields_change_the_wheel_or_say_what_is_wrong(app):
         "**Cannot make this wheel:** Tyre width 500 mm is outside the accepted 80 to 200 mm "
         "(a rim's width: 135 mm on standard-gauge wheels)"
     )
-    assert [label for label, *_ in tab.receptance.series] == ["fix the wheel's shape"]
+    assert not any(plot.visible for plot in tab.plots().values())  # no empty plots: the words say why
     tab = _shown(app, wheel_hub_width="wide")
     assert tab.wheel_md.content == "**Cannot make this wheel:** Hub width 'wide': not a number"
     tab = _shown(app, added="2")
@@ -243,7 +243,13 @@ def test_the_wheel_is_computed_only_once_asked(app):
     profile, _ = tab.read(app.shown)
     key = (profile, tuple(sorted(tab.mode_settings.items())))
     assert key not in tab._modes and not tab._working and tab._wanted != key
-    assert [label for label, *_ in tab.receptance.series][0].startswith("press *Compute the wheel*")
+    # nothing computed: no empty plots above the button, and the words are markdown (no literal asterisks)
+    assert not any(plot.visible for plot in tab.plots().values())
+    assert not any(plot.handle.visible for plot in tab.plots().values())
+    assert tab.wheel_md.content.endswith(
+        "Press **Compute the wheel** (below, under the *Wheel shape* folder) for this wheel's modes and sound power."
+    )
+    assert not any("*" in label for plot in tab.plots().values() for label, *_ in plot.series)
     tab.ask()
     assert tab.asked and tab._wanted == key  # the worker was handed this shape (it computes it in the background)
     tab.shape_fields["wheel_web_thickness"].value = ""
