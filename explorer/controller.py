@@ -18,7 +18,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol
 
 from wheelrail.core.errors import WheelrailError
@@ -29,12 +29,22 @@ from wheelrail.explorer.config import RunConfig, models_of, page_message
 from wheelrail.explorer.results import Entry, ResultStore
 from wheelrail.explorer.workers import Workers
 
-__all__ = ["FRAME_INTERVAL", "RunController", "RunListener", "RunView", "TICK_INTERVAL"]
+__all__ = ["FRAME_INTERVAL", "Preparation", "RunController", "RunListener", "RunView", "TICK_INTERVAL"]
 
 LOG = logging.getLogger("wheelrail.explorer")
 FRAME_INTERVAL = 0.05  # s between live frames handed to the page (<= 20 per second)
 PLOT_INTERVAL = 0.25  # s between live plot and progress updates
 TICK_INTERVAL = 0.5  # s between the status lines of a long preparation (the seconds it has taken)
+
+
+@dataclass
+class Preparation:
+    """What the runs of every page of one explorer share: the (track, speed) whose Green's functions this process
+    has prepared (a later run on them is no first preparation) and one first preparation at a time (a warm-up or a
+    run's). The prepared tracks themselves are core's cache, the compiled solver numba's."""
+
+    tracks: set = field(default_factory=set)
+    lock: threading.Lock = field(default_factory=threading.Lock)
 
 
 @dataclass(frozen=True)
@@ -75,6 +85,7 @@ class RunController:
         frame_interval: float = FRAME_INTERVAL,
         tick: float = TICK_INTERVAL,
         workers: Workers | None = None,
+        preparation: Preparation | None = None,
     ) -> None:
         self._noise_transfer = None
         self._loads_solver = prepare is None  # core's runs: a first preparation loads the solver as a step of its own
@@ -96,8 +107,9 @@ class RunController:
         self._stopped_generation = -1
         self._run = None
         self._worker: threading.Thread | None = None
-        self._prepared_tracks: set[tuple] = set()  # (track, speed) whose Green's functions this process has prepared
-        self._first_preparation = threading.Lock()  # one first preparation at a time (a warm-up or a run's)
+        preparation = Preparation() if preparation is None else preparation  # shared by the explorer's pages
+        self._prepared_tracks: set[tuple] = preparation.tracks  # (track, speed) whose Green's functions are prepared
+        self._first_preparation = preparation.lock  # one first preparation at a time (a warm-up or a run's)
         self.workers = Workers() if workers is None else workers  # its threads, joined by close()
 
     @property

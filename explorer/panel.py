@@ -75,7 +75,7 @@ class ResultsTab:
 
     def __init__(self, parts: TabParts, tab) -> None:
         self.parts, self.page, self.tab = parts, parts.page, tab
-        self.gui = parts.page.server.gui
+        self.gui = parts.page.gui
 
     def plots(self) -> dict[str, Plot]:
         """The tab's plots by the names its PNG menu shows."""

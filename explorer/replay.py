@@ -98,7 +98,7 @@ class Replay:
 
     def draw(self, state, view: RunView) -> None:
         """One step of a run in the 3D view and the readout."""
-        with self.page.server.atomic():
+        with self.page.atomic():
             self.scene.draw(state, view)
             config = view.config
             contact = config.contact()

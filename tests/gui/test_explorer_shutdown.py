@@ -25,14 +25,19 @@ SCRIPT = textwrap.dedent(
     warnings.simplefilter("always")  # every warning printed (viser's "queued on a closed connection" among them)
 
     from wheelrail.explorer.app import ExplorerApp
+    from wheelrail.explorer.headless import HeadlessTab
     from wheelrail.explorer.tabs import WheelTab
 
     app = ExplorerApp(port={port})
-    app.tab(WheelTab).ask()  # the Wheel tab's worker computes this wheel's modes
-    app.form.model_dropdown.value = "hertz"
-    app.form.length_text.value = "0.6"
-    assert app.start_run(), app.page.last_error  # a run being prepared
+    tab = HeadlessTab(app.port)  # a tab of the explorer: its session
+    assert app.wait_for(lambda: app.sessions, 120)
+    session = next(iter(app.sessions.values()))
+    session.tab(WheelTab).ask()  # the Wheel tab's worker computes this wheel's modes
+    session.form.model_dropdown.value = "hertz"
+    session.form.length_text.value = "0.6"
+    assert session.start_run(), session.page.last_error  # a run being prepared
     app.close()
+    tab.close()
     alive = sorted(t.name for t in threading.enumerate() if t is not threading.main_thread() and t.is_alive())
     print("threads after close:", alive, flush=True)
     assert not [name for name in alive if name.startswith("wheelrail")], alive

@@ -208,14 +208,11 @@ PLOTS_IN_PAGE = """() => Object.values((window.__viserTestpoints || {}).uplots |
 
 
 @pytest.mark.slow
-def test_the_wheel_tab_in_the_page_shows_its_plots(app, browser):
-    """Headless Chromium: the Wheel tab, clicked, shows its three plots with the curves the app drew."""
-    tab = _shown(app)
-    page = browser.new_page(viewport={"width": 1280, "height": 800})
-    errors = []
-    page.on("pageerror", lambda error: errors.append(str(error)))
+def test_the_wheel_tab_in_the_page_shows_its_plots(open_page):
+    """Headless Chromium: the Wheel tab, clicked, shows its three plots with the curves the page's session drew."""
+    page, session, errors = open_page(1280, 800)
+    tab = _shown(session)
     try:
-        page.goto(f"http://127.0.0.1:{app.port}")
         page.get_by_role("tab", name=WheelTab.title).click()
         page.wait_for_function(f"() => ({PLOTS_IN_PAGE})().length >= 3", timeout=90_000)
         plots = {plot["title"]: plot for plot in page.evaluate(PLOTS_IN_PAGE)}
