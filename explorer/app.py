@@ -55,6 +55,7 @@ class ExplorerApp:
         self._gone: set[int] = set()  # clients that disconnected (a session built meanwhile is closed at once)
         self._closed = False
         self._warming: RunConfig | None = None  # the configuration being warmed up, until it is
+        self.warmed_up = threading.Event()  # set once the warm-up has prepared its configuration
         self._warm_up = RunController(None, preparation=self.preparation)  # prepares only: it runs nothing
         set_initial_camera(self.server)
         self.server.on_client_connect(self._connect)
@@ -67,6 +68,7 @@ class ExplorerApp:
 
     def _warmed_up(self, seconds: float) -> None:
         self._warming = None
+        self.warmed_up.set()
         for session in list(self.sessions.values()):
             session.warmed_up(seconds)
 
