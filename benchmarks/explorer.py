@@ -2,15 +2,15 @@
 
 Run: python3 benchmarks/explorer.py [--repeats 5] [--length-m 7.9] [--browser]
 
-Server side (always): an ExplorerApp on a free port; Run is pressed programmatically (the function the
-button's callback calls); "first frame" is the moment the first step's patch has been handed to viser for
-sending (timed around the app's frame listener). After a warm-up run, so the Green's functions are cached and
-numba's compiled code is loaded, as for a user's second run. Frame rate: frames drawn per second of a
-3D run on the corrugated rail (the explorer draws at most 20 per second), and the run's steps/s with the
-explorer drawing, to compare with benchmarks/interaction.py.
+Server side (always): an ExplorerApp on a free port and the session of one tab of it opened without a browser
+(a HeadlessTab); Run is pressed programmatically (the function the button's callback calls); "first frame" is the
+moment the first step's patch has been handed to viser for sending (timed around the session's frame listener).
+After a warm-up run, so the Green's functions are cached and numba's compiled code is loaded, as for a user's
+second run. Frame rate: frames drawn per second of a 3D run on the corrugated rail (the explorer draws at most 20
+per second), and the run's steps/s with the explorer drawing, to compare with benchmarks/interaction.py.
 
---browser (needs /usr/bin/chromium and playwright): the same press in a headless Chromium page, timed in
-the page from the click to the moment the page's scene holds a new patch (received, before WebGL draws
+--browser (needs /usr/bin/chromium and playwright): the same press in a headless Chromium page (its own session),
+timed in the page from the click to the moment the page's scene holds a new patch (received, before WebGL draws
 it; headless Chromium renders WebGL in software, slowly, so the figure is pessimistic).
 Target: press Run to first frame < 1 s.
 
@@ -30,6 +30,20 @@ import time
 from pathlib import Path
 
 from wheelrail.core.run_setup import default_run_in_length
+
+
+def _new_session(explorer, open_tab):
+    """``open_tab()`` (a HeadlessTab or a page connecting), then the session the explorer built for it."""
+    known = set(explorer.sessions)
+    tab = open_tab()
+    assert explorer.wait_for(lambda: set(explorer.sessions) - known, 120), "no session for the new tab"
+    return tab, explorer.sessions[max(set(explorer.sessions) - known)]
+
+
+def _headless(explorer):
+    from wheelrail.explorer.headless import HeadlessTab
+
+    return _new_session(explorer, lambda: HeadlessTab(explorer.port))
 
 
 def _press(app, model: str, length: float) -> tuple[float, float, int, int, float]:
@@ -128,7 +142,7 @@ def browser_frames(page, app, length: float) -> None:
     )
 
 
-def browser_side(app, repeats: int) -> None:
+def browser_side(explorer, repeats: int) -> None:
     from playwright.sync_api import sync_playwright
 
     args = [
@@ -138,13 +152,13 @@ def browser_side(app, repeats: int) -> None:
         "--no-sandbox",
         "--disable-gpu",
     ]
-    app.form.model_dropdown.value = "3d"
-    app.form.length_text.value = "1"
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path="/usr/bin/chromium", args=args)
         page = browser.new_page(viewport={"width": 1200, "height": 800})
-        page.goto(f"http://127.0.0.1:{app.port}")
+        _, app = _new_session(explorer, lambda: page.goto(f"http://127.0.0.1:{explorer.port}"))
         page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
+        app.form.model_dropdown.value = "3d"
+        app.form.length_text.value = "1"
         time.sleep(5.0)
         times = []
         for _ in range(repeats):
@@ -164,20 +178,17 @@ def browser_side(app, repeats: int) -> None:
 def first_run(warm_up: bool) -> None:
     """In this process (its caches empty): the default Run, with the time each status line appeared; with
     ``warm_up``, pressed once the app's background warm-up has finished."""
-    import threading
-
     from wheelrail.explorer.app import ExplorerApp
 
-    warmed = threading.Event()
     start = time.perf_counter()
-    app = ExplorerApp(port=0)  # a port the system chooses (app.port: the one bound)
-    if warm_up:  # what ExplorerApp(warm_up=True) starts, with a signal at its end
-        app.controller.warm_up(app.shown, app.form.roughness, done=lambda seconds: warmed.set())
-        warmed.wait()
+    explorer = ExplorerApp(port=0, warm_up=warm_up)  # a port the system chooses (explorer.port: the one bound)
+    if warm_up:  # as `wheelrail explore` starts it
+        explorer.warmed_up.wait()
         print(
             f"background warm-up (as `wheelrail explore` starts it): {time.perf_counter() - start:.1f} s "
             "from the app's start"
         )
+    tab, app = _headless(explorer)
     said, first = [], []
     status, draw = app.status, type(app).frame
 
@@ -198,7 +209,8 @@ def first_run(warm_up: bool) -> None:
         app.controller.wait()
         done = time.perf_counter()
     finally:
-        app.close()
+        explorer.close()
+        tab.close()
     for when, text in said:
         print(f"  {when - start:6.1f} s  {text.split(' ...')[0]}")
     when = "after the warm-up" if warm_up else "at once"
@@ -241,13 +253,15 @@ def main() -> None:
         return
     from wheelrail.explorer.app import ExplorerApp
 
-    app = ExplorerApp(port=0)  # a port the system chooses (app.port: the one bound)
+    explorer = ExplorerApp(port=0)  # a port the system chooses (explorer.port: the one bound)
+    tab, app = _headless(explorer)
     try:
         server_side(app, args.repeats, args.length_m)
         if args.browser:
-            browser_side(app, args.repeats)
+            browser_side(explorer, args.repeats)
     finally:
-        app.close()
+        explorer.close()
+        tab.close()
 
 
 if __name__ == "__main__":

@@ -1,25 +1,12 @@
-"""The wheelrail explorer: a viser browser GUI over ``wheelrail.core``.
+"""The wheelrail explorer: a viser browser GUI over ``wheelrail.core``, one session per browser tab.
 
-Parts, each handed what it needs: :mod:`.page` (the status line, notices, guarded callbacks, the camera, files
-sent and received), :mod:`.form` (the run form), :mod:`.session` (save and load the form), :mod:`.replay` (a run
-in the 3D view, the Step slider and Play), :mod:`.downloads`, :mod:`.tabs` (the results panel's tabs, one module
-each), :mod:`.controller` (the background run: stop, replace, compare; no viser), :mod:`.results` (results keyed
-by configuration), :mod:`.scene` (the 3D view of the contact patch), :mod:`.plots` (uPlot charts and their PNGs),
-:mod:`.config` (what Run asks for, checked in the page's words). This module wires them like a viser example:
-:func:`serve` creates the app and waits; each part builds its controls and attaches their callbacks where it
-builds them; :class:`ExplorerApp` keeps what the page shows and listens to the runs. Everything computed comes
-from core.
-
-The page: the run form docked on the left, the results panel (tabs Patch, Spectra and filters, Noise, Track,
-Roughness, Help) docked on the right at a width that keeps its plots at least 480 px wide, and the 3D view between
-them, so that after Run the open tab's plots and the colour bar are on screen from 1280 x 800 up. Every browser
-tab open on the explorer shows one shared session (the same form and results; the Help tab says so).
-
-One truth on screen: the page always shows the configuration its controls describe (set, wheel set, line,
-speed, preload, length, contact geometry; every model of it). Change one and the plots, the 3D view, its
-readout, the Step slider and the progress bar show that configuration's run (its last step), or are cleared
-with "no run of this configuration yet". After ``compare``, *Model shown* chooses the model replayed,
-plotted as displacement and downloaded.
+:class:`ExplorerApp` runs the :class:`viser.ViserServer` and gives each client that connects (a browser tab) its own
+:class:`~wheelrail.explorer.browser_session.BrowserSession`, built on that client's own GUI and 3D view (viser's
+``client.gui`` and ``client.scene``): its own form, run, results and downloads. A run in one tab never changes what
+another shows; a tab that closes has its run stopped and its results let go. What the tabs share is what is safe to
+share: the tracks' Green's functions (core's cache, on disk), the compiled solver, and which tracks this process has
+prepared (:class:`~wheelrail.explorer.controller.Preparation`: one first preparation at a time). :func:`serve`
+creates the app and waits.
 """
 
 from __future__ import annotations
@@ -30,39 +17,22 @@ import threading
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import model_names
-from wheelrail.core.parameters import KMH
-from wheelrail.explorer.config import RunConfig, page_message
-from wheelrail.explorer.controller import RunController, RunView
-from wheelrail.explorer.downloads import Downloads
-from wheelrail.explorer.form import DEFAULT_LENGTH, DEFAULT_SET, RunForm
-from wheelrail.explorer.page import Page
-from wheelrail.explorer.panel import NO_OVERLAY, Shown, TabParts
-from wheelrail.explorer.replay import Replay
-from wheelrail.explorer.results import Entry, ResultStore
-from wheelrail.explorer.scene import PatchScene
-from wheelrail.explorer.session import SessionFiles
-from wheelrail.explorer.tabs import RESULT_TABS
+from wheelrail.core.inputs import inputs_of
+from wheelrail.core.parameters import ContactParameters
+from wheelrail.explorer.browser_session import BrowserSession
+from wheelrail.explorer.config import RunConfig, field_text, offered_lines, read_config
+from wheelrail.explorer.controller import Preparation, RunController
+from wheelrail.explorer.form import DEFAULT_LENGTH, DEFAULT_SET
+from wheelrail.explorer.scene import set_initial_camera
 from wheelrail.explorer.uploads import MAX_UPLOAD_BYTES
 
-__all__ = ["ExplorerApp", "main", "serve"]
+__all__ = ["BrowserSession", "ExplorerApp", "main", "serve"]
 
 LOG = logging.getLogger("wheelrail.explorer")
-CONTROL_PANEL_WIDTH = 340  # px: the run form, docked left
-RESULTS_PANEL_WIDTH = 560  # px: the results panel, docked right; its plots are about 520 px wide
-READY = "Ready: choose a set, a line and a model, then press **Run**."
-FIX_FIRST = "The settings are not a run yet: the line above **Run** says what to fix."
-# The browser tab's title (React hoists a <title> rendered from markdown into the document's head), and viser's
-# own "File uploaded successfully" notice (a green check) hidden, since it only means that the bytes arrived:
-# the page says itself whether the file was loaded. If viser's markup changes, its notice shows again.
-PAGE_HEAD = (
-    "<title>wheelrail explorer</title><style>.mantine-Notification-root:has(.tabler-icon-check){display:none}</style>"
-)
 
 
 class ExplorerApp:
-    """The explorer around one :class:`viser.ViserServer`: its parts, what the page shows, and the run
-    controller's listener."""
+    """The explorer's server and its browser sessions (``sessions``: client id -> its session)."""
 
     def __init__(
         self,
@@ -75,224 +45,103 @@ class ExplorerApp:
         verbose: bool = False,
         warm_up: bool = False,
     ) -> None:
+        """``warm_up``: prepare the default configuration's track and solver in the background at once."""
         self.server = viser.ViserServer(host=host, port=port, label="wheelrail explorer", verbose=verbose)
         self.port = self.server.get_port()
-        self.store = ResultStore()
-        self.controller = RunController(self, self.store)
-        self.shown: RunConfig | None = None  # the configuration the controls describe (None: not valid)
-        self.running: RunConfig | None = None  # the configuration being run, if any
-        self._model_choice: str | None = None  # the user's choice in Model shown, for the configuration shown
-        self._overlay_choice = NO_OVERLAY  # the run overlaid (Spectra and Noise tabs)
-        self._lock = threading.RLock()
-        try:
-            self.page = Page(self.server, max_upload_bytes)
-            self.scene = PatchScene(self.server)
-            self._build(roughness, length)
-            self.form.select_set(self.form.set_dropdown.value)
-        except BaseException:
-            self.server.stop()
-            raise
-        self.status(READY)
-        if warm_up and self.shown is not None:
-            self.status(
-                f"{READY} Meanwhile the track for {self.shown.speed / KMH:g} km/h and the {self.shown.model} "
-                "solver are prepared in the background (once; a first Run waits for it)."
-            )
-            self.controller.warm_up(self.shown, self.form.roughness, done=self._warmed_up)
+        self.preparation = Preparation()  # shared by every tab's runs
+        self.sessions: dict[int, BrowserSession] = {}
+        self._settings = {"roughness": roughness, "length": length, "max_upload_bytes": max_upload_bytes}
+        self._changed = threading.Condition()  # notified when a session opens or closes
+        self._gone: set[int] = set()  # clients that disconnected (a session built meanwhile is closed at once)
+        self._closed = False
+        self._warming: RunConfig | None = None  # the configuration being warmed up, until it is
+        self.warmed_up = threading.Event()  # set once the warm-up has prepared its configuration
+        self._warm_up = RunController(None, preparation=self.preparation)  # prepares only: it runs nothing
+        set_initial_camera(self.server)
+        self.server.on_client_connect(self._connect)
+        self.server.on_client_disconnect(self._disconnect)
+        if warm_up:
+            found = _default_config(roughness, length)
+            if found is not None:
+                self._warming, rough = found
+                self._warm_up.warm_up(self._warming, rough, done=self._warmed_up)
 
     def _warmed_up(self, seconds: float) -> None:
-        if self.page.status_md.content.startswith(f"{READY} Meanwhile"):
-            self.status(f"{READY} (The track and solver were prepared in {seconds:.0f} s.)")
+        self._warming = None
+        self.warmed_up.set()
+        for session in list(self.sessions.values()):
+            session.warmed_up(seconds)
 
-    def _build(self, roughness: str, length: float) -> None:
-        """The run form docked left (with its Session folder), the results panel docked right."""
-        gui = self.server.gui
-        gui.configure_theme(control_width="medium", show_share_button=False)
-        gui.main_panel.dock_left()
-        gui.main_panel.set_width(CONTROL_PANEL_WIDTH)
-        gui.add_markdown(PAGE_HEAD)
-        gui.add_markdown(
-            "Vertical wheel/rail interaction in the time domain (Pieringer, Kropp & Thompson, Wear 271, 2011)"
-        )
-        self.form = RunForm(
-            self.page,
-            changed=self.show_config,
-            run=lambda client: self.start_run(client=client),
-            stop=self.controller.stop,
-            roughness=roughness,
-            length=length,
-        )
-        with self.form.folder:
-            self.session = SessionFiles(self.page, self.form, lambda: self.shown)
-        self.replay = Replay(self.page, self.scene, self.form, self._running_shown)
-        self.downloads = Downloads(self.page, self.form, self.store, self.replay, lambda: self.shown, self.plots)
-        parts = TabParts(
-            page=self.page,
-            form=self.form,
-            replay=self.replay,
-            downloads=self.downloads,
-            choose_overlay=self.choose_overlay,
-            choose_model=self.choose_model,
-            redraw=self.redraw_tab,
-            find_tab=self.tab,
-        )
-        panel = gui.add_panel()
-        self.tabs = tuple(tab_class(parts, panel.add_tab(tab_class.title, tab_class.icon)) for tab_class in RESULT_TABS)
-        panel.dock_right()
-        panel.set_width(RESULTS_PANEL_WIDTH)
-
-    def tab(self, kind: type):
-        """The results panel's tab of class ``kind``."""
-        return next(t for t in self.tabs if isinstance(t, kind))
-
-    def plots(self) -> dict:
-        """Every plot of the page by the name its tab's PNG menu shows."""
-        return {name: plot for tab in self.tabs for name, plot in tab.plots().items()}
-
-    # ------------------------------------------------------------------ what the page shows
-    def show_config(self, config: RunConfig | None) -> None:
-        """After any control of the form changed: the configuration it describes (None: not valid) is shown."""
-        with self._lock:
-            if self.page.last_error is not None and (config is None or config != self.shown):
-                self.page.last_error = None  # the settings it was about have changed: it no longer applies
-                self.status(READY if config is not None else FIX_FIRST)
-            changed = config is None or self.shown is None or config != self.shown
-            self.shown = config
-            if changed:
-                self._model_choice = None
-                self.show_case()
-            self.scene.set_contact(self.form.contact())
-            for tab in self.tabs:
-                tab.show_form(self.form)
-
-    def choose_overlay(self, label: str) -> None:
-        """The run overlaid (either tab's menu): both menus show it."""
-        self._overlay_choice = label
-        self.show_case()
-
-    def choose_model(self, model: str) -> None:
-        """Model shown (after compare): the model replayed, plotted as displacement and downloaded."""
-        if self.shown is None or model not in self.store.entries(self.shown.case()):
+    def _connect(self, client: viser.ClientHandle) -> None:
+        """A new browser tab: its own session on its own GUI."""
+        with self._changed:
+            if self._closed:
+                return
+        session = BrowserSession(self.server, client, preparation=self.preparation, **self._settings)
+        with self._changed:
+            gone = self._closed or client.client_id in self._gone
+            if not gone:
+                self.sessions[client.client_id] = session
+                self._changed.notify_all()
+        if gone:  # the tab closed while its page was being built
+            session.close()
             return
-        self._model_choice = model
-        self.show_case()
+        LOG.info("browser tab %d opened (%d open)", client.client_id, len(self.sessions))
+        warming = self._warming
+        if warming is not None:
+            session.warming_up(warming)
 
-    def show_case(self) -> None:
-        """Everything of the configuration shown: every tab, and the 3D view, readout, slider and progress (its
-        run's last step, or cleared)."""
-        with self._lock:
-            shown, entries = self._shown_now()
-            with self.server.atomic():
-                for tab in self.tabs:
-                    tab.show(shown)
-                self.replay.show(entries.get(shown.model) if shown.model else None)
+    def _disconnect(self, client: viser.ClientHandle) -> None:
+        """A browser tab closed: its run stops, its threads end and its results are let go."""
+        with self._changed:
+            self._gone.add(client.client_id)
+            session = self.sessions.pop(client.client_id, None)
+        if session is not None:
+            session.close()
+            LOG.info("browser tab %d closed (%d open)", client.client_id, len(self.sessions))
+        with self._changed:
+            self._changed.notify_all()
 
-    def redraw_tab(self, tab) -> None:
-        """Redraw one tab for what the page shows now (a tab whose curves were computed in the background)."""
-        with self._lock:
-            shown, _ = self._shown_now()
-            with self.server.atomic():
-                tab.show(shown)
-
-    def _shown_now(self) -> tuple[Shown, dict]:
-        """What the page shows now (the configuration of the controls, its model shown, the overlay) and the
-        configuration's results by model."""
-        config = self.shown
-        entries = self.store.entries(config.case()) if config else {}
-        models = tuple(m for m in model_names() if m in entries)
-        if self._model_choice in models:  # the user's choice, else the model of the controls, else the first
-            model = self._model_choice
-        elif config is not None and config.model in models:
-            model = config.model
-        else:
-            model = models[0] if models else None
-        runs = {  # the other configurations of this session with a spectrum, to overlay one
-            label: c for label, c in self.store.run_list().items() if config is None or c.case() != config.case()
-        }
-        if self._overlay_choice not in runs:
-            self._overlay_choice = NO_OVERLAY
-        shown = Shown(
-            config=config,
-            store=self.store,
-            model=model,
-            models=models,
-            overlay=runs.get(self._overlay_choice),
-            overlay_choice=self._overlay_choice,
-            overlay_options=(NO_OVERLAY, *runs),
-        )
-        return shown, entries
-
-    def _shows_the_run(self, config: RunConfig) -> bool:
-        """Whether the page shows the configuration ``config`` (a run's, of any model)."""
-        return self.shown is not None and config.case() == self.shown.case()
-
-    def _running_shown(self) -> RunConfig | None:
-        """The configuration being run when the page shows it (its live frames own the 3D view)."""
-        running = self.running
-        return running if running is not None and self._shows_the_run(running) else None
-
-    # ------------------------------------------------------------------ runs (RunListener)
-    def start_run(self, client=None) -> bool:
-        """What the Run button does: check the controls, replace any run, start in the background."""
-        form = self.form
-        try:
-            config = form.read_config()
-        except WheelrailError as error:
-            self.page.report_error(page_message(error), client)
-            return False
-        with self._lock:
-            self.replay.playing = False
-            self.page.last_error = None
-            self.scene.frames_drawn = 0
-            self.running = config
-            form.progress_bar.value, form.progress_bar.animated = 0.0, True
-            form.stop_button.disabled = False
-            self.replay.patch.time_slider.disabled = True
-            wheel = None if config.wheel_set_label is None else form.sets[config.wheel_set_label]
-            self.controller.start(config, form.roughness, wheel)
-        return True
-
-    def status(self, text: str) -> None:
-        self.page.status(text)
-
-    def progress(self, fraction: float) -> None:
-        if self._running_shown() is not None:
-            self.form.progress_bar.value = round(100.0 * min(max(fraction, 0.0), 1.0), 1)
-
-    def frame(self, state, view: RunView) -> None:
-        """A run's step: drawn only while the page shows that run's configuration."""
-        with self._lock:
-            if self._shows_the_run(view.config):
-                self.replay.draw(state, view)
-
-    def live(self, result, view: RunView) -> None:
-        with self._lock:
-            if self._shows_the_run(view.config):
-                for tab in self.tabs:
-                    tab.live(result, view.config)
-
-    def model_done(self, entry: Entry, view: RunView) -> None:
-        if self._shows_the_run(entry.config):
-            self.show_case()
-
-    def error(self, message: str) -> None:
-        self.page.report_error(message)
-
-    def finished(self, config: RunConfig, outcome: str) -> None:
-        with self._lock:
-            self.running = None
-            self.form.progress_bar.animated = False
-            self.form.stop_button.disabled = True
-            if self._shows_the_run(config):
-                self.show_case()
-        if outcome == "done":
-            self.status(f"Done: {config.label()}. Scrub with the Step slider or press Play.")
+    def wait_for(self, condition, timeout: float | None = None) -> bool:
+        """Wait until ``condition()`` holds (checked whenever a session opens or closes); True if it did within
+        ``timeout`` s."""
+        with self._changed:
+            return self._changed.wait_for(condition, timeout)
 
     def close(self) -> None:
-        """Cancel any run and stop the server."""
-        self.replay.playing = False
-        self.controller.cancel_current()
+        """Close every session (their runs stopped, their threads joined), end the warm-up, stop the server."""
+        with self._changed:
+            self._closed = True
+            sessions = list(self.sessions.values())
+            self.sessions.clear()
+            self._changed.notify_all()
+        for session in sessions:
+            session.close()
+        self._warm_up.close()
         self.server.stop()
+
+
+def _default_config(roughness: str, length: float) -> tuple[RunConfig, object] | None:
+    """The configuration a new tab's form starts with (the set, the 3d model on the line nearest 0, the declared
+    defaults) and its roughness, for the warm-up; None if it is not a run."""
+    from wheelrail.core.roughness import bundled_names, load_roughness
+
+    names = bundled_names()
+    name = roughness if roughness in names else names[0]
+    rough = load_roughness(name)
+    lines = offered_lines(rough, "3d", ContactParameters())
+    try:
+        config = read_config(
+            rough,
+            name,
+            line=str(min(lines, key=lambda n: (abs(n), n))) if lines else "0",
+            model="3d",
+            length_m=f"{length:g}",
+            **{entry.dest: field_text(entry) for entry in inputs_of()},
+        )
+    except WheelrailError:
+        return None
+    return config, rough
 
 
 def serve(

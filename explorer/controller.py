@@ -18,7 +18,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol
 
 from wheelrail.core.errors import WheelrailError
@@ -27,13 +27,24 @@ from wheelrail.core.spectra import force_spectrum
 from wheelrail.core.track.progress import track_progress
 from wheelrail.explorer.config import RunConfig, models_of, page_message
 from wheelrail.explorer.results import Entry, ResultStore
+from wheelrail.explorer.workers import Workers
 
-__all__ = ["FRAME_INTERVAL", "RunController", "RunListener", "RunView", "TICK_INTERVAL"]
+__all__ = ["FRAME_INTERVAL", "Preparation", "RunController", "RunListener", "RunView", "TICK_INTERVAL"]
 
 LOG = logging.getLogger("wheelrail.explorer")
 FRAME_INTERVAL = 0.05  # s between live frames handed to the page (<= 20 per second)
 PLOT_INTERVAL = 0.25  # s between live plot and progress updates
 TICK_INTERVAL = 0.5  # s between the status lines of a long preparation (the seconds it has taken)
+
+
+@dataclass
+class Preparation:
+    """What the runs of every page of one explorer share: the (track, speed) whose Green's functions this process
+    has prepared (a later run on them is no first preparation) and one first preparation at a time (a warm-up or a
+    run's). The prepared tracks themselves are core's cache, the compiled solver numba's."""
+
+    tracks: set = field(default_factory=set)
+    lock: threading.Lock = field(default_factory=threading.Lock)
 
 
 @dataclass(frozen=True)
@@ -73,6 +84,8 @@ class RunController:
         noise: Callable | None = None,
         frame_interval: float = FRAME_INTERVAL,
         tick: float = TICK_INTERVAL,
+        workers: Workers | None = None,
+        preparation: Preparation | None = None,
     ) -> None:
         self._noise_transfer = None
         self._loads_solver = prepare is None  # core's runs: a first preparation loads the solver as a step of its own
@@ -94,8 +107,10 @@ class RunController:
         self._stopped_generation = -1
         self._run = None
         self._worker: threading.Thread | None = None
-        self._prepared_tracks: set[tuple] = set()  # (track, speed) whose Green's functions this process has prepared
-        self._first_preparation = threading.Lock()  # one first preparation at a time (a warm-up or a run's)
+        preparation = Preparation() if preparation is None else preparation  # shared by the explorer's pages
+        self._prepared_tracks: set[tuple] = preparation.tracks  # (track, speed) whose Green's functions are prepared
+        self._first_preparation = preparation.lock  # one first preparation at a time (a warm-up or a run's)
+        self.workers = Workers() if workers is None else workers  # its threads, joined by close()
 
     @property
     def running(self) -> bool:
@@ -112,18 +127,20 @@ class RunController:
             self._generation += 1
             generation = self._generation
             first = _track_case(config) not in self._prepared_tracks
-            worker = threading.Thread(
-                target=self._work,
-                args=(generation, config, (roughness, wheel_roughness), first),
-                daemon=True,
+            self._worker = self.workers.start(
+                self._work,
+                generation,
+                config,
+                (roughness, wheel_roughness),
+                first,
                 name=f"wheelrail-explorer-run-{generation}",
             )
-            self._worker = worker
         LOG.info("run %d: %s", generation, config.label())
-        worker.start()
         return generation
 
-    def warm_up(self, config: RunConfig, roughness, done: Callable[[float], None] | None = None) -> threading.Thread:
+    def warm_up(
+        self, config: RunConfig, roughness, done: Callable[[float], None] | None = None
+    ) -> threading.Thread | None:
         """Prepare ``config`` in the background and take its first step only: the track's Green's functions at its
         speed (computed once, then kept on disk) and the compiled solver, so that a first Run finds them ready.
         A first Run at that speed started meanwhile waits for it (saying so); ``done(seconds)`` at the end."""
@@ -155,9 +172,7 @@ class RunController:
             if done is not None:
                 done(time.perf_counter() - started)
 
-        thread = threading.Thread(target=work, daemon=True, name="wheelrail-explorer-warm-up")
-        thread.start()
-        return thread
+        return self.workers.start(work, name="wheelrail-explorer-warm-up")
 
     def stop(self) -> None:
         """Cancel the current run, also one still being prepared (its steps so far are kept)."""
@@ -177,6 +192,12 @@ class RunController:
             run = self._run
         if run is not None:
             run.cancel()
+
+    def close(self) -> None:
+        """Supersede the current run and join every thread of the controller (a run still being prepared ends
+        once prepared): after it, nothing more is reported."""
+        self.cancel_current()
+        self.workers.close()
 
     def wait(self, timeout: float | None = None) -> bool:
         """Wait for the current run to end; True if it did within ``timeout`` s."""
@@ -232,8 +253,7 @@ class RunController:
             while not done.wait(self._tick) and self._current(generation):
                 self.listener.status(f"{words()} ... {time.perf_counter() - started:.0f} s")
 
-        thread = threading.Thread(target=tick, daemon=True, name=f"wheelrail-explorer-tick-{generation}")
-        thread.start()
+        thread = self.workers.start(tick, name=f"wheelrail-explorer-tick-{generation}")
         return _Stop(done, thread)
 
     def _prepared(self, generation: int, config: RunConfig, roughness: tuple, first: bool):
@@ -393,7 +413,7 @@ class RunController:
 class _Stop:
     """Ends a :meth:`RunController._ticking` block."""
 
-    def __init__(self, done: threading.Event, thread: threading.Thread) -> None:
+    def __init__(self, done: threading.Event, thread: threading.Thread | None) -> None:
         self._done, self._thread = done, thread
 
     def __enter__(self) -> None:
@@ -401,7 +421,8 @@ class _Stop:
 
     def __exit__(self, *exc) -> None:
         self._done.set()
-        self._thread.join()
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join()
 
 
 def _track_case(config: RunConfig) -> tuple:

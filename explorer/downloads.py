@@ -18,8 +18,7 @@ __all__ = ["Downloads"]
 
 
 class Downloads:
-    """Files of what the page shows, sent to one page (or every page: ``client`` None); each returns its
-    (name, bytes)."""
+    """Files of what the page shows, sent to the page (its browser tab); each returns its (name, bytes)."""
 
     def __init__(
         self,

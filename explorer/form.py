@@ -64,7 +64,7 @@ class RunForm:
         self.roughness_label = ""
         self.length_note = ""  # what the last change of set did to the run length, if anything
         self._lock = threading.RLock()
-        gui = page.server.gui
+        gui = page.gui
         self.folder = gui.add_folder(GROUPS["run"])  # the run group's fields in it, the other groups folded
         with self.folder:
             self._add_sets(roughness)
@@ -92,7 +92,7 @@ class RunForm:
 
     def _add_sets(self, roughness: str) -> None:
         """The rail set, wheel set and upload controls."""
-        gui, page = self.page.server.gui, self.page
+        gui, page = self.page.gui, self.page
         names = bundled_names()
         self.set_dropdown = gui.add_dropdown(
             "Roughness set", names, initial_value=roughness if roughness in names else names[0]
@@ -116,7 +116,7 @@ class RunForm:
     def _input_fields(self, group: str) -> dict:
         """The fields of the declared inputs of ``group`` (wheelrail.core.inputs), by key: labelled with their
         unit, hinted with their range and default, showing the default (empty where unset means one)."""
-        gui = self.page.server.gui
+        gui = self.page.gui
         fields = {}
         for entry in inputs_of(group):
             unit = f" ({entry.shown.name})" if entry.shown.name else ""

@@ -75,6 +75,8 @@ def help_text() -> str:
         "(then kept on disk).\n\n"
         "**Run length**: at least long enough for a force spectrum at the chosen speed, at most what the "
         "roughness set holds; the page shows the range.\n\n"
-        "**One shared session**: every browser tab open on this explorer shows the same form and the same "
-        "results (a change in one is seen in all); *Session* saves the settings to a file and loads them back."
+        "**Each browser tab its own session**: every tab open on this explorer has its own form, runs, results "
+        "and downloads (a run in one tab never changes what another shows; closing a tab stops its run). The tabs "
+        "share only what is computed once for all: the tracks' Green's functions (kept on disk) and the compiled "
+        "solver. *Session* saves this tab's settings to a file and loads them back, in this tab or another."
     )

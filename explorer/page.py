@@ -1,11 +1,13 @@
 """The page around every control: its status line, its notices, callbacks guarded, the camera fitted, files sent
 and received.
 
-A :class:`Page` is handed to every part of the explorer that builds a control: a callback's work runs through
+A :class:`Page` is one browser tab's: its controls are built on that client's own GUI (``client.gui``), its
+notices, files and camera go to that client only. It is handed to every part of the explorer that builds a
+control: a callback's work runs through
 :meth:`Page.guarded` (a :class:`~wheelrail.core.errors.WheelrailError` becomes a notice in the page's words, any
 other error is logged and the page keeps serving); :meth:`Page.quietly` marks controls set by the page itself, so
-that their callbacks do not act as if a user had chosen; :meth:`Page.send` downloads a file to one page;
-:meth:`Page.add_upload` builds an upload button whose bytes go to a reader; a new page's 3D view gets the top view
+that their callbacks do not act as if a user had chosen; :meth:`Page.send` downloads a file to the page;
+:meth:`Page.add_upload` builds an upload button whose bytes go to a reader; the page's 3D view gets the top view
 fitted to its size (:meth:`Page.fit_camera`).
 """
 
@@ -31,10 +33,14 @@ NOTICE_SECONDS = 10.0  # a notice (error toast) closes by itself after this; a n
 
 
 class Page:
-    """What every control of the explorer shares: the server, the status line, notices, guarded callbacks."""
+    """What every control of one browser tab shares: its client (its GUI, 3D view and camera), the status line,
+    notices, guarded callbacks."""
 
-    def __init__(self, server: viser.ViserServer, max_upload_bytes: int = MAX_UPLOAD_BYTES) -> None:
-        self.server = server
+    def __init__(
+        self, server: viser.ViserServer, client: viser.ClientHandle, max_upload_bytes: int = MAX_UPLOAD_BYTES
+    ) -> None:
+        self.server, self.client = server, client
+        self.gui = client.gui  # the controls of this tab alone
         self.max_upload_bytes = int(max_upload_bytes)
         self.status_md = None  # the status line, once the run form has placed it (add_status)
         self.last_error: str | None = None
@@ -42,13 +48,17 @@ class Page:
         self.notices: dict[int, object] = {}  # client id -> its notice on screen
         self.notice_seconds = NOTICE_SECONDS
         self._local = threading.local()  # .quiet: this thread is setting a control (its callback is not a user's)
-        refuse_large_uploads_early(server, lambda: self.max_upload_bytes, self.report_error)
-        server.on_client_connect(self.fit_camera)
+        refuse_large_uploads_early(client, lambda: self.max_upload_bytes, self.report_error)
+        self.fit_camera(client)
+
+    def atomic(self):
+        """A block whose updates this tab applies together."""
+        return self.client.atomic()
 
     # ------------------------------------------------------------------ status and notices
     def add_status(self) -> None:
         """The status line, here in the page."""
-        self.status_md = self.server.gui.add_markdown("")
+        self.status_md = self.gui.add_markdown("")
 
     def status(self, text: str) -> None:
         self.status_md.content = text
@@ -71,8 +81,8 @@ class Page:
         self.notify(title, message, client, colour="red")
 
     def notify(self, title: str, message: str, client=None, *, colour: str) -> None:
-        """One notice per page, replacing the one before; it closes by itself after ``notice_seconds``."""
-        for target in [client] if client is not None else list(self.server.get_clients().values()):
+        """One notice on the page, replacing the one before; it closes by itself after ``notice_seconds``."""
+        for target in [self.client if client is None else client]:
             try:
                 old = self.notices.pop(target.client_id, None)
                 if old is not None:
@@ -99,16 +109,16 @@ class Page:
 
     # ------------------------------------------------------------------ files
     def send(self, name: str, content: bytes, client) -> tuple[str, bytes]:
-        """Download ``content`` as ``name`` to one page (every page: ``client`` None)."""
+        """Download ``content`` as ``name`` to the page (``client``: the event's, which is the page's)."""
         self.last_download = (name, len(content))
-        target = client if client is not None else self.server
+        target = client if client is not None else self.client
         target.send_file_download(name, content, save_immediately=True)
         return name, content
 
     def add_upload(self, label: str, hint: str, read) -> viser.GuiUploadButtonHandle:
         """An upload button whose file goes to ``read(name, content, client)``; a refused file is said in a notice
         titled "File not loaded"."""
-        button = self.server.gui.add_upload_button(label, icon=viser.Icon.UPLOAD, hint=hint)
+        button = self.gui.add_upload_button(label, icon=viser.Icon.UPLOAD, hint=hint)
         button.on_upload(lambda event: self.upload(event, read))
         return button
 
@@ -125,8 +135,8 @@ class Page:
 
     # ------------------------------------------------------------------ the 3D view's camera
     def set_view(self, which: str, client=None) -> None:
-        """Top view (the default) or an oblique view, for one page or every page, fitted to its 3D view."""
-        clients = [client] if client is not None else list(self.server.get_clients().values())
+        """Top view (the default) or an oblique view of the page, fitted to its 3D view."""
+        clients = [self.client if client is None else client]
         for target in clients:
             camera = target.camera
             aspect = camera.image_width / camera.image_height if camera.image_height > 0 else None
@@ -136,7 +146,7 @@ class Page:
                 camera.position, camera.look_at = view["position"], view["look_at"]
 
     def fit_camera(self, client) -> None:
-        """A new page: once it reports the size of its 3D view, the top view is fitted to it, and fitted again
+        """The page's camera: once it reports the size of its 3D view, the top view is fitted to it, and fitted again
         while the view changes size (the panels dock after the first report, so a first fit may be for the whole
         window) until the user moves the camera."""
         lock = threading.Lock()

@@ -22,6 +22,7 @@ from wheelrail.explorer.page import Page
 from wheelrail.explorer.plots import Plot
 from wheelrail.explorer.replay import Replay
 from wheelrail.explorer.results import ResultStore
+from wheelrail.explorer.workers import Workers
 
 __all__ = ["NO_OVERLAY", "NO_RUN", "PLOT_HINT", "ResultsTab", "Shown", "TabParts"]
 
@@ -36,8 +37,9 @@ NO_OVERLAY = "none"  # the overlay menus' choice of no run overlaid
 @dataclass(frozen=True)
 class TabParts:
     """What a tab is handed: the page, the run form, the replay, the downloads, and what a user's choice of the
-    run overlaid or of the model shown does, how a tab asks to be redrawn (curves computed later) and how it
-    finds another tab (``find_tab(TrackTab)``: the Wheel tab draws the Track tab's receptance)."""
+    run overlaid or of the model shown does, how a tab asks to be redrawn (curves computed later), how it
+    finds another tab (``find_tab(TrackTab)``: the Wheel tab draws the Track tab's receptance) and where it starts
+    its background threads (``workers``: joined when the page closes)."""
 
     page: Page
     form: RunForm
@@ -47,6 +49,7 @@ class TabParts:
     choose_model: Callable[[str], None]
     redraw: Callable[[object], None]
     find_tab: Callable[[type], object]
+    workers: Workers
 
 
 @dataclass(frozen=True)
@@ -72,7 +75,7 @@ class ResultsTab:
 
     def __init__(self, parts: TabParts, tab) -> None:
         self.parts, self.page, self.tab = parts, parts.page, tab
-        self.gui = parts.page.server.gui
+        self.gui = parts.page.gui
 
     def plots(self) -> dict[str, Plot]:
         """The tab's plots by the names its PNG menu shows."""

@@ -127,6 +127,7 @@ class Plot:
         self.data: tuple = ()
         self.wavelength_speed: float | None = None
         self.handle = None
+        self._visible = True
         self._axes_key = None
         self.show((np.zeros(0), np.zeros(0)), (("no run yet", "#999999", SOLID),))
 
@@ -170,8 +171,20 @@ class Plot:
                     aspect=PLOT_ASPECT,
                     padding=PLOT_PADDING,
                     order=order,
+                    visible=self._visible,
                 )
             self.series, self._axes_key = series, axes_key
+
+    @property
+    def visible(self) -> bool:
+        """Whether the chart is on the page (a hidden chart keeps its data and comes back as it was)."""
+        return self._visible
+
+    @visible.setter
+    def visible(self, visible: bool) -> None:
+        self._visible = bool(visible)
+        if self.handle is not None and self.handle.visible != self._visible:
+            self.handle.visible = self._visible
 
     def _uplot_axes(self, data: tuple, wavelength_speed: float | None) -> tuple[dict, tuple]:
         x = data[0]

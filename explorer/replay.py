@@ -9,8 +9,6 @@ its live frames own the view (``running()``).
 
 from __future__ import annotations
 
-import threading
-import time
 from collections.abc import Callable
 
 from wheelrail.explorer.config import RunConfig
@@ -19,6 +17,7 @@ from wheelrail.explorer.form import RunForm
 from wheelrail.explorer.page import Page
 from wheelrail.explorer.results import Entry
 from wheelrail.explorer.scene import PatchScene
+from wheelrail.explorer.workers import Workers
 
 __all__ = ["NO_RUN_READOUT", "REPLAY_FPS", "REPLAY_SPEEDS", "Replay"]
 
@@ -32,9 +31,18 @@ class Replay:
 
     speeds = REPLAY_SPEEDS
 
-    def __init__(self, page: Page, scene: PatchScene, form: RunForm, running: Callable[[], RunConfig | None]) -> None:
-        """``running()``: the configuration being run when the page shows it (its live frames own the view)."""
+    def __init__(
+        self,
+        page: Page,
+        scene: PatchScene,
+        form: RunForm,
+        running: Callable[[], RunConfig | None],
+        workers: Workers | None = None,
+    ) -> None:
+        """``running()``: the configuration being run when the page shows it (its live frames own the view);
+        ``workers``: where Play's thread is started (joined when the page closes)."""
         self.page, self.scene, self.form, self._running = page, scene, form, running
+        self.workers = Workers() if workers is None else workers
         self.entry: Entry | None = None
         self.patch = None  # the Patch tab, which holds the controls (show_in)
         self.playing = False
@@ -90,7 +98,7 @@ class Replay:
 
     def draw(self, state, view: RunView) -> None:
         """One step of a run in the 3D view and the readout."""
-        with self.page.server.atomic():
+        with self.page.atomic():
             self.scene.draw(state, view)
             config = view.config
             contact = config.contact()
@@ -123,7 +131,8 @@ class Replay:
             return
         self.playing = True
         self.patch.play_button.label = "Pause"
-        threading.Thread(target=self._play, daemon=True, name="wheelrail-explorer-replay").start()
+        if self.workers.start(self._play, name="wheelrail-explorer-replay") is None:
+            self.playing = False
 
     def _play(self) -> None:
         entry = self.entry
@@ -136,7 +145,8 @@ class Replay:
         while self.playing and self.entry is entry and step < result.n_steps:
             slider.value = step  # its callback draws the step
             step += steps_per_frame
-            time.sleep(1.0 / REPLAY_FPS)
+            if self.workers.closed.wait(1.0 / REPLAY_FPS):  # the frame's time, or at once when the page closes
+                return
         self.playing = False
         self.patch.play_button.label = "Play"
 

@@ -66,6 +66,11 @@ class ResultStore:
         with self._lock:
             self._entries[(entry.config.case(), entry.config.model)] = entry
 
+    def clear(self) -> None:
+        """Let go of every entry (a closed tab's results)."""
+        with self._lock:
+            self._entries.clear()
+
     def entries(self, case: tuple) -> dict[str, Entry]:
         """model -> entry of one case, in registry order."""
         with self._lock:

@@ -28,7 +28,15 @@ from wheelrail.core.drawing import PRESSURE_RANGE_P0, circle_segments, colour_ta
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.roughness import at_lateral_positions, covers
 
-__all__ = ["PRESSURE_TOP", "SCENE_PER_MM", "PatchScene", "colour_bar_image", "oblique_view", "top_view"]
+__all__ = [
+    "PRESSURE_TOP",
+    "SCENE_PER_MM",
+    "PatchScene",
+    "colour_bar_image",
+    "oblique_view",
+    "set_initial_camera",
+    "top_view",
+]
 
 SCENE_PER_MM = 0.1
 PRESSURE_TOP = PRESSURE_RANGE_P0  # colour scale top, times the Hertz peak pressure p0 at the preload (core's)
@@ -100,18 +108,22 @@ def colour_bar_image(top_mpa: float, p0_mpa: float | None = None) -> np.ndarray:
     return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
 
 
+def set_initial_camera(server: viser.ViserServer) -> None:
+    """Every page's first camera: the top view at the explorer's field of view."""
+    camera, view = server.initial_camera, top_view()
+    camera.position, camera.look_at, camera.up = view["position"], view["look_at"], view["up"]
+    camera.fov = FOV
+
+
 class PatchScene:
     """The scene's handles and how a run state is drawn on them."""
 
-    def __init__(self, server: viser.ViserServer) -> None:
-        scene = server.scene
-        self._server = server
+    def __init__(self, scene: viser.SceneApi) -> None:
+        """``scene``: one browser tab's 3D view (``client.scene``); its camera is set by :func:`set_initial_camera`
+        and fitted by the page."""
         self._scene = scene
         self._table = colour_table()
         scene.set_up_direction("+z")
-        camera, view = server.initial_camera, top_view()
-        camera.position, camera.look_at, camera.up = view["position"], view["look_at"], view["up"]
-        camera.fov = FOV
         scene.configure_default_lights(cast_shadow=False)  # shadows cost most of a frame in software WebGL
         scene.configure_environment_map(None)
         self._add_guides()

@@ -25,7 +25,7 @@ class SessionFiles:
     def __init__(self, page: Page, form: RunForm, shown) -> None:
         """``shown()``: the configuration the page shows (None: not valid), which names the file."""
         self.page, self.form, self._shown = page, form, shown
-        gui = page.server.gui
+        gui = page.gui
         with gui.add_folder("Session", expand_by_default=False):
             self.save_button = gui.add_button("Save session (.json)", icon=viser.Icon.DOWNLOAD)
             self.save_button.on_click(lambda event: page.guarded(self.download, event.client, client=event.client))

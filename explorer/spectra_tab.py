@@ -69,7 +69,8 @@ class SpectraTab(ResultsTab):
                 extra = {m: v for m, v in store.spectra(overlay.case()).items() if np.array_equal(v[0], centres)}
                 columns += [levels for _, levels in extra.values()]
                 series += tuple((f"{m} [{overlay.case_label()}]", model_colour(m), DASHED) for m in extra)
-                title += f" (dashed: {overlay.case_label()})"
+                if extra:  # the title names a dashed curve only when one is drawn
+                    title += f" (dashed: {overlay.case_label()})"
             self.spectra.show(finite_bands(centres, columns), series, title=title)
         else:
             self.spectra.clear("no spectrum of this configuration yet", title=f"Force spectra: {label}")
@@ -88,8 +89,9 @@ class SpectraTab(ResultsTab):
                 (f"{m} - {REFERENCE_MODEL} [{overlay.case_label()}]", model_colour(m), DASHED, v)
                 for m, v in store.contact_filters(overlay.case()).items()
             ]
-            title += f" (dashed: {overlay.case_label()})"
         curves = [c for c in curves if np.array_equal(c[3][0], centres)]
+        if any(style == DASHED for _, _, style, _ in curves):  # an overlay without contact filters draws none
+            title += f" (dashed: {overlay.case_label()})"
         curves += [(name, REFERENCE_COLOURS.get(name, "#555555"), DOTTED, v) for name, v in references.items()]
         columns = [levels for *_, (_, levels) in curves]
         series = tuple((label, colour, style) for label, colour, style, _ in curves)

@@ -3,8 +3,6 @@ EN ISO 3095:2013 limit, beside the track of the run overlaid."""
 
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 import viser
 
@@ -55,7 +53,8 @@ class TrackTab(ResultsTab):
         found = self._curves.get(track)
         if found is None and track not in self._computing:
             self._computing.add(track)
-            threading.Thread(target=self._compute, args=(track,), daemon=True, name="wheelrail-track-tab").start()
+            if self.parts.workers.start(self._compute, track, name="wheelrail-track-tab") is None:
+                self._computing.discard(track)  # the page is closed: nothing more is computed
         return found
 
     def _compute(self, track) -> None:

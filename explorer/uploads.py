@@ -56,7 +56,7 @@ def read_upload(name: str, content: bytes, max_bytes: int) -> tuple[str, Roughne
     return f"upload: {safe_label(name)}", rough
 
 
-def refuse_large_uploads_early(server, max_bytes: Callable[[], int], report: Callable[[str, object], None]) -> None:
+def refuse_large_uploads_early(client, max_bytes: Callable[[], int], report: Callable[[str, object], None]) -> None:
     """Drop an upload announced larger than ``max_bytes()`` before its bytes are buffered.
 
     viser 1.1 has no public size limit; its upload state lives in ``GuiApi._current_file_upload_states``,
@@ -65,8 +65,8 @@ def refuse_large_uploads_early(server, max_bytes: Callable[[], int], report: Cal
     """
     from viser import _messages
 
-    states = getattr(server.gui, "_current_file_upload_states", None)
-    websock = getattr(server, "_websock_server", None)
+    states = getattr(client.gui, "_current_file_upload_states", None)  # the client's own upload buttons'
+    websock = getattr(client, "_websock_connection", None)
     if states is None or websock is None or not hasattr(_messages, "FileTransferStartUpload"):
         return
 
@@ -87,7 +87,7 @@ def refuse_large_uploads_early(server, max_bytes: Callable[[], int], report: Cal
         report(
             f"upload {safe_label(message.filename)!r} ({size_text(message.size_bytes)}) is over the "
             f"{size_text(limit)} limit; refused before sending",
-            server.get_clients().get(client_id),
+            client,
         )
 
     websock.register_handler(_messages.FileTransferStartUpload, refuse)

@@ -135,8 +135,7 @@ class WheelTab(ResultsTab):
             with self._lock:
                 self._wanted = key
                 if not self._working:
-                    self._working = True
-                    threading.Thread(target=self._work, daemon=True, name="wheelrail-wheel-tab").start()
+                    self._working = self.parts.workers.start(self._work, name="wheelrail-wheel-tab") is not None
         return found
 
     def ask(self) -> None:
@@ -153,7 +152,9 @@ class WheelTab(ResultsTab):
             with self._lock:
                 key = self._wanted
                 job = None
-                if key is not None and key not in self._modes:
+                if self.parts.workers.closed.is_set():  # the page is closed: nothing more is computed
+                    pass
+                elif key is not None and key not in self._modes:
                     job = self.compute
                 elif key is not None and self._power_key(key) not in self._power:
                     job = self.compute_power
@@ -190,12 +191,12 @@ class WheelTab(ResultsTab):
         self._last = shown
         config = shown.config
         if config is None:
-            self._clear("fix the settings on the left", "")
+            self._clear("Fix the settings on the left for this run's wheel.")
             return
         try:
             profile, added = self.read(config)
         except WheelrailError as error:
-            self._clear("fix the wheel's shape", f"**Cannot make this wheel:** {page_message(error)}")
+            self._clear(f"**Cannot make this wheel:** {page_message(error)}")
             return
         modes, power = self.want(profile)
         words = wheel_words(profile, self.name_dropdown.value, added)
@@ -203,17 +204,22 @@ class WheelTab(ResultsTab):
         self.caption, self.track_caption = describe_wheel(profile), describe_track(config.params())
         if modes is None or isinstance(modes, str):
             if modes is not None:
-                why = modes
+                why = f"**No modes for this wheel:** {modes}"
             elif self.asked:
-                why = "computing the wheel's modes (a few seconds, once per shape) ..."
+                why = "Computing the wheel's modes (a few seconds, once per shape) ..."
             else:
-                why = "press *Compute the wheel* (under the Wheel shape folder) for this wheel's modes and sound power"
-            self._clear(why, words)
+                why = (
+                    "Press **Compute the wheel** (below, under the *Wheel shape* folder) for this wheel's modes "
+                    "and sound power."
+                )
+            self._clear(f"{words}\n\n{why}")
             return
         self.wheel_md.content = (
             f"{words} {len(modes.frequency)} modes up to {modes.max_frequency:g} Hz, n = 0..{modes.max_harmonic}."
         )
         self.table_md.content = _frequency_table(modes)
+        for plot in self.plots().values():
+            plot.visible = True
         self._draw_frequencies(modes)
         self._draw_receptance(modes, added, self._track_curves(config))
         if power is None or isinstance(power, str):
@@ -227,9 +233,11 @@ class WheelTab(ResultsTab):
         else:
             self._draw_power(power)
 
-    def _clear(self, why: str, words: str) -> None:
-        for plot in (self.frequencies, self.receptance, self.power):
-            plot.clear(why)
+    def _clear(self, words: str) -> None:
+        """No modes to draw: the plots hidden (nothing empty above the tab's fields and button), ``words`` (markdown)
+        say why."""
+        for plot in self.plots().values():
+            plot.visible = False
         self.wheel_md.content, self.table_md.content = words, ""
 
     def _track_curves(self, config) -> dict | str:

@@ -1,6 +1,8 @@
-"""Shared set-up of the explorer's tests: a free port, an explorer per test module (``app``), a run pressed and
-waited for (``finish_run``), and one headless Chromium for the session's page tests (Debian's /usr/bin/chromium,
-driven by Playwright; never a downloaded browser)."""
+"""Shared set-up of the explorer's tests: a free port, an explorer per test module (``explorer``) and the session
+of a tab of it opened without a browser (``app``: a :class:`~wheelrail.explorer.headless.HeadlessTab`), a run
+pressed and waited for (``finish_run``), one headless Chromium for the session's page tests (Debian's
+/usr/bin/chromium, driven by Playwright; never a downloaded browser) and a page of it with its session
+(``open_page``)."""
 
 from __future__ import annotations
 
@@ -33,15 +35,60 @@ def free_port() -> int:
     return _free_port()
 
 
+def new_session(explorer, open_tab, timeout: float = 120.0):
+    """``open_tab()`` (a page or a HeadlessTab connecting), then the session the explorer built for it."""
+    known = set(explorer.sessions)
+    tab = open_tab()
+    assert explorer.wait_for(lambda: set(explorer.sessions) - known, timeout), "no session for the new tab"
+    return tab, explorer.sessions[max(set(explorer.sessions) - known)]
+
+
 @pytest.fixture(scope="module")
-def app():
-    """An explorer of the test module's own (its tests share it and set the controls they rely on; a session's one
-    would not do: a test expects a configuration that another module has run to have no run yet)."""
+def explorer():
+    """An explorer of the test module's own (a session's one would not do: a test expects a configuration that
+    another module has run to have no run yet)."""
     from wheelrail.explorer.app import ExplorerApp
 
-    explorer = ExplorerApp(port=_free_port(), max_upload_bytes=SHARED_UPLOAD_BYTES)
-    yield explorer
-    explorer.close()
+    app = ExplorerApp(port=_free_port(), max_upload_bytes=SHARED_UPLOAD_BYTES)
+    yield app
+    app.close()
+
+
+@pytest.fixture(scope="module")
+def app(explorer):
+    """The session of one tab of the module's explorer, opened without a browser (its tests share it and set the
+    controls they rely on)."""
+    from wheelrail.explorer.headless import HeadlessTab
+
+    tab, session = new_session(explorer, lambda: HeadlessTab(explorer.port))
+    yield session
+    tab.close()
+
+
+@pytest.fixture
+def open_page(browser, explorer):
+    """``open_page(width, height)``: a page of the module's explorer in the browser, once its Run button is there,
+    its session, and the list its script errors go to; closed after the test."""
+    pages = []
+
+    def open_(width: int = 1280, height: int = 800):
+        errors = []
+        page = browser.new_page(viewport={"width": width, "height": height})
+        pages.append(page)
+        page.on("pageerror", lambda error: errors.append(str(error)))
+
+        def load():
+            page.goto(f"http://127.0.0.1:{explorer.port}")
+            return page
+
+        _, session = new_session(explorer, load)
+        page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
+        return page, session, errors
+
+    yield open_
+    for page in pages:
+        if not page.is_closed():
+            page.close()
 
 
 @pytest.fixture

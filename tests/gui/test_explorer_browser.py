@@ -35,13 +35,13 @@ def _two_frames(page) -> None:
     page.evaluate("() => new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)))")
 
 
-@pytest.fixture(scope="module")
-def app(app):
-    """The module's explorer (conftest) set to hertz, 0.8 m."""
-    explorer = app
-    explorer.form.model_dropdown.value = "hertz"  # the page changes it
-    explorer.form.length_text.value = "0.8"
-    return explorer
+def _open(open_page, width, height):
+    """A page in the browser and its own session (conftest's ``open_page``), set to hertz, 0.8 m (the page
+    changes the model where it needs another)."""
+    page, session, errors = open_page(width, height)
+    session.form.model_dropdown.value = "hertz"
+    session.form.length_text.value = "0.8"
+    return page, session, errors
 
 
 PLOTS_IN_PAGE = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(t => ({
@@ -73,15 +73,11 @@ def _options(page, label):
     return names
 
 
-def test_compare_in_the_page_then_change_speed_the_old_filters_go(app, browser):
+def test_compare_in_the_page_then_change_speed_the_old_filters_go(open_page):
     """In the page: the contact filters of a compare disappear when the speed changes."""
     ARTIFACTS.mkdir(exist_ok=True)
-    errors = []
-    page = browser.new_page(viewport={"width": 1400, "height": 1000})
-    page.on("pageerror", lambda error: errors.append(str(error)))
-    page.goto(f"http://127.0.0.1:{app.port}")
+    page, app, errors = _open(open_page, 1400, 1000)
     run_button = page.get_by_role("button", name="Run", exact=True)
-    run_button.wait_for(timeout=90_000)
     _choose(page, "Contact model", "compare")
     _wait_for(lambda: app.form.model_dropdown.value == "compare", 30, "the page's model to reach the server")
     run_button.click()
@@ -123,16 +119,12 @@ def test_compare_in_the_page_then_change_speed_the_old_filters_go(app, browser):
     page.close()
 
 
-def test_3d_offers_only_the_lines_its_window_fits(app, browser):
+def test_3d_offers_only_the_lines_its_window_fits(open_page):
     """In the page: the Line menu for 3d lists core's window_lines (-2..2 on the corrugated rail)."""
     from wheelrail.core.roughness import load_roughness
     from wheelrail.core.run_setup import window_lines
 
-    errors = []
-    page = browser.new_page(viewport={"width": 1400, "height": 1000})
-    page.on("pageerror", lambda error: errors.append(str(error)))
-    page.goto(f"http://127.0.0.1:{app.port}")
-    page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
+    page, app, errors = _open(open_page, 1400, 1000)
     _choose(page, "Contact model", "hertz")
     _wait_for(lambda: len(app.form.line_dropdown.options) == 19, 30, "every line for hertz")
     _wait_for(lambda: _options(page, "Line") == [str(n) for n in range(-9, 10)], 30, "every line in the page")
@@ -156,13 +148,9 @@ def test_3d_offers_only_the_lines_its_window_fits(app, browser):
     page.close()
 
 
-def test_bad_uploads_in_the_page(app, browser):
+def test_bad_uploads_in_the_page(open_page):
     """A malformed CSV and a file over the size limit, uploaded through the page: a message, no harm done."""
-    errors = []
-    page = browser.new_page(viewport={"width": 1200, "height": 900})
-    page.on("pageerror", lambda error: errors.append(str(error)))
-    page.goto(f"http://127.0.0.1:{app.port}")
-    page.get_by_role("button", name="Run", exact=True).wait_for(timeout=90_000)
+    page, app, errors = _open(open_page, 1200, 900)
     before = app.replay.entry
     upload = page.locator("input[type=file]").first  # the Run folder's upload; the Session folder's comes after
     upload.set_input_files(files=[{"name": "broken.csv", "mimeType": "text/csv", "buffer": b"x_m,heights\n0,abc\n"}])
@@ -192,16 +180,12 @@ NOTICES = """() => Array.from(document.querySelectorAll('.mantine-Notification-r
     .filter(e => getComputedStyle(e).display !== 'none').map(e => e.innerText)"""
 
 
-def test_the_page_is_titled_and_keeps_one_notice(app, browser):
+def test_the_page_is_titled_and_keeps_one_notice(open_page):
     """The browser tab says what it is; refused presses of Run replace their notice instead of piling up."""
     from wheelrail.explorer.page import NOTICE_SECONDS
 
-    errors = []
-    page = browser.new_page(viewport={"width": 1280, "height": 800})
-    page.on("pageerror", lambda error: errors.append(str(error)))
-    page.goto(f"http://127.0.0.1:{app.port}")
+    page, app, errors = _open(open_page, 1280, 800)
     run_button = page.get_by_role("button", name="Run", exact=True)
-    run_button.wait_for(timeout=90_000)
     assert page.title() == "wheelrail explorer"
     speed = _text_field(page, "Speed (km/h)")
     old = app.form.fields["speed"].value

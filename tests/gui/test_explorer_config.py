@@ -161,12 +161,13 @@ def test_the_noise_tab_says_what_the_cnossos_superstructure_term_is():
     assert "superstructure term" in NOISE_NOTE
 
 
-def test_the_page_says_that_it_is_one_shared_session():
-    # every browser tab shows one form and one set of results (the server's GUI is global): the page says so
+def test_the_help_tab_says_that_each_browser_tab_is_its_own_session():
+    # each client gets its own form and results (viser's per-client GUI): the page says so, and what is shared
     from wheelrail.explorer.help_tab import help_text
 
     text = help_text()
-    assert "**One shared session**: every browser tab open on this explorer shows the same form and the same" in text
+    assert "**Each browser tab its own session**: every tab open on this explorer has its own form, runs" in text
+    assert "One shared session" not in text and "closing a tab stops its run" in text
 
 
 def test_a_plots_title_names_the_track_in_cores_words():

@@ -479,3 +479,40 @@ def test_the_top_view_is_fitted_again_when_the_view_resizes_until_the_user_moves
     camera.report(372, 800, position=(1.0, -4.0, 6.0))  # the user turns the view
     camera.report(600, 800)  # and widens the window: their camera stays
     assert camera.position == (1.0, -4.0, 6.0)
+
+
+def test_the_status_line_leaves_a_finished_run_when_the_settings_describe_another(app, finish_run):
+    """After Done, a field edited: the status line no longer speaks of that run as shown (the Patch tab says there is
+    no run of this configuration); back to the run's settings, it is Done again."""
+    _reset(app, model="hertz", speed="100", length="0.6")
+    finish_run(app)
+    done = app.page.status_md.content
+    assert done.startswith("Done: hertz on corrugated-rail, line 0, 100 km/h")
+    app.form.fields["speed"].value = "95"
+    status = app.page.status_md.content
+    assert not status.startswith("Done") and "Step slider" not in status
+    assert "no run of hertz on corrugated-rail, line 0, 95 km/h" in status and "**Run**" in status
+    assert "no run of this configuration yet" in app.tab(PatchTab).readout_md.content.lower()
+    app.form.fields["speed"].value = "100"
+    assert app.page.status_md.content == done
+    app.form.fields["preload"].value = "not a number"
+    assert not app.page.status_md.content.startswith("Done")
+    app.form.fields["preload"].value = "65"
+    assert app.page.status_md.content == done
+
+
+def test_plot_titles_announce_a_dashed_curve_only_when_one_is_drawn(app, finish_run):
+    """A hertz-only run overlaid has a force spectrum (dashed, and announced) and no contact filter (hertz is the
+    reference): the contact filters' title does not announce a dashed curve."""
+    _reset(app, model="hertz", speed="90", length="0.6")
+    finish_run(app)
+    other = app.shown.case_label()
+    _reset(app, model="hertz", speed="85", length="0.6")
+    finish_run(app)
+    tab = app.tab(SpectraTab)
+    tab.overlay_dropdown.value = other
+    assert [style for *_, style in tab.spectra.series].count("dashed") == 1
+    assert tab.spectra.handle.title.endswith(f"(dashed: {other})")
+    assert "dashed" not in [style for *_, style in tab.filters.series]
+    assert "dashed" not in tab.filters.handle.title
+    tab.overlay_dropdown.value = NO_OVERLAY

@@ -158,7 +158,7 @@ def test_shape_fields_change_the_wheel_or_say_what_is_wrong(app):
         "**Cannot make this wheel:** Tyre width 500 mm is outside the accepted 80 to 200 mm "
         "(a rim's width: 135 mm on standard-gauge wheels)"
     )
-    assert [label for label, *_ in tab.receptance.series] == ["fix the wheel's shape"]
+    assert not any(plot.visible for plot in tab.plots().values())  # no empty plots: the words say why
     tab = _shown(app, wheel_hub_width="wide")
     assert tab.wheel_md.content == "**Cannot make this wheel:** Hub width 'wide': not a number"
     tab = _shown(app, added="2")
@@ -209,14 +209,11 @@ PLOTS_IN_PAGE = """() => Object.values((window.__viserTestpoints || {}).uplots |
 
 
 @pytest.mark.slow
-def test_the_wheel_tab_in_the_page_shows_its_plots(app, browser):
-    """Headless Chromium: the Wheel tab, clicked, shows its three plots with the curves the app drew."""
-    tab = _shown(app)
-    page = browser.new_page(viewport={"width": 1280, "height": 800})
-    errors = []
-    page.on("pageerror", lambda error: errors.append(str(error)))
+def test_the_wheel_tab_in_the_page_shows_its_plots(open_page):
+    """Headless Chromium: the Wheel tab, clicked, shows its three plots with the curves the page's session drew."""
+    page, session, errors = open_page(1280, 800)
+    tab = _shown(session)
     try:
-        page.goto(f"http://127.0.0.1:{app.port}")
         page.get_by_role("tab", name=WheelTab.title).click()
         page.wait_for_function(f"() => ({PLOTS_IN_PAGE})().length >= 3", timeout=90_000)
         plots = {plot["title"].split(":")[0]: plot for plot in page.evaluate(PLOTS_IN_PAGE)}
@@ -248,7 +245,13 @@ def test_the_wheel_is_computed_only_once_asked(app):
     profile, _ = tab.read(app.shown)
     key = (profile, tuple(sorted(tab.mode_settings.items())))
     assert key not in tab._modes and not tab._working and tab._wanted != key
-    assert [label for label, *_ in tab.receptance.series][0].startswith("press *Compute the wheel*")
+    # nothing computed: no empty plots above the button, and the words are markdown (no literal asterisks)
+    assert not any(plot.visible for plot in tab.plots().values())
+    assert not any(plot.handle.visible for plot in tab.plots().values())
+    assert tab.wheel_md.content.endswith(
+        "Press **Compute the wheel** (below, under the *Wheel shape* folder) for this wheel's modes and sound power."
+    )
+    assert not any("*" in label for plot in tab.plots().values() for label, *_ in plot.series)
     tab.ask()
     assert tab.asked and tab._wanted == key  # the worker was handed this shape (it computes it in the background)
     tab.shape_fields["wheel_web_thickness"].value = ""

@@ -120,10 +120,15 @@ def test_adding_an_input_is_one_declaration(monkeypatch, capsys):
         page_message(info.value) == "Rail mass 5 kg/m is outside the accepted 30 to 80 kg/m (rails from 30 to 80 kg/m)"
     )
     from wheelrail.explorer.app import ExplorerApp
+    from wheelrail.explorer.headless import HeadlessTab
 
-    app = ExplorerApp(port=0)  # any free port: nothing connects
+    app = ExplorerApp(port=0)  # any free port; one tab connects, without a browser
     try:
-        assert app.form.fields["rail_mass"].label == "Rail mass (kg/m)" and app.form.fields["rail_mass"].value == "60"
+        tab = HeadlessTab(app.port)
+        assert app.wait_for(lambda: app.sessions, 60)
+        form = next(iter(app.sessions.values())).form
+        assert form.fields["rail_mass"].label == "Rail mass (kg/m)" and form.fields["rail_mass"].value == "60"
+        tab.close()
     finally:
         app.close()
 
