@@ -245,8 +245,12 @@ def profile_from_description(description: dict):
             points = tuple((float(r), float(z)) for r, z in values["points"])
             contact = tuple(float(v) for v in values["contact"])
             return OutlineProfile(points=points, contact=contact, name=str(values.get("name", "outline")))
-    except (KeyError, TypeError, ValueError) as error:
-        raise WheelrailError(f"the recorded wheel profile is damaged ({error!r})") from None
+    except WheelrailError as error:  # recorded, but not a wheel by the rules of ``section``
+        raise WheelrailError(f"the recorded wheel profile is not a wheel: {error}") from None
+    except (KeyError, TypeError, ValueError):
+        raise WheelrailError(
+            "the recorded wheel profile is damaged (a field missing, unknown or not a number)"
+        ) from None
     raise WheelrailError(f"the recorded wheel profile is not a wheel cross-section (kind {kind!r})")
 
 
@@ -381,9 +385,10 @@ def read_outline(path, contact_z_mm: float) -> OutlineProfile:
         rows.append(values)
     tread = ACCEPTED["wheel_radius"]
     largest = max((abs(r) for r, _ in rows), default=math.nan)
-    if largest < tread.minimum * 1e3 and tread.minimum <= largest <= tread.maximum:
-        raise WheelrailError(f"{path}: the largest r is {largest:g} mm; the outline is read in mm (were its values "
-                             "metres?)", parameter="outline")  # fmt: skip
+    if largest < tread.minimum * 1e3:  # a wheel's outline in metres, inches or cm
+        raise WheelrailError(f"{path}: the largest r is {largest:g} mm, below the smallest tread's "
+                             f"{tread.minimum * 1e3:g} mm; the outline is read in mm (were its values metres, inches "
+                             "or cm?)", parameter="outline")  # fmt: skip
     return outline_profile(np.array(rows) * 1e-3 if rows else np.zeros((0, 2)), contact_z_mm * 1e-3, name=path.stem)
 
 

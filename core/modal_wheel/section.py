@@ -54,6 +54,7 @@ MIN_AREA = 10e-4  # m^2 (module docstring)
 MIN_THICKNESS = ACCEPTED["wheel_web_thickness"].minimum  # m: 10 mm
 MAX_ASPECT = 5.0  # largest element size / thinnest part
 ELEMENT_SIZE = (0.002, MAX_ASPECT * MIN_THICKNESS)  # m: 2 to 50 mm
+OUTLINE_REACH = 2 * ACCEPTED["wheel_radius"].maximum  # m: no coordinate of a wheel's outline is larger
 MAX_OUTLINE_POINTS = 5000
 MAX_OUTLINE_BYTES = 1_000_000  # 5 000 points of two numbers with 9 digits each and a header take ~125 kB
 _ACROSS = 3.0  # two boundary points face each other across the material if the boundary between them is longer
@@ -80,6 +81,9 @@ def simple_outline(points) -> np.ndarray:
         array = array[:-1]
     if len(array) < 3:
         raise WheelrailError("a wheel outline needs at least 3 distinct (r, z) points", parameter="outline")
+    if np.max(np.abs(array)) > OUTLINE_REACH:  # before any product of coordinates (no overflow)
+        raise WheelrailError(f"a wheel outline's points are within {OUTLINE_REACH:g} m of the axle's axis and the "
+                             "web's midplane (twice the largest wheel radius)", parameter="outline")  # fmt: skip
     if _crossing(array):
         raise WheelrailError("the outline crosses or touches itself: a wheel outline is one closed curve, each "
                              "point once", parameter="outline")  # fmt: skip

@@ -4,6 +4,7 @@ stated in its message as it is tested; a mode near 0 Hz is refused or named for 
 from __future__ import annotations
 
 import json
+import warnings
 from dataclasses import fields
 
 import numpy as np
@@ -11,7 +12,14 @@ import pytest
 
 from wheelrail.cli import main
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.modal_wheel import NAMED_WHEELS, WheelProfile, outline_profile, read_outline, wheel_modes
+from wheelrail.core.modal_wheel import (
+    NAMED_WHEELS,
+    WheelProfile,
+    outline_profile,
+    profile_from_description,
+    read_outline,
+    wheel_modes,
+)
 from wheelrail.core.modal_wheel.modes import MIN_MODE_FREQUENCY, _check_strain_free
 from wheelrail.core.modal_wheel.section import MIN_AREA, MIN_THICKNESS, thinnest_part
 
@@ -138,7 +146,13 @@ def test_an_outline_that_crosses_or_touches_itself_is_refused(points):
 @pytest.mark.parametrize(
     ("text", "words"),
     [
-        ("0.08,-0.04\n0.32,-0.04\n0.32,0.04\n0.08,0.04\n", "the largest r is 0.32 mm; the outline is read in mm"),
+        (
+            "0.08,-0.04\n0.32,-0.04\n0.32,0.04\n0.08,0.04\n",
+            "the largest r is 0.32 mm, below the smallest tread's 100 mm; "
+            "the outline is read in mm (were its values metres, inches or cm?)",
+        ),
+        ("3.1,-1.6\n18.1,-1.6\n18.1,1.6\n3.1,1.6\n", "the largest r is 18.1 mm, below"),  # inches
+        ("80,-40\n320,-40\n320,1e300\n80,40\n", "within 2.5 m of the axle's axis"),
         ("80,nan\n320,-40\n320,40\n80,40\n", "two finite numbers"),
         ("80,-40\n320,-40\n320,1e400\n80,40\n", "two finite numbers"),
         ("80,-40\n320,-40\n320,20\n380,20\n380,40\n80,40\n", "reaches 60 mm above the tread"),
@@ -187,3 +201,26 @@ def test_no_mode_in_range_is_said_not_left_as_empty_rows(capsys):
             "30"]  # fmt: skip
     assert main(argv) == 0
     assert "no natural frequency up to 100 Hz: raise --max-frequency-hz to see some" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-300])
+def test_extreme_coordinates_are_one_line_without_numpy_warnings(scale):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert _refusal(lambda: outline_profile(np.array(_web_wheel(0.02)) * scale, contact_z=0.0)) is not None
+
+
+@pytest.mark.parametrize(
+    ("description", "words"),
+    [
+        ({"kind": "outline", "points": [[0.1, 0.0]]}, "damaged (a field missing"),
+        ({"kind": "outline", "points": "x", "contact": [0.4, 0.0]}, "damaged (a field missing"),
+        (
+            {"kind": "parametric", "wheel_radius": 0.46, "flange_height": 0.03, "flange_thickness": 0.005},
+            "not a wheel: WheelProfile.flange_thickness 0.005 m: the cross-section is 5 mm thick",
+        ),
+    ],
+)
+def test_a_recorded_profile_is_checked_as_any_and_refused_without_python_names(description, words):
+    message = _refusal(lambda: profile_from_description(description))
+    assert words in message and "Error" not in message
