@@ -82,8 +82,9 @@ def simple_outline(points) -> np.ndarray:
     if len(array) < 3:
         raise WheelrailError("a wheel outline needs at least 3 distinct (r, z) points", parameter="outline")
     if np.max(np.abs(array)) > OUTLINE_REACH:  # before any product of coordinates (no overflow)
-        raise WheelrailError(f"a wheel outline's points are within {OUTLINE_REACH:g} m of the axle's axis and the "
-                             "web's midplane (twice the largest wheel radius)", parameter="outline")  # fmt: skip
+        raise WheelrailError(f"a point of the outline is {np.max(np.abs(array)) * 1e3:.6g} mm from the axle's axis or "
+                             f"the web's midplane; a wheel's are within {OUTLINE_REACH * 1e3:g} mm (twice the largest "
+                             "wheel radius)", parameter="outline")  # fmt: skip
     if _crossing(array):
         raise WheelrailError("the outline crosses or touches itself: a wheel outline is one closed curve, each "
                              "point once", parameter="outline")  # fmt: skip
