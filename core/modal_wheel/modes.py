@@ -16,7 +16,8 @@ Cost (:func:`modes_cost`): the work is the mesh's elements (``mesh.estimated_ele
 the harmonics x max(1, ``max_frequency`` / 10 kHz) (more modes to find per harmonic); measured on the project's
 2-core machine, shared, ``SECONDS_PER_WORK`` of CPU per unit for meshes of 3 000 to 12 000 elements (fewer
 elements cost less per unit). A computation of more than ``WORK_LIMIT`` units (about two minutes; the default
-wheel's is 3 400 units, 1.5 s) is refused before anything is assembled, saying what it would cost.
+wheel's is 3 400 units, 1.5 s) is refused before anything is assembled, saying what it would cost; so is a mesh
+of more than ``MAX_ELEMENTS`` (the assembly holds about 45 kB per element, measured: 20 000 elements, ~0.9 GB).
 
 Modes below ``MIN_MODE_FREQUENCY`` (1 Hz) are motions without strain: a clamped wheel has none (its lowest
 modes are tens of Hz or more), so one found is a mechanism of the mesh and refused; a free hub has the two
@@ -41,6 +42,7 @@ __all__ = [
     "DEFAULT_ELEMENT_SIZE",
     "MIN_MODE_FREQUENCY",
     "MODES_VERSION",
+    "MAX_ELEMENTS",
     "WORK_LIMIT",
     "ModesCost",
     "WheelModes",
@@ -51,6 +53,8 @@ __all__ = [
 
 MODES_VERSION = 3  # bump when the meshing, the elements or the stored arrays change (the cache's key)
 WORK_LIMIT = 200_000  # elements x harmonics x max(1, f / 10 kHz): about two minutes (module docstring)
+MAX_ELEMENTS = 20_000  # the assembly's memory (module docstring)
+BYTES_PER_ELEMENT = 45e3  # the assembly's peak memory per element, measured (11 700 elements: 625 MB)
 SECONDS_PER_WORK = 6.7e-4  # CPU s per unit of work, measured (module docstring)
 MIN_MODE_FREQUENCY = 1.0  # Hz: below, a motion without strain (module docstring)
 _RIGID_BODY_MODES = {0: 2, 1: 2}  # a free hub's rigid-body motions per harmonic
@@ -195,6 +199,12 @@ def modes_cost(profile, max_frequency: float, max_harmonic: int, element_size: f
 
 
 def _check_cost(cost: ModesCost, element_size: float) -> None:
+    if cost.elements > MAX_ELEMENTS:
+        raise WheelrailError(
+            f"a mesh of about {cost.elements:,} elements is more than the {MAX_ELEMENTS:,} allowed (the assembly holds "
+            f"about {MAX_ELEMENTS * BYTES_PER_ELEMENT / 1e9:.1f} GB at that size; the 920 mm wheel at 2 mm has "
+            "11 700): use larger elements", parameter="wheel_element_size", value=element_size, unit="m",
+        )  # fmt: skip
     if cost.work > WORK_LIMIT:
         limit_s = WORK_LIMIT * SECONDS_PER_WORK
         raise WheelrailError(

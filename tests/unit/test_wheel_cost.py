@@ -17,7 +17,7 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.modal_wheel import NAMED_WHEELS, named_profile, outline_profile, read_outline, wheel_modes
 from wheelrail.core.modal_wheel import modes as modes_module
 from wheelrail.core.modal_wheel.mesh import _resampled, mesh_outline
-from wheelrail.core.modal_wheel.modes import WORK_LIMIT, modes_cost
+from wheelrail.core.modal_wheel.modes import MAX_ELEMENTS, WORK_LIMIT, modes_cost
 from wheelrail.core.modal_wheel.section import MAX_OUTLINE_BYTES, MAX_OUTLINE_POINTS
 
 
@@ -138,3 +138,15 @@ def test_an_outline_that_is_not_a_regular_file_is_refused_before_it_is_opened(tm
     assert main(["wheel", "--outline", str(path)]) == 2
     err = capsys.readouterr().err
     assert "--outline: the wheel outline" in err and "not a regular file" in err and err.count("\n") == 1
+
+
+def test_a_mesh_too_large_to_assemble_is_refused_whatever_the_harmonics(monkeypatch):
+    # the largest wheel at 2 mm elements and one harmonic: little work, but a mesh whose assembly needs gigabytes
+    monkeypatch.setattr(modes_module, "harmonic_matrices", lambda *args: pytest.fail("assembled"))
+    big = named_profile("freight_920")
+    big = type(big)(**{**{k: v for k, v in big.describe().items() if k != "kind"}, "wheel_radius": 1.25})
+    cost = modes_cost(big, 10e3, 0, 0.002)
+    assert cost.elements > MAX_ELEMENTS and cost.work < WORK_LIMIT
+    with pytest.raises(WheelrailError, match=f"more than the {MAX_ELEMENTS:,} allowed") as caught:
+        wheel_modes(big, max_frequency=10e3, max_harmonic=0, element_size=0.002, use_cache=False)
+    assert caught.value.parameter == "wheel_element_size"
