@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from wheelrail.core.accepted import ACCEPTED
+from wheelrail.core.accepted import ACCEPTED, ROUND_OFF
 from wheelrail.core.errors import WheelrailError
 
 __all__ = [
@@ -59,7 +59,6 @@ MAX_OUTLINE_POINTS = 5000
 MAX_OUTLINE_BYTES = 1_000_000  # 5 000 points of two numbers with 9 digits each and a header take ~125 kB
 _ACROSS = 3.0  # two boundary points face each other across the material if the boundary between them is longer
 _SAMPLES = 4000  # the thickness is measured between this many boundary points at most (every MIN_THICKNESS / 5)
-_CHUNK = 256  # rows of the pairwise tables at a time (memory: _CHUNK x points)
 _PAIRS = 1_000_000  # edge pairs compared at a time
 
 
@@ -149,30 +148,30 @@ def _boundary_samples(outline: np.ndarray):
     return points, arc, np.column_stack([-tangent[:, 1], tangent[:, 0]]), total, edge
 
 
-def thinnest_part(outline: np.ndarray) -> tuple[float, tuple[float, float]]:
-    """The thickness of the section's thinnest part, m, and where it is ((r, z) of its middle, m).
+def thinnest_part(outline: np.ndarray, below: float = 0.1) -> tuple[float, tuple[float, float]]:
+    """The thickness of the section's thinnest part, m, and where it is ((r, z) of its middle, m), if it is
+    thinner than ``below`` (m; else inf and NaNs).
 
     Measured between boundary points that face each other across the material: each in front of the other
     (within 60 degrees of its inward normal), the boundary between them at least 3 times longer than the gap (a
     corner's two sides are not a thickness). ``outline`` is counter-clockwise (:func:`simple_outline`); a part
-    no longer than about its thickness (a short bump) is not counted as thin.
+    no longer than about its thickness (a short bump) is not counted as thin. Only the pairs of boundary points
+    closer than ``below`` are compared (a k-d tree's).
     """
+    from scipy.spatial import cKDTree
+
     points, arc, normal, total, edge = _boundary_samples(outline)
-    best, pair = math.inf, None
-    for start in range(0, len(points), _CHUNK):
-        p, n_p = points[start : start + _CHUNK, None, :], normal[start : start + _CHUNK, None, :]
-        gap = points[None, :, :] - p
-        distance = np.hypot(gap[..., 0], gap[..., 1])
-        along = np.abs(arc[None, :] - arc[start : start + _CHUNK, None])
-        along = np.minimum(along, total - along)
-        facing = (np.sum(gap * n_p, axis=-1) > 0.5 * distance) & (np.sum(-gap * normal[None], axis=-1) > 0.5 * distance)
-        distance = np.where(facing & (along > _ACROSS * distance), distance, np.inf)
-        k = int(np.argmin(distance))
-        row, column = divmod(k, distance.shape[1])
-        if distance[row, column] < best:
-            best, pair = float(distance[row, column]), (start + row, column)
-    if pair is None:
-        return best, (math.nan, math.nan)
+    i, j = cKDTree(points).query_pairs(below, output_type="ndarray").T.astype(np.int64)
+    gap = points[j] - points[i]
+    distance = np.hypot(gap[:, 0], gap[:, 1])
+    along = np.abs(arc[j] - arc[i])
+    along = np.minimum(along, total - along)
+    facing = (np.sum(gap * normal[i], axis=1) > 0.5 * distance) & (np.sum(-gap * normal[j], axis=1) > 0.5 * distance)
+    distance = np.where(facing & (along > _ACROSS * distance), distance, np.inf)
+    if not len(distance) or not np.isfinite(distance.min()):
+        return math.inf, (math.nan, math.nan)
+    k = int(np.argmin(distance))
+    pair = int(i[k]), int(j[k])
     # the samples are up to half a spacing apart along the boundary: the thickness is from each to the other's edge
     ends = np.roll(outline, -1, axis=0)
     (i, j), closest = pair, []
@@ -215,10 +214,10 @@ def check_section(outline: np.ndarray, contact: tuple[float, float], parameter: 
                              f"{MIN_AREA * 1e4:g} cm^2 (the smallest rim alone, 80 x 15 mm, is 12 cm^2)",
                              parameter=parameter)  # fmt: skip
     bore, tread = ACCEPTED["wheel_hub_inner_radius"], ACCEPTED["wheel_radius"]
-    if not bore.minimum <= r.min() <= bore.maximum:
+    if not bore.minimum * (1 - ROUND_OFF) <= r.min() <= bore.maximum * (1 + ROUND_OFF):
         raise WheelrailError(f"the bore (the smallest r) is at {_mm(r.min())} mm; accepted {_mm(bore.minimum)} to "
                              f"{_mm(bore.maximum)} mm ({bore.reason})", parameter=parameter)  # fmt: skip
-    if not tread.minimum <= contact[0] <= tread.maximum:
+    if not tread.minimum * (1 - ROUND_OFF) <= contact[0] <= tread.maximum * (1 + ROUND_OFF):
         raise WheelrailError(f"the tread (the contact's r) is at {_mm(contact[0])} mm; accepted {_mm(tread.minimum)} "
                              f"to {_mm(tread.maximum)} mm ({tread.reason})", parameter=parameter)  # fmt: skip
     flange = ACCEPTED["wheel_flange_height"].maximum

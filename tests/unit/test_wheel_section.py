@@ -224,3 +224,18 @@ def test_extreme_coordinates_are_one_line_without_numpy_warnings(scale):
 def test_a_recorded_profile_is_checked_as_any_and_refused_without_python_names(description, words):
     message = _refusal(lambda: profile_from_description(description))
     assert words in message and "Error" not in message
+
+
+@pytest.mark.parametrize("name", list(NAMED_WHEELS))
+def test_every_accepted_rolling_radius_that_fits_a_named_wheels_parts_is_a_wheel(name):
+    # the rules of section.py refuse nothing the named wheels' parts allow, to the last float of the range
+    from wheelrail.core.modal_wheel import wheel_profile_for
+
+    made = 0
+    for radius in np.arange(0.1, 1.2501, 0.025):
+        try:
+            wheel_profile_for(float(radius), name)
+            made += 1
+        except WheelrailError as error:
+            assert "the web must span at least twice its thickness" in str(error), (radius, str(error))
+    assert made >= 40
