@@ -105,27 +105,19 @@ class WheelProfile:
         self._check_section()
 
     def _check_section(self):
-        """The rules of every wheel's cross-section (``section``), the part found too thin named by where it is."""
-        try:
-            check_section(self.outline(), self.contact_point(), parameter=None)
-        except WheelrailError as error:
-            blamed = self._field_at(error)
-            if blamed is None:
-                raise
-            raise WheelrailError(error.problem, parameter=f"wheel_{blamed}", value=getattr(self, blamed), unit="m",
-                                 argument=f"WheelProfile.{blamed}") from None  # fmt: skip
+        """The rules of every wheel's cross-section (``section``), a part found too thin blamed on its field."""
+        check_section(self.outline(), self.contact_point(), parameter=None, blame=self._field_at)
 
-    def _field_at(self, error: WheelrailError) -> str | None:
-        """The field that shapes the part a thickness error points at (its r in the message), else None."""
-        words = (error.problem or "").split("thick at r = ")
-        if len(words) < 2:
-            return None
-        r = float(words[1].split(" ")[0]) * 1e-3
+    def _field_at(self, r: float, z: float) -> dict:
+        """The error's fields naming the field that shapes the part at (r, z) (m): flange, rim, web or hub."""
         if r > self.wheel_radius:
-            return "flange_thickness"
-        if r >= self.wheel_radius - self.tyre_depth:
-            return "tyre_depth"
-        return "web_thickness" if r > self.hub_outer_radius else "hub_outer_radius"
+            field = "flange_thickness"
+        elif r >= self.wheel_radius - self.tyre_depth:
+            field = "tyre_depth"
+        else:
+            field = "web_thickness" if r > self.hub_outer_radius else "hub_outer_radius"
+        return {"parameter": f"wheel_{field}", "value": getattr(self, field), "unit": "m",
+                "argument": f"WheelProfile.{field}"}  # fmt: skip
 
     def _check_parts_fit(self):
         rim_inner = self.wheel_radius - self.tyre_depth

@@ -187,9 +187,10 @@ def _mm(value: float) -> str:
     return f"{round(value * 1e3, 1):g}"
 
 
-def check_section(outline: np.ndarray, contact: tuple[float, float], parameter: str | None = "outline") -> float:
+def check_section(outline: np.ndarray, contact: tuple[float, float], parameter: str | None = "outline",
+                  blame=None) -> float:  # fmt: skip
     """Check that the counter-clockwise simple ``outline`` with the ``contact`` point (m) is a wheel (module
-    docstring); returns its thinnest part's thickness, m.
+    docstring); returns its thinnest part's thickness, m (inf: none thinner than 10 cm).
 
     Parameters
     ----------
@@ -199,6 +200,9 @@ def check_section(outline: np.ndarray, contact: tuple[float, float], parameter: 
         (r, z) of the contact on the tread, m.
     parameter : str, optional
         The input the errors name (``outline``; None for a parametric profile, which names its own fields).
+    blame : callable, optional
+        ``blame(r, z)``: the error's fields (``parameter``, ``value``, ``unit``, ``argument``) for a part too thin
+        at (r, z) (m), naming the input that shapes it (a parametric profile's field); None: ``parameter``.
 
     Raises
     ------
@@ -229,7 +233,7 @@ def check_section(outline: np.ndarray, contact: tuple[float, float], parameter: 
         raise WheelrailError(f"the cross-section is {_mm(thickness)} mm thick at r = {_mm(r_thin)} mm, z = "
                              f"{_mm(z_thin)} mm; every part of a wheel is at least {_mm(MIN_THICKNESS)} mm thick "
                              "(a thinner web or flange is a membrane, its modes near 0 Hz)",
-                             parameter=parameter)  # fmt: skip
+                             **(blame(r_thin, z_thin) if blame is not None else {"parameter": parameter}))  # fmt: skip
     return thickness
 
 
