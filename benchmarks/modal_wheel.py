@@ -1,9 +1,11 @@
 """The modal wheel's cost: meshing, assembling and solving every harmonic n = 0..10 up to 10 kHz for each named
 wheel on the default 12 mm mesh (the target: under 10 s on 2 cores), a cached read, and the receptance and the
 surface velocities over 1000 frequencies; then one harmonic of the 920 mm wheel by shift-invert Lanczos (the
-method used) against a dense generalized eigen-solve (``scipy.linalg.eigh``) of the same matrices.
+method used) against a dense generalized eigen-solve (``scipy.linalg.eigh``) of the same matrices; last, the CPU
+seconds per unit of work (``modes.modes_cost``) of finer meshes, against ``modes.SECONDS_PER_WORK``, which the
+refusal of runaway modes (``modes.WORK_LIMIT``) and the estimate said before computing are scaled from.
 
-Run: python3 benchmarks/modal_wheel.py   (a private temporary cache; ~30 s on 2 cores)
+Run: python3 benchmarks/modal_wheel.py   (a private temporary cache; ~90 s on 2 cores)
 """
 
 from __future__ import annotations
@@ -69,6 +71,21 @@ def sparse_against_dense() -> None:
     )
 
 
+def cost_per_unit() -> None:
+    profile = NAMED_WHEELS["freight_920"]
+    for size, harmonic, frequency in ((0.006, 10, 10e3), (0.003, 2, 5e3), (0.002, 2, 3e3)):
+        cost = modes_module.modes_cost(profile, frequency, harmonic, size)
+        start = time.process_time()
+        modes = wheel_modes(profile, max_frequency=frequency, max_harmonic=harmonic, element_size=size, use_cache=False)
+        seconds = time.process_time() - start
+        print(
+            f"{size * 1e3:g} mm, n <= {harmonic}, {frequency:g} Hz: {len(modes.mesh.triangles)} elements (estimated "
+            f"{cost.elements}), {cost.work:,.0f} units in {seconds:.1f} s of CPU: {seconds / cost.work * 1e3:.2f} ms "
+            f"per unit (SECONDS_PER_WORK {modes_module.SECONDS_PER_WORK * 1e3:.2f} ms)"
+        )
+
+
 if __name__ == "__main__":
     main()
     sparse_against_dense()
+    cost_per_unit()

@@ -51,7 +51,8 @@ def add_parser(sub):
     numerics = parser.add_argument_group("Modes")
     numerics.add_argument("--max-frequency-hz", type=float, default=10e3, help="modes up to (default 10000)")
     numerics.add_argument("--max-harmonic", type=int, default=10, help="nodal diameters n = 0..N (default 10)")
-    numerics.add_argument("--element-size-mm", type=float, default=12.0, help="mesh size (default 12)")
+    numerics.add_argument("--element-size-mm", type=float, default=12.0, help="mesh size, 2 to 50 mm (default 12); "
+                          "the modes' cost is said first and bounded")  # fmt: skip
     numerics.add_argument("--added-loss-factor", type=float, default=0.0, help="a damper's loss factor (default 0)")
     numerics.add_argument("--free-hub", action="store_true", help="leave the bore free (default: clamped)")
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
@@ -80,13 +81,10 @@ def profile_from_args(args):
 
 def _checked(args) -> dict:
     """The numerical settings in SI, each within its range (one WheelrailError naming its option)."""
-    size = args.element_size_mm * 1e-3
-    if not (math.isfinite(size) and 0.002 <= size <= 0.05):
-        raise WheelrailError(
-            None, parameter="wheel_element_size", value=size, minimum=0.002, maximum=0.05, unit="m",
-            reason="2 mm is a fine mesh of a wheel; beyond 50 mm a web has one element across",
-        )  # fmt: skip
     from wheelrail.core.modal_wheel import modal_loss_factor
+    from wheelrail.core.modal_wheel.section import check_element_size
+
+    size = check_element_size(args.element_size_mm * 1e-3)
 
     modal_loss_factor(0, "axial", args.added_loss_factor)  # refused now, not after the modes
     if not (math.isfinite(args.df_hz) and 1.0 <= args.df_hz <= 100.0):
@@ -96,20 +94,22 @@ def _checked(args) -> dict:
 
 
 def frequency_table(modes) -> list[dict]:
-    """Per harmonic n: its natural frequencies (Hz) by family."""
+    """Per harmonic n: its natural frequencies (Hz) by family, and its number of rigid-body motions (a free hub's:
+    not natural frequencies, ``WheelModes.rigid_body``)."""
     import numpy as np
 
     table = []
     for n in range(modes.max_harmonic + 1):
-        row = {"n": n}
+        row = {"n": n, "rigid_body": int(np.sum((modes.harmonic == n) & modes.rigid_body))}
         for family in ("axial", "radial", "circumferential"):
-            chosen = (modes.harmonic == n) & (modes.family == family)
+            chosen = (modes.harmonic == n) & (modes.family == family) & ~modes.rigid_body
             row[family] = [float(f) for f in np.sort(modes.frequency[chosen])]
         table.append(row)
     return table
 
 
 def run(args) -> int:
+    import sys
     import time
 
     import numpy as np
@@ -121,7 +121,7 @@ def run(args) -> int:
     plot_path = Path(args.plot) if args.plot is not None else None
     profile = profile_from_args(args)
     start = time.perf_counter()
-    modes = wheel_modes(profile, **settings)
+    modes = wheel_modes(profile, **settings, announce=_announce(sys.stderr))
     elapsed = time.perf_counter() - start
     from wheelrail.core.bands import frequency_bands
 
@@ -132,7 +132,9 @@ def run(args) -> int:
         "mass_kg": section_mass(profile, modes.material.density),
         "modes": {
             **{k: v for k, v in settings.items()},
-            "count": len(modes.frequency),
+            "count": int(np.sum(~modes.rigid_body)),
+            "rigid_body": int(np.sum(modes.rigid_body)),
+            "elements": len(modes.mesh.triangles),
             "time_s": elapsed,
             "cache": modes.cache_path,
             "nodes": len(modes.mesh.nodes),
@@ -160,6 +162,15 @@ def run(args) -> int:
     return 0
 
 
+def _announce(stream):
+    """Say on ``stream``, if it is a terminal (pipes and ``--json`` stay clean), what the modes will cost."""
+
+    def say(cost) -> None:
+        print(f"wheelrail wheel: computing the modes once (then cached): {cost.describe()}", file=stream, flush=True)
+
+    return say if stream.isatty() else None
+
+
 def _receptance_dict(receptance) -> dict:
     import numpy as np
 
@@ -184,7 +195,12 @@ def _print_summary(summary: dict) -> None:
     print(f"  mass {summary['mass_kg']:.0f} kg (steel, the cross-section turned about the axle)")
     how = f"cached in {modes['cache']}" if modes["cache"] else "not cached"
     print(f"  {modes['count']} modes up to {modes['max_frequency']:g} Hz, n = 0..{modes['max_harmonic']}, "
-          f"{modes['nodes']} nodes, {modes['time_s']:.2f} s ({how})")  # fmt: skip
+          f"{modes['elements']} elements, {modes['nodes']} nodes, {modes['time_s']:.2f} s ({how})")  # fmt: skip
+    if modes["rigid_body"]:
+        print(f"  and {modes['rigid_body']} rigid-body motions at 0 Hz (the hub free: along, about and across the "
+              "axle, rocking), in the receptances, not natural frequencies")  # fmt: skip
+    if not modes["count"]:
+        print(f"  no natural frequency up to {modes['max_frequency']:g} Hz: raise --max-frequency-hz to see some")
     print("Natural frequencies (Hz) by nodal diameters n:")
     for row in summary["natural_frequencies_hz"]:
         parts = [f"{family} " + " ".join(f"{f:.0f}" for f in row[family]) for family in ("axial", "radial",
@@ -223,7 +239,8 @@ def _write_csv(path: Path, receptance, modes, added_loss_factor: float) -> None:
         writer = csv.writer(handle)
         writer.writerow(["n", "family", "frequency_hz", "loss_factor"])
         eta = modes.loss_factor(added_loss_factor)
-        for n, family, f, loss in zip(modes.harmonic, modes.family, modes.frequency, eta, strict=True):
+        families = np.where(modes.rigid_body, "rigid-body", modes.family)  # a free hub's rigid-body motions
+        for n, family, f, loss in zip(modes.harmonic, families, modes.frequency, eta, strict=True):
             writer.writerow([int(n), family, f"{f:.6g}", f"{loss:.3g}"])
 
     atomic_write(path, write_receptance, mode="w", newline="")
@@ -255,7 +272,7 @@ def wheel_figure(modes, receptance, added_loss_factor: float = 0.0):
     axes[0].set(xlabel="z (mm)", ylabel="r (mm)", title="Cross-section and mesh", aspect="equal")
     axes[0].legend()
     for family, marker in (("axial", "o"), ("radial", "s"), ("circumferential", "^")):
-        chosen = modes.family == family
+        chosen = (modes.family == family) & ~modes.rigid_body
         axes[1].plot(modes.harmonic[chosen], modes.frequency[chosen], marker, ls="", label=family)
     axes[1].set(xlabel="nodal diameters n", ylabel="frequency (Hz)", title="Natural frequencies")
     axes[1].legend()

@@ -11,28 +11,53 @@ loss factor is taken as 1e-3 for the n = 0 and n = 1 modes, which move the hub a
 to the axle, and 1e-4 for the modes of n >= 2 (all families; the text gives damping ratios of order 1e-4 for a
 free wheel's n >= 2 modes: these values are typical, not measured for a given wheel). An added damper's loss
 factor (``added_loss_factor``) adds to every mode's.
+
+Cost (:func:`modes_cost`): the work is the mesh's elements (``mesh.estimated_elements``, known before meshing) x
+the harmonics x max(1, ``max_frequency`` / 10 kHz) (more modes to find per harmonic); measured on the project's
+2-core machine, shared, ``SECONDS_PER_WORK`` of CPU per unit for meshes of 3 000 to 12 000 elements (fewer
+elements cost less per unit). A computation of more than ``WORK_LIMIT`` units (about two minutes; the default
+wheel's is 3 400 units, 1.5 s) is refused before anything is assembled, saying what it would cost; so is a mesh
+of more than ``MAX_ELEMENTS`` (the assembly holds about 45 kB per element, measured: 20 000 elements, ~0.9 GB).
+
+Modes below ``MIN_MODE_FREQUENCY`` (1 Hz) are motions without strain: a clamped wheel has none (its lowest
+modes are tens of Hz or more), so one found is a mechanism of the mesh and refused; a free hub has the two
+rigid-body motions of n = 0 (along and about the axle) and two of n = 1 (across it, rocking), kept in the
+modal sums (they carry the wheel's mass) and flagged by ``WheelModes.rigid_body``.
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.modal_wheel.fem import FAMILIES, STEEL, Material, harmonic_matrices, harmonic_modes
-from wheelrail.core.modal_wheel.mesh import Mesh, mesh_outline
+from wheelrail.core.modal_wheel.mesh import Mesh, estimated_elements, mesh_outline, simplified
+from wheelrail.core.modal_wheel.section import check_element_size
 
 __all__ = [
     "DEFAULT_ELEMENT_SIZE",
+    "MIN_MODE_FREQUENCY",
     "MODES_VERSION",
+    "MAX_ELEMENTS",
+    "WORK_LIMIT",
+    "ModesCost",
     "WheelModes",
     "modal_loss_factor",
+    "modes_cost",
     "wheel_modes",
 ]
 
-MODES_VERSION = 2  # bump when the meshing, the elements or the stored arrays change (the cache's key)
+MODES_VERSION = 3  # bump when the meshing, the elements or the stored arrays change (the cache's key)
+WORK_LIMIT = 200_000  # elements x harmonics x max(1, f / 10 kHz): about two minutes (module docstring)
+MAX_ELEMENTS = 20_000  # the assembly's memory (module docstring)
+BYTES_PER_ELEMENT = 45e3  # the assembly's peak memory per element, measured (11 700 elements: 625 MB)
+SECONDS_PER_WORK = 6.7e-4  # CPU s per unit of work, measured (module docstring)
+MIN_MODE_FREQUENCY = 1.0  # Hz: below, a motion without strain (module docstring)
+_RIGID_BODY_MODES = {0: 2, 1: 2}  # a free hub's rigid-body motions per harmonic
 DEFAULT_ELEMENT_SIZE = 0.012  # m: frequencies up to 10 kHz within 1 % of a mesh twice as fine (tests/physics)
 LOSS_FACTOR_HUB = 1e-3  # n = 0, 1: coupled to the axle (module docstring)
 LOSS_FACTOR_WHEEL = 1e-4  # n >= 2
@@ -85,6 +110,11 @@ class WheelModes:
     clamped: bool = True
     cache_path: str = ""
 
+    @property
+    def rigid_body(self) -> np.ndarray:
+        """(n_modes,) of bool: the free hub's rigid-body motions (module docstring), not natural frequencies."""
+        return self.frequency < MIN_MODE_FREQUENCY
+
     def loss_factor(self, added_loss_factor: float = 0.0) -> np.ndarray:
         """Each mode's loss factor (:func:`modal_loss_factor`)."""
         return modal_loss_factor(self.harmonic, self.family, added_loss_factor)
@@ -126,6 +156,64 @@ def modal_loss_factor(harmonic, family, added_loss_factor: float = 0.0) -> np.nd
     return base + float(added_loss_factor) + 0.0 * np.zeros(np.shape(family))
 
 
+@dataclass(frozen=True)
+class ModesCost:
+    """What computing a wheel's modes costs (module docstring): ``elements`` (estimated), ``harmonics`` (N + 1),
+    ``work`` (units), ``seconds`` (CPU s, estimated)."""
+
+    elements: int
+    harmonics: int
+    max_frequency: float
+    work: float
+    seconds: float
+
+    def describe(self) -> str:
+        """One sentence: the work and its estimated time."""
+        return (f"about {self.elements} elements x {self.harmonics} harmonics up to {self.max_frequency:g} Hz: "
+                f"{self.work:,.0f} units of work, about {self.seconds:.0f} s of CPU")  # fmt: skip
+
+
+def modes_cost(profile, max_frequency: float, max_harmonic: int, element_size: float) -> ModesCost:
+    """The cost of :func:`wheel_modes` for these settings, from the mesh's size before it is made.
+
+    Parameters
+    ----------
+    profile : WheelProfile or OutlineProfile
+        The cross-section.
+    max_frequency : float
+        Hz.
+    max_harmonic : int
+        N (harmonics 0..N).
+    element_size : float
+        m.
+
+    Returns
+    -------
+    ModesCost
+        Elements, harmonics, work units and the estimated CPU seconds (``SECONDS_PER_WORK`` per unit).
+    """
+    outline = simplified(profile.outline(), element_size, profile.contact_point())
+    elements = estimated_elements(outline, element_size)
+    work = float(elements) * (max_harmonic + 1) * max(1.0, max_frequency / 10e3)
+    return ModesCost(elements, max_harmonic + 1, float(max_frequency), work, work * SECONDS_PER_WORK)
+
+
+def _check_cost(cost: ModesCost, element_size: float) -> None:
+    if cost.elements > MAX_ELEMENTS:
+        raise WheelrailError(
+            f"a mesh of about {cost.elements:,} elements is more than the {MAX_ELEMENTS:,} allowed (the assembly holds "
+            f"about {MAX_ELEMENTS * BYTES_PER_ELEMENT / 1e9:.1f} GB at that size; the 920 mm wheel at 2 mm has "
+            "11 700): use larger elements", parameter="wheel_element_size", value=element_size, unit="m",
+        )  # fmt: skip
+    if cost.work > WORK_LIMIT:
+        limit_s = WORK_LIMIT * SECONDS_PER_WORK
+        raise WheelrailError(
+            f"these modes are {cost.describe()}, more than the {WORK_LIMIT:,} units (about {limit_s / 60:.0f} minutes) "
+            "allowed; use larger elements, fewer harmonics or a lower maximum frequency",
+            parameter="wheel_element_size", value=element_size, unit="m",
+        )  # fmt: skip
+
+
 def _key(profile, element_size: float, max_frequency: float, max_harmonic: int, material: Material, clamped: bool):
     from wheelrail.core.cache import cache_key
 
@@ -153,6 +241,7 @@ def wheel_modes(
     material: Material = STEEL,
     clamped: bool = True,
     use_cache: bool = True,
+    announce: Callable[[ModesCost], None] | None = None,
 ) -> WheelModes:
     """Every mode of the wheel ``profile`` with n = 0..``max_harmonic`` up to ``max_frequency`` (Hz).
 
@@ -165,13 +254,15 @@ def wheel_modes(
     max_harmonic : int
         N, 0 to 40.
     element_size : float
-        The mesh's element size, m (default: ``DEFAULT_ELEMENT_SIZE``).
+        The mesh's element size, m, 2 to 50 mm (``section.ELEMENT_SIZE``; default: ``DEFAULT_ELEMENT_SIZE``).
     material : Material
         Default: steel.
     clamped : bool
         Hold the bore (the axle seat), as TWINS does; False: a free wheel.
     use_cache : bool
         Read and write the disk cache (module docstring).
+    announce : callable, optional
+        Called with the :class:`ModesCost` just before modes not found in a cache are computed.
 
     Returns
     -------
@@ -181,19 +272,25 @@ def wheel_modes(
     Raises
     ------
     WheelrailError
-        A profile, range or mesh outside what is accepted, in one line.
+        A profile, range or mesh outside what is accepted, more work than ``WORK_LIMIT`` (said before anything is
+        assembled), a mechanism (a mode below ``MIN_MODE_FREQUENCY`` that is no free hub's rigid-body motion), in
+        one line.
     """
     if not (isinstance(max_harmonic, int | np.integer) and 0 <= max_harmonic <= 40):
         raise WheelrailError(None, parameter="max_harmonic", value=max_harmonic, minimum=0, maximum=40, unit="")
     if not (isinstance(max_frequency, int | float) and 100.0 <= max_frequency <= 30e3):
         raise WheelrailError(None, parameter="max_frequency", value=max_frequency, minimum=100.0, maximum=30e3,
                              unit="Hz")  # fmt: skip
-    max_frequency, element_size = float(max_frequency), float(element_size)
+    max_frequency, element_size = float(max_frequency), check_element_size(element_size)
     key = _key(profile, element_size, max_frequency, int(max_harmonic), material, clamped)
     if use_cache and key in _MEMORY:
         return _MEMORY[key]
     modes = _from_cache(profile, key, material, clamped) if use_cache else None
     if modes is None:
+        cost = modes_cost(profile, max_frequency, int(max_harmonic), element_size)
+        _check_cost(cost, element_size)
+        if announce is not None:
+            announce(cost)
         start = time.perf_counter()
         modes = _computed(profile, max_frequency, int(max_harmonic), element_size, material, clamped)
         if use_cache:
@@ -206,11 +303,13 @@ def wheel_modes(
 
 
 def _computed(profile, max_frequency, max_harmonic, element_size, material, clamped) -> WheelModes:
-    mesh = mesh_outline(profile.outline(), element_size)
+    mesh = mesh_outline(profile.outline(), element_size, keep=profile.contact_point())
     contact = int(np.argmin(np.hypot(*(mesh.nodes - np.asarray(profile.contact_point())).T)))
     model = harmonic_matrices(mesh, material)
     bore = profile.bore_radius if clamped else None
     parts = [harmonic_modes(model, n, max_frequency, bore, contact) for n in range(max_harmonic + 1)]
+    for n, part in enumerate(parts):
+        _check_strain_free(part.frequency, n, clamped)
     return WheelModes(
         profile=profile,
         mesh=mesh,
@@ -227,6 +326,18 @@ def _computed(profile, max_frequency, max_harmonic, element_size, material, clam
         material=material,
         clamped=clamped,
     )
+
+
+def _check_strain_free(frequency: np.ndarray, harmonic: int, clamped: bool) -> None:
+    """Refuse modes below ``MIN_MODE_FREQUENCY`` but a free hub's rigid-body motions (module docstring)."""
+    low = frequency[frequency < MIN_MODE_FREQUENCY]
+    allowed = 0 if clamped else _RIGID_BODY_MODES.get(harmonic, 0)
+    if len(low) > allowed:
+        raise WheelrailError(
+            f"the wheel's mesh moves without strain: {len(low)} mode(s) of n = {harmonic} below "
+            f"{MIN_MODE_FREQUENCY:g} Hz ({float(low.max()):.2g} Hz), where a {'clamped' if clamped else 'free'} wheel "
+            f"has {allowed}; a part hangs on too thin a link: use smaller elements or a thicker part"
+        )
 
 
 def _saved(modes: WheelModes, key: str, compute_s: float) -> WheelModes:

@@ -15,13 +15,16 @@ the web's midline. Fillets, the tread's conicity and the flange's shape are not 
 are in :data:`wheelrail.core.accepted.ACCEPTED` (keys ``"wheel_" + field``), with their reasons.
 
 :func:`outline_profile` takes any closed outline of (r, z) points instead (:func:`read_outline` reads one
-from a CSV file).
+from a CSV file). Both are checked by the same rules of what a wheel is (``section.check_section``: bore,
+tread, area, thickness), so the shape options and an outline accept the same cross-sections.
 """
 
 from __future__ import annotations
 
 import csv
 import math
+import os
+import stat
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
@@ -29,6 +32,13 @@ import numpy as np
 
 from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.modal_wheel.section import (
+    MAX_OUTLINE_BYTES,
+    MAX_OUTLINE_POINTS,
+    check_section,
+    signed_area,
+    simple_outline,
+)
 
 __all__ = [
     "NAMED_WHEELS",
@@ -93,6 +103,22 @@ class WheelProfile:
                 getattr(self, item.name), f"WheelProfile.{item.name}"
             )
         self._check_parts_fit()
+        self._check_section()
+
+    def _check_section(self):
+        """The rules of every wheel's cross-section (``section``), a part found too thin blamed on its field."""
+        check_section(self.outline(), self.contact_point(), parameter=None, blame=self._field_at)
+
+    def _field_at(self, r: float, z: float) -> dict:
+        """The error's fields naming the field that shapes the part at (r, z) (m): flange, rim, web or hub."""
+        if r > self.wheel_radius:
+            field = "flange_thickness"
+        elif r >= self.wheel_radius - self.tyre_depth:
+            field = "tyre_depth"
+        else:
+            field = "web_thickness" if r > self.hub_outer_radius else "hub_outer_radius"
+        return {"parameter": f"wheel_{field}", "value": getattr(self, field), "unit": "m",
+                "argument": f"WheelProfile.{field}"}  # fmt: skip
 
     def _check_parts_fit(self):
         rim_inner = self.wheel_radius - self.tyre_depth
@@ -165,11 +191,22 @@ class WheelProfile:
 @dataclass(frozen=True)
 class OutlineProfile:
     """A cross-section given as a closed outline of (r, z) points, m, and the contact point on it (module
-    docstring); made by :func:`outline_profile`."""
+    docstring); made by :func:`outline_profile`, checked as every wheel (``section.check_section``)."""
 
     points: tuple[tuple[float, float], ...]
     contact: tuple[float, float]
     name: str = "outline"
+
+    def __post_init__(self):
+        if len(self.points) > MAX_OUTLINE_POINTS + 1:
+            raise WheelrailError(f"a wheel outline has at most {MAX_OUTLINE_POINTS} points, not {len(self.points)}",
+                                 parameter="outline")  # fmt: skip
+        outline = simple_outline(self.points)
+        if len(outline) != len(self.points) or not np.array_equal(outline[0], self.points[0]):
+            raise WheelrailError("an outline's points are kept counter-clockwise, each once", parameter="outline")
+        if not any(tuple(p) == tuple(self.contact) for p in self.points):
+            raise WheelrailError("the contact is a point of the outline", parameter="contact_z")
+        check_section(outline, self.contact)
 
     @property
     def wheel_radius(self) -> float:
@@ -201,8 +238,12 @@ def profile_from_description(description: dict):
             points = tuple((float(r), float(z)) for r, z in values["points"])
             contact = tuple(float(v) for v in values["contact"])
             return OutlineProfile(points=points, contact=contact, name=str(values.get("name", "outline")))
-    except (KeyError, TypeError, ValueError) as error:
-        raise WheelrailError(f"the recorded wheel profile is damaged ({error!r})") from None
+    except WheelrailError as error:  # recorded, but not a wheel by the rules of ``section``
+        raise WheelrailError(f"the recorded wheel profile is not a wheel: {error}") from None
+    except (KeyError, TypeError, ValueError):
+        raise WheelrailError(
+            "the recorded wheel profile is damaged (a field missing, unknown or not a number)"
+        ) from None
     raise WheelrailError(f"the recorded wheel profile is not a wheel cross-section (kind {kind!r})")
 
 
@@ -215,43 +256,17 @@ def section_mass(profile, density: float = 7850.0) -> float:
 
 
 def _counter_clockwise(points: np.ndarray) -> np.ndarray:
-    return points if _signed_area(points) > 0 else points[::-1].copy()
-
-
-def _signed_area(points: np.ndarray) -> float:
-    r, z = points[:, 0], points[:, 1]
-    return 0.5 * float(np.sum(r * np.roll(z, -1) - np.roll(r, -1) * z))
-
-
-def _segments_cross(points: np.ndarray) -> bool:
-    """Whether two non-adjacent edges of the closed polygon cross (a self-intersecting outline)."""
-    a, b = points, np.roll(points, -1, axis=0)
-    m = len(points)
-    for i in range(m):
-        j = np.arange(i + 2, m if i > 0 else m - 1)
-        if not len(j):
-            continue
-        d1 = _cross(a[i], b[i], a[j])
-        d2 = _cross(a[i], b[i], b[j])
-        d3 = _cross(a[j], b[j], a[i][None, :])
-        d4 = _cross(a[j], b[j], b[i][None, :])
-        if np.any((d1 * d2 < 0) & (d3 * d4 < 0)):
-            return True
-    return False
-
-
-def _cross(p, q, s) -> np.ndarray:
-    p, q, s = np.atleast_2d(p), np.atleast_2d(q), np.atleast_2d(s)
-    return (q[:, 0] - p[:, 0]) * (s[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (s[:, 0] - p[:, 0])
+    return points if signed_area(points) > 0 else points[::-1].copy()
 
 
 def outline_profile(points, contact_z: float, name: str = "outline") -> OutlineProfile:
     """A cross-section from a closed outline of (r, z) points (m) and the axial position of the contact.
 
     The contact is put on the outline where the vertical line z = ``contact_z`` meets it at its largest r (the
-    tread); it becomes a vertex. Refused in one WheelrailError line: fewer than 4 points, values not finite,
-    r <= 0, an outline that crosses itself or encloses no area, a size outside the wheel radius's accepted
-    range, a ``contact_z`` outside the outline.
+    tread); it becomes a vertex. Points may go either way round; a point repeated at once is dropped. Refused in
+    one WheelrailError line: more than ``section.MAX_OUTLINE_POINTS`` points, values not finite, r <= 0, an
+    outline that is not one closed curve (``section.simple_outline``), a ``contact_z`` outside the outline, a
+    cross-section that is not a wheel (``section.check_section``: bore, tread, area, thickness).
 
     Parameters
     ----------
@@ -273,19 +288,16 @@ def outline_profile(points, contact_z: float, name: str = "outline") -> OutlineP
         Any of the cases above, in one line.
     """
     array = np.asarray(points, dtype=float) if _numeric(points) else None
-    if array is None or array.ndim != 2 or array.shape[1] != 2 or len(array) < 4:
-        raise WheelrailError("a wheel outline needs at least 4 (r, z) points, two numbers each", parameter="outline")
-    if not np.all(np.isfinite(array)) or np.any(array[:, 0] <= 0):
-        raise WheelrailError("a wheel outline's points must be finite with r > 0 (no point on the axle's axis)",
-                             parameter="outline")  # fmt: skip
-    if np.allclose(array[0], array[-1]):
-        array = array[:-1]
-    keep = np.r_[True, np.any(np.abs(np.diff(array, axis=0)) > 1e-9, axis=1)]
-    array = _counter_clockwise(array[keep])
-    if abs(_signed_area(array)) < 1e-6 or _segments_cross(array):
-        raise WheelrailError("a wheel outline must be one closed curve that does not cross itself, enclosing an area "
-                             "of at least 1 cm^2", parameter="outline")  # fmt: skip
-    ACCEPTED["wheel_radius"].check(float(array[:, 0].max()), "the outline's largest r")
+    if array is None or array.ndim != 2 or array.shape[1] != 2:
+        raise WheelrailError("a wheel outline is (r, z) points, two numbers each", parameter="outline")
+    if len(array) > MAX_OUTLINE_POINTS + 1:  # + 1: the first point repeated at the end
+        raise WheelrailError(f"a wheel outline has at most {MAX_OUTLINE_POINTS} points, not {len(array)} (a "
+                             "measured profile has a few thousand)", parameter="outline")  # fmt: skip
+    if len(array) and np.all(np.isfinite(array)):  # points within 1 nm of the one before are the same point
+        array = array[np.r_[True, np.any(np.abs(np.diff(array, axis=0)) > 1e-9, axis=1)]]
+    array = simple_outline(array)
+    if np.any(array[:, 0] <= 0):
+        raise WheelrailError("a wheel outline's points have r > 0 (no point on the axle's axis)", parameter="outline")
     array, contact = _insert_contact(array, float(contact_z))
     return OutlineProfile(tuple(map(tuple, array.tolist())), contact, name)
 
@@ -313,8 +325,9 @@ def _insert_contact(array: np.ndarray, z: float) -> tuple[np.ndarray, tuple[floa
                              value=z, unit="m")  # fmt: skip
     i, r = best
     point = np.array([r, z])
-    if np.min(np.hypot(*(array - point).T)) < 1e-9:
-        return array, (float(r), float(z))
+    distance = np.hypot(*(array - point).T)
+    if np.min(distance) < 1e-9:  # a vertex already: the contact is that vertex
+        return array, tuple(float(v) for v in array[int(np.argmin(distance))])
     return np.insert(array, i + 1, point, axis=0), (float(r), float(z))
 
 
@@ -345,10 +358,7 @@ def read_outline(path, contact_z_mm: float) -> OutlineProfile:
     outline_profile : the same from points in metres.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise WheelrailError(f"cannot read the wheel outline {path}: {error}") from None
+    text = _outline_text(path)
     rows = []
     for number, row in enumerate(csv.reader(text.splitlines()), start=1):
         cells = [cell.strip() for cell in row if cell.strip()]
@@ -362,8 +372,40 @@ def read_outline(path, contact_z_mm: float) -> OutlineProfile:
             raise WheelrailError(f"{path}: line {number} is not two numbers (r, z in mm)") from None
         if len(values) != 2:
             raise WheelrailError(f"{path}: line {number} has {len(values)} values, not two (r, z in mm)")
+        if len(rows) > MAX_OUTLINE_POINTS:
+            raise WheelrailError(f"{path}: a wheel outline has at most {MAX_OUTLINE_POINTS} points (a measured "
+                                 "profile has a few thousand)", parameter="outline")  # fmt: skip
         rows.append(values)
-    return outline_profile(np.array(rows) * 1e-3 if rows else [], contact_z_mm * 1e-3, name=path.stem)
+    tread = ACCEPTED["wheel_radius"]
+    largest = max((abs(r) for r, _ in rows), default=math.nan)
+    if largest < tread.minimum * 1e3:  # a wheel's outline in metres, inches or cm
+        raise WheelrailError(f"{path}: the largest r is {largest:g} mm, below the smallest tread's "
+                             f"{tread.minimum * 1e3:g} mm; the outline is read in mm (were its values metres, inches "
+                             "or cm?)", parameter="outline")  # fmt: skip
+    return outline_profile(np.array(rows) * 1e-3 if rows else np.zeros((0, 2)), contact_z_mm * 1e-3, name=path.stem)
+
+
+def _outline_text(path: Path) -> str:
+    """The text of the outline file ``path``: a regular file (checked before it is opened, so that a FIFO or a
+    device is not waited on or read without end) of at most ``MAX_OUTLINE_BYTES``, read with that limit."""
+    try:
+        if not stat.S_ISREG(path.stat().st_mode):
+            raise WheelrailError(f"the wheel outline {path} is not a regular file (a folder, FIFO or device): give "
+                                 "a CSV file", parameter="outline")  # fmt: skip
+        descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with os.fdopen(descriptor, "rb") as handle:
+            if not stat.S_ISREG(os.fstat(handle.fileno()).st_mode):  # replaced since it was looked at
+                raise WheelrailError(f"the wheel outline {path} is not a regular file", parameter="outline")
+            data = handle.read(MAX_OUTLINE_BYTES + 1)
+    except OSError as error:
+        raise WheelrailError(f"cannot read the wheel outline {path}: {error.strerror or error}") from None
+    if len(data) > MAX_OUTLINE_BYTES:
+        raise WheelrailError(f"the wheel outline {path} is larger than {MAX_OUTLINE_BYTES / 1e6:g} MB (an outline "
+                             f"of {MAX_OUTLINE_POINTS} points takes about 0.13 MB)", parameter="outline")  # fmt: skip
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise WheelrailError(f"the wheel outline {path} is not UTF-8 text", parameter="outline") from None
 
 
 # Named standard-like wheels: approximate dimensions of common solid wheels, rounded to 5 mm. The 920 mm freight

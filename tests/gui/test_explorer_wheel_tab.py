@@ -179,6 +179,9 @@ def test_the_wheel_fields_read_as_the_named_wheel_at_the_runs_radius_with_the_di
     with pytest.raises(WheelrailError) as error:
         read_wheel(NEAREST_WHEEL, 0.39, {"wheel_contact_offset": "70"}, "")
     assert "Contact offset" in page_message(error.value)
+    with pytest.raises(WheelrailError) as error:  # what a wheel is: the same rules as an outline's (section.py)
+        read_wheel(NEAREST_WHEEL, 0.39, {"wheel_flange_thickness": "5"}, "")
+    assert page_message(error.value).startswith("Flange thickness 5 mm: the cross-section is 5 mm thick at r = ")
 
 
 @pytest.mark.slow

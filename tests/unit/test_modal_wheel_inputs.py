@@ -68,12 +68,13 @@ def test_a_csv_outline_is_read_in_mm_and_its_contact_becomes_a_vertex(tmp_path):
 @pytest.mark.parametrize(
     ("text", "words"),
     [
-        ("100,0\n400,0\n", "at least 4"),
+        ("100,0\n400,0\n", "at least 3 distinct"),
         ("100,0\n400,0\nx,y\n100,20\n", "line 3"),
         ("100,0\n400,0,1\n400,20\n100,20\n", "3 values"),
         ("0,0\n400,0\n400,20\n0,20\n", "r > 0"),
-        ("100,0\n400,20\n400,0\n100,20\n", "cross itself"),
-        ("100,0\n4000,0\n4000,20\n100,20\n", "largest r"),
+        ("100,0\n400,20\n400,0\n100,20\n", "crosses or touches itself"),
+        ("100,0\n2000,0\n2000,20\n100,20\n", "the tread (the contact's r) is at 2000 mm"),
+        ("100,0\n4000,0\n4000,20\n100,20\n", "a point of the outline is 4000 mm from the axle's axis"),
     ],
 )
 def test_a_bad_csv_outline_is_one_line(tmp_path, text, words):
