@@ -172,6 +172,26 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
 
 
+def _spectrum_records(plan: StudyPlan, summaries) -> list[dict]:
+    """Each distinct record the study's force spectra analysed (speed, steps, the start left out, the duration
+    analysed and the bands it resolves: :meth:`wheelrail.core.spectrum_record.SpectrumRecord.to_dict`), with the
+    line :meth:`~wheelrail.core.spectrum_record.SpectrumRecord.words` says."""
+    from wheelrail.core.spectra import record_of_steps
+
+    records: dict = {}
+    for spec, summary in zip(plan.specs, summaries, strict=True):
+        key = (int(summary.n_steps), spec.params.run.time_step)
+        if key not in records:
+            record = record_of_steps(*key)
+            records[key] = {
+                "speed_m_per_s": spec.params.run.speed,
+                "steps": key[0],
+                **record.to_dict(),
+                "words": record.words(),
+            }
+    return list(records.values())
+
+
 def _summary_document(
     name: str,
     plan: StudyPlan,
@@ -203,6 +223,7 @@ def _summary_document(
         "wall_time_s": report.wall_time,
         "worker_run_time_s": float(sum(s.run_time for s in summaries)),
         "loss_of_contact_steps": int(sum(s.loss_of_contact_steps for s in summaries)),
+        "spectrum_records": _spectrum_records(plan, summaries),
         "out": str(folder),
         "files": [str(path) for path in files],
         "tables": {

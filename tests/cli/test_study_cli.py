@@ -340,6 +340,10 @@ def test_user_csv_set_and_human_output(tmp_path, capsys):
     text = capsys.readouterr().out
     assert code == 0
     assert "4 runs (4 computed, 0 from" in text and "in-process" in text
+    # what the force spectra analysed: 0.6 m at 100 km/h leaves 1.6 ms after the 20 ms start-up, 1 / T = 620 Hz
+    assert "force spectrum of 1.584 ms (44 steps) after the first 20.02 ms (start-up, left out): bands 3150-8000" in (
+        text
+    )
     # the contact geometry as run and filters state it: the radii in use (unset: the paper's R) and the patch
     assert "contact geometry: wheel radius 390 mm (the paper's R), rail crown radius 390 mm (the paper's R)" in text
     assert "Hertz patch at 65 kN a = 5.48 mm along, b = 5.48 mm across" in text
