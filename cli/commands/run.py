@@ -222,11 +222,13 @@ def _summary(args, result, params, times) -> dict:
     """What ``--json`` prints (SI; keys name their unit), the force spectrum included when the run allows one."""
     import numpy as np
 
+    from wheelrail.core.run_file import check_fluctuating
     from wheelrail.core.spectra import band_labels, check_spectrum_length, force_spectrum, spectrum_record
 
     start, prepared, finished = times
     try:
         check_spectrum_length(result.n_steps * result.element_size, result.speed, result.element_size)
+        check_fluctuating(result.force, spectrum_record(result).skipped_steps, f"the {result.model} run")
         centres, levels = force_spectrum(result)
         record, spectrum_note = spectrum_record(result).to_dict(), ""
     except WheelrailError as error:  # a run shorter than the spectrum's start-up skip: no spectrum

@@ -18,6 +18,7 @@ import numpy as np
 from wheelrail.cli.commands._common import print_json
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.results import RunResult
+from wheelrail.core.run_file import check_fluctuating
 from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, nominal_band_label, spectrum_record
 
 
@@ -92,6 +93,7 @@ def run(args) -> int:
     saved = load_force(args.file)
     centres, levels = force_spectrum(saved["force"], saved["time_step"], skip=skip_ms * 1e-3)
     record = spectrum_record(saved["force"], saved["time_step"], skip=skip_ms * 1e-3)
+    check_fluctuating(saved["force"], record.skipped_steps, str(args.file))  # else every level is -inf dB
     rms = float(np.std(saved["force"][record.skipped_steps :]))
     if args.json:
         print_json(
