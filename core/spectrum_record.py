@@ -136,5 +136,5 @@ class SpectrumRecord:
             return f"{head}: no band resolved"
         return (
             f"{head}: bands {self.band_labels[low]}-{self.band_labels[high]} Hz resolved; n/a: a band narrower "
-            f"than 1 / {self.duration * 1e3:.4g} ms = {self.resolution:.4g} Hz or above {self.nyquist:.4g} Hz"
+            f"than 1 / {self.duration * 1e3:.4g} ms = {self.resolution:.4g} Hz or above {self.nyquist:.0f} Hz (Nyquist)"
         )

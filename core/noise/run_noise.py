@@ -355,7 +355,7 @@ def _configuration(result, track, train_axles, train_length, undefined) -> dict:
         "wheel": track.configuration["wheel"],
         "track": {k: v for k, v in track.configuration.items() if k != "rail_section"},
         "sound_power_per": "one wheel on one rail (axle: +3 dB)",
-        # bands above the run's Nyquist frequency (v / (2 dx)): null, left out of the dB(A) totals
+        # bands the run's force spectrum does not resolve (narrower than 1 / T, or above v / (2 dx)): null, left out
         "undefined_bands_hz": undefined,
     }
 

@@ -117,7 +117,7 @@ def test_too_short_run_and_bad_input_are_clear_errors():
     [(572, DT), (600, DT), (1000, DT), (4096, DT), (30000, DT), (2000, 1e-4), (5000, 2e-4), (800, 5e-5)],
 )
 def test_resolved_bands_are_exactly_where_the_spectrum_has_a_level(n_steps, time_step):
-    # resolved_force_bands predicts force_spectrum's NaN bands (no FFT bin in the band, or above Nyquist)
+    # resolved_force_bands predicts force_spectrum's NaN bands (narrower than 1 / T, or above Nyquist)
     # from the record's size alone; run files are checked against it, so it must agree band for band
     force = 65e3 + np.random.default_rng(n_steps).normal(0.0, 100.0, n_steps)
     centres, levels = force_spectrum(force, time_step)
