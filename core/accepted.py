@@ -32,8 +32,9 @@ from __future__ import annotations
 import math
 import numbers
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
+from wheelrail.core.checks import integer, real
 from wheelrail.core.errors import WheelrailError
 
 __all__ = [
@@ -41,8 +42,11 @@ __all__ = [
     "CIRCUMFERENCE_TOLERANCE",
     "MAX_SPEED_KMH",
     "MIN_SPEED_KMH",
+    "MODEL_BOUNDS",
     "PATCH_FRACTION",
     "Accepted",
+    "check_model_input",
+    "check_parts",
     "check_patch",
     "check_wheel_circumference",
     "raise_concave_tread",
@@ -77,9 +81,14 @@ class Accepted:
     def check(self, value, argument: str | None = None) -> float:
         """``value`` as a float within the range, else one WheelrailError naming ``argument`` (default the key)."""
         fields = {"parameter": self.key, "value": value, "unit": self.unit, "argument": argument}
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or math.isnan(value):
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
             raise WheelrailError("not a number", **fields)
-        number = float(value)
+        try:
+            number = float(value)
+        except OverflowError:  # an integer beyond float64: outside any range
+            number = math.inf if value > 0 else -math.inf
+        if math.isnan(number):
+            raise WheelrailError("not a number", **fields)
         size = abs(number) if self.magnitude else number
         if not self.minimum * (1 - ROUND_OFF) <= size <= self.maximum * (1 + ROUND_OFF):
             raise WheelrailError(
@@ -205,6 +214,37 @@ stiff studded HDPE pads; half concrete sleepers of 100-160 kg, half timber ones 
 axles (and at most one axle per ``run_noise.MIN_AXLE_SPACING`` = 1 m). The user-facing inputs
 (``wheelrail.core.inputs``) take their ranges from here."""
 
+MODEL_BOUNDS: dict[str, Accepted] = {
+    entry.key: entry
+    for entry in (
+        Accepted("youngs_modulus", "Pa", 1e7, 1e12, "solid materials, from elastomers to hard metals"),
+        Accepted("unsprung_mass", "kg", 1.0, 1e5, "a wheel's share of a wheelset's mass, with room to spare"),
+        Accepted("contact_mass", "kg", 1e-3, 1e4, "a small mass at the contact point"),
+        Accepted("suspension_stiffness", "N/m", 1e2, 1e10, "a primary suspension, soft to rigid"),
+        Accepted("suspension_damping", "N s/m", 0.0, 1e9, "a primary suspension's damping"),
+        Accepted("wheel_stiffness", "N/m", 1e4, 1e14, "a wheel's stiffness at the contact"),
+        Accepted("wheel_damping", "N s/m", 0.0, 1e10, "a wheel's damping at the contact"),
+        Accepted("bending_stiffness", "N m^2", 1e3, 1e13, "a rail's EI, light rails to a stiff beam"),
+        Accepted("shear_stiffness", "N", 1e5, 1e15, "a rail's kGA"),
+        Accepted("mass_per_length", "kg/m", 1.0, 1e4, "a rail's mass per metre"),
+        Accepted("rotary_inertia_per_length", "kg m", 0.0, 1e3, "a rail's rotary inertia per metre"),
+        Accepted("n_bays", "", 4, 1000, "a track model of up to 1000 sleeper bays"),
+        Accepted("element_size", "m", 1e-5, 10.0, "the step along the rail"),
+        Accepted("elements_per_bay", "", 2, 4096, "finite elements per sleeper bay"),
+        Accepted("refined_elements_per_bay", "", 2, 4096, "finite elements per refined sleeper bay"),
+        Accepted("positions_per_bay", "", 1, 4096, "excitation positions per sleeper bay"),
+        Accepted("refined_bays", "", 1, 100, "refined sleeper bays around the load"),
+        Accepted("store_every", "", 1, 1000, "time steps per stored response sample"),
+        Accepted("rows_per_position", "", 1, 1000, "response rows per excitation position"),
+        Accepted("near_field", "m", 1e-3, 10.0, "the track's near field around the load"),
+        Accepted("time_step", "s", 1e-8, 1e-3, "the track responses' time step"),
+        Accepted("duration", "s", 1e-4, 10.0, "the track responses' duration"),
+        Accepted("max_speed", "m/s", 0.1, 1000.0, "the fastest speed the track responses serve"),
+    )
+}
+"""Bounds of the model's inputs that only the Python API sets (SI): generous around the paper's values, they
+refuse what no wheel, rail or numerical setting is and what would overflow the model's arithmetic."""
+
 
 def check_patch(
     semi_axes: tuple[float, float],
@@ -298,3 +338,26 @@ def check_wheel_circumference(circumference: float, wheel_radius: float, label: 
         argument="ContactParameters.wheel_radius",
         reason=f"a wheel set repeats with the wheel's circumference; at most {CIRCUMFERENCE_TOLERANCE:.0%} apart",
     )
+
+
+def check_model_input(argument: str, value, unit: str, *, allow_zero: bool = False, minimum: int | None = None) -> None:
+    """One input of the model's parameter classes: a finite number of its sign (an integer >= ``minimum`` when
+    given) within its :data:`MODEL_BOUNDS` if it has some (the key: ``argument``'s last part), else one
+    WheelrailError naming ``argument`` ("ContactParameters.youngs_modulus")."""
+    if minimum is not None:
+        integer(argument, value, minimum)
+    else:
+        real(argument, value, unit, sign="nonnegative" if allow_zero else "positive")
+    bounds = MODEL_BOUNDS.get(argument.rsplit(".", 1)[-1])
+    if bounds is not None:
+        bounds.check(value, argument)
+
+
+def check_parts(owner: object) -> None:
+    """Each field of a parameter dataclass annotated with a parameter class (``...Parameters``; a string:
+    postponed annotations) holds an instance of it, else one WheelrailError."""
+    for part in fields(owner):
+        value = getattr(owner, part.name)
+        if str(part.type).endswith("Parameters") and type(value).__name__ != part.type:
+            kind = type(value).__name__
+            raise WheelrailError(f"{type(owner).__name__}.{part.name} must be a {part.type}, got {kind}")

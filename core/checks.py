@@ -47,11 +47,13 @@ def real(label: str, value, unit: str, *, sign: str = "positive") -> float:
     """``value`` as a finite float of the given sign ("positive", "nonnegative" or "any")."""
     if isinstance(value, bool) or (isinstance(value, np.ndarray) and value.ndim > 0):
         raise WheelrailError(f"{label} must be a number in {unit}, got {_shown(value)}")
+    words, accept = _SIGNS[sign]
     try:
         number = float(value)
+    except OverflowError:  # an integer beyond float64
+        raise WheelrailError(f"{label} must be {words} ({unit}), got {_shown(value)}") from None
     except (TypeError, ValueError):
         raise WheelrailError(f"{label} must be a number in {unit}, got {_shown(value)}") from None
-    words, accept = _SIGNS[sign]
     if not (math.isfinite(number) and accept(number)):
         raise WheelrailError(f"{label} must be {words} ({unit}), got {_shown(value)}")
     return number

@@ -191,6 +191,8 @@ def _shown(value, name: Name) -> str:
         return value
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         return repr(value)
+    if isinstance(value, numbers.Integral) and abs(int(value)) >= 10**16:  # beyond float64's exact integers
+        value = float(value) if abs(int(value)) < 10**308 else (math.inf if value > 0 else -math.inf)
     number = (
         _number(float(value) * name.scale)
         if name.scale != 1.0 or not isinstance(value, numbers.Integral)

@@ -1,10 +1,8 @@
-"""Model parameters: frozen dataclasses in SI units holding the paper's defaults.
+"""Model parameters: frozen dataclasses in SI units holding the paper's defaults (sections 2.1-2.3 and 3).
 
-Every class validates itself on construction (``__post_init__``) and rejects a non-positive or
-non-finite mass, stiffness, damping or element size, and a speed, preload or radius outside its accepted
-range (``wheelrail.core.accepted``), with a :class:`WheelrailError` that carries the parameter, its value,
-unit and range. Defaults are those of Pieringer, Kropp & Thompson (2011),
-sections 2.1-2.3 and 3.
+Every class validates itself on construction (``__post_init__``): a non-finite or non-positive value, or one outside
+its accepted range (``accepted.ACCEPTED`` for what the front ends set, ``accepted.MODEL_BOUNDS`` for the rest) is one
+:class:`WheelrailError` that carries the parameter, its value, unit and range.
 """
 
 from __future__ import annotations
@@ -13,8 +11,15 @@ import math
 import typing
 from dataclasses import asdict, dataclass, field, fields, is_dataclass
 
-from wheelrail.core.accepted import ACCEPTED, MAX_SPEED_KMH, MIN_SPEED_KMH, check_patch, raise_concave_tread
-from wheelrail.core.checks import integer, real
+from wheelrail.core.accepted import (
+    ACCEPTED,
+    MAX_SPEED_KMH,
+    MIN_SPEED_KMH,
+    check_model_input,
+    check_parts,
+    check_patch,
+    raise_concave_tread,
+)
 from wheelrail.core.contact.hertz import HertzContact, elliptic_hertz
 from wheelrail.core.errors import WheelrailError
 
@@ -43,11 +48,6 @@ __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re
 # longer step uses the trapezoidal rule, stable wherever the physical system is (docs: physics, Accepted speeds)
 FOH_MAX_STEP = 0.25e-3
 
-# Most bays of a track model: 650 m of the paper's track, four times the noise model's 240 bays (whose ends are
-# already far enough for waves reflected there to be absorbed); the FE model's size, and its Green's functions'
-# time, grow with the bays (10**6 bays asked for millions of DOFs)
-MAX_TRACK_BAYS = 1000
-
 # Wheel and rail material, steel: the paper gives neither E nor nu; these common values reproduce its stated
 # a = 5.48 mm at 65 kN with R = 0.39 m. ContactParameters and every function's default read them from here.
 STEEL_YOUNGS_MODULUS = 210e9  # Pa
@@ -69,11 +69,11 @@ def hertz_constant(youngs_modulus: float, poisson_ratio: float, radius: float) -
 
 
 def _check(owner: object, name: str, unit: str, *, allow_zero: bool = False) -> None:
-    real(f"{type(owner).__name__}.{name}", getattr(owner, name), unit, sign="nonnegative" if allow_zero else "positive")
+    check_model_input(f"{type(owner).__name__}.{name}", getattr(owner, name), unit, allow_zero=allow_zero)
 
 
-def _check_int(owner: object, name: str, minimum: int, maximum: int | None = None) -> None:
-    integer(f"{type(owner).__name__}.{name}", getattr(owner, name), minimum, maximum)
+def _check_int(owner: object, name: str, minimum: int) -> None:
+    check_model_input(f"{type(owner).__name__}.{name}", getattr(owner, name), "", minimum=minimum)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -205,7 +205,7 @@ class TrackParameters:
     rail : RailParameters
     support : SupportParameters
     n_bays : int
-        Number of sleeper bays of the finite track model (70 in the paper; 4 to ``MAX_TRACK_BAYS``).
+        Number of sleeper bays of the finite track model (70 in the paper; 4 to 1000: ``accepted.MODEL_BOUNDS``).
     """
 
     rail: RailParameters = field(default_factory=RailParameters)
@@ -213,7 +213,8 @@ class TrackParameters:
     n_bays: int = 70
 
     def __post_init__(self) -> None:
-        _check_int(self, "n_bays", 4, MAX_TRACK_BAYS)
+        check_parts(self)
+        _check_int(self, "n_bays", 4)
 
     @property
     def length(self) -> float:
@@ -372,7 +373,7 @@ class ContactParameters:
     def __post_init__(self) -> None:
         _check(self, "youngs_modulus", "Pa")
         nu = self.poisson_ratio
-        if not (isinstance(nu, int | float) and math.isfinite(nu) and 0.0 <= nu < 0.5):
+        if not (isinstance(nu, int | float) and not isinstance(nu, bool) and 0.0 <= nu < 0.5):
             raise WheelrailError(f"ContactParameters.poisson_ratio must be in [0, 0.5), got {nu!r}")
         for name in ("radius", "preload"):  # only the radii default to another field when None
             if getattr(self, name) is None:
@@ -382,6 +383,8 @@ class ContactParameters:
         for name in ("radius", "preload", "wheel_radius", "rail_crown_radius", "wheel_transverse_radius"):
             if getattr(self, name) is not None:  # the accepted ranges of a railway wheel and rail
                 ACCEPTED[name].check(getattr(self, name), f"ContactParameters.{name}")
+        if isinstance(tread := self.wheel_transverse_radius, int):  # an integer, maybe beyond float64: inf
+            object.__setattr__(self, "wheel_transverse_radius", ACCEPTED["wheel_transverse_radius"].check(tread))
         self._check_geometry()
 
     def _check_geometry(self) -> None:
@@ -578,6 +581,9 @@ class ModelParameters:
     track: TrackParameters = field(default_factory=TrackParameters)
     contact: ContactParameters = field(default_factory=ContactParameters)
     run: RunParameters = field(default_factory=RunParameters)
+
+    def __post_init__(self) -> None:
+        check_parts(self)
 
 
 def as_dict(params: object) -> dict:

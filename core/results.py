@@ -7,6 +7,7 @@ consumers: the recording sink (rerun), the command line, studies and the explore
 from __future__ import annotations
 
 import json
+import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,6 +19,7 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.models import MODELS  # noqa: F401 - re-exported: the registry holds the one list
 from wheelrail.core.parameters import ModelParameters, as_dict, from_dict
+from wheelrail.core.run_file import check_run, content_digest
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -134,21 +136,44 @@ class RunHeader:
     def from_dict(cls, values: dict) -> RunHeader:
         """Inverse of :meth:`to_dict` (parameters validated again; headers written before a field existed read
         with its default); a damaged header is a WheelrailError."""
-        wheel = values.get("wheel_roughness") if isinstance(values, dict) else None
-        profile = values.get("wheel_profile") if isinstance(values, dict) else None
+        if not isinstance(values, dict):
+            raise WheelrailError(f"run header is damaged: a JSON object expected, got {type(values).__name__}")
+        wheel, profile = values.get("wheel_roughness"), values.get("wheel_profile")
+        missing = [key for key in ("model", "line", "roughness") if key not in values]
+        if missing:
+            raise WheelrailError(f"run header is incomplete: no {', '.join(missing)}")
         try:
-            return cls(
-                model=str(values["model"]),
-                line=int(values["line"]),
+            header = cls(
+                model=_checked_model(values["model"]),
+                line=_whole_number("line", values["line"]),
                 roughness_name=str(values["roughness"]),
                 params=from_dict(ModelParameters, values.get("parameters", {})),
-                run_in_length=float(values.get("run_in_length_m", 0.0)),
+                run_in_length=_length("run_in_length_m", values.get("run_in_length_m", 0.0)),
                 wheel_roughness_name=None if wheel is None else str(wheel),
                 wheel_model=_checked_wheel_model(values.get("wheel_model") or "2dof"),
                 wheel_profile=None if profile is None else dict(profile),
             )
-        except (KeyError, TypeError, ValueError) as error:
-            raise WheelrailError(f"run header is incomplete or damaged ({error!r})") from None
+        except WheelrailError as error:
+            raise WheelrailError(f"run header is damaged: {error}") from None
+        except (TypeError, ValueError) as error:
+            raise WheelrailError(f"run header is damaged: {error}") from None
+        header._check_derived(values)
+        return header
+
+    def _check_derived(self, values: dict) -> None:
+        """The header's derived values (speed, element, time step, run-in time) agree with its parameters."""
+        for key, own in (
+            ("speed_m_per_s", self.speed),
+            ("element_size_m", self.element_size),
+            ("time_step_s", self.time_step),
+            ("run_in_time_s", self.run_in_time),
+        ):
+            given = values.get(key, own)
+            number = isinstance(given, int | float) and not isinstance(given, bool)
+            if not number or not math.isclose(given, own, rel_tol=1e-9):
+                raise WheelrailError(
+                    f"run header is damaged: its {key} {given!r} disagrees with its parameters' {own:.10g}"
+                )
 
 
 WHEEL_MODELS = ("2dof", "modal", "given")
@@ -160,6 +185,27 @@ def _checked_wheel_model(value) -> str:
     if value not in WHEEL_MODELS:
         raise ValueError(f"wheel_model {value!r} is not one of {', '.join(WHEEL_MODELS)}")
     return str(value)
+
+
+def _checked_model(value) -> str:
+    """A contact model's name the registry knows (the built-in ones and the installed plug-ins)."""
+    from wheelrail.core.models import model_names
+
+    if not isinstance(value, str) or value not in model_names():
+        raise ValueError(f"model {value!r} is not a known contact model ({', '.join(model_names())})")
+    return value
+
+
+def _whole_number(key: str, value) -> int:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) or value != int(value):
+        raise ValueError(f"{key} {value!r} is not a whole number")
+    return int(value)
+
+
+def _length(key: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) or value < 0:
+        raise ValueError(f"{key} {value!r} is not a length of zero or more (m)")
+    return float(value)
 
 
 @dataclass(frozen=True, slots=True)
@@ -322,8 +368,11 @@ class RunResult(HeaderView):
             arrays["pressure"] = self.pressure
             arrays["window_x"] = self.window_x
             arrays["window_y"] = self.window_y
-        meta = {**self.header.to_dict(), "loss_of_contact_steps": self.loss_of_contact_steps}
-        return atomic_write(target, lambda handle: np.savez(handle, metadata=np.array(strict_json(meta)), **arrays))
+        metadata = strict_json({**self.header.to_dict(), "loss_of_contact_steps": self.loss_of_contact_steps})
+        digest = content_digest(metadata, arrays)  # checked on reading: a flipped byte or an edit is refused
+        return atomic_write(
+            target, lambda handle: np.savez(handle, metadata=np.array(metadata), digest=np.array(digest), **arrays)
+        )
 
     def save_csv(self, path: str | os.PathLike) -> Path:
         """Write the time history as CSV atomically: a comment naming the configuration
@@ -345,27 +394,67 @@ class RunResult(HeaderView):
 
     @classmethod
     def load_npz(cls, path: str | os.PathLike) -> RunResult:
-        """Read a file written by :meth:`save_npz`; anything else is one WheelrailError naming the file."""
+        """Read a file written by :meth:`save_npz`; anything else is one WheelrailError naming the file.
+
+        The file's content must match the SHA-256 digest written with it (files written before digests read
+        without that check) and hold a run the package could have made (:func:`wheelrail.core.run_file.check_run`).
+        """
         target = Path(path)
+        stored = _npz_arrays(target)
+        metadata, digest = stored.pop("metadata"), stored.pop("digest", None)
+        if metadata.shape != () or metadata.dtype.kind != "U":
+            raise WheelrailError(f"{target}: its metadata is not text; not a wheelrail run file (damaged or edited)")
+        if digest is not None and (digest.shape != () or str(digest) != content_digest(str(metadata), stored)):
+            raise WheelrailError(
+                f"{target}: its content does not match the SHA-256 digest written with it (damaged or edited)"
+            )
         try:
-            with np.load(target, allow_pickle=False) as data:
-                meta = json.loads(str(data["metadata"]))
-                arrays = {name: np.asarray(data[name], dtype=float) for name in _STEP_ARRAYS}
-                optional = {
-                    name: np.asarray(data[name]) for name in ("pressure", "window_x", "window_y") if name in data.files
-                }
-        except WheelrailError:
-            raise
-        except Exception as error:  # noqa: BLE001 - any unreadable file is the user's, named in one line
-            raise WheelrailError(f"{target}: not a wheelrail run file ({type(error).__name__}: {error})") from None
+            meta = json.loads(str(metadata))
+        except ValueError as error:
+            raise WheelrailError(f"{target}: its metadata is not JSON ({error}); damaged or edited") from None
+        arrays = {}
+        for name in _STEP_ARRAYS:
+            if name not in stored:
+                raise WheelrailError(f"{target}: no {name!r} array; not a wheelrail run file")
+            if stored[name].dtype.kind not in "fiu":
+                raise WheelrailError(f"{target}: the {name!r} array holds {stored[name].dtype} values, not numbers")
+            arrays[name] = np.asarray(stored[name], dtype=float)
         lengths = {array.shape for array in arrays.values()}
         if len(lengths) != 1 or len(next(iter(lengths))) != 1:
             raise WheelrailError(f"{target}: the run's arrays have different lengths or are not 1D")
+        optional = {name: stored[name] for name in ("pressure", "window_x", "window_y") if name in stored}
         try:
             header = RunHeader.from_dict(meta)
-        except WheelrailError as error:
+            loss = _whole_number("loss_of_contact_steps", meta.get("loss_of_contact_steps", 0))
+        except (WheelrailError, ValueError) as error:
             raise WheelrailError(f"{target}: {error}") from None
-        return cls(header=header, loss_of_contact_steps=int(meta.get("loss_of_contact_steps", 0)), **arrays, **optional)
+        result = cls(header=header, loss_of_contact_steps=loss, **arrays, **optional)
+        check_run(result, target)
+        return result
+
+
+def _npz_arrays(target: Path) -> dict:
+    """Every array of a run's ``.npz`` (one WheelrailError naming the file, in words, if it cannot be read)."""
+    known = {"metadata", "digest", *_STEP_ARRAYS, "pressure", "window_x", "window_y"}
+    try:
+        with np.load(target, allow_pickle=False) as data:
+            unknown = sorted(set(data.files) - known)
+            if unknown:
+                raise WheelrailError(f"{target}: holds {', '.join(map(repr, unknown))}, which no run file has")
+            if "metadata" not in data.files:
+                raise WheelrailError(f"{target}: no run metadata; not a wheelrail run file")
+            return {name: data[name] for name in data.files}
+    except WheelrailError:
+        raise
+    except FileNotFoundError:
+        raise WheelrailError(f"run file {target} does not exist") from None
+    except IsADirectoryError:
+        raise WheelrailError(f"run file {target} is a folder, not a file") from None
+    except Exception as error:  # noqa: BLE001 - any unreadable file is the user's, named in one line
+        reason = str(error).splitlines()[0] if str(error) else "unreadable"
+        raise WheelrailError(
+            f"{target}: not a readable wheelrail run file ({reason}); damaged or another format"
+        ) from None
 
 
 def result_of_run(label: str, value) -> RunResult:

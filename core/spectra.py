@@ -16,6 +16,7 @@ import numpy as np
 
 from wheelrail.core.checks import finite_array, integer, mean_squares, real, samples
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.spectrum_record import SpectrumRecord, resolved_bands
 
 BAND_HALF_WIDTH = 10.0 ** (1.0 / 20.0)  # upper edge / centre of a third-octave band (base 10)
 
@@ -134,8 +135,10 @@ def hann_window(n: int) -> np.ndarray:
 def band_power(frequencies: np.ndarray, psd: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
     """Integrate a narrowband PSD into bands: sum of ``psd * df`` over bins with ``lower <= f < upper``.
 
-    Returns the band mean squares (U²), shape ``psd.shape[:-1] + (bands,)``. A band that holds no bin
-    (too narrow for the frequency resolution) gives NaN: there is no estimate there.
+    Returns the band mean squares (U²), shape ``psd.shape[:-1] + (bands,)``. A band narrower than the bin
+    spacing (the frequency resolution 1 / the record's duration) gives NaN: there is no estimate there
+    (:func:`wheelrail.core.spectrum_record.resolved_bands`, the one rule), so the bands with an estimate are
+    contiguous.
     """
     frequencies = samples("band_power: frequencies", frequencies, "cycles per unit", rows=False)
     df = frequencies[1] - frequencies[0]
@@ -146,9 +149,10 @@ def band_power(frequencies: np.ndarray, psd: np.ndarray, lower: np.ndarray, uppe
         raise WheelrailError(f"band_power: psd of shape {psd.shape} for {frequencies.size} frequencies")
     lower, upper = _band_edges("band_power", lower, upper)
     out = np.full(psd.shape[:-1] + (len(lower),), np.nan)
+    resolved = resolved_bands(lower, upper, df)
     for band, (lo, hi) in enumerate(zip(lower, upper, strict=True)):
-        inside = (frequencies >= lo) & (frequencies < hi)
-        if inside.any():
+        if resolved[band]:
+            inside = (frequencies >= lo) & (frequencies < hi)
             out[..., band] = psd[..., inside].sum(axis=-1) * df
     return out
 
@@ -205,7 +209,7 @@ def third_octave_levels(
     Returns
     -------
     levels : numpy.ndarray
-        dB re ``reference``, one per band (NaN where a band holds no bin).
+        dB re ``reference``, one per band (NaN where a band is narrower than the bin spacing).
 
     See Also
     --------
@@ -232,7 +236,8 @@ def third_octave_spectrum(
     centres : numpy.ndarray
         Exact base-10 band centres, unit of ``sample_rate``.
     levels : numpy.ndarray
-        dB re ``reference``, averaged energetically over rows; NaN where a band holds no bin.
+        dB re ``reference``, averaged energetically over rows; NaN where a band is narrower than the bin
+        spacing or above the Nyquist frequency.
     """
     sample_rate = real("third_octave_spectrum: sample_rate", sample_rate, "samples per unit of the sampling axis")
     centres, lower, upper = third_octave_bands(*_band_range(band_range))
@@ -443,8 +448,11 @@ def force_spectrum(
     remaining record with the power-conserving window correction (:func:`narrowband_spectrum`, as for the
     roughness spectra of section 3.1); (4) the PSD is integrated into exact base-10 third-octave bands
     (:func:`band_power`) and expressed as ``10 log10(F_band² / (1 N)²)``. A tone of amplitude F̂ in a band
-    therefore reads ``20 log10(F̂ / sqrt(2))`` dB; a band holding no FFT bin (record too short) or lying
-    above the Nyquist frequency is NaN.
+    therefore reads ``20 log10(F̂ / sqrt(2))`` dB. A band is resolved when it is at least as wide as the
+    frequency resolution 1 / T of the record analysed (T: the duration left after ``skip``) and lies below the
+    Nyquist frequency; every other band is NaN. The resolved bands are contiguous (third-octave bands widen with
+    their centre): a short record loses its lowest bands. :func:`spectrum_record` says what was left out, what
+    was analysed and which bands that resolves, as every front end prints it.
 
     Why skip the start: at step 0 the roughness starts acting on a system in its steady state on the gap of
     step 0 (the loop's start and run-in), and the response to that onset is a transient, not a property of the
@@ -482,6 +490,7 @@ def force_spectrum(
     --------
     contact_filter : the difference of two models' levels.
     shortest_spectrum_run : the shortest run that has a spectrum.
+    spectrum_record : the skip, the analysed duration and the resolved bands of the same call.
 
     Examples
     --------
@@ -497,7 +506,7 @@ def force_spectrum(
     (1000, 37.0)
     """
     force, time_step, skip = _force_record(result_or_force, time_step, skip)
-    first = int(math.ceil(skip / time_step - 1e-9))
+    first = _skipped_steps(force.size, time_step, skip)
     kept = force.size - first
     if kept < FORCE_MIN_STEPS:
         record = f"the record of {force.size} steps ({force.size * time_step:.4g} s)"
@@ -518,6 +527,80 @@ def force_spectrum(
     return third_octave_spectrum(dynamic, 1.0 / time_step, band_range, FORCE_REFERENCE)
 
 
+def _skipped_steps(n_steps: int, time_step: float, skip: float) -> int:
+    """Whole steps in the first ``skip`` seconds (at most ``n_steps``; no overflow for any finite skip)."""
+    steps = skip / time_step
+    return n_steps if steps >= n_steps else min(int(math.ceil(steps - 1e-9)), n_steps)
+
+
+def spectrum_record(
+    result_or_force,
+    time_step: float | None = None,
+    *,
+    skip: float = FORCE_SKIP,
+    band_range: tuple[float, float] = FORCE_BAND_RANGE,
+) -> SpectrumRecord:
+    """What :func:`force_spectrum` analyses with the same arguments: the start left out, the duration T of the
+    record analysed, its frequency resolution 1 / T and the bands resolved (at least 1 / T wide, below the
+    Nyquist frequency; contiguous).
+
+    Parameters
+    ----------
+    result_or_force, time_step, skip, band_range
+        As for :func:`force_spectrum`.
+
+    Returns
+    -------
+    SpectrumRecord
+        ``skip`` (s, whole steps), ``duration`` (s), ``resolution`` (Hz), ``resolved`` per band,
+        ``to_dict()`` for JSON and ``words()`` for a line of text.
+
+    Raises
+    ------
+    WheelrailError
+        As :func:`force_spectrum`, for a force that is not one finite number per step or a bad time step or skip.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wheelrail.core.spectra import spectrum_record
+    >>> record = spectrum_record(np.full(1000, 65e3), 1e-3 / (100 / 3.6))   # 1 m at 100 km/h, 1 mm steps
+    >>> round(record.skip * 1e3, 2), round(record.duration * 1e3, 2), record.band_labels[record.lowest_resolved()]
+    (20.02, 15.98, '315')
+    """
+    force, time_step, skip = _force_record(result_or_force, time_step, skip)
+    return record_of_steps(force.size, time_step, skip=skip, band_range=band_range)
+
+
+def record_of_steps(
+    n_steps: int,
+    time_step: float,
+    *,
+    skip: float = FORCE_SKIP,
+    band_range: tuple[float, float] = FORCE_BAND_RANGE,
+) -> SpectrumRecord:
+    """:func:`spectrum_record` from the record's size alone: ``n_steps`` samples every ``time_step`` s."""
+    n_steps = min(integer("record_of_steps: n_steps", n_steps, 0), 2**40)
+    time_step = real("record_of_steps: time_step", time_step, "s")
+    skip = real("record_of_steps: skip", skip, "s", sign="nonnegative")
+    centres, lower, upper = third_octave_bands(*_band_range(band_range))
+    first = _skipped_steps(n_steps, time_step, skip)
+    kept = n_steps - first
+    resolved = (
+        resolved_bands(lower, upper, 1.0 / (kept * time_step), 0.5 / time_step)
+        if kept >= 2
+        else np.zeros(centres.shape, dtype=bool)
+    )
+    return SpectrumRecord(
+        n_steps=n_steps,
+        time_step=time_step,
+        skipped_steps=first,
+        band_centres=centres,
+        band_labels=band_labels(centres),
+        resolved=resolved,
+    )
+
+
 def resolved_force_bands(
     n_steps: int,
     time_step: float,
@@ -525,33 +608,7 @@ def resolved_force_bands(
     skip: float = FORCE_SKIP,
     band_range: tuple[float, float] = FORCE_BAND_RANGE,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Which bands :func:`force_spectrum` resolves for a record of ``n_steps`` samples every ``time_step`` s.
-
-    A band is resolved when it holds at least one FFT bin of the record left after ``skip`` and lies below
-    the Nyquist frequency; :func:`force_spectrum` gives NaN exactly in the other bands. Used to check a
-    stored spectrum (a NaN in a resolved band, or a number in an unresolved one, means a damaged file).
-
-    Returns
-    -------
-    centres : numpy.ndarray
-        Exact base-10 band centres, Hz.
-    resolved : numpy.ndarray of bool
-        True where the band has an estimate.
-    """
-    n_steps = integer("resolved_force_bands: n_steps", n_steps, 0)
-    time_step = real("resolved_force_bands: time_step", time_step, "s")
-    skip = real("resolved_force_bands: skip", skip, "s", sign="nonnegative")
-    centres, lower, upper = third_octave_bands(*_band_range(band_range))
-    kept = min(n_steps, 2**40) - min(int(math.ceil(skip / time_step - 1e-9)), n_steps)  # a spectrum's bins only
-    if kept < 2:
-        return centres, np.zeros(centres.shape, dtype=bool)
-    frequencies, _ = narrowband_spectrum(np.zeros(kept), 1.0 / time_step)  # the bins force_spectrum integrates
-    holds_bin = np.array(
-        [np.any((frequencies >= lo) & (frequencies < hi)) for lo, hi in zip(lower, upper, strict=True)]
-    )
-    return centres, holds_bin & (upper <= 0.5 / time_step)
-
-
-# --------------------------------------------------------------------------------------------------
-# Level arithmetic (paper section 3.3)
-# --------------------------------------------------------------------------------------------------
+    """Band centres (Hz) and which bands :func:`force_spectrum` resolves (bool) for a record of ``n_steps``
+    samples every ``time_step`` s (:func:`record_of_steps`); the other bands are NaN. Checks stored spectra."""
+    record = record_of_steps(n_steps, time_step, skip=skip, band_range=band_range)
+    return record.band_centres, record.resolved

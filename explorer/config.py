@@ -360,19 +360,35 @@ def read_config(
     )
 
 
+SESSION_KEYS = ("wheelrail_session", "set", "wheel_set", "model", "line", "length_m", "inputs")
+"""The settings of a session document (``SessionFiles.session``), in the order it writes them."""
+
+
 def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, ...]) -> dict:
     """A session document saved by the explorer (``SessionFiles.session``) read back and checked: its settings as
-    text fields, or one WheelrailError (not a session, a set or wheel set this page does not have, a model it does
-    not know, an input it does not declare). The values are checked as the fields are, when they are set."""
+    text fields, or one WheelrailError (not a session, nested too deeply, a setting or input it does not hold, a
+    set or wheel set this page does not have, a model it does not know). :func:`session_config` checks the values
+    as the fields do, before any is set."""
     import json
 
     try:
         session = json.loads(content.decode("utf-8"))
+    except RecursionError:  # e.g. 100 000 nested brackets: no session nests that deep
+        raise WheelrailError("session file: nested too deeply to be a session saved by the page") from None
     except (UnicodeDecodeError, json.JSONDecodeError):
         raise WheelrailError("not a wheelrail session file (JSON saved with Save session)") from None
     if not isinstance(session, dict) or session.get("wheelrail_session") != 1:
         raise WheelrailError("not a wheelrail session file (JSON saved with Save session)")
-    fields = {key: session.get(key) for key in ("set", "wheel_set", "model", "line", "length_m")}
+    unknown = sorted(set(session) - set(SESSION_KEYS))
+    if unknown:
+        raise WheelrailError(
+            f"session file: unknown setting(s) {', '.join(map(repr, unknown))}; a session holds "
+            f"{', '.join(SESSION_KEYS)}"
+        )
+    missing = [key for key in SESSION_KEYS if key not in session and key != "inputs"]
+    if missing:
+        raise WheelrailError(f"session file: no {', '.join(missing)}")
+    fields = {key: session[key] for key in ("set", "wheel_set", "model", "line", "length_m")}
     inputs = session.get("inputs", {})
     if not all(isinstance(value, str) for value in fields.values()) or not isinstance(inputs, dict):
         raise WheelrailError("session file: the settings must be text as the page's fields hold them")
@@ -387,3 +403,24 @@ def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, .
     if unknown or not all(isinstance(value, str) for value in inputs.values()):
         raise WheelrailError(f"session file: unknown inputs {', '.join(unknown) or 'or values not text'}")
     return {**fields, "inputs": inputs}
+
+
+def session_config(session: dict, roughness, wheel=None, wheel_label: str | None = None) -> RunConfig:
+    """The run a session (:func:`read_session`) asks for on ``roughness`` (its set) and ``wheel`` (its wheel set,
+    or None), every input it does not hold at its default: one WheelrailError in the page's words otherwise (a run
+    length outside what the set holds at the session's speed, a line the model cannot run on, an input outside its
+    range), so that a session is loaded whole or not at all, never brought into range without a word."""
+    typed = {entry.dest: session["inputs"].get(entry.dest, field_text(entry)) for entry in inputs_of()}
+    try:
+        return read_config(
+            roughness,
+            session["set"],
+            line=session["line"],
+            model=session["model"],
+            length_m=session["length_m"],
+            wheel=wheel,
+            wheel_label=wheel_label,
+            **typed,
+        )
+    except WheelrailError as error:
+        raise WheelrailError(f"session file: {page_message(error)}; nothing was loaded") from None

@@ -10,7 +10,8 @@ from __future__ import annotations
 import viser
 
 from wheelrail.core.inputs import inputs_of
-from wheelrail.explorer.config import RunConfig, field_text, read_session
+from wheelrail.core.roughness import load_roughness
+from wheelrail.explorer.config import NO_WHEEL_SET, RunConfig, field_text, read_session, session_config
 from wheelrail.explorer.form import RunForm
 from wheelrail.explorer.page import Page
 
@@ -62,6 +63,14 @@ class SessionFiles:
         is not one or names a set this page does not have (upload the set first)."""
         form, page = self.form, self.page
         session = read_session(content, tuple(form.set_dropdown.options), tuple(form.wheel_set_dropdown.options))
+        wheel_label = None if session["wheel_set"] == NO_WHEEL_SET else session["wheel_set"]
+        name = session["set"]  # one of the menu's: an uploaded set's label or a bundled set's name
+        session_config(
+            session,
+            form.sets[name] if name in form.sets else load_roughness(name),
+            None if wheel_label is None else form.sets[wheel_label],
+            wheel_label,
+        )  # every value checked before any field is set
         with page.quietly():
             form.set_dropdown.value = session["set"]
             form.wheel_set_dropdown.value = session["wheel_set"]

@@ -217,15 +217,17 @@ def _summary(args, result, params, times) -> dict:
     """What ``--json`` prints (SI; keys name their unit), the force spectrum included when the run allows one."""
     import numpy as np
 
-    from wheelrail.core.spectra import band_labels, check_spectrum_length, force_spectrum
+    from wheelrail.core.run_file import check_fluctuating
+    from wheelrail.core.spectra import band_labels, check_spectrum_length, force_spectrum, spectrum_record
 
     start, prepared, finished = times
     try:
         check_spectrum_length(result.n_steps * result.element_size, result.speed, result.element_size)
+        check_fluctuating(result.force, spectrum_record(result).skipped_steps, f"the {result.model} run")
         centres, levels = force_spectrum(result)
-        spectrum_note = ""
+        record, spectrum_note = spectrum_record(result).to_dict(), ""
     except WheelrailError as error:  # a run shorter than the spectrum's start-up skip: no spectrum
-        centres, levels = np.array([]), np.array([])
+        centres, levels, record = np.array([]), np.array([]), None
         spectrum_note = error.render(CLI_NAMES)
     force = result.force
     summary = {
@@ -256,6 +258,8 @@ def _summary(args, result, params, times) -> dict:
         "band_labels": band_labels(centres),
         "band_centres_hz": centres,
         "levels_db": levels,
+        # the start left out, the record analysed and the bands it resolves (SpectrumRecord.to_dict)
+        "spectrum_record": record,
     }
     if spectrum_note:
         summary["spectrum_note"] = spectrum_note
@@ -289,6 +293,9 @@ def _print_summary(args, result, params, summary, sink) -> None:
     if "spectrum_note" in summary:
         print(f"  no force spectrum: {summary['spectrum_note']}")
     else:
+        from wheelrail.core.spectra import spectrum_record
+
+        print(f"  {spectrum_record(result).words()}")
         print("  third-octave force levels, dB re 1 N:")
     for label, level in zip(summary["band_labels"], summary["levels_db"], strict=True):
         text = "   n/a" if not np.isfinite(level) else f"{level:6.1f}"

@@ -18,7 +18,8 @@ import numpy as np
 from wheelrail.cli.commands._common import Files, print_json
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.results import RunResult
-from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, nominal_band_label
+from wheelrail.core.run_file import check_fluctuating
+from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, nominal_band_label, spectrum_record
 
 FILES = Files(reads=("file",))
 """The run read (nothing is written)."""
@@ -94,8 +95,9 @@ def run(args) -> int:
         raise WheelrailError(f"--skip-ms must be zero or a positive number of milliseconds, got {skip_ms}")
     saved = load_force(args.file)
     centres, levels = force_spectrum(saved["force"], saved["time_step"], skip=skip_ms * 1e-3)
-    dynamic = saved["force"][int(math.ceil(skip_ms * 1e-3 / saved["time_step"] - 1e-9)) :]
-    rms = float(np.std(dynamic))
+    record = spectrum_record(saved["force"], saved["time_step"], skip=skip_ms * 1e-3)
+    check_fluctuating(saved["force"], record.skipped_steps, str(args.file))  # else every level is -inf dB
+    rms = float(np.std(saved["force"][record.skipped_steps :]))
     if args.json:
         print_json(
             {
@@ -109,6 +111,8 @@ def run(args) -> int:
                 "time_step_s": saved["time_step"],
                 "steps": int(len(saved["force"])),
                 "skip_s": skip_ms * 1e-3,
+                # the start left out in whole steps, the record analysed and the bands it resolves
+                "spectrum_record": record.to_dict(),
                 "dynamic_force_rms_n": rms,
                 "band_centres_hz": centres.tolist(),
                 "band_labels": [nominal_band_label(c) for c in centres],
@@ -121,8 +125,9 @@ def run(args) -> int:
         f"{saved['time_step'] * 1e6:.4g} us; first {skip_ms:g} ms skipped; dynamic force rms {rms:.4g} N"
     )
     print(f"  wheel: {saved['wheel']}")
+    print(f"  {record.words()}")
     print(f"{'band (Hz)':>10} {'level (dB re 1 N)':>18}")
     for centre, level in zip(centres, levels, strict=True):
-        text = "-" if not math.isfinite(level) else f"{level:.1f}"
+        text = "n/a" if not math.isfinite(level) else f"{level:.1f}"
         print(f"{nominal_band_label(centre):>10} {text:>18}")
     return 0

@@ -176,6 +176,10 @@ def run(args) -> int:
     print(f"  contact geometry: {describe_contact(params)}")
     if summary["loss_of_contact_steps"]:
         print(f"  loss of contact in {summary['loss_of_contact_steps']} steps over all runs")
+    records = summary["spectrum_records"]
+    for record in records:  # what the force spectra analysed, per speed when the study has several
+        speed = f"at {record['speed_m_per_s'] * 3.6:.4g} km/h: " if len(records) > 1 else ""
+        print(f"  force {speed}{record['words']}")
     for table in result.tables:
         print(f"  {table.title}")
     for path in summary["files"]:

@@ -297,11 +297,13 @@ def run_noise(
     from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
     from wheelrail.core.noise.wheel_power import checked_wheel_model
     from wheelrail.core.results import result_of_run
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.run_file import check_fluctuating
+    from wheelrail.core.spectra import force_spectrum, spectrum_record
 
     result = result_of_run("run_noise: result", result)
     train_axles, train_length = checked_train(train_axles, train_length)
     _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
+    check_fluctuating(result.force, spectrum_record(result).skipped_steps, f"the {result.model} run")  # else silence
     params = result.header.params
     track = track_noise_model(params, numerics)
     if checked_wheel_model(wheel_model) == "modal":  # its L_H,veh-equivalent on the run's effective roughness
@@ -357,7 +359,7 @@ def _configuration(result, track, train_axles, train_length, undefined) -> dict:
         "wheel": track.configuration["wheel"],
         "track": {k: v for k, v in track.configuration.items() if k != "rail_section"},
         "sound_power_per": "one wheel on one rail (axle: +3 dB)",
-        # bands above the run's Nyquist frequency (v / (2 dx)): null, left out of the dB(A) totals
+        # bands the run's force spectrum does not resolve (narrower than 1 / T, or above v / (2 dx)): null, left out
         "undefined_bands_hz": undefined,
     }
 

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.recording.digest import DIGEST_KEY, RecordingDigest
 from wheelrail.core.recording.schema import (
     APPLICATION_ID,
     EQUIVALENT,
@@ -27,6 +28,7 @@ from wheelrail.core.recording.schema import (
     rerun_module,
 )
 from wheelrail.core.results import RunHeader, RunResult
+from wheelrail.core.run_file import check_run
 
 __all__ = ["read_recording"]
 
@@ -120,6 +122,8 @@ def _pressure_maps(source: Path, decoded: _Decoded, n: int) -> np.ndarray | None
 def _series(decoded: _Decoded, path: str, n: int) -> np.ndarray:
     out = np.full(n, np.nan)
     for steps, values, _ in decoded.scalars.get(path, []):
+        if len(steps) != len(values) or (len(steps) and (steps.min() < 0 or steps.max() >= n)):
+            raise WheelrailError(f"{path} holds values at steps outside the recorded 0..{n - 1} (damaged recording)")
         out[steps] = values
     return out
 
@@ -168,9 +172,12 @@ def read_recording(path: str | os.PathLike) -> RunResult:
     source = Path(path)
     if not source.is_file():
         raise WheelrailError(f"recording {source} does not exist or is not a file")
-    decoded = _decode(_chunks(source))
-    meta = parameters_from_text(decoded.static.get(PARAMETERS, {}).get("TextDocument:text"))
-    if meta is None:
+    decoded = _decode_file(source)
+    try:
+        meta = parameters_from_text(decoded.static.get(PARAMETERS, {}).get("TextDocument:text"))
+    except ValueError as error:  # the JSON of the parameters document is damaged
+        raise WheelrailError(f"{source}: its parameters document is damaged ({error})") from None
+    if not isinstance(meta, dict):
         raise WheelrailError(f"{source} is not a wheelrail recording (no parameters document)")
     if FORCE_PATH not in decoded.scalars:
         raise WheelrailError(f"{source} holds no contact force steps")
@@ -180,25 +187,75 @@ def read_recording(path: str | os.PathLike) -> RunResult:
     if not np.array_equal(all_steps, np.arange(n)):
         raise WheelrailError(f"{source}: the recorded steps are not 0..{n - 1} (incomplete recording)")
     _warn_if_incomplete(source, meta, n)
-    time = np.full(n, np.nan)
-    for steps, _, time_ns in force_parts:
-        time[steps] = time_ns * 1e-9
-    arrays = {field.name: _series(decoded, field.path, n) for field in STEP_FIELDS}
-    arrays[EQUIVALENT.name] = (
-        _series(decoded, EQUIVALENT.path, n) if EQUIVALENT.path in decoded.scalars else arrays["roughness"].copy()
-    )
+    time_ns = np.zeros(n, dtype=np.int64)
+    for steps, _, part_ns in force_parts:
+        if part_ns is None:
+            raise WheelrailError(f"{source}: the contact force steps have no times (damaged recording)")
+        time_ns[steps] = part_ns
     try:
-        header = RunHeader.from_dict(meta)
+        arrays = {field.name: _series(decoded, field.path, n) for field in STEP_FIELDS}
     except WheelrailError as error:
         raise WheelrailError(f"{source}: {error}") from None
-    window = [None if meta.get(key) is None else np.asarray(meta[key], float) for key in ("window_x_m", "window_y_m")]
-    loss = meta.get("loss_of_contact_steps")
-    return RunResult(
+    _check_digest(source, meta, decoded, time_ns, arrays)
+    equivalent = _series(decoded, EQUIVALENT.path, n) if EQUIVALENT.path in decoded.scalars else arrays["roughness"]
+    # a block whose r_eq equals r is not sent (sink._whole_run_columns): r there
+    arrays[EQUIVALENT.name] = np.where(np.isnan(equivalent), arrays["roughness"], equivalent)
+    try:
+        header = RunHeader.from_dict(meta)
+        window = [
+            None if meta.get(key) is None else np.asarray(meta[key], float) for key in ("window_x_m", "window_y_m")
+        ]
+        loss = meta.get("loss_of_contact_steps")
+        # an unfinished recording has no count: the steps of F = 0 it holds
+        loss = int(np.count_nonzero(arrays["force"] == 0)) if loss is None else _count(loss)
+    except (WheelrailError, ValueError, TypeError) as error:
+        raise WheelrailError(f"{source}: {error}") from None
+    result = RunResult(
         header=header,
-        time=time,
+        time=time_ns * 1e-9,
         **arrays,
         pressure=_pressure_maps(source, decoded, n),
         window_x=window[0],
         window_y=window[1],
-        loss_of_contact_steps=int(0 if loss is None else loss),
+        loss_of_contact_steps=loss,
     )
+    check_run(result, source)
+    return result
+
+
+def _count(value) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ValueError(f"loss_of_contact_steps {value!r} is not a whole number")
+    return value
+
+
+def _decode_file(source: Path) -> _Decoded:
+    """The file's chunks sorted by entity (one WheelrailError for a file whose columns do not decode)."""
+    chunks = _chunks(source)
+    try:
+        return _decode(chunks)
+    except Exception as error:  # noqa: BLE001 - a damaged column: pyarrow and numpy raise various types
+        text = str(error).splitlines()[0] if str(error) else "a column does not decode"
+        raise WheelrailError(f"cannot read recording {source}: {text} (damaged recording)") from None
+
+
+def _check_digest(source: Path, meta: dict, decoded: _Decoded, time_ns: np.ndarray, arrays: dict) -> None:
+    """The series read match the digest of the finished recording (``recording.digest``); a recording written
+    before digests, or not finished, has none to check."""
+    if DIGEST_KEY not in meta:
+        return
+    digest = RecordingDigest()
+    digest.add("time_ns", time_ns)
+    for series in STEP_FIELDS:
+        digest.add(series.name, arrays[series.name])
+    if decoded.images:
+        rows = []
+        for steps, buffers in decoded.images:
+            raw = np.asarray(buffers.flatten().flatten().to_numpy(zero_copy_only=False), dtype=np.uint8)
+            rows += list(zip(steps.tolist(), np.split(raw, len(steps)) if len(steps) else [], strict=True))
+        rows.sort(key=lambda row: row[0])
+        digest.add("pressure", np.concatenate([row[1] for row in rows]).view(np.float32))
+    if meta[DIGEST_KEY] != digest.seal(meta):
+        raise WheelrailError(
+            f"{source}: its content does not match the SHA-256 digest written with it (damaged or edited recording)"
+        )

@@ -22,6 +22,7 @@ from wheelrail.core.inputs import choice
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.columns import scalar_column
+from wheelrail.core.recording.digest import DIGEST_KEY, RecordingDigest
 from wheelrail.core.recording.outputs import Outputs, ViewerUnreachable
 from wheelrail.core.recording.pressure import ContactPatch, hertz_geometry, hertz_semi_axes
 from wheelrail.core.recording.schema import (
@@ -166,6 +167,7 @@ class RecordingSink:
         self._steps_recorded = 0
         self._force: list[float] = []
         self._time_step: float | None = None  # measured from the recorded times (when no header says it)
+        self._digest = RecordingDigest()  # of every series sent, sealed in the final parameters document
 
     @property
     def header(self) -> RunHeader | None:
@@ -262,6 +264,8 @@ class RecordingSink:
             geometry=patch.geometry,
             recorded_steps=self._steps_recorded if final else None,
         )
+        if final:
+            document[DIGEST_KEY] = self._digest.seal(document)
         text = parameters_text(document, self.description)
         self.stream.log(PARAMETERS, self._rr.TextDocument(text, media_type="text/markdown"), static=True, strict=True)
 
@@ -356,8 +360,10 @@ class RecordingSink:
                     field.path, rr.SeriesLines(names=[field.legend], colors=[field.colour]), static=True, strict=True
                 )
         indexes = time_columns(steps, time, x)  # shared by every entity of the block
+        self._digest.add("time_ns", np.round(np.asarray(time) * 1e9).astype(np.int64))
         for field in STEP_FIELDS:
             values = columns[field.name]
+            self._digest.add(field.name, values)
             finite = np.isfinite(values)
             if finite.all():
                 self.stream.send_columns(field.path, indexes, [scalar_column(values)], strict=True)
@@ -374,6 +380,7 @@ class RecordingSink:
             self._send_roughness_lines(x, indexes)
         self._steps_recorded += len(steps)
         if pressure is not None and len(pressure):
+            self._digest.add("pressure", pressure)
             where = np.searchsorted(steps, pressure_steps)
             element_size = self._header.element_size if self._header is not None else 1e-3
             self._patch.send(pressure_steps, time[where], x[where], pressure, element_size=element_size)

@@ -186,6 +186,26 @@ def study_caption(name: str, plan: StudyPlan) -> str:
     return words if plan.wheel_set is None else f"{words}; wheel set {plan.wheel_set.label}"
 
 
+def _spectrum_records(plan: StudyPlan, summaries) -> list[dict]:
+    """Each distinct record the study's force spectra analysed (speed, steps, the start left out, the duration
+    analysed and the bands it resolves: :meth:`wheelrail.core.spectrum_record.SpectrumRecord.to_dict`), with the
+    line :meth:`~wheelrail.core.spectrum_record.SpectrumRecord.words` says."""
+    from wheelrail.core.spectra import record_of_steps
+
+    records: dict = {}
+    for spec, summary in zip(plan.specs, summaries, strict=True):
+        key = (int(summary.n_steps), spec.params.run.time_step)
+        if key not in records:
+            record = record_of_steps(*key)
+            records[key] = {
+                "speed_m_per_s": spec.params.run.speed,
+                "steps": key[0],
+                **record.to_dict(),
+                "words": record.words(),
+            }
+    return list(records.values())
+
+
 def _summary_document(
     name: str,
     plan: StudyPlan,
@@ -216,6 +236,7 @@ def _summary_document(
         "wall_time_s": report.wall_time,
         "worker_run_time_s": float(sum(s.run_time for s in summaries)),
         "loss_of_contact_steps": int(sum(s.loss_of_contact_steps for s in summaries)),
+        "spectrum_records": _spectrum_records(plan, summaries),
         "out": str(folder),
         "files": [str(path) for path in files],
         "tables": {

@@ -84,6 +84,29 @@ def test_human_output(capsys):
     assert "no force spectrum" in capsys.readouterr().out
 
 
+def test_a_short_run_says_its_skip_and_resolution_and_has_no_gaps(capsys):
+    # 1 m at 100 km/h: 20 ms left out, 16 ms analysed; a band is resolved by its width against 1 / 16 ms
+    argv = ["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "1.0"]
+    assert main([*argv, "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    record = summary["spectrum_record"]
+    assert record["skip_s"] == pytest.approx(0.02, abs=4e-5) and record["analysed_duration_s"] == pytest.approx(
+        0.016, abs=4e-5
+    )
+    assert record["lowest_resolved_band_label"] == "315"
+    levels = np.array([np.nan if v is None else v for v in summary["levels_db"]])
+    resolved = np.flatnonzero(np.isfinite(levels))
+    assert summary["band_labels"][resolved[0]] == "315" and np.all(np.diff(resolved) == 1)  # no n/a in between
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "after the first 20.02 ms (start-up, left out)" in out and "bands 315-8000 Hz resolved" in out
+    rows = [line.split() for line in out.splitlines() if line.strip().endswith(("n/a",)) or "Hz" in line]
+    names = [row[0] for row in rows if len(row) == 3 and row[1] == "Hz"]
+    shown = [row[2] for row in rows if len(row) == 3 and row[1] == "Hz"]
+    assert names[:3] == ["50", "63", "80"] and shown[: names.index("315")] == ["n/a"] * names.index("315")
+    assert "n/a" not in shown[names.index("315") :]
+
+
 @pytest.mark.parametrize(
     ("argv", "fragment"),
     [

@@ -93,3 +93,27 @@ def test_npz_without_force_and_too_short_run(tmp_path, cli):
         )
         and "accepted at most 3.024 ms; or use a longer run" in err
     )
+
+
+def test_a_short_record_states_its_skip_duration_and_resolved_range(tmp_path, cli):
+    npz = _result(n=1000).save_npz(tmp_path / "run.npz")  # 1 m at 100 km/h: 16 ms left after the 20 ms
+    code, out, err = cli("spectra", str(npz), "--json")
+    assert code == 0 and err == ""
+    summary = json.loads(out)
+    record = summary["spectrum_record"]
+    assert record["skip_s"] == pytest.approx(556 * DT) and record["analysed_duration_s"] == pytest.approx(444 * DT)
+    assert record["lowest_resolved_band_label"] == "315"
+    resolved = np.flatnonzero([level is not None for level in summary["levels_db"]])
+    assert summary["band_labels"][resolved[0]] == "315" and np.all(np.diff(resolved) == 1)
+    code, out, err = cli("spectra", str(npz))
+    assert code == 0 and "after the first 20.02 ms (start-up, left out): bands 315-8000 Hz resolved" in out
+    table = {row.split()[0]: row.split()[1] for row in out.splitlines()[3:]}
+    assert table["250"] == "n/a" and table["315"] != "n/a"
+
+
+@pytest.mark.parametrize("skip_ms", ["1e308", "1e300", "72"])
+def test_a_skip_past_the_record_is_one_line(tmp_path, cli, skip_ms):
+    npz = _result(n=2000).save_npz(tmp_path / "run.npz")
+    code, out, err = cli("spectra", str(npz), "--skip-ms", skip_ms)
+    assert code != 0 and out == "" and len(err.strip().splitlines()) == 1
+    assert err.startswith(f"wheelrail spectra: error: --skip-ms {float(skip_ms):g}") and "Error" not in err

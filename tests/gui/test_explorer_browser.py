@@ -108,7 +108,9 @@ def test_compare_in_the_page_then_change_speed_the_old_filters_go(open_page):
     speed.fill("80")
     speed.press("Enter")
     _wait_for(
-        lambda: (_plot(page, "Contact filters") or {}).get("title", "").endswith("80 km/h, 65 kN, 0.8 m; the paper's track"),
+        lambda: (
+            (_plot(page, "Contact filters") or {}).get("title", "").endswith("80 km/h, 65 kN, 0.8 m; the paper's track")
+        ),
         60,
         "the contact-filter plot of the new configuration",
     )

@@ -101,6 +101,29 @@ def test_a_session_saves_and_loads_back(app):
     assert app.shown == saved  # a refused session changes nothing
 
 
+@pytest.mark.parametrize(
+    ("old", "new", "fragment"),
+    [
+        (b'"length_m": "1"', b'"length_m": "-1"', "Run length -1 m is outside the accepted"),
+        (b'"length_m": "1"', b'"length_m": "1e308"', "Run length 1e+308 m is outside the accepted"),
+        (b'"line": "1"', b'"line": "99"', "Line 99 is not in"),
+        (b'"wheelrail_session": 1,', b'"wheelrail_session": 1, "colour": "red",', "unknown setting(s) 'colour'"),
+        (b'"wheelrail_session": 1,', b'"wheelrail_session": 1, "x": ' + b"[" * 100_000 + b"]" * 100_000 + b",", "deep"),
+    ],
+)
+def test_a_session_out_of_range_is_refused_whole_and_changes_nothing(app, old, new, fragment):
+    _reset(app, model="2d", line=1, speed=80, length=1.0)
+    name, content = app.session.download()
+    saved = app.shown
+    assert old in content
+    _reset(app)
+    before = app.shown
+    with pytest.raises(WheelrailError) as error:
+        app.session.load(content.replace(old, new))
+    assert fragment in str(error.value) and "\n" not in str(error.value)
+    assert app.shown == before and app.shown != saved  # not brought into range without a word: nothing loaded
+
+
 def test_an_error_shown_goes_once_the_fields_are_fixed(app):
     _reset(app)
     for typed in ("inf", "nan", "1e999"):  # a callback used to raise OverflowError here ("unexpected error")

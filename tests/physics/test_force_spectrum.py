@@ -6,7 +6,13 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, resolved_force_bands, third_octave_bands
+from wheelrail.core.spectra import (
+    FORCE_SKIP,
+    force_spectrum,
+    resolved_force_bands,
+    spectrum_record,
+    third_octave_bands,
+)
 
 DT = 1e-3 / (100 / 3.6)  # s: one 1 mm element at 100 km/h, the paper's step (36 µs)
 
@@ -111,7 +117,7 @@ def test_too_short_run_and_bad_input_are_clear_errors():
     [(572, DT), (600, DT), (1000, DT), (4096, DT), (30000, DT), (2000, 1e-4), (5000, 2e-4), (800, 5e-5)],
 )
 def test_resolved_bands_are_exactly_where_the_spectrum_has_a_level(n_steps, time_step):
-    # resolved_force_bands predicts force_spectrum's NaN bands (no FFT bin in the band, or above Nyquist)
+    # resolved_force_bands predicts force_spectrum's NaN bands (narrower than 1 / T, or above Nyquist)
     # from the record's size alone; run files are checked against it, so it must agree band for band
     force = 65e3 + np.random.default_rng(n_steps).normal(0.0, 100.0, n_steps)
     centres, levels = force_spectrum(force, time_step)
@@ -119,3 +125,44 @@ def test_resolved_bands_are_exactly_where_the_spectrum_has_a_level(n_steps, time
     np.testing.assert_array_equal(centres, expected_centres)
     np.testing.assert_array_equal(np.isfinite(levels), resolved)
     assert resolved.any()
+
+
+@pytest.mark.parametrize(
+    ("n_steps", "time_step"),
+    [(1000, DT), (572, DT), (1300, DT), (2000, DT), (4096, DT), (2000, 1e-4), (800, 5e-5), (700, 2e-4)],
+)
+def test_a_band_is_resolved_by_its_width_against_the_analysed_record(n_steps, time_step):
+    # one rule: a band has a level when it is at least 1 / T wide, T the record left after the 20 ms skip,
+    # and lies below the Nyquist frequency; so the resolved bands are contiguous (no n/a between two levels).
+    # 1000 steps at 100 km/h is `run --model 3d --length-m 1`: 444 steps (16 ms) analysed, 1 / T = 62.5 Hz
+    force = 65e3 + np.random.default_rng(n_steps).normal(0.0, 100.0, n_steps)
+    centres, levels = force_spectrum(force, time_step)
+    _, lower, upper = third_octave_bands(50.0, 8000.0)
+    duration = (n_steps - int(np.ceil(FORCE_SKIP / time_step - 1e-9))) * time_step
+    expected = (upper - lower >= 1.0 / duration * (1 - 1e-9)) & (upper <= 0.5 / time_step)
+    np.testing.assert_array_equal(np.isfinite(levels), expected)
+    finite = np.flatnonzero(np.isfinite(levels))
+    assert finite.size and np.all(np.diff(finite) == 1)
+
+
+def test_the_spectrum_record_says_what_was_skipped_and_analysed():
+    force = 65e3 + np.random.default_rng(1).normal(0.0, 100.0, 1000)  # 1 m at 100 km/h
+    record = spectrum_record(force, DT)
+    assert record.skipped_steps == 556 and record.skip == pytest.approx(556 * DT)
+    assert record.duration == pytest.approx(444 * DT) and record.resolution == pytest.approx(1 / (444 * DT))
+    centres, levels = force_spectrum(force, DT)
+    np.testing.assert_array_equal(record.resolved, np.isfinite(levels))
+    assert record.band_labels[record.lowest_resolved()] == "315"
+    summary = record.to_dict()
+    assert summary["lowest_resolved_band_label"] == "315" and summary["analysed_duration_s"] == pytest.approx(444 * DT)
+    assert summary["skip_s"] == pytest.approx(556 * DT)
+    words = record.words()
+    assert "20.02 ms" in words and "15.98 ms" in words and "315-8000 Hz" in words
+    assert spectrum_record(force, DT, skip=0.0).skipped_steps == 0
+
+
+def test_a_skip_beyond_any_record_is_refused_in_one_line_not_an_overflow():
+    with pytest.raises(WheelrailError, match="skip"):
+        force_spectrum(np.ones(3000), DT, skip=1e308)
+    record = spectrum_record(np.ones(3000), DT, skip=1e308)
+    assert record.analysed_steps == 0 and not record.resolved.any() and "no band resolved" in record.words()

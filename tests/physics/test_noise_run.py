@@ -99,7 +99,8 @@ def test_cnossos_beside_a_run_on_its_own_roughness(wheel_run):
     noise = run_noise(wheel_run, numerics=SMALL)
     beside = noise.cnossos
     _, roughness = force_spectrum(wheel_run.roughness, wheel_run.time_step, band_range=(50, 10000))
-    total_roughness = np.asarray(roughness) + 120 + contact_filter_a3(65e3, 0.78, 100 / 3.6)
+    roughness = np.where(np.isfinite(roughness), roughness, -np.inf)  # a band the record does not resolve: no power
+    total_roughness = roughness + 120 + contact_filter_a3(65e3, 0.78, 100 / 3.6)
     np.testing.assert_allclose(beside.total_roughness_db, total_roughness, atol=1e-9)
     np.testing.assert_allclose(beside.track_db, total_roughness + track_transfer("mono-block-soft"), atol=1e-9)
     np.testing.assert_allclose(beside.vehicle_db, total_roughness + vehicle_transfer(840), atol=1e-9)

@@ -222,7 +222,8 @@ def test_2d_and_hertz_average_dynamic_filters_follow_the_averaging_filter():
     np.testing.assert_allclose(centres, bands.centres)
     averaging = analytic_filter_levels("averaging", *bands.wavenumber_edges(), ContactParameters().hertz_radius())
     wanted = (centres <= 5001) & np.isfinite(mean_level(filters["2d"]))
-    assert wanted.sum() >= 18
+    # 34 ms analysed after the 20 ms start-up resolve the bands at least 1 / 34 ms = 29 Hz wide: 160 Hz to 4 kHz
+    assert wanted.sum() >= 15
     for model, runs in filters.items():
         # 1.5 dB per band up to 5 kHz: the filter of three 1.5 m runs scatters most in the band of the first
         # null (2.5 kHz, lambda = 2a); measured worst 1.0 dB (2d) and 0.9 dB (hertz-average)

@@ -136,7 +136,8 @@ def _without_new_parameters(component: dict) -> dict:
     """The parameters document without the geometry fields added since the old files (their defaults, None and
     an infinite tread, keep the old files' circle), the rail's loss factor and the pads' width (0), without
     the run-in's duration (``run_in_time_s``, the run-in length over the speed), without ``recorded_steps``
-    (the mark of a finished recording) and ``wheel_model`` (the paper's 2-DOF), re-rendered as the writer renders it."""
+    (the mark of a finished recording), ``wheel_model`` (the paper's 2-DOF) and the final document's ``digest_sha256``,
+    re-rendered as the writer renders it."""
     import json
 
     from wheelrail.core.recording.schema import parameters_from_text
@@ -152,6 +153,8 @@ def _without_new_parameters(component: dict) -> dict:
         # the mark of a finished recording, added since: null at the start, the steps at the end
         assert document.pop("recorded_steps") in (None, N_STEPS)
         assert document.pop("wheel_model") == "2dof"  # the interaction's wheel, recorded since: the paper's
+        if "digest_sha256" in document:
+            assert len(document.pop("digest_sha256")) == 64  # the final document's SHA-256, added since
         run_in_time = document.pop("run_in_time_s")
         assert run_in_time == document["run_in_length_m"] / document["speed_m_per_s"]
         head = text.split("```json", 1)[0]

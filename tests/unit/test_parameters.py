@@ -9,7 +9,6 @@ from wheelrail.core.parameters import (
     RunParameters,
     SupportParameters,
     TrackNumerics,
-    TrackParameters,
     WheelParameters,
 )
 
@@ -151,9 +150,59 @@ def test_old_files_with_only_radius_and_json_null_tread_read_back():
     assert from_dict(ModelParameters, written).contact.wheel_transverse_radius == math.inf
 
 
-def test_track_parameters_bound_the_bays():
-    from wheelrail.core.parameters import MAX_TRACK_BAYS
+def _parameter_classes():
+    import dataclasses
 
-    assert TrackParameters(n_bays=MAX_TRACK_BAYS).n_bays == MAX_TRACK_BAYS
-    with pytest.raises(WheelrailError, match=r"TrackParameters.n_bays must be an integer from 4 to 1000, got 1000000"):
+    from wheelrail.core import parameters
+
+    return [
+        cls
+        for cls in vars(parameters).values()
+        if isinstance(cls, type) and dataclasses.is_dataclass(cls) and cls.__module__ == parameters.__name__
+    ]
+
+
+EXTREMES = [1e308, -1e308, 1e-308, -1e-308, math.inf, -math.inf, math.nan, 10**30, 10**400, -(10**400), True, "1"]
+
+
+@pytest.mark.parametrize("value", EXTREMES, ids=repr)
+def test_every_parameter_class_refuses_extreme_values_in_one_line_or_holds_a_usable_value(value):
+    # every field of every parameter class, one at a time: a one-line WheelrailError naming the field, or an
+    # object whose values are finite floats (a flat tread's infinite transverse radius aside) and whose Hertz
+    # solution, where it has one, is finite: no ZeroDivisionError or OverflowError, then or later
+    import dataclasses
+
+    for cls in _parameter_classes():
+        for item in dataclasses.fields(cls):
+            try:
+                made = cls(**{item.name: value})
+            except WheelrailError as error:
+                assert "\n" not in str(error) and item.name in str(error), (cls.__name__, item.name, str(error))
+                continue
+            kept = getattr(made, item.name)
+            if item.name == "wheel_transverse_radius":
+                assert isinstance(kept, float) and abs(kept) >= 0.05, kept
+            else:
+                assert isinstance(kept, int | float) and math.isfinite(kept) and abs(kept) < 1e20, (cls, item, kept)
+            if isinstance(made, ContactParameters):
+                assert all(math.isfinite(axis) and axis > 0 for axis in made.hertz_semi_axes())
+
+
+def test_bounds_of_the_api_only_inputs_name_the_input_and_the_range():
+    with pytest.raises(WheelrailError) as error:
+        ContactParameters(youngs_modulus=1e308)
+    assert str(error.value).startswith("ContactParameters.youngs_modulus 1e+308 Pa is outside the accepted")
+    with pytest.raises(WheelrailError, match=r"TrackParameters.n_bays 1000000 is outside the accepted 4 to 1000"):
+        from wheelrail.core.parameters import TrackParameters
+
         TrackParameters(n_bays=10**6)
+    with pytest.raises(WheelrailError, match="WheelParameters.unsprung_mass"):
+        WheelParameters(unsprung_mass=1e308)
+    with pytest.raises(WheelrailError, match="ModelParameters.wheel must be a WheelParameters, got float"):
+        from wheelrail.core.parameters import ModelParameters
+
+        ModelParameters(wheel=1e308)
+    with pytest.raises(WheelrailError, match="RunParameters.speed"):
+        RunParameters(speed=10**400)
+    # the paper's values and the stiff rail of the convergence tests stay accepted
+    ContactParameters(youngs_modulus=100e9)
