@@ -33,6 +33,7 @@ class SpectraTab(ResultsTab):
         self.spectra = Plot(gui, tab, "Force spectra", "band (Hz)", "dB re 1 N", bands=True)
         self.filters = Plot(gui, tab, "Contact filters", "band (Hz)", "dB", bands=True)
         with tab:
+            self.record_md = gui.add_markdown("")
             gui.add_markdown(
                 f"*Contact filter*: a model's level minus `{REFERENCE_MODEL}`'s (solid; needs a "
                 f"`{REFERENCE_MODEL}` run of the same configuration: use `{COMPARE}`). Dotted: "
@@ -54,8 +55,10 @@ class SpectraTab(ResultsTab):
         if config is None:
             for plot in (self.spectra, self.filters):
                 plot.clear("fix the settings on the left")
+            self.record_md.content = ""
             self.csv_button.disabled = True
             return
+        self.record_md.content = _record_note(store, config)
         label = config.title_label()
         overlay = None if shown.overlay is None or shown.overlay.case() == config.case() else shown.overlay
         spectra = store.spectra(config.case())
@@ -96,3 +99,15 @@ class SpectraTab(ResultsTab):
         columns = [levels for *_, (_, levels) in curves]
         series = tuple((label, colour, style) for label, colour, style, _ in curves)
         self.filters.show(finite_bands(centres, columns), series, title=title)
+
+
+def _record_note(store: ResultStore, config: RunConfig) -> str:
+    """What the case's force spectra analysed (core's ``spectrum_record``, as ``run`` and ``spectra`` print it):
+    one line per distinct record among the case's runs, or nothing before a run."""
+    from wheelrail.core.spectra import spectrum_record
+
+    lines = {}
+    for model, entry in store.entries(config.case()).items():
+        if entry.spectrum is not None:
+            lines.setdefault(spectrum_record(entry.result).words(), []).append(f"`{model}`")
+    return "\n\n".join(f"*Force spectra* ({', '.join(models)}): {words}" for words, models in lines.items())

@@ -516,3 +516,19 @@ def test_plot_titles_announce_a_dashed_curve_only_when_one_is_drawn(app, finish_
     assert "dashed" not in [style for *_, style in tab.filters.series]
     assert "dashed" not in tab.filters.handle.title
     tab.overlay_dropdown.value = NO_OVERLAY
+
+
+def test_the_spectra_tab_says_what_its_spectra_analysed(app, finish_run):
+    """The Spectra tab states the record its force spectra analysed (core's ``spectrum_record``: the start left out,
+    the duration analysed, the bands resolved), as ``run`` and ``spectra`` print it; a short run resolves only the
+    upper bands, and the note says so rather than leaving the gaps unexplained."""
+    from wheelrail.core.spectra import spectrum_record
+
+    _reset(app, model="hertz", speed="100", length="0.6")
+    result = finish_run(app)
+    note = app.tab(SpectraTab).record_md.content
+    assert spectrum_record(result).words() in note
+    assert "left out" in note and "resolved" in note
+    app.form.fields["speed"].value = "95"  # no run of this configuration: no record to state
+    assert spectrum_record(result).words() not in app.tab(SpectraTab).record_md.content
+    app.form.fields["speed"].value = "100"
