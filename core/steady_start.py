@@ -234,8 +234,10 @@ def steady_state(
         else:
             deviation = deviation + change
     raise WheelrailError(
-        "the run's steady state on the run-in's gap could not be found (its iterations did not converge); "
-        "give the run an explicit run_in_length to start from the preload instead"
+        "the run's steady state on the run-in's gap could not be found (its iterations did not converge on this "
+        "track and contact); the Python API starts such a run from the preload at rest instead: "
+        "prepare_run(..., run_in_length=L) with L about 0.3 s of travel (the command line and the explorer "
+        "take only the steady start)"
     )
 
 
