@@ -95,12 +95,14 @@ class ExplorerApp:
         """A browser tab closed: its run stops, its threads end and its results are let go."""
         with self._changed:
             self._gone.add(client.client_id)
-            session = self.sessions.pop(client.client_id, None)
+            session = self.sessions.get(client.client_id)
         if session is not None:
-            session.close()
-            LOG.info("browser tab %d closed (%d open)", client.client_id, len(self.sessions))
+            session.close()  # listed until closed: wait_for's callers see it gone only once its threads are joined
         with self._changed:
+            self.sessions.pop(client.client_id, None)
             self._changed.notify_all()
+        if session is not None:
+            LOG.info("browser tab %d closed (%d open)", client.client_id, len(self.sessions))
 
     def wait_for(self, condition, timeout: float | None = None) -> bool:
         """Wait until ``condition()`` holds (checked whenever a session opens or closes); True if it did within

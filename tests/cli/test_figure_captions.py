@@ -80,7 +80,8 @@ def test_the_track_studys_text_states_what_the_tracks_share(monkeypatch, capsys,
     from wheelrail.core import study
 
     summary = {"wheel_set": None, "sets": ["corrugated-rail"], "runs": 10, "runs_computed": 10, "runs_cached": 0,
-               "wall_time_s": 1.0, "backend": "test", "loss_of_contact_steps": 0, "files": []}  # fmt: skip
+               "wall_time_s": 1.0, "backend": "test", "loss_of_contact_steps": 0, "spectrum_records": [],
+               "files": []}  # fmt: skip
     monkeypatch.setattr(study, "run_study", lambda *args, **kwargs: SimpleNamespace(summary=summary, tables=[]))
     argv = ["study", "track", "--set", "corrugated-rail", "--out", str(tmp_path), "--sleeper-mass-kg", "150"]
     assert main([*argv, "--pad-stiffness-mn-m", "60", "120"]) == 0
