@@ -497,7 +497,8 @@ def force_spectrum(
     (1000, 37.0)
     """
     force, time_step, skip = _force_record(result_or_force, time_step, skip)
-    first = int(math.ceil(skip / time_step - 1e-9))
+    skipped = skip / time_step - 1e-9  # steps left out; a skip beyond the record (1e308 s) leaves none
+    first = int(math.ceil(skipped)) if skipped < force.size else force.size
     kept = force.size - first
     if kept < FORCE_MIN_STEPS:
         record = f"the record of {force.size} steps ({force.size * time_step:.4g} s)"
