@@ -42,6 +42,7 @@ __all__ = [
     "MAX_SPEED_KMH",
     "MIN_SPEED_KMH",
     "PATCH_FRACTION",
+    "YOUNGS_MODULUS",
     "Accepted",
     "check_patch",
     "check_wheel_circumference",
@@ -204,6 +205,17 @@ stiff studded HDPE pads; half concrete sleepers of 100-160 kg, half timber ones 
 0.6-0.7 m; ballast of 50-200 MN/m per half sleeper). A pass-by's train is 2 m to 5 km long with 1 to 2 000
 axles (and at most one axle per ``run_noise.MIN_AXLE_SPACING`` = 1 m). The user-facing inputs
 (``wheelrail.core.inputs``) take their ranges from here."""
+
+
+YOUNGS_MODULUS = Accepted(
+    "youngs_modulus",
+    "Pa",
+    0.1e9,
+    1200e9,
+    "an elastic solid, from a stiff polymer to diamond; steel is 210 GPa: a value in GPa given as Pa falls outside",
+)
+"""The accepted Young's modulus of wheel and rail (``ContactParameters.youngs_modulus``), a Python API input
+only: the front ends run steel."""
 
 
 def check_patch(

@@ -13,8 +13,9 @@ import math
 import typing
 from dataclasses import asdict, dataclass, field, fields, is_dataclass
 
+from wheelrail.core import accepted
 from wheelrail.core.accepted import ACCEPTED, MAX_SPEED_KMH, MIN_SPEED_KMH, check_patch, raise_concave_tread
-from wheelrail.core.checks import integer, real
+from wheelrail.core.checks import integer, parts, real
 from wheelrail.core.contact.hertz import HertzContact, elliptic_hertz
 from wheelrail.core.errors import WheelrailError
 
@@ -213,6 +214,7 @@ class TrackParameters:
     n_bays: int = 70
 
     def __post_init__(self) -> None:
+        parts(self, "rail", "support")
         _check_int(self, "n_bays", 4, MAX_TRACK_BAYS)
 
     @property
@@ -320,7 +322,8 @@ class ContactParameters:
     ----------
     youngs_modulus : float
         E of wheel and rail (same material), Pa. 210 GPa (steel): the paper gives neither E nor nu; these
-        common values for steel reproduce its stated a = 5.48 mm at 65 kN with R = 0.39 m.
+        common values for steel reproduce its stated a = 5.48 mm at 65 kN with R = 0.39 m. Accepted: 0.1 to
+        1200 GPa (``accepted.YOUNGS_MODULUS``).
     poisson_ratio : float
         nu, dimensionless, 0 <= nu < 0.5; 0.3 (steel; see ``youngs_modulus``).
     radius : float
@@ -370,7 +373,7 @@ class ContactParameters:
     wheel_transverse_radius: float | None = math.inf
 
     def __post_init__(self) -> None:
-        _check(self, "youngs_modulus", "Pa")
+        accepted.YOUNGS_MODULUS.check(self.youngs_modulus, "ContactParameters.youngs_modulus")
         nu = self.poisson_ratio
         if not (isinstance(nu, int | float) and math.isfinite(nu) and 0.0 <= nu < 0.5):
             raise WheelrailError(f"ContactParameters.poisson_ratio must be in [0, 0.5), got {nu!r}")
@@ -578,6 +581,9 @@ class ModelParameters:
     track: TrackParameters = field(default_factory=TrackParameters)
     contact: ContactParameters = field(default_factory=ContactParameters)
     run: RunParameters = field(default_factory=RunParameters)
+
+    def __post_init__(self) -> None:
+        parts(self, "wheel", "track", "contact", "run")
 
 
 def as_dict(params: object) -> dict:
