@@ -184,3 +184,47 @@ def test_every_numeric_option_accepts_or_refuses_in_one_line(command, base, caps
             if why is not None:
                 failures.append(f"{' '.join(argv)}: {why}: {err.strip()[:200]!r}")
     assert not failures, f"{len(failures)} of {count} cases:\n" + "\n".join(failures)
+
+
+def limit_cases(groups: tuple[str, ...]) -> list[tuple[str, str]]:
+    """(option, value) at each end of the declared range of every input of ``groups``, in the option's unit."""
+    from wheelrail.core.inputs import inputs_of
+
+    cases = []
+    for entry in inputs_of(*groups):
+        low, high = entry.in_shown()
+        ends = (low, -low) if entry.accepted.magnitude else (low, high)
+        cases += [(entry.option, repr(float(end))) for end in ends]
+    return cases
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "command, base, groups",
+    [
+        ("run", ["--set", "corrugated-rail", "--length-m", "0.05"], ("run", "geometry")),
+        ("run", ["--set", "corrugated-rail", "--length-m", "0.01", "--model", "2d"], ("run", "geometry")),
+        ("run", ["--set", "corrugated-rail", "--length-m", "0.01", "--model", "3d"], ("run", "geometry")),
+        ("filters", [], ("run", "geometry")),
+        ("noise", ["--method", "cnossos"], ("geometry",)),
+        ("noise", ["--run", "{run}"], ()),
+    ],
+    ids=["run hertz", "run 2d", "run 3d", "filters", "noise cnossos", "noise run"],
+)
+def test_accepted_values_at_the_limits_work_without_numpy_warnings(command, base, groups, capsys, saved_run):
+    """Each declared input at each end of its range does the command's whole work (a short run), RuntimeWarnings
+    as errors; a refusal by a rule between inputs (the patch against the radii) is one clean line. (``run --model
+    3d --preload-kn 1`` ended in an internal LinAlgError in the steady start.)"""
+    base = [word.format(run=saved_run) for word in base]
+    extra = {"noise": [("--speed-kmh", "5"), ("--speed-kmh", "400"), ("--preload-kn", "1"), ("--preload-kn", "500")]}
+    trains = [("--train-axles", "1"), ("--train-axles", "2000"), ("--train-length-m", "5000"), ("--axles", "1")]
+    cases = limit_cases(groups) + extra.get(command, []) + (trains if "--run" in base else [])
+    failures = []
+    for option, value in cases:
+        argv = [command, *base, option, value]
+        code, err = run_case(capsys, argv)
+        # a rule between inputs may blame another one, or the roughness line that cannot hold a wider patch
+        why = verdict(code, err, option, (*(o for o, _ in cases), "--line", "--set"))
+        if why is not None:
+            failures.append(f"{' '.join(argv)}: {why}: {err.strip()[:200]!r}")
+    assert not failures, "\n".join(failures)
