@@ -42,6 +42,7 @@ __all__ = [
     "MAX_SPEED_KMH",
     "MIN_SPEED_KMH",
     "PATCH_FRACTION",
+    "WHEEL_SYSTEM",
     "YOUNGS_MODULUS",
     "Accepted",
     "check_patch",
@@ -216,6 +217,21 @@ YOUNGS_MODULUS = Accepted(
 )
 """The accepted Young's modulus of wheel and rail (``ContactParameters.youngs_modulus``), a Python API input
 only: the front ends run steel."""
+
+WHEEL_SYSTEM: dict[str, Accepted] = {
+    entry.key: entry
+    for entry in (
+        Accepted("unsprung_mass", "kg", 50.0, 5000.0, "half a wheelset, light rail to a locomotive's with its motor"),
+        Accepted("contact_mass", "kg", 0.5, 50.0, "a small mass at the contact; lighter, the wheel's step overflows"),
+        Accepted("suspension_stiffness", "N/m", 0.1e6, 20e6, "a primary suspension, per wheel"),
+        Accepted("suspension_damping", "N s/m", 0.0, 500e3, "a primary suspension's damper, per wheel"),
+        Accepted("wheel_stiffness", "N/m", 0.1e9, 50e9, "the wheel's stiffness at the contact above its first modes"),
+        Accepted("wheel_damping", "N s/m", 0.0, 5e6, "damping in parallel with the wheel's stiffness"),
+    )
+}
+"""The accepted ranges of the paper's 2-DOF wheel (``WheelParameters``), Python API inputs only: each holds the
+paper's value (592.5 kg, 3 kg, 1.12 MN/m, 13.2 kNs/m, 2.4 GN/m, 155 kNs/m) with decades to spare; beyond them
+the wheel's discrete-time system overflows (a contact mass of 1e-308 kg) or has no steady start."""
 
 
 def check_patch(

@@ -95,6 +95,8 @@ class WheelParameters:
         k_W, stiffness representing the wheel's high-frequency modes, N/m.
     wheel_damping : float
         c_W, damping in parallel with k_W, N s/m.
+
+    Each within its range in ``accepted.WHEEL_SYSTEM`` (else one WheelrailError naming it).
     """
 
     unsprung_mass: float = 592.5
@@ -105,12 +107,8 @@ class WheelParameters:
     wheel_damping: float = 155e3
 
     def __post_init__(self) -> None:
-        _check(self, "unsprung_mass", "kg")
-        _check(self, "contact_mass", "kg")
-        _check(self, "suspension_stiffness", "N/m")
-        _check(self, "suspension_damping", "N s/m", allow_zero=True)
-        _check(self, "wheel_stiffness", "N/m")
-        _check(self, "wheel_damping", "N s/m", allow_zero=True)
+        for item in fields(self):  # each within a railway wheelset's range (accepted.WHEEL_SYSTEM)
+            accepted.WHEEL_SYSTEM[item.name].check(getattr(self, item.name), f"WheelParameters.{item.name}")
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -4,12 +4,14 @@ WheelrailError, never a Python or numpy error (numpy's RuntimeWarnings count as 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
 import numpy as np
 import pytest
 
+from wheelrail.core.accepted import WHEEL_SYSTEM
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import (
     ContactParameters,
@@ -17,6 +19,7 @@ from wheelrail.core.parameters import (
     RailParameters,
     SupportParameters,
     TrackParameters,
+    WheelParameters,
 )
 
 EXTREMES = (0, 0.0, math.inf, -math.inf, 1e308, -1e308, 1e-308, 10**6, True, "abc", None)
@@ -101,3 +104,25 @@ def test_rail_radiation_efficiency_is_finite_at_every_positive_frequency(frequen
 def test_rail_parts_of_the_right_kind_pass():
     track = TrackParameters(rail=RailParameters(), support=SupportParameters())
     assert ModelParameters(track=track).track is track
+
+
+@pytest.mark.parametrize("name", [f.name for f in dataclasses.fields(WheelParameters)])
+def test_the_wheel_at_extremes_is_refused_naming_the_field(name):
+    # a contact mass of 1e-308 kg overflowed the wheel's discrete-time system (RuntimeWarning, then NaN), a wheel
+    # stiffness of 1e-308 N/m divided 0 by 0; both were accepted
+    tiny = (1e-308,) if WHEEL_SYSTEM[name].minimum > 0 else ()  # a damping of 1e-308 is none: accepted
+    for value in (*tiny, 1e308, -1.0, math.nan, "abc"):
+        with pytest.raises(WheelrailError) as refused:
+            WheelParameters(**{name: value})
+        assert refused.value.parameter == name and f"WheelParameters.{name}" in str(refused.value)
+
+
+@pytest.mark.slow
+def test_the_wheel_at_its_declared_limits_runs_without_numpy_warnings():
+    from wheelrail.core.interaction import simulate
+
+    for name, entry in WHEEL_SYSTEM.items():
+        for value in (entry.minimum, entry.maximum):
+            params = ModelParameters(wheel=WheelParameters(**{name: value}))
+            result = accepted_or_refused(lambda p=params: simulate("corrugated-rail", params=p, length=0.05))
+            assert result is not None and np.all(np.isfinite(result.force)), (name, value)
