@@ -44,6 +44,8 @@ __all__ = [
     "MIN_SPEED_KMH",
     "MODEL_BOUNDS",
     "PATCH_FRACTION",
+    "WHEEL_SYSTEM",
+    "YOUNGS_MODULUS",
     "Accepted",
     "check_model_input",
     "check_parts",
@@ -217,13 +219,23 @@ axles (and at most one axle per ``run_noise.MIN_AXLE_SPACING`` = 1 m). The user-
 MODEL_BOUNDS: dict[str, Accepted] = {
     entry.key: entry
     for entry in (
-        Accepted("youngs_modulus", "Pa", 1e7, 1e12, "solid materials, from elastomers to hard metals"),
-        Accepted("unsprung_mass", "kg", 1.0, 1e5, "a wheel's share of a wheelset's mass, with room to spare"),
-        Accepted("contact_mass", "kg", 1e-3, 1e4, "a small mass at the contact point"),
-        Accepted("suspension_stiffness", "N/m", 1e2, 1e10, "a primary suspension, soft to rigid"),
-        Accepted("suspension_damping", "N s/m", 0.0, 1e9, "a primary suspension's damping"),
-        Accepted("wheel_stiffness", "N/m", 1e4, 1e14, "a wheel's stiffness at the contact"),
-        Accepted("wheel_damping", "N s/m", 0.0, 1e10, "a wheel's damping at the contact"),
+        Accepted(
+            "youngs_modulus",
+            "Pa",
+            0.1e9,
+            1200e9,
+            "an elastic solid, from a stiff polymer to diamond; steel is 210 GPa: a value in GPa given as Pa falls "
+            "outside",
+        ),
+        # the paper's 2-DOF wheel (WheelParameters): each holds the paper's value (592.5 kg, 3 kg, 1.12 MN/m,
+        # 13.2 kNs/m, 2.4 GN/m, 155 kNs/m) with decades to spare; beyond them the wheel's discrete-time system
+        # overflows (a contact mass of 1e-308 kg) or has no steady start
+        Accepted("unsprung_mass", "kg", 50.0, 5000.0, "half a wheelset, light rail to a locomotive's with its motor"),
+        Accepted("contact_mass", "kg", 0.5, 50.0, "a small mass at the contact; lighter, the wheel's step overflows"),
+        Accepted("suspension_stiffness", "N/m", 0.1e6, 20e6, "a primary suspension, per wheel"),
+        Accepted("suspension_damping", "N s/m", 0.0, 500e3, "a primary suspension's damper, per wheel"),
+        Accepted("wheel_stiffness", "N/m", 0.1e9, 50e9, "the wheel's stiffness at the contact above its first modes"),
+        Accepted("wheel_damping", "N s/m", 0.0, 5e6, "damping in parallel with the wheel's stiffness"),
         Accepted("bending_stiffness", "N m^2", 1e3, 1e13, "a rail's EI, light rails to a stiff beam"),
         Accepted("shear_stiffness", "N", 1e5, 1e15, "a rail's kGA"),
         Accepted("mass_per_length", "kg/m", 1.0, 1e4, "a rail's mass per metre"),
@@ -244,6 +256,25 @@ MODEL_BOUNDS: dict[str, Accepted] = {
 }
 """Bounds of the model's inputs that only the Python API sets (SI): generous around the paper's values, they
 refuse what no wheel, rail or numerical setting is and what would overflow the model's arithmetic."""
+
+
+YOUNGS_MODULUS = MODEL_BOUNDS["youngs_modulus"]
+"""The accepted Young's modulus of wheel and rail (``ContactParameters.youngs_modulus``), a Python API input
+only: the front ends run steel."""
+
+WHEEL_SYSTEM: dict[str, Accepted] = {
+    key: MODEL_BOUNDS[key]
+    for key in (
+        "unsprung_mass",
+        "contact_mass",
+        "suspension_stiffness",
+        "suspension_damping",
+        "wheel_stiffness",
+        "wheel_damping",
+    )
+}
+"""The accepted ranges of the paper's 2-DOF wheel (``WheelParameters``), Python API inputs only (in
+:data:`MODEL_BOUNDS`, with the reason of each)."""
 
 
 def check_patch(

@@ -19,6 +19,7 @@ __all__ = [
     "integer",
     "level_arrays",
     "mean_squares",
+    "parts",
     "poisson_ratio",
     "positive",
     "real",
@@ -57,6 +58,18 @@ def real(label: str, value, unit: str, *, sign: str = "positive") -> float:
     if not (math.isfinite(number) and accept(number)):
         raise WheelrailError(f"{label} must be {words} ({unit}), got {_shown(value)}")
     return number
+
+
+def parts(owner, *names: str) -> None:
+    """Each named field of the dataclass ``owner`` holds an instance of its annotated class (a number or text
+    given for a part is refused where it is given, not deep inside a run)."""
+    import typing
+
+    hints = typing.get_type_hints(type(owner))
+    for name in names:
+        value, kind = getattr(owner, name), hints[name]
+        if not isinstance(value, kind):
+            raise WheelrailError(f"{type(owner).__name__}.{name} must be a {kind.__name__}, got {_shown(value)}")
 
 
 def positive(where: str, name: str, value, unit: str) -> float:

@@ -47,6 +47,7 @@ from wheelrail.core.run_setup import (
     usable_length,
     window_lines,
 )
+from wheelrail.core.wheel import checked_wheel_system
 
 __all__ = [
     "DEFAULT_RUN_IN_TIME",
@@ -508,6 +509,10 @@ def prepare_run(
         raise WheelrailError(
             f"prepare_run: track_numerics must be TrackNumerics or None, got {type(track_numerics).__name__}"
         )
+    from wheelrail.core.modal_wheel.profile import OutlineProfile, WheelProfile
+
+    if wheel_system is not None and not isinstance(wheel_system, WheelProfile | OutlineProfile):
+        wheel_system = checked_wheel_system(wheel_system)  # a caller's (Phi, Gamma0, Gamma1)
     steady = run_in_length is None  # the default run-in follows the steady start (where the bay allows it)
     entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
     steady = steady and starts_steady(params)

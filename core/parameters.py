@@ -11,6 +11,7 @@ import math
 import typing
 from dataclasses import asdict, dataclass, field, fields, is_dataclass
 
+from wheelrail.core import accepted
 from wheelrail.core.accepted import (
     ACCEPTED,
     MAX_SPEED_KMH,
@@ -94,6 +95,8 @@ class WheelParameters:
         k_W, stiffness representing the wheel's high-frequency modes, N/m.
     wheel_damping : float
         c_W, damping in parallel with k_W, N s/m.
+
+    Each within its range in ``accepted.WHEEL_SYSTEM`` (else one WheelrailError naming it).
     """
 
     unsprung_mass: float = 592.5
@@ -104,12 +107,8 @@ class WheelParameters:
     wheel_damping: float = 155e3
 
     def __post_init__(self) -> None:
-        _check(self, "unsprung_mass", "kg")
-        _check(self, "contact_mass", "kg")
-        _check(self, "suspension_stiffness", "N/m")
-        _check(self, "suspension_damping", "N s/m", allow_zero=True)
-        _check(self, "wheel_stiffness", "N/m")
-        _check(self, "wheel_damping", "N s/m", allow_zero=True)
+        for item in fields(self):  # each within a railway wheelset's range (accepted.WHEEL_SYSTEM)
+            accepted.WHEEL_SYSTEM[item.name].check(getattr(self, item.name), f"WheelParameters.{item.name}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -321,7 +320,8 @@ class ContactParameters:
     ----------
     youngs_modulus : float
         E of wheel and rail (same material), Pa. 210 GPa (steel): the paper gives neither E nor nu; these
-        common values for steel reproduce its stated a = 5.48 mm at 65 kN with R = 0.39 m.
+        common values for steel reproduce its stated a = 5.48 mm at 65 kN with R = 0.39 m. Accepted: 0.1 to
+        1200 GPa (``accepted.YOUNGS_MODULUS``).
     poisson_ratio : float
         nu, dimensionless, 0 <= nu < 0.5; 0.3 (steel; see ``youngs_modulus``).
     radius : float
@@ -371,7 +371,7 @@ class ContactParameters:
     wheel_transverse_radius: float | None = math.inf
 
     def __post_init__(self) -> None:
-        _check(self, "youngs_modulus", "Pa")
+        accepted.YOUNGS_MODULUS.check(self.youngs_modulus, "ContactParameters.youngs_modulus")
         nu = self.poisson_ratio
         if not (isinstance(nu, int | float) and not isinstance(nu, bool) and 0.0 <= nu < 0.5):
             raise WheelrailError(f"ContactParameters.poisson_ratio must be in [0, 0.5), got {nu!r}")

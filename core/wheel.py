@@ -230,3 +230,25 @@ def _first_order_hold_expm(wheel: WheelParameters, time_step: float):
     Gamma1 = G2
     Gamma0 = G1 - G2
     return np.ascontiguousarray(Phi), Gamma0, np.ascontiguousarray(Gamma1)
+
+
+def checked_wheel_system(system) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A caller's discrete-time wheel ``(Phi, Gamma0, Gamma1)`` as :func:`wheel_discrete_system` gives it: Phi
+    n x n and Gamma0, Gamma1 of n finite numbers, n >= 2 (state 1 is the contact point's displacement); else
+    one WheelrailError."""
+    problem = (
+        "prepare_run: wheel_system must be None, a modal wheel's cross-section or (Phi, Gamma0, Gamma1) "
+        "(Phi n x n, Gamma0 and Gamma1 of n finite numbers, n >= 2)"
+    )
+    if not isinstance(system, tuple | list) or len(system) != 3:
+        raise WheelrailError(f"{problem}, got {type(system).__name__}")
+    try:
+        phi, gamma0, gamma1 = (np.asarray(part, dtype=float) for part in system)
+    except (TypeError, ValueError):
+        raise WheelrailError(f"{problem}; its parts are not arrays of numbers") from None
+    n = len(gamma0) if gamma0.ndim == 1 else 0
+    if n < 2 or phi.shape != (n, n) or gamma1.shape != (n,):
+        raise WheelrailError(f"{problem}; got shapes {phi.shape}, {gamma0.shape}, {gamma1.shape}")
+    if not all(np.all(np.isfinite(part)) for part in (phi, gamma0, gamma1)):
+        raise WheelrailError(f"{problem}; it holds a NaN or infinity")
+    return phi, gamma0, gamma1

@@ -31,6 +31,9 @@ CLI_NAMES: dict[str, Name] = {
     "radius": cli_names()["wheel_radius"],  # the paper's R: the wheel's, as the CLI sets it
     "length": Name("--length-m", "m", 1.0, True),
     "line": Name("--line", unit_in_label=True),
+    "lines": Name("--lines", unit_in_label=True),  # wheelrail roughness: the lines averaged, the coherence's M, B
+    "half_lines": Name("--m", unit_in_label=True),
+    "blocks": Name("--blocks", unit_in_label=True),
     "skip": Name("--skip-ms", "ms", 1e3, True),
     "record_every": Name("--record-every", unit_in_label=True),
     "connect": Name("--connect", unit_in_label=True),

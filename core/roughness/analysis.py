@@ -4,6 +4,7 @@ coherence parameter of eqs. (15)-(18) (section 3.2, Figure 9)."""
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,11 +48,26 @@ class RoughnessSpectrum:
     speed: float | None = None
 
 
-def _rows(roughness: RoughnessSet, lines) -> list[int]:
-    lines = tuple(int(line) for line in lines)
+def _rows(roughness: RoughnessSet, lines, parameter: str = "lines") -> list[int]:
+    """Rows of ``lines``; a line the set lacks is one WheelrailError keyed ``parameter``, with the set's lines."""
+    available = roughness.line_numbers
+    first, last = int(available[0]), int(available[-1])
+    lines = tuple(_whole(line, parameter, first, last, "not in the roughness set") for line in lines)
     if not lines:
         raise WheelrailError("choose at least one roughness line")
     return [roughness.row_of_line(line) for line in lines]
+
+
+def _whole(value, parameter: str, minimum: int, maximum: int, problem: str | None = None, reason: str | None = None):
+    """``value`` as an int from ``minimum`` to ``maximum``, else one WheelrailError keyed ``parameter``
+    (``problem``: what a value outside the range is, ``reason``: why the range, in words that name no input)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise WheelrailError("not a whole number", parameter=parameter, value=value)
+    if not minimum <= value <= maximum:
+        raise WheelrailError(
+            problem, parameter=parameter, value=int(value), minimum=minimum, maximum=maximum, reason=reason
+        )
+    return int(value)
 
 
 def _check_speed(speed: float) -> float:
@@ -145,9 +161,12 @@ def lateral_coherence(
         ``length / B`` sets the resolution ``v B / length``).
     """
     speed = _check_speed(speed)
-    if isinstance(half_lines, bool) or int(half_lines) != half_lines or half_lines < 1:
-        raise WheelrailError(f"M (half the number of other lines) must be an integer >= 1, got {half_lines!r}")
-    others = [m for m in range(-int(half_lines), int(half_lines) + 1) if m != 0]
+    available = roughness.line_numbers  # the lines -M..M must be in the set; each block at least 8 samples
+    widest = max(1, min(-int(available[0]), int(available[-1])))
+    half_lines = _whole(half_lines, "half_lines", 1, widest, reason="the lines -M..M must be in the set")
+    samples = roughness.heights.shape[-1]
+    blocks = _whole(blocks, "blocks", 1, max(1, samples // 8), reason=f"at least 8 of the {samples} samples a block")
+    others = [m for m in range(-half_lines, half_lines + 1) if m != 0]
     centre_row = roughness.row_of_line(0)
     other_rows = _rows(roughness, others)
     centres, lower, upper = third_octave_bands(*frequency_range)

@@ -93,9 +93,9 @@ def test_roughness_plot(cli, tmp_path):
             "unknown roughness set 'no-such-set'; bundled sets: cast-iron",
         ),
         (["roughness", "--set", "corrugated-rail", "--speed-kmh", "-5"], "--speed-kmh -5 is outside the accepted"),
-        (["roughness", "--set", "corrugated-rail", "--lines", "12"], "line 12 is not in this set"),
+        (["roughness", "--set", "corrugated-rail", "--lines", "12"], "--lines 12: not in the roughness set"),
         (["roughness", "--set", "corrugated-rail", "--plot", "x.pdf"], "--plot x.pdf: the file name must end in .png"),
-        (["roughness", "--set", "cast-iron-wheel", "--blocks", "1000"], "samples per block"),
+        (["roughness", "--set", "cast-iron-wheel", "--blocks", "1000"], "--blocks 1000 is outside the accepted 1 to"),
     ],
 )
 def test_bad_input_one_line_nonzero(cli, argv, message):
