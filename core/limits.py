@@ -129,9 +129,12 @@ def check_run_memory(entry, params, length, run_in_length, keep_pressure: bool) 
             if maps
             else ""
         )
+        run_in = run_in_length > length  # the run-in's elements outnumber the run's: it is what to shorten
         raise WheelrailError(
-            f"a {entry.name} run of {_count(n_steps)} steps needs about {_gib(needed)} of memory{kept}, over the "
-            f"{_gib(limit)} limit ({MEMORY_LIMIT_ENV} sets it); shorten the run"
+            f"a {entry.name} run of {_count(n_steps)} steps"
+            + (f" after a run-in of {run_in_length:.4g} m" if run_in else "")
+            + f" needs about {_gib(needed)} of memory{kept}, over the {_gib(limit)} limit ({MEMORY_LIMIT_ENV} sets "
+            f"it); shorten the {'run-in' if run_in else 'run'}"
         )
     return needed
 

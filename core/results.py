@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -451,6 +452,10 @@ def _npz_arrays(target: Path) -> dict:
     except IsADirectoryError:
         raise WheelrailError(f"run file {target} is a folder, not a file") from None
     except Exception as error:  # noqa: BLE001 - any unreadable file is the user's, named in one line
+        if not zipfile.is_zipfile(target):  # numpy's reason would be its pickle advice or zipfile's words
+            raise WheelrailError(
+                f"{target}: not a readable wheelrail run file: not a NumPy .npz archive (corrupt or another format)"
+            ) from None
         reason = str(error).splitlines()[0] if str(error) else "unreadable"
         raise WheelrailError(
             f"{target}: not a readable wheelrail run file ({reason}); damaged or another format"

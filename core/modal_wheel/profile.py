@@ -122,9 +122,21 @@ class WheelProfile:
 
     def _check_parts_fit(self):
         rim_inner = self.wheel_radius - self.tyre_depth
-        if self.hub_outer_radius <= self.hub_inner_radius or rim_inner - self.hub_outer_radius < 2 * self.web_thickness:
+        mm = 1e3
+        if self.hub_outer_radius <= self.hub_inner_radius:
             raise WheelrailError(
-                "the web must span at least twice its thickness between the hub and the rim",
+                f"the hub's outer radius must exceed its bore ({self.hub_inner_radius * mm:.4g} mm)",
+                parameter="wheel_hub_outer_radius",
+                value=self.hub_outer_radius,
+                unit="m",
+            )
+        if rim_inner - self.hub_outer_radius < 2 * self.web_thickness:
+            raise WheelrailError(
+                "the web must span at least twice its thickness between the hub and the rim (hub outer radius "
+                f"{self.hub_outer_radius * mm:.4g} mm, rim inner radius "
+                f"{rim_inner * mm:.4g} mm: wheel radius {self.wheel_radius * mm:.4g} mm less the tyre depth "
+                f"{self.tyre_depth * mm:.4g} mm, web {self.web_thickness * mm:.4g} mm); these parts fit a wheel radius "
+                f"of at least {(self.hub_outer_radius + 2 * self.web_thickness + self.tyre_depth) * mm:.4g} mm",
                 parameter="wheel_hub_outer_radius",
                 value=self.hub_outer_radius,
                 unit="m",

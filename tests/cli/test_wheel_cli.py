@@ -85,6 +85,17 @@ def test_bad_wheel_input_is_one_line_naming_the_option(argv, words, capsys):
     assert words in err and err.count("\n") == 1
 
 
+def test_a_radius_too_small_for_the_hub_says_what_fits(capsys):
+    # --wheel-radius-mm 180 (accepted 100 to 1250) was refused as "--hub-outer-radius-mm 130: the web must span at
+    # least twice its thickness between the hub and the rim", an option the user never typed and no number to aim
+    # for: the line gives the parts' sizes and the smallest radius they fit
+    assert main(["wheel", "--wheel-radius-mm", "180"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    for words in ("hub outer radius 130 mm", "rim inner radius 130 mm", "web 25 mm", "at least 230 mm"):
+        assert words in err, err
+
+
 def test_a_run_with_the_modal_wheel_states_it_and_differs_from_the_2dof(capsys):
     # the interaction with the modal wheel (the 840 mm wheel at the paper's R = 0.39 m): the mean force is the
     # preload (0.5 %, as the 2-DOF's smooth-run test) and the force levels differ from the 2-DOF wheel's in the

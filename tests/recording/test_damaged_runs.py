@@ -125,6 +125,17 @@ def test_damaged_npz_files_are_refused_in_words(tmp_path):
     _refused(RunResult.load_npz, tmp_path / "json.npz", "its metadata is not JSON")
 
 
+@pytest.mark.parametrize("content", [b"hello", b"", b"PK\x03\x04 cut short"], ids=["text", "empty", "zip-head"])
+def test_a_file_that_is_no_npz_archive_is_named_so_without_numpys_advice(tmp_path, content):
+    # numpy's reason for a text file ("This file contains pickled (object) data. If you trust the file you can
+    # load it unsafely using the `allow_pickle=` keyword argument or `pickle.load()`") and zipfile's ("File is not
+    # a zip file") reached `noise --run` and the explorer's upload, while `spectra` said it in words
+    path = tmp_path / "not-a-run.npz"
+    path.write_bytes(content)
+    text = _refused(RunResult.load_npz, path, "not a NumPy .npz archive")
+    assert "pickle" not in text and "zip file" not in text, text
+
+
 def test_every_single_byte_flip_of_a_run_file_is_refused_or_harmless(tmp_path):
     good = _result().save_npz(tmp_path / "good.npz")
     original = RunResult.load_npz(good)

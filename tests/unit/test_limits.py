@@ -50,6 +50,16 @@ def test_absurd_lengths_are_refused_with_the_figure(model, length, keep):
         prepare_run("cast-iron-wheel", model=model, length=length, keep_pressure=keep)
 
 
+@pytest.mark.parametrize("run_in", [1e308, 1e9])
+def test_an_absurd_run_in_is_named_as_the_cause(run_in):
+    # prepare_run(run_in_length=1e308) on a 1 m run said "a hertz run of 1000 steps needs about over 1e290 EiB
+    # ...; shorten the run": the run was short, the run-in was not
+    with pytest.raises(WheelrailError) as error:
+        prepare_run("cast-iron-wheel", length=1.0, run_in_length=run_in)
+    text = str(error.value)
+    assert f"run-in of {run_in:.4g} m" in text and "shorten the run-in" in text, text
+
+
 def test_pressure_maps_count_only_when_kept(monkeypatch):
     # 3d over 1000 m: 25 x 25 float32 maps are 2.3 GiB, over the 2 GiB default; without them 0.6 GiB
     from wheelrail.core.models import model_entry
