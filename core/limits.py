@@ -130,10 +130,11 @@ def check_run_memory(entry, params, length, run_in_length, keep_pressure: bool) 
             else ""
         )
         run_in = run_in_length > length  # the run-in's elements outnumber the run's: it is what to shorten
+        about = "about " if math.isfinite(needed) else ""  # past 1e290 EiB the estimate is a bound
         raise WheelrailError(
             f"a {entry.name} run of {_count(n_steps)} steps"
             + (f" after a run-in of {run_in_length:.4g} m" if run_in else "")
-            + f" needs about {_gib(needed)} of memory{kept}, over the {_gib(limit)} limit ({MEMORY_LIMIT_ENV} sets "
+            + f" needs {about}{_gib(needed)} of memory{kept}, over the {_gib(limit)} limit ({MEMORY_LIMIT_ENV} sets "
             f"it); shorten the {'run-in' if run_in else 'run'}"
         )
     return needed
@@ -145,7 +146,7 @@ def _count(n: float) -> str:
 
 def _gib(n_bytes: float) -> str:
     if not math.isfinite(n_bytes):
-        return "over 1e290 EiB"
+        return "more than 1e290 EiB"
     if n_bytes >= 1024**6:
         return f"{n_bytes / 1024**6:.3g} EiB"
     if n_bytes >= 1024**3:
