@@ -16,7 +16,7 @@ if TYPE_CHECKING:
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
-from wheelrail.core.track.fe import TrackFEModel, assemble_track, rail_relaxation, to_upper_band
+from wheelrail.core.track.fe import POINT_PAD_WIDTH, TrackFEModel, assemble_track, rail_relaxation, to_upper_band
 from wheelrail.core.track.progress import Progress, current_progress
 
 NEGLIGIBLE_LOSS_FACTOR = 1e-12
@@ -454,7 +454,10 @@ def track_key(track: TrackParameters, numerics: TrackNumerics) -> str:
 
     stored = asdict(numerics)
     del stored["rows_per_position"]  # how the stored responses are read, not what is stored
-    return cache_key("track-wedge", {"track": asdict(track), "numerics": stored})
+    params = asdict(track)
+    if params["support"]["pad_width"] < POINT_PAD_WIDTH:  # the point support's responses (fe.pad_couplings)
+        params["support"]["pad_width"] = 0.0
+    return cache_key("track-wedge", {"track": params, "numerics": stored})
 
 
 def track_cache_path(track: TrackParameters, numerics: TrackNumerics):

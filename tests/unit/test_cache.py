@@ -41,6 +41,18 @@ def test_key_covers_every_parameter():
     assert len({base, *changed}) == 5
 
 
+def test_a_sub_nanometre_pad_shares_the_point_supports_entry():
+    # --pad-width-mm 1e-308 is the point support (track.fe.POINT_PAD_WIDTH): its responses are the point
+    # support's, so it reads the point support's 208 MB entry rather than computing and storing its own
+    def key(width):
+        return track.track_key(
+            TrackParameters(support=dataclasses.replace(TrackParameters().support, pad_width=width)), SMALL
+        )
+
+    assert key(1e-308) == key(0.0) == track.track_key(TrackParameters(), SMALL)
+    assert key(0.05) != key(0.0) and key(1e-9) != key(0.0)
+
+
 def test_corrupt_entry_is_detected_and_rebuilt(tmp_path, monkeypatch):
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
     good = _fresh()
