@@ -84,8 +84,8 @@ def refuse_inputs(outputs, inputs) -> None:
                 )
 
 
-def _running(pid: int) -> bool:
-    """Whether a process ``pid`` runs on this host (one we may not signal runs)."""
+def running(pid: int) -> bool:
+    """Whether a process ``pid`` runs on this host (one we may not signal runs): is a temporary's writer alive."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
@@ -102,7 +102,7 @@ def stale_temporary(path: Path) -> bool:
     if match is None or match["host"] != writer().rsplit("-", 1)[0]:
         return False
     pid = int(match["pid"])
-    return pid != os.getpid() and not _running(pid)
+    return pid != os.getpid() and not running(pid)
 
 
 def remove_stale_temporaries(folder: str | os.PathLike) -> list[Path]:

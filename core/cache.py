@@ -45,7 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import publish, temporary_beside, writer
+from wheelrail.core.atomic import publish, running, temporary_beside, writer
 from wheelrail.core.errors import WheelrailError
 
 FORMAT_VERSION = 1
@@ -316,16 +316,6 @@ def clear(kind: str | None = None) -> list[Path]:
     return removed
 
 
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:  # e.g. PermissionError: it exists, owned by someone else
-        return True
-    return True
-
-
 def remove_stale_temporaries(folder: Path, now: float | None = None) -> list[Path]:
     """Delete the leftover temporary files of interrupted cache writes in ``folder``; returns those deleted.
 
@@ -341,7 +331,7 @@ def remove_stale_temporaries(folder: Path, now: float | None = None) -> list[Pat
         if match is None:
             continue  # not ours: never touched
         try:
-            dead = match["host"] == host and not _alive(int(match["pid"]))
+            dead = match["host"] == host and not running(int(match["pid"]))
             if dead or now - temporary.stat().st_mtime > STALE_TEMPORARY_S:
                 temporary.unlink()
                 removed.append(temporary)

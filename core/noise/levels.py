@@ -63,6 +63,16 @@ def a_weighting(frequency) -> np.ndarray:
     return _a_weighting_raw(f) - _a_weighting_raw(np.array(1000.0))
 
 
+def a_weighted_energy(pressure: np.ndarray, rate: float) -> float:
+    """Sum of the squared A-weighted pressure (Pa^2), A-weighting applied in the frequency domain."""
+    spectrum = np.fft.rfft(pressure)
+    f = np.fft.rfftfreq(len(pressure), 1.0 / rate)
+    weight = np.zeros_like(f)
+    weight[1:] = 10 ** (a_weighting(f[1:]) / 20)
+    weighted = np.fft.irfft(spectrum * weight, len(pressure))
+    return float(np.sum(weighted**2))
+
+
 def energy_sum(*levels_db, axis=None) -> np.ndarray:
     """10 lg of the sum of 10^(L/10): levels added energetically (element-wise, or along ``axis`` of one array).
 

@@ -48,8 +48,8 @@ from wheelrail.core.noise.levels import (
     PRESSURE_REFERENCE,
     SOUND_POWER_PARTS,
     TOTAL,
+    a_weighted_energy,
     a_weighted_total,
-    a_weighting,
     energy_sum,
     noise_bands,
     power_level,
@@ -447,10 +447,6 @@ def _synthesise(noise: RunNoise, *, lead: float, seed: int):
 
 
 def laeq_of_pressure(pressure: np.ndarray, rate: float) -> float:
-    """L_Aeq (dB(A) re 20 uPa) of a pressure signal (Pa): A-weighting applied in the frequency domain."""
-    spectrum = np.fft.rfft(pressure)
-    f = np.fft.rfftfreq(len(pressure), 1.0 / rate)
-    weight = np.zeros_like(f)
-    weight[1:] = 10 ** (a_weighting(f[1:]) / 20)
-    weighted = np.fft.irfft(spectrum * weight, len(pressure))
-    return float(10 * np.log10(np.mean(weighted**2) / PRESSURE_REFERENCE**2))
+    """L_Aeq (dB(A) re 20 uPa) of a pressure signal (Pa): A-weighting applied in the frequency domain
+    (:func:`~wheelrail.core.noise.levels.a_weighted_energy`)."""
+    return float(10 * np.log10(a_weighted_energy(pressure, rate) / len(pressure) / PRESSURE_REFERENCE**2))

@@ -4,7 +4,7 @@ The pass-by pressure is synthesised at the run's own rate (v / dx: a few MB howe
 (train length + 2 v lead) / dx samples), then resampled to 48 kHz (``scipy.signal.resample_poly``) one block of
 :data:`BLOCK_SAMPLES` output samples at a time, each from the stretch of the record it needs (the filter's
 half-length either side), so the blocks join into what one call on the whole record gives. Two passes: the
-first finds the peak and the A-weighted energy over T_p (:func:`a_weighted_energy` per block of at most
+first finds the peak and the A-weighted energy over T_p (``levels.a_weighted_energy`` per block of at most
 :data:`BLOCK_SAMPLES`; a T_p of one block is weighted whole, exactly as ``laeq_of_pressure``), which set the
 calibration (``RunNoise.calibrated_pass_by``); the second scales each block to 16-bit PCM and writes it.
 
@@ -25,14 +25,13 @@ from fractions import Fraction
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.noise.levels import PRESSURE_REFERENCE, a_weighting
+from wheelrail.core.noise.levels import PRESSURE_REFERENCE, a_weighted_energy
 
 __all__ = [
     "BLOCK_SAMPLES",
     "MAX_WAV_S",
     "MAX_WHEEL_SAMPLES",
     "SYNTHESIS_NS",
-    "a_weighted_energy",
     "check_wav_duration",
     "check_wav_work",
     "wav_duration",
@@ -86,16 +85,6 @@ def check_wav_work(axles: int, train_length: float, speed: float, time_step: flo
             value=axles,
         )
     return work
-
-
-def a_weighted_energy(pressure: np.ndarray, rate: float) -> float:
-    """Sum of the squared A-weighted pressure (Pa^2), A-weighting applied in the frequency domain."""
-    spectrum = np.fft.rfft(pressure)
-    f = np.fft.rfftfreq(len(pressure), 1.0 / rate)
-    weight = np.zeros_like(f)
-    weight[1:] = 10 ** (a_weighting(f[1:]) / 20)
-    weighted = np.fft.irfft(spectrum * weight, len(pressure))
-    return float(np.sum(weighted**2))
 
 
 def _resampled(pressure: np.ndarray, up: int, down: int, block: int) -> Iterator[tuple[int, np.ndarray]]:
