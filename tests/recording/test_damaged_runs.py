@@ -136,16 +136,25 @@ def test_a_file_that_is_no_npz_archive_is_named_so_without_numpys_advice(tmp_pat
     assert "pickle" not in text and "zip file" not in text, text
 
 
-def test_every_single_byte_flip_of_a_run_file_is_refused_or_harmless(tmp_path):
-    good = _result().save_npz(tmp_path / "good.npz")
-    original = RunResult.load_npz(good)
-    raw = bytearray(good.read_bytes())
-    silent = []
+def _flipped_copies(good, folder):
+    """(offset, path) of 48 copies of the file ``good``, each with one byte flipped (XOR 0x5A), spread evenly over
+    it: ``folder/flip-OFFSET.SUFFIX``."""
+    raw = good.read_bytes()
+    copies = []
     for offset in np.linspace(0, len(raw) - 1, 48).astype(int):
         flipped = bytearray(raw)
         flipped[offset] ^= 0x5A
-        path = tmp_path / f"flip-{offset}.npz"
+        path = folder / f"flip-{offset}{good.suffix}"
         path.write_bytes(bytes(flipped))
+        copies.append((int(offset), path))
+    return copies
+
+
+def test_every_single_byte_flip_of_a_run_file_is_refused_or_harmless(tmp_path):
+    good = _result().save_npz(tmp_path / "good.npz")
+    original = RunResult.load_npz(good)
+    silent = []
+    for offset, path in _flipped_copies(good, tmp_path):
         try:
             back = RunResult.load_npz(path)
         except WheelrailError as error:
@@ -198,14 +207,7 @@ def test_every_single_byte_flip_of_a_recording_is_refused_or_reads_back_the_same
     from pathlib import Path
 
     good = _recording(tmp_path)
-    raw = bytearray(good.read_bytes())
-    paths = []
-    for offset in np.linspace(0, len(raw) - 1, 48).astype(int):
-        flipped = bytearray(raw)
-        flipped[offset] ^= 0x5A
-        path = tmp_path / f"flip-{offset}.rrd"
-        path.write_bytes(bytes(flipped))
-        paths.append(str(path))
+    paths = [str(path) for _, path in _flipped_copies(good, tmp_path)]
     outcome, aborted, todo = {}, [], list(paths)
     while todo:
         child = subprocess.run(
