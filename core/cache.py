@@ -120,10 +120,11 @@ def entry_path(kind: str, key: str) -> Path:
     return cache_dir() / f"{kind}-{key[:24]}.npz"
 
 
-def _digest(arrays: dict[str, np.ndarray]) -> str:
-    """SHA-256 of every array's name, dtype, shape and bytes (sorted by name); ~0.25 s for a 208 MB track
-    entry (benchmarks/cache.py)."""
-    digest = hashlib.sha256()
+def array_digest(arrays: dict[str, np.ndarray], digest=None) -> str:
+    """SHA-256 (hex) of every array's name, dtype, shape and bytes (sorted by name), fed into ``digest`` (a
+    ``hashlib.sha256`` object that already holds what precedes the arrays, e.g. a run file's metadata) or a new
+    one: a cache entry's digest, and a run file's (``run_file.content_digest``)."""
+    digest = hashlib.sha256() if digest is None else digest
     for name in sorted(arrays):
         array = np.ascontiguousarray(arrays[name])
         digest.update(f"{name}|{array.dtype.str}|{array.shape}|".encode())
@@ -169,7 +170,7 @@ def _read(path: Path, key: str, required: tuple[str, ...]) -> dict[str, np.ndarr
     stored = str(arrays.pop("cache_digest", ""))
     if not stored:
         raise ValueError("no digest (written by an earlier wheelrail)")
-    if _digest(arrays) != stored:
+    if array_digest(arrays) != stored:
         raise ValueError("its arrays do not match its digest (damaged or edited)")
     arrays.pop("cache_meta", None)
     return arrays
@@ -189,7 +190,7 @@ def save_entry(kind: str, key: str, arrays: dict[str, np.ndarray], *, info: dict
         try:
             with open(temporary, "wb") as handle:
                 stored = {**arrays, "cache_key": np.array(key), "cache_meta": np.array(_meta(kind, key, info))}
-                np.savez(handle, cache_digest=np.array(_digest(stored)), **stored)
+                np.savez(handle, cache_digest=np.array(array_digest(stored)), **stored)
             publish(temporary, path)
         finally:
             temporary.unlink(missing_ok=True)

@@ -40,14 +40,13 @@ def content_digest(metadata: str, arrays: dict) -> str:
     str
         64 hexadecimal digits.
     """
-    digest = hashlib.sha256(metadata.encode("utf-8"))
-    for name in sorted(arrays):
-        array = np.ascontiguousarray(arrays[name])
-        if array.dtype.kind == "f":
-            array = np.where(np.isfinite(array), array, np.nan).astype(array.dtype)
-        digest.update(f"|{name}|{array.dtype.str}|{array.shape}|".encode())
-        digest.update(array.tobytes())
-    return digest.hexdigest()
+    from wheelrail.core.cache import array_digest
+
+    canonical = {
+        name: np.where(np.isfinite(array), array, np.nan).astype(array.dtype) if array.dtype.kind == "f" else array
+        for name, array in ((name, np.asarray(value)) for name, value in arrays.items())
+    }
+    return array_digest(canonical, hashlib.sha256(metadata.encode("utf-8")))
 
 
 def check_run(result, source: str | Path) -> None:
