@@ -311,7 +311,7 @@ def decaying_rail_radiation(velocity, dx: float, frequency: float, sigma=None, c
         Q = (1 / 2 pi) int_{|k_x| < k} |V(k_x)|^2 (k / k_r) sigma_2D(c k_r / 2 pi) dk_x,  V = int v e^{-i k_x x} dx
 
     For a field that varies slowly (|V|^2 within |k_x| << k), Q = sigma_2D(f) int |v|^2 dx (Parseval): the 2D
-    ratio applied to the whole field, as step 4 of :mod:`wheelrail.core.noise.twins` did before. A field that
+    ratio applied to the whole field (the plain 2D estimate). A field that
     decays fast (beta = 1.3 /m at 50 Hz on the paper's track, against k = 0.92 rad/m) puts much of its spectrum
     at |k_x| > k, where it does not radiate. ``sigma``: sigma_2D as a function of frequency (default
     :func:`rail_radiation_efficiency`); the grid is zero-padded to twice its length (k_x steps of pi / (n dx)).
