@@ -23,7 +23,8 @@ TIMING = re.compile(
     r"|\d(?:\.\d+)?\s?x (?:faster|slower|the (?:CPU|wall) time)\b|\b\d+ times (?:faster|slower)\b"  # "2x faster"
     r"|\b(?:is|was|ran|runs) (?:\w+ )?(?:faster|slower)\b"  # "ran slower", "is much faster"
     r"|\d\s?[GMk]B/s\b|\bload(?: average)? \d[\d.]*(?:-\d[\d.]*)?(?![\d./]|\s?k?N\b)"  # "0.49 GB/s", "load 1.1"
-    r"|\b(?:takes?|took|costs?) (?:about |some |~|only )?\d[\d.,-]*\s?(?:ns|us|µs|ms|s|min)\b",  # "took 0.8 s"
+    r"|\b(?:takes?|took|costs?) (?:about |some |~|only )?\d[\d.,-]*\s?(?:ns|us|µs|ms|s|min)\b"  # "took 0.8 s"
+    r"|\bcompiled? (?:\S+ ){0,3}in (?:about |~)?\d[\d.,-]*\s?(?:ms|s|min)\b",  # "numba compiled those in 3.2 s"
     re.IGNORECASE,
 )
 
@@ -120,6 +121,7 @@ def _owned_elsewhere(relative: str) -> bool:
         '"""The run-in: 1.9-3.8x its record (was 1.15-1.24x)."""',
         "# importing every command took 0.8 s before anything ran",
         "# with 8 it did not: the integration took 1.8x the CPU time",
+        '"""Loops, not slice assignments: numba compiled those in 3.2 s."""',
         '"""The loop ran 20 times slower on subnormal numbers."""',
         '"""It reads the table from disk (previously it was rebuilt)."""',
         '"""The same array as before."""',
