@@ -24,7 +24,7 @@ from wheelrail.core.errors import WheelrailError
 
 # name -> one-line help shown by `wheelrail --help`; the module wheelrail.cli.commands.NAME (its
 # "-" written "_") is imported only when that command runs, so that `--help` and a cached `track` start
-# fast (importing every command, scipy.signal among them, took 0.8 s before anything ran).
+# fast (importing every command would import scipy.signal among others before anything runs).
 # tests/cli/test_cli_reliability.py checks these lines against each module's own help.
 COMMANDS = {
     "track": "track receptances, resonances, decay rate against the type-test limit, and Green's function cache",

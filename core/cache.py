@@ -52,7 +52,7 @@ FORMAT_VERSION = 1
 STALE_TEMPORARY_S = 3600.0  # s: a temporary file of ours this old is a leftover whoever wrote it
 DEFAULT_MAX_GB = 4.0  # GB (1e9 bytes): about 19 track entries of 208 MB
 _ENTRY_NAME = re.compile(r"^(?P<kind>[a-z0-9]+(?:-[a-z0-9]+)*)-(?P<key>[0-9a-f]{24})\.npz$")
-# ours: TEMPORARY_PREFIX + entry name + token + writer (earlier versions wrote the same without the prefix)
+# ours: TEMPORARY_PREFIX + entry name + token + writer (the prefix optional: a name without it is ours too)
 _TEMPORARY_NAME = re.compile(
     r"^\.(?:wheelrail-)?[a-z0-9]+(?:-[a-z0-9]+)*-[0-9a-f]{24}\.npz\.[0-9a-f]{8}\.(?P<host>[A-Za-z0-9_-]+)-(?P<pid>\d+)\.tmp$"
 )

@@ -45,7 +45,7 @@ def packed_rgba(rgb: np.ndarray) -> np.ndarray:
 
 
 def table_colours(values: np.ndarray, top: float, table: np.ndarray) -> np.ndarray:
-    """Colours of ``values`` from a colour ``table`` spanning 0..top (a look-up: ~1 ns a value).
+    """Colours of ``values`` from a colour ``table`` spanning 0..top (a table look-up per value).
 
     Values below 0 take the first entry, above ``top`` the last; the result has the shape of ``values``
     followed by the shape of one table entry.

@@ -3,22 +3,22 @@
 numba's first call of a compiled function in a process, even one read from its disk cache, loads its whole
 CPU target (``numba.core.cpu.CPUContext.load_additional_registries``); its ``numba.np.arraymath`` checks
 for BLAS by importing ``scipy.linalg.cython_blas`` (``numba.np.linalg.ensure_blas``). Importing a submodule
-imports its package first, so that check ran all of ``scipy.linalg`` (0.24-0.48 s, against 3-7 ms for the
-extension module itself), whose ``scipy._lib.array_api_compat.numpy`` copies every public name of numpy
+imports its package first, so that check would run all of ``scipy.linalg`` (far more than the extension module
+itself), whose ``scipy._lib.array_api_compat.numpy`` copies every public name of numpy
 (``from numpy import *``): numpy then imports, on demand, ``numpy.f2py`` (with ``charset_normalizer``),
-``numpy.ma`` and ``numpy.testing`` (with ``unittest``). A cached ``wheelrail run`` (hertz, 7.5 m) used 1.3 s
-of CPU, 0.5 s of it in these imports (``python -X importtime``; ``benchmarks/startup.py``).
+``numpy.ma`` and ``numpy.testing`` (with ``unittest``). These imports are a large share of a cached
+``wheelrail run``'s start-up (``python -X importtime`` shows them; ``benchmarks/startup.py`` times the start-up).
 
 :func:`fast_start` does two things, both the standard library's import machinery, nothing of numba's:
 
 - :func:`load_cython_blas_alone` loads the extension module ``scipy.linalg.cython_blas`` from its file into
   ``sys.modules`` without running ``scipy/linalg/__init__.py``. It is the same module (numba reads its
   ``__pyx_capi__`` function pointers from it when a compiled function calls BLAS); the BLAS integer width numba
-  checks is read from ``scipy.__config__`` as before. ``import scipy.linalg`` later loads the whole package as
+  checks is still read from ``scipy.__config__``. ``import scipy.linalg`` later loads the whole package as
   usual; ``from scipy.linalg import cython_blas`` then gives this module.
 - :func:`defer_numpy_submodules` gives numpy the sub-packages above as modules that load themselves on their
   first attribute access (``importlib.util.LazyLoader``): copying a name costs nothing, and any use
-  (``numpy.ma.masked_array``, ``import numpy.ma``) loads the real module as before. It still counts when
+  (``numpy.ma.masked_array``, ``import numpy.ma``) loads the real module then. It still counts when
   something imports ``scipy.linalg`` (the noise model's banded solves do).
 
 The command line and the study's worker processes call :func:`fast_start` first thing; a library user's
@@ -47,7 +47,7 @@ def fast_start() -> None:
 def load_cython_blas_alone() -> None:
     """Load the extension module ``scipy.linalg.cython_blas`` from its file, without ``scipy.linalg``'s package
     (numba's first load imports it to see that a BLAS is there). Does nothing if it or ``scipy.linalg`` is
-    loaded already, or if the file is not found or does not load (the usual import then does as before)."""
+    loaded already, or if the file is not found or does not load (the usual import then loads it with its package)."""
     if _CYTHON_BLAS in sys.modules or "scipy.linalg" in sys.modules:
         return
     scipy = importlib.util.find_spec("scipy")

@@ -350,7 +350,7 @@ class RunController:
         self.listener.status(f"Running {config.model} ({number + 1}/{count}) on {config.case_label()} ...")
         state = None
         last_frame = last_plot = -float("inf")
-        for state in run.chunk_states():  # the last step of each chunk (5-10 ms of 3D steps): what a frame shows
+        for state in run.chunk_states():  # the last step of each chunk: what a frame shows
             if not self._current(generation):
                 run.cancel()
                 return "replaced"

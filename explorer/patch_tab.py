@@ -71,7 +71,7 @@ class PatchTab(ResultsTab):
 
     def show_form(self, form: RunForm) -> None:
         """The colour bar of the contact the fields describe (drawn again only when its peak pressure changed:
-        matplotlib takes some 0.1 s)."""
+        a matplotlib figure costs far more than a frame)."""
         p0 = form.contact().hertz_peak_pressure() / 1e6
         if self._colour_bar_key != round(p0, 1):
             self._colour_bar_key = round(p0, 1)

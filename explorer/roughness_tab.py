@@ -47,7 +47,8 @@ class RoughnessTab(ResultsTab):
 
     def show_form(self, form: RunForm) -> None:
         """The set of the form: its description, its lines with the one chosen and the contact width across (drawn
-        again only when they changed: matplotlib takes some 0.1 s), its spectra at the speed of the fields."""
+        again only when they changed: a matplotlib figure costs far more than a frame), its spectra at the speed of
+        the fields."""
         rough, name = form.roughness, form.roughness_label
         desc = rough.description.splitlines()[0] if rough.description else ""
         desc = desc if len(desc) <= 140 else desc[:137].rstrip() + "..."

@@ -1,7 +1,7 @@
-"""The command line's account of a track precompute: a track not yet in the disk cache costs about 16 s of CPU (its
-Green's functions, ``wheelrail.core.track.progress``); on a terminal each phase is announced as it starts,
-the integration with a progress bar and its time estimate, like the run's own bar (nothing when stderr is
-not a terminal: pipes and ``--json`` stay clean)."""
+"""The command line's account of a track precompute: a track not yet in the disk cache costs a one-off precompute
+of its Green's functions (``wheelrail.core.track.progress``, its estimate ``PRECOMPUTE_CPU_S``); on a terminal
+each phase is announced as it starts, the integration with a progress bar and its time estimate, like the run's
+own bar (nothing when stderr is not a terminal: pipes and ``--json`` stay clean)."""
 
 from __future__ import annotations
 

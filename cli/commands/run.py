@@ -190,7 +190,7 @@ def _prepare(args, params, out, sink):
 def _execute(args, interaction, sink):
     """Run with a progress bar on a terminal; Ctrl-C stops between steps (the recording aborted on any error)."""
     bar = None
-    if not args.json and sys.stderr.isatty():  # tqdm imported only to be shown (its import: ~15 ms)
+    if not args.json and sys.stderr.isatty():  # tqdm imported only when it is shown
         from tqdm import tqdm
 
         bar = tqdm(

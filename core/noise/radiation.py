@@ -261,7 +261,8 @@ def rail_boundary(
 
 @functools.cache
 def _rail_sigma_table() -> tuple[np.ndarray, np.ndarray]:
-    """sigma of the 60E1 section on :data:`RAIL_TABLE_HZ` (disk-cached by content; about 10 s to build)."""
+    """sigma of the 60E1 section on :data:`RAIL_TABLE_HZ` (disk-cached by content: a boundary-element solve per
+    frequency of the grid)."""
     from wheelrail.core.cache import cache_key, load_entry, save_entry
 
     f = np.geomspace(*RAIL_TABLE_HZ)
@@ -311,7 +312,7 @@ def decaying_rail_radiation(velocity, dx: float, frequency: float, sigma=None, c
         Q = (1 / 2 pi) int_{|k_x| < k} |V(k_x)|^2 (k / k_r) sigma_2D(c k_r / 2 pi) dk_x,  V = int v e^{-i k_x x} dx
 
     For a field that varies slowly (|V|^2 within |k_x| << k), Q = sigma_2D(f) int |v|^2 dx (Parseval): the 2D
-    ratio applied to the whole field, as step 4 of :mod:`wheelrail.core.noise.twins` did before. A field that
+    ratio applied to the whole field (the plain 2D estimate). A field that
     decays fast (beta = 1.3 /m at 50 Hz on the paper's track, against k = 0.92 rad/m) puts much of its spectrum
     at |k_x| > k, where it does not radiate. ``sigma``: sigma_2D as a function of frequency (default
     :func:`rail_radiation_efficiency`); the grid is zero-padded to twice its length (k_x steps of pi / (n dx)).

@@ -11,8 +11,8 @@ calibration (``RunNoise.calibrated_pass_by``); the second scales each block to 1
 A WAV lasts at most :data:`MAX_WAV_S` (:func:`check_wav_duration`): a 5 km train at 5 km/h is an hour (346 MB
 at 48 kHz), written in minutes, for a pass-by level that needs no WAV at all. Its synthesis adds one stretch of the
 record per wheel over the whole pass-by at the run's rate, :data:`SYNTHESIS_NS` a sample, so it sums at most
-:data:`MAX_WHEEL_SAMPLES` (:func:`check_wav_work`): 2 000 axles past a 5 km train at 100 km/h were 2e10 samples,
-about 20 minutes without a word.
+:data:`MAX_WHEEL_SAMPLES` (:func:`check_wav_work`): 2 000 axles past a 5 km train at 100 km/h would be 2e10 samples,
+tens of minutes of synthesis before the first word.
 """
 
 from __future__ import annotations

@@ -1,11 +1,11 @@
 """Rerun component columns built straight from numpy blocks, for ``send_columns``.
 
 The archetypes' ``columns()`` helpers (``rr.Scalars.columns``, ``rr.DepthImage.columns``, ``rr.Mesh3D.columns``)
-convert their input through several numpy copies and Python loops over the rows; for a block of a few hundred
-steps that took 3.6 us per pressure image and 5.1 us per surface mesh (benchmarks/recording.py, 8 000 synthetic
-steps). Here the same arrow arrays are made over the block's own buffers (no copy): the component descriptor and
-the arrow type of each column are taken once from the archetype itself (:func:`templates`), so what is sent is
-what the archetype would send (``tests/recording/test_recording.py`` compares the two arrays).
+convert their input through several numpy copies and Python loops over the rows, the main cost of recording a
+block of pressure images or surface meshes (``benchmarks/recording.py`` times both). Here the same arrow arrays
+are made over the block's own buffers (no copy): the component descriptor and the arrow type of each column are
+taken once from the archetype itself (:func:`templates`), so what is sent is what the archetype would send
+(``tests/recording/test_recording.py`` compares the two arrays).
 
 A block handed over here must not be written again afterwards: rerun keeps a reference to its buffers until the
 chunk is encoded, so the sink allocates a new block for each send.

@@ -1,8 +1,8 @@
 """The contact entities of a recording: pressure maps (images), the pressure surface (meshes) and the
 nominal Hertz circle, on the window of elements of a model with a lateral window (3D).
 
-The pressure surface is a visual aid and costs ~4x the image (rerun encodes its vertices at ~50 µs a mesh),
-so it is recorded at every ``surface_every``-th recorded map only; the exact maps are the images.
+The pressure surface is a visual aid and costs several times the image (rerun encodes each of its vertices), so
+it is recorded at every ``surface_every``-th recorded map only; the exact maps are the images.
 """
 
 from __future__ import annotations
@@ -50,8 +50,9 @@ def surface_kernel():
     """The compiled fill of the surface meshes: vertices (x', y', a p / p0) and their viridis colours, in one pass.
 
     The same numbers as numpy's ``vertices[..., 2] = p * np.float32(a / p0)`` and ``table_colours`` (float32
-    products; the colour index truncated, clipped to the table) at 0.4 us a step where numpy took 1.4-3.3 us: its
-    strided writes of the interleaved vertices cost most (``tests/recording/test_recording.py`` compares them).
+    products; the colour index truncated, clipped to the table), written in one pass over the interleaved vertices,
+    where numpy's strided writes cost most (``tests/recording/test_recording.py`` compares them;
+    ``benchmarks/recording.py`` times them).
     """
     from numba import njit
 

@@ -2,7 +2,7 @@
 and the default blueprint. The sink writes, and the reader reads, exactly what is declared here.
 
 Changing a path or a component here changes the file format: recordings already written must still read
-(``tests/recording/test_compatibility.py`` reads files written by an earlier version).
+(``tests/recording/test_compatibility.py`` reads files kept from a fixed commit, ``tests/data/recording``).
 """
 
 from __future__ import annotations

@@ -46,13 +46,13 @@ from wheelrail.core.results import RunHeader, RunResult, StepState
 
 __all__ = ["RecordingSink", "record_result"]
 
-DEFAULT_CHUNK_STEPS = 2048  # steps buffered before one columnar send (~10 ms of work; 70 ms of a 3D run)
+DEFAULT_CHUNK_STEPS = 2048  # steps buffered before one columnar send
 SURFACE_EVERY = 4  # the pressure surface mesh is recorded at every 4th recorded pressure map
 
 _ROW_NAMES = ("step", "time", *(field.name for field in STEP_FIELDS))
 # one StepState -> one buffered row, in _ROW_NAMES order. Compiled from the field list: attribute reads
-# in a function are specialised by Python 3.11+, so this takes 0.30 us a step where operator.attrgetter
-# takes 0.45 us (measured on the 8 000 synthetic steps of benchmarks/recording.py)
+# in a function are specialised by Python 3.11+, so this is cheaper per step than operator.attrgetter
+# (benchmarks/recording.py times the sink)
 _ROW = eval(  # noqa: S307 - the source is built from this package's own constant field names
     "lambda state: (state.step, state.time, " + ", ".join(f"state.{field.state}" for field in STEP_FIELDS) + ")"
 )

@@ -178,9 +178,9 @@ def _single_threaded_blas():
     """One BLAS thread in worker processes started inside this block (unless the user set a number).
 
     The workers already run in parallel; OpenBLAS's own threads on top oversubscribe the cores, and the
-    3D solver's many small factorisations then run several times slower (measured 3x with 2 workers on
-    2 cores). Dask's nanny sets the same variables for its workers. The variables are read when the
-    library loads, so they are set in this process while the pool spawns its workers, then restored.
+    3D solver's many small factorisations then wait on each other's threads. Dask's nanny sets the same
+    variables for its workers. The variables are read when the library loads, so they are set in this process
+    while the pool spawns its workers, then restored.
     """
     saved = {name: os.environ.get(name) for name in _BLAS_THREAD_VARIABLES}
     for name, value in saved.items():
@@ -246,7 +246,7 @@ _POOLS: dict[int, ProcessPoolExecutor] = {}
 
 def _pool(workers: int) -> ProcessPoolExecutor:
     """The process pool of ``workers`` workers, kept for later studies in this process (their start-up,
-    about 1-2 s per worker for imports and numba's cached kernels, is paid once)."""
+    imports and numba's cached kernels, is paid once)."""
     import multiprocessing
 
     pool = _POOLS.get(workers)

@@ -93,7 +93,7 @@ def run_study(
     progress : bool
         tqdm bar of runs done on stderr.
     figures : bool
-        Draw the PNG figure(s) (about 1 s each with matplotlib); the CSV tables and JSON are always written.
+        Draw the PNG figure(s) (matplotlib); the CSV tables and JSON are always written.
 
     Returns
     -------

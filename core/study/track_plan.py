@@ -29,7 +29,7 @@ __all__ = ["MAX_TRACKS", "check_track_count", "plan_track", "swept_inputs", "tra
 
 MAX_TRACKS = 100
 """The most tracks one track study takes: each is a precompute (``track.progress.PRECOMPUTE_CPU_S``) and a cache
-entry (``ENTRY_BYTES``), so 100 are about 27 min of CPU and 21 GB of cache."""
+entry (``ENTRY_BYTES``), so 100 are 100 precomputes and 21 GB of cache."""
 
 
 def swept_inputs(tracks) -> list:

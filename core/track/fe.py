@@ -206,7 +206,7 @@ class TrackFEModel:
     def frequency_domain_bands(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(K + i eta K_rail, C, M) in LAPACK general band form: the dynamic stiffness at w is
         K + i eta K_rail - w^2 M + i w C, the rail's loss factor eta exact (hysteretic) in the frequency domain.
-        K is real (the same array as before) for an undamped rail."""
+        K is real (the band form of ``self.K``) for an undamped rail."""
         kb = self.banded(self.K)
         eta = self.params.rail.loss_factor
         if eta > 0:

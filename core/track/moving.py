@@ -43,9 +43,9 @@ def _read_wedge(data, counts, offsets, stored_x, rail, source, offset, out):
     its excitation point at stored sample s, with the shape functions of the element (or, beyond the near
     field, the coarse-grid span) between the two stored points around it.
 
-    ``offset`` may be negative down to one position spacing. Vectorised numpy (a few ms per speed): a numba
-    kernel cost 0.4 s at its first call in a process even when loaded from numba's cache, most of a cached
-    ``wheelrail track``.
+    ``offset`` may be negative down to one position spacing. Vectorised numpy, not a numba kernel:
+    a kernel's first call in a process loads numba's compiled target even from its cache, which would be most of
+    a cached ``wheelrail track``.
     """
     source = np.asarray(source, dtype=np.int64)
     n_samples = counts.shape[1]

@@ -1,5 +1,5 @@
-"""Progress of a track's Green's-function precompute (16 s of CPU, about 8 s on 2 free cores, for a track
-not yet in the disk cache).
+"""Progress of a track's Green's-function precompute (a one-off for a track not yet in the disk cache; its cost
+estimated by :data:`PRECOMPUTE_CPU_S`).
 
 ``compute_stationary_response`` and ``stationary_track_response`` take ``progress``, a callable
 ``progress(phase, done, total)``: ``phase`` a short sentence saying what is being done (it names the work and,

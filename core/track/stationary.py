@@ -22,8 +22,8 @@ from wheelrail.core.track.progress import Progress, current_progress
 NEGLIGIBLE_LOSS_FACTOR = 1e-12
 """A rail loss factor below this is the undamped rail in the time domain: its relaxation terms (weights of the
 order of the loss factor) would change the response by about that fraction, round-off, and below about 1e-300
-they are subnormal numbers, on which the Newmark loop ran 20 times slower (1e-311, accepted: 135 s against 7 s
-for 0.01 on reduced numerics)."""
+they are subnormal numbers, on which every floating-point operation of the Newmark loop is many times
+slower."""
 
 
 def _upper_band_arrays(model: TrackFEModel, time_step: float):
@@ -222,9 +222,9 @@ def _newmark_block(
 
 
 # Columns integrated together: 16 doubles per row, so that the compiler vectorises the loops over the columns
-# (with 8 it did not: the integration took 1.8x the CPU time, benchmarks/track_green.py; the same numbers), and
+# (with 8 it does not: ``benchmarks/track_green.py`` times the integration; the numbers are the same), and
 # the work arrays of a 70-bay track (a few thousand DOFs) stay within the processor's cache. The blocks run in
-# parallel threads (``_integrate``; numba's own parallel loop took a minute or more to compile on a fresh install).
+# parallel threads (``_integrate``; numba's own parallel loop compiles far more slowly on a fresh install).
 COLUMN_BLOCK = 16
 
 
@@ -400,7 +400,7 @@ def stored_times(numerics: TrackNumerics) -> tuple[np.ndarray, int]:
     """The stored sample times (s) of the impulse responses and the number of integration steps behind them."""
     n_steps = int(round(numerics.duration / numerics.time_step)) + 1
     reach = numerics.max_speed * numerics.duration
-    if not reach < 1e6:  # m: beyond 1000 km the node counts overflow int64 (1e308 km/h was once accepted)
+    if not reach < 1e6:  # m: beyond 1000 km the node counts overflow int64 (e.g. at 1e308 km/h)
         raise WheelrailError(
             f"a wheel at {numerics.max_speed * 3.6:.3g} km/h travels {reach:.3g} m within "
             f"the {numerics.duration} s Green's functions, beyond any track model"
