@@ -18,6 +18,7 @@ import viser
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import GROUPS, by_key, inputs_of, model_parameters
+from wheelrail.core.models import HALFSPACE_MODEL
 from wheelrail.core.parameters import KMH, ContactParameters
 from wheelrail.core.roughness import bundled_names, load_roughness
 from wheelrail.explorer.config import (
@@ -37,11 +38,12 @@ from wheelrail.explorer.config import (
 from wheelrail.explorer.page import Page
 from wheelrail.explorer.uploads import read_upload, size_text
 
-__all__ = ["DEFAULT_LENGTH", "DEFAULT_SET", "RunForm"]
+__all__ = ["DEFAULT_LENGTH", "DEFAULT_MODEL", "DEFAULT_SET", "RunForm"]
 
 LOG = logging.getLogger("wheelrail.explorer")
 DEFAULT_SET = "corrugated-rail"
 DEFAULT_LENGTH = 3.0  # m
+DEFAULT_MODEL = HALFSPACE_MODEL  # the page opens on the model with pressure maps
 
 
 class RunForm:
@@ -69,7 +71,10 @@ class RunForm:
         with self.folder:
             self._add_sets(roughness)
             self.model_dropdown = gui.add_dropdown(
-                "Contact model", MODEL_CHOICES, initial_value="3d", hint=f"{COMPARE}: every model one after another"
+                "Contact model",
+                MODEL_CHOICES,
+                initial_value=DEFAULT_MODEL,
+                hint=f"{COMPARE}: every model one after another",
             )
             self.line_dropdown = gui.add_dropdown(
                 "Line", ("0",), initial_value="0", hint="Only the lines this model can run on are offered."

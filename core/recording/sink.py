@@ -89,7 +89,7 @@ class RecordingSink:
     step; every ``chunk_steps`` steps the block is sent as columns, the same rows either way. Typical use::
 
         sink = RecordingSink(rrd="run.rrd")            # path checked here, before the run
-        run = prepare_run(roughness, model="3d", length=0.5)
+        run = prepare_run(roughness, model=name, length=0.5)  # any model (its maps recorded if it has them)
         sink.start(run, roughness=roughness)            # header, window, Hertz circle, roughness lines
         result = run.run(sink)                          # or simulate(..., callback=sink)
         sink.finish(result)                             # last block, force spectrum, file closed

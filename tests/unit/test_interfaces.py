@@ -53,3 +53,29 @@ def test_only_the_run_form_sets_its_widgets():
                         found.append(f"{path}:{node.lineno} {_dotted(target)}")
     assert not found, "\n".join(found)
 
+
+MODEL_USERS = ("core/recording/sink.py", "core/study/noise_plan.py", "core/study/plans.py", "explorer/patch_tab.py")
+
+
+def test_the_models_are_named_by_the_registry_alone():
+    """The studies, the recording and the explorer's tabs name a model through the registry
+    (``wheelrail.core.models``: its role constants, or a trait), never as a literal."""
+    from wheelrail.core.models import MODELS
+
+    found = []
+    for name in (*MODEL_USERS, "explorer/form.py"):
+        tree = ast.parse((ROOT / name).read_text(encoding="utf-8"))
+        found += [
+            f"{name}:{node.lineno} {node.value!r}"
+            for node in ast.walk(tree)
+            if isinstance(node, ast.Constant) and node.value in MODELS
+        ]
+    assert not found, "\n".join(found)
+
+
+def test_the_paper_roles_are_registered_models():
+    from wheelrail.core import models
+
+    roles = ("REFERENCE_MODEL", "HALFSPACE_MODEL", "BEDDING_MODEL", "WINKLER_FILTER_MODEL", "AVERAGE_FILTER_MODEL")
+    assert {getattr(models, role) for role in roles} <= set(models.MODELS)
+    assert models.model_entry(models.HALFSPACE_MODEL).traits.pressure_map
