@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.errors import Blame, Name, WheelrailError
 from wheelrail.core.inputs import choice
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
@@ -62,7 +62,7 @@ def _check_counts(record_every, surface_every, chunk_steps) -> None:
     checks = (("record_every", record_every), ("surface_every", surface_every), ("chunk_steps", chunk_steps))
     for name, value in checks:
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-            raise WheelrailError("not a whole number of at least 1", parameter=name, value=value, minimum=1)
+            raise WheelrailError("not a whole number of at least 1", Blame(name, value, minimum=1))
 
 
 class _RoughnessLines:

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wheelrail.core.accepted import check_wheel_circumference
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import AVERAGE_FILTER_MODEL, BEDDING_MODEL, HALFSPACE_MODEL, WINKLER_FILTER_MODEL
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.run_setup import run_lines
@@ -96,10 +96,12 @@ def _set_info(source, length: float | None, contact: ContactParameters, wheel: S
             raise WheelrailError(
                 f"no data at the lateral positions of {label}'s lines {PAPER_LINES[0]} to "
                 f"{PAPER_LINES[-1]}; its data span {lateral_extent_mm(wheel_rough)}",
-                parameter="wheel_set",
-                value=wheel.label,
-                argument="wheel_set",
-                reason="the wheel set is paired with the rail set by lateral position",
+                Blame(
+                    "wheel_set",
+                    wheel.label,
+                    argument="wheel_set",
+                    reason="the wheel set is paired with the rail set by lateral position",
+                ),
             )
     length = _run_length(rough, label, length, contact)
     return SetInfo(
@@ -166,10 +168,7 @@ def _run_length(rough, label: str, length: float | None, contact: ContactParamet
         margin = run_margin(element_size, ModelParameters(contact=contact))
         raise WheelrailError(
             f"longer than the rail data of {label} less the {margin * 1e3:g} mm margins every model keeps",
-            parameter="length",
-            value=length,
-            maximum=usable,
-            unit="m",
+            Blame("length", length, unit="m", maximum=usable),
         )
     return length
 

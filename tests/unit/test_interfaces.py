@@ -79,3 +79,23 @@ def test_the_paper_roles_are_registered_models():
     roles = ("REFERENCE_MODEL", "HALFSPACE_MODEL", "BEDDING_MODEL", "WINKLER_FILTER_MODEL", "AVERAGE_FILTER_MODEL")
     assert {getattr(models, role) for role in roles} <= set(models.MODELS)
     assert models.model_entry(models.HALFSPACE_MODEL).traits.pressure_map
+
+
+def test_an_errors_init_takes_its_problem_the_input_to_blame_and_advice():
+    import inspect
+
+    from wheelrail.core.errors import WheelrailError
+
+    assert len(inspect.signature(WheelrailError.__init__).parameters) - 1 <= 5
+
+
+def test_an_error_crosses_processes_with_every_field():
+    import pickle
+
+    from wheelrail.core.errors import Blame, WheelrailError
+
+    blame = Blame("radius", -0.1, "m", minimum=0.2, argument="Wheel.radius", reason="a wheel's", magnitude=True)
+    error = WheelrailError("too small", blame, advice="use a larger wheel")
+    back = pickle.loads(pickle.dumps(error))
+    assert (back.problem, back.blame, back.advice, str(back)) == (error.problem, blame, error.advice, str(error))
+    assert (back.parameter, back.argument, back.magnitude) == ("radius", "Wheel.radius", True)
