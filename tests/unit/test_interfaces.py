@@ -81,6 +81,21 @@ def test_the_paper_roles_are_registered_models():
     assert models.model_entry(models.HALFSPACE_MODEL).traits.pressure_map
 
 
+MAX_INIT_PARAMETERS = 6  # a class given more takes its settings as one object (a NamedTuple, a dataclass)
+
+
+def test_no_class_of_core_takes_more_than_a_few_parameters():
+    found = []
+    for path, tree in _trees("core"):
+        for node in ast.walk(tree):
+            if isinstance(node, ast.FunctionDef) and node.name == "__init__":
+                args = node.args
+                count = len(args.posonlyargs) + len(args.args) + len(args.kwonlyargs) - 1  # not self
+                if count > MAX_INIT_PARAMETERS:
+                    found.append(f"{path}:{node.lineno} __init__ takes {count}")
+    assert not found, "\n".join(found)
+
+
 def test_an_errors_init_takes_its_problem_the_input_to_blame_and_advice():
     import inspect
 
@@ -99,3 +114,16 @@ def test_an_error_crosses_processes_with_every_field():
     back = pickle.loads(pickle.dumps(error))
     assert (back.problem, back.blame, back.advice, str(back)) == (error.problem, blame, error.advice, str(error))
     assert (back.parameter, back.argument, back.magnitude) == ("radius", "Wheel.radius", True)
+
+
+MAX_RECORDING_CLASS_LINES = 300  # a recording's parts (buffer, streams, options, end spectra) are classes of their own
+
+
+def test_the_recordings_classes_each_do_one_thing():
+    found = [
+        f"{path}:{node.lineno} {node.name}: {node.end_lineno - node.lineno + 1} lines"
+        for path, tree in _trees("core/recording")
+        for node in tree.body
+        if isinstance(node, ast.ClassDef) and node.end_lineno - node.lineno + 1 > MAX_RECORDING_CLASS_LINES
+    ]
+    assert not found, "\n".join(found)
