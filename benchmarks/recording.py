@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.parameters import ContactParameters, ModelParameters
-from wheelrail.core.recording import RecordingSink, read_recording, record_result
+from wheelrail.core.recording import RecordingOptions, RecordingSink, read_recording, record_result
 from wheelrail.core.recording.sink import SURFACE_EVERY
 from wheelrail.core.results import RunHeader, RunResult
 from wheelrail.core.roughness import load_roughness
@@ -81,7 +81,7 @@ def stream(result: RunResult, path: Path | None, record_every: int = 1) -> tuple
         for state in states:
             sink(state)
     else:
-        sink = RecordingSink(rrd=path, record_every=record_every)
+        sink = RecordingSink(rrd=path, options=RecordingOptions(record_every=record_every))
         sink.start(result, roughness=roughness)
         for state in states:
             sink(state)
@@ -132,7 +132,8 @@ def part_real(length: float, folder: Path, repeat: int, surface_every: int) -> N
         sink = None
         if callback_kind == "record":
             sink = RecordingSink(
-                rrd=folder / "real.rrd", description="3d corrugated-rail (benchmark)", surface_every=surface_every
+                rrd=folder / "real.rrd",
+                options=RecordingOptions(description="3d corrugated-rail (benchmark)", surface_every=surface_every),
             )
         start, cpu = time.perf_counter(), time.process_time()
         if sink is not None:

@@ -35,7 +35,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, fields
 
 from wheelrail.core.checks import integer, real
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 
 __all__ = [
     "ACCEPTED",
@@ -82,24 +82,25 @@ class Accepted:
 
     def check(self, value, argument: str | None = None) -> float:
         """``value`` as a float within the range, else one WheelrailError naming ``argument`` (default the key)."""
-        fields = {"parameter": self.key, "value": value, "unit": self.unit, "argument": argument}
+        blame = Blame(self.key, value, self.unit, argument=argument)
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
-            raise WheelrailError("not a number", **fields)
+            raise WheelrailError("not a number", blame)
         try:
             number = float(value)
         except OverflowError:  # an integer beyond float64: outside any range
             number = math.inf if value > 0 else -math.inf
         if math.isnan(number):
-            raise WheelrailError("not a number", **fields)
+            raise WheelrailError("not a number", blame)
         size = abs(number) if self.magnitude else number
         if not self.minimum * (1 - ROUND_OFF) <= size <= self.maximum * (1 + ROUND_OFF):
             raise WheelrailError(
                 None,
-                minimum=self.minimum,
-                maximum=None if self.magnitude else self.maximum,
-                reason=self.reason,
-                magnitude=self.magnitude,
-                **fields,
+                blame._replace(
+                    minimum=self.minimum,
+                    maximum=None if self.magnitude else self.maximum,
+                    reason=self.reason,
+                    magnitude=self.magnitude,
+                ),
             )
         return number
 
@@ -319,11 +320,13 @@ def check_patch(
         raise_concave_tread(problem, tread, crown, semi_axis_across)
     raise WheelrailError(
         problem,
-        parameter="preload",
-        value=preload,
-        unit="N",
-        argument="ContactParameters.preload",
-        maximum=preload * (PATCH_FRACTION / fraction) ** 3,
+        Blame(
+            "preload",
+            preload,
+            unit="N",
+            maximum=preload * (PATCH_FRACTION / fraction) ** 3,
+            argument="ContactParameters.preload",
+        ),
     )
 
 
@@ -341,11 +344,13 @@ def raise_concave_tread(problem: str, tread: float, crown: float, semi_axis_acro
         limit = -1.0 / brentq(excess, 0.0, (1.0 - 1e-6) / crown, xtol=1e-12, rtol=1e-10)
     raise WheelrailError(
         problem,
-        parameter="wheel_transverse_radius",
-        value=tread,
-        maximum=limit,
-        unit="m",
-        argument="ContactParameters.wheel_transverse_radius",
+        Blame(
+            "wheel_transverse_radius",
+            tread,
+            unit="m",
+            maximum=limit,
+            argument="ContactParameters.wheel_transverse_radius",
+        ),
         advice="a convex or cylindrical tread is accepted too",
     )
 
@@ -361,13 +366,15 @@ def check_wheel_circumference(circumference: float, wheel_radius: float, label: 
     raise WheelrailError(
         f"the wheel set {label} is {circumference:.4g} m round (a wheel of radius {implied:.4g} m), and this wheel "
         f"{own:.4g} m, {mismatch:.0%} {'shorter' if own < circumference else 'longer'}",
-        parameter="wheel_radius",
-        value=wheel_radius,
-        minimum=circumference / (2.0 * math.pi * (1 + CIRCUMFERENCE_TOLERANCE)),
-        maximum=circumference / (2.0 * math.pi * (1 - CIRCUMFERENCE_TOLERANCE)),
-        unit="m",
-        argument="ContactParameters.wheel_radius",
-        reason=f"a wheel set repeats with the wheel's circumference; at most {CIRCUMFERENCE_TOLERANCE:.0%} apart",
+        Blame(
+            "wheel_radius",
+            wheel_radius,
+            unit="m",
+            minimum=circumference / (2.0 * math.pi * (1 + CIRCUMFERENCE_TOLERANCE)),
+            maximum=circumference / (2.0 * math.pi * (1 - CIRCUMFERENCE_TOLERANCE)),
+            argument="ContactParameters.wheel_radius",
+            reason=f"a wheel set repeats with the wheel's circumference; at most {CIRCUMFERENCE_TOLERANCE:.0%} apart",
+        ),
     )
 
 

@@ -1,7 +1,7 @@
 """The one error type users see: one line, carried as data so that every front end words it in its own terms.
 
 A :class:`WheelrailError` holds what went wrong (``problem``, in words that name no input) and, when an input
-is to blame, which one: ``parameter``, a stable key such as ``"preload"`` (the keys of
+is to blame, which one (a :class:`Blame`): ``parameter``, a stable key such as ``"preload"`` (the keys of
 :data:`wheelrail.core.accepted.ACCEPTED` and a few more: ``length``, ``line``, ``skip``, ...), the value given
 and the accepted range, all in SI units. ``str(error)`` is the Python API's wording (the argument's name,
 SI units). :meth:`WheelrailError.render` words the same error for another front end from a mapping of keys
@@ -17,7 +17,7 @@ import numbers
 from collections.abc import Mapping
 from typing import NamedTuple
 
-__all__ = ["Name", "WheelrailError"]
+__all__ = ["Blame", "Name", "WheelrailError"]
 
 
 class Name(NamedTuple):
@@ -31,6 +31,41 @@ class Name(NamedTuple):
     unit_in_label: bool = False
 
 
+class Blame(NamedTuple):
+    """The input to blame for a :class:`WheelrailError`: its key, the value given and what it accepts, SI.
+
+    Attributes
+    ----------
+    parameter : str or None
+        Stable key of the input (``"preload"``, ``"speed"``, ``"wheel_radius"``, ``"length"``, ...); None: no input
+        is to blame.
+    value : optional
+        The value given, SI (a number, or text as given).
+    unit : str
+        SI unit of ``value``, ``minimum`` and ``maximum`` ("" for counts and text).
+    minimum, maximum : float, optional
+        The accepted range, SI (either end may be open).
+    argument : str, optional
+        The Python API's name of the input (``"ContactParameters.preload"``); default ``parameter``.
+    reason : str, optional
+        Why the range is what it is (shown in brackets after it).
+    magnitude : bool
+        The range bounds the value's magnitude (a radius that may be negative).
+    """
+
+    parameter: str | None
+    value: object = None
+    unit: str = ""
+    minimum: float | None = None
+    maximum: float | None = None
+    argument: str | None = None
+    reason: str | None = None
+    magnitude: bool = False
+
+
+_NOBODY = Blame(None)
+
+
 class WheelrailError(ValueError):
     """Bad input or a reported numerical failure, as data (module docstring).
 
@@ -39,29 +74,18 @@ class WheelrailError(ValueError):
     problem : str, optional
         What went wrong, in words that name no input (the front ends name it). None with a range: the value
         is outside it.
-    parameter : str, optional
-        Stable key of the input to blame (``"preload"``, ``"speed"``, ``"wheel_radius"``, ``"length"``, ...).
-    value : optional
-        The value given, SI (a number, or text as given).
-    minimum, maximum : float, optional
-        The accepted range, SI (either end may be open).
-    unit : str
-        SI unit of ``value``, ``minimum`` and ``maximum`` ("" for counts and text).
-    argument : str, optional
-        The Python API's name of the input (``"ContactParameters.preload"``); default ``parameter``.
-    reason : str, optional
-        Why the range is what it is (shown in brackets after it).
+    blame : Blame, optional
+        The input to blame, its value and accepted range; its fields are also this error's attributes
+        (``error.parameter``, ``error.value``, ``error.minimum``, ...).
     advice : str, optional
         What else can be done, in words that name no input.
-    magnitude : bool
-        The range bounds the value's magnitude (a radius that may be negative).
 
-    A message with no parameter (``WheelrailError("file x.npz is damaged")``) reads the same everywhere.
+    A message with no input to blame (``WheelrailError("file x.npz is damaged")``) reads the same everywhere.
 
     Raises
     ------
     TypeError
-        If neither ``problem`` nor ``parameter`` is given.
+        If neither ``problem`` nor an input to blame is given.
 
     See Also
     --------
@@ -69,57 +93,32 @@ class WheelrailError(ValueError):
 
     Examples
     --------
-    >>> from wheelrail.core.errors import Name, WheelrailError
-    >>> error = WheelrailError(parameter="preload", value=5e6, minimum=1e3, maximum=5e5, unit="N")
+    >>> from wheelrail.core.errors import Blame, Name, WheelrailError
+    >>> error = WheelrailError(None, Blame("preload", 5e6, "N", minimum=1e3, maximum=5e5))
     >>> str(error)
     'preload 5e+06 N is outside the accepted 1000 to 500000 N'
     >>> error.render({"preload": Name("--preload-kn", "kN", 1e-3, True)})
     '--preload-kn 5000 is outside the accepted 1 to 500 kN'
     """
 
-    def __init__(
-        self,
-        problem: str | None = None,
-        *,
-        parameter: str | None = None,
-        value=None,
-        minimum: float | None = None,
-        maximum: float | None = None,
-        unit: str = "",
-        argument: str | None = None,
-        reason: str | None = None,
-        advice: str | None = None,
-        magnitude: bool = False,
-    ) -> None:
-        if problem is None and parameter is None:
-            raise TypeError("WheelrailError needs a problem or a parameter")
-        self.problem = problem
-        self.parameter = parameter
-        self.value = value
-        self.minimum = minimum
-        self.maximum = maximum
-        self.unit = unit
-        self.argument = argument
-        self.reason = reason
-        self.advice = advice
-        self.magnitude = magnitude
+    def __init__(self, problem: str | None = None, blame: Blame = _NOBODY, *, advice: str | None = None) -> None:
+        if problem is None and blame.parameter is None:
+            raise TypeError("WheelrailError needs a problem or an input to blame")
+        self.problem, self.blame, self.advice = problem, blame, advice
+        (
+            self.parameter,
+            self.value,
+            self.unit,
+            self.minimum,
+            self.maximum,
+            self.argument,
+            self.reason,
+            self.magnitude,
+        ) = blame
         super().__init__(self.render())
 
     def __reduce__(self):  # pickled across processes (study workers) with its data, not only its text
-        return (_rebuild, (self.problem, self._fields()))
-
-    def _fields(self) -> dict:
-        return {
-            "parameter": self.parameter,
-            "value": self.value,
-            "minimum": self.minimum,
-            "maximum": self.maximum,
-            "unit": self.unit,
-            "argument": self.argument,
-            "reason": self.reason,
-            "advice": self.advice,
-            "magnitude": self.magnitude,
-        }
+        return (_rebuild, (self.problem, tuple(self.blame), self.advice))
 
     def name_in(self, names: Mapping[str, Name] | None = None) -> Name:
         """The front end's :class:`Name` of this error's input (the API's when ``names`` has none)."""
@@ -175,8 +174,8 @@ class WheelrailError(ValueError):
         return ""
 
 
-def _rebuild(problem, fields) -> WheelrailError:
-    return WheelrailError(problem, **fields)
+def _rebuild(problem, blame, advice) -> WheelrailError:
+    return WheelrailError(problem, Blame(*blame), advice=advice)
 
 
 def _number(value: float) -> str:

@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 from wheelrail.core.accepted import ACCEPTED, Accepted
-from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.errors import Blame, Name, WheelrailError
 
 if TYPE_CHECKING:  # parameters is imported on first use: the command line's start stays cheap
     from wheelrail.core.parameters import ModelParameters
@@ -535,7 +535,7 @@ class Choice:
     def check(self, value) -> str:
         """``value`` if it is one of ``values``, else one WheelrailError keyed by ``key``."""
         if not isinstance(value, str) or value not in self.values:
-            raise WheelrailError(f"must be one of {', '.join(self.values)}", parameter=self.key, value=value)
+            raise WheelrailError(f"must be one of {', '.join(self.values)}", Blame(self.key, value))
         return value
 
     def help_text(self) -> str:

@@ -40,12 +40,16 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ModelParameters
 
 __all__ = [
+    "AVERAGE_FILTER_MODEL",
+    "BEDDING_MODEL",
     "ENTRY_POINT_GROUP",
+    "HALFSPACE_MODEL",
     "LAW_BEDDING",
     "LAW_HALFSPACE",
     "LAW_HERTZ",
     "MODELS",
     "REFERENCE_MODEL",
+    "WINKLER_FILTER_MODEL",
     "ContactModel",
     "ContactState",
     "LawInputs",
@@ -312,6 +316,11 @@ _BUILTIN = (
 
 MODELS: tuple[str, ...] = tuple(entry.name for entry in _BUILTIN)  # the built-in models, in menu order
 REFERENCE_MODEL = "hertz"  # no roughness filtering: the reference of every contact filter (paper section 3.3)
+# the paper's other models by their part in its figures (section 3), for the studies that reproduce them
+HALFSPACE_MODEL = "3d"  # the 3D model the others are compared with (Figs 10, 12, 16, 17)
+BEDDING_MODEL = "2d"  # the 2D Winkler bedding (Figs 12-16, 18)
+WINKLER_FILTER_MODEL = "hertz-winkler"  # Hertz on the roughness pre-filtered by the bedding (Fig. 13)
+AVERAGE_FILTER_MODEL = "hertz-average"  # Hertz on the roughness averaged over 2a (Fig. 14)
 ENTRY_POINT_GROUP = "wheelrail.contact_models"  # plug-ins: entry points that load a ModelEntry
 _REGISTRY: dict[str, ModelEntry] = {entry.name: entry for entry in _BUILTIN}
 _plugins_loaded = False

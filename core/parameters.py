@@ -22,7 +22,7 @@ from wheelrail.core.accepted import (
     raise_concave_tread,
 )
 from wheelrail.core.contact.hertz import HertzContact, elliptic_hertz
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
 __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re-exported
@@ -183,15 +183,11 @@ class SupportParameters:
     def __post_init__(self) -> None:
         for item in fields(self):  # each a declared input (wheelrail.core.inputs), checked against its range
             ACCEPTED[item.name].check(getattr(self, item.name), f"SupportParameters.{item.name}")
-        if self.pad_width > 0.5 * self.sleeper_spacing:
+        if self.pad_width > (half := 0.5 * self.sleeper_spacing):
             raise WheelrailError(
                 f"a pad {self.pad_width} m wide overlaps the next sleeper's {self.sleeper_spacing} m away "
                 "(at most half the sleeper spacing)",
-                parameter="pad_width",
-                value=self.pad_width,
-                unit="m",
-                argument="SupportParameters.pad_width",
-                maximum=0.5 * self.sleeper_spacing,
+                Blame("pad_width", self.pad_width, "m", maximum=half, argument="SupportParameters.pad_width"),
             )
 
 
@@ -377,7 +373,7 @@ class ContactParameters:
             raise WheelrailError(f"ContactParameters.poisson_ratio must be in [0, 0.5), got {nu!r}")
         for name in ("radius", "preload"):  # only the radii default to another field when None
             if getattr(self, name) is None:
-                raise WheelrailError("not a number", parameter=name, value=None, argument=f"ContactParameters.{name}")
+                raise WheelrailError("not a number", Blame(name, None, argument=f"ContactParameters.{name}"))
         if self.wheel_transverse_radius is None:  # JSON has no infinity: a written file says null
             object.__setattr__(self, "wheel_transverse_radius", math.inf)
         for name in ("radius", "preload", "wheel_radius", "rail_crown_radius", "wheel_transverse_radius"):

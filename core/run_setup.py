@@ -20,7 +20,7 @@ import numpy as np
 
 from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.checks import real
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
@@ -251,11 +251,11 @@ def _line_error(problem: str, line: int, lines, reason: str | None = None) -> Wh
     """One WheelrailError blaming the line ``line`` (key ``"line"``): ``problem`` in words that name no input,
     the lines that can be run as its accepted range (``-2 to 2``), or in words when they are not contiguous."""
     lines = list(lines)
-    fields = {"parameter": "line", "value": int(line), "reason": reason}
+    blame = Blame("line", int(line), reason=reason)
     if lines and lines[-1] - lines[0] == len(lines) - 1:
-        return WheelrailError(problem, minimum=lines[0], maximum=lines[-1], **fields)
+        return WheelrailError(problem, blame._replace(minimum=lines[0], maximum=lines[-1]))
     words = f"only lines {', '.join(map(str, lines))} can be run" if lines else "no line can be run"
-    return WheelrailError(problem, advice=words, **fields)
+    return WheelrailError(problem, blame, advice=words)
 
 
 def _rows_of(rough, traits: ModelTraits, line: int, params: ModelParameters):
@@ -399,18 +399,13 @@ def roughness_along_track(
         raise WheelrailError(
             f"the {grid.x[-1]:g} m of rail roughness data hold no run at an element size of {dx:g} m: the "
             f"window margins take {margin:g} m at each end",
-            parameter="element_size",
-            value=dx,
-            unit="m",
+            Blame("element_size", dx, unit="m"),
         )
     if not grid.periodic and total_length > grid.x[-1] + 1e-12:
         raise WheelrailError(
             f"with the {margin * 1e3:.0f} mm window margins at each end the run needs more than the "
             f"{grid.x[-1]:g} m of rail roughness data",
-            parameter="length",
-            value=length,
-            unit="m",
-            maximum=math.floor((grid.x[-1] - 2 * margin) / dx + 1e-9) * dx,
+            Blame("length", length, unit="m", maximum=math.floor((grid.x[-1] - 2 * margin) / dx + 1e-9) * dx),
         )
     lines = lines_along_track(grid, wanted, total_length, dx)
     if wheel is not None:

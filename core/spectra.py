@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from wheelrail.core.checks import finite_array, integer, mean_squares, real, samples
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.spectrum_record import SpectrumRecord, resolved_bands
 
 BAND_HALF_WIDTH = 10.0 ** (1.0 / 20.0)  # upper edge / centre of a third-octave band (base 10)
@@ -393,16 +393,13 @@ def check_spectrum_length(length: float, speed: float, element_size: float) -> N
     if isinstance(length, bool) or not isinstance(length, int | float):
         raise WheelrailError(f"check_spectrum_length: length must be a number in m, got {type(length).__name__}")
     if not (math.isfinite(length) and length > 0):
-        raise WheelrailError("not a positive length", parameter="length", value=length, unit="m")
+        raise WheelrailError("not a positive length", Blame("length", length, unit="m"))
     shortest = shortest_spectrum_run(speed, element_size)
     if length < shortest - 1e-9 * element_size:
         raise WheelrailError(
             f"too short for a force spectrum at {speed * 3.6:.4g} km/h, which leaves out the first "
             f"{FORCE_SKIP * 1e3:g} ms (start-up) and needs {FORCE_MIN_STEPS} steps after them",
-            parameter="length",
-            value=length,
-            minimum=shortest,
-            unit="m",
+            Blame("length", length, unit="m", minimum=shortest),
         )
 
 
@@ -517,10 +514,7 @@ def force_spectrum(
             )
         raise WheelrailError(
             f"{record} leaves {max(kept, 0)} steps after the skip, and a spectrum needs {FORCE_MIN_STEPS}",
-            parameter="skip",
-            value=skip,
-            unit="s",
-            maximum=(force.size - FORCE_MIN_STEPS) * time_step,
+            Blame("skip", skip, unit="s", maximum=(force.size - FORCE_MIN_STEPS) * time_step),
             advice="or use a longer run",
         )
     dynamic = force[first:] - force[first:].mean()

@@ -268,8 +268,7 @@ class BrowserSession:
             self.page.last_error = None
             self.scene.frames_drawn = 0
             self.running = config
-            form.progress_bar.value, form.progress_bar.animated = 0.0, True
-            form.stop_button.disabled = False
+            form.show_running(True)
             self.replay.patch.time_slider.disabled = True
             wheel = None if config.wheel_set_label is None else form.sets[config.wheel_set_label]
             self.controller.start(config, form.roughness, wheel)
@@ -281,7 +280,7 @@ class BrowserSession:
 
     def progress(self, fraction: float) -> None:
         if self._running_shown() is not None and not self.workers.closed.is_set():
-            self.form.progress_bar.value = round(100.0 * min(max(fraction, 0.0), 1.0), 1)
+            self.form.show_progress(fraction)
 
     def frame(self, state, view: RunView) -> None:
         """A run's step: drawn only while the page shows that run's configuration."""
@@ -308,8 +307,7 @@ class BrowserSession:
             return
         with self._lock:
             self.running = None
-            self.form.progress_bar.animated = False
-            self.form.stop_button.disabled = True
+            self.form.show_running(False)
             if self._shows_the_run(config):
                 self.show_case()
         if outcome == "done":

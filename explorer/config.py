@@ -17,7 +17,7 @@ import re
 from dataclasses import dataclass, replace
 
 from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
-from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.errors import Blame, Name, WheelrailError
 from wheelrail.core.inputs import Input, by_key, describe_track, inputs_of, model_parameters, page_names
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
@@ -243,7 +243,7 @@ def _number(text, key: str) -> float:
     except ValueError:
         value = math.nan
     if not math.isfinite(value):
-        raise WheelrailError("not a number", parameter=key, value=str(text))
+        raise WheelrailError("not a number", Blame(key, str(text)))
     return value
 
 
@@ -253,7 +253,7 @@ def read_train(axles_text, length_text) -> tuple[int, float]:
 
     axles = _number(axles_text, "train_axles")
     if axles != round(axles):
-        raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=str(axles_text))
+        raise WheelrailError("not a whole number of at least 1", Blame("train_axles", str(axles_text)))
     return checked_train(int(axles), _number(length_text, "train_length"))
 
 
@@ -343,12 +343,14 @@ def read_config(
     if not shortest - 1e-9 <= length <= longest + 1e-9:
         raise WheelrailError(
             None,
-            parameter="length",
-            value=length,
-            minimum=shortest,
-            maximum=longest,
-            unit="m",
-            reason=f"on {set_label} at {speed_kmh:g} km/h: long enough for a force spectrum, within the data",
+            Blame(
+                "length",
+                length,
+                unit="m",
+                minimum=shortest,
+                maximum=longest,
+                reason=f"on {set_label} at {speed_kmh:g} km/h: long enough for a force spectrum, within the data",
+            ),
         )
     return RunConfig(
         set_label=set_label,

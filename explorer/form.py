@@ -18,6 +18,7 @@ import viser
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import GROUPS, by_key, inputs_of, model_parameters
+from wheelrail.core.models import HALFSPACE_MODEL
 from wheelrail.core.parameters import KMH, ContactParameters
 from wheelrail.core.roughness import bundled_names, load_roughness
 from wheelrail.explorer.config import (
@@ -37,11 +38,12 @@ from wheelrail.explorer.config import (
 from wheelrail.explorer.page import Page
 from wheelrail.explorer.uploads import read_upload, size_text
 
-__all__ = ["DEFAULT_LENGTH", "DEFAULT_SET", "RunForm"]
+__all__ = ["DEFAULT_LENGTH", "DEFAULT_MODEL", "DEFAULT_SET", "RunForm"]
 
 LOG = logging.getLogger("wheelrail.explorer")
 DEFAULT_SET = "corrugated-rail"
 DEFAULT_LENGTH = 3.0  # m
+DEFAULT_MODEL = HALFSPACE_MODEL  # the page opens on the model with pressure maps
 
 
 class RunForm:
@@ -69,7 +71,10 @@ class RunForm:
         with self.folder:
             self._add_sets(roughness)
             self.model_dropdown = gui.add_dropdown(
-                "Contact model", MODEL_CHOICES, initial_value="3d", hint=f"{COMPARE}: every model one after another"
+                "Contact model",
+                MODEL_CHOICES,
+                initial_value=DEFAULT_MODEL,
+                hint=f"{COMPARE}: every model one after another",
             )
             self.line_dropdown = gui.add_dropdown(
                 "Line", ("0",), initial_value="0", hint="Only the lines this model can run on are offered."
@@ -85,9 +90,9 @@ class RunForm:
             self.check_md = gui.add_markdown("")
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
             self.run_button.on_click(lambda event: run(event.client))
-            self.stop_button = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, color="red", disabled=True)
-            self.stop_button.on_click(lambda event: stop())
-            self.progress_bar = gui.add_progress_bar(0.0, animated=False)
+            self._stop_button = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, color="red", disabled=True)
+            self._stop_button.on_click(lambda event: stop())
+            self._progress_bar = gui.add_progress_bar(0.0, animated=False)
             page.add_status()
 
     def _add_sets(self, roughness: str) -> None:
@@ -287,6 +292,38 @@ class RunForm:
             wheel=wheel,
             wheel_label=wheel_label,
         )
+
+    def show_running(self, running: bool) -> None:
+        """A run started (progress 0, the bar animated, Stop enabled) or ended (the bar still, Stop disabled)."""
+        if running:
+            self._progress_bar.value = 0.0
+        self._progress_bar.animated = running
+        self._stop_button.disabled = not running
+
+    def show_progress(self, fraction: float) -> None:
+        """The progress bar at ``fraction`` of the run (clipped to 0 to 1; shown in percent to 0.1)."""
+        self._progress_bar.value = round(100.0 * min(max(fraction, 0.0), 1.0), 1)
+
+    @property
+    def progress(self) -> float:
+        """The progress shown, percent."""
+        return self._progress_bar.value
+
+    def show_session(self, session: dict) -> None:
+        """Set every control from a checked session document (``wheelrail.explorer.config.read_session``): the set,
+        the wheel set, the model, the length, the inputs as typed, then the line if the model can run on it."""
+        with self.page.quietly():
+            self.set_dropdown.value = session["set"]
+            self.wheel_set_dropdown.value = session["wheel_set"]
+            self.model_dropdown.value = session["model"]
+            self.length_text.value = session["length_m"]
+            for entry in inputs_of():
+                self.fields[entry.key].value = session["inputs"].get(entry.dest, field_text(entry))
+        self.select_set(session["set"])
+        with self.page.quietly():
+            if session["line"] in self.line_dropdown.options:
+                self.line_dropdown.value = session["line"]
+        self.refresh()
 
     def refresh(self) -> None:
         """After any control changed: offered lines, the check line, and the configuration handed on."""

@@ -8,7 +8,7 @@ import numpy as np
 import viser
 
 from wheelrail.explorer.config import COMPARE, RunConfig
-from wheelrail.explorer.form import RunForm
+from wheelrail.explorer.form import DEFAULT_MODEL, RunForm
 from wheelrail.explorer.panel import NO_RUN, ResultsTab, Shown, TabParts
 from wheelrail.explorer.plots import MAX_POINTS, SOLID, Plot, model_colour
 from wheelrail.explorer.scene import PRESSURE_TOP, colour_bar_image
@@ -37,8 +37,8 @@ class PatchTab(ResultsTab):
             self.play_button.on_click(lambda event: page.guarded(replay.toggle_play))
             self.model_shown = gui.add_dropdown(
                 "Model shown",
-                ("3d",),
-                initial_value="3d",
+                (DEFAULT_MODEL,),
+                initial_value=DEFAULT_MODEL,
                 disabled=True,
                 hint="After compare: the model replayed, plotted as displacement and downloaded",
             )
@@ -106,7 +106,7 @@ class PatchTab(ResultsTab):
         """The Model shown menu: the models with a run (else the model of the controls), the one shown chosen;
         a choice only when there are two or more."""
         config, menu = shown.config, self.model_shown
-        options = shown.models or ((config.model if config is not None and config.model != COMPARE else "3d"),)
+        options = shown.models or ((config.model if config is not None and config.model != COMPARE else DEFAULT_MODEL),)
         with self.page.quietly():
             if tuple(menu.options) != options:
                 menu.options = options

@@ -69,13 +69,13 @@ class Replay:
             patch.readout_md.content = NO_RUN_READOUT
             patch.time_slider.disabled = True
             self._set_slider(0, 1)
-            self.form.progress_bar.value = 0.0
+            self.form.show_progress(0.0)
             self.draw_surfaces()
             return
         last = self.entry.result.n_steps - 1
         self._set_slider(last, max(1, last))
         patch.time_slider.disabled = False
-        self.form.progress_bar.value = round(100.0 * self.entry.done_fraction, 1)
+        self.form.show_progress(self.entry.done_fraction)
         self.scrub(last)
 
     def _set_slider(self, value: int, maximum: int) -> None:

@@ -9,9 +9,8 @@ from __future__ import annotations
 
 import viser
 
-from wheelrail.core.inputs import inputs_of
 from wheelrail.core.roughness import load_roughness
-from wheelrail.explorer.config import NO_WHEEL_SET, RunConfig, field_text, read_session, session_config
+from wheelrail.explorer.config import NO_WHEEL_SET, RunConfig, read_session, session_config
 from wheelrail.explorer.form import RunForm
 from wheelrail.explorer.page import Page
 
@@ -71,17 +70,6 @@ class SessionFiles:
             None if wheel_label is None else form.sets[wheel_label],
             wheel_label,
         )  # every value checked before any field is set
-        with page.quietly():
-            form.set_dropdown.value = session["set"]
-            form.wheel_set_dropdown.value = session["wheel_set"]
-            form.model_dropdown.value = session["model"]
-            form.length_text.value = session["length_m"]
-            for entry in inputs_of():
-                form.fields[entry.key].value = session["inputs"].get(entry.dest, field_text(entry))
-        form.select_set(session["set"])
-        with page.quietly():
-            if session["line"] in form.line_dropdown.options:
-                form.line_dropdown.value = session["line"]
-        form.refresh()
+        form.show_session(session)
         shown = self._shown()
         page.status(f"Session loaded: {shown.label() if shown is not None else 'not a valid run yet'}.")

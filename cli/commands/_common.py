@@ -105,15 +105,17 @@ def add_input_options(
     helps: dict[str, str] | None = None,
     unset: dict[str, str] | None = None,
     several: tuple[str, ...] = (),
-):
+) -> list:
     """The options of the declared inputs of ``groups`` (``wheelrail.core.inputs.GROUPS``), one argparse group
     each, named, documented and ranged by their declaration; read back by :func:`params_from_args`.
 
     ``helps``: key -> the command's own help sentence for an input (its default and range are appended);
     ``unset``: key -> what the command takes an absent option as, where it differs from the declaration's;
     ``several``: groups whose options take one or more values (a sweep; a list in the namespace when given).
-    An option's default is its dataclass default in the option's unit (None where that is not a number)."""
+    An option's default is its dataclass default in the option's unit (None where that is not a number).
+    Returns the argparse actions added (their ``dest``, ``option_strings`` and ``default``)."""
     helps, unset = helps or {}, unset or {}
+    added = []
     for group in groups:
         note = _GEOMETRY_NOTE if group == "geometry" else None
         options = parser.add_argument_group(f"{GROUPS[group].lower()} inputs", description=note)
@@ -122,15 +124,19 @@ def add_input_options(
             unit = f", {entry.shown.name}" if entry.shown.name else ""
             text = f"{helps.get(entry.key, entry.help + unit)} (default {default}; {_accepted_words(entry)})"
             nargs = "+" if group in several else None
-            options.add_argument(entry.option, type=float, nargs=nargs, default=entry.shown_default(), help=text)
+            added.append(
+                options.add_argument(entry.option, type=float, nargs=nargs, default=entry.shown_default(), help=text)
+            )
+    return added
 
 
-def add_choice_option(parser, key: str, help_prefix: str = "", option: str | None = None) -> None:
+def add_choice_option(parser, key: str, help_prefix: str = "", option: str | None = None):
     """The option of a declared choice (``wheelrail.core.inputs.CHOICES``): its values, default and help from
     the declaration; ``help_prefix`` says which mode uses it ("--method twins, --run: "); ``option``: the command's
-    own name for it where the declared one means something else there (``run --noise-wheel-model``)."""
+    own name for it where the declared one means something else there (``run --noise-wheel-model``). Returns
+    the argparse action added."""
     entry = choice(key)
-    parser.add_argument(
+    return parser.add_argument(
         option or entry.option, choices=entry.values, default=entry.default, help=help_prefix + entry.help_text()
     )
 

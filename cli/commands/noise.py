@@ -52,22 +52,22 @@ def add_parser(sub):
             "finished run to sound power per component, dB(A), pass-by level (and --wav)."
         ),
     )
-    parser.add_argument(
-        "--method",
-        choices=METHODS,
-        default=None,
-        help="cnossos (the directive's source model) or twins (the model track's transfer function)",
-    )
-    parser.add_argument("--run", metavar="RESULT.npz", help="a run saved with `wheelrail run --out` (any model)")
-    _add_source_options(parser)
-    _add_train_options(parser)
-    add_choice_option(parser, "noise_wheel_model", "--method twins and --run: ")
-    add_input_options(parser, "geometry", "track", helps=_TRACK_HELP)
-    parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
-    # every option with its default, so that run() can refuse one a mode does not use (given, even if invalid)
-    parser.set_defaults(
-        _options={a.dest: (a.option_strings[-1], a.default) for a in parser._actions if a.dest != "help"}
-    )
+    # every option added, with its default: run() refuses one a mode does not use (given, even if invalid)
+    added = [
+        parser.add_argument(
+            "--method",
+            choices=METHODS,
+            default=None,
+            help="cnossos (the directive's source model) or twins (the model track's transfer function)",
+        ),
+        parser.add_argument("--run", metavar="RESULT.npz", help="a run saved with `wheelrail run --out` (any model)"),
+        *_add_source_options(parser),
+        *_add_train_options(parser),
+        add_choice_option(parser, "noise_wheel_model", "--method twins and --run: "),
+        *add_input_options(parser, "geometry", "track", helps=_TRACK_HELP),
+        parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout"),
+    ]
+    parser.set_defaults(_options={action.dest: (action.option_strings[-1], action.default) for action in added})
     return parser
 
 
@@ -108,8 +108,8 @@ def _refuse_unused(args) -> None:
         )
 
 
-def _add_source_options(parser) -> None:
-    """Speed, load and the CNOSSOS-EU tables' choices."""
+def _add_source_options(parser) -> list:
+    """Speed, load and the CNOSSOS-EU tables' choices: the argparse actions added."""
     from wheelrail.core.noise.cnossos import (
         INTERPOLATION_RULES,
         RAIL_ROUGHNESS,
@@ -120,72 +120,79 @@ def _add_source_options(parser) -> None:
     from wheelrail.core.parameters import KMH, ContactParameters, RunParameters
 
     speed_kmh, preload_kn = RunParameters().speed / KMH, ContactParameters().preload / 1e3
-    parser.add_argument(
-        "--speed-kmh",
-        type=float,
-        default=None,
-        help=f"train speed, km/h (default {speed_kmh:g}; with --run the run's own speed; {accepted_help('speed')})",
-    )
-    parser.add_argument(
-        "--rail-roughness",
-        choices=RAIL_ROUGHNESS,
-        default="iso3095",
-        help="CNOSSOS rail roughness, Table G-1b: iso3095 (class E) or network-average (class M)",
-    )
-    parser.add_argument(
-        "--wheel-roughness",
-        choices=WHEEL_ROUGHNESS,
-        default="cast-iron",
-        help="CNOSSOS wheel roughness, Table G-1a (none: the rail's roughness alone, e.g. where the "
-        "combined roughness was measured)",
-    )
-    parser.add_argument(
-        "--track-type",
-        choices=TRACK_TYPES,
-        default="mono-block-medium",
-        help="CNOSSOS track transfer function, Table G-3a (default mono-block-medium)",
-    )
-    parser.add_argument(
-        "--wheel-diameter-mm",
-        type=float,
-        default=920.0,
-        help=f"wheel diameter, mm: one of {', '.join(map(str, WHEEL_DIAMETERS_MM))} (Table G-3b; default 920)",
-    )
-    parser.add_argument(
-        "--preload-kn",
-        type=float,
-        default=None,
-        help=f"static wheel load, kN, for the contact filter A3 (default {preload_kn:g}: the model's preload; "
-        f"{accepted_help('preload')})",
-    )
-    parser.add_argument("--axles", type=int, default=4, help="axles per vehicle, N_a (default 4)")
-    parser.add_argument(
-        "--roughness-interpolation",
-        choices=INTERPOLATION_RULES,
-        default="proportional",
-        help="wavelength-to-frequency rule: proportional (the Commission's reference source module; "
-        "default) or energy-log-frequency",
-    )
+    return [
+        parser.add_argument(
+            "--speed-kmh",
+            type=float,
+            default=None,
+            help=f"train speed, km/h (default {speed_kmh:g}; with --run the run's own speed; {accepted_help('speed')})",
+        ),
+        parser.add_argument(
+            "--rail-roughness",
+            choices=RAIL_ROUGHNESS,
+            default="iso3095",
+            help="CNOSSOS rail roughness, Table G-1b: iso3095 (class E) or network-average (class M)",
+        ),
+        parser.add_argument(
+            "--wheel-roughness",
+            choices=WHEEL_ROUGHNESS,
+            default="cast-iron",
+            help="CNOSSOS wheel roughness, Table G-1a (none: the rail's roughness alone, e.g. where the "
+            "combined roughness was measured)",
+        ),
+        parser.add_argument(
+            "--track-type",
+            choices=TRACK_TYPES,
+            default="mono-block-medium",
+            help="CNOSSOS track transfer function, Table G-3a (default mono-block-medium)",
+        ),
+        parser.add_argument(
+            "--wheel-diameter-mm",
+            type=float,
+            default=920.0,
+            help=f"wheel diameter, mm: one of {', '.join(map(str, WHEEL_DIAMETERS_MM))} (Table G-3b; default 920)",
+        ),
+        parser.add_argument(
+            "--preload-kn",
+            type=float,
+            default=None,
+            help=f"static wheel load, kN, for the contact filter A3 (default {preload_kn:g}: the model's preload; "
+            f"{accepted_help('preload')})",
+        ),
+        parser.add_argument("--axles", type=int, default=4, help="axles per vehicle, N_a (default 4)"),
+        parser.add_argument(
+            "--roughness-interpolation",
+            choices=INTERPOLATION_RULES,
+            default="proportional",
+            help="wavelength-to-frequency rule: proportional (the Commission's reference source module; "
+            "default) or energy-log-frequency",
+        ),
+    ]
 
 
-def _add_train_options(parser) -> None:
-    """The train of a run's pass-by and its WAV."""
-    parser.add_argument(
-        "--train-axles",
-        type=int,
-        default=None,
-        help="--run: axles of the whole train for the pass-by level (default 40: ten 4-axle vehicles)",
-    )
-    parser.add_argument(
-        "--train-length-m", type=float, default=None, help="--run: train length, m, for the pass-by level (default 200)"
-    )
-    parser.add_argument("--wav", metavar="FILE.wav", help="--run: write the pass-by as a WAV file")
-    parser.add_argument(
-        "--csv",
-        metavar="FILE.csv",
-        help="--run: write the sound power per band as CSV (band, centre_hz, force and rail, sleeper, wheel, "
-        "total dB re 1 pW), headed by a comment naming the run",
-    )
+def _add_train_options(parser) -> list:
+    """The train of a run's pass-by and its WAV: the argparse actions added."""
+    return [
+        parser.add_argument(
+            "--train-axles",
+            type=int,
+            default=None,
+            help="--run: axles of the whole train for the pass-by level (default 40: ten 4-axle vehicles)",
+        ),
+        parser.add_argument(
+            "--train-length-m",
+            type=float,
+            default=None,
+            help="--run: train length, m, for the pass-by level (default 200)",
+        ),
+        parser.add_argument("--wav", metavar="FILE.wav", help="--run: write the pass-by as a WAV file"),
+        parser.add_argument(
+            "--csv",
+            metavar="FILE.csv",
+            help="--run: write the sound power per band as CSV (band, centre_hz, force and rail, sleeper, wheel, "
+            "total dB re 1 pW), headed by a comment naming the run",
+        ),
+    ]
 
 
 def _speed(args) -> float:

@@ -172,8 +172,10 @@ def _prepare(args, params, out, sink):
                 keep_pressure=out is not None,
                 wheel_system=wheel_system,
             )
-        if sink is not None and sink.record_every > interaction.n_steps:
-            raise WheelrailError(f"--record-every {sink.record_every} exceeds the run's {interaction.n_steps} steps")
+        if sink is not None and sink.options.record_every > interaction.n_steps:
+            raise WheelrailError(
+                f"--record-every {sink.options.record_every} exceeds the run's {interaction.n_steps} steps"
+            )
         if sink is not None:
             from wheelrail.core.roughness import load_roughness
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from wheelrail.core.contact.winkler import checked_contact
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
 from wheelrail.core.parameters import ContactParameters
 
@@ -56,10 +56,7 @@ class HertzWinklerModel(HertzModel):
                 raise
             # a run sizes the pre-filter's window itself (3a): what its user can change is the roughness
             raise WheelrailError(
-                error.problem,
-                parameter="model",
-                value="hertz-winkler",
-                advice="use a smoother line or set, or the hertz model",
+                error.problem, Blame("model", "hertz-winkler"), advice="use a smoother line or set, or the hertz model"
             ) from None
 
 

@@ -42,7 +42,7 @@ from wheelrail.core.contact.winkler import (
     checked_roughness,
     wheel_profile,
 )
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.parameters import ContactParameters
 
 __all__ = ["average_roughness", "averaging_weights", "winkler_equivalent_roughness"]
@@ -177,10 +177,7 @@ def winkler_equivalent_roughness(
         raise WheelrailError(
             f"the bedding contact reaches the end of its window at {at_edge} positions: the "
             "roughness is too large for it",
-            parameter="half_window",
-            value=half * element_size,
-            unit="m",
-            argument=f"{where}: half_window",
+            Blame("half_window", half * element_size, unit="m", argument=f"{where}: half_window"),
             advice="give a larger one",
         )
     return r_eq

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import Delaunay
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 
 __all__ = ["Mesh", "estimated_elements", "mesh_outline", "simplified"]
 
@@ -153,7 +153,7 @@ def mesh_outline(outline, element_size: float, keep=None) -> Mesh:
     node); a WheelrailError if the triangles do not fill the outline exactly.
     """
     if not element_size > 0:
-        raise WheelrailError("the element size must be > 0", parameter="element_size", value=element_size, unit="m")
+        raise WheelrailError("the element size must be > 0", Blame("element_size", element_size, unit="m"))
     outline = simplified(np.asarray(outline, dtype=float), element_size, keep)
     border = _resampled(outline, element_size)
     points = np.concatenate([border, _lattice(outline, element_size)])
@@ -173,9 +173,7 @@ def mesh_outline(outline, element_size: float, keep=None) -> Mesh:
         raise WheelrailError(
             f"the cross-section could not be meshed with {element_size * 1e3:g} mm elements (its triangles cover "
             f"{total / expected:.4f} of its area): an outline with parts thinner than an element? use smaller elements",
-            parameter="element_size",
-            value=element_size,
-            unit="m",
+            Blame("element_size", element_size, unit="m"),
         )
     return _quadratic(points, simplices)
 

@@ -33,7 +33,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.modal_wheel.fem import FAMILIES, STEEL, Material, harmonic_matrices, harmonic_modes
 from wheelrail.core.modal_wheel.mesh import Mesh, estimated_elements, mesh_outline, simplified
 from wheelrail.core.modal_wheel.section import check_element_size
@@ -148,9 +148,16 @@ def modal_loss_factor(harmonic, family, added_loss_factor: float = 0.0) -> np.nd
     """
     if not (isinstance(added_loss_factor, int | float) and 0.0 <= added_loss_factor <= 1.0):
         raise WheelrailError(
-            None, parameter="added_loss_factor", value=added_loss_factor, minimum=0.0, maximum=1.0, unit="",
-            reason="a loss factor added by a damper, up to 1",
-        )  # fmt: skip
+            None,
+            Blame(
+                "added_loss_factor",
+                added_loss_factor,
+                unit="",
+                minimum=0.0,
+                maximum=1.0,
+                reason="a loss factor added by a damper, up to 1",
+            ),
+        )
     n = np.asarray(harmonic)
     base = np.where(n <= 1, LOSS_FACTOR_HUB, LOSS_FACTOR_WHEEL)
     return base + float(added_loss_factor) + 0.0 * np.zeros(np.shape(family))
@@ -203,15 +210,16 @@ def _check_cost(cost: ModesCost, element_size: float) -> None:
         raise WheelrailError(
             f"a mesh of about {cost.elements:,} elements is more than the {MAX_ELEMENTS:,} allowed (the assembly holds "
             f"about {MAX_ELEMENTS * BYTES_PER_ELEMENT / 1e9:.1f} GB at that size; the 920 mm wheel at 2 mm has "
-            "11 700): use larger elements", parameter="wheel_element_size", value=element_size, unit="m",
-        )  # fmt: skip
+            "11 700): use larger elements",
+            Blame("wheel_element_size", element_size, unit="m"),
+        )
     if cost.work > WORK_LIMIT:
         limit_s = WORK_LIMIT * SECONDS_PER_WORK
         raise WheelrailError(
             f"these modes are {cost.describe()}, more than the {WORK_LIMIT:,} units (about {limit_s / 60:.0f} minutes) "
             "allowed; use larger elements, fewer harmonics or a lower maximum frequency",
-            parameter="wheel_element_size", value=element_size, unit="m",
-        )  # fmt: skip
+            Blame("wheel_element_size", element_size, unit="m"),
+        )
 
 
 def _key(profile, element_size: float, max_frequency: float, max_harmonic: int, material: Material, clamped: bool):
@@ -277,10 +285,9 @@ def wheel_modes(
         one line.
     """
     if not (isinstance(max_harmonic, int | np.integer) and 0 <= max_harmonic <= 40):
-        raise WheelrailError(None, parameter="max_harmonic", value=max_harmonic, minimum=0, maximum=40, unit="")
+        raise WheelrailError(None, Blame("max_harmonic", max_harmonic, unit="", minimum=0, maximum=40))
     if not (isinstance(max_frequency, int | float) and 100.0 <= max_frequency <= 30e3):
-        raise WheelrailError(None, parameter="max_frequency", value=max_frequency, minimum=100.0, maximum=30e3,
-                             unit="Hz")  # fmt: skip
+        raise WheelrailError(None, Blame("max_frequency", max_frequency, unit="Hz", minimum=100.0, maximum=30e3))
     max_frequency, element_size = float(max_frequency), check_element_size(element_size)
     key = _key(profile, element_size, max_frequency, int(max_harmonic), material, clamped)
     if use_cache and key in _MEMORY:

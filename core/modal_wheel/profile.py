@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.modal_wheel.section import (
     MAX_OUTLINE_BYTES,
     MAX_OUTLINE_POINTS,
@@ -109,16 +109,15 @@ class WheelProfile:
         """The rules of every wheel's cross-section (``section``), a part found too thin blamed on its field."""
         check_section(self.outline(), self.contact_point(), parameter=None, blame=self._field_at)
 
-    def _field_at(self, r: float, z: float) -> dict:
-        """The error's fields naming the field that shapes the part at (r, z) (m): flange, rim, web or hub."""
+    def _field_at(self, r: float, z: float) -> Blame:
+        """The error's blame naming the field that shapes the part at (r, z) (m): flange, rim, web or hub."""
         if r > self.wheel_radius:
             field = "flange_thickness"
         elif r >= self.wheel_radius - self.tyre_depth:
             field = "tyre_depth"
         else:
             field = "web_thickness" if r > self.hub_outer_radius else "hub_outer_radius"
-        return {"parameter": f"wheel_{field}", "value": getattr(self, field), "unit": "m",
-                "argument": f"WheelProfile.{field}"}  # fmt: skip
+        return Blame(f"wheel_{field}", getattr(self, field), "m", argument=f"WheelProfile.{field}")
 
     def _check_parts_fit(self):
         rim_inner = self.wheel_radius - self.tyre_depth
@@ -126,9 +125,7 @@ class WheelProfile:
         if self.hub_outer_radius <= self.hub_inner_radius:
             raise WheelrailError(
                 f"the hub's outer radius must exceed its bore ({self.hub_inner_radius * mm:.4g} mm)",
-                parameter="wheel_hub_outer_radius",
-                value=self.hub_outer_radius,
-                unit="m",
+                Blame("wheel_hub_outer_radius", self.hub_outer_radius, unit="m"),
             )
         if rim_inner - self.hub_outer_radius < 2 * self.web_thickness:
             raise WheelrailError(
@@ -137,25 +134,19 @@ class WheelProfile:
                 f"{rim_inner * mm:.4g} mm: wheel radius {self.wheel_radius * mm:.4g} mm less the tyre depth "
                 f"{self.tyre_depth * mm:.4g} mm, web {self.web_thickness * mm:.4g} mm); these parts fit a wheel radius "
                 f"of at least {(self.hub_outer_radius + 2 * self.web_thickness + self.tyre_depth) * mm:.4g} mm",
-                parameter="wheel_hub_outer_radius",
-                value=self.hub_outer_radius,
-                unit="m",
+                Blame("wheel_hub_outer_radius", self.hub_outer_radius, unit="m"),
             )
         if self.web_thickness >= min(self.hub_width, self.tyre_width):
             raise WheelrailError(
                 "the web must be thinner than the hub and the rim are wide",
-                parameter="wheel_web_thickness",
-                value=self.web_thickness,
-                unit="m",
+                Blame("wheel_web_thickness", self.web_thickness, unit="m"),
             )
         if abs(self.contact_offset) > self.tyre_width / 2 - 0.005 or (
             self.flange_thickness > 0 and self.contact_offset < -self.tyre_width / 2 + self.flange_thickness + 0.005
         ):
             raise WheelrailError(
                 "the contact must be on the tread, at least 5 mm from its edges and the flange",
-                parameter="wheel_contact_offset",
-                value=self.contact_offset,
-                unit="m",
+                Blame("wheel_contact_offset", self.contact_offset, unit="m"),
             )
 
     @property
@@ -211,13 +202,14 @@ class OutlineProfile:
 
     def __post_init__(self):
         if len(self.points) > MAX_OUTLINE_POINTS + 1:
-            raise WheelrailError(f"a wheel outline has at most {MAX_OUTLINE_POINTS} points, not {len(self.points)}",
-                                 parameter="outline")  # fmt: skip
+            raise WheelrailError(
+                f"a wheel outline has at most {MAX_OUTLINE_POINTS} points, not {len(self.points)}", Blame("outline")
+            )
         outline = simple_outline(self.points)
         if len(outline) != len(self.points) or not np.array_equal(outline[0], self.points[0]):
-            raise WheelrailError("an outline's points are kept counter-clockwise, each once", parameter="outline")
+            raise WheelrailError("an outline's points are kept counter-clockwise, each once", Blame("outline"))
         if not any(tuple(p) == tuple(self.contact) for p in self.points):
-            raise WheelrailError("the contact is a point of the outline", parameter="contact_z")
+            raise WheelrailError("the contact is a point of the outline", Blame("contact_z"))
         check_section(outline, self.contact)
 
     @property
@@ -301,15 +293,15 @@ def outline_profile(points, contact_z: float, name: str = "outline") -> OutlineP
     """
     array = np.asarray(points, dtype=float) if _numeric(points) else None
     if array is None or array.ndim != 2 or array.shape[1] != 2:
-        raise WheelrailError("a wheel outline is (r, z) points, two numbers each", parameter="outline")
+        raise WheelrailError("a wheel outline is (r, z) points, two numbers each", Blame("outline"))
     if len(array) > MAX_OUTLINE_POINTS + 1:  # + 1: the first point repeated at the end
         raise WheelrailError(f"a wheel outline has at most {MAX_OUTLINE_POINTS} points, not {len(array)} (a "
-                             "measured profile has a few thousand)", parameter="outline")  # fmt: skip
+                             "measured profile has a few thousand)", Blame("outline"))  # fmt: skip
     if len(array) and np.all(np.isfinite(array)):  # points within 1 nm of the one before are the same point
         array = array[np.r_[True, np.any(np.abs(np.diff(array, axis=0)) > 1e-9, axis=1)]]
     array = simple_outline(array)
     if np.any(array[:, 0] <= 0):
-        raise WheelrailError("a wheel outline's points have r > 0 (no point on the axle's axis)", parameter="outline")
+        raise WheelrailError("a wheel outline's points have r > 0 (no point on the axle's axis)", Blame("outline"))
     array, contact = _insert_contact(array, float(contact_z))
     return OutlineProfile(tuple(map(tuple, array.tolist())), contact, name)
 
@@ -333,8 +325,7 @@ def _insert_contact(array: np.ndarray, z: float) -> tuple[np.ndarray, tuple[floa
             if best is None or r > best[1]:
                 best = (i, r)
     if not math.isfinite(z) or best is None:
-        raise WheelrailError("the contact's axial position must be within the outline", parameter="contact_z",
-                             value=z, unit="m")  # fmt: skip
+        raise WheelrailError("the contact's axial position must be within the outline", Blame("contact_z", z, unit="m"))
     i, r = best
     point = np.array([r, z])
     distance = np.hypot(*(array - point).T)
@@ -386,14 +377,14 @@ def read_outline(path, contact_z_mm: float) -> OutlineProfile:
             raise WheelrailError(f"{path}: line {number} has {len(values)} values, not two (r, z in mm)")
         if len(rows) > MAX_OUTLINE_POINTS:
             raise WheelrailError(f"{path}: a wheel outline has at most {MAX_OUTLINE_POINTS} points (a measured "
-                                 "profile has a few thousand)", parameter="outline")  # fmt: skip
+                                 "profile has a few thousand)", Blame("outline"))  # fmt: skip
         rows.append(values)
     tread = ACCEPTED["wheel_radius"]
     largest = max((abs(r) for r, _ in rows), default=math.nan)
     if largest < tread.minimum * 1e3:  # a wheel's outline in metres, inches or cm
         raise WheelrailError(f"{path}: the largest r is {largest:g} mm, below the smallest tread's "
                              f"{tread.minimum * 1e3:g} mm; the outline is read in mm (were its values metres, inches "
-                             "or cm?)", parameter="outline")  # fmt: skip
+                             "or cm?)", Blame("outline"))  # fmt: skip
     return outline_profile(np.array(rows) * 1e-3 if rows else np.zeros((0, 2)), contact_z_mm * 1e-3, name=path.stem)
 
 
@@ -403,21 +394,21 @@ def _outline_text(path: Path) -> str:
     try:
         if not stat.S_ISREG(path.stat().st_mode):
             raise WheelrailError(f"the wheel outline {path} is not a regular file (a folder, FIFO or device): give "
-                                 "a CSV file", parameter="outline")  # fmt: skip
+                                 "a CSV file", Blame("outline"))  # fmt: skip
         descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
         with os.fdopen(descriptor, "rb") as handle:
             if not stat.S_ISREG(os.fstat(handle.fileno()).st_mode):  # replaced since it was looked at
-                raise WheelrailError(f"the wheel outline {path} is not a regular file", parameter="outline")
+                raise WheelrailError(f"the wheel outline {path} is not a regular file", Blame("outline"))
             data = handle.read(MAX_OUTLINE_BYTES + 1)
     except OSError as error:
         raise WheelrailError(f"cannot read the wheel outline {path}: {error.strerror or error}") from None
     if len(data) > MAX_OUTLINE_BYTES:
         raise WheelrailError(f"the wheel outline {path} is larger than {MAX_OUTLINE_BYTES / 1e6:g} MB (an outline "
-                             f"of {MAX_OUTLINE_POINTS} points takes about 0.13 MB)", parameter="outline")  # fmt: skip
+                             f"of {MAX_OUTLINE_POINTS} points takes about 0.13 MB)", Blame("outline"))  # fmt: skip
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError:
-        raise WheelrailError(f"the wheel outline {path} is not UTF-8 text", parameter="outline") from None
+        raise WheelrailError(f"the wheel outline {path} is not UTF-8 text", Blame("outline")) from None
 
 
 # Named standard-like wheels: approximate dimensions of common solid wheels, rounded to 5 mm. The 920 mm freight
@@ -471,7 +462,7 @@ def named_profile(name: str) -> WheelProfile:
     """
     if name not in NAMED_WHEELS:
         names = ", ".join(NAMED_WHEELS)
-        raise WheelrailError(f"unknown wheel {name!r}; named wheels are {names}", parameter="wheel_name")
+        raise WheelrailError(f"unknown wheel {name!r}; named wheels are {names}", Blame("wheel_name"))
     return NAMED_WHEELS[name]
 
 

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 
 __all__ = ["SurfaceVelocity", "WheelReceptance", "contact_receptance", "mean_square_velocity", "surfaces"]
 
@@ -81,7 +81,7 @@ class SurfaceVelocity:
 def _frequencies(frequencies) -> np.ndarray:
     f = np.atleast_1d(np.asarray(frequencies, dtype=float))
     if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
-        raise WheelrailError("the wheel's frequencies must be finite and >= 0 Hz", parameter="frequency")
+        raise WheelrailError("the wheel's frequencies must be finite and >= 0 Hz", Blame("frequency"))
     return f
 
 
@@ -216,7 +216,7 @@ def mean_square_velocity(
     force = np.stack(np.broadcast_arrays(np.asarray(force_radial, dtype=complex), np.asarray(force_axial,
                      dtype=complex), f), axis=-1)[..., :2]  # fmt: skip
     if not np.all(np.isfinite(force)):
-        raise WheelrailError("the forces on the wheel must be finite", parameter="force")
+        raise WheelrailError("the forces on the wheel must be finite", Blame("force"))
     modal_force = force @ modes.contact_shapes().T  # (nf, n_modes)
     velocity = 1j * 2 * np.pi * f[:, None] * modal_force / _modal_denominator(modes, f, added_loss_factor)
     harmonics = np.arange(modes.max_harmonic + 1)

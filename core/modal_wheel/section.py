@@ -35,7 +35,7 @@ import math
 import numpy as np
 
 from wheelrail.core.accepted import ACCEPTED, ROUND_OFF
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 
 __all__ = [
     "ELEMENT_SIZE",
@@ -73,23 +73,23 @@ def simple_outline(points) -> np.ndarray:
     """
     array = np.asarray(points, dtype=float)
     if array.ndim != 2 or array.shape[1] != 2 or not np.all(np.isfinite(array)):
-        raise WheelrailError("a wheel outline is (r, z) points of two finite numbers each", parameter="outline")
+        raise WheelrailError("a wheel outline is (r, z) points of two finite numbers each", Blame("outline"))
     keep = np.r_[True, np.any(np.diff(array, axis=0) != 0, axis=1)] if len(array) else np.zeros(0, bool)
     array = array[keep]
     if len(array) > 1 and np.array_equal(array[0], array[-1]):
         array = array[:-1]
     if len(array) < 3:
-        raise WheelrailError("a wheel outline needs at least 3 distinct (r, z) points", parameter="outline")
+        raise WheelrailError("a wheel outline needs at least 3 distinct (r, z) points", Blame("outline"))
     if np.max(np.abs(array)) > OUTLINE_REACH:  # before any product of coordinates (no overflow)
         raise WheelrailError(f"a point of the outline is {np.max(np.abs(array)) * 1e3:.6g} mm from the axle's axis or "
                              f"the web's midplane; a wheel's are within {OUTLINE_REACH * 1e3:g} mm (twice the largest "
-                             "wheel radius)", parameter="outline")  # fmt: skip
+                             "wheel radius)", Blame("outline"))  # fmt: skip
     if _crossing(array):
         raise WheelrailError("the outline crosses or touches itself: a wheel outline is one closed curve, each "
-                             "point once", parameter="outline")  # fmt: skip
+                             "point once", Blame("outline"))  # fmt: skip
     area = signed_area(array)
     if area == 0:
-        raise WheelrailError("the outline encloses no area", parameter="outline")
+        raise WheelrailError("the outline encloses no area", Blame("outline"))
     return array if area > 0 else array[::-1].copy()
 
 
@@ -201,7 +201,7 @@ def check_section(outline: np.ndarray, contact: tuple[float, float], parameter: 
     parameter : str, optional
         The input the errors name (``outline``; None for a parametric profile, which names its own fields).
     blame : callable, optional
-        ``blame(r, z)``: the error's fields (``parameter``, ``value``, ``unit``, ``argument``) for a part too thin
+        ``blame(r, z)``: the error's :class:`~wheelrail.core.errors.Blame` (the field to blame) for a part too thin
         at (r, z) (m), naming the input that shapes it (a parametric profile's field); None: ``parameter``.
 
     Raises
@@ -211,29 +211,31 @@ def check_section(outline: np.ndarray, contact: tuple[float, float], parameter: 
     """
     r = outline[:, 0]
     if np.any(r <= 0):
-        raise WheelrailError("a wheel outline's points have r > 0 (no point on the axle's axis)", parameter=parameter)
+        raise WheelrailError("a wheel outline's points have r > 0 (no point on the axle's axis)", Blame(parameter))
     area = signed_area(outline)
     if area < MIN_AREA:
-        raise WheelrailError(f"the cross-section's area is {area * 1e4:.3g} cm^2; a wheel's is at least "
-                             f"{MIN_AREA * 1e4:g} cm^2 (the smallest rim alone, 80 x 15 mm, is 12 cm^2)",
-                             parameter=parameter)  # fmt: skip
+        raise WheelrailError(
+            f"the cross-section's area is {area * 1e4:.3g} cm^2; a wheel's is at least "
+            f"{MIN_AREA * 1e4:g} cm^2 (the smallest rim alone, 80 x 15 mm, is 12 cm^2)",
+            Blame(parameter),
+        )
     bore, tread = ACCEPTED["wheel_hub_inner_radius"], ACCEPTED["wheel_radius"]
     if not bore.minimum * (1 - ROUND_OFF) <= r.min() <= bore.maximum * (1 + ROUND_OFF):
         raise WheelrailError(f"the bore (the smallest r) is at {_mm(r.min())} mm; accepted {_mm(bore.minimum)} to "
-                             f"{_mm(bore.maximum)} mm ({bore.reason})", parameter=parameter)  # fmt: skip
+                             f"{_mm(bore.maximum)} mm ({bore.reason})", Blame(parameter))  # fmt: skip
     if not tread.minimum * (1 - ROUND_OFF) <= contact[0] <= tread.maximum * (1 + ROUND_OFF):
         raise WheelrailError(f"the tread (the contact's r) is at {_mm(contact[0])} mm; accepted {_mm(tread.minimum)} "
-                             f"to {_mm(tread.maximum)} mm ({tread.reason})", parameter=parameter)  # fmt: skip
+                             f"to {_mm(tread.maximum)} mm ({tread.reason})", Blame(parameter))  # fmt: skip
     flange = ACCEPTED["wheel_flange_height"].maximum
     if r.max() > contact[0] + flange * (1 + 1e-9):
         raise WheelrailError(f"the outline reaches {_mm(r.max() - contact[0])} mm above the tread (the contact's r); "
-                             f"at most {_mm(flange)} mm (a flange's height)", parameter=parameter)  # fmt: skip
+                             f"at most {_mm(flange)} mm (a flange's height)", Blame(parameter))  # fmt: skip
     thickness, (r_thin, z_thin) = thinnest_part(outline)
     if thickness < MIN_THICKNESS * (1 - 1e-9):
         raise WheelrailError(f"the cross-section is {_mm(thickness)} mm thick at r = {_mm(r_thin)} mm, z = "
                              f"{_mm(z_thin)} mm; every part of a wheel is at least {_mm(MIN_THICKNESS)} mm thick "
                              "(a thinner web or flange is a membrane, its modes near 0 Hz)",
-                             **(blame(r_thin, z_thin) if blame is not None else {"parameter": parameter}))  # fmt: skip
+                             blame(r_thin, z_thin) if blame is not None else Blame(parameter))  # fmt: skip
     return thickness
 
 
@@ -247,8 +249,15 @@ def check_element_size(element_size) -> float:
         or not (low * (1 - 1e-12) <= element_size <= high * (1 + 1e-12))
     ):
         raise WheelrailError(
-            None, parameter="wheel_element_size", value=element_size, minimum=low, maximum=high, unit="m",
-            reason=f"at most {MAX_ASPECT:g} times the thinnest part a wheel may have, {_mm(MIN_THICKNESS)} mm; below "
-            f"{_mm(low)} mm the modes cost more than a wheel needs",
-        )  # fmt: skip
+            None,
+            Blame(
+                "wheel_element_size",
+                element_size,
+                unit="m",
+                minimum=low,
+                maximum=high,
+                reason=f"at most {MAX_ASPECT:g} times the thinnest part a wheel may have, {_mm(MIN_THICKNESS)} mm; "
+                f"below {_mm(low)} mm the modes cost more than a wheel needs",
+            ),
+        )
     return float(element_size)

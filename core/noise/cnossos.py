@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.noise.levels import a_weighted_total, check_positive, energy_sum
 from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ, load_table
 
@@ -189,9 +189,7 @@ def vehicle_transfer(wheel_diameter_mm) -> np.ndarray:
         raise WheelrailError(
             f"not one of the wheel diameters {', '.join(map(str, WHEEL_DIAMETERS_MM))} mm (the "
             "columns of CNOSSOS-EU Table G-3b)",
-            parameter="wheel_diameter",
-            value=shown,
-            unit="m",
+            Blame("wheel_diameter", shown, unit="m"),
         )
     return load_table("vehicle_transfer").column(str(key)).copy()
 
@@ -326,7 +324,7 @@ def cnossos_rolling_noise(
     load = check_positive(load, "preload", "N", argument="load")
     wheel_diameter = check_positive(wheel_diameter, "wheel_diameter", "m")
     if isinstance(axles, bool) or not isinstance(axles, int | np.integer) or axles < 1:
-        raise WheelrailError("not a whole number of at least 1", parameter="axles", value=axles)
+        raise WheelrailError("not a whole number of at least 1", Blame("axles", axles))
     _choice(rule, INTERPOLATION_RULES, "roughness interpolation")
     l_veh, l_tr, l_sup = vehicle_transfer(wheel_diameter * 1e3), track_transfer(track_type), superstructure_transfer()
     rail_db, wheel_db, a3, rail, wheel, filter_name = _roughness_and_filter(

@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.noise.levels import (
     COMPONENTS,
     NOISE_BAND_RANGE,
@@ -386,21 +386,23 @@ def checked_train(train_axles, train_length) -> tuple[int, float]:
     from wheelrail.core.accepted import ACCEPTED
 
     if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
-        raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=train_axles)
+        raise WheelrailError("not a whole number of at least 1", Blame("train_axles", train_axles))
     if isinstance(train_length, bool) or not (
         isinstance(train_length, int | float | np.floating) and math.isfinite(train_length) and train_length > 0
     ):
-        raise WheelrailError("not a positive length", parameter="train_length", value=train_length, unit="m")
+        raise WheelrailError("not a positive length", Blame("train_length", train_length, unit="m"))
     axles = int(ACCEPTED["train_axles"].check(int(train_axles)))
     length = ACCEPTED["train_length"].check(float(train_length))
     most = 1 + math.floor(length / MIN_AXLE_SPACING + 1e-9)
     if axles > most:
         raise WheelrailError(
             f"too many for a {length:g} m train",
-            parameter="train_axles",
-            value=axles,
-            maximum=most,
-            reason=f"axles evenly along the train, at least {MIN_AXLE_SPACING:g} m apart",
+            Blame(
+                "train_axles",
+                axles,
+                maximum=most,
+                reason=f"axles evenly along the train, at least {MIN_AXLE_SPACING:g} m apart",
+            ),
         )
     return axles, length
 

@@ -24,7 +24,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.noise.levels import PRESSURE_REFERENCE, a_weighted_energy
 
 __all__ = [
@@ -61,9 +61,7 @@ def check_wav_duration(train_length: float, speed: float, lead: float, rate: flo
             f"{lead:g} s before and after; {duration * rate * _BYTES_PER_SAMPLE / 1e6:.0f} MB): at most "
             f"{MAX_WAV_S:g} s are written; give a train of at most {math.floor(longest):g} m at this speed for the "
             "WAV (the pass-by level itself needs no WAV)",
-            parameter="train_length",
-            value=train_length,
-            unit="m",
+            Blame("train_length", train_length, unit="m"),
         )
     return duration
 
@@ -81,8 +79,7 @@ def check_wav_work(axles: int, train_length: float, speed: float, time_step: flo
             f"({work:.2g} samples, about {work * SYNTHESIS_NS * 1e-9 / 60:.0f} min): at most {MAX_WHEEL_SAMPLES:.0e} "
             f"are summed; give at most {most} axles or a shorter train for the WAV (the pass-by level itself needs "
             "no WAV)",
-            parameter="train_axles",
-            value=axles,
+            Blame("train_axles", axles),
         )
     return work
 

@@ -48,12 +48,13 @@ from wheelrail.core.recording.cli import add_recording_arguments, sink_from_args
 from wheelrail.core.recording.outputs import check_recording_path
 from wheelrail.core.recording.reader import read_recording
 from wheelrail.core.recording.schema import APPLICATION_ID, ENTITY_PATHS, SCALAR_FIELDS, default_blueprint
-from wheelrail.core.recording.sink import RecordingSink, record_result
+from wheelrail.core.recording.sink import RecordingOptions, RecordingSink, record_result
 
 __all__ = [
     "APPLICATION_ID",
     "ENTITY_PATHS",
     "SCALAR_FIELDS",
+    "RecordingOptions",
     "RecordingSink",
     "add_recording_arguments",
     "check_recording_path",

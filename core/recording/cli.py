@@ -6,7 +6,7 @@ from collections.abc import Mapping
 
 from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.models import model_entry
-from wheelrail.core.recording.sink import RecordingSink
+from wheelrail.core.recording.sink import RecordingOptions, RecordingSink
 
 __all__ = ["add_recording_arguments", "sink_from_args"]
 
@@ -49,14 +49,12 @@ def sink_from_args(args, *, description: str = "", names: Mapping[str, Name] | N
             raise WheelrailError("--sound-power needs --rrd, --spawn or --connect")
         return None
     model = getattr(args, "model", None)
-    return RecordingSink(
+    options = RecordingOptions(
         pressure_maps=model is None or model_entry(model).traits.pressure_map,
-        rrd=args.rrd,
-        spawn=args.spawn,
-        connect=args.connect,
         record_every=args.record_every,
         description=description,
         # whose wheel power: the noise_wheel_model choice (``run --noise-wheel-model``), the directive's by default
         sound_power=getattr(args, "noise_wheel_model", "directive") if sound_power else False,
         names=names,
     )
+    return RecordingSink(rrd=args.rrd, spawn=args.spawn, connect=args.connect, options=options)

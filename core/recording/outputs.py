@@ -29,7 +29,7 @@ from pathlib import Path
 from urllib.parse import urlsplit
 
 from wheelrail.core.atomic import stage, write_failed
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.recording.schema import APPLICATION_ID, default_blueprint, rerun_module
 
 __all__ = ["Outputs", "ViewerUnreachable", "check_recording_path", "check_viewer", "grpc_url", "viewer_executable"]
@@ -85,16 +85,12 @@ def grpc_url(address: str) -> str:
     if "://" in address:
         if not address.startswith(("rerun://", "rerun+http://", "rerun+https://")):
             raise WheelrailError(
-                "not a viewer address; use HOST:PORT or a rerun+http://HOST:PORT/proxy URL",
-                parameter="connect",
-                value=address,
+                "not a viewer address; use HOST:PORT or a rerun+http://HOST:PORT/proxy URL", Blame("connect", address)
             )
         return address
     host, _, port = address.rpartition(":")
     if not host or not port.isdigit() or not 0 < int(port) < 65536:
-        raise WheelrailError(
-            "not a viewer address; use HOST:PORT (e.g. 127.0.0.1:9876)", parameter="connect", value=address
-        )
+        raise WheelrailError("not a viewer address; use HOST:PORT (e.g. 127.0.0.1:9876)", Blame("connect", address))
     return f"rerun+http://{host}:{int(port)}/proxy"
 
 
@@ -123,14 +119,13 @@ def check_viewer(url: str, address: str) -> None:
     try:
         host, port = parts.hostname or "127.0.0.1", parts.port or default
     except ValueError:
-        raise WheelrailError("not a viewer address", parameter="connect", value=address) from None
+        raise WheelrailError("not a viewer address", Blame("connect", address)) from None
     problem = _listening(host, port)
     if problem:
         raise WheelrailError(
             f"no rerun viewer answers there ({problem.lower()}); start one (`rerun`) first, or record to a "
             ".rrd file and open it later",
-            parameter="connect",
-            value=address,
+            Blame("connect", address),
         )
 
 
@@ -147,7 +142,7 @@ def viewer_executable() -> Path:
     raise WheelrailError(
         f"the rerun viewer executable is missing: no {name} in {beside.parent} (where rerun-sdk installs it "
         "beside this Python) nor on PATH; reinstall rerun-sdk in this environment, or record to a .rrd file instead",
-        parameter="spawn",
+        Blame("spawn"),
     )
 
 
@@ -159,7 +154,7 @@ def _check_desktop() -> None:
         raise WheelrailError(
             "no desktop for the viewer's window (neither DISPLAY nor WAYLAND_DISPLAY is set); record to a "
             ".rrd file and open it with `rerun FILE.rrd` where there is one, or connect to a running viewer",
-            parameter="spawn",
+            Blame("spawn"),
         )
 
 
@@ -191,13 +186,13 @@ def _spawn_viewer(stream) -> None:
                 spawn(port=DEFAULT_VIEWER_PORT, connect=False, executable_path=str(executable), recording=stream)
         except Exception as error:  # noqa: BLE001 - rerun raises several types; report one line
             first = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
-            raise WheelrailError(f"could not start the rerun viewer {executable}: {first}", parameter="spawn") from None
+            raise WheelrailError(f"could not start the rerun viewer {executable}: {first}", Blame("spawn")) from None
     problem = _listening("127.0.0.1", DEFAULT_VIEWER_PORT)
     if problem:
         raise WheelrailError(
             f"the rerun viewer did not open its port {DEFAULT_VIEWER_PORT} ({problem.lower()}); record to a "
             ".rrd file and open it with `rerun FILE.rrd` instead",
-            parameter="spawn",
+            Blame("spawn"),
         )
 
 
@@ -310,7 +305,7 @@ class Outputs:
                 sinks.append(rr.GrpcSink(url))
             except Exception as error:  # noqa: BLE001
                 self.discard()
-                raise WheelrailError(str(error), parameter="connect", value=connect) from None
+                raise WheelrailError(str(error), Blame("connect", connect)) from None
         try:
             self.stream.set_sinks(*sinks, default_blueprint=default_blueprint() if blueprint is None else blueprint)
         except RuntimeError as error:  # the file's first bytes could not be written (e.g. a full disk)

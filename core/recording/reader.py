@@ -198,7 +198,7 @@ def read_recording(path: str | os.PathLike) -> RunResult:
         raise WheelrailError(f"{source}: {error}") from None
     _check_digest(source, meta, decoded, time_ns, arrays)
     equivalent = _series(decoded, EQUIVALENT.path, n) if EQUIVALENT.path in decoded.scalars else arrays["roughness"]
-    # a block whose r_eq equals r is not sent (sink._whole_run_columns): r there
+    # a block whose r_eq equals r is not sent (steps.whole_run_columns): r there
     arrays[EQUIVALENT.name] = np.where(np.isnan(equivalent), arrays["roughness"], equivalent)
     try:
         header = RunHeader.from_dict(meta)

@@ -11,74 +11,30 @@ sent as a column of image buffers (one static ``ImageFormat``), decimated with `
 from __future__ import annotations
 
 import os
-import warnings
-from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.errors import Name, WheelrailError
-from wheelrail.core.inputs import choice
-from wheelrail.core.jsonready import strict_json
+from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
-from wheelrail.core.recording.columns import scalar_column
-from wheelrail.core.recording.digest import DIGEST_KEY, RecordingDigest
+from wheelrail.core.recording.digest import DIGEST_KEY
+from wheelrail.core.recording.options import DEFAULT_CHUNK_STEPS, SURFACE_EVERY, RecordingOptions
 from wheelrail.core.recording.outputs import Outputs, ViewerUnreachable
 from wheelrail.core.recording.pressure import ContactPatch, hertz_geometry, hertz_semi_axes
 from wheelrail.core.recording.schema import (
-    EQUIVALENT,
-    FORCE_SPECTRUM,
     PARAMETERS,
-    ROUGHNESS_LINES,
-    ROUGHNESS_LINES_SHOWN,
-    SCALAR_FIELDS,
-    SOUND_POWER,
-    SOUND_POWER_COMPONENTS,
-    STEP_FIELDS,
-    band_chart,
     default_blueprint,
     parameters_document,
     parameters_text,
     rerun_module,
     time_columns,
 )
+from wheelrail.core.recording.steps import StepBuffer, whole_run_columns
+from wheelrail.core.recording.streams import StepStreams
+from wheelrail.core.recording.summaries import log_force_spectrum, log_sound_power
 from wheelrail.core.results import RunHeader, RunResult, StepState
 
-__all__ = ["RecordingSink", "record_result"]
-
-DEFAULT_CHUNK_STEPS = 2048  # steps buffered before one columnar send
-SURFACE_EVERY = 4  # the pressure surface mesh is recorded at every 4th recorded pressure map
-
-_ROW_NAMES = ("step", "time", *(field.name for field in STEP_FIELDS))
-# one StepState -> one buffered row, in _ROW_NAMES order. Compiled from the field list: attribute reads
-# in a function are specialised by Python 3.11+, so this is cheaper per step than operator.attrgetter
-# (benchmarks/recording.py times the sink)
-_ROW = eval(  # noqa: S307 - the source is built from this package's own constant field names
-    "lambda state: (state.step, state.time, " + ", ".join(f"state.{field.state}" for field in STEP_FIELDS) + ")"
-)
-
-
-def _check_counts(record_every, surface_every, chunk_steps) -> None:
-    checks = (("record_every", record_every), ("surface_every", surface_every), ("chunk_steps", chunk_steps))
-    for name, value in checks:
-        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-            raise WheelrailError("not a whole number of at least 1", parameter=name, value=value, minimum=1)
-
-
-class _RoughnessLines:
-    """The lines k-3 .. k+3 of a roughness set around the run's line k, sampled at the wheel positions."""
-
-    def __init__(self, roughness, line: int) -> None:
-        numbers = [int(k) for k in roughness.line_numbers]
-        self.shown = [k for k in range(line - ROUGHNESS_LINES_SHOWN, line + ROUGHNESS_LINES_SHOWN + 1) if k in numbers]
-        self.rows = [roughness.row_of_line(k) for k in self.shown]
-        self.roughness = roughness
-
-    def heights(self, x: np.ndarray) -> np.ndarray:
-        """Heights (steps, lines) of the shown lines at wheel positions x (periodic for a wheel), m."""
-        rough = self.roughness
-        period = rough.length if rough.periodic else None
-        return np.stack([np.interp(x, rough.x, rough.heights[r], period=period) for r in self.rows], axis=1)
+__all__ = ["DEFAULT_CHUNK_STEPS", "SURFACE_EVERY", "RecordingOptions", "RecordingSink", "record_result"]
 
 
 class RecordingSink:
@@ -89,7 +45,7 @@ class RecordingSink:
     step; every ``chunk_steps`` steps the block is sent as columns, the same rows either way. Typical use::
 
         sink = RecordingSink(rrd="run.rrd")            # path checked here, before the run
-        run = prepare_run(roughness, model="3d", length=0.5)
+        run = prepare_run(roughness, model=name, length=0.5)  # any model (its maps recorded if it has them)
         sink.start(run, roughness=roughness)            # header, window, Hertz circle, roughness lines
         result = run.run(sink)                          # or simulate(..., callback=sink)
         sink.finish(result)                             # last block, force spectrum, file closed
@@ -105,24 +61,10 @@ class RecordingSink:
         Start a rerun viewer (``rerun`` executable of rerun-sdk) and stream to it.
     connect : str, optional
         Address of a running viewer, ``HOST:PORT`` or a ``rerun+http://HOST:PORT/proxy`` URL.
-    record_every : int
-        Record the pressure map (image) of every N-th step; scalars are recorded every step.
-    surface_every : int
-        Record the pressure surface mesh at every M-th recorded map, i.e. every ``record_every * M`` steps.
-    chunk_steps : int
-        Steps per columnar send.
-    description : str
-        Name of the recording shown by the viewer.
-    sound_power : bool or str
-        Add the run's rolling-noise sound-power spectra at :meth:`finish` (``--sound-power``), and their views;
-        a value of the ``noise_wheel_model`` choice (``wheelrail.core.inputs.CHOICES``: "directive", "modal")
-        also says whose wheel power (True: the directive's L_H,veh), stated as ``wheel_transfer_source``.
-    pressure_maps : bool
-        The run has pressure maps (a model with ``ModelTraits.pressure_map``: ``3d``): the layout the viewer opens
-        with has the pressure views (:func:`~.schema.default_blueprint`).
-    names : mapping of str to Name, optional
-        How the front end names the inputs (``WheelrailError.render``), for the warning when the sound power
-        asked for cannot be computed (the run too short); None: the API's names.
+    options : RecordingOptions, optional
+        What is recorded besides where: the decimation of the pressure maps and surfaces, the steps per send,
+        the recording's name, the sound power, the viewer's layout, the front end's names (default: all
+        defaults).
     """
 
     def __init__(
@@ -131,43 +73,24 @@ class RecordingSink:
         rrd: str | os.PathLike | None = None,
         spawn: bool = False,
         connect: str | None = None,
-        record_every: int = 1,
-        surface_every: int = SURFACE_EVERY,
-        chunk_steps: int = DEFAULT_CHUNK_STEPS,
-        description: str = "",
-        sound_power: bool = False,
-        pressure_maps: bool = True,
-        names: Mapping[str, Name] | None = None,
+        options: RecordingOptions | None = None,
     ) -> None:
-        _check_counts(record_every, surface_every, chunk_steps)
-        self.names = dict(names or {})  # how the front end names its options, for the warnings it is given
-        self.sound_power = bool(sound_power)  # finish() adds the run's sound-power spectra (needs the RunResult)
-        wheel = sound_power if isinstance(sound_power, str) else "directive"
-        self.sound_power_wheel = choice("noise_wheel_model").check(wheel)  # whose wheel power the noise takes
-        self.record_every = int(record_every)
-        self.surface_every = int(surface_every)
-        self.chunk_steps = int(chunk_steps)
-        self.description = description
-        blueprint = default_blueprint(pressure=pressure_maps, sound_power=self.sound_power)
-        self._outputs = Outputs(rrd=rrd, spawn=spawn, connect=connect, description=description, blueprint=blueprint)
+        self.options = options = RecordingOptions() if options is None else options
+        blueprint = default_blueprint(pressure=options.pressure_maps, sound_power=bool(options.sound_power))
+        self._outputs = Outputs(
+            rrd=rrd, spawn=spawn, connect=connect, description=options.description, blueprint=blueprint
+        )
         self.path = self._outputs.path
         self.recording_id = self._outputs.recording_id
         self.stream = self._outputs.stream
         self._rr = rerun_module()
-        self._patch = ContactPatch(self.stream, record_every=self.record_every, surface_every=self.surface_every)
+        self._patch = ContactPatch(self.stream, record_every=options.record_every, surface_every=options.surface_every)
+        self._streams = StepStreams(self.stream, self._patch)
+        self._buffer = StepBuffer(options.chunk_steps, options.record_every, self._send_block)
         self._header: RunHeader | None = None
         self._loss_of_contact_steps: int | None = None
         self._started = False
         self._closed = False
-        self._lines: _RoughnessLines | None = None  # roughness/lines, when a set was given
-        self._rows: list[tuple] = []  # buffered steps: (step, time, the STEP_FIELDS of StepState)
-        self._map_steps: list[int] = []  # steps of the buffered pressure maps to record
-        self._block: np.ndarray | None = None  # (capacity, ny, nx) float32: the buffered maps, in _map_steps order
-        self._blocks: list[tuple] = []  # buffered blocks of log_block: (steps, columns, map steps, maps)
-        self._steps_recorded = 0
-        self._force: list[float] = []
-        self._time_step: float | None = None  # measured from the recorded times (when no header says it)
-        self._digest = RecordingDigest()  # of every series sent, sealed in the final parameters document
 
     @property
     def header(self) -> RunHeader | None:
@@ -239,34 +162,24 @@ class RecordingSink:
         return hertz_semi_axes(self._contact())
 
     def _set_roughness(self, roughness) -> None:
-        if roughness is None or self._lines is not None:
-            return
-        lines = _RoughnessLines(roughness, self._header.line if self._header is not None else 0)
-        if not lines.shown:
-            return
-        self._lines = lines
-        self.stream.log(
-            ROUGHNESS_LINES,
-            self._rr.SeriesLines(names=[f"line {k} height (m)" for k in lines.shown]),
-            static=True,
-            strict=True,
-        )
+        if roughness is not None and self._streams.lines is None:
+            self._streams.show_lines(roughness, self._header.line if self._header is not None else 0)
 
     def _log_parameters(self, *, final: bool = False) -> None:
         """The parameters document; ``final``: with the steps recorded, the mark of a finished recording."""
-        patch = self._patch
+        patch, streams, options = self._patch, self._streams, self.options
         document = parameters_document(
             self._header,
-            time_step=self._time_step,
+            time_step=streams.time_step,
             loss_of_contact_steps=self._loss_of_contact_steps,
-            decimation=(self.record_every, self.surface_every),
+            decimation=(options.record_every, options.surface_every),
             window=patch.window,
             geometry=patch.geometry,
-            recorded_steps=self._steps_recorded if final else None,
+            recorded_steps=streams.steps_recorded if final else None,
         )
         if final:
-            document[DIGEST_KEY] = self._digest.seal(document)
-        text = parameters_text(document, self.description)
+            document[DIGEST_KEY] = streams.digest.seal(document)
+        text = parameters_text(document, options.description)
         self.stream.log(PARAMETERS, self._rr.TextDocument(text, media_type="text/markdown"), static=True, strict=True)
 
     # -- per step -------------------------------------------------------------------------------------------
@@ -274,26 +187,7 @@ class RecordingSink:
         """Buffer one step (the loop's callback); sends a block every ``chunk_steps`` steps."""
         if self._closed:
             raise WheelrailError("the recording is already finished")
-        if self._blocks:
-            self.flush()  # blocks given before go first
-        self._rows.append(_ROW(state))
-        if state.pressure is not None and state.step % self.record_every == 0:
-            self._keep_map(state.step, state.pressure)
-        if len(self._rows) >= self.chunk_steps:
-            self.flush()
-
-    def _keep_map(self, step: int, pressure: np.ndarray) -> None:
-        """Copy one map into the block of maps to send (float32; the loop may reuse its buffer). A new block
-        is allocated after each send: rerun holds the sent one until it is encoded (:mod:`.columns`)."""
-        count = len(self._map_steps)
-        if self._block is None or count == len(self._block) or self._block.shape[1:] != np.shape(pressure):
-            if count:
-                self.flush()
-            capacity = self.chunk_steps // self.record_every + 1
-            self._block = np.empty((capacity, *np.shape(pressure)), dtype=np.float32)
-            count = 0
-        self._block[count] = pressure
-        self._map_steps.append(step)
+        self._buffer.add_step(state)
 
     log_step = __call__  # the same, under a name that reads well as ``callback=sink.log_step``
 
@@ -303,90 +197,18 @@ class RecordingSink:
         A block's arrays are not kept: its pressure maps to record are copied."""
         if self._closed:
             raise WheelrailError("the recording is already finished")
-        if self._rows:
-            self.flush()  # steps given one by one before go first
-        columns, _ = _whole_run_columns(block, slice(None))  # r_eq is not streamed, as step by step
-        steps = first + np.arange(block.n_steps, dtype=np.int64)
-        pressure_steps = pressure = None
-        if block.pressure is not None:
-            keep = steps % self.record_every == 0
-            pressure_steps, pressure = steps[keep], np.array(block.pressure[keep], dtype=np.float32)
-        self._blocks.append((steps, columns, pressure_steps, pressure))
-        if sum(len(steps) for steps, *_ in self._blocks) >= self.chunk_steps:
-            self.flush()
+        self._buffer.add_block(first, block)
 
     def flush(self) -> None:
         """Send the buffered steps as one block of columns."""
-        if self._blocks:
-            self._flush_blocks()
-        if not self._rows:
-            return
-        table = np.array(self._rows, dtype=float)  # (steps, fields): one conversion for the whole block
-        count = len(self._map_steps)
-        pressure_steps = np.array(self._map_steps, dtype=np.int64)
-        pressure = self._block[:count] if count else None
-        self._rows, self._map_steps, self._block = [], [], None
-        columns = {name: np.ascontiguousarray(table[:, i]) for i, name in enumerate(_ROW_NAMES)}
-        steps = columns.pop("step").astype(np.int64)
-        self._send_block(steps, columns, pressure_steps, pressure)
-
-    def _flush_blocks(self) -> None:
-        """Send the blocks given to :meth:`log_block` as one block of columns."""
-        blocks, self._blocks = self._blocks, []
-        steps = np.concatenate([block[0] for block in blocks])
-        columns = {name: np.concatenate([block[1][name] for block in blocks]) for name in blocks[0][1]}
-        pressure_steps = pressure = None
-        if blocks[0][3] is not None:
-            pressure_steps = np.concatenate([block[2] for block in blocks])
-            pressure = np.concatenate([block[3] for block in blocks])
-        self._send_block(steps, columns, pressure_steps, pressure)
+        self._buffer.flush()
 
     def _send_block(self, steps, columns: dict, pressure_steps=None, pressure=None, equivalent=None) -> None:
-        """Send one block of steps: scalars at every step, pressure maps at ``pressure_steps``.
-
-        ``columns`` holds ``time`` and every ``STEP_FIELDS`` name (arrays over the block, SI);
-        ``equivalent`` is r_eq where it differs from r (whole-run export).
-        """
+        """Send one block of steps (:meth:`StepStreams.send`), the recording's description first."""
         if not self._started:
             self.start()
-        rr = self._rr
-        time, x = columns["time"], columns["x"]
-        if self._time_step is None and len(time) > 1:
-            self._time_step = float(time[1] - time[0])
-        self._force.extend(columns["force"].tolist())
-        if self._steps_recorded == 0:
-            for field in SCALAR_FIELDS:
-                self.stream.log(
-                    field.path, rr.SeriesLines(names=[field.legend], colors=[field.colour]), static=True, strict=True
-                )
-        indexes = time_columns(steps, time, x)  # shared by every entity of the block
-        self._digest.add("time_ns", np.round(np.asarray(time) * 1e9).astype(np.int64))
-        for field in STEP_FIELDS:
-            values = columns[field.name]
-            self._digest.add(field.name, values)
-            finite = np.isfinite(values)
-            if finite.all():
-                self.stream.send_columns(field.path, indexes, [scalar_column(values)], strict=True)
-            elif finite.any():  # e.g. no contact area in 2D: leave those steps out rather than log NaN
-                self.stream.send_columns(
-                    field.path,
-                    time_columns(steps[finite], time[finite], x[finite]),
-                    [scalar_column(values[finite])],
-                    strict=True,
-                )
-        if equivalent is not None:
-            self.stream.send_columns(EQUIVALENT.path, indexes, [scalar_column(equivalent)], strict=True)
-        if self._lines is not None:
-            self._send_roughness_lines(x, indexes)
-        self._steps_recorded += len(steps)
-        if pressure is not None and len(pressure):
-            self._digest.add("pressure", pressure)
-            where = np.searchsorted(steps, pressure_steps)
-            element_size = self._header.element_size if self._header is not None else 1e-3
-            self._patch.send(pressure_steps, time[where], x[where], pressure, element_size=element_size)
-
-    def _send_roughness_lines(self, x, indexes) -> None:
-        self.stream.send_columns(ROUGHNESS_LINES, indexes, [scalar_column(self._lines.heights(x))], strict=True)
+        element_size = self._header.element_size if self._header is not None else 1e-3
+        self._streams.send(steps, columns, pressure_steps, pressure, equivalent, element_size=element_size)
 
     # -- end --------------------------------------------------------------------------------------------------
     def finish(self, result: RunResult | None = None, *, roughness=None) -> Path | None:
@@ -422,8 +244,8 @@ class RecordingSink:
                 self._patch.set_geometry(self._geometry(), log=False, semi_axes=self._semi_axes())
             self._log_parameters(final=True)
             self._log_spectrum(result)
-            if self.sound_power and result is not None:
-                self._log_sound_power(result)
+            if self.options.sound_power and result is not None:
+                log_sound_power(self.stream, result, self.options)
         except BaseException:
             self.abort()
             raise
@@ -448,82 +270,31 @@ class RecordingSink:
         self._patch.set_window(result.window_x, result.window_y)
         # started without the run's parameters: correct the circle
         self._patch.set_geometry(self._geometry(), semi_axes=self._semi_axes())
-        if roughness is not None and self._lines is None:
+        if roughness is not None and self._streams.lines is None:
             self._set_roughness(roughness)
-            if self._lines is not None:
-                steps = np.arange(result.n_steps)
-                for first in range(0, result.n_steps, self.chunk_steps):
-                    block = slice(first, first + self.chunk_steps)
-                    self._send_roughness_lines(
+            if self._streams.lines is not None:
+                steps, chunk = np.arange(result.n_steps), self.options.chunk_steps
+                for first in range(0, result.n_steps, chunk):
+                    block = slice(first, first + chunk)
+                    self._streams.send_lines(
                         result.x[block], time_columns(steps[block], result.time[block], result.x[block])
                     )
 
     def _log_spectrum(self, result: RunResult | None) -> None:
-        from wheelrail.core.spectra import force_spectrum
-
-        force = result.force if result is not None else np.asarray(self._force)
-        time_step = (
-            result.time_step
-            if result is not None
-            else (self._header.time_step if self._header is not None else self._time_step)
-        )
-        if time_step is None or len(force) < 2:
-            return
-        try:
-            centres, levels = force_spectrum(force, time_step)
-        except WheelrailError:
-            return  # run too short for a spectrum (fewer than 16 steps after the start-up skip)
-        self.stream.log(FORCE_SPECTRUM, band_chart(centres, levels), static=True, strict=True)
-
-    def _log_sound_power(self, result: RunResult) -> None:
-        """``spectra/sound_power/<component>`` bar charts and a summary document (wheelrail.core.noise.run_noise)."""
-
-        from wheelrail.core.noise.run_noise import run_noise
-
-        try:
-            noise = run_noise(result, wheel_model=self.sound_power_wheel)  # a modal run's own wheel, if modal
-        except WheelrailError as error:  # e.g. a run too short for a force spectrum: said, in the file and aloud
-            reason = error.render(self.names)
-            document = strict_json({"sound_power": "not computed", "reason": reason}, indent=2)
-            self.stream.log(f"{SOUND_POWER}/summary", self._rr.TextDocument(document), static=True, strict=True)
-            option = self.names["sound_power"].label if "sound_power" in self.names else "sound_power"
-            warnings.warn(f"{option}: no sound power recorded: {reason}", stacklevel=3)
-            return
-        for component in SOUND_POWER_COMPONENTS:
-            chart = band_chart(noise.frequency_hz, noise.sound_power_db[component])
-            self.stream.log(f"{SOUND_POWER}/{component}", chart, static=True, strict=True)
-        totals = {
-            "sound_power_dBA_per_wheel": noise.sound_power_dba,
-            "axle_dBA": noise.axle_dba,
-            "pass_by_LpAeq_dBA": noise.pass_by_laeq_dba,
-            "train_axles": noise.configuration["train_axles"],
-            "train_length_m": noise.configuration["train_length_m"],
-            "wheel_model": noise.configuration["wheel_model"],
-            "wheel_transfer_source": noise.configuration["wheel"],
-        }
-        self.stream.log(
-            f"{SOUND_POWER}/summary", self._rr.TextDocument(strict_json(totals, indent=2)), static=True, strict=True
-        )
+        if result is not None:
+            log_force_spectrum(self.stream, result.force, result.time_step)
+        else:
+            time_step = self._header.time_step if self._header is not None else self._streams.time_step
+            log_force_spectrum(self.stream, self._streams.force, time_step)
 
     def abort(self) -> None:
         """Stop recording after a failure or cancellation: close the streams and delete the partial file."""
         if self._closed:
             return
-        self._rows, self._map_steps, self._block, self._blocks = [], [], None, []
+        self._buffer.clear()
         self._closed = True
         self._outputs.disconnect()
         self._outputs.discard()
-
-
-def _whole_run_columns(result: RunResult, block: slice) -> tuple[dict, np.ndarray | None]:
-    """The scalar columns of a block of a finished run, and r_eq where it differs from r (else None)."""
-    columns = {"time": np.asarray(result.time, dtype=float)[block]}
-    for field in STEP_FIELDS:
-        columns[field.name] = np.asarray(getattr(result, field.name), dtype=float)[block]
-    equivalent = result.equivalent_roughness[block]
-    if np.array_equal(equivalent, result.roughness[block]):
-        equivalent = None  # r_eq = r (hertz, 2d, 3d): not repeated
-    return columns, equivalent
 
 
 def record_result(
@@ -550,7 +321,8 @@ def record_result(
     roughness : RoughnessSet, optional
         The set the run rolled over, for ``roughness/lines`` (not recorded without it).
     record_every, surface_every, spawn, connect, description, chunk_steps, sound_power
-        As for :class:`RecordingSink` (``sound_power``: add ``spectra/sound_power/*``, the run's rolling noise).
+        As for :class:`RecordingSink` and :class:`RecordingOptions` (``sound_power``: add
+        ``spectra/sound_power/*``, the run's rolling noise).
 
     Returns
     -------
@@ -564,10 +336,7 @@ def record_result(
     """
     if not isinstance(result, RunResult):
         raise WheelrailError(f"record_result needs a RunResult, got {type(result).__name__}")
-    sink = RecordingSink(
-        rrd=path,
-        spawn=spawn,
-        connect=connect,
+    options = RecordingOptions(
         record_every=record_every,
         surface_every=surface_every,
         chunk_steps=chunk_steps,
@@ -575,15 +344,16 @@ def record_result(
         sound_power=sound_power,
         pressure_maps=result.pressure is not None,
     )
+    sink = RecordingSink(rrd=path, spawn=spawn, connect=connect, options=options)
     try:
         sink.start(result, roughness=roughness)
         steps = np.arange(result.n_steps, dtype=np.int64)
-        for first in range(0, result.n_steps, sink.chunk_steps):
-            block = slice(first, min(result.n_steps, first + sink.chunk_steps))
-            columns, equivalent = _whole_run_columns(result, block)
+        for first in range(0, result.n_steps, options.chunk_steps):
+            block = slice(first, min(result.n_steps, first + options.chunk_steps))
+            columns, equivalent = whole_run_columns(result, block)
             pressure_steps = pressure = None
             if result.pressure is not None:
-                pressure_steps = steps[block][steps[block] % sink.record_every == 0]
+                pressure_steps = steps[block][steps[block] % options.record_every == 0]
                 pressure = result.pressure[pressure_steps]
             sink._send_block(steps[block], columns, pressure_steps, pressure, equivalent)
         return sink.finish(result)

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.roughness.model import RoughnessSet
 from wheelrail.core.spectra import FORCE_BAND_RANGE, band_coherence, third_octave_bands, third_octave_levels
 
@@ -62,11 +62,9 @@ def _whole(value, parameter: str, minimum: int, maximum: int, problem: str | Non
     """``value`` as an int from ``minimum`` to ``maximum``, else one WheelrailError keyed ``parameter``
     (``problem``: what a value outside the range is, ``reason``: why the range, in words that name no input)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise WheelrailError("not a whole number", parameter=parameter, value=value)
+        raise WheelrailError("not a whole number", Blame(parameter, value))
     if not minimum <= value <= maximum:
-        raise WheelrailError(
-            problem, parameter=parameter, value=int(value), minimum=minimum, maximum=maximum, reason=reason
-        )
+        raise WheelrailError(problem, Blame(parameter, int(value), minimum=minimum, maximum=maximum, reason=reason))
     return int(value)
 
 

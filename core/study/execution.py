@@ -25,7 +25,7 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import model_entry
 from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
 from wheelrail.core.study.store import load_cached, save_cached
@@ -53,17 +53,14 @@ def parse_dask_address(address: str) -> str:
     port = match.group(2) if match else None
     if match is None or (port is not None and not 0 < int(port[1:]) < 65536):
         raise WheelrailError(
-            "not a scheduler address; expected tcp://HOST:PORT",
-            parameter="dask",
-            value=address,
-            argument="dask_address",
+            "not a scheduler address; expected tcp://HOST:PORT", Blame("dask", address, argument="dask_address")
         )
     return text
 
 
 def _no_dask() -> WheelrailError:
     """Dask asked for (a scheduler address given) but not installed: keyed to the address's input."""
-    return WheelrailError(NO_DASK, parameter="dask", argument="dask_address")
+    return WheelrailError(NO_DASK, Blame("dask", argument="dask_address"))
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from wheelrail.core.models import HALFSPACE_MODEL
 from wheelrail.core.noise.beside import CNOSSOS_TRACK_TYPE
 from wheelrail.core.parameters import KMH
 from wheelrail.core.study.specs import REFERENCE_MODEL, one_line_models
@@ -35,7 +36,7 @@ MODAL_COLUMN = f"{REFERENCE_MODEL}_modal_wheel_LWA_dBA"  # the reference model w
 def noise_models() -> tuple[str, ...]:
     """The models the study runs: the reference (hertz) first, the other one-line models of the registry (plug-ins
     included, as the ``filters`` study), then ``3d``."""
-    return (REFERENCE_MODEL, *(m for m in one_line_models() if m != REFERENCE_MODEL), "3d")
+    return (REFERENCE_MODEL, *(m for m in one_line_models() if m != REFERENCE_MODEL), HALFSPACE_MODEL)
 
 
 def _column(name: str) -> str:

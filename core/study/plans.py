@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wheelrail.core.accepted import check_wheel_circumference
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.models import AVERAGE_FILTER_MODEL, BEDDING_MODEL, HALFSPACE_MODEL, WINKLER_FILTER_MODEL
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.run_setup import run_lines
 from wheelrail.core.spectra import check_spectrum_length
@@ -89,16 +90,18 @@ def _set_info(source, length: float | None, contact: ContactParameters, wheel: S
         from wheelrail.core.roughness import lateral_extent_mm
 
         wheel_rough = _loaded(wheel.source)
-        covered = run_lines(rough, "hertz", wheel=wheel_rough)
+        covered = run_lines(rough, REFERENCE_MODEL, wheel=wheel_rough)
         lines = tuple(v for v in lines if v in covered)
         if not lines:
             raise WheelrailError(
                 f"no data at the lateral positions of {label}'s lines {PAPER_LINES[0]} to "
                 f"{PAPER_LINES[-1]}; its data span {lateral_extent_mm(wheel_rough)}",
-                parameter="wheel_set",
-                value=wheel.label,
-                argument="wheel_set",
-                reason="the wheel set is paired with the rail set by lateral position",
+                Blame(
+                    "wheel_set",
+                    wheel.label,
+                    argument="wheel_set",
+                    reason="the wheel set is paired with the rail set by lateral position",
+                ),
             )
     length = _run_length(rough, label, length, contact)
     return SetInfo(
@@ -165,10 +168,7 @@ def _run_length(rough, label: str, length: float | None, contact: ContactParamet
         margin = run_margin(element_size, ModelParameters(contact=contact))
         raise WheelrailError(
             f"longer than the rail data of {label} less the {margin * 1e3:g} mm margins every model keeps",
-            parameter="length",
-            value=length,
-            maximum=usable,
-            unit="m",
+            Blame("length", length, unit="m", maximum=usable),
         )
     return length
 
@@ -348,7 +348,7 @@ def _plan_filters(infos, params):
     specs, layout = [], {}
     for info in infos:
         one_line = {(model, line): _spec(info, model, params, line) for model in models for line in info.lines}
-        three_d = _spec(info, "3d", params, 0)
+        three_d = _spec(info, HALFSPACE_MODEL, params, 0)
         layout[info.label] = (info, one_line, three_d)
         specs += [*one_line.values(), three_d]
 
@@ -358,8 +358,9 @@ def _plan_filters(infos, params):
             centres = _centres(summaries, three_d)
             level = {model: [_levels(summaries, one_line[model, line]) for line in info.lines] for model in models}
             l3d = _levels(summaries, three_d)
-            spectra = {"3d_db": l3d, **{f"{m.replace('-', '_')}_db": mean_level(level[m]) for m in models}}
-            filters = {"3d_db": mean_level([contact_filter(l3d, h) for h in level[REFERENCE_MODEL]])}
+            three_d_column = f"{HALFSPACE_MODEL.replace('-', '_')}_db"
+            spectra = {three_d_column: l3d, **{f"{m.replace('-', '_')}_db": mean_level(level[m]) for m in models}}
+            filters = {three_d_column: mean_level([contact_filter(l3d, h) for h in level[REFERENCE_MODEL]])}
             for model in (m for m in models if m != REFERENCE_MODEL):
                 filters[f"{model.replace('-', '_')}_db"] = mean_level(
                     [contact_filter(v, h) for v, h in zip(level[model], level[REFERENCE_MODEL], strict=True)]
@@ -393,9 +394,9 @@ def _plan_filters(infos, params):
 
 
 _PAIRS = (  # Figs 12-14: (figure, model a, model b)
-    ("12", "3d", "2d"),
-    ("13", "2d", "hertz-winkler"),
-    ("14", "2d", "hertz-average"),
+    ("12", HALFSPACE_MODEL, BEDDING_MODEL),
+    ("13", BEDDING_MODEL, WINKLER_FILTER_MODEL),
+    ("14", BEDDING_MODEL, AVERAGE_FILTER_MODEL),
 )
 
 
@@ -404,21 +405,21 @@ def _plan_line_spread(infos, params):
     for info in infos:
         runs = {
             (model, line): _spec(info, model, params, line)
-            for model in ("2d", "hertz-winkler", "hertz-average")
+            for model in (BEDDING_MODEL, WINKLER_FILTER_MODEL, AVERAGE_FILTER_MODEL)
             for line in info.lines
         }
-        runs["3d", None] = _spec(info, "3d", params, 0)
+        runs[HALFSPACE_MODEL, None] = _spec(info, HALFSPACE_MODEL, params, 0)
         layout[info.label] = (info, runs)
         specs += list(runs.values())
 
     def tabulate(summaries):
         tables = []
         for label, (info, runs) in layout.items():
-            centres = _centres(summaries, runs["3d", None])
+            centres = _centres(summaries, runs[HALFSPACE_MODEL, None])
             for figure, a, b in _PAIRS:
                 columns = {}
                 for line in info.lines:
-                    la = _levels(summaries, runs[a, None if a == "3d" else line])
+                    la = _levels(summaries, runs[a, None if a == HALFSPACE_MODEL else line])
                     columns[_column(line)] = level_difference(la, _levels(summaries, runs[b, line]))
                 columns["mean_db"] = mean_level(columns.values())
                 stem = f"{a}_minus_{b}".replace("-", "_")
@@ -439,7 +440,10 @@ def _plan_line_spread(infos, params):
 
 def _plan_averaged_input(infos, params):
     layout = {
-        info.label: (_spec(info, "3d", params, 0), _spec(info, "2d", params, 0, averaged_lines=info.lines))
+        info.label: (
+            _spec(info, HALFSPACE_MODEL, params, 0),
+            _spec(info, BEDDING_MODEL, params, 0, averaged_lines=info.lines),
+        )
         for info in infos
     }
 
@@ -468,9 +472,9 @@ def _mm(values) -> str:
 def _plan_lateral_resolution(infos, params):
     layout = {}
     for info in infos:
-        runs = {"original": _spec(info, "3d", params, 0)}
+        runs = {"original": _spec(info, HALFSPACE_MODEL, params, 0)}
         for resolution, kept in LOW_RESOLUTION_LINES_MM.items():
-            runs[resolution] = _spec(info, "3d", params, 0, lateral_lines_mm=kept)
+            runs[resolution] = _spec(info, HALFSPACE_MODEL, params, 0, lateral_lines_mm=kept)
         layout[info.label] = runs
 
     def tabulate(summaries):
@@ -506,7 +510,8 @@ def _speed_cases(speed):
 def _plan_speeds(infos, params):
     layout = {
         info.label: {
-            column: _spec(info, "2d", _params(params, v, mass), 0) for column, v, mass in _speed_cases(params.run.speed)
+            column: _spec(info, BEDDING_MODEL, _params(params, v, mass), 0)
+            for column, v, mass in _speed_cases(params.run.speed)
         }
         for info in infos
     }

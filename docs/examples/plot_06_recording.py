@@ -15,14 +15,14 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from wheelrail.core.interaction import prepare_run
-from wheelrail.core.recording import RecordingSink, read_recording
+from wheelrail.core.recording import RecordingOptions, RecordingSink, read_recording
 
 out = Path(os.environ.get("WHEELRAIL_GALLERY_OUT", "gallery-output"))
 out.mkdir(parents=True, exist_ok=True)
 rrd = out / "cast-iron-wheel-3d.rrd"
 
 run = prepare_run("cast-iron-wheel", model="3d", line=0, length=0.3)
-sink = RecordingSink(rrd=str(rrd), record_every=1)
+sink = RecordingSink(rrd=str(rrd), options=RecordingOptions(record_every=1))
 sink.start(run)
 sink.finish(run.run(sink))  # sink(state) for every step, then the force spectrum; the file is renamed into place
 

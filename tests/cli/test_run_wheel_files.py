@@ -131,13 +131,13 @@ def test_the_recorded_sound_power_states_its_wheel(noise_wheel, coarse_noise_whe
 
 
 def test_the_sink_takes_the_declared_wheel_choice(tmp_path):
-    from wheelrail.core.recording import RecordingSink
+    from wheelrail.core.recording import RecordingOptions, RecordingSink
 
-    sink = RecordingSink(rrd=tmp_path / "a.rrd", sound_power="modal")
-    assert sink.sound_power and sink.sound_power_wheel == "modal"
+    sink = RecordingSink(rrd=tmp_path / "a.rrd", options=RecordingOptions(sound_power="modal"))
+    assert sink.options.sound_power and sink.options.sound_power_wheel == "modal"
     sink.abort()
-    sink = RecordingSink(rrd=tmp_path / "b.rrd", sound_power=True)
-    assert sink.sound_power_wheel == "directive"  # True: the directive's L_H,veh, as before the choice
+    sink = RecordingSink(rrd=tmp_path / "b.rrd", options=RecordingOptions(sound_power=True))
+    assert sink.options.sound_power_wheel == "directive"  # True: the directive's L_H,veh, as before the choice
     sink.abort()
     with pytest.raises(WheelrailError, match="must be one of directive, modal"):
-        RecordingSink(rrd=tmp_path / "c.rrd", sound_power="tabled")
+        RecordingSink(rrd=tmp_path / "c.rrd", options=RecordingOptions(sound_power="tabled"))

@@ -11,7 +11,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL
 from wheelrail.core.parameters import KMH
 from wheelrail.core.spectra import force_spectrum
@@ -182,10 +182,7 @@ def test_core_errors_reach_the_page_in_its_words():
     def prepare(roughness, **kwargs):
         raise WheelrailError(
             "the run needs more than the 2.999 m of rail roughness data",
-            parameter="preload",
-            value=9e3,
-            maximum=2.959e3,
-            unit="N",
+            Blame("preload", 9e3, unit="N", maximum=2.959e3),
         )
 
     controller = RunController(listener, prepare=prepare)

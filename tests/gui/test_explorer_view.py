@@ -58,7 +58,7 @@ def _assert_cleared(app):
         and app.tab(PatchTab).play_button.disabled
         and app.tab(PatchTab).rrd_button.disabled
     )
-    assert app.form.progress_bar.value == 0
+    assert app.form.progress == 0
 
 
 def _assert_shows_last_step(app, result):
@@ -72,7 +72,7 @@ def _assert_shows_last_step(app, result):
     assert f"step {n - 1}:" in app.tab(PatchTab).readout_md.content
     assert f"x = {result.x[-1]:.4f} m" in app.tab(PatchTab).readout_md.content
     assert np.array_equal(app.scene.heatmap.image, _heat_map_of(result, n - 1, result_contact(result)))
-    assert app.form.progress_bar.value == 100
+    assert app.form.progress == 100
 
 
 def result_contact(result):
@@ -359,11 +359,11 @@ def test_a_run_reaches_the_view_only_while_its_configuration_is_shown(app):
         drawn = app.scene.frames_drawn
         run.release.set()
         assert app.controller.wait(60.0)
-        assert app.scene.frames_drawn == drawn and app.form.progress_bar.value == 0  # nothing of the run arrived
+        assert app.scene.frames_drawn == drawn and app.form.progress == 0  # nothing of the run arrived
         _assert_cleared(app)
         app.form.fields["speed"].value = "90"  # back: its run, last step
         assert app.scene.strip.visible and "step 2999:" in app.tab(PatchTab).readout_md.content
-        assert app.form.progress_bar.value == 100 and app.tab(PatchTab).time_slider.max == 2999
+        assert app.form.progress == 100 and app.tab(PatchTab).time_slider.max == 2999
     finally:
         run.release.set()
         app.controller.wait(60.0)

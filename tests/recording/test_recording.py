@@ -13,6 +13,7 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.recording import (
     ENTITY_PATHS,
+    RecordingOptions,
     RecordingSink,
     add_recording_arguments,
     check_recording_path,
@@ -223,7 +224,7 @@ def test_decimated_pressure_and_streaming_sink_copy_the_maps(tmp_path):
     result = synthetic_result(n=203)
     path = tmp_path / "stream.rrd"
     buffer = np.zeros((25, 25), dtype=np.float32)  # the loop may hand out the same array every step
-    with RecordingSink(rrd=path, record_every=5, chunk_steps=64) as sink:
+    with RecordingSink(rrd=path, options=RecordingOptions(record_every=5, chunk_steps=64)) as sink:
         sink.start(result)
         for k in range(result.n_steps):
             state = result.state(k)
@@ -337,7 +338,7 @@ def test_real_short_run_streams_exactly(tmp_path, model, step_arrays):
 
     run = prepare_run("corrugated-rail", model=model, length=0.05)
     path = tmp_path / f"{model}.rrd"
-    sink = RecordingSink(rrd=path, chunk_steps=16)
+    sink = RecordingSink(rrd=path, options=RecordingOptions(chunk_steps=16))
     sink.start(run, roughness=load_roughness("corrugated-rail"))
     result = run.run(sink)
     sink.finish(result)
@@ -362,7 +363,7 @@ def test_sink_used_without_start_is_completed_by_finish(tmp_path):
     """As ``wheelrail run`` may use it: callback=sink.log_step, then finish(result), no start()."""
     result = synthetic_result(n=120, preload=130e3)
     path = tmp_path / "late.rrd"
-    sink = RecordingSink(rrd=path, chunk_steps=50)
+    sink = RecordingSink(rrd=path, options=RecordingOptions(chunk_steps=50))
     for k in range(result.n_steps):
         sink.log_step(result.state(k))
     sink.finish(result, roughness=load_roughness("corrugated-rail"))
@@ -484,7 +485,7 @@ def test_blocks_and_steps_record_the_same_file_content(tmp_path):
     for how in ("blocks", "steps"):
         run = prepare_run("corrugated-rail", model="3d", length=0.6, keep_pressure=how == "steps")
         paths[how] = tmp_path / f"{how}.rrd"
-        sink = RecordingSink(rrd=paths[how], chunk_steps=200, record_every=3)
+        sink = RecordingSink(rrd=paths[how], options=RecordingOptions(chunk_steps=200, record_every=3))
         sink.start(run, roughness=roughness)
         result = run.run(sink if how == "blocks" else sink.log_step)
         sink.finish(result)

@@ -25,10 +25,10 @@ WRITER = textwrap.dedent(
     import os, signal, sys
     sys.path.insert(0, {str(Path(__file__).parent)!r})
     from test_recording import synthetic_result
-    from wheelrail.core.recording import RecordingSink
+    from wheelrail.core.recording import RecordingOptions, RecordingSink
 
     result = synthetic_result(model="hertz")
-    sink = RecordingSink(rrd=sys.argv[1], chunk_steps=50)
+    sink = RecordingSink(rrd=sys.argv[1], options=RecordingOptions(chunk_steps=50))
     sink.start(result)
     for step in range({KILLED_AT}):
         sink(result.state(step))

@@ -11,7 +11,7 @@ import pytest
 
 from wheelrail.cli.commands._common import CLI_NAMES
 from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.errors import Blame, Name, WheelrailError
 from wheelrail.core.parameters import KMH, ContactParameters, RunParameters
 from wheelrail.explorer.config import FIELD_NAMES, page_message
 
@@ -80,7 +80,7 @@ def test_a_message_without_an_input_reads_the_same_everywhere():
     error = WheelrailError("file x.npz is damaged")
     assert str(error) == error.render(CLI_NAMES) == page_message(error) == "file x.npz is damaged"
     # an input a front end has no name for keeps the API's name
-    other = WheelrailError("too coarse", parameter="element_size", value=0.01, unit="m")
+    other = WheelrailError("too coarse", Blame("element_size", 0.01, unit="m"))
     assert other.render(CLI_NAMES) == page_message(other) == str(other) == "element_size 0.01 m: too coarse"
 
 
