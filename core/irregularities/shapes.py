@@ -16,7 +16,7 @@ import math
 import numbers
 from dataclasses import dataclass
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 
 __all__ = [
     "FLAT_SHAPES",
@@ -44,14 +44,14 @@ def _number(owner, name: str, key: str, unit: str, *, sign: str = "positive") ->
     value = getattr(owner, name)
     argument = f"{type(owner).__name__}.{name}"
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise WheelrailError(f"must be a number in {unit}", parameter=key, value=str(value), argument=argument)
+        raise WheelrailError(f"must be a number in {unit}", Blame(key, value=str(value), argument=argument))
     value = float(value)
     if not math.isfinite(value):
-        raise WheelrailError("must be finite", parameter=key, value=value, unit=unit, argument=argument)
+        raise WheelrailError("must be finite", Blame(key, value=value, unit=unit, argument=argument))
     if sign == "positive" and value <= 0.0:
-        raise WheelrailError("must be positive", parameter=key, value=value, unit=unit, argument=argument)
+        raise WheelrailError("must be positive", Blame(key, value=value, unit=unit, argument=argument))
     if sign == "nonnegative" and value < 0.0:
-        raise WheelrailError("must not be negative", parameter=key, value=value, unit=unit, argument=argument)
+        raise WheelrailError("must not be negative", Blame(key, value=value, unit=unit, argument=argument))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -94,9 +94,7 @@ class WheelFlat:
         if self.shape not in FLAT_SHAPES:
             raise WheelrailError(
                 f"is not a flat shape; accepted {' or '.join(FLAT_SHAPES)}",
-                parameter="flat_shape",
-                value=str(self.shape),
-                argument="WheelFlat.shape",
+                Blame("flat_shape", value=str(self.shape), argument="WheelFlat.shape"),
             )
         _number(self, "position", "flat_position", "m", sign="any")
 
@@ -141,13 +139,16 @@ class RailJoint:
         _number(self, "dip_length", "joint_dip_length", "m")
         if self.dip_angle >= 0.1:
             raise WheelrailError(
-                parameter="joint_dip_angle",
-                value=self.dip_angle,
-                minimum=0.0,
-                maximum=0.1,
-                unit="rad",
-                argument="RailJoint.dip_angle",
-                reason="a dip of a few milliradians is a badly dipped joint",
+                None,
+                Blame(
+                    "joint_dip_angle",
+                    value=self.dip_angle,
+                    unit="rad",
+                    minimum=0.0,
+                    maximum=0.1,
+                    argument="RailJoint.dip_angle",
+                    reason="a dip of a few milliradians is a badly dipped joint",
+                ),
             )
 
 
@@ -222,13 +223,16 @@ class Squat:
         _number(self, "lateral_position", "squat_lateral_position", "m", sign="any")
         if abs(self.lateral_position) > RAILHEAD_HALF_WIDTH:
             raise WheelrailError(
-                parameter="squat_lateral_position",
-                value=self.lateral_position,
-                minimum=-RAILHEAD_HALF_WIDTH,
-                maximum=RAILHEAD_HALF_WIDTH,
-                unit="m",
-                argument="Squat.lateral_position",
-                reason="on the railhead",
+                None,
+                Blame(
+                    "squat_lateral_position",
+                    value=self.lateral_position,
+                    unit="m",
+                    minimum=-RAILHEAD_HALF_WIDTH,
+                    maximum=RAILHEAD_HALF_WIDTH,
+                    argument="Squat.lateral_position",
+                    reason="on the railhead",
+                ),
             )
 
 
@@ -262,12 +266,14 @@ def _check_flat(flat: WheelFlat, wheel_radius: float) -> None:
     if flat.length >= 2.0 * wheel_radius:
         raise WheelrailError(
             "a flat this long does not fit on the wheel",
-            parameter="flat_length",
-            value=flat.length,
-            maximum=2.0 * wheel_radius,
-            unit="m",
-            argument="WheelFlat.length",
-            reason="a chord of the wheel, shorter than its diameter",
+            Blame(
+                "flat_length",
+                value=flat.length,
+                unit="m",
+                maximum=2.0 * wheel_radius,
+                argument="WheelFlat.length",
+                reason="a chord of the wheel, shorter than its diameter",
+            ),
         )
     if flat.depth is None:
         return
@@ -276,19 +282,12 @@ def _check_flat(flat: WheelFlat, wheel_radius: float) -> None:
         if abs(flat.depth - chord) > _CHORD_TOLERANCE * chord:
             raise WheelrailError(
                 f"a new flat this long is a chord {chord:.6g} m deep; give that depth or none",
-                parameter="flat_depth",
-                value=flat.depth,
-                unit="m",
-                argument="WheelFlat.depth",
+                Blame("flat_depth", value=flat.depth, unit="m", argument="WheelFlat.depth"),
             )
     elif flat.depth >= 0.5 * flat.length:
         raise WheelrailError(
             "a flat deeper than half its length is not a flat",
-            parameter="flat_depth",
-            value=flat.depth,
-            maximum=0.5 * flat.length,
-            unit="m",
-            argument="WheelFlat.depth",
+            Blame("flat_depth", value=flat.depth, unit="m", maximum=0.5 * flat.length, argument="WheelFlat.depth"),
         )
 
 
@@ -331,22 +330,27 @@ def check_irregularities(
             _check_flat(item, wheel_radius)
         if isinstance(item, RailJoint) and item.gap >= sleeper_spacing:
             raise WheelrailError(
-                parameter="joint_gap",
-                value=item.gap,
-                maximum=sleeper_spacing,
-                unit="m",
-                argument="RailJoint.gap",
-                reason="narrower than a sleeper bay",
+                None,
+                Blame(
+                    "joint_gap",
+                    value=item.gap,
+                    unit="m",
+                    maximum=sleeper_spacing,
+                    argument="RailJoint.gap",
+                    reason="narrower than a sleeper bay",
+                ),
             )
         start, end = extent(item)
         if start < run_start or end > run_end:
             raise WheelrailError(
                 f"reaches from {start:.6g} to {end:.6g} m, outside the run",
-                parameter=f"{key}_position",
-                value=item.position,
-                minimum=run_start + (item.position - start),
-                maximum=run_end - (end - item.position),
-                unit="m",
-                argument=f"{kind}.position",
+                Blame(
+                    f"{key}_position",
+                    value=item.position,
+                    unit="m",
+                    minimum=run_start + (item.position - start),
+                    maximum=run_end - (end - item.position),
+                    argument=f"{kind}.position",
+                ),
             )
     return items

@@ -22,7 +22,7 @@ import numbers
 import numpy as np
 from numba import njit
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 
 __all__ = ["positive_length", "wheel_centre_trajectory"]
 
@@ -130,6 +130,6 @@ def positive_length(name: str, value) -> float:
     number = isinstance(value, numbers.Real) and not isinstance(value, bool)
     if not (number and math.isfinite(value) and value > 0):
         raise WheelrailError(
-            "must be a positive number", parameter=name, value=float(value) if number else str(value), unit="m"
+            "must be a positive number", Blame(name, value=float(value) if number else str(value), unit="m")
         )
     return float(value)
