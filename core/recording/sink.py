@@ -33,7 +33,6 @@ from wheelrail.core.recording.schema import (
     ROUGHNESS_LINES_SHOWN,
     SCALAR_FIELDS,
     SOUND_POWER,
-    SOUND_POWER_COMPONENTS,
     STEP_FIELDS,
     band_chart,
     default_blueprint,
@@ -489,7 +488,7 @@ class RecordingSink:
             option = self.names["sound_power"].label if "sound_power" in self.names else "sound_power"
             warnings.warn(f"{option}: no sound power recorded: {reason}", stacklevel=3)
             return
-        for component in SOUND_POWER_COMPONENTS:
+        for component in noise.sound_power_db:  # its parts (wheelrail.core.noise.components) and their total
             chart = band_chart(noise.frequency_hz, noise.sound_power_db[component])
             self.stream.log(f"{SOUND_POWER}/{component}", chart, static=True, strict=True)
         totals = {

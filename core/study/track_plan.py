@@ -140,7 +140,7 @@ def plan_track(infos, params, tracks, spec_of):
     specs = [spec for _, runs in layout.values() for spec in runs.values()]
 
     def tabulate(summaries):
-        from wheelrail.core.noise.levels import COMPONENTS
+        from wheelrail.core.noise.components import component_names
         from wheelrail.core.noise.run_noise import AXLE_DB, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, pass_by_level
         from wheelrail.core.noise.run_noise import sound_power_from_force as power
         from wheelrail.core.noise.twins import track_noise_model
@@ -160,7 +160,7 @@ def plan_track(infos, params, tracks, spec_of):
                 levels = [np.concatenate([np.asarray(s.levels, dtype=float), [np.nan]]) for s in found]
                 chains = [power(level, noise_tracks[k]) for k, level in enumerate(levels)]
                 noise[f"{_column(model)}_force_dB"] = np.array([_total(s.levels) for s in found])
-                for part in COMPONENTS:
+                for part in component_names():
                     noise[f"{_column(model)}_{part}_LWA_dBA"] = np.array([c["dba"][part] + AXLE_DB for c in chains])
                 noise[f"{_column(model)}_LWA_dBA"] = np.array([c["axle_dba"] for c in chains])
                 noise[f"{_column(model)}_LpAeq_dBA"] = np.array(
