@@ -62,6 +62,7 @@ from wheelrail.core.parameters import ModelParameters, TrackParameters
 from wheelrail.core.spectra import BAND_HALF_WIDTH
 
 LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
+MIN_TRACK_BAYS = 40  # the lengthened track's fewest bays: 20 each side of the load (the free wave, step 3)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -71,7 +72,8 @@ class NoiseNumerics:
     Attributes
     ----------
     track_bays : int
-        Sleeper bays of the lengthened FE track (240: 156 m; the load in the middle, 78 m of rail each side).
+        Sleeper bays of the lengthened FE track (240: 156 m; the load in the middle, 78 m of rail each side); at
+        least :data:`MIN_TRACK_BAYS`.
     elements_per_bay : int
         Rayleigh-Timoshenko elements per bay (16 as the interaction's track: >= 7 per bending wavelength to 8 kHz).
     points_per_band : int
@@ -99,8 +101,11 @@ class NoiseNumerics:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise WheelrailError(f"NoiseNumerics.{name} must be a whole number >= 1, got {value!r}")
-        if self.track_bays < 20:
-            raise WheelrailError(f"NoiseNumerics.track_bays must be at least 20, got {self.track_bays}")
+        if self.track_bays < MIN_TRACK_BAYS:
+            raise WheelrailError(
+                f"NoiseNumerics.track_bays must be at least {MIN_TRACK_BAYS} (the free wave's decay is fitted 3 to "
+                f"20 bays from the load in the middle), got {self.track_bays}"
+            )
         for name in ("decay_length", "sleeper_area"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):

@@ -138,3 +138,10 @@ def test_a_taken_name_or_a_built_in_removal_is_refused():
         unregister_component("wheel")
     with pytest.raises(WheelrailError, match="takes a NoiseComponent"):
         register_component("rail damper")
+
+
+@pytest.mark.parametrize("bays", [20, 39])
+def test_a_track_too_short_for_the_free_wave_is_one_clear_error(bays):
+    # the free wave's decay is fitted 3 to 20 bays from the load in the middle: fewer than 40 bays have no 20th
+    with pytest.raises(WheelrailError, match=f"track_bays must be at least 40 .*, got {bays}$"):
+        NoiseNumerics(track_bays=bays)
