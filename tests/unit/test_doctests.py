@@ -22,6 +22,7 @@ DOCUMENTED = {
     "wheelrail.core.contact.winkler": ["bedding_stiffness", "winkler_contact"],
     "wheelrail.core.interaction": ["prepare_run", "simulate"],
     "wheelrail.core.models": ["model_names"],
+    "wheelrail.core.noise.components": ["register_component"],
     "wheelrail.core.noise.run_noise": ["run_noise"],
     "wheelrail.core.reference_filters": ["reference_filters"],
     "wheelrail.core.roughness.io": ["load_roughness"],
