@@ -346,7 +346,7 @@ def run_noise(
 
     result = result_of_run("run_noise: result", result)
     train_axles, train_length = checked_train(train_axles, train_length)
-    _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
+    _check_run_length(result)  # before the track's transfer functions (the costly part on a cold cache)
     check_fluctuating(result.force, spectrum_record(result).skipped_steps, f"the {result.model} run")  # else silence
     params = result.header.params
     track = track_noise_model(params, numerics)
