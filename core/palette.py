@@ -1,9 +1,10 @@
 """The colours of the figures: one palette for the contact models and the noise components, drawn together.
 
 Every front end (the explorer's plots and their PNGs, ``wheelrail track/wheel --plot``, the study figures) takes
-its model and component colours from here, so a model is the same colour everywhere and no component shares a
-near colour with a model it is drawn beside (the Noise tab draws the shown model's rail, sleeper and wheel with
-every model's total).
+its model colours from here, and each noise component's entry (:mod:`wheelrail.core.noise.components`: the rail
+orange, the sleeper sky blue, the wheel Tol's wine) takes its colour from here, so a model is the same colour
+everywhere and no component shares a near colour with a model it is drawn beside (the Noise tab draws the shown
+model's components with every model's total).
 
 Source: the eight colours of Okabe & Ito, *Color Universal Design* (J*FLY, 2008), as printed by B. Wong, "Points
 of view: Color blindness", Nature Methods 8, 441 (2011), chosen to stay apart under the common colour-vision
@@ -22,9 +23,9 @@ from __future__ import annotations
 
 __all__ = [
     "CNOSSOS_COLOURS",
-    "COMPONENT_COLOURS",
     "MODEL_COLOURS",
     "OKABE_ITO",
+    "TOL_WINE",
     "TOTAL_COLOUR",
     "WHEEL_SURFACE_COLOURS",
     "model_colour",
@@ -53,10 +54,6 @@ MODEL_COLOURS = {
     "hertz-average": OKABE_ITO["bluish green"],
 }
 """One colour per built-in contact model (its total in the noise figures, its spectrum and force elsewhere)."""
-
-COMPONENT_COLOURS = {"rail": OKABE_ITO["orange"], "sleeper": OKABE_ITO["sky blue"], "wheel": TOL_WINE}
-"""One colour per radiating part of the noise chain (``wheelrail.core.noise.levels.COMPONENTS``); none is near a
-model's colour, as the Noise tab draws both."""
 
 PLUG_IN_COLOURS = ("#777777", "#AA7700", "#4477AA", "#BB5566")
 """Colours of models registered by plug-ins, in registry order after the built-in ones (greys and muted tones:

@@ -9,23 +9,23 @@ import viser
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import choice
+from wheelrail.core.noise.components import TOTAL, component
 from wheelrail.core.noise.levels import a_weighting, energy_sum
 from wheelrail.core.noise.run_noise import (
     AXLE_DB,
-    COMPONENTS,
     DEFAULT_TRAIN_AXLES,
     DEFAULT_TRAIN_LENGTH,
     ISO3095_DISTANCE,
     ISO3095_HEIGHT,
     pass_by_level,
 )
-from wheelrail.core.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS
+from wheelrail.core.palette import CNOSSOS_COLOURS
 from wheelrail.core.parameters import KMH
 from wheelrail.explorer.config import RunConfig, page_message, read_train
 from wheelrail.explorer.panel import NO_RUN, ResultsTab, Shown, TabParts
 from wheelrail.explorer.plots import DASHED, DOTTED, SOLID, Plot, bands_with_data, model_colour
 
-__all__ = ["NoiseTab", "superstructure_words"]
+__all__ = ["NoiseTab", "power_curves", "superstructure_words"]
 
 NOISE_RANGE_DB = 60.0  # the sound-power plot shows the loudest band down by this (A-weighted, quieter bands
 # matter little to the total)
@@ -34,8 +34,8 @@ AUDIO_HINT = (
     "(the model shown); a few seconds to make"
 )
 NOISE_NOTE = (
-    "*Sound power* per axle (two wheels on two rails), A-weighted per band, of the model shown: rail, sleeper and "
-    "wheel (solid, their colours) and every model's total (model colours), from the run's contact force through "
+    "*Sound power* per axle (two wheels on two rails), A-weighted per band, of the model shown: its components "
+    "(solid, their colours) and every model's total (model colours), from the run's contact force through "
     "the model track's transfer functions (the TWINS approach). Dotted: the CNOSSOS-EU source (Directive (EU) "
     "2015/996, Annex II 2.3) on the run's own roughness with its fixed contact filter A3: track, vehicle and the "
     "total, which also holds the small superstructure term (said under the table). Dashed: a run overlaid. "
@@ -225,28 +225,11 @@ class NoiseTab(ResultsTab):
     def _plot(self, noises: dict, model: str, label: str, extra: dict, overlay: RunConfig | None) -> None:
         shown_noise = noises[model]
         f = shown_noise.frequency_hz
-        weight = a_weighting(f) + AXLE_DB
-        curves = [
-            (f"{model}: {name}", COMPONENT_COLOURS[name], SOLID, shown_noise.sound_power_db[name] + weight)
-            for name in COMPONENTS
-        ]
-        curves += [
-            (f"{m}: total", model_colour(m), SOLID, n.sound_power_db["total"] + weight) for m, n in noises.items()
-        ]
-        beside = shown_noise.cnossos
-        cnossos = {"track": beside.track_db, "vehicle": beside.vehicle_db, "total": beside.total_db}
-        curves += [
-            (f"CNOSSOS-EU: {name}", CNOSSOS_COLOURS[name], DOTTED, levels + a_weighting(f))
-            for name, levels in cnossos.items()
-        ]
+        curves = power_curves(noises, model, extra, None if overlay is None else overlay.case_label())
         title = f"Sound power per axle, A-weighted: {label}"
         if shown_noise.configuration["wheel_model"] != WHEEL_CHOICE.default:
             title += f" (wheel: {shown_noise.configuration['wheel_model']})"
         if overlay is not None and extra:
-            curves += [
-                (f"{m}: total [{overlay.case_label()}]", model_colour(m), DASHED, n.sound_power_db["total"] + weight)
-                for m, n in extra.items()
-            ]
             title += f" (dashed: {overlay.case_label()})"
         columns = [np.where(np.isfinite(levels), levels, np.nan) for *_, levels in curves]
         loudest = max(float(np.nanmax(c)) for c in columns if np.any(np.isfinite(c)))
@@ -259,13 +242,15 @@ class NoiseTab(ResultsTab):
         )
 
     def _totals(self, noises, model, extra, overlay, train, train_problem) -> str:
-        """L_WA per axle (dB(A)) by component and the pass-by level as a table, and what they are."""
-        rail, sleeper, wheel = COMPONENTS
+        """L_WA per axle (dB(A)) by component (those driven by the force, their sum ``track``, those driven by the
+        roughness) and the pass-by level as a table, and what they are."""
         wheel_model = noises[model].configuration["wheel_model"]
-        rows = [
-            f"| L_WA, dB(A) | {rail} | {sleeper} | track | {wheel} ({wheel_model}) | total | pass-by |",
-            "|---|---|---|---|---|---|---|",
-        ]
+        parts = [name for name in noises[model].sound_power_db if name != TOTAL]
+        track_parts = [name for name in parts if component(name).driven_by == "force"]
+        wheel_parts = [name for name in parts if name not in track_parts]
+        heads = [component(name).label for name in track_parts] + ["track"]
+        heads += [f"{component(name).label} ({wheel_model})" for name in wheel_parts] + ["total", "pass-by"]
+        rows = ["| L_WA, dB(A) | " + " | ".join(heads) + " |", "|---" * (len(heads) + 1) + "|"]
 
         def passing(level: float) -> str:
             return "-" if train is None else _db(pass_by_level(level, *train))
@@ -274,18 +259,16 @@ class NoiseTab(ResultsTab):
         runs += [] if overlay is None else [(f"{m} [{overlay.case_label()}]", n) for m, n in extra.items()]
         for name, n in runs:
             dba = {k: v + AXLE_DB for k, v in n.sound_power_dba.items()}
-            track = energy_sum(dba[rail], dba[sleeper])
+            cells = [dba.get(part, np.nan) for part in track_parts]
+            cells.append(energy_sum(*(dba.get(part, -np.inf) for part in track_parts)))
+            cells += [dba.get(part, np.nan) for part in wheel_parts] + [dba[TOTAL]]
             shown = f"**{name}**" if name == model else name
-            rows.append(
-                f"| {shown} | {_db(dba[rail])} | {_db(dba[sleeper])} | {_db(track)} | {_db(dba[wheel])} | "
-                f"{_db(dba['total'])} | {passing(dba['total'])} |"
-            )
+            rows.append(f"| {shown} | " + " | ".join(_db(cell) for cell in cells) + f" | {passing(dba[TOTAL])} |")
         beside = noises[model].cnossos
         cfg = beside.configuration
-        rows.append(
-            f"| CNOSSOS-EU | | | {_db(beside.track_dba)} | {_db(beside.vehicle_dba)} | {_db(beside.total_dba)} | "
-            f"{passing(beside.total_dba)} |"
-        )
+        vehicle = [_db(beside.vehicle_dba)] + [""] * (len(wheel_parts) - 1) if wheel_parts else []
+        cells = [""] * len(track_parts) + [_db(beside.track_dba), *vehicle, _db(beside.total_dba)]
+        rows.append("| CNOSSOS-EU | " + " | ".join(cells) + f" | {passing(beside.total_dba)} |")
         if train is None:
             where = f"**Train:** {page_message(train_problem)}"
         else:
@@ -299,6 +282,34 @@ class NoiseTab(ResultsTab):
             f"{cfg['track_type']}, {cfg['wheel_diameter_m'] * 1e3:g} mm wheels; {superstructure_words(beside)} "
             f"Wheel ({WHEEL_CHOICE.label.lower()}: {wheel_model}): {noises[model].configuration['wheel']}"
         )
+
+
+def power_curves(noises: dict, model: str, extra: dict, overlay_label: str | None = None) -> list:
+    """The sound-power plot's curves: (label, colour, line style, levels in dB(A) per band) of the ``model``'s
+    components (each in its entry's colour, :mod:`wheelrail.core.noise.components`), every model's total (model
+    colours), the CNOSSOS-EU source beside the shown run (dotted) and the totals of ``extra``, another case's
+    noises (dashed, labelled with ``overlay_label``); sound power per axle (one wheel's + 3 dB), A-weighted."""
+    shown_noise = noises[model]
+    f = shown_noise.frequency_hz
+    weight = a_weighting(f) + AXLE_DB
+    curves = [
+        (f"{model}: {name}", component(name).colour, SOLID, levels + weight)
+        for name, levels in shown_noise.sound_power_db.items()
+        if name != TOTAL
+    ]
+    curves += [(f"{m}: total", model_colour(m), SOLID, n.sound_power_db[TOTAL] + weight) for m, n in noises.items()]
+    beside = shown_noise.cnossos
+    cnossos = {"track": beside.track_db, "vehicle": beside.vehicle_db, "total": beside.total_db}
+    curves += [
+        (f"CNOSSOS-EU: {name}", CNOSSOS_COLOURS[name], DOTTED, levels + a_weighting(f))
+        for name, levels in cnossos.items()
+    ]
+    if overlay_label is not None:
+        curves += [
+            (f"{m}: total [{overlay_label}]", model_colour(m), DASHED, n.sound_power_db[TOTAL] + weight)
+            for m, n in extra.items()
+        ]
+    return curves
 
 
 def superstructure_words(beside) -> str:

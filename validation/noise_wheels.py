@@ -33,9 +33,9 @@ def main() -> None:
     )
     table = vehicle_transfer(920)
     bands = (f >= 500) & (f <= 5000)
-    for fi, m, c in zip(f[bands], modal.wheel_transfer_db[bands], table[bands], strict=True):
+    for fi, m, c in zip(f[bands], modal.transfer_db["wheel"][bands], table[bands], strict=True):
         print(f"  {fi:6g} Hz  modal {m:6.1f}  directive {c:6.1f}  difference {m - c:+5.1f}")
-    diff = modal.wheel_transfer_db[bands] - table[bands]
+    diff = modal.transfer_db["wheel"][bands] - table[bands]
     print(f"  mean {np.mean(diff):+.2f} dB, largest {diff[np.argmax(np.abs(diff))]:+.1f} dB; bands beyond 6 dB: "
           f"{', '.join(f'{x:g}' for x in f[bands][np.abs(diff) > 6])} Hz")  # fmt: skip
     print("\n2. hertz run, cast-iron-wheel line 0, 100 km/h: L_WA per wheel, dB(A)")

@@ -287,7 +287,6 @@ def run(args) -> int:
 def _run_file(args) -> int:
     """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
     from wheelrail.core.atomic import atomic_write
-    from wheelrail.core.noise.levels import SOUND_POWER_PARTS
     from wheelrail.core.noise.run_noise import (
         DEFAULT_TRAIN_AXLES,
         DEFAULT_TRAIN_LENGTH,
@@ -339,9 +338,9 @@ def _run_file(args) -> int:
     )
     print(f"  the run's wheel (its force): {result.header.wheel_words()}")
     print(f"  track (its force and the rail's and sleepers' sound): {describe_track(result.header.params)}")
-    print("  band Hz   force dB " + " ".join(f"{name:>6}" for name in SOUND_POWER_PARTS))
+    print("  band Hz   force dB " + " ".join(f"{name:>6}" for name in noise.sound_power_db))
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
-        row = [noise.sound_power_db[name][i] for name in SOUND_POWER_PARTS]
+        row = [levels[i] for levels in noise.sound_power_db.values()]
         cells = " ".join("     -" if not np.isfinite(v) else f"{v:6.1f}" for v in row)
         force = "     -" if not np.isfinite(noise.force_db[i]) else f"{noise.force_db[i]:8.1f}"
         print(f"  {nominal_band_label(f):>7} {force}   {cells}")
@@ -405,16 +404,23 @@ def _twins(args) -> int:
     )
     print(f"  track: {describe_words(params, 'track')}; contact: {describe_words(params, 'geometry')}")
     veh = summary["cnossos_vehicle_transfer_dB"]
+    # the components' transfers (wheelrail.core.noise.components): the track's beside L_H,tr, the wheel's beside L_H,veh
+    track_parts = {name: max(6, len(name) + 1) for name in result.power_per_force}
+    wheel_parts = {name: max(7, len(name) + 2) for name in result.transfer_db if name not in track_parts}
     print(
-        "  band Hz  L_H,tr model   rail  sleeper  CNOSSOS  decay EN15461  free wave  sigma rail  sigma sleeper"
-        f"   wheel  L_H,veh {result.wheel_diameter_mm}"
+        "  band Hz  L_H,tr model "
+        + " ".join(f"{name:>{width}}" for name, width in track_parts.items())
+        + "  CNOSSOS  decay EN15461  free wave  sigma rail  sigma sleeper "
+        + " ".join(f"{name:>{width}}" for name, width in wheel_parts.items())
+        + f"  L_H,veh {result.wheel_diameter_mm}"
     )
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
+        track = " ".join(f"{result.transfer_db[name][i]:{width}.1f}" for name, width in track_parts.items())
+        wheel = " ".join(f"{result.transfer_db[name][i]:{width}.1f}" for name, width in wheel_parts.items())
         print(
-            f"  {f:7g}  {result.track_transfer_db[i]:12.1f} {result.rail_transfer_db[i]:6.1f} "
-            f"{result.sleeper_transfer_db[i]:8.1f} {cn[i]:8.1f} {result.decay_rate_db_per_m[i]:14.2f} "
+            f"  {f:7g}  {result.track_transfer_db[i]:12.1f} {track} {cn[i]:8.1f} {result.decay_rate_db_per_m[i]:14.2f} "
             f"{result.free_wave_decay_db_per_m[i]:10.2f} {result.rail_radiation_efficiency[i]:11.3f} "
-            f"{result.sleeper_radiation_efficiency[i]:14.3f} {result.wheel_transfer_db[i]:7.1f} {veh[i]:12.1f}"
+            f"{result.sleeper_radiation_efficiency[i]:14.3f} {wheel} {veh[i]:12.1f}"
         )
     print(f"  wheel ({result.wheel_model}): {result.wheel_source}")
     return 0

@@ -16,9 +16,6 @@ from wheelrail.core.checks import finite_array, level_arrays, mean_squares, real
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.spectra import third_octave_bands
 
-COMPONENTS = ("rail", "sleeper", "wheel")  # the radiating parts of the noise chain, one sound power each
-TOTAL = "total"  # their energetic sum
-SOUND_POWER_PARTS = (*COMPONENTS, TOTAL)  # every sound power of a run's noise, in the order outputs list them
 NOISE_BAND_RANGE = (50.0, 10000.0)  # Hz: the 24 bands of CNOSSOS-EU Appendix G and of the noise outputs
 SOUND_POWER_REFERENCE = 1e-12  # W: sound power levels in dB re 1 pW
 PRESSURE_REFERENCE = 20e-6  # Pa: sound pressure levels in dB re 20 uPa

@@ -1,15 +1,18 @@
 """A finished run (any contact model) to sound power, dB(A), pass-by level and a pass-by you can hear.
 
-One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10 kHz):
+One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10 kHz), for every component of
+the chain (:mod:`wheelrail.core.noise.components`: the rail, the sleepers and the wheel, and any registered):
 
 - contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force_spectrum`);
-- rail and sleepers: L_W = L_F + 10 lg(T / 1 pW) with T the model track's sound power per unit mean-square force
-  (:func:`wheelrail.core.noise.twins.track_noise_model`, same wheel, track and contact as the run);
-- wheel: the effective roughness that causes L_F in the linear model, L_r = L_F + 10 lg <|alpha_W + alpha_R +
-  alpha_C|^2> (dB re 1 um), plus, per axle (two wheels: minus 3 dB), ``wheel_model`` "directive" (the default):
-  CNOSSOS-EU's L_H,veh for the nearest tabulated diameter (the 2-DOF wheel model has no radiating modes,
-  :mod:`wheelrail.core.noise.twins`); "modal": the modal wheel's L_H,veh-equivalent, its own chain excited by that
-  roughness (:func:`wheelrail.core.noise.twins.with_modal_wheel`);
+- a component driven by the force (rail, sleepers): L_W = L_F + 10 lg(T / 1 pW) with T its sound power per unit
+  mean-square force in the model track (:func:`wheelrail.core.noise.twins.track_noise_model`, same wheel, track
+  and contact as the run);
+- a component driven by the roughness (the wheel): the effective roughness that causes L_F in the linear model,
+  L_r = L_F + 10 lg <|alpha_W + alpha_R + alpha_C|^2> (dB re 1 um), plus its transfer per axle (two wheels: minus
+  3 dB); the wheel's is, for ``wheel_model`` "directive" (the default), CNOSSOS-EU's L_H,veh for the nearest
+  tabulated diameter (the 2-DOF wheel model has no radiating modes, :mod:`wheelrail.core.noise.twins`); for
+  "modal", the modal wheel's L_H,veh-equivalent, its own chain excited by that roughness
+  (:func:`wheelrail.core.noise.twins.with_modal_wheel`);
 - total and L_WA per wheel; per axle +3 dB (two wheels on two rails, incoherent).
 
 **Pass-by level** at the ISO 3095 position (7.5 m from the track centre, 1.2 m above the rail head): every axle a
@@ -22,7 +25,7 @@ passage), so L_pAeq,Tp = L_WA,axle + 10 lg(sum_k [atan(s_k / d) + atan((l - s_k)
 default train is 0.53 dB below that, a 16-axle 80 m one 1.1 dB).
 
 **Pass-by WAV**: the run's dynamic force (sampled at v / dx, 27.8 kHz at 100 km/h) is filtered by the pressure
-per unit force at the closest distance, |p / F|^2 = rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2), a zero-phase
+per unit force at the closest distance, |p / F|^2 = rho c sum_c T_c / (2 pi d^2) over the components, a zero-phase
 FIR interpolated in lg f between the band values; each wheel of each axle gets its own stretch of the force record
 (cyclically shifted at random, so the wheels are incoherent; a record shorter than the pass-by repeats), is
 weighted by the distance law d / r(t) of its own position, and all are summed. Doppler shift is not applied.
@@ -42,12 +45,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.noise.components import TOTAL
 from wheelrail.core.noise.levels import (
-    COMPONENTS,
     NOISE_BAND_RANGE,
     PRESSURE_REFERENCE,
-    SOUND_POWER_PARTS,
-    TOTAL,
     a_weighted_energy,
     a_weighted_total,
     energy_sum,
@@ -101,7 +102,9 @@ class RunNoise:
     effective_roughness_db : numpy.ndarray
         Effective roughness that causes the force in the linear model, dB re 1 um.
     sound_power_db : dict
-        ``rail``, ``sleeper``, ``wheel``, ``total``: dB re 1 pW for one wheel on one rail.
+        Per component (``rail``, ``sleeper``, ``wheel`` and any registered,
+        :func:`wheelrail.core.noise.components.component_names`), then ``total``: dB re 1 pW for one wheel on one
+        rail.
     sound_power_dba : dict
         Their A-weighted totals.
     axle_dba : float
@@ -149,8 +152,9 @@ class RunNoise:
     def csv_text(self, comment: str = "") -> str:
         """The sound power per band as CSV: ``comment`` (``#`` lines naming the run, e.g.
         :meth:`wheelrail.core.results.RunHeader.csv_comment`), a line with the train and the totals, then
-        ``band, centre_hz``, the force level and the rail, sleeper, wheel and total sound power of one wheel on
-        one rail (dB re 1 pW; empty where a band is above the run's Nyquist frequency)."""
+        ``band, centre_hz``, the force level and the sound power of each component (``<name>_dB``) and their total
+        (``total_dB``) of one wheel on one rail (dB re 1 pW; empty where a band is above the run's Nyquist
+        frequency)."""
         from wheelrail.core.spectra import band_labels
 
         axles, length = self.train
@@ -159,9 +163,9 @@ class RunNoise:
             f"# sound power of one wheel on one rail, dB re 1 pW; L_WA per wheel {self.sound_power_dba['total']:.2f}"
             f" dB(A), per axle {self.axle_dba:.2f} dB(A); pass-by L_pAeq,Tp {self.pass_by_laeq_dba:.2f} dB(A) at "
             f"{ISO3095_DISTANCE:g} m / {ISO3095_HEIGHT:g} m for {axles} axles in {length:g} m",
-            "band,centre_hz,force_dB_re_1N," + ",".join(f"{name}_dB" for name in SOUND_POWER_PARTS),
+            "band,centre_hz,force_dB_re_1N," + ",".join(f"{name}_dB" for name in self.sound_power_db),
         ]
-        columns = [self.force_db, *(self.sound_power_db[name] for name in SOUND_POWER_PARTS)]
+        columns = [self.force_db, *self.sound_power_db.values()]
         for i, (label, centre) in enumerate(zip(band_labels(self.frequency_hz), self.frequency_hz, strict=True)):
             cells = ["" if not np.isfinite(column[i]) else f"{column[i]:.3f}" for column in columns]
             lines.append(",".join([label, f"{centre:.6g}", *cells]))
@@ -247,19 +251,22 @@ def _band_values_on(frequencies: np.ndarray, band_db: np.ndarray) -> np.ndarray:
 def sound_power_from_force(force_db, track) -> dict:
     """Sound power of one wheel on one rail from its contact-force levels (24 bands, dB re 1 N; NaN: unresolved).
 
-    ``track`` is the :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the run's wheel, track and contact.
-    Returns ``db`` (``rail``, ``sleeper``, ``wheel``, ``total``: dB re 1 pW per band), ``dba`` (their A-weighted
-    totals, NaN bands left out), ``axle_dba`` (two wheels) and ``roughness_db`` (the effective roughness, dB re 1 um).
+    ``track`` is the :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the run's wheel, track and contact;
+    its components (``track.transfer_db``) are the parts. Returns ``db`` (each component's and the ``total``
+    sound power, dB re 1 pW per band), ``dba`` (their A-weighted totals, NaN bands left out), ``axle_dba`` (two
+    wheels) and ``roughness_db`` (the effective roughness, dB re 1 um).
     """
     force_db = np.asarray(force_db, dtype=float)
     if force_db.shape != track.frequency_hz.shape:
         raise WheelrailError(f"force levels: {force_db.size} values for the {track.frequency_hz.size} noise bands")
     mean_sq_force = 10 ** (force_db / 10)
-    rail = power_level(track.rail_power_per_force * mean_sq_force)
-    sleeper = power_level(track.sleeper_power_per_force * mean_sq_force)
     roughness = force_db + track.effective_roughness_per_force_db
-    wheel = roughness + track.wheel_transfer_db - AXLE_DB  # L_H,veh (or the modal wheel's) per axle
-    powers = dict(zip(COMPONENTS, (rail, sleeper, wheel), strict=True))
+    powers = {}
+    for name, transfer in track.transfer_db.items():
+        if name in track.power_per_force:  # driven by the force: its sound power per unit mean-square force
+            powers[name] = power_level(track.power_per_force[name] * mean_sq_force)
+        else:  # driven by the roughness: its transfer per axle (L_H,veh or the modal wheel's), one wheel of two
+            powers[name] = roughness + transfer - AXLE_DB
     powers[TOTAL] = energy_sum(*powers.values())
     dba = {name: a_weighted_total(np.where(np.isfinite(levels), levels, -np.inf)) for name, levels in powers.items()}
     return {"db": powers, "dba": dba, "axle_dba": dba["total"] + AXLE_DB, "roughness_db": roughness}
@@ -292,6 +299,43 @@ def run_noise(
     wheel_profile : WheelProfile, optional
         The modal wheel's cross-section (default: the run's own, ``RunHeader.wheel_profile``, for a run with the
         modal wheel; else the named wheel nearest the run's R, at R).
+
+    Returns
+    -------
+    RunNoise
+        The sound power of one wheel on one rail per band (dB re 1 pW) of each component of the chain
+        (:func:`wheelrail.core.noise.components.component_names`) and their total, their A-weighted totals, the
+        axle's L_WA, the pass-by level of the train, the CNOSSOS-EU source beside it on the run's roughness and
+        what produced them (``configuration``); :meth:`RunNoise.to_dict` and :meth:`RunNoise.csv_text` give the
+        JSON and CSV of ``wheelrail noise --run``, :meth:`RunNoise.write_wav` the pass-by.
+
+    Raises
+    ------
+    WheelrailError
+        If ``result`` is not a finished run, is too short for a force spectrum or has no fluctuating force, or
+        an input is out of its range.
+
+    Examples
+    --------
+    0.6 m of the bundled corrugated rail under the Hertz spring at 100 km/h, its noise on a coarse track (40 bays,
+    one frequency per band: the default numerics resolve the bands):
+
+    >>> from wheelrail.core.interaction import simulate
+    >>> from wheelrail.core.noise.components import sound_power_parts
+    >>> from wheelrail.core.noise.run_noise import run_noise
+    >>> from wheelrail.core.noise.twins import NoiseNumerics
+    >>> result = simulate("corrugated-rail", model="hertz", line=0, length=0.6)
+    >>> noise = run_noise(result, numerics=NoiseNumerics(track_bays=40, elements_per_bay=4, points_per_band=1))
+    >>> tuple(noise.sound_power_db) == sound_power_parts()   # the rail's, sleepers', wheel's and their total
+    True
+    >>> noise.sound_power_db["wheel"].shape               # dB re 1 pW in the 24 bands, one wheel on one rail
+    (24,)
+    >>> round(noise.axle_dba - noise.sound_power_dba["total"], 2)   # dB(A): an axle is two wheels on two rails
+    3.01
+    >>> noise.train                                       # the pass-by's train: axles, m
+    (40, 200.0)
+    >>> noise.pass_by_laeq_dba < noise.axle_dba           # L_pAeq,Tp at 7.5 m, dB(A)
+    True
     """
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
@@ -302,7 +346,7 @@ def run_noise(
 
     result = result_of_run("run_noise: result", result)
     train_axles, train_length = checked_train(train_axles, train_length)
-    _check_run_length(result)  # before the track's transfer functions (minutes on a cold cache)
+    _check_run_length(result)  # before the track's transfer functions (the costly part on a cold cache)
     check_fluctuating(result.force, spectrum_record(result).skipped_steps, f"the {result.model} run")  # else silence
     params = result.header.params
     track = track_noise_model(params, numerics)
@@ -316,9 +360,13 @@ def run_noise(
     force_db = np.asarray(force_db, dtype=float)
     power = sound_power_from_force(force_db, track)
     powers, powers_dba, axle_dba, roughness = power["db"], power["dba"], power["axle_dba"], power["roughness_db"]
-    # |p/F|^2 at the closest distance, per band: rho c (T_rail + T_sleeper + T_wheel) / (2 pi d^2)
-    t_wheel = 10 ** ((track.wheel_transfer_db - AXLE_DB + track.effective_roughness_per_force_db) / 10) * 1e-12
-    t_total = track.rail_power_per_force + track.sleeper_power_per_force + t_wheel
+    # |p/F|^2 at the closest distance, per band: rho c sum_c T_c / (2 pi d^2), T_c each component's W/N^2
+    t_total = 0.0
+    for name, transfer in track.transfer_db.items():
+        if name in track.power_per_force:
+            t_total = t_total + track.power_per_force[name]
+        else:  # its transfer per axle on the effective roughness per unit force, one wheel of two
+            t_total = t_total + 10 ** ((transfer - AXLE_DB + track.effective_roughness_per_force_db) / 10) * 1e-12
     d = receiver_distance()
     undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True) if not np.isfinite(value)]
     configuration = _configuration(result, track, train_axles, train_length, undefined)

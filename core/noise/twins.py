@@ -40,6 +40,10 @@ Chain, per frequency f (time convention e^{i w t}, amplitudes; band values are m
 
 Only the vertical direction is modelled (no lateral rail or wheel vibration, no cross-coupling); the rail
 radiates in free field (no ground reflection) and the sleepers are rigid.
+
+The rail, the sleepers and the wheel are the entries of :mod:`wheelrail.core.noise.components` (steps 4 and 6 are
+their ``radiation``, ``response`` and ``transfer``); the chain computes every registered component: one driven by
+the force as the rail and sleepers of steps 4-5, one driven by the roughness as the wheel of step 6.
 """
 
 from __future__ import annotations
@@ -51,19 +55,14 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.noise.components import NoiseChain, TrackResponse, noise_components
 from wheelrail.core.noise.levels import NOISE_BAND_RANGE, noise_bands
-from wheelrail.core.noise.radiation import (
-    AIR_DENSITY,
-    SOUND_SPEED,
-    decaying_rail_radiation,
-    piston_radiation_efficiency,
-    rail_radiation_efficiency,
-    rail_section,
-)
+from wheelrail.core.noise.radiation import piston_radiation_efficiency, rail_radiation_efficiency, rail_section
 from wheelrail.core.parameters import ModelParameters, TrackParameters
 from wheelrail.core.spectra import BAND_HALF_WIDTH
 
 LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
+MIN_TRACK_BAYS = 40  # the lengthened track's fewest bays: 20 each side of the load (the free wave, step 3)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -73,7 +72,8 @@ class NoiseNumerics:
     Attributes
     ----------
     track_bays : int
-        Sleeper bays of the lengthened FE track (240: 156 m; the load in the middle, 78 m of rail each side).
+        Sleeper bays of the lengthened FE track (240: 156 m; the load in the middle, 78 m of rail each side); at
+        least :data:`MIN_TRACK_BAYS`.
     elements_per_bay : int
         Rayleigh-Timoshenko elements per bay (16 as the interaction's track: >= 7 per bending wavelength to 8 kHz).
     points_per_band : int
@@ -101,8 +101,11 @@ class NoiseNumerics:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise WheelrailError(f"NoiseNumerics.{name} must be a whole number >= 1, got {value!r}")
-        if self.track_bays < 20:
-            raise WheelrailError(f"NoiseNumerics.track_bays must be at least 20, got {self.track_bays}")
+        if self.track_bays < MIN_TRACK_BAYS:
+            raise WheelrailError(
+                f"NoiseNumerics.track_bays must be at least {MIN_TRACK_BAYS} (the free wave's decay is fitted 3 to "
+                f"20 bays from the load in the middle), got {self.track_bays}"
+            )
         for name in ("decay_length", "sleeper_area"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
@@ -137,17 +140,20 @@ class TrackNoiseModel:
     ----------
     frequency_hz : numpy.ndarray
         Exact band centres, Hz.
-    rail_power_per_force, sleeper_power_per_force : numpy.ndarray
-        Band means of the sound power of one rail / its sleepers per unit mean-square contact force, W/N^2.
+    power_per_force : dict of str to numpy.ndarray
+        Per component driven by the force (:mod:`wheelrail.core.noise.components`: the rail, the sleepers): band
+        means of its sound power (one rail, its sleepers) per unit mean-square contact force, W/N^2.
     force_per_roughness_db : numpy.ndarray
         10 lg <|F/r|^2> in dB re 1 N/um.
     effective_roughness_per_force_db : numpy.ndarray
         10 lg <|alpha_W + alpha_R + alpha_C|^2> in dB re 1 um/N: turns a force level into the effective
         roughness that would cause it in the linear model.
     track_transfer_db : numpy.ndarray
-        L_H,tr of the model, dB re 1 pW per axle for 0 dB re 1 um (rail + sleepers, two rails).
-    rail_transfer_db, sleeper_transfer_db : numpy.ndarray
-        Its two parts.
+        L_H,tr of the model, dB re 1 pW per axle for 0 dB re 1 um (the components driven by the force, two rails).
+    transfer_db : dict of str to numpy.ndarray
+        Per component, its sound power per axle for 0 dB re 1 um effective roughness, dB re 1 pW: the parts of
+        L_H,tr for the rail and sleepers; for the wheel CNOSSOS-EU L_H,veh (Table G-3b) for ``wheel_model``
+        "directive", the modal wheel's equivalent for "modal".
     decay_rate_db_per_m : numpy.ndarray
         EN 15461's formula on the model's transfer receptances, dB/m.
     free_wave_decay_db_per_m : numpy.ndarray
@@ -158,9 +164,6 @@ class TrackNoiseModel:
         The rail's power radiated by its field in the wavenumber domain against the 2D ratio applied to the whole
         field (step 4), dB: negative where the field decays within an acoustic wavelength (-4 dB at 50 Hz on the
         paper's track).
-    wheel_transfer_db : numpy.ndarray
-        The wheel's transfer function per axle, dB re 1 pW for 0 dB re 1 um: CNOSSOS-EU L_H,veh (Table G-3b) for
-        ``wheel_model`` "directive", the modal wheel's equivalent for "modal".
     wheel_diameter_mm : int
         The directive's column nearest the model's 2 R (used by "directive"; stated beside "modal").
     configuration : dict
@@ -174,18 +177,15 @@ class TrackNoiseModel:
     """
 
     frequency_hz: np.ndarray
-    rail_power_per_force: np.ndarray
-    sleeper_power_per_force: np.ndarray
+    power_per_force: dict
     force_per_roughness_db: np.ndarray
     effective_roughness_per_force_db: np.ndarray
     track_transfer_db: np.ndarray
-    rail_transfer_db: np.ndarray
-    sleeper_transfer_db: np.ndarray
+    transfer_db: dict
     decay_rate_db_per_m: np.ndarray
     free_wave_decay_db_per_m: np.ndarray
     rail_radiation_efficiency: np.ndarray
     sleeper_radiation_efficiency: np.ndarray
-    wheel_transfer_db: np.ndarray
     wheel_diameter_mm: int
     configuration: dict = field(default_factory=dict)
     rail_decay_correction_db: np.ndarray | None = None
@@ -197,15 +197,13 @@ class TrackNoiseModel:
         """The JSON layout of ``wheelrail noise --method twins --json`` (key ``twins``)."""
         return {
             "track_transfer_dB": self.track_transfer_db,
-            "rail_transfer_dB": self.rail_transfer_db,
-            "sleeper_transfer_dB": self.sleeper_transfer_db,
+            **{f"{name}_transfer_dB": levels for name, levels in self.transfer_db.items()},
             "decay_rate_dB_per_m": self.decay_rate_db_per_m,
             "free_wave_decay_dB_per_m": self.free_wave_decay_db_per_m,
             "rail_radiation_efficiency": self.rail_radiation_efficiency,
             "rail_decay_correction_dB": self.rail_decay_correction_db,
             "sleeper_radiation_efficiency": self.sleeper_radiation_efficiency,
             "force_per_roughness_dB_re_1N_per_um": self.force_per_roughness_db,
-            "wheel_transfer_dB": self.wheel_transfer_db,
             "wheel_model": self.wheel_model,
             "wheel_transfer_source": self.wheel_source,
             **(
@@ -249,6 +247,7 @@ def track_noise_model(
         NoiseNumerics() if numerics is None else numerics,
         checked_wheel_model(wheel_model),
         _checked_profile(wheel_profile, wheel_model),
+        noise_components(),  # in the cache's key: a component registered later has its own chain
     )
 
 
@@ -268,12 +267,18 @@ def _checked_profile(wheel_profile, wheel_model: str):
 
 
 def _vibration(
-    params: ModelParameters, numerics: NoiseNumerics, k_hertz: float, freqs: np.ndarray, alpha_wheel: np.ndarray
+    params: ModelParameters,
+    numerics: NoiseNumerics,
+    k_hertz: float,
+    freqs: np.ndarray,
+    alpha_wheel: np.ndarray,
+    components: tuple,
 ) -> dict:
     """Steps 1-3 of the module docstring at every frequency of ``freqs`` (bands, points) and both excitation
-    positions, with the wheel's receptance ``alpha_wheel`` (m/N, shaped as ``freqs``): rail velocity integral,
-    sleeper velocity sum, |alpha_W + alpha_R + alpha_C|^2 (each (b, p, 2)),
-    and per band the midspan transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
+    positions, with the wheel's receptance ``alpha_wheel`` (m/N, shaped as ``freqs``): the ``response`` of each
+    of ``components`` driven by the force (``responses``), the rail's velocity integral and its field radiated
+    in the wavenumber domain, |alpha_W + alpha_R + alpha_C|^2 (each (b, p, 2)), and per band the midspan
+    transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
     from wheelrail.core.track import assemble_track
     from wheelrail.core.track.fe import timoshenko_shape_functions
 
@@ -294,10 +299,11 @@ def _vibration(
         )
     loads = np.stack([model.load_vector(x) for x in positions], axis=1)
     shape = (*freqs.shape, len(positions))
+    driven = [c for c in components if c.driven_by == "force"]
     out = {
+        "responses": {c.name: np.empty(shape) for c in driven},
         "rail": np.empty(shape),
         "rail_radiated": np.empty(shape),
-        "sleeper": np.empty(shape),
         "alpha_sq": np.empty(shape),
         "alpha_track": np.empty(shape, dtype=complex),
         "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
@@ -311,10 +317,12 @@ def _vibration(
         solutions = solve(f, loads)  # one factorisation for both excitation positions
         for j, (shape_n, dofs) in enumerate(point_dofs):
             u = solutions[:, j]
-            rail = u[model.w_dof]
+            state = TrackResponse(model, u, f)
+            rail = state.rail
             out["rail"][b, p, j] = w**2 * np.sum(weights * np.abs(rail) ** 2)
-            out["rail_radiated"][b, p, j] = decaying_rail_radiation(w * rail, model.element_length, f)
-            out["sleeper"][b, p, j] = w**2 * np.sum(np.abs(u[model.sleeper_dof]) ** 2)
+            out["rail_radiated"][b, p, j] = state.rail_radiated
+            for c in driven:
+                out["responses"][c.name][b, p, j] = c.response(state)
             out["alpha_track"][b, p, j] = shape_n @ u[dofs] + 1.0 / k_hertz
             out["alpha_sq"][b, p, j] = abs(alpha_w + out["alpha_track"][b, p, j]) ** 2
             if j == 1:  # midspan excitation: EN 15461 and the free wave
@@ -441,27 +449,26 @@ def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.n
 
 
 @functools.lru_cache(maxsize=8)
-def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics, wheel_model: str, profile) -> TrackNoiseModel:
+def _track_noise_model(
+    params: ModelParameters, numerics: NoiseNumerics, wheel_model: str, profile, components: tuple
+) -> TrackNoiseModel:
     contact = params.contact
     k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
     section = rail_section()
     area = numerics.sleeper_area
     freqs = band_frequencies(numerics.points_per_band)
     alpha_wheel, modal = _wheel_receptances(params, freqs, wheel_model, profile)
-    vib = _vibration(params, numerics, k_hertz, freqs, alpha_wheel)
+    vib = _vibration(params, numerics, k_hertz, freqs, alpha_wheel, components)
     sigma_rail = rail_radiation_efficiency(freqs)
     sigma_sleeper = piston_radiation_efficiency(freqs, area)
-    radiation_rail = AIR_DENSITY * SOUND_SPEED * section["perimeter_m"] * section["mean_normal_y_squared"]
-    t_rail = radiation_rail * vib["rail_radiated"]  # W/N^2 (rms force, rms velocity), in the wavenumber domain
     decay_correction = 10 * np.log10(np.mean(vib["rail_radiated"], axis=(1, 2)) / np.mean(
         sigma_rail[..., None] * vib["rail"], axis=(1, 2)))  # fmt: skip
-    t_sleeper = AIR_DENSITY * SOUND_SPEED * area * sigma_sleeper[..., None] * vib["sleeper"]
     force_per_r_sq = 1.0 / vib["alpha_sq"]  # (N/m)^2
-    um2 = 1e-12  # (1 um)^2 in m^2; also 1 pW: the two 1e-12 cancel in L_H,tr
-    rail_tr = 10 * np.log10(2 * np.mean(t_rail * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
-    sleeper_tr = 10 * np.log10(2 * np.mean(t_sleeper * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
     decay, free_decay = _decay_rates(vib)
     wheel = _wheel_transfer(params, modal, vib, freqs)
+    chain = NoiseChain(params=params, numerics=numerics, frequencies=freqs, wheel=wheel)
+    power_per_force, transfer_db = _component_transfers(components, chain, vib["responses"], force_per_r_sq)
+    track_power = sum(10 ** (transfer_db[name] / 10) for name in power_per_force)  # the force-driven parts
     configuration = {
         "method": "twins",
         "track_bays": numerics.track_bays,
@@ -476,27 +483,41 @@ def _track_noise_model(params: ModelParameters, numerics: NoiseNumerics, wheel_m
         "wheel_model": wheel_model,
         "wheel": wheel["source"],
     }
+    um2 = 1e-12  # (1 um)^2 in m^2
     return TrackNoiseModel(
         frequency_hz=noise_bands(),
-        rail_power_per_force=np.mean(t_rail, axis=(1, 2)),
-        sleeper_power_per_force=np.mean(t_sleeper, axis=(1, 2)),
+        power_per_force=power_per_force,
         force_per_roughness_db=10 * np.log10(np.mean(force_per_r_sq, axis=(1, 2)) * um2),
         effective_roughness_per_force_db=10 * np.log10(np.mean(vib["alpha_sq"], axis=(1, 2)) / um2),
-        track_transfer_db=10 * np.log10(10 ** (rail_tr / 10) + 10 ** (sleeper_tr / 10)),
-        rail_transfer_db=rail_tr,
-        sleeper_transfer_db=sleeper_tr,
+        track_transfer_db=10 * np.log10(track_power),
+        transfer_db=transfer_db,
         decay_rate_db_per_m=decay,
         free_wave_decay_db_per_m=free_decay,
         rail_radiation_efficiency=np.mean(sigma_rail, axis=1),
         rail_decay_correction_db=decay_correction,
         sleeper_radiation_efficiency=np.mean(sigma_sleeper, axis=1),
-        wheel_transfer_db=wheel["db"],
         wheel_diameter_mm=nearest_table_diameter_mm(contact.radius_along),
         configuration=configuration,
         wheel_model=wheel_model,
         wheel_power_per_force=wheel["power_per_force"],
         wheel_source=wheel["source"],
     )
+
+
+def _component_transfers(components: tuple, chain: NoiseChain, responses: dict, force_per_r_sq: np.ndarray):
+    """Each component's band means (:mod:`wheelrail.core.noise.components`): for one driven by the force its
+    sound power per unit mean-square force T (W/N^2, the mean of radiation x response) and 10 lg(2 <T |F / r|^2>
+    (1 um)^2 / 1 pW); for one driven by the roughness its ``transfer``. Returns (power per force, transfer dB)."""
+    um2 = 1e-12  # (1 um)^2 in m^2; also 1 pW: the two 1e-12 cancel
+    power_per_force, transfer_db = {}, {}
+    for entry in components:
+        if entry.driven_by == "force":
+            power = entry.radiation(chain) * responses[entry.name]  # W/N^2 (rms force, rms velocity), (b, p, 2)
+            power_per_force[entry.name] = np.mean(power, axis=(1, 2))
+            transfer_db[entry.name] = 10 * np.log10(2 * np.mean(power * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
+        else:
+            transfer_db[entry.name] = np.asarray(entry.transfer(chain), dtype=float)
+    return power_per_force, transfer_db
 
 
 def with_modal_wheel(track, params, wheel_profile=None, numerics=None):
@@ -512,10 +533,11 @@ def with_modal_wheel(track, params, wheel_profile=None, numerics=None):
 
     modal = track_noise_model(params, numerics, "modal", wheel_profile)
     source = f"{modal.wheel_source}; on the effective roughness of the force"
+    wheels = {name: levels for name, levels in modal.transfer_db.items() if name not in modal.power_per_force}
     return dataclasses.replace(
         track,
         wheel_model="modal",
-        wheel_transfer_db=modal.wheel_transfer_db,
+        transfer_db={**track.transfer_db, **wheels},  # the components driven by the roughness: the wheel's
         wheel_source=source,
         configuration={**track.configuration, "wheel_model": "modal", "wheel": source},
     )

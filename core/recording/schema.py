@@ -14,7 +14,7 @@ import numpy as np
 
 from wheelrail.core.drawing import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
 from wheelrail.core.jsonready import strict_json
-from wheelrail.core.noise.levels import SOUND_POWER_PARTS
+from wheelrail.core.noise.components import sound_power_parts
 from wheelrail.core.results import RunHeader
 
 __all__ = [
@@ -48,9 +48,9 @@ NOMINAL_CIRCLE = "contact/nominal_circle"  # LineStrips3D, m (the 3D view)
 NOMINAL_CIRCLE_IMAGE = "contact/nominal_circle_image"
 FORCE_SPECTRUM = "spectra/force"
 # optional (``--sound-power``, ``record_result(sound_power=True)``): the run's rolling noise, one wheel on one rail,
-# dB re 1 pW per band 50 Hz-10 kHz (wheelrail.core.noise.run_noise), and a document with the totals
+# dB re 1 pW per band 50 Hz-10 kHz (wheelrail.core.noise.run_noise), one entity per part
+# (spectra/sound_power/<part>, wheelrail.core.noise.components.sound_power_parts), and a document with the totals
 SOUND_POWER = "spectra/sound_power"
-SOUND_POWER_COMPONENTS = SOUND_POWER_PARTS  # spectra/sound_power/<part>, as wheelrail.core.noise.levels names them
 
 # titles of the blueprint's time-series views
 FORCE_VIEW = "Contact force (N)"
@@ -257,7 +257,7 @@ def _spectra_views(sound_power: bool) -> list:
     if sound_power:
         views += [
             rrb.BarChartView(origin=f"{SOUND_POWER}/{part}", name=f"Sound power, {part} (dB re 1 pW; {BANDS_NOTE})")
-            for part in SOUND_POWER_COMPONENTS
+            for part in sound_power_parts()  # spectra/sound_power/<part>: wheelrail.core.noise.components's
         ]
         views.append(rrb.TextDocumentView(origin=f"{SOUND_POWER}/summary", name="Sound power, totals"))
     return views

@@ -13,7 +13,6 @@ from wheelrail.core.recording.options import RecordingOptions
 from wheelrail.core.recording.schema import (
     FORCE_SPECTRUM,
     SOUND_POWER,
-    SOUND_POWER_COMPONENTS,
     band_chart,
     rerun_module,
 )
@@ -53,7 +52,7 @@ def log_sound_power(stream, result: RunResult, options: RecordingOptions) -> Non
         option = names["sound_power"].label if "sound_power" in names else "sound_power"
         warnings.warn(f"{option}: no sound power recorded: {reason}", stacklevel=3)
         return
-    for component in SOUND_POWER_COMPONENTS:
+    for component in noise.sound_power_db:  # its parts (wheelrail.core.noise.components) and their total
         chart = band_chart(noise.frequency_hz, noise.sound_power_db[component])
         stream.log(f"{SOUND_POWER}/{component}", chart, static=True, strict=True)
     totals = {

@@ -8,7 +8,7 @@ import numpy as np
 
 from wheelrail.core.atomic import atomic_write
 from wheelrail.core.models import model_names
-from wheelrail.core.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS, model_colour
+from wheelrail.core.palette import CNOSSOS_COLOURS, model_colour
 from wheelrail.core.parameters import KMH, RunParameters
 from wheelrail.core.study.tables import Table
 
@@ -242,7 +242,7 @@ _PARTS_MODEL = "3d"  # whose rail, sleeper and wheel the last panel splits (the 
 def _draw_track(group: list[Table]):
     """The track study's summary: one row per set; force, sound power and pass-by level per model against the
     swept input, and one model's rail, sleeper and wheel sound power (colour: the part)."""
-    from wheelrail.core.noise.levels import COMPONENTS
+    from wheelrail.core.noise.components import noise_components
 
     figure, axes = _axes_grid(len(group), len(_TRACK_PANELS) + 1, height=3.6)
     figure.set_size_inches(14.0, 3.8 * len(group) + 1.0)
@@ -256,10 +256,13 @@ def _draw_track(group: list[Table]):
             ax.set(ylabel=y_label, title=f"{table.panel}\n{title}")
         ax = axes[row, -1]
         split = _PARTS_MODEL if _PARTS_MODEL in models else models[0]
-        for part in COMPONENTS:
-            values = table.columns[f"{split.replace('-', '_')}_{part}_LWA_dBA"]
-            ax.plot(x, values, color=COMPONENT_COLOURS[part], marker="o", ms=3, lw=1.4, label=part)
-        ax.set(ylabel="L_WA (dB(A) re 1 pW)", title=f"{table.panel}\nrail, sleeper and wheel per axle ({split})")
+        column = {part: f"{split.replace('-', '_')}_{part.name}_LWA_dBA" for part in noise_components()}
+        parts = [part for part in noise_components() if column[part] in table.columns]
+        for part in parts:
+            values = table.columns[column[part]]
+            ax.plot(x, values, color=part.colour, marker="o", ms=3, lw=1.4, label=part.label)
+        words = ", ".join(part.label for part in parts)
+        ax.set(ylabel="L_WA (dB(A) re 1 pW)", title=f"{table.panel}\n{words} per axle ({split})")
         for ax in axes[row]:
             ax.set_xticks(x, ticks)
             ax.set_xlabel(x_label)

@@ -140,13 +140,15 @@ def plan_track(infos, params, tracks, spec_of):
     specs = [spec for _, runs in layout.values() for spec in runs.values()]
 
     def tabulate(summaries):
-        from wheelrail.core.noise.levels import COMPONENTS
+        from wheelrail.core.noise.components import component_names, noise_components
         from wheelrail.core.noise.run_noise import AXLE_DB, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, pass_by_level
         from wheelrail.core.noise.run_noise import sound_power_from_force as power
         from wheelrail.core.noise.twins import track_noise_model
 
         noise_tracks = [track_noise_model(p) for p in on_track]  # cached on disk by track, wheel and contact
         swept = swept_inputs(tracks)
+        labels = [part.label for part in noise_components()]
+        parts = ", ".join(labels[:-1]) + f" and {labels[-1]}"  # "rail, sleeper and wheel"
         tables = []
         for label, (_, runs) in layout.items():
             number = np.arange(1, len(tracks) + 1, dtype=float)
@@ -160,7 +162,7 @@ def plan_track(infos, params, tracks, spec_of):
                 levels = [np.concatenate([np.asarray(s.levels, dtype=float), [np.nan]]) for s in found]
                 chains = [power(level, noise_tracks[k]) for k, level in enumerate(levels)]
                 noise[f"{_column(model)}_force_dB"] = np.array([_total(s.levels) for s in found])
-                for part in COMPONENTS:
+                for part in component_names():
                     noise[f"{_column(model)}_{part}_LWA_dBA"] = np.array([c["dba"][part] + AXLE_DB for c in chains])
                 noise[f"{_column(model)}_LWA_dBA"] = np.array([c["axle_dba"] for c in chains])
                 noise[f"{_column(model)}_LpAeq_dBA"] = np.array(
@@ -175,7 +177,7 @@ def plan_track(infos, params, tracks, spec_of):
                     columns=noise,
                     axis_name="track",
                     title=f"{label}, line 0: per track (swept inputs in their option's units), the overall force "
-                    "level (dB re 1 N), rail, sleeper and wheel sound power per axle and their total (dB(A) re 1 "
+                    f"level (dB re 1 N), {parts} sound power per axle and their total (dB(A) re 1 "
                     f"pW), pass-by L_pAeq,Tp ({DEFAULT_TRAIN_AXLES} axles, {DEFAULT_TRAIN_LENGTH:g} m, dB(A))",
                 )
             )

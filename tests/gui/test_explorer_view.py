@@ -14,6 +14,7 @@ import pytest
 from wheelrail.core import palette
 from wheelrail.core.drawing import colour_table, table_colours
 from wheelrail.core.models import model_names
+from wheelrail.core.noise.components import noise_components
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.explorer.panel import NO_OVERLAY
 from wheelrail.explorer.scene import PRESSURE_HEIGHT, PRESSURE_TOP, SCENE_PER_MM
@@ -144,7 +145,7 @@ def test_a_compare_replays_and_downloads_the_model_chosen(app, finish_run):
     # the Noise tab draws the shown model's parts and every model's total solid, each in its own colour of core's
     # palette (their distances under colour-vision deficiency: tests/unit/test_palette.py), the totals last
     solid = [(label, colour) for label, colour, style in app.tab(NoiseTab).power.series if style == "solid"]
-    expected = [(f"2d: {part}", palette.COMPONENT_COLOURS[part]) for part in palette.COMPONENT_COLOURS]
+    expected = [(f"2d: {part.name}", part.colour) for part in noise_components()]
     expected += [(f"{m}: total", palette.model_colour(m, model_names())) for m in models]
     assert solid == expected and len({colour for _, colour in solid}) == len(solid)
 

@@ -41,7 +41,7 @@ def test_modal_920_wheel_against_the_directive(modal_920):
     modes hardest), and the radiation efficiencies are idealised (core/modal_wheel/radiation.py)."""
     f = noise_bands()
     bands = (f > 450) & (f < 5700)
-    difference = modal_920.wheel_transfer_db[bands] - vehicle_transfer(920)[bands]
+    difference = modal_920.transfer_db["wheel"][bands] - vehicle_transfer(920)[bands]
     assert abs(np.mean(difference)) < 3.0
     assert np.all(np.abs(difference) < 13.5)
     assert "modal wheel (freight_920, 2R = 920 mm)" in modal_920.to_dict()["wheel_transfer_source"]
@@ -64,7 +64,7 @@ def test_wheel_band_sampling_is_converged(modal_920):
         _track_noise_model.cache_clear()
     f = noise_bands()
     bands = (f > 450) & (f < 5700)
-    assert np.all(np.abs(finer.wheel_transfer_db[bands] - modal_920.wheel_transfer_db[bands]) < 0.6)
+    assert np.all(np.abs(finer.transfer_db["wheel"][bands] - modal_920.transfer_db["wheel"][bands]) < 0.6)
 
 
 @pytest.mark.slow
@@ -88,11 +88,11 @@ def test_a_force_becomes_roughness_and_either_wheel_radiates_it():
     modal = with_modal_wheel(directive, params, numerics=small)
     assert modal.wheel_source.startswith("modal wheel (wheel_840's shape, 2R = 780 mm)")
     own = track_noise_model(params, small, wheel_model="modal")
-    np.testing.assert_array_equal(modal.wheel_transfer_db, own.wheel_transfer_db)
-    np.testing.assert_array_equal(modal.rail_power_per_force, directive.rail_power_per_force)
+    np.testing.assert_array_equal(modal.transfer_db["wheel"], own.transfer_db["wheel"])
+    np.testing.assert_array_equal(modal.power_per_force["rail"], directive.power_per_force["rail"])
     np.testing.assert_array_equal(modal.effective_roughness_per_force_db, directive.effective_roughness_per_force_db)
     power = sound_power_from_force(force_db, modal)["db"]["wheel"]
-    np.testing.assert_allclose(power, roughness + own.wheel_transfer_db - AXLE_DB, atol=1e-9)
+    np.testing.assert_allclose(power, roughness + own.transfer_db["wheel"] - AXLE_DB, atol=1e-9)
 
 
 def test_wheel_model_and_profile_choice():

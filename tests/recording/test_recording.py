@@ -442,13 +442,13 @@ def test_sound_power_spectra_are_recorded_on_request(tmp_path):
     # spectra/sound_power/{rail,sleeper,wheel,total} (dB re 1 pW, NaN recorded as 0) equal to run_noise's, and a
     # summary document; without the option nothing is added (the older files' entity tree is unchanged)
     from wheelrail.core.interaction import simulate
-    from wheelrail.core.noise.levels import SOUND_POWER_PARTS
+    from wheelrail.core.noise.components import sound_power_parts
     from wheelrail.core.noise.run_noise import run_noise
 
     result = simulate("cast-iron-wheel", model="hertz", line=0, length=1.0)
     path = record_result(result, tmp_path / "noise.rrd", sound_power=True)
     expected = run_noise(result)
-    for component in SOUND_POWER_PARTS:
+    for component in sound_power_parts():
         (chunk,) = chunks_of(path, f"spectra/sound_power/{component}", static=True)
         batch = chunk.to_record_batch()
         levels = np.array(batch.column("BarChart:values")[0].as_py()[0]["buffer"]).view(np.float64)

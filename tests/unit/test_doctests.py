@@ -24,6 +24,8 @@ DOCUMENTED = {
     "wheelrail.core.irregularities.surface": ["surface_deviation"],
     "wheelrail.core.irregularities.trajectory": ["wheel_centre_trajectory"],
     "wheelrail.core.models": ["model_names"],
+    "wheelrail.core.noise.components": ["register_component"],
+    "wheelrail.core.noise.run_noise": ["run_noise"],
     "wheelrail.core.reference_filters": ["reference_filters"],
     "wheelrail.core.roughness.io": ["load_roughness"],
     "wheelrail.core.roughness.model": ["RoughnessSet"],

@@ -11,7 +11,7 @@ import pytest
 
 from wheelrail.core import palette
 from wheelrail.core.models import model_names
-from wheelrail.core.noise.levels import COMPONENTS
+from wheelrail.core.noise.components import noise_components
 
 # Machado, Oliveira & Fernandes (IEEE TVCG 2009), severity 1.0, on linear sRGB (the matrices colorspacious uses)
 VISIONS = {
@@ -106,9 +106,9 @@ def test_the_distance_is_ciede2000_and_refuses_the_old_look_alikes():
 def _noise_tab_solid_colours() -> dict:
     """What the explorer's Noise tab draws solid after ``compare``: the shown model's components and every model's
     total."""
-    from wheelrail.explorer import noise_tab, plots
+    from wheelrail.explorer import plots
 
-    drawn = {f"component {name}": noise_tab.COMPONENT_COLOURS[name] for name in COMPONENTS}
+    drawn = {f"component {part.name}": part.colour for part in noise_components()}
     drawn.update({f"model {name}": plots.model_colour(name) for name in model_names()})
     return drawn
 
@@ -143,7 +143,10 @@ def test_every_front_end_takes_the_models_and_components_from_the_palette():
         assert plots.model_colour(name) == palette.model_colour(name, model_names())
         column = f"{name.replace('-', '_')}_db"
         assert figures.model_style(column)["color"] == palette.MODEL_COLOURS[name]
-    assert noise_tab.COMPONENT_COLOURS == palette.COMPONENT_COLOURS
+    # each noise component's colour is its registry entry's (the explorer and the study figures read it there),
+    # one of the palette's
+    palette_colours = {*palette.OKABE_ITO.values(), palette.TOL_WINE}
+    assert all(part.colour in palette_colours for part in noise_components())
     assert noise_tab.CNOSSOS_COLOURS == palette.CNOSSOS_COLOURS
 
 

@@ -8,7 +8,7 @@ import pytest
 
 from wheelrail.core import palette
 from wheelrail.core.inputs import model_parameters
-from wheelrail.core.noise.levels import COMPONENTS
+from wheelrail.core.noise.components import component_names
 from wheelrail.core.study.figures import study_figures
 from wheelrail.core.study.noise_plan import noise_models
 from wheelrail.core.study.tables import Table
@@ -27,7 +27,7 @@ def _track_tables() -> list[Table]:
     for model in noise_models():
         column = model.replace("-", "_")
         noise[f"{column}_force_dB"] = 120 + rng.random(2)
-        for part in COMPONENTS:
+        for part in component_names():
             noise[f"{column}_{part}_LWA_dBA"] = 100 + rng.random(2)
         noise[f"{column}_LWA_dBA"] = 105 + rng.random(2)
         noise[f"{column}_LpAeq_dBA"] = 80 + rng.random(2)
@@ -57,7 +57,7 @@ def test_the_track_summary_puts_the_swept_value_on_the_axis_and_units_on_every_p
         assert [t.get_text() for t in ax.get_xticklabels()] == ["60", "120"]
         assert ax.get_ylabel() and ("dB re 1 N" in ax.get_ylabel()) != ("dB(A)" in ax.get_ylabel())
     legends = [text.get_text() for ax in figure.axes if ax.get_legend() for text in ax.get_legend().get_texts()]
-    assert set(noise_models()) | set(COMPONENTS) == set(legends)  # the models and the parts, no column names
+    assert set(noise_models()) | set(component_names()) == set(legends)  # the models and the parts, no column names
     colours = {line.get_label(): line.get_color() for line in figure.axes[0].get_lines()}
     assert colours == {model: palette.MODEL_COLOURS[model] for model in noise_models()}
 
