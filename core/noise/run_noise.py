@@ -148,7 +148,7 @@ class RunNoise:
 
     def csv_text(self, comment: str = "") -> str:
         """The sound power per band as CSV: ``comment`` (``#`` lines naming the run, e.g.
-        :meth:`wheelrail.core.results.RunHeader.csv_comment`), a line with the train and the totals, then
+        :meth:`wheelrail.core.engine.results.RunHeader.csv_comment`), a line with the train and the totals, then
         ``band, centre_hz``, the force level and the rail, sleeper, wheel and total sound power of one wheel on
         one rail (dB re 1 pW; empty where a band is above the run's Nyquist frequency)."""
         from wheelrail.core.spectra import band_labels
@@ -274,7 +274,7 @@ def run_noise(
     wheel_model: str = "directive",
     wheel_profile=None,
 ) -> RunNoise:
-    """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.results.RunResult`).
+    """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.engine.results.RunResult`).
 
     Parameters
     ----------
@@ -293,10 +293,10 @@ def run_noise(
         The modal wheel's cross-section (default: the run's own, ``RunHeader.wheel_profile``, for a run with the
         modal wheel; else the named wheel nearest the run's R, at R).
     """
+    from wheelrail.core.engine.results import result_of_run
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
     from wheelrail.core.noise.wheel_power import checked_wheel_model
-    from wheelrail.core.results import result_of_run
     from wheelrail.core.run_file import check_fluctuating
     from wheelrail.core.spectra import force_spectrum, spectrum_record
 

@@ -1,6 +1,6 @@
 """Writing a run into a recording while it streams (:class:`RecordingSink`) or in one go (:func:`record_result`).
 
-The sink records what it is given: the run's :class:`~wheelrail.core.results.RunHeader`, the steps, and
+The sink records what it is given: the run's :class:`~wheelrail.core.engine.results.RunHeader`, the steps, and
 (optionally) the :class:`~wheelrail.core.roughness.RoughnessSet` whose lines around the run's line become
 ``roughness/lines``; it never loads anything from disk itself.
 
@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.engine.results import RunHeader, RunResult, StepState
 from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.inputs import choice
 from wheelrail.core.jsonready import strict_json
@@ -42,7 +43,6 @@ from wheelrail.core.recording.schema import (
     rerun_module,
     time_columns,
 )
-from wheelrail.core.results import RunHeader, RunResult, StepState
 
 __all__ = ["RecordingSink", "record_result"]
 

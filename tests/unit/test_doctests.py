@@ -20,7 +20,7 @@ DOCUMENTED = {
     "wheelrail.core.contact.prefilter": ["winkler_equivalent_roughness", "average_roughness"],
     "wheelrail.core.contact.window": ["HalfSpaceWindow", "solve_normal_contact", "solve_coupled_contact"],
     "wheelrail.core.contact.winkler": ["bedding_stiffness", "winkler_contact"],
-    "wheelrail.core.interaction": ["prepare_run", "simulate"],
+    "wheelrail.core.engine.prepare": ["prepare_run", "simulate"],
     "wheelrail.core.models": ["model_names"],
     "wheelrail.core.reference_filters": ["reference_filters"],
     "wheelrail.core.roughness.io": ["load_roughness"],
