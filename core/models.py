@@ -337,7 +337,7 @@ def _load_plugins() -> None:
     if _plugins_loaded:
         return
     _plugins_loaded = True
-    import importlib.metadata  # here, not at import: 25-150 ms a command that asks for no model does not pay
+    import importlib.metadata  # here, not at import: a command that asks for no model does not load it
 
     for point in sorted(importlib.metadata.entry_points(group=ENTRY_POINT_GROUP), key=lambda p: p.name):
         problem = _plugin_problem(point)
