@@ -28,8 +28,8 @@ TOLERANCE = 1e-12
 def _prepare_run():
     try:
         from wheelrail.core.engine import prepare_run
-    except ImportError:
-        from wheelrail.core.engine import prepare_run
+    except ImportError:  # a checkout from before the engine package
+        from wheelrail.core.interaction import prepare_run
     return prepare_run
 
 
