@@ -19,13 +19,7 @@ from wheelrail.core.engine.kernels import scatter_history
 from wheelrail.core.engine.memory import check_run_memory
 from wheelrail.core.engine.results import RunHeader, RunResult, StepState
 from wheelrail.core.engine.run import InteractionRun
-from wheelrail.core.engine.track_lines import (
-    TrackRoughness,
-    resolve_surfaces,
-    roughness_along_track,
-    usable_length,
-    window_half_elements,
-)
+from wheelrail.core.engine.track_lines import TrackRoughness, track_roughness, window_half_elements
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ModelEntry, ModelInputs, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
@@ -193,12 +187,15 @@ def prepare_run(
     steady = run_in_length is None  # the default run-in follows the steady start (where the bay allows it)
     entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
     steady = steady and starts_steady(params)
-    rough, name, wheel, wheel_name = resolve_surfaces(roughness, wheel_roughness, params)
-    dx = params.run.element_size
-    check_run_memory(
-        entry, params, usable_length(rough, dx) if length is None else length, run_in_length, keep_pressure
+    track, name, wheel_name = track_roughness(
+        roughness,
+        wheel_roughness,
+        entry.traits,
+        line,
+        params,
+        length,
+        lambda run_length: check_run_memory(entry, params, run_length, run_in_length, keep_pressure),
     )
-    track = roughness_along_track(rough, entry.traits, line, params, length, wheel=wheel)
     wheel_system, wheel_model, wheel_profile = interaction_wheel(wheel_system, params)
     history = history_arrays(track, params, run_in_length, track_numerics, wheel_system, steady)
     if not steady:  # the rail's response to the preload's history (eq. 2); a steady start fills its own
@@ -208,7 +205,7 @@ def prepare_run(
         line=line,
         roughness_name=name,
         params=params,
-        run_in_length=history.n_run_in * dx,
+        run_in_length=history.n_run_in * params.run.element_size,
         wheel_roughness_name=wheel_name,
         wheel_model=wheel_model,
         wheel_profile=wheel_profile,

@@ -1,14 +1,16 @@
 """The roughness a run meets along the track: the contact window's size, the margins, the lines a model can run
 on, the rail and wheel sets paired across, and the chosen line (or window of lines) on the model grid.
 
-``prepare.prepare_run`` reads and pairs the sets (:func:`resolve_surfaces`), checks the run's memory, then lays
-the lines along the track (:func:`roughness_along_track`). :func:`usable_length` is the one rule for margins and
-default lengths; :func:`run_lines` the lines the command line and the explorer offer.
+:func:`track_roughness` is what ``prepare.prepare_run`` asks for: the sets read and paired
+(:func:`resolve_surfaces`), the run's memory checked, then the lines laid along the track
+(:func:`roughness_along_track`). :func:`usable_length` is the one rule for margins and default lengths;
+:func:`run_lines` the lines the command line and the explorer offer.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -33,6 +35,7 @@ __all__ = [
     "run_lines",
     "run_margin",
     "resolve_surfaces",
+    "track_roughness",
     "usable_length",
     "window_half_elements",
     "window_lines",
@@ -377,3 +380,23 @@ def roughness_along_track(
         n_steps=n_steps,
         element_size=dx,
     )
+
+
+def track_roughness(
+    roughness: RoughnessLike,
+    wheel_roughness: RoughnessLike | None,
+    traits: ModelTraits,
+    line: int,
+    params: ModelParameters,
+    length: float | None,
+    check_memory: Callable[[float], object],
+) -> tuple[TrackRoughness, str, str | None]:
+    """The roughness of a run along the track and the names of its rail (or wheel) set and wheel set.
+
+    The sets are read and paired (:func:`resolve_surfaces`); ``check_memory(length)`` is called with the run's
+    length, m (:func:`usable_length` where none is given), before anything that grows with it is allocated;
+    then the lines are laid along the track (:func:`roughness_along_track`).
+    """
+    rough, name, wheel, wheel_name = resolve_surfaces(roughness, wheel_roughness, params)
+    check_memory(usable_length(rough, params.run.element_size) if length is None else length)
+    return roughness_along_track(rough, traits, line, params, length, wheel=wheel), name, wheel_name
