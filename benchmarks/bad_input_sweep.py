@@ -48,8 +48,8 @@ def _files(folder: Path) -> dict[str, str]:
     (folder / "underscore.csv").write_text("# kind: rail\nx_m,y_mm=0\n0,1\n0.001,1_0\n")
     (folder / "tinystep.csv").write_text("# kind: rail\nx_m,y_mm=0\n0,1\n1e-300,2\n")
     (folder / "wide.csv").write_text("# kind: rail\nx_m,y_mm=0,y_mm=1e300\n0,1,2\n0.001,2,1\n")
+    from wheelrail.core.engine.results import RunHeader, RunResult
     from wheelrail.core.parameters import ModelParameters
-    from wheelrail.core.results import RunHeader, RunResult
 
     n = 500  # a 0.5 m run: too short for a force spectrum at 100 km/h (0.572 m)
     t = np.arange(n) * 3.6e-5

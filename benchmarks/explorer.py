@@ -29,7 +29,7 @@ import statistics
 import time
 from pathlib import Path
 
-from wheelrail.core.run_setup import default_run_in_length
+from wheelrail.core.engine.history import default_run_in_length
 
 
 def _new_session(explorer, open_tab):

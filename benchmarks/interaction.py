@@ -27,11 +27,14 @@ import sys
 import time
 from pathlib import Path
 
-from wheelrail.core.run_setup import default_run_in_length
+from wheelrail.core.engine.history import default_run_in_length
 
 CHILD = r"""
 import json, resource, sys, time
-from wheelrail.core.interaction import prepare_run
+try:
+    from wheelrail.core.engine import prepare_run
+except ImportError:  # a --base checkout from before the engine package
+    from wheelrail.core.interaction import prepare_run
 from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
 model, length, repeats = sys.argv[1], (None if sys.argv[2] == "full" else float(sys.argv[2])), int(sys.argv[4])
 geometry = json.loads(sys.argv[3])  # ContactParameters geometry, m ({} : the paper's circle)

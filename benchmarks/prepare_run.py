@@ -26,10 +26,10 @@ CASES = [("hertz", 100.0), ("hertz", 200.0), ("2d", 100.0)]
 CHILD = r"""
 import json, statistics, sys, time
 from dataclasses import replace
-from wheelrail.core.interaction import prepare_run
+from wheelrail.core.engine import prepare_run
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
 from wheelrail.core.roughness import load_roughness
-import wheelrail.core.interaction as where
+import wheelrail.core.engine.prepare as where
 
 rail = load_roughness("corrugated-rail")
 out = {"code": where.__file__}

@@ -29,10 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.engine.results import RunHeader, RunResult
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.recording import RecordingOptions, RecordingSink, read_recording, record_result
 from wheelrail.core.recording.sink import SURFACE_EVERY
-from wheelrail.core.results import RunHeader, RunResult
 from wheelrail.core.roughness import load_roughness
 
 DT = 1e-3 / (100 / 3.6)  # s: 1 mm at 100 km/h
@@ -123,7 +123,7 @@ def part_synthetic(n: int, folder: Path) -> None:
 
 
 def part_real(length: float, folder: Path, repeat: int, surface_every: int) -> None:
-    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.engine import prepare_run
 
     roughness = load_roughness("corrugated-rail")
 

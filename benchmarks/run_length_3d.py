@@ -18,7 +18,7 @@ import sys
 CASE = r"""
 import resource, sys, time
 import numpy as np
-from wheelrail.core.interaction import prepare_run
+from wheelrail.core.engine import prepare_run
 from wheelrail.core.roughness import RoughnessSet, load_roughness
 
 length, keep = float(sys.argv[1]), sys.argv[2] == "keep"

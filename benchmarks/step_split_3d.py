@@ -1,4 +1,4 @@
-"""Where the microseconds of a 3D step go, in the compiled loop (``interaction._run_chunk_3d``).
+"""Where the microseconds of a 3D step go, in the compiled loop (``engine.laws.halfspace.run_chunk_3d``).
 
 Run: python3 benchmarks/step_split_3d.py [--length-m 2] [--wheel-radius-mm 460 --rail-crown-radius-mm 300]
 
@@ -29,8 +29,8 @@ from numba import njit
 
 from wheelrail.core.contact import active_set as steps
 from wheelrail.core.contact import cholesky, halfspace_model
-from wheelrail.core.interaction import prepare_run
-from wheelrail.core.loop_kernels import commit_force, known_approach
+from wheelrail.core.engine import prepare_run
+from wheelrail.core.engine.kernels import commit_force, known_approach
 from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
 
 SET = "corrugated-rail"
@@ -140,8 +140,8 @@ def main() -> None:
     n, r = loop.n_steps, loop.n_run_in
     radii = f"{params.contact.radius_along * 1e3:g} / {params.contact.radius_across * 1e3:g} mm"
     print(
-        f"{SET}, {args.length_m:g} m ({n} recorded steps timed; {r} run-in steps before), window {run._law.shape[0]} x "
-        f"{run._law.shape[1]}, relative radii along / across {radii}"
+        f"{SET}, {args.length_m:g} m ({n} recorded steps timed; {r} run-in steps before), window "
+        f"{run.law.solver.shape[0]} x {run.law.solver.shape[1]}, relative radii along / across {radii}"
     )
     print(
         f"whole step            {cpu / n * 1e6:6.1f} us CPU  ({n / cpu:,.0f} steps per CPU s; "
@@ -164,8 +164,8 @@ def main() -> None:
     print(f"  eqs. 1-2 (history, track convolution of {loop.weights.shape[1]} lags, commit) {history:6.1f} us")
 
     # the law alone on the same approaches, from the same start
-    _law_alone(known[:1], compliance[:1], prepare_run(SET, model="3d", params=params, length=0.05)._law.law)
-    law = fresh._law.law
+    _law_alone(known[:1], compliance[:1], prepare_run(SET, model="3d", params=params, length=0.05).law.solver.law)
+    law = fresh.law.solver.law
     _law_alone(known[:r], compliance[:r], law)  # the run-in's steps, replayed on the 3D law, untimed
     _law_alone_from(known.size, known, compliance, law)  # compile (no step)
     start = time.process_time()
@@ -175,11 +175,11 @@ def main() -> None:
     print(f"  rest (outputs: pressure map, lengths; not itemised)       {cpu / n * 1e6 - history - law_us:6.1f} us")
 
     decisions = _decisions(
-        known, compliance, prepare_run(SET, model="3d", params=params, length=args.length_m)._law.law
+        known, compliance, prepare_run(SET, model="3d", params=params, length=args.length_m).law.solver.law
     )[r:]
     iterations, added, dropped, elements = decisions.mean(axis=0)
     m = int(round(elements))
-    state_law = run._law.law
+    state_law = run.law.solver.law
     size = int(state_law[1][3][0])
     upper = state_law[1][4]
     rhs = np.empty(upper.shape[0])

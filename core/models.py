@@ -1,19 +1,19 @@
 """The contact models: one registry, one interface (paper section 2.3).
 
-The interaction loop (``wheelrail.core.interaction``) owns the wheel and track of eqs. 1-2 and asks a contact
+The interaction loop (``wheelrail.core.engine``) owns the wheel and track of eqs. 1-2 and asks a contact
 model only for its law: given the part of the approach known from the history, delta_known, and the
 instantaneous compliance c (delta = delta_known - c F), return the force and the contact state. A model
 declares what the loop must know about it as :class:`ModelTraits` in its registry entry; nothing outside this
 registry tests a model's name.
 
-Two kinds of law:
-
-* **compiled**: the law is one of the numba kernels the loop's compiled chunk loops know (``LAW_HERTZ``,
-  ``LAW_BEDDING``, ``LAW_HALFSPACE``); the model only prepares the kernel's inputs (:class:`LawInputs`, or
-  for the 3D half-space its stepping state). numba caches compiled code on disk only when no jitted function
-  is passed as an argument, hence named constants, not callables;
-* **per step**: the model's Python ``solve`` is called once per step (any model registered from outside,
-  e.g. in a test, and the 3D half-space's per-step reference).
+Each model names the law that steps it (``ModelTraits.law``): a ``ContactLaw`` of the run engine
+(``wheelrail.core.engine.laws``), given as the class or as ``"module:Class"`` imported on first use. The built-in
+ones: ``LAW_HERTZ`` and ``LAW_BEDDING`` (compiled one-line laws), ``LAW_HALFSPACE`` (the 3D half-space and its
+window). A compiled law runs in its own numba chunk loop and reads the model's :class:`LawInputs` (or, for the
+3D half-space, its stepping state); a model with no law (None) has its Python ``solve`` called once per step (any
+model registered from outside without a law of its own, e.g. in a test, and the 3D half-space's per-step
+reference). Adding a compiled law is one module (its kernel, its chunk loop and a ``CompiledLaw`` subclass) and
+one registry entry.
 
 This module is cheap to import (no numba, no SciPy): the command line, the studies and the explorer read the
 model names and traits from it (:func:`model_names`, :func:`model_entry`); the implementation is imported on
@@ -63,11 +63,13 @@ __all__ = [
     "unregister",
 ]
 
-LAW_HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz_law.hertz_law
-LAW_BEDDING = 1  # Winkler bedding on the line under the wheel (eqs. 3-6): contact.winkler.bedding_law
-LAW_HALFSPACE = 2  # 3D half-space on the window (eqs. 8-11): contact.halfspace_model.halfspace_step
-_LAWS = (None, LAW_HERTZ, LAW_BEDDING, LAW_HALFSPACE)
+# the built-in laws (engine.laws): Hertz spring on an equivalent roughness (eqs. 12-14), Winkler bedding on the line
+# under the wheel (eqs. 3-6), 3D half-space on the window (eqs. 8-11)
+LAW_HERTZ = "wheelrail.core.engine.laws.one_line:HertzLaw"
+LAW_BEDDING = "wheelrail.core.engine.laws.one_line:BeddingLaw"
+LAW_HALFSPACE = "wheelrail.core.engine.laws.halfspace:HalfSpaceLaw"
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
+_CLASS_PATH = re.compile(r"[A-Za-z_][\w.]*:[A-Za-z_]\w*")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -79,26 +81,29 @@ class ModelTraits:
     lateral_window : bool
         The model sees a window of roughness lines across the rail (1 mm apart, centred on the chosen line)
         instead of the chosen line alone.
-    law : int or None
-        ``LAW_HERTZ`` / ``LAW_BEDDING`` / ``LAW_HALFSPACE``: the law runs in the loop's compiled chunk loop;
-        None: the model's ``solve`` is called from Python once per step (streamed step by step).
+    law : type, str or None
+        The ``ContactLaw`` (``wheelrail.core.engine.laws``) that steps the model: the class, or ``"module:Class"``
+        imported on first use (``LAW_HERTZ``, ``LAW_BEDDING``, ``LAW_HALFSPACE``, a plug-in's); None: the model's
+        ``solve`` is called from Python once per step (streamed step by step).
     pressure_map : bool
         Every step has a pressure map on the window (``StepState.pressure``); needs ``lateral_window``.
 
     Raises
     ------
     WheelrailError
-        For an unknown ``law``, or a pressure map without a lateral window.
+        For a ``law`` that is neither a class, a ``"module:Class"`` nor None, or a pressure map without a lateral
+        window.
     """
 
     lateral_window: bool = False
-    law: int | None = None
+    law: type | str | None = None
     pressure_map: bool = False
 
     def __post_init__(self) -> None:
-        if self.law not in _LAWS:
+        law = self.law
+        if not (law is None or isinstance(law, type) or isinstance(law, str) and _CLASS_PATH.fullmatch(law)):
             raise WheelrailError(
-                f"ModelTraits.law must be one of LAW_HERTZ, LAW_BEDDING, LAW_HALFSPACE or None, got {self.law!r}"
+                f"ModelTraits.law must be a ContactLaw class, its 'module:Class' or None, got {self.law!r}"
             )
         if self.pressure_map and not self.lateral_window:
             raise WheelrailError("ModelTraits: a pressure map needs a lateral window")
@@ -111,7 +116,7 @@ class ModelTraits:
 
 @dataclass(frozen=True, kw_only=True)
 class ModelInputs:
-    """What a model is given to prepare a run (built by ``wheelrail.core.run_setup``).
+    """What a model is given to prepare a run (built by ``wheelrail.core.engine.prepare``).
 
     Step index s counts the run-in too: s = 0 is the first run-in step, ``n_total`` steps in all.
 
@@ -160,9 +165,9 @@ class ModelInputs:
 class LawInputs:
     """Inputs of a compiled law for every step: ``roughness[s]`` (row of floats), ``shape``, ``constants``.
 
-    LAW_HERTZ: roughness (n_total, 1) = r_eq faded in; shape unused; constants = (C, rho_x, rho_y) (the Hertz
+    ``LAW_HERTZ``: roughness (n_total, 1) = r_eq faded in; shape unused; constants = (C, rho_x, rho_y) (the Hertz
     constant and ``ContactParameters.patch_radii``: (C_H, R, R) for the paper's circle).
-    LAW_BEDDING: roughness (n_total, 2 half_x + 1) = r under the bedding; shape = wheel profile x'^2/(2 R_m);
+    ``LAW_BEDDING``: roughness (n_total, 2 half_x + 1) = r under the bedding; shape = wheel profile x'^2/(2 R_m);
     constants = (k dx, dx) (``contact.winkler.calibrated_bedding``).
     """
 
@@ -217,7 +222,7 @@ class ContactModel:
         raise NotImplementedError
 
     def law_inputs(self) -> LawInputs:
-        """Compiled law: the kernel's inputs for every step (``LAW_HALFSPACE``: a
+        """Compiled law: the kernel's inputs for every step (the 3D half-space: a
         ``contact.active_set.ActiveSetSolver``)."""
         raise NotImplementedError
 
@@ -341,7 +346,7 @@ def _load_plugins() -> None:
     if _plugins_loaded:
         return
     _plugins_loaded = True
-    import importlib.metadata  # here, not at import: 25-150 ms a command that asks for no model does not pay
+    import importlib.metadata  # here, not at import: a command that asks for no model does not load it
 
     for point in sorted(importlib.metadata.entry_points(group=ENTRY_POINT_GROUP), key=lambda p: p.name):
         problem = _plugin_problem(point)

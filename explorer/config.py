@@ -4,8 +4,8 @@ A :class:`RunConfig` is the full configuration of a run (set, wheel set, line, m
 contact geometry); its :meth:`RunConfig.case` (everything but the model) keys every result the page shows, so
 that a plot, a contact filter or a download never mixes configurations. :func:`read_config` turns the page's
 fields (text as typed) into a config or one :class:`~wheelrail.core.errors.WheelrailError` a user can act on; the
-choices it allows come from core (:func:`wheelrail.core.run_setup.run_lines`,
-:func:`wheelrail.core.run_setup.usable_length`, the accepted ranges of :mod:`wheelrail.core.accepted`,
+choices it allows come from core (:func:`wheelrail.core.engine.track_lines.run_lines`,
+:func:`wheelrail.core.engine.track_lines.usable_length`, the accepted ranges of :mod:`wheelrail.core.accepted`,
 :func:`wheelrail.core.spectra.shortest_spectrum_run`). :func:`page_message` words any WheelrailError, core's
 or the page's own, with the page's field labels and units (:data:`FIELD_NAMES`).
 """
@@ -17,11 +17,11 @@ import re
 from dataclasses import dataclass, replace
 
 from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
+from wheelrail.core.engine.track_lines import run_lines, usable_length, window_width
 from wheelrail.core.errors import Blame, Name, WheelrailError
 from wheelrail.core.inputs import Input, by_key, describe_track, inputs_of, model_parameters, page_names
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
-from wheelrail.core.run_setup import run_lines, usable_length, window_width
 from wheelrail.core.spectra import shortest_spectrum_run
 
 __all__ = [
@@ -200,7 +200,7 @@ def models_of(model_choice: str) -> tuple[str, ...]:
 
 def offered_lines(roughness, model_choice: str, contact: ContactParameters, wheel=None) -> tuple[int, ...]:
     """Lines the page offers: the lines every model of the choice can run on for this contact (core's rule,
-    :func:`wheelrail.core.run_setup.run_lines`: for ``3d``, and ``compare``, which runs it, the lines whose
+    :func:`wheelrail.core.engine.track_lines.run_lines`: for ``3d``, and ``compare``, which runs it, the lines whose
     window fits the set), and with a wheel set the lines it has data at (paired by lateral position)."""
     params = ModelParameters(contact=contact)
     found = [set(run_lines(roughness, model, params, wheel)) for model in models_of(model_choice)]

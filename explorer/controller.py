@@ -7,7 +7,7 @@ the run. Each finished model also gets its rolling noise (``noise``: default
 :func:`wheelrail.core.noise.run_noise.run_noise`, with the CNOSSOS-EU source beside it). A generation counter keeps
 a replaced run from reporting anything once a new one has started; :meth:`stop` cancels the current run (the steps
 done so far are kept). Results go to a :class:`~wheelrail.explorer.results.ResultStore` keyed by configuration. Runs
-come from ``prepare`` (default :func:`wheelrail.core.interaction.prepare_run`), spectra from
+come from ``prepare`` (default :func:`wheelrail.core.engine.prepare.prepare_run`), spectra from
 :func:`wheelrail.core.spectra.force_spectrum`. Every run and error is logged to the ``wheelrail.explorer`` logger
 (the terminal, under ``wheelrail explore``).
 """
@@ -90,7 +90,7 @@ class RunController:
         self._noise_transfer = None
         self._loads_solver = prepare is None  # core's runs: a first preparation loads the solver as a step of its own
         if prepare is None:
-            from wheelrail.core.interaction import prepare_run as prepare
+            from wheelrail.core.engine import prepare_run as prepare
 
             precompute = _track_green_functions if precompute is None else precompute
             noise = _rolling_noise if noise is None else noise

@@ -19,8 +19,8 @@ __version__ = "0.1.0"  # the one place the version is written (pyproject.toml re
 
 # public name -> the module that defines it
 _PUBLIC = {
-    "simulate": "wheelrail.core.interaction",
-    "prepare_run": "wheelrail.core.interaction",
+    "simulate": "wheelrail.core.engine.prepare",
+    "prepare_run": "wheelrail.core.engine.prepare",
     "ModelParameters": "wheelrail.core.parameters",
     "ContactParameters": "wheelrail.core.parameters",
     "force_spectrum": "wheelrail.core.spectra",
@@ -44,8 +44,8 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:  # what type checkers and editors see; at run time __getattr__ imports on first use
+    from wheelrail.core.engine import prepare_run, simulate
     from wheelrail.core.errors import WheelrailError
-    from wheelrail.core.interaction import prepare_run, simulate
     from wheelrail.core.noise.run_noise import run_noise
     from wheelrail.core.parameters import ContactParameters, ModelParameters
     from wheelrail.core.spectra import force_spectrum

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from wheelrail.core.results import RunResult
+from wheelrail.core.engine.results import RunResult
 
 ROOT = Path(__file__).resolve().parents[1]
 # the sources whose code decides the content of a cache entry (its key holds only the parameters): every module

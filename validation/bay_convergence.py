@@ -102,7 +102,7 @@ def _track():
 
 
 def _levels(numerics, kmh: float):
-    from wheelrail.core.interaction import simulate
+    from wheelrail.core.engine import simulate
     from wheelrail.core.parameters import ModelParameters, RunParameters
     from wheelrail.core.spectra import force_spectrum
 

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.engine import simulate
 from wheelrail.core.noise.cnossos import TRACK_TYPES, cnossos_rolling_noise, interpolation_difference, track_transfer
 from wheelrail.core.noise.run_noise import laeq_of_pressure, run_noise
 from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ

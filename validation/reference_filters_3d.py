@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.engine import simulate
 from wheelrail.core.parameters import ContactParameters, RunParameters
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
 from wheelrail.core.roughness import bundled_names, load_roughness

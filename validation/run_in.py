@@ -4,7 +4,7 @@ Run: python3 validation/run_in.py [--models hertz 2d] [--step-kmh 5 | --speeds-k
      python3 validation/run_in.py --timing [--repeats 5] [--base DIR]
 
 A run starts from the moving load's steady state on the gap of step 0 (``core/steady_start.py``) and runs in for
-``run_setup.DEFAULT_RUN_IN_TIME``. For every speed from 5 to 400 km/h (``--step-kmh`` apart) the first 0.5 m of the
+``history.DEFAULT_RUN_IN_TIME``. For every speed from 5 to 400 km/h (``--step-kmh`` apart) the first 0.5 m of the
 corrugated rail (line 0) is run so and compared with a 40 m run-in (at least 0.36 s) from the preload at rest
 (the start every run had before: history filled with the preload, roughness faded in): the largest difference of
 the recorded force at the same positions is printed (target: 1 N), also for other run-ins from the steady state
@@ -28,11 +28,10 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core import run_setup
-from wheelrail.core.interaction import prepare_run
+from wheelrail.core.engine import history, prepare_run
+from wheelrail.core.engine.history import DEFAULT_RUN_IN_TIME, PRELOAD_RUN_IN_TIME
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
 from wheelrail.core.roughness import load_roughness
-from wheelrail.core.run_setup import DEFAULT_RUN_IN_TIME, PRELOAD_RUN_IN_TIME
 
 LENGTH = 0.5  # m recorded
 STEADY_TIMES = (0.0, 0.0005, 0.001, DEFAULT_RUN_IN_TIME, 0.005)  # s of run-in from the steady state compared
@@ -43,16 +42,16 @@ def recorded(rail, model: str, kmh: float, run_in_length=None, tabulated=True, s
     """The recorded force: ``run_in_length`` None starts from the steady state (with ``steady_time`` s of run-in
     instead of the default, if given), a length from the preload at rest (``prepare_run``)."""
     params = ModelParameters(run=RunParameters(speed=kmh * KMH))
-    default = run_setup.DEFAULT_RUN_IN_TIME
+    default = history.DEFAULT_RUN_IN_TIME
     if steady_time is not None:  # the default run-in's time, for this run only (default_run_in_length reads it)
-        run_setup.DEFAULT_RUN_IN_TIME = steady_time
+        history.DEFAULT_RUN_IN_TIME = steady_time
     try:
         run = prepare_run(
             rail, model=model, params=params, length=LENGTH, run_in_length=run_in_length, keep_pressure=False
         )
     finally:
-        run_setup.DEFAULT_RUN_IN_TIME = default
-    run.tabulated_run_in = tabulated
+        history.DEFAULT_RUN_IN_TIME = default
+    run.law.tabulated_run_in = tabulated
     return run.run().force
 
 

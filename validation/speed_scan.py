@@ -13,7 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.engine import simulate
 from wheelrail.core.parameters import KMH, MAX_SPEED_KMH, MIN_SPEED_KMH, ModelParameters, RunParameters
 from wheelrail.core.roughness import RoughnessSet
 

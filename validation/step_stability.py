@@ -1,5 +1,5 @@
 """The coupled step's period-two stability margin k_H (1/k_H + H(-1)) over the accepted speeds, for the paper's
-track and the corners of the accepted track ranges (run_setup.check_step_stability refuses a run where it is not
+track and the corners of the accepted track ranges (history.check_step_stability refuses a run where it is not
 positive). Each new track costs its Green's functions once (13-60 s). Prints the worst margin and its speed.
 
     python3 validation/step_stability.py
@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from wheelrail.core.engine.history import check_step_stability
 from wheelrail.core.inputs import model_parameters
 from wheelrail.core.parameters import KMH, MAX_SPEED_KMH, MIN_SPEED_KMH
-from wheelrail.core.run_setup import check_step_stability
 from wheelrail.core.track import moving_weights
 from wheelrail.core.wheel import wheel_discrete_system
 

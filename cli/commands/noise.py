@@ -287,6 +287,7 @@ def run(args) -> int:
 def _run_file(args) -> int:
     """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
     from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.engine.results import RunResult
     from wheelrail.core.noise.run_noise import (
         DEFAULT_TRAIN_AXLES,
         DEFAULT_TRAIN_LENGTH,
@@ -294,7 +295,6 @@ def _run_file(args) -> int:
         run_noise,
     )
     from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
-    from wheelrail.core.results import RunResult
 
     wav_path = None if args.wav is None else Path(args.wav)  # checked by the dispatcher: FILES
     csv_path = None if args.csv is None else Path(args.csv)

@@ -156,7 +156,7 @@ def modal_wheel_of(params):
 def _prepare(args, params, out, sink):
     """The prepared run, and the recording started on it (aborted if preparing fails)."""
     from wheelrail.cli.commands._progress import announce_track_precompute
-    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.engine import prepare_run
 
     wheel_system = modal_wheel_of(params) if args.wheel_model == "modal" else None
     try:

@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.cli.commands._common import Files, print_json
+from wheelrail.core.engine.results import RunResult
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.results import RunResult
 from wheelrail.core.run_file import check_fluctuating
 from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, nominal_band_label, spectrum_record
 

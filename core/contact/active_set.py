@@ -24,9 +24,9 @@ from numba import njit
 
 import wheelrail.core.contact.cholesky as cholesky  # (not `from the package import`: the package imports this lazily)
 import wheelrail.core.contact.deformed_gap as deformed_gap
-from wheelrail.core.compiled import sources_stamp
 from wheelrail.core.contact.cholesky import append, backward, factorize, forward, remove
 from wheelrail.core.contact.deformed_gap import displacement_kernel, displacement_matrix, screen
+from wheelrail.core.engine.compiled import sources_stamp
 
 __all__ = [
     "FULL_MATRIX_ELEMENTS",
@@ -433,7 +433,7 @@ def _define_solve_gap(stamp):
     @njit(cache=True)
     def solve_gap(law, coupled, target, compliance):
         """:func:`solve_step` called from Python (:class:`ActiveSetSolver`'s one-off solves)."""
-        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.engine.compiled)
         return solve_step(law, coupled, target, compliance)
 
     return solve_gap

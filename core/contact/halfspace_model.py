@@ -5,7 +5,7 @@ the wheel. Each step builds the window's undeformed gap h = x^2 / (2 R_x) + y^2 
 relative radii of ``ContactParameters``, (x^2 + y^2) / (2 R) for the paper's crossed cylinders) and solves
 eqs. 8-11 coupled with delta = delta_known - c F by the active set of ``contact.active_set``, warm-started
 from the last loaded step. :func:`halfspace_step` is that step in compiled code, inlined into the loop's
-compiled chunk (``interaction._run_chunk_3d``) and into :data:`_python_step` (:meth:`HalfSpaceModel.solve`).
+compiled chunk (``engine.laws.halfspace.run_chunk_3d``) and into :data:`_python_step` (:meth:`HalfSpaceModel.solve`).
 """
 
 from __future__ import annotations
@@ -13,7 +13,6 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from wheelrail.core.compiled import sources_stamp
 from wheelrail.core.contact import active_set, cholesky, deformed_gap
 from wheelrail.core.contact.active_set import (
     STEP_AT_EDGE,
@@ -24,6 +23,7 @@ from wheelrail.core.contact.active_set import (
     solve_step,
 )
 from wheelrail.core.contact.window import HalfSpaceWindow
+from wheelrail.core.engine.compiled import sources_stamp
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import ContactModel, ContactState, ModelInputs
 
@@ -154,7 +154,7 @@ def _define_python_step(stamp):
     @njit(cache=True)
     def python_step(s, approach_known, compliance, law):
         """:func:`halfspace_step` called from Python (``HalfSpaceModel.solve``)."""
-        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.engine.compiled)
         return halfspace_step(s, approach_known, compliance, law)
 
     return python_step

@@ -41,7 +41,7 @@ class HertzWinklerModel(HertzModel):
     """``hertz-winkler``: r_eq from the Ford & Thompson bedding pre-filter (``contact.prefilter``).
 
     The bedding is the ``2d`` model's (``contact.winkler.calibrated_bedding``: the paper's for the circle).
-    The pre-filter runs on the line along the track; the run's margins (``run_setup.run_margin``, 20 mm at
+    The pre-filter runs on the line along the track; the run's margins (``track_lines.run_margin``, 20 mm at
     1 mm elements, at least 3a) cover its half-length 3a (16.4 mm at the defaults), so its end treatment never
     reaches a step of the run.
     """

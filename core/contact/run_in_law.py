@@ -5,7 +5,7 @@ function of the approach (and the fade) alone. On a fixed contact set it is exac
 (``active_set._pressure_on_set``: p_A = C_AA^-1 (delta 1 - h_A)), with a kink where the set changes:
 :func:`tabulate_law` finds it with the 3D solver itself (displacement-controlled solves with their slopes),
 :func:`run_in_table` builds the run-in's law from two such tables, and the compiled :data:`run_in_chunk`
-steps the run-in on it (``interaction.InteractionRun``; ``docs/physics.md``, "How a step is solved").
+steps the run-in on it (``run.InteractionRun``; ``docs/physics.md``, "How a step is solved").
 """
 
 from __future__ import annotations
@@ -15,13 +15,13 @@ import math
 import numpy as np
 from numba import njit
 
-from wheelrail.core import loop_kernels
-from wheelrail.core.compiled import sources_stamp
 from wheelrail.core.contact import active_set, cholesky, deformed_gap, halfspace_model
 from wheelrail.core.contact.active_set import STEP_AT_EDGE, STEP_CONVERGED, STEP_NEEDS_ROOM, ActiveSetSolver
 from wheelrail.core.contact.halfspace_model import halfspace_step
+from wheelrail.core.engine import kernels
+from wheelrail.core.engine.compiled import sources_stamp
+from wheelrail.core.engine.kernels import commit_force, known_approach
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.loop_kernels import commit_force, known_approach
 
 __all__ = ["run_in_chunk", "run_in_table", "step_gap", "step_law", "tabulate_law", "warm_start"]
 
@@ -43,7 +43,7 @@ def _define_sweep(stamp):
         On a fixed set F = A_e (delta z.z - z.y) (:func:`_pressure_on_set`): linear in delta, slope A_e z.z.
         Returns (points solved, status of the solve that stopped it or ``STEP_CONVERGED``).
         """
-        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.engine.compiled)
         forces, slopes, sizes, sums = out
         state = law[1]
         order, z, counts = state[0], state[2], state[3]
@@ -242,7 +242,7 @@ def _define_run_in_chunk(stamp):
         """The run-in of the ``3d`` law over history indices j0..j1-1 on its tabulated law
         (:func:`_tabulated_force` with w = the step's fade-in factor). ``constants`` = (preload, xi_w0, n_hist);
         ``out`` = (xi_wheel, xi_rail). Returns the approach of the last step, m."""
-        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.compiled)
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called (wheelrail.core.engine.compiled)
         preload, xi_w0, offset = constants
         xi_wheel, xi_rail = out
         delta = 0.0
@@ -256,4 +256,4 @@ def _define_run_in_chunk(stamp):
     return run_in_chunk
 
 
-run_in_chunk = _define_run_in_chunk(sources_stamp(loop_kernels))
+run_in_chunk = _define_run_in_chunk(sources_stamp(kernels))

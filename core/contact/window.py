@@ -420,7 +420,7 @@ def _check_gap(where: str, gap) -> np.ndarray:
         raise WheelrailError(f"{where}: gap must be a 2D array (ny, nx) in m, got shape {array.shape}")
     if array.shape[0] < 2 or array.shape[1] < 2:
         raise WheelrailError(f"{where}: gap window must be at least 2 x 2 elements, got shape {array.shape}")
-    if not np.isfinite(array).all():  # (the method: 2x faster than np.all at 576 elements)
+    if not np.isfinite(array).all():  # the array method: no dispatch through np.all
         bad = np.argwhere(~np.isfinite(array))[0]
         raise WheelrailError(
             f"{where}: gap must be finite (m), got {array[tuple(bad)]} at element {tuple(int(i) for i in bad)}"

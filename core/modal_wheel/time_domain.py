@@ -1,7 +1,7 @@
 """The modal wheel in the interaction loop: its radial receptance at the contact as a discrete-time system.
 
 The loop steps the wheel as ``s_{k+1} = Phi s_k + Gamma0 F_k + Gamma1 F_{k+1}`` and reads the contact's
-displacement as state 1 (``wheelrail.core.wheel.wheel_discrete_system``, ``run_setup.History``). Here the wheel
+displacement as state 1 (``wheelrail.core.wheel.wheel_discrete_system``, ``history.History``). Here the wheel
 is the paper's rigid wheelset (the unsprung mass M_W on the primary suspension k_S, c_S, ``WheelParameters``)
 with the modal wheel's radial point receptance at the contact in series::
 

@@ -37,7 +37,7 @@ __all__ = ["CNOSSOS_TRACK_TYPE", "cnossos_beside", "cnossos_beside_run", "run_ro
 def run_roughness_db(result) -> np.ndarray:
     """The run's combined roughness under the wheel in the 24 bands 50 Hz - 10 kHz at its speed, dB re 1 um
     (NaN where a band is not resolved: above v / (2 dx), or below what the record holds)."""
-    from wheelrail.core.results import result_of_run
+    from wheelrail.core.engine.results import result_of_run
     from wheelrail.core.spectra import force_spectrum
 
     result = result_of_run("run_roughness_db: result", result)
@@ -82,8 +82,9 @@ def cnossos_beside(
 
 
 def cnossos_beside_run(result, *, rule: str = "proportional") -> CnossosResult:
-    """:func:`cnossos_beside` for a finished run (:class:`wheelrail.core.results.RunResult`) on its own roughness."""
-    from wheelrail.core.results import result_of_run
+    """:func:`cnossos_beside` for a finished run (:class:`wheelrail.core.engine.results.RunResult`) on its own
+    roughness."""
+    from wheelrail.core.engine.results import result_of_run
 
     result = result_of_run("cnossos_beside_run: result", result)
     label = f"{result.roughness_name} line {result.line}"

@@ -151,7 +151,7 @@ class RunNoise:
 
     def csv_text(self, comment: str = "") -> str:
         """The sound power per band as CSV: ``comment`` (``#`` lines naming the run, e.g.
-        :meth:`wheelrail.core.results.RunHeader.csv_comment`), a line with the train and the totals, then
+        :meth:`wheelrail.core.engine.results.RunHeader.csv_comment`), a line with the train and the totals, then
         ``band, centre_hz``, the force level and the sound power of each component (``<name>_dB``) and their total
         (``total_dB``) of one wheel on one rail (dB re 1 pW; empty where a band is above the run's Nyquist
         frequency)."""
@@ -281,7 +281,7 @@ def run_noise(
     wheel_model: str = "directive",
     wheel_profile=None,
 ) -> RunNoise:
-    """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.results.RunResult`).
+    """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.engine.results.RunResult`).
 
     Parameters
     ----------
@@ -320,7 +320,7 @@ def run_noise(
     0.6 m of the bundled corrugated rail under the Hertz spring at 100 km/h, its noise on a coarse track (40 bays,
     one frequency per band: the default numerics resolve the bands):
 
-    >>> from wheelrail.core.interaction import simulate
+    >>> from wheelrail.core.engine import simulate
     >>> from wheelrail.core.noise.components import sound_power_parts
     >>> from wheelrail.core.noise.run_noise import run_noise
     >>> from wheelrail.core.noise.twins import NoiseNumerics
@@ -337,10 +337,10 @@ def run_noise(
     >>> noise.pass_by_laeq_dba < noise.axle_dba           # L_pAeq,Tp at 7.5 m, dB(A)
     True
     """
+    from wheelrail.core.engine.results import result_of_run
     from wheelrail.core.noise.beside import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
     from wheelrail.core.noise.wheel_power import checked_wheel_model
-    from wheelrail.core.results import result_of_run
     from wheelrail.core.run_file import check_fluctuating
     from wheelrail.core.spectra import force_spectrum, spectrum_record
 

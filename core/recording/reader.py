@@ -1,4 +1,4 @@
-"""Reading a recording back into a :class:`~wheelrail.core.results.RunResult`, with rerun's own reader.
+"""Reading a recording back into a :class:`~wheelrail.core.engine.results.RunResult`, with rerun's own reader.
 
 Uses ``rerun.chunk.RrdReader`` (rerun-sdk 0.41): the chunks of each entity are decoded from Arrow and
 ordered by the ``step`` timeline. Only the entities declared in :mod:`wheelrail.core.recording.schema` are
@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.engine.results import RunHeader, RunResult
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.recording.digest import DIGEST_KEY, RecordingDigest
 from wheelrail.core.recording.schema import (
@@ -27,7 +28,6 @@ from wheelrail.core.recording.schema import (
     parameters_from_text,
     rerun_module,
 )
-from wheelrail.core.results import RunHeader, RunResult
 from wheelrail.core.run_file import check_run
 
 __all__ = ["read_recording"]

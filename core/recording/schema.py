@@ -13,9 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from wheelrail.core.drawing import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
+from wheelrail.core.engine.results import RunHeader
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.noise.components import sound_power_parts
-from wheelrail.core.results import RunHeader
 
 __all__ = [
     "APPLICATION_ID",
@@ -67,7 +67,7 @@ class ScalarField:
     Attributes
     ----------
     name : str
-        Attribute of :class:`~wheelrail.core.results.RunResult` (an array over steps, SI).
+        Attribute of :class:`~wheelrail.core.engine.results.RunResult` (an array over steps, SI).
     path : str
         Entity path of its ``Scalars``.
     legend : str
@@ -77,7 +77,7 @@ class ScalarField:
     view : str or None
         Title of the default blueprint's time-series view that shows it (None: in no view).
     state : str or None
-        Attribute of :class:`~wheelrail.core.results.StepState` streamed at every step; None for a series
+        Attribute of :class:`~wheelrail.core.engine.results.StepState` streamed at every step; None for a series
         that only a finished run has (recorded by the whole-run export).
     """
 

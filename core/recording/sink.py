@@ -1,6 +1,6 @@
 """Writing a run into a recording while it streams (:class:`RecordingSink`) or in one go (:func:`record_result`).
 
-The sink records what it is given: the run's :class:`~wheelrail.core.results.RunHeader`, the steps, and
+The sink records what it is given: the run's :class:`~wheelrail.core.engine.results.RunHeader`, the steps, and
 (optionally) the :class:`~wheelrail.core.roughness.RoughnessSet` whose lines around the run's line become
 ``roughness/lines``; it never loads anything from disk itself.
 
@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.engine.results import RunHeader, RunResult, StepState
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.digest import DIGEST_KEY
@@ -32,7 +33,6 @@ from wheelrail.core.recording.schema import (
 from wheelrail.core.recording.steps import StepBuffer, whole_run_columns
 from wheelrail.core.recording.streams import StepStreams
 from wheelrail.core.recording.summaries import log_force_spectrum, log_sound_power
-from wheelrail.core.results import RunHeader, RunResult, StepState
 
 __all__ = ["DEFAULT_CHUNK_STEPS", "SURFACE_EVERY", "RecordingOptions", "RecordingSink", "record_result"]
 

@@ -8,8 +8,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from wheelrail.core.engine.results import RunResult, StepState
 from wheelrail.core.recording.schema import STEP_FIELDS
-from wheelrail.core.results import RunResult, StepState
 
 __all__ = ["ROW_NAMES", "StepBuffer", "whole_run_columns"]
 

@@ -7,6 +7,7 @@ import warnings
 
 import numpy as np
 
+from wheelrail.core.engine.results import RunResult
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.recording.options import RecordingOptions
@@ -16,7 +17,6 @@ from wheelrail.core.recording.schema import (
     band_chart,
     rerun_module,
 )
-from wheelrail.core.results import RunResult
 
 __all__ = ["log_force_spectrum", "log_sound_power"]
 

@@ -14,10 +14,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wheelrail.core.accepted import check_wheel_circumference
+from wheelrail.core.engine.track_lines import run_lines
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import AVERAGE_FILTER_MODEL, BEDDING_MODEL, HALFSPACE_MODEL, WINKLER_FILTER_MODEL
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
-from wheelrail.core.run_setup import run_lines
 from wheelrail.core.spectra import check_spectrum_length
 from wheelrail.core.spectrum_levels import contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
@@ -151,9 +151,9 @@ def _label(source, rough) -> str:
 
 def _run_length(rough, label: str, length: float | None, contact: ContactParameters) -> float | None:
     """The run length of a set: ``length`` checked against the rail data every model can run (the
-    interaction's :func:`~wheelrail.core.interaction.usable_length` at the study's element size), or by
+    interaction's :func:`~wheelrail.core.engine.track_lines.usable_length` at the study's element size), or by
     default all of it; wheel data (periodic): ``length`` as given, None for one circumference."""
-    from wheelrail.core.interaction import run_margin, usable_length
+    from wheelrail.core.engine.track_lines import run_margin, usable_length
 
     if rough.periodic:
         return length

@@ -61,7 +61,7 @@ class RunSpec:
         across the track from the original lines when they do not fall on one (paper Fig. 17).
     run_in_length : float or None
         Smooth run-in before the first step, m (None: the interaction's default,
-        ``run_setup.default_run_in_length``; the key holds the length used).
+        ``history.default_run_in_length``; the key holds the length used).
     wheel_source, wheel_label, wheel_digest : RoughnessLike, str, str or None
         A wheel set added to the rail set (combined roughness, ``simulate(wheel_roughness=...)``): as
         ``source``, ``set_label`` and ``set_digest``; None: a smooth wheel (the paper's case). Its label and
@@ -115,7 +115,7 @@ class RunSpec:
     @property
     def used_run_in_length(self) -> float:
         """The run-in the run uses, m (``run_in_length`` or the interaction's default at this speed)."""
-        from wheelrail.core.run_setup import default_run_in_length
+        from wheelrail.core.engine.history import default_run_in_length
 
         return default_run_in_length(self.params) if self.run_in_length is None else float(self.run_in_length)
 
@@ -261,7 +261,7 @@ def _as_used(spec: RunSpec, source, label: str, positions_of=None):
 
 def compute_run(spec: RunSpec) -> RunSummary:
     """Run one spec (``keep_pressure=False``) and reduce it to its :class:`RunSummary` (the worker task)."""
-    from wheelrail.core.interaction import simulate
+    from wheelrail.core.engine import simulate
     from wheelrail.core.spectra import force_spectrum
 
     start = time.perf_counter()

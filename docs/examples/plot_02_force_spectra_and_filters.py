@@ -10,7 +10,7 @@ is 1.5 m of one line, so its levels scatter more (``wheelrail study filters`` dr
 
 import matplotlib.pyplot as plt
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.engine import simulate
 from wheelrail.core.models import model_names
 from wheelrail.core.spectra import force_spectrum
 from wheelrail.core.spectrum_levels import contact_filter

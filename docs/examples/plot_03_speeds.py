@@ -8,7 +8,7 @@ with v / L_S (L_S = 0.65 m: 43 Hz at 100 km/h); the roughness-excited part moves
 
 import matplotlib.pyplot as plt
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.engine import simulate
 from wheelrail.core.parameters import ModelParameters, RunParameters
 from wheelrail.core.spectra import force_spectrum
 

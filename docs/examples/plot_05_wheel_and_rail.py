@@ -11,7 +11,7 @@ spectrum of the combined run is close to the energy sum of the two runs with one
 import matplotlib.pyplot as plt
 import numpy as np
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.engine import simulate
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.spectra import force_spectrum
 

@@ -4,7 +4,7 @@ A run recorded with rerun and read back
 
 A short 3D run on the cast-iron wheel set streams every step to a rerun recording (``.rrd``): force,
 displacements, roughness and the pressure map in the contact window. ``rerun run.rrd`` opens it in the
-rerun viewer; here it is read back into a :class:`~wheelrail.core.results.RunResult`, and the force and the
+rerun viewer; here it is read back into a :class:`~wheelrail.core.engine.results.RunResult`, and the force and the
 pressure map at the largest force are drawn from the file.
 """
 
@@ -14,7 +14,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from wheelrail.core.interaction import prepare_run
+from wheelrail.core.engine import prepare_run
 from wheelrail.core.recording import RecordingOptions, RecordingSink, read_recording
 
 out = Path(os.environ.get("WHEELRAIL_GALLERY_OUT", "gallery-output"))

@@ -14,8 +14,8 @@ are not resolved.
 import matplotlib.pyplot as plt
 import numpy as np
 
+from wheelrail.core.engine import simulate
 from wheelrail.core.inputs import model_parameters
-from wheelrail.core.interaction import simulate
 from wheelrail.core.noise.decay import track_decay
 from wheelrail.core.noise.run_noise import run_noise
 from wheelrail.core.spectra import force_spectrum

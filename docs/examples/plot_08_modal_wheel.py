@@ -14,7 +14,7 @@ named wheel at the paper's R = 0.39 m: its cross-section and natural frequencies
 import matplotlib.pyplot as plt
 import numpy as np
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.engine import simulate
 from wheelrail.core.modal_wheel import wheel_modes, wheel_profile_for
 from wheelrail.core.modal_wheel.time_domain import modal_wheel_receptance, modal_wheel_system
 from wheelrail.core.parameters import ModelParameters

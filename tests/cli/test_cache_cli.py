@@ -127,7 +127,7 @@ def test_a_new_track_is_announced_on_a_terminal(folder):
 @pytest.mark.slow
 def test_run_leaves_no_recording_when_its_arrays_fail(tmp_path, monkeypatch, cli):
     # before: the recording was published first, then --out failed on the full disk: a .rrd without its .npz
-    from wheelrail.core.results import RunResult
+    from wheelrail.core.engine.results import RunResult
 
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))

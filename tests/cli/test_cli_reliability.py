@@ -94,7 +94,7 @@ def test_3d_keeps_pressure_maps_only_for_out(tmp_path, cli, monkeypatch):
 _CTRL_C_CHILD = """
 import signal, sys
 from wheelrail.cli.dispatch import main
-from wheelrail.core.interaction import InteractionRun
+from wheelrail.core.engine.run import InteractionRun
 
 advance = InteractionRun._advance  # one chunk of steps (3d: 256, in compiled code)
 said = []

@@ -76,7 +76,7 @@ def test_a_plugin_model_runs_from_the_command_line(plugin_env):
     assert summary["model"] == PLUGIN and summary["steps"] == 300 and summary["loss_of_contact_steps"] == 0
     # the plug-in's law ran: a linear spring of the Hertz spring's stiffness at the preload gives Hertz's force
     # to within the curvature of F = C delta^1.5 over the force's swing (+-14 %, measured 0.02 % in std) ...
-    from wheelrail.core.interaction import simulate
+    from wheelrail.core.engine import simulate
 
     hertz = simulate("corrugated-rail", model="hertz", length=0.3)
     assert summary["force_std_n"] == pytest.approx(float(hertz.force.std()), rel=0.01)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from wheelrail.cli.dispatch import main
+from wheelrail.core.engine.results import RunHeader, RunResult
 from wheelrail.core.parameters import ModelParameters
-from wheelrail.core.results import RunHeader, RunResult
 
 DT = 1e-3 / (100 / 3.6)  # s: 1 mm at 100 km/h
 

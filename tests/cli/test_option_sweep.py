@@ -35,7 +35,7 @@ class WorkStarted(BaseException):
 
 # (module, attribute) where each long-running command starts its work (looked up when the command runs)
 WORK = (
-    ("wheelrail.core.interaction", "prepare_run"),
+    ("wheelrail.core.engine.prepare", "prepare_run"),
     ("wheelrail.core.track", "assemble_track"),
     ("wheelrail.core.track.fe", "assemble_track"),
     ("wheelrail.core.modal_wheel", "wheel_modes"),

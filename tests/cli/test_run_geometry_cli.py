@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from wheelrail.cli.dispatch import main
+from wheelrail.core.engine.results import RunResult
 from wheelrail.core.parameters import ContactParameters
-from wheelrail.core.results import RunResult
 
 
 def test_wheel_set_and_geometry_reach_the_run(tmp_path, capsys):

@@ -8,9 +8,9 @@ import json
 import pytest
 
 from wheelrail.cli import main
+from wheelrail.core.engine.results import RunHeader, RunResult
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.modal_wheel import profile_from_description, wheel_profile_for
-from wheelrail.core.results import RunHeader, RunResult
 
 # 1.5 m at 100 km/h: 54 ms, enough for a force spectrum (the summary's) after the start-up skip
 MODAL_RUN = ["run", "--set", "corrugated-rail", "--length-m", "1.5", "--wheel-model", "modal"]

@@ -7,9 +7,9 @@ import json
 import numpy as np
 import pytest
 
+from wheelrail.core.engine.results import RunHeader, RunResult
 from wheelrail.core.parameters import ModelParameters
 from wheelrail.core.recording import record_result
-from wheelrail.core.results import RunHeader, RunResult
 
 DT = 1e-3 / (100 / 3.6)  # s
 

@@ -491,7 +491,7 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     """`wheelrail study --wheel-set`: every run adds the wheel set (its label and digest in the run key,
     so cached runs of the rail alone are never reused), the summary names it, a run's spectrum is that of
     simulate(..., wheel_roughness=...)."""
-    from wheelrail.core.interaction import simulate
+    from wheelrail.core.engine import simulate
     from wheelrail.core.parameters import ContactParameters, ModelParameters
     from wheelrail.core.spectra import force_spectrum
 

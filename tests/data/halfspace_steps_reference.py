@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.interaction import prepare_run
+from wheelrail.core.engine import prepare_run
 from wheelrail.core.models import ModelEntry, ModelTraits, register, unregister
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.roughness import RoughnessSet

@@ -123,8 +123,8 @@ def test_compare_in_the_page_then_change_speed_the_old_filters_go(open_page):
 
 def test_3d_offers_only_the_lines_its_window_fits(open_page):
     """In the page: the Line menu for 3d lists core's window_lines (-2..2 on the corrugated rail)."""
+    from wheelrail.core.engine.track_lines import window_lines
     from wheelrail.core.roughness import load_roughness
-    from wheelrail.core.run_setup import window_lines
 
     page, app, errors = _open(open_page, 1400, 1000)
     _choose(page, "Contact model", "hertz")

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from wheelrail.cli.commands._common import CLI_NAMES
+from wheelrail.core.engine import prepare_run, simulate
+from wheelrail.core.engine.results import RunHeader, RunResult
+from wheelrail.core.engine.track_lines import run_lines, window_lines
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.interaction import prepare_run, simulate
 from wheelrail.core.parameters import ContactParameters, ModelParameters
-from wheelrail.core.results import RunHeader, RunResult
 from wheelrail.core.roughness import RoughnessSet, lines_along_track, load_roughness, to_model_grid
-from wheelrail.core.run_setup import run_lines, window_lines
 from wheelrail.core.spectra import force_spectrum
 from wheelrail.explorer.config import page_message
 

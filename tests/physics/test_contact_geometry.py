@@ -9,7 +9,7 @@ import pytest
 
 from wheelrail.core.contact.window import solve_normal_contact
 from wheelrail.core.contact.winkler import _winkler_force, calibrated_bedding, wheel_profile
-from wheelrail.core.interaction import prepare_run, simulate
+from wheelrail.core.engine import prepare_run, simulate
 from wheelrail.core.models import MODELS
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.roughness import RoughnessSet
@@ -162,7 +162,7 @@ def test_window_lines_use_the_semi_axis_across():
     # A wide patch (concave tread: b = 7.37 mm) needs data for b + 1 element on each side of its line: on
     # the 19-line (+-9 mm) set only line 0 qualifies (8 + 1 <= 9); the paper's circle (b = 5.48 mm) allows
     # -2..2 (7 mm each side).
-    from wheelrail.core.interaction import window_lines
+    from wheelrail.core.engine.track_lines import window_lines
 
     rough = _smooth(0.2)
     assert window_lines(rough, ModelParameters()) == (-2, -1, 0, 1, 2)

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
+from wheelrail.core.engine import prepare_run, simulate
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.interaction import prepare_run, simulate
 from wheelrail.core.models import (
     LAW_HERTZ,
     MODELS,
@@ -72,7 +72,7 @@ def test_registry_refuses_bad_entries():
         unregister("2d")
     with pytest.raises(WheelrailError, match="pressure map needs a lateral window"):
         ModelTraits(pressure_map=True)
-    with pytest.raises(WheelrailError, match="law must be one of"):
+    with pytest.raises(WheelrailError, match="law must be a ContactLaw class"):
         ModelTraits(law=7)
 
 

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.contact.halfspace_model import HalfSpaceModel
-from wheelrail.core.interaction import prepare_run
+from wheelrail.core.engine import prepare_run
 from wheelrail.core.models import (
     LAW_HALFSPACE,
     ModelEntry,
@@ -164,14 +164,15 @@ def test_the_compiled_3d_loop_is_loaded_from_numbas_disk_cache():
     script = (
         "import sys\n"
         "from wheelrail.core.contact.halfspace_model import HalfSpaceModel\n"
-        "from wheelrail.core.interaction import _run_chunk_3d, prepare_run\n"
-        "from wheelrail.core.loop_kernels import run_chunk\n"
+        "from wheelrail.core.engine import prepare_run\n"
+        "from wheelrail.core.engine.laws.halfspace import run_chunk_3d\n"
+        "from wheelrail.core.engine.laws.one_line import run_chunk\n"
         "from wheelrail.core.contact.halfspace_model import _python_step\n"
         "prepare_run('corrugated-rail', model='3d', length=0.01, run_in_length=0.0).run()\n"
         "prepare_run('corrugated-rail', model='hertz', length=0.01, run_in_length=0.0).run()\n"
         "run = prepare_run('corrugated-rail', model='3d', length=0.01, run_in_length=0.0)\n"
         "run.contact.solve(0, 1e-4, 1e-9)\n"
-        "for f in (_run_chunk_3d(), run_chunk, _python_step):\n"
+        "for f in (run_chunk_3d, run_chunk, _python_step):\n"
         "    print(sum(f.stats.cache_hits.values()), sum(f.stats.cache_misses.values()))\n"
     )
     for _ in range(2):

@@ -5,8 +5,8 @@ import threading
 import numpy as np
 import pytest
 
+from wheelrail.core.engine import prepare_run, simulate
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.interaction import prepare_run, simulate
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.roughness import RoughnessSet, load_roughness
 from wheelrail.core.spectra import force_spectrum
@@ -172,7 +172,7 @@ def test_loss_of_contact_is_physics_not_an_error(model):
 
 def test_streaming_and_cancellation():
     # One-line models run in compiled chunks of CHUNK steps: a cancel takes effect at the end of the chunk.
-    from wheelrail.core.interaction import CHUNK
+    from wheelrail.core.engine.laws.base import CHUNK
 
     run = prepare_run("cast-iron-wheel", model="hertz", length=10.0)
     seen = []
@@ -223,7 +223,7 @@ def test_chunk_states_are_the_steps_at_each_chunks_end():
     and map for map the one steps() yields there, and the run's result is the same after either."""
     from dataclasses import astuple
 
-    from wheelrail.core.interaction import CHUNK_3D
+    from wheelrail.core.engine.laws.halfspace import CHUNK_3D
 
     states = list(prepare_run("corrugated-rail", model="3d", length=0.6).steps())
     run = prepare_run("corrugated-rail", model="3d", length=0.6)

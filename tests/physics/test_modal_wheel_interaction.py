@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.engine import simulate
 from wheelrail.core.modal_wheel import contact_receptance, named_profile, wheel_modes, wheel_profile_for
 from wheelrail.core.modal_wheel.time_domain import modal_wheel_receptance, modal_wheel_system
 from wheelrail.core.parameters import ModelParameters

@@ -74,7 +74,7 @@ def test_damaged_entries_are_rebuilt(cache_with_wedge):
 
 
 def test_prepare_run_reads_the_cached_weights(cache_with_wedge, response):
-    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.engine import prepare_run
 
     run = prepare_run("corrugated-rail", model="hertz", length=0.05, track_numerics=SMALL)
     np.testing.assert_array_equal(run.loop.weights, _direct(response, 100 / 3.6, run.params.run.time_step))

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from wheelrail.cli.dispatch import main
+from wheelrail.core.engine import simulate
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.interaction import simulate
 from wheelrail.core.noise import run_noise as run_noise_module
 from wheelrail.core.noise.components import (
     NoiseComponent,

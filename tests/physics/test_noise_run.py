@@ -14,8 +14,8 @@ import pytest
 from scipy.io import wavfile
 
 from wheelrail.cli.commands._common import CLI_NAMES
+from wheelrail.core.engine import simulate
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.interaction import simulate
 from wheelrail.core.noise.levels import noise_bands
 from wheelrail.core.noise.run_noise import laeq_of_pressure, pass_by_level, receiver_distance, run_noise
 from wheelrail.core.noise.twins import NoiseNumerics, track_noise_model

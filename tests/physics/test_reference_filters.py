@@ -202,7 +202,7 @@ def test_monte_carlo_patch_averages_follow_the_analytic_filters():
 # The dynamic filters of the time-domain models on white roughness
 # --------------------------------------------------------------------------------------------------
 def test_2d_and_hertz_average_dynamic_filters_follow_the_averaging_filter():
-    from wheelrail.core.interaction import simulate
+    from wheelrail.core.engine import simulate
     from wheelrail.core.roughness import RoughnessSet
     from wheelrail.core.spectra import force_spectrum
     from wheelrail.core.study import contact_filter, mean_level

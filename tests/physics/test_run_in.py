@@ -8,10 +8,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from wheelrail.core.interaction import prepare_run, simulate
+from wheelrail.core.engine import prepare_run, simulate
+from wheelrail.core.engine.history import DEFAULT_RUN_IN_TIME, PRELOAD_RUN_IN_TIME, default_run_in_length, starts_steady
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters, TrackParameters
 from wheelrail.core.roughness import load_roughness
-from wheelrail.core.run_setup import DEFAULT_RUN_IN_TIME, PRELOAD_RUN_IN_TIME, default_run_in_length, starts_steady
 from wheelrail.core.wheel import wheel_static_compliance
 
 RAIL = load_roughness("corrugated-rail")
@@ -136,21 +136,21 @@ def test_3d_run_in_with_the_tabulated_law_records_the_force_of_the_3d_solver(kmh
     forces = []
     for tabulated in (True, False):
         run = prepare_run(RAIL, model="3d", params=params, length=1.0, run_in_length=preload, keep_pressure=False)
-        run.tabulated_run_in = tabulated
+        run.law.tabulated_run_in = tabulated
         forces.append(run.run().force)
     assert np.max(np.abs(forces[0] - forces[1])) <= 0.1
 
 
 def test_a_short_3d_run_in_is_stepped_with_the_3d_solver():
-    # Below interaction.TABULATED_RUN_IN_TIME (0.1 s) the tabulated law's fade-in would not have decayed by the
+    # Below laws.halfspace.TABULATED_RUN_IN_TIME (0.1 s) the tabulated law's fade-in would not have decayed by the
     # record (0.2-2.4 N after 1-36 ms of run-in, measured): such a run-in is stepped with the 3D solver, so the
     # result is that of tabulated_run_in = False to the bit.
     forces = []
     for tabulated in (True, False):
         run = prepare_run(RAIL, model="3d", length=0.05, run_in_length=0.5, keep_pressure=False)
-        run.tabulated_run_in = tabulated
+        run.law.tabulated_run_in = tabulated
         forces.append(run.run().force)
-        assert run._table is None
+        assert run.law.table is None
     np.testing.assert_array_equal(forces[0], forces[1])
 
 
@@ -163,7 +163,7 @@ def test_3d_recorded_force_is_that_of_a_long_run_in(kmh):
     params = ModelParameters(run=RunParameters(speed=kmh * KMH))
     default = prepare_run(RAIL, model="3d", params=params, length=0.3, keep_pressure=False).run().force
     run = prepare_run(RAIL, model="3d", params=params, length=0.3, run_in_length=LONG_RUN_IN, keep_pressure=False)
-    run.tabulated_run_in = False
+    run.law.tabulated_run_in = False
     assert np.max(np.abs(default - run.run().force)) <= 1.0
 
 

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from wheelrail.core.engine import prepare_run
+from wheelrail.core.engine.track_lines import run_margin, usable_length, window_lines
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.interaction import prepare_run, run_margin, usable_length, window_lines
 from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.roughness import load_roughness
 

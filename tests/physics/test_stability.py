@@ -12,8 +12,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from wheelrail.core.engine import simulate
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.interaction import simulate
 from wheelrail.core.parameters import (
     FOH_MAX_STEP,
     KMH,

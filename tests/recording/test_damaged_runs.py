@@ -10,10 +10,10 @@ import re
 import numpy as np
 import pytest
 
+from wheelrail.core.engine.results import RunHeader, RunResult
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ModelParameters
 from wheelrail.core.recording import read_recording, record_result
-from wheelrail.core.results import RunHeader, RunResult
 
 DT = 1e-3 / (100 / 3.6)  # s, 1 mm at 100 km/h
 N = 1200

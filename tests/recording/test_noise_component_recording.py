@@ -9,7 +9,7 @@ import numpy as np
 from rerun.chunk import RrdReader
 from test_blueprint import _views, check_blueprint
 
-from wheelrail.core.interaction import simulate
+from wheelrail.core.engine import simulate
 from wheelrail.core.noise import run_noise as run_noise_module
 from wheelrail.core.noise.components import NoiseComponent, component, register_component, unregister_component
 from wheelrail.core.noise.twins import NoiseNumerics

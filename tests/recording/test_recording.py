@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
+from wheelrail.core.engine.results import RunHeader, RunResult, StepState
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.recording import (
@@ -21,7 +22,6 @@ from wheelrail.core.recording import (
     record_result,
     sink_from_args,
 )
-from wheelrail.core.results import RunHeader, RunResult, StepState
 from wheelrail.core.roughness import load_roughness
 from wheelrail.core.spectra import force_spectrum
 
@@ -160,7 +160,7 @@ def test_nominal_circle_is_the_hertz_radius(tmp_path):
 def test_elliptic_patch_and_wheel_set_are_recorded(tmp_path):
     """A 0.46 m wheel on a 0.30 m crown draws Hertz's ellipse (a = 6.20 mm along the rail, b = 4.67 mm
     across), and a run on rail and wheel roughness together names both sets, read back in the header."""
-    from wheelrail.core.interaction import simulate
+    from wheelrail.core.engine import simulate
 
     contact = ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)
     result = simulate(
@@ -334,7 +334,7 @@ def test_corrupt_and_foreign_files_are_clear_errors(tmp_path):
 
 @pytest.mark.parametrize("model", ["hertz", "3d"])
 def test_real_short_run_streams_exactly(tmp_path, model, step_arrays):
-    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.engine import prepare_run
 
     run = prepare_run("corrugated-rail", model=model, length=0.05)
     path = tmp_path / f"{model}.rrd"
@@ -441,7 +441,7 @@ def test_sound_power_spectra_are_recorded_on_request(tmp_path):
     # wheelrail run --rrd F --sound-power / record_result(sound_power=True): the run's rolling noise as bar charts
     # spectra/sound_power/{rail,sleeper,wheel,total} (dB re 1 pW, NaN recorded as 0) equal to run_noise's, and a
     # summary document; without the option nothing is added (the older files' entity tree is unchanged)
-    from wheelrail.core.interaction import simulate
+    from wheelrail.core.engine import simulate
     from wheelrail.core.noise.components import sound_power_parts
     from wheelrail.core.noise.run_noise import run_noise
 
@@ -478,7 +478,7 @@ def test_blocks_and_steps_record_the_same_file_content(tmp_path):
     """InteractionRun.run gives a RecordingSink its steps in blocks (log_block); the per-step callback
     (sink.log_step) must write the same rows: every scalar, image and surface, value for value. The block run
     keeps no maps (the loop's chunk buffer is reused), the per-step one keeps them."""
-    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.engine import prepare_run
 
     roughness = load_roughness("corrugated-rail")
     paths = {}

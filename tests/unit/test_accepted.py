@@ -140,7 +140,7 @@ def test_the_paper_and_the_readme_geometries_are_accepted():
 
 
 def test_a_wheel_set_must_go_round_the_wheel_of_a_combined_run():
-    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.engine import prepare_run
 
     wheel = load_roughness("sinter-wheel-1")
     implied = wheel.length / (2 * np.pi)

@@ -135,8 +135,8 @@ def _raises_listed(doc) -> bool:
 def test_the_page_lists_the_public_api():
     names = api_names()
     # the page's sections are read (a changed directive syntax would find nothing) and every name exists
-    assert len(names) > 60 and "wheelrail.core.interaction.simulate" in names
-    assert "wheelrail.core.interaction.InteractionRun.steps" in names  # members listed with their class
+    assert len(names) > 60 and "wheelrail.core.engine.prepare.simulate" in names
+    assert "wheelrail.core.engine.run.InteractionRun.steps" in names  # members listed with their class
     assert "wheelrail.core.parameters.ContactParameters.radius_along" in names  # a bare :members:
     assert PENDING_MOVE <= set(names)  # each exception is on the page (else it is stale)
 

@@ -75,7 +75,7 @@ def test_a_part_of_the_wrong_kind_is_refused_where_it_is_given(build):
     "value", [*EXTREMES, (1, 2, 3), ([[1.0]], [1.0], [1.0]), (np.eye(4), np.zeros(4), [np.nan] * 4)]
 )
 def test_prepare_run_refuses_a_wheel_system_that_is_not_one(value):
-    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.engine import prepare_run
 
     if value is None:
         return  # the documented default: the paper's wheel
@@ -119,7 +119,7 @@ def test_the_wheel_at_extremes_is_refused_naming_the_field(name):
 
 @pytest.mark.slow
 def test_the_wheel_at_its_declared_limits_runs_without_numpy_warnings():
-    from wheelrail.core.interaction import simulate
+    from wheelrail.core.engine import simulate
 
     for name, entry in WHEEL_SYSTEM.items():
         for value in (entry.minimum, entry.maximum):

@@ -120,7 +120,7 @@ def test_cnossos_refuses_an_impossible_speed_and_an_all_nan_roughness():
 def test_an_element_size_that_leaves_no_run_is_not_given_a_negative_range():
     """RunParameters(element_size=1.0) once ran into "accepted at most -1 m": the window margins alone were
     longer than the roughness data, and the longest run offered was negative."""
-    from wheelrail.core.interaction import simulate
+    from wheelrail.core.engine import simulate
     from wheelrail.core.parameters import ModelParameters
     from wheelrail.core.roughness import load_roughness
 

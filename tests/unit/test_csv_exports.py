@@ -8,9 +8,9 @@ import json
 import numpy as np
 import pytest
 
+from wheelrail.core.engine.results import RunHeader, RunResult
 from wheelrail.core.noise.run_noise import RunNoise
 from wheelrail.core.parameters import ContactParameters, ModelParameters
-from wheelrail.core.results import RunHeader, RunResult
 
 
 def _result(n: int = 300) -> RunResult:

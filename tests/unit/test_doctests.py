@@ -20,7 +20,7 @@ DOCUMENTED = {
     "wheelrail.core.contact.prefilter": ["winkler_equivalent_roughness", "average_roughness"],
     "wheelrail.core.contact.window": ["HalfSpaceWindow", "solve_normal_contact", "solve_coupled_contact"],
     "wheelrail.core.contact.winkler": ["bedding_stiffness", "winkler_contact"],
-    "wheelrail.core.interaction": ["prepare_run", "simulate"],
+    "wheelrail.core.engine.prepare": ["prepare_run", "simulate"],
     "wheelrail.core.irregularities.surface": ["surface_deviation"],
     "wheelrail.core.irregularities.trajectory": ["wheel_centre_trajectory"],
     "wheelrail.core.models": ["model_names"],

@@ -41,7 +41,7 @@ def test_a_speed_out_of_range_in_three_front_ends():
 
 def test_a_run_longer_than_its_data_in_three_front_ends():
     # core's own error of the run set-up (it once said "use --length-m <= ..." to every front end)
-    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.engine import prepare_run
 
     error = _error(prepare_run, "corrugated-rail", length=100.0)
     problem = "with the 20 mm window margins at each end the run needs more than the 7.999 m of rail roughness data"
@@ -51,7 +51,7 @@ def test_a_run_longer_than_its_data_in_three_front_ends():
 
 
 def test_a_wheel_set_of_another_wheel_in_three_front_ends():
-    from wheelrail.core.interaction import prepare_run
+    from wheelrail.core.engine import prepare_run
 
     error = _error(prepare_run, "corrugated-rail", wheel_roughness="sinter-wheel-1", length=0.05)
     assert str(error).startswith("ContactParameters.wheel_radius 0.39 m: the wheel set sinter-wheel-1 is 2.9 m round")

@@ -157,12 +157,12 @@ def test_the_user_guides_track_table_states_the_declared_defaults_and_ranges():
 
 
 def test_an_unstable_step_is_refused_not_run(monkeypatch):
-    # the guard of the coupled step's period-two mode (run_setup.check_step_stability): an undamped track's
+    # the guard of the coupled step's period-two mode (history.check_step_stability): an undamped track's
     # alternating compliance larger than the contact's is refused in one line (the accepted tracks keep a
     # margin of 0.34-0.85; a stand-in rail compliance of -2/k_H here)
     import numpy as np
 
-    from wheelrail.core.run_setup import check_step_stability
+    from wheelrail.core.engine.history import check_step_stability
     from wheelrail.core.wheel import wheel_discrete_system
 
     params = ModelParameters()

@@ -4,9 +4,9 @@ import tracemalloc
 
 import pytest
 
-from wheelrail.core import limits
+from wheelrail.core.engine import memory as limits
+from wheelrail.core.engine import prepare_run
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.interaction import prepare_run
 
 
 def _peak(model, length):

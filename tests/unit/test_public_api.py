@@ -10,8 +10,8 @@ import pytest
 import wheelrail
 
 PUBLIC = {
-    "simulate": "wheelrail.core.interaction",
-    "prepare_run": "wheelrail.core.interaction",
+    "simulate": "wheelrail.core.engine.prepare",
+    "prepare_run": "wheelrail.core.engine.prepare",
     "ModelParameters": "wheelrail.core.parameters",
     "ContactParameters": "wheelrail.core.parameters",
     "force_spectrum": "wheelrail.core.spectra",
@@ -47,7 +47,7 @@ def test_import_wheelrail_loads_no_numerical_library():
     # module needs numpy only, to show the probe sees a load when there is one
     probe = (
         "import sys, wheelrail\n"
-        "heavy = ('numpy', 'scipy', 'numba', 'matplotlib', 'wheelrail.core.interaction')\n"
+        "heavy = ('numpy', 'scipy', 'numba', 'matplotlib', 'wheelrail.core.engine.prepare')\n"
         "print(sorted(m for m in sys.modules if m.split('.')[0] in heavy or m in heavy))\n"
         "wheelrail.WheelrailError\n"
         "print('numpy' in sys.modules, 'numba' in sys.modules)\n"

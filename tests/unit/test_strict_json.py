@@ -8,9 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
+from wheelrail.core.engine.results import RunHeader, RunResult
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ModelParameters
-from wheelrail.core.results import RunHeader, RunResult
 
 ROOT = Path(__file__).resolve().parents[2]
 

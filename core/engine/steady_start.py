@@ -1,6 +1,6 @@
-"""The start of a run from the moving load's steady state (``interaction.InteractionRun``, ``run_setup``).
+"""The start of a run from the moving load's steady state (``run.InteractionRun``, ``history``).
 
-During the run-in the wheel stays on the gap of step 0 (the roughness under it, not faded in: ``run_setup``) while
+During the run-in the wheel stays on the gap of step 0 (the roughness under it, not faded in: ``history``) while
 the track moves under it: a wheel at constant speed on a periodically supported track, whose steady state is
 periodic with one sleeper bay, n = L_S / dx steps (a whole number of steps: :func:`bay_steps`). With a force
 periodic in n steps, the loop's own equations are linear maps of the bay's n forces:
@@ -26,14 +26,12 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.loop_kernels import law_curve
 
 __all__ = [
     "SteadyState",
     "bay_steps",
     "fill_history",
     "folded_wheel",
-    "model_law",
     "start_state",
     "steady_state",
 ]
@@ -45,10 +43,6 @@ ANDERSON_DEPTH = 5  # differences kept by the Anderson mixing of the chord itera
 # 300 kg sleepers, whose bay varies much more than C holds: 5 differences stalled at 1e-6 to 1e-3 P on a
 # corrugated rail and took 112 iterations on a smooth one; 20 converged in 50 and 45, measured)
 DEEP_ANDERSON = (20, 300)
-# 3d: its law tabulated exactly within 0.92-1.08 P (run_in_law.step_law), the table from 0.8 of the static approach
-# beyond first contact (the steady force on the corrugated rail stays within 0.968-1.048 P at 100-400 km/h)
-STEADY_TABLE = ((0.92, 1.08), 0.8)
-WIDE_TABLE = ((0.05, 2.0), 0.0)  # 3d: where STEADY_TABLE's law has no steady state, 0.05-2 P from first contact
 
 
 @dataclass(frozen=True)
@@ -136,8 +130,8 @@ def _history_tail(weights, lo, hi, frac, force, out):
 @njit(cache=True, fastmath=True)
 def _product(folded, lo, hi, frac, wheel, x):
     """(A + B) x from the folded rows (no dense matrix: the bay's rows, 256 x n, stay in cache across the
-    iterations; the dense n x n map streamed 3.4 MB a product): out[(k + d) mod n] += x_k ((1 - f_k)
-    folded[lo_k, d] + f_k folded[hi_k, d] + wheel[d])."""
+    iterations, where a dense n x n map would be streamed from memory every product):
+    out[(k + d) mod n] += x_k ((1 - f_k) folded[lo_k, d] + f_k folded[hi_k, d] + wheel[d])."""
     n = x.size
     out = np.zeros(n)
     for k in range(n):
@@ -154,8 +148,8 @@ def _product(folded, lo, hi, frac, wheel, x):
 
 @njit(cache=True)
 def _powers(phi, first, n):
-    """first, phi first, phi^2 first, ... (n + 1 of them). Loops, not ``phi @`` and slice assignments: numba
-    compiled those in 3.2 s (BLAS's matrix product and the shape checks' error messages) for a 4 x 4 product."""
+    """first, phi first, phi^2 first, ... (n + 1 of them). Loops, not ``phi @`` and slice assignments: those
+    would make numba compile BLAS's matrix product and the shape checks' error messages for a 4 x 4 product."""
     size = first.size
     out = np.empty((n + 1, size))
     for i in range(size):
@@ -191,7 +185,7 @@ def _circulant_solver(column: np.ndarray, stiffness: float):
 def steady_state(
     history, law, preload: float, depth: int = ANDERSON_DEPTH, iterations: int = STEADY_ITERATIONS
 ) -> SteadyState:
-    """The periodic steady state of a run's history (``run_setup.History``) under ``law`` (approaches (n,) m ->
+    """The periodic steady state of a run's history (``history.History``) under ``law`` (approaches (n,) m ->
     forces (n,) N: the model's law on the run-in's gap), the wheel's rest position ``history.xi_w0``; ``depth``
     differences in the Anderson mixing (0: the plain chord iterations), at most ``iterations`` of them.
 
@@ -243,50 +237,10 @@ def steady_state(
     )
 
 
-def model_law(law_kind: int | None, law, contact, history, preload: float, table=STEADY_TABLE):
-    """A model's law F(delta) on the run-in's gap (that of step 0, not faded in), approaches (m) -> forces (N):
-    a compiled one-line law's own kernel (``loop_kernels.law_curve``), the ``3d`` law tabulated exactly within
-    ``table``'s band (``contact.run_in_law.step_law``, extended linearly above), or a per-step law's ``solve``
-    at compliance 0. ``law_kind``: ``ModelTraits.law``; ``law``: the compiled law's inputs (or the 3D solver)."""
-    from wheelrail.core.models import LAW_HALFSPACE
-
-    s = history.n_run_in
-    if law_kind == LAW_HALFSPACE:
-        from wheelrail.core.contact.run_in_law import step_law
-
-        delta, force = step_law(law, s, preload, history.static_approach, *table)
-        slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
-        return lambda d: np.where(d > delta[-1], force[-1] + slope * (d - delta[-1]), np.interp(d, delta, force))
-    if law is not None:
-        inputs = (law.roughness, law.shape, law.constants)
-        return lambda d: law_curve(law_kind, d, inputs, s)
-    return lambda d: np.array([contact.solve(s, float(x), 0.0).force for x in d])
-
-
-def start_state(law_kind: int | None, law, contact, history, preload: float) -> SteadyState:
-    """The steady state a run starts from, on the model's law (:func:`model_law`): the ``3d`` law's table is
-    exact within ``STEADY_TABLE``'s band; should the steady force leave it, the law is tabulated again over the
-    force's range with a margin, from first contact, and the state solved on it."""
-    from wheelrail.core.models import LAW_HALFSPACE
-
-    try:
-        steady = _converged_state(history, model_law(law_kind, law, contact, history, preload), preload)
-    except WheelrailError:
-        if law_kind != LAW_HALFSPACE:
-            raise
-        # the table's band from 0.8 of the static approach did not hold a steady state (3d at 1 kN: its iterations
-        # stalled, the steady force then within 0.98-1.02 P): the law over the whole range, from first contact
-        return _converged_state(history, model_law(law_kind, law, contact, history, preload, WIDE_TABLE), preload)
-    low, high = float(steady.force.min()) / preload, float(steady.force.max()) / preload
-    band = STEADY_TABLE[0]
-    if law_kind != LAW_HALFSPACE or band[0] <= low and high <= band[1]:
-        return steady
-    table = ((max(0.05, low - 0.1), high + 0.1), 0.0)
-    return _converged_state(history, model_law(law_kind, law, contact, history, preload, table), preload)
-
-
-def _converged_state(history, law, preload: float) -> SteadyState:
-    """:func:`steady_state` with ``ANDERSON_DEPTH``, else (its iterations stalled) with ``DEEP_ANDERSON``."""
+def start_state(history, law, preload: float) -> SteadyState:
+    """The steady state a run starts from, on the model's law F(delta) on the run-in's gap (``law``, approaches
+    (m) -> forces (N): ``ContactLaw.steady_law``): :func:`steady_state` with ``ANDERSON_DEPTH``, else (its
+    iterations stalled) with ``DEEP_ANDERSON``."""
     try:
         return steady_state(history, law, preload)
     except WheelrailError:
@@ -294,7 +248,7 @@ def _converged_state(history, law, preload: float) -> SteadyState:
 
 
 def bay_steps_of(history) -> int:
-    """:func:`bay_steps` of a history (``run_setup.History.bay``); WheelrailError if it has none."""
+    """:func:`bay_steps` of a history (``history.History.bay``); WheelrailError if it has none."""
     if history.bay is None:
         raise WheelrailError("the sleeper bay is not a whole number of elements: no steady start")
     return history.bay

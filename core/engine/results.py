@@ -1,6 +1,6 @@
 """What a wheel/rail interaction run produces: one state per step (streamed) and the whole-run result.
 
-These types are the contract between the time-stepping loop (``wheelrail.core.interaction``) and its
+These types are the contract between the time-stepping loop (``wheelrail.core.engine``) and its
 consumers: the recording sink (rerun), the command line, studies and the explorer. All SI.
 """
 
@@ -179,7 +179,7 @@ class RunHeader:
 
 WHEEL_MODELS = ("2dof", "modal", "given")
 """The interaction's wheels (``RunHeader.wheel_model``): the paper's 2-DOF wheel, the modal wheel of a recorded
-cross-section, a wheel system the caller built (``run_setup.interaction_wheel``)."""
+cross-section, a wheel system the caller built (``prepare.interaction_wheel``)."""
 
 
 def _checked_wheel_model(value) -> str:

@@ -11,8 +11,8 @@ The estimate (bytes, per element of the run: run-in and the two margins included
   indices and weights), the per-step outputs, the result's copies and the set-up's temporaries;
 * ``2 x 8`` bytes per roughness line held (the lines along the track and their interpolation temporary;
   25 lines for ``3d``, 1 otherwise);
-* a bedding law (``2d``): ``2 x 8`` bytes per window column (the bedding window of each step and its
-  temporary);
+* a law that keeps a window per step (the bedding of ``2d``, ``ContactLaw.memory_columns``): ``2 x 8`` bytes
+  per window column (the window of each step and its temporary);
 * a pressure-map model (``3d``) keeping its maps: ``4`` bytes (float32) per window element per step;
   without them the run keeps only the last map.
 
@@ -104,8 +104,8 @@ def check_run_memory(entry, params, length, run_in_length, keep_pressure: bool) 
     float
         The estimate, bytes (upper bound: the window counted at its full 25 lines).
     """
-    from wheelrail.core.models import LAW_BEDDING
-    from wheelrail.core.run_setup import WINDOW_HALF_WIDTH, run_margin
+    from wheelrail.core.engine.laws.base import law_class
+    from wheelrail.core.engine.track_lines import WINDOW_HALF_WIDTH, run_margin
 
     if isinstance(length, bool) or not isinstance(length, int | float) or not length > 0:
         return 0.0
@@ -119,7 +119,7 @@ def check_run_memory(entry, params, length, run_in_length, keep_pressure: bool) 
         n_elements=(length + 2 * run_margin(dx) + run_in_length) / dx,
         n_steps=n_steps,
         n_lines=n_lines,
-        window_columns=width if traits.law == LAW_BEDDING else 0,
+        window_columns=law_class(traits).memory_columns(width),
         pressure_elements=maps,
     )
     limit = memory_limit()

@@ -1,19 +1,17 @@
-"""Building a run, in named steps: inputs checked, roughness along the track, history arrays, static equilibrium.
+"""The roughness a run meets along the track: the contact window's size, the margins, the lines a model can run
+on, the rail and wheel sets paired across, and the chosen line (or window of lines) on the model grid.
 
-``interaction.prepare_run`` composes them; each step is a function of what the previous ones returned, so
-a study or a test can reuse one (``usable_length`` is the one rule for margins and default lengths).
-
-Start-up: from the moving load's steady state on the gap of step 0 (``steady_start``), then a run-in of
-``DEFAULT_RUN_IN_TIME`` (discarded). An explicit run-in, or a bay of no whole number of elements, starts from the
-preload in static equilibrium, the roughness faded in over the run-in's first half, which must let the
-transient decay: ``PRELOAD_RUN_IN_TIME``. What each leaves: the physics page, "How a step is solved".
+:func:`track_roughness` is what ``prepare.prepare_run`` asks for: the sets read and paired
+(:func:`resolve_surfaces`), the run's memory checked, then the lines laid along the track
+(:func:`roughness_along_track`). :func:`usable_length` is the one rule for margins and default lengths;
+:func:`run_lines` the lines the command line and the explorer offer.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
-from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -21,32 +19,23 @@ import numpy as np
 from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.checks import real
 from wheelrail.core.errors import Blame, WheelrailError
-from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry
-from wheelrail.core.parameters import ModelParameters, TrackNumerics
+from wheelrail.core.models import ModelTraits, model_entry
+from wheelrail.core.parameters import ModelParameters
 
 if TYPE_CHECKING:  # the roughness package is imported when a set is read
     from wheelrail.core.roughness import RoughnessLike, RoughnessSet
 
 __all__ = [
-    "DEFAULT_RUN_IN_TIME",
-    "PRELOAD_RUN_IN_TIME",
     "RUN_MARGIN",
     "WINDOW_HALF_WIDTH",
     "WINDOW_SEMI_AXES",
-    "History",
     "TrackRoughness",
     "check_roughness_pair",
-    "check_step_stability",
-    "checked_inputs",
-    "default_run_in_length",
-    "history_arrays",
-    "interaction_wheel",
-    "model_inputs",
     "roughness_along_track",
-    "starts_steady",
     "run_lines",
     "run_margin",
-    "static_equilibrium",
+    "resolve_surfaces",
+    "track_roughness",
     "usable_length",
     "window_half_elements",
     "window_lines",
@@ -55,8 +44,6 @@ __all__ = [
 
 WINDOW_HALF_WIDTH = 0.012  # m: least half side of the 3D window and of the 2D bedding (2.2 a at 65 kN, R = 0.39 m)
 WINDOW_SEMI_AXES = 2.2  # half side of the window in Hertz semi-axes at the preload (along and across)
-DEFAULT_RUN_IN_TIME = 0.0005  # s of run-in from the moving load's steady state (discarded); see the module docstring
-PRELOAD_RUN_IN_TIME = 0.3  # s of smooth run-in from the preload at rest: where no steady start is taken
 RUN_MARGIN = 0.020  # m of roughness kept before the first and after the last wheel position
 
 
@@ -110,38 +97,6 @@ def usable_length(roughness, element_size: float, params: ModelParameters | None
     return n_steps * element_size
 
 
-def starts_steady(params: ModelParameters) -> bool:
-    """Whether a run with the default run-in starts from the steady state: the bay is whole elements."""
-    from wheelrail.core.steady_start import bay_steps
-
-    return bay_steps(params.track.support.sleeper_spacing, params.run.element_size) is not None
-
-
-def default_run_in_length(params: ModelParameters | None = None) -> float:
-    """The default run-in at the run's speed in whole elements, m (:func:`starts_steady`: which time)."""
-    params = ModelParameters() if params is None else params
-    dx = params.run.element_size
-    time = DEFAULT_RUN_IN_TIME if starts_steady(params) else PRELOAD_RUN_IN_TIME
-    return math.ceil(time * params.run.speed / dx - 1e-9) * dx
-
-
-def checked_inputs(
-    model: str, line, params: ModelParameters | None, run_in_length
-) -> tuple[ModelEntry, ModelParameters, int, float]:
-    """Step 1: the model's registry entry, the parameters (default: the paper's), the line number and the
-    run-in length, m (None: :func:`default_run_in_length`)."""
-    entry = model_entry(model)
-    params = ModelParameters() if params is None else params
-    if not isinstance(params, ModelParameters):
-        raise WheelrailError("params must be a wheelrail.core.parameters.ModelParameters")
-    if isinstance(line, bool) or not isinstance(line, int | np.integer):
-        raise WheelrailError(f"line must be an integer line number, got {line!r}")
-    if run_in_length is None:
-        run_in_length = default_run_in_length(params)
-    run_in_length = real("run_in_length", run_in_length, "m", sign="nonnegative")
-    return entry, params, int(line), run_in_length
-
-
 def resolve_roughness(roughness: RoughnessLike) -> tuple[RoughnessSet, str]:
     """A RoughnessSet and its name from a set, a bundled set name or a file path."""
     from wheelrail.core.roughness import RoughnessSet, load_roughness
@@ -166,7 +121,7 @@ def resolve_surfaces(roughness: RoughnessLike, wheel_roughness: RoughnessLike | 
 
 @dataclass(frozen=True)
 class TrackRoughness:
-    """Step 2: the roughness the wheel meets, on the model grid along the track.
+    """The roughness the wheel meets, on the model grid along the track.
 
     lines (rows, samples): the chosen line (one row) or the rows of a lateral window; ``centre_row`` is the
     chosen line; ``window_y`` the rows' lateral offsets from it, m; sample ``first`` is under the wheel at
@@ -367,7 +322,7 @@ def check_roughness_pair(rail, wheel) -> None:
 def roughness_along_track(
     rough, traits: ModelTraits, line: int, params: ModelParameters, length: float | None, wheel=None
 ) -> TrackRoughness:
-    """Step 2: the chosen line (or lateral window) on the model grid, long enough for the run and its margins.
+    """The chosen line (or lateral window) on the model grid, long enough for the run and its margins.
 
     ``wheel`` (a wheel set, optional) is added to the rail set ``rough``: r = r_rail + r_wheel, heights
     positive where a surface stands out (so a bump on either pushes wheel and rail together). The surfaces
@@ -422,194 +377,21 @@ def roughness_along_track(
     )
 
 
-@dataclass
-class History:
-    """Step 3: the loop's arrays (history index j = n_hist + s; s counts the run-in too).
-
-    The track part (``force``, ``lo``, ``hi``, ``frac``, ``weights``, ``acc``) and the wheel part (``phi``,
-    ``gamma0``, ``gamma1``, ``state``) are also held as the tuples ``track`` and ``wheel`` that the compiled
-    kernels take. ``xi_w0`` (static equilibrium, step 4) and the ``static_approach`` it stands on are set last.
-    """
-
-    dt: float
-    n_steps: int
-    n_run_in: int
-    n_hist: int  # lags before the first step (history prefilled with P)
-    force: np.ndarray  # (n_hist + n_run_in + n_steps,)
-    acc: np.ndarray  # rail displacement due to earlier forces, per history index (+ n_lags spare)
-    lo: np.ndarray  # excitation positions below and above each history index's rail position
-    hi: np.ndarray
-    frac: np.ndarray
-    weights: np.ndarray  # (positions, lags) first-order-hold weights of the moving Green's functions
-    phi: np.ndarray  # wheel's discrete-time system (wheel_discrete_system)
-    gamma0: np.ndarray
-    gamma1: np.ndarray
-    state: np.ndarray
-    ramp: np.ndarray  # (n_total,) roughness fade-in factor
-    start_index: np.ndarray  # (n_total,) sample index of the wheel centre in the roughness lines
-    xi_w0: float = 0.0
-    static_approach: float = 0.0  # the model's static approach delta(P), m (static_equilibrium: xi_w0's part)
-    bay: int | None = None  # steps per sleeper bay (steady_start.bay_steps), None if not a whole number
-    steady: bool = False  # the run starts from the moving load's steady state (no fade-in; steady_start)
-    phases: tuple | None = None  # steady: (lo, hi, frac) of the bay's phases, index n_hist + k for phase k
-
-    @property
-    def n_total(self) -> int:
-        return self.n_run_in + self.n_steps
-
-    @cached_property
-    def track(self) -> tuple:
-        return (self.force, self.lo, self.hi, self.frac, self.weights, self.acc)
-
-    @cached_property
-    def wheel(self) -> tuple:
-        return (self.phi, self.gamma0, self.gamma1, self.state)
-
-
-def _fade_in(n_run_in: int, n_total: int) -> np.ndarray:
-    ramp = np.ones(n_total)
-    if n_run_in:
-        fade = np.arange(n_run_in) / max(1, n_run_in // 2)
-        ramp[:n_run_in] = np.where(fade < 1, 0.5 - 0.5 * np.cos(np.pi * np.minimum(fade, 1)), 1.0)
-    return ramp
-
-
-def _bay_positions(x: np.ndarray, spacing: float, n_positions: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Rows (``track.bay_rows``) below and above rail positions ``x`` (m) and the upper's weight: lo, hi, frac."""
-    pos = np.mod(x, spacing) / spacing * n_positions
-    lo = np.floor(pos).astype(np.int64) % n_positions
-    return lo, (lo + 1) % n_positions, pos - np.floor(pos)
-
-
-def check_step_stability(params: ModelParameters, weights: np.ndarray, wheel_system: tuple) -> float:
-    """The coupled step's period-two mode (z = -1) must be damped: with the contact's compliance 1/k_H at the
-    preload (k_H = 1.5 P / delta), rail and wheel's sampled compliance at the Nyquist frequency H(-1) (the weights
-    at every position in the bay, alternating in sign, and the wheel's discrete system) must leave
-    1/k_H + H(-1) > 0 (``tests/physics/test_stability.py``: where it is negative the implicit update diverges
-    with period two steps). On the accepted tracks and speeds it holds with a margin (k_H (1/k_H + H(-1)) of
-    0.34-0.85, ``validation/step_stability.py``); a track whose supports ring longer than the responses the loop
-    keeps could break it, and is refused here rather than run. Returns that margin, k_H (1/k_H + H(-1))."""
-    phi, gamma0, gamma1 = wheel_system
-    rail = float(np.min(weights @ (-1.0) ** np.arange(weights.shape[1])))
-    wheel = float(np.linalg.solve(-np.eye(len(phi)) - phi, gamma0 - gamma1)[1])
-    stiffness = 1.5 * params.contact.preload / params.contact.hertz_approach()
-    margin = 1.0 + stiffness * (rail + wheel)
-    if not margin > 0.0:
-        raise WheelrailError(
-            f"on this track at {params.run.speed * 3.6:g} km/h the time stepping would be unstable (its period-two "
-            f"mode undamped: margin {margin:.2f}): the track's supports ring longer than the responses the loop "
-            "keeps; raise the pad or ballast damping, or the speed"
-        )
-    return margin
-
-
-def history_arrays(
-    track_roughness: TrackRoughness,
+def track_roughness(
+    roughness: RoughnessLike,
+    wheel_roughness: RoughnessLike | None,
+    traits: ModelTraits,
+    line: int,
     params: ModelParameters,
-    run_in_length: float,
-    track_numerics: TrackNumerics | None = None,
-    wheel_system: tuple | None = None,
-    steady: bool = False,
-) -> History:
-    """Step 3: Green's functions and wheel system, positions in the bay, the preload's force history (eqs. 1-2).
+    length: float | None,
+    check_memory: Callable[[float], object],
+) -> tuple[TrackRoughness, str, str | None]:
+    """The roughness of a run along the track and the names of its rail (or wheel) set and wheel set.
 
-    ``wheel_system``: the wheel's ``(Phi, Gamma0, Gamma1)``, state 1 the contact's displacement (default the paper's
-    2-DOF wheel, ``wheel_discrete_system``; ``modal_wheel.time_domain.modal_wheel_system`` gives the modal wheel's).
-
-    The rail displacement that history causes (``acc``) is left at zero: the interaction loop, which owns the
-    compiled eq. 2, scatters it before the first step (``wheelrail.core.interaction.prepare_run``). ``steady``:
-    the run starts from the moving load's steady state on the gap of step 0 (``steady_start``), so the run-in
-    keeps the roughness under step 0 as it is (no fade-in); else it is faded in from the preload at rest."""
-    from wheelrail.core.steady_start import bay_steps
-    from wheelrail.core.track import moving_weights
-    from wheelrail.core.wheel import wheel_discrete_system
-
-    dx, dt = params.run.element_size, params.run.time_step
-    # the weights alone, cached per speed and step: a cached run never reads the stationary responses
-    weights = moving_weights(params.run.speed, dt, params.track, track_numerics)
-    n_lags = weights.shape[1]
-    phi, gamma0, gamma1 = wheel_discrete_system(params.wheel, dt) if wheel_system is None else wheel_system
-    check_step_stability(params, weights, (phi, gamma0, gamma1))
-    n_steps = track_roughness.n_steps
-    n_run_in = int(round(run_in_length / dx))
-    n_hist = n_lags
-    n_total = n_run_in + n_steps
-    # rail position of history index j (sleeper at x = 0 of the roughness data)
-    x_hist = track_roughness.x_start + (np.arange(n_hist + n_total) - n_hist - n_run_in) * dx
-    spacing = params.track.support.sleeper_spacing
-    lo, hi, frac = _bay_positions(x_hist, spacing, len(weights))
-    bay = bay_steps(spacing, dx)
-    phases = None  # steady: one bay of phases from index n_hist on, however short the run (steady_start)
-    if steady:
-        phases = _bay_positions(track_roughness.x_start + (np.arange(bay) - n_run_in) * dx, spacing, len(weights))
-    first = track_roughness.first
-    history = History(
-        dt=dt,
-        n_steps=n_steps,
-        n_run_in=n_run_in,
-        n_hist=n_hist,
-        force=np.full(n_hist + n_total, params.contact.preload),
-        acc=np.zeros(n_hist + n_total + n_lags),
-        lo=lo,
-        hi=hi,
-        frac=frac,
-        weights=weights,
-        phi=phi,
-        gamma0=gamma0,
-        gamma1=gamma1,
-        state=np.zeros(len(phi)),
-        ramp=np.ones(n_total) if steady else _fade_in(n_run_in, n_total),
-        start_index=np.concatenate([np.full(n_run_in, first), first + np.arange(n_steps)]).astype(np.int64),
-        bay=bay,
-        steady=steady,
-        phases=phases,
-    )
-    return history
-
-
-def model_inputs(track_roughness: TrackRoughness, history: History, params: ModelParameters) -> ModelInputs:
-    """What the contact model is given to prepare the run: the roughness on the model grid, its window and, at
-    every step, the sample under the wheel and the run-in's fade-in."""
-    dx = params.run.element_size
-
-    def position_of(s: int) -> float:
-        return track_roughness.x_start + (s - history.n_run_in) * dx
-
-    return ModelInputs(
-        params=params,
-        element_size=dx,
-        lines=track_roughness.lines,
-        centre_row=track_roughness.centre_row,
-        window_y=track_roughness.window_y,
-        half_x=window_half_elements(params)[0],
-        start_index=history.start_index,
-        ramp=history.ramp,
-        position_of=position_of,
-    )
-
-
-def static_equilibrium(static_approach: float, preload: float, weights: np.ndarray) -> float:
-    """Step 4: wheel position xi_W0 at rest: the model's static approach delta(P) above the bay-averaged
-    static rail deflection under the preload (eq. 1's xi_S(P)), m."""
-    return static_approach + preload * float(np.mean(weights.sum(axis=1)))
-
-
-def interaction_wheel(wheel, params) -> tuple[tuple | None, str, dict | None]:
-    """What ``prepare_run``'s ``wheel_system`` gives the loop and records in the run's header:
-    ``(system, wheel_model, profile description)``.
-
-    ``wheel``: None (the paper's 2-DOF wheel: ``(None, "2dof", None)``), a modal wheel's cross-section (a
-    ``WheelProfile`` or ``OutlineProfile``: its clamped modes to 10 kHz, n = 0..10, cached as ``wheel_modes``,
-    as ``modal_wheel.time_domain.modal_wheel_system`` at the run's time step, recorded as ``"modal"`` with
-    ``profile.describe()``) or a ``(Phi, Gamma0, Gamma1)`` built by the caller (recorded as ``"given"``: its wheel
-    is not known here).
+    The sets are read and paired (:func:`resolve_surfaces`); ``check_memory(length)`` is called with the run's
+    length, m (:func:`usable_length` where none is given), before anything that grows with it is allocated;
+    then the lines are laid along the track (:func:`roughness_along_track`).
     """
-    if wheel is None:
-        return None, "2dof", None
-    from wheelrail.core.modal_wheel.modes import wheel_modes
-    from wheelrail.core.modal_wheel.profile import OutlineProfile, WheelProfile
-    from wheelrail.core.modal_wheel.time_domain import modal_wheel_system
-
-    if isinstance(wheel, WheelProfile | OutlineProfile):
-        return modal_wheel_system(wheel_modes(wheel), params.wheel, params.run.time_step), "modal", wheel.describe()
-    return wheel, "given", None
+    rough, name, wheel, wheel_name = resolve_surfaces(roughness, wheel_roughness, params)
+    check_memory(usable_length(rough, params.run.element_size) if length is None else length)
+    return roughness_along_track(rough, traits, line, params, length, wheel=wheel), name, wheel_name

@@ -1,0 +1,149 @@
+"""The compiled one-line laws: the Hertz spring on an equivalent roughness (``hertz``, ``hertz-winkler``,
+``hertz-average``; eqs. 12-14) and the Winkler bedding on the line under the wheel (``2d``; eqs. 3-6).
+
+Both run in one compiled chunk loop, :data:`run_chunk`, which selects the kernel by a constant (``HERTZ`` or
+``BEDDING``: numba caches compiled code on disk only when no jitted function is passed as an argument), with eqs.
+1-2 inlined from ``engine.kernels``; :data:`law_curve` is the same kernel at compliance 0, F(delta), for the steady
+start.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+from numba import njit
+
+from wheelrail.core.contact import hertz_law as hertz_kernels
+from wheelrail.core.contact import winkler
+from wheelrail.core.contact.hertz_law import hertz_law
+from wheelrail.core.contact.winkler import bedding_law
+from wheelrail.core.engine import kernels
+from wheelrail.core.engine.compiled import sources_stamp
+from wheelrail.core.engine.kernels import commit_force, known_approach
+from wheelrail.core.engine.laws.base import CompiledLaw
+from wheelrail.core.errors import WheelrailError
+
+__all__ = ["BEDDING", "HERTZ", "BeddingLaw", "HertzLaw", "law_curve", "run_chunk"]
+
+HERTZ = 0  # Hertz spring on an equivalent roughness (eqs. 12-14): contact.hertz_law.hertz_law
+BEDDING = 1  # Winkler bedding on the line under the wheel (eqs. 3-6): contact.winkler.bedding_law
+
+
+@njit(cache=True, inline="always")
+def _law(law, approach_known, compliance, roughness, s, shape, constants):
+    """A one-line law (``HERTZ`` or ``BEDDING``) at step s: (F, contact length, contact area, reached the window's
+    end)."""
+    if law == HERTZ:
+        f, length, area = hertz_law(
+            approach_known, compliance, roughness[s, 0], constants[0], constants[1], constants[2]
+        )
+        return f, length, area, False
+    return bedding_law(approach_known, compliance, roughness[s], shape, constants[0], constants[1])
+
+
+def _define_law_curve(stamp):
+    @njit(cache=True)
+    def law_curve(law, approaches, law_inputs, s):
+        """A compiled one-line law's force at step s at the given approaches (compliance 0: F(delta)), N: the
+        contact law of the run-in's steady state (``steady_start``)."""
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called
+        roughness, shape, constants = law_inputs
+        forces = np.empty(approaches.size)
+        for k in range(approaches.size):
+            forces[k] = _law(law, approaches[k], 0.0, roughness, s, shape, constants)[0]
+        return forces
+
+    return law_curve
+
+
+# The chunk loop calls compiled code of other modules: numba's cache keys it on those sources too
+# (wheelrail.core.engine.compiled).
+def _define_run_chunk(stamp):
+    @njit(cache=True)
+    def run_chunk(law, j0, j1, track, wheel, preload, xi_w0, law_inputs, out):
+        """Advance a one-line law over history indices j0..j1-1: one compiled function, not a Python loop over
+        the steps (the hot loop). ``law`` = ``HERTZ`` or ``BEDDING``; ``law_inputs`` = (roughness, shape,
+        constants) of models.LawInputs; ``out`` = (xi_wheel, xi_rail, contact_length, contact_area) per step s.
+
+        Returns -1 if all went well, else the index j at which the law reached its window's end.
+        """
+        stamp  # noqa: B018 - keys numba's cache on the sources of the modules called
+        roughness, shape, constants = law_inputs
+        xi_wheel, xi_rail, length, area = out
+        offset = track[0].shape[0] - roughness.shape[0]
+        for j in range(j0, j1):
+            delta_known, c, q, w0, s_pred = known_approach(j, track, wheel, preload, xi_w0)
+            s = j - offset
+            f, contact_length, contact_area, edge = _law(law, delta_known, c, roughness, s, shape, constants)
+            if edge:
+                return j
+            length[s] = contact_length
+            area[s] = contact_area
+            xi_wheel[s], xi_rail[s] = commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
+        return -1
+
+    return run_chunk
+
+
+_STAMP = sources_stamp(hertz_kernels, winkler, kernels, sys.modules[__name__])
+run_chunk = _define_run_chunk(_STAMP)
+law_curve = _define_law_curve(_STAMP)
+
+
+class _OneLineLaw(CompiledLaw):
+    """A one-line law in :data:`run_chunk`, selected by ``kind``."""
+
+    kind: int
+
+    def advance(self, s0: int, s1: int) -> None:
+        loop = self.history
+        j = run_chunk(
+            self.kind,
+            loop.n_hist + s0,
+            loop.n_hist + s1,
+            loop.track,
+            loop.wheel,
+            self.preload,
+            loop.xi_w0,
+            self.law_inputs,
+            tuple(self.outputs),
+        )
+        if j != -1:
+            raise WheelrailError(self.contact.edge_message(j - loop.n_hist))
+
+    def steady_law(self, band=None):
+        s, kind, inputs = self.history.n_run_in, self.kind, self.law_inputs
+        return lambda d: law_curve(kind, d, inputs, s)
+
+
+class HertzLaw(_OneLineLaw):
+    """The Hertz spring on the model's equivalent roughness r_eq (``ContactModel.equivalent_line``)."""
+
+    kind = HERTZ
+
+    def surface_input(self, lines: np.ndarray) -> np.ndarray:
+        """The model's equivalent roughness of the chosen line of ``lines`` under the wheel at every step, faded in
+        over the run-in: (steps, 1), m (the model's pre-filter, ``equivalent_roughness``, on the line)."""
+        inputs = self.inputs
+        r_eq = self.contact.equivalent_roughness(inputs, lines[inputs.centre_row])
+        return np.ascontiguousarray((r_eq[inputs.start_index] * inputs.ramp).reshape(-1, 1))
+
+
+class BeddingLaw(_OneLineLaw):
+    """The Winkler bedding of 2 half_x + 1 springs on the chosen line under the wheel."""
+
+    kind = BEDDING
+
+    @classmethod
+    def memory_columns(cls, window_width: int) -> int:
+        """The bedding's window of each step (and its temporary): ``window_width`` columns."""
+        return window_width
+
+    def surface_input(self, lines: np.ndarray) -> np.ndarray:
+        """The chosen line of ``lines`` under the bedding at every step, faded in over the run-in: (steps,
+        2 half_x + 1), m."""
+        inputs = self.inputs
+        offsets = np.arange(-inputs.half_x, inputs.half_x + 1)
+        line = lines[inputs.centre_row]
+        return np.ascontiguousarray(line[inputs.start_index[:, None] + offsets[None, :]] * inputs.ramp[:, None])
