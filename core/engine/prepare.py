@@ -215,7 +215,6 @@ def prepare_run(
     history.settle(contact.prepare(inputs), params.contact.preload)
     return InteractionRun(
         header=header,
-        traits=entry.traits,
         contact=contact,
         inputs=inputs,
         track=track,

@@ -21,7 +21,7 @@ from wheelrail.core.engine.history import History
 from wheelrail.core.engine.laws.base import StepArrays, law_class
 from wheelrail.core.engine.results import HeaderView, RunHeader, RunResult, StepState
 from wheelrail.core.engine.track_lines import TrackRoughness
-from wheelrail.core.models import ContactModel, ModelInputs, ModelTraits
+from wheelrail.core.models import ContactModel, ModelInputs, model_entry
 from wheelrail.core.parameters import ModelParameters
 
 # the arrays of a RunResult that make a StepState's fields after ``step``, in StepState's order
@@ -56,7 +56,6 @@ class InteractionRun(HeaderView):
         self,
         *,
         header: RunHeader,
-        traits: ModelTraits,
         contact: ContactModel,
         inputs: ModelInputs,
         track: TrackRoughness,
@@ -64,7 +63,7 @@ class InteractionRun(HeaderView):
         keep_pressure: bool = True,
     ) -> None:
         self.header = header
-        self.traits = traits
+        self.traits = traits = model_entry(header.model).traits  # what the model computes (the registry's)
         self.contact = contact
         self.track = track
         self.loop = history
