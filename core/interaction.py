@@ -585,7 +585,7 @@ def simulate(
     See Also
     --------
     prepare_run : the same run, stepped on demand.
-    wheelrail.core.spectra.force_spectrum : the force's third-octave spectrum.
+    wheelrail.core.spectra.force.force_spectrum : the force's third-octave spectrum.
 
     Examples
     --------

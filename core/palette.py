@@ -55,7 +55,7 @@ MODEL_COLOURS = {
 """One colour per built-in contact model (its total in the noise figures, its spectrum and force elsewhere)."""
 
 COMPONENT_COLOURS = {"rail": OKABE_ITO["orange"], "sleeper": OKABE_ITO["sky blue"], "wheel": TOL_WINE}
-"""One colour per radiating part of the noise chain (``wheelrail.core.noise.levels.COMPONENTS``); none is near a
+"""One colour per radiating part of the noise chain (``wheelrail.core.noise.components.COMPONENTS``); none is near a
 model's colour, as the Noise tab draws both."""
 
 PLUG_IN_COLOURS = ("#777777", "#AA7700", "#4477AA", "#BB5566")

@@ -6,7 +6,7 @@ that a plot, a contact filter or a download never mixes configurations. :func:`r
 fields (text as typed) into a config or one :class:`~wheelrail.core.errors.WheelrailError` a user can act on; the
 choices it allows come from core (:func:`wheelrail.core.run_setup.run_lines`,
 :func:`wheelrail.core.run_setup.usable_length`, the accepted ranges of :mod:`wheelrail.core.accepted`,
-:func:`wheelrail.core.spectra.shortest_spectrum_run`). :func:`page_message` words any WheelrailError, core's
+:func:`wheelrail.core.spectra.force.shortest_spectrum_run`). :func:`page_message` words any WheelrailError, core's
 or the page's own, with the page's field labels and units (:data:`FIELD_NAMES`).
 """
 
@@ -22,7 +22,7 @@ from wheelrail.core.inputs import Input, by_key, describe_track, inputs_of, mode
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.run_setup import run_lines, usable_length, window_width
-from wheelrail.core.spectra import shortest_spectrum_run
+from wheelrail.core.spectra.force import shortest_spectrum_run
 
 __all__ = [
     "COMPARE",

@@ -9,7 +9,6 @@ import viser
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import choice
-from wheelrail.core.noise.levels import a_weighting, energy_sum
 from wheelrail.core.noise.run_noise import (
     AXLE_DB,
     COMPONENTS,
@@ -21,6 +20,7 @@ from wheelrail.core.noise.run_noise import (
 )
 from wheelrail.core.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS
 from wheelrail.core.parameters import KMH
+from wheelrail.core.spectra.levels import a_weighting, energy_sum
 from wheelrail.explorer.config import RunConfig, page_message, read_train
 from wheelrail.explorer.panel import NO_RUN, ResultsTab, Shown, TabParts
 from wheelrail.explorer.plots import DASHED, DOTTED, SOLID, Plot, bands_with_data, model_colour

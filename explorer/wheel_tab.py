@@ -310,10 +310,10 @@ def wheel_band_power(profile, points_per_band: int = WHEEL_POINTS_PER_BAND) -> d
     (``frequency_hz``: 50 Hz-10 kHz): ``power_per_force`` and its ``axial`` and ``radial`` surfaces' parts, each
     the mean over ``points_per_band`` frequencies spread evenly in lg f across the band
     (:func:`wheelrail.core.noise.wheel_power.modal_wheel_response`, as ``modal_wheel_band_means``)."""
-    from wheelrail.core.noise.levels import noise_bands
     from wheelrail.core.noise.twins import band_frequencies
     from wheelrail.core.noise.wheel_power import modal_wheel_response
     from wheelrail.core.parameters import ModelParameters
+    from wheelrail.core.spectra.bands import noise_bands
 
     mass = ModelParameters().wheel.unsprung_mass  # enters only the receptance, not the power per force
     means: dict = {key: [] for _, key in _POWER_PARTS}

@@ -29,7 +29,7 @@ from wheelrail.cli.commands._common import (
 from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs import describe, describe_track, describe_words, inputs_of
-from wheelrail.core.spectra import nominal_band_label
+from wheelrail.core.spectra.bands import nominal_band_label
 
 FILES = Files(reads=("run",), writes=(Output("wav", "--wav", ".wav"), Output("csv", "--csv", ".csv")))
 """The run read and the files written (checked by the dispatcher: ``_common.check_files``)."""
@@ -217,7 +217,7 @@ def _cnossos(args) -> dict:
         axles=args.axles,
         rule=args.roughness_interpolation,
     )
-    from wheelrail.core.spectra import band_labels
+    from wheelrail.core.spectra.bands import band_labels
 
     return {
         "band_labels": band_labels(result.frequency_hz),
@@ -280,7 +280,7 @@ def run(args) -> int:
 def _run_file(args) -> int:
     """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
     from wheelrail.core.atomic import atomic_write
-    from wheelrail.core.noise.levels import SOUND_POWER_PARTS
+    from wheelrail.core.noise.components import SOUND_POWER_PARTS
     from wheelrail.core.noise.run_noise import (
         DEFAULT_TRAIN_AXLES,
         DEFAULT_TRAIN_LENGTH,

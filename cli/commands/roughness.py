@@ -21,7 +21,6 @@ from wheelrail.cli.commands._common import (
     print_json,
     speed_from_kmh,
 )
-from wheelrail.core.bands import Bands
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness import (
     DEFAULT_LINES,
@@ -30,7 +29,7 @@ from wheelrail.core.roughness import (
     roughness_spectrum,
 )
 from wheelrail.core.roughness_limits import iso3095_limit, iso3095_margin
-from wheelrail.core.spectra import nominal_band_label
+from wheelrail.core.spectra.bands import Bands, nominal_band_label
 
 FILES = Files(reads=("set",), writes=(Output("plot", "--plot", ".png"),))
 """The set read and the figure written (checked by the dispatcher: ``_common.check_files``)."""

@@ -218,7 +218,8 @@ def _summary(args, result, params, times) -> dict:
     import numpy as np
 
     from wheelrail.core.run_file import check_fluctuating
-    from wheelrail.core.spectra import band_labels, check_spectrum_length, force_spectrum, spectrum_record
+    from wheelrail.core.spectra.bands import band_labels
+    from wheelrail.core.spectra.force import check_spectrum_length, force_spectrum, spectrum_record
 
     start, prepared, finished = times
     try:
@@ -293,7 +294,7 @@ def _print_summary(args, result, params, summary, sink) -> None:
     if "spectrum_note" in summary:
         print(f"  no force spectrum: {summary['spectrum_note']}")
     else:
-        from wheelrail.core.spectra import spectrum_record
+        from wheelrail.core.spectra.force import spectrum_record
 
         print(f"  {spectrum_record(result).words()}")
         print("  third-octave force levels, dB re 1 N:")

@@ -254,7 +254,7 @@ def _print_summary(track, summary: dict, peaks: dict) -> None:
 
 def _print_bands(bands: dict, decay: dict) -> None:
     """The table per one-third octave band, each named by its nominal centre (``spectra.nominal_band_label``)."""
-    from wheelrail.core.spectra import band_labels
+    from wheelrail.core.spectra.bands import band_labels
 
     print(
         "Point receptance at the band centres (m/N) and vertical decay rate (dB/m, EN 15461) against "
@@ -328,7 +328,7 @@ def run(args) -> int:
         "decay_rate": decay,
         "bands": band_receptances(track, numerics.elements_per_bay),
     }
-    from wheelrail.core.spectra import band_labels
+    from wheelrail.core.spectra.bands import band_labels
 
     for table in ("bands", "decay_rate"):  # the nominal names beside the exact centres, as every JSON gives them
         summary[table]["band_labels"] = band_labels(summary[table]["frequency_hz"])

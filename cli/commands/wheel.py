@@ -123,7 +123,7 @@ def run(args) -> int:
     start = time.perf_counter()
     modes = wheel_modes(profile, **settings, announce=_announce(sys.stderr))
     elapsed = time.perf_counter() - start
-    from wheelrail.core.bands import frequency_bands
+    from wheelrail.core.spectra.bands import frequency_bands
 
     bands = frequency_bands(None, (BAND_RANGE_HZ[0], min(BAND_RANGE_HZ[1], modes.max_frequency))).centres
     at_bands = contact_receptance(modes, bands, args.added_loss_factor)
@@ -207,7 +207,7 @@ def _print_summary(summary: dict) -> None:
                  "circumferential") if row[family]]  # fmt: skip
         print(f"  n = {row['n']:2d}: " + "; ".join(parts))
     bands = summary["receptance_at_bands"]
-    from wheelrail.core.bands import nominal_band_label
+    from wheelrail.core.spectra.bands import nominal_band_label
 
     print("Receptance at the contact (m/N): band Hz, radial, axial, cross")
     for f, rr, zz, rz in zip(bands["frequency_hz"], bands["radial_m_per_n"], bands["axial_m_per_n"],

@@ -2,7 +2,7 @@
 
 One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10 kHz):
 
-- contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force_spectrum`);
+- contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force.force_spectrum`);
 - rail and sleepers: L_W = L_F + 10 lg(T / 1 pW) with T the model track's sound power per unit mean-square force
   (:func:`wheelrail.core.noise.twins.track_noise_model`, same wheel, track and contact as the run);
 - wheel: the effective roughness that causes L_F in the linear model, L_r = L_F + 10 lg <|alpha_W + alpha_R +
@@ -42,19 +42,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.noise.levels import (
-    COMPONENTS,
-    NOISE_BAND_RANGE,
+from wheelrail.core.noise.components import COMPONENTS, SOUND_POWER_PARTS, TOTAL
+from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
+from wheelrail.core.spectra.bands import NOISE_BAND_RANGE, noise_bands
+from wheelrail.core.spectra.levels import (
     PRESSURE_REFERENCE,
-    SOUND_POWER_PARTS,
-    TOTAL,
     a_weighted_energy,
     a_weighted_total,
     energy_sum,
-    noise_bands,
     power_level,
 )
-from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
 
 ISO3095_DISTANCE = 7.5  # m from the track centre line
 ISO3095_HEIGHT = 1.2  # m above the rail head
@@ -130,7 +127,7 @@ class RunNoise:
 
     def to_dict(self) -> dict:
         """The JSON layout of ``wheelrail noise --run F.npz --json``."""
-        from wheelrail.core.spectra import band_labels
+        from wheelrail.core.spectra.bands import band_labels
 
         return {
             "band_labels": band_labels(self.frequency_hz),
@@ -151,7 +148,7 @@ class RunNoise:
         :meth:`wheelrail.core.results.RunHeader.csv_comment`), a line with the train and the totals, then
         ``band, centre_hz``, the force level and the rail, sleeper, wheel and total sound power of one wheel on
         one rail (dB re 1 pW; empty where a band is above the run's Nyquist frequency)."""
-        from wheelrail.core.spectra import band_labels
+        from wheelrail.core.spectra.bands import band_labels
 
         axles, length = self.train
         lines = [
@@ -298,7 +295,7 @@ def run_noise(
     from wheelrail.core.noise.wheel_power import checked_wheel_model
     from wheelrail.core.results import result_of_run
     from wheelrail.core.run_file import check_fluctuating
-    from wheelrail.core.spectra import force_spectrum, spectrum_record
+    from wheelrail.core.spectra.force import force_spectrum, spectrum_record
 
     result = result_of_run("run_noise: result", result)
     train_axles, train_length = checked_train(train_axles, train_length)
@@ -365,9 +362,9 @@ def _configuration(result, track, train_axles, train_length, undefined) -> dict:
 
 
 def _check_run_length(result) -> None:
-    """The run holds a force spectrum (:func:`wheelrail.core.spectra.shortest_spectrum_run`), else one
+    """The run holds a force spectrum (:func:`wheelrail.core.spectra.force.shortest_spectrum_run`), else one
     WheelrailError that names no option (the noise has no length or skip of its own)."""
-    from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP, shortest_spectrum_run
+    from wheelrail.core.spectra.force import FORCE_MIN_STEPS, FORCE_SKIP, shortest_spectrum_run
 
     shortest = shortest_spectrum_run(result.speed, result.element_size)
     length = result.n_steps * result.element_size
@@ -409,7 +406,7 @@ def _synthesise(noise: RunNoise, *, lead: float, seed: int):
     """The pass-by pressure (module docstring)."""
     from scipy.signal import fftconvolve
 
-    from wheelrail.core.spectra import FORCE_SKIP
+    from wheelrail.core.spectra.force import FORCE_SKIP
 
     dt = noise._time_step
     rate = 1.0 / dt
@@ -448,5 +445,5 @@ def _synthesise(noise: RunNoise, *, lead: float, seed: int):
 
 def laeq_of_pressure(pressure: np.ndarray, rate: float) -> float:
     """L_Aeq (dB(A) re 20 uPa) of a pressure signal (Pa): A-weighting applied in the frequency domain
-    (:func:`~wheelrail.core.noise.levels.a_weighted_energy`)."""
+    (:func:`~wheelrail.core.spectra.levels.a_weighted_energy`)."""
     return float(10 * np.log10(a_weighted_energy(pressure, rate) / len(pressure) / PRESSURE_REFERENCE**2))

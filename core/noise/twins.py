@@ -51,7 +51,6 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.noise.levels import NOISE_BAND_RANGE, noise_bands
 from wheelrail.core.noise.radiation import (
     AIR_DENSITY,
     SOUND_SPEED,
@@ -61,7 +60,7 @@ from wheelrail.core.noise.radiation import (
     rail_section,
 )
 from wheelrail.core.parameters import ModelParameters, TrackParameters
-from wheelrail.core.spectra import BAND_HALF_WIDTH
+from wheelrail.core.spectra.bands import BAND_HALF_WIDTH, NOISE_BAND_RANGE, noise_bands
 
 LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from wheelrail.core.drawing import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
 from wheelrail.core.jsonready import strict_json
-from wheelrail.core.noise.levels import SOUND_POWER_PARTS
+from wheelrail.core.noise.components import SOUND_POWER_PARTS
 from wheelrail.core.results import RunHeader
 
 __all__ = [
@@ -50,7 +50,7 @@ FORCE_SPECTRUM = "spectra/force"
 # optional (``--sound-power``, ``record_result(sound_power=True)``): the run's rolling noise, one wheel on one rail,
 # dB re 1 pW per band 50 Hz-10 kHz (wheelrail.core.noise.run_noise), and a document with the totals
 SOUND_POWER = "spectra/sound_power"
-SOUND_POWER_COMPONENTS = SOUND_POWER_PARTS  # spectra/sound_power/<part>, as wheelrail.core.noise.levels names them
+SOUND_POWER_COMPONENTS = SOUND_POWER_PARTS  # spectra/sound_power/<part>, as wheelrail.core.noise.components names them
 
 # titles of the blueprint's time-series views
 FORCE_VIEW = "Contact force (N)"

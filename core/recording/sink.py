@@ -459,7 +459,7 @@ class RecordingSink:
                     )
 
     def _log_spectrum(self, result: RunResult | None) -> None:
-        from wheelrail.core.spectra import force_spectrum
+        from wheelrail.core.spectra.force import force_spectrum
 
         force = result.force if result is not None else np.asarray(self._force)
         time_step = (

@@ -88,7 +88,7 @@ _OCTAVES = ("63", "125", "250", "500", "1000", "2000", "4000", "8000")
 
 def _frequency_axis(ax, table: Table, ylabel: str, names: tuple[str, ...] = _OCTAVES) -> None:
     """A log band axis ticked at the bands ``names`` (nominal), its label and ``ylabel``."""
-    from wheelrail.core.spectra import nominal_band_label
+    from wheelrail.core.spectra.bands import nominal_band_label
 
     ax.set_xscale("log")
     ticks = [c for c in table.band_centres if nominal_band_label(c) in names]
@@ -242,7 +242,7 @@ _PARTS_MODEL = "3d"  # whose rail, sleeper and wheel the last panel splits (the 
 def _draw_track(group: list[Table]):
     """The track study's summary: one row per set; force, sound power and pass-by level per model against the
     swept input, and one model's rail, sleeper and wheel sound power (colour: the part)."""
-    from wheelrail.core.noise.levels import COMPONENTS
+    from wheelrail.core.noise.components import COMPONENTS
 
     figure, axes = _axes_grid(len(group), len(_TRACK_PANELS) + 1, height=3.6)
     figure.set_size_inches(14.0, 3.8 * len(group) + 1.0)

@@ -45,9 +45,9 @@ def _column(name: str) -> str:
 def _roughness_levels(info, speed: float) -> np.ndarray:
     """Line 0 of the set (plus its wheel set's line 0, if any) as the combined roughness on the 24 bands at ``speed``,
     dB re 1 um (the one-Hann-window band levels of the force spectra, NaN where the record is too short)."""
-    from wheelrail.core.noise.levels import NOISE_BAND_RANGE
     from wheelrail.core.roughness import RoughnessSet, load_roughness
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.bands import NOISE_BAND_RANGE
+    from wheelrail.core.spectra.force import force_spectrum
 
     def line0(source):
         rough = source if isinstance(source, RoughnessSet) else load_roughness(source)

@@ -17,8 +17,8 @@ from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.run_setup import run_lines
-from wheelrail.core.spectra import check_spectrum_length
-from wheelrail.core.spectrum_levels import contact_filter, level_difference, mean_level
+from wheelrail.core.spectra.force import check_spectrum_length
+from wheelrail.core.spectra.levels import contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,

@@ -110,7 +110,7 @@ def run_study(
     See Also
     --------
     plan_study : the runs and tables of a study, without running them.
-    wheelrail.core.spectra.contact_filter : the level arithmetic of the tables.
+    wheelrail.core.spectra.levels.contact_filter : the level arithmetic of the tables.
 
     Notes
     -----
@@ -188,9 +188,9 @@ def study_caption(name: str, plan: StudyPlan) -> str:
 
 def _spectrum_records(plan: StudyPlan, summaries) -> list[dict]:
     """Each distinct record the study's force spectra analysed (speed, steps, the start left out, the duration
-    analysed and the bands it resolves: :meth:`wheelrail.core.spectrum_record.SpectrumRecord.to_dict`), with the
-    line :meth:`~wheelrail.core.spectrum_record.SpectrumRecord.words` says."""
-    from wheelrail.core.spectra import record_of_steps
+    analysed and the bands it resolves: :meth:`wheelrail.core.spectra.record.SpectrumRecord.to_dict`), with the
+    line :meth:`~wheelrail.core.spectra.record.SpectrumRecord.words` says."""
+    from wheelrail.core.spectra.force import record_of_steps
 
     records: dict = {}
     for spec, summary in zip(plan.specs, summaries, strict=True):
@@ -216,7 +216,7 @@ def _summary_document(
     files: list[Path],
 ) -> dict:
     """The JSON summary of a study (SI units; what ``wheelrail study --json`` prints)."""
-    from wheelrail.core.spectra import band_labels
+    from wheelrail.core.spectra.bands import band_labels
 
     summaries = [report.summaries[spec.key] for spec in plan.specs]
     speed = plan.speed

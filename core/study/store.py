@@ -89,9 +89,9 @@ def summary_problem(summary: RunSummary, spec: RunSpec) -> str:
     """What is wrong with a stored summary of ``spec`` ("" when nothing): shapes, NaN, impossible values.
 
     The levels must be NaN exactly in the bands the run's record cannot resolve
-    (:func:`wheelrail.core.spectra.resolved_force_bands` of its steps and time step) and a number elsewhere.
+    (:func:`wheelrail.core.spectra.force.resolved_force_bands` of its steps and time step) and a number elsewhere.
     """
-    from wheelrail.core.spectra import resolved_force_bands
+    from wheelrail.core.spectra.force import resolved_force_bands
 
     scalars = {name: getattr(summary, name) for name in SUMMARY_SCALARS}
     if not all(isinstance(v, int | float) and math.isfinite(v) for v in scalars.values()):

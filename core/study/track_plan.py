@@ -140,7 +140,7 @@ def plan_track(infos, params, tracks, spec_of):
     specs = [spec for _, runs in layout.values() for spec in runs.values()]
 
     def tabulate(summaries):
-        from wheelrail.core.noise.levels import COMPONENTS
+        from wheelrail.core.noise.components import COMPONENTS
         from wheelrail.core.noise.run_noise import AXLE_DB, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, pass_by_level
         from wheelrail.core.noise.run_noise import sound_power_from_force as power
         from wheelrail.core.noise.twins import track_noise_model
@@ -196,7 +196,7 @@ def plan_track(infos, params, tracks, spec_of):
 
 def _total(levels) -> float:
     """The energy sum of band levels (dB), unresolved (NaN) bands left out."""
-    from wheelrail.core.noise.levels import energy_sum
+    from wheelrail.core.spectra.levels import energy_sum
 
     values = np.asarray(levels, dtype=float)
     values = values[np.isfinite(values)]

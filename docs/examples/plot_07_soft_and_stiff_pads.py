@@ -18,7 +18,7 @@ from wheelrail.core.inputs import model_parameters
 from wheelrail.core.interaction import simulate
 from wheelrail.core.noise.decay import track_decay
 from wheelrail.core.noise.run_noise import run_noise
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 
 pads_mn_m = (60, 1000)
 runs, noise, decay = {}, {}, {}

@@ -493,7 +493,7 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     simulate(..., wheel_roughness=...)."""
     from wheelrail.core.interaction import simulate
     from wheelrail.core.parameters import ContactParameters, ModelParameters
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.force import force_spectrum
 
     out = tmp_path / "speeds"
     base = [

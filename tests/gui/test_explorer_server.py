@@ -19,7 +19,7 @@ from wheelrail.core.recording import read_recording
 from wheelrail.core.reference_filters import reference_filters
 from wheelrail.core.roughness import load_roughness, write_csv
 from wheelrail.core.run_setup import window_lines
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 from wheelrail.explorer.config import read_config
 from wheelrail.explorer.scene import SCENE_PER_MM
 from wheelrail.explorer.tabs import PatchTab, SpectraTab, TrackTab

@@ -14,7 +14,7 @@ from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.results import RunHeader, RunResult
 from wheelrail.core.roughness import RoughnessSet, lines_along_track, load_roughness, to_model_grid
 from wheelrail.core.run_setup import run_lines, window_lines
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 from wheelrail.explorer.config import page_message
 
 RAIL = load_roughness("corrugated-rail")
@@ -241,7 +241,7 @@ def test_the_energetic_sum_of_two_roughness_spectra_is_the_spectrum_of_their_sum
     """The explorer's combined roughness spectrum: rail and wheel levels added energetically
     (``energetic_sum``) match the spectrum of the summed heights of two independent sets."""
     from wheelrail.core.roughness import roughness_spectrum
-    from wheelrail.core.spectrum_levels import energetic_sum
+    from wheelrail.core.spectra.levels import energetic_sum
 
     rng = np.random.default_rng(7)
     first = RAIL.with_heights(rng.normal(0.0, 2e-6, RAIL.heights.shape))

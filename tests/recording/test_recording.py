@@ -22,7 +22,7 @@ from wheelrail.core.recording import (
 )
 from wheelrail.core.results import RunHeader, RunResult, StepState
 from wheelrail.core.roughness import load_roughness
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 
 DT = 1e-3 / (100 / 3.6)  # s, 1 mm at 100 km/h
 N_STEPS = 700  # 25 ms: enough for a force spectrum after the 20 ms start-up skip
@@ -441,7 +441,7 @@ def test_sound_power_spectra_are_recorded_on_request(tmp_path):
     # spectra/sound_power/{rail,sleeper,wheel,total} (dB re 1 pW, NaN recorded as 0) equal to run_noise's, and a
     # summary document; without the option nothing is added (the older files' entity tree is unchanged)
     from wheelrail.core.interaction import simulate
-    from wheelrail.core.noise.levels import SOUND_POWER_PARTS
+    from wheelrail.core.noise.components import SOUND_POWER_PARTS
     from wheelrail.core.noise.run_noise import run_noise
 
     result = simulate("cast-iron-wheel", model="hertz", line=0, length=1.0)

@@ -29,12 +29,9 @@ DOCUMENTED = {
     "wheelrail.core.track.resonances": ["band_edges", "receptance_peaks"],
     "wheelrail.core.wheel": ["wheel_receptance"],
     "wheelrail.core.parameters": ["ContactParameters"],
-    "wheelrail.core.spectra": [
-        "third_octave_bands",
-        "force_spectrum",
-        "shortest_spectrum_run",
-    ],
-    "wheelrail.core.spectrum_levels": ["mean_level", "contact_filter"],
+    "wheelrail.core.spectra.bands": ["third_octave_bands"],
+    "wheelrail.core.spectra.force": ["force_spectrum", "shortest_spectrum_run"],
+    "wheelrail.core.spectra.levels": ["mean_level", "contact_filter"],
 }
 
 

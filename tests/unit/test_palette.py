@@ -11,7 +11,7 @@ import pytest
 
 from wheelrail.core import palette
 from wheelrail.core.models import model_names
-from wheelrail.core.noise.levels import COMPONENTS
+from wheelrail.core.noise.components import COMPONENTS
 
 # Machado, Oliveira & Fernandes (IEEE TVCG 2009), severity 1.0, on linear sRGB (the matrices colorspacious uses)
 VISIONS = {

@@ -133,19 +133,20 @@ def test_no_import_guard_around_what_is_always_installed():
 
 
 def test_the_noise_components_are_named_once():
-    """The sound-power parts (rail, sleeper, wheel, total) are one tuple in core (noise.levels); everything that
+    """The sound-power parts (rail, sleeper, wheel, total) are one tuple in core (noise.components); everything that
     lists them derives from it, and no other module writes two of them side by side (rail and wheel alone are also
     the kinds of a roughness set)."""
-    from wheelrail.core.noise import levels, run_noise
+    from wheelrail.core.noise import components, run_noise
     from wheelrail.core.recording import schema
 
-    assert levels.SOUND_POWER_PARTS == (*levels.COMPONENTS, levels.TOTAL)
-    assert run_noise.COMPONENTS is levels.COMPONENTS and schema.SOUND_POWER_COMPONENTS is levels.SOUND_POWER_PARTS
+    assert components.SOUND_POWER_PARTS == (*components.COMPONENTS, components.TOTAL)
+    assert run_noise.COMPONENTS is components.COMPONENTS
+    assert schema.SOUND_POWER_COMPONENTS is components.SOUND_POWER_PARTS
     listed = re.compile(r"""["'](rail|sleeper|wheel|total)["'],\s*["'](rail|sleeper|wheel|total)["']""")
     restated = [
         f"{path.relative_to(ROOT)}:{text.count(chr(10), 0, match.start()) + 1}"
         for path in sorted((*CORE.rglob("*.py"), *(ROOT / "explorer").rglob("*.py")))
-        if path != CORE / "noise" / "levels.py"
+        if path != CORE / "noise" / "components.py"
         for text in [path.read_text(encoding="utf-8")]
         for match in listed.finditer(text)
         if {match.group(1), match.group(2)} != {"rail", "wheel"}  # the two kinds of roughness set, not parts

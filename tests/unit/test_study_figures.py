@@ -8,7 +8,7 @@ import pytest
 
 from wheelrail.core import palette
 from wheelrail.core.inputs import model_parameters
-from wheelrail.core.noise.levels import COMPONENTS
+from wheelrail.core.noise.components import COMPONENTS
 from wheelrail.core.study.figures import study_figures
 from wheelrail.core.study.noise_plan import noise_models
 from wheelrail.core.study.tables import Table
