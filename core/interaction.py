@@ -445,7 +445,7 @@ def prepare_run(
         r = r_W - r_R with z downwards), paired by lateral position: the wheel set interpolated across onto
         the rail's lines (refused where it has no data, see ``run_setup.run_lines``); its lines repeat with
         its circumference, which must be within 1 % of 2 pi R of the rolling radius R
-        (``accepted.check_wheel_circumference``). ``roughness`` must then be a rail set and this a wheel set
+        (``ranges.check_wheel_circumference``). ``roughness`` must then be a rail set and this a wheel set
         (else one WheelrailError).
     model : str
         A registered contact model (``wheelrail.core.models.model_names()``).

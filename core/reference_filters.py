@@ -56,8 +56,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.special
 
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.spectra.bands import FORCE_BAND_RANGE, Bands, frequency_bands, map_levels, wavelength_bands
 
@@ -300,7 +300,7 @@ def reference_filters(
     Parameters
     ----------
     load : float
-        Static wheel load P, N (``accepted.ACCEPTED``: 1 to 500 kN).
+        Static wheel load P, N (``ranges.ACCEPTED``: 1 to 500 kN).
     wheel_radius : float
         Wheel rolling radius R, m (0.1 to 1.25 m).
     speed : float, optional

@@ -8,7 +8,7 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import choice
+from wheelrail.core.inputs.declared import choice
 from wheelrail.core.noise.run_noise import (
     AXLE_DB,
     COMPONENTS,
@@ -46,7 +46,7 @@ NOISE_NOTE = (
     "own modal wheel if it ran with one, else the named wheel nearest its R; computed on first choice, a few "
     "seconds to a minute per wheel shape)."
 )
-WHEEL_CHOICE = choice("noise_wheel_model")  # the noise chain's wheel: one declaration (core.inputs.CHOICES)
+WHEEL_CHOICE = choice("noise_wheel_model")  # the noise chain's wheel: one declaration (core.inputs.declared.CHOICES)
 
 
 class NoiseTab(ResultsTab):

@@ -10,7 +10,7 @@ import viser
 from wheelrail.core.parameters import KMH
 from wheelrail.core.roughness import lateral_coherence, roughness_spectrum
 from wheelrail.core.roughness.analysis import FREQUENCY_RANGE
-from wheelrail.core.roughness_limits import iso3095_limit
+from wheelrail.core.roughness.iso3095 import iso3095_limit
 from wheelrail.core.spectra.bands import frequency_bands, map_levels
 from wheelrail.core.spectra.levels import energetic_sum
 from wheelrail.explorer.form import RunForm

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import viser
 
-from wheelrail.core.inputs import inputs_of
+from wheelrail.core.inputs.declared import inputs_of
 from wheelrail.core.roughness import load_roughness
 from wheelrail.explorer.config import NO_WHEEL_SET, RunConfig, field_text, read_session, session_config
 from wheelrail.explorer.form import RunForm

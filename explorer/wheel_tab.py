@@ -12,7 +12,7 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe_track
+from wheelrail.core.inputs.declared import describe_track
 from wheelrail.core.modal_wheel import describe_wheel
 from wheelrail.core.noise.wheel_power import MAX_FREQUENCY, MAX_HARMONIC, WHEEL_POINTS_PER_BAND
 from wheelrail.core.palette import TOTAL_COLOUR, WHEEL_SURFACE_COLOURS
@@ -350,7 +350,7 @@ def _named_wheels() -> tuple[str, ...]:
 
 def _shape_field(gui, key: str):
     """A shape dimension's field, mm, empty (the named wheel's), hinted with its accepted range and reason."""
-    from wheelrail.core.accepted import ACCEPTED
+    from wheelrail.core.inputs.ranges import ACCEPTED
 
     accepted, name = ACCEPTED[key], FIELD_NAMES[key]
     low, high = accepted.in_unit(name.scale)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wheelrail.core.inputs import model_parameters
+from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.parameters import KMH, MAX_SPEED_KMH, MIN_SPEED_KMH
 from wheelrail.core.run_setup import check_step_stability
 from wheelrail.core.track import moving_weights

@@ -26,9 +26,9 @@ from wheelrail.cli.commands._common import (
     print_json,
     speed_from_kmh,
 )
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe, describe_track, describe_words, inputs_of
+from wheelrail.core.inputs.declared import describe, describe_track, describe_words, inputs_of
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.spectra.bands import nominal_band_label
 
 FILES = Files(reads=("run",), writes=(Output("wav", "--wav", ".wav"), Output("csv", "--csv", ".csv")))

@@ -3,7 +3,7 @@
 Spectra as in the paper's Fig. 6 (single Hann FFT per line, third-octave bands, energetic average over the
 chosen lines, dB re 1 µm) against frequency at the given speed and against wavelength (EN 15610 bands);
 coherence parameter γ² of eqs. (15)-(18) as in Fig. 9. For rail sets the wavelength spectrum is compared
-with the ISO 3095:2013 rail roughness limit (:mod:`wheelrail.core.roughness_limits`): the limit and the
+with the ISO 3095:2013 rail roughness limit (:mod:`wheelrail.core.roughness.iso3095`): the limit and the
 margin to it per band (limit - level; negative where the rail exceeds it) in ``--json`` and the table,
 and the limit as a reference line in ``--plot``.
 """
@@ -28,7 +28,7 @@ from wheelrail.core.roughness import (
     load_roughness,
     roughness_spectrum,
 )
-from wheelrail.core.roughness_limits import iso3095_limit, iso3095_margin
+from wheelrail.core.roughness.iso3095 import iso3095_limit, iso3095_margin
 from wheelrail.core.spectra.bands import Bands, nominal_band_label
 
 FILES = Files(reads=("set",), writes=(Output("plot", "--plot", ".png"),))

@@ -21,7 +21,7 @@ from wheelrail.cli.commands._common import (
     print_json,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe, describe_contact, describe_words
+from wheelrail.core.inputs.declared import describe, describe_contact, describe_words
 from wheelrail.core.models import model_names
 from wheelrail.core.recording.cli import add_recording_arguments, sink_from_args
 

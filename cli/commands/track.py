@@ -18,7 +18,7 @@ from wheelrail.cli.commands._common import (
     speed_from_kmh,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe
+from wheelrail.core.inputs.declared import describe
 from wheelrail.core.noise.decay import band_receptances, decay_verdict, track_decay
 
 FILES = Files(
@@ -367,7 +367,7 @@ def track_figure(receptances, response, peaks, decay, params):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from wheelrail.core.inputs import describe_track
+    from wheelrail.core.inputs.declared import describe_track
     from wheelrail.core.noise.decay import decay_verdict
     from wheelrail.core.track import moving_from_stationary
 

@@ -1,7 +1,7 @@
 """``wheelrail wheel``: the modal wheel's natural frequencies by family and n, and its receptances at the contact.
 
 The wheel is a named standard-like wheel (``--wheel``), changed by the shape options (``--tyre-width-mm``, ...,
-each a field of ``wheelrail.core.modal_wheel.WheelProfile`` with its range in ``core.accepted``), or a
+each a field of ``wheelrail.core.modal_wheel.WheelProfile`` with its range in ``core.inputs.ranges``), or a
 cross-section read from a CSV outline (``--outline``). Its modes come from the axisymmetric finite elements of
 ``wheelrail.core.modal_wheel`` (computed once, then cached on disk).
 """
@@ -15,8 +15,8 @@ from pathlib import Path
 from wheelrail.cli.commands._common import WHEEL_SHAPE_KEYS as SHAPE_KEYS
 from wheelrail.cli.commands._common import Files, Output, print_json
 from wheelrail.cli.commands._common import wheel_shape_option as shape_option
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED
 
 FILES = Files(
     reads=("outline",),

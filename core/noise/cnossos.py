@@ -37,9 +37,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.checks import check_positive
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import check_positive
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ, load_table
 from wheelrail.core.spectra.levels import a_weighted_total, energy_sum
 

@@ -37,8 +37,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.special as sps
 
-from wheelrail.core.checks import finite_array, real
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import finite_array, real
 
 AIR_DENSITY = 1.21  # kg/m^3, air at 20 degC, 101.325 kPa
 SOUND_SPEED = 343.0  # m/s

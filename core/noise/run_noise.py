@@ -378,9 +378,9 @@ def _check_run_length(result) -> None:
 
 def checked_train(train_axles, train_length) -> tuple[int, float]:
     """(axles, length in m) of a train, or one WheelrailError: each within its accepted range
-    (``accepted.ACCEPTED``: 1 to 2 000 axles, 2 m to 5 km) and the axles, evenly along the train, at least
+    (``ranges.ACCEPTED``: 1 to 2 000 axles, 2 m to 5 km) and the axles, evenly along the train, at least
     :data:`MIN_AXLE_SPACING` apart."""
-    from wheelrail.core.accepted import ACCEPTED
+    from wheelrail.core.inputs.ranges import ACCEPTED
 
     if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
         raise WheelrailError("not a whole number of at least 1", parameter="train_axles", value=train_axles)

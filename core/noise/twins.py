@@ -110,7 +110,7 @@ class NoiseNumerics:
 
 def band_frequencies(points_per_band: int) -> np.ndarray:
     """(24, points) frequencies, Hz: each band's width split evenly in lg f, the middle of each part."""
-    from wheelrail.core.checks import integer
+    from wheelrail.core.inputs.checks import integer
 
     points_per_band = integer("band_frequencies: points_per_band", points_per_band, 1)
     centres = noise_bands()
@@ -218,7 +218,7 @@ class TrackNoiseModel:
 
 def nearest_table_diameter_mm(wheel_radius: float) -> int:
     """The CNOSSOS-EU Table G-3b wheel diameter (mm) nearest 2 R (R in m)."""
-    from wheelrail.core.accepted import ACCEPTED
+    from wheelrail.core.inputs.ranges import ACCEPTED
     from wheelrail.core.noise.cnossos import WHEEL_DIAMETERS_MM
 
     wheel_radius = ACCEPTED["wheel_radius"].check(wheel_radius, "nearest_table_diameter_mm: wheel_radius")

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.errors import Name, WheelrailError
-from wheelrail.core.inputs import choice
+from wheelrail.core.inputs.declared import choice
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.columns import scalar_column
@@ -115,7 +115,7 @@ class RecordingSink:
         Name of the recording shown by the viewer.
     sound_power : bool or str
         Add the run's rolling-noise sound-power spectra at :meth:`finish` (``--sound-power``), and their views;
-        a value of the ``noise_wheel_model`` choice (``wheelrail.core.inputs.CHOICES``: "directive", "modal")
+        a value of the ``noise_wheel_model`` choice (``wheelrail.core.inputs.declared.CHOICES``: "directive", "modal")
         also says whose wheel power (True: the directive's L_H,veh), stated as ``wheel_transfer_source``.
     pressure_maps : bool
         The run has pressure maps (a model with ``ModelTraits.pressure_map``: ``3d``): the layout the viewer opens

@@ -29,8 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wheelrail.core.checks import finite_array, level_arrays, real
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import finite_array, level_arrays, real
 
 BAND_HALF_WIDTH = 10.0 ** (1.0 / 20.0)  # upper edge / centre of a third-octave band (base 10)
 FORCE_BAND_RANGE = (50.0, 8000.0)  # Hz, band centres of the paper's force spectra (Figs 10-17)
@@ -132,7 +132,7 @@ class Bands:
     speed: float | None = None
 
     def __post_init__(self) -> None:
-        from wheelrail.core.checks import finite_array, real
+        from wheelrail.core.inputs.checks import finite_array, real
 
         if self.axis not in AXES:
             raise WheelrailError(f"band axis must be one of {', '.join(AXES)}, got {self.axis!r}")
@@ -175,7 +175,7 @@ def wavelength_bands(
 
     The EN 15610 roughness range 800 .. 3.15 mm is ``wavelength_bands(0.8, 0.00315)`` (24 bands).
     """
-    from wheelrail.core.checks import real
+    from wheelrail.core.inputs.checks import real
 
     longest = real("wavelength_bands: longest", longest, "m")
     shortest = real("wavelength_bands: shortest", shortest, "m")

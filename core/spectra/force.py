@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from wheelrail.core.checks import integer, real
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import integer, real
 from wheelrail.core.spectra.bands import FORCE_BAND_RANGE, band_centre_range, band_labels, third_octave_bands
 from wheelrail.core.spectra.narrowband import third_octave_spectrum
 from wheelrail.core.spectra.record import SpectrumRecord, resolved_bands

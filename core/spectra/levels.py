@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-from wheelrail.core.checks import finite_array, level_arrays, mean_squares, real
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import finite_array, level_arrays, mean_squares, real
 from wheelrail.core.spectra.bands import noise_bands
 
 __all__ = [

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from wheelrail.core.checks import finite_array, integer, mean_squares, real, samples
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import finite_array, integer, mean_squares, real, samples
 from wheelrail.core.spectra.bands import band_centre_range, third_octave_bands
 from wheelrail.core.spectra.record import resolved_bands
 

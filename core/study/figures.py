@@ -205,7 +205,7 @@ def _draw_noise(group: list[Table], figure_id: str):
 def _track_axis(table: Table) -> tuple[np.ndarray, list[str], str]:
     """The tracks of a track study's noise table on an x axis: (positions, tick labels, axis label). One swept
     input: its values in its option's units; several: one position per track, ticked with each one's values."""
-    from wheelrail.core.inputs import inputs_of
+    from wheelrail.core.inputs.declared import inputs_of
 
     swept = [entry for entry in inputs_of("track") if entry.dest in table.columns]
     if len(table.band_centres) == 1:
@@ -220,7 +220,7 @@ def _track_axis(table: Table) -> tuple[np.ndarray, list[str], str]:
 
 def track_labels(table: Table) -> list[str]:
     """Each track of a track study's noise table by its swept values ("pad stiffness 60 MN/m")."""
-    from wheelrail.core.inputs import inputs_of
+    from wheelrail.core.inputs.declared import inputs_of
 
     swept = [entry for entry in inputs_of("track") if entry.dest in table.columns]
     if len(table.band_centres) == 1 or not swept:

@@ -12,7 +12,7 @@ import numpy as np
 
 from wheelrail.core.atomic import all_or_none, atomic_write, refuse_inputs
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import caption
+from wheelrail.core.inputs.declared import caption
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_address
@@ -176,9 +176,9 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
 
 
 def study_caption(name: str, plan: StudyPlan) -> str:
-    """What every run of a study shares, as its figures name it (core's :func:`~wheelrail.core.inputs.caption`):
-    the speed unless the study sweeps it, the preload, the contact geometry and the track (the track study: what
-    its tracks share) and the wheel set added to every set."""
+    """What every run of a study shares, as its figures name it (core's
+    :func:`~wheelrail.core.inputs.declared.caption`): the speed unless the study sweeps it, the preload, the contact
+    geometry and the track (the track study: what its tracks share) and the wheel set added to every set."""
     swept = [entry.key for entry in swept_inputs(plan.tracks)] if len(plan.tracks) > 1 else []
     if name in ("speeds", "noise"):  # their figures put the speed on an axis or a curve per speed
         swept.append("speed")

@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import inputs_of
+from wheelrail.core.inputs.declared import inputs_of
 from wheelrail.core.study.noise_plan import noise_models
 from wheelrail.core.study.tables import Table
 
@@ -41,7 +41,8 @@ def swept_inputs(tracks) -> list:
 
 
 def track_description(params, tracks) -> dict:
-    """The tracks of a study as its JSON summary records them (SI, :func:`wheelrail.core.inputs.describe`'s keys).
+    """The tracks of a study as its JSON summary records them (SI, the keys of
+    :func:`wheelrail.core.inputs.declared.describe`).
 
     Returns
     -------
@@ -49,7 +50,7 @@ def track_description(params, tracks) -> dict:
         ``track``: the inputs every track shares (one track: all of them); ``tracks``: per track, its own values of
         the inputs that differ between the tracks (one track: all of them); ``swept_track_inputs``: their keys.
     """
-    from wheelrail.core.inputs import describe
+    from wheelrail.core.inputs.declared import describe
 
     each = [describe(replace(params, track=track), "track")["track"] for track in tracks or (params.track,)]
     swept = [entry.key for entry in swept_inputs(tracks)] if len(each) > 1 else []

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import inputs_of
+from wheelrail.core.inputs.declared import inputs_of
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters
 from wheelrail.core.recording import read_recording
 from wheelrail.core.reference_filters import reference_filters

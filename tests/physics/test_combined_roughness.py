@@ -19,7 +19,7 @@ from wheelrail.explorer.config import page_message
 
 RAIL = load_roughness("corrugated-rail")
 BUNDLED_WHEEL = load_roughness("sinter-wheel-1")  # 2.900 m round: the roughness of a 461.5 mm wheel
-# A wheel set goes round its own wheel (accepted.check_wheel_circumference). The physics tests keep the paper's
+# A wheel set goes round its own wheel (ranges.check_wheel_circumference). The physics tests keep the paper's
 # 390 mm circle and give the wheel set its circumference: the same heights on a 15.5 % shorter spacing.
 WHEEL = dataclasses.replace(BUNDLED_WHEEL, dx=BUNDLED_WHEEL.dx * 2 * np.pi * 0.39 / BUNDLED_WHEEL.length)
 BUNDLED = ModelParameters(contact=ContactParameters(radius=BUNDLED_WHEEL.length / (2 * np.pi)))  # its own wheel
@@ -117,7 +117,7 @@ def _across_sets():
     amplitude grows across the tread: r_W(x, y) = A(y) sin(2 pi x / 50 mm), A(y) = 2 um (1 + y / 25 mm), 0.08
     to 3.92 um over +-24 mm. A is linear in y, so the wheel between two of its lines is known exactly. The wheel
     set is 2.45 m round, 49 wavelengths: the paper's 390 mm wheel (2 pi R = 2.4504 m, within the 1 % a wheel
-    set must keep to its wheel's circumference, accepted.check_wheel_circumference)."""
+    set must keep to its wheel's circumference, ranges.check_wheel_circumference)."""
     rng = np.random.default_rng(7)
     rail = RoughnessSet(
         heights=0.3e-6 * rng.standard_normal((19, 1501)),

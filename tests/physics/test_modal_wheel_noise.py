@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import model_parameters
+from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.noise.cnossos import vehicle_transfer
 from wheelrail.core.noise.run_noise import AXLE_DB, sound_power_from_force
 from wheelrail.core.noise.twins import NoiseNumerics, track_noise_model

@@ -28,7 +28,7 @@ from wheelrail.core.reference_filters import (
     reference_filters,
     run_reference_filters,
 )
-from wheelrail.core.roughness_limits import ISO3095_LIMIT_DB, iso3095_limit, iso3095_margin
+from wheelrail.core.roughness.iso3095 import ISO3095_LIMIT_DB, iso3095_limit, iso3095_margin
 from wheelrail.core.spectra.bands import Bands, frequency_bands, wavelength_bands
 
 DATA = Path(__file__).parent.parent / "data" / "cnossos_2021_rail.csv"

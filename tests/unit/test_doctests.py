@@ -13,7 +13,7 @@ ROOT = Path(__file__).resolve().parents[2]
 # module -> the functions and classes whose docstrings must carry an Examples section
 DOCUMENTED = {
     "wheelrail.core.errors": ["WheelrailError"],
-    "wheelrail.core.inputs": ["Input", "model_parameters", "describe"],
+    "wheelrail.core.inputs.declared": ["Input", "model_parameters", "describe"],
     "wheelrail.core.contact.hertz": ["hertz_force", "hertz_stiffness", "hertz_approach"],
     "wheelrail.core.contact.hertz_model": ["hertz_constant"],
     "wheelrail.core.contact.influence": ["influence_kernel"],

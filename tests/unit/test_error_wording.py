@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from wheelrail.cli.commands._common import CLI_NAMES
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.parameters import KMH, ContactParameters, RunParameters
 from wheelrail.explorer.config import FIELD_NAMES, page_message
 

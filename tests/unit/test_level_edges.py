@@ -11,8 +11,8 @@ import warnings
 import numpy as np
 import pytest
 
-from wheelrail.core.checks import LEVEL_LIMIT_DB
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import LEVEL_LIMIT_DB
 from wheelrail.core.spectra import bands, force, levels, narrowband
 
 ODD = {

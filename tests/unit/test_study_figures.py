@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core import palette
-from wheelrail.core.inputs import model_parameters
+from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.noise.components import COMPONENTS
 from wheelrail.core.study.figures import study_figures
 from wheelrail.core.study.noise_plan import noise_models
