@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import viser
 
+from wheelrail.core.drawing.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs.declared import choice
 from wheelrail.core.noise.run_noise import (
@@ -18,7 +19,6 @@ from wheelrail.core.noise.run_noise import (
     ISO3095_HEIGHT,
     pass_by_level,
 )
-from wheelrail.core.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS
 from wheelrail.core.parameters import KMH
 from wheelrail.core.spectra.levels import a_weighting, energy_sum
 from wheelrail.explorer.config import RunConfig, page_message, read_train

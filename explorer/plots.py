@@ -17,7 +17,7 @@ import threading
 
 import numpy as np
 
-from wheelrail.core import palette
+from wheelrail.core.drawing import palette
 from wheelrail.core.models import model_names
 from wheelrail.core.parameters import KMH
 from wheelrail.core.spectra.bands import nominal_band_label
@@ -51,7 +51,7 @@ _CONTAINER_LOCK = threading.Lock()  # a viser container is entered by one thread
 
 
 def model_colour(model: str) -> str:
-    """The model's colour of core's palette (``wheelrail.core.palette``), the same in every figure."""
+    """The model's colour of core's palette (``wheelrail.core.drawing.palette``), the same in every figure."""
     return palette.model_colour(model, model_names())
 
 

@@ -11,11 +11,11 @@ import threading
 import numpy as np
 import viser
 
+from wheelrail.core.drawing.palette import TOTAL_COLOUR, WHEEL_SURFACE_COLOURS
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs.declared import describe_track
 from wheelrail.core.modal_wheel import describe_wheel
 from wheelrail.core.noise.wheel_power import MAX_FREQUENCY, MAX_HARMONIC, WHEEL_POINTS_PER_BAND
-from wheelrail.core.palette import TOTAL_COLOUR, WHEEL_SURFACE_COLOURS
 from wheelrail.explorer.config import (
     FIELD_NAMES,
     NEAREST_WHEEL,

@@ -109,7 +109,7 @@ class RunNoise:
         What produced it (the run's header, the train, the wheel transfer's source).
     cnossos : CnossosResult or None
         The CNOSSOS-EU source of one axle beside it, on the run's own roughness
-        (:func:`wheelrail.core.noise.beside.cnossos_beside_run`).
+        (:func:`wheelrail.core.noise.cnossos_run.cnossos_beside_run`).
     """
 
     frequency_hz: np.ndarray
@@ -290,7 +290,7 @@ def run_noise(
         The modal wheel's cross-section (default: the run's own, ``RunHeader.wheel_profile``, for a run with the
         modal wheel; else the named wheel nearest the run's R, at R).
     """
-    from wheelrail.core.noise.beside import cnossos_beside_run
+    from wheelrail.core.noise.cnossos_run import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
     from wheelrail.core.noise.wheel_power import checked_wheel_model
     from wheelrail.core.results import result_of_run

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wheelrail.core.drawing import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
+from wheelrail.core.drawing.patch import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
 from wheelrail.core.jsonready import strict_json
 from wheelrail.core.noise.components import SOUND_POWER_PARTS
 from wheelrail.core.results import RunHeader

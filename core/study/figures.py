@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.atomic import atomic_write
+from wheelrail.core.drawing.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS, model_colour
 from wheelrail.core.models import model_names
-from wheelrail.core.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS, model_colour
 from wheelrail.core.parameters import KMH, RunParameters
 from wheelrail.core.study.tables import Table
 
@@ -271,7 +271,7 @@ def _draw_track(group: list[Table]):
 
 def _draw_track_force(group: list[Table], noise: dict[str, Table]):
     """The track study's force spectra: per set a row, per model a panel, one curve per track (its values)."""
-    from wheelrail.core.drawing import colour_table
+    from wheelrail.core.drawing.patch import colour_table
 
     models = sorted({model_of(c) for t in group for c in t.columns} - {None}, key=list(model_names()).index)
     figure, axes = _axes_grid(len(group), len(models), height=3.2)

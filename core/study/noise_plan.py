@@ -8,7 +8,7 @@ the sound power of the TWINS-like chain (:func:`wheelrail.core.noise.run_noise.s
 two wheels on two rails) and the pass-by level (40 axles, 200 m, ISO 3095 position), with the directive's wheel
 (L_H,veh), and for the reference model also with the modal wheel's L_H,veh-equivalent in its place
 (``hertz_modal_wheel_...``, :func:`wheelrail.core.noise.twins.with_modal_wheel`). Beside them the CNOSSOS-EU
-source by the rule of :mod:`wheelrail.core.noise.beside` (one axle; track type ``mono-block-soft``, the Table G-3b
+source by the rule of :mod:`wheelrail.core.noise.cnossos_run` (one axle; track type ``mono-block-soft``, the Table G-3b
 wheel diameter nearest 2R, A3 for the preload and 2R), on the same roughness: the set's line 0 as the combined
 roughness (its spectrum at the speed, dB re 1 um; the directive allows measured roughness); once with A3 and once
 with each model's dynamic contact filter L_F(model) - L_F(hertz) (same set, line, speed) in its place. The 10 kHz
@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wheelrail.core.noise.beside import CNOSSOS_TRACK_TYPE
+from wheelrail.core.noise.cnossos_run import CNOSSOS_TRACK_TYPE
 from wheelrail.core.parameters import KMH
 from wheelrail.core.study.specs import REFERENCE_MODEL, one_line_models
 from wheelrail.core.study.tables import Table
@@ -84,8 +84,8 @@ def plan_noise(infos, study_params, spec_of, params_of):
     specs = [spec for _, runs in layout.values() for spec in runs.values()]
 
     def tabulate(summaries):
-        from wheelrail.core.noise.beside import cnossos_beside
         from wheelrail.core.noise.cnossos import contact_filter_a3
+        from wheelrail.core.noise.cnossos_run import cnossos_beside
         from wheelrail.core.noise.run_noise import sound_power_from_force
         from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
 

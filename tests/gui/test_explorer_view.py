@@ -11,8 +11,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from wheelrail.core import palette
-from wheelrail.core.drawing import colour_table, table_colours
+from wheelrail.core.drawing import palette
+from wheelrail.core.drawing.patch import colour_table, table_colours
 from wheelrail.core.models import model_names
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.explorer.panel import NO_OVERLAY

@@ -23,7 +23,7 @@ MODULES = (
     "wheelrail.core.parameters",
     "wheelrail.core.noise.cnossos",
     "wheelrail.core.noise.run_noise",
-    "wheelrail.core.noise.beside",
+    "wheelrail.core.noise.cnossos_run",
     "wheelrail.core.noise.radiation",
     "wheelrail.core.noise.twins",
     "wheelrail.core.noise.tables",

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wheelrail.core import palette
+from wheelrail.core.drawing import palette
 from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.noise.components import COMPONENTS
 from wheelrail.core.study.figures import study_figures
