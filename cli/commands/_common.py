@@ -7,8 +7,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from wheelrail.core.atomic import same_file
 from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.files.atomic import same_file
 from wheelrail.core.inputs.declared import CHOICES, GROUPS, by_key, choice, cli_names, inputs_of
 from wheelrail.core.inputs.ranges import ACCEPTED, PATCH_FRACTION
 
@@ -243,7 +243,7 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
     (tried with a temporary file, so /proc or a read-only mount fails now, not after the run).
     Returns it as a Path; else a one-line WheelrailError.
     """
-    from wheelrail.core.atomic import temporary_beside
+    from wheelrail.core.files.atomic import temporary_beside
 
     if not str(path).strip():  # Path("") is the current folder: an empty option would write nothing, silently
         raise WheelrailError(f"{option} is empty; give a file name")
@@ -270,7 +270,7 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
 
 def print_json(summary: dict) -> None:
     """Print a machine-readable summary on stdout (SI units; non-SI keys carry their unit; NaN as null)."""
-    from wheelrail.core.jsonready import strict_json
+    from wheelrail.core.files.jsonready import strict_json
 
     sys.stdout.write(strict_json(summary, indent=2))
     sys.stdout.write("\n")

@@ -279,7 +279,7 @@ def run(args) -> int:
 
 def _run_file(args) -> int:
     """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
     from wheelrail.core.noise.components import SOUND_POWER_PARTS
     from wheelrail.core.noise.run_noise import (
         DEFAULT_TRAIN_AXLES,

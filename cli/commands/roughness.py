@@ -160,7 +160,7 @@ def _plot(result: dict, path: str) -> None:
     ax_wl.set(xlabel="wavelength (mm)", ylabel="roughness level (dB re 1 µm)")
     for ax in (ax_level, ax_coh, ax_wl):
         ax.grid(True, which="both", alpha=0.3)
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     try:
         atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=100))  # a disk's failure: named

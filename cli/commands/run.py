@@ -217,7 +217,7 @@ def _summary(args, result, params, times) -> dict:
     """What ``--json`` prints (SI; keys name their unit), the force spectrum included when the run allows one."""
     import numpy as np
 
-    from wheelrail.core.run_file import check_fluctuating
+    from wheelrail.core.files.run_file import check_fluctuating
     from wheelrail.core.spectra.bands import band_labels
     from wheelrail.core.spectra.force import check_spectrum_length, force_spectrum, spectrum_record
 
@@ -310,9 +310,9 @@ def _print_summary(args, result, params, summary, sink) -> None:
 
 
 def _write_outputs(args, result, out, sink) -> None:
-    """--out, --csv and --rrd all or none (``core.atomic.all_or_none``): a full disk while writing any of them
+    """--out, --csv and --rrd all or none (``core.files.atomic.all_or_none``): a full disk while writing any of them
     leaves none (one line naming the file and why); a viewer lost during the run costs none of them."""
-    from wheelrail.core.atomic import all_or_none
+    from wheelrail.core.files.atomic import all_or_none
     from wheelrail.core.recording.outputs import ViewerUnreachable
 
     lost = None

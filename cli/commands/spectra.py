@@ -17,8 +17,8 @@ import numpy as np
 
 from wheelrail.cli.commands._common import Files, print_json
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.files.run_file import check_fluctuating
 from wheelrail.core.results import RunResult
-from wheelrail.core.run_file import check_fluctuating
 from wheelrail.core.spectra.bands import nominal_band_label
 from wheelrail.core.spectra.force import FORCE_SKIP, force_spectrum, spectrum_record
 

@@ -77,7 +77,7 @@ def _peaks(track, numerics) -> dict:
 
     import numpy as np
 
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
     from wheelrail.core.track import fe, resonances
 
     code = "".join(inspect.getsource(module) for module in (fe, resonances))
@@ -129,7 +129,7 @@ def _decay_csv_path(csv_path: Path) -> Path:
 
 
 def _write_decay_csv(path: Path, decay: dict) -> None:
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     def write(handle) -> None:
         writer = csv.writer(handle)
@@ -151,7 +151,7 @@ def _receptance_outputs(receptances, csv_path, plot_path, response, peaks, decay
     freq, above, midspan = receptances
     if csv_path:
         _write_decay_csv(_decay_csv_path(csv_path), decay)
-        from wheelrail.core.atomic import atomic_write
+        from wheelrail.core.files.atomic import atomic_write
 
         def write_csv(handle) -> None:
             writer = csv.writer(handle)
@@ -299,7 +299,7 @@ def run(args) -> int:
     decay = track_decay(track)
     receptances = _receptances(track, numerics, args.df_hz) if (csv_path or plot_path or args.json) else None
     if csv_path or plot_path:
-        from wheelrail.core.atomic import all_or_none
+        from wheelrail.core.files.atomic import all_or_none
 
         with all_or_none():  # the tables and the figure appear together or not at all
             _receptance_outputs(
@@ -352,7 +352,7 @@ def run(args) -> int:
 
 
 def _plot(path, receptances, response, peaks, decay, params) -> None:
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     fig = track_figure(receptances, response, peaks, decay, params)
     atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=110))

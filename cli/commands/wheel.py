@@ -144,7 +144,7 @@ def run(args) -> int:
         "receptance_at_bands": _receptance_dict(at_bands),
     }
     if csv_path or plot_path:
-        from wheelrail.core.atomic import all_or_none
+        from wheelrail.core.files.atomic import all_or_none
 
         frequencies = np.arange(args.df_hz, modes.max_frequency + 1e-9, args.df_hz)
         fine = contact_receptance(modes, frequencies, args.added_loss_factor)
@@ -225,7 +225,7 @@ def _modes_path(csv_path: Path) -> Path:
 def _write_csv(path: Path, receptance, modes, added_loss_factor: float) -> None:
     import numpy as np
 
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     def write_receptance(handle) -> None:
         writer = csv.writer(handle)
@@ -248,7 +248,7 @@ def _write_csv(path: Path, receptance, modes, added_loss_factor: float) -> None:
 
 
 def _plot(path: Path, modes, receptance, added_loss_factor: float = 0.0) -> None:
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     fig = wheel_figure(modes, receptance, added_loss_factor)
     atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=100))

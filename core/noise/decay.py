@@ -102,7 +102,7 @@ def track_decay(track) -> dict:
 
     import numpy as np
 
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
     from wheelrail.core.noise import twins
     from wheelrail.core.track import fe
 

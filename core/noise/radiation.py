@@ -262,7 +262,7 @@ def rail_boundary(
 @functools.cache
 def _rail_sigma_table() -> tuple[np.ndarray, np.ndarray]:
     """sigma of the 60E1 section on :data:`RAIL_TABLE_HZ` (disk-cached by content; about 10 s to build)."""
-    from wheelrail.core.cache import cache_key, load_entry, save_entry
+    from wheelrail.core.files.cache import cache_key, load_entry, save_entry
 
     f = np.geomspace(*RAIL_TABLE_HZ)
     key = cache_key(

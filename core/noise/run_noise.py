@@ -290,11 +290,11 @@ def run_noise(
         The modal wheel's cross-section (default: the run's own, ``RunHeader.wheel_profile``, for a run with the
         modal wheel; else the named wheel nearest the run's R, at R).
     """
+    from wheelrail.core.files.run_file import check_fluctuating
     from wheelrail.core.noise.cnossos_run import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
     from wheelrail.core.noise.wheel_power import checked_wheel_model
     from wheelrail.core.results import result_of_run
-    from wheelrail.core.run_file import check_fluctuating
     from wheelrail.core.spectra.force import force_spectrum, spectrum_record
 
     result = result_of_run("run_noise: result", result)

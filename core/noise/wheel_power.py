@@ -83,7 +83,7 @@ def profile_name(profile) -> str:
 def radiation_table(profile) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(f on :data:`SIGMA_TABLE_HZ`, sigma_axial (f, n), sigma_radial (f, n)) for n = 0..MAX_HARMONIC, disk-cached
     by the geometry the radiation uses (its radius, tyre width and bore); a few seconds to build."""
-    from wheelrail.core.cache import cache_key, load_entry, save_entry
+    from wheelrail.core.files.cache import cache_key, load_entry, save_entry
     from wheelrail.core.modal_wheel.radiation import wheel_radiation_efficiency
 
     geometry = {"radius": profile.wheel_radius, "tyre_width": profile.tyre_width, "hub": profile.bore_radius}

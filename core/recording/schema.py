@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wheelrail.core.drawing.patch import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
-from wheelrail.core.jsonready import strict_json
+from wheelrail.core.files.jsonready import strict_json
 from wheelrail.core.noise.components import SOUND_POWER_PARTS
 from wheelrail.core.results import RunHeader
 

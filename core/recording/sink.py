@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.errors import Name, WheelrailError
+from wheelrail.core.files.jsonready import strict_json
 from wheelrail.core.inputs.declared import choice
-from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.columns import scalar_column
 from wheelrail.core.recording.digest import DIGEST_KEY, RecordingDigest

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
 from wheelrail.core.drawing.palette import CNOSSOS_COLOURS, COMPONENT_COLOURS, model_colour
+from wheelrail.core.files.atomic import atomic_write
 from wheelrail.core.models import model_names
 from wheelrail.core.parameters import KMH, RunParameters
 from wheelrail.core.study.tables import Table

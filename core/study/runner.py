@@ -10,10 +10,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wheelrail.core.atomic import all_or_none, atomic_write, refuse_inputs
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.files.atomic import all_or_none, atomic_write, refuse_inputs
+from wheelrail.core.files.jsonready import strict_json
 from wheelrail.core.inputs.declared import caption
-from wheelrail.core.jsonready import strict_json
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_address
 from wheelrail.core.study.figures import plot_study

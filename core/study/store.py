@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
+from wheelrail.core.files.atomic import atomic_write
 from wheelrail.core.study.specs import SUMMARY_SCALARS, RunSpec, RunSummary
 
 _ARRAYS = ("run_key", "band_centres_hz", "levels_db", *SUMMARY_SCALARS)

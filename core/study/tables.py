@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
+from wheelrail.core.files.atomic import atomic_write
 
 
 @dataclass(frozen=True)

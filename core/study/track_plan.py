@@ -74,7 +74,7 @@ def track_study_cost(tracks, sets: int = 1, workers: int = 1) -> dict:
     """
     import os
 
-    from wheelrail.core.cache import max_bytes
+    from wheelrail.core.files.cache import max_bytes
     from wheelrail.core.parameters import TrackNumerics
     from wheelrail.core.track import track_cache_path
     from wheelrail.core.track.progress import ENTRY_BYTES, PRECOMPUTE_CPU_S
@@ -96,7 +96,7 @@ def check_track_count(tracks) -> None:
     """Refuse, before any work, a track study of more than :data:`MAX_TRACKS` tracks, or of more tracks than the
     disk cache holds (each track's entry would evict another's, the study's own among them, and every entry of
     other work): one WheelrailError saying the cost, the limit and what to do."""
-    from wheelrail.core.cache import max_bytes
+    from wheelrail.core.files.cache import max_bytes
     from wheelrail.core.track.progress import ENTRY_BYTES, PRECOMPUTE_CPU_S
 
     count = len(tracks)
