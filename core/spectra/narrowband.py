@@ -23,7 +23,7 @@ def narrowband_spectrum(signal: np.ndarray, sample_rate: float) -> tuple[np.ndar
     """One-sided power spectral density from a single Hann-windowed FFT of each row (paper section 3.1).
 
     The estimate of ``scipy.signal.periodogram(window="hann", scaling="density", detrend=False)``, computed
-    with ``numpy.fft`` (importing ``scipy.signal`` costs a command-line run more than a second): the periodic
+    with ``numpy.fft`` (so that the command line, which reads spectra, does not import ``scipy.signal``): the periodic
     Hann window, the squared FFT divided by ``sample_rate * sum(w^2)`` (the window's power, i.e. the Hann
     window's mean square 3/8 times the number of samples) and doubled for positive frequencies (not the
     Nyquist bin of an even length). The same operations in the same order; only the FFTs differ (numpy's
@@ -211,7 +211,7 @@ def block_spectra(
         raise WheelrailError(
             f"B = {blocks} blocks leave {segment} samples per block (at least 8 needed) for {centre.shape[-1]} samples"
         )
-    import scipy.signal  # heavy (a second at import): only the coherence needs it
+    import scipy.signal  # heavy to import: only the coherence needs it
 
     options = dict(fs=sample_rate, window="hann", nperseg=segment, noverlap=0, detrend="constant")
     frequencies, s00 = scipy.signal.welch(centre, **options)
