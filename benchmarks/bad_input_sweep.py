@@ -137,7 +137,7 @@ def _cases(f: dict[str, str]) -> list[tuple[str, list[str]]]:
         ),
         ("clear", ["study", "bogus", "--set", "corrugated-rail", "--out", f["dir"]]),
         ("clear", ["filters", "--preload-kn", "-1"]),
-        # only physical inputs (core/accepted.py): each of these ran silently once
+        # only physical inputs (core/inputs/ranges.py): each of these ran silently once
         ("clear", [*run, "--wheel-radius-mm", "0.001", "--length-m", "0.5"]),
         ("clear", [*run, "--wheel-radius-mm", "1e6", "--length-m", "0.5"]),
         ("clear", [*run, "--rail-crown-radius-mm", "0.001", "--length-m", "0.5"]),

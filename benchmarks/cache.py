@@ -16,7 +16,8 @@ import numpy as np
 
 os.environ["WHEELRAIL_CACHE_DIR"] = tempfile.mkdtemp(prefix="wheelrail-bench-cache-")
 
-from wheelrail.core import cache, track  # noqa: E402
+from wheelrail.core import track  # noqa: E402
+from wheelrail.core.files import cache
 from wheelrail.core.parameters import TrackNumerics, TrackParameters  # noqa: E402
 from wheelrail.core.track.stationary import _WEDGE_ARRAYS, track_key  # noqa: E402
 

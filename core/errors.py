@@ -2,7 +2,7 @@
 
 A :class:`WheelrailError` holds what went wrong (``problem``, in words that name no input) and, when an input
 is to blame, which one (a :class:`Blame`): ``parameter``, a stable key such as ``"preload"`` (the keys of
-:data:`wheelrail.core.accepted.ACCEPTED` and a few more: ``length``, ``line``, ``skip``, ...), the value given
+:data:`wheelrail.core.inputs.ranges.ACCEPTED` and a few more: ``length``, ``line``, ``skip``, ...), the value given
 and the accepted range, all in SI units. ``str(error)`` is the Python API's wording (the argument's name,
 SI units). :meth:`WheelrailError.render` words the same error for another front end from a mapping of keys
 to :class:`Name`: the command line's (``wheelrail.cli.commands._common.CLI_NAMES``: ``--preload-kn 5000``,

@@ -1,7 +1,7 @@
 """Model parameters: frozen dataclasses in SI units holding the paper's defaults (sections 2.1-2.3 and 3).
 
 Every class validates itself on construction (``__post_init__``): a non-finite or non-positive value, or one outside
-its accepted range (``accepted.ACCEPTED`` for what the front ends set, ``accepted.MODEL_BOUNDS`` for the rest) is one
+its accepted range (``ranges.ACCEPTED`` for what the front ends set, ``ranges.MODEL_BOUNDS`` for the rest) is one
 :class:`WheelrailError` that carries the parameter, its value, unit and range.
 """
 
@@ -11,8 +11,10 @@ import math
 import typing
 from dataclasses import asdict, dataclass, field, fields, is_dataclass
 
-from wheelrail.core import accepted
-from wheelrail.core.accepted import (
+from wheelrail.core.contact.hertz import HertzContact, elliptic_hertz
+from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.inputs import ranges
+from wheelrail.core.inputs.ranges import (
     ACCEPTED,
     MAX_SPEED_KMH,
     MIN_SPEED_KMH,
@@ -21,11 +23,9 @@ from wheelrail.core.accepted import (
     check_patch,
     raise_concave_tread,
 )
-from wheelrail.core.contact.hertz import HertzContact, elliptic_hertz
-from wheelrail.core.errors import Blame, WheelrailError
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
-__all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.accepted's, re-exported
+__all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.inputs.ranges', re-exported
     "FOH_MAX_STEP",
     "KMH",
     "MAX_SPEED_KMH",
@@ -96,7 +96,7 @@ class WheelParameters:
     wheel_damping : float
         c_W, damping in parallel with k_W, N s/m.
 
-    Each within its range in ``accepted.WHEEL_SYSTEM`` (else one WheelrailError naming it).
+    Each within its range in ``ranges.WHEEL_SYSTEM`` (else one WheelrailError naming it).
     """
 
     unsprung_mass: float = 592.5
@@ -107,8 +107,8 @@ class WheelParameters:
     wheel_damping: float = 155e3
 
     def __post_init__(self) -> None:
-        for item in fields(self):  # each within a railway wheelset's range (accepted.WHEEL_SYSTEM)
-            accepted.WHEEL_SYSTEM[item.name].check(getattr(self, item.name), f"WheelParameters.{item.name}")
+        for item in fields(self):  # each within a railway wheelset's range (ranges.WHEEL_SYSTEM)
+            ranges.WHEEL_SYSTEM[item.name].check(getattr(self, item.name), f"WheelParameters.{item.name}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -128,7 +128,7 @@ class RailParameters:
         A = 76.70 cm^2 gives 0.239 kg m.
     loss_factor : float
         eta, the rail's loss factor on its bending and shear stiffness, EI (1 + i eta) and kGA (1 + i eta)
-        (0: the paper's undamped rail; ``accepted.ACCEPTED["rail_loss_factor"]``: 0 to 0.1). Exact in the
+        (0: the paper's undamped rail; ``ranges.ACCEPTED["rail_loss_factor"]``: 0 to 0.1). Exact in the
         frequency domain; in the time domain a fit of a few relaxation terms (``track.fe.rail_relaxation``).
     """
 
@@ -163,13 +163,13 @@ class SupportParameters:
     pad_width : float
         w, the length of rail the pad supports, m: k_P and c_P spread evenly over x_S - w/2 .. x_S + w/2 (a
         Winkler layer k_P / w per metre under the rail, the sleeper rigid); 0: the paper's point support.
-        ``accepted.ACCEPTED["pad_width"]``: 0 to 0.3 m, and at most half the sleeper spacing.
+        ``ranges.ACCEPTED["pad_width"]``: 0 to 0.3 m, and at most half the sleeper spacing.
 
     Raises
     ------
     WheelrailError
         Keyed by the input (``"pad_stiffness"``) if a value is outside its accepted range
-        (``wheelrail.core.inputs.INPUTS``: pads 10 to 3000 MN/m, ...).
+        (``wheelrail.core.inputs.declared.INPUTS``: pads 10 to 3000 MN/m, ...).
     """
 
     sleeper_spacing: float = 0.65
@@ -181,7 +181,7 @@ class SupportParameters:
     pad_width: float = 0.0
 
     def __post_init__(self) -> None:
-        for item in fields(self):  # each a declared input (wheelrail.core.inputs), checked against its range
+        for item in fields(self):  # each a declared input (wheelrail.core.inputs.declared), checked against its range
             ACCEPTED[item.name].check(getattr(self, item.name), f"SupportParameters.{item.name}")
         if self.pad_width > (half := 0.5 * self.sleeper_spacing):
             raise WheelrailError(
@@ -200,7 +200,7 @@ class TrackParameters:
     rail : RailParameters
     support : SupportParameters
     n_bays : int
-        Number of sleeper bays of the finite track model (70 in the paper; 4 to 1000: ``accepted.MODEL_BOUNDS``).
+        Number of sleeper bays of the finite track model (70 in the paper; 4 to 1000: ``ranges.MODEL_BOUNDS``).
     """
 
     rail: RailParameters = field(default_factory=RailParameters)
@@ -317,7 +317,7 @@ class ContactParameters:
     youngs_modulus : float
         E of wheel and rail (same material), Pa. 210 GPa (steel): the paper gives neither E nor nu; these
         common values for steel reproduce its stated a = 5.48 mm at 65 kN with R = 0.39 m. Accepted: 0.1 to
-        1200 GPa (``accepted.YOUNGS_MODULUS``).
+        1200 GPa (``ranges.YOUNGS_MODULUS``).
     poisson_ratio : float
         nu, dimensionless, 0 <= nu < 0.5; 0.3 (steel; see ``youngs_modulus``).
     radius : float
@@ -338,8 +338,8 @@ class ContactParameters:
     ------
     WheelrailError
         Naming the input, unless the preload and the radii lie in their accepted ranges
-        (``wheelrail.core.accepted.ACCEPTED``: 1 to 500 kN; wheel 0.1 to 1.25 m, crown 0.05 to 5 m, tread at least
-        0.05 m in magnitude) and the Hertz patch at the preload within a tenth of the radii (``accepted.check_patch``).
+        (``wheelrail.core.inputs.ranges.ACCEPTED``: 1 to 500 kN; wheel 0.1 to 1.25 m, crown 0.05 to 5 m, tread at least
+        0.05 m in magnitude) and the Hertz patch at the preload within a tenth of the radii (``ranges.check_patch``).
 
     Examples
     --------
@@ -367,7 +367,7 @@ class ContactParameters:
     wheel_transverse_radius: float | None = math.inf
 
     def __post_init__(self) -> None:
-        accepted.YOUNGS_MODULUS.check(self.youngs_modulus, "ContactParameters.youngs_modulus")
+        ranges.YOUNGS_MODULUS.check(self.youngs_modulus, "ContactParameters.youngs_modulus")
         nu = self.poisson_ratio
         if not (isinstance(nu, int | float) and not isinstance(nu, bool) and 0.0 <= nu < 0.5):
             raise WheelrailError(f"ContactParameters.poisson_ratio must be in [0, 0.5), got {nu!r}")
@@ -384,7 +384,7 @@ class ContactParameters:
         self._check_geometry()
 
     def _check_geometry(self) -> None:
-        """The tread must not conform with the crown, and the patch must stay small (``accepted.check_patch``)."""
+        """The tread must not conform with the crown, and the patch must stay small (``ranges.check_patch``)."""
         crown = self.crown_radius
         tread = self.wheel_transverse_radius
 
@@ -543,7 +543,7 @@ class RunParameters:
     Attributes
     ----------
     speed : float
-        v, train speed, m/s (100 km/h in the paper); ``accepted.ACCEPTED["speed"]``: 5 to 400 km/h.
+        v, train speed, m/s (100 km/h in the paper); ``ranges.ACCEPTED["speed"]``: 5 to 400 km/h.
     element_size : float
         Delta x, contact element length and step length along the rail, m (1 mm).
     """

@@ -7,7 +7,7 @@ the level difference of Fig. 10 (``wheelrail.core.study.contact_filter``). Two k
 **CNOSSOS-EU contact filter A3** (Commission Directive (EU) 2015/996, Annex II Appendix G, Table G-2, as
 replaced by Commission Delegated Directive (EU) 2021/1226, Annex point (20)(b)): five columns, wheel load
 25/50/100 kN and wheel diameter 360/680/920 mm, on the 35 wavelength bands 2000 .. 0.8 mm
-(:data:`wheelrail.core.bands.CNOSSOS_WAVELENGTH_RANGE`). :data:`CNOSSOS_A3` holds the values cell by cell
+(:data:`wheelrail.core.spectra.bands.CNOSSOS_WAVELENGTH_RANGE`). :data:`CNOSSOS_A3` holds the values cell by cell
 as two public implementations print them, which agree in every cell: Universite-Gustave-Eiffel/
 NoiseModelling, ``noisemodelling-emission/src/main/resources/org/noise_planet/noisemodelling/emission/
 railway/RailwayCnossosEU_2020.json`` (entries ``ContactFilter`` 3..7), and jmrplens/phonometry, whose
@@ -56,11 +56,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.special
 
-from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.bands import Bands, frequency_bands, map_levels, wavelength_bands
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.parameters import ContactParameters
-from wheelrail.core.spectra import FORCE_BAND_RANGE
+from wheelrail.core.spectra.bands import FORCE_BAND_RANGE, Bands, frequency_bands, map_levels, wavelength_bands
 
 ANALYTIC_FILTERS = ("averaging", "patch-correlated", "patch-incoherent")
 REFERENCE_FILTERS = ("cnossos", *ANALYTIC_FILTERS)
@@ -272,7 +271,7 @@ class ReferenceFilterSet:
         Frequency bands at ``speed``.
     by_frequency : dict of str to numpy.ndarray
         Filter name -> dB per frequency band: analytic filters averaged over the band's own
-        wavenumbers; CNOSSOS mapped from its wavelength bands with :func:`wheelrail.core.bands.map_levels`.
+        wavenumbers; CNOSSOS mapped from its wavelength bands with :func:`wheelrail.core.spectra.bands.map_levels`.
     """
 
     load: float
@@ -301,7 +300,7 @@ def reference_filters(
     Parameters
     ----------
     load : float
-        Static wheel load P, N (``accepted.ACCEPTED``: 1 to 500 kN).
+        Static wheel load P, N (``ranges.ACCEPTED``: 1 to 500 kN).
     wheel_radius : float
         Wheel rolling radius R, m (0.1 to 1.25 m).
     speed : float, optional
@@ -327,7 +326,7 @@ def reference_filters(
     See Also
     --------
     cnossos_filter : the CNOSSOS-EU A3 filter alone.
-    wheelrail.core.spectrum_levels.contact_filter : a model's filter, to compare with these.
+    wheelrail.core.spectra.levels.contact_filter : a model's filter, to compare with these.
 
     Examples
     --------

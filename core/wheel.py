@@ -186,13 +186,13 @@ _FOH_MEMORY: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 def _first_order_hold(wheel: WheelParameters, time_step: float):
     """The FOH system of :func:`wheel_discrete_system`, from memory, the disk cache or computed and cached.
 
-    Computed with ``scipy.linalg.expm``; cached (``wheelrail.core.cache``, keyed by the wheel and the step)
+    Computed with ``scipy.linalg.expm``; cached (``wheelrail.core.files.cache``, keyed by the wheel and the step)
     because importing ``scipy.linalg`` costs a command-line run half a second, more than the run itself.
     The cached arrays are the computed ones, so results do not depend on whether they were cached.
     """
     from dataclasses import asdict
 
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     key = cache.cache_key("wheel-foh", {"wheel": asdict(wheel), "time_step": time_step})
     if key in _FOH_MEMORY:

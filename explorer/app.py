@@ -17,7 +17,7 @@ import threading
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import inputs_of
+from wheelrail.core.inputs.declared import inputs_of
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.explorer.browser_session import BrowserSession
 from wheelrail.explorer.config import RunConfig, field_text, offered_lines, read_config

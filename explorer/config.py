@@ -5,8 +5,8 @@ contact geometry); its :meth:`RunConfig.case` (everything but the model) keys ev
 that a plot, a contact filter or a download never mixes configurations. :func:`read_config` turns the page's
 fields (text as typed) into a config or one :class:`~wheelrail.core.errors.WheelrailError` a user can act on; the
 choices it allows come from core (:func:`wheelrail.core.engine.track_lines.run_lines`,
-:func:`wheelrail.core.engine.track_lines.usable_length`, the accepted ranges of :mod:`wheelrail.core.accepted`,
-:func:`wheelrail.core.spectra.shortest_spectrum_run`). :func:`page_message` words any WheelrailError, core's
+:func:`wheelrail.core.engine.track_lines.usable_length`, the accepted ranges of :mod:`wheelrail.core.inputs.ranges`,
+:func:`wheelrail.core.spectra.force.shortest_spectrum_run`). :func:`page_message` words any WheelrailError, core's
 or the page's own, with the page's field labels and units (:data:`FIELD_NAMES`).
 """
 
@@ -16,13 +16,20 @@ import math
 import re
 from dataclasses import dataclass, replace
 
-from wheelrail.core.accepted import ACCEPTED, check_wheel_circumference
 from wheelrail.core.engine.track_lines import run_lines, usable_length, window_width
 from wheelrail.core.errors import Blame, Name, WheelrailError
-from wheelrail.core.inputs import Input, by_key, describe_track, inputs_of, model_parameters, page_names
+from wheelrail.core.inputs.declared import (
+    Input,
+    by_key,
+    describe_track,
+    inputs_of,
+    model_parameters,
+    page_names,
+)
+from wheelrail.core.inputs.ranges import ACCEPTED, check_wheel_circumference
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
-from wheelrail.core.spectra import shortest_spectrum_run
+from wheelrail.core.spectra.force import shortest_spectrum_run
 
 __all__ = [
     "COMPARE",
@@ -63,8 +70,8 @@ COMPARE_ORDER = (
 MAX_WHEEL_RUN_M = 100.0  # wheel data repeat around the circumference: longest run offered on a wheel set
 NO_WHEEL_SET = "none"  # the wheel-set picker's choice for a smooth wheel (one rough surface, the paper's case)
 # What the page calls each input an error can name (WheelrailError.parameter): its field's label, the unit the
-# field takes and that unit per SI unit. The declared inputs' come from their declaration (wheelrail.core.inputs,
-# the fields are built from it); the rest are the page's own controls.
+# field takes and that unit per SI unit. The declared inputs' come from their declaration
+# (wheelrail.core.inputs.declared, the fields are built from it); the rest are the page's own controls.
 FIELD_NAMES: dict[str, Name] = {
     **page_names(),
     "radius": page_names()["wheel_radius"],  # the paper's R: the wheel's, as the page sets it
@@ -75,7 +82,7 @@ FIELD_NAMES: dict[str, Name] = {
     "wheel_set": Name("Wheel roughness"),
     "train_axles": Name("Train axles"),  # the Noise tab's train
     "train_length": Name("Train length", "m"),
-    # the modal wheel's shape (core.accepted's wheel_<field> ranges, in mm; "Tyre width", "Web offset", ...)
+    # the modal wheel's shape (core.inputs.ranges' wheel_<field> ranges, in mm; "Tyre width", "Web offset", ...)
     **{
         key: Name(key.removeprefix("wheel_").replace("_", " ").capitalize(), "mm", 1e3)
         for key in ACCEPTED
@@ -116,7 +123,7 @@ def page_message(error: WheelrailError) -> str:
 class RunConfig:
     """The full configuration of one run (SI inside; the page shows km/h, kN, m).
 
-    ``inputs`` holds the declared inputs (``wheelrail.core.inputs.INPUTS``) that differ from their default,
+    ``inputs`` holds the declared inputs (``wheelrail.core.inputs.declared.INPUTS``) that differ from their default,
     as (key, SI value) in declaration order; every other input is its default."""
 
     set_label: str

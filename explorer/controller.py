@@ -8,7 +8,7 @@ the run. Each finished model also gets its rolling noise (``noise``: default
 a replaced run from reporting anything once a new one has started; :meth:`stop` cancels the current run (the steps
 done so far are kept). Results go to a :class:`~wheelrail.explorer.results.ResultStore` keyed by configuration. Runs
 come from ``prepare`` (default :func:`wheelrail.core.engine.prepare.prepare_run`), spectra from
-:func:`wheelrail.core.spectra.force_spectrum`. Every run and error is logged to the ``wheelrail.explorer`` logger
+:func:`wheelrail.core.spectra.force.force_spectrum`. Every run and error is logged to the ``wheelrail.explorer`` logger
 (the terminal, under ``wheelrail explore``).
 """
 
@@ -23,7 +23,7 @@ from typing import Protocol
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 from wheelrail.core.track.progress import track_progress
 from wheelrail.explorer.config import RunConfig, models_of, page_message
 from wheelrail.explorer.results import Entry, ResultStore

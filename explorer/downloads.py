@@ -74,7 +74,7 @@ class Downloads:
         """The rolling noise of the model shown (sound power, totals, pass-by for ``train``, (axles, length in m),
         CNOSSOS-EU beside it and the configuration) as JSON, named after the configuration; ``noise``: its rolling
         noise with another wheel's sound power (the Noise tab's choice), default the run's own."""
-        from wheelrail.core.jsonready import strict_json
+        from wheelrail.core.files.jsonready import strict_json
 
         entry = self.shown_noise()
         noise = (entry.noise if noise is None else noise).with_train(*train)

@@ -1,6 +1,6 @@
 """The run form, docked left: the roughness set and wheel set (bundled or uploaded), the model, the line, every
-declared input of :mod:`wheelrail.core.inputs` (one field each, grouped as declared), the check line, Run, Stop,
-the progress bar and the status line.
+declared input of :mod:`wheelrail.core.inputs.declared` (one field each, grouped as declared), the check line,
+Run, Stop, the progress bar and the status line.
 
 A :class:`RunForm` is handed the :class:`~wheelrail.explorer.page.Page` and what Run, Stop and a new
 configuration do; it reads its fields into a :class:`~wheelrail.explorer.config.RunConfig` (or the check line
@@ -17,7 +17,7 @@ from collections.abc import Callable
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import GROUPS, by_key, inputs_of, model_parameters
+from wheelrail.core.inputs.declared import GROUPS, by_key, inputs_of, model_parameters
 from wheelrail.core.models import HALFSPACE_MODEL
 from wheelrail.core.parameters import KMH, ContactParameters
 from wheelrail.core.roughness import bundled_names, load_roughness
@@ -119,7 +119,7 @@ class RunForm:
         )
 
     def _input_fields(self, group: str) -> dict:
-        """The fields of the declared inputs of ``group`` (wheelrail.core.inputs), by key: labelled with their
+        """The fields of the declared inputs of ``group`` (wheelrail.core.inputs.declared), by key: labelled with their
         unit, hinted with their range and default, showing the default (empty where unset means one)."""
         gui = self.page.gui
         fields = {}

@@ -7,10 +7,10 @@ from __future__ import annotations
 import numpy as np
 import viser
 
+from wheelrail.core.drawing.palette import CNOSSOS_COLOURS
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import choice
+from wheelrail.core.inputs.declared import choice
 from wheelrail.core.noise.components import TOTAL, component
-from wheelrail.core.noise.levels import a_weighting, energy_sum
 from wheelrail.core.noise.run_noise import (
     AXLE_DB,
     DEFAULT_TRAIN_AXLES,
@@ -19,8 +19,8 @@ from wheelrail.core.noise.run_noise import (
     ISO3095_HEIGHT,
     pass_by_level,
 )
-from wheelrail.core.palette import CNOSSOS_COLOURS
 from wheelrail.core.parameters import KMH
+from wheelrail.core.spectra.levels import a_weighting, energy_sum
 from wheelrail.explorer.config import RunConfig, page_message, read_train
 from wheelrail.explorer.panel import NO_RUN, ResultsTab, Shown, TabParts
 from wheelrail.explorer.plots import DASHED, DOTTED, SOLID, Plot, bands_with_data, model_colour
@@ -46,7 +46,7 @@ NOISE_NOTE = (
     "own modal wheel if it ran with one, else the named wheel nearest its R; computed on first choice, a few "
     "seconds to a minute per wheel shape)."
 )
-WHEEL_CHOICE = choice("noise_wheel_model")  # the noise chain's wheel: one declaration (core.inputs.CHOICES)
+WHEEL_CHOICE = choice("noise_wheel_model")  # the noise chain's wheel: one declaration (core.inputs.declared.CHOICES)
 
 
 class NoiseTab(ResultsTab):

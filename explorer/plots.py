@@ -4,7 +4,7 @@
 anything else re-creates it at the same place in its tab. Curves have one of three styles: solid (this
 configuration's results), dashed (another configuration overlaid on purpose) and dotted (reference curves:
 the analytic and CNOSSOS-EU contact filters, the ISO 3095 limit). Band axes are ticked at the octave bands
-with their nominal names (``wheelrail.core.spectra.nominal_band_label``: 63, 125, ... 8000 Hz); a roughness
+with their nominal names (``wheelrail.core.spectra.bands.nominal_band_label``: 63, 125, ... 8000 Hz); a roughness
 plot adds a wavelength axis on top (lambda = v / f at the speed shown). :meth:`Plot.png` draws the same
 data, styles and axes with matplotlib, its title wrapped to the figure's width.
 """
@@ -17,10 +17,10 @@ import threading
 
 import numpy as np
 
-from wheelrail.core import palette
+from wheelrail.core.drawing import palette
 from wheelrail.core.models import model_names
 from wheelrail.core.parameters import KMH
-from wheelrail.core.spectra import nominal_band_label
+from wheelrail.core.spectra.bands import nominal_band_label
 
 __all__ = [
     "DASHED",
@@ -51,7 +51,7 @@ _CONTAINER_LOCK = threading.Lock()  # a viser container is entered by one thread
 
 
 def model_colour(model: str) -> str:
-    """The model's colour of core's palette (``wheelrail.core.palette``), the same in every figure."""
+    """The model's colour of core's palette (``wheelrail.core.drawing.palette``), the same in every figure."""
     return palette.model_colour(model, model_names())
 
 

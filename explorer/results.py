@@ -4,8 +4,8 @@ Every finished (or stopped) run is kept under ``(config.case(), model)`` with it
 (:func:`wheelrail.core.noise.run_noise.run_noise`) or the reason it has none. What the page shows is always one
 case's entries (the case of the controls), so changing the set, wheel set, line, speed, preload, length or contact
 geometry never leaves another case's curves on a plot or in a download; going back to a case shows its runs again.
-Spectra from :func:`wheelrail.core.spectra.force_spectrum`, contact filters (model minus the reference model) from
-:func:`wheelrail.core.spectrum_levels.contact_filter`, reference filters from
+Spectra from :func:`wheelrail.core.spectra.force.force_spectrum`, contact filters (model minus the reference model) from
+:func:`wheelrail.core.spectra.levels.contact_filter`, reference filters from
 :func:`wheelrail.core.reference_filters.reference_filters`.
 """
 
@@ -21,8 +21,8 @@ import numpy as np
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL, model_names
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, run_reference_filters
-from wheelrail.core.spectra import nominal_band_label
-from wheelrail.core.spectrum_levels import contact_filter
+from wheelrail.core.spectra.bands import nominal_band_label
+from wheelrail.core.spectra.levels import contact_filter
 from wheelrail.explorer.config import RunConfig
 
 __all__ = ["Entry", "ResultStore", "case_reference_filters"]

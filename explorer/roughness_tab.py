@@ -7,12 +7,12 @@ from __future__ import annotations
 import numpy as np
 import viser
 
-from wheelrail.core.bands import frequency_bands, map_levels
 from wheelrail.core.parameters import KMH
 from wheelrail.core.roughness import lateral_coherence, roughness_spectrum
 from wheelrail.core.roughness.analysis import FREQUENCY_RANGE
-from wheelrail.core.roughness_limits import iso3095_limit
-from wheelrail.core.spectrum_levels import energetic_sum
+from wheelrail.core.roughness.iso3095 import iso3095_limit
+from wheelrail.core.spectra.bands import frequency_bands, map_levels
+from wheelrail.core.spectra.levels import energetic_sum
 from wheelrail.explorer.form import RunForm
 from wheelrail.explorer.panel import ResultsTab, TabParts
 from wheelrail.explorer.plots import DOTTED, SOLID, Plot, bands_with_data, finite_bands

@@ -24,7 +24,7 @@ import math
 import numpy as np
 import viser
 
-from wheelrail.core.drawing import PRESSURE_RANGE_P0, circle_segments, colour_table, grid_triangles, table_colours
+from wheelrail.core.drawing.patch import PRESSURE_RANGE_P0, circle_segments, colour_table, grid_triangles, table_colours
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.roughness import at_lateral_positions, covers
 

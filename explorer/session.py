@@ -51,7 +51,7 @@ class SessionFiles:
 
     def download(self, client=None) -> tuple[str, bytes]:
         """The session (:meth:`session`) as a .json download, named after the configuration when it is valid."""
-        from wheelrail.core.jsonready import strict_json
+        from wheelrail.core.files.jsonready import strict_json
 
         shown: RunConfig | None = self._shown()
         stem = shown.for_model(shown.model).file_stem() if shown is not None else "wheelrail"

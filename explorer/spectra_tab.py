@@ -104,7 +104,7 @@ class SpectraTab(ResultsTab):
 def _record_note(store: ResultStore, config: RunConfig) -> str:
     """What the case's force spectra analysed (core's ``spectrum_record``, as ``run`` and ``spectra`` print it):
     one line per distinct record among the case's runs, or nothing before a run."""
-    from wheelrail.core.spectra import spectrum_record
+    from wheelrail.core.spectra.force import spectrum_record
 
     lines = {}
     for model, entry in store.entries(config.case()).items():

@@ -7,7 +7,7 @@ import numpy as np
 import viser
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe_track, describe_words
+from wheelrail.core.inputs.declared import describe_track, describe_words
 from wheelrail.core.noise.decay import decay_verdict
 from wheelrail.explorer.config import page_message
 from wheelrail.explorer.panel import ResultsTab, Shown, TabParts

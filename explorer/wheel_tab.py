@@ -11,11 +11,11 @@ import threading
 import numpy as np
 import viser
 
+from wheelrail.core.drawing.palette import TOTAL_COLOUR, WHEEL_SURFACE_COLOURS
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe_track
+from wheelrail.core.inputs.declared import describe_track
 from wheelrail.core.modal_wheel import describe_wheel
 from wheelrail.core.noise.wheel_power import MAX_FREQUENCY, MAX_HARMONIC, WHEEL_POINTS_PER_BAND
-from wheelrail.core.palette import TOTAL_COLOUR, WHEEL_SURFACE_COLOURS
 from wheelrail.explorer.config import (
     FIELD_NAMES,
     NEAREST_WHEEL,
@@ -310,10 +310,10 @@ def wheel_band_power(profile, points_per_band: int = WHEEL_POINTS_PER_BAND) -> d
     (``frequency_hz``: 50 Hz-10 kHz): ``power_per_force`` and its ``axial`` and ``radial`` surfaces' parts, each
     the mean over ``points_per_band`` frequencies spread evenly in lg f across the band
     (:func:`wheelrail.core.noise.wheel_power.modal_wheel_response`, as ``modal_wheel_band_means``)."""
-    from wheelrail.core.noise.levels import noise_bands
     from wheelrail.core.noise.twins import band_frequencies
     from wheelrail.core.noise.wheel_power import modal_wheel_response
     from wheelrail.core.parameters import ModelParameters
+    from wheelrail.core.spectra.bands import noise_bands
 
     mass = ModelParameters().wheel.unsprung_mass  # enters only the receptance, not the power per force
     means: dict = {key: [] for _, key in _POWER_PARTS}
@@ -350,7 +350,7 @@ def _named_wheels() -> tuple[str, ...]:
 
 def _shape_field(gui, key: str):
     """A shape dimension's field, mm, empty (the named wheel's), hinted with its accepted range and reason."""
-    from wheelrail.core.accepted import ACCEPTED
+    from wheelrail.core.inputs.ranges import ACCEPTED
 
     accepted, name = ACCEPTED[key], FIELD_NAMES[key]
     low, high = accepted.in_unit(name.scale)

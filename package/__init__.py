@@ -23,8 +23,8 @@ _PUBLIC = {
     "prepare_run": "wheelrail.core.engine.prepare",
     "ModelParameters": "wheelrail.core.parameters",
     "ContactParameters": "wheelrail.core.parameters",
-    "force_spectrum": "wheelrail.core.spectra",
-    "contact_filter": "wheelrail.core.spectrum_levels",
+    "force_spectrum": "wheelrail.core.spectra.force",
+    "contact_filter": "wheelrail.core.spectra.levels",
     "run_study": "wheelrail.core.study",
     "run_noise": "wheelrail.core.noise.run_noise",
     "WheelrailError": "wheelrail.core.errors",
@@ -48,8 +48,8 @@ if TYPE_CHECKING:  # what type checkers and editors see; at run time __getattr__
     from wheelrail.core.errors import WheelrailError
     from wheelrail.core.noise.run_noise import run_noise
     from wheelrail.core.parameters import ContactParameters, ModelParameters
-    from wheelrail.core.spectra import force_spectrum
-    from wheelrail.core.spectrum_levels import contact_filter
+    from wheelrail.core.spectra.force import force_spectrum
+    from wheelrail.core.spectra.levels import contact_filter
     from wheelrail.core.study import run_study
 
 

@@ -4,7 +4,7 @@ The track's Green's functions take 15-45 s to compute per track; a private cache
 session compute them again (most of the fast suite's time). The tests' cache is a folder of the checkout,
 ``.pytest_cache/wheelrail-cache/<code>``, where ``<code>`` is a hash of the source files whose code decides
 what a cache entry holds (``CACHED_CODE``: the track, the wheel, the rail's radiation): entries are keyed by
-their parameters (``core.cache``), the folder by the code that computed them, so a change of the track's code
+their parameters (``core.files.cache``), the folder by the code that computed them, so a change of the track's code
 starts an empty folder and no test ever reads an entry an older code wrote. The folders of other code are
 removed but for the last one used (a branch switched back and forth keeps its entries). A fresh clone (CI)
 starts empty: the first session computes the tracks it needs. ``WHEELRAIL_TEST_CACHE_DIR`` puts the folders
@@ -26,7 +26,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # the sources whose code decides the content of a cache entry (its key holds only the parameters): every module
 # that writes entries, with what it computes them from (tests/unit/test_tests_cache.py checks the writers)
 CACHED_CODE = (
-    "core/cache.py",
+    "core/files/cache.py",
     "core/parameters.py",
     "core/track/*.py",
     "core/wheel.py",

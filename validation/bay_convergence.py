@@ -76,7 +76,7 @@ def _smooth_rail(length: float):
 
 def _harmonics(result, sleeper_spacing: float) -> tuple[np.ndarray, float]:
     """Amplitudes of the force at k v / L_S over a whole number of bays (after the first 0.02 s)."""
-    from wheelrail.core.spectra import FORCE_SKIP
+    from wheelrail.core.spectra.force import FORCE_SKIP
 
     force = np.asarray(result.force)
     dt = result.time[1] - result.time[0]
@@ -104,7 +104,7 @@ def _track():
 def _levels(numerics, kmh: float):
     from wheelrail.core.engine import simulate
     from wheelrail.core.parameters import ModelParameters, RunParameters
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.force import force_spectrum
 
     params = ModelParameters(track=_track(), run=RunParameters(speed=kmh / 3.6))
     smooth = simulate(

@@ -15,9 +15,9 @@ import math
 
 import numpy as np
 
-from wheelrail.core.noise.levels import noise_bands
 from wheelrail.core.noise.twins import NoiseNumerics, track_decay_rates
 from wheelrail.core.parameters import ModelParameters
+from wheelrail.core.spectra.bands import noise_bands
 
 
 def continuous_beam_decay(params: ModelParameters) -> np.ndarray:

@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from wheelrail.core.engine import simulate
-from wheelrail.core.inputs import model_parameters
+from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.noise.cnossos import vehicle_transfer
 from wheelrail.core.noise.run_noise import run_noise
 from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ

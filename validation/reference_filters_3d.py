@@ -14,7 +14,7 @@ from wheelrail.core.engine import simulate
 from wheelrail.core.parameters import ContactParameters, RunParameters
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
 from wheelrail.core.roughness import bundled_names, load_roughness
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 from wheelrail.core.study import contact_filter
 
 

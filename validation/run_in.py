@@ -3,7 +3,7 @@
 Run: python3 validation/run_in.py [--models hertz 2d] [--step-kmh 5 | --speeds-kmh 100 300] [--3d]
      python3 validation/run_in.py --timing [--repeats 5] [--base DIR]
 
-A run starts from the moving load's steady state on the gap of step 0 (``core/steady_start.py``) and runs in for
+A run starts from the moving load's steady state on the gap of step 0 (``core/engine/steady_start.py``) and runs in for
 ``history.DEFAULT_RUN_IN_TIME``. For every speed from 5 to 400 km/h (``--step-kmh`` apart) the first 0.5 m of the
 corrugated rail (line 0) is run so and compared with a 40 m run-in (at least 0.36 s) from the preload at rest
 (the start every run had before: history filled with the preload, roughness faded in): the largest difference of

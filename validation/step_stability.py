@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from wheelrail.core.engine.history import check_step_stability
-from wheelrail.core.inputs import model_parameters
+from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.parameters import KMH, MAX_SPEED_KMH, MIN_SPEED_KMH
 from wheelrail.core.track import moving_weights
 from wheelrail.core.wheel import wheel_discrete_system

@@ -29,7 +29,7 @@ TRACKS = {
     "stiff pads 1000 MN/m, eta 0.02": TrackParameters(
         rail=RailParameters(loss_factor=0.02), support=SupportParameters(pad_stiffness=1000e6)
     ),
-    # the ends of the accepted range (wheelrail.core.accepted.ACCEPTED["pad_stiffness"])
+    # the ends of the accepted range (wheelrail.core.inputs.ranges.ACCEPTED["pad_stiffness"])
     "softest accepted pads 10 MN/m": TrackParameters(support=SupportParameters(pad_stiffness=10e6)),
     "stiffest accepted pads 3000 MN/m": TrackParameters(support=SupportParameters(pad_stiffness=3000e6)),
 }

@@ -7,10 +7,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from wheelrail.core.accepted import ACCEPTED, PATCH_FRACTION
-from wheelrail.core.atomic import same_file
 from wheelrail.core.errors import Name, WheelrailError
-from wheelrail.core.inputs import CHOICES, GROUPS, by_key, choice, cli_names, inputs_of
+from wheelrail.core.files.atomic import same_file
+from wheelrail.core.inputs.declared import CHOICES, GROUPS, by_key, choice, cli_names, inputs_of
+from wheelrail.core.inputs.ranges import ACCEPTED, PATCH_FRACTION
 
 WHEEL_SHAPE_KEYS = tuple(k for k in ACCEPTED if k.startswith("wheel_") and k != "wheel_transverse_radius")
 """The modal wheel's profile inputs (``wheelrail wheel``): ``wheel_radius`` and the ``wheel_<field>`` ranges."""
@@ -24,7 +24,7 @@ def wheel_shape_option(key: str) -> str:
 
 # What the command line calls each input an error can name (WheelrailError.parameter): its option, the unit it
 # takes and that unit per SI unit. The declared inputs' names come from their declaration
-# (``wheelrail.core.inputs``); the rest are the commands' own options. ``wheelrail.cli.dispatch`` renders every
+# (``wheelrail.core.inputs.declared``); the rest are the commands' own options. ``wheelrail.cli.dispatch`` renders every
 # error with it, so core's messages never name an option and nothing rewrites them.
 CLI_NAMES: dict[str, Name] = {
     **cli_names(),
@@ -48,7 +48,7 @@ CLI_NAMES: dict[str, Name] = {
     "axles": Name("--axles", unit_in_label=True),
     "train_axles": Name("--train-axles", unit_in_label=True),
     "train_length": Name("--train-length-m", "m", 1.0, True),
-    # wheelrail wheel: the modal wheel's shape (core.accepted's wheel_<field> ranges) and settings
+    # wheelrail wheel: the modal wheel's shape (core.inputs.ranges' wheel_<field> ranges) and settings
     **{key: Name(wheel_shape_option(key), "mm", 1e3, True) for key in WHEEL_SHAPE_KEYS if key != "wheel_radius"},
     "wheel_name": Name("--wheel", unit_in_label=True),
     "outline": Name("--outline", unit_in_label=True),
@@ -78,7 +78,7 @@ def accepted_help(key: str) -> str:
 
 
 def speed_from_kmh(speed_kmh: float) -> float:
-    """A speed given in km/h on the command line, in m/s, within the accepted range (``core.accepted``)."""
+    """A speed given in km/h on the command line, in m/s, within the accepted range (``core.inputs.ranges``)."""
     entry = by_key("speed")
     return entry.check(speed_kmh * entry.shown.si, "speed")
 
@@ -106,7 +106,7 @@ def add_input_options(
     unset: dict[str, str] | None = None,
     several: tuple[str, ...] = (),
 ) -> list:
-    """The options of the declared inputs of ``groups`` (``wheelrail.core.inputs.GROUPS``), one argparse group
+    """The options of the declared inputs of ``groups`` (``wheelrail.core.inputs.declared.GROUPS``), one argparse group
     each, named, documented and ranged by their declaration; read back by :func:`params_from_args`.
 
     ``helps``: key -> the command's own help sentence for an input (its default and range are appended);
@@ -131,7 +131,7 @@ def add_input_options(
 
 
 def add_choice_option(parser, key: str, help_prefix: str = "", option: str | None = None):
-    """The option of a declared choice (``wheelrail.core.inputs.CHOICES``): its values, default and help from
+    """The option of a declared choice (``wheelrail.core.inputs.declared.CHOICES``): its values, default and help from
     the declaration; ``help_prefix`` says which mode uses it ("--method twins, --run: "); ``option``: the command's
     own name for it where the declared one means something else there (``run --noise-wheel-model``). Returns
     the argparse action added."""
@@ -161,7 +161,7 @@ def params_from_args(args, *groups: str, base=None):
     converted to SI here) on ``base`` (default: the paper's). An option left at its default changes nothing
     (the parameters, and every cache key made of them, stay the dataclass's to the bit). A value outside its
     range is one WheelrailError keyed by the input, worded with the option by ``CLI_NAMES``."""
-    from wheelrail.core.inputs import model_parameters
+    from wheelrail.core.inputs.declared import model_parameters
 
     values = {entry.key: getattr(args, entry.dest) * entry.shown.si for entry in given_inputs(args, *groups)}
     return model_parameters(values, base)
@@ -249,7 +249,7 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
     (tried with a temporary file, so /proc or a read-only mount fails now, not after the run).
     Returns it as a Path; else a one-line WheelrailError.
     """
-    from wheelrail.core.atomic import temporary_beside
+    from wheelrail.core.files.atomic import temporary_beside
 
     if not str(path).strip():  # Path("") is the current folder: an empty option would write nothing, silently
         raise WheelrailError(f"{option} is empty; give a file name")
@@ -276,7 +276,7 @@ def writable_output(path: str, option: str, suffix: str | None = None, inputs=()
 
 def print_json(summary: dict) -> None:
     """Print a machine-readable summary on stdout (SI units; non-SI keys carry their unit; NaN as null)."""
-    from wheelrail.core.jsonready import strict_json
+    from wheelrail.core.files.jsonready import strict_json
 
     sys.stdout.write(strict_json(summary, indent=2))
     sys.stdout.write("\n")

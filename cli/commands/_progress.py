@@ -48,7 +48,7 @@ def announce_track_precompute(command: str, stream=None) -> Iterator[None]:
 
 
 def _first_line() -> str:
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     try:
         where = f"in {cache.cache_dir()}"

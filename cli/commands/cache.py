@@ -54,7 +54,7 @@ def _when(seconds: float) -> str:
 
 
 def _listing(folder, found, kind) -> dict:
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     return {
         "folder": str(folder),
@@ -97,7 +97,7 @@ def _print_listing(listing: dict) -> None:
 
 
 def run(args) -> int:
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     folder = cache.cache_dir()
     if args.action == "clear":

@@ -20,9 +20,9 @@ from wheelrail.cli.commands._common import (
     print_json,
     speed_from_kmh,
 )
-from wheelrail.core.atomic import all_or_none, atomic_write
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe, describe_contact
+from wheelrail.core.files.atomic import all_or_none, atomic_write
+from wheelrail.core.inputs.declared import describe, describe_contact
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.reference_filters import REFERENCE_FILTERS, reference_filters
 

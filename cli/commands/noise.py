@@ -26,10 +26,10 @@ from wheelrail.cli.commands._common import (
     print_json,
     speed_from_kmh,
 )
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe, describe_track, describe_words, inputs_of
-from wheelrail.core.spectra import nominal_band_label
+from wheelrail.core.inputs.declared import describe, describe_track, describe_words, inputs_of
+from wheelrail.core.inputs.ranges import ACCEPTED
+from wheelrail.core.spectra.bands import nominal_band_label
 
 FILES = Files(reads=("run",), writes=(Output("wav", "--wav", ".wav"), Output("csv", "--csv", ".csv")))
 """The run read and the files written (checked by the dispatcher: ``_common.check_files``)."""
@@ -224,7 +224,7 @@ def _cnossos(args) -> dict:
         axles=args.axles,
         rule=args.roughness_interpolation,
     )
-    from wheelrail.core.spectra import band_labels
+    from wheelrail.core.spectra.bands import band_labels
 
     return {
         "band_labels": band_labels(result.frequency_hz),
@@ -286,8 +286,8 @@ def run(args) -> int:
 
 def _run_file(args) -> int:
     """``wheelrail noise --run RESULT.npz [--json] [--wav FILE.wav]``."""
-    from wheelrail.core.atomic import atomic_write
     from wheelrail.core.engine.results import RunResult
+    from wheelrail.core.files.atomic import atomic_write
     from wheelrail.core.noise.run_noise import (
         DEFAULT_TRAIN_AXLES,
         DEFAULT_TRAIN_LENGTH,

@@ -3,7 +3,7 @@
 Spectra as in the paper's Fig. 6 (single Hann FFT per line, third-octave bands, energetic average over the
 chosen lines, dB re 1 µm) against frequency at the given speed and against wavelength (EN 15610 bands);
 coherence parameter γ² of eqs. (15)-(18) as in Fig. 9. For rail sets the wavelength spectrum is compared
-with the ISO 3095:2013 rail roughness limit (:mod:`wheelrail.core.roughness_limits`): the limit and the
+with the ISO 3095:2013 rail roughness limit (:mod:`wheelrail.core.roughness.iso3095`): the limit and the
 margin to it per band (limit - level; negative where the rail exceeds it) in ``--json`` and the table,
 and the limit as a reference line in ``--plot``.
 """
@@ -21,7 +21,6 @@ from wheelrail.cli.commands._common import (
     print_json,
     speed_from_kmh,
 )
-from wheelrail.core.bands import Bands
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness import (
     DEFAULT_LINES,
@@ -29,8 +28,8 @@ from wheelrail.core.roughness import (
     load_roughness,
     roughness_spectrum,
 )
-from wheelrail.core.roughness_limits import iso3095_limit, iso3095_margin
-from wheelrail.core.spectra import nominal_band_label
+from wheelrail.core.roughness.iso3095 import iso3095_limit, iso3095_margin
+from wheelrail.core.spectra.bands import Bands, nominal_band_label
 
 FILES = Files(reads=("set",), writes=(Output("plot", "--plot", ".png"),))
 """The set read and the figure written (checked by the dispatcher: ``_common.check_files``)."""
@@ -161,7 +160,7 @@ def _plot(result: dict, path: str) -> None:
     ax_wl.set(xlabel="wavelength (mm)", ylabel="roughness level (dB re 1 µm)")
     for ax in (ax_level, ax_coh, ax_wl):
         ax.grid(True, which="both", alpha=0.3)
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     try:
         atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=100))  # a disk's failure: named

@@ -21,7 +21,7 @@ from wheelrail.cli.commands._common import (
     print_json,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe, describe_contact, describe_words
+from wheelrail.core.inputs.declared import describe, describe_contact, describe_words
 from wheelrail.core.models import model_names
 from wheelrail.core.recording.cli import add_recording_arguments, sink_from_args
 
@@ -219,8 +219,9 @@ def _summary(args, result, params, times) -> dict:
     """What ``--json`` prints (SI; keys name their unit), the force spectrum included when the run allows one."""
     import numpy as np
 
-    from wheelrail.core.run_file import check_fluctuating
-    from wheelrail.core.spectra import band_labels, check_spectrum_length, force_spectrum, spectrum_record
+    from wheelrail.core.files.run_file import check_fluctuating
+    from wheelrail.core.spectra.bands import band_labels
+    from wheelrail.core.spectra.force import check_spectrum_length, force_spectrum, spectrum_record
 
     start, prepared, finished = times
     try:
@@ -295,7 +296,7 @@ def _print_summary(args, result, params, summary, sink) -> None:
     if "spectrum_note" in summary:
         print(f"  no force spectrum: {summary['spectrum_note']}")
     else:
-        from wheelrail.core.spectra import spectrum_record
+        from wheelrail.core.spectra.force import spectrum_record
 
         print(f"  {spectrum_record(result).words()}")
         print("  third-octave force levels, dB re 1 N:")
@@ -311,9 +312,9 @@ def _print_summary(args, result, params, summary, sink) -> None:
 
 
 def _write_outputs(args, result, out, sink) -> None:
-    """--out, --csv and --rrd all or none (``core.atomic.all_or_none``): a full disk while writing any of them
+    """--out, --csv and --rrd all or none (``core.files.atomic.all_or_none``): a full disk while writing any of them
     leaves none (one line naming the file and why); a viewer lost during the run costs none of them."""
-    from wheelrail.core.atomic import all_or_none
+    from wheelrail.core.files.atomic import all_or_none
     from wheelrail.core.recording.outputs import ViewerUnreachable
 
     lost = None

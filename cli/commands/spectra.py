@@ -3,7 +3,7 @@
 FILE is a ``.npz`` written by ``wheelrail run --out`` (``RunResult.save_npz``) or a ``.rrd`` recording
 (read back with rerun's own reader, :func:`wheelrail.core.recording.read_recording`); both give the same
 levels because both hold the run's force exactly. The spectrum is
-:func:`wheelrail.core.spectra.force_spectrum`: start-up skipped, mean removed, one Hann-windowed FFT,
+:func:`wheelrail.core.spectra.force.force_spectrum`: start-up skipped, mean removed, one Hann-windowed FFT,
 third-octave bands 50 Hz-8 kHz, dB re 1 N.
 """
 
@@ -18,8 +18,9 @@ import numpy as np
 from wheelrail.cli.commands._common import Files, print_json
 from wheelrail.core.engine.results import RunResult
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.run_file import check_fluctuating
-from wheelrail.core.spectra import FORCE_SKIP, force_spectrum, nominal_band_label, spectrum_record
+from wheelrail.core.files.run_file import check_fluctuating
+from wheelrail.core.spectra.bands import nominal_band_label
+from wheelrail.core.spectra.force import FORCE_SKIP, force_spectrum, spectrum_record
 
 FILES = Files(reads=("file",))
 """The run read (nothing is written)."""

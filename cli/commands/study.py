@@ -14,7 +14,7 @@ from wheelrail.cli.commands._common import (
     print_json,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe_contact, describe_track, describe_words
+from wheelrail.core.inputs.declared import describe_contact, describe_track, describe_words
 from wheelrail.core.study import STUDIES
 
 FILES = Files(reads=("sets", "wheel_set"))
@@ -81,7 +81,7 @@ def _tracks(args):
     one value per option (the first), so that ``params_from_args`` reads the base track."""
     import itertools
 
-    from wheelrail.core.inputs import inputs_of, model_parameters
+    from wheelrail.core.inputs.declared import inputs_of, model_parameters
 
     values = {}
     for entry in inputs_of("track"):

@@ -18,7 +18,7 @@ from wheelrail.cli.commands._common import (
     speed_from_kmh,
 )
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import describe
+from wheelrail.core.inputs.declared import describe
 from wheelrail.core.noise.decay import band_receptances, decay_verdict, track_decay
 
 FILES = Files(
@@ -77,7 +77,7 @@ def _peaks(track, numerics) -> dict:
 
     import numpy as np
 
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
     from wheelrail.core.track import fe, resonances
 
     code = "".join(inspect.getsource(module) for module in (fe, resonances))
@@ -129,7 +129,7 @@ def _decay_csv_path(csv_path: Path) -> Path:
 
 
 def _write_decay_csv(path: Path, decay: dict) -> None:
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     def write(handle) -> None:
         writer = csv.writer(handle)
@@ -151,7 +151,7 @@ def _receptance_outputs(receptances, csv_path, plot_path, response, peaks, decay
     freq, above, midspan = receptances
     if csv_path:
         _write_decay_csv(_decay_csv_path(csv_path), decay)
-        from wheelrail.core.atomic import atomic_write
+        from wheelrail.core.files.atomic import atomic_write
 
         def write_csv(handle) -> None:
             writer = csv.writer(handle)
@@ -254,7 +254,7 @@ def _print_summary(track, summary: dict, peaks: dict) -> None:
 
 def _print_bands(bands: dict, decay: dict) -> None:
     """The table per one-third octave band, each named by its nominal centre (``spectra.nominal_band_label``)."""
-    from wheelrail.core.spectra import band_labels
+    from wheelrail.core.spectra.bands import band_labels
 
     print(
         "Point receptance at the band centres (m/N) and vertical decay rate (dB/m, EN 15461) against "
@@ -299,7 +299,7 @@ def run(args) -> int:
     decay = track_decay(track)
     receptances = _receptances(track, numerics, args.df_hz) if (csv_path or plot_path or args.json) else None
     if csv_path or plot_path:
-        from wheelrail.core.atomic import all_or_none
+        from wheelrail.core.files.atomic import all_or_none
 
         with all_or_none():  # the tables and the figure appear together or not at all
             _receptance_outputs(
@@ -328,7 +328,7 @@ def run(args) -> int:
         "decay_rate": decay,
         "bands": band_receptances(track, numerics.elements_per_bay),
     }
-    from wheelrail.core.spectra import band_labels
+    from wheelrail.core.spectra.bands import band_labels
 
     for table in ("bands", "decay_rate"):  # the nominal names beside the exact centres, as every JSON gives them
         summary[table]["band_labels"] = band_labels(summary[table]["frequency_hz"])
@@ -352,7 +352,7 @@ def run(args) -> int:
 
 
 def _plot(path, receptances, response, peaks, decay, params) -> None:
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     fig = track_figure(receptances, response, peaks, decay, params)
     atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=110))
@@ -367,7 +367,7 @@ def track_figure(receptances, response, peaks, decay, params):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from wheelrail.core.inputs import describe_track
+    from wheelrail.core.inputs.declared import describe_track
     from wheelrail.core.noise.decay import decay_verdict
     from wheelrail.core.track import moving_from_stationary
 

@@ -1,7 +1,7 @@
 """``wheelrail wheel``: the modal wheel's natural frequencies by family and n, and its receptances at the contact.
 
 The wheel is a named standard-like wheel (``--wheel``), changed by the shape options (``--tyre-width-mm``, ...,
-each a field of ``wheelrail.core.modal_wheel.WheelProfile`` with its range in ``core.accepted``), or a
+each a field of ``wheelrail.core.modal_wheel.WheelProfile`` with its range in ``core.inputs.ranges``), or a
 cross-section read from a CSV outline (``--outline``). Its modes come from the axisymmetric finite elements of
 ``wheelrail.core.modal_wheel`` (computed once, then cached on disk).
 """
@@ -15,8 +15,8 @@ from pathlib import Path
 from wheelrail.cli.commands._common import WHEEL_SHAPE_KEYS as SHAPE_KEYS
 from wheelrail.cli.commands._common import Files, Output, print_json
 from wheelrail.cli.commands._common import wheel_shape_option as shape_option
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED
 
 FILES = Files(
     reads=("outline",),
@@ -123,7 +123,7 @@ def run(args) -> int:
     start = time.perf_counter()
     modes = wheel_modes(profile, **settings, announce=_announce(sys.stderr))
     elapsed = time.perf_counter() - start
-    from wheelrail.core.bands import frequency_bands
+    from wheelrail.core.spectra.bands import frequency_bands
 
     bands = frequency_bands(None, (BAND_RANGE_HZ[0], min(BAND_RANGE_HZ[1], modes.max_frequency))).centres
     at_bands = contact_receptance(modes, bands, args.added_loss_factor)
@@ -144,7 +144,7 @@ def run(args) -> int:
         "receptance_at_bands": _receptance_dict(at_bands),
     }
     if csv_path or plot_path:
-        from wheelrail.core.atomic import all_or_none
+        from wheelrail.core.files.atomic import all_or_none
 
         frequencies = np.arange(args.df_hz, modes.max_frequency + 1e-9, args.df_hz)
         fine = contact_receptance(modes, frequencies, args.added_loss_factor)
@@ -207,7 +207,7 @@ def _print_summary(summary: dict) -> None:
                  "circumferential") if row[family]]  # fmt: skip
         print(f"  n = {row['n']:2d}: " + "; ".join(parts))
     bands = summary["receptance_at_bands"]
-    from wheelrail.core.bands import nominal_band_label
+    from wheelrail.core.spectra.bands import nominal_band_label
 
     print("Receptance at the contact (m/N): band Hz, radial, axial, cross")
     for f, rr, zz, rz in zip(bands["frequency_hz"], bands["radial_m_per_n"], bands["axial_m_per_n"],
@@ -225,7 +225,7 @@ def _modes_path(csv_path: Path) -> Path:
 def _write_csv(path: Path, receptance, modes, added_loss_factor: float) -> None:
     import numpy as np
 
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     def write_receptance(handle) -> None:
         writer = csv.writer(handle)
@@ -248,7 +248,7 @@ def _write_csv(path: Path, receptance, modes, added_loss_factor: float) -> None:
 
 
 def _plot(path: Path, modes, receptance, added_loss_factor: float = 0.0) -> None:
-    from wheelrail.core.atomic import atomic_write
+    from wheelrail.core.files.atomic import atomic_write
 
     fig = wheel_figure(modes, receptance, added_loss_factor)
     atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=100))

@@ -16,9 +16,9 @@ import typing
 
 import numpy as np
 
-from wheelrail.core import checks
-from wheelrail.core.checks import finite_array
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import checks
+from wheelrail.core.inputs.checks import finite_array
 
 __all__ = ["HertzContact", "elliptic_hertz", "hertz_approach", "hertz_force", "hertz_stiffness"]
 

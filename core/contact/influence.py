@@ -17,8 +17,8 @@ import math
 
 import numpy as np
 
-from wheelrail.core.checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import positive as _positive
 from wheelrail.core.parameters import ContactParameters, reduced_modulus
 
 __all__ = ["influence_kernel"]

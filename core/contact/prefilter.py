@@ -34,7 +34,6 @@ import math
 import numpy as np
 from numba import njit
 
-from wheelrail.core.checks import positive as _positive
 from wheelrail.core.contact.winkler import (
     bedding_approach,
     calibrated_bedding,
@@ -43,6 +42,7 @@ from wheelrail.core.contact.winkler import (
     wheel_profile,
 )
 from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.inputs.checks import positive as _positive
 from wheelrail.core.parameters import ContactParameters
 
 __all__ = ["average_roughness", "averaging_weights", "winkler_equivalent_roughness"]

@@ -29,8 +29,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wheelrail.core.checks import integer as _integer
-from wheelrail.core.checks import positive as _positive
 from wheelrail.core.contact.active_set import (
     CAUTIOUS_AFTER,
     STEP_CONVERGED,
@@ -42,6 +40,8 @@ from wheelrail.core.contact.active_set import (
 )
 from wheelrail.core.contact.influence import influence_kernel
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import integer as _integer
+from wheelrail.core.inputs.checks import positive as _positive
 from wheelrail.core.parameters import ContactParameters, reduced_modulus
 
 __all__ = [

@@ -42,8 +42,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from wheelrail.core.checks import positive as _positive
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import positive as _positive
 from wheelrail.core.models import ContactModel, LawInputs, ModelInputs
 from wheelrail.core.parameters import ContactParameters, reduced_modulus
 

@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wheelrail.core.checks import real
 from wheelrail.core.engine.history import History, default_run_in_length, history_arrays, starts_steady
 from wheelrail.core.engine.kernels import scatter_history
 from wheelrail.core.engine.memory import check_run_memory
@@ -21,6 +20,7 @@ from wheelrail.core.engine.results import RunHeader, RunResult, StepState
 from wheelrail.core.engine.run import InteractionRun
 from wheelrail.core.engine.track_lines import TrackRoughness, track_roughness, window_half_elements
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import real
 from wheelrail.core.models import ModelEntry, ModelInputs, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.wheel import checked_wheel_system
@@ -263,7 +263,7 @@ def simulate(
     See Also
     --------
     prepare_run : the same run, stepped on demand.
-    wheelrail.core.spectra.force_spectrum : the force's third-octave spectrum.
+    wheelrail.core.spectra.force.force_spectrum : the force's third-octave spectrum.
 
     Examples
     --------

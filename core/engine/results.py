@@ -15,12 +15,12 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.jsonready import strict_json
+from wheelrail.core.files.atomic import atomic_write
+from wheelrail.core.files.jsonready import strict_json
+from wheelrail.core.files.run_file import check_run, content_digest
 from wheelrail.core.models import MODELS  # noqa: F401 - re-exported: the registry holds the one list
 from wheelrail.core.parameters import ModelParameters, as_dict, from_dict
-from wheelrail.core.run_file import check_run, content_digest
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -398,7 +398,8 @@ class RunResult(HeaderView):
         """Read a file written by :meth:`save_npz`; anything else is one WheelrailError naming the file.
 
         The file's content must match the SHA-256 digest written with it (files written before digests read
-        without that check) and hold a run the package could have made (:func:`wheelrail.core.run_file.check_run`).
+        without that check) and hold a run the package could have made
+        (:func:`wheelrail.core.files.run_file.check_run`).
         """
         target = Path(path)
         stored = _npz_arrays(target)

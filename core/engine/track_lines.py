@@ -16,9 +16,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wheelrail.core.accepted import check_wheel_circumference
-from wheelrail.core.checks import real
 from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.inputs.checks import real
+from wheelrail.core.inputs.ranges import check_wheel_circumference
 from wheelrail.core.models import ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters
 
@@ -110,7 +110,7 @@ def resolve_roughness(roughness: RoughnessLike) -> tuple[RoughnessSet, str]:
 
 def resolve_surfaces(roughness: RoughnessLike, wheel_roughness: RoughnessLike | None, params: ModelParameters):
     """The rail (or wheel) set and the optional wheel set with their names, checked as a pair: a rail set and a
-    wheel set going round this wheel (``accepted.check_wheel_circumference``)."""
+    wheel set going round this wheel (``ranges.check_wheel_circumference``)."""
     rough, name = resolve_roughness(roughness)
     wheel, wheel_name = resolve_roughness(wheel_roughness) if wheel_roughness is not None else (None, None)
     if wheel is not None:

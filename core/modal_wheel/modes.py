@@ -1,7 +1,7 @@
 """A wheel's modes for every harmonic n = 0..N up to a frequency, with their damping, cached on disk like the track.
 
 :func:`wheel_modes` meshes the cross-section (``mesh``), assembles the harmonic matrices (``fem``) and solves
-each harmonic; the result goes through :mod:`wheelrail.core.cache` (kind ``"wheel-modes"``, keyed by the
+each harmonic; the result goes through :mod:`wheelrail.core.files.cache` (kind ``"wheel-modes"``, keyed by the
 profile, the mesh size, the material, the boundary condition, the frequency range and ``MODES_VERSION``) and a
 small in-memory cache, so a second call for the same wheel reads it back.
 
@@ -223,7 +223,7 @@ def _check_cost(cost: ModesCost, element_size: float) -> None:
 
 
 def _key(profile, element_size: float, max_frequency: float, max_harmonic: int, material: Material, clamped: bool):
-    from wheelrail.core.cache import cache_key
+    from wheelrail.core.files.cache import cache_key
 
     description = {
         "profile": profile.describe(),
@@ -348,7 +348,7 @@ def _check_strain_free(frequency: np.ndarray, harmonic: int, clamped: bool) -> N
 
 
 def _saved(modes: WheelModes, key: str, compute_s: float) -> WheelModes:
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     arrays = {
         "frequency": modes.frequency,
@@ -368,7 +368,7 @@ def _saved(modes: WheelModes, key: str, compute_s: float) -> WheelModes:
 
 
 def _from_cache(profile, key: str, material: Material, clamped: bool) -> WheelModes | None:
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     arrays = cache.load_entry("wheel-modes", key, (*_ARRAYS, "settings"))
     if arrays is None:

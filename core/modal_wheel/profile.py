@@ -12,7 +12,7 @@ flange on its inner side; a web of constant ``web_thickness`` from the hub to th
 z = ``web_offset`` at the hub to z = 0 at the rim and bulges by ``web_curvature`` (a sagitta) at mid-height;
 a rectangular hub from the bore (``hub_inner_radius``) to ``hub_outer_radius``, ``hub_width`` wide, centred on
 the web's midline. Fillets, the tread's conicity and the flange's shape are not modelled. Accepted ranges
-are in :data:`wheelrail.core.accepted.ACCEPTED` (keys ``"wheel_" + field``), with their reasons.
+are in :data:`wheelrail.core.inputs.ranges.ACCEPTED` (keys ``"wheel_" + field``), with their reasons.
 
 :func:`outline_profile` takes any closed outline of (r, z) points instead (:func:`read_outline` reads one
 from a CSV file). Both are checked by the same rules of what a wheel is (``section.check_section``: bore,
@@ -30,8 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.modal_wheel.section import (
     MAX_OUTLINE_BYTES,
     MAX_OUTLINE_POINTS,

@@ -57,8 +57,8 @@ import math
 import numpy as np
 import scipy.special as sps
 
-from wheelrail.core.checks import finite_array
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import finite_array
 from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
 
 __all__ = [

@@ -34,8 +34,8 @@ import math
 
 import numpy as np
 
-from wheelrail.core.accepted import ACCEPTED, ROUND_OFF
 from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED, ROUND_OFF
 
 __all__ = [
     "ELEMENT_SIZE",

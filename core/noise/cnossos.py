@@ -37,10 +37,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import Blame, WheelrailError
-from wheelrail.core.noise.levels import a_weighted_total, check_positive, energy_sum
+from wheelrail.core.inputs.checks import check_positive
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ, load_table
+from wheelrail.core.spectra.levels import a_weighted_total, energy_sum
 
 INTERPOLATION_RULES = ("proportional", "energy-log-frequency")
 RAIL_ROUGHNESS = ("iso3095", "network-average")

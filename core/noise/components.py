@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wheelrail.core.drawing.palette import OKABE_ITO, TOL_WINE
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise.radiation import (
     AIR_DENSITY,
@@ -34,7 +35,6 @@ from wheelrail.core.noise.radiation import (
     piston_radiation_efficiency,
     rail_section,
 )
-from wheelrail.core.palette import OKABE_ITO, TOL_WINE
 
 __all__ = [
     "DRIVEN_BY",
@@ -122,7 +122,7 @@ class NoiseComponent:
     label : str
         Its words in tables and legends.
     colour : str
-        Its curve's colour, sRGB hex, from :mod:`wheelrail.core.palette`.
+        Its curve's colour, sRGB hex, from :mod:`wheelrail.core.drawing.palette`.
     driven_by : str
         ``"force"`` or ``"roughness"`` (:data:`DRIVEN_BY`).
     response : callable, optional

@@ -82,7 +82,7 @@ def decay_verdict(decay: dict) -> str:
     """The decay rate against the limit in words, for a title or a line of text: "meets EN ISO 3095:2013's lower
     limit in every band 250 Hz-5 kHz" or "is below EN ISO 3095:2013's lower limit at 400, 500 and 630 Hz" (the
     bands by their nominal names); ``decay`` in :func:`decay_against_limit`'s layout."""
-    from wheelrail.core.spectra import nominal_band_label
+    from wheelrail.core.spectra.bands import nominal_band_label
 
     if decay["meets_limit"]:
         return "meets EN ISO 3095:2013's lower limit in every band 250 Hz-5 kHz"
@@ -102,7 +102,7 @@ def track_decay(track) -> dict:
 
     import numpy as np
 
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
     from wheelrail.core.noise import twins
     from wheelrail.core.track import fe
 
@@ -133,7 +133,7 @@ def band_receptances(track, elements_per_bay: int = 16) -> dict:
     band centres 50 Hz-5 kHz (the decay rate's bands up to the limit's last), on ``elements_per_bay`` elements."""
     import numpy as np
 
-    from wheelrail.core.noise.levels import noise_bands
+    from wheelrail.core.spectra.bands import noise_bands
     from wheelrail.core.track import assemble_track, track_receptance
 
     _check_track(track, "band_receptances")

@@ -37,8 +37,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.special as sps
 
-from wheelrail.core.checks import finite_array, real
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import finite_array, real
 
 AIR_DENSITY = 1.21  # kg/m^3, air at 20 degC, 101.325 kPa
 SOUND_SPEED = 343.0  # m/s
@@ -263,7 +263,7 @@ def rail_boundary(
 def _rail_sigma_table() -> tuple[np.ndarray, np.ndarray]:
     """sigma of the 60E1 section on :data:`RAIL_TABLE_HZ` (disk-cached by content: a boundary-element solve per
     frequency of the grid)."""
-    from wheelrail.core.cache import cache_key, load_entry, save_entry
+    from wheelrail.core.files.cache import cache_key, load_entry, save_entry
 
     f = np.geomspace(*RAIL_TABLE_HZ)
     key = cache_key(

@@ -3,7 +3,7 @@
 One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10 kHz), for every component of
 the chain (:mod:`wheelrail.core.noise.components`: the rail, the sleepers and the wheel, and any registered):
 
-- contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force_spectrum`);
+- contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force.force_spectrum`);
 - a component driven by the force (rail, sleepers): L_W = L_F + 10 lg(T / 1 pW) with T its sound power per unit
   mean-square force in the model track (:func:`wheelrail.core.noise.twins.track_noise_model`, same wheel, track
   and contact as the run);
@@ -46,16 +46,15 @@ import numpy as np
 
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.noise.components import TOTAL
-from wheelrail.core.noise.levels import (
-    NOISE_BAND_RANGE,
+from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
+from wheelrail.core.spectra.bands import NOISE_BAND_RANGE, noise_bands
+from wheelrail.core.spectra.levels import (
     PRESSURE_REFERENCE,
     a_weighted_energy,
     a_weighted_total,
     energy_sum,
-    noise_bands,
     power_level,
 )
-from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
 
 ISO3095_DISTANCE = 7.5  # m from the track centre line
 ISO3095_HEIGHT = 1.2  # m above the rail head
@@ -115,7 +114,7 @@ class RunNoise:
         What produced it (the run's header, the train, the wheel transfer's source).
     cnossos : CnossosResult or None
         The CNOSSOS-EU source of one axle beside it, on the run's own roughness
-        (:func:`wheelrail.core.noise.beside.cnossos_beside_run`).
+        (:func:`wheelrail.core.noise.cnossos_run.cnossos_beside_run`).
     """
 
     frequency_hz: np.ndarray
@@ -133,7 +132,7 @@ class RunNoise:
 
     def to_dict(self) -> dict:
         """The JSON layout of ``wheelrail noise --run F.npz --json``."""
-        from wheelrail.core.spectra import band_labels
+        from wheelrail.core.spectra.bands import band_labels
 
         return {
             "band_labels": band_labels(self.frequency_hz),
@@ -155,7 +154,7 @@ class RunNoise:
         ``band, centre_hz``, the force level and the sound power of each component (``<name>_dB``) and their total
         (``total_dB``) of one wheel on one rail (dB re 1 pW; empty where a band is above the run's Nyquist
         frequency)."""
-        from wheelrail.core.spectra import band_labels
+        from wheelrail.core.spectra.bands import band_labels
 
         axles, length = self.train
         lines = [
@@ -338,11 +337,11 @@ def run_noise(
     True
     """
     from wheelrail.core.engine.results import result_of_run
-    from wheelrail.core.noise.beside import cnossos_beside_run
+    from wheelrail.core.files.run_file import check_fluctuating
+    from wheelrail.core.noise.cnossos_run import cnossos_beside_run
     from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
     from wheelrail.core.noise.wheel_power import checked_wheel_model
-    from wheelrail.core.run_file import check_fluctuating
-    from wheelrail.core.spectra import force_spectrum, spectrum_record
+    from wheelrail.core.spectra.force import force_spectrum, spectrum_record
 
     result = result_of_run("run_noise: result", result)
     train_axles, train_length = checked_train(train_axles, train_length)
@@ -413,9 +412,9 @@ def _configuration(result, track, train_axles, train_length, undefined) -> dict:
 
 
 def _check_run_length(result) -> None:
-    """The run holds a force spectrum (:func:`wheelrail.core.spectra.shortest_spectrum_run`), else one
+    """The run holds a force spectrum (:func:`wheelrail.core.spectra.force.shortest_spectrum_run`), else one
     WheelrailError that names no option (the noise has no length or skip of its own)."""
-    from wheelrail.core.spectra import FORCE_MIN_STEPS, FORCE_SKIP, shortest_spectrum_run
+    from wheelrail.core.spectra.force import FORCE_MIN_STEPS, FORCE_SKIP, shortest_spectrum_run
 
     shortest = shortest_spectrum_run(result.speed, result.element_size)
     length = result.n_steps * result.element_size
@@ -429,9 +428,9 @@ def _check_run_length(result) -> None:
 
 def checked_train(train_axles, train_length) -> tuple[int, float]:
     """(axles, length in m) of a train, or one WheelrailError: each within its accepted range
-    (``accepted.ACCEPTED``: 1 to 2 000 axles, 2 m to 5 km) and the axles, evenly along the train, at least
+    (``ranges.ACCEPTED``: 1 to 2 000 axles, 2 m to 5 km) and the axles, evenly along the train, at least
     :data:`MIN_AXLE_SPACING` apart."""
-    from wheelrail.core.accepted import ACCEPTED
+    from wheelrail.core.inputs.ranges import ACCEPTED
 
     if isinstance(train_axles, bool) or not isinstance(train_axles, int | np.integer) or train_axles < 1:
         raise WheelrailError("not a whole number of at least 1", Blame("train_axles", train_axles))
@@ -459,7 +458,7 @@ def _synthesise(noise: RunNoise, *, lead: float, seed: int):
     """The pass-by pressure (module docstring)."""
     from scipy.signal import fftconvolve
 
-    from wheelrail.core.spectra import FORCE_SKIP
+    from wheelrail.core.spectra.force import FORCE_SKIP
 
     dt = noise._time_step
     rate = 1.0 / dt
@@ -498,5 +497,5 @@ def _synthesise(noise: RunNoise, *, lead: float, seed: int):
 
 def laeq_of_pressure(pressure: np.ndarray, rate: float) -> float:
     """L_Aeq (dB(A) re 20 uPa) of a pressure signal (Pa): A-weighting applied in the frequency domain
-    (:func:`~wheelrail.core.noise.levels.a_weighted_energy`)."""
+    (:func:`~wheelrail.core.spectra.levels.a_weighted_energy`)."""
     return float(10 * np.log10(a_weighted_energy(pressure, rate) / len(pressure) / PRESSURE_REFERENCE**2))

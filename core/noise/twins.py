@@ -56,10 +56,9 @@ import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise.components import NoiseChain, TrackResponse, noise_components
-from wheelrail.core.noise.levels import NOISE_BAND_RANGE, noise_bands
 from wheelrail.core.noise.radiation import piston_radiation_efficiency, rail_radiation_efficiency, rail_section
 from wheelrail.core.parameters import ModelParameters, TrackParameters
-from wheelrail.core.spectra import BAND_HALF_WIDTH
+from wheelrail.core.spectra.bands import BAND_HALF_WIDTH, NOISE_BAND_RANGE, noise_bands
 
 LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
 MIN_TRACK_BAYS = 40  # the lengthened track's fewest bays: 20 each side of the load (the free wave, step 3)
@@ -114,7 +113,7 @@ class NoiseNumerics:
 
 def band_frequencies(points_per_band: int) -> np.ndarray:
     """(24, points) frequencies, Hz: each band's width split evenly in lg f, the middle of each part."""
-    from wheelrail.core.checks import integer
+    from wheelrail.core.inputs.checks import integer
 
     points_per_band = integer("band_frequencies: points_per_band", points_per_band, 1)
     centres = noise_bands()
@@ -217,7 +216,7 @@ class TrackNoiseModel:
 
 def nearest_table_diameter_mm(wheel_radius: float) -> int:
     """The CNOSSOS-EU Table G-3b wheel diameter (mm) nearest 2 R (R in m)."""
-    from wheelrail.core.accepted import ACCEPTED
+    from wheelrail.core.inputs.ranges import ACCEPTED
     from wheelrail.core.noise.cnossos import WHEEL_DIAMETERS_MM
 
     wheel_radius = ACCEPTED["wheel_radius"].check(wheel_radius, "nearest_table_diameter_mm: wheel_radius")

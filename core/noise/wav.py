@@ -25,7 +25,7 @@ from fractions import Fraction
 import numpy as np
 
 from wheelrail.core.errors import Blame, WheelrailError
-from wheelrail.core.noise.levels import PRESSURE_REFERENCE, a_weighted_energy
+from wheelrail.core.spectra.levels import PRESSURE_REFERENCE, a_weighted_energy
 
 __all__ = [
     "BLOCK_SAMPLES",

@@ -1,7 +1,7 @@
 """The wheel's sound power in the TWINS-like chain: the directive's table or the modal wheel's own radiation.
 
 Two wheel models (:data:`WHEEL_MODELS`; the command line's ``--wheel-model``, declared in
-:data:`wheelrail.core.inputs.CHOICES`):
+:data:`wheelrail.core.inputs.declared.CHOICES`):
 
 - ``directive`` (the default): CNOSSOS-EU's vehicle transfer function L_H,veh (Table G-3b) for the tabulated
   diameter nearest the model's 2 R; the paper's 2-DOF wheel has no radiating modes.
@@ -34,7 +34,7 @@ import functools
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import choice
+from wheelrail.core.inputs.declared import choice
 from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
 
 WHEEL_MODELS = choice("noise_wheel_model").values  # ("directive", "modal")
@@ -83,7 +83,7 @@ def profile_name(profile) -> str:
 def radiation_table(profile) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(f on :data:`SIGMA_TABLE_HZ`, sigma_axial (f, n), sigma_radial (f, n)) for n = 0..MAX_HARMONIC, disk-cached
     by the geometry the radiation uses (its radius, tyre width and bore); a few seconds to build."""
-    from wheelrail.core.cache import cache_key, load_entry, save_entry
+    from wheelrail.core.files.cache import cache_key, load_entry, save_entry
     from wheelrail.core.modal_wheel.radiation import wheel_radiation_efficiency
 
     geometry = {"radius": profile.wheel_radius, "tyre_width": profile.tyre_width, "hub": profile.bore_radius}

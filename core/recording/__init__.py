@@ -38,7 +38,7 @@ Entity tree (mirrors the physical system; SI units, m, s, N, Pa)::
     contact/nominal_circle_image  the same circle, LineStrips2D in the pressure image's pixels
     spectra/force              BarChart, third-octave contact-force levels 50 Hz-8 kHz, dB re 1 N, abscissa
                                = band number 10 lg(f/Hz) (17 = 50 Hz, 39 = 8 kHz), bars 0.9 wide
-                               (:func:`wheelrail.core.spectra.force_spectrum`); at the end
+                               (:func:`wheelrail.core.spectra.force.force_spectrum`); at the end
 
 Timelines: ``step`` (sequence, step index), ``time`` (duration, t = step dt, stored in whole ns) and
 ``position_um`` (sequence, wheel position x in µm). The exact x is the ``wheel/position`` series.

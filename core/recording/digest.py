@@ -15,7 +15,7 @@ import hashlib
 
 import numpy as np
 
-from wheelrail.core.jsonready import strict_json
+from wheelrail.core.files.jsonready import strict_json
 from wheelrail.core.recording.schema import STEP_FIELDS
 
 __all__ = ["DIGEST_KEY", "RecordingDigest"]

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wheelrail.core.errors import Blame, Name, WheelrailError
-from wheelrail.core.inputs import choice
+from wheelrail.core.inputs.declared import choice
 
 __all__ = ["DEFAULT_CHUNK_STEPS", "SURFACE_EVERY", "RecordingOptions"]
 

@@ -10,7 +10,7 @@ named otherwise, written on another host, or of a process still running.
 A file that cannot be written (a full disk) fails the recording, not the run's other files' checks: rerun's
 file writer stops, and :meth:`Outputs.file_failure` finds why by writing where it wrote ("no space left on
 device writing r.rrd"); the partial file is removed and no viewer is blamed. Inside an
-:func:`~wheelrail.core.atomic.all_or_none` block the completed file is renamed with the block's other files.
+:func:`~wheelrail.core.files.atomic.all_or_none` block the completed file is renamed with the block's other files.
 """
 
 from __future__ import annotations
@@ -28,8 +28,8 @@ import weakref
 from pathlib import Path
 from urllib.parse import urlsplit
 
-from wheelrail.core.atomic import stage, write_failed
 from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.files.atomic import stage, write_failed
 from wheelrail.core.recording.schema import APPLICATION_ID, default_blueprint, rerun_module
 
 __all__ = ["Outputs", "ViewerUnreachable", "check_recording_path", "check_viewer", "grpc_url", "viewer_executable"]
@@ -351,7 +351,7 @@ class Outputs:
 
     def publish(self) -> None:
         """Rename the completed temporary file to the final path (after :meth:`disconnect`); inside an
-        :func:`~wheelrail.core.atomic.all_or_none` block, with its other files at its end."""
+        :func:`~wheelrail.core.files.atomic.all_or_none` block, with its other files at its end."""
         if self._temporary is not None:
             self._finalizer.detach()
             stage(self._temporary, self.path)

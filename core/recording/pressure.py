@@ -11,13 +11,7 @@ import functools
 
 import numpy as np
 
-from wheelrail.core.drawing import (
-    PRESSURE_RANGE_P0,
-    circle_points,
-    colour_table,
-    grid_triangles,
-    packed_rgba,
-)
+from wheelrail.core.drawing.patch import PRESSURE_RANGE_P0, circle_points, colour_table, grid_triangles, packed_rgba
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.recording.columns import blob_column, colour_column, position_column

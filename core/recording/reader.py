@@ -16,6 +16,7 @@ import numpy as np
 
 from wheelrail.core.engine.results import RunHeader, RunResult
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.files.run_file import check_run
 from wheelrail.core.recording.digest import DIGEST_KEY, RecordingDigest
 from wheelrail.core.recording.schema import (
     APPLICATION_ID,
@@ -28,7 +29,6 @@ from wheelrail.core.recording.schema import (
     parameters_from_text,
     rerun_module,
 )
-from wheelrail.core.run_file import check_run
 
 __all__ = ["read_recording"]
 

@@ -12,9 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wheelrail.core.drawing import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
+from wheelrail.core.drawing.patch import PRESSURE_RANGE_P0  # noqa: F401 - the colour ramp the recording draws with
 from wheelrail.core.engine.results import RunHeader
-from wheelrail.core.jsonready import strict_json
+from wheelrail.core.files.jsonready import strict_json
 from wheelrail.core.noise.components import sound_power_parts
 
 __all__ = [

@@ -9,7 +9,7 @@ import numpy as np
 
 from wheelrail.core.engine.results import RunResult
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.jsonready import strict_json
+from wheelrail.core.files.jsonready import strict_json
 from wheelrail.core.recording.options import RecordingOptions
 from wheelrail.core.recording.schema import (
     FORCE_SPECTRUM,
@@ -24,7 +24,7 @@ __all__ = ["log_force_spectrum", "log_sound_power"]
 def log_force_spectrum(stream, force, time_step: float | None) -> None:
     """The one-third octave force levels of ``force`` (N, one value a step ``time_step`` s apart); nothing for
     a run too short for a spectrum."""
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.force import force_spectrum
 
     if time_step is None or len(force) < 2:
         return

@@ -10,7 +10,8 @@ positions in m. The package is split by the stage of the data's journey:
 * :mod:`.preprocessing`: detrend, spike removal, high-pass (paper section 3.1, EN 15610);
 * :mod:`.grid`: interpolation to the model grid and the lines along the track;
 * :mod:`.analysis`: third-octave roughness spectra and the lateral coherence (sections 3.1-3.2);
-* :mod:`.synthesis`: the seeded synthetic sets bundled in ``sample_data``.
+* :mod:`.synthesis`: the seeded synthetic sets bundled in ``sample_data``;
+* :mod:`.iso3095`: the ISO 3095:2013 rail roughness limit spectrum and a rail's margin to it.
 
 Everything a caller needs is importable from ``wheelrail.core.roughness`` itself.
 """

@@ -11,7 +11,8 @@ import numpy as np
 
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.roughness.model import RoughnessSet
-from wheelrail.core.spectra import FORCE_BAND_RANGE, band_coherence, third_octave_bands, third_octave_levels
+from wheelrail.core.spectra.bands import FORCE_BAND_RANGE, third_octave_bands
+from wheelrail.core.spectra.narrowband import band_coherence, third_octave_levels
 
 ROUGHNESS_REFERENCE = 1e-6  # m: roughness levels are in dB re 1 µm
 DEFAULT_LINES = tuple(range(-3, 4))  # the paper averages the 7 lines -3..3
@@ -92,7 +93,7 @@ def roughness_spectrum(
     """Third-octave roughness spectrum in dB re 1 µm (paper section 3.1, Figure 6).
 
     A single Hann-windowed FFT of each chosen line, integrated into third-octave bands and averaged over
-    the lines (:func:`wheelrail.core.spectra.third_octave_levels`).
+    the lines (:func:`wheelrail.core.spectra.narrowband.third_octave_levels`).
 
     Parameters
     ----------
@@ -139,7 +140,7 @@ def lateral_coherence(
     """Lateral coherence parameter γ²(f0) of eqs. (15)-(18) (paper section 3.2, Figure 9).
 
     Line 0 against lines m = -M..M (m != 0), each line cut into B consecutive blocks; see
-    :func:`wheelrail.core.spectra.band_coherence` for the estimator and its bias (~1/(2 M B L)).
+    :func:`wheelrail.core.spectra.narrowband.band_coherence` for the estimator and its bias (~1/(2 M B L)).
 
     Parameters
     ----------

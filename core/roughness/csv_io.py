@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.files.atomic import atomic_write
 from wheelrail.core.roughness.model import KINDS, MAX_HEIGHT, RoughnessSet, check_file_geometry, check_value_count
 
 MAX_LINE_CHARS = 1_000_000  # characters in one CSV line (a row of 1 000 lines takes about 25 000)

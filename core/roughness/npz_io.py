@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 import numpy.lib.format as npy_format
 
-from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.files.atomic import atomic_write
 from wheelrail.core.roughness.model import KINDS, RoughnessSet, check_file_geometry, check_value_count
 
 try:  # zipfile reads LZMA members when the interpreter has lzma; its errors are then LZMAError

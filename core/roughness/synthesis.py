@@ -34,7 +34,7 @@ from wheelrail.core.errors import WheelrailError
 from wheelrail.core.roughness.model import RoughnessSet
 from wheelrail.core.roughness.npz_io import write_npz
 from wheelrail.core.roughness.preprocessing import highpass, remove_mean
-from wheelrail.core.spectra import BAND_HALF_WIDTH
+from wheelrail.core.spectra.bands import BAND_HALF_WIDTH
 
 _UM2 = 1e-12  # m² per µm²
 RELATIVE_BANDWIDTH = BAND_HALF_WIDTH - 1.0 / BAND_HALF_WIDTH  # Δk / k of a third-octave band, 0.2308

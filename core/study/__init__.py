@@ -3,7 +3,7 @@
 This reproduces the paper's section 3.3-3.5 on any roughness set (Pieringer, Kropp & Thompson, Wear 271,
 2011). A study is a list of independent :class:`RunSpec` (set, line, model, speed, wheel
 mass, length, input transform) -> one :class:`RunSummary` each (third-octave force spectrum of
-:func:`wheelrail.core.spectra.force_spectrum` plus a few force statistics, no pressure maps) -> tables of
+:func:`wheelrail.core.spectra.force.force_spectrum` plus a few force statistics, no pressure maps) -> tables of
 levels and level differences in dB -> CSV files, a figure laid out like the paper's, a JSON summary.
 
 Named studies (``STUDIES``):
@@ -39,10 +39,10 @@ unusable run file (damaged, wrong shapes, NaN) is computed again with a warning.
 Modules, by concern: ``specs`` (run specs, summaries, the worker task), ``store`` (run files),
 ``execution`` (process pool, Dask, shutdown), ``plans`` (the named studies and their tables), ``tables``
 (CSV), ``figures`` (PNG), ``runner`` (:func:`run_study`). The level arithmetic (:func:`mean_level`,
-:func:`contact_filter`, :func:`level_difference`) lives in :mod:`wheelrail.core.spectra` and is re-exported.
+:func:`contact_filter`, :func:`level_difference`) lives in :mod:`wheelrail.core.spectra.levels` and is re-exported.
 """
 
-from wheelrail.core.spectrum_levels import contact_filter, level_difference, mean_level
+from wheelrail.core.spectra.levels import contact_filter, level_difference, mean_level
 from wheelrail.core.study.execution import (
     ExecutionReport,
     StudyTerminated,

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
+from wheelrail.core.drawing.palette import CNOSSOS_COLOURS, model_colour
+from wheelrail.core.files.atomic import atomic_write
 from wheelrail.core.models import model_names
-from wheelrail.core.palette import CNOSSOS_COLOURS, model_colour
 from wheelrail.core.parameters import KMH, RunParameters
 from wheelrail.core.study.tables import Table
 
@@ -88,7 +88,7 @@ _OCTAVES = ("63", "125", "250", "500", "1000", "2000", "4000", "8000")
 
 def _frequency_axis(ax, table: Table, ylabel: str, names: tuple[str, ...] = _OCTAVES) -> None:
     """A log band axis ticked at the bands ``names`` (nominal), its label and ``ylabel``."""
-    from wheelrail.core.spectra import nominal_band_label
+    from wheelrail.core.spectra.bands import nominal_band_label
 
     ax.set_xscale("log")
     ticks = [c for c in table.band_centres if nominal_band_label(c) in names]
@@ -205,7 +205,7 @@ def _draw_noise(group: list[Table], figure_id: str):
 def _track_axis(table: Table) -> tuple[np.ndarray, list[str], str]:
     """The tracks of a track study's noise table on an x axis: (positions, tick labels, axis label). One swept
     input: its values in its option's units; several: one position per track, ticked with each one's values."""
-    from wheelrail.core.inputs import inputs_of
+    from wheelrail.core.inputs.declared import inputs_of
 
     swept = [entry for entry in inputs_of("track") if entry.dest in table.columns]
     if len(table.band_centres) == 1:
@@ -220,7 +220,7 @@ def _track_axis(table: Table) -> tuple[np.ndarray, list[str], str]:
 
 def track_labels(table: Table) -> list[str]:
     """Each track of a track study's noise table by its swept values ("pad stiffness 60 MN/m")."""
-    from wheelrail.core.inputs import inputs_of
+    from wheelrail.core.inputs.declared import inputs_of
 
     swept = [entry for entry in inputs_of("track") if entry.dest in table.columns]
     if len(table.band_centres) == 1 or not swept:
@@ -274,7 +274,7 @@ def _draw_track(group: list[Table]):
 
 def _draw_track_force(group: list[Table], noise: dict[str, Table]):
     """The track study's force spectra: per set a row, per model a panel, one curve per track (its values)."""
-    from wheelrail.core.drawing import colour_table
+    from wheelrail.core.drawing.patch import colour_table
 
     models = sorted({model_of(c) for t in group for c in t.columns} - {None}, key=list(model_names()).index)
     figure, axes = _axes_grid(len(group), len(models), height=3.2)

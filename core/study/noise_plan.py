@@ -8,7 +8,7 @@ the sound power of the TWINS-like chain (:func:`wheelrail.core.noise.run_noise.s
 two wheels on two rails) and the pass-by level (40 axles, 200 m, ISO 3095 position), with the directive's wheel
 (L_H,veh), and for the reference model also with the modal wheel's L_H,veh-equivalent in its place
 (``hertz_modal_wheel_...``, :func:`wheelrail.core.noise.twins.with_modal_wheel`). Beside them the CNOSSOS-EU
-source by the rule of :mod:`wheelrail.core.noise.beside` (one axle; track type ``mono-block-soft``, the Table G-3b
+source by the rule of :mod:`wheelrail.core.noise.cnossos_run` (one axle; track type ``mono-block-soft``, the Table G-3b
 wheel diameter nearest 2R, A3 for the preload and 2R), on the same roughness: the set's line 0 as the combined
 roughness (its spectrum at the speed, dB re 1 um; the directive allows measured roughness); once with A3 and once
 with each model's dynamic contact filter L_F(model) - L_F(hertz) (same set, line, speed) in its place. The 10 kHz
@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from wheelrail.core.models import HALFSPACE_MODEL
-from wheelrail.core.noise.beside import CNOSSOS_TRACK_TYPE
+from wheelrail.core.noise.cnossos_run import CNOSSOS_TRACK_TYPE
 from wheelrail.core.parameters import KMH
 from wheelrail.core.study.specs import REFERENCE_MODEL, one_line_models
 from wheelrail.core.study.tables import Table
@@ -46,9 +46,9 @@ def _column(name: str) -> str:
 def _roughness_levels(info, speed: float) -> np.ndarray:
     """Line 0 of the set (plus its wheel set's line 0, if any) as the combined roughness on the 24 bands at ``speed``,
     dB re 1 um (the one-Hann-window band levels of the force spectra, NaN where the record is too short)."""
-    from wheelrail.core.noise.levels import NOISE_BAND_RANGE
     from wheelrail.core.roughness import RoughnessSet, load_roughness
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.bands import NOISE_BAND_RANGE
+    from wheelrail.core.spectra.force import force_spectrum
 
     def line0(source):
         rough = source if isinstance(source, RoughnessSet) else load_roughness(source)
@@ -85,8 +85,8 @@ def plan_noise(infos, study_params, spec_of, params_of):
     specs = [spec for _, runs in layout.values() for spec in runs.values()]
 
     def tabulate(summaries):
-        from wheelrail.core.noise.beside import cnossos_beside
         from wheelrail.core.noise.cnossos import contact_filter_a3
+        from wheelrail.core.noise.cnossos_run import cnossos_beside
         from wheelrail.core.noise.run_noise import sound_power_from_force
         from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
 

@@ -13,13 +13,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wheelrail.core.accepted import check_wheel_circumference
 from wheelrail.core.engine.track_lines import run_lines
 from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.inputs.ranges import check_wheel_circumference
 from wheelrail.core.models import AVERAGE_FILTER_MODEL, BEDDING_MODEL, HALFSPACE_MODEL, WINKLER_FILTER_MODEL
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
-from wheelrail.core.spectra import check_spectrum_length
-from wheelrail.core.spectrum_levels import contact_filter, level_difference, mean_level
+from wheelrail.core.spectra.force import check_spectrum_length
+from wheelrail.core.spectra.levels import contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
     HALF_WHEEL_MASS,
     LOW_RESOLUTION_LINES_MM,
@@ -219,7 +219,7 @@ def plan_study(
         study varies: the speed ``params.run.speed`` (m/s; for ``speeds`` the reference speed of the
         half-mass case), the contact (material, preload, geometry: e.g.
         ``ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)`` for an elliptic patch), the track
-        and the wheel; e.g. ``wheelrail.core.inputs.model_parameters({"pad_stiffness": 60e6})``. The ``track``
+        and the wheel; e.g. ``wheelrail.core.inputs.declared.model_parameters({"pad_stiffness": 60e6})``. The ``track``
         study takes several that differ in their track only: each is a track of the study.
     length : float, optional
         Run length, m. Default: the whole set (rail: the data less the largest window margin, the same for
@@ -260,7 +260,7 @@ def plan_study(
             "set as the wheel set, and a rail set as the set"
         )
     infos = tuple(_set_info(source, length, contact, wheel) for source in sets)
-    if wheel is not None:  # it goes round the wheel of every run (accepted.py), checked before any run
+    if wheel is not None:  # it goes round the wheel of every run (inputs/ranges.py), checked before any run
         check_wheel_circumference(_loaded(wheel.source).length, contact.radius_along, wheel.label)
     labels = [info.label for info in infos]
     if len(set(labels)) != len(labels):

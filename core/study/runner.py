@@ -10,10 +10,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wheelrail.core.atomic import all_or_none, atomic_write, refuse_inputs
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import caption
-from wheelrail.core.jsonready import strict_json
+from wheelrail.core.files.atomic import all_or_none, atomic_write, refuse_inputs
+from wheelrail.core.files.jsonready import strict_json
+from wheelrail.core.inputs.declared import caption
 from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_address
 from wheelrail.core.study.figures import plot_study
@@ -110,7 +110,7 @@ def run_study(
     See Also
     --------
     plan_study : the runs and tables of a study, without running them.
-    wheelrail.core.spectra.contact_filter : the level arithmetic of the tables.
+    wheelrail.core.spectra.levels.contact_filter : the level arithmetic of the tables.
 
     Notes
     -----
@@ -176,9 +176,9 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
 
 
 def study_caption(name: str, plan: StudyPlan) -> str:
-    """What every run of a study shares, as its figures name it (core's :func:`~wheelrail.core.inputs.caption`):
-    the speed unless the study sweeps it, the preload, the contact geometry and the track (the track study: what
-    its tracks share) and the wheel set added to every set."""
+    """What every run of a study shares, as its figures name it (core's
+    :func:`~wheelrail.core.inputs.declared.caption`): the speed unless the study sweeps it, the preload, the contact
+    geometry and the track (the track study: what its tracks share) and the wheel set added to every set."""
     swept = [entry.key for entry in swept_inputs(plan.tracks)] if len(plan.tracks) > 1 else []
     if name in ("speeds", "noise"):  # their figures put the speed on an axis or a curve per speed
         swept.append("speed")
@@ -188,9 +188,9 @@ def study_caption(name: str, plan: StudyPlan) -> str:
 
 def _spectrum_records(plan: StudyPlan, summaries) -> list[dict]:
     """Each distinct record the study's force spectra analysed (speed, steps, the start left out, the duration
-    analysed and the bands it resolves: :meth:`wheelrail.core.spectrum_record.SpectrumRecord.to_dict`), with the
-    line :meth:`~wheelrail.core.spectrum_record.SpectrumRecord.words` says."""
-    from wheelrail.core.spectra import record_of_steps
+    analysed and the bands it resolves: :meth:`wheelrail.core.spectra.record.SpectrumRecord.to_dict`), with the
+    line :meth:`~wheelrail.core.spectra.record.SpectrumRecord.words` says."""
+    from wheelrail.core.spectra.force import record_of_steps
 
     records: dict = {}
     for spec, summary in zip(plan.specs, summaries, strict=True):
@@ -216,7 +216,7 @@ def _summary_document(
     files: list[Path],
 ) -> dict:
     """The JSON summary of a study (SI units; what ``wheelrail study --json`` prints)."""
-    from wheelrail.core.spectra import band_labels
+    from wheelrail.core.spectra.bands import band_labels
 
     summaries = [report.summaries[spec.key] for spec in plan.specs]
     speed = plan.speed

@@ -27,7 +27,7 @@ LOW_RESOLUTION_LINES_MM = {  # Fig. 17: lateral offsets from line 0 kept, mm
 PAPER_SPEEDS_KMH = (75.0, 100.0, 140.0, 200.0)  # Fig. 11
 HALF_WHEEL_MASS = 296.3  # kg, Fig. 11: half of M_W = 592.5 kg
 STUDY_FORMAT_VERSION = 3  # part of every run key: bump when a run's summary changes meaning (2: wheel sets paired
-# by lateral position; 3: a band resolved by its width against the analysed record, core.spectrum_record)
+# by lateral position; 3: a band resolved by its width against the analysed record, core.spectra.record)
 SUMMARY_SCALARS = ("force_mean", "force_std", "force_min", "force_max", "loss_of_contact_steps", "n_steps", "run_time")
 
 
@@ -93,7 +93,8 @@ class RunSpec:
 
     def description(self) -> dict:
         """Everything that determines the run's summary (JSON-able); the key hashes this."""
-        from wheelrail.core.spectra import FORCE_BAND_RANGE, FORCE_SKIP
+        from wheelrail.core.spectra.bands import FORCE_BAND_RANGE
+        from wheelrail.core.spectra.force import FORCE_SKIP
 
         wheel = (
             {} if self.wheel_source is None else {"wheel_set": {"label": self.wheel_label, "digest": self.wheel_digest}}
@@ -262,7 +263,7 @@ def _as_used(spec: RunSpec, source, label: str, positions_of=None):
 def compute_run(spec: RunSpec) -> RunSummary:
     """Run one spec (``keep_pressure=False``) and reduce it to its :class:`RunSummary` (the worker task)."""
     from wheelrail.core.engine import simulate
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.force import force_spectrum
 
     start = time.perf_counter()
     rough, line = study_roughness(spec)

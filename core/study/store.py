@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
+from wheelrail.core.files.atomic import atomic_write
 from wheelrail.core.study.specs import SUMMARY_SCALARS, RunSpec, RunSummary
 
 _ARRAYS = ("run_key", "band_centres_hz", "levels_db", *SUMMARY_SCALARS)
@@ -89,9 +89,9 @@ def summary_problem(summary: RunSummary, spec: RunSpec) -> str:
     """What is wrong with a stored summary of ``spec`` ("" when nothing): shapes, NaN, impossible values.
 
     The levels must be NaN exactly in the bands the run's record cannot resolve
-    (:func:`wheelrail.core.spectra.resolved_force_bands` of its steps and time step) and a number elsewhere.
+    (:func:`wheelrail.core.spectra.force.resolved_force_bands` of its steps and time step) and a number elsewhere.
     """
-    from wheelrail.core.spectra import resolved_force_bands
+    from wheelrail.core.spectra.force import resolved_force_bands
 
     scalars = {name: getattr(summary, name) for name in SUMMARY_SCALARS}
     if not all(isinstance(v, int | float) and math.isfinite(v) for v in scalars.values()):

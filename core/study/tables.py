@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import atomic_write
+from wheelrail.core.files.atomic import atomic_write
 
 
 @dataclass(frozen=True)
@@ -52,7 +52,7 @@ def write_table(table: Table, folder: Path) -> Path:
     """Write ``table`` as ``folder/<name>.csv`` atomically (header row, then one row per band)."""
     path = folder / f"{table.name}.csv"
 
-    from wheelrail.core.spectra import nominal_band_label
+    from wheelrail.core.spectra.bands import nominal_band_label
 
     bands = table.axis_name == "band_centre_hz"
 

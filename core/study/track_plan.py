@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import inputs_of
+from wheelrail.core.inputs.declared import inputs_of
 from wheelrail.core.study.noise_plan import noise_models
 from wheelrail.core.study.tables import Table
 
@@ -41,7 +41,8 @@ def swept_inputs(tracks) -> list:
 
 
 def track_description(params, tracks) -> dict:
-    """The tracks of a study as its JSON summary records them (SI, :func:`wheelrail.core.inputs.describe`'s keys).
+    """The tracks of a study as its JSON summary records them (SI, the keys of
+    :func:`wheelrail.core.inputs.declared.describe`).
 
     Returns
     -------
@@ -49,7 +50,7 @@ def track_description(params, tracks) -> dict:
         ``track``: the inputs every track shares (one track: all of them); ``tracks``: per track, its own values of
         the inputs that differ between the tracks (one track: all of them); ``swept_track_inputs``: their keys.
     """
-    from wheelrail.core.inputs import describe
+    from wheelrail.core.inputs.declared import describe
 
     each = [describe(replace(params, track=track), "track")["track"] for track in tracks or (params.track,)]
     swept = [entry.key for entry in swept_inputs(tracks)] if len(each) > 1 else []
@@ -73,7 +74,7 @@ def track_study_cost(tracks, sets: int = 1, workers: int = 1) -> dict:
     """
     import os
 
-    from wheelrail.core.cache import max_bytes
+    from wheelrail.core.files.cache import max_bytes
     from wheelrail.core.parameters import TrackNumerics
     from wheelrail.core.track import track_cache_path
     from wheelrail.core.track.progress import ENTRY_BYTES, PRECOMPUTE_CPU_S
@@ -95,7 +96,7 @@ def check_track_count(tracks) -> None:
     """Refuse, before any work, a track study of more than :data:`MAX_TRACKS` tracks, or of more tracks than the
     disk cache holds (each track's entry would evict another's, the study's own among them, and every entry of
     other work): one WheelrailError saying the cost, the limit and what to do."""
-    from wheelrail.core.cache import max_bytes
+    from wheelrail.core.files.cache import max_bytes
     from wheelrail.core.track.progress import ENTRY_BYTES, PRECOMPUTE_CPU_S
 
     count = len(tracks)
@@ -198,7 +199,7 @@ def plan_track(infos, params, tracks, spec_of):
 
 def _total(levels) -> float:
     """The energy sum of band levels (dB), unresolved (NaN) bands left out."""
-    from wheelrail.core.noise.levels import energy_sum
+    from wheelrail.core.spectra.levels import energy_sum
 
     values = np.asarray(levels, dtype=float)
     values = values[np.isfinite(values)]

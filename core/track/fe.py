@@ -13,7 +13,7 @@ if TYPE_CHECKING:
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import TrackParameters
-from wheelrail.core.spectra import FORCE_BAND_RANGE
+from wheelrail.core.spectra.bands import FORCE_BAND_RANGE
 
 HALF_BANDWIDTH = 4
 

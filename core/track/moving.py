@@ -354,7 +354,7 @@ def moving_green_functions(
     """Moving Green's functions of the track for a train speed (eq. 2).
 
     Read off the cached stationary responses (see the module docstring) and cached on disk per speed
-    (``core.cache``, kind ``track-moving``; bit-identical). A speed above ``numerics.max_speed`` widens the
+    (``core.files.cache``, kind ``track-moving``; bit-identical). A speed above ``numerics.max_speed`` widens the
     wedge, which means a new one-off precompute.
 
     Parameters
@@ -426,7 +426,7 @@ def _resolved(speed: float, track: TrackParameters | None, numerics: TrackNumeri
 def _reading_key(kind: str, track: TrackParameters, numerics: TrackNumerics, speed: float, **more) -> str:
     """Cache key of what is read off the stationary responses of ``track`` for ``speed``: their key, the speed,
     the rows per position, the reading's version and constants, and ``more``."""
-    from wheelrail.core.cache import cache_key
+    from wheelrail.core.files.cache import cache_key
     from wheelrail.core.track.stationary import track_key
 
     description = {
@@ -441,7 +441,7 @@ def _reading_key(kind: str, track: TrackParameters, numerics: TrackNumerics, spe
 
 def _cached_array(kind: str, key: str, shape: tuple[int, int]) -> np.ndarray | None:
     """The array of a cache entry if it has the expected shape and is finite, else None (then rebuilt)."""
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     arrays = cache.load_entry(kind, key, ("values",))
     if arrays is None or arrays["values"].shape != shape or not np.all(np.isfinite(arrays["values"])):
@@ -450,7 +450,7 @@ def _cached_array(kind: str, key: str, shape: tuple[int, int]) -> np.ndarray | N
 
 
 def _save_array(kind: str, key: str, values: np.ndarray, shape: tuple[int, int]) -> None:
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     if values.shape == shape and np.all(np.isfinite(values)):
         cache.save_entry(kind, key, {"values": values})
@@ -466,7 +466,7 @@ def moving_weights(
     use_cache: bool = True,
 ) -> np.ndarray:
     """``moving_green_functions(speed, track, numerics).weights(time_step, method=method)``, the rows of
-    ``bay_rows`` at the loop's step, cached on disk per track, speed, step and method (``core.cache``, kind
+    ``bay_rows`` at the loop's step, cached on disk per track, speed, step and method (``core.files.cache``, kind
     ``track-weights``): what a run needs of its track, a few MB read back in milliseconds; bit-identical
     (the entry holds the very array).
 

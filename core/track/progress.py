@@ -49,7 +49,7 @@ def current_progress() -> Progress | None:
 def estimate_s(work: float) -> float | None:
     """Seconds this machine should take for ``work`` (excitation positions x time steps x DOFs), scaled from the
     newest track entry in the disk cache that recorded its own; None if there is none."""
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     try:
         found = cache.entries()

@@ -450,7 +450,7 @@ def track_key(track: TrackParameters, numerics: TrackNumerics) -> str:
     """The disk-cache key of the stationary responses of this track and these numerics."""
     from dataclasses import asdict
 
-    from wheelrail.core.cache import cache_key
+    from wheelrail.core.files.cache import cache_key
 
     stored = asdict(numerics)
     del stored["rows_per_position"]  # how the stored responses are read, not what is stored
@@ -462,7 +462,7 @@ def track_key(track: TrackParameters, numerics: TrackNumerics) -> str:
 
 def track_cache_path(track: TrackParameters, numerics: TrackNumerics):
     """Path of the disk-cache entry for these parameters (it may not exist yet)."""
-    from wheelrail.core.cache import entry_path
+    from wheelrail.core.files.cache import entry_path
 
     return entry_path("track-wedge", track_key(track, numerics))
 
@@ -491,7 +491,7 @@ def stationary_track_response(
     numerics : TrackNumerics, optional
         Default: ``TrackNumerics()``.
     use_cache : bool
-        Read and write the disk cache (``wheelrail.core.cache``).
+        Read and write the disk cache (``wheelrail.core.files.cache``).
     progress : callable, optional
         Told the phases of a computation, if one is needed (``wheelrail.core.track.progress``); default: the
         callable of an enclosing ``track_progress`` block.
@@ -501,7 +501,7 @@ def stationary_track_response(
     StationaryTrackResponse
         The impulse responses h(x, x0, t) on the wedge a wheel can reach, m/N per N s.
     """
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     track = TrackParameters() if track is None else track
     numerics = TrackNumerics() if numerics is None else numerics
@@ -542,7 +542,7 @@ def _computed(track, numerics, key: str, use_cache: bool, progress: Progress | N
     """The responses computed and, with ``use_cache``, written to the cache (its path kept if written)."""
     import time
 
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
 
     start = time.perf_counter()
     response = compute_stationary_response(track, numerics, progress)

@@ -12,8 +12,8 @@ import matplotlib.pyplot as plt
 
 from wheelrail.core.engine import simulate
 from wheelrail.core.models import model_names
-from wheelrail.core.spectra import force_spectrum
-from wheelrail.core.spectrum_levels import contact_filter
+from wheelrail.core.spectra.force import force_spectrum
+from wheelrail.core.spectra.levels import contact_filter
 
 levels = {}
 for model in model_names():

@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt
 
 from wheelrail.core.engine import simulate
 from wheelrail.core.parameters import ModelParameters, RunParameters
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 
 fig, ax = plt.subplots(figsize=(6, 3.6))
 for kmh in (75, 100, 140, 200):

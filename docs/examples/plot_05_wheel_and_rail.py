@@ -13,7 +13,7 @@ import numpy as np
 
 from wheelrail.core.engine import simulate
 from wheelrail.core.parameters import ContactParameters, ModelParameters
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 
 params = ModelParameters(contact=ContactParameters(wheel_radius=0.4615))  # m: the wheel set's circumference
 runs = {

@@ -6,7 +6,7 @@ The pad stiffness is the main lever of rolling-noise design. A soft pad decouple
 the rail's vibration decays slowly along the track and the rail radiates more; a stiff pad ties the rail to the
 sleepers, whose own radiation then grows. Here the same rough rail (the bundled corrugated rail, line 0, the
 ``hertz`` model at 100 km/h) runs on the paper's track with 60 MN/m and with 1000 MN/m pads; every other input is
-the paper's. Each track is an input like the speed (``wheelrail.core.inputs``); each new one costs its Green's
+the paper's. Each track is an input like the speed (``wheelrail.core.inputs.declared``); each new one costs its Green's
 functions once (13-60 s, then cached). The run is 2 m long to keep the gallery quick: the bands below 100 Hz
 are not resolved.
 """
@@ -15,10 +15,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from wheelrail.core.engine import simulate
-from wheelrail.core.inputs import model_parameters
+from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.noise.decay import track_decay
 from wheelrail.core.noise.run_noise import run_noise
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 
 pads_mn_m = (60, 1000)
 runs, noise, decay = {}, {}, {}

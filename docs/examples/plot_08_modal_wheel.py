@@ -18,7 +18,7 @@ from wheelrail.core.engine import simulate
 from wheelrail.core.modal_wheel import wheel_modes, wheel_profile_for
 from wheelrail.core.modal_wheel.time_domain import modal_wheel_receptance, modal_wheel_system
 from wheelrail.core.parameters import ModelParameters
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 from wheelrail.core.wheel import wheel_receptance
 
 params = ModelParameters()

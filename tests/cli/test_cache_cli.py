@@ -8,7 +8,7 @@ import os
 import numpy as np
 import pytest
 
-from wheelrail.core import cache
+from wheelrail.core.files import cache
 
 
 @pytest.fixture

@@ -1,12 +1,12 @@
 """Only physical inputs on the command line: every input that once ran silently is one error line naming the
-option, in the option's unit, with the accepted range of core/accepted.py; the help states the same ranges."""
+option, in the option's unit, with the accepted range of core/inputs/ranges.py; the help states the same ranges."""
 
 from __future__ import annotations
 
 import pytest
 
 from wheelrail.cli.dispatch import build_parser, main
-from wheelrail.core.accepted import ACCEPTED
+from wheelrail.core.inputs.ranges import ACCEPTED
 
 RUN = ["run", "--set", "corrugated-rail", "--length-m", "0.05"]
 

@@ -4,7 +4,7 @@
 Each case is accepted (the command goes on to its work) or refused with exit code 2 and one line on stderr that
 names the option and no Python exception. The options are found the way a user finds them, from each command's
 ``--help``; which take a number, from argparse's refusal of text; their ranges from core's declarations
-(:data:`wheelrail.core.accepted.ACCEPTED`, keyed by the command line's name for each key,
+(:data:`wheelrail.core.inputs.ranges.ACCEPTED`, keyed by the command line's name for each key,
 ``cli_error_names``). A command whose work takes seconds or more (a run, a track's Green's functions, a wheel's
 modes, a study, the model track's noise) stops where that work starts: the test checks everything the command
 checks before it (``stop_at_work``); the work itself on accepted values near the limits is in the slow tests
@@ -21,7 +21,7 @@ import pytest
 
 from wheelrail.cli import main
 from wheelrail.cli.commands._common import cli_error_names
-from wheelrail.core.accepted import ACCEPTED
+from wheelrail.core.inputs.ranges import ACCEPTED
 
 COMMON = ("0", "-1", "nan", "inf", "-inf", "1e308", "-1e308", "1e-308", "abc", "")
 FLOATS = ("1e9", "1e-9")
@@ -188,7 +188,7 @@ def test_every_numeric_option_accepts_or_refuses_in_one_line(command, base, caps
 
 def limit_cases(groups: tuple[str, ...]) -> list[tuple[str, str]]:
     """(option, value) at each end of the declared range of every input of ``groups``, in the option's unit."""
-    from wheelrail.core.inputs import inputs_of
+    from wheelrail.core.inputs.declared import inputs_of
 
     cases = []
     for entry in inputs_of(*groups):

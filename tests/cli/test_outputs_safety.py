@@ -120,8 +120,8 @@ def test_every_option_naming_a_file_is_declared_for_the_common_check():
 # all or none: a full disk while writing any output leaves none, and says which file and why ------------------
 def _disk_full_for(suffix, monkeypatch):
     """The run's writer of ``suffix`` files meets a full disk half-way (the real atomic_write around it)."""
-    from wheelrail.core import atomic
     from wheelrail.core.engine import results
+    from wheelrail.core.files import atomic
 
     def write_then_full(path, write, *args, **kwargs):
         if not str(path).endswith(suffix):

@@ -153,7 +153,7 @@ def test_3d_on_a_one_line_set_says_how_wide_a_set_must_be(tmp_path, capsys):
 def test_band_labels_are_the_nominal_names_everywhere(capsys):
     """One convention: nominal band names in text and in ``band_labels``, exact centres in ``band_centres_hz``
     (the text once printed 79, 126, 158, 251 Hz where ``spectra`` printed 80, 125, 160, 250)."""
-    from wheelrail.core.spectra import nominal_band_label
+    from wheelrail.core.spectra.bands import nominal_band_label
 
     argv = ["run", "--set", "corrugated-rail", "--model", "hertz", "--length-m", "1.0"]
     assert main(argv) == 0

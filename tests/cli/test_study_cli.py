@@ -493,7 +493,7 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     simulate(..., wheel_roughness=...)."""
     from wheelrail.core.engine import simulate
     from wheelrail.core.parameters import ContactParameters, ModelParameters
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.force import force_spectrum
 
     out = tmp_path / "speeds"
     base = [
@@ -511,7 +511,7 @@ def test_study_with_a_wheel_set_runs_the_combined_roughness_and_names_it(tmp_pat
     ]
     rail_only = _run_json(base, capsys)
     assert rail_only["wheel_set"] is None and rail_only["runs_computed"] == 5
-    # the bundled wheel sets are 2.900 m round: a wheel of 461.5 mm (accepted.check_wheel_circumference)
+    # the bundled wheel sets are 2.900 m round: a wheel of 461.5 mm (ranges.check_wheel_circumference)
     combined = _run_json([*base, "--wheel-set", "sinter-wheel-1", "--wheel-radius-mm", "461.5"], capsys)
     assert combined["wheel_set"] == "sinter-wheel-1" and combined["sets"] == ["corrugated-rail"]
     assert combined["runs_computed"] == 5 and combined["runs_cached"] == 0  # other keys than the rail alone

@@ -9,7 +9,7 @@ import pytest
 
 from wheelrail.cli.dispatch import main
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import model_parameters
+from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.study import plan_study
 from wheelrail.core.study.noise_plan import noise_models
 from wheelrail.core.study.track_plan import swept_inputs

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import pytest
 
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import by_key
+from wheelrail.core.inputs.declared import by_key
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.parameters import MAX_SPEED_KMH, MIN_SPEED_KMH
 from wheelrail.core.roughness import load_roughness
 from wheelrail.explorer.config import accepted_text, page_message, read_config

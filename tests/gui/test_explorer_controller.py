@@ -14,8 +14,8 @@ import pytest
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL
 from wheelrail.core.parameters import KMH
-from wheelrail.core.spectra import force_spectrum
-from wheelrail.core.spectrum_levels import contact_filter
+from wheelrail.core.spectra.force import force_spectrum
+from wheelrail.core.spectra.levels import contact_filter
 from wheelrail.explorer.config import COMPARE_ORDER, RunConfig
 from wheelrail.explorer.controller import RunController
 

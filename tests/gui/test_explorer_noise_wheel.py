@@ -1,4 +1,4 @@
-"""The Noise tab's choice of the wheel's sound power (``noise_wheel_model`` of ``core.inputs.CHOICES``): the
+"""The Noise tab's choice of the wheel's sound power (``noise_wheel_model`` of ``core.inputs.declared.CHOICES``): the
 directive's L_H,veh or the modal wheel's, used in the tab's curves, table, download and stated in its text."""
 
 import json

@@ -14,12 +14,12 @@ import pytest
 
 from wheelrail.core.engine.track_lines import window_lines
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import inputs_of
+from wheelrail.core.inputs.declared import inputs_of
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters
 from wheelrail.core.recording import read_recording
 from wheelrail.core.reference_filters import reference_filters
 from wheelrail.core.roughness import load_roughness, write_csv
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 from wheelrail.explorer.config import read_config
 from wheelrail.explorer.scene import SCENE_PER_MM
 from wheelrail.explorer.tabs import PatchTab, SpectraTab, TrackTab

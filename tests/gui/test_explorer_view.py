@@ -11,8 +11,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from wheelrail.core import palette
-from wheelrail.core.drawing import colour_table, table_colours
+from wheelrail.core.drawing import palette
+from wheelrail.core.drawing.patch import colour_table, table_colours
 from wheelrail.core.models import model_names
 from wheelrail.core.noise.components import noise_components
 from wheelrail.core.parameters import ContactParameters
@@ -247,7 +247,7 @@ def test_the_line_menu_and_the_run_length_follow_the_set_loaded(app, tmp_path):
 
 def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
     from wheelrail.core.roughness import load_roughness, roughness_spectrum
-    from wheelrail.core.spectrum_levels import energetic_sum
+    from wheelrail.core.spectra.levels import energetic_sum
 
     _reset(app)
     app.form.wheel_set_dropdown.value = "sinter-wheel-1"
@@ -382,8 +382,8 @@ def test_the_noise_tab_shows_the_runs_sound_power_beside_cnossos_and_plays_its_p
     from rerun.chunk import RrdReader
     from scipy.io import wavfile
 
-    from wheelrail.core.noise.levels import a_weighting
     from wheelrail.core.noise.run_noise import pass_by_level
+    from wheelrail.core.spectra.levels import a_weighting
 
     _reset(app, model="hertz", length="1")
     result = finish_run(app)
@@ -523,7 +523,7 @@ def test_the_spectra_tab_says_what_its_spectra_analysed(app, finish_run):
     """The Spectra tab states the record its force spectra analysed (core's ``spectrum_record``: the start left out,
     the duration analysed, the bands resolved), as ``run`` and ``spectra`` print it; a short run resolves only the
     upper bands, and the note says so rather than leaving the gaps unexplained."""
-    from wheelrail.core.spectra import spectrum_record
+    from wheelrail.core.spectra.force import spectrum_record
 
     _reset(app, model="hertz", speed="100", length="0.6")
     result = finish_run(app)

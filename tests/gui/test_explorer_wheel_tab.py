@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import inputs_of
+from wheelrail.core.inputs.declared import inputs_of
 from wheelrail.core.modal_wheel import contact_receptance, wheel_modes, wheel_profile_for
 from wheelrail.core.noise import wheel_power
 from wheelrail.core.noise.twins import band_frequencies

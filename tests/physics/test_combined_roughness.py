@@ -14,12 +14,12 @@ from wheelrail.core.engine.track_lines import run_lines, window_lines
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.roughness import RoughnessSet, lines_along_track, load_roughness, to_model_grid
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 from wheelrail.explorer.config import page_message
 
 RAIL = load_roughness("corrugated-rail")
 BUNDLED_WHEEL = load_roughness("sinter-wheel-1")  # 2.900 m round: the roughness of a 461.5 mm wheel
-# A wheel set goes round its own wheel (accepted.check_wheel_circumference). The physics tests keep the paper's
+# A wheel set goes round its own wheel (ranges.check_wheel_circumference). The physics tests keep the paper's
 # 390 mm circle and give the wheel set its circumference: the same heights on a 15.5 % shorter spacing.
 WHEEL = dataclasses.replace(BUNDLED_WHEEL, dx=BUNDLED_WHEEL.dx * 2 * np.pi * 0.39 / BUNDLED_WHEEL.length)
 BUNDLED = ModelParameters(contact=ContactParameters(radius=BUNDLED_WHEEL.length / (2 * np.pi)))  # its own wheel
@@ -117,7 +117,7 @@ def _across_sets():
     amplitude grows across the tread: r_W(x, y) = A(y) sin(2 pi x / 50 mm), A(y) = 2 um (1 + y / 25 mm), 0.08
     to 3.92 um over +-24 mm. A is linear in y, so the wheel between two of its lines is known exactly. The wheel
     set is 2.45 m round, 49 wavelengths: the paper's 390 mm wheel (2 pi R = 2.4504 m, within the 1 % a wheel
-    set must keep to its wheel's circumference, accepted.check_wheel_circumference)."""
+    set must keep to its wheel's circumference, ranges.check_wheel_circumference)."""
     rng = np.random.default_rng(7)
     rail = RoughnessSet(
         heights=0.3e-6 * rng.standard_normal((19, 1501)),
@@ -241,7 +241,7 @@ def test_the_energetic_sum_of_two_roughness_spectra_is_the_spectrum_of_their_sum
     """The explorer's combined roughness spectrum: rail and wheel levels added energetically
     (``energetic_sum``) match the spectrum of the summed heights of two independent sets."""
     from wheelrail.core.roughness import roughness_spectrum
-    from wheelrail.core.spectrum_levels import energetic_sum
+    from wheelrail.core.spectra.levels import energetic_sum
 
     rng = np.random.default_rng(7)
     first = RAIL.with_heights(rng.normal(0.0, 2e-6, RAIL.heights.shape))

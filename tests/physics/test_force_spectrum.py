@@ -6,13 +6,8 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.spectra import (
-    FORCE_SKIP,
-    force_spectrum,
-    resolved_force_bands,
-    spectrum_record,
-    third_octave_bands,
-)
+from wheelrail.core.spectra.bands import third_octave_bands
+from wheelrail.core.spectra.force import FORCE_SKIP, force_spectrum, resolved_force_bands, spectrum_record
 
 DT = 1e-3 / (100 / 3.6)  # s: one 1 mm element at 100 km/h, the paper's step (36 µs)
 
@@ -87,7 +82,7 @@ def test_run_result_and_array_give_the_same_spectrum():
 def test_the_shortest_run_with_a_spectrum_is_force_spectrums_own_rule(kmh):
     # spectra.shortest_spectrum_run (what the explorer offers, the studies and `wheelrail run` check) against
     # force_spectrum itself: a run of that length has a spectrum, one element less has none
-    from wheelrail.core.spectra import check_spectrum_length, shortest_spectrum_run
+    from wheelrail.core.spectra.force import check_spectrum_length, shortest_spectrum_run
 
     speed, dx = kmh / 3.6, 1e-3
     steps = round(shortest_spectrum_run(speed, dx) / dx)

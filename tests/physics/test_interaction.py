@@ -9,7 +9,7 @@ from wheelrail.core.engine import prepare_run, simulate
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters, ModelParameters
 from wheelrail.core.roughness import RoughnessSet, load_roughness
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 from wheelrail.core.track import moving_green_functions
 from wheelrail.core.wheel import wheel_receptance
 

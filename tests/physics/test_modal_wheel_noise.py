@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import model_parameters
+from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.noise.cnossos import vehicle_transfer
-from wheelrail.core.noise.levels import noise_bands
 from wheelrail.core.noise.run_noise import AXLE_DB, sound_power_from_force
 from wheelrail.core.noise.twins import NoiseNumerics, track_noise_model
 from wheelrail.core.noise.wheel_power import checked_wheel_model, modal_wheel_profile
+from wheelrail.core.spectra.bands import noise_bands
 
 # a short, coarse track (the wheel's transfer depends on the track only through alpha_R at the contact) with the
 # chain's 20 points per band (alpha_R is interpolated between them for the wheel's own 1 000 points per band)

@@ -4,7 +4,8 @@ the run's step): the very arrays the stationary responses give, read back withou
 import numpy as np
 import pytest
 
-from wheelrail.core import cache, track
+from wheelrail.core import track
+from wheelrail.core.files import cache
 from wheelrail.core.parameters import FOH_MAX_STEP, TrackNumerics, TrackParameters
 
 SMALL = TrackNumerics(duration=0.005, positions_per_bay=2, max_speed=100 / 3.6)

@@ -36,9 +36,10 @@ from wheelrail.core.noise.cnossos import (
     interpolation_difference,
     roughness_to_frequency,
 )
-from wheelrail.core.noise.levels import a_weighting, noise_bands
 from wheelrail.core.noise.tables import load_table
 from wheelrail.core.reference_filters import cnossos_filter
+from wheelrail.core.spectra.bands import noise_bands
+from wheelrail.core.spectra.levels import a_weighting
 
 DATA = Path(__file__).parent.parent / "data"
 TOL = 0.05  # dB, see the module docstring

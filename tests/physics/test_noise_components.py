@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from wheelrail.cli.dispatch import main
+from wheelrail.core.drawing.palette import OKABE_ITO
 from wheelrail.core.engine import simulate
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise import run_noise as run_noise_module
@@ -23,11 +24,10 @@ from wheelrail.core.noise.components import (
     sound_power_parts,
     unregister_component,
 )
-from wheelrail.core.noise.levels import energy_sum
 from wheelrail.core.noise.run_noise import run_noise
 from wheelrail.core.noise.twins import NoiseNumerics, track_noise_model
-from wheelrail.core.palette import OKABE_ITO
 from wheelrail.core.parameters import ModelParameters
+from wheelrail.core.spectra.levels import energy_sum
 
 SMALL = NoiseNumerics(track_bays=40, elements_per_bay=4, points_per_band=1)  # coarse: the plumbing, not the physics
 QUARTER_DB = 10 * math.log10(0.25)

@@ -16,11 +16,11 @@ from scipy.io import wavfile
 from wheelrail.cli.commands._common import CLI_NAMES
 from wheelrail.core.engine import simulate
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.noise.levels import noise_bands
 from wheelrail.core.noise.run_noise import laeq_of_pressure, pass_by_level, receiver_distance, run_noise
 from wheelrail.core.noise.twins import NoiseNumerics, track_noise_model
 from wheelrail.core.parameters import ModelParameters
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.bands import noise_bands
+from wheelrail.core.spectra.force import force_spectrum
 
 SMALL = NoiseNumerics(track_bays=60, elements_per_bay=8, points_per_band=2)  # fast; see the convergence test
 

@@ -14,7 +14,6 @@ import pytest
 import scipy.integrate
 import scipy.special
 
-from wheelrail.core.bands import Bands, frequency_bands, wavelength_bands
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters
 from wheelrail.core.reference_filters import (
@@ -29,7 +28,8 @@ from wheelrail.core.reference_filters import (
     reference_filters,
     run_reference_filters,
 )
-from wheelrail.core.roughness_limits import ISO3095_LIMIT_DB, iso3095_limit, iso3095_margin
+from wheelrail.core.roughness.iso3095 import ISO3095_LIMIT_DB, iso3095_limit, iso3095_margin
+from wheelrail.core.spectra.bands import Bands, frequency_bands, wavelength_bands
 
 DATA = Path(__file__).parent.parent / "data" / "cnossos_2021_rail.csv"
 COLUMNS = {
@@ -204,7 +204,7 @@ def test_monte_carlo_patch_averages_follow_the_analytic_filters():
 def test_2d_and_hertz_average_dynamic_filters_follow_the_averaging_filter():
     from wheelrail.core.engine import simulate
     from wheelrail.core.roughness import RoughnessSet
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.force import force_spectrum
     from wheelrail.core.study import contact_filter, mean_level
 
     length = 1.5  # m at 100 km/h (paper defaults: 65 kN, R = 0.39 m): short runs, three lines

@@ -22,14 +22,8 @@ from wheelrail.core.roughness.synthesis import (
     expected_coherence,
     synthesize,
 )
-from wheelrail.core.spectra import (
-    band_coherence,
-    band_power,
-    narrowband_spectrum,
-    nominal_band_label,
-    third_octave_bands,
-    third_octave_spectrum,
-)
+from wheelrail.core.spectra.bands import nominal_band_label, third_octave_bands
+from wheelrail.core.spectra.narrowband import band_coherence, band_power, narrowband_spectrum, third_octave_spectrum
 
 V = 100 / 3.6  # m/s, the paper's speed
 

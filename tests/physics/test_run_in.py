@@ -1,4 +1,4 @@
-"""The run's start: from the moving load's steady state (``core/steady_start.py``), so that the recorded force
+"""The run's start: from the moving load's steady state (``core/engine/steady_start.py``), so that the recorded force
 carries no start-up transient, at every speed, after a run-in of a few steps."""
 
 from __future__ import annotations

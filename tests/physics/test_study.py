@@ -10,7 +10,7 @@ import pytest
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
 from wheelrail.core.reference_filters import reference_filters
 from wheelrail.core.roughness import RoughnessSet
-from wheelrail.core.spectra import BAND_HALF_WIDTH
+from wheelrail.core.spectra.bands import BAND_HALF_WIDTH
 from wheelrail.core.study import (
     HALF_WHEEL_MASS,
     PAPER_SPEEDS_KMH,

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.noise.levels import noise_bands
 from wheelrail.core.parameters import RailParameters, SupportParameters, TrackParameters
+from wheelrail.core.spectra.bands import noise_bands
 from wheelrail.core.track.fe import RELAXATION_FIT_BAND_HZ, assemble_track, rail_relaxation, track_receptance
 from wheelrail.core.track.stationary import rail_impulse_responses
 

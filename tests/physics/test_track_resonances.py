@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from wheelrail.core.accepted import ACCEPTED
-from wheelrail.core.inputs import inputs_of
+from wheelrail.core.inputs.declared import inputs_of
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.parameters import RailParameters, SupportParameters, TrackParameters
 from wheelrail.core.track import RESONANCE_KINDS, assemble_track, receptance_peaks, track_receptance
 from wheelrail.core.track.resonances import named_band_edges
@@ -19,7 +19,7 @@ PAPER = TrackParameters()
 
 
 def _track(key: str, value: float, base: TrackParameters = PAPER) -> TrackParameters:
-    """``base`` with one declared track input (``core.inputs``, group "track") set to ``value`` (SI)."""
+    """``base`` with one declared track input (``core.inputs.declared``, group "track") set to ``value`` (SI)."""
     (entry,) = [e for e in inputs_of("track") if e.key == key]
     part, field = entry.path.split(".")[1:]
     if part == "rail":

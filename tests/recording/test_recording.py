@@ -23,7 +23,7 @@ from wheelrail.core.recording import (
     sink_from_args,
 )
 from wheelrail.core.roughness import load_roughness
-from wheelrail.core.spectra import force_spectrum
+from wheelrail.core.spectra.force import force_spectrum
 
 DT = 1e-3 / (100 / 3.6)  # s, 1 mm at 100 km/h
 N_STEPS = 700  # 25 ms: enough for a force spectrum after the 20 ms start-up skip
@@ -530,7 +530,7 @@ def test_direct_columns_equal_the_archetypes_columns():
 def test_surface_kernel_gives_numpys_vertices_and_colours():
     """The compiled surface fill equals the numpy it replaced: z = p * float32(a / p0), table_colours' colours
     (below 0, within, above the ramp's top, and a zero map), exactly."""
-    from wheelrail.core.drawing import PRESSURE_RANGE_P0, colour_table, packed_rgba, table_colours
+    from wheelrail.core.drawing.patch import PRESSURE_RANGE_P0, colour_table, packed_rgba, table_colours
     from wheelrail.core.recording.pressure import surface_kernel
 
     table = packed_rgba(colour_table())

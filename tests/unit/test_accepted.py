@@ -1,4 +1,4 @@
-"""Only physical inputs through the Python API: one table of accepted ranges (core/accepted.py), each input
+"""Only physical inputs through the Python API: one table of accepted ranges (core/inputs/ranges.py), each input
 outside it one WheelrailError that carries the input's key, the value and the range."""
 
 from __future__ import annotations
@@ -9,7 +9,8 @@ import pickle
 import numpy as np
 import pytest
 
-from wheelrail.core.accepted import (
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.ranges import (
     ACCEPTED,
     CIRCUMFERENCE_TOLERANCE,
     MAX_SPEED_KMH,
@@ -17,7 +18,6 @@ from wheelrail.core.accepted import (
     PATCH_FRACTION,
     check_wheel_circumference,
 )
-from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.reference_filters import reference_filters
 from wheelrail.core.roughness import load_roughness

@@ -11,8 +11,8 @@ import warnings
 import numpy as np
 import pytest
 
-from wheelrail.core.accepted import WHEEL_SYSTEM
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.ranges import WHEEL_SYSTEM
 from wheelrail.core.parameters import (
     ContactParameters,
     ModelParameters,

@@ -13,16 +13,17 @@ import pytest
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters, RunParameters
-from wheelrail.core.spectrum_levels import contact_filter, energetic_sum, level_difference, mean_level
+from wheelrail.core.spectra.levels import contact_filter, energetic_sum, level_difference, mean_level
 
 MODULES = (
-    "wheelrail.core.spectra",
-    "wheelrail.core.bands",
+    "wheelrail.core.spectra.bands",
+    "wheelrail.core.spectra.narrowband",
+    "wheelrail.core.spectra.force",
+    "wheelrail.core.spectra.levels",
     "wheelrail.core.parameters",
-    "wheelrail.core.noise.levels",
     "wheelrail.core.noise.cnossos",
     "wheelrail.core.noise.run_noise",
-    "wheelrail.core.noise.beside",
+    "wheelrail.core.noise.cnossos_run",
     "wheelrail.core.noise.radiation",
     "wheelrail.core.noise.twins",
     "wheelrail.core.noise.tables",

@@ -8,8 +8,8 @@ import sys
 import numpy as np
 import pytest
 
-from wheelrail.core.atomic import atomic_write
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.files.atomic import atomic_write
 from wheelrail.core.roughness import load_roughness, write_csv
 
 
@@ -57,7 +57,7 @@ def test_exports_use_it(tmp_path):
 
 
 def test_files_written_together_appear_together(tmp_path):
-    from wheelrail.core.atomic import all_or_none
+    from wheelrail.core.files.atomic import all_or_none
 
     old = tmp_path / "b.png"
     old.write_text("previous figure")
@@ -92,7 +92,7 @@ def test_a_failed_write_names_the_file_and_the_reason(tmp_path):
 
 _KILLED_WRITER = """
 import sys
-from wheelrail.core.atomic import atomic_write
+from wheelrail.core.files.atomic import atomic_write
 
 def write(handle):
     handle.write(b"half of a result")
@@ -120,7 +120,7 @@ def _killed_while_writing(path) -> int:
 
 
 def test_the_temporary_of_a_writer_killed_mid_write_is_removed_by_the_next_write(tmp_path, monkeypatch):
-    from wheelrail.core import atomic
+    from wheelrail.core.files import atomic
 
     pid = _killed_while_writing(tmp_path / "result.npz")
     left = [p.name for p in tmp_path.iterdir()]
@@ -138,7 +138,7 @@ def test_the_temporary_of_a_writer_killed_mid_write_is_removed_by_the_next_write
 
 
 def test_an_output_that_is_an_input_is_refused_however_spelled(tmp_path, monkeypatch):
-    from wheelrail.core.atomic import refuse_inputs
+    from wheelrail.core.files.atomic import refuse_inputs
 
     monkeypatch.chdir(tmp_path)
     (tmp_path / "sub").mkdir()

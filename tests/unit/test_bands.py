@@ -1,10 +1,10 @@
-"""Wavelength and frequency bands and the level mapping between them (core/bands.py)."""
+"""Wavelength and frequency bands and the level mapping between them (core/spectra/bands.py)."""
 
 import numpy as np
 import pytest
 
-from wheelrail.core.bands import Bands, frequency_bands, map_levels, wavelength_bands
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.spectra.bands import Bands, frequency_bands, map_levels, wavelength_bands
 
 
 def test_cnossos_wavelength_bands():

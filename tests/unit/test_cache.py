@@ -5,7 +5,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from wheelrail.core import cache, track
+from wheelrail.core import track
+from wheelrail.core.files import cache
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
 
 SMALL = TrackNumerics(duration=0.005, positions_per_bay=2, max_speed=100 / 3.6)
@@ -105,7 +106,7 @@ def test_temporary_of_a_killed_writer_is_removed(tmp_path, monkeypatch):
 
     script = (
         "import sys, numpy as np\n"
-        "from wheelrail.core import cache\n"
+        "from wheelrail.core.files import cache\n"
         "def blocked(handle, **arrays):\n"
         "    handle.write(b'x' * 1000); handle.flush(); print('writing', flush=True); sys.stdin.read()\n"
         "np.savez = blocked\n"

@@ -54,7 +54,7 @@ def test_time_history_csv_holds_the_arrays_and_names_the_configuration(tmp_path)
 
 
 def test_sound_power_csv_has_band_names_exact_centres_and_empty_unresolved_bands():
-    from wheelrail.core.noise.levels import noise_bands
+    from wheelrail.core.spectra.bands import noise_bands
 
     f = noise_bands()
     level = np.linspace(80.0, 100.0, 24)

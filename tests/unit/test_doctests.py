@@ -13,7 +13,7 @@ ROOT = Path(__file__).resolve().parents[2]
 # module -> the functions and classes whose docstrings must carry an Examples section
 DOCUMENTED = {
     "wheelrail.core.errors": ["WheelrailError"],
-    "wheelrail.core.inputs": ["Input", "model_parameters", "describe"],
+    "wheelrail.core.inputs.declared": ["Input", "model_parameters", "describe"],
     "wheelrail.core.contact.hertz": ["hertz_force", "hertz_stiffness", "hertz_approach"],
     "wheelrail.core.contact.hertz_model": ["hertz_constant"],
     "wheelrail.core.contact.influence": ["influence_kernel"],
@@ -33,12 +33,9 @@ DOCUMENTED = {
     "wheelrail.core.track.resonances": ["band_edges", "receptance_peaks"],
     "wheelrail.core.wheel": ["wheel_receptance"],
     "wheelrail.core.parameters": ["ContactParameters"],
-    "wheelrail.core.spectra": [
-        "third_octave_bands",
-        "force_spectrum",
-        "shortest_spectrum_run",
-    ],
-    "wheelrail.core.spectrum_levels": ["mean_level", "contact_filter"],
+    "wheelrail.core.spectra.bands": ["third_octave_bands"],
+    "wheelrail.core.spectra.force": ["force_spectrum", "shortest_spectrum_run"],
+    "wheelrail.core.spectra.levels": ["mean_level", "contact_filter"],
 }
 
 

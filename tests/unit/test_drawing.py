@@ -1,11 +1,11 @@
-"""Drawing helpers shared by the recording and the explorer (core/drawing.py)."""
+"""Drawing helpers shared by the recording and the explorer (core/drawing/patch.py)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from wheelrail.core.drawing import (
+from wheelrail.core.drawing.patch import (
     VIRIDIS_ANCHORS,
     circle_points,
     circle_segments,

@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from wheelrail.cli.commands._common import CLI_NAMES
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import Blame, Name, WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.parameters import KMH, ContactParameters, RunParameters
 from wheelrail.explorer.config import FIELD_NAMES, page_message
 
@@ -65,7 +65,7 @@ def test_advice_is_given_where_the_remedy_is_known_and_names_no_option():
     # the spectrum's skip: an argument of force_spectrum and an option of `wheelrail spectra` (ms)
     import numpy as np
 
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.force import force_spectrum
 
     error = _error(force_spectrum, np.zeros(100), 1e-3, skip=0.09)
     assert str(error) == (

@@ -1,5 +1,5 @@
-"""Each user-facing input is declared once (core/inputs.py); the command line's options, the explorer's fields, the
-error wording of each front end and the study's parameters all derive from that declaration."""
+"""Each user-facing input is declared once (core/inputs/declared.py); the command line's options, the explorer's
+fields, the error wording of each front end and the study's parameters all derive from that declaration."""
 
 from __future__ import annotations
 
@@ -10,10 +10,10 @@ import pytest
 
 from wheelrail.cli.commands._common import params_from_args
 from wheelrail.cli.dispatch import build_parser, main
-from wheelrail.core import inputs
-from wheelrail.core.accepted import ACCEPTED, Accepted
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs import GROUPS, INPUTS, Input, Unit, by_key, describe, inputs_of, model_parameters
+from wheelrail.core.inputs import declared
+from wheelrail.core.inputs.declared import GROUPS, INPUTS, Input, Unit, by_key, describe, inputs_of, model_parameters
+from wheelrail.core.inputs.ranges import ACCEPTED, Accepted
 from wheelrail.core.parameters import ModelParameters, SupportParameters
 
 TRACK_OPTIONS = (
@@ -98,7 +98,7 @@ def test_adding_an_input_is_one_declaration(monkeypatch, capsys):
     rail_mass = Input(
         "rail_mass", "track.rail.mass_per_length", Unit("kg/m", 1.0, "kg-m"), "Rail mass", "track", "mass"
     )
-    monkeypatch.setattr(inputs, "INPUTS", (*INPUTS, rail_mass))
+    monkeypatch.setattr(declared, "INPUTS", (*INPUTS, rail_mass))
     monkeypatch.setitem(ACCEPTED, "rail_mass", Accepted("rail_mass", "kg/m", 30.0, 80.0, "rails from 30 to 80 kg/m"))
     with pytest.raises(SystemExit):
         main(["run", "--help"])
@@ -191,10 +191,10 @@ def test_a_run_states_its_track_and_contact_geometry(capsys):
 
 
 def test_the_wheel_model_is_a_declared_choice():
-    """--wheel-model is declared once (core.inputs.CHOICES): its values, default, option and error key."""
+    """--wheel-model is declared once (core.inputs.declared.CHOICES): its values, default, option and error key."""
     from wheelrail.cli.commands._common import CLI_NAMES
     from wheelrail.core.errors import WheelrailError
-    from wheelrail.core.inputs import choice
+    from wheelrail.core.inputs.declared import choice
     from wheelrail.core.noise.wheel_power import DEFAULT_WHEEL_MODEL, WHEEL_MODELS
 
     entry = choice("noise_wheel_model")

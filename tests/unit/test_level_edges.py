@@ -11,10 +11,9 @@ import warnings
 import numpy as np
 import pytest
 
-from wheelrail.core import bands, spectra, spectrum_levels
-from wheelrail.core.checks import LEVEL_LIMIT_DB
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.noise import levels
+from wheelrail.core.inputs.checks import LEVEL_LIMIT_DB
+from wheelrail.core.spectra import bands, force, levels, narrowband
 
 ODD = {
     "nan": math.nan,
@@ -47,37 +46,37 @@ CALLS = {  # each public function, one argument at a time replaced by the odd va
     "frequency_bands range pair": lambda v: bands.frequency_bands(10.0, v),
     "Bands centres": lambda v: bands.Bands(centres=v, axis="frequency", speed=10.0).wavenumber_edges(),
     "map_levels": lambda v: bands.map_levels(v, _BANDS, _BANDS),
-    "third_octave_bands": lambda v: spectra.third_octave_bands(v, 100.0),
-    "nominal_band_label": lambda v: spectra.nominal_band_label(v),
-    "band_labels": lambda v: spectra.band_labels(v),
-    "narrowband_spectrum signal": lambda v: spectra.narrowband_spectrum(v, 10.0),
-    "narrowband_spectrum rate": lambda v: spectra.narrowband_spectrum(np.ones(8), v),
-    "hann_window": lambda v: spectra.hann_window(v),
-    "band_power psd": lambda v: spectra.band_power(np.arange(4.0), v, *_EDGES),
-    "band_power frequencies": lambda v: spectra.band_power(v, np.ones(4), *_EDGES),
-    "band_power edges": lambda v: spectra.band_power(np.arange(4.0), np.ones(4), v, _EDGES[1]),
-    "level_db": lambda v: spectra.level_db(v, 1.0),
-    "level_db reference": lambda v: spectra.level_db(1.0, v),
-    "third_octave_levels": lambda v: spectra.third_octave_levels(v, 10.0, *_EDGES, 1.0),
-    "third_octave_levels reference": lambda v: spectra.third_octave_levels(np.ones(16), 10.0, *_EDGES, v),
-    "third_octave_spectrum rate": lambda v: spectra.third_octave_spectrum(np.ones(64), v, (1.0, 10.0), 1.0),
-    "block_spectra": lambda v: spectra.block_spectra(v, np.ones((2, 64)), 10.0, 2),
-    "block_spectra rate": lambda v: spectra.block_spectra(np.ones(64), np.ones((2, 64)), v, 2),
-    "band_coherence": lambda v: spectra.band_coherence(np.ones(64), np.ones((2, 64)), 10.0, v, _EDGES[1], 2),
-    "shortest_spectrum_run speed": lambda v: spectra.shortest_spectrum_run(v, 1e-3),
-    "shortest_spectrum_run element": lambda v: spectra.shortest_spectrum_run(10.0, v),
-    "check_spectrum_length": lambda v: spectra.check_spectrum_length(v, 10.0, 1e-3),
-    "force_spectrum": lambda v: spectra.force_spectrum(v, 1e-4),
-    "force_spectrum time_step": lambda v: spectra.force_spectrum(np.ones(2000), v),
-    "resolved_force_bands": lambda v: spectra.resolved_force_bands(v, 1e-4),
-    "resolved_force_bands time_step": lambda v: spectra.resolved_force_bands(1000, v),
-    "record_of_steps skip": lambda v: spectra.record_of_steps(1000, 1e-4, skip=v).resolved,
-    "spectrum_record": lambda v: spectra.spectrum_record(v, 1e-4).duration,
-    "spectrum_record skip": lambda v: spectra.spectrum_record(np.ones(2000), 1e-4, skip=v).words(),
-    "mean_level": lambda v: spectrum_levels.mean_level([v]),
-    "level_difference": lambda v: spectrum_levels.level_difference(v, [1.0]),
-    "energetic_sum": lambda v: spectrum_levels.energetic_sum(v, [1.0]),
-    "contact_filter": lambda v: spectrum_levels.contact_filter(v, [1.0]),
+    "third_octave_bands": lambda v: bands.third_octave_bands(v, 100.0),
+    "nominal_band_label": lambda v: bands.nominal_band_label(v),
+    "band_labels": lambda v: bands.band_labels(v),
+    "narrowband_spectrum signal": lambda v: narrowband.narrowband_spectrum(v, 10.0),
+    "narrowband_spectrum rate": lambda v: narrowband.narrowband_spectrum(np.ones(8), v),
+    "hann_window": lambda v: narrowband.hann_window(v),
+    "band_power psd": lambda v: narrowband.band_power(np.arange(4.0), v, *_EDGES),
+    "band_power frequencies": lambda v: narrowband.band_power(v, np.ones(4), *_EDGES),
+    "band_power edges": lambda v: narrowband.band_power(np.arange(4.0), np.ones(4), v, _EDGES[1]),
+    "level_db": lambda v: narrowband.level_db(v, 1.0),
+    "level_db reference": lambda v: narrowband.level_db(1.0, v),
+    "third_octave_levels": lambda v: narrowband.third_octave_levels(v, 10.0, *_EDGES, 1.0),
+    "third_octave_levels reference": lambda v: narrowband.third_octave_levels(np.ones(16), 10.0, *_EDGES, v),
+    "third_octave_spectrum rate": lambda v: narrowband.third_octave_spectrum(np.ones(64), v, (1.0, 10.0), 1.0),
+    "block_spectra": lambda v: narrowband.block_spectra(v, np.ones((2, 64)), 10.0, 2),
+    "block_spectra rate": lambda v: narrowband.block_spectra(np.ones(64), np.ones((2, 64)), v, 2),
+    "band_coherence": lambda v: narrowband.band_coherence(np.ones(64), np.ones((2, 64)), 10.0, v, _EDGES[1], 2),
+    "shortest_spectrum_run speed": lambda v: force.shortest_spectrum_run(v, 1e-3),
+    "shortest_spectrum_run element": lambda v: force.shortest_spectrum_run(10.0, v),
+    "check_spectrum_length": lambda v: force.check_spectrum_length(v, 10.0, 1e-3),
+    "force_spectrum": lambda v: force.force_spectrum(v, 1e-4),
+    "force_spectrum time_step": lambda v: force.force_spectrum(np.ones(2000), v),
+    "resolved_force_bands": lambda v: force.resolved_force_bands(v, 1e-4),
+    "resolved_force_bands time_step": lambda v: force.resolved_force_bands(1000, v),
+    "record_of_steps skip": lambda v: force.record_of_steps(1000, 1e-4, skip=v).resolved,
+    "spectrum_record": lambda v: force.spectrum_record(v, 1e-4).duration,
+    "spectrum_record skip": lambda v: force.spectrum_record(np.ones(2000), 1e-4, skip=v).words(),
+    "mean_level": lambda v: levels.mean_level([v]),
+    "level_difference": lambda v: levels.level_difference(v, [1.0]),
+    "energetic_sum": lambda v: levels.energetic_sum(v, [1.0]),
+    "contact_filter": lambda v: levels.contact_filter(v, [1.0]),
 }
 
 
@@ -122,11 +121,11 @@ def test_extreme_but_valid_inputs_have_their_exact_answers():
     assert levels.a_weighting(1e300) == pytest.approx(40 * math.log10(12194.217 / 1e300) - _a_weighting_textbook(1e3))
     assert levels.a_weighting(0.0) == -math.inf  # documented: no weighting of a constant
     assert levels.level(1.0, 1e300) == -6000.0 and levels.power_level(1e300) == pytest.approx(3120.0)
-    assert spectra.level_db(0.0, 1e-300) == -math.inf
+    assert narrowband.level_db(0.0, 1e-300) == -math.inf
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert spectrum_levels.energetic_sum([-math.inf], [-math.inf]) == -math.inf  # no power twice is no power
+        assert levels.energetic_sum([-math.inf], [-math.inf]) == -math.inf  # no power twice is no power
         assert np.isnan(levels.energy_sum([math.nan], [60.0]))  # a band without an estimate stays without
     with pytest.raises(WheelrailError, match=f"beyond \\+-{LEVEL_LIMIT_DB:g} dB"):
-        spectrum_levels.mean_level([[1e300, 1.0]])
-    assert spectra.nominal_band_label(1e300) == "1e+300"
+        levels.mean_level([[1e300, 1.0]])
+    assert bands.nominal_band_label(1e300) == "1e+300"

@@ -1,4 +1,4 @@
-"""Memory bounds of a run (core/limits.py): the estimate bounds the traced peak, absurd runs are refused."""
+"""Memory bounds of a run (core/engine/memory.py): the estimate bounds the traced peak, absurd runs are refused."""
 
 import tracemalloc
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wheelrail.core.accepted import ACCEPTED
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.modal_wheel import (
     NAMED_WHEELS,
     WheelProfile,

@@ -1,4 +1,4 @@
-"""The figures' palette (``wheelrail.core.palette``): colours drawn together stay apart, under normal vision and
+"""The figures' palette (``wheelrail.core.drawing.palette``): colours drawn together stay apart, under normal vision and
 under simulated deuteranopia and protanopia, and every front end takes them from there."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from wheelrail.core import palette
+from wheelrail.core.drawing import palette
 from wheelrail.core.models import model_names
 from wheelrail.core.noise.components import noise_components
 

@@ -85,7 +85,7 @@ def test_the_scan_finds_each_form_of_use(tmp_path):
         "import wheelrail.core.track.stationary as st\n"
         "from wheelrail.core.track import fe\n"
         "from wheelrail.core.engine.kernels import _scatter\n"
-        "st._MEMORY.clear(); fe._pad_couplings; wheelrail.core.cache._lock; fe.assemble_track\n"
+        "st._MEMORY.clear(); fe._pad_couplings; wheelrail.core.files.cache._lock; fe.assemble_track\n"
     )
     modules = set(_sources()) | {"wheelrail", "wheelrail.core"}
     assert sorted(text for _, text in private_uses(probe, modules)) == sorted(
@@ -93,6 +93,6 @@ def test_the_scan_finds_each_form_of_use(tmp_path):
             "from wheelrail.core.engine.kernels import _scatter",
             "wheelrail.core.track.stationary._MEMORY",
             "wheelrail.core.track.fe._pad_couplings",
-            "wheelrail.core.cache._lock",
+            "wheelrail.core.files.cache._lock",
         ]
     )

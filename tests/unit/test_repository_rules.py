@@ -186,8 +186,8 @@ def test_the_explorer_states_defaults_from_their_constants():
 
 
 def test_both_front_ends_draw_pressure_on_one_colour_range():
-    from wheelrail.core import drawing
+    from wheelrail.core.drawing import patch
     from wheelrail.core.recording import pressure
     from wheelrail.explorer import scene
 
-    assert scene.PRESSURE_TOP is drawing.PRESSURE_RANGE_P0 and pressure.PRESSURE_RANGE_P0 is drawing.PRESSURE_RANGE_P0
+    assert scene.PRESSURE_TOP is patch.PRESSURE_RANGE_P0 and pressure.PRESSURE_RANGE_P0 is patch.PRESSURE_RANGE_P0

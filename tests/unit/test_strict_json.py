@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.engine.results import RunHeader, RunResult
-from wheelrail.core.jsonready import strict_json
+from wheelrail.core.files.jsonready import strict_json
 from wheelrail.core.parameters import ModelParameters
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -61,7 +61,7 @@ def test_metadata_is_written_only_through_strict_json():
     Allowed: jsonready.py itself, and the two cache-key hashes (cache.py, study/specs.py), whose text is
     hashed, never written or read as JSON (changing it would invalidate every stored entry).
     """
-    allowed = {"core/jsonready.py", "core/cache.py", "core/study/specs.py"}
+    allowed = {"core/files/jsonready.py", "core/files/cache.py", "core/study/specs.py"}
     offenders = []
     for path in [*ROOT.glob("core/**/*.py"), *ROOT.glob("explorer/**/*.py")]:
         relative = path.relative_to(ROOT).as_posix()

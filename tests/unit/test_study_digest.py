@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pytest
 
-from wheelrail.core.spectra import resolved_force_bands
+from wheelrail.core.spectra.force import resolved_force_bands
 from wheelrail.core.study.specs import RunSpec, RunSummary
 from wheelrail.core.study.store import cache_path, load_cached, save_cached
 

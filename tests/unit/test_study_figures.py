@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wheelrail.core import palette
-from wheelrail.core.inputs import model_parameters
+from wheelrail.core.drawing import palette
+from wheelrail.core.inputs.declared import model_parameters
 from wheelrail.core.noise.components import component_names
 from wheelrail.core.study.figures import study_figures
 from wheelrail.core.study.noise_plan import noise_models

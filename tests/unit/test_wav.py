@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from scipy.io import wavfile
 
-from wheelrail.core.noise.levels import noise_bands
 from wheelrail.core.noise.run_noise import WAV_RATE, RunNoise, laeq_of_pressure
+from wheelrail.core.spectra.bands import noise_bands
 
 SPEED = 100 / 3.6  # m/s
 DT = 1e-3 / SPEED  # s: the run's 27 778 Hz

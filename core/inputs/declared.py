@@ -2,7 +2,7 @@
 
 An :class:`Input` says what a front end needs of one number a user can set: its stable ``key`` (the
 ``parameter`` of a :class:`~wheelrail.core.errors.WheelrailError` about it, and the key of its accepted range in
-:data:`wheelrail.core.accepted.ACCEPTED`, SI, with the reason for it), its ``path`` in
+:data:`wheelrail.core.inputs.ranges.ACCEPTED`, SI, with the reason for it), its ``path`` in
 :class:`~wheelrail.core.parameters.ModelParameters` (``"track.support.pad_stiffness"``), the :class:`Unit` front
 ends show it in, its page label, its group (the command-line option group and the explorer's folder) and a
 sentence of help. Its default is read from the dataclass, never restated.
@@ -20,8 +20,8 @@ import math
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
-from wheelrail.core.accepted import ACCEPTED, Accepted
 from wheelrail.core.errors import Blame, Name, WheelrailError
+from wheelrail.core.inputs.ranges import ACCEPTED, Accepted
 
 if TYPE_CHECKING:  # parameters is imported on first use: the command line's start stays cheap
     from wheelrail.core.parameters import ModelParameters
@@ -105,11 +105,11 @@ class Input:
     See Also
     --------
     model_parameters : sets inputs on a ``ModelParameters``.
-    wheelrail.core.accepted.ACCEPTED : the accepted range of each input, by key.
+    wheelrail.core.inputs.ranges.ACCEPTED : the accepted range of each input, by key.
 
     Examples
     --------
-    >>> from wheelrail.core.inputs import by_key
+    >>> from wheelrail.core.inputs.declared import by_key
     >>> pads = by_key("pad_stiffness")
     >>> pads.option, pads.dest, pads.default(), pads.shown.name
     ('--pad-stiffness-mn-m', 'pad_stiffness_mn_m', 120000000.0, 'MN/m')
@@ -168,7 +168,7 @@ class Input:
 
     @property
     def accepted(self) -> Accepted:
-        """Its accepted range, SI, and the reason for it: ``wheelrail.core.accepted.ACCEPTED[key]``."""
+        """Its accepted range, SI, and the reason for it: ``wheelrail.core.inputs.ranges.ACCEPTED[key]``."""
         return ACCEPTED[self.key]
 
     @property
@@ -334,7 +334,7 @@ def model_parameters(values: dict[str, float | None], base: ModelParameters | No
 
     Examples
     --------
-    >>> from wheelrail.core.inputs import model_parameters
+    >>> from wheelrail.core.inputs.declared import model_parameters
     >>> params = model_parameters({"speed": 50.0, "pad_stiffness": 600e6})   # SI: m/s, N/m
     >>> params.run.speed, params.track.support.pad_stiffness
     (50.0, 600000000.0)
@@ -387,7 +387,7 @@ def describe(params: ModelParameters, *groups: str) -> dict[str, dict[str, float
 
     Examples
     --------
-    >>> from wheelrail.core.inputs import describe
+    >>> from wheelrail.core.inputs.declared import describe
     >>> from wheelrail.core.parameters import ModelParameters
     >>> describe(ModelParameters(), "run")
     {'run': {'speed': 27.77777777777778, 'preload': 65000.0}}
@@ -479,7 +479,7 @@ def caption(
 
     Examples
     --------
-    >>> from wheelrail.core.inputs import caption, model_parameters
+    >>> from wheelrail.core.inputs.declared import caption, model_parameters
     >>> caption(model_parameters({"pad_stiffness": 60e6}), run=False)
     "the track with pad stiffness 60 MN/m (else the paper's)"
     """

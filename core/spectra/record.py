@@ -5,8 +5,9 @@ frequency resolution. A band is resolved when it is at least that wide (``upper 
 below the Nyquist frequency; every other band has no estimate (NaN: ``n/a`` in text, null in JSON). Third-octave
 bands widen with their centre, so the resolved bands are one contiguous range, from the lowest resolved band up
 to the last band below the Nyquist frequency: a short record loses its lowest bands, never a band in between.
-:func:`wheelrail.core.spectra.band_power` applies the rule, :func:`wheelrail.core.spectra.spectrum_record` builds
-the :class:`SpectrumRecord` of a force spectrum, which every front end prints.
+:func:`wheelrail.core.spectra.narrowband.band_power` applies the rule,
+:func:`wheelrail.core.spectra.force.spectrum_record` builds the :class:`SpectrumRecord` of a force spectrum, which
+every front end prints.
 """
 
 from __future__ import annotations
@@ -39,7 +40,7 @@ def resolved_bands(lower, upper, resolution: float, nyquist: float = np.inf) -> 
 
     Examples
     --------
-    >>> from wheelrail.core.spectrum_record import resolved_bands
+    >>> from wheelrail.core.spectra.record import resolved_bands
     >>> resolved_bands([44.7, 56.2, 70.8], [56.2, 70.8, 89.1], resolution=15.0).tolist()   # widths 11.5, 14.6, 18.3 Hz
     [False, False, True]
     """

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from wheelrail.core.bands import Bands, wavelength_bands
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.spectra.bands import Bands, wavelength_bands
 
 ISO3095_RANGE = (0.4, 0.00315)  # m: longest and shortest band of the limit
 # dB re 1 um, on wavelength_bands(*ISO3095_RANGE): 400, 315, 250, ... 4, 3.15 mm

@@ -1,11 +1,17 @@
-"""Third-octave bands both ways: wavelength bands (EN 15610 / CNOSSOS-EU) and frequency bands at a speed.
+"""Third-octave bands: the exact base-10 bands, their names, the outputs' band ranges, wavelength bands
+(EN 15610 / CNOSSOS-EU) and frequency bands at a speed.
+
+Third-octave bands are the exact base-10 bands of IEC 61260: centres ``10^(n/10)`` (n integer) in any unit,
+edges ``centre x 10^(±1/20)``. So 1000 Hz, 501.19 Hz (nominal 500), 10^-1.25 m = 56.2 mm (nominal 56 mm
+wavelength band) are all centres. The force spectra use the bands 50 Hz .. 8 kHz (:data:`FORCE_BAND_RANGE`), the
+noise outputs the 24 bands 50 Hz .. 10 kHz (:data:`NOISE_BAND_RANGE`, :func:`noise_bands`).
 
 Railway roughness and contact filters are tabulated by wavelength (EN 15610; CNOSSOS-EU, Commission
 Directive (EU) 2015/996 Appendix G as replaced by Delegated Directive (EU) 2021/1226, uses the 35 bands
 2000 mm .. 0.8 mm), force and sound spectra by frequency. A band of wavelengths [l_lo, l_hi] is the band
 of spatial frequencies (wavenumbers, cycles/m) [1/l_hi, 1/l_lo]; at train speed v a frequency band
 [f_lo, f_hi] is the wavenumber band [f_lo / v, f_hi / v] (f = v / lambda). Both kinds are the exact
-base-10 bands of :func:`wheelrail.core.spectra.third_octave_bands`, so every band is one tenth of a decade
+base-10 bands of :func:`third_octave_bands`, so every band is one tenth of a decade
 wide in wavenumber and a band of one kind generally straddles two of the other.
 
 :func:`map_levels` moves band levels from one set of bands to another by the rule CNOSSOS-EU prescribes
@@ -18,13 +24,88 @@ transfer functions (filters), so roughness spectra and contact filters use the s
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from wheelrail.core.checks import level_arrays
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.spectra import BAND_HALF_WIDTH, FORCE_BAND_RANGE, nominal_band_label, third_octave_bands
+from wheelrail.core.inputs.checks import finite_array, level_arrays, real
+
+BAND_HALF_WIDTH = 10.0 ** (1.0 / 20.0)  # upper edge / centre of a third-octave band (base 10)
+FORCE_BAND_RANGE = (50.0, 8000.0)  # Hz, band centres of the paper's force spectra (Figs 10-17)
+NOISE_BAND_RANGE = (50.0, 10000.0)  # Hz: the 24 bands of CNOSSOS-EU Appendix G and of the noise outputs
+
+
+def third_octave_bands(lowest: float, highest: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Exact base-10 third-octave bands whose centres lie in ``[lowest, highest]``.
+
+    Parameters
+    ----------
+    lowest, highest : float
+        Range of band centres, any positive unit (Hz, cycles/m, m). A centre within 1 % of a limit
+        counts as inside, so nominal values (50 Hz, 8000 Hz, 0.8 m, 3.15 mm) select their own band.
+
+    Returns
+    -------
+    centres, lower, upper : numpy.ndarray
+        Band centres ``10^(n/10)`` in increasing order and their edges ``centre x 10^(∓1/20)``.
+
+    Raises
+    ------
+    WheelrailError
+        Unless 0 < lowest <= highest, both finite.
+
+    See Also
+    --------
+    third_octave_levels : band levels of signals in these bands.
+
+    Examples
+    --------
+    >>> from wheelrail.core.spectra.bands import nominal_band_label, third_octave_bands
+    >>> centres, lower, upper = third_octave_bands(50.0, 8000.0)   # the paper's force bands, Hz
+    >>> centres.size, [nominal_band_label(c) for c in centres[:4]]
+    (23, ['50', '63', '80', '100'])
+    """
+    lowest = real("third_octave_bands: lowest", lowest, "the unit of the centres")
+    highest = real("third_octave_bands: highest", highest, "the unit of the centres")
+    if not lowest <= highest:
+        raise WheelrailError(f"third-octave range must satisfy 0 < lowest <= highest, got {lowest!r} .. {highest!r}")
+    first = math.ceil(10 * math.log10(lowest) - 0.05)
+    last = math.floor(10 * math.log10(highest) + 0.05)
+    centres = 10.0 ** (np.arange(first, last + 1) / 10.0)
+    return centres, centres / BAND_HALF_WIDTH, centres * BAND_HALF_WIDTH
+
+
+def nominal_band_label(centre: float) -> str:
+    """The usual rounded name of an exact base-10 band centre (e.g. 501.19 -> '500', 0.0631 -> '0.063')."""
+    centre = real("nominal_band_label: centre", centre, "Hz")
+    exponent = math.floor(math.log10(centre))
+    mantissa = centre / 10.0**exponent
+    nominal = [1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0, 10.0]
+    best = min(nominal, key=lambda m: abs(math.log10(m / mantissa)))
+    value = best * 10.0**exponent
+    return f"{value:.0f}" if 1e4 <= value < 1e16 else f"{value:.4g}"  # 10000, not .4g's 1e+04
+
+
+def band_labels(centres) -> list[str]:
+    """:func:`nominal_band_label` of every exact centre: the one naming of bands in text, JSON (``band_labels``
+    beside the exact ``band_centres_hz``) and CSV (a ``band`` column beside ``centre_hz``)."""
+    values = finite_array("band_labels: centres", centres, "Hz").reshape(-1)
+    return [nominal_band_label(float(centre)) for centre in values]
+
+
+def band_centre_range(band_range) -> tuple[float, float]:
+    """``band_range`` as (lowest, highest) band centre; the values are checked by :func:`third_octave_bands`."""
+    if isinstance(band_range, str | bytes) or not hasattr(band_range, "__len__") or len(band_range) != 2:
+        raise WheelrailError(f"band_range must be (lowest, highest) band centres, got {type(band_range).__name__}")
+    return band_range[0], band_range[1]
+
+
+def noise_bands() -> np.ndarray:
+    """Exact centres (Hz) of the 24 one-third octave bands 50 Hz .. 10 kHz."""
+    return third_octave_bands(*NOISE_BAND_RANGE)[0]
+
 
 CNOSSOS_WAVELENGTH_RANGE = (2.0, 0.0008)  # m: the 35 bands 2000 mm .. 0.8 mm of CNOSSOS-EU Tables G-1, G-2
 AXES = ("wavelength", "frequency")
@@ -51,7 +132,7 @@ class Bands:
     speed: float | None = None
 
     def __post_init__(self) -> None:
-        from wheelrail.core.checks import finite_array, real
+        from wheelrail.core.inputs.checks import finite_array, real
 
         if self.axis not in AXES:
             raise WheelrailError(f"band axis must be one of {', '.join(AXES)}, got {self.axis!r}")
@@ -94,7 +175,7 @@ def wavelength_bands(
 
     The EN 15610 roughness range 800 .. 3.15 mm is ``wavelength_bands(0.8, 0.00315)`` (24 bands).
     """
-    from wheelrail.core.checks import real
+    from wheelrail.core.inputs.checks import real
 
     longest = real("wavelength_bands: longest", longest, "m")
     shortest = real("wavelength_bands: shortest", shortest, "m")

@@ -40,7 +40,7 @@ def content_digest(metadata: str, arrays: dict) -> str:
     str
         64 hexadecimal digits.
     """
-    from wheelrail.core.cache import array_digest
+    from wheelrail.core.files.cache import array_digest
 
     canonical = {
         name: np.where(np.isfinite(array), array, np.nan).astype(array.dtype) if array.dtype.kind == "f" else array

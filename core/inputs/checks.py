@@ -15,6 +15,7 @@ from wheelrail.core.errors import WheelrailError
 
 __all__ = [
     "LEVEL_LIMIT_DB",
+    "check_positive",
     "finite_array",
     "integer",
     "level_arrays",
@@ -157,3 +158,16 @@ def finite_array(label: str, value, unit: str) -> np.ndarray:
     if not np.all(np.isfinite(array)):
         raise WheelrailError(f"{label} must be finite ({unit}), got a NaN or infinity")
     return array
+
+
+def check_positive(value, key: str, unit: str, argument: str | None = None) -> float:
+    """``value`` as a float if finite and > 0, else one WheelrailError keyed ``key`` (SI ``unit``; ``argument``:
+    the API's name of the input, default the key)."""
+    fields = {"parameter": key, "value": value, "unit": unit, "argument": argument}
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise WheelrailError("not a number", **fields) from None
+    if not (math.isfinite(number) and number > 0):
+        raise WheelrailError("not a positive number", **fields)
+    return number

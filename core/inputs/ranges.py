@@ -34,8 +34,8 @@ import numbers
 from collections.abc import Callable
 from dataclasses import dataclass, fields
 
-from wheelrail.core.checks import integer, real
 from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.inputs.checks import integer, real
 
 __all__ = [
     "ACCEPTED",
@@ -215,7 +215,7 @@ section 3.6 and table 3.1: pads from about 20 MN/m, the soft baseplate fastening
 stiff studded HDPE pads; half concrete sleepers of 100-160 kg, half timber ones around 40 kg; spacings of
 0.6-0.7 m; ballast of 50-200 MN/m per half sleeper). A pass-by's train is 2 m to 5 km long with 1 to 2 000
 axles (and at most one axle per ``run_noise.MIN_AXLE_SPACING`` = 1 m). The user-facing inputs
-(``wheelrail.core.inputs``) take their ranges from here."""
+(``wheelrail.core.inputs.declared``) take their ranges from here."""
 
 MODEL_BOUNDS: dict[str, Accepted] = {
     entry.key: entry

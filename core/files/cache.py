@@ -45,8 +45,8 @@ from pathlib import Path
 
 import numpy as np
 
-from wheelrail.core.atomic import publish, running, temporary_beside, writer
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.files.atomic import publish, running, temporary_beside, writer
 
 FORMAT_VERSION = 1
 STALE_TEMPORARY_S = 3600.0  # s: a temporary file of ours this old is a leftover whoever wrote it

@@ -5,7 +5,7 @@ directive's source for the same case" means:
 
 - roughness: the run's own combined roughness (rail plus wheel set, the line under the wheel, as the run saw it
   unfiltered: ``RunResult.roughness``) in the 24 bands at the run's speed, over the same record as the force
-  spectrum (the first :data:`wheelrail.core.spectra.FORCE_SKIP` s dropped, one Hann window); the directive
+  spectrum (the first :data:`wheelrail.core.spectra.force.FORCE_SKIP` s dropped, one Hann window); the directive
   allows measured roughness in place of Tables G-1a and G-1b;
 - contact filter: A3 (Table G-2) for the run's preload and its own wheel diameter 2 R (the rule of
   ``wheelrail filters``), or a filter given in its place (a model's dynamic filter);
@@ -27,7 +27,8 @@ import dataclasses
 import numpy as np
 
 from wheelrail.core.noise.cnossos import CnossosResult, cnossos_rolling_noise, contact_filter_a3
-from wheelrail.core.noise.levels import NOISE_BAND_RANGE, ROUGHNESS_REFERENCE
+from wheelrail.core.spectra.bands import NOISE_BAND_RANGE
+from wheelrail.core.spectra.levels import ROUGHNESS_REFERENCE
 
 CNOSSOS_TRACK_TYPE = "mono-block-soft"
 
@@ -38,7 +39,7 @@ def run_roughness_db(result) -> np.ndarray:
     """The run's combined roughness under the wheel in the 24 bands 50 Hz - 10 kHz at its speed, dB re 1 um
     (NaN where a band is not resolved: above v / (2 dx), or below what the record holds)."""
     from wheelrail.core.engine.results import result_of_run
-    from wheelrail.core.spectra import force_spectrum
+    from wheelrail.core.spectra.force import force_spectrum
 
     result = result_of_run("run_roughness_db: result", result)
     _, levels = force_spectrum(

@@ -1,4 +1,4 @@
-"""Drawing helpers shared by the rerun recording and the explorer: colour ramp, grid triangles, circles.
+"""The contact patch as the rerun recording and the explorer draw it: colour ramp, grid triangles, circles.
 
 numpy only (no rerun, no viser): both front ends draw the same pressure colours, the same triangulation
 of a window of elements and the same Hertz circle, and each passes the arrays to its own library.
