@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from wheelrail.core.errors import WheelrailError
+from wheelrail.core.errors import Blame, WheelrailError
 
 __all__ = [
     "LEVEL_LIMIT_DB",
@@ -163,11 +163,11 @@ def finite_array(label: str, value, unit: str) -> np.ndarray:
 def check_positive(value, key: str, unit: str, argument: str | None = None) -> float:
     """``value`` as a float if finite and > 0, else one WheelrailError keyed ``key`` (SI ``unit``; ``argument``:
     the API's name of the input, default the key)."""
-    fields = {"parameter": key, "value": value, "unit": unit, "argument": argument}
+    blame = Blame(key, value, unit, argument=argument)
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise WheelrailError("not a number", **fields) from None
+        raise WheelrailError("not a number", blame) from None
     if not (math.isfinite(number) and number > 0):
-        raise WheelrailError("not a positive number", **fields)
+        raise WheelrailError("not a positive number", blame)
     return number
