@@ -46,7 +46,7 @@ harmonics changes nothing (0.00 dB) once every harmonic with a mode below the ma
 cross bands by <= 0.3 dB (920 mm wheel) and <= 0.4 dB (the 840 mm wheel at R = 390 mm) except in a band that holds
 only the tail of a mode just beyond its edge, where the mode's frequency moving by 0.5-0.7 % (the mesh's frequency
 convergence) moves the tail: 920 mm, 160 Hz band, -0.6 to -0.7 dB (n = 1 at 134.7 Hz); 840 mm, 200 Hz band, -1.5 to
--1.7 dB (n = 1 at 174.1 Hz) and 315 Hz, +1.0 to +3.8 dB (n = 0 at 357.5 Hz, 355.6 Hz at 6 mm, the band's edge 354.8
+-1.7 dB (n = 1 at 174.1 Hz) and 315 Hz, +1.0 to +3.8 dB (n = 0 at 357.5 Hz, 355.6 Hz at 6 mm, the band's edge 355.0
 Hz). :func:`static_residual` still gives the left-out part, for a comparison with a direct solve (which holds it).
 
 Why the radial and axial motions couple: the contact lies on the tread at the running circle, at an axial
