@@ -6,17 +6,18 @@ is the paper's rigid wheelset (the unsprung mass M_W on the primary suspension k
 with the modal wheel's radial point receptance at the contact in series::
 
     alpha(omega) = 1 / (k_S + i omega c_S - omega^2 M_W) + sum_m phi_m^2 / (omega_m^2 + i omega eta_m omega_m
-                   - omega^2) + R
+                   - omega^2)
 
 (modal coordinates q_m, q_m'' + eta_m omega_m q_m' + omega_m^2 q_m = phi_m F; phi_m the radial displacement at
-the contact of the clamped wheel's mode m, mass-normalised; R the static correction of ``receptance``). The
+the contact of the clamped wheel's mode m, mass-normalised; no static residual: the contact zone's local
+flexibility is the contact model's, as in ``receptance.contact_receptance``). The
 series connection takes the force on the hub to be the contact force (the wheel's own inertia loads the hub
 only through the modes' reactions, left out: the usual approximation of a wheel's receptance as its rigid-body
 part plus its flexible modes). The hysteretic loss factor eta_m is replaced by a viscous one of the same
 damping at the mode's resonance (2 zeta_m = eta_m); away from its resonance a lightly damped mode's damping does
 not matter. Discrete form: first-order hold (exact for a force linear over each step), as the 2-DOF wheel's.
-The contact displacement, with its direct feed-through R F, is kept as an output state: state 1 holds
-C s + R (F - P) after each step and nothing depends on its previous value (column 1 of Phi is zero).
+The contact displacement is kept as an output state: state 1 holds C s after each step and nothing depends on
+its previous value (column 1 of Phi is zero).
 """
 
 from __future__ import annotations
@@ -24,13 +25,12 @@ from __future__ import annotations
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.modal_wheel.receptance import static_residual
 
 __all__ = ["modal_wheel_receptance", "modal_wheel_system"]
 
 
 def _continuous(modes, wheel, added_loss_factor: float):
-    """(A, B, C, R) of the rigid wheelset plus the radial modes, states (x_M, v_M, q_1.., q_1'..)."""
+    """(A, B, C) of the rigid wheelset plus the radial modes, states (x_M, v_M, q_1.., q_1'..)."""
     keep = modes.frequency > 1.0  # a clamped wheel has no rigid-body modes; a free one's are the wheelset's
     phi = modes.contact_shapes()[keep, 0]
     omega = 2 * np.pi * modes.frequency[keep]
@@ -51,16 +51,16 @@ def _continuous(modes, wheel, added_loss_factor: float):
     c = np.zeros(2 + 2 * k)
     c[0] = 1.0
     c[modal] = phi
-    return a, b, c, float(static_residual(modes)[0, 0]) if modes.clamped else 0.0
+    return a, b, c
 
 
 def modal_wheel_receptance(modes, wheel, frequency, added_loss_factor: float = 0.0) -> np.ndarray:
     """The receptance (m/N) :func:`modal_wheel_system` discretises, at ``frequency`` (Hz): the rigid wheelset plus
     the modes with viscous damping (module docstring)."""
-    a, b, c, residual = _continuous(modes, wheel, added_loss_factor)
+    a, b, c = _continuous(modes, wheel, added_loss_factor)
     omega = 2 * np.pi * np.atleast_1d(np.asarray(frequency, dtype=float))
     eye = np.eye(len(a))
-    return np.array([c @ np.linalg.solve(1j * w * eye - a, b) for w in omega]) + residual
+    return np.array([c @ np.linalg.solve(1j * w * eye - a, b) for w in omega])
 
 
 def modal_wheel_system(modes, wheel, time_step: float, added_loss_factor: float = 0.0):
@@ -83,7 +83,7 @@ def modal_wheel_system(modes, wheel, time_step: float, added_loss_factor: float 
         raise WheelrailError("the interaction's modal wheel sits on the axle: give the modes of a clamped wheel")
     if not (np.isfinite(time_step) and time_step > 0):
         raise WheelrailError(f"modal_wheel_system: time_step must be positive (s), got {time_step}")
-    a, b, c, residual = _continuous(modes, wheel, added_loss_factor)
+    a, b, c = _continuous(modes, wheel, added_loss_factor)
     n = len(a)
     # Van Loan's block exponential gives the first-order-hold integrals (as core.wheel._first_order_hold_expm)
     big = np.zeros((n + 2, n + 2))
@@ -93,12 +93,12 @@ def modal_wheel_system(modes, wheel, time_step: float, added_loss_factor: float 
     e = expm(big)
     phi, g1, g2 = e[:n, :n], e[:n, n], e[:n, n + 1]
     gamma1, gamma0 = g2, g1 - g2
-    # the augmented state: index 1 is the contact displacement (an output, with its feed-through)
+    # the augmented state: index 1 is the contact displacement (an output)
     true = [0, *range(2, n + 1)]  # where the true states go: x_M first (as the 2-DOF wheel's), then v_M, q, q'
     big_phi = np.zeros((n + 1, n + 1))
     big_phi[np.ix_(true, true)] = phi
     big_phi[1, true] = c @ phi
     out0, out1 = np.zeros(n + 1), np.zeros(n + 1)
     out0[true], out1[true] = gamma0, gamma1
-    out0[1], out1[1] = c @ gamma0, c @ gamma1 + residual
+    out0[1], out1[1] = c @ gamma0, c @ gamma1
     return np.ascontiguousarray(big_phi), out0, out1

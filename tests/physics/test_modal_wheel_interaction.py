@@ -19,7 +19,7 @@ P = ModelParameters()
 
 def test_the_discrete_modal_wheel_reproduces_its_receptance():
     # the first-order-hold system's transfer from force to contact displacement, H(e^{i omega dt}), against the
-    # continuous receptance it discretises (rigid wheelset + modes + static correction): at dt = 2 us the hold's
+    # continuous receptance it discretises (rigid wheelset + modes, as contact_receptance): at dt = 2 us the hold's
     # own factor sinc^2(omega dt / 2) is 0.9997 at 5 kHz: 0.01 dB. The viscous stand-in for the hysteretic loss
     # factor changes nothing measurable away from the resonances (0.01 dB)
     modes = wheel_modes(named_profile("wheel_640"), max_frequency=8e3, max_harmonic=6, element_size=0.016)
