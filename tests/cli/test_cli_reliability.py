@@ -96,7 +96,7 @@ import signal, sys
 from wheelrail.cli.dispatch import main
 from wheelrail.core.engine.run import InteractionRun
 
-advance = InteractionRun._advance  # one chunk of steps (3d: 256, in compiled code)
+advance = InteractionRun._advance_to  # the steps up to a chunk's end (3d: in compiled code)
 said = []
 
 def advance_and_say(self, *args, **kwargs):
@@ -105,7 +105,7 @@ def advance_and_say(self, *args, **kwargs):
         print("stepping", flush=True)
     return advance(self, *args, **kwargs)
 
-InteractionRun._advance = advance_and_say
+InteractionRun._advance_to = advance_and_say
 signal.signal(signal.SIGINT, signal.default_int_handler)
 sys.exit(main(["run", "--set", "cast-iron-wheel", "--model", "3d", "--length-m", "50", "--json"]))
 """
