@@ -1,5 +1,6 @@
 """The loop's history: the moving Green's functions, the wheel's discrete system, the positions in the sleeper bay
-and the preload's force history (eqs. 1-2), and the run-in that leads to the first recorded step.
+and the preload's force history (eqs. 1-2), and the run-in that leads to the first recorded step; a run's run-in
+(:func:`run_in`) and its history with the contact model prepared on it (:func:`run_history`).
 
 Start-up: from the moving load's steady state on the gap of step 0 (``steady_start``), then a run-in of
 ``DEFAULT_RUN_IN_TIME`` (discarded). An explicit run-in, or a bay of no whole number of elements, starts from the
