@@ -116,7 +116,7 @@ class ModelTraits:
 
 @dataclass(frozen=True, kw_only=True)
 class ModelInputs:
-    """What a model is given to prepare a run (built by ``wheelrail.core.engine.prepare``).
+    """What a model is given to prepare a run (built by ``wheelrail.core.engine.history.model_inputs``).
 
     Step index s counts the run-in too: s = 0 is the first run-in step, ``n_total`` steps in all.
 

@@ -12,7 +12,7 @@ from wheelrail.core.roughness import lateral_coherence, roughness_spectrum
 from wheelrail.core.roughness.analysis import FREQUENCY_RANGE
 from wheelrail.core.roughness.iso3095 import iso3095_limit
 from wheelrail.core.spectra.bands import frequency_bands, map_levels
-from wheelrail.core.spectra.levels import energetic_sum
+from wheelrail.core.spectra.levels import energy_sum
 from wheelrail.explorer.form import RunForm
 from wheelrail.explorer.panel import ResultsTab, TabParts
 from wheelrail.explorer.plots import DOTTED, SOLID, Plot, bands_with_data, finite_bands
@@ -81,7 +81,7 @@ class RoughnessTab(ResultsTab):
             curves.append(
                 (f"wheel: {wheel_label}, lines {wheel_lines[0]}..{wheel_lines[-1]}", "#8c564b", of_wheel.levels_db)
             )
-            curves.append(("combined (energetic sum)", "#d62728", energetic_sum(rail.levels_db, of_wheel.levels_db)))
+            curves.append(("combined (energetic sum)", "#d62728", energy_sum(rail.levels_db, of_wheel.levels_db)))
             title = f"Roughness spectrum: {label} + {wheel_label}"
         curves = [(name, colour, SOLID, _without_empty_bands(levels)) for name, colour, levels in curves]
         if rough.kind == "rail":

@@ -8,7 +8,7 @@ each discretisation and prints
 - on a smooth rail: the amplitudes (N) of the force at the sleeper-passing harmonics k v / L_S (the
   parametric excitation of the discrete supports) and its peak-to-peak;
 - on a rough rail (``corrugated-rail``, lines -3..3, levels averaged over the lines as in the paper): the
-  third-octave force levels (dB re 1 N, ``spectra.force_spectrum``) from 100 Hz to 2 kHz, and their change
+  third-octave force levels (dB re 1 N, ``spectra.force.force_spectrum``) from 100 Hz to 2 kHz, and their change
   against the next finer discretisation (the largest absolute change per band is the convergence figure).
 
 Run (each configuration is a one-off precompute of its own; a private cache directory is used unless

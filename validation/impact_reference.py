@@ -5,7 +5,7 @@ paper's 2-DOF wheel (``core.wheel.wheel_matrices``) on a Hertz spring (C_H of ``
 the wheel-centre trajectory (``core.irregularities.wheel_centre_trajectory``), with loss of contact (F = 0), on
 the paper's FE track (``core.track.assemble_track``: the same rail, pads, sleepers and ballast the Green's
 functions are integrated on). Nothing of the project's time loop is used (no Green's functions, no convolution,
-no ``core.interaction``): the track's full FE model is stepped directly with a moving load (the contact force
+no ``core.engine``): the track's full FE model is stepped directly with a moving load (the contact force
 spread on the element under the wheel by its shape functions) by the implicit Newmark average-acceleration rule,
 wheel and track in one system; each step's contact force solves the Hertz law on the step's condensed
 compliance (wheel plus track) exactly, F = 0 when the spring would stretch.

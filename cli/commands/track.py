@@ -253,7 +253,7 @@ def _print_summary(track, summary: dict, peaks: dict) -> None:
 
 
 def _print_bands(bands: dict, decay: dict) -> None:
-    """The table per one-third octave band, each named by its nominal centre (``spectra.nominal_band_label``)."""
+    """The table per one-third octave band, each named by its nominal centre (``spectra.bands.nominal_band_label``)."""
     from wheelrail.core.spectra.bands import band_labels
 
     print(

@@ -4,7 +4,8 @@ Its pieces, by what they do:
 
 * ``prepare``: :func:`prepare_run` and :func:`simulate`, the inputs checked and the run built from the pieces below;
 * ``track_lines``: the roughness along the track (the window's size, the margins, the lines a model runs on);
-* ``history``: the loop's history arrays (Green's functions, the wheel's system, the bay) and the run-in;
+* ``history``: the run-in, the loop's history arrays (Green's functions, the wheel's system, the bay) and the
+  contact model prepared on them;
 * ``steady_start``: the moving load's periodic steady state a run starts from;
 * ``run``: :class:`~wheelrail.core.engine.run.InteractionRun`, the stepping and its results by step or by chunk;
 * ``kernels``: the compiled eqs. 1-2 of a step, inlined into every law's chunk loop;

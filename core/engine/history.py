@@ -1,5 +1,6 @@
 """The loop's history: the moving Green's functions, the wheel's discrete system, the positions in the sleeper bay
-and the preload's force history (eqs. 1-2), and the run-in that leads to the first recorded step.
+and the preload's force history (eqs. 1-2), and the run-in that leads to the first recorded step; a run's run-in
+(:func:`run_in`) and its history with the contact model prepared on it (:func:`run_history`).
 
 Start-up: from the moving load's steady state on the gap of step 0 (``steady_start``), then a run-in of
 ``DEFAULT_RUN_IN_TIME`` (discarded). An explicit run-in, or a bay of no whole number of elements, starts from the
@@ -17,6 +18,8 @@ import numpy as np
 
 from wheelrail.core.engine.track_lines import TrackRoughness
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.checks import real
+from wheelrail.core.models import ModelInputs
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 
 __all__ = [
@@ -26,6 +29,9 @@ __all__ = [
     "check_step_stability",
     "default_run_in_length",
     "history_arrays",
+    "model_inputs",
+    "run_history",
+    "run_in",
     "starts_steady",
 ]
 
@@ -46,6 +52,19 @@ def default_run_in_length(params: ModelParameters | None = None) -> float:
     dx = params.run.element_size
     time = DEFAULT_RUN_IN_TIME if starts_steady(params) else PRELOAD_RUN_IN_TIME
     return math.ceil(time * params.run.speed / dx - 1e-9) * dx
+
+
+def run_in(params: ModelParameters, run_in_length: float | None = None) -> tuple[float, bool]:
+    """A run's run-in, m, and whether the run starts from the moving load's steady state.
+
+    None: :func:`default_run_in_length`, from the steady state where the bay is whole elements
+    (:func:`starts_steady`); a run-in given (m, zero or more) starts from the preload at rest. The run-in's length
+    is asked for before the lines are laid (the run's memory check takes it), its arrays after
+    (:func:`run_history`)."""
+    steady = run_in_length is None and starts_steady(params)
+    if run_in_length is None:
+        run_in_length = default_run_in_length(params)
+    return real("run_in_length", run_in_length, "m", sign="nonnegative"), steady
 
 
 @dataclass
@@ -148,8 +167,8 @@ def history_arrays(
     ``wheel_system``: the wheel's ``(Phi, Gamma0, Gamma1)``, state 1 the contact's displacement (default the paper's
     2-DOF wheel, ``wheel_discrete_system``; ``modal_wheel.time_domain.modal_wheel_system`` gives the modal wheel's).
 
-    The rail displacement that history causes (``acc``) is left at zero: ``prepare.prepare_run``, which owns the
-    compiled eq. 2, scatters it before the first step. ``steady``:
+    The rail displacement that history causes (``acc``) is left at zero: :func:`run_history` scatters it before
+    the first step (the compiled eq. 2, ``engine.kernels.scatter_history``). ``steady``:
     the run starts from the moving load's steady state on the gap of step 0 (``steady_start``), so the run-in
     keeps the roughness under step 0 as it is (no fade-in); else it is faded in from the preload at rest."""
     from wheelrail.core.engine.steady_start import bay_steps
@@ -197,3 +216,49 @@ def history_arrays(
         phases=phases,
     )
     return history
+
+
+def model_inputs(track_roughness: TrackRoughness, history: History, params: ModelParameters) -> ModelInputs:
+    """What the contact model is given to prepare the run: the roughness on the model grid, its window and, at
+    every step, the sample under the wheel and the run-in's fade-in."""
+    dx = params.run.element_size
+
+    def position_of(s: int) -> float:
+        return track_roughness.x_start + (s - history.n_run_in) * dx
+
+    return ModelInputs(
+        params=params,
+        element_size=dx,
+        lines=track_roughness.lines,
+        centre_row=track_roughness.centre_row,
+        window_y=track_roughness.window_y,
+        half_x=track_roughness.half_x,
+        start_index=history.start_index,
+        ramp=history.ramp,
+        position_of=position_of,
+    )
+
+
+def run_history(
+    track_roughness: TrackRoughness,
+    params: ModelParameters,
+    run_in_length: float,
+    steady: bool,
+    contact,
+    track_numerics: TrackNumerics | None = None,
+    wheel_system: tuple | None = None,
+) -> tuple[History, ModelInputs]:
+    """The loop's history of a run with its contact model prepared on it, and the model's inputs.
+
+    The arrays (:func:`history_arrays`); where the run does not start steady, the rail's response to the
+    preload's history (eq. 2, ``engine.kernels.scatter_history``; a steady start fills its own at the first
+    step); the model's inputs (:func:`model_inputs`) and ``contact.prepare`` on them, whose static approach
+    settles the wheel (:meth:`History.settle`). ``run_in_length`` and ``steady`` are :func:`run_in`'s."""
+    from wheelrail.core.engine.kernels import scatter_history
+
+    history = history_arrays(track_roughness, params, run_in_length, track_numerics, wheel_system, steady)
+    if not steady:
+        scatter_history(0, history.n_hist, history.track)
+    inputs = model_inputs(track_roughness, history, params)
+    history.settle(contact.prepare(inputs), params.contact.preload)
+    return history, inputs

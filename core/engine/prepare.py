@@ -1,8 +1,8 @@
 """Preparing a run (:func:`prepare_run`) and running it in one call (:func:`simulate`).
 
-:func:`prepare_run` checks the inputs, lays the roughness along the track (``track_lines``), builds the loop's
-history (``history``), prepares the contact model on both and hands them to an
-:class:`~wheelrail.core.engine.run.InteractionRun`.
+:func:`prepare_run` checks the inputs and the run-in (``history.run_in``), lays the roughness along the track
+(``track_lines``), builds the loop's history with the contact model prepared on it (``history.run_history``) and
+hands them to an :class:`~wheelrail.core.engine.run.InteractionRun`.
 """
 
 from __future__ import annotations
@@ -13,60 +13,34 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wheelrail.core.engine.history import History, default_run_in_length, history_arrays, starts_steady
-from wheelrail.core.engine.kernels import scatter_history
+from wheelrail.core.engine.history import run_history, run_in
 from wheelrail.core.engine.memory import check_run_memory
 from wheelrail.core.engine.results import RunHeader, RunResult, StepState
 from wheelrail.core.engine.run import InteractionRun
-from wheelrail.core.engine.track_lines import TrackRoughness, track_roughness, window_half_elements
+from wheelrail.core.engine.track_lines import track_roughness
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.inputs.checks import real
-from wheelrail.core.models import ModelEntry, ModelInputs, model_entry
+from wheelrail.core.models import ModelEntry, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.wheel import checked_wheel_system
 
 if TYPE_CHECKING:  # the roughness package is imported with the first set a run reads
     from wheelrail.core.roughness import RoughnessLike
 
-__all__ = ["checked_inputs", "interaction_wheel", "model_inputs", "prepare_run", "simulate"]
+__all__ = ["checked_inputs", "interaction_wheel", "prepare_run", "simulate"]
 
 
 def checked_inputs(
     model: str, line, params: ModelParameters | None, run_in_length
-) -> tuple[ModelEntry, ModelParameters, int, float]:
-    """The model's registry entry, the parameters (default: the paper's), the line number and the
-    run-in length, m (None: :func:`default_run_in_length`)."""
+) -> tuple[ModelEntry, ModelParameters, int, float, bool]:
+    """The model's registry entry, the parameters (default: the paper's), the line number, the run-in length, m,
+    and whether the run starts steady (``history.run_in``: None, the default run-in)."""
     entry = model_entry(model)
     params = ModelParameters() if params is None else params
     if not isinstance(params, ModelParameters):
         raise WheelrailError("params must be a wheelrail.core.parameters.ModelParameters")
     if isinstance(line, bool) or not isinstance(line, int | np.integer):
         raise WheelrailError(f"line must be an integer line number, got {line!r}")
-    if run_in_length is None:
-        run_in_length = default_run_in_length(params)
-    run_in_length = real("run_in_length", run_in_length, "m", sign="nonnegative")
-    return entry, params, int(line), run_in_length
-
-
-def model_inputs(track_roughness: TrackRoughness, history: History, params: ModelParameters) -> ModelInputs:
-    """What the contact model is given to prepare the run: the roughness on the model grid, its window and, at
-    every step, the sample under the wheel and the run-in's fade-in."""
-    dx = params.run.element_size
-
-    def position_of(s: int) -> float:
-        return track_roughness.x_start + (s - history.n_run_in) * dx
-
-    return ModelInputs(
-        params=params,
-        element_size=dx,
-        lines=track_roughness.lines,
-        centre_row=track_roughness.centre_row,
-        window_y=track_roughness.window_y,
-        half_x=window_half_elements(params)[0],
-        start_index=history.start_index,
-        ramp=history.ramp,
-        position_of=position_of,
-    )
+    return entry, params, int(line), *run_in(params, run_in_length)
 
 
 def interaction_wheel(wheel, params) -> tuple[tuple | None, str, dict | None]:
@@ -116,7 +90,7 @@ def prepare_run(
         r = r_W - r_R with z downwards), paired by lateral position: the wheel set interpolated across onto
         the rail's lines (refused where it has no data, see ``track_lines.run_lines``); its lines repeat with
         its circumference, which must be within 1 % of 2 pi R of the rolling radius R
-        (``accepted.check_wheel_circumference``). ``roughness`` must then be a rail set and this a wheel set
+        (``inputs.ranges.check_wheel_circumference``). ``roughness`` must then be a rail set and this a wheel set
         (else one WheelrailError).
     model : str
         A registered contact model (``wheelrail.core.models.model_names()``).
@@ -184,9 +158,7 @@ def prepare_run(
 
     if wheel_system is not None and not isinstance(wheel_system, WheelProfile | OutlineProfile):
         wheel_system = checked_wheel_system(wheel_system)  # a caller's (Phi, Gamma0, Gamma1)
-    steady = run_in_length is None  # the default run-in follows the steady start (where the bay allows it)
-    entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
-    steady = steady and starts_steady(params)
+    entry, params, line, run_in_length, steady = checked_inputs(model, line, params, run_in_length)
     track, name, wheel_name = track_roughness(
         roughness,
         wheel_roughness,
@@ -197,9 +169,8 @@ def prepare_run(
         lambda run_length: check_run_memory(entry, params, run_length, run_in_length, keep_pressure),
     )
     wheel_system, wheel_model, wheel_profile = interaction_wheel(wheel_system, params)
-    history = history_arrays(track, params, run_in_length, track_numerics, wheel_system, steady)
-    if not steady:  # the rail's response to the preload's history (eq. 2); a steady start fills its own
-        scatter_history(0, history.n_hist, history.track)
+    contact = entry.create()
+    history, inputs = run_history(track, params, run_in_length, steady, contact, track_numerics, wheel_system)
     header = RunHeader(
         model=entry.name,
         line=line,
@@ -210,9 +181,6 @@ def prepare_run(
         wheel_model=wheel_model,
         wheel_profile=wheel_profile,
     )
-    contact = entry.create()
-    inputs = model_inputs(track, history, params)
-    history.settle(contact.prepare(inputs), params.contact.preload)
     return InteractionRun(
         header=header,
         contact=contact,

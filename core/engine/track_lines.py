@@ -125,7 +125,8 @@ class TrackRoughness:
 
     lines (rows, samples): the chosen line (one row) or the rows of a lateral window; ``centre_row`` is the
     chosen line; ``window_y`` the rows' lateral offsets from it, m; sample ``first`` is under the wheel at
-    step 0, at ``x_start`` (m) from the start of the data; ``n_steps`` steps follow.
+    step 0, at ``x_start`` (m) from the start of the data; ``n_steps`` steps follow; ``half_x``: the half-length
+    of a model's window along the rail (and of the bedding), elements (:func:`window_half_elements`).
     """
 
     lines: np.ndarray
@@ -134,6 +135,7 @@ class TrackRoughness:
     first: int
     n_steps: int
     element_size: float
+    half_x: int
 
     @property
     def x_start(self) -> float:
@@ -374,6 +376,7 @@ def roughness_along_track(
         first=int(round(margin / dx)),
         n_steps=n_steps,
         element_size=dx,
+        half_x=window_half_elements(params)[0],
     )
 
 

@@ -121,15 +121,20 @@ def level_arrays(label: str, levels, *, at_least: int = 1) -> list[np.ndarray]:
     return arrays
 
 
+def _numbers(label: str, value, unit: str) -> np.ndarray:
+    """``value`` as a float array; None, text or what numpy cannot read as numbers is one WheelrailError."""
+    if value is None or isinstance(value, str | bytes):  # numpy reads None as NaN and digits in a string
+        raise WheelrailError(f"{label} must be numbers in {unit}, got {_shown(value)}")
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise WheelrailError(f"{label} must be numbers in {unit}") from None
+
+
 def mean_squares(label: str, value, unit: str) -> np.ndarray:
     """``value`` as a float array of mean squares or powers (``unit``): zero or positive and finite; NaN passes
     (a band with no estimate)."""
-    if value is None or isinstance(value, str | bytes):
-        raise WheelrailError(f"{label} must be numbers in {unit}, got {_shown(value)}")
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{label} must be numbers in {unit}") from None
+    array = _numbers(label, value, unit)
     if np.any(np.isinf(array)) or np.any(array < 0):
         raise WheelrailError(f"{label} must be zero or positive and finite ({unit}), got a negative or infinite value")
     return array
@@ -149,12 +154,7 @@ def samples(label: str, value, unit: str, *, rows: bool = True, at_least: int = 
 
 def finite_array(label: str, value, unit: str) -> np.ndarray:
     """``value`` as a float array with no NaN or infinity."""
-    if value is None or isinstance(value, str | bytes):
-        raise WheelrailError(f"{label} must be numbers in {unit}, got {_shown(value)}")
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise WheelrailError(f"{label} must be numbers in {unit}") from None
+    array = _numbers(label, value, unit)
     if not np.all(np.isfinite(array)):
         raise WheelrailError(f"{label} must be finite ({unit}), got a NaN or infinity")
     return array

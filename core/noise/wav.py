@@ -4,7 +4,7 @@ The pass-by pressure is synthesised at the run's own rate (v / dx: a few MB howe
 (train length + 2 v lead) / dx samples), then resampled to 48 kHz (``scipy.signal.resample_poly``) one block of
 :data:`BLOCK_SAMPLES` output samples at a time, each from the stretch of the record it needs (the filter's
 half-length either side), so the blocks join into what one call on the whole record gives. Two passes: the
-first finds the peak and the A-weighted energy over T_p (``levels.a_weighted_energy`` per block of at most
+first finds the peak and the A-weighted energy over T_p (``spectra.levels.a_weighted_energy`` per block of at most
 :data:`BLOCK_SAMPLES`; a T_p of one block is weighted whole, exactly as ``laeq_of_pressure``), which set the
 calibration (``RunNoise.calibrated_pass_by``); the second scales each block to 16-bit PCM and writes it.
 

@@ -33,7 +33,7 @@ class RecordingOptions:
         Name of the recording shown by the viewer.
     sound_power : bool or str
         Add the run's rolling-noise sound-power spectra at the end (``--sound-power``), and their views; a value
-        of the ``noise_wheel_model`` choice (``wheelrail.core.inputs.CHOICES``: "directive", "modal") also says
+        of the ``noise_wheel_model`` choice (``wheelrail.core.inputs.declared.CHOICES``: "directive", "modal") also says
         whose wheel power (True: the directive's L_H,veh), stated as ``wheel_transfer_source``.
     pressure_maps : bool
         The run has pressure maps (a model with ``ModelTraits.pressure_map``): the layout the viewer opens with

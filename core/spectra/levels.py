@@ -26,7 +26,6 @@ __all__ = [
     "a_weighted_total",
     "a_weighting",
     "contact_filter",
-    "energetic_sum",
     "energy_sum",
     "level",
     "level_difference",
@@ -85,7 +84,9 @@ def a_weighted_energy(pressure: np.ndarray, rate: float) -> float:
 def energy_sum(*levels_db, axis=None) -> np.ndarray:
     """10 lg of the sum of 10^(L/10): levels added energetically (element-wise, or along ``axis`` of one array).
 
-    ``-inf`` levels contribute nothing; NaN propagates.
+    The level of a sum of uncorrelated signals, such as the rail and the wheel roughness of one contact (the total
+    roughness of CNOSSOS-EU, Commission Directive (EU) 2015/996, Annex II, 2.3.2) or the noise of a run's
+    components. ``-inf`` levels contribute nothing (all ``-inf``: ``-inf``); NaN propagates.
     """
     if axis is not None:
         if len(levels_db) != 1:
@@ -177,18 +178,6 @@ def level_difference(levels_a: np.ndarray, levels_b: np.ndarray) -> np.ndarray:
     """
     levels_a, levels_b = level_arrays("level_difference: levels_a and levels_b", (levels_a, levels_b))
     return levels_a - levels_b
-
-
-def energetic_sum(*levels) -> np.ndarray:
-    """Band levels of uncorrelated signals added: 10 lg(sum 10^(L/10)) per band, dB (NaN where any is NaN).
-
-    The level of a sum of independent signals, such as the rail and the wheel roughness of one contact: the
-    total roughness of CNOSSOS-EU (Commission Directive (EU) 2015/996, Annex II, 2.3.2) is this sum of the
-    rail and the wheel roughness levels.
-    """
-    stack = np.vstack(level_arrays("energetic_sum: levels", levels))
-    with np.errstate(divide="ignore"):  # every level -inf (no power): the sum is -inf too
-        return 10.0 * np.log10(np.sum(10.0 ** (stack / 10.0), axis=0))
 
 
 def contact_filter(levels_model: np.ndarray, levels_hertz: np.ndarray) -> np.ndarray:

@@ -308,7 +308,7 @@ def study_parameters(name: str, params) -> tuple[ModelParameters, tuple]:
 
 
 def _check_durations(specs: Sequence[RunSpec], infos: Sequence[SetInfo]) -> None:
-    """Every run must be long enough for a force spectrum (``spectra.check_spectrum_length``)."""
+    """Every run must be long enough for a force spectrum (``spectra.force.check_spectrum_length``)."""
     from wheelrail.core.roughness import RoughnessSet, load_roughness
 
     circumference = {}

@@ -81,7 +81,7 @@ def test_sizes_are_refused_with_a_figure(argv, text, cli, tmp_path, monkeypatch)
 @pytest.mark.slow
 def test_3d_keeps_pressure_maps_only_for_out(tmp_path, cli, monkeypatch):
     # 0.3 m of 3d after the default 0.014 m run-in (from the steady state): 0.20 MiB estimated without maps,
-    # 0.92 MiB with the 300 maps kept (limits.check_run_memory); a limit between the two
+    # 0.92 MiB with the 300 maps kept (engine.memory.check_run_memory); a limit between the two
     monkeypatch.setenv("WHEELRAIL_MEMORY_LIMIT_GB", str(0.5 / 1024))
     argv = ["run", "--set", "corrugated-rail", "--model", "3d", "--length-m", "0.3", "--json"]
     code, out, err = cli(*argv)

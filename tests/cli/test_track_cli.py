@@ -82,7 +82,7 @@ def test_bad_input_is_one_line(argv, fragment, capsys):
 
 def test_bands_are_named_by_their_nominal_centres(capsys):
     # `wheelrail track` once named its bands 79, 126, 158, 251, 398, 1259, 2512 Hz (the exact centres
-    # rounded) where every other output says 80, 125, 160, 250, 400, 1250, 2500 (``spectra.band_labels``).
+    # rounded) where every other output says 80, 125, 160, 250, 400, 1250, 2500 (``spectra.bands.band_labels``).
     from wheelrail.cli.commands.track import _print_bands
     from wheelrail.core.spectra.bands import noise_bands
 

@@ -247,7 +247,7 @@ def test_the_line_menu_and_the_run_length_follow_the_set_loaded(app, tmp_path):
 
 def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
     from wheelrail.core.roughness import load_roughness, roughness_spectrum
-    from wheelrail.core.spectra.levels import energetic_sum
+    from wheelrail.core.spectra.levels import energy_sum
 
     _reset(app)
     app.form.wheel_set_dropdown.value = "sinter-wheel-1"
@@ -263,7 +263,7 @@ def test_the_roughness_tab_reads_as_noise_engineers_read_it(app, tmp_path):
     assert plot.handle.title == "Roughness spectrum: corrugated-rail + sinter-wheel-1 at 100 km/h"
     rail = roughness_spectrum(load_roughness("corrugated-rail"), speed=100 / 3.6)
     wheel = roughness_spectrum(load_roughness("sinter-wheel-1"), speed=100 / 3.6)
-    combined = energetic_sum(rail.levels_db, wheel.levels_db)
+    combined = energy_sum(rail.levels_db, wheel.levels_db)
     centres = plot.data[0]
     for i, f in enumerate(centres):
         band = int(np.argmin(np.abs(rail.band_centres - f)))

@@ -239,9 +239,9 @@ def test_run_lines_follow_the_wheel_sets_coverage():
 
 def test_the_energetic_sum_of_two_roughness_spectra_is_the_spectrum_of_their_sum():
     """The explorer's combined roughness spectrum: rail and wheel levels added energetically
-    (``energetic_sum``) match the spectrum of the summed heights of two independent sets."""
+    (``energy_sum``) match the spectrum of the summed heights of two independent sets."""
     from wheelrail.core.roughness import roughness_spectrum
-    from wheelrail.core.spectra.levels import energetic_sum
+    from wheelrail.core.spectra.levels import energy_sum
 
     rng = np.random.default_rng(7)
     first = RAIL.with_heights(rng.normal(0.0, 2e-6, RAIL.heights.shape))
@@ -250,7 +250,7 @@ def test_the_energetic_sum_of_two_roughness_spectra_is_the_spectrum_of_their_sum
     speed = 100 / 3.6
     spectra = [roughness_spectrum(s, speed=speed) for s in (first, second, both)]
     levels = [spectrum.levels_db for spectrum in spectra]
-    summed = energetic_sum(levels[0], levels[1])
+    summed = energy_sum(levels[0], levels[1])
     wanted = np.isfinite(levels[2]) & (spectra[2].band_centres >= 200.0)
     assert wanted.sum() >= 15
     # independent random signals: the cross term of the two is zero on average and scatters with the
@@ -259,5 +259,5 @@ def test_the_energetic_sum_of_two_roughness_spectra_is_the_spectrum_of_their_sum
     np.testing.assert_allclose(summed[wanted], levels[2][wanted], atol=1.0)
     # exact identities: equal levels add 10 lg 2 dB; a NaN band stays NaN
     doubled = 10 * np.log10(2)
-    np.testing.assert_allclose(energetic_sum([10.0, -5.0], [10.0, -5.0]), [10 + doubled, -5 + doubled])
-    assert np.isnan(energetic_sum([np.nan], [3.0])[0])
+    np.testing.assert_allclose(energy_sum([10.0, -5.0], [10.0, -5.0]), [10 + doubled, -5 + doubled])
+    assert np.isnan(energy_sum([np.nan], [3.0])[0])

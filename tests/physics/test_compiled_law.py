@@ -119,3 +119,13 @@ def test_the_explorer_offers_a_compiled_law():
         env={**os.environ, "PYTHONPATH": path},
     )
     assert json.loads(done.stdout.replace("'", '"')) == [*MODELS, "spring", "compare"]
+
+
+def test_the_built_in_one_line_laws_step_on_compiled_laws_own_loop():
+    """``hertz`` and the bedding give their compiled chunk loop and curve; the stepping and the steady law are
+    ``CompiledLaw``'s, written once for them and a plug-in alike."""
+    from wheelrail.core.engine.laws.base import CompiledLaw
+    from wheelrail.core.engine.laws.one_line import BeddingLaw, HertzLaw
+
+    for law in (HertzLaw, BeddingLaw):
+        assert law.advance is CompiledLaw.advance and law.steady_law is CompiledLaw.steady_law

@@ -80,7 +80,7 @@ def test_run_result_and_array_give_the_same_spectrum():
 
 @pytest.mark.parametrize("kmh", [5.0, 100.0, 400.0])
 def test_the_shortest_run_with_a_spectrum_is_force_spectrums_own_rule(kmh):
-    # spectra.shortest_spectrum_run (what the explorer offers, the studies and `wheelrail run` check) against
+    # spectra.force.shortest_spectrum_run (what the explorer offers, the studies and `wheelrail run` check) against
     # force_spectrum itself: a run of that length has a spectrum, one element less has none
     from wheelrail.core.spectra.force import check_spectrum_length, shortest_spectrum_run
 

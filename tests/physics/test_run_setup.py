@@ -67,3 +67,38 @@ def test_track_numerics_of_another_type_is_one_clear_error():
     # prepare_run(track_numerics="fine") ended in AttributeError deep in the moving Green's functions
     with pytest.raises(WheelrailError, match="prepare_run: track_numerics must be TrackNumerics or None, got str"):
         prepare_run("corrugated-rail", model="hertz", length=0.01, track_numerics="fine")
+
+
+def _engine_calls_from_prepare(**options) -> dict[str, list[str]]:
+    """The engine's functions that ``core/engine/prepare.py``'s own code calls while a run is prepared, per
+    module of ``wheelrail.core.engine`` (prepare's helpers included, so a parameter's path is followed)."""
+    import sys
+
+    prepare = "wheelrail.core.engine.prepare"
+    calls: dict[str, list[str]] = {}
+
+    def profile(frame, event, _arg):
+        caller = frame.f_back
+        if event != "call" or caller is None or caller.f_globals.get("__name__") != prepare:
+            return
+        module = frame.f_globals.get("__name__", "")
+        if module.startswith("wheelrail.core.engine.") and module != prepare and frame.f_code.co_name != "<module>":
+            calls.setdefault(module.removeprefix("wheelrail.core.engine."), []).append(frame.f_code.co_name)
+
+    sys.setprofile(profile)
+    try:
+        prepare_run("corrugated-rail", model="hertz", length=0.05, **options)
+    finally:
+        sys.setprofile(None)
+    return calls
+
+
+@pytest.mark.parametrize("run_in", [None, 0.01], ids=["steady start", "run-in given"])
+def test_prepare_run_passes_through_each_engine_module_once(run_in):
+    """``prepare_run`` asks ``history`` for the run-in (its length and start, which the memory check takes before
+    the lines are laid), ``track_lines`` for the lines, then ``history`` once for the loop's arrays with the model
+    prepared on them and the wheel settled: no module is gone back into for one more piece."""
+    calls = _engine_calls_from_prepare(run_in_length=run_in)
+    assert calls.get("track_lines") == ["track_roughness"], calls
+    assert calls.get("history") == ["run_in", "run_history"], calls
+    assert "kernels" not in calls and "laws.base" not in calls, calls

@@ -13,7 +13,7 @@ import pytest
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import ContactParameters, RunParameters
-from wheelrail.core.spectra.levels import contact_filter, energetic_sum, level_difference, mean_level
+from wheelrail.core.spectra.levels import contact_filter, energy_sum, level_difference, mean_level
 
 MODULES = (
     "wheelrail.core.spectra.bands",
@@ -89,7 +89,7 @@ def test_bad_values_are_one_wheelrail_error_or_a_finite_answer(label, function, 
         lambda: mean_level([[60.0, 50.0], [60.0]]),
         lambda: contact_filter(np.array([60.0, 50.0]), np.array([60.0, 55.0, 40.0])),
         lambda: level_difference([1.0], "x"),
-        lambda: energetic_sum([1.0, 2.0], [1.0]),
+        lambda: energy_sum([1.0, 2.0], [1.0]),
     ],
     ids=["preload None", "radius None", "mean of none", "mean of None", "ragged", "filter shapes", "text", "sum"],
 )

@@ -75,7 +75,6 @@ CALLS = {  # each public function, one argument at a time replaced by the odd va
     "spectrum_record skip": lambda v: force.spectrum_record(np.ones(2000), 1e-4, skip=v).words(),
     "mean_level": lambda v: levels.mean_level([v]),
     "level_difference": lambda v: levels.level_difference(v, [1.0]),
-    "energetic_sum": lambda v: levels.energetic_sum(v, [1.0]),
     "contact_filter": lambda v: levels.contact_filter(v, [1.0]),
 }
 
@@ -124,8 +123,21 @@ def test_extreme_but_valid_inputs_have_their_exact_answers():
     assert narrowband.level_db(0.0, 1e-300) == -math.inf
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert levels.energetic_sum([-math.inf], [-math.inf]) == -math.inf  # no power twice is no power
+        assert levels.energy_sum([-math.inf], [-math.inf]) == -math.inf  # no power twice is no power
         assert np.isnan(levels.energy_sum([math.nan], [60.0]))  # a band without an estimate stays without
     with pytest.raises(WheelrailError, match=f"beyond \\+-{LEVEL_LIMIT_DB:g} dB"):
         levels.mean_level([[1e300, 1.0]])
     assert bands.nominal_band_label(1e300) == "1e+300"
+
+
+def test_one_energetic_sum_of_levels():
+    """Levels are added energetically by one function, ``energy_sum``, to the bit the sum of 10^(L/10) per band
+    that the combined roughness and the noise totals both take (no second function of the same sum)."""
+    assert not hasattr(levels, "energetic_sum") and "energetic_sum" not in levels.__all__
+    rng = np.random.default_rng(37)
+    rail, wheel, third = rng.uniform(-40.0, 30.0, (3, 27))
+    rail[3], wheel[3], wheel[5] = -math.inf, -math.inf, math.nan  # no power twice; a band without an estimate
+    for parts in ((rail, wheel), (rail, wheel, third)):
+        with np.errstate(divide="ignore"):
+            expected = 10.0 * np.log10(np.sum(10.0 ** (np.vstack(parts) / 10.0), axis=0))
+        np.testing.assert_array_equal(levels.energy_sum(*parts), expected)

@@ -42,8 +42,8 @@ def _dotted(node: ast.AST) -> str | None:
 
 def private_uses(path: Path, modules: set[str]) -> list[tuple[int, str]]:
     """(line, text) of every use in ``path`` of another wheelrail module's private name: ``from M import _x`` and
-    ``M._x`` where M is a wheelrail module bound by an import (``import wheelrail.core.m as m``, ``from
-    wheelrail.core import m``, or the full dotted path)."""
+    ``M._x`` where M is a wheelrail module bound by an import (``import wheelrail.core.M as M``, ``from
+    wheelrail.core import M``, or the full dotted path)."""
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
     found, bound = [], {}
     for node in ast.walk(tree):

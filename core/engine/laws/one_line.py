@@ -22,7 +22,6 @@ from wheelrail.core.engine import kernels
 from wheelrail.core.engine.compiled import sources_stamp
 from wheelrail.core.engine.kernels import commit_force, known_approach
 from wheelrail.core.engine.laws.base import CompiledLaw
-from wheelrail.core.errors import WheelrailError
 
 __all__ = ["BEDDING", "HERTZ", "BeddingLaw", "HertzLaw", "law_curve", "run_chunk"]
 
@@ -92,29 +91,17 @@ law_curve = _define_law_curve(_STAMP)
 
 
 class _OneLineLaw(CompiledLaw):
-    """A one-line law in :data:`run_chunk`, selected by ``kind``."""
+    """A one-line law in :data:`run_chunk`, selected by ``kind``: ``CompiledLaw``'s stepping on it."""
 
     kind: int
 
-    def advance(self, s0: int, s1: int) -> None:
-        loop = self.history
-        j = run_chunk(
-            self.kind,
-            loop.n_hist + s0,
-            loop.n_hist + s1,
-            loop.track,
-            loop.wheel,
-            self.preload,
-            loop.xi_w0,
-            self.law_inputs,
-            tuple(self.outputs),
-        )
-        if j != -1:
-            raise WheelrailError(self.contact.edge_message(j - loop.n_hist))
+    def chunk_loop(self, *args):
+        """:data:`run_chunk` of this law's ``kind``."""
+        return run_chunk(self.kind, *args)
 
-    def steady_law(self, band=None):
-        s, kind, inputs = self.history.n_run_in, self.kind, self.law_inputs
-        return lambda d: law_curve(kind, d, inputs, s)
+    def curve(self, *args):
+        """:data:`law_curve` of this law's ``kind``."""
+        return law_curve(self.kind, *args)
 
 
 class HertzLaw(_OneLineLaw):
