@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -21,14 +22,14 @@ from wheelrail.core.engine.run import InteractionRun
 from wheelrail.core.engine.track_lines import TrackRoughness, track_roughness, window_half_elements
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs.checks import real
-from wheelrail.core.models import ModelEntry, ModelInputs, model_entry
+from wheelrail.core.models import ModelEntry, ModelInputs, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.wheel import checked_wheel_system
 
 if TYPE_CHECKING:  # the roughness package is imported with the first set a run reads
     from wheelrail.core.roughness import RoughnessLike
 
-__all__ = ["checked_inputs", "interaction_wheel", "model_inputs", "prepare_run", "simulate"]
+__all__ = ["checked_inputs", "interaction_wheel", "irregular_surface", "model_inputs", "prepare_run", "simulate"]
 
 
 def checked_inputs(
@@ -48,9 +49,53 @@ def checked_inputs(
     return entry, params, int(line), run_in_length
 
 
-def model_inputs(track_roughness: TrackRoughness, history: History, params: ModelParameters) -> ModelInputs:
-    """What the contact model is given to prepare the run: the roughness on the model grid, its window and, at
-    every step, the sample under the wheel and the run-in's fade-in."""
+def irregular_surface(
+    traits: ModelTraits, track: TrackRoughness, params: ModelParameters
+) -> tuple[np.ndarray, np.ndarray | None, TrackRoughness]:
+    """A run's discrete irregularities (``RunParameters.irregularities``) as its model meets them.
+
+    They are checked against the run (``irregularities.check_irregularities``: the wheel's radius, the run's
+    first and last wheel positions, the sleeper bay), their surface deviation laid on the rows of ``track`` by
+    position (the chosen line is y = 0), and the model's law says what it is prepared on
+    (``ContactLaw.irregular_surface``). Returns the lines the model is prepared on, the line added to its
+    equivalent roughness (or None) and the roughness with the irregularities, as the run records it; without
+    irregularities ``(track.lines, None, track)``.
+    """
+    run = params.run
+    if not run.irregularities:
+        return track.lines, None, track
+    from wheelrail.core.engine.laws.base import law_class
+    from wheelrail.core.irregularities import check_irregularities, surface_deviation, wheel_centre_trajectory
+
+    dx, radius = run.element_size, params.contact.radius_along
+    check_irregularities(
+        run.irregularities,
+        wheel_radius=radius,
+        run_start=track.x_start,
+        run_end=track.x_start + (track.n_steps - 1) * dx,
+        sleeper_spacing=params.track.support.sleeper_spacing,
+    )
+    deviation = surface_deviation(run.irregularities, np.arange(track.lines.shape[1]) * dx, track.window_y,
+                                  wheel_radius=radius)  # fmt: skip
+
+    def centre_input() -> np.ndarray:
+        line = deviation[track.centre_row]
+        return line if run.irregularity_input == "raw" else wheel_centre_trajectory(line, dx, radius)
+
+    lines, offset = law_class(traits).irregular_surface(track.lines, deviation, centre_input)
+    return lines, offset, replace(track, lines=track.lines + deviation)
+
+
+def model_inputs(
+    track_roughness: TrackRoughness,
+    history: History,
+    params: ModelParameters,
+    lines: np.ndarray | None = None,
+    equivalent_offset: np.ndarray | None = None,
+) -> ModelInputs:
+    """What the contact model is given to prepare the run: the roughness on the model grid (``lines``, default
+    the track's), its window and, at every step, the sample under the wheel and the run-in's fade-in; a run's
+    irregularities as :func:`irregular_surface` gives them."""
     dx = params.run.element_size
 
     def position_of(s: int) -> float:
@@ -59,13 +104,14 @@ def model_inputs(track_roughness: TrackRoughness, history: History, params: Mode
     return ModelInputs(
         params=params,
         element_size=dx,
-        lines=track_roughness.lines,
+        lines=track_roughness.lines if lines is None else lines,
         centre_row=track_roughness.centre_row,
         window_y=track_roughness.window_y,
         half_x=window_half_elements(params)[0],
         start_index=history.start_index,
         ramp=history.ramp,
         position_of=position_of,
+        equivalent_offset=equivalent_offset,
     )
 
 
@@ -124,7 +170,9 @@ def prepare_run(
         Roughness line -M..M (of the rail set when a wheel set is added); for a model with a lateral window
         the line it is centred on.
     params : ModelParameters, optional
-        Default: the paper's values (65 kN, 100 km/h, 1 mm elements).
+        Default: the paper's values (65 kN, 100 km/h, 1 mm elements). ``params.run.irregularities``: discrete
+        irregularities on the run (a wheel flat, a joint, a weld, a squat), each model meeting them as its law
+        says (:func:`irregular_surface`).
     length : float, optional
         Run length, m. Default: ``track_lines.usable_length`` (the rail data less the margins, or one wheel
         circumference: wheel data repeats around it).
@@ -196,6 +244,7 @@ def prepare_run(
         length,
         lambda run_length: check_run_memory(entry, params, run_length, run_in_length, keep_pressure),
     )
+    lines, offset, track = irregular_surface(entry.traits, track, params)  # checked before the track is built
     wheel_system, wheel_model, wheel_profile = interaction_wheel(wheel_system, params)
     history = history_arrays(track, params, run_in_length, track_numerics, wheel_system, steady)
     if not steady:  # the rail's response to the preload's history (eq. 2); a steady start fills its own
@@ -211,7 +260,7 @@ def prepare_run(
         wheel_profile=wheel_profile,
     )
     contact = entry.create()
-    inputs = model_inputs(track, history, params)
+    inputs = model_inputs(track, history, params, lines, offset)
     history.settle(contact.prepare(inputs), params.contact.preload)
     return InteractionRun(
         header=header,

@@ -557,6 +557,17 @@ CHOICES: tuple[Choice, ...] = (
         ),
         cli="--wheel-model",  # `wheelrail noise --wheel-model`; `run --wheel-model` (2dof|modal) is the interaction's
     ),
+    Choice(
+        "irregularity_input",
+        ("trajectory", "raw"),
+        "trajectory",
+        "Irregularity input (Hertz)",
+        "what the Hertz models are driven by over a discrete irregularity (2d and 3d see the surface itself)",
+        (
+            "the wheel-centre trajectory of a rigid wheel, superposed on the model's own equivalent roughness",
+            "the irregularity's raw profile on the running line (no bridging: large errors, for comparison)",
+        ),
+    ),
 )
 """Every user-facing choice among named values (front ends offer ``values``; ``wheelrail.core.noise.wheel_power``
 uses ``noise_wheel_model``'s)."""
