@@ -29,6 +29,7 @@ __all__ = [
     "as_record",
     "check_irregularities",
     "checked_items",
+    "contact_reach",
     "extent",
     "flat_depth",
     "flat_meetings",
@@ -298,6 +299,18 @@ def words(item: Irregularity) -> str:
         f"squat {item.length * 1e3:g} x {item.width * 1e3:g} mm, {item.depth * 1e3:g} mm deep at x = "
         f"{item.position:g} m, y = {item.lateral_position * 1e3:g} mm"
     )
+
+
+def contact_reach(item: Irregularity, wheel_radius: float) -> float:
+    """How far from the wheel's centre along the rail the irregularity can move the contact, m: R times its
+    steepest slope (the wheel touches a slope r' at R r' from its centre), at most its half-length; a new flat's
+    edges (L/2), a joint's gap edges (g/2), its dip (R alpha) and its step climbed from sqrt(2 R |h|) ahead."""
+    if isinstance(item, RailJoint):
+        return max(0.5 * item.gap, wheel_radius * item.dip_angle, math.sqrt(2.0 * wheel_radius * abs(item.step)))
+    if isinstance(item, WheelFlat) and item.shape == "new":
+        return 0.5 * item.length
+    depth = flat_depth(item, wheel_radius) if isinstance(item, WheelFlat) else item.depth
+    return min(0.5 * item.length, wheel_radius * math.pi * depth / item.length)
 
 
 def flat_depth(flat: WheelFlat, wheel_radius: float) -> float:

@@ -152,3 +152,24 @@ def test_hertz_on_the_trajectory_matches_the_independent_impact_simulation(speed
     summary = impact_summary(_flat_run(speed_kmh=speed_kmh))
     assert summary.peak / 1e3 == pytest.approx(REFERENCE_PEAK_KN[speed_kmh], rel=0.05)
     assert summary.time_without_contact == 0.0  # contact is kept below 100 km/h
+
+
+def test_an_irregularity_widens_the_window_by_how_far_it_moves_the_contact():
+    # over a rounded flat the wheel rests on its flanks, up to R pi D / L from its centre (9.8 mm for 50 mm on
+    # R = 0.39 m): the 3D window and the bedding grow by that along the rail, not across
+    from wheelrail.core.engine.track_lines import window_half_elements
+
+    plain, flat = window_half_elements(ModelParameters()), window_half_elements(_params([FLAT]))
+    reach = RADIUS * np.pi * flat_depth(FLAT, RADIUS) / FLAT.length
+    assert flat == (plain[0] + int(np.ceil(reach / 1e-3)), plain[1])
+
+
+@pytest.mark.slow
+def test_the_3d_model_loses_contact_over_the_flat_and_lands_again():
+    heights = np.zeros((41, int(round((3 * BAY + 0.1) / 1e-3)) + 1))  # 40 mm across: the patch at 2.4 P
+    wide = RoughnessSet(heights=heights, dx=1e-3, y=(np.arange(41) - 20) * 1e-3, kind="rail", description="smooth")
+    result = simulate(wide, model="3d", params=_params([FLAT]), length=2 * BAY)
+    summary = impact_summary(result)
+    assert np.all(np.isfinite(result.force)) and summary.minimum == 0.0 and summary.time_without_contact > 0
+    assert result.contact_area[result.force == 0.0].max() == 0.0  # no patch while the wheel is in the air
+    assert 2.0 < summary.peak / ModelParameters().contact.preload < 3.0
