@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from wheelrail.core.errors import Blame, Name, WheelrailError
-from wheelrail.core.inputs.declared import METRE, MM, Unit
+from wheelrail.core.inputs.declared import METRE, MM, Unit, choice
 
 __all__ = [
     "FLAT_SHAPE_HELP",
@@ -32,8 +32,6 @@ __all__ = [
 def check_run_irregularities(run) -> None:
     """Check a ``RunParameters``' ``irregularity_input`` (the choice of that key) and ``irregularities`` (each a
     ``WheelFlat``, ``RailJoint``, ``DippedWeld`` or ``Squat``; held as a tuple), else one WheelrailError."""
-    from wheelrail.core.inputs.declared import choice
-
     choice("irregularity_input").check(run.irregularity_input)
     if run.irregularities != ():
         from wheelrail.core.irregularities.shapes import checked_items
@@ -42,20 +40,22 @@ def check_run_irregularities(run) -> None:
 
 
 def tagged_run(params, values: dict) -> dict:
-    """``values`` (``dataclasses.asdict`` of ``params``) with the run's irregularities each as
-    ``irregularities.shapes.as_record`` writes it (its ``kind`` and fields), for a ``ModelParameters`` or a
-    ``RunParameters``; other parameters as they are."""
+    """``values`` (``dataclasses.asdict`` of ``params``, a ``ModelParameters`` or a ``RunParameters``) with the
+    run's irregularities each as ``irregularities.shapes.as_record`` writes it (its ``kind`` and fields); a run
+    without irregularities at the default input leaves both keys out, so that its dict, and every cache key and
+    record made of it, stays what it was before runs had irregularities. Other parameters as they are."""
     run = getattr(params, "run", params)
     items = getattr(run, "irregularities", None)
-    if items is None or not isinstance(values.get("run", values), dict):
+    target = values.get("run", values)
+    if items is None or not isinstance(target, dict):
         return values
-    target = values["run"] if "run" in values else values
-    if items:
+    if not items and run.irregularity_input == choice("irregularity_input").default:
+        target.pop("irregularities", None)
+        target.pop("irregularity_input", None)
+    elif items:
         from wheelrail.core.irregularities.shapes import as_record
 
         target["irregularities"] = [as_record(item) for item in items]
-    else:
-        target["irregularities"] = []
     return values
 
 

@@ -173,3 +173,11 @@ def test_the_3d_model_loses_contact_over_the_flat_and_lands_again():
     assert np.all(np.isfinite(result.force)) and summary.minimum == 0.0 and summary.time_without_contact > 0
     assert result.contact_area[result.force == 0.0].max() == 0.0  # no patch while the wheel is in the air
     assert 2.0 < summary.peak / ModelParameters().contact.preload < 3.0
+
+
+def test_a_run_without_irregularities_keeps_its_parameters_dict_and_so_its_cache_keys():
+    # the recordings, cache keys and digests made of as_dict stay what they were before runs had irregularities
+    assert set(as_dict(ModelParameters())["run"]) == {"speed", "element_size"}
+    assert from_dict(ModelParameters, as_dict(ModelParameters())) == ModelParameters()
+    raw = ModelParameters(run=RunParameters(irregularity_input="raw"))
+    assert as_dict(raw)["run"]["irregularity_input"] == "raw" and from_dict(ModelParameters, as_dict(raw)) == raw
