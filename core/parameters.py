@@ -14,8 +14,8 @@ from dataclasses import asdict, dataclass, field, fields, is_dataclass
 from wheelrail.core.contact.hertz import HertzContact, elliptic_hertz
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.inputs import ranges
-from wheelrail.core.inputs.irregular import check_run_irregularities, tagged_run, untagged_run
 from wheelrail.core.inputs.ranges import ACCEPTED, MAX_SPEED_KMH, MIN_SPEED_KMH
+from wheelrail.core.inputs.run_records import check_run_irregularities, tagged_run, untagged_run
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
 __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.inputs.ranges', re-exported

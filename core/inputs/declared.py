@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 from wheelrail.core.errors import Blame, Name, WheelrailError
 from wheelrail.core.inputs.ranges import ACCEPTED, Accepted
+from wheelrail.core.inputs.run_records import IRREGULARITY_INPUT_VALUES
 
 if TYPE_CHECKING:  # parameters is imported on first use: the command line's start stays cheap
     from wheelrail.core.parameters import ModelParameters
@@ -559,8 +560,8 @@ CHOICES: tuple[Choice, ...] = (
     ),
     Choice(
         "irregularity_input",
-        ("trajectory", "raw"),
-        "trajectory",
+        IRREGULARITY_INPUT_VALUES,
+        IRREGULARITY_INPUT_VALUES[0],
         "Irregularity input (Hertz)",
         "what the Hertz models are driven by over a discrete irregularity (2d and 3d see the surface itself)",
         (

@@ -2,9 +2,8 @@
 
 :data:`IRREGULARITY_INPUTS` declares each number once (key, kind, field, unit, help), as ``declared.INPUTS`` does
 the track's: the command line's options and the names its errors give derive from it
-(:func:`irregularity_cli_names`, :func:`irregularities_from_values`). ``RunParameters`` checks its irregularities
-here (:func:`check_run_irregularities`), and they are written to and read from the plain dicts of
-``parameters.as_dict`` (each with its ``kind``) that headers, recordings and cache keys hold.
+(:func:`irregularity_cli_names`, :func:`irregularities_from_values`). How ``RunParameters`` checks and records
+them: ``run_records``.
 
 The irregularities' package (``wheelrail.core.irregularities``, compiled code) is imported only for a run that has
 some, so that parameters stay cheap to build.
@@ -15,60 +14,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from wheelrail.core.errors import Blame, Name, WheelrailError
-from wheelrail.core.inputs.declared import METRE, MM, Unit, choice
+from wheelrail.core.inputs.declared import METRE, MM, Unit
 
 __all__ = [
     "FLAT_SHAPE_HELP",
     "IRREGULARITY_INPUTS",
     "IrregularityInput",
-    "check_run_irregularities",
     "irregularities_from_values",
     "irregularity_cli_names",
-    "tagged_run",
-    "untagged_run",
 ]
-
-
-def check_run_irregularities(run) -> None:
-    """Check a ``RunParameters``' ``irregularity_input`` (the choice of that key) and ``irregularities`` (each a
-    ``WheelFlat``, ``RailJoint``, ``DippedWeld`` or ``Squat``; held as a tuple), else one WheelrailError."""
-    choice("irregularity_input").check(run.irregularity_input)
-    if run.irregularities != ():
-        from wheelrail.core.irregularities.shapes import checked_items
-
-        object.__setattr__(run, "irregularities", checked_items(run.irregularities, "RunParameters.irregularities"))
-
-
-def tagged_run(params, values: dict) -> dict:
-    """``values`` (``dataclasses.asdict`` of ``params``, a ``ModelParameters`` or a ``RunParameters``) with the
-    run's irregularities each as ``irregularities.shapes.as_record`` writes it (its ``kind`` and fields); a run
-    without irregularities at the default input leaves both keys out, so that its dict, and every cache key and
-    record made of it, stays what it was before runs had irregularities. Other parameters as they are."""
-    run = getattr(params, "run", params)
-    items = getattr(run, "irregularities", None)
-    target = values.get("run", values)
-    if items is None or not isinstance(target, dict):
-        return values
-    if not items and run.irregularity_input == choice("irregularity_input").default:
-        target.pop("irregularities", None)
-        target.pop("irregularity_input", None)
-    elif items:
-        from wheelrail.core.irregularities.shapes import as_record
-
-        target["irregularities"] = [as_record(item) for item in items]
-    return values
-
-
-def untagged_run(cls: type, values: dict) -> dict:
-    """The keyword arguments ``values`` of ``cls`` with a ``RunParameters``' irregularities read back from their
-    records (``irregularities.shapes.from_record``)."""
-    if cls.__name__ != "RunParameters" or not values.get("irregularities"):
-        return values
-    from wheelrail.core.irregularities.shapes import from_record
-
-    if not isinstance(values["irregularities"], list | tuple):
-        raise WheelrailError("RunParameters: irregularities must be a list of records")
-    return {**values, "irregularities": tuple(from_record(item) for item in values["irregularities"])}
 
 
 @dataclass(frozen=True)
