@@ -54,3 +54,14 @@ def test_bad_geometry_is_one_line_and_exit_2(argv, words, capsys):
     assert main([*RUN, *argv]) == 2
     err = capsys.readouterr().err.strip()
     assert words in err and len(err.splitlines()) == 1 and "Traceback" not in err and "Error:" not in err
+
+
+@pytest.mark.slow
+def test_the_noise_of_an_impact_run_states_its_irregularities(capsys, tmp_path):
+    out = tmp_path / "flat.npz"
+    assert main([*RUN, *FLAT, "--out", str(out), "--json"]) == 0
+    capsys.readouterr()
+    assert main(["noise", "--run", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "irregularities (Hertz on the trajectory): flat 50 mm rounded at x = 0.5 m" in text
+    assert "pass-by" in text
