@@ -139,6 +139,9 @@ class ModelInputs:
         Fade-in factor of the roughness over the run-in (1 afterwards).
     position_of : callable
         Wheel position of step s, m (for messages).
+    equivalent_offset : ndarray (samples,) or None
+        Added to the model's equivalent roughness along the track, m: a run's discrete irregularities as a Hertz
+        model meets them (``ContactLaw.irregular_surface``); None without.
     """
 
     params: ModelParameters
@@ -150,6 +153,7 @@ class ModelInputs:
     start_index: np.ndarray
     ramp: np.ndarray
     position_of: Callable[[int], float]
+    equivalent_offset: np.ndarray | None = None
 
     @property
     def n_total(self) -> int:

@@ -14,15 +14,8 @@ from dataclasses import asdict, dataclass, field, fields, is_dataclass
 from wheelrail.core.contact.hertz import HertzContact, elliptic_hertz
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.inputs import ranges
-from wheelrail.core.inputs.ranges import (
-    ACCEPTED,
-    MAX_SPEED_KMH,
-    MIN_SPEED_KMH,
-    check_model_input,
-    check_parts,
-    check_patch,
-    raise_concave_tread,
-)
+from wheelrail.core.inputs.ranges import ACCEPTED, MAX_SPEED_KMH, MIN_SPEED_KMH
+from wheelrail.core.inputs.run_records import check_run_irregularities, tagged_run, untagged_run
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
 __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.inputs.ranges', re-exported
@@ -70,11 +63,11 @@ def hertz_constant(youngs_modulus: float, poisson_ratio: float, radius: float) -
 
 
 def _check(owner: object, name: str, unit: str, *, allow_zero: bool = False) -> None:
-    check_model_input(f"{type(owner).__name__}.{name}", getattr(owner, name), unit, allow_zero=allow_zero)
+    ranges.check_model_input(f"{type(owner).__name__}.{name}", getattr(owner, name), unit, allow_zero=allow_zero)
 
 
 def _check_int(owner: object, name: str, minimum: int) -> None:
-    check_model_input(f"{type(owner).__name__}.{name}", getattr(owner, name), "", minimum=minimum)
+    ranges.check_model_input(f"{type(owner).__name__}.{name}", getattr(owner, name), "", minimum=minimum)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -208,7 +201,7 @@ class TrackParameters:
     n_bays: int = 70
 
     def __post_init__(self) -> None:
-        check_parts(self)
+        ranges.check_parts(self)
         _check_int(self, "n_bays", 4)
 
     @property
@@ -392,14 +385,14 @@ class ContactParameters:
             return elliptic_hertz(self.preload, self.radius_along, radius_across, self.reduced_modulus)[1]
 
         if math.isfinite(tread) and 1.0 / crown + 1.0 / tread <= 0.0:
-            raise_concave_tread(
+            ranges.raise_concave_tread(
                 f"a concave tread of radius {-tread:.4g} m fits the rail crown of radius {crown:.4g} "
                 "m or closer: the surfaces conform across the rail",
                 tread,
                 crown,
                 semi_axis_across,
             )
-        check_patch(self.hertz_semi_axes(), (self.radius_along, crown, tread), self.preload, semi_axis_across)
+        ranges.check_patch(self.hertz_semi_axes(), (self.radius_along, crown, tread), self.preload, semi_axis_across)
 
     @property
     def radius_along(self) -> float:
@@ -546,14 +539,21 @@ class RunParameters:
         v, train speed, m/s (100 km/h in the paper); ``ranges.ACCEPTED["speed"]``: 5 to 400 km/h.
     element_size : float
         Delta x, contact element length and step length along the rail, m (1 mm).
+    irregularities : tuple
+        Discrete irregularities on the run (``wheelrail.core.irregularities``), by position; default none.
+    irregularity_input : str
+        What the Hertz models are driven by: "trajectory" (default) or "raw" (the choice ``irregularity_input``).
     """
 
     speed: float = 100.0 * KMH
     element_size: float = 1e-3
+    irregularities: tuple = ()
+    irregularity_input: str = "trajectory"
 
     def __post_init__(self) -> None:
         ACCEPTED["speed"].check(self.speed, "RunParameters.speed")
         _check(self, "element_size", "m")
+        check_run_irregularities(self)
 
     @property
     def time_step(self) -> float:
@@ -579,14 +579,14 @@ class ModelParameters:
     run: RunParameters = field(default_factory=RunParameters)
 
     def __post_init__(self) -> None:
-        check_parts(self)
+        ranges.check_parts(self)
 
 
 def as_dict(params: object) -> dict:
     """Nested plain-dict view of a parameter dataclass (for JSON, cache keys and recordings)."""
     if not is_dataclass(params) or isinstance(params, type):
         raise WheelrailError(f"as_dict: expected a parameter dataclass instance, got {type(params).__name__}")
-    return asdict(params)
+    return tagged_run(params, asdict(params))
 
 
 def field_names(cls: type) -> list[str]:
@@ -613,4 +613,4 @@ def from_dict(cls: type, values: dict):
     for name, value in values.items():
         kind = hints.get(name)
         kwargs[name] = from_dict(kind, value) if is_dataclass(kind) else value
-    return cls(**kwargs)
+    return cls(**untagged_run(cls, kwargs))

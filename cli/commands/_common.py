@@ -63,7 +63,9 @@ CLI_NAMES: dict[str, Name] = {
 
 def cli_error_names() -> dict[str, Name]:
     """``CLI_NAMES`` with the declared inputs' names as declared now (``wheelrail.cli.dispatch`` words errors so)."""
-    return {**CLI_NAMES, **cli_names()}
+    from wheelrail.core.inputs.irregular import irregularity_cli_names
+
+    return {**CLI_NAMES, **cli_names(), **irregularity_cli_names()}
 
 
 # an argument group's description is printed as written (not %-formatted, unlike an option's help)
@@ -128,6 +130,42 @@ def add_input_options(
                 options.add_argument(entry.option, type=float, nargs=nargs, default=entry.shown_default(), help=text)
             )
     return added
+
+
+def add_irregularity_options(parser) -> None:
+    """The options of the discrete irregularities (``wheelrail.core.inputs.irregular``: each number declared once,
+    with --flat-shape and --irregularity-input), one argparse group; read back by :func:`irregularities_from_args`."""
+    from wheelrail.core.inputs.irregular import FLAT_SHAPE_HELP, IRREGULARITY_INPUTS
+
+    options = parser.add_argument_group(
+        "irregularity inputs",
+        description="a wheel flat, a rail joint, a dipped weld and a squat, each on top of the roughness (by "
+        "position; one of each at most); positions along the run in m, as the run's x",
+    )
+    for entry in IRREGULARITY_INPUTS:
+        unit = f", {entry.shown.name}" if entry.shown.name else ""
+        needed = "; needed for one" if entry.required else ""
+        options.add_argument(entry.option, type=float, default=None, help=f"{entry.help}{unit}{needed}")
+    options.add_argument("--flat-shape", choices=("rounded", "new"), default=None, help=f"{FLAT_SHAPE_HELP} "
+                         "(default rounded)")  # fmt: skip
+    entry = choice("irregularity_input")
+    options.add_argument(entry.option, choices=entry.values, default=entry.default, help=entry.help_text())
+
+
+def irregularities_from_args(args, params):
+    """``params`` with the irregularities and the irregularity input the command line gave
+    (:func:`add_irregularity_options`), in SI; unchanged where none is given (cache keys stay the same)."""
+    from dataclasses import replace
+
+    from wheelrail.core.inputs.irregular import IRREGULARITY_INPUTS, irregularities_from_values
+
+    values = {
+        e.key: getattr(args, e.dest) * e.shown.si for e in IRREGULARITY_INPUTS if getattr(args, e.dest) is not None
+    }
+    items = irregularities_from_values(values, args.flat_shape)
+    if not items and args.irregularity_input == choice("irregularity_input").default:
+        return params
+    return replace(params, run=replace(params.run, irregularities=items, irregularity_input=args.irregularity_input))
 
 
 def add_choice_option(parser, key: str, help_prefix: str = "", option: str | None = None):

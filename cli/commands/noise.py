@@ -336,7 +336,7 @@ def _run_file(args) -> int:
         f"Rolling noise of {args.run}: model {cfg['model']}, {cfg['roughness']} line {cfg['line']}, "
         f"{cfg['speed_m_s'] * 3.6:g} km/h; sound power of one wheel on one rail, dB re 1 pW"
     )
-    print(f"  the run's wheel (its force): {result.header.wheel_words()}")
+    print(f"  the run's wheel (its force): {result.header.wheel_words()}{result.header.irregularity_words()}")
     print(f"  track (its force and the rail's and sleepers' sound): {describe_track(result.header.params)}")
     print("  band Hz   force dB " + " ".join(f"{name:>6}" for name in noise.sound_power_db))
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):

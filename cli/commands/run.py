@@ -16,7 +16,9 @@ from wheelrail.cli.commands._common import (
     Output,
     add_choice_option,
     add_input_options,
+    add_irregularity_options,
     cli_error_names,
+    irregularities_from_args,
     params_from_args,
     print_json,
 )
@@ -94,6 +96,7 @@ def add_parser(sub):
     )
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     add_input_options(parser, *RUN_INPUT_GROUPS)
+    add_irregularity_options(parser)
     add_recording_arguments(parser)
     add_choice_option(  # the sound power's wheel: one declaration (CHOICES), named apart from --wheel-model here
         parser, "noise_wheel_model", "with --sound-power, the recorded sound power's wheel: ", "--noise-wheel-model"
@@ -136,7 +139,7 @@ class _StopOnCtrlC:
 
 def _checked_args(args):
     """The run's parameters and output paths, checked before any work: (params, out)."""
-    params = params_from_args(args, *RUN_INPUT_GROUPS)
+    params = irregularities_from_args(args, params_from_args(args, *RUN_INPUT_GROUPS))
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     out = Path(args.out) if args.out is not None else None  # the files: checked by the dispatcher (FILES)
@@ -266,6 +269,14 @@ def _summary(args, result, params, times) -> dict:
     }
     if spectrum_note:
         summary["spectrum_note"] = spectrum_note
+    from wheelrail.core.engine.impacts import impact_summary
+
+    if params.run.irregularities:
+        from wheelrail.core.irregularities.shapes import as_record
+
+        summary["irregularities"] = [as_record(item) for item in params.run.irregularities]
+        summary["irregularity_input"] = params.run.irregularity_input
+    summary["impacts"] = impact_summary(result).to_dict() if result.n_steps else None
     return summary
 
 
@@ -288,6 +299,13 @@ def _print_summary(args, result, params, summary, sink) -> None:
         f"min {force.min() / 1e3:.3f} kN, max {force.max() / 1e3:.3f} kN"
     )
     print(f"  loss of contact: {result.loss_of_contact_steps} steps")
+    if result.header.params.run.irregularities:
+        print(f"  irregularities{result.header.irregularity_words().partition('irregularities')[2]}")
+    if summary["impacts"] is not None:
+        from wheelrail.core.engine.impacts import impact_summary
+
+        for text in impact_summary(result).lines():
+            print(f"  {text}")
     print(f"  run-in before the record (discarded): {result.run_in_length:.3f} m, {result.run_in_time * 1e3:.1f} ms")
     print(
         f"  {summary['steps_per_s']:.0f} steps/s (prepare {summary['prepare_time_s']:.2f} s, "

@@ -25,6 +25,8 @@ class HertzModel(ContactModel):
     def prepare(self, inputs: ModelInputs) -> float:
         contact = inputs.params.contact
         self.equivalent_line = self.equivalent_roughness(inputs, inputs.centre_line)
+        if inputs.equivalent_offset is not None:  # a run's irregularities (ContactLaw.irregular_surface)
+            self.equivalent_line = self.equivalent_line + inputs.equivalent_offset
         r_eq = np.ascontiguousarray(self.equivalent_line[inputs.start_index] * inputs.ramp)
         self._law = LawInputs(
             roughness=r_eq.reshape(-1, 1),

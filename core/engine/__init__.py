@@ -11,7 +11,8 @@ Its pieces, by what they do:
 * ``kernels``: the compiled eqs. 1-2 of a step, inlined into every law's chunk loop;
 * ``memory``: a run's memory estimated before it is allocated;
 * ``compiled``: numba's cache keyed on the sources a compiled function calls;
-* ``results``: the run's header, its per-step state and its whole-run result.
+* ``results``: the run's header, its per-step state and its whole-run result;
+* ``impacts``: a run's impacts (peak and minimum force, time without contact, each impact's position).
 
 ``prepare_run``, ``simulate`` and ``InteractionRun`` are importable from here, loaded on first use (this package's
 own import loads no numerical library: ``results`` is read without numba).
@@ -21,9 +22,9 @@ from __future__ import annotations
 
 import importlib
 
-__all__ = ["InteractionRun", "prepare_run", "simulate"]
+__all__ = ["InteractionRun", "impact_summary", "prepare_run", "simulate"]
 
-_WHERE = {"prepare_run": "prepare", "simulate": "prepare", "InteractionRun": "run"}
+_WHERE = {"prepare_run": "prepare", "simulate": "prepare", "InteractionRun": "run", "impact_summary": "impacts"}
 
 
 def __getattr__(name: str):

@@ -218,10 +218,18 @@ def history_arrays(
     return history
 
 
-def model_inputs(track_roughness: TrackRoughness, history: History, params: ModelParameters) -> ModelInputs:
+def model_inputs(
+    track_roughness: TrackRoughness,
+    history: History,
+    params: ModelParameters,
+    surface: tuple[np.ndarray, np.ndarray | None] | None = None,
+) -> ModelInputs:
     """What the contact model is given to prepare the run: the roughness on the model grid, its window and, at
-    every step, the sample under the wheel and the run-in's fade-in."""
+    every step, the sample under the wheel and the run-in's fade-in. ``surface``: the lines the model is
+    prepared on and the line added to its equivalent roughness, as ``engine.prepare.irregular_surface`` gives
+    a run's irregularities (default: the track's lines, nothing added)."""
     dx = params.run.element_size
+    lines, equivalent_offset = (track_roughness.lines, None) if surface is None else surface
 
     def position_of(s: int) -> float:
         return track_roughness.x_start + (s - history.n_run_in) * dx
@@ -229,13 +237,14 @@ def model_inputs(track_roughness: TrackRoughness, history: History, params: Mode
     return ModelInputs(
         params=params,
         element_size=dx,
-        lines=track_roughness.lines,
+        lines=lines,
         centre_row=track_roughness.centre_row,
         window_y=track_roughness.window_y,
         half_x=track_roughness.half_x,
         start_index=history.start_index,
         ramp=history.ramp,
         position_of=position_of,
+        equivalent_offset=equivalent_offset,
     )
 
 
@@ -247,18 +256,20 @@ def run_history(
     contact,
     track_numerics: TrackNumerics | None = None,
     wheel_system: tuple | None = None,
+    surface: tuple[np.ndarray, np.ndarray | None] | None = None,
 ) -> tuple[History, ModelInputs]:
     """The loop's history of a run with its contact model prepared on it, and the model's inputs.
 
     The arrays (:func:`history_arrays`); where the run does not start steady, the rail's response to the
     preload's history (eq. 2, ``engine.kernels.scatter_history``; a steady start fills its own at the first
     step); the model's inputs (:func:`model_inputs`) and ``contact.prepare`` on them, whose static approach
-    settles the wheel (:meth:`History.settle`). ``run_in_length`` and ``steady`` are :func:`run_in`'s."""
+    settles the wheel (:meth:`History.settle`). ``run_in_length`` and ``steady`` are :func:`run_in`'s; ``surface``
+    is :func:`model_inputs`'s."""
     from wheelrail.core.engine.kernels import scatter_history
 
     history = history_arrays(track_roughness, params, run_in_length, track_numerics, wheel_system, steady)
     if not steady:
         scatter_history(0, history.n_hist, history.track)
-    inputs = model_inputs(track_roughness, history, params)
+    inputs = model_inputs(track_roughness, history, params, surface)
     history.settle(contact.prepare(inputs), params.contact.preload)
     return history, inputs

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -17,16 +18,16 @@ from wheelrail.core.engine.history import run_history, run_in
 from wheelrail.core.engine.memory import check_run_memory
 from wheelrail.core.engine.results import RunHeader, RunResult, StepState
 from wheelrail.core.engine.run import InteractionRun
-from wheelrail.core.engine.track_lines import track_roughness
+from wheelrail.core.engine.track_lines import TrackRoughness, track_roughness
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.models import ModelEntry, model_entry
+from wheelrail.core.models import ModelEntry, ModelTraits, model_entry
 from wheelrail.core.parameters import ModelParameters, TrackNumerics
 from wheelrail.core.wheel import checked_wheel_system
 
 if TYPE_CHECKING:  # the roughness package is imported with the first set a run reads
     from wheelrail.core.roughness import RoughnessLike
 
-__all__ = ["checked_inputs", "interaction_wheel", "prepare_run", "simulate"]
+__all__ = ["checked_inputs", "interaction_wheel", "irregular_surface", "prepare_run", "simulate"]
 
 
 def checked_inputs(
@@ -41,6 +42,43 @@ def checked_inputs(
     if isinstance(line, bool) or not isinstance(line, int | np.integer):
         raise WheelrailError(f"line must be an integer line number, got {line!r}")
     return entry, params, int(line), *run_in(params, run_in_length)
+
+
+def irregular_surface(
+    traits: ModelTraits, track: TrackRoughness, params: ModelParameters
+) -> tuple[np.ndarray, np.ndarray | None, TrackRoughness]:
+    """A run's discrete irregularities (``RunParameters.irregularities``) as its model meets them.
+
+    They are checked against the run (``irregularities.check_irregularities``: the wheel's radius, the run's
+    first and last wheel positions, the sleeper bay), their surface deviation laid on the rows of ``track`` by
+    position (the chosen line is y = 0), and the model's law says what it is prepared on
+    (``ContactLaw.irregular_surface``). Returns the lines the model is prepared on, the line added to its
+    equivalent roughness (or None) and the roughness with the irregularities, as the run records it; without
+    irregularities ``(track.lines, None, track)``.
+    """
+    run = params.run
+    if not run.irregularities:
+        return track.lines, None, track
+    from wheelrail.core.engine.laws.base import law_class
+    from wheelrail.core.irregularities import check_irregularities, surface_deviation, wheel_centre_trajectory
+
+    dx, radius = run.element_size, params.contact.radius_along
+    check_irregularities(
+        run.irregularities,
+        wheel_radius=radius,
+        run_start=track.x_start,
+        run_end=track.x_start + (track.n_steps - 1) * dx,
+        sleeper_spacing=params.track.support.sleeper_spacing,
+    )
+    deviation = surface_deviation(run.irregularities, np.arange(track.lines.shape[1]) * dx, track.window_y,
+                                  wheel_radius=radius)  # fmt: skip
+
+    def centre_input() -> np.ndarray:
+        line = deviation[track.centre_row]
+        return line if run.irregularity_input == "raw" else wheel_centre_trajectory(line, dx, radius)
+
+    lines, offset = law_class(traits).irregular_surface(track.lines, deviation, centre_input)
+    return lines, offset, replace(track, lines=track.lines + deviation)
 
 
 def interaction_wheel(wheel, params) -> tuple[tuple | None, str, dict | None]:
@@ -98,7 +136,9 @@ def prepare_run(
         Roughness line -M..M (of the rail set when a wheel set is added); for a model with a lateral window
         the line it is centred on.
     params : ModelParameters, optional
-        Default: the paper's values (65 kN, 100 km/h, 1 mm elements).
+        Default: the paper's values (65 kN, 100 km/h, 1 mm elements). ``params.run.irregularities``: discrete
+        irregularities on the run (a wheel flat, a joint, a weld, a squat), each model meeting them as its law
+        says (:func:`irregular_surface`).
     length : float, optional
         Run length, m. Default: ``track_lines.usable_length`` (the rail data less the margins, or one wheel
         circumference: wheel data repeats around it).
@@ -168,9 +208,12 @@ def prepare_run(
         length,
         lambda run_length: check_run_memory(entry, params, run_length, run_in_length, keep_pressure),
     )
+    lines, offset, track = irregular_surface(entry.traits, track, params)  # checked before the track is built
     wheel_system, wheel_model, wheel_profile = interaction_wheel(wheel_system, params)
     contact = entry.create()
-    history, inputs = run_history(track, params, run_in_length, steady, contact, track_numerics, wheel_system)
+    history, inputs = run_history(
+        track, params, run_in_length, steady, contact, track_numerics, wheel_system, surface=(lines, offset)
+    )
     header = RunHeader(
         model=entry.name,
         line=line,

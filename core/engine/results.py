@@ -126,7 +126,18 @@ class RunHeader:
             f"{'flat' if tread == float('inf') else f'{tread * 1e3:g} mm'}; track {self.params.track.n_bays} bays "
             f"of {support.sleeper_spacing:g} m, pads {support.pad_stiffness / 1e6:g} MN/m, ballast "
             f"{support.ballast_stiffness / 1e6:g} MN/m, sleepers {support.sleeper_mass:g} kg; {self.wheel_words()}"
+            f"{self.irregularity_words()}"
         )
+
+    def irregularity_words(self) -> str:
+        """The run's discrete irregularities in words ("; irregularities (Hertz on the trajectory): flat 50 mm
+        ..."), or "" for a run without."""
+        run = self.params.run
+        if not run.irregularities:
+            return ""
+        from wheelrail.core.irregularities.shapes import words
+
+        return f"; irregularities (Hertz on the {run.irregularity_input}): {', '.join(map(words, run.irregularities))}"
 
     def csv_comment(self, what: str) -> str:
         """Two ``#`` comment lines heading a CSV export: ``what`` and :meth:`description`, then the whole

@@ -53,12 +53,20 @@ def window_half_elements(params: ModelParameters | None = None) -> tuple[int, in
     ``WINDOW_SEMI_AXES`` Hertz semi-axes at the preload (a along the rail, b across), never less than the
     paper's window ``WINDOW_HALF_WIDTH`` (12 mm: the roughness widens the patch and the dynamic load
     exceeds the preload; a light wheel keeps that room), so a long or a wide elliptic patch gets its own room.
+    A run's discrete irregularities widen it along the rail by how far ahead of or behind the wheel's centre they
+    move the contact (``irregularities.shapes.contact_reach``: over a flat the patch sits on its flanks).
     """
     params = ModelParameters() if params is None else params
     dx = params.run.element_size
     least = int(round(WINDOW_HALF_WIDTH / dx))
     a, b = params.contact.hertz_semi_axes()
-    return max(least, int(round(WINDOW_SEMI_AXES * a / dx))), max(least, int(round(WINDOW_SEMI_AXES * b / dx)))
+    along = max(least, int(round(WINDOW_SEMI_AXES * a / dx)))
+    if params.run.irregularities:
+        from wheelrail.core.irregularities.shapes import contact_reach
+
+        reach = max(contact_reach(item, params.contact.radius_along) for item in params.run.irregularities)
+        along += int(math.ceil(reach / dx - 1e-9))
+    return along, max(least, int(round(WINDOW_SEMI_AXES * b / dx)))
 
 
 def run_margin(element_size: float, params: ModelParameters | None = None) -> float:

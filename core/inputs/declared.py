@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 from wheelrail.core.errors import Blame, Name, WheelrailError
 from wheelrail.core.inputs.ranges import ACCEPTED, Accepted
+from wheelrail.core.inputs.run_records import IRREGULARITY_INPUT_VALUES
 
 if TYPE_CHECKING:  # parameters is imported on first use: the command line's start stays cheap
     from wheelrail.core.parameters import ModelParameters
@@ -556,6 +557,17 @@ CHOICES: tuple[Choice, ...] = (
             "the axisymmetric FE wheel of radius R radiating from its own modes",
         ),
         cli="--wheel-model",  # `wheelrail noise --wheel-model`; `run --wheel-model` (2dof|modal) is the interaction's
+    ),
+    Choice(
+        "irregularity_input",
+        IRREGULARITY_INPUT_VALUES,
+        IRREGULARITY_INPUT_VALUES[0],
+        "Irregularity input (Hertz)",
+        "what the Hertz models are driven by over a discrete irregularity (2d and 3d see the surface itself)",
+        (
+            "the wheel-centre trajectory of a rigid wheel, superposed on the model's own equivalent roughness",
+            "the irregularity's raw profile on the running line (no bridging: large errors, for comparison)",
+        ),
     ),
 )
 """Every user-facing choice among named values (front ends offer ``values``; ``wheelrail.core.noise.wheel_power``

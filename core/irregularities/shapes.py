@@ -26,10 +26,15 @@ __all__ = [
     "RailJoint",
     "Squat",
     "WheelFlat",
+    "as_record",
     "check_irregularities",
+    "checked_items",
+    "contact_reach",
     "extent",
     "flat_depth",
     "flat_meetings",
+    "from_record",
+    "words",
 ]
 
 FLAT_SHAPES = ("rounded", "new")
@@ -239,6 +244,75 @@ class Squat:
 Irregularity = WheelFlat | RailJoint | DippedWeld | Squat
 
 
+_KINDS = {"flat": WheelFlat, "joint": RailJoint, "weld": DippedWeld, "squat": Squat}
+
+
+def checked_items(irregularities, argument: str = "irregularities") -> tuple[Irregularity, ...]:
+    """The irregularities as a tuple, each one of the four kinds, else one WheelrailError (``argument``: how the
+    caller names them)."""
+    if not isinstance(irregularities, tuple | list):
+        raise WheelrailError(
+            f"{argument} must be a tuple of WheelFlat, RailJoint, DippedWeld or Squat, got "
+            f"{type(irregularities).__name__}"
+        )
+    items = tuple(irregularities)
+    for item in items:
+        if not isinstance(item, WheelFlat | RailJoint | DippedWeld | Squat):
+            raise WheelrailError(
+                f"an irregularity must be a WheelFlat, RailJoint, DippedWeld or Squat, got {type(item).__name__}"
+            )
+    return items
+
+
+def as_record(item: Irregularity) -> dict:
+    """A plain dict of an irregularity, SI, with its ``kind`` ("flat", "joint", "weld", "squat"): what a run's
+    header and cache keys hold (:func:`from_record` reads it back)."""
+    kind = next(name for name, cls in _KINDS.items() if isinstance(item, cls))
+    return {"kind": kind, **{name: getattr(item, name) for name in item.__dataclass_fields__}}
+
+
+def from_record(values) -> Irregularity:
+    """The irregularity of :func:`as_record`'s dict; a damaged one is one WheelrailError."""
+    if not isinstance(values, dict) or values.get("kind") not in _KINDS:
+        raise WheelrailError(f"an irregularity's record needs a kind ({', '.join(_KINDS)}), got {values!r:.80}")
+    cls = _KINDS[values["kind"]]
+    fields = {name: value for name, value in values.items() if name != "kind"}
+    unknown = sorted(set(fields) - set(cls.__dataclass_fields__))
+    if unknown:
+        raise WheelrailError(f"an irregularity's record ({values['kind']}) has unknown field(s) {', '.join(unknown)}")
+    return cls(**fields)
+
+
+def words(item: Irregularity) -> str:
+    """One irregularity in words, mm and m: "flat 50 mm rounded at x = 0.9 m" (a result's description)."""
+    if isinstance(item, WheelFlat):
+        depth = "" if item.depth is None else f" {item.depth * 1e3:g} mm deep"
+        return f"flat {item.length * 1e3:g} mm {item.shape}{depth} at x = {item.position:g} m"
+    if isinstance(item, RailJoint):
+        return (
+            f"joint gap {item.gap * 1e3:g} mm, step {item.step * 1e3:g} mm, dip {item.dip_angle * 1e3:g} mrad at "
+            f"x = {item.position:g} m"
+        )
+    if isinstance(item, DippedWeld):
+        return f"weld {item.length * 1e3:g} mm, {item.depth * 1e3:g} mm deep at x = {item.position:g} m"
+    return (
+        f"squat {item.length * 1e3:g} x {item.width * 1e3:g} mm, {item.depth * 1e3:g} mm deep at x = "
+        f"{item.position:g} m, y = {item.lateral_position * 1e3:g} mm"
+    )
+
+
+def contact_reach(item: Irregularity, wheel_radius: float) -> float:
+    """How far from the wheel's centre along the rail the irregularity can move the contact, m: R times its
+    steepest slope (the wheel touches a slope r' at R r' from its centre), at most its half-length; a new flat's
+    edges (L/2), a joint's gap edges (g/2), its dip (R alpha) and its step climbed from sqrt(2 R |h|) ahead."""
+    if isinstance(item, RailJoint):
+        return max(0.5 * item.gap, wheel_radius * item.dip_angle, math.sqrt(2.0 * wheel_radius * abs(item.step)))
+    if isinstance(item, WheelFlat) and item.shape == "new":
+        return 0.5 * item.length
+    depth = flat_depth(item, wheel_radius) if isinstance(item, WheelFlat) else item.depth
+    return min(0.5 * item.length, wheel_radius * math.pi * depth / item.length)
+
+
 def flat_depth(flat: WheelFlat, wheel_radius: float) -> float:
     """The flat's depth D on a wheel of radius R (m): as given, or its default (:class:`WheelFlat`)."""
     if flat.shape == "new":
@@ -318,12 +392,8 @@ def check_irregularities(
         depth other than its chord's, a joint's gap as wide as a sleeper bay, an irregularity (a flat's first
         meeting) not wholly inside [x0, x1], or an item that is none of the four.
     """
-    items = tuple(irregularities)
+    items = checked_items(irregularities)
     for item in items:
-        if not isinstance(item, WheelFlat | RailJoint | DippedWeld | Squat):
-            raise WheelrailError(
-                f"an irregularity must be a WheelFlat, RailJoint, DippedWeld or Squat, got {type(item).__name__}"
-            )
         kind = type(item).__name__
         key = {"WheelFlat": "flat", "RailJoint": "joint", "DippedWeld": "weld", "Squat": "squat"}[kind]
         if isinstance(item, WheelFlat):

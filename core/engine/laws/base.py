@@ -21,6 +21,7 @@ Two kinds of law, on one base:
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -98,6 +99,19 @@ class ContactLaw:
         0, or a window's columns for a law that keeps one per step. ``window_width``: the least window's
         columns."""
         return 0
+
+    @classmethod
+    def irregular_surface(
+        cls, lines: np.ndarray, deviation: np.ndarray, centre_input: Callable[[], np.ndarray]
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        """How the model meets a run's discrete irregularities: the lines it is prepared on and the line added to
+        its equivalent roughness (``ModelInputs.equivalent_offset``, or None).
+
+        ``lines``: the roughness along the track (rows, samples, as ``ModelInputs.lines``, m); ``deviation``: the
+        irregularities' surface deviation on the same rows and samples, m; ``centre_input()``: the Hertz models'
+        input on the chosen line (the wheel-centre trajectory, or the raw profile: ``RunParameters.
+        irregularity_input``), m. Here the surface as it is: the deviation added to every line, by position."""
+        return lines + deviation, None
 
     def surface_input(self, lines: np.ndarray) -> np.ndarray:
         """What this law's kernel reads of a surface, per step: the surface ``lines`` (rows, samples on the model

@@ -109,11 +109,22 @@ class HertzLaw(_OneLineLaw):
 
     kind = HERTZ
 
+    @classmethod
+    def irregular_surface(cls, lines, deviation, centre_input):
+        """The Hertz spring meets the irregularities through its equivalent roughness: the lines as they are (the
+        model's pre-filter sees the roughness alone) and ``centre_input()`` (the wheel-centre trajectory of the
+        irregularities alone, or their raw profile) added to r_eq: a superposition, exact where the roughness
+        and the irregularity do not overlap (the documentation's physics page, "Discrete irregularities")."""
+        return lines, centre_input()
+
     def surface_input(self, lines: np.ndarray) -> np.ndarray:
         """The model's equivalent roughness of the chosen line of ``lines`` under the wheel at every step, faded in
-        over the run-in: (steps, 1), m (the model's pre-filter, ``equivalent_roughness``, on the line)."""
+        over the run-in: (steps, 1), m (the model's pre-filter, ``equivalent_roughness``, on the line, plus the
+        irregularities' input ``ModelInputs.equivalent_offset`` where the run has one)."""
         inputs = self.inputs
         r_eq = self.contact.equivalent_roughness(inputs, lines[inputs.centre_row])
+        if inputs.equivalent_offset is not None:
+            r_eq = r_eq + inputs.equivalent_offset
         return np.ascontiguousarray((r_eq[inputs.start_index] * inputs.ramp).reshape(-1, 1))
 
 
