@@ -509,10 +509,11 @@ def prepare_run(
         raise WheelrailError(
             f"prepare_run: track_numerics must be TrackNumerics or None, got {type(track_numerics).__name__}"
         )
-    from wheelrail.core.modal_wheel.profile import OutlineProfile, WheelProfile
+    if wheel_system is not None:  # the modal wheel's modules (and scipy's) load only for a run that uses them
+        from wheelrail.core.modal_wheel.profile import OutlineProfile, WheelProfile
 
-    if wheel_system is not None and not isinstance(wheel_system, WheelProfile | OutlineProfile):
-        wheel_system = checked_wheel_system(wheel_system)  # a caller's (Phi, Gamma0, Gamma1)
+        if not isinstance(wheel_system, WheelProfile | OutlineProfile):
+            wheel_system = checked_wheel_system(wheel_system)  # a caller's (Phi, Gamma0, Gamma1)
     steady = run_in_length is None  # the default run-in follows the steady start (where the bay allows it)
     entry, params, line, run_in_length = checked_inputs(model, line, params, run_in_length)
     steady = steady and starts_steady(params)
