@@ -103,10 +103,10 @@ def main(argv: list[str] | None = None, *, extra: dict[str, tuple[str, str]] | N
     name = command or ""
     try:
         with _one_line_warnings(name):
-            if command in _commands(extra):  # every command imports numpy; `--help` alone stays without it
-                from wheelrail.core.startup import fast_start
+            if command in _commands(extra):  # `--help` alone stays without it
+                from wheelrail.core.startup import fast_start_on_import
 
-                fast_start()  # before numba's first load (wheelrail.core.startup)
+                fast_start_on_import()  # numba's first load made lighter, if it comes (wheelrail.core.startup)
             parser = build_parser(command if command in _commands(extra) else None, extra)
             args = parser.parse_args(argv)
             if args._files is not None:  # every command's outputs: none is an input, no two the same file

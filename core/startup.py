@@ -21,18 +21,28 @@ itself), whose ``scipy._lib.array_api_compat.numpy`` copies every public name of
   (``numpy.ma.masked_array``, ``import numpy.ma``) loads the real module then. It still counts when
   something imports ``scipy.linalg`` (the noise model's banded solves do).
 
-The command line and the study's worker processes call :func:`fast_start` first thing; a library user's
-process is left as it is.
+A study's worker processes, which always run compiled code, call :func:`fast_start` first thing. The command
+line calls :func:`fast_start_on_import` instead: its steps run only when numba or scipy is first imported, so
+that a command that uses neither (``wheelrail spectra``, ``datasets``, ``cache``) imports neither. A library
+user's process is left as it is.
 """
 
 from __future__ import annotations
 
+import importlib.abc
 import importlib.machinery
 import importlib.util
 import os
 import sys
+import threading
 
-__all__ = ["DEFERRED_NUMPY_SUBMODULES", "defer_numpy_submodules", "fast_start", "load_cython_blas_alone"]
+__all__ = [
+    "DEFERRED_NUMPY_SUBMODULES",
+    "defer_numpy_submodules",
+    "fast_start",
+    "fast_start_on_import",
+    "load_cython_blas_alone",
+]
 
 _CYTHON_BLAS = "scipy.linalg.cython_blas"
 
@@ -42,6 +52,46 @@ def fast_start() -> None:
     :func:`defer_numpy_submodules` (before numba's first load)."""
     load_cython_blas_alone()
     defer_numpy_submodules()
+
+
+class _OnFirstImport(importlib.abc.MetaPathFinder):
+    """A finder first on ``sys.meta_path`` that finds nothing: it sees the first import of numba (then runs
+    :func:`fast_start`) and of scipy (then runs :func:`defer_numpy_submodules`) before the finders that load
+    them. It stays on ``sys.meta_path`` (the import system iterates that list while it asks each finder), its
+    work done once."""
+
+    def __init__(self) -> None:
+        self._lock = threading.RLock()
+        self.started = False  # fast_start has run
+        self.deferred = False  # defer_numpy_submodules has run
+
+    def find_spec(self, fullname, path=None, target=None):
+        if fullname == "numba" and not self.started:
+            with self._lock:
+                if not self.started:
+                    self.started = self.deferred = True
+                    fast_start()
+        elif fullname == "scipy" and not self.deferred:
+            with self._lock:
+                if not self.deferred:
+                    self.deferred = True
+                    defer_numpy_submodules()
+        return None
+
+
+def fast_start_on_import() -> None:
+    """Start-up of the command line: :func:`fast_start` when numba is first imported (before its first load, which
+    comes with the first call of a compiled function), :func:`defer_numpy_submodules` when scipy is, if first;
+    nothing for a process that imports neither. At once if numba is imported already."""
+    if "numba" in sys.modules:
+        fast_start()
+        return
+    if any(isinstance(finder, _OnFirstImport) for finder in sys.meta_path):
+        return
+    finder = _OnFirstImport()
+    sys.meta_path.insert(0, finder)
+    if "scipy" in sys.modules:
+        finder.find_spec("scipy")
 
 
 def load_cython_blas_alone() -> None:

@@ -14,6 +14,7 @@ come from ``prepare`` (default :func:`wheelrail.core.engine.prepare.prepare_run`
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import threading
 import time
@@ -35,6 +36,8 @@ LOG = logging.getLogger("wheelrail.explorer")
 FRAME_INTERVAL = 0.05  # s between live frames handed to the page (<= 20 per second)
 PLOT_INTERVAL = 0.25  # s between live plot and progress updates
 TICK_INTERVAL = 0.5  # s between the status lines of a long preparation (the seconds it has taken)
+SOLVER_PHASE = "loading the contact solver (compiled once after installation)"
+WAITING = "waiting for the preparation begun at start-up"  # a first Run during the warm-up: what it shows meanwhile
 
 
 @dataclass
@@ -45,6 +48,40 @@ class Preparation:
 
     tracks: set = field(default_factory=set)
     lock: threading.Lock = field(default_factory=threading.Lock)
+    _watchers: list = field(default_factory=list)  # the progress callables of the runs waiting for the warm-up
+    _latest: list = field(default_factory=list)  # the warm-up's latest (phase, done, total), while it goes on
+    _guard: threading.Lock = field(default_factory=threading.Lock)
+    began: dict = field(default_factory=dict)  # phase -> when the warm-up began it (time.perf_counter())
+
+    def report(self, phase: str, done: int, total: int) -> None:
+        """A warm-up's progress (``progress(phase, done, total)``, as a track precompute reports it), passed on to
+        every run waiting for it and kept for a run that starts waiting later."""
+        with self._guard:
+            self.began.setdefault(phase, time.perf_counter())
+            self._latest[:] = [(phase, done, total)]
+            watchers = list(self._watchers)
+        for progress in watchers:
+            progress(phase, done, total)
+
+    def warm_up_ended(self) -> None:
+        """The warm-up is over: no progress of it is kept."""
+        with self._guard:
+            self._latest.clear()
+            self.began.clear()
+
+    @contextlib.contextmanager
+    def watching(self, progress: Callable[[str, int, int], None]):
+        """Pass the warm-up's progress to ``progress`` in this block, its latest at once (if a warm-up goes on)."""
+        with self._guard:
+            self._watchers.append(progress)
+            latest = list(self._latest)
+        for phase, done, total in latest:
+            progress(phase, done, total)
+        try:
+            yield
+        finally:
+            with self._guard:
+                self._watchers.remove(progress)
 
 
 @dataclass(frozen=True)
@@ -110,6 +147,7 @@ class RunController:
         preparation = Preparation() if preparation is None else preparation  # shared by the explorer's pages
         self._prepared_tracks: set[tuple] = preparation.tracks  # (track, speed) whose Green's functions are prepared
         self._first_preparation = preparation.lock  # one first preparation at a time (a warm-up or a run's)
+        self._preparation = preparation  # and the warm-up's progress, shown by a run that waits for it
         self.workers = Workers() if workers is None else workers  # its threads, joined by close()
 
     @property
@@ -147,10 +185,12 @@ class RunController:
 
         def work() -> None:
             started = time.perf_counter()
-            with self._first_preparation:
+            report = self._preparation.report  # to the runs that wait for it
+            with self._first_preparation, track_progress(report):
                 try:
                     if self._precompute is not None:
                         self._precompute(config.params())
+                    report(SOLVER_PHASE, 0, 1)
                     run = self._prepare(
                         _source(roughness, config.set_label),
                         model=config.model,
@@ -164,10 +204,13 @@ class RunController:
                     run.cancel()
                     self._prepared_tracks.add(_track_case(config))
                     if self._noise_transfer is not None:  # the Noise tab's track transfer functions
+                        report("the Noise tab's track transfer functions", 0, 1)
                         self._noise_transfer(config.params())
                 except Exception:  # a Run prepares again and says what is wrong
                     LOG.exception("warm-up of %s failed", config.label())
                     return
+                finally:
+                    self._preparation.warm_up_ended()
             LOG.info("warm-up done after %.1f s: %s", time.perf_counter() - started, config.label())
             if done is not None:
                 done(time.perf_counter() - started)
@@ -269,11 +312,18 @@ class RunController:
         if first:
             now = {"text": f"{speed} (1 of {steps}): its Green's functions, computed once per track and kept on disk"}
             progress = self._precompute_progress(generation, f"{speed} (1 of {steps})", now)
+            waiting = self._precompute_progress(
+                generation, f"{speed} (1 of {steps}), {WAITING}", now, began=self._preparation.began
+            )
             with self._ticking(generation, lambda: now["text"]):
-                with self._first_preparation:  # a warm-up under way finishes first
-                    if self._precompute is not None:
+                with self._preparation.watching(waiting):  # a warm-up under way finishes first, its progress shown
+                    self._first_preparation.acquire()
+                try:
+                    if self._precompute is not None and self._current(generation):
                         with track_progress(progress):
                             self._precompute(config.params())
+                finally:
+                    self._first_preparation.release()
             if not self._current(generation):
                 return None
             if self._loads_solver:
@@ -298,10 +348,11 @@ class RunController:
                 **combined,
             )
 
-    def _precompute_progress(self, generation: int, prefix: str, now: dict):
+    def _precompute_progress(self, generation: int, prefix: str, now: dict, began: dict | None = None):
         """The track precompute's ``progress(phase, done, total)`` for the page: the phase named, the bar, and
-        once a part is done the time left, from the pace so far (``now["text"]``: the line the ticker repeats)."""
-        began = {}
+        once a part is done the time left, from the pace so far (``now["text"]``: the line the ticker repeats;
+        ``began``: when each phase began, if known, else when it is first reported)."""
+        began = {} if began is None else began
 
         def progress(phase: str, done: int, total: int) -> None:
             began.setdefault(phase, time.perf_counter())

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import logging
 import threading
+import time
 
 import numpy as np
 import viser
@@ -103,6 +104,7 @@ class WheelTab(ResultsTab):
                 "bore); asked for here, so a first Run does not share the machine with it. Later shapes follow.",
             )
             self.compute_button.on_click(lambda _: page.guarded(self.ask))
+            self.power_bar = gui.add_progress_bar(0.0, visible=False)  # the sound power's progress, while computed
             for handle in (self.name_dropdown, *self.shape_fields.values(), self.added_text):
                 handle.on_update(lambda event: None if page.is_quiet() else page.guarded(parts.redraw, self))
             gui.add_markdown(WHEEL_NOTE)
@@ -115,6 +117,7 @@ class WheelTab(ResultsTab):
         self._working = False
         self._lock = threading.Lock()
         self._last: Shown | None = None
+        self._progress: tuple | None = None  # (power key, words) of the sound power being computed
         self._following = False
         self.caption = self.track_caption = ""  # the wheel and the track shown, in words (show)
 
@@ -174,11 +177,36 @@ class WheelTab(ResultsTab):
 
     def compute_power(self, key) -> None:
         """The sound power per band of ``key``'s wheel, then a redraw (what the worker thread does next)."""
+        from wheelrail.core.noise.wheel_power import radiation_progress
+
         modes = self._modes.get(key)
-        power = modes if isinstance(modes, str) else _or_words(lambda: wheel_band_power(key[0], self.points_per_band))
+        with radiation_progress(self._power_progress(key)):
+            power = (
+                modes if isinstance(modes, str) else _or_words(lambda: wheel_band_power(key[0], self.points_per_band))
+            )
+        self._progress = None
+        self.power_bar.visible = False
         _keep(self._power, self._power_key(key), power)
         if self._last is not None:
             self.parts.redraw(self)
+
+    def _power_progress(self, key):
+        """The sound power's ``progress(phase, done, total)``: the phase, the tab's bar and, once a part is done,
+        the time left from the pace so far, in the power plot's line while ``key``'s wheel is the one shown."""
+        began = {}
+
+        def progress(phase: str, done: int, total: int) -> None:
+            began.setdefault(phase, time.perf_counter())
+            words = f"computing the wheel's sound power: {phase} ({done} of {total})"
+            if 0 < done < total:
+                words += f", about {(time.perf_counter() - began[phase]) * (total - done) / done:.0f} s left"
+            self._progress = (self._power_key(key), words)
+            if self._wanted == key and not self.parts.workers.closed.is_set():
+                self.power.clear(f"{words} ...")
+                self.power_bar.value = round(100.0 * done / total, 1)
+                self.power_bar.visible = True
+
+        return progress
 
     # ------------------------------------------------------------------ drawing
     def read(self, config):
@@ -225,6 +253,8 @@ class WheelTab(ResultsTab):
         if power is None or isinstance(power, str):
             if power is not None:
                 why = power
+            elif self._progress is not None and self._progress[0] == (profile, self.points_per_band):
+                why = f"{self._progress[1]} ..."
             elif self.asked:
                 why = "computing the wheel's sound power (seconds; a minute or more for a new radius or rim) ..."
             else:

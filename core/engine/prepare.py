@@ -194,10 +194,11 @@ def prepare_run(
         raise WheelrailError(
             f"prepare_run: track_numerics must be TrackNumerics or None, got {type(track_numerics).__name__}"
         )
-    from wheelrail.core.modal_wheel.profile import OutlineProfile, WheelProfile
+    if wheel_system is not None:  # the modal wheel's modules (and scipy's) load only for a run that uses them
+        from wheelrail.core.modal_wheel.profile import OutlineProfile, WheelProfile
 
-    if wheel_system is not None and not isinstance(wheel_system, WheelProfile | OutlineProfile):
-        wheel_system = checked_wheel_system(wheel_system)  # a caller's (Phi, Gamma0, Gamma1)
+        if not isinstance(wheel_system, WheelProfile | OutlineProfile):
+            wheel_system = checked_wheel_system(wheel_system)  # a caller's (Phi, Gamma0, Gamma1)
     entry, params, line, run_in_length, steady = checked_inputs(model, line, params, run_in_length)
     track, name, wheel_name = track_roughness(
         roughness,

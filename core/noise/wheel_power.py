@@ -29,7 +29,10 @@ Two wheel models (:data:`WHEEL_MODELS`; the command line's ``--wheel-model``, de
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import functools
+from collections.abc import Callable, Iterator
 
 import numpy as np
 
@@ -46,6 +49,21 @@ SIGMA_TABLE_HZ = (35.0, 12500.0, 77)  # radiation efficiency table: 30 points pe
 # half-power widths of 1e-4 f, far below the track's 20 points per band; the L_H,veh-equivalent of the 920 mm
 # wheel moves by <= 0.6 dB per band 500 Hz-5 kHz from 1 000 to 4 000 points (tests/physics/test_modal_wheel_noise.py)
 WHEEL_POINTS_PER_BAND = 1000
+RADIATION_PHASE = "the radiation efficiencies of its surfaces, once per radius, tyre width and bore"
+_PROGRESS: contextvars.ContextVar[Callable[[str, int, int], None] | None] = contextvars.ContextVar(
+    "wheelrail_radiation_progress", default=None
+)
+
+
+@contextlib.contextmanager
+def radiation_progress(callback: Callable[[str, int, int], None] | None) -> Iterator[None]:
+    """Report the progress of any radiation table computed in this block (this thread) to ``callback``, as
+    ``callback(RADIATION_PHASE, done, total)`` before the first and after each harmonic and direction."""
+    token = _PROGRESS.set(callback)
+    try:
+        yield
+    finally:
+        _PROGRESS.reset(token)
 
 
 def checked_wheel_model(wheel_model) -> str:
@@ -82,7 +100,8 @@ def profile_name(profile) -> str:
 @functools.lru_cache(maxsize=16)
 def radiation_table(profile) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(f on :data:`SIGMA_TABLE_HZ`, sigma_axial (f, n), sigma_radial (f, n)) for n = 0..MAX_HARMONIC, disk-cached
-    by the geometry the radiation uses (its radius, tyre width and bore); a few seconds to build."""
+    by the geometry the radiation uses (its radius, tyre width and bore); up to a minute to build, its progress
+    reported to the callable of :func:`radiation_progress`."""
     from wheelrail.core.files.cache import cache_key, load_entry, save_entry
     from wheelrail.core.modal_wheel.radiation import wheel_radiation_efficiency
 
@@ -92,18 +111,16 @@ def radiation_table(profile) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     entry = load_entry("wheel-radiation", key, ("axial", "radial"))
     if entry is not None:
         return f, entry["axial"], entry["radial"]
-    tables = {
-        d: np.stack(
-            [
-                wheel_radiation_efficiency(
-                    f, n, d, radius=geometry["radius"], tyre_width=geometry["tyre_width"], hub_radius=geometry["hub"]
-                )
-                for n in range(MAX_HARMONIC + 1)
-            ],
-            axis=1,
+    progress = _PROGRESS.get() or (lambda phase, done, total: None)
+    jobs = [(d, n) for d in ("axial", "radial") for n in range(MAX_HARMONIC + 1)]
+    progress(RADIATION_PHASE, 0, len(jobs))
+    columns = {}
+    for done, (d, n) in enumerate(jobs, start=1):
+        columns[d, n] = wheel_radiation_efficiency(
+            f, n, d, radius=geometry["radius"], tyre_width=geometry["tyre_width"], hub_radius=geometry["hub"]
         )
-        for d in ("axial", "radial")
-    }
+        progress(RADIATION_PHASE, done, len(jobs))
+    tables = {d: np.stack([columns[d, n] for n in range(MAX_HARMONIC + 1)], axis=1) for d in ("axial", "radial")}
     save_entry("wheel-radiation", key, tables)
     return f, tables["axial"], tables["radial"]
 

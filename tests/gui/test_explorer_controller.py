@@ -330,6 +330,62 @@ def test_a_new_tracks_precompute_says_its_phases_and_moves_the_bar():
     assert listener.fractions[:4] == [0.25, 0.5, 0.75, 1.0]
 
 
+def test_a_first_run_during_the_warm_up_shows_the_warm_ups_progress():
+    """A Run pressed while the warm-up computes the track shows the warm-up's phase, bar and estimate at once (its
+    latest report) and then each report as it comes, until the warm-up ends; then its own preparation."""
+    from wheelrail.core.track.progress import current_progress
+    from wheelrail.explorer.controller import SOLVER_PHASE, WAITING
+
+    seen, live, release = threading.Event(), threading.Event(), threading.Event()
+
+    class Listener(Recorder):
+        fractions = []
+
+        def status(self, text):
+            super().status(text)
+            if WAITING in text and "(2 of 4)" in text:
+                seen.set()  # the warm-up's latest report, shown as soon as the run waits
+            if WAITING in text and "(3 of 4)" in text:
+                live.set()
+
+        def progress(self, fraction):
+            self.fractions.append(fraction)
+
+    def precompute(params):
+        if release.is_set():
+            return  # the run's own: the track is ready by then
+        report = current_progress()
+        report("assembling the FE track", 0, 1)
+        for done in (1, 2):
+            report("integrating the impulse responses (about 20 s)", done, 4)
+        assert seen.wait(WAIT)  # a Run pressed meanwhile shows it
+        report("integrating the impulse responses (about 20 s)", 3, 4)
+        assert release.wait(WAIT)
+
+    runs = {"hertz": [FakeRun("hertz", 10), FakeRun("hertz", 3000), FakeRun("hertz", 3000)]}
+    listener = Listener()
+    controller = RunController(
+        listener, prepare=lambda roughness, *, model, **kwargs: runs[model].pop(0), precompute=precompute, tick=10.0
+    )
+    warm_up = controller.warm_up(_config("hertz"), roughness=None)
+    controller.start(_config("hertz", line=1), roughness=None)
+    assert live.wait(WAIT)  # the warm-up's next report reached the run while it waited
+    assert listener.fractions[:2] == [0.5, 0.75] and not listener.outcomes
+    waited = [text for text in listener.statuses if WAITING in text]
+    assert waited[-1].startswith(
+        f"Preparing the track for 100 km/h (1 of 2), {WAITING}: integrating the impulse responses (about 20 s) "
+        "(3 of 4), about "
+    ), waited
+    release.set()
+    assert listener.ended.wait(WAIT) and listener.outcomes[-1][1] == "done"
+    warm_up.join(WAIT)
+    # the warm-up's later phases too, while the run still waits: the solver loaded by the warm-up's first step
+    assert any(
+        text.startswith(f"Preparing the track for 100 km/h (1 of 2), {WAITING}: {SOLVER_PHASE}")
+        for text in listener.statuses
+    )
+
+
 def test_a_warm_up_prepares_in_the_background_and_a_first_run_waits_for_it():
     """serve() warms up the default configuration; a Run pressed meanwhile waits for it instead of computing the
     same Green's functions beside it, and says so; afterwards runs at that speed skip the track step."""

@@ -258,3 +258,55 @@ def test_the_wheel_is_computed_only_once_asked(app):
     tab.ask()
     assert tab.asked and tab._wanted == key  # the worker was handed this shape (it computes it in the background)
     tab.shape_fields["wheel_web_thickness"].value = ""
+
+
+@pytest.mark.slow
+def test_the_sound_power_shows_its_phase_bar_and_estimate_while_computed(app, monkeypatch):
+    """The radiation table (a minute or more for a new radius, rim or bore) reports each harmonic and direction:
+    while it is computed the power plot's line names the phase with the time left and the tab's bar moves; both go
+    once the power is drawn. The radiation here is a stand-in held on an event at its third column."""
+    import threading
+
+    from wheelrail.core import cache
+    from wheelrail.core.modal_wheel import radiation
+
+    tab = _shown(app)
+    profile, _ = tab.read(app.shown)
+    key = (profile, tuple(sorted(tab.mode_settings.items())))
+    entered, release, calls = threading.Event(), threading.Event(), []
+
+    def efficiency(f, n, direction, **geometry):
+        calls.append((n, direction))
+        if len(calls) == 3:
+            entered.set()
+            assert release.wait(120)
+        return np.full(len(f), 0.5)
+
+    real_load = cache.load_entry
+    monkeypatch.setattr(radiation, "wheel_radiation_efficiency", efficiency)
+    monkeypatch.setattr(
+        cache, "load_entry", lambda kind, *a: None if kind == "wheel-radiation" else real_load(kind, *a)
+    )
+    monkeypatch.setattr(cache, "save_entry", lambda *args, **kwargs: None)  # the stand-in's table is not kept
+    wheel_power.radiation_table.cache_clear()
+    tab._power.pop(tab._power_key(key))
+    tab._wanted = key  # the shape shown, as the worker computes it
+    worker = threading.Thread(target=tab.compute_power, args=(key,))
+    worker.start()
+    try:
+        assert entered.wait(120)
+        columns = 2 * (COARSE["max_harmonic"] + 1)
+        assert tab.power_bar.visible and tab.power_bar.value == round(100.0 * 2 / columns, 1)
+        line = tab.power.series[0][0]
+        assert line.startswith(
+            f"computing the wheel's sound power: {wheel_power.RADIATION_PHASE} (2 of {columns}), about "
+        ), line
+        assert line.endswith(" s left ...")
+        release.set()
+        worker.join(120)
+        assert not tab.power_bar.visible and tab._progress is None
+    finally:
+        release.set()
+        worker.join(120)
+        tab._power.pop(tab._power_key(key), None)  # the stand-in's power: the real one again for the other tests
+        wheel_power.radiation_table.cache_clear()

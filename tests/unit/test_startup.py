@@ -70,3 +70,34 @@ def test_reading_a_result_does_not_import_numba():
     code = "import sys, wheelrail.core.engine.results, wheelrail.core.spectra.force; print('numba' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120)
     assert done.stdout.strip() == "False", done.stdout
+
+
+_ON_IMPORT = """
+import sys
+from wheelrail.core.startup import fast_start_on_import
+fast_start_on_import()
+import numpy as np
+print("before:", sorted(name for name in sys.modules if name.startswith(("numba", "scipy"))))
+import numba
+from numba.np.linalg import ensure_blas
+ensure_blas()
+print("numba:", "scipy.linalg" in sys.modules, type(sys.modules["scipy.linalg.cython_blas"]).__name__,
+      type(sys.modules["numpy.f2py"]).__name__)
+"""
+
+_SCIPY_FIRST = """
+import sys
+from wheelrail.core.startup import fast_start_on_import
+fast_start_on_import()
+import scipy.special
+print("scipy:", type(sys.modules["numpy.f2py"]).__name__, "scipy.linalg.cython_blas" in sys.modules)
+"""
+
+
+def test_the_command_lines_start_up_runs_when_numba_or_scipy_is_first_imported():
+    """``fast_start_on_import``: nothing until numba is imported, then the BLAS module alone and numpy's deferred
+    sub-packages before numba's first load; scipy imported first defers numpy's sub-packages only."""
+    done = subprocess.run([sys.executable, "-c", _ON_IMPORT], capture_output=True, text=True, check=True, timeout=300)
+    assert done.stdout.splitlines() == ["before: []", "numba: False module _LazyModule"], done.stdout
+    done = subprocess.run([sys.executable, "-c", _SCIPY_FIRST], capture_output=True, text=True, check=True, timeout=300)
+    assert done.stdout.splitlines() == ["scipy: _LazyModule False"], done.stdout
