@@ -7,7 +7,8 @@ the chain (:mod:`wheelrail.core.noise.components`: the rail, the sleepers and th
 - a component driven by the force (rail, sleepers; the modal wheel): L_W = L_F + 10 lg(T / 1 pW) with T its sound
   power per unit mean-square force through its own receptance (:func:`wheelrail.core.noise.twins.track_noise_model`,
   the same wheel, track and contact as the run): for ``wheel_model`` "modal" on a run with the modal wheel, the
-  wheel's T is the modal wheel's W / F^2 (:mod:`wheelrail.core.noise.wheel_power`), the run's own wheel;
+  wheel's T is the modal wheel's W / F^2 weighted by the coupled force's shape within the band (the run's own
+  wheel, :mod:`wheelrail.core.noise.wheel_power`, step 5);
 - a component driven by the roughness: the effective roughness that causes L_F in the linear model,
   L_r = L_F + 10 lg <|alpha_W + alpha_R + alpha_C|^2> (dB re 1 um), plus its transfer per axle (two wheels: minus
   3 dB). The wheel for ``wheel_model`` "directive" (the default) is CNOSSOS-EU's L_H,veh for the nearest
