@@ -405,7 +405,7 @@ def _twins(args) -> int:
     print(f"  track: {describe_words(params, 'track')}; contact: {describe_words(params, 'geometry')}")
     veh = summary["cnossos_vehicle_transfer_dB"]
     # the components' transfers (wheelrail.core.noise.components): the track's beside L_H,tr, the wheel's beside L_H,veh
-    track_parts = {name: max(6, len(name) + 1) for name in result.power_per_force}
+    track_parts = {name: max(6, len(name) + 1) for name in result.track_parts}
     wheel_parts = {name: max(7, len(name) + 2) for name in result.transfer_db if name not in track_parts}
     print(
         "  band Hz  L_H,tr model "

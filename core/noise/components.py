@@ -2,14 +2,21 @@
 
 A component is driven by one of two quantities of the TWINS-like chain (:mod:`wheelrail.core.noise.twins`):
 
-- ``driven_by="force"`` (the track's parts: rail, sleepers): its ``response`` reads a vibration measure of the
-  lengthened FE track from :class:`TrackResponse` (one frequency, one excitation position, a unit force at the
-  contact), and its ``radiation`` turns that measure into sound power, W/N^2 per unit of the measure. The chain
-  takes the band mean of their product as the component's sound power per unit mean-square force, and a run's
-  force level times it as the component's sound power.
-- ``driven_by="roughness"`` (the wheel): its ``transfer`` gives its sound power per axle for 0 dB re 1 um
-  effective roughness, dB re 1 pW per band (L_H,veh, or the modal wheel's equivalent); a run's effective
-  roughness plus it, less 3 dB (one wheel of the axle), is the component's sound power.
+- ``driven_by="force"``: a run's contact force drives it through a receptance. The track's parts (rail,
+  sleepers): its ``response`` reads a vibration measure of the lengthened FE track from :class:`TrackResponse`
+  (one frequency, one excitation position, a unit force at the contact), and its ``radiation`` turns that measure
+  into sound power, W/N^2 per unit of the measure; the chain takes the band mean of their product as the
+  component's sound power per unit mean-square force. A part with its own receptance (the modal wheel) gives
+  that band mean itself (``power_per_force``) and its sound power per axle for 0 dB re 1 um effective roughness
+  (``transfer``, computed on its own band sampling). A run's force level times the band mean is the component's
+  sound power.
+- ``driven_by="roughness"`` (the directive's wheel, which has no receptance): its ``transfer`` gives its sound
+  power per axle for 0 dB re 1 um effective roughness, dB re 1 pW per band (L_H,veh); a run's effective roughness
+  plus it, less 3 dB (one wheel of the axle), is the component's sound power.
+
+The wheel's entry follows the chain's wheel model (:func:`chain_components`): the directive's (driven by the
+roughness, the registered one) or the modal wheel's (driven by the force through the modal wheel's receptance and
+radiation, :mod:`wheelrail.core.noise.wheel_power`).
 
 Every part of the project reads this list at the call: the chain and a run's noise
 (:func:`wheelrail.core.noise.run_noise.run_noise`), its outputs (the JSON keys, the CSV columns, the recording's
@@ -42,6 +49,7 @@ __all__ = [
     "NoiseChain",
     "NoiseComponent",
     "TrackResponse",
+    "chain_components",
     "component",
     "component_names",
     "noise_components",
@@ -101,7 +109,8 @@ class NoiseChain:
     frequencies : numpy.ndarray
         (bands, points) frequencies of the band means, Hz.
     wheel : dict
-        The wheel model's chain: ``db`` its transfer per axle (dB re 1 pW for 0 dB re 1 um), ``source`` in words.
+        The wheel model's chain: ``db`` its transfer per axle (dB re 1 pW for 0 dB re 1 um), ``power_per_force``
+        (the modal wheel's band means of W / F^2, W/N^2; None for the directive's), ``source`` in words.
     """
 
     params: object
@@ -126,12 +135,17 @@ class NoiseComponent:
     driven_by : str
         ``"force"`` or ``"roughness"`` (:data:`DRIVEN_BY`).
     response : callable, optional
-        ``"force"``: ``response(TrackResponse) -> float``, the vibration measure it radiates from.
+        ``"force"``, a part of the track: ``response(TrackResponse) -> float``, the vibration measure it radiates
+        from.
     radiation : callable, optional
-        ``"force"``: ``radiation(NoiseChain)`` -> sound power per unit of the response, W/N^2 per unit, a float or
-        an array that broadcasts to (bands, points, positions).
+        ``"force"``, a part of the track: ``radiation(NoiseChain)`` -> sound power per unit of the response, W/N^2
+        per unit, a float or an array that broadcasts to (bands, points, positions).
+    power_per_force : callable, optional
+        ``"force"``, a part with its own receptance: ``power_per_force(NoiseChain)`` -> band means of its sound
+        power per unit mean-square contact force, W/N^2 per band (given with ``transfer``).
     transfer : callable, optional
-        ``"roughness"``: ``transfer(NoiseChain)`` -> sound power per axle for 0 dB re 1 um, dB re 1 pW per band.
+        ``"roughness"``, or ``"force"`` with ``power_per_force``: ``transfer(NoiseChain)`` -> sound power per axle
+        for 0 dB re 1 um, dB re 1 pW per band.
 
     Raises
     ------
@@ -146,6 +160,7 @@ class NoiseComponent:
     driven_by: str
     response: Callable | None = None
     radiation: Callable | None = None
+    power_per_force: Callable | None = None
     transfer: Callable | None = None
 
     def __post_init__(self) -> None:
@@ -156,10 +171,17 @@ class NoiseComponent:
             raise WheelrailError(f"noise component name {name!r}: the name of the sum of the components")
         if self.driven_by not in DRIVEN_BY:
             raise WheelrailError(f"noise component {name!r}: driven_by {self.driven_by!r}; one of {DRIVEN_BY}")
-        needed = ("response", "radiation") if self.driven_by == "force" else ("transfer",)
+        needed = ("transfer",)
+        if self.driven_by == "force":
+            needed = ("power_per_force", "transfer") if callable(self.power_per_force) else ("response", "radiation")
         missing = [key for key in needed if not callable(getattr(self, key))]
         if missing:
             raise WheelrailError(f"noise component {name!r} driven by {self.driven_by}: give {' and '.join(missing)}")
+
+    @property
+    def track_part(self) -> bool:
+        """Whether it radiates from the track's vibration (``response``): a part of L_H,tr."""
+        return self.driven_by == "force" and callable(self.response)
 
 
 def _rail_radiation(chain: NoiseChain) -> float:
@@ -186,6 +208,10 @@ def _wheel_transfer(chain: NoiseChain) -> np.ndarray:
     return chain.wheel["db"]
 
 
+def _wheel_power_per_force(chain: NoiseChain) -> np.ndarray:
+    return chain.wheel["power_per_force"]
+
+
 _BUILTIN = (
     NoiseComponent(
         name="rail",
@@ -206,6 +232,18 @@ _BUILTIN = (
     NoiseComponent(name="wheel", label="wheel", colour=TOL_WINE, driven_by="roughness", transfer=_wheel_transfer),
 )
 _REGISTRY: dict[str, NoiseComponent] = {entry.name: entry for entry in _BUILTIN}
+# the wheel of each wheel model (module docstring): the directive's is the registered entry above
+_WHEELS = {
+    "directive": _BUILTIN[-1],
+    "modal": NoiseComponent(
+        name="wheel",
+        label="wheel",
+        colour=TOL_WINE,
+        driven_by="force",
+        power_per_force=_wheel_power_per_force,
+        transfer=_wheel_transfer,
+    ),
+}
 
 
 def noise_components() -> tuple[NoiseComponent, ...]:
@@ -217,6 +255,26 @@ def noise_components() -> tuple[NoiseComponent, ...]:
         The built-in rail, sleeper and wheel, then those registered with :func:`register_component`.
     """
     return tuple(_REGISTRY.values())
+
+
+def chain_components(components: tuple, wheel_model: str) -> tuple[NoiseComponent, ...]:
+    """``components`` (e.g. :func:`noise_components`) with the built-in wheel as ``wheel_model``'s.
+
+    Parameters
+    ----------
+    components : tuple of NoiseComponent
+        The chain's components.
+    wheel_model : str
+        "directive" (the wheel driven by the roughness through L_H,veh) or "modal" (driven by the contact force
+        through the modal wheel's receptance and radiation).
+
+    Returns
+    -------
+    tuple of NoiseComponent
+        The same entries in the same order, the built-in wheel replaced by ``wheel_model``'s.
+    """
+    wheel = _WHEELS[wheel_model]
+    return tuple(wheel if entry is _WHEELS["directive"] else entry for entry in components)
 
 
 def component_names() -> tuple[str, ...]:

@@ -4,15 +4,18 @@ One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10
 the chain (:mod:`wheelrail.core.noise.components`: the rail, the sleepers and the wheel, and any registered):
 
 - contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force.force_spectrum`);
-- a component driven by the force (rail, sleepers): L_W = L_F + 10 lg(T / 1 pW) with T its sound power per unit
-  mean-square force in the model track (:func:`wheelrail.core.noise.twins.track_noise_model`, same wheel, track
-  and contact as the run);
-- a component driven by the roughness (the wheel): the effective roughness that causes L_F in the linear model,
+- a component driven by the force (rail, sleepers; the modal wheel): L_W = L_F + 10 lg(T / 1 pW) with T its sound
+  power per unit mean-square force through its own receptance (:func:`wheelrail.core.noise.twins.track_noise_model`,
+  the same wheel, track and contact as the run): for ``wheel_model`` "modal" on a run with the modal wheel, the
+  wheel's T is the modal wheel's W / F^2 weighted by the coupled force's shape within the band (the run's own
+  wheel, :mod:`wheelrail.core.noise.wheel_power`, step 5);
+- a component driven by the roughness: the effective roughness that causes L_F in the linear model,
   L_r = L_F + 10 lg <|alpha_W + alpha_R + alpha_C|^2> (dB re 1 um), plus its transfer per axle (two wheels: minus
-  3 dB); the wheel's is, for ``wheel_model`` "directive" (the default), CNOSSOS-EU's L_H,veh for the nearest
-  tabulated diameter (the 2-DOF wheel model has no radiating modes, :mod:`wheelrail.core.noise.twins`); for
-  "modal", the modal wheel's L_H,veh-equivalent, its own chain excited by that roughness
-  (:func:`wheelrail.core.noise.twins.with_modal_wheel`);
+  3 dB). The wheel for ``wheel_model`` "directive" (the default) is CNOSSOS-EU's L_H,veh for the nearest
+  tabulated diameter (it has no receptance, :mod:`wheelrail.core.noise.twins`); for "modal" on a run whose force
+  came from another wheel (the 2-DOF wheel), the modal wheel's L_H,veh-equivalent on that run's effective
+  roughness (:func:`wheelrail.core.noise.twins.with_modal_wheel`: the 2-DOF wheel's force lacks the modal wheel's
+  resonances, which its own receptance would have cut);
 - total and L_WA per wheel; per axle +3 dB (two wheels on two rails, incoherent).
 
 **Pass-by level** at the ISO 3095 position (7.5 m from the track centre, 1.2 m above the rail head): every axle a
@@ -293,8 +296,9 @@ def run_noise(
     numerics : NoiseNumerics, optional
         How the track's transfer functions are computed (default :class:`wheelrail.core.noise.twins.NoiseNumerics`).
     wheel_model : str
-        "directive" (CNOSSOS-EU's L_H,veh on the effective roughness) or "modal" (the modal wheel's
-        L_H,veh-equivalent on it): :mod:`wheelrail.core.noise.wheel_power`.
+        "directive" (CNOSSOS-EU's L_H,veh on the effective roughness) or "modal" (the modal wheel: on a run with
+        the modal wheel of the same cross-section, driven by the run's force through its W / F^2; on another run,
+        its L_H,veh-equivalent on the effective roughness): :mod:`wheelrail.core.noise.wheel_power`.
     wheel_profile : WheelProfile, optional
         The modal wheel's cross-section (default: the run's own, ``RunHeader.wheel_profile``, for a run with the
         modal wheel; else the named wheel nearest the run's R, at R).
@@ -348,13 +352,15 @@ def run_noise(
     _check_run_length(result)  # before the track's transfer functions (the costly part on a cold cache)
     check_fluctuating(result.force, spectrum_record(result).skipped_steps, f"the {result.model} run")  # else silence
     params = result.header.params
-    track = track_noise_model(params, numerics)
-    if checked_wheel_model(wheel_model) == "modal":  # its L_H,veh-equivalent on the run's effective roughness
-        if wheel_profile is None and result.header.wheel_profile is not None:  # the run's own modal wheel
-            from wheelrail.core.modal_wheel import profile_from_description
+    if checked_wheel_model(wheel_model) == "modal" and _own_modal_wheel(result, wheel_profile):
+        from wheelrail.core.modal_wheel import profile_from_description
 
-            wheel_profile = profile_from_description(result.header.wheel_profile)
-        track = with_modal_wheel(track, params, wheel_profile, numerics)
+        # one wheel, track and contact: the run's force drives the modal wheel through its own W / F^2
+        track = track_noise_model(params, numerics, "modal", profile_from_description(result.header.wheel_profile))
+    elif wheel_model == "modal":  # the force of another wheel: the modal wheel on its effective roughness
+        track = with_modal_wheel(track_noise_model(params, numerics), params, wheel_profile, numerics)
+    else:
+        track = track_noise_model(params, numerics)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
     power = sound_power_from_force(force_db, track)
@@ -383,6 +389,16 @@ def run_noise(
         _time_step=result.time_step,
         _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
     )
+
+
+def _own_modal_wheel(result, wheel_profile) -> bool:
+    """Whether the run's force came from the modal wheel ``wheel_profile`` names (None: the run's own)."""
+    from wheelrail.core.modal_wheel import profile_from_description
+
+    own = result.header.wheel_profile
+    if result.header.wheel_model != "modal" or own is None:
+        return False
+    return wheel_profile is None or wheel_profile == profile_from_description(own)
 
 
 def _configuration(result, track, train_axles, train_length, undefined) -> dict:

@@ -36,7 +36,10 @@ Chain, per frequency f (time convention e^{i w t}, amplitudes; band values are m
    the same radius radiates from its own modes, W / F^2 per band, and its radial point receptance (plus the
    unsprung mass's) replaces the 2-DOF's in alpha_W of step 1 (so the rail's and sleepers' transfer functions
    are those of the modal wheel's contact force too); its L_H,veh-equivalent is 10 lg(2 <W / F^2 |F / r|^2>
-   (1 um)^2 / 1 pW). The model used is stated wherever it is (``wheel_transfer_source``).
+   (1 um)^2 / 1 pW). The modal wheel is then driven by the force as the rail is (its component entry,
+   :func:`wheelrail.core.noise.components.chain_components`): a run's force level times its W / F^2, weighted by
+   the coupled force's shape within the band (:mod:`wheelrail.core.noise.wheel_power`, step 5), is its sound
+   power. The model used is stated wherever it is (``wheel_transfer_source``).
 
 Only the vertical direction is modelled (no lateral rail or wheel vibration, no cross-coupling); the rail
 radiates in free field (no ground reflection) and the sleepers are rigid.
@@ -140,8 +143,9 @@ class TrackNoiseModel:
     frequency_hz : numpy.ndarray
         Exact band centres, Hz.
     power_per_force : dict of str to numpy.ndarray
-        Per component driven by the force (:mod:`wheelrail.core.noise.components`: the rail, the sleepers): band
-        means of its sound power (one rail, its sleepers) per unit mean-square contact force, W/N^2.
+        Per component driven by the force (:mod:`wheelrail.core.noise.components`: the rail, the sleepers, and the
+        wheel for ``wheel_model`` "modal"): band means of its sound power (one rail, its sleepers; one wheel) per
+        unit mean-square contact force, W/N^2.
     force_per_roughness_db : numpy.ndarray
         10 lg <|F/r|^2> in dB re 1 N/um.
     effective_roughness_per_force_db : numpy.ndarray
@@ -170,9 +174,12 @@ class TrackNoiseModel:
     wheel_model : str
         "directive" or "modal" (:data:`wheelrail.core.noise.wheel_power.WHEEL_MODELS`).
     wheel_power_per_force : numpy.ndarray or None
-        "modal": band means of one wheel's sound power per unit mean-square radial contact force, W/N^2.
+        "modal": one wheel's sound power per unit mean-square radial contact force in a band, W/N^2: its W / F^2
+        weighted by the coupled force's shape within the band (:mod:`wheelrail.core.noise.wheel_power`, step 5).
     wheel_source : str
         What the wheel's transfer function is, in words (``wheel_transfer_source``).
+    track_parts : tuple of str
+        The components that radiate from the track's vibration (their sum is ``track_transfer_db``).
     """
 
     frequency_hz: np.ndarray
@@ -191,6 +198,7 @@ class TrackNoiseModel:
     wheel_model: str = "directive"
     wheel_power_per_force: np.ndarray | None = None
     wheel_source: str = ""
+    track_parts: tuple = ("rail", "sleeper")
 
     def to_dict(self) -> dict:
         """The JSON layout of ``wheelrail noise --method twins --json`` (key ``twins``)."""
@@ -298,7 +306,7 @@ def _vibration(
         )
     loads = np.stack([model.load_vector(x) for x in positions], axis=1)
     shape = (*freqs.shape, len(positions))
-    driven = [c for c in components if c.driven_by == "force"]
+    driven = [c for c in components if c.track_part]
     out = {
         "responses": {c.name: np.empty(shape) for c in driven},
         "rail": np.empty(shape),
@@ -440,7 +448,7 @@ def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.n
     means = modal_wheel_band_means(profile, params.wheel.unsprung_mass, alpha_track, dense)
     return {
         "db": 10 * np.log10(2 * means["power_per_roughness"]),  # (1 um)^2 / 1 pW = 1
-        "power_per_force": means["power_per_force"],
+        "power_per_force": means["power_per_force_weighted"],  # per a band's force (wheel_power, step 5)
         "source": f"modal wheel ({profile_name(profile)}, 2R = {2e3 * profile.wheel_radius:.0f} mm): axisymmetric "
         f"FE modes n = 0..{modal['modes'].max_harmonic} and their radiation (wheelrail.core.modal_wheel); "
         f"not the directive's {directive}",
@@ -451,6 +459,9 @@ def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.n
 def _track_noise_model(
     params: ModelParameters, numerics: NoiseNumerics, wheel_model: str, profile, components: tuple
 ) -> TrackNoiseModel:
+    from wheelrail.core.noise.components import chain_components
+
+    components = chain_components(components, wheel_model)  # the wheel of the wheel model
     contact = params.contact
     k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
     section = rail_section()
@@ -467,7 +478,8 @@ def _track_noise_model(
     wheel = _wheel_transfer(params, modal, vib, freqs)
     chain = NoiseChain(params=params, numerics=numerics, frequencies=freqs, wheel=wheel)
     power_per_force, transfer_db = _component_transfers(components, chain, vib["responses"], force_per_r_sq)
-    track_power = sum(10 ** (transfer_db[name] / 10) for name in power_per_force)  # the force-driven parts
+    track_parts = tuple(entry.name for entry in components if entry.track_part)
+    track_power = sum(10 ** (transfer_db[name] / 10) for name in track_parts)
     configuration = {
         "method": "twins",
         "track_bays": numerics.track_bays,
@@ -500,17 +512,22 @@ def _track_noise_model(
         wheel_model=wheel_model,
         wheel_power_per_force=wheel["power_per_force"],
         wheel_source=wheel["source"],
+        track_parts=track_parts,
     )
 
 
 def _component_transfers(components: tuple, chain: NoiseChain, responses: dict, force_per_r_sq: np.ndarray):
-    """Each component's band means (:mod:`wheelrail.core.noise.components`): for one driven by the force its
-    sound power per unit mean-square force T (W/N^2, the mean of radiation x response) and 10 lg(2 <T |F / r|^2>
-    (1 um)^2 / 1 pW); for one driven by the roughness its ``transfer``. Returns (power per force, transfer dB)."""
+    """Each component's band means (:mod:`wheelrail.core.noise.components`): for a part of the track its sound
+    power per unit mean-square force T (W/N^2, the mean of radiation x response) and 10 lg(2 <T |F / r|^2>
+    (1 um)^2 / 1 pW); for one driven by the force through its own receptance its ``power_per_force`` and
+    ``transfer``; for one driven by the roughness its ``transfer``. Returns (power per force, transfer dB)."""
     um2 = 1e-12  # (1 um)^2 in m^2; also 1 pW: the two 1e-12 cancel
     power_per_force, transfer_db = {}, {}
     for entry in components:
-        if entry.driven_by == "force":
+        if entry.driven_by == "force" and not entry.track_part:
+            power_per_force[entry.name] = np.asarray(entry.power_per_force(chain), dtype=float)
+            transfer_db[entry.name] = np.asarray(entry.transfer(chain), dtype=float)
+        elif entry.driven_by == "force":
             power = entry.radiation(chain) * responses[entry.name]  # W/N^2 (rms force, rms velocity), (b, p, 2)
             power_per_force[entry.name] = np.mean(power, axis=(1, 2))
             transfer_db[entry.name] = 10 * np.log10(2 * np.mean(power * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
@@ -520,19 +537,20 @@ def _component_transfers(components: tuple, chain: NoiseChain, responses: dict, 
 
 
 def with_modal_wheel(track, params, wheel_profile=None, numerics=None):
-    """``track`` (a :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the 2-DOF wheel, as a run's force was
-    computed) with the modal wheel's L_H,veh-equivalent in the place of the directive's: a given force (a run's,
-    the ``noise`` study's) becomes the effective roughness that causes it in the run's own linear model (the
-    2-DOF wheel's alpha_W), and that roughness excites the modal wheel's chain (its own coupled contact force),
-    as L_H,veh does in the directive's place. Radiating the run's force directly with the modal wheel's W / F^2
-    would put the 2-DOF wheel's force into the modal wheel's undamped resonances (+16 dB(A) on a run), a force the
-    modal wheel's own receptance would have cut there. The rail and sleeper transfer functions and the effective
-    roughness stay the 2-DOF chain's."""
+    """``track`` (a :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the 2-DOF wheel, as the force of a run
+    with the 2-DOF wheel was computed) with the modal wheel's L_H,veh-equivalent in the place of the directive's,
+    driven by the roughness: a given force (a 2-DOF run's, the ``noise`` study's) becomes the effective roughness
+    that causes it in its own linear model (the 2-DOF wheel's alpha_W), and that roughness excites the modal
+    wheel's chain (its own coupled contact force), as L_H,veh does in the directive's place. Radiating that force
+    directly with the modal wheel's W / F^2 would put the 2-DOF wheel's force into the modal wheel's undamped
+    resonances, a force the modal wheel's own receptance cuts there; a run with the modal wheel has that force,
+    and its noise takes the modal chain itself (:func:`wheelrail.core.noise.run_noise.run_noise`). The rail and
+    sleeper transfer functions and the effective roughness stay the 2-DOF chain's."""
     import dataclasses
 
     modal = track_noise_model(params, numerics, "modal", wheel_profile)
-    source = f"{modal.wheel_source}; on the effective roughness of the force"
-    wheels = {name: levels for name, levels in modal.transfer_db.items() if name not in modal.power_per_force}
+    source = f"{modal.wheel_source}; on the effective roughness of the 2-DOF wheel's force"
+    wheels = {name: levels for name, levels in modal.transfer_db.items() if name not in track.power_per_force}
     return dataclasses.replace(
         track,
         wheel_model="modal",

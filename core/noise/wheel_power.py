@@ -19,7 +19,13 @@ Two wheel models (:data:`WHEEL_MODELS`; the command line's ``--wheel-model``, de
      contact plus the rigid unsprung mass's -1 / (M_W w^2) (the FE wheel is clamped at its bore: the axle's and
      wheel's rigid motion is the paper's unsprung mass M_W; the primary suspension, a few Hz, is left out);
   4. the L_H,veh-equivalent (the same definition as ``twins.wheel_transfer_dB``): sound power of the two wheels
-     of an axle for 0 dB re 1 um effective roughness, 10 lg(2 <W / F^2 |F / r|^2> (1 um)^2 / 1 pW).
+     of an axle for 0 dB re 1 um effective roughness, 10 lg(2 <W / F^2 |F / r|^2> (1 um)^2 / 1 pW);
+  5. driven by a force (a run's, with this wheel): a band's mean-square force <F^2> gives the sound power
+     <F^2> <W / F^2 |F / r|^2> / <|F / r|^2>. Within a band the force follows |F / r|^2 of the coupled wheel, track
+     and contact (the roughness taken as flat across the band): it falls to nothing at each of the wheel's
+     resonances, where the receptance alpha_W, and so W / F^2, peaks (loss factors of 1e-4: peaks 1e-4 f wide,
+     far narrower than a run's spectrum resolves). The plain band mean <W / F^2> is held by those peaks and would
+     put a force the wheel does not get into them (on the corrugated rail's modal-wheel run, 12.7 dB(A) more).
 
   The wheel's profile is given (``wheel_profile``), or the named wheel nearest the model's R, at R
   (:func:`modal_wheel_profile`; :data:`wheelrail.core.modal_wheel.NAMED_WHEELS`: 920, 840, 640 mm). Only radial
@@ -168,8 +174,11 @@ def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, freqs):
     (m/N) at frequencies f (n,) as (n, positions): the track's receptance, smooth beside the wheel's modes,
     interpolated by the caller between its own points.
 
-    Returns ``power_per_force`` (24,), ``power_per_roughness`` (24,) (the mean over positions too) and ``modes``."""
-    power, per_roughness = np.empty(freqs.shape[0]), np.empty(freqs.shape[0])
+    Returns ``power_per_force`` (24,), ``power_per_roughness`` (24,) (the mean over positions too), ``force_sq``
+    (24,) the band means of |F / r|^2 (N^2/m^2; over positions too), ``power_per_force_weighted`` (24,) W / F^2
+    weighted by the coupled force's shape within the band, <W / F^2 |F / r|^2> / <|F / r|^2> (W/N^2: a band's
+    mean-square force times it is the wheel's sound power; module docstring, step 5), and ``modes``."""
+    power, per_roughness, force_mean = np.empty(freqs.shape[0]), np.empty(freqs.shape[0]), np.empty(freqs.shape[0])
     modes = None
     for b, f in enumerate(freqs):  # a band at a time: the modal sums hold (points, modes, surface points)
         response = modal_wheel_response(profile, f, unsprung_mass)
@@ -177,4 +186,11 @@ def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, freqs):
         force_sq = 1.0 / np.abs(response["receptance"][:, None] + alpha_track(f)) ** 2
         power[b] = np.mean(response["power_per_force"])
         per_roughness[b] = np.mean(response["power_per_force"][:, None] * force_sq)
-    return {"power_per_force": power, "power_per_roughness": per_roughness, "modes": modes}
+        force_mean[b] = np.mean(force_sq)
+    return {
+        "power_per_force": power,
+        "power_per_roughness": per_roughness,
+        "force_sq": force_mean,
+        "power_per_force_weighted": per_roughness / force_mean,
+        "modes": modes,
+    }
