@@ -11,8 +11,8 @@ import sys
 import numpy as np
 import pytest
 
-from wheelrail.core.parameters import ModelParameters
 from wheelrail.core.engine.results import RunHeader, RunResult
+from wheelrail.core.parameters import ModelParameters
 
 HEAVY = ("numba", "scipy", "matplotlib", "rerun", "viser", "dask")
 
