@@ -51,6 +51,7 @@ class IrregularityInput:
 
 
 MRAD = Unit("mrad", 1e-3, "mrad")
+_SI_UNITS = {"mm": "m", "m": "m", "mrad": "rad"}  # the SI unit of each shown unit of these inputs
 
 IRREGULARITY_INPUTS: tuple[IrregularityInput, ...] = (
     IrregularityInput("flat_length", "flat", "length", MM, "wheel flat: length L along the tread", True),
@@ -109,10 +110,13 @@ def irregularities_from_values(values: dict, flat_shape: str | None = None) -> t
         if not given:
             continue
         missing = [e for e in entries if e.required and e.field not in given]
-        if missing:
-            raise WheelrailError(
-                f"a {kind} needs its {missing[0].field.replace('_', ' ')} as well",
-                Blame(missing[0].key, value="not given"),
+        if missing:  # blamed on an input the user gave (the one to complete), the missing one named in words
+            first = next((e for e in entries if values.get(e.key) is not None), None)  # None: only its shape given
+            blame = (
+                Blame(missing[0].key, value="not given")
+                if first is None
+                else Blame(first.key, value=values[first.key], unit=_SI_UNITS[first.shown.name])
             )
+            raise WheelrailError(f"a {kind} needs its {missing[0].field.replace('_', ' ')} as well", blame)
         items.append(cls(**given))
     return tuple(items)

@@ -198,7 +198,7 @@ class TrackNoiseModel:
     wheel_model: str = "directive"
     wheel_power_per_force: np.ndarray | None = None
     wheel_source: str = ""
-    track_parts: tuple = ("rail", "sleeper")
+    track_parts: tuple = ()  # the registry's track parts (NoiseComponent.track_part), as track_noise_model sets them
 
     def to_dict(self) -> dict:
         """The JSON layout of ``wheelrail noise --method twins --json`` (key ``twins``)."""

@@ -267,7 +267,7 @@ def test_the_sound_power_shows_its_phase_bar_and_estimate_while_computed(app, mo
     once the power is drawn. The radiation here is a stand-in held on an event at its third column."""
     import threading
 
-    from wheelrail.core import cache
+    from wheelrail.core.files import cache
     from wheelrail.core.modal_wheel import radiation
 
     tab = _shown(app)

@@ -1,4 +1,4 @@
-"""A modal-wheel run's noise from its own force (wheelrail.core.noise.run_noise, issue 40 item 1): the modal wheel
+"""A modal-wheel run's noise from its own force (wheelrail.core.noise.run_noise): the modal wheel
 is driven by the contact force through its own W / F^2, as the rail is, not by an effective roughness of another
 wheel's receptance; a 2-DOF run keeps the modal wheel on its effective roughness (with_modal_wheel)."""
 
