@@ -1,0 +1,105 @@
+"""The impact study: irregularity inputs swept, per model and speed the peak force, contact loss and impact noise
+(core/study/impact_plan.py)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from wheelrail.cli.dispatch import main
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.irregularities import WheelFlat
+from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
+from wheelrail.core.study import plan_study
+from wheelrail.core.study.impact_plan import ImpactSweep, impact_models, noise_slope, swept_irregularity_inputs
+
+
+def _flat(length_mm: float) -> tuple:
+    return (WheelFlat(length=length_mm * 1e-3, position=0.3),)
+
+
+def test_the_plan_runs_every_model_speed_and_case():
+    sweep = ImpactSweep(
+        ModelParameters(), cases=(_flat(20), _flat(50), _flat(100)), models=("hertz", "2d"), speeds=(60 * KMH, 30 * KMH)
+    )
+    plan = plan_study("impact", ["corrugated-rail"], length=1.0, params=sweep)
+    assert len(plan.specs) == 3 * 2 * 2
+    assert len({spec.key for spec in plan.specs}) == len(plan.specs)  # the irregularities are in every run key
+    assert {spec.params.run.irregularities for spec in plan.specs} == {_flat(20), _flat(50), _flat(100)}
+    assert sorted({round(spec.speed_kmh, 9) for spec in plan.specs}) == [30.0, 60.0]
+    assert plan.impact.speeds == (30 * KMH, 60 * KMH) and plan.params.run.irregularities == ()
+    assert [entry.key for entry in swept_irregularity_inputs(plan.impact.cases)] == ["flat_length"]
+    # one ModelParameters with irregularities: its one case, the default models and speeds
+    one = ModelParameters(run=RunParameters(irregularities=_flat(50)))
+    assert plan_study("impact", ["corrugated-rail"], length=1.2, params=one).impact.models == impact_models()
+
+
+@pytest.mark.parametrize(
+    ("sweep", "message"),
+    [
+        (ModelParameters(), "needs an irregularity in every case"),
+        (ImpactSweep(ModelParameters(), cases=(_flat(50), _flat(50))), "must differ"),
+        (ImpactSweep(ModelParameters(), cases=(_flat(50),), models=("hertz", "hertz")), "each model once"),
+        (ImpactSweep(ModelParameters(), cases=(_flat(50),), models=("nosuch",)), "nosuch"),
+        (ImpactSweep(ModelParameters(), cases=(_flat(50),), speeds=(-1.0,)), "must be positive"),
+    ],
+)
+def test_a_bad_sweep_is_refused(sweep, message):
+    with pytest.raises(WheelrailError, match=message):
+        plan_study("impact", ["corrugated-rail"], length=1.0, params=sweep)
+
+
+def test_the_noise_slope_is_a_least_squares_line_per_doubling():
+    v = np.array([50.0, 100.0, 200.0])
+    assert noise_slope(v, 90 + 20 * np.log10(v)) == pytest.approx(20 * np.log10(2))  # 20 lg v: 6.02 dB
+    assert np.isnan(noise_slope([50.0], [90.0]))
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--flat-length-mm", "50"], "a flat needs its position as well"),
+        (["--flat-length-mm", "50", "-1", "--flat-position-m", "0.3"], "--flat-length-mm -1"),
+        ([], "needs an irregularity in every case"),
+        (["--flat-length-mm", "50", "--flat-position-m", "0.3", "--speeds-kmh", "0"], "must be positive"),
+        (["--flat-length-mm", "50", "--flat-position-m", "0.3", "--models", "nosuch"], "nosuch"),
+    ],
+)
+def test_bad_input_is_one_line(argv, message, tmp_path, capsys):
+    base = ["study", "impact", "--set", "corrugated-rail", "--length-m", "0.8", "--out", str(tmp_path / "o")]
+    assert main([*base, *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and len(err.splitlines()) == 1 and "Traceback" not in err, err
+
+
+def test_sweeps_and_models_are_for_the_impact_study_only(tmp_path, capsys):
+    base = ["study", "filters", "--set", "corrugated-rail", "--out", str(tmp_path / "o")]
+    assert main([*base, "--flat-length-mm", "20", "50", "--flat-position-m", "0.3"]) == 2
+    assert "--flat-length-mm: for study impact only" in capsys.readouterr().err
+    assert main([*base, "--speeds-kmh", "30", "60"]) == 2
+    assert "--speeds-kmh: for study impact only" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_a_tiny_impact_study_through_the_cli(tmp_path, capsys):
+    # hertz at 2 speeds, one 100 mm flat, 0.8 m runs: the flat lifts the wheel off the rail at both speeds
+    argv = ["study", "impact", "--set", "corrugated-rail", "--length-m", "0.8", "--out", str(tmp_path), "--json"]
+    argv += ["--models", "hertz", "--speeds-kmh", "30", "100", "--flat-length-mm", "100", "--flat-position-m", "0.3"]
+    assert main([*argv, "--workers", "1"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["runs"] == 2 and summary["models"] == ["hertz"]
+    assert summary["irregularity_cases"][0][0]["length"] == pytest.approx(0.1)
+    table = summary["tables"]["impact_corrugated-rail_case1"]
+    assert table["speed_kmh"] == [30.0, 100.0]
+    assert min(table["hertz_peak_force_n"]) > 2 * 65e3  # an impact: more than twice the preload
+    assert table["hertz_min_force_n"] == [0.0, 0.0] and min(table["hertz_time_without_contact_ms"]) > 0
+    loss = summary["tables"]["impact_corrugated-rail_contact_loss"]
+    assert loss["flat_length_mm"] == [100.0] and loss["hertz_first_loss_speed_kmh"] == [30.0]
+    assert np.isfinite(loss["hertz_slope_dB_per_doubling"][0])
+    for name in ("impact_corrugated-rail_case1.csv", "impact_corrugated-rail_contact_loss.csv", "impact_impact.png"):
+        assert (tmp_path / name).is_file()
+    # again: every run read back from OUT/runs
+    assert main([*argv, "--workers", "1"]) == 0
+    assert json.loads(capsys.readouterr().out)["runs_cached"] == 2
