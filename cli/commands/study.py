@@ -260,7 +260,8 @@ def _say_impact(result) -> None:
                 lost = table.columns[f"{name}_first_loss_speed_kmh"][k]
                 slope = table.columns[f"{name}_slope_dB_per_doubling"][k]
                 where = f"contact lost from {lost:g} km/h" if math.isfinite(lost) else "contact kept at every speed"
-                print(f"    {model}: {where}; sound power {slope:+.1f} dB per doubling of speed")
+                rise = f"{slope:+.1f} dB per doubling of speed" if math.isfinite(slope) else "no slope (one speed)"
+                print(f"    {model}: {where}; sound power {rise}")
 
 
 def _speed_words(args, summary) -> str:

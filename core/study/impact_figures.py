@@ -39,7 +39,7 @@ def draw_impact(group: list[Table], axes_grid):
                 force_ax.axvline(lost, color=colour, ls=":", lw=0.8, label=f"{model}: contact lost from {lost:g} km/h")
             lwa = np.asarray(table.columns[f"{name}_LWA_dBA"])
             slope = noise_slope(v, lwa)
-            words = f"{model}: {slope:+.1f} dB per doubling"
+            words = f"{model}: {slope:+.1f} dB per doubling" if np.isfinite(slope) else model
             noise_ax.plot(v, lwa, marker="o", ms=3, lw=1.4, color=colour, label=words)
         title = f"{table.panel}\npeak force"
         force_ax.set(xlabel="speed (km/h)", ylabel="peak force (kN)", title=title, ylim=(0, None))

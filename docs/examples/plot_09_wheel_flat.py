@@ -19,8 +19,10 @@ same case over two sleeper bays, and ``wheelrail study impact`` sweeps the flat'
 import matplotlib.pyplot as plt
 import numpy as np
 
+from wheelrail.core.drawing.palette import model_colour
 from wheelrail.core.engine import impact_summary, simulate
 from wheelrail.core.irregularities import WheelFlat
+from wheelrail.core.models import model_names
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
 from wheelrail.core.roughness import RoughnessSet
 
@@ -36,14 +38,16 @@ for model, choice in cases:
     run = RunParameters(speed=100 * KMH, irregularities=(flat,), irregularity_input=choice)
     result = simulate(smooth, model=model, params=ModelParameters(run=run), length=0.6)
     summary = impact_summary(result)
-    label = f"{model} on the {choice if model == 'hertz' else 'surface'}"
+    label = f"{model} on the {'raw profile' if choice == 'raw' else 'trajectory' if model == 'hertz' else 'surface'}"
     ax.plot(
         result.x * 1e3,
         result.force / 1e3,
+        color=model_colour(model, model_names()),  # the project's colour of each model; the raw profile dashed
+        ls="--" if choice == "raw" else "-",
         lw=2.2 if model == "3d" else 1.1,
         label=f"{label}: peak {summary.peak / 1e3:.0f} kN, {summary.time_without_contact * 1e3:.2f} ms in the air",
     )
-    print(f"{label:26s} peak {summary.peak / 1e3:6.1f} kN, without contact {summary.time_without_contact * 1e3:.3f} ms")
+    print(f"{label:28s} peak {summary.peak / 1e3:6.1f} kN, without contact {summary.time_without_contact * 1e3:.3f} ms")
 ax.axhline(65.0, color="0.5", ls="--", lw=0.8, label="preload 65 kN")
 ax.set(xlim=(300, 500), xlabel="wheel position x (mm)", ylabel="contact force (kN)")
 ax.set_title("50 mm rounded flat, 100 km/h, smooth rail, the paper's track", fontsize=10)

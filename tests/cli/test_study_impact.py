@@ -103,3 +103,32 @@ def test_a_tiny_impact_study_through_the_cli(tmp_path, capsys):
     # again: every run read back from OUT/runs
     assert main([*argv, "--workers", "1"]) == 0
     assert json.loads(capsys.readouterr().out)["runs_cached"] == 2
+
+
+def test_the_figure_marks_the_first_contact_loss_and_draws_one_speed():
+    from wheelrail.core.study.figures import study_figures
+    from wheelrail.core.study.tables import Table
+
+    def table(speeds, lost_ms):
+        n = len(speeds)
+        columns = {
+            "hertz_peak_force_n": np.linspace(1e5, 2e5, n),
+            "hertz_min_force_n": np.zeros(n),
+            "hertz_time_without_contact_ms": np.asarray(lost_ms, dtype=float),
+            "hertz_LWA_dBA": np.linspace(100.0, 110.0, n),
+            "hertz_LpAeq_dBA": np.linspace(80.0, 90.0, n),
+        }
+        return Table(name=f"impact_s_case{n}", figure="impact", title="t", band_centres=np.asarray(speeds, float),
+                     columns=columns, panel=f"s: case {n}", axis_name="speed_kmh")  # fmt: skip
+
+    loss = Table(name="impact_s_contact_loss", figure="impact-loss", title="t", band_centres=np.array([1.0]),
+                 columns={"hertz_first_loss_speed_kmh": np.array([60.0])}, axis_name="case")  # fmt: skip
+    figures = study_figures("impact", [table([30.0, 60.0, 100.0], [0.0, 0.2, 0.3]), table([50.0], [0.0]), loss])
+    assert list(figures) == ["impact_impact.png"]  # the loss table's numbers are in the impact figure
+    force_ax = figures["impact_impact.png"].axes[0]
+    assert "hertz: contact lost from 60 km/h" in [text.get_text() for text in force_ax.get_legend().get_texts()]
+    legend = [text.get_text() for text in figures["impact_impact.png"].axes[1].get_legend().get_texts()]
+    slope = noise_slope([30.0, 60.0, 100.0], [100.0, 105.0, 110.0])  # least squares in log2 v: 5.7 dB
+    assert legend == [f"hertz: {slope:+.1f} dB per doubling"] and 5.6 < slope < 5.8
+    one_speed = [text.get_text() for text in figures["impact_impact.png"].axes[3].get_legend().get_texts()]
+    assert one_speed == ["hertz"]  # no slope of one speed
