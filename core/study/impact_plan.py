@@ -15,7 +15,8 @@ Tables per set: ``impact_<set>_case<k>`` (first column the speed in km/h; per mo
 N, the time without contact, ms, the sound power per axle and the pass-by level, dB(A)) and
 ``impact_<set>_contact_loss`` (first column the case's number 1..N, then the swept inputs in their options' units;
 per model the first speed with loss of contact, km/h (NaN: none in the sweep), and the noise slope, dB per
-doubling).
+doubling). A run whose analysed record (the first 20 ms left out) holds none of its case's irregularities has no
+sound power (NaN): its noise would be the roughness's alone.
 """
 
 from __future__ import annotations
@@ -149,6 +150,30 @@ def first_loss_speed(speeds_kmh, loss_steps) -> float:
     return float(min(lost)) if lost else float("nan")
 
 
+def in_record(case, spec) -> bool:
+    """Whether an irregularity of ``case`` lies in the record a run's force spectrum analyses (from the first
+    ``FORCE_SKIP`` s after the run's first position, taken as its margin ``track_lines.run_margin``, to its end;
+    a flat at any of its meetings): else the run's sound power has no impact in it. A run of unknown length
+    (a wheel set's turn): True."""
+    from wheelrail.core.engine.track_lines import run_margin
+    from wheelrail.core.irregularities.shapes import WheelFlat, extent, flat_meetings
+    from wheelrail.core.spectra.force import FORCE_SKIP
+
+    if spec.length is None:
+        return True
+    run = spec.params.run
+    start = run_margin(run.element_size, spec.params)
+    first, last = start + FORCE_SKIP * run.speed, start + spec.length
+    for item in case:
+        if isinstance(item, WheelFlat):
+            meetings = flat_meetings(item, spec.params.contact.radius_along, last)
+            if any(first - 0.5 * item.length <= x <= last + 0.5 * item.length for x in meetings):
+                return True
+        elif extent(item)[1] >= first and extent(item)[0] <= last:
+            return True
+    return False
+
+
 def _column(model: str) -> str:
     return model.replace("-", "_")
 
@@ -190,7 +215,8 @@ def plan_impact(infos, sweep: ImpactSweep, spec_of, params_of):
                     steps = [s.loss_of_contact_steps for s in found]
                     dt = [runs[model, k, v].params.run.time_step for v in sweep.speeds]
                     chains = [power(np.append(np.asarray(s.levels, float), np.nan), noise_track) for s in found]
-                    lwa = np.array([c["axle_dba"] for c in chains])
+                    heard = [in_record(case, runs[model, k, v]) for v in sweep.speeds]
+                    lwa = np.array([c["axle_dba"] if h else np.nan for c, h in zip(chains, heard, strict=True)])
                     name = _column(model)
                     columns[f"{name}_peak_force_n"] = np.array([s.force_max for s in found])
                     columns[f"{name}_min_force_n"] = np.array([s.force_min for s in found])
@@ -212,7 +238,8 @@ def plan_impact(infos, sweep: ImpactSweep, spec_of, params_of):
                         title=f"{label}, line 0, {case_words(case)}: per model and speed the peak and minimum force "
                         "(N), the time without contact (ms, steps with F = 0), the sound power per axle (dB(A) re "
                         f"1 pW) and pass-by L_pAeq,Tp ({DEFAULT_TRAIN_AXLES} axles, {DEFAULT_TRAIN_LENGTH:g} m, "
-                        "dB(A)), the run's force taken as stationary",
+                        "dB(A)), the run's force taken as stationary (nan: no irregularity in the record the "
+                        "spectrum analyses, which leaves out the first 20 ms)",
                     )
                 )
             tables.append(

@@ -36,6 +36,15 @@ def test_the_plan_runs_every_model_speed_and_case():
     assert plan_study("impact", ["corrugated-rail"], length=1.2, params=one).impact.models == impact_models()
 
 
+def test_noise_only_where_the_analysed_record_holds_the_irregularity():
+    from wheelrail.core.study.impact_plan import in_record
+
+    sweep = ImpactSweep(ModelParameters(), cases=(_flat(50),), models=("hertz",), speeds=(30 * KMH, 100 * KMH))
+    for length, heard in ((0.8, [True, False]), (3.0, [True, True])):  # 100 km/h: the first 0.56 m left out
+        plan = plan_study("impact", ["corrugated-rail"], length=length, params=sweep)
+        assert [in_record(_flat(50), spec) for spec in plan.specs] == heard  # 3 m: the flat's next turn, 2.75 m
+
+
 @pytest.mark.parametrize(
     ("sweep", "message"),
     [
@@ -84,9 +93,10 @@ def test_sweeps_and_models_are_for_the_impact_study_only(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_a_tiny_impact_study_through_the_cli(tmp_path, capsys):
-    # hertz at 2 speeds, one 100 mm flat, 0.8 m runs: the flat lifts the wheel off the rail at both speeds
-    argv = ["study", "impact", "--set", "corrugated-rail", "--length-m", "0.8", "--out", str(tmp_path), "--json"]
-    argv += ["--models", "hertz", "--speeds-kmh", "30", "100", "--flat-length-mm", "100", "--flat-position-m", "0.3"]
+    # hertz at 2 speeds, one 100 mm flat, 1 m runs: the flat lifts the wheel off the rail at both speeds
+    # (the flat 0.7 m in: past the 20 ms each force spectrum leaves out, 0.56 m at 100 km/h, so both runs' noise has it)
+    argv = ["study", "impact", "--set", "corrugated-rail", "--length-m", "1", "--out", str(tmp_path), "--json"]
+    argv += ["--models", "hertz", "--speeds-kmh", "30", "100", "--flat-length-mm", "100", "--flat-position-m", "0.7"]
     assert main([*argv, "--workers", "1"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["runs"] == 2 and summary["models"] == ["hertz"]
@@ -97,7 +107,7 @@ def test_a_tiny_impact_study_through_the_cli(tmp_path, capsys):
     assert table["hertz_min_force_n"] == [0.0, 0.0] and min(table["hertz_time_without_contact_ms"]) > 0
     loss = summary["tables"]["impact_corrugated-rail_contact_loss"]
     assert loss["flat_length_mm"] == [100.0] and loss["hertz_first_loss_speed_kmh"] == [30.0]
-    assert np.isfinite(loss["hertz_slope_dB_per_doubling"][0])
+    assert np.isfinite(loss["hertz_slope_dB_per_doubling"][0]) and all(np.isfinite(table["hertz_LWA_dBA"]))
     for name in ("impact_corrugated-rail_case1.csv", "impact_corrugated-rail_contact_loss.csv", "impact_impact.png"):
         assert (tmp_path / name).is_file()
     # again: every run read back from OUT/runs
