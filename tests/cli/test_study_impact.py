@@ -142,3 +142,21 @@ def test_the_figure_marks_the_first_contact_loss_and_draws_one_speed():
     assert legend == [f"hertz: {slope:+.1f} dB per doubling"] and 5.6 < slope < 5.8
     one_speed = [text.get_text() for text in figures["impact_impact.png"].axes[3].get_legend().get_texts()]
     assert one_speed == ["hertz"]  # no slope of one speed
+
+
+@pytest.mark.slow
+def test_the_impact_study_on_dask_gives_the_pools_tables(tmp_path):
+    # the same runs (two flats, hertz, 30 km/h) on a process pool and on a local Dask cluster: the same tables
+    distributed = pytest.importorskip("distributed")
+    from wheelrail.core.study import run_study
+
+    sweep = ImpactSweep(ModelParameters(), cases=(_flat(50), _flat(100)), models=("hertz",), speeds=(30 * KMH,))
+    common = {"length": 0.5, "params": sweep, "progress": False, "figures": False}
+    pool = run_study("impact", ["corrugated-rail"], tmp_path / "pool", workers=2, **common)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        address = cluster.scheduler_address
+        dask = run_study("impact", ["corrugated-rail"], tmp_path / "dask", dask_address=address, **common)
+    assert dask.report.backend.startswith("dask") and dask.report.computed == pool.report.computed == 2
+    for mine, theirs in zip(pool.tables, dask.tables, strict=True):
+        for column in mine.columns:
+            np.testing.assert_allclose(theirs.columns[column], mine.columns[column], rtol=1e-12, equal_nan=True)
