@@ -1,4 +1,4 @@
-"""``wheelrail study``: the paper's studies (Figs 10-14, 16, 17, 11) as batches of runs."""
+"""``wheelrail study``: the paper's studies (Figs 10-14, 16, 17, 11), noise, tracks and impacts as batches of runs."""
 
 from __future__ import annotations
 
