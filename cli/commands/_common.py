@@ -132,9 +132,10 @@ def add_input_options(
     return added
 
 
-def add_irregularity_options(parser) -> None:
+def add_irregularity_options(parser, several: bool = False) -> None:
     """The options of the discrete irregularities (``wheelrail.core.inputs.irregular``: each number declared once,
-    with --flat-shape and --irregularity-input), one argparse group; read back by :func:`irregularities_from_args`."""
+    with --flat-shape and --irregularity-input), one argparse group; read back by :func:`irregularities_from_args`.
+    ``several``: each number takes one or more values (a sweep; a list in the namespace when given)."""
     from wheelrail.core.inputs.irregular import FLAT_SHAPE_HELP, IRREGULARITY_INPUTS
 
     options = parser.add_argument_group(
@@ -145,7 +146,8 @@ def add_irregularity_options(parser) -> None:
     for entry in IRREGULARITY_INPUTS:
         unit = f", {entry.shown.name}" if entry.shown.name else ""
         needed = "; needed for one" if entry.required else ""
-        options.add_argument(entry.option, type=float, default=None, help=f"{entry.help}{unit}{needed}")
+        nargs = "+" if several else None
+        options.add_argument(entry.option, type=float, nargs=nargs, default=None, help=f"{entry.help}{unit}{needed}")
     options.add_argument("--flat-shape", choices=("rounded", "new"), default=None, help=f"{FLAT_SHAPE_HELP} "
                          "(default rounded)")  # fmt: skip
     entry = choice("irregularity_input")

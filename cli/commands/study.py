@@ -1,4 +1,4 @@
-"""``wheelrail study``: the paper's studies (Figs 10-14, 16, 17, 11) as batches of runs."""
+"""``wheelrail study``: the paper's studies (Figs 10-14, 16, 17, 11), noise, tracks and impacts as batches of runs."""
 
 from __future__ import annotations
 
@@ -10,6 +10,8 @@ from wheelrail.cli.commands._common import (
     RUN_INPUT_GROUPS,
     Files,
     add_input_options,
+    add_irregularity_options,
+    irregularities_from_args,
     params_from_args,
     print_json,
 )
@@ -29,7 +31,9 @@ def add_parser(sub):
             "Batch of independent runs reproducing a figure of the paper on any roughness set: filters "
             "(Fig. 10), line-spread (Figs 12-14), averaged-input (Fig. 16), lateral-resolution (Fig. 17), "
             "speeds (Fig. 11); noise (rolling noise against speed); track (force and noise on several tracks: give "
-            "a track option several values, e.g. --pad-stiffness-mn-m 60 120 300 1000). Writes one CSV per "
+            "a track option several values, e.g. --pad-stiffness-mn-m 60 120 300 1000); impact (peak force, contact "
+            "loss and impact noise against speed: give an irregularity, its inputs one or more values, e.g. "
+            "--flat-length-mm 20 50 100 --flat-position-m 1). Writes one CSV per "
             "figure table (band name, exact centre in Hz, levels in dB), a PNG "
             "laid out like the paper's figure and a JSON summary into --out; finished runs are kept in "
             "OUT/runs, so an interrupted study resumes with the missing runs only."
@@ -66,13 +70,62 @@ def add_parser(sub):
         "--dask", metavar="ADDR", default=None, help="run on a Dask cluster: scheduler address tcp://HOST:PORT"
     )
     parser.add_argument("--json", action="store_true", help="print the machine-readable summary (SI units)")
+    parser.add_argument(
+        "--models",
+        nargs="+",
+        metavar="MODEL",
+        default=None,
+        help="impact study: the contact models (default: every registered model)",
+    )
+    parser.add_argument(
+        "--speeds-kmh",
+        nargs="+",
+        type=float,
+        metavar="V",
+        default=None,
+        help="impact study: the speeds, km/h (default 30 60 100 140 200)",
+    )
     add_input_options(
         parser,
         *RUN_INPUT_GROUPS,
         helps={"speed": "train speed, km/h (for `speeds` the half-mass case's)"},
         several=("track",),
     )
+    add_irregularity_options(parser, several=True)
     return parser
+
+
+def _impact(args, params):
+    """The impact study's sweep (``core.study.impact_plan.ImpactSweep``): every combination of the values given to
+    the irregularity options, the models and the speeds; other studies: ``params`` with the irregularities given
+    (one value each). The namespace is left with one value per irregularity option (the first)."""
+    import itertools
+
+    from wheelrail.core.inputs.irregular import IRREGULARITY_INPUTS
+    from wheelrail.core.parameters import KMH
+    from wheelrail.core.study.impact_plan import ImpactSweep
+
+    given = {e: getattr(args, e.dest) for e in IRREGULARITY_INPUTS if getattr(args, e.dest) is not None}
+    swept = {e: values for e, values in given.items() if len(values) > 1}
+    if args.name != "impact":
+        extra = [o for o, v in (("--models", args.models), ("--speeds-kmh", args.speeds_kmh)) if v is not None]
+        if swept or extra:
+            options = ", ".join([*(e.option for e in swept), *extra])
+            raise WheelrailError(
+                f"{options}: for study impact only (study {args.name} takes one irregularity value each)"
+            )
+    cases = []
+    for combination in itertools.product(*given.values()):
+        for entry, value in zip(given, combination, strict=True):
+            setattr(args, entry.dest, value)
+        cases.append(irregularities_from_args(args, params))
+    if args.name != "impact":
+        return cases[0]
+    speeds = () if args.speeds_kmh is None else tuple(v * KMH for v in args.speeds_kmh)
+    base = cases[0]
+    return ImpactSweep(
+        base, cases=tuple(case.run.irregularities for case in cases), models=tuple(args.models or ()), speeds=speeds
+    )
 
 
 def _tracks(args):
@@ -131,7 +184,8 @@ def run(args) -> int:
     if args.name not in STUDIES:
         raise WheelrailError(f"unknown study {args.name!r}; choose one of {', '.join(STUDIES)}")
     tracks = _tracks(args)  # several values of a track input: the track study's sweep
-    params = params_from_args(args, *RUN_INPUT_GROUPS)
+    sweep = _impact(args, params_from_args(args, *RUN_INPUT_GROUPS))  # impact: the irregularities' sweep
+    params = getattr(sweep, "params", sweep)  # the parameters every run shares (but for what is swept)
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     workers = 2 if args.workers is None else args.workers
@@ -144,7 +198,7 @@ def run(args) -> int:
         args.name,
         args.sets,
         args.out,
-        params=params if tracks is None else [replace(params, track=track) for track in tracks],
+        params=sweep if tracks is None else [replace(params, track=track) for track in tracks],
         wheel_set=args.wheel_set,
         length=args.length_m,
         workers=workers,
@@ -157,7 +211,8 @@ def run(args) -> int:
         return 0
     wheel = f" + wheel set {summary['wheel_set']}" if summary["wheel_set"] else ""
     print(
-        f"study {args.name} on {', '.join(summary['sets'])}{wheel}, {args.speed_kmh:g} km/h: {summary['runs']} runs "
+        f"study {args.name} on {', '.join(summary['sets'])}{wheel}{_speed_words(args, summary)}: {summary['runs']} "
+        "runs "
         f"({summary['runs_computed']} computed, {summary['runs_cached']} from {args.out}/runs) "
         f"in {summary['wall_time_s']:.1f} s on {summary['backend']}"
     )
@@ -174,6 +229,8 @@ def run(args) -> int:
             )
         print(f"  {describe_track(params, leave_out=tuple(entry.key for entry in swept))}")
     print(f"  contact geometry: {describe_contact(params)}")
+    if summary.get("irregularity_cases"):
+        _say_impact(result)
     if summary["loss_of_contact_steps"]:
         print(f"  loss of contact in {summary['loss_of_contact_steps']} steps over all runs")
     records = summary["spectrum_records"]
@@ -185,3 +242,30 @@ def run(args) -> int:
     for path in summary["files"]:
         print(f"  wrote {path}")
     return 0
+
+
+def _say_impact(result) -> None:
+    """The impact study's cases and, per set, case and model, the first speed with loss of contact and the slope of
+    the sound power against speed."""
+    from wheelrail.core.irregularities.shapes import from_record
+    from wheelrail.core.study.impact_plan import case_words
+
+    summary = result.summary
+    print(f"  Hertz models on the {summary['irregularity_input']} (irregularity input)")
+    for table in (t for t in result.tables if t.figure == "impact-loss"):
+        for k, case in enumerate(summary["irregularity_cases"]):
+            print(f"  {table.panel}, case {k + 1}: {case_words([from_record(item) for item in case])}")
+            for model in summary["models"]:
+                name = model.replace("-", "_")
+                lost = table.columns[f"{name}_first_loss_speed_kmh"][k]
+                slope = table.columns[f"{name}_slope_dB_per_doubling"][k]
+                where = f"contact lost from {lost:g} km/h" if math.isfinite(lost) else "contact kept at every speed"
+                rise = f"{slope:+.1f} dB per doubling of speed" if math.isfinite(slope) else "no slope (one speed)"
+                print(f"    {model}: {where}; sound power {rise}")
+
+
+def _speed_words(args, summary) -> str:
+    """ ", 100 km/h": the study's speed; the impact study (which sweeps it): its speeds."""
+    if "speeds_m_per_s" not in summary:
+        return f", {args.speed_kmh:g} km/h"
+    return f", {', '.join(f'{v * 3.6:g}' for v in summary['speeds_m_per_s'])} km/h"

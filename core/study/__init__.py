@@ -28,6 +28,10 @@ Named studies (``STUDIES``):
     The one-line models (plug-ins included) and ``3d`` on line 0 at 50-300 km/h: A-weighted sound power per
     axle and pass-by level by this project's TWINS-like chain, beside the CNOSSOS-EU source with A3 and with
     each model's dynamic contact filter in its place (:mod:`wheelrail.core.study.noise_plan`).
+``impact`` (beyond the paper)
+    Discrete irregularities (a wheel flat, a rail joint, a dipped weld, a squat; any of their inputs swept) per
+    model and speed on line 0: peak and minimum force, time without contact, the lowest speed with loss of contact,
+    the run's sound power and its slope in dB per doubling of speed (:mod:`wheelrail.core.study.impact_plan`).
 
 Runs are executed by :func:`execute`: already cached runs are read back, the missing ones run on a local
 process pool (``concurrent.futures.ProcessPoolExecutor``) or on a Dask cluster (``dask.distributed``), and

@@ -165,6 +165,7 @@ _NOISE_TITLES = {
     "noise-filters": "contact filters (dB) and CNOSSOS-EU sound power per axle (dB re 1 pW) per band",
     "track": "per track, on line 0: force level, sound power per axle and pass-by level",
     "track-force": "contact-force levels per track, one panel per model, on line 0",
+    "impact": "peak force and sound power per axle against speed per model and irregularity case, on line 0",
 }
 _TITLE_CHARACTERS = 150  # a suptitle line at 9 pt fits a 14 inch figure
 
@@ -305,7 +306,13 @@ def study_figures(name: str, tables: list[Table], caption: str = "") -> dict[str
     noise = {t.panel: t for t in by_figure.get("track", [])}
     figures = {}
     for figure_id, group in by_figure.items():
-        if figure_id == "track":
+        if figure_id == "impact-loss":
+            continue  # its numbers are drawn in the impact figure
+        if figure_id == "impact":
+            from wheelrail.core.study.impact_figures import draw_impact
+
+            figure, what = draw_impact(group, _axes_grid), _NOISE_TITLES[figure_id]
+        elif figure_id == "track":
             figure, what = _draw_track(group), _NOISE_TITLES[figure_id]
         elif figure_id == "track-force":
             figure, what = _draw_track_force(group, noise), _NOISE_TITLES[figure_id]
@@ -320,7 +327,7 @@ def study_figures(name: str, tables: list[Table], caption: str = "") -> dict[str
         title = f"wheelrail study {name}: {what}" + (f". {caption}" if caption else "")
         width = max(60, int(_TITLE_CHARACTERS * figure.get_figwidth() / 14.0))
         figure.suptitle("\n".join(textwrap.wrap(title, width)), fontsize=9)
-        own = figure_id.startswith(("noise", "track"))  # the project's own figures; the others the paper's
+        own = figure_id.startswith(("noise", "track", "impact"))  # the project's own figures; the others the paper's
         stem = f"{figure_id.replace('-', '_')}_{name}" if own else f"fig{figure_id}_{name}"
         figures[f"{stem}.png"] = figure
     return figures

@@ -64,6 +64,7 @@ class StudyPlan:
     params: ModelParameters = field(default_factory=ModelParameters)  # of every run, but for what the study varies
     wheel_set: SetInfo | None = None  # the wheel set added to every set (combined roughness), if any
     tracks: tuple = ()  # the tracks the runs are on (the track study: several; the others: params.track)
+    impact: object = None  # the impact study's ImpactSweep (irregularity cases, models, speeds); else None
 
     @property
     def speed(self) -> float:
@@ -220,7 +221,9 @@ def plan_study(
         half-mass case), the contact (material, preload, geometry: e.g.
         ``ContactParameters(wheel_radius=0.46, rail_crown_radius=0.30)`` for an elliptic patch), the track
         and the wheel; e.g. ``wheelrail.core.inputs.declared.model_parameters({"pad_stiffness": 60e6})``. The ``track``
-        study takes several that differ in their track only: each is a track of the study.
+        study takes several that differ in their track only: each is a track of the study. The ``impact`` study
+        takes a :class:`~wheelrail.core.study.impact_plan.ImpactSweep` (the irregularity cases, models and speeds)
+        or one ModelParameters whose irregularities are its one case.
     length : float, optional
         Run length, m. Default: the whole set (rail: the data less the largest window margin, the same for
         every model; wheel: one circumference).
@@ -247,6 +250,12 @@ def plan_study(
     """
     if name not in STUDIES:
         raise WheelrailError(f"unknown study {name!r}; choose one of {', '.join(STUDIES)}")
+    sweep = None
+    if name == "impact":  # the irregularity cases, models and speeds (core.study.impact_plan)
+        from wheelrail.core.study.impact_plan import impact_sweep
+
+        sweep = impact_sweep(params)
+        params = sweep.params
     params, tracks = study_parameters(name, params)
     contact = params.contact
     if length is not None and not (isinstance(length, int | float) and math.isfinite(length) and length > 0):
@@ -269,6 +278,10 @@ def plan_study(
         from wheelrail.core.study.track_plan import plan_track
 
         specs, tabulate = plan_track(infos, params, tracks, _spec)
+    elif sweep is not None:
+        from wheelrail.core.study.impact_plan import plan_impact
+
+        specs, tabulate = plan_impact(infos, sweep, _spec, _params)
     else:
         specs, tabulate = _BUILDERS[name](infos, params)
     _check_durations(specs, infos)
@@ -281,6 +294,7 @@ def plan_study(
         params=params,
         wheel_set=wheel,
         tracks=tracks,
+        impact=sweep,
     )
 
 

@@ -180,9 +180,11 @@ def study_caption(name: str, plan: StudyPlan) -> str:
     :func:`~wheelrail.core.inputs.declared.caption`): the speed unless the study sweeps it, the preload, the contact
     geometry and the track (the track study: what its tracks share) and the wheel set added to every set."""
     swept = [entry.key for entry in swept_inputs(plan.tracks)] if len(plan.tracks) > 1 else []
-    if name in ("speeds", "noise"):  # their figures put the speed on an axis or a curve per speed
+    if name in ("speeds", "noise", "impact"):  # their figures put the speed on an axis or a curve per speed
         swept.append("speed")
     words = caption(plan.params, leave_out=tuple(swept))
+    if plan.impact is not None:  # what the Hertz models are driven by over the irregularities
+        words += f"; Hertz models on the {plan.impact.params.run.irregularity_input} (irregularity input)"
     return words if plan.wheel_set is None else f"{words}; wheel set {plan.wheel_set.label}"
 
 
@@ -237,6 +239,7 @@ def _summary_document(
         "worker_run_time_s": float(sum(s.run_time for s in summaries)),
         "loss_of_contact_steps": int(sum(s.loss_of_contact_steps for s in summaries)),
         "spectrum_records": _spectrum_records(plan, summaries),
+        **_impact_description(plan),
         "out": str(folder),
         "files": [str(path) for path in files],
         "tables": {
@@ -257,3 +260,20 @@ def _summary_document(
         },
     }
     return summary
+
+
+def _impact_description(plan: StudyPlan) -> dict:
+    """The impact study's sweep as its JSON summary records it (SI): ``irregularity_cases`` (each a list of
+    records, ``irregularities.shapes.as_record``), ``irregularity_input``, ``models``, ``speeds_m_per_s``; other
+    studies: nothing."""
+    if plan.impact is None:
+        return {}
+    from wheelrail.core.irregularities.shapes import as_record
+
+    sweep = plan.impact
+    return {
+        "irregularity_cases": [[as_record(item) for item in case] for case in sweep.cases],
+        "irregularity_input": sweep.params.run.irregularity_input,
+        "models": list(sweep.models),
+        "speeds_m_per_s": list(sweep.speeds),
+    }

@@ -18,7 +18,7 @@ from wheelrail.core.parameters import KMH, ModelParameters, as_dict
 if TYPE_CHECKING:  # the roughness package is imported when a set is read
     from wheelrail.core.roughness import RoughnessLike
 
-STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds", "noise", "track")
+STUDIES = ("filters", "line-spread", "averaged-input", "lateral-resolution", "speeds", "noise", "track", "impact")
 PAPER_LINES = tuple(range(-3, 4))  # the seven lines -3..3 the paper averages over (section 3.3)
 LOW_RESOLUTION_LINES_MM = {  # Fig. 17: lateral offsets from line 0 kept, mm
     4: (-8.0, -4.0, 0.0, 4.0, 8.0),
