@@ -1,0 +1,92 @@
+"""The explorer's Irregularity folder (explorer/irregularity.py): its fields reach ``RunParameters.irregularities``
+as the command line's options do, bad geometry is one line in the page's words, and a run over a flat shows its
+peak and impacts."""
+
+from __future__ import annotations
+
+import pytest
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.irregularities import RailJoint, WheelFlat
+from wheelrail.core.roughness import load_roughness
+from wheelrail.explorer.config import page_message, read_config
+from wheelrail.explorer.irregularity import read_irregularities
+
+RAIL = load_roughness("corrugated-rail")
+FIELDS = {"line": "0", "model": "hertz", "speed_kmh": "100", "preload_kn": "65", "length_m": "1"}
+
+
+def _config(typed: dict, shape: str = "rounded", irregularity_input: str | None = None):
+    irregular = read_irregularities(typed, shape, irregularity_input)
+    return read_config(RAIL, "corrugated-rail", **FIELDS, irregular=irregular)
+
+
+def test_the_fields_reach_the_runs_irregularities():
+    config = _config({"flat_length": "50", "flat_position": "0.5"}, irregularity_input="raw")
+    run = config.params().run
+    assert run.irregularities == (WheelFlat(length=0.05, position=0.5),)
+    assert run.irregularity_input == "raw"
+    assert "flat 50 mm rounded at x = 0.5 m (Hertz on the raw)" in config.case_label()
+    assert config.case() != _config({}).case()  # a flat run never shares a smooth run's results
+
+
+def test_several_kinds_and_a_new_flat():
+    config = _config(
+        {"flat_length": "40", "flat_position": "0.3", "joint_position": "0.7", "joint_step": "-0.5"}, shape="new"
+    )
+    flat, joint = config.params().run.irregularities
+    assert flat.shape == "new" and flat.length == pytest.approx(0.04)
+    assert joint == RailJoint(position=0.7, step=-0.5e-3)
+
+
+def test_empty_fields_are_a_run_without_irregularities():
+    config = _config({key: "" for key in ("flat_length", "flat_depth", "weld_position")})
+    assert config.params().run.irregularities == ()
+    assert config.case() == read_config(RAIL, "corrugated-rail", **FIELDS).case()
+
+
+@pytest.mark.parametrize(
+    ("typed", "start"),
+    [
+        ({"flat_length": "abc", "flat_position": "0.5"}, "Flat length 'abc': not a number"),
+        ({"flat_length": "50"}, "Flat position 'not given': a flat needs its position"),
+        (
+            {"flat_length": "50", "flat_position": "3"},
+            "Flat position 3 m: reaches from 2.975 to 3.025 m, outside the run",
+        ),
+        (
+            {"flat_length": "5000", "flat_position": "0.5"},
+            "Flat length 5000 mm: a flat this long does not fit on the wheel",
+        ),
+        ({"flat_length": "50", "flat_depth": "-1", "flat_position": "0.5"}, "Flat depth -1 mm: must be positive"),
+        ({"joint_position": "0.5", "joint_gap": "700"}, "Joint gap 700 mm"),
+    ],
+)
+def test_bad_geometry_is_one_line_in_the_pages_words(typed, start):
+    with pytest.raises(WheelrailError) as info:
+        _config(typed)
+    message = page_message(info.value)
+    assert message.startswith(start), message
+    assert "\n" not in message and "--" not in message and "WheelFlat" not in message and "Error" not in message
+
+
+def test_the_form_hands_the_folder_to_the_run(app):
+    """The headless tab's form: the folder's fields typed, the configuration the Run button would start."""
+    form = app.form
+    folder = form.irregularity
+    try:
+        folder.fields["flat_length"].value = "50"
+        folder.fields["flat_position"].value = "0.4"
+        folder.input.value = "raw"
+        form.model_dropdown.value = "hertz"
+        form.length_text.value = "1"
+        config = form.read_config()
+        assert config.params().run.irregularities == (WheelFlat(length=0.05, position=0.4),)
+        assert config.params().run.irregularity_input == "raw"
+        folder.fields["flat_position"].value = "9"
+        form.refresh()
+        assert form.check_md.content.startswith("**Cannot run:** Flat position 9 m"), form.check_md.content
+    finally:
+        for handle in folder.fields.values():
+            handle.value = ""
+        folder.input.value = "trajectory"
