@@ -4,13 +4,18 @@ peak and impacts."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
+import numpy as np
 import pytest
 
+from wheelrail.core.engine.impacts import impact_summary
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.irregularities import RailJoint, WheelFlat
 from wheelrail.core.roughness import load_roughness
 from wheelrail.explorer.config import page_message, read_config
 from wheelrail.explorer.irregularity import read_irregularities
+from wheelrail.explorer.patch_tab import PatchTab, impact_markers
 
 RAIL = load_roughness("corrugated-rail")
 FIELDS = {"line": "0", "model": "hertz", "speed_kmh": "100", "preload_kn": "65", "length_m": "1"}
@@ -90,3 +95,51 @@ def test_the_form_hands_the_folder_to_the_run(app):
         for handle in folder.fields.values():
             handle.value = ""
         folder.input.value = "trajectory"
+
+
+def test_an_empty_contact_set_draws_an_empty_patch(app):
+    """The wheel in the air: a 3d step with no pressure anywhere and a one-line step with F = 0 draw without
+    errors (an all-background heat map; a strip and ellipse of no size)."""
+    config = _config({"flat_length": "50", "flat_position": "0.4"}).for_model("3d")
+    window = np.linspace(-5e-3, 5e-3, 11)
+    view = SimpleNamespace(config=config, window_x=window, window_y=window, roughness=RAIL, wheel_roughness=None)
+    drawn = app.scene.frames_drawn
+    app.scene.draw(SimpleNamespace(pressure=np.zeros((11, 11)), force=0.0, contact_length=0.0, position=0.4), view)
+    assert app.scene.heatmap.visible and not app.scene.strip.visible
+    app.scene.draw(SimpleNamespace(pressure=None, force=0.0, contact_length=0.0, position=0.4), view)
+    assert app.scene.strip.visible and not app.scene.heatmap.visible
+    assert app.scene.frames_drawn == drawn + 2
+
+
+def test_impact_markers_sit_at_each_impacts_peak():
+    summary = SimpleNamespace(impacts=(SimpleNamespace(position=0.42, peak=150e3),))
+    markers = impact_markers(np.linspace(0.0, 1.0, 11), summary)
+    assert np.count_nonzero(np.isfinite(markers)) == 1 and markers[4] == 150.0
+
+
+@pytest.mark.slow
+def test_a_run_over_a_flat_marks_its_peak_and_says_its_impacts(app, finish_run):
+    """A short hertz run over a 50 mm flat from the form: the run's parameters hold the flat, the force plot
+    has the impact markers at the peak, the text below it the impact as ``wheelrail run`` prints it."""
+    form, patch = app.form, app.tab(PatchTab)
+    folder = form.irregularity
+    try:
+        form.model_dropdown.value = "hertz"
+        form.length_text.value = "0.8"
+        folder.fields["flat_length"].value = "50"
+        folder.fields["flat_position"].value = "0.4"
+        result = finish_run(app)
+        assert result.header.params.run.irregularities == (WheelFlat(length=0.05, position=0.4),)
+        summary = impact_summary(result)
+        assert summary.impacts and summary.peak > 1.2 * 65e3
+        labels = [label for label, _, _ in patch.force.series]
+        assert labels == ["hertz", "hertz impacts"]
+        markers = patch.force.data[2]
+        assert np.nanmax(markers) == pytest.approx(summary.peak / 1e3)
+        assert patch.force.png().startswith(b"\x89PNG")  # the markers drawn by matplotlib too
+        assert patch.impacts_md.visible
+        assert f"peak {summary.peak / 1e3:.2f} kN" in patch.impacts_md.content
+        assert "flat 50 mm rounded at x = 0.4 m" in patch.impacts_md.content
+    finally:
+        for handle in folder.fields.values():
+            handle.value = ""
