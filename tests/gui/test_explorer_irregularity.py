@@ -143,3 +143,49 @@ def test_a_run_over_a_flat_marks_its_peak_and_says_its_impacts(app, finish_run):
     finally:
         for handle in folder.fields.values():
             handle.value = ""
+
+
+PLOTS_IN_PAGE = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map(t => ({
+    title: String((t.chart.root.querySelector('.u-title') || {}).textContent || ''),
+    labels: t.chart.series.slice(1).map(s => String(s.label))}))"""
+
+
+def _text_field(page, label):
+    """viser's text inputs carry no label element: the input nearest the label's text."""
+    return page.get_by_text(label, exact=True).first.locator("xpath=following::input[1]")
+
+
+def _page_has_plot(page, title_part: str, label: str | None = None, timeout: float = 60_000) -> None:
+    """Wait (on the page's own updates) for a plot whose title holds ``title_part`` (and a curve ``label``)."""
+    page.wait_for_function(
+        f"""([part, label]) => ({PLOTS_IN_PAGE})().some(p => p.title.includes(part)
+            && (label === null || p.labels.includes(label)))""",
+        arg=[title_part, label],
+        timeout=timeout,
+    )
+
+
+@pytest.mark.slow
+def test_a_flat_set_in_the_page_runs_and_shows_its_impact(open_page):
+    """In Chromium: the Irregularity folder opened, a 50 mm flat typed, Run; the force plot's title states the
+    flat, the plot has the impact markers and the page says the impact; a bad position is one line on the page."""
+    page, session, errors = open_page(1400, 1000)
+    session.form.model_dropdown.value = "hertz"
+    session.form.length_text.value = "0.8"
+    page.get_by_text("Irregularity", exact=True).click()
+    for label, value in (("Flat length (mm)", "50"), ("Flat position (m)", "0.4")):
+        field = _text_field(page, label)
+        field.fill(value)
+        field.press("Enter")
+    _page_has_plot(page, "flat 50 mm rounded at x = 0.4 m (Hertz on the trajectory)")
+    page.get_by_role("button", name="Run", exact=True).click()
+    page.get_by_text("Done: hertz on corrugated-rail", exact=False).first.wait_for(timeout=300_000)
+    _page_has_plot(page, "Contact force", "hertz impacts")
+    page.get_by_text("Impacts", exact=True).first.wait_for(timeout=60_000)
+    page.get_by_text("at x = 0.4", exact=False).first.wait_for(timeout=60_000)
+    position = _text_field(page, "Flat position (m)")
+    position.fill("9")
+    position.press("Enter")
+    page.get_by_text("Flat position 9 m: reaches from", exact=False).first.wait_for(timeout=60_000)
+    assert session.page.last_error is None
+    assert not errors, errors
