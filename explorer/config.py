@@ -418,7 +418,7 @@ def read_config(
     )
 
 
-SESSION_KEYS = ("wheelrail_session", "set", "wheel_set", "model", "line", "length_m", "inputs")
+SESSION_KEYS = ("wheelrail_session", "set", "wheel_set", "model", "line", "length_m", "inputs", "irregularity")
 """The settings of a session document (``SessionFiles.session``), in the order it writes them."""
 
 
@@ -443,7 +443,7 @@ def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, .
             f"session file: unknown setting(s) {', '.join(map(repr, unknown))}; a session holds "
             f"{', '.join(SESSION_KEYS)}"
         )
-    missing = [key for key in SESSION_KEYS if key not in session and key != "inputs"]
+    missing = [key for key in SESSION_KEYS if key not in session and key not in ("inputs", "irregularity")]
     if missing:
         raise WheelrailError(f"session file: no {', '.join(missing)}")
     fields = {key: session[key] for key in ("set", "wheel_set", "model", "line", "length_m")}
@@ -460,7 +460,9 @@ def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, .
     unknown = sorted(set(inputs) - known)
     if unknown or not all(isinstance(value, str) for value in inputs.values()):
         raise WheelrailError(f"session file: unknown inputs {', '.join(unknown) or 'or values not text'}")
-    return {**fields, "inputs": inputs}
+    from wheelrail.explorer.irregularity import session_irregularity
+
+    return {**fields, "inputs": inputs, "irregularity": session_irregularity(session.get("irregularity"))}
 
 
 def session_config(session: dict, roughness, wheel=None, wheel_label: str | None = None) -> RunConfig:
@@ -468,6 +470,8 @@ def session_config(session: dict, roughness, wheel=None, wheel_label: str | None
     or None), every input it does not hold at its default: one WheelrailError in the page's words otherwise (a run
     length outside what the set holds at the session's speed, a line the model cannot run on, an input outside its
     range), so that a session is loaded whole or not at all, never brought into range without a word."""
+    from wheelrail.explorer.irregularity import session_read
+
     typed = {entry.dest: session["inputs"].get(entry.dest, field_text(entry)) for entry in inputs_of()}
     try:
         return read_config(
@@ -478,6 +482,7 @@ def session_config(session: dict, roughness, wheel=None, wheel_label: str | None
             length_m=session["length_m"],
             wheel=wheel,
             wheel_label=wheel_label,
+            irregular=session_read(session.get("irregularity", {})),
             **typed,
         )
     except WheelrailError as error:

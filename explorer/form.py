@@ -315,7 +315,8 @@ class RunForm:
 
     def show_session(self, session: dict) -> None:
         """Set every control from a checked session document (``wheelrail.explorer.config.read_session``): the set,
-        the wheel set, the model, the length, the inputs as typed, then the line if the model can run on it."""
+        the wheel set, the model, the length, the inputs and the Irregularity folder as typed, then the line if the
+        model can run on it."""
         with self.page.quietly():
             self.set_dropdown.value = session["set"]
             self.wheel_set_dropdown.value = session["wheel_set"]
@@ -323,6 +324,7 @@ class RunForm:
             self.length_text.value = session["length_m"]
             for entry in inputs_of():
                 self.fields[entry.key].value = session["inputs"].get(entry.dest, field_text(entry))
+            self.irregularity.show_session(session.get("irregularity", {}))
         self.select_set(session["set"])
         with self.page.quietly():
             if session["line"] in self.line_dropdown.options:

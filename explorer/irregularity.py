@@ -18,6 +18,7 @@ __all__ = [
     "IrregularityFolder",
     "irregularity_label",
     "read_irregularities",
+    "session_irregularity",
 ]
 
 FLAT_SHAPES = ("rounded", "new")  # the flat's shapes, the default first (WheelFlat.shape)
@@ -85,6 +86,29 @@ def read_irregularities(
     return items, chosen
 
 
+SESSION_CHOICES = ("flat_shape", "irregularity_input")  # a session's irregularity besides the inputs' keys
+
+
+def session_irregularity(value) -> dict[str, str]:
+    """A session document's ``irregularity`` (the folder as typed: input key -> text, ``flat_shape``,
+    ``irregularity_input``) checked for its keys and text, or one WheelrailError; absent (None): empty."""
+    if value is None:
+        return {}
+    known = {e.key for e in IRREGULARITY_INPUTS} | set(SESSION_CHOICES)
+    if not isinstance(value, dict) or not all(isinstance(text, str) for text in value.values()):
+        raise WheelrailError("session file: the irregularity must be text as the page's fields hold it")
+    unknown = sorted(set(value) - known)
+    if unknown:
+        raise WheelrailError(f"session file: unknown irregularity input(s) {', '.join(unknown)}")
+    return dict(value)
+
+
+def session_read(folder: dict[str, str]) -> tuple[tuple, str]:
+    """The irregularities and input a session's checked ``irregularity`` (:func:`session_irregularity`) asks for."""
+    chosen = folder.get("irregularity_input", choice("irregularity_input").default)
+    return read_irregularities(folder, folder.get("flat_shape", FLAT_SHAPES[0]), chosen)
+
+
 class IrregularityFolder:
     """The Irregularity folder of the run form (folded): a text field per declared irregularity input, the flat's
     shape and the Hertz models' irregularity input. ``handles`` are every control (the form refreshes on each)."""
@@ -116,6 +140,21 @@ class IrregularityFolder:
     def typed(self) -> dict[str, str]:
         """The fields as typed, by key, for :func:`read_irregularities`."""
         return {key: handle.value for key, handle in self.fields.items()}
+
+    def session(self) -> dict[str, str] | None:
+        """The folder as a session saves it (fields given, the choices), or None when it is as a new page has it."""
+        typed = {key: text for key, text in self.typed().items() if str(text).strip()}
+        entry = choice("irregularity_input")
+        if not typed and self.shape.value == FLAT_SHAPES[0] and self.input.value == entry.default:
+            return None
+        return {**typed, "flat_shape": self.shape.value, "irregularity_input": self.input.value}
+
+    def show_session(self, folder: dict[str, str]) -> None:
+        """Set the folder from a session's checked ``irregularity`` (:func:`session_irregularity`)."""
+        for key, handle in self.fields.items():
+            handle.value = folder.get(key, "")
+        self.shape.value = folder.get("flat_shape", FLAT_SHAPES[0])
+        self.input.value = folder.get("irregularity_input", choice("irregularity_input").default)
 
     def read(self) -> tuple[tuple, str]:
         """The irregularities and input the folder asks for (:func:`read_irregularities`)."""

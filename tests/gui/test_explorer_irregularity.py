@@ -189,3 +189,38 @@ def test_a_flat_set_in_the_page_runs_and_shows_its_impact(open_page):
     page.get_by_text("Flat position 9 m: reaches from", exact=False).first.wait_for(timeout=60_000)
     assert session.page.last_error is None
     assert not errors, errors
+
+
+def test_a_session_keeps_the_irregularity_folder(app):
+    """Save session holds the folder as typed, Load session sets it back; a bad one is one line, nothing set."""
+    form, folder = app.form, app.form.irregularity
+    try:
+        form.model_dropdown.value = "hertz"
+        form.length_text.value = "0.8"
+        folder.fields["flat_length"].value = "50"
+        folder.fields["flat_position"].value = "0.4"
+        folder.input.value = "raw"
+        form.refresh()
+        saved = app.shown
+        name, content = app.session.download()
+        assert b'"irregularity"' in content and "WheelFlat0.4m" in name
+        for handle in folder.fields.values():
+            handle.value = ""
+        folder.input.value = "trajectory"
+        form.refresh()
+        assert app.shown != saved
+        app.session.load(content)
+        assert app.shown == saved and folder.fields["flat_length"].value == "50" and folder.input.value == "raw"
+        bad = content.replace(b'"flat_position": "0.4"', b'"flat_position": "9"')
+        with pytest.raises(WheelrailError) as info:
+            app.session.load(bad)
+        assert page_message(info.value).startswith("session file: Flat position 9 m: reaches from")
+        unknown = content.replace(b'"flat_position"', b'"flat_colour"')
+        with pytest.raises(WheelrailError, match="unknown irregularity input"):
+            app.session.load(unknown)
+        assert app.shown == saved  # a refused session changes nothing
+    finally:
+        for handle in folder.fields.values():
+            handle.value = ""
+        folder.input.value = "trajectory"
+        form.refresh()
