@@ -224,3 +224,25 @@ def test_a_session_keeps_the_irregularity_folder(app):
             handle.value = ""
         folder.input.value = "trajectory"
         form.refresh()
+
+
+@pytest.mark.slow
+def test_a_3d_run_over_a_flat_replays_the_wheel_in_the_air(app, finish_run):
+    """3d over a 50 mm flat at 100 km/h: the wheel leaves the rail (steps with F = 0 and no pressure), the
+    replay draws such a step's empty patch without error, and the impacts are said."""
+    form, patch = app.form, app.tab(PatchTab)
+    folder = form.irregularity
+    try:
+        form.model_dropdown.value = "3d"
+        form.length_text.value = "0.8"
+        folder.fields["flat_length"].value = "50"
+        folder.fields["flat_position"].value = "0.4"
+        result = finish_run(app)
+        lost = np.flatnonzero(result.force <= 0.0)
+        assert lost.size and not np.any(result.pressure[lost[0]])
+        app.replay.scrub(int(lost[0]))
+        assert app.page.last_error is None and app.scene.heatmap.visible
+        assert "**3d**: impacts: peak" in patch.impacts_md.content
+    finally:
+        for handle in folder.fields.values():
+            handle.value = ""
