@@ -27,6 +27,7 @@ from wheelrail.core.inputs.declared import (
     page_names,
 )
 from wheelrail.core.inputs.ranges import ACCEPTED, check_wheel_circumference
+from wheelrail.core.inputs.run_records import IRREGULARITY_INPUT_VALUES
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
 from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
 from wheelrail.core.spectra.force import shortest_spectrum_run
@@ -116,7 +117,9 @@ def field_text(entry: Input) -> str:
 
 def page_message(error: WheelrailError) -> str:
     """A WheelrailError as the page says it: its input named by the field's label, values in the field's unit."""
-    return error.render({**FIELD_NAMES, **page_names()})  # the declared inputs' names as declared now
+    from wheelrail.explorer.irregularity import IRREGULARITY_NAMES
+
+    return error.render({**FIELD_NAMES, **page_names(), **IRREGULARITY_NAMES})  # the declared names as now
 
 
 @dataclass(frozen=True)
@@ -132,6 +135,8 @@ class RunConfig:
     length: float  # m
     wheel_set_label: str | None = None  # a wheel set added to the rail set (combined roughness); None: smooth
     inputs: tuple[tuple[str, float], ...] = ()
+    irregularities: tuple = ()  # core's WheelFlat, RailJoint, DippedWeld, Squat (the Irregularity folder)
+    irregularity_input: str = IRREGULARITY_INPUT_VALUES[0]  # what the Hertz models are driven by over them
 
     def value(self, key: str):
         """A declared input's value, SI (its default where not given)."""
@@ -150,13 +155,32 @@ class RunConfig:
     def case(self) -> tuple:
         """Everything but the model: results of one case compare (spectra, contact filters)."""
         inputs = tuple((key, round(value, 12)) for key, value in self.inputs)
-        return (self.set_label, self.wheel_set_label, self.line, round(self.length, 9), inputs)
+        case = (self.set_label, self.wheel_set_label, self.line, round(self.length, 9), inputs)
+        return (*case, self.irregularities, self.irregularity_input) if self._irregular() else case
 
     def for_model(self, model: str) -> RunConfig:
         return replace(self, model=model)
 
+    def _irregular(self) -> bool:
+        """Whether the run differs from one without irregularities (some given, or the raw input chosen)."""
+        return bool(self.irregularities) or self.irregularity_input != IRREGULARITY_INPUT_VALUES[0]
+
     def params(self) -> ModelParameters:
-        return model_parameters(dict(self.inputs))
+        """The run's parameters: the declared inputs and, if any, the irregularities (``RunParameters``)."""
+        params = model_parameters(dict(self.inputs))
+        if not self._irregular():
+            return params
+        run = replace(params.run, irregularities=self.irregularities, irregularity_input=self.irregularity_input)
+        return replace(params, run=run)
+
+    def irregularity_words(self) -> str:
+        """The irregularities in core's words ("flat 50 mm rounded at x = 0.5 m (Hertz on the trajectory)"), or
+        "" for a run without."""
+        if not self.irregularities:
+            return ""
+        from wheelrail.core.irregularities.shapes import words
+
+        return f"{', '.join(map(words, self.irregularities))} (Hertz on the {self.irregularity_input})"
 
     def contact(self) -> ContactParameters:
         return self.params().contact
@@ -172,7 +196,8 @@ class RunConfig:
         sets = self.set_label if self.wheel_set_label is None else f"{self.set_label} + {self.wheel_set_label}"
         head = [entry.words(self.value(entry.key)) for entry in self._shown() if entry.always_shown]
         rest = [entry.words(self.value(entry.key)) for entry in self._shown() if not entry.always_shown]
-        return ", ".join([sets, f"line {self.line}", *head, f"{self.length:g} m", *rest])
+        irregular = [self.irregularity_words()] if self.irregularities else []
+        return ", ".join([sets, f"line {self.line}", *head, f"{self.length:g} m", *rest, *irregular])
 
     def title_label(self) -> str:
         """The case as a plot's title names it: its case label without the track's inputs, then the track in core's
@@ -188,7 +213,8 @@ class RunConfig:
         sets = [self.set_label] if self.wheel_set_label is None else [self.set_label, self.wheel_set_label]
         head = [entry.file_part(self.value(entry.key)) for entry in self._shown() if entry.always_shown]
         rest = [entry.file_part(self.value(entry.key)) for entry in self._shown() if not entry.always_shown]
-        parts = ["wheelrail", self.model, *sets, f"line{self.line}", *head, f"{self.length:g}m", *rest]
+        irregular = [f"{type(item).__name__}{item.position:g}m" for item in self.irregularities]
+        parts = ["wheelrail", self.model, *sets, f"line{self.line}", *head, f"{self.length:g}m", *rest, *irregular]
         return re.sub(r"[^A-Za-z0-9.+-]+", "_", "-".join(parts)).replace("_-", "-").strip("_")
 
     def as_dict(self) -> dict:
@@ -197,6 +223,11 @@ class RunConfig:
         if self.wheel_set_label is not None:
             values["wheel_set"] = self.wheel_set_label
         values.update((entry.dest, entry.to_shown(self.value(entry.key))) for entry in self._shown())
+        if self._irregular():
+            from wheelrail.core.irregularities.shapes import as_record
+
+            values["irregularities"] = [as_record(item) for item in self.irregularities]
+            values["irregularity_input"] = self.irregularity_input
         return values
 
 
@@ -286,6 +317,18 @@ def _span(lines: tuple[int, ...]) -> str:
     return "one of lines " + ", ".join(map(str, lines))
 
 
+def _checked_irregular(irregular: tuple, params: ModelParameters, length: float) -> tuple:
+    """``(irregularities, irregularity_input)`` checked against the wheel, the track and a run from 0 to
+    ``length`` (m), or one WheelrailError (core's ``check_irregularities``)."""
+    items, irregularity_input = irregular
+    if items:
+        from wheelrail.core.irregularities import check_irregularities
+
+        check_irregularities(items, wheel_radius=params.contact.radius_along, run_start=0.0, run_end=length,
+                             sleeper_spacing=params.track.support.sleeper_spacing)  # fmt: skip
+    return tuple(items), irregularity_input
+
+
 def read_config(
     roughness,
     set_label: str,
@@ -295,13 +338,16 @@ def read_config(
     length_m,
     wheel=None,
     wheel_label: str | None = None,
+    irregular: tuple = ((), IRREGULARITY_INPUT_VALUES[0]),
     **typed,
 ) -> RunConfig:
     """The run the page's fields ask for, or one WheelrailError in the page's words (what to type instead).
 
     ``typed``: the declared inputs' fields as typed (see :func:`read_inputs`: ``speed_kmh="100"``,
     ``pad_stiffness_mn_m="60"``, ...); ``wheel`` (labelled ``wheel_label``) a wheel set added to the rail set
-    ``roughness``, or None."""
+    ``roughness``, or None; ``irregular`` the irregularities and the Hertz models' input
+    (``wheelrail.explorer.irregularity.read_irregularities``), checked here against the wheel, the track and a
+    run from 0 to the run length (the run checks them against its exact first and last wheel positions)."""
     if model not in MODEL_CHOICES:
         raise WheelrailError(f"unknown contact model '{model}'; choose one of {', '.join(MODEL_CHOICES)}")
     inputs = read_inputs(**typed)
@@ -359,6 +405,7 @@ def read_config(
                 reason=f"on {set_label} at {speed_kmh:g} km/h: long enough for a force spectrum, within the data",
             ),
         )
+    items, irregularity_input = _checked_irregular(irregular, params, length)
     return RunConfig(
         set_label=set_label,
         line=line,
@@ -366,10 +413,12 @@ def read_config(
         length=length,
         wheel_set_label=None if wheel is None else wheel_label,
         inputs=inputs,
+        irregularities=items,
+        irregularity_input=irregularity_input,
     )
 
 
-SESSION_KEYS = ("wheelrail_session", "set", "wheel_set", "model", "line", "length_m", "inputs")
+SESSION_KEYS = ("wheelrail_session", "set", "wheel_set", "model", "line", "length_m", "inputs", "irregularity")
 """The settings of a session document (``SessionFiles.session``), in the order it writes them."""
 
 
@@ -394,7 +443,7 @@ def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, .
             f"session file: unknown setting(s) {', '.join(map(repr, unknown))}; a session holds "
             f"{', '.join(SESSION_KEYS)}"
         )
-    missing = [key for key in SESSION_KEYS if key not in session and key != "inputs"]
+    missing = [key for key in SESSION_KEYS if key not in session and key not in ("inputs", "irregularity")]
     if missing:
         raise WheelrailError(f"session file: no {', '.join(missing)}")
     fields = {key: session[key] for key in ("set", "wheel_set", "model", "line", "length_m")}
@@ -411,7 +460,9 @@ def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, .
     unknown = sorted(set(inputs) - known)
     if unknown or not all(isinstance(value, str) for value in inputs.values()):
         raise WheelrailError(f"session file: unknown inputs {', '.join(unknown) or 'or values not text'}")
-    return {**fields, "inputs": inputs}
+    from wheelrail.explorer.irregularity import session_irregularity
+
+    return {**fields, "inputs": inputs, "irregularity": session_irregularity(session.get("irregularity"))}
 
 
 def session_config(session: dict, roughness, wheel=None, wheel_label: str | None = None) -> RunConfig:
@@ -419,6 +470,8 @@ def session_config(session: dict, roughness, wheel=None, wheel_label: str | None
     or None), every input it does not hold at its default: one WheelrailError in the page's words otherwise (a run
     length outside what the set holds at the session's speed, a line the model cannot run on, an input outside its
     range), so that a session is loaded whole or not at all, never brought into range without a word."""
+    from wheelrail.explorer.irregularity import session_read
+
     typed = {entry.dest: session["inputs"].get(entry.dest, field_text(entry)) for entry in inputs_of()}
     try:
         return read_config(
@@ -429,6 +482,7 @@ def session_config(session: dict, roughness, wheel=None, wheel_label: str | None
             length_m=session["length_m"],
             wheel=wheel,
             wheel_label=wheel_label,
+            irregular=session_read(session.get("irregularity", {})),
             **typed,
         )
     except WheelrailError as error:

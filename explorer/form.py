@@ -1,6 +1,6 @@
 """The run form, docked left: the roughness set and wheel set (bundled or uploaded), the model, the line, every
-declared input of :mod:`wheelrail.core.inputs.declared` (one field each, grouped as declared), the check line,
-Run, Stop, the progress bar and the status line.
+declared input of :mod:`wheelrail.core.inputs.declared` (one field each, grouped as declared), the Irregularity
+folder (:mod:`wheelrail.explorer.irregularity`), the check line, Run, Stop, the progress bar and the status line.
 
 A :class:`RunForm` is handed the :class:`~wheelrail.explorer.page.Page` and what Run, Stop and a new
 configuration do; it reads its fields into a :class:`~wheelrail.explorer.config.RunConfig` (or the check line
@@ -35,6 +35,7 @@ from wheelrail.explorer.config import (
     read_config,
     read_inputs,
 )
+from wheelrail.explorer.irregularity import IrregularityFolder
 from wheelrail.explorer.page import Page
 from wheelrail.explorer.uploads import read_upload, size_text
 
@@ -85,7 +86,9 @@ class RunForm:
                 if group != "run":
                     with gui.add_folder(GROUPS[group], expand_by_default=False):
                         self.fields.update(self._input_fields(group))
-            for handle in (self.model_dropdown, self.line_dropdown, self.length_text, *self.fields.values()):
+            self.irregularity = IrregularityFolder(gui)
+            controls = (self.model_dropdown, self.line_dropdown, self.length_text, *self.fields.values())
+            for handle in (*controls, *self.irregularity.handles):
                 handle.on_update(lambda event: page.guarded(self.refresh))
             self.check_md = gui.add_markdown("")
             self.run_button = gui.add_button("Run", icon=viser.Icon.PLAYER_PLAY, color="green")
@@ -291,6 +294,7 @@ class RunForm:
             **self.typed(),
             wheel=wheel,
             wheel_label=wheel_label,
+            irregular=self.irregularity.read(),
         )
 
     def show_running(self, running: bool) -> None:
@@ -311,7 +315,8 @@ class RunForm:
 
     def show_session(self, session: dict) -> None:
         """Set every control from a checked session document (``wheelrail.explorer.config.read_session``): the set,
-        the wheel set, the model, the length, the inputs as typed, then the line if the model can run on it."""
+        the wheel set, the model, the length, the inputs and the Irregularity folder as typed, then the line if the
+        model can run on it."""
         with self.page.quietly():
             self.set_dropdown.value = session["set"]
             self.wheel_set_dropdown.value = session["wheel_set"]
@@ -319,6 +324,7 @@ class RunForm:
             self.length_text.value = session["length_m"]
             for entry in inputs_of():
                 self.fields[entry.key].value = session["inputs"].get(entry.dest, field_text(entry))
+            self.irregularity.show_session(session.get("irregularity", {}))
         self.select_set(session["set"])
         with self.page.quietly():
             if session["line"] in self.line_dropdown.options:

@@ -1,19 +1,41 @@
 """The Patch tab: the colour bar of the contact pressure, the readout, the Step slider and Play (the
-:class:`~wheelrail.explorer.replay.Replay`), the model shown, force and displacement histories, the run's
-download and the 3D view's options."""
+:class:`~wheelrail.explorer.replay.Replay`), the model shown, force and displacement histories (over
+irregularities: each impact's peak marked and the impacts said below the force), the run's download and the 3D
+view's options."""
 
 from __future__ import annotations
 
 import numpy as np
 import viser
 
+from wheelrail.core.engine.impacts import impact_summary
 from wheelrail.explorer.config import COMPARE, RunConfig
 from wheelrail.explorer.form import DEFAULT_MODEL, RunForm
 from wheelrail.explorer.panel import NO_RUN, ResultsTab, Shown, TabParts
-from wheelrail.explorer.plots import MAX_POINTS, SOLID, Plot, model_colour
+from wheelrail.explorer.plots import MAX_POINTS, POINTS, SOLID, Plot, model_colour
 from wheelrail.explorer.scene import PRESSURE_TOP, colour_bar_image
 
-__all__ = ["PatchTab"]
+__all__ = ["PatchTab", "impact_markers", "impact_text"]
+
+
+def impact_markers(x: np.ndarray, summary) -> np.ndarray:
+    """A markers-only curve (kN) over the plotted positions ``x`` (m): each impact's peak force at the plotted
+    position nearest its own, NaN elsewhere."""
+    markers = np.full(np.shape(x), np.nan)
+    if np.size(x):
+        for impact in summary.impacts:
+            markers[int(np.argmin(np.abs(x - impact.position)))] = impact.peak / 1e3
+    return markers
+
+
+def impact_text(summaries: dict, config: RunConfig) -> str:
+    """The impacts of each model (core's ``ImpactSummary.lines``, as ``wheelrail run`` prints them) under the run's
+    irregularities, as markdown."""
+    parts = [f"**Impacts** over {config.irregularity_words()}:"]
+    for model, summary in summaries.items():
+        first, *rest = summary.lines()
+        parts.append(f"- **{model}**: {first}" + "".join(f"<br>{line.strip()}" for line in rest))
+    return "\n".join(parts)
 
 
 class PatchTab(ResultsTab):
@@ -46,6 +68,8 @@ class PatchTab(ResultsTab):
                 lambda event: None if page.is_quiet() else page.guarded(parts.choose_model, self.model_shown.value)
             )
         self.force = Plot(gui, tab, "Contact force", "position (m)", "force (kN)")
+        with tab:
+            self.impacts_md = gui.add_markdown("", visible=False)  # a run over irregularities: its impacts
         self.displacement = Plot(
             gui, tab, "Wheel and rail displacement (downwards)", "position (m)", "displacement (µm)"
         )
@@ -81,6 +105,7 @@ class PatchTab(ResultsTab):
         """Force history of every model of the case overlaid; displacement of the model shown."""
         self._show_models(shown)
         config = shown.config
+        self.impacts_md.visible = False
         if config is None:
             for plot in (self.force, self.displacement):
                 plot.clear("fix the settings on the left")
@@ -94,11 +119,16 @@ class PatchTab(ResultsTab):
         n = min(e.result.n_steps for e in finished.values())
         step = max(1, n // MAX_POINTS)
         first = next(iter(finished.values())).result
-        self.force.show(
-            (first.x[:n:step], *(e.result.force[:n:step] / 1e3 for e in finished.values())),
-            tuple((m, model_colour(m), SOLID) for m in finished),
-            title=f"Contact force: {label}",
-        )
+        x = first.x[:n:step]
+        curves = [e.result.force[:n:step] / 1e3 for e in finished.values()]
+        series = [(m, model_colour(m), SOLID) for m in finished]
+        if config.irregularities:  # each model's impacts marked at their peaks, and said below the plot
+            summaries = {m: impact_summary(e.result) for m, e in finished.items()}
+            curves += [impact_markers(x, summary) for summary in summaries.values()]
+            series += [(f"{m} impacts", model_colour(m), POINTS) for m in summaries]
+            self.impacts_md.content = impact_text(summaries, config)
+            self.impacts_md.visible = True
+        self.force.show((x, *curves), tuple(series), title=f"Contact force: {label}")
         shown_result = finished[shown.model].result if shown.model in finished else first
         self._displacement(shown_result, label)
 
@@ -125,9 +155,13 @@ class PatchTab(ResultsTab):
     def live(self, result, config: RunConfig) -> None:
         """A running model's force and displacement so far."""
         step = max(1, result.n_steps // MAX_POINTS)
-        self.force.show(
-            (result.x[::step], result.force[::step] / 1e3),
-            ((f"{result.model} (running)", model_colour(result.model), SOLID),),
-            title=f"Contact force: {config.title_label()}",
-        )
+        x, force = result.x[::step], result.force[::step] / 1e3
+        curves, series = [force], [(f"{result.model} (running)", model_colour(result.model), SOLID)]
+        if config.irregularities and force.size:  # the peak so far marked
+            peak = np.full(force.shape, np.nan)
+            peak[int(np.argmax(force))] = float(np.max(force))
+            curves.append(peak)
+            series.append((f"{result.model} peak so far", model_colour(result.model), POINTS))
+        self.impacts_md.visible = False
+        self.force.show((x, *curves), tuple(series), title=f"Contact force: {config.title_label()}")
         self._displacement(result, config.title_label(), running=True)

@@ -26,6 +26,7 @@ __all__ = [
     "DASHED",
     "DOTTED",
     "PLOT_ASPECT",
+    "POINTS",
     "SOLID",
     "Plot",
     "band_ticks",
@@ -35,10 +36,11 @@ __all__ = [
     "wavelength_ticks",
 ]
 
-SOLID, DASHED, DOTTED = "solid", "dashed", "dotted"
-STYLES = (SOLID, DASHED, DOTTED)
+SOLID, DASHED, DOTTED, POINTS = "solid", "dashed", "dotted", "points"  # POINTS: markers alone (NaN elsewhere)
+STYLES = (SOLID, DASHED, DOTTED, POINTS)
 _DASH = {DASHED: (6.0, 4.0), DOTTED: (1.5, 3.0)}  # uPlot dash patterns, px
-_MPL_LINESTYLE = {SOLID: "-", DASHED: "--", DOTTED: ":"}
+_MPL_LINESTYLE = {SOLID: "-", DASHED: "--", DOTTED: ":", POINTS: "none"}
+MARKER_SIZE = 10.0  # px: a POINTS series' markers
 PLOT_ASPECT = 1.7  # width / height of the page's plots (about 310 px high at the results panel's width)
 PLOT_PADDING = (12, 24, 0, 0)  # px: top, right, bottom, left (room for the highest tick label)
 MAX_POINTS = 4000  # points per line sent to the page
@@ -88,6 +90,15 @@ def wavelength_ticks(speed: float, lowest: float, highest: float) -> tuple[list[
     ticks = [(speed / (mm * 1e-3), f"{mm:g}") for mm in WAVELENGTH_TICKS_MM]
     ticks = [(f, label) for f, label in ticks if lowest <= f <= highest]
     return [f for f, _ in ticks], [label for _, label in ticks]
+
+
+def _series_spec(label: str, colour: str, style: str) -> dict:
+    """A curve as uPlot draws it: a line (dashed or dotted as ``style`` says) or, for :data:`POINTS`, markers
+    alone at its finite values."""
+    if style == POINTS:
+        return {"label": label, "stroke": colour, "width": 0, "points": {"show": True, "size": MARKER_SIZE,
+                "fill": colour, "space": 0}}  # fmt: skip
+    return {"label": label, "stroke": colour, "width": 1.5, **({"dash": _DASH[style]} if style in _DASH else {})}
 
 
 def _range_around_gaps(columns: tuple) -> tuple[float, float] | None:
@@ -152,10 +163,7 @@ class Plot:
             self.handle.data = data
             return
         specs = [{"label": self.x_label}]
-        specs += [
-            {"label": label, "stroke": colour, "width": 1.5, **({"dash": _DASH[style]} if style in _DASH else {})}
-            for label, colour, style in series
-        ]
+        specs += [_series_spec(label, colour, style) for label, colour, style in series]
         with _CONTAINER_LOCK:
             order = None
             if self.handle is not None:
@@ -224,7 +232,8 @@ class Plot:
         ax = figure.subplots()
         x = self.data[0] if self.data else np.zeros(0)
         for (label, colour, style), y in zip(self.series, self.data[1:], strict=False):
-            ax.plot(x, y, color=colour, linestyle=_MPL_LINESTYLE[style], linewidth=1.3, label=label)
+            marker = {"marker": "o", "markersize": 6} if style == POINTS else {}
+            ax.plot(x, y, color=colour, linestyle=_MPL_LINESTYLE[style], linewidth=1.3, label=label, **marker)
         if self.bands and x.size and np.all(x > 0):
             ax.set_xscale("log")
             ax.minorticks_off()

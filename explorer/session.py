@@ -37,8 +37,10 @@ class SessionFiles:
 
     def session(self) -> dict:
         """The page's settings as a session document (JSON-able): set, wheel set, model, line, run length and
-        every declared input's field as typed (by its option's name: ``speed_kmh``, ``pad_stiffness_mn_m``)."""
+        every declared input's field as typed (by its option's name: ``speed_kmh``, ``pad_stiffness_mn_m``), and the
+        Irregularity folder as typed when it holds anything."""
         form = self.form
+        irregularity = form.irregularity.session()  # the Irregularity folder, when not as a new page has it
         return {
             "wheelrail_session": SESSION_VERSION,
             "set": form.roughness_label,
@@ -47,6 +49,7 @@ class SessionFiles:
             "line": form.line_dropdown.value,
             "length_m": form.length_text.value,
             "inputs": form.typed(),
+            **({} if irregularity is None else {"irregularity": irregularity}),
         }
 
     def download(self, client=None) -> tuple[str, bytes]:

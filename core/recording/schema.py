@@ -164,7 +164,8 @@ def parameters_document(
 
     It is logged when a recording starts (``recorded_steps`` None) and again when it is finished, with the
     number of steps recorded: only a finished recording holds ``recorded_steps`` (the reader's mark of a
-    complete file; a recording killed before its end keeps the first document).
+    complete file; a recording killed before its end keeps the first document). A finished run over discrete
+    irregularities adds ``impacts`` (``engine.impacts.impact_summary``'s dict) to the last one (the sink does).
 
     Parameters
     ----------

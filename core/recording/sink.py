@@ -89,6 +89,7 @@ class RecordingSink:
         self._buffer = StepBuffer(options.chunk_steps, options.record_every, self._send_block)
         self._header: RunHeader | None = None
         self._loss_of_contact_steps: int | None = None
+        self._impacts: dict | None = None  # a finished run over irregularities: impact_summary(...).to_dict()
         self._started = False
         self._closed = False
 
@@ -177,6 +178,8 @@ class RecordingSink:
             geometry=patch.geometry,
             recorded_steps=streams.steps_recorded if final else None,
         )
+        if final and self._impacts is not None:  # a run over irregularities: its impacts (engine.impacts)
+            document["impacts"] = self._impacts
         if final:
             document[DIGEST_KEY] = streams.digest.seal(document)
         text = parameters_text(document, options.description)
@@ -263,10 +266,15 @@ class RecordingSink:
         return self.path
 
     def _complete(self, result: RunResult, roughness) -> None:
-        """What only the finished run knows: its header (if not given at the start), loss of contact, the
-        window, the Hertz circle at the run's preload, and roughness lines over the whole run."""
+        """What only the finished run knows: its header (if not given at the start), loss of contact, over
+        irregularities its impacts, the window, the Hertz circle at the run's preload, and roughness lines over
+        the whole run."""
         self._header = result.header
         self._loss_of_contact_steps = result.loss_of_contact_steps
+        if result.header is not None and result.header.params.run.irregularities:
+            from wheelrail.core.engine.impacts import impact_summary
+
+            self._impacts = impact_summary(result).to_dict()
         self._patch.set_window(result.window_x, result.window_y)
         # started without the run's parameters: correct the circle
         self._patch.set_geometry(self._geometry(), semi_axes=self._semi_axes())
