@@ -323,6 +323,8 @@ def _run_file(args) -> int:
             "duration_s": duration,
             "size_bytes": wav_path.stat().st_size,
             "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
+            "level_dBA": noise.wav_level_dba,
+            "fill": noise.wav_fill,
         }
     if csv_path is not None:
         text = noise.csv_text(result.header.csv_comment(f"rolling noise of {args.run}"))
@@ -359,6 +361,8 @@ def _run_file(args) -> int:
             f"  wrote {wav_path} ({wav['duration_s']:.1f} s, {wav['size_bytes'] / 1e6:.1f} MB; full scale = "
             f"{wav['full_scale_pa']:.3g} Pa)"
         )
+        if noise.impact is not None and noise.impact.flat_rate_hz is not None:
+            print(f"  the WAV's wheels: {noise.wav_fill}; its level {noise.wav_level_dba:.1f} dB(A)")
     return 0
 
 

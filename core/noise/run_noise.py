@@ -30,7 +30,8 @@ default train is 0.53 dB below that, a 16-axle 80 m one 1.1 dB).
 **Pass-by WAV**: the run's dynamic force (sampled at v / dx, 27.8 kHz at 100 km/h) is filtered by the pressure
 per unit force at the closest distance, |p / F|^2 = rho c sum_c T_c / (2 pi d^2) over the components, a zero-phase
 FIR interpolated in lg f between the band values; each wheel of each axle gets its own stretch of the force record
-(cyclically shifted at random, so the wheels are incoherent; a record shorter than the pass-by repeats), is
+(cyclically shifted at random, so the wheels are incoherent; a record shorter than the pass-by repeats; on a run
+with a wheel flat the record is first made one revolution, or whole revolutions, long: :func:`wheel_record`), is
 weighted by the distance law d / r(t) of its own position, and all are summed. Doppler shift is not applied.
 The pressure is resampled to 48 kHz and scaled so that its own L_pAeq over T_p is the pass-by level above (the
 random stretches alone move it by -0.6 to +0.8 dB between seeds). Calibration: the samples are pressure in Pa
@@ -119,6 +120,27 @@ class RunNoise:
     _force: np.ndarray | None = None
     _time_step: float = 0.0
     _pressure_per_force_sq: np.ndarray | None = None
+    _revolution_steps: int = 0  # steps of one wheel revolution (2 pi R / dx) on a run with a flat, else 0
+
+    @property
+    def wav_level_dba(self) -> float:
+        """The L_pAeq,Tp the WAV is calibrated to: on a run with a wheel flat the pass-by of the record made one
+        revolution (or whole revolutions) long, which is the impacts' (``impact.pass_by_laeq_dba["flat"]``: the
+        record's energy at once per revolution); else :attr:`pass_by_laeq_dba`."""
+        if self._revolution_steps and self.impact is not None and "flat" in self.impact.pass_by_laeq_dba:
+            return self.impact.pass_by_laeq_dba["flat"]
+        return self.pass_by_laeq_dba
+
+    @property
+    def wav_fill(self) -> str:
+        """How the WAV's wheels fill the pass-by from the run's record, in words."""
+        if not self._revolution_steps:
+            return "each wheel a randomly shifted stretch of the record, repeated where the pass-by is longer"
+        return (
+            "a flat: the record made one revolution (2 pi R / v) long, the wheel's flat heard once per revolution: "
+            "a record shorter than a revolution is filled with the mean force (no dynamic force: between impacts "
+            "the WAV holds nothing of the run), a longer one cut to whole revolutions; each wheel at a random phase"
+        )
 
     def to_dict(self) -> dict:
         """The JSON layout of ``wheelrail noise --run F.npz --json``."""
@@ -215,8 +237,8 @@ class RunNoise:
         pressure = resample_poly(pressure, ratio.numerator, ratio.denominator)
         first, last = int(round(first * ratio)), min(len(pressure), int(round(last * ratio)))
         correction = 0.0
-        if math.isfinite(self.pass_by_laeq_dba) and last - first > 1 and np.any(pressure[first:last]):
-            correction = self.pass_by_laeq_dba - laeq_of_pressure(pressure[first:last], float(rate))
+        if math.isfinite(self.wav_level_dba) and last - first > 1 and np.any(pressure[first:last]):
+            correction = self.wav_level_dba - laeq_of_pressure(pressure[first:last], float(rate))
             pressure = pressure * 10 ** (correction / 20)
         return pressure, float(rate), (first, last), correction
 
@@ -378,7 +400,28 @@ def run_noise(
         _force=np.asarray(result.force, dtype=float),
         _time_step=result.time_step,
         _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
+        _revolution_steps=_revolution_steps(result),
     )
+
+
+def _revolution_steps(result) -> int:
+    """Steps of one revolution of the wheel, 2 pi R / dx, on a run with a wheel flat; 0 without."""
+    from wheelrail.core.irregularities.shapes import WheelFlat
+
+    if not any(isinstance(item, WheelFlat) for item in result.header.params.run.irregularities):
+        return 0
+    return int(round(2 * math.pi * result.header.params.contact.radius_along / result.element_size))
+
+
+def wheel_record(force: np.ndarray, revolution_steps: int) -> np.ndarray:
+    """The dynamic force record each wheel of the pass-by plays, repeated: ``force`` as it is (0 steps: no flat),
+    or, for a wheel with a flat, one revolution of it: a shorter record padded with zeros (no dynamic force) to
+    ``revolution_steps``, a longer one cut to whole revolutions, so that the flat comes once per revolution."""
+    if not revolution_steps:
+        return force
+    if len(force) < revolution_steps:
+        return np.concatenate((force, np.zeros(revolution_steps - len(force))))
+    return force[: (len(force) // revolution_steps) * revolution_steps]
 
 
 def _own_modal_wheel(result, wheel_profile) -> bool:
@@ -486,6 +529,7 @@ def _synthesise(noise: RunNoise, *, lead: float, seed: int):
     force = force - force.mean()
     if len(force) < 64:
         raise WheelrailError("the run is too short to synthesise a pass-by (at least 64 steps after the start-up)")
+    force = wheel_record(force, noise._revolution_steps)
     # zero-phase FIR: |H(f)| from the band values, 4096 taps (or the record's length), Hann-windowed
     taps = int(min(4096, 2 ** math.floor(math.log2(len(force)))))
     freqs = np.fft.rfftfreq(taps, dt)

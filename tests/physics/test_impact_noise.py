@@ -124,3 +124,69 @@ def test_noise_of_a_flat_run_states_the_irregularities_the_exposure_and_the_rate
     longer = noise.with_train(80, 400.0)
     shift = pass_by_level(0.0, 80, 400.0) - pass_by_level(0.0, 40, 200.0)  # the train's end effect only
     assert longer.impact.pass_by_laeq_dba["flat"] == pytest.approx(impact["pass_by_LpAeq_dBA"]["flat"] + shift)
+
+
+def test_a_wheel_record_is_one_revolution_or_whole_revolutions():
+    from wheelrail.core.noise.run_noise import wheel_record
+
+    short, long = np.arange(1.0, 101.0), np.arange(1.0, 351.0)
+    assert np.array_equal(wheel_record(short, 0), short)  # no flat: as it is
+    padded = wheel_record(short, 160)  # shorter than a revolution: no dynamic force for the rest of it
+    assert len(padded) == 160 and np.array_equal(padded[:100], short) and not np.any(padded[100:])
+    assert np.array_equal(wheel_record(long, 160), long[:320])  # longer: cut to whole revolutions
+
+
+def test_the_wav_of_a_flat_run_shorter_than_a_revolution_has_the_flat_once_per_revolution():
+    from wheelrail.core.noise.run_noise import RunNoise
+
+    speed, dx = 100 / 3.6, 1e-3
+    dt, revolution = dx / speed, int(round(2 * math.pi * 0.46 / dx))  # 2 890 steps, 0.104 s
+    force = np.full(2000, 65e3)  # 2 m: 556 steps of start-up, then 1.4 m with one impact
+    force[1200:1240] += AMPLITUDE * np.sin(np.pi * np.arange(40) / 40)
+    nan = np.full(24, np.nan)
+    noise = RunNoise(
+        frequency_hz=noise_bands(),
+        force_db=nan,
+        effective_roughness_db=nan,
+        sound_power_db={},
+        sound_power_dba={},
+        axle_dba=np.nan,
+        pass_by_laeq_dba=80.0,
+        configuration={"run": {"speed_m_s": speed}, "train_axles": 1, "train_length_m": 2.0},
+        _force=force,
+        _time_step=dt,
+        _pressure_per_force_sq=np.full(24, 1e-10),
+        _revolution_steps=revolution,
+    )
+    pressure, rate, _ = noise.pass_by_pressure(lead=1.0, seed=3)
+    loud = np.flatnonzero(np.abs(pressure) > 0.2 * np.abs(pressure).max())
+    bursts = 1 + np.count_nonzero(np.diff(loud) > 0.005 * rate)  # bursts at least 5 ms apart
+    # two wheels, each its flat once per revolution over 2.07 s: 2 x 19.9; the 1.4 m record repeated as it is
+    # would give a burst every 0.05 s, twice as many
+    expected = 2 * len(pressure) / revolution
+    assert abs(bursts - expected) <= 3
+
+
+def test_noise_run_on_a_flat_run_lists_the_irregularities_and_the_impact(flat_noise, tmp_path, capsys, monkeypatch):
+    import json
+
+    from wheelrail.cli.dispatch import main
+    from wheelrail.core.noise import run_noise as module
+    from wheelrail.core.noise.twins import NoiseNumerics
+
+    result, _ = flat_noise
+    path = result.save_npz(tmp_path / "flat.npz")
+    small, original = NoiseNumerics(track_bays=60, elements_per_bay=8, points_per_band=2), module.run_noise
+    monkeypatch.setattr(module, "run_noise", lambda *a, **k: original(*a, **k, numerics=small))
+    wav = tmp_path / "p.wav"
+    assert main(["noise", "--run", str(path), "--json", "--train-length-m", "20", "--train-axles", "4",
+                 "--wav", str(wav)]) == 0  # fmt: skip
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["configuration"]["run"]["irregularities"][0]["kind"] == "flat"
+    assert summary["impact"]["events_in_record"]["flat"] == 1 and summary["impact"]["flat_rate_per_s"] > 0
+    assert "once per revolution" in summary["wav"]["fill"]
+    assert summary["wav"]["level_dBA"] == pytest.approx(summary["impact"]["pass_by_LpAeq_dBA"]["flat"])
+    assert main(["noise", "--run", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "irregularities (Hertz on the trajectory): flat 50 mm" in text
+    assert "exposure level L_WAE" in text and "once per revolution" in text
