@@ -190,3 +190,25 @@ def test_noise_run_on_a_flat_run_lists_the_irregularities_and_the_impact(flat_no
     text = capsys.readouterr().out
     assert "irregularities (Hertz on the trajectory): flat 50 mm" in text
     assert "exposure level L_WAE" in text and "once per revolution" in text
+
+
+@pytest.mark.slow
+def test_the_impact_noise_of_a_flat_grows_about_20_lg_v():
+    """Wu & Thompson (2002): impact noise about 20 lg v (6 dB per doubling); validation/impact_noise.py gives +5.5
+    dB per doubling per impact on the default numerics (docs/validation.md), +5.3 on these coarse ones."""
+    import importlib.util
+    from pathlib import Path
+
+    from wheelrail.core.noise.twins import NoiseNumerics
+
+    spec = importlib.util.spec_from_file_location(
+        "impact_noise_script", Path(__file__).parents[2] / "validation" / "impact_noise.py"
+    )
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    small = NoiseNumerics(track_bays=60, elements_per_bay=8, points_per_band=2)
+    slow, fast = script.flat_noise(50.0, numerics=small), script.flat_noise(100.0, numerics=small)
+    per_doubling = fast.exposure_dba - slow.exposure_dba
+    assert 4.5 < per_doubling < 7.0
+    # the rate doubles too: the time-averaged level gains 10 lg 2 more
+    assert fast.pass_by_laeq_dba["flat"] - slow.pass_by_laeq_dba["flat"] == pytest.approx(per_doubling + 3.01, abs=0.01)
