@@ -212,3 +212,21 @@ def test_the_impact_noise_of_a_flat_grows_about_20_lg_v():
     assert 4.5 < per_doubling < 7.0
     # the rate doubles too: the time-averaged level gains 10 lg 2 more
     assert fast.pass_by_laeq_dba["flat"] - slow.pass_by_laeq_dba["flat"] == pytest.approx(per_doubling + 3.01, abs=0.01)
+
+
+def test_rail_irregularity_pass_by_by_hand():
+    from wheelrail.core.noise.impact_noise import ImpactNoise
+
+    impact = ImpactNoise(
+        events={"flat": 0, "rail": 1},
+        force_exposure_db=np.zeros(24),
+        energy_db={},
+        exposure_dba=100.0,
+        sel_dba=np.nan,
+        flat_rate_hz=None,
+        flats=0,
+        speed=100 / 3.6,
+        train=(40, 200.0),
+    )
+    # 80 wheel passings within T_p = 200 m / 27.78 m/s = 7.2 s: 100 + 10 lg(80 / 7.2) - 25.43 dB
+    assert impact.pass_by_laeq_dba == {"rail": pytest.approx(100 + 10.4576 - 25.4326, abs=1e-3)}
