@@ -323,6 +323,8 @@ def _run_file(args) -> int:
             "duration_s": duration,
             "size_bytes": wav_path.stat().st_size,
             "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
+            "level_dBA": noise.wav_level_dba,
+            "fill": noise.wav_fill,
         }
     if csv_path is not None:
         text = noise.csv_text(result.header.csv_comment(f"rolling noise of {args.run}"))
@@ -350,11 +352,7 @@ def _run_file(args) -> int:
         + f" dB(A); per axle {noise.axle_dba:.1f} dB(A)"
     )
     print(f"  pass-by L_pAeq,Tp at 7.5 m / 1.2 m: {noise.pass_by_laeq_dba:.1f} dB(A) ({axles} axles, {length:g} m)")
-    print("  wheel: " + summary["configuration"]["wheel"])
-    beside = noise.cnossos
-    print(f"  CNOSSOS-EU beside it ({beside_words(beside.configuration)}): L_WA per axle {beside.total_dba:.1f} dB(A) "
-          f"(track {beside.track_dba:.1f}, vehicle {beside.vehicle_dba:.1f}); "
-          f"pass-by {noise.cnossos_pass_by_dba():.1f} dB(A)")  # fmt: skip
+    _print_impact_and_beside(noise)
     if csv_path is not None:
         print(f"  wrote {csv_path}")
     if wav_path is not None:
@@ -363,7 +361,22 @@ def _run_file(args) -> int:
             f"  wrote {wav_path} ({wav['duration_s']:.1f} s, {wav['size_bytes'] / 1e6:.1f} MB; full scale = "
             f"{wav['full_scale_pa']:.3g} Pa)"
         )
+        if noise.impact is not None and noise.impact.flat_rate_hz is not None:
+            print(f"  the WAV's wheels: {noise.wav_fill}; its level {noise.wav_level_dba:.1f} dB(A)")
     return 0
+
+
+def _print_impact_and_beside(noise) -> None:
+    """The text of ``noise --run`` after the pass-by: the impact's exposure and rate (a run with irregularities),
+    the wheel's transfer and the CNOSSOS-EU source beside the run."""
+    if noise.impact is not None:
+        for line in noise.impact.lines():
+            print(line)
+    print("  wheel: " + noise.configuration["wheel"])
+    beside = noise.cnossos
+    print(f"  CNOSSOS-EU beside it ({beside_words(beside.configuration)}): L_WA per axle {beside.total_dba:.1f} dB(A) "
+          f"(track {beside.track_dba:.1f}, vehicle {beside.vehicle_dba:.1f}); "
+          f"pass-by {noise.cnossos_pass_by_dba():.1f} dB(A)")  # fmt: skip
 
 
 def beside_words(cfg: dict) -> str:

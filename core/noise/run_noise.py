@@ -30,7 +30,8 @@ default train is 0.53 dB below that, a 16-axle 80 m one 1.1 dB).
 **Pass-by WAV**: the run's dynamic force (sampled at v / dx, 27.8 kHz at 100 km/h) is filtered by the pressure
 per unit force at the closest distance, |p / F|^2 = rho c sum_c T_c / (2 pi d^2) over the components, a zero-phase
 FIR interpolated in lg f between the band values; each wheel of each axle gets its own stretch of the force record
-(cyclically shifted at random, so the wheels are incoherent; a record shorter than the pass-by repeats), is
+(cyclically shifted at random, so the wheels are incoherent; a record shorter than the pass-by repeats; on a run
+with a wheel flat the record is first made one revolution, or whole revolutions, long: :func:`wheel_record`), is
 weighted by the distance law d / r(t) of its own position, and all are summed. Doppler shift is not applied.
 The pressure is resampled to 48 kHz and scaled so that its own L_pAeq over T_p is the pass-by level above (the
 random stretches alone move it by -0.6 to +0.8 dB between seeds). Calibration: the samples are pressure in Pa
@@ -49,6 +50,14 @@ import numpy as np
 
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.noise.components import TOTAL
+from wheelrail.core.noise.pass_by import (
+    DEFAULT_TRAIN_AXLES,
+    DEFAULT_TRAIN_LENGTH,
+    ISO3095_DISTANCE,
+    ISO3095_HEIGHT,
+    pass_by_level,
+    receiver_distance,
+)
 from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED
 from wheelrail.core.spectra.bands import NOISE_BAND_RANGE, noise_bands
 from wheelrail.core.spectra.levels import (
@@ -59,36 +68,11 @@ from wheelrail.core.spectra.levels import (
     power_level,
 )
 
-ISO3095_DISTANCE = 7.5  # m from the track centre line
-ISO3095_HEIGHT = 1.2  # m above the rail head
-DEFAULT_TRAIN_AXLES = 40
-DEFAULT_TRAIN_LENGTH = 200.0  # m
 WAV_RATE = 48_000  # Hz: the pass-by WAV's sample rate (a standard one; the run's own is v / dx)
 # Closest accepted even axle spacing of a train, m: no bogie has axles closer than about 1.4 m (tram and
 # light-rail bogies; wheels of 0.6 to 1 m diameter); 40 axles in a 2.5 m train (one every 6 cm) is a typo
 MIN_AXLE_SPACING = 1.0
 AXLE_DB = 10 * math.log10(2)  # an axle: two wheels on two rails, incoherent (a run is one wheel on one rail)
-
-
-def receiver_distance() -> float:
-    """Distance (m) from the rail head on the track centre to the ISO 3095 microphone."""
-    return math.hypot(ISO3095_DISTANCE, ISO3095_HEIGHT)
-
-
-def pass_by_level(l_wa_axle: float, axles: int, train_length: float, distance: float | None = None) -> float:
-    """L_pAeq,Tp (dB(A)) of ``axles`` axles of A-weighted sound power ``l_wa_axle`` (dB re 1 pW) in a train of
-    ``train_length`` m (module docstring)."""
-    d = receiver_distance() if distance is None else distance
-    constant = 10 * math.log10(AIR_DENSITY * SOUND_SPEED * 1e-12 / PRESSURE_REFERENCE**2)
-    return l_wa_axle + 10 * math.log10(_exposure_within_tp(axles, train_length, d) / (2 * d * train_length)) + constant
-
-
-def _exposure_within_tp(axles: int, train_length: float, distance: float) -> float:
-    """sum_k [atan(s_k / d) + atan((l - s_k) / d)] / pi over axles at s_k evenly from 0 to l: the number of
-    axles' whole sound exposures that arrive within T_p (each axle's exposure is spread over its whole passage,
-    and the first and last ones are only half inside; N for a train much longer than d)."""
-    s = np.linspace(0.0, train_length, int(axles))
-    return float(np.sum(np.arctan(s / distance) + np.arctan((train_length - s) / distance)) / math.pi)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -118,6 +102,9 @@ class RunNoise:
     cnossos : CnossosResult or None
         The CNOSSOS-EU source of one axle beside it, on the run's own roughness
         (:func:`wheelrail.core.noise.cnossos_run.cnossos_beside_run`).
+    impact : ImpactNoise or None
+        For a run with discrete irregularities: the exposure level per impact, its repetition rate and the
+        pass-by level from them (:mod:`wheelrail.core.noise.impact_noise`); None without.
     """
 
     frequency_hz: np.ndarray
@@ -129,9 +116,31 @@ class RunNoise:
     pass_by_laeq_dba: float
     configuration: dict = field(default_factory=dict)
     cnossos: object = None
+    impact: object = None
     _force: np.ndarray | None = None
     _time_step: float = 0.0
     _pressure_per_force_sq: np.ndarray | None = None
+    _revolution_steps: int = 0  # steps of one wheel revolution (2 pi R / dx) on a run with a flat, else 0
+
+    @property
+    def wav_level_dba(self) -> float:
+        """The L_pAeq,Tp the WAV is calibrated to: on a run with a wheel flat the pass-by of the record made one
+        revolution (or whole revolutions) long, which is the impacts' (``impact.pass_by_laeq_dba["flat"]``: the
+        record's energy at once per revolution); else :attr:`pass_by_laeq_dba`."""
+        if self._revolution_steps and self.impact is not None and "flat" in self.impact.pass_by_laeq_dba:
+            return self.impact.pass_by_laeq_dba["flat"]
+        return self.pass_by_laeq_dba
+
+    @property
+    def wav_fill(self) -> str:
+        """How the WAV's wheels fill the pass-by from the run's record, in words."""
+        if not self._revolution_steps:
+            return "each wheel a randomly shifted stretch of the record, repeated where the pass-by is longer"
+        return (
+            "a flat: the record made one revolution (2 pi R / v) long, the wheel's flat heard once per revolution: "
+            "a record shorter than a revolution is filled with the mean force (no dynamic force: between impacts "
+            "the WAV holds nothing of the run), a longer one cut to whole revolutions; each wheel at a random phase"
+        )
 
     def to_dict(self) -> dict:
         """The JSON layout of ``wheelrail noise --run F.npz --json``."""
@@ -149,6 +158,7 @@ class RunNoise:
             "pass_by_LpAeq_dBA": self.pass_by_laeq_dba,
             "configuration": self.configuration,
             **({} if self.cnossos is None else {"cnossos": self.cnossos_summary()}),
+            **({} if self.impact is None else {"impact": self.impact.to_dict()}),
         }
 
     def csv_text(self, comment: str = "") -> str:
@@ -165,6 +175,7 @@ class RunNoise:
             f"# sound power of one wheel on one rail, dB re 1 pW; L_WA per wheel {self.sound_power_dba['total']:.2f}"
             f" dB(A), per axle {self.axle_dba:.2f} dB(A); pass-by L_pAeq,Tp {self.pass_by_laeq_dba:.2f} dB(A) at "
             f"{ISO3095_DISTANCE:g} m / {ISO3095_HEIGHT:g} m for {axles} axles in {length:g} m",
+            *([] if self.impact is None else ["#" + line.lstrip() for line in self.impact.lines()]),
             "band,centre_hz,force_dB_re_1N," + ",".join(f"{name}_dB" for name in self.sound_power_db),
         ]
         columns = [self.force_db, *self.sound_power_db.values()]
@@ -192,8 +203,12 @@ class RunNoise:
         """The same sound power for another train: its pass-by level and WAV."""
         axles, length = checked_train(train_axles, train_length)
         configuration = {**self.configuration, "train_axles": axles, "train_length_m": length}
+        impact = None if self.impact is None else self.impact.with_train(axles, length)
         return dataclasses.replace(
-            self, pass_by_laeq_dba=pass_by_level(self.axle_dba, axles, length), configuration=configuration
+            self,
+            pass_by_laeq_dba=pass_by_level(self.axle_dba, axles, length),
+            configuration=configuration,
+            impact=impact,
         )
 
     def pass_by_pressure(self, *, lead: float = 1.0, seed: int = 0) -> tuple[np.ndarray, float, tuple[int, int]]:
@@ -222,8 +237,8 @@ class RunNoise:
         pressure = resample_poly(pressure, ratio.numerator, ratio.denominator)
         first, last = int(round(first * ratio)), min(len(pressure), int(round(last * ratio)))
         correction = 0.0
-        if math.isfinite(self.pass_by_laeq_dba) and last - first > 1 and np.any(pressure[first:last]):
-            correction = self.pass_by_laeq_dba - laeq_of_pressure(pressure[first:last], float(rate))
+        if math.isfinite(self.wav_level_dba) and last - first > 1 and np.any(pressure[first:last]):
+            correction = self.wav_level_dba - laeq_of_pressure(pressure[first:last], float(rate))
             pressure = pressure * 10 ** (correction / 20)
         return pressure, float(rate), (first, last), correction
 
@@ -343,6 +358,7 @@ def run_noise(
     from wheelrail.core.engine.results import result_of_run
     from wheelrail.core.files.run_file import check_fluctuating
     from wheelrail.core.noise.cnossos_run import cnossos_beside_run
+    from wheelrail.core.noise.impact_noise import impact_noise, power_per_force
     from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
     from wheelrail.core.noise.wheel_power import checked_wheel_model
     from wheelrail.core.spectra.force import force_spectrum, spectrum_record
@@ -366,12 +382,7 @@ def run_noise(
     power = sound_power_from_force(force_db, track)
     powers, powers_dba, axle_dba, roughness = power["db"], power["dba"], power["axle_dba"], power["roughness_db"]
     # |p/F|^2 at the closest distance, per band: rho c sum_c T_c / (2 pi d^2), T_c each component's W/N^2
-    t_total = 0.0
-    for name, transfer in track.transfer_db.items():
-        if name in track.power_per_force:
-            t_total = t_total + track.power_per_force[name]
-        else:  # its transfer per axle on the effective roughness per unit force, one wheel of two
-            t_total = t_total + 10 ** ((transfer - AXLE_DB + track.effective_roughness_per_force_db) / 10) * 1e-12
+    t_total = sum(power_per_force(track).values())
     d = receiver_distance()
     undefined = [float(f) for f, value in zip(noise_bands(), powers["total"], strict=True) if not np.isfinite(value)]
     configuration = _configuration(result, track, train_axles, train_length, undefined)
@@ -385,10 +396,32 @@ def run_noise(
         pass_by_laeq_dba=pass_by_level(axle_dba, int(train_axles), float(train_length)),
         configuration=configuration,
         cnossos=cnossos_beside_run(result),
+        impact=impact_noise(result, track, int(train_axles), float(train_length)),
         _force=np.asarray(result.force, dtype=float),
         _time_step=result.time_step,
         _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
+        _revolution_steps=_revolution_steps(result),
     )
+
+
+def _revolution_steps(result) -> int:
+    """Steps of one revolution of the wheel, 2 pi R / dx, on a run with a wheel flat; 0 without."""
+    from wheelrail.core.irregularities.shapes import WheelFlat
+
+    if not any(isinstance(item, WheelFlat) for item in result.header.params.run.irregularities):
+        return 0
+    return int(round(2 * math.pi * result.header.params.contact.radius_along / result.element_size))
+
+
+def wheel_record(force: np.ndarray, revolution_steps: int) -> np.ndarray:
+    """The dynamic force record each wheel of the pass-by plays, repeated: ``force`` as it is (0 steps: no flat),
+    or, for a wheel with a flat, one revolution of it: a shorter record padded with zeros (no dynamic force) to
+    ``revolution_steps``, a longer one cut to whole revolutions, so that the flat comes once per revolution."""
+    if not revolution_steps:
+        return force
+    if len(force) < revolution_steps:
+        return np.concatenate((force, np.zeros(revolution_steps - len(force))))
+    return force[: (len(force) // revolution_steps) * revolution_steps]
 
 
 def _own_modal_wheel(result, wheel_profile) -> bool:
@@ -413,6 +446,7 @@ def _configuration(result, track, train_axles, train_length, undefined) -> dict:
             **({"wheel_profile": result.header.wheel_profile} if result.header.wheel_profile is not None else {}),
             "speed_m_s": result.speed,
             "element_size_m": result.element_size,
+            **_irregularities(result),
         },
         "parameters": result.parameters,
         "train_axles": int(train_axles),
@@ -424,6 +458,19 @@ def _configuration(result, track, train_axles, train_length, undefined) -> dict:
         "sound_power_per": "one wheel on one rail (axle: +3 dB)",
         # bands the run's force spectrum does not resolve (narrower than 1 / T, or above v / (2 dx)): null, left out
         "undefined_bands_hz": undefined,
+    }
+
+
+def _irregularities(result) -> dict:
+    """The run's discrete irregularities (records, SI) and what the Hertz models saw of them, or {} without."""
+    run = result.header.params.run
+    if not run.irregularities:
+        return {}
+    from wheelrail.core.irregularities.shapes import as_record
+
+    return {
+        "irregularities": [as_record(item) for item in run.irregularities],
+        "irregularity_input": run.irregularity_input,
     }
 
 
@@ -482,6 +529,7 @@ def _synthesise(noise: RunNoise, *, lead: float, seed: int):
     force = force - force.mean()
     if len(force) < 64:
         raise WheelrailError("the run is too short to synthesise a pass-by (at least 64 steps after the start-up)")
+    force = wheel_record(force, noise._revolution_steps)
     # zero-phase FIR: |H(f)| from the band values, 4096 taps (or the record's length), Hann-windowed
     taps = int(min(4096, 2 ** math.floor(math.log2(len(force)))))
     freqs = np.fft.rfftfreq(taps, dt)

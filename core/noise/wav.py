@@ -6,7 +6,13 @@ The pass-by pressure is synthesised at the run's own rate (v / dx: a few MB howe
 half-length either side), so the blocks join into what one call on the whole record gives. Two passes: the
 first finds the peak and the A-weighted energy over T_p (``spectra.levels.a_weighted_energy`` per block of at most
 :data:`BLOCK_SAMPLES`; a T_p of one block is weighted whole, exactly as ``laeq_of_pressure``), which set the
-calibration (``RunNoise.calibrated_pass_by``); the second scales each block to 16-bit PCM and writes it.
+calibration (``RunNoise.calibrated_pass_by``, to ``RunNoise.wav_level_dba``); the second scales each block to 16-bit
+PCM and writes it.
+
+A wheel with a flat is heard once per revolution: its record is made one revolution (2 pi R / v) long before
+the wheels' stretches are cut from it (``run_noise.wheel_record``): a run shorter than a revolution is padded with
+its mean force (the rest of the revolution holds no dynamic force), a longer one is cut to whole revolutions; the
+WAV is then calibrated to the impacts' pass-by level (``RunNoise.wav_level_dba``, ``RunNoise.wav_fill``).
 
 A WAV lasts at most :data:`MAX_WAV_S` (:func:`check_wav_duration`): a 5 km train at 5 km/h is an hour (346 MB
 at 48 kHz), written in minutes, for a pass-by level that needs no WAV at all. Its synthesis adds one stretch of the
@@ -125,9 +131,9 @@ def _calibration(noise, pressure, ratio, span, rate) -> tuple[float, float]:
         energy += a_weighted_energy(np.concatenate(pending), rate)
         segment_length += buffered
     correction = 0.0
-    if math.isfinite(noise.pass_by_laeq_dba) and segment_length > 1 and energy > 0:
+    if math.isfinite(noise.wav_level_dba) and segment_length > 1 and energy > 0:
         level = 10 * math.log10(energy / segment_length / PRESSURE_REFERENCE**2)
-        correction = noise.pass_by_laeq_dba - level
+        correction = noise.wav_level_dba - level
     return peak, correction
 
 
