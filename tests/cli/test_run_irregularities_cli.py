@@ -47,7 +47,10 @@ def test_a_run_without_irregularities_has_no_impact(capsys):
         (["--flat-length-mm", "50", "--flat-position-m", "5"], "--flat-position-m 5: reaches from"),
         (["--flat-length-mm", "-5", "--flat-position-m", "0.5"], "--flat-length-mm -5: must be positive"),
         (["--joint-position-m", "0.5", "--joint-gap-mm", "700"], "--joint-gap-mm 700"),
-        (["--weld-position-m", "0.5", "--weld-length-mm", "300"], "--weld-position-m 0.5: a weld needs its depth as well"),
+        (
+            ["--weld-position-m", "0.5", "--weld-length-mm", "300"],
+            "--weld-position-m 0.5: a weld needs its depth as well",
+        ),
     ],
 )
 def test_bad_geometry_is_one_line_and_exit_2(argv, words, capsys):
