@@ -54,7 +54,7 @@ def test_empty_fields_are_a_run_without_irregularities():
     ("typed", "start"),
     [
         ({"flat_length": "abc", "flat_position": "0.5"}, "Flat length 'abc': not a number"),
-        ({"flat_length": "50"}, "Flat position 'not given': a flat needs its position"),
+        ({"flat_length": "50"}, "Flat length 50 mm: a flat needs its position as well"),
         (
             {"flat_length": "50", "flat_position": "3"},
             "Flat position 3 m: reaches from 2.975 to 3.025 m, outside the run",
