@@ -74,7 +74,7 @@ class WheelFlat:
         length L / sqrt(2) that wore into it (Wu & Thompson, JSV 251 (2002)); for a new flat the sagitta of the
         chord, R - sqrt(R^2 - L^2 / 4) (about L^2 / (8 R)). R is the run's wheel radius (:func:`flat_depth`).
     shape : str
-        "rounded": radius deviation -D/2 (1 + cos(2 pi s / L)) for |s| < L/2 (s along the tread from the flat's
+        "rounded": radius deviation -D/2 (1 + cos(2 pi s / L)) for ``|s| < L/2`` (s along the tread from the flat's
         centre); "new": the chord (a straight cut; its depth is the sagitta, a given depth must match it to 1 %).
     position : float
         x_F, where along the run the flat's centre first meets the rail, m; it meets it again every 2 pi R
@@ -159,7 +159,7 @@ class RailJoint:
 
 @dataclass(frozen=True, kw_only=True)
 class DippedWeld:
-    """A dipped weld: a cosine dip -D/2 (1 + cos(2 pi (x - x_W) / L)) for |x - x_W| < L/2, across the railhead.
+    """A dipped weld: a cosine dip -D/2 (1 + cos(2 pi (x - x_W) / L)) for ``|x - x_W| < L/2``, across the railhead.
 
     Attributes
     ----------
@@ -190,7 +190,7 @@ class DippedWeld:
 @dataclass(frozen=True, kw_only=True)
 class Squat:
     """A squat or local defect: a dip of finite width on the railhead, D c(x - x_S, L) c(y - y_S, W) deep, with
-    c(s, L) = (1 + cos(2 pi s / L)) / 2 for |s| < L/2 (else 0): narrower than the contact patch, only the 3D
+    c(s, L) = (1 + cos(2 pi s / L)) / 2 for ``|s| < L/2`` (else 0): narrower than the contact patch, only the 3D
     model sees its width.
 
     Attributes
