@@ -11,17 +11,15 @@ from __future__ import annotations
 from wheelrail.core.errors import Blame, Name, WheelrailError
 from wheelrail.core.inputs.declared import choice
 from wheelrail.core.inputs.irregular import FLAT_SHAPE_HELP, IRREGULARITY_INPUTS, irregularities_from_values
+from wheelrail.core.irregularities.shapes import FLAT_SHAPES
 
 __all__ = [
-    "FLAT_SHAPES",
     "IRREGULARITY_NAMES",
     "IrregularityFolder",
     "irregularity_label",
     "read_irregularities",
     "session_irregularity",
 ]
-
-FLAT_SHAPES = ("rounded", "new")  # the flat's shapes, the default first (WheelFlat.shape)
 
 
 def irregularity_label(key: str) -> str:
@@ -58,7 +56,7 @@ def read_irregularities(
         A declared irregularity input's key (``"flat_length"``) -> its field's text in the field's unit; empty or
         absent: not given.
     flat_shape : str
-        One of :data:`FLAT_SHAPES`.
+        One of ``wheelrail.core.irregularities.shapes.FLAT_SHAPES``.
     irregularity_input : str, optional
         One of the choice ``irregularity_input``'s values; default its default.
 

@@ -137,6 +137,7 @@ def add_irregularity_options(parser, several: bool = False) -> None:
     with --flat-shape and --irregularity-input), one argparse group; read back by :func:`irregularities_from_args`.
     ``several``: each number takes one or more values (a sweep; a list in the namespace when given)."""
     from wheelrail.core.inputs.irregular import FLAT_SHAPE_HELP, IRREGULARITY_INPUTS
+    from wheelrail.core.irregularities.shapes import FLAT_SHAPES
 
     options = parser.add_argument_group(
         "irregularity inputs",
@@ -148,8 +149,8 @@ def add_irregularity_options(parser, several: bool = False) -> None:
         needed = "; needed for one" if entry.required else ""
         nargs = "+" if several else None
         options.add_argument(entry.option, type=float, nargs=nargs, default=None, help=f"{entry.help}{unit}{needed}")
-    options.add_argument("--flat-shape", choices=("rounded", "new"), default=None, help=f"{FLAT_SHAPE_HELP} "
-                         "(default rounded)")  # fmt: skip
+    options.add_argument("--flat-shape", choices=FLAT_SHAPES, default=None, help=f"{FLAT_SHAPE_HELP} "
+                         f"(default {FLAT_SHAPES[0]})")  # fmt: skip
     entry = choice("irregularity_input")
     options.add_argument(entry.option, choices=entry.values, default=entry.default, help=entry.help_text())
 

@@ -37,7 +37,7 @@ __all__ = [
     "words",
 ]
 
-FLAT_SHAPES = ("rounded", "new")
+FLAT_SHAPES = ("rounded", "new")  # a wheel flat's shapes, the default (WheelFlat.shape) first
 # Half the head width of a UIC60 rail (72 mm): a squat's centre must lie on the railhead
 RAILHEAD_HALF_WIDTH = 0.036
 # A new flat's depth given apart from its length must match the chord's sagitta to this relative tolerance
@@ -89,7 +89,7 @@ class WheelFlat:
 
     length: float
     depth: float | None = None
-    shape: str = "rounded"
+    shape: str = FLAT_SHAPES[0]
     position: float = 0.0
 
     def __post_init__(self) -> None:
