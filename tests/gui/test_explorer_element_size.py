@@ -1,0 +1,81 @@
+"""The element size in the explorer: a field of the Run folder next to the speed (core's declaration,
+``--element-mm``'s), read into the run's parameters, worded when out of range, named in the case where it is not the
+default and in the result's text always, and kept by a session."""
+
+from __future__ import annotations
+
+import pytest
+
+from wheelrail.core.errors import WheelrailError
+from wheelrail.core.roughness import load_roughness
+from wheelrail.explorer.config import length_range, page_message, read_config
+
+RAIL = load_roughness("corrugated-rail")
+FIELDS = {"line": "0", "model": "3d", "speed_kmh": "100", "preload_kn": "65", "length_m": "1"}
+
+
+def test_the_field_sets_the_runs_element_size_and_names_it():
+    config = read_config(RAIL, "corrugated-rail", **FIELDS, element_mm="0.5")
+    assert config.params().run.element_size == 5e-4 and config.params().run.time_step == pytest.approx(1.8e-5)
+    assert config.case_label() == "corrugated-rail, line 0, 100 km/h, 65 kN, 1 m, element size 0.5 mm"
+    assert config.file_stem() == "wheelrail-3d-corrugated-rail-line0-100kmh-65kN-1m-dx0.5mm"
+    assert config.as_dict()["element_mm"] == 0.5
+    plain = read_config(RAIL, "corrugated-rail", **FIELDS, element_mm="1")
+    assert plain.inputs == () and config.case() != plain.case()  # the default: the case and its label as before
+    assert plain.case_label() == "corrugated-rail, line 0, 100 km/h, 65 kN, 1 m"
+    assert plain.label(stated=True) == "3d on corrugated-rail, line 0, 100 km/h, 65 kN, 1 m, element size 1 mm"
+    assert config.label(stated=True) == config.label()  # named once
+
+
+@pytest.mark.parametrize(
+    ("typed", "start"),
+    [
+        ("3", "Element size 3 mm is outside the accepted 0.5 to 2 mm ("),
+        ("0.1", "Element size 0.1 mm is outside the accepted 0.5 to 2 mm ("),
+        ("x", "Element size 'x': not a number"),
+    ],
+)
+def test_an_element_size_out_of_range_is_worded_with_the_fields_label(typed, start):
+    with pytest.raises(WheelrailError) as info:
+        read_config(RAIL, "corrugated-rail", **FIELDS, element_mm=typed)
+    message = page_message(info.value)
+    assert message.startswith(start) and "--" not in message and "\n" not in message
+
+
+def test_the_run_lengths_offered_are_whole_elements():
+    shortest, longest = length_range(RAIL, 100 / 3.6, 2e-3)
+    assert longest == pytest.approx(round(longest / 2e-3) * 2e-3, abs=1e-12) and shortest < longest
+    config = read_config(RAIL, "corrugated-rail", **{**FIELDS, "length_m": f"{longest:g}"}, element_mm="2")
+    assert config.length == pytest.approx(longest)
+
+
+@pytest.mark.slow
+def test_the_form_has_it_next_to_the_speed_runs_it_and_a_session_keeps_it(app, finish_run):
+    form = app.form
+    assert list(form.fields)[:3] == ["speed", "preload", "element_size"]  # the Run folder: speed, load, grid
+    field = form.fields["element_size"]
+    assert field.label == "Element size (mm)" and field.value == "1"
+    assert field.hint.endswith("0.5 to 2 mm; default 1 mm")
+    try:
+        form.model_dropdown.value = "hertz"
+        form.line_dropdown.value = "0"
+        form.length_text.value = "0.6"
+        field.value = "5"
+        assert app.shown is None and "Element size 5 mm is outside the accepted 0.5 to 2 mm" in form.check_md.content
+        field.value = "2"
+        assert app.shown.params().run.element_size == 2e-3
+        result = finish_run(app)
+        assert result.element_size == 2e-3 and result.n_steps == 300
+        assert "element size 2 mm" in app.page.status_md.content and app.page.status_md.content.startswith("Done:")
+        name, content = app.session.download()
+        assert b'"element_mm": "2"' in content and "dx2mm" in name
+        saved = app.shown
+        field.value = "1"
+        assert app.shown != saved
+        app.session.load(content)
+        assert field.value == "2" and app.shown == saved
+        field.value = "1"
+        finish_run(app)
+        assert "0.6 m, element size 1 mm." in app.page.status_md.content  # the default, stated in the result's text
+    finally:
+        field.value = "1"
