@@ -79,3 +79,24 @@ def test_the_form_has_it_next_to_the_speed_runs_it_and_a_session_keeps_it(app, f
         assert "0.6 m, element size 1 mm." in app.page.status_md.content  # the default, stated in the result's text
     finally:
         field.value = "1"
+
+
+@pytest.mark.slow
+def test_in_the_page_the_field_sits_under_the_speed_and_preload_and_a_typed_size_runs(open_page):
+    """Headless Chromium: the field is drawn right below Speed and Preload, a size typed in it reaches the run and
+    the result line names it."""
+    page, session, errors = open_page(1400, 1000)
+    session.form.model_dropdown.value = "hertz"
+    session.form.length_text.value = "0.8"
+    tops = [page.get_by_text(label, exact=True).first.bounding_box()["y"]
+            for label in ("Speed (km/h)", "Preload (kN)", "Element size (mm)")]  # fmt: skip
+    assert tops == sorted(tops) and tops[2] - tops[1] == pytest.approx(tops[1] - tops[0], abs=4)  # one row each
+    field = page.get_by_text("Element size (mm)", exact=True).first.locator("xpath=following::input[1]")
+    field.fill("0.5")
+    field.press("Enter")
+    # the page sends the field before the click, on the one connection: the run is the typed size's
+    page.get_by_role("button", name="Run", exact=True).click()
+    page.get_by_text("Done: hertz on corrugated-rail, line 0, 100 km/h, 65 kN, 0.8 m, element size 0.5 mm",
+                     exact=False).wait_for(timeout=300_000)  # fmt: skip
+    assert session.replay.entry.result.element_size == 5e-4
+    assert not errors, errors

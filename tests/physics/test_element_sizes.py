@@ -53,3 +53,28 @@ def test_the_longest_and_shortest_steps_run_and_stay_smooth(speed_kmh, element_s
     result = _run(smooth, "hertz", element_size, speed_kmh, length=0.1)
     assert result.time_step == pytest.approx(element_size / (speed_kmh * KMH))
     assert np.all(np.isfinite(result.force)) and np.max(np.abs(np.diff(result.force, 2))) < 500.0
+
+
+@pytest.mark.slow
+def test_the_memory_estimate_bounds_a_half_millimetre_3d_run():
+    # the 3d window at 0.5 mm is 49 x 49 elements (four times the maps of 1 mm per step, twice the steps per metre):
+    # the estimate (core/engine/memory.py, from the element size) must bound the traced growth, within a factor two
+    import tracemalloc
+
+    from wheelrail.core.engine import memory, prepare_run
+    from wheelrail.core.models import model_entry
+
+    params = ModelParameters(run=RunParameters(element_size=SIZES[0]))
+
+    def peak(length):
+        tracemalloc.start()
+        try:
+            prepare_run("cast-iron-wheel", model="3d", length=length, run_in_length=0.1, params=params).run()
+            return tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+
+    peak(0.01)  # the fixed costs (Green's functions, compiled kernels) out of the way
+    measured = peak(1.0) - peak(0.5)
+    estimate = [memory.check_run_memory(model_entry("3d"), params, length, 0.1, True) for length in (0.5, 1.0)]
+    assert measured <= estimate[1] - estimate[0] <= 2 * measured
