@@ -77,6 +77,11 @@ def test_the_form_has_it_next_to_the_speed_runs_it_and_a_session_keeps_it(app, f
         field.value = "1"
         finish_run(app)
         assert "0.6 m, element size 1 mm." in app.page.status_md.content  # the default, stated in the result's text
+        form.model_dropdown.value = "3d"  # the 3d window on the finer grid, replayed and drawn without an error
+        field.value = "0.5"
+        result = finish_run(app)
+        assert result.element_size == 5e-4 and result.window_x[1] - result.window_x[0] == pytest.approx(5e-4)
+        assert app.page.last_error is None and app.page.status_md.content.startswith("Done: 3d on")
     finally:
         field.value = "1"
 
