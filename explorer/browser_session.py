@@ -311,7 +311,7 @@ class BrowserSession:
             if self._shows_the_run(config):
                 self.show_case()
         if outcome == "done":
-            self._done = (config, f"Done: {config.label()}. Scrub with the Step slider or press Play.")
+            self._done = (config, f"Done: {config.label(stated=True)}. Scrub with the Step slider or press Play.")
             self._done_elsewhere = None
             self.status(self._done[1])
 

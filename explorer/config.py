@@ -190,12 +190,16 @@ class RunConfig:
         given = dict(self.inputs)
         return [entry for entry in inputs_of() if entry.always_shown or entry.key in given]
 
-    def case_label(self) -> str:
+    def case_label(self, *, stated: bool = False) -> str:
         """The case as people read it: 'corrugated-rail, line 0, 100 km/h, 65 kN, 3 m' (with a wheel set:
-        'corrugated-rail + sinter-wheel-1, ...'; an input given: '..., wheel radius 460 mm')."""
+        'corrugated-rail + sinter-wheel-1, ...'; an input given: '..., wheel radius 460 mm'); ``stated``: the
+        element size named even at its default ('..., 3 m, element size 1 mm'), as a result's text says it."""
         sets = self.set_label if self.wheel_set_label is None else f"{self.set_label} + {self.wheel_set_label}"
-        head = [entry.words(self.value(entry.key)) for entry in self._shown() if entry.always_shown]
-        rest = [entry.words(self.value(entry.key)) for entry in self._shown() if not entry.always_shown]
+        shown = self._shown()
+        if stated and by_key("element_size") not in shown:
+            shown.append(by_key("element_size"))
+        head = [entry.words(self.value(entry.key)) for entry in shown if entry.always_shown]
+        rest = [entry.words(self.value(entry.key)) for entry in shown if not entry.always_shown]
         irregular = [self.irregularity_words()] if self.irregularities else []
         return ", ".join([sets, f"line {self.line}", *head, f"{self.length:g} m", *rest, *irregular])
 
@@ -205,8 +209,9 @@ class RunConfig:
         kept = replace(self, inputs=tuple((k, v) for k, v in self.inputs if by_key(k).group != "track"))
         return f"{kept.case_label()}; {describe_track(self.params())}"
 
-    def label(self) -> str:
-        return f"{self.model} on {self.case_label()}"
+    def label(self, *, stated: bool = False) -> str:
+        """The model on the case (:meth:`case_label`, ``stated`` as there)."""
+        return f"{self.model} on {self.case_label(stated=stated)}"
 
     def file_stem(self) -> str:
         """A file name for downloads: 'wheelrail-3d-corrugated-rail-line0-100kmh-65kN-3m'."""
@@ -236,11 +241,15 @@ def models_of(model_choice: str) -> tuple[str, ...]:
     return COMPARE_ORDER if model_choice == COMPARE else (model_choice,)
 
 
-def offered_lines(roughness, model_choice: str, contact: ContactParameters, wheel=None) -> tuple[int, ...]:
-    """Lines the page offers: the lines every model of the choice can run on for this contact (core's rule,
-    :func:`wheelrail.core.engine.track_lines.run_lines`: for ``3d``, and ``compare``, which runs it, the lines whose
-    window fits the set), and with a wheel set the lines it has data at (paired by lateral position)."""
-    params = ModelParameters(contact=contact)
+def offered_lines(
+    roughness, model_choice: str, contact: ContactParameters, wheel=None, element_size: float | None = None
+) -> tuple[int, ...]:
+    """Lines the page offers: the lines every model of the choice can run on for this contact and element size (m;
+    default 1 mm) (core's rule, :func:`wheelrail.core.engine.track_lines.run_lines`: for ``3d``, and ``compare``,
+    which runs it, the lines whose window fits the set on its grid), and with a wheel set the lines it has data at
+    (paired by lateral position)."""
+    run = RunParameters() if element_size is None else RunParameters(element_size=element_size)
+    params = ModelParameters(contact=contact, run=run)
     found = [set(run_lines(roughness, model, params, wheel)) for model in models_of(model_choice)]
     return tuple(sorted(set.intersection(*found)))
 
@@ -366,7 +375,7 @@ def read_config(
     contact = params.contact
     if wheel is not None:  # core's rule: the wheel set must go round this wheel
         check_wheel_circumference(wheel.length, contact.radius_along, wheel_label)
-    allowed = offered_lines(roughness, model, contact, wheel)
+    allowed = offered_lines(roughness, model, contact, wheel, params.run.element_size)
     sets = set_label if wheel is None else f"{set_label} + {wheel_label}"
     if not allowed:
         width = window_width(params) * 1e3
@@ -392,7 +401,7 @@ def read_config(
             f"{preload_kn:g} kN; choose {_span(allowed)}"
         )
     length = _number(length_m, "length")
-    shortest, longest = length_range(roughness, speed_kmh * KMH)
+    shortest, longest = length_range(roughness, speed_kmh * KMH, params.run.element_size)
     if not shortest - 1e-9 <= length <= longest + 1e-9:
         raise WheelrailError(
             None,

@@ -178,7 +178,7 @@ class RunForm:
             return
         if speed is None or not math.isfinite(length):
             return
-        shortest, longest = length_range(self.roughness, speed)
+        shortest, longest = length_range(self.roughness, speed, self.element_size())
         bounded = min(max(length, shortest), longest)
         self.length_note = ""
         if abs(bounded - length) > 1e-9:
@@ -247,6 +247,10 @@ class RunForm:
             preload = self.field_value("preload")
             return ContactParameters() if preload is None else ContactParameters(preload=preload)
 
+    def element_size(self) -> float:
+        """The element size typed, m; one not valid yet counts as its default (the check line says)."""
+        return self.field_value("element_size") or by_key("element_size").default()
+
     def line(self) -> int | None:
         """The line chosen (None: no line fits)."""
         try:
@@ -257,7 +261,9 @@ class RunForm:
     def _offer_lines(self) -> None:
         """The Line menu: the lines the model can run on with the sets loaded (core's rule), or 'no line
         fits'; a line no longer offered moves to the nearest one offered, and the page says so."""
-        lines = offered_lines(self.roughness, self.model_dropdown.value, self.contact(), self.wheel_or_none()[0])
+        lines = offered_lines(
+            self.roughness, self.model_dropdown.value, self.contact(), self.wheel_or_none()[0], self.element_size()
+        )
         options = tuple(str(n) for n in lines) or (NO_LINE_FITS,)
         current = self.line_dropdown.value
         if tuple(self.line_dropdown.options) != options:
@@ -338,7 +344,7 @@ class RunForm:
         with self._lock:
             self._offer_lines()
             speed = self.field_value("speed") or by_key("speed").default()
-            shortest, longest = length_range(self.roughness, speed)
+            shortest, longest = length_range(self.roughness, speed, self.element_size())
             try:
                 config = self.read_config()
             except WheelrailError as error:

@@ -114,7 +114,7 @@ class ResultStore:
         columns += [(f"{m}_contact_filter_db", levels) for m, (_, levels) in filters.items()]
         columns += [(f"reference_{name}_db", _on(centres, c, levels)) for name, (c, levels) in references.items()]
         out = io.StringIO()
-        out.write(f"# wheelrail explorer: {config.case_label()}\n")
+        out.write(f"# wheelrail explorer: {config.case_label(stated=True)}\n")
         writer = csv.writer(out, lineterminator="\n")
         writer.writerow(["band", "centre_hz", *(name for name, _ in columns)])
         for i, f in enumerate(centres):

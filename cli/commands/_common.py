@@ -107,13 +107,15 @@ def add_input_options(
     helps: dict[str, str] | None = None,
     unset: dict[str, str] | None = None,
     several: tuple[str, ...] = (),
+    leave_out: tuple[str, ...] = (),
 ) -> list:
     """The options of the declared inputs of ``groups`` (``wheelrail.core.inputs.declared.GROUPS``), one argparse group
     each, named, documented and ranged by their declaration; read back by :func:`params_from_args`.
 
     ``helps``: key -> the command's own help sentence for an input (its default and range are appended);
     ``unset``: key -> what the command takes an absent option as, where it differs from the declaration's;
-    ``several``: groups whose options take one or more values (a sweep; a list in the namespace when given).
+    ``several``: groups whose options take one or more values (a sweep; a list in the namespace when given);
+    ``leave_out``: keys of inputs the command has no use for (``filters`` makes no run: no element size).
     An option's default is its dataclass default in the option's unit (None where that is not a number).
     Returns the argparse actions added (their ``dest``, ``option_strings`` and ``default``)."""
     helps, unset = helps or {}, unset or {}
@@ -121,7 +123,7 @@ def add_input_options(
     for group in groups:
         note = _GEOMETRY_NOTE if group == "geometry" else None
         options = parser.add_argument_group(f"{GROUPS[group].lower()} inputs", description=note)
-        for entry in inputs_of(group):
+        for entry in (e for e in inputs_of(group) if e.key not in leave_out):
             default = unset.get(entry.key) or entry.default_text()
             unit = f", {entry.shown.name}" if entry.shown.name else ""
             text = f"{helps.get(entry.key, entry.help + unit)} (default {default}; {_accepted_words(entry)})"

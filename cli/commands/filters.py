@@ -41,7 +41,7 @@ def add_parser(sub):
             "it (this project's construction, not a filter of the literature)."
         ),
     )
-    add_input_options(parser, "run", "geometry")
+    add_input_options(parser, "run", "geometry", leave_out=("element_size",))  # analytic filters: no run, no grid
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout")
     parser.add_argument("--csv", metavar="FILE.csv", help="write the bands and levels as a CSV table")
     parser.add_argument("--plot", metavar="FILE.png", help="save a figure of the filters")

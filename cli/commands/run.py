@@ -248,6 +248,7 @@ def _summary(args, result, params, times) -> dict:
         **({"modal_wheel": result.header.wheel_profile} if result.header.wheel_profile is not None else {}),
         **describe(params, "geometry", "track"),  # the contact geometry and track it ran on, SI
         "hertz_semi_axes_m": list(params.contact.hertz_semi_axes()),  # a along the rail, b across, at the preload
+        "element_size_m": result.element_size,  # the contact grid and step along the rail (--element-mm)
         "steps": result.n_steps,
         "length_m": result.n_steps * result.element_size,
         "time_step_s": result.time_step,
@@ -287,7 +288,8 @@ def _print_summary(args, result, params, summary, sink) -> None:
     wheel_set = f" + wheel {args.wheel_set}" if args.wheel_set else ""
     print(
         f"{result.model} on {args.set}{wheel_set} line {result.line}, {args.speed_kmh:g} km/h, "
-        f"{summary['preload_n'] / 1e3:g} kN: {result.n_steps} steps over {summary['length_m']:.3f} m"
+        f"{summary['preload_n'] / 1e3:g} kN, element {result.element_size * 1e3:g} mm: {result.n_steps} steps over "
+        f"{summary['length_m']:.3f} m"
     )
     print(f"  track: {describe_words(params, 'track')}")
     modal = result.header.wheel_model == "modal"

@@ -265,7 +265,9 @@ def _say_impact(result) -> None:
 
 
 def _speed_words(args, summary) -> str:
-    """ ", 100 km/h": the study's speed; the impact study (which sweeps it): its speeds."""
+    """ ", 100 km/h, element 1 mm": the study's speed (the impact study, which sweeps it: its speeds) and element
+    size."""
+    element = f", element {args.element_mm:g} mm"
     if "speeds_m_per_s" not in summary:
-        return f", {args.speed_kmh:g} km/h"
-    return f", {', '.join(f'{v * 3.6:g}' for v in summary['speeds_m_per_s'])} km/h"
+        return f", {args.speed_kmh:g} km/h{element}"
+    return f", {', '.join(f'{v * 3.6:g}' for v in summary['speeds_m_per_s'])} km/h{element}"

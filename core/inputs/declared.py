@@ -102,6 +102,9 @@ class Input:
         Its short name in file names ("R", "kP"); empty: the value and unit alone ("100kmh").
     always_shown : bool
         Named in every case label and file name, even at its default (speed, preload).
+    cli : str
+        The command-line option where it is not ``--`` + the key + the unit's token (``--element-mm`` for
+        ``element_size``: ``wheelrail wheel --element-size-mm`` is the wheel's own mesh); empty: derived.
 
     See Also
     --------
@@ -125,10 +128,14 @@ class Input:
     unset: str | None = None
     stem: str = ""
     always_shown: bool = False
+    cli: str = ""
 
     @property
     def option(self) -> str:
-        """The command-line option: ``--`` + the key + the unit's token (``--pad-stiffness-mn-m``)."""
+        """The command-line option: ``cli`` if given, else ``--`` + the key + the unit's token
+        (``--pad-stiffness-mn-m``)."""
+        if self.cli:
+            return self.cli
         words = self.key.replace("_", "-")
         return f"--{words}-{self.shown.token}" if self.shown.token else f"--{words}"
 
@@ -242,6 +249,11 @@ _PAPER_R = "the paper's R"
 INPUTS: tuple[Input, ...] = (
     Input("speed", "run.speed", KMH, "Speed", "run", "train speed", always_shown=True),
     Input("preload", "contact.preload", KN, "Preload", "run", "static wheel load", always_shown=True),
+    Input(
+        "element_size", "run.element_size", MM, "Element size", "run",
+        "contact element length and step along the rail (the time step is element / speed)", stem="dx",
+        cli="--element-mm",
+    ),
     Input(
         "wheel_radius", "contact.wheel_radius", MM, "Wheel radius", "geometry", "wheel rolling radius, along the rail",
         unset=_PAPER_R, stem="R",
@@ -391,7 +403,7 @@ def describe(params: ModelParameters, *groups: str) -> dict[str, dict[str, float
     >>> from wheelrail.core.inputs.declared import describe
     >>> from wheelrail.core.parameters import ModelParameters
     >>> describe(ModelParameters(), "run")
-    {'run': {'speed': 27.77777777777778, 'preload': 65000.0}}
+    {'run': {'speed': 27.77777777777778, 'preload': 65000.0, 'element_size': 0.001}}
     """
     found: dict[str, dict[str, float | None]] = {}
     for entry in inputs_of(*groups):
@@ -466,8 +478,8 @@ def caption(
     model : str, optional
         The contact model, named first when given.
     run, geometry, track : bool
-        Name the speed and preload; the contact geometry's inputs that differ from the paper's; the track
-        (:func:`describe_track`).
+        Name the speed and preload (and the element size where it is not the default 1 mm); the contact
+        geometry's inputs that differ from the paper's; the track (:func:`describe_track`).
     wheel : str, optional
         The wheel in words (:func:`wheelrail.core.modal_wheel.describe_wheel`), named last when given.
     leave_out : tuple of str
@@ -486,7 +498,10 @@ def caption(
     """
     parts = [] if model is None else [model]
     if run:
-        parts.append(", ".join(e.words(e.value_in(params)) for e in inputs_of("run") if e.key not in leave_out))
+        named = tuple(e.key for e in inputs_of("run") if e.always_shown)  # the speed and preload, always named
+        shown = [by_key(key).words(by_key(key).value_in(params)) for key in named if key not in leave_out]
+        changed = describe_changes(params, "run", leave_out=(*leave_out, *named))  # the element size, if not 1 mm
+        parts.append(", ".join([*shown, *changed]))
     if geometry:
         parts += describe_changes(params, "geometry", leave_out=leave_out)
     if track:

@@ -40,7 +40,9 @@ from wheelrail.core.inputs.checks import integer, real
 __all__ = [
     "ACCEPTED",
     "CIRCUMFERENCE_TOLERANCE",
+    "MAX_ELEMENT_MM",
     "MAX_SPEED_KMH",
+    "MIN_ELEMENT_MM",
     "MIN_SPEED_KMH",
     "MODEL_BOUNDS",
     "PATCH_FRACTION",
@@ -65,6 +67,11 @@ ROUND_OFF = 1e-12  # relative: a bound met after a unit conversion (km/h -> m/s)
 # cached track responses (``TrackNumerics.max_speed``).
 MIN_SPEED_KMH = 5.0
 MAX_SPEED_KMH = 400.0
+# Accepted element sizes at the front ends (the Python API's RunParameters takes MODEL_BOUNDS' wider range): the
+# 2/1/0.5 mm convergence table of docs/validation.md (validation/element_convergence.py) and tests/physics'
+# runs of every model at both ends.
+MIN_ELEMENT_MM = 0.5
+MAX_ELEMENT_MM = 2.0
 
 
 @dataclass(frozen=True)
@@ -123,6 +130,14 @@ ACCEPTED: dict[str, Accepted] = {
         ),
         Accepted(
             "preload", "N", 1e3, 500e3, "a railway wheel's static load, around the CNOSSOS-EU table's 25 to 100 kN"
+        ),
+        Accepted(
+            "element_size",
+            "m",
+            MIN_ELEMENT_MM * 1e-3,
+            MAX_ELEMENT_MM * 1e-3,
+            "the contact grid and the step along the rail: at 2 mm the paper's Hertz patch (2a = 11 mm) spans 5 "
+            "elements; the convergence of the force spectra with it is docs/validation.md's element table",
         ),
         Accepted("radius", "m", *_WHEEL_RADIUS),
         Accepted("wheel_radius", "m", *_WHEEL_RADIUS),
@@ -242,7 +257,7 @@ MODEL_BOUNDS: dict[str, Accepted] = {
         Accepted("mass_per_length", "kg/m", 1.0, 1e4, "a rail's mass per metre"),
         Accepted("rotary_inertia_per_length", "kg m", 0.0, 1e3, "a rail's rotary inertia per metre"),
         Accepted("n_bays", "", 4, 1000, "a track model of up to 1000 sleeper bays"),
-        Accepted("element_size", "m", 1e-5, 10.0, "the step along the rail"),
+        Accepted("element_size", "m", 1e-5, 10.0, "the step along the rail (front ends: ACCEPTED's 0.5 to 2 mm)"),
         Accepted("elements_per_bay", "", 2, 4096, "finite elements per sleeper bay"),
         Accepted("refined_elements_per_bay", "", 2, 4096, "finite elements per refined sleeper bay"),
         Accepted("positions_per_bay", "", 1, 4096, "excitation positions per sleeper bay"),

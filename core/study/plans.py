@@ -17,7 +17,7 @@ from wheelrail.core.engine.track_lines import run_lines
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.inputs.ranges import check_wheel_circumference
 from wheelrail.core.models import AVERAGE_FILTER_MODEL, BEDDING_MODEL, HALFSPACE_MODEL, WINKLER_FILTER_MODEL
-from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters, RunParameters
+from wheelrail.core.parameters import KMH, ContactParameters, ModelParameters
 from wheelrail.core.spectra.force import check_spectrum_length
 from wheelrail.core.spectra.levels import contact_filter, level_difference, mean_level
 from wheelrail.core.study.specs import (
@@ -77,7 +77,9 @@ class StudyPlan:
         return self.params.contact
 
 
-def _set_info(source, length: float | None, contact: ContactParameters, wheel: SetInfo | None = None) -> SetInfo:
+def _set_info(
+    source, length: float | None, contact: ContactParameters, wheel: SetInfo | None = None, element_size: float = 1e-3
+) -> SetInfo:
     rough = _loaded(source)
     label = _label(source, rough)
     if wheel is not None and rough.kind != "rail":
@@ -104,7 +106,7 @@ def _set_info(source, length: float | None, contact: ContactParameters, wheel: S
                     reason="the wheel set is paired with the rail set by lateral position",
                 ),
             )
-    length = _run_length(rough, label, length, contact)
+    length = _run_length(rough, label, length, contact, element_size)
     return SetInfo(
         source=source,
         label=label,
@@ -150,15 +152,16 @@ def _label(source, rough) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "-", label).strip("-") or "roughness"
 
 
-def _run_length(rough, label: str, length: float | None, contact: ContactParameters) -> float | None:
+def _run_length(
+    rough, label: str, length: float | None, contact: ContactParameters, element_size: float
+) -> float | None:
     """The run length of a set: ``length`` checked against the rail data every model can run (the
-    interaction's :func:`~wheelrail.core.engine.track_lines.usable_length` at the study's element size), or by
+    interaction's :func:`~wheelrail.core.engine.track_lines.usable_length` at the study's element size, m), or by
     default all of it; wheel data (periodic): ``length`` as given, None for one circumference."""
     from wheelrail.core.engine.track_lines import run_margin, usable_length
 
     if rough.periodic:
         return length
-    element_size = RunParameters().element_size  # the studies keep the default 1 mm elements
     try:
         usable = usable_length(rough, element_size, ModelParameters(contact=contact))
     except WheelrailError as error:
@@ -268,7 +271,7 @@ def plan_study(
             f"the wheel set {wheel.label} is a {wheel.kind} set (kind: {wheel.kind}); give a wheel "
             "set as the wheel set, and a rail set as the set"
         )
-    infos = tuple(_set_info(source, length, contact, wheel) for source in sets)
+    infos = tuple(_set_info(source, length, contact, wheel, params.run.element_size) for source in sets)
     if wheel is not None:  # it goes round the wheel of every run (inputs/ranges.py), checked before any run
         check_wheel_circumference(_loaded(wheel.source).length, contact.radius_along, wheel.label)
     labels = [info.label for info in infos]

@@ -228,6 +228,7 @@ def _summary_document(
         "wheel_set": None if plan.wheel_set is None else plan.wheel_set.label,
         "speed_m_per_s": speed,
         "speed_kmh": speed / KMH,
+        "element_size_m": plan.params.run.element_size,  # every run's contact grid and step along the rail
         "length_m": {info.label: info.length for info in plan.sets},
         "contact": as_dict(plan.contact),
         **track_description(plan.params, plan.tracks),  # what the tracks share, and each one's swept values

@@ -216,7 +216,7 @@ def test_stale_contact_filters_disappear_when_the_configuration_changes(app, fin
     name, content = app.downloads.spectra_csv()
     assert name == "wheelrail-spectra-corrugated-rail-line0-100kmh-65kN-0.8m.csv"
     text = content.decode().splitlines()
-    assert text[0] == "# wheelrail explorer: corrugated-rail, line 0, 100 km/h, 65 kN, 0.8 m"
+    assert text[0] == "# wheelrail explorer: corrugated-rail, line 0, 100 km/h, 65 kN, 0.8 m, element size 1 mm"
     assert text[1].startswith("band,centre_hz,3d_level_db") and "reference_cnossos_db" in text[1]
 
 

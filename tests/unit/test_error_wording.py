@@ -80,8 +80,8 @@ def test_a_message_without_an_input_reads_the_same_everywhere():
     error = WheelrailError("file x.npz is damaged")
     assert str(error) == error.render(CLI_NAMES) == page_message(error) == "file x.npz is damaged"
     # an input a front end has no name for keeps the API's name
-    other = WheelrailError("too coarse", Blame("element_size", 0.01, unit="m"))
-    assert other.render(CLI_NAMES) == page_message(other) == str(other) == "element_size 0.01 m: too coarse"
+    other = WheelrailError("too light", Blame("contact_mass", 0.01, unit="kg"))
+    assert other.render(CLI_NAMES) == page_message(other) == str(other) == "contact_mass 0.01 kg: too light"
 
 
 def test_every_physical_input_has_a_name_on_the_command_line_and_in_the_page():
