@@ -183,6 +183,15 @@ ACCEPTED: dict[str, Accepted] = {
             "per half sleeper, around the paper's 165 kNs/m; below 20 kNs/m a heavy sleeper on soft ballast rings "
             "beyond the 50 ms of response the loop keeps (the time stepping is then unstable at low speeds)",
         ),
+        # the lateral track (wheelrail.core.lateral_parameters): pads several times softer in shear than in
+        # compression, roll stiffness k_P b^2 / 12 of 10-3000 MN/m pads across 0.1-0.2 m feet
+        Accepted("pad_lateral_stiffness", "N/m", 2e6, 1000e6, "a pad's lateral (shear) stiffness per support"),
+        Accepted(
+            "pad_rotational_stiffness", "N m/rad", 5e3, 10e6, "a pad's stiffness against the rail's roll, per support"
+        ),
+        Accepted("pad_lateral_loss_factor", "", 0.0, 1.0, "the loss factor of a pad's lateral and roll stiffness"),
+        Accepted("ballast_lateral_stiffness", "N/m", 5e6, 1000e6, "the ballast's lateral stiffness, per half sleeper"),
+        Accepted("ballast_lateral_loss_factor", "", 0.0, 2.0, "the loss factor of the ballast's lateral stiffness"),
         Accepted(
             "train_length",
             "m",
