@@ -134,8 +134,9 @@ class LateralParameters:
     Raises
     ------
     WheelrailError
-        Keyed by the input (``"pad_lateral_stiffness"``) if a value is outside its accepted range
-        (``wheelrail.core.inputs.ranges.ACCEPTED``).
+        Keyed by the input (``"pad_lateral_stiffness"``) if a pad's value is outside its accepted range
+        (``wheelrail.core.inputs.ranges.ACCEPTED``), naming the field if a ballast's is outside its
+        ``ranges.MODEL_BOUNDS``.
     """
 
     section: RailSection = field(default_factory=RailSection)
@@ -150,6 +151,11 @@ class LateralParameters:
             from wheelrail.core.errors import WheelrailError
 
             raise WheelrailError(f"LateralParameters.section must be a RailSection, got {type(self.section).__name__}")
-        for item in fields(self):
-            if item.name != "section":
+        for item in fields(
+            self
+        ):  # the pad's: declared inputs (wheelrail.core.inputs.declared); the ballast's: API only
+            if item.name.startswith("pad_"):
                 ACCEPTED[item.name].check(getattr(self, item.name), f"LateralParameters.{item.name}")
+            elif item.name != "section":
+                name = f"LateralParameters.{item.name}"
+                ranges.check_model_input(name, getattr(self, item.name), "", allow_zero=item.name.endswith("factor"))
