@@ -160,3 +160,17 @@ def test_the_lateral_fe_converges_in_elements_and_bays():
     point = lateral_receptances(track, f).lateral_point
     fine_point = lateral_receptances(track, f, numerics=replace(base, elements_per_bay=32)).lateral_point
     assert np.all(np.abs(20 * np.log10(np.abs(fine_point / point))) < 0.3)
+
+
+def test_a_narrow_pad_is_the_point_support_and_a_wide_one_spreads_the_same_stiffness():
+    from wheelrail.core.parameters import SupportParameters
+
+    f = np.array([100.0, 630.0, 2000.0])
+    point = lateral_receptances(TrackParameters(), f, numerics=SHORT).lateral_point
+    narrow = TrackParameters(support=SupportParameters(pad_width=0.002))
+    close = lateral_receptances(narrow, f, numerics=SHORT).lateral_point
+    assert np.all(np.abs(20 * np.log10(np.abs(close / point))) < 0.02)  # (w / h)^2-small: the same support
+    # static: a rigid-enough rail sees the pads' total stiffness whatever their width (0 Hz, 0.15 m pads)
+    wide = TrackParameters(support=SupportParameters(pad_width=0.15))
+    static = [lateral_receptances(t, [0.0], numerics=SHORT).lateral_point[0] for t in (TrackParameters(), wide)]
+    assert abs(static[1] / static[0] - 1) < 0.02
