@@ -90,7 +90,7 @@ def _peaks(track, numerics) -> dict:
     key = cache.cache_key(
         "track-peaks",
         {
-            "track": asdict(track),
+            "track": {name: value for name, value in asdict(track).items() if name != "lateral"},  # vertical peaks
             "elements_per_bay": numerics.elements_per_bay,
             "code": hashlib.sha256(code.encode()).hexdigest(),
         },
