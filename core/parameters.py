@@ -16,6 +16,7 @@ from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.inputs import ranges
 from wheelrail.core.inputs.ranges import ACCEPTED, MAX_SPEED_KMH, MIN_SPEED_KMH
 from wheelrail.core.inputs.run_records import check_run_irregularities, tagged_run, untagged_run
+from wheelrail.core.lateral_parameters import LateralParameters
 
 KMH = 1.0 / 3.6  # m/s per km/h; convert only at the edges (CLI, GUI, files)
 __all__ = [  # MIN_SPEED_KMH and MAX_SPEED_KMH are wheelrail.core.inputs.ranges', re-exported
@@ -194,11 +195,14 @@ class TrackParameters:
     support : SupportParameters
     n_bays : int
         Number of sleeper bays of the finite track model (70 in the paper; 4 to 1000: ``ranges.MODEL_BOUNDS``).
+    lateral : LateralParameters
+        The rail's section and its supports' lateral stiffness (``wheelrail.core.lateral_parameters``).
     """
 
     rail: RailParameters = field(default_factory=RailParameters)
     support: SupportParameters = field(default_factory=SupportParameters)
     n_bays: int = 70
+    lateral: LateralParameters = field(default_factory=LateralParameters)
 
     def __post_init__(self) -> None:
         ranges.check_parts(self)

@@ -198,6 +198,13 @@ ACCEPTED: dict[str, Accepted] = {
             "per half sleeper, around the paper's 165 kNs/m; below 20 kNs/m a heavy sleeper on soft ballast rings "
             "beyond the 50 ms of response the loop keeps (the time stepping is then unstable at low speeds)",
         ),
+        # the lateral track (wheelrail.core.lateral_parameters): pads several times softer in shear than in
+        # compression, roll stiffness k_P b^2 / 12 of 10-3000 MN/m pads across 0.1-0.2 m feet
+        Accepted("pad_lateral_stiffness", "N/m", 2e6, 1000e6, "a pad's lateral (shear) stiffness per support"),
+        Accepted(
+            "pad_rotational_stiffness", "N m/rad", 5e3, 10e6, "a pad's stiffness against the rail's roll, per support"
+        ),
+        Accepted("pad_lateral_loss_factor", "", 0.0, 1.0, "the loss factor of a pad's lateral and roll stiffness"),
         Accepted(
             "train_length",
             "m",
@@ -258,6 +265,8 @@ MODEL_BOUNDS: dict[str, Accepted] = {
         Accepted("rotary_inertia_per_length", "kg m", 0.0, 1e3, "a rail's rotary inertia per metre"),
         Accepted("n_bays", "", 4, 1000, "a track model of up to 1000 sleeper bays"),
         Accepted("element_size", "m", 1e-5, 10.0, "the step along the rail (front ends: ACCEPTED's 0.5 to 2 mm)"),
+        Accepted("ballast_lateral_stiffness", "N/m", 5e6, 1000e6, "the ballast's lateral stiffness, per half sleeper"),
+        Accepted("ballast_lateral_loss_factor", "", 0.0, 2.0, "the loss factor of the ballast's lateral stiffness"),
         Accepted("elements_per_bay", "", 2, 4096, "finite elements per sleeper bay"),
         Accepted("refined_elements_per_bay", "", 2, 4096, "finite elements per refined sleeper bay"),
         Accepted("positions_per_bay", "", 1, 4096, "excitation positions per sleeper bay"),

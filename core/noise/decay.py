@@ -1,11 +1,12 @@
-"""The track's vertical decay rate against the lower limit of the standard for type testing.
+"""The track's vertical and lateral decay rates against the lower limits of the standard for type testing.
 
-The decay rate is EN 15461's, computed on the noise model's lengthened FE track
-(:func:`wheelrail.core.noise.twins.track_noise_model`: 240 bays, excitation at midspan). The limit is the lower
-limit of the vertical track decay rate of EN ISO 3095:2013 (6.2.6, Figure 3, curve A), to which the TSI Noise
-(Regulation (EU) No 1304/2014 as amended by (EU) 2019/774) refers for the reference track of a type test; its
-values and their provenance are in ``data/iso3095_vertical_decay_limit.csv``. The limit applies to the bands
-250 Hz to 5 kHz.
+The decay rates are EN 15461's, computed on the noise model's lengthened FE track
+(:func:`wheelrail.core.noise.twins.track_noise_model`: 240 bays, excitation at midspan) and on the lateral track of
+the same layout (:mod:`wheelrail.core.track.lateral`). The limits are the lower limits of the vertical and lateral
+track decay rates of EN ISO 3095:2013 (6.2.6, Figure 3, curves A and B), to which the TSI Noise (Regulation (EU)
+No 1304/2014 as amended by (EU) 2019/774) refers for the reference track of a type test; their values and their
+provenance are in ``data/iso3095_vertical_decay_limit.csv`` and ``data/iso3095_lateral_decay_limit.csv``. The
+limits apply to the bands 250 Hz to 5 kHz.
 """
 
 from __future__ import annotations
@@ -18,12 +19,18 @@ from pathlib import Path
 import numpy as np
 
 LIMIT_FILE = Path(__file__).parent / "data" / "iso3095_vertical_decay_limit.csv"
+LATERAL_LIMIT_FILE = Path(__file__).parent / "data" / "iso3095_lateral_decay_limit.csv"
+LIMIT_SOURCES = {
+    "vertical": "EN ISO 3095:2013, 6.2.6, Figure 3 curve A (vertical), 250 Hz-5 kHz",
+    "lateral": "EN ISO 3095:2013, 6.2.6, Figure 3 curve B (lateral), 250 Hz-5 kHz",
+}
+"""Each limit's source in a few words, by direction (the JSON's ``limit_source``)."""
 
 
 @dataclass(frozen=True, eq=False)
 class DecayLimit:
-    """The lower limit of the vertical track decay rate: nominal band centres (Hz), limits (dB/m) and the data
-    file's comment header (``source``)."""
+    """The lower limit of a track decay rate (vertical or lateral): nominal band centres (Hz), limits (dB/m) and the
+    data file's comment header (``source``)."""
 
     frequency_hz: np.ndarray
     limit_db_per_m: np.ndarray
@@ -41,8 +48,18 @@ class DecayLimit:
 @functools.cache
 def vertical_decay_limit() -> DecayLimit:
     """EN ISO 3095:2013's lower limit of the vertical track decay rate, from its data file."""
+    return _read_limit(LIMIT_FILE)
+
+
+@functools.cache
+def lateral_decay_limit() -> DecayLimit:
+    """EN ISO 3095:2013's lower limit of the lateral track decay rate (Figure 3, curve B), from its data file."""
+    return _read_limit(LATERAL_LIMIT_FILE)
+
+
+def _read_limit(path: Path) -> DecayLimit:
     comments, rows = [], []
-    with LIMIT_FILE.open(encoding="utf-8", newline="") as handle:
+    with path.open(encoding="utf-8", newline="") as handle:
         for line in handle:
             if line.startswith("#"):
                 comments.append(line[1:].strip())
@@ -53,8 +70,9 @@ def vertical_decay_limit() -> DecayLimit:
     return DecayLimit(frequency_hz=values[:, 0], limit_db_per_m=values[:, 1], source=" ".join(comments))
 
 
-def decay_against_limit(frequency_hz, decay_rate_db_per_m) -> dict:
-    """Decay rates per band beside the limit: the JSON layout of ``wheelrail track`` (key ``decay_rate``).
+def decay_against_limit(frequency_hz, decay_rate_db_per_m, direction: str = "vertical") -> dict:
+    """Decay rates per band beside the limit of their ``direction`` ("vertical" or "lateral"): the JSON layout of
+    ``wheelrail track`` (keys ``decay_rate`` and ``lateral_decay_rate``).
 
     Returns
     -------
@@ -63,7 +81,7 @@ def decay_against_limit(frequency_hz, decay_rate_db_per_m) -> dict:
         ``below_limit_hz`` (the bands where the decay rate is below the limit), ``meets_limit`` and
         ``limit_source``.
     """
-    limit = vertical_decay_limit()
+    limit = {"vertical": vertical_decay_limit, "lateral": lateral_decay_limit}[direction]()
     f = np.asarray(frequency_hz, dtype=float)
     decay = np.asarray(decay_rate_db_per_m, dtype=float)
     bound = limit.at(f)
@@ -74,7 +92,7 @@ def decay_against_limit(frequency_hz, decay_rate_db_per_m) -> dict:
         "limit_dB_per_m": [None if np.isnan(b) else float(b) for b in bound],
         "below_limit_hz": [float(x) for x in f[below]],
         "meets_limit": not bool(np.any(below)),
-        "limit_source": "EN ISO 3095:2013, 6.2.6, Figure 3 curve A (vertical), 250 Hz-5 kHz",
+        "limit_source": LIMIT_SOURCES[direction],
     }
 
 
@@ -109,9 +127,10 @@ def track_decay(track) -> dict:
     _check_track(track, "track_decay")
     numerics = twins.NoiseNumerics()
     code = inspect.getsource(twins) + inspect.getsource(fe)  # whole modules: their private helpers included
+    vertical = {name: value for name, value in asdict(track).items() if name != "lateral"}  # not its inputs
     key = cache.cache_key(
         "track-decay",
-        {"track": asdict(track), "numerics": asdict(numerics), "code": hashlib.sha256(code.encode()).hexdigest()},
+        {"track": vertical, "numerics": asdict(numerics), "code": hashlib.sha256(code.encode()).hexdigest()},
     )
     names = ("frequency_hz", "decay_rate", "free_wave_decay")
     arrays = cache.load_entry("track-decay", key, names)
@@ -126,6 +145,80 @@ def track_decay(track) -> dict:
         f"{numerics.points_per_band} frequencies per band"
     )
     return out
+
+
+LATERAL_CROSS_OFFSET = 0.01
+"""m: the contact offset at which ``lateral_band_receptances`` states the vertical-to-lateral receptance (it is
+proportional to the offset)."""
+
+
+def track_lateral_decay(track) -> dict:
+    """The lateral decay rate of the railhead per band (EN 15461 on the lateral track,
+    :func:`wheelrail.core.track.lateral.lateral_decay_rate`) of ``track`` (``TrackParameters``) beside the
+    EN ISO 3095 lateral limit (:func:`decay_against_limit`'s layout, with ``method``), kept in the disk cache."""
+    from wheelrail.core.track.lateral import LateralNumerics
+
+    numerics = LateralNumerics()
+    arrays = _lateral_arrays(track, "track_lateral_decay")
+    out = decay_against_limit(arrays["frequency_hz"], arrays["decay_rate"], "lateral")
+    out["method"] = (
+        f"EN 15461 formula on the railhead's lateral response of the lateral track ({numerics.track_bays} bays, "
+        f"{numerics.absorbing_bays} absorbing at each end; a lateral force at the railhead at midspan), "
+        f"{numerics.points_per_band} frequencies per band"
+    )
+    return out
+
+
+def lateral_band_receptances(track) -> dict:
+    """The railhead's lateral receptances of ``track`` at midspan at the exact band centres 50 Hz-10 kHz, kept in
+    the disk cache with the lateral decay rate: ``frequency_hz``, ``lateral_point_m_per_n`` (|.|, per lateral force
+    at the railhead) and ``vertical_to_lateral_m_per_n`` (|.|, per vertical force ``LATERAL_CROSS_OFFSET`` from
+    the rail's centreline; proportional to the offset), ``contact_offset_m``."""
+    arrays = _lateral_arrays(track, "lateral_band_receptances")
+    return {
+        "frequency_hz": arrays["frequency_hz"],
+        "lateral_point_m_per_n": arrays["lateral_point"],
+        "vertical_to_lateral_m_per_n": arrays["vertical_to_lateral"],
+        "contact_offset_m": LATERAL_CROSS_OFFSET,
+    }
+
+
+def _lateral_arrays(track, where: str) -> dict:
+    """The lateral decay rate and receptances at the band centres (a few seconds of FE solves), from the disk
+    cache or computed; the key holds the source of the modules that compute them."""
+    import hashlib
+    import inspect
+    from dataclasses import asdict
+
+    from wheelrail.core.files import cache
+    from wheelrail.core.spectra.bands import noise_bands
+    from wheelrail.core.track import fe, lateral
+
+    _check_track(track, where)
+    numerics = lateral.LateralNumerics()
+    code = inspect.getsource(lateral) + inspect.getsource(fe)
+    key = cache.cache_key(
+        "track-lateral",
+        {
+            "track": asdict(track),
+            "numerics": asdict(numerics),
+            "offset": LATERAL_CROSS_OFFSET,
+            "code": hashlib.sha256(code.encode()).hexdigest(),
+        },
+    )
+    names = ("frequency_hz", "decay_rate", "lateral_point", "vertical_to_lateral")
+    arrays = cache.load_entry("track-lateral", key, names)
+    if arrays is None or not all(np.all(np.isfinite(arrays[name])) for name in names):
+        f = noise_bands()
+        receptances = lateral.lateral_receptances(track, f, contact_offset=LATERAL_CROSS_OFFSET, numerics=numerics)
+        arrays = {
+            "frequency_hz": f,
+            "decay_rate": lateral.lateral_decay_rate(track, numerics=numerics),
+            "lateral_point": np.abs(receptances.lateral_point),
+            "vertical_to_lateral": np.abs(receptances.vertical_to_lateral),
+        }
+        cache.save_entry("track-lateral", key, arrays)
+    return arrays
 
 
 def band_receptances(track, elements_per_bay: int = 16) -> dict:

@@ -455,6 +455,7 @@ def track_key(track: TrackParameters, numerics: TrackNumerics) -> str:
     stored = asdict(numerics)
     del stored["rows_per_position"]  # how the stored responses are read, not what is stored
     params = asdict(track)
+    del params["lateral"]  # the lateral rail's inputs (track.lateral) change no vertical response
     if params["support"]["pad_width"] < POINT_PAD_WIDTH:  # the point support's responses (fe.pad_couplings)
         params["support"]["pad_width"] = 0.0
     return cache_key("track-wedge", {"track": params, "numerics": stored})

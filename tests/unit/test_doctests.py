@@ -30,6 +30,7 @@ DOCUMENTED = {
     "wheelrail.core.roughness.io": ["load_roughness"],
     "wheelrail.core.roughness.model": ["RoughnessSet"],
     "wheelrail.core.track.fe": ["track_receptance"],
+    "wheelrail.core.track.lateral": ["lateral_receptances"],
     "wheelrail.core.track.resonances": ["band_edges", "receptance_peaks"],
     "wheelrail.core.wheel": ["wheel_receptance"],
     "wheelrail.core.parameters": ["ContactParameters"],
