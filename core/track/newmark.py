@@ -259,7 +259,10 @@ def _newmark_steps(
     ``impulse``: a unit impulse at t = 0 (u_0 = 0 and M v_0 = f, so K_eff u_1 = 4 f / dt); otherwise a unit
     force at step 0 only, the track at rest before (K_eff u_0 = f; the recurrence's right-hand side then has
     the force's (f_{k+1} + 2 f_k + f_{k-1}) / 4 at k = 0 and 1). The stiffness (k_*), damping (c_*) and rail
-    (r_*) matrices are by rows, the factor by profile (``StepOperators``). Recorded on the wedge: stored
+    (r_*) matrices are by rows, the factor by profile (first, start, off, inv_diag) for the forward substitution
+    and by rows (u_*) for the back substitution (``StepOperators``). Each step makes two passes over the rows: the
+    right-hand side and the forward substitution row by row, then the back substitution and the update of u.
+    The responses are stored as ``out``'s dtype (float32: each value rounded once). Recorded on the wedge: stored
     step s = k / stride keeps, for column e, w and theta of the nodes nodes[e, 0 .. counts[e, s] - 1] in
     out[offsets[e, s] + r, 0:2].
     """
