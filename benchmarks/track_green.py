@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -142,11 +143,14 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=1)
     parser.add_argument("--_precompute", type=float, help=argparse.SUPPRESS)
     args = parser.parse_args()
-    if args._precompute is not None:
-        print(json.dumps(precompute(args._precompute)))
-        return
-    if args.base is not None:
-        side_by_side(args.base, args.rounds)
+    if args._precompute is not None or args.base is not None:
+        try:
+            if args._precompute is not None:
+                print(json.dumps(precompute(args._precompute)))
+            else:
+                side_by_side(args.base, args.rounds)
+        finally:  # the private cache (a 208 MB entry per precompute)
+            shutil.rmtree(os.environ["WHEELRAIL_CACHE_DIR"], ignore_errors=True)
         return
     params, numerics = TrackParameters(), TrackNumerics()
     # warm the numba caches on a tiny problem so the figures below are compute, not compilation
