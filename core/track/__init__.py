@@ -3,13 +3,15 @@
 The rail is a chain of Rayleigh-Timoshenko beam elements over ``n_bays`` sleeper bays, free at both ends, on a
 rail pad, (half) sleeper and ballast at every sleeper (``fe``: banded matrices, DOFs numbered node by node). The
 impulse responses h(x, x_e, t) to loads at ``positions_per_bay`` points x_e of the central bay are integrated once
-(Newmark) on the wedge a wheel at up to ``max_speed`` can reach (``stationary``); the moving Green's function of
-any lower speed is read off that wedge, g(t) = h(x_e + v t, x_e, t), and cached per speed with its weights at the
-run's step (``moving``). The method and its convergence: the documentation's physics page, "Wheel and track".
+(Newmark's displacement recurrence, a profile Cholesky factor: ``newmark``) on the wedge a wheel at up to
+``max_speed`` can reach (``stationary``); the moving Green's function of any lower speed is read off that wedge,
+g(t) = h(x_e + v t, x_e, t), and cached per speed with its weights at the run's step (``moving``). The method and
+its convergence: the documentation's physics page, "Wheel and track".
 """
 
-# The package by concern: ``fe`` (the FE model, receptances), ``resonances`` (which peaks are which), ``stationary``
-# (the impulse responses integrated once and their disk cache), ``moving`` (the moving Green's functions, weights).
+# The package by concern: ``fe`` (the FE model, receptances), ``resonances`` (which peaks are which), ``newmark``
+# (the time integration's kernel), ``stationary`` (the impulse responses integrated once and their disk cache),
+# ``moving`` (the moving Green's functions, weights).
 from wheelrail.core.track.fe import (
     HALF_BANDWIDTH,
     TrackFEModel,

@@ -1,22 +1,18 @@
 """Stationary track response: the impulse responses of the FE track integrated once in time (Newmark,
-average acceleration, banded solves in numba) on the wedge a wheel can reach, and their disk cache.
+average acceleration, ``newmark``) on the wedge a wheel can reach, and their disk cache.
 See ``wheelrail.core.track``."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
-from numba import njit
-
-if TYPE_CHECKING:
-    pass
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
-from wheelrail.core.track.fe import POINT_PAD_WIDTH, TrackFEModel, assemble_track, rail_relaxation, to_upper_band
+from wheelrail.core.track.fe import POINT_PAD_WIDTH, TrackFEModel, assemble_track, rail_relaxation
+from wheelrail.core.track.newmark import newmark_responses, step_operators
 from wheelrail.core.track.progress import Progress, current_progress
 
 NEGLIGIBLE_LOSS_FACTOR = 1e-12
@@ -24,26 +20,6 @@ NEGLIGIBLE_LOSS_FACTOR = 1e-12
 order of the loss factor) would change the response by about that fraction, round-off, and below about 1e-300
 they are subnormal numbers, on which every floating-point operation of the Newmark loop is many times
 slower."""
-
-
-def _upper_band_arrays(model: TrackFEModel, time_step: float):
-    """Upper band forms of M, C, the rail's stiffness K_rail, the Cholesky factors of the Newmark effective
-    stiffness and of M, and the rail's relaxation terms for this step (``_relaxation_terms``)."""
-    from scipy.linalg import cholesky_banded
-
-    dt = time_step
-    u = model.half_bandwidth
-    c0, weights, b = _relaxation_terms(model.params.rail.loss_factor, dt)
-    stiffness = model.K
-    if len(weights):  # K_rail (c0 + sum_j g_j / (1 + b_j)) in place of K_rail: _newmark_block
-        stiffness = model.K + (c0 - 1.0 + float(np.sum(weights / (1.0 + b)))) * model.K_rail
-    keff = stiffness + (2.0 / dt) * model.C + (4.0 / dt**2) * model.M
-    mb = to_upper_band(model.M, u)
-    cb = to_upper_band(model.C, u)
-    krb = to_upper_band(model.K_rail, u) if len(weights) else np.zeros((u + 1, 0))
-    k_chol = cholesky_banded(to_upper_band(keff, u), check_finite=False)
-    m_chol = cholesky_banded(mb, check_finite=False)
-    return mb, cb, krb, k_chol, m_chol, weights, b
 
 
 def _relaxation_terms(loss_factor: float, dt: float) -> tuple[float, np.ndarray, np.ndarray]:
@@ -62,170 +38,19 @@ def _relaxation_terms(loss_factor: float, dt: float) -> tuple[float, np.ndarray,
     return relax.c0, np.asarray(relax.weights, dtype=float), dt / (2.0 * relax.times)
 
 
-@njit(cache=True, fastmath=True)
-def _band_matvec(ab, x, out):
-    """out = A x for a symmetric A in LAPACK upper band form ``ab``; x and out are (n, m)."""
-    u = ab.shape[0] - 1
-    n, m = x.shape
-    for i in range(n):
-        d0 = ab[u, i]
-        for c in range(m):
-            out[i, c] = d0 * x[i, c]
-    for j in range(1, n):
-        for d in range(1, min(u, j) + 1):
-            a = ab[u - d, j]
-            i = j - d
-            for c in range(m):
-                out[i, c] += a * x[j, c]
-                out[j, c] += a * x[i, c]
+# Columns integrated together at most: the loops over a row's columns vectorise, and the longer they are, the
+# less each sparse term's loop overhead weighs (``benchmarks/track_green.py`` times the integration); the work
+# arrays of a 70-bay track (a few thousand DOFs) stay within a core's cache. The blocks run in parallel threads
+# (``integrate_responses``; numba's own parallel loop compiles far more slowly on a fresh install).
+COLUMN_BLOCK = 32
 
 
-@njit(cache=True, fastmath=True)
-def _band_cho_solve(ab, b):
-    """Solve U^T U x = b in place (b is (n, m)); U upper band Cholesky factor, LAPACK 'U' form."""
-    u = ab.shape[0] - 1
-    n, m = b.shape
-    for j in range(n):
-        for d in range(1, min(u, j) + 1):
-            a = ab[u - d, j]
-            for c in range(m):
-                b[j, c] -= a * b[j - d, c]
-        inv = 1.0 / ab[u, j]
-        for c in range(m):
-            b[j, c] *= inv
-    for i in range(n - 1, -1, -1):
-        for d in range(1, min(u, n - 1 - i) + 1):
-            a = ab[u - d, i + d]
-            for c in range(m):
-                b[i, c] -= a * b[i + d, c]
-        inv = 1.0 / ab[u, i]
-        for c in range(m):
-            b[i, c] *= inv
-
-
-@njit(cache=True, fastmath=True)
-def _band_matvec2(ab1, x1, ab2, x2, out):
-    """out = A1 x1 + A2 x2 for symmetric A1, A2 in LAPACK upper band form of the same bandwidth; (n, m)."""
-    u = ab1.shape[0] - 1
-    n, m = x1.shape
-    for i in range(n):
-        d1 = ab1[u, i]
-        d2 = ab2[u, i]
-        for c in range(m):
-            out[i, c] = d1 * x1[i, c] + d2 * x2[i, c]
-    for j in range(1, n):
-        for d in range(1, min(u, j) + 1):
-            a1 = ab1[u - d, j]
-            a2 = ab2[u - d, j]
-            i = j - d
-            for c in range(m):
-                out[i, c] += a1 * x1[j, c] + a2 * x2[j, c]
-                out[j, c] += a1 * x1[i, c] + a2 * x2[i, c]
-
-
-@njit(cache=True, fastmath=True)
-def _relaxation_load(krb, weights, b, q, u, z, extra, out):
-    """out += K_rail z with z = sum_j g_j ((1 - b_j) q_j + b_j u) / (1 + b_j) (``_relaxation_terms``)."""
-    n, m = u.shape
-    for i in range(n):
-        for c in range(m):
-            z[i, c] = 0.0
-    for j in range(len(weights)):
-        s = weights[j] / (1.0 + b[j])
-        for i in range(n):
-            for c in range(m):
-                z[i, c] += s * ((1.0 - b[j]) * q[j, i, c] + b[j] * u[i, c])
-    _band_matvec(krb, z, extra)
-    for i in range(n):
-        for c in range(m):
-            out[i, c] += extra[i, c]
-
-
-@njit(cache=True, fastmath=True)
-def _relaxation_update(b, q, u_old, u_new):
-    """q_j <- ((1 - b_j) q_j + b_j (u_old + u_new)) / (1 + b_j): the trapezoidal rule on tau_j dq_j/dt = u - q_j."""
-    n, m = u_new.shape
-    for j in range(len(b)):
-        for i in range(n):
-            for c in range(m):
-                q[j, i, c] = ((1.0 - b[j]) * q[j, i, c] + b[j] * (u_old[i, c] + u_new[i, c])) / (1.0 + b[j])
-
-
-# A numba loop over time steps: 18 arguments because every array it reads or fills is one, so that the whole
-# loop compiles to one function numba caches on disk (a structure or a jitted callable would defeat the cache).
-# Without the GIL: blocks of columns run in parallel Python threads (``_integrate``).
-@njit(cache=True, fastmath=True, nogil=True)
-def _newmark_block(
-    mb, cb, krb, k_chol, m_chol, weights, b, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out,
-    impulse,
-):  # fmt: skip
-    """Newmark (average acceleration) responses to the loads in the columns of ``load``.
-
-    ``impulse``: a unit impulse at t = 0 (the continuous impulse response, sampled); otherwise a unit
-    force at step 0 only, the track at rest before (the discrete impulse response of the trapezoidal rule).
-    The rail's relaxation terms (``weights``, ``b``; none for an undamped rail) act through ``krb``, K_rail's band.
-    Recorded on the wedge: stored step s = k / stride keeps, for column e, w and theta of the nodes
-    nodes[e, 0 .. counts[e, s] - 1] in out[offsets[e, s] + r, 0:2].
-    A few columns at a time (``COLUMN_BLOCK``, from ``_integrate``) keep the work arrays in the processor's cache.
-    """
-    n, m = load.shape
-    c1 = 4.0 / dt**2
-    c2 = 4.0 / dt
-    c3 = 2.0 / dt
-    a = np.empty((n, m))
-    q = np.zeros((len(weights), n, m))
-    z = np.empty((n, m))
-    extra = np.empty((n, m))
-    if impulse:
-        u = np.zeros((n, m))
-        v = load.copy()
-        _band_cho_solve(m_chol, v)  # the impulse sets the initial velocity: M v0 = f
-        _band_matvec(cb, v, a)
-        _band_cho_solve(m_chol, a)
-        a *= -1.0  # M a0 = -C v0 - K u0 with u0 = 0
-    else:
-        u = load.copy()
-        _band_cho_solve(k_chol, u)  # one step from rest: K_eff u0 = f
-        v = c3 * u
-        a[:, :] = c1 * u
-        _relaxation_update(b, q, np.zeros((n, m)), u)
-    tm = np.empty((n, m))
-    tc = np.empty((n, m))
-    rhs = np.empty((n, m))
-    for k in range(n_steps):
-        if k > 0:
-            for i in range(n):
-                for c in range(m):
-                    tm[i, c] = c1 * u[i, c] + c2 * v[i, c] + a[i, c]
-                    tc[i, c] = c3 * u[i, c] + v[i, c]
-            _band_matvec2(mb, tm, cb, tc, rhs)
-            if len(weights):
-                _relaxation_load(krb, weights, b, q, u, z, extra, rhs)
-            _band_cho_solve(k_chol, rhs)  # K_eff u_k = M (..) + C (..) [+ K_rail z]
-            if len(weights):
-                _relaxation_update(b, q, u, rhs)
-            for i in range(n):
-                for c in range(m):
-                    du = rhs[i, c] - u[i, c]
-                    a_new = c1 * du - c2 * v[i, c] - a[i, c]
-                    v[i, c] = c3 * du - v[i, c]
-                    a[i, c] = a_new
-                    u[i, c] = rhs[i, c]
-        if k % stride == 0:
-            s = k // stride
-            for e in range(m):
-                base = offsets[e, s]
-                for r in range(counts[e, s]):
-                    node = nodes[e, r]
-                    out[base + r, 0] = u[w_dof[node], e]
-                    out[base + r, 1] = u[th_dof[node], e]
-
-
-# Columns integrated together: 16 doubles per row, so that the compiler vectorises the loops over the columns
-# (with 8 it does not: ``benchmarks/track_green.py`` times the integration; the numbers are the same), and
-# the work arrays of a 70-bay track (a few thousand DOFs) stay within the processor's cache. The blocks run in
-# parallel threads (``_integrate``; numba's own parallel loop compiles far more slowly on a fresh install).
-COLUMN_BLOCK = 16
+def column_blocks(columns: int, threads: int | None = None) -> list[tuple[int, int]]:
+    """The blocks (first, end) of columns ``integrate_responses`` runs: as many as the threads (all cores, or
+    ``NUMBA_NUM_THREADS``) or more, of at most ``COLUMN_BLOCK`` columns and about equal."""
+    threads = max(1, numba.config.NUMBA_NUM_THREADS if threads is None else threads)
+    size = max(1, min(COLUMN_BLOCK, -(-columns // threads)))
+    return [(c0, min(columns, c0 + size)) for c0 in range(0, columns, size)]
 
 
 # --------------------------------------------------------------------------------------------------
@@ -349,34 +174,42 @@ def integrate_responses(
     impulse: bool,
     progress: Progress | None = None,
 ) -> np.ndarray:
-    """Newmark responses to unit loads at x_e, stored at ``nodes`` (see _newmark_block): blocks of
-    ``COLUMN_BLOCK`` columns in as many threads as numba would use (all cores, or ``NUMBA_NUM_THREADS``).
-    With ``progress``, ``progress("integrating ...", done, total)`` is called at the start and as each block
-    ends (``done`` columns of ``total``)."""
+    """Newmark responses to unit loads at x_e, stored at ``nodes`` (see ``newmark._newmark_steps``), float64:
+    the ``column_blocks`` in as many threads as numba would use (all cores, or ``NUMBA_NUM_THREADS``). With
+    ``progress``, ``progress("integrating ...", done, total)`` is called at the start and as each block ends
+    (``done`` columns of ``total``)."""
+    return _integrate(model, x_e, (dt, n_steps, stride), (nodes, counts, offsets), impulse, progress, np.float64)
+
+
+def _integrate(model, x_e, steps, wedge, impulse: bool, progress: Progress | None, dtype) -> np.ndarray:
+    """``integrate_responses`` with ``steps`` = (dt, n_steps, stride) and ``wedge`` = (nodes, counts, offsets),
+    stored as ``dtype`` (each value rounded once from the integration's float64)."""
     from concurrent.futures import ThreadPoolExecutor, as_completed
 
-    mb, cb, krb, k_chol, m_chol, weights, b = _upper_band_arrays(model, dt)
+    dt, n_steps, stride = steps
+    nodes, counts, offsets = wedge
+    operators = step_operators(model, dt, _relaxation_terms(model.params.rail.loss_factor, dt))
     loads = np.stack([model.load_vector(float(x)) for x in x_e], axis=1)
-    out = np.zeros((int(counts.sum()), 2))
+    out = np.zeros((int(counts.sum()), 2), dtype=dtype)
     m = loads.shape[1]
 
     def block(c0: int, c1: int, steps: int, into: np.ndarray) -> int:
-        load = np.ascontiguousarray(loads[:, c0:c1])
-        _newmark_block(
-            mb, cb, krb, k_chol, m_chol, weights, b, load, dt, steps, stride, model.w_dof, model.theta_dof,
-            nodes[c0:c1], counts[c0:c1], offsets[c0:c1], into, impulse,
-        )  # fmt: skip
+        wedge = (nodes[c0:c1], counts[c0:c1], offsets[c0:c1])
+        newmark_responses(
+            operators, loads[:, c0:c1], dt, steps, stride, model.w_dof, model.theta_dof, wedge, into, impulse
+        )
         return c1 - c0
 
     if progress is not None:  # numba's code for the loop loaded (compiled on a fresh install) as a phase of its own
         progress(LOADING_PHASE, 0, 1)
-        block(0, 1, 1, np.zeros((int(counts[0, 0]), 2)))  # one step of one column (offsets[0, 0] is 0), scratch
+        scratch = np.zeros((int(counts[0, 0]), 2), dtype=dtype)
+        block(0, 1, 1, scratch)  # one step of one column (offsets[0, 0] is 0)
         progress(LOADING_PHASE, 1, 1)
         phase = _integrating_phase(m, n_steps, len(model.node_x))
         progress(phase, 0, m)
     done = 0
     with ThreadPoolExecutor(max_workers=max(1, numba.config.NUMBA_NUM_THREADS)) as pool:
-        futures = [pool.submit(block, c0, min(m, c0 + COLUMN_BLOCK), n_steps, out) for c0 in range(0, m, COLUMN_BLOCK)]
+        futures = [pool.submit(block, c0, c1, n_steps, out) for c0, c1 in column_blocks(m)]
         for future in as_completed(futures):
             done += future.result()
             if progress is not None:
@@ -422,18 +255,8 @@ def compute_stationary_response(
     positions, x_e, _ = excitation_nodes(model, numerics)
     t_stored, n_steps = stored_times(numerics)
     nodes, stored_x, counts, offsets = stored_nodes(model, numerics, x_e, numerics.max_speed, t_stored)
-    out = integrate_responses(
-        model,
-        x_e,
-        numerics.time_step,
-        n_steps,
-        numerics.store_every,
-        nodes,
-        counts,
-        offsets,
-        impulse=True,
-        progress=progress,
-    )
+    steps = (numerics.time_step, n_steps, numerics.store_every)
+    out = _integrate(model, x_e, steps, (nodes, counts, offsets), True, progress, np.float32)
     return StationaryTrackResponse(
         track=track,
         numerics=numerics,
@@ -442,7 +265,7 @@ def compute_stationary_response(
         stored_x=stored_x,
         counts=counts,
         offsets=offsets,
-        data=out.astype(np.float32),
+        data=out,
     )
 
 

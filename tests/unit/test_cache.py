@@ -288,10 +288,10 @@ def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
         "writing the cache entry",
     ]
     integrating = [(done, total) for phase, done, total in events if phase.startswith("integrating")]
-    from wheelrail.core.track.stationary import COLUMN_BLOCK
+    from wheelrail.core.track.stationary import column_blocks
 
     # at the start, then as each block of load positions ends (in parallel threads: the columns done add up)
-    assert integrating == [(0, 32)] + [(min(32, (i + 1) * COLUMN_BLOCK), 32) for i in range(-(-32 // COLUMN_BLOCK))]
+    assert integrating == [(0, 32)] + [(end, 32) for _, end in column_blocks(32)]
     assert "32 load positions x 1001 steps" in integrating_phase(events)
     quiet = track.compute_stationary_response(COARSE, numerics)  # one call, no groups
     np.testing.assert_array_equal(reported.data, quiet.data)  # the same blocks, the same numbers

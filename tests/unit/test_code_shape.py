@@ -21,7 +21,7 @@ MAX_ARGUMENTS = 10
 EXEMPT = {
     # numba loops over time steps or Newmark steps: every array is an argument, so that the loop compiles to
     # one function that numba caches on disk (jitted functions passed as arguments defeat the cache)
-    "_newmark_block",
+    "_newmark_steps",
 }
 
 
