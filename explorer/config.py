@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 
 from wheelrail.core.engine.track_lines import run_lines, usable_length, window_width
 from wheelrail.core.errors import Blame, Name, WheelrailError
+from wheelrail.core.inputs.contact_position import CONTACT_POSITION_INPUTS
 from wheelrail.core.inputs.declared import (
     Input,
     by_key,
@@ -89,6 +90,8 @@ FIELD_NAMES: dict[str, Name] = {
         for key in ACCEPTED
         if key.startswith("wheel_") and key not in page_names()
     },
+    # the Noise tab's contact position (core.inputs.contact_position: its declaration's label, mm)
+    **{entry.key: Name(entry.label, entry.shown.name, entry.shown.scale) for entry in CONTACT_POSITION_INPUTS},
     "wheel_name": Name("Wheel shape"),  # the Wheel tab's named wheel
     "added_loss_factor": Name("Added loss factor"),  # the Wheel tab's damper
 }
