@@ -16,8 +16,9 @@ h I_1 / (I_1 + I_2) from the foot's centroid and I_w = h^2 I_1 I_2 / (I_1 + I_2)
 block (its centroid 146.5 mm above the foot; I_1 = 158.6 cm^4), the web 16.5 mm thick (3.4 cm^4) and the foot the
 rest of I_z (I_2 = 350.3 cm^4, its centroid 11.5 mm above the foot's underside): h = 135 mm, the shear centre
 53.6 mm above the foot's underside and I_w = 1.99e-8 m^6. These are estimates (the head's radii and the foot's
-taper are not modelled): the warping constant of a rail is known to about 20 %, and the model's decay rates move
-by less than that (``docs/track.md``, Lateral).
+taper are not modelled): +-20 % on I_w moves the lateral decay rates by up to +-12 % (the paper's undamped rail;
++-8 % with a rail loss factor of 0.02), +-10 % on J by up to 6 %, the shear centre 20 % lower by up to 27 % (400 Hz)
+(docs/noise.md, "The lateral track").
 """
 
 from __future__ import annotations
@@ -134,8 +135,9 @@ class LateralParameters:
     Raises
     ------
     WheelrailError
-        Keyed by the input (``"pad_lateral_stiffness"``) if a value is outside its accepted range
-        (``wheelrail.core.inputs.ranges.ACCEPTED``).
+        Keyed by the input (``"pad_lateral_stiffness"``) if a pad's value is outside its accepted range
+        (``wheelrail.core.inputs.ranges.ACCEPTED``), naming the field if a ballast's is outside its
+        ``ranges.MODEL_BOUNDS``.
     """
 
     section: RailSection = field(default_factory=RailSection)
@@ -150,6 +152,11 @@ class LateralParameters:
             from wheelrail.core.errors import WheelrailError
 
             raise WheelrailError(f"LateralParameters.section must be a RailSection, got {type(self.section).__name__}")
-        for item in fields(self):
-            if item.name != "section":
+        for item in fields(
+            self
+        ):  # the pad's: declared inputs (wheelrail.core.inputs.declared); the ballast's: API only
+            if item.name.startswith("pad_"):
                 ACCEPTED[item.name].check(getattr(self, item.name), f"LateralParameters.{item.name}")
+            elif item.name != "section":
+                name = f"LateralParameters.{item.name}"
+                ranges.check_model_input(name, getattr(self, item.name), "", allow_zero=item.name.endswith("factor"))

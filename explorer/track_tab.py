@@ -1,5 +1,5 @@
-"""The Track tab: the track of the configuration shown, its point receptance and vertical decay rate against the
-EN ISO 3095:2013 limit, beside the track of the run overlaid."""
+"""The Track tab: the track of the configuration shown, its point receptance and its vertical and lateral decay rates
+against the EN ISO 3095:2013 limits, beside the track of the run overlaid."""
 
 from __future__ import annotations
 
@@ -19,8 +19,8 @@ __all__ = ["TrackTab"]
 
 class TrackTab(ResultsTab):
     """The track of the configuration shown: its point receptance above a sleeper and at midspan and its vertical
-    decay rate against EN ISO 3095:2013's lower limit (core's ``noise.decay``), and those of the track of the run
-    overlaid (Spectra and Noise tabs) when it is another. A new track's curves are computed once in the
+    and lateral decay rates against EN ISO 3095:2013's lower limits (core's ``noise.decay``), and those of the track
+    of the run overlaid (Spectra and Noise tabs) when it is another. A new track's curves are computed once in the
     background (a few seconds of FE solves, then kept on disk) and drawn when they are ready."""
 
     title, icon = "Track", viser.Icon.TRAIN
@@ -30,26 +30,29 @@ class TrackTab(ResultsTab):
         gui = self.gui
         self.receptance = Plot(gui, tab, "Point receptance", "band (Hz)", "dB re 1 m/N", bands=True)
         self.decay = Plot(gui, tab, "Vertical decay rate", "band (Hz)", "dB/m", bands=True)
+        self.lateral = Plot(gui, tab, "Lateral decay rate", "band (Hz)", "dB/m", bands=True)
         with tab:
             self.track_md = gui.add_markdown("")
             self.resonances_md = gui.add_markdown("")
             gui.add_markdown(
                 "Solid: the track of the settings on the left (its *Track* folder). Dotted: EN ISO 3095:2013's lower "
-                "limit of the vertical decay rate (Figure 3, curve A), which a test track must meet. Dashed: the "
-                "track of the run overlaid in the Spectra or Noise tab, when it is another."
+                "limits of the vertical and the lateral decay rate (Figure 3, curves A and B), which a test track must "
+                "meet; the lateral one is the railhead's, of the rail's lateral bending and torsion on the pads' "
+                "lateral and roll stiffness. Dashed: the track of the run overlaid in the Spectra or Noise tab, when "
+                "it is another."
             )
             self._plot_export()
-        self._curves: dict = {}  # track -> (bands, decay, resonances) or the error's words, once computed
+        self._curves: dict = {}  # track -> (bands, decay, resonances, lateral decay) or the error's words
         self._computing: set = set()
         self._last: Shown | None = None
         self.followers: list = []  # other tabs that draw these curves (the Wheel tab), redrawn with this one
 
     def plots(self) -> dict[str, Plot]:
-        return {"point receptance": self.receptance, "decay rate": self.decay}
+        return {"point receptance": self.receptance, "decay rate": self.decay, "lateral decay rate": self.lateral}
 
     def curves(self, track):
-        """The track's (bands, decay, resonances) once computed (None: not yet; it is being computed in the
-        background)."""
+        """The track's (bands, decay, resonances, lateral decay) once computed (None: not yet; it is being computed in
+        the background)."""
         found = self._curves.get(track)
         if found is None and track not in self._computing:
             self._computing.add(track)
@@ -58,11 +61,12 @@ class TrackTab(ResultsTab):
         return found
 
     def _compute(self, track) -> None:
-        from wheelrail.core.noise.decay import band_receptances, track_decay
+        from wheelrail.core.noise.decay import band_receptances, track_decay, track_lateral_decay
         from wheelrail.core.track.resonances import track_resonances
 
         try:
-            self._curves[track] = (band_receptances(track), track_decay(track), track_resonances(track))
+            computed = (band_receptances(track), track_decay(track), track_resonances(track))
+            self._curves[track] = (*computed, track_lateral_decay(track))
         except WheelrailError as error:
             self._curves[track] = page_message(error)
         finally:
@@ -75,7 +79,7 @@ class TrackTab(ResultsTab):
         self._last = shown
         config = shown.config
         if config is None:
-            for plot in (self.receptance, self.decay):
+            for plot in (self.receptance, self.decay, self.lateral):
                 plot.clear("fix the settings on the left")
             self.track_md.content = self.resonances_md.content = ""
             return
@@ -84,8 +88,8 @@ class TrackTab(ResultsTab):
         own = self.curves(track)
         self.resonances_md.content = _resonance_words(own[2]) if isinstance(own, tuple) else ""
         if own is None or isinstance(own, str):
-            why = "computing the track's receptance and decay rate (once per track) ..." if own is None else own
-            for plot in (self.receptance, self.decay):
+            why = "computing the track's receptance and decay rates (once per track) ..." if own is None else own
+            for plot in (self.receptance, self.decay, self.lateral):
                 plot.clear(why, title=f"{plot.title} of {describe_track(config.params())}")
             return
         overlay = shown.overlay.params().track if shown.overlay is not None else None
@@ -95,7 +99,7 @@ class TrackTab(ResultsTab):
 
     def _draw(self, own: tuple, other: tuple | None, other_label: str, track_words: str) -> None:
         """The curves of the track named by ``track_words`` (core's ``describe_track``), and ``other``'s dashed."""
-        (bands, decay, _), f = own, own[0]["frequency_hz"]
+        bands, f = own[0], own[0]["frequency_hz"]
         curves = _receptance_curves(bands, SOLID, "")
         if other is not None:
             curves += _receptance_curves(other[0], DASHED, f" [{other_label}]")
@@ -104,6 +108,18 @@ class TrackTab(ResultsTab):
             tuple(c[:3] for c in curves),
             title=f"Point receptance of {track_words}" + (f" (dashed: {other_label})" if other is not None else ""),
         )
+        for plot, index, name, colour in (
+            (self.decay, 1, "Vertical", "#2ca02c"),
+            (self.lateral, 3, "Lateral", "#9467bd"),
+        ):
+            theirs = None if other is None else other[index]
+            self._draw_decay(plot, f, own[index], theirs, other_label, (name, colour, track_words))
+
+    @staticmethod
+    def _draw_decay(plot: Plot, f, decay: dict, other: dict | None, other_label: str, how: tuple) -> None:
+        """One direction's decay rate (``decay_against_limit``'s layout) and its limit on the bands ``f``, and
+        ``other``'s dashed; ``how``: the direction's name, its colour and the track's words."""
+        name, colour, track_words = how
         on_bands = {float(x): i for i, x in enumerate(decay["frequency_hz"])}
         rows = [on_bands.get(float(x)) for x in f]
 
@@ -112,15 +128,15 @@ class TrackTab(ResultsTab):
             return np.array([np.nan if i is None else values[i] for i in rows], dtype=float)
 
         lines = [
-            ("decay rate", "#2ca02c", SOLID, per_band(decay["decay_rate_dB_per_m"])),
+            ("decay rate", colour, SOLID, per_band(decay["decay_rate_dB_per_m"])),
             ("EN ISO 3095:2013 limit", ISO_LIMIT_COLOUR, DOTTED, per_band(decay["limit_dB_per_m"])),
         ]
         if other is not None:
-            lines.append((f"decay rate [{other_label}]", "#2ca02c", DASHED, per_band(other[1]["decay_rate_dB_per_m"])))
-        self.decay.show(
+            lines.append((f"decay rate [{other_label}]", colour, DASHED, per_band(other["decay_rate_dB_per_m"])))
+        plot.show(
             bands_with_data(f, [c[3] for c in lines]),
             tuple(c[:3] for c in lines),
-            title=f"Vertical decay rate of {track_words} {decay_verdict(decay)}",
+            title=f"{name} decay rate of {track_words} {decay_verdict(decay)}",
         )
 
 

@@ -19,7 +19,13 @@ from wheelrail.cli.commands._common import (
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs.declared import describe
-from wheelrail.core.noise.decay import band_receptances, decay_verdict, track_decay
+from wheelrail.core.noise.decay import (
+    band_receptances,
+    decay_verdict,
+    lateral_band_receptances,
+    track_decay,
+    track_lateral_decay,
+)
 
 FILES = Files(
     writes=(
@@ -84,7 +90,7 @@ def _peaks(track, numerics) -> dict:
     key = cache.cache_key(
         "track-peaks",
         {
-            "track": asdict(track),
+            "track": {name: value for name, value in asdict(track).items() if name != "lateral"},  # vertical peaks
             "elements_per_bay": numerics.elements_per_bay,
             "code": hashlib.sha256(code.encode()).hexdigest(),
         },
@@ -128,29 +134,34 @@ def _decay_csv_path(csv_path: Path) -> Path:
     return csv_path.with_name(f"{csv_path.stem}_decay{csv_path.suffix or '.csv'}")
 
 
-def _write_decay_csv(path: Path, decay: dict) -> None:
+def _write_decay_csv(path: Path, decay: dict, lateral: dict) -> None:
+    """The vertical and lateral decay rates per band beside their limits (``decay_against_limit``'s layouts)."""
     from wheelrail.core.files.atomic import atomic_write
+
+    def cells(table: dict, i: int) -> list:
+        f, rate, limit = (table[key][i] for key in ("frequency_hz", "decay_rate_dB_per_m", "limit_dB_per_m"))
+        return [f"{rate:.6g}", "" if limit is None else f"{limit:g}", int(f in set(table["below_limit_hz"]))]
 
     def write(handle) -> None:
         writer = csv.writer(handle)
-        writer.writerow(["frequency_hz", "decay_rate_dB_per_m", "iso3095_vertical_limit_dB_per_m", "below_limit"])
-        below = set(decay["below_limit_hz"])
-        for f, rate, limit in zip(
-            decay["frequency_hz"], decay["decay_rate_dB_per_m"], decay["limit_dB_per_m"], strict=True
-        ):
-            writer.writerow([f"{f:.6g}", f"{rate:.6g}", "" if limit is None else f"{limit:g}", int(f in below)])
+        writer.writerow(
+            ["frequency_hz", "decay_rate_dB_per_m", "iso3095_vertical_limit_dB_per_m", "below_limit"]
+            + ["lateral_decay_rate_dB_per_m", "iso3095_lateral_limit_dB_per_m", "lateral_below_limit"]
+        )
+        for i, f in enumerate(decay["frequency_hz"]):
+            writer.writerow([f"{f:.6g}", *cells(decay, i), *cells(lateral, i)])
 
     atomic_write(path, write, mode="w", newline="")
 
 
-def _receptance_outputs(receptances, csv_path, plot_path, response, peaks, decay, params) -> None:
+def _receptance_outputs(receptances, csv_path, plot_path, response, peaks, decay, params, lateral) -> None:
     """``--csv`` and ``--plot``: the point receptance above a sleeper and at midspan, 20 Hz-5 kHz, and the
     decay rate per band beside the limit."""
     import numpy as np
 
     freq, above, midspan = receptances
     if csv_path:
-        _write_decay_csv(_decay_csv_path(csv_path), decay)
+        _write_decay_csv(_decay_csv_path(csv_path), decay, lateral)
         from wheelrail.core.files.atomic import atomic_write
 
         def write_csv(handle) -> None:
@@ -169,7 +180,7 @@ def _receptance_outputs(receptances, csv_path, plot_path, response, peaks, decay
 
         atomic_write(csv_path, write_csv, mode="w", newline="")
     if plot_path:
-        _plot(plot_path, receptances, response, peaks, decay, params)
+        _plot(plot_path, receptances, response, peaks, decay, params, lateral)
 
 
 def _green_functions(track, numerics, speed: float) -> dict:
@@ -229,6 +240,12 @@ def _print_summary(track, summary: dict, peaks: dict) -> None:
         + f"; sleepers {sup.sleeper_mass:g} kg; ballast {sup.ballast_stiffness / 1e6:g} MN/m, "
         f"{sup.ballast_damping / 1e3:g} kN s/m (paper section 2.2)"
     )
+    lat = track.lateral
+    print(
+        f"  lateral: {lat.section.name} rail in bending and torsion; pads {lat.pad_lateral_stiffness / 1e6:g} MN/m "
+        f"laterally, {lat.pad_rotational_stiffness / 1e3:g} kNm/rad in roll, loss factor "
+        f"{lat.pad_lateral_loss_factor:g}; ballast {lat.ballast_lateral_stiffness / 1e6:g} MN/m laterally"
+    )
     _print_resonances(track, peaks)
     print(f"  sleeper-passing frequency     {summary['sleeper_passing_frequency_hz']:7.1f} Hz  at {speed_kmh:g} km/h")
     print(
@@ -245,22 +262,30 @@ def _print_summary(track, summary: dict, peaks: dict) -> None:
         f"{cache['speed_time_s'] * 1e3:.1f} ms"
     )
     print(f"  cache: {cache['path']} ({cache['size_bytes'] / 1e6:.1f} MB)")
-    _print_bands(summary["bands"], summary["decay_rate"])
+    lateral = {"decay": summary["lateral_decay_rate"], "receptance": summary["lateral_receptance"]}
+    _print_bands(summary["bands"], summary["decay_rate"], lateral)
     if "csv" in summary:
         print(f"  receptance written to {summary['csv']}, decay rate to {summary['decay_csv']}")
     if "plot" in summary:
         print(f"  plot written to {summary['plot']}")
 
 
-def _print_bands(bands: dict, decay: dict) -> None:
-    """The table per one-third octave band, each named by its nominal centre (``spectra.bands.nominal_band_label``)."""
+def _print_bands(bands: dict, decay: dict, lateral: dict | None = None) -> None:
+    """The table per one-third octave band, each named by its nominal centre (``spectra.bands.nominal_band_label``);
+    with ``lateral`` (``{"decay": ..., "receptance": ...}``: the lateral decay rate in ``decay_against_limit``'s
+    layout and ``lateral_band_receptances``) the railhead's lateral point receptance and decay rate beside."""
     from wheelrail.core.spectra.bands import band_labels
 
     print(
         "Point receptance at the band centres (m/N) and vertical decay rate (dB/m, EN 15461) against "
-        "EN ISO 3095:2013's lower limit:"
+        "EN ISO 3095:2013's lower limit"
+        + (
+            ":"
+            if lateral is None
+            else "; the railhead's lateral point receptance and lateral decay rate against its limit:"
+        )
     )
-    print("    band Hz   above sleeper     midspan   decay   limit")
+    print("    band Hz   above sleeper     midspan   decay   limit" + ("" if lateral is None else LATERAL_COLUMNS))
     limits = dict(zip(decay["frequency_hz"], decay["limit_dB_per_m"], strict=True))
     rates = dict(zip(decay["frequency_hz"], decay["decay_rate_dB_per_m"], strict=True))
     for f, label, above, mid in zip(
@@ -272,12 +297,29 @@ def _print_bands(bands: dict, decay: dict) -> None:
     ):
         limit = limits.get(f)
         mark = "" if limit is None else f"  {limit:6.2f}" + ("  below" if rates[f] < limit else "")
-        print(f"  {label:>9}   {above:11.3e} {mid:11.3e}  {rates[f]:6.2f}{mark}")
+        if lateral is not None:
+            mark = f"{mark:<15}" + _lateral_cells(lateral, f)
+        print(f"  {label:>9}   {above:11.3e} {mid:11.3e}  {rates[f]:6.2f}{mark}".rstrip())
     print(f"  the decay rate {decay_verdict(decay)} ({decay['limit_source']})")
+    if lateral is not None:
+        print(f"  the lateral decay rate {decay_verdict(lateral['decay'])} ({lateral['decay']['limit_source']})")
+
+
+LATERAL_COLUMNS = "          lateral   decay   limit"
+
+
+def _lateral_cells(lateral: dict, f: float) -> str:
+    """The lateral point receptance, decay rate and limit of the band ``f`` (its exact centre), as table cells."""
+    import numpy as np
+
+    decay, receptance = lateral["decay"], lateral["receptance"]
+    i = int(np.argmin(np.abs(np.asarray(decay["frequency_hz"]) - f)))
+    rate, limit = decay["decay_rate_dB_per_m"][i], decay["limit_dB_per_m"][i]
+    cells = f"  {receptance['lateral_point_m_per_n'][i]:11.3e}  {rate:6.2f}"
+    return cells + ("" if limit is None else f"  {limit:6.2f}" + ("  below" if rate < limit else ""))
 
 
 def run(args) -> int:
-    import numpy as np
 
     from wheelrail.core.parameters import TrackNumerics, as_dict
 
@@ -297,13 +339,21 @@ def run(args) -> int:
     built = _green_functions(track, numerics, speed)
     green, static = built["green"], built["static"]
     decay = track_decay(track)
+    lateral = {"decay": track_lateral_decay(track), "receptance": lateral_band_receptances(track)}
     receptances = _receptances(track, numerics, args.df_hz) if (csv_path or plot_path or args.json) else None
     if csv_path or plot_path:
         from wheelrail.core.files.atomic import all_or_none
 
         with all_or_none():  # the tables and the figure appear together or not at all
             _receptance_outputs(
-                receptances, csv_path, plot_path, built["response"], peaks, decay, params_from_args(args, "track")
+                receptances,
+                csv_path,
+                plot_path,
+                built["response"],
+                peaks,
+                decay,
+                params_from_args(args, "track"),
+                lateral["decay"],
             )
     summary = {
         **describe(params_from_args(args, "track"), "track"),
@@ -327,10 +377,25 @@ def run(args) -> int:
         "cache": built["cache"],
         "decay_rate": decay,
         "bands": band_receptances(track, numerics.elements_per_bay),
+        "lateral_decay_rate": lateral["decay"],
+        "lateral_receptance": lateral["receptance"],
     }
+    _outputs_named(summary, receptances, csv_path, plot_path)
+    if args.json:
+        print_json(summary)
+        return 0
+    _print_summary(track, summary, peaks)
+    return 0
+
+
+def _outputs_named(summary: dict, receptances, csv_path, plot_path) -> None:
+    """The summary's band names beside the exact centres (as every JSON gives them), the point receptance when
+    computed, and the files written."""
+    import numpy as np
+
     from wheelrail.core.spectra.bands import band_labels
 
-    for table in ("bands", "decay_rate"):  # the nominal names beside the exact centres, as every JSON gives them
+    for table in ("bands", "decay_rate", "lateral_decay_rate", "lateral_receptance"):
         summary[table]["band_labels"] = band_labels(summary[table]["frequency_hz"])
     if receptances is not None:
         freq, above, midspan = receptances
@@ -344,23 +409,19 @@ def run(args) -> int:
         summary["decay_csv"] = str(_decay_csv_path(csv_path))
     if plot_path:
         summary["plot"] = str(plot_path)
-    if args.json:
-        print_json(summary)
-        return 0
-    _print_summary(track, summary, peaks)
-    return 0
 
 
-def _plot(path, receptances, response, peaks, decay, params) -> None:
+def _plot(path, receptances, response, peaks, decay, params, lateral) -> None:
     from wheelrail.core.files.atomic import atomic_write
 
-    fig = track_figure(receptances, response, peaks, decay, params)
+    fig = track_figure(receptances, response, peaks, decay, params, lateral)
     atomic_write(path, lambda handle: fig.savefig(handle, format="png", dpi=110))
 
 
-def track_figure(receptances, response, peaks, decay, params):
+def track_figure(receptances, response, peaks, decay, params, lateral=None):
     """``--plot``'s figure (a matplotlib Figure, Agg): the point receptances, the moving Green's functions (Fig. 4)
-    and the decay rate against the limit, titled with the track (core's ``describe_track``)."""
+    and the vertical decay rate against its limit, then the lateral one (``lateral``, in ``decay_against_limit``'s
+    layout) against its own, titled with the track (core's ``describe_track``)."""
     import textwrap
 
     import numpy as np
@@ -372,9 +433,9 @@ def track_figure(receptances, response, peaks, decay, params):
     from wheelrail.core.track import moving_from_stationary
 
     freq, above, midspan = receptances
-    fig = Figure(figsize=(20, 4.6), layout="constrained")
+    fig = Figure(figsize=(20 if lateral is None else 25, 4.6), layout="constrained")
     FigureCanvasAgg(fig)
-    axes = fig.subplots(1, 4)
+    axes = fig.subplots(1, 4 if lateral is None else 5)
     ax = axes[0]
     ax.loglog(freq, np.abs(above), label="above sleeper")
     ax.loglog(freq, np.abs(midspan), label="midspan")
@@ -395,13 +456,15 @@ def track_figure(receptances, response, peaks, decay, params):
             ax.plot(green.time[keep] * 1e3, green.values[index, keep], style, label=f"{kmh} km/h")
         ax.set(xlabel="time (ms)", ylabel="g (m/(N s))", title=f"Moving Green's function {title}")
         ax.legend()
-    ax = axes[3]
-    ax.loglog(decay["frequency_hz"], decay["decay_rate_dB_per_m"], "o-", label="track (EN 15461)")
-    limit = np.array([np.nan if v is None else v for v in decay["limit_dB_per_m"]])
-    ax.loglog(decay["frequency_hz"], limit, "k--", label="EN ISO 3095:2013 lower limit")
-    verdict = f"Vertical track decay rate: it {decay_verdict(decay)}"
-    ax.set(xlabel="frequency (Hz)", ylabel="decay rate (dB/m)", title="\n".join(textwrap.wrap(verdict, 52)))
-    ax.title.set_fontsize(9)
-    ax.legend()
+    for ax, table, name in ((axes[3], decay, "Vertical"), (axes[4] if lateral else None, lateral, "Lateral")):
+        if ax is None:
+            continue
+        ax.loglog(table["frequency_hz"], table["decay_rate_dB_per_m"], "o-", label="track (EN 15461)")
+        limit = np.array([np.nan if v is None else v for v in table["limit_dB_per_m"]])
+        ax.loglog(table["frequency_hz"], limit, "k--", label="EN ISO 3095:2013 lower limit")
+        verdict = f"{name} track decay rate: it {decay_verdict(table)}"
+        ax.set(xlabel="frequency (Hz)", ylabel="decay rate (dB/m)", title="\n".join(textwrap.wrap(verdict, 52)))
+        ax.title.set_fontsize(9)
+        ax.legend()
     fig.suptitle(f"wheelrail track: {describe_track(params)}", fontsize=11)
     return fig

@@ -69,6 +69,7 @@ KN = Unit("kN", 1e3, "kn")
 MM = Unit("mm", 1e-3, "mm")
 MN_PER_M = Unit("MN/m", 1e6, "mn-m")
 KNS_PER_M = Unit("kNs/m", 1e3, "kns-m")
+KNM_PER_RAD = Unit("kNm/rad", 1e3, "knm-rad")
 KG = Unit("kg", 1.0, "kg")
 METRE = Unit("m", 1.0, "m")
 NUMBER = Unit("", 1.0, "")
@@ -277,6 +278,18 @@ INPUTS: tuple[Input, ...] = (
         "pad_width", "pad_width", MM, "Pad width",
         "width of the rail pad along the rail (0: the paper's point support; a wide pad costs a 5x longer "
         "precompute)", "pad",
+    ),
+    Input(
+        "pad_lateral_stiffness", "track.lateral.pad_lateral_stiffness", MN_PER_M, "Pad lateral stiffness", "track",
+        "rail pad lateral (shear) stiffness, per support: the lateral track's (its decay rate)", stem="kPy",
+    ),
+    Input(
+        "pad_rotational_stiffness", "track.lateral.pad_rotational_stiffness", KNM_PER_RAD, "Pad roll stiffness",
+        "track", "rail pad stiffness against the rail's roll, per support: the lateral track's", stem="kPr",
+    ),
+    Input(
+        "pad_lateral_loss_factor", "track.lateral.pad_lateral_loss_factor", NUMBER, "Pad lateral loss factor", "track",
+        "loss factor of the rail pad's lateral and roll stiffness: the lateral track's", stem="etaPy",
     ),
 )  # fmt: skip
 """Every user-facing input, in the order front ends show them."""

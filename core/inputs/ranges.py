@@ -190,8 +190,6 @@ ACCEPTED: dict[str, Accepted] = {
             "pad_rotational_stiffness", "N m/rad", 5e3, 10e6, "a pad's stiffness against the rail's roll, per support"
         ),
         Accepted("pad_lateral_loss_factor", "", 0.0, 1.0, "the loss factor of a pad's lateral and roll stiffness"),
-        Accepted("ballast_lateral_stiffness", "N/m", 5e6, 1000e6, "the ballast's lateral stiffness, per half sleeper"),
-        Accepted("ballast_lateral_loss_factor", "", 0.0, 2.0, "the loss factor of the ballast's lateral stiffness"),
         Accepted(
             "train_length",
             "m",
@@ -266,6 +264,8 @@ MODEL_BOUNDS: dict[str, Accepted] = {
         Accepted("mass_per_length", "kg/m", 1.0, 1e4, "a rail's mass per metre"),
         Accepted("rotary_inertia_per_length", "kg m", 0.0, 1e3, "a rail's rotary inertia per metre"),
         Accepted("n_bays", "", 4, 1000, "a track model of up to 1000 sleeper bays"),
+        Accepted("ballast_lateral_stiffness", "N/m", 5e6, 1000e6, "the ballast's lateral stiffness, per half sleeper"),
+        Accepted("ballast_lateral_loss_factor", "", 0.0, 2.0, "the loss factor of the ballast's lateral stiffness"),
         Accepted("element_size", "m", 1e-5, 10.0, "the step along the rail"),
         Accepted("elements_per_bay", "", 2, 4096, "finite elements per sleeper bay"),
         Accepted("refined_elements_per_bay", "", 2, 4096, "finite elements per refined sleeper bay"),

@@ -147,11 +147,45 @@ def track_decay(track) -> dict:
     return out
 
 
+LATERAL_CROSS_OFFSET = 0.01
+"""m: the contact offset at which ``lateral_band_receptances`` states the vertical-to-lateral receptance (it is
+proportional to the offset)."""
+
+
 def track_lateral_decay(track) -> dict:
     """The lateral decay rate of the railhead per band (EN 15461 on the lateral track,
     :func:`wheelrail.core.track.lateral.lateral_decay_rate`) of ``track`` (``TrackParameters``) beside the
-    EN ISO 3095 lateral limit (:func:`decay_against_limit`'s layout, with ``method``), kept in the disk cache; the
-    key holds the source of the modules that compute it."""
+    EN ISO 3095 lateral limit (:func:`decay_against_limit`'s layout, with ``method``), kept in the disk cache."""
+    from wheelrail.core.track.lateral import LateralNumerics
+
+    numerics = LateralNumerics()
+    arrays = _lateral_arrays(track, "track_lateral_decay")
+    out = decay_against_limit(arrays["frequency_hz"], arrays["decay_rate"], "lateral")
+    out["method"] = (
+        f"EN 15461 formula on the railhead's lateral response of the lateral track ({numerics.track_bays} bays, "
+        f"{numerics.absorbing_bays} absorbing at each end; a lateral force at the railhead at midspan), "
+        f"{numerics.points_per_band} frequencies per band"
+    )
+    return out
+
+
+def lateral_band_receptances(track) -> dict:
+    """The railhead's lateral receptances of ``track`` at midspan at the exact band centres 50 Hz-10 kHz, kept in
+    the disk cache with the lateral decay rate: ``frequency_hz``, ``lateral_point_m_per_n`` (|.|, per lateral force
+    at the railhead) and ``vertical_to_lateral_m_per_n`` (|.|, per vertical force ``LATERAL_CROSS_OFFSET`` from
+    the rail's centreline; proportional to the offset), ``contact_offset_m``."""
+    arrays = _lateral_arrays(track, "lateral_band_receptances")
+    return {
+        "frequency_hz": arrays["frequency_hz"],
+        "lateral_point_m_per_n": arrays["lateral_point"],
+        "vertical_to_lateral_m_per_n": arrays["vertical_to_lateral"],
+        "contact_offset_m": LATERAL_CROSS_OFFSET,
+    }
+
+
+def _lateral_arrays(track, where: str) -> dict:
+    """The lateral decay rate and receptances at the band centres (a few seconds of FE solves), from the disk
+    cache or computed; the key holds the source of the modules that compute them."""
     import hashlib
     import inspect
     from dataclasses import asdict
@@ -160,23 +194,31 @@ def track_lateral_decay(track) -> dict:
     from wheelrail.core.spectra.bands import noise_bands
     from wheelrail.core.track import fe, lateral
 
-    _check_track(track, "track_lateral_decay")
+    _check_track(track, where)
     numerics = lateral.LateralNumerics()
     code = inspect.getsource(lateral) + inspect.getsource(fe)
     key = cache.cache_key(
-        "track-lateral-decay",
-        {"track": asdict(track), "numerics": asdict(numerics), "code": hashlib.sha256(code.encode()).hexdigest()},
+        "track-lateral",
+        {
+            "track": asdict(track),
+            "numerics": asdict(numerics),
+            "offset": LATERAL_CROSS_OFFSET,
+            "code": hashlib.sha256(code.encode()).hexdigest(),
+        },
     )
-    arrays = cache.load_entry("track-lateral-decay", key, ("frequency_hz", "decay_rate"))
-    if arrays is None or not np.all(np.isfinite(arrays["decay_rate"])):
-        arrays = {"frequency_hz": noise_bands(), "decay_rate": lateral.lateral_decay_rate(track, numerics=numerics)}
-        cache.save_entry("track-lateral-decay", key, arrays)
-    out = decay_against_limit(arrays["frequency_hz"], arrays["decay_rate"], "lateral")
-    out["method"] = (
-        f"EN 15461 formula on the railhead's lateral response of the lateral track ({numerics.track_bays} bays, "
-        f"a lateral force at the railhead at midspan), {numerics.points_per_band} frequencies per band"
-    )
-    return out
+    names = ("frequency_hz", "decay_rate", "lateral_point", "vertical_to_lateral")
+    arrays = cache.load_entry("track-lateral", key, names)
+    if arrays is None or not all(np.all(np.isfinite(arrays[name])) for name in names):
+        f = noise_bands()
+        receptances = lateral.lateral_receptances(track, f, contact_offset=LATERAL_CROSS_OFFSET, numerics=numerics)
+        arrays = {
+            "frequency_hz": f,
+            "decay_rate": lateral.lateral_decay_rate(track, numerics=numerics),
+            "lateral_point": np.abs(receptances.lateral_point),
+            "vertical_to_lateral": np.abs(receptances.vertical_to_lateral),
+        }
+        cache.save_entry("track-lateral", key, arrays)
+    return arrays
 
 
 def band_receptances(track, elements_per_bay: int = 16) -> dict:

@@ -59,6 +59,8 @@ DOFS_PER_NODE = 4  # v, psi, phi, phi'
 BENDING = np.array([0, 1, 4, 5])  # the element's (v1, psi1, v2, psi2) among its 8 DOFs
 TORSION = np.array([2, 3, 6, 7])  # (phi1, phi1', phi2, phi2')
 LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
+ABSORBING_LOSS_FACTOR = 0.3
+"""The rail's extra loss factor at the very ends of a track with absorbing ends (``assemble_lateral_track``)."""
 _GAUSS = np.polynomial.legendre.leggauss(6)  # exact for the products of the elements' cubics (degree 6)
 
 
@@ -70,16 +72,28 @@ class LateralNumerics:
     ----------
     track_bays : int
         Sleeper bays of the track model (240, the noise model's: 78 m of rail each side of the load); >= 8.
+    absorbing_bays : int
+        Bays at each end that absorb the waves reaching them (``assemble_lateral_track``; 20: 13 m, beyond the
+        decay rate's 60 m). A rail's lateral waves decay by as little as 0.1 dB/m: free ends 78 m away would
+        return them 16 dB down, enough to move the point receptance by +-5 dB above 500 Hz (an undamped rail);
+        with these ends it is within 0.2 dB of the infinite track's at the tested frequencies and 0.4 dB near the
+        undamped rail's pass-band edges (``tests/physics/test_track_lateral.py``).
     elements_per_bay : int
-        Elements per bay (16: 40.6 mm on 0.65 m, >= 9 per lateral bending or torsional wavelength up to 5 kHz;
-        converged to 0.3 dB per band against 32, ``tests/physics/test_track_lateral.py``).
+        Elements per bay (16: 40.6 mm on 0.65 m, >= 9 per lateral bending or torsional wavelength up to 5 kHz): the
+        point receptance within 0.07 dB per band of 32 elements', the decay rate within 5 % of theirs at
+        250 Hz-5 kHz and within 3 % of a 360-bay track's but in the 500 Hz band of an undamped rail (+40 %: see
+        ``points_per_band``) (``validation/lateral_convergence.py``).
     points_per_band : int
-        Frequencies per one-third octave band of the decay rate, evenly spread in lg f (as the vertical's).
+        Frequencies per one-third octave band of the decay rate, evenly spread in lg f (as the vertical's). An
+        undamped rail has pass-band edges where a wave hardly decays (0.03 dB/m at 449 Hz on the paper's track):
+        the value of the band holding one depends on where the points fall (0.28, 0.70 and 0.49 dB/m at 20, 40
+        and 80 points in the 500 Hz band); a rail loss factor of 0.01 removes it (1.27-1.29 dB/m).
     decay_length : float
         m of rail over which EN 15461's sum is taken (60, as the vertical's).
     """
 
     track_bays: int = 240
+    absorbing_bays: int = 20
     elements_per_bay: int = 16
     points_per_band: int = 20
     decay_length: float = 60.0
@@ -89,6 +103,12 @@ class LateralNumerics:
 
         integer("LateralNumerics.track_bays", self.track_bays, 8)
         integer("LateralNumerics.elements_per_bay", self.elements_per_bay, 2)
+        integer("LateralNumerics.absorbing_bays", self.absorbing_bays, 0)
+        if 2 * self.absorbing_bays > self.track_bays - 4:
+            raise WheelrailError(
+                f"LateralNumerics.absorbing_bays ({self.absorbing_bays}) leaves under 4 bays of track between the "
+                f"absorbing ends of {self.track_bays} bays"
+            )
         integer("LateralNumerics.points_per_band", self.points_per_band, 1)
         if not (isinstance(self.decay_length, int | float) and 0 < self.decay_length < math.inf):
             raise WheelrailError(
@@ -182,9 +202,10 @@ class LateralFEModel:
     sleeper_dof : ndarray of int
         DOF of each sleeper's lateral displacement (one per support at x = j L_S).
     parts : dict
-        "rail", "pad", "ballast" (stiffness) and "mass": each in LAPACK general band form (``half_bandwidth``
-        both sides); the dynamic stiffness at w is sum over the stiffness parts of (1 + i eta_part) K_part
-        minus w^2 M.
+        "rail", "pad", "ballast" (stiffness), "absorber" (the absorbing ends' rail stiffness, weighted) and "mass":
+        each in LAPACK general band form (``half_bandwidth`` both sides); the dynamic stiffness at w is the sum
+        over the stiffness parts of (1 + i eta_part) K_part, plus i ``ABSORBING_LOSS_FACTOR`` K_absorber, minus
+        w^2 M.
     loss_factors : dict
         eta of each stiffness part: the rail's, the pad's lateral, the ballast's lateral.
     half_bandwidth : int
@@ -204,7 +225,8 @@ class LateralFEModel:
 
     @functools.cached_property
     def _stiffness(self) -> np.ndarray:
-        return sum((1 + 1j * eta) * self.parts[name] for name, eta in self.loss_factors.items())
+        damped = sum((1 + 1j * eta) * self.parts[name] for name, eta in self.loss_factors.items())
+        return damped + 1j * ABSORBING_LOSS_FACTOR * self.parts["absorber"]
 
     def dynamic_stiffness(self, frequency: float) -> np.ndarray:
         """The dynamic stiffness at ``frequency`` (Hz), band form."""
@@ -272,7 +294,9 @@ def _shear_parameter(track: TrackParameters, length: float) -> float:
     )
 
 
-def assemble_lateral_track(track: TrackParameters, elements_per_bay: int = 16) -> LateralFEModel:
+def assemble_lateral_track(
+    track: TrackParameters, elements_per_bay: int = 16, absorbing_bays: int = 0
+) -> LateralFEModel:
     """Assemble the lateral track of ``track`` (module docstring) on ``elements_per_bay`` elements per bay.
 
     Parameters
@@ -281,6 +305,10 @@ def assemble_lateral_track(track: TrackParameters, elements_per_bay: int = 16) -
         Its ``n_bays`` bays, supports, rail mass and loss factor, and ``lateral`` (section, lateral supports).
     elements_per_bay : int
         Equal elements per sleeper bay.
+    absorbing_bays : int
+        Bays at each end whose rail elements take an extra loss factor ``ABSORBING_LOSS_FACTOR`` s^2, s rising
+        from 0 to 1 towards the end (the part "absorber"): waves reaching the ends die there instead of coming
+        back (0: free ends).
 
     Returns
     -------
@@ -307,6 +335,10 @@ def assemble_lateral_track(track: TrackParameters, elements_per_bay: int = 16) -
         return sp.coo_matrix((values, (r, c)), shape=(n_dof, n_dof)).tocsr()
 
     rail = matrix(rows, cols, np.tile(ke.ravel(), n_el))
+    layer = absorbing_bays * spacing  # the absorbing ends: a loss factor rising as s^2 over their length
+    centre = 0.5 * (node_x[:-1] + node_x[1:])
+    depth = np.clip(np.maximum(layer - centre, centre - (node_x[-1] - layer)) / max(layer, 1e-300), 0.0, 1.0)
+    absorber = matrix(rows, cols, np.repeat(depth**2, 64) * np.tile(ke.ravel(), n_el))
     mass = matrix(rows, cols, np.tile(me.ravel(), n_el)) + matrix(
         sleeper_dof, sleeper_dof, np.full(len(sleeper_dof), track.support.sleeper_mass)
     )
@@ -321,7 +353,8 @@ def assemble_lateral_track(track: TrackParameters, elements_per_bay: int = 16) -
         node_dofs=nodes,
         sleeper_dof=sleeper_dof,
         parts={
-            name: _band(m, half) for name, m in (("rail", rail), ("pad", pad), ("ballast", ballast), ("mass", mass))
+            name: _band(m, half)
+            for name, m in (("rail", rail), ("pad", pad), ("ballast", ballast), ("mass", mass), ("absorber", absorber))
         },
         loss_factors={
             "rail": track.rail.loss_factor,
@@ -397,7 +430,9 @@ def _pad_pieces(node_x, nodes, node, width, h, phi_v, z_s):
 def _model(track: TrackParameters, numerics: LateralNumerics) -> LateralFEModel:
     """The lateral model of ``track`` lengthened to ``numerics.track_bays`` bays (kept: the FE assembly is most of a
     few frequencies' cost)."""
-    return assemble_lateral_track(replace(track, n_bays=numerics.track_bays), numerics.elements_per_bay)
+    return assemble_lateral_track(
+        replace(track, n_bays=numerics.track_bays), numerics.elements_per_bay, numerics.absorbing_bays
+    )
 
 
 def _checked(track, numerics, where: str) -> LateralNumerics:

@@ -57,6 +57,16 @@ def test_track_json_csv(tmp_path, capsys):
         decay_rows = list(csv.reader(handle))
     assert decay_rows[0][:2] == ["frequency_hz", "decay_rate_dB_per_m"] and len(decay_rows) == 25
     np.testing.assert_allclose([float(r[1]) for r in decay_rows[1:]], rates, rtol=1e-5)
+    # the lateral decay rate beside EN ISO 3095:2013's lateral limit (Figure 3, curve B): JSON and the _decay CSV
+    lateral = summary["lateral_decay_rate"]
+    assert len(lateral["frequency_hz"]) == len(lateral["decay_rate_dB_per_m"]) == len(lateral["limit_dB_per_m"]) == 24
+    lateral_limits = {round(fc, -1): v for fc, v in zip(f, lateral["limit_dB_per_m"], strict=True) if v is not None}
+    assert lateral_limits == {250: 2.04, 320: 1.38, 400: 0.94, 500: 0.64, 630: 0.43, 790: 0.29, 1000: 0.2,
+                              1260: 0.2, 1580: 0.32, 2000: 0.5, 2510: 0.5, 3160: 0.5, 3980: 0.5, 5010: 0.5}  # fmt: skip
+    assert "curve B (lateral)" in lateral["limit_source"] and lateral["band_labels"][7] == "250"
+    assert decay_rows[0][4:] == ["lateral_decay_rate_dB_per_m", "iso3095_lateral_limit_dB_per_m", "lateral_below_limit"]
+    np.testing.assert_allclose([float(r[4]) for r in decay_rows[1:]], lateral["decay_rate_dB_per_m"], rtol=1e-5)
+    assert len(summary["lateral_receptance"]["lateral_point_m_per_n"]) == 24
     # second call: loaded from cache
     assert main(["track", "--json", "--speed-kmh", "140"]) == 0
     again = json.loads(capsys.readouterr().out)
@@ -105,6 +115,39 @@ def test_bands_are_named_by_their_nominal_centres(capsys):
     assert names == ["50", "63", "80", "100", "125", "160", "200", "250", "315", "400", "500", "630", "800", "1000",
                      "1250", "1600", "2000", "2500", "3150", "4000", "5000"]  # fmt: skip
     assert "below EN ISO 3095:2013's lower limit at 1250, 1600, 2000 and 2500 Hz" in out
+
+
+def test_the_lateral_decay_rate_is_tabled_beside_its_limit(capsys):
+    from wheelrail.cli.commands.track import _print_bands
+    from wheelrail.core.noise.decay import decay_against_limit
+    from wheelrail.core.spectra.bands import noise_bands
+
+    f = noise_bands()
+    ones = np.ones(len(f))
+    bands = {
+        "frequency_hz": f[f < 5100],
+        "above_sleeper_m_per_n": 1e-9 * ones[:21],
+        "midspan_m_per_n": 2e-9 * ones[:21],
+    }
+    vertical = decay_against_limit(f, 9 * ones)
+    lateral = decay_against_limit(f, np.where(f < 1100, 3.0, 0.3), "lateral")
+    _print_bands(bands, vertical, {"decay": lateral, "receptance": {"lateral_point_m_per_n": 1e-8 * ones}})
+    out = capsys.readouterr().out.splitlines()
+    assert out[1].split()[-3:] == ["lateral", "decay", "limit"]
+    row = {line.split()[0]: line.split() for line in out[2:-2]}
+    assert row["2000"][-4:] == ["1.000e-08", "0.30", "0.50", "below"] and row["1000"][-3:] == [
+        "1.000e-08",
+        "3.00",
+        "0.20",
+    ]
+    assert row["50"][-2:] == ["1.000e-08", "3.00"]  # no limit below 250 Hz
+    assert out[-2] == "  the decay rate meets EN ISO 3095:2013's lower limit in every band 250 Hz-5 kHz (" + (
+        "EN ISO 3095:2013, 6.2.6, Figure 3 curve A (vertical), 250 Hz-5 kHz)"
+    )
+    assert out[-1].startswith(
+        "  the lateral decay rate is below EN ISO 3095:2013's lower limit at 1600, 2000, 2500, 3150, 4000 and 5000 "
+        "Hz (EN ISO 3095:2013, 6.2.6, Figure 3 curve B (lateral)"
+    )
 
 
 @pytest.mark.slow

@@ -536,6 +536,34 @@ def test_runs_of_another_configuration_are_overlaid_only_on_purpose(app, finish_
     assert [label for label, _, _ in app.tab(SpectraTab).spectra.series] == ["hertz"]
 
 
+def test_the_track_tab_draws_the_lateral_decay_rate_against_its_limit(app):
+    from wheelrail.core.noise.decay import track_lateral_decay
+
+    _reset(app)
+    tab = app.tab(TrackTab)
+    track = app.shown.params().track
+    tab._compute(track)
+    assert [label for label, *_ in tab.lateral.series] == ["decay rate", "EN ISO 3095:2013 limit"]
+    f, decay, limit = tab.lateral.data
+    at_1k = int(np.argmin(np.abs(f - 1000)))
+    assert limit[at_1k] == 0.2 and limit[int(np.argmin(np.abs(f - 250)))] == 2.04  # Figure 3, curve B
+    expected = track_lateral_decay(track)  # core's numbers, band for band (NaN-free: 50 Hz-5 kHz)
+    assert np.allclose(decay, expected["decay_rate_dB_per_m"][: len(decay)])
+    # the paper's undamped rail decays laterally below the limit at 250-500 Hz and from 1.6 kHz
+    # (tests/physics/test_track_lateral.py; validation/lateral_convergence.py)
+    assert tab.lateral.handle.title.startswith(
+        "Lateral decay rate of the paper's track is below EN ISO 3095:2013's lower limit at 250, 315, 400, 500, 1600"
+    )
+    # a lateral pad input changes the lateral curve, named as its title says
+    app.form.fields["pad_lateral_stiffness"].value = "60"
+    tab._compute(app.shown.params().track)
+    assert tab.lateral.handle.title.startswith(
+        "Lateral decay rate of the track with pad lateral stiffness 60 MN/m (else the paper's) "
+    )
+    assert not np.allclose(tab.lateral.data[1], decay)
+    app.form.fields["pad_lateral_stiffness"].value = "30"
+
+
 def test_the_track_tab_draws_receptance_and_decay_against_the_limit(app):
 
     _reset(app)

@@ -10,6 +10,8 @@ read these files; only the content comparison may then be updated (with new fixt
 from __future__ import annotations
 
 import gzip
+import json
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +19,7 @@ import pytest
 from rerun.chunk import RrdReader
 from test_recording import synthetic_result
 
+from wheelrail.core.lateral_parameters import LateralParameters
 from wheelrail.core.recording import read_recording, record_result
 from wheelrail.core.roughness import load_roughness
 
@@ -132,9 +135,13 @@ def _as_the_old_layout(new: dict) -> None:
 _NEW_CONTACT_PARAMETERS = ("wheel_radius", "rail_crown_radius", "wheel_transverse_radius")
 
 
+_LATERAL_DEFAULTS = json.loads(json.dumps(asdict(LateralParameters())))
+
+
 def _without_new_parameters(component: dict) -> dict:
     """The parameters document without the geometry fields added since the old files (their defaults, None and
-    an infinite tread, keep the old files' circle), the rail's loss factor and the pads' width (0), without
+    an infinite tread, keep the old files' circle), the rail's loss factor and the pads' width (0) and the lateral
+    track's inputs (``track.lateral``, their defaults: no vertical result reads them), without
     the run-in's duration (``run_in_time_s``, the run-in length over the speed), without ``recorded_steps``
     (the mark of a finished recording), ``wheel_model`` (the paper's 2-DOF) and the final document's ``digest_sha256``,
     re-rendered as the writer renders it."""
@@ -150,6 +157,7 @@ def _without_new_parameters(component: dict) -> dict:
             assert contact.pop(name) is None, name  # defaults: None (the radius), an infinite tread (JSON null)
         track = document["parameters"]["track"]  # the rail's loss factor and the pads' width: 0, the paper's
         assert track["rail"].pop("loss_factor") == 0.0 and track["support"].pop("pad_width") == 0.0
+        assert track.pop("lateral") == _LATERAL_DEFAULTS  # the lateral track's inputs, added since: the defaults
         # the mark of a finished recording, added since: null at the start, the steps at the end
         assert document.pop("recorded_steps") in (None, N_STEPS)
         assert document.pop("wheel_model") == "2dof"  # the interaction's wheel, recorded since: the paper's

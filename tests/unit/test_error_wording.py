@@ -97,6 +97,7 @@ def test_every_physical_input_has_a_name_on_the_command_line_and_in_the_page():
             "ms": 1e3,
             "MN/m": 1e-6,
             "kNs/m": 1e-3,
+            "kNm/rad": 1e-3,
             "kg": 1.0,
             "Hz": 1.0,
         }

@@ -25,6 +25,9 @@ TRACK_OPTIONS = (
     "--ballast-damping-kns-m",
     "--rail-loss-factor",
     "--pad-width-mm",
+    "--pad-lateral-stiffness-mn-m",
+    "--pad-rotational-stiffness-knm-rad",
+    "--pad-lateral-loss-factor",
 )
 
 
