@@ -96,7 +96,8 @@ def lateral_rail_power(chain) -> np.ndarray:
     ----------
     chain : NoiseChain
         ``params.track``, ``numerics`` (the lateral track takes the chain's bays, elements per bay, points per band
-        and decay length), ``frequencies`` (bands, points) and ``contact_position``.
+        and decay length, and its own absorbing ends: ``LateralNumerics.absorbing_bays``, at most a quarter of the
+        bays), ``frequencies`` (bands, points) and ``contact_position``.
     """
     from wheelrail.core.inputs.contact_position import ContactPosition
 
@@ -109,6 +110,8 @@ def lateral_rail_power(chain) -> np.ndarray:
     numerics = chain.numerics
     lateral = LateralNumerics(
         track_bays=numerics.track_bays,
+        # its absorbing ends (20 bays each on the default 240), fewer on a short test track: a quarter of it at most
+        absorbing_bays=min(LateralNumerics().absorbing_bays, (numerics.track_bays - 4) // 4),
         elements_per_bay=numerics.elements_per_bay,
         points_per_band=numerics.points_per_band,
         decay_length=numerics.decay_length,

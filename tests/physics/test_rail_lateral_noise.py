@@ -134,3 +134,23 @@ def test_a_centred_contact_leaves_todays_chain_as_it_was_and_an_offset_adds_the_
                                centred.transfer_db["sleeper"]), atol=1e-9)  # fmt: skip
     assert np.all(np.isfinite(off.transfer_db["rail_lateral"]))
     assert off.configuration["contact_position"] == {"rail_offset_m": -0.02, "wheel_offset_m": 0.0}
+
+
+def test_the_lateral_track_itself_gives_a_power_that_goes_as_the_offset_squared():
+    # the lateral track of core.track.lateral on a short track (40 bays, 4 elements per bay; its absorbing ends a
+    # quarter of it), one frequency per band: twice the offset, four times the power in every band and position
+    # (alpha_vl is the torque's, F d: exactly linear in d); either side of the centreline alike (a symmetric rail)
+    from wheelrail.core.noise.components import NoiseChain
+
+    numerics = NoiseNumerics(track_bays=40, elements_per_bay=4, points_per_band=1)
+    f = band_frequencies(1)[8:16]  # 250 Hz-1.25 kHz
+
+    def power(offset):
+        chain = NoiseChain(params=PARAMS, numerics=numerics, frequencies=f, wheel={},
+                           contact_position=ContactPosition(rail_offset=offset))  # fmt: skip
+        return rail_lateral.lateral_rail_power(chain)
+
+    ten, twenty, other = power(0.01), power(0.02), power(-0.01)
+    assert ten.shape == (8, 1, 2) and np.all(ten > 0)
+    np.testing.assert_allclose(twenty, 4 * ten, rtol=1e-9)
+    np.testing.assert_allclose(other, ten, rtol=1e-9)
