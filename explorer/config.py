@@ -298,6 +298,17 @@ def read_train(axles_text, length_text) -> tuple[int, float]:
     return checked_train(int(axles), _number(length_text, "train_length"))
 
 
+def read_contact_position(texts) -> object:
+    """The Noise tab's contact position (:class:`~wheelrail.core.inputs.contact_position.ContactPosition`, m) from
+    its fields' texts (mm, in ``CONTACT_POSITION_INPUTS``' order), or one WheelrailError in the page's words."""
+    from wheelrail.core.inputs.contact_position import ContactPosition
+
+    values = {}
+    for entry, text in zip(CONTACT_POSITION_INPUTS, texts, strict=True):
+        values[entry.field] = _number(text, entry.key) * entry.shown.si
+    return ContactPosition(**values)
+
+
 def read_wheel(name: str, wheel_radius: float, shape: dict[str, str], added_text) -> tuple[object, float]:
     """The Wheel tab's wheel: the named wheel ``name`` (or the nearest, :data:`NEAREST_WHEEL`) at the run's rolling
     radius (m), each shape field typed (mm; ``shape``: key -> text, empty: the named wheel's) set on it, and the
