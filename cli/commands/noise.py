@@ -217,8 +217,8 @@ def _add_train_options(parser) -> list:
         parser.add_argument(
             "--csv",
             metavar="FILE.csv",
-            help="--run: write the sound power per band as CSV (band, centre_hz, force and rail, sleeper, wheel, "
-            "total dB re 1 pW), headed by a comment naming the run",
+            help="--run: write the sound power per band as CSV (band, centre_hz, force and each component's: rail, "
+            "rail_lateral, sleeper, wheel, total dB re 1 pW), headed by a comment naming the run",
         ),
     ]
 
