@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 
 from wheelrail.core.engine.track_lines import run_lines, usable_length, window_width
 from wheelrail.core.errors import Blame, Name, WheelrailError
+from wheelrail.core.inputs.contact_position import CONTACT_POSITION_INPUTS
 from wheelrail.core.inputs.declared import (
     Input,
     by_key,
@@ -89,6 +90,8 @@ FIELD_NAMES: dict[str, Name] = {
         for key in ACCEPTED
         if key.startswith("wheel_") and key not in page_names()
     },
+    # the Noise tab's contact position (core.inputs.contact_position: its declaration's label, mm)
+    **{entry.key: Name(entry.label, entry.shown.name, entry.shown.scale) for entry in CONTACT_POSITION_INPUTS},
     "wheel_name": Name("Wheel shape"),  # the Wheel tab's named wheel
     "added_loss_factor": Name("Added loss factor"),  # the Wheel tab's damper
 }
@@ -302,6 +305,17 @@ def read_train(axles_text, length_text) -> tuple[int, float]:
     if axles != round(axles):
         raise WheelrailError("not a whole number of at least 1", Blame("train_axles", str(axles_text)))
     return checked_train(int(axles), _number(length_text, "train_length"))
+
+
+def read_contact_position(texts) -> object:
+    """The Noise tab's contact position (:class:`~wheelrail.core.inputs.contact_position.ContactPosition`, m) from
+    its fields' texts (mm, in ``CONTACT_POSITION_INPUTS``' order), or one WheelrailError in the page's words."""
+    from wheelrail.core.inputs.contact_position import ContactPosition
+
+    values = {}
+    for entry, text in zip(CONTACT_POSITION_INPUTS, texts, strict=True):
+        values[entry.field] = _number(text, entry.key) * entry.shown.si
+    return ContactPosition(**values)
 
 
 def read_wheel(name: str, wheel_radius: float, shape: dict[str, str], added_text) -> tuple[object, float]:

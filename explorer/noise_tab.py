@@ -9,6 +9,7 @@ import viser
 
 from wheelrail.core.drawing.palette import CNOSSOS_COLOURS
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.contact_position import CONTACT_POSITION_INPUTS
 from wheelrail.core.inputs.declared import choice
 from wheelrail.core.noise.components import TOTAL, component
 from wheelrail.core.noise.run_noise import (
@@ -21,7 +22,7 @@ from wheelrail.core.noise.run_noise import (
 )
 from wheelrail.core.parameters import KMH
 from wheelrail.core.spectra.levels import a_weighting, energy_sum
-from wheelrail.explorer.config import RunConfig, page_message, read_train
+from wheelrail.explorer.config import RunConfig, page_message, read_contact_position, read_train
 from wheelrail.explorer.panel import NO_RUN, ResultsTab, Shown, TabParts
 from wheelrail.explorer.plots import DASHED, DOTTED, SOLID, Plot, bands_with_data, model_colour
 
@@ -44,7 +45,10 @@ NOISE_NOTE = (
     "patch (3d, 2d) takes out and the point contact (hertz) keeps. *Wheel model (noise)*: whose wheel sound power "
     "the tab shows (its curves, table, audio and download): the directive's L_H,veh or the modal wheel's (the run's "
     "own modal wheel if it ran with one, else the named wheel nearest its R; computed on first choice, a few "
-    "seconds to a minute per wheel shape)."
+    "seconds to a minute per wheel shape). *Contact offset* on the railhead and on the wheel tread (mm, + towards "
+    "the field side; 0: centred): off the rail's centreline the vertical force twists the rail, whose lateral "
+    "vibration radiates (*rail, lateral*); off the rolling circle it drives the modal wheel's axial modes (about a "
+    "minute to compute a new position)."
 )
 WHEEL_CHOICE = choice("noise_wheel_model")  # the noise chain's wheel: one declaration (core.inputs.declared.CHOICES)
 
@@ -85,11 +89,21 @@ class NoiseTab(ResultsTab):
                 wheel.label, wheel.values, initial_value=wheel.default, hint=wheel.help_text()
             )
             self.wheel_dropdown.on_update(lambda event: page.guarded(parts.redraw, self))
+            self.position_texts = [
+                gui.add_text(
+                    f"{entry.label} ({entry.shown.name})",
+                    f"{entry.shown_default():g}",
+                    hint=f"{entry.help[0].upper()}{entry.help[1:]}; {entry.accepted_text()}",
+                )
+                for entry in CONTACT_POSITION_INPUTS
+            ]
+            for field in self.position_texts:
+                field.on_update(lambda event: page.guarded(parts.redraw, self))
             gui.add_markdown(NOISE_NOTE)
             self._plot_export()
-        self.audio_key = None  # (case, model, train, wheel model) of the pass-by in the player
+        self.audio_key = None  # (case, model, train, wheel model, contact position) of the pass-by in the player
         self.wav: tuple[str, bytes] | None = None  # its file name and bytes
-        # (id of a run's result, wheel model) -> (the result, its RunNoise or why there is none)
+        # (id of a run's result, wheel model, contact position) -> (the result, its RunNoise or why there is none)
         self._wheel_noises: dict = {}
 
     def plots(self) -> dict[str, Plot]:
@@ -98,13 +112,21 @@ class NoiseTab(ResultsTab):
     def show(self, shown: Shown) -> None:
         self._show_overlay_menu(self.overlay_dropdown, shown)
         config = shown.config
+        try:
+            position = self.contact_position()
+        except WheelrailError as error:  # the tab's own fields: said in place of the noise
+            self.clear_audio()
+            self.audio_button.disabled = self.json_button.disabled = True
+            self.power.clear(page_message(error))
+            self.totals_md.content = f"**Contact position:** {page_message(error)}"
+            return
         noises = {} if config is None else self._noises(shown.store, config.case())
         model = shown.model if shown.model in noises else next(iter(noises), None)
         try:
             train, train_problem = self.train(), None
         except WheelrailError as error:
             train, train_problem = None, error
-        if model is None or self.audio_key != (config.case(), model, train, self.wheel_dropdown.value):
+        if model is None or self.audio_key != (config.case(), model, train, self.wheel_dropdown.value, position):
             self.clear_audio()  # the player holds only the pass-by of what the tab shows
         self.audio_button.disabled = model is None or train is None
         self.json_button.disabled = model is None
@@ -170,24 +192,26 @@ class NoiseTab(ResultsTab):
             f'{base64.b64encode(data).decode()}"></audio>'
             f'<div style="font-size:0.8em">{_markdown_bold(caption)}</div>'
         )
-        self.audio_key = (config.case(), config.model, (axles, length), self.wheel_dropdown.value)
+        self.audio_key = (config.case(), config.model, (axles, length), self.wheel_dropdown.value,
+                          self.contact_position())  # fmt: skip
         self.wav = (name, data)
         self.wav_button.disabled = False
         return name, data
 
     def noise_of(self, entry):
-        """The rolling noise of ``entry`` (an Entry with its noise) with the wheel's sound power of the tab's choice:
-        the run's own (the directive's L_H,veh) or the modal wheel's, computed once per run (one WheelrailError if it
-        cannot be)."""
+        """The rolling noise of ``entry`` (an Entry with its noise) with the wheel's sound power of the tab's choice
+        and the contact at the tab's position: the run's own (the directive's L_H,veh, centred) or another,
+        computed once per run (one WheelrailError if it cannot be)."""
         wheel_model = WHEEL_CHOICE.check(self.wheel_dropdown.value)
-        if wheel_model == entry.noise.configuration["wheel_model"]:
+        position = self.contact_position()
+        if wheel_model == entry.noise.configuration["wheel_model"] and position.centred:
             return entry.noise
-        key = (id(entry.result), wheel_model)
+        key = (id(entry.result), wheel_model, position)
         if self._wheel_noises.get(key, (None,))[0] is not entry.result:  # not yet, or another run's id
-            from wheelrail.core.noise.run_noise import run_noise
+            from wheelrail.core.noise import run_noise as run_noise_module
 
             try:
-                found = run_noise(entry.result, wheel_model=wheel_model)
+                found = run_noise_module.run_noise(entry.result, wheel_model=wheel_model, contact_position=position)
             except WheelrailError as error:
                 found = f"{entry.config.model}: no {wheel_model} wheel power: {page_message(error)}"
             self._wheel_noises[key] = (entry.result, found)
@@ -198,7 +222,11 @@ class NoiseTab(ResultsTab):
 
     def _problem(self, entry) -> str | None:
         """Why ``entry`` has no noise with the tab's wheel, if it was tried and failed."""
-        kept = self._wheel_noises.get((id(entry.result), self.wheel_dropdown.value))
+        try:
+            position = self.contact_position()
+        except WheelrailError:
+            return None  # the fields' problem is said in the noise's place
+        kept = self._wheel_noises.get((id(entry.result), self.wheel_dropdown.value, position))
         return kept[1] if kept is not None and kept[0] is entry.result and isinstance(kept[1], str) else None
 
     def _noises(self, store, case) -> dict:
@@ -211,6 +239,10 @@ class NoiseTab(ResultsTab):
                 except WheelrailError:
                     pass  # said under the plot (show: the problems)
         return noises
+
+    def contact_position(self):
+        """The contact's lateral position of the tab's fields (``ContactPosition``, m), or one WheelrailError."""
+        return read_contact_position([field.value for field in self.position_texts])
 
     def train(self) -> tuple[int, float]:
         """(axles, length in m) of the train fields, or one WheelrailError."""

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from wheelrail.core.errors import Name, WheelrailError
 from wheelrail.core.files.atomic import same_file
+from wheelrail.core.inputs.contact_position import contact_position_cli_names
 from wheelrail.core.inputs.declared import CHOICES, GROUPS, by_key, choice, cli_names, inputs_of
 from wheelrail.core.inputs.ranges import ACCEPTED, PATCH_FRACTION
 
@@ -58,6 +59,7 @@ CLI_NAMES: dict[str, Name] = {
     "max_harmonic": Name("--max-harmonic", unit_in_label=True),
     "added_loss_factor": Name("--added-loss-factor", unit_in_label=True),
     **{entry.key: Name(entry.option, unit_in_label=True) for entry in CHOICES},  # the declared choices
+    **contact_position_cli_names(),  # wheelrail noise: the contact's lateral position (mm)
 }
 
 

@@ -27,6 +27,7 @@ from wheelrail.cli.commands._common import (
     speed_from_kmh,
 )
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs.contact_position import CONTACT_POSITION_INPUTS
 from wheelrail.core.inputs.declared import describe, describe_track, describe_words, inputs_of
 from wheelrail.core.inputs.ranges import ACCEPTED
 from wheelrail.core.spectra.bands import nominal_band_label
@@ -64,6 +65,7 @@ def add_parser(sub):
         *_add_source_options(parser),
         *_add_train_options(parser),
         add_choice_option(parser, "noise_wheel_model", "--method twins and --run: "),
+        *_add_contact_position_options(parser),
         *add_input_options(parser, "geometry", "track", helps=_TRACK_HELP),
         parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout"),
     ]
@@ -72,6 +74,7 @@ def add_parser(sub):
 
 
 _ALWAYS = {"method", "run", "json", "help"}
+_POSITION_DESTS = {entry.dest for entry in CONTACT_POSITION_INPUTS}
 _USED_BY = {  # the options each mode uses (besides _ALWAYS); any other given is refused, naming the mode
     "cnossos": {
         "speed_kmh",
@@ -83,8 +86,8 @@ _USED_BY = {  # the options each mode uses (besides _ALWAYS); any other given is
         "axles",
         "roughness_interpolation",
     },
-    "twins": {"wheel_model"},  # and the track's and contact geometry's inputs (below)
-    "run": {"train_axles", "train_length_m", "wav", "csv", "wheel_model"},
+    "twins": {"wheel_model", *_POSITION_DESTS},  # and the track's and contact geometry's inputs (below)
+    "run": {"train_axles", "train_length_m", "wav", "csv", "wheel_model", *_POSITION_DESTS},
 }
 
 
@@ -170,6 +173,31 @@ def _add_source_options(parser) -> list:
     ]
 
 
+def _add_contact_position_options(parser) -> list:
+    """The contact's lateral position on the railhead and the wheel's tread (declared once:
+    ``wheelrail.core.inputs.contact_position``), mm: the argparse actions added."""
+    options = parser.add_argument_group("contact position (--method twins and --run)")
+    return [
+        options.add_argument(
+            entry.option,
+            type=float,
+            default=entry.shown_default(),
+            help=f"{entry.help}, {entry.shown.name} (default {entry.shown_default():g}; accepted "
+            f"{entry.accepted_text()})",
+        )
+        for entry in CONTACT_POSITION_INPUTS
+    ]
+
+
+def contact_position_from_args(args):
+    """The :class:`~wheelrail.core.inputs.contact_position.ContactPosition` of the options (mm at the edge, SI
+    inside; each checked against its declared range)."""
+    from wheelrail.core.inputs.contact_position import ContactPosition
+
+    values = {entry.field: getattr(args, entry.dest) * entry.shown.si for entry in CONTACT_POSITION_INPUTS}
+    return ContactPosition(**values)
+
+
 def _add_train_options(parser) -> list:
     """The train of a run's pass-by and its WAV: the argparse actions added."""
     return [
@@ -189,8 +217,8 @@ def _add_train_options(parser) -> list:
         parser.add_argument(
             "--csv",
             metavar="FILE.csv",
-            help="--run: write the sound power per band as CSV (band, centre_hz, force and rail, sleeper, wheel, "
-            "total dB re 1 pW), headed by a comment naming the run",
+            help="--run: write the sound power per band as CSV (band, centre_hz, force and each component's: rail, "
+            "rail_lateral, sleeper, wheel, total dB re 1 pW), headed by a comment naming the run",
         ),
     ]
 
@@ -231,6 +259,11 @@ def _cnossos(args) -> dict:
         "frequency_hz": result.frequency_hz,
         "cnossos": result.to_dict(),
     }
+
+
+def _level(value: float) -> str:
+    """A level to one decimal, "-" where there is none (a component that does not radiate: -inf dB)."""
+    return f"{value:.1f}" if np.isfinite(value) else "-"
 
 
 def _fmt(value: float) -> str:
@@ -310,22 +343,13 @@ def _run_file(args) -> int:
         axles, length = checked_train(axles, length)  # the train's own limits first
         duration = check_wav_duration(length, result.speed, 1.0, WAV_RATE)
         check_wav_work(axles, length, result.speed, result.time_step, 1.0)
-    noise = run_noise(result, train_axles=axles, train_length=length, wheel_model=args.wheel_model)
+    position = contact_position_from_args(args)
+    noise = run_noise(
+        result, train_axles=axles, train_length=length, wheel_model=args.wheel_model, contact_position=position
+    )
     summary = noise.to_dict()
     if wav_path is not None:
-        written = {}
-        atomic_write(wav_path, lambda handle: written.setdefault("full_scale", noise.write_wav(handle)))
-        full_scale = written["full_scale"]
-        summary["wav"] = {
-            "path": str(wav_path),
-            "full_scale_pa": full_scale,
-            "sample_rate_hz": WAV_RATE,
-            "duration_s": duration,
-            "size_bytes": wav_path.stat().st_size,
-            "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
-            "level_dBA": noise.wav_level_dba,
-            "fill": noise.wav_fill,
-        }
+        summary["wav"] = _write_wav(noise, wav_path, duration)
     if csv_path is not None:
         text = noise.csv_text(result.header.csv_comment(f"rolling noise of {args.run}"))
         atomic_write(csv_path, lambda handle: handle.write(text), mode="w", encoding="utf-8")
@@ -340,15 +364,17 @@ def _run_file(args) -> int:
     )
     print(f"  the run's wheel (its force): {result.header.wheel_words()}{result.header.irregularity_words()}")
     print(f"  track (its force and the rail's and sleepers' sound): {describe_track(result.header.params)}")
-    print("  band Hz   force dB " + " ".join(f"{name:>6}" for name in noise.sound_power_db))
+    print(f"  {position.words()} (the rail's lateral vibration and the wheel's axial modes)")
+    widths = {name: max(6, len(name)) for name in noise.sound_power_db}
+    print("  band Hz   force dB " + " ".join(f"{name:>{width}}" for name, width in widths.items()))
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
-        row = [levels[i] for levels in noise.sound_power_db.values()]
-        cells = " ".join("     -" if not np.isfinite(v) else f"{v:6.1f}" for v in row)
+        row = [(levels[i], widths[name]) for name, levels in noise.sound_power_db.items()]
+        cells = " ".join(f"{_level(v):>{width}}" for v, width in row)
         force = "     -" if not np.isfinite(noise.force_db[i]) else f"{noise.force_db[i]:8.1f}"
         print(f"  {nominal_band_label(f):>7} {force}   {cells}")
     print(
         "  L_WA per wheel: "
-        + ", ".join(f"{k} {v:.1f}" for k, v in noise.sound_power_dba.items())
+        + ", ".join(f"{k} {_level(v)}" for k, v in noise.sound_power_dba.items())
         + f" dB(A); per axle {noise.axle_dba:.1f} dB(A)"
     )
     print(f"  pass-by L_pAeq,Tp at 7.5 m / 1.2 m: {noise.pass_by_laeq_dba:.1f} dB(A) ({axles} axles, {length:g} m)")
@@ -364,6 +390,25 @@ def _run_file(args) -> int:
         if noise.impact is not None and noise.impact.flat_rate_hz is not None:
             print(f"  the WAV's wheels: {noise.wav_fill}; its level {noise.wav_level_dba:.1f} dB(A)")
     return 0
+
+
+def _write_wav(noise, wav_path: Path, duration: float) -> dict:
+    """Write the run's pass-by to ``wav_path`` (atomically); its entry of the summary."""
+    from wheelrail.core.files.atomic import atomic_write
+    from wheelrail.core.noise.run_noise import WAV_RATE
+
+    written = {}
+    atomic_write(wav_path, lambda handle: written.setdefault("full_scale", noise.write_wav(handle)))
+    return {
+        "path": str(wav_path),
+        "full_scale_pa": written["full_scale"],
+        "sample_rate_hz": WAV_RATE,
+        "duration_s": duration,
+        "size_bytes": wav_path.stat().st_size,
+        "calibration": "sample value 1.0 (32767) = full_scale_pa Pa at the ISO 3095 position",
+        "level_dBA": noise.wav_level_dba,
+        "fill": noise.wav_fill,
+    }
 
 
 def _print_impact_and_beside(noise) -> None:
@@ -399,7 +444,8 @@ def _twins(args) -> int:
     from wheelrail.core.noise.twins import track_noise_model
 
     params = params_from_args(args, "track", "geometry")
-    result = track_noise_model(params, wheel_model=args.wheel_model)
+    position = contact_position_from_args(args)
+    result = track_noise_model(params, wheel_model=args.wheel_model, contact_position=position)
     summary = {
         "frequency_hz": np.asarray(NOMINAL_FREQUENCIES_HZ),
         "twins": result.to_dict(),
@@ -416,6 +462,7 @@ def _twins(args) -> int:
         "axle for 0 dB re 1 um effective roughness (dB re 1 pW), beside CNOSSOS-EU L_H,tr mono-block-soft"
     )
     print(f"  track: {describe_words(params, 'track')}; contact: {describe_words(params, 'geometry')}")
+    print(f"  {position.words()}")
     veh = summary["cnossos_vehicle_transfer_dB"]
     # the components' transfers (wheelrail.core.noise.components): the track's beside L_H,tr, the wheel's beside L_H,veh
     track_parts = {name: max(6, len(name) + 1) for name in result.track_parts}
@@ -428,8 +475,8 @@ def _twins(args) -> int:
         + f"  L_H,veh {result.wheel_diameter_mm}"
     )
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
-        track = " ".join(f"{result.transfer_db[name][i]:{width}.1f}" for name, width in track_parts.items())
-        wheel = " ".join(f"{result.transfer_db[name][i]:{width}.1f}" for name, width in wheel_parts.items())
+        track = " ".join(f"{_level(result.transfer_db[name][i]):>{width}}" for name, width in track_parts.items())
+        wheel = " ".join(f"{_level(result.transfer_db[name][i]):>{width}}" for name, width in wheel_parts.items())
         print(
             f"  {f:7g}  {result.track_transfer_db[i]:12.1f} {track} {cn[i]:8.1f} {result.decay_rate_db_per_m[i]:14.2f} "
             f"{result.free_wave_decay_db_per_m[i]:10.2f} {result.rail_radiation_efficiency[i]:11.3f} "

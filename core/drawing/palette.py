@@ -2,9 +2,9 @@
 
 Every front end (the explorer's plots and their PNGs, ``wheelrail track/wheel --plot``, the study figures) takes
 its model colours from here, and each noise component's entry (:mod:`wheelrail.core.noise.components`: the rail
-orange, the sleeper sky blue, the wheel Tol's wine) takes its colour from here, so a model is the same colour
-everywhere and no component shares a near colour with a model it is drawn beside (the Noise tab draws the shown
-model's components with every model's total).
+orange, its lateral vibration Tol's indigo, the sleeper sky blue, the wheel Tol's wine) takes its colour from
+here, so a model is the same colour everywhere and no component shares a near colour with a model it is drawn
+beside (the Noise tab draws the shown model's components with every model's total).
 
 Source: the eight colours of Okabe & Ito, *Color Universal Design* (J*FLY, 2008), as printed by B. Wong, "Points
 of view: Color blindness", Nature Methods 8, 441 (2011), chosen to stay apart under the common colour-vision
@@ -25,6 +25,7 @@ __all__ = [
     "CNOSSOS_COLOURS",
     "MODEL_COLOURS",
     "OKABE_ITO",
+    "TOL_INDIGO",
     "TOL_WINE",
     "TOTAL_COLOUR",
     "WHEEL_SURFACE_COLOURS",
@@ -45,6 +46,9 @@ OKABE_ITO = {
 
 TOL_WINE = "#882255"
 """Paul Tol's "wine" of the muted scheme (module docstring)."""
+
+TOL_INDIGO = "#332288"
+"""Paul Tol's "indigo" of the muted scheme: the rail's lateral vibration (apart from every component and model)."""
 
 MODEL_COLOURS = {
     "3d": OKABE_ITO["blue"],

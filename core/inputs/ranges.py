@@ -213,6 +213,21 @@ ACCEPTED: dict[str, Accepted] = {
             "from one short wagon to a heavy-haul freight train (about 3.5 km)",
         ),
         Accepted("train_axles", "", 1, 2000, "one axle to a heavy-haul freight train's (about 1 200)"),
+        # the contact's lateral position (wheelrail.core.inputs.contact_position): the noise chain's, not the run's
+        Accepted(
+            "contact_offset_rail",
+            "m",
+            -0.03,
+            0.03,
+            "on the railhead's crown: a 60E1 head is 72 mm wide, running bands lie within about 20 mm of its centre",
+        ),
+        Accepted(
+            "contact_offset_wheel",
+            "m",
+            -0.04,
+            0.04,
+            "on the tread: a 135 mm rim, running bands lie within about 30 mm of the nominal rolling circle",
+        ),
         # the modal wheel's cross-section (wheelrail.core.modal_wheel.profile): solid wheels of 0.2 to 2.5 m with room
         # to spare around the 640 to 1250 mm wheels of wagons, coaches and locomotives
         Accepted("wheel_tyre_width", "m", 0.08, 0.2, "a rim's width: 135 mm on standard-gauge wheels"),

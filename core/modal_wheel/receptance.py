@@ -58,6 +58,17 @@ alpha_rz = alpha_zr (reciprocity) is not zero; for a flat web with the contact o
 every mode whose shape is symmetric about the midplane. TWINS's wheel (Thompson 1993, part II) is built the
 same way.
 
+The contact off the nominal rolling circle (``tread_offset``, :func:`tread_shapes`): the contact moved axially along
+the tread by y. A radial force there drives each mode through the mode's radial displacement at that point, not at
+the rolling circle: for a rim whose cross-section turns by theta in a mode (an axial, web-bending mode), the radial
+displacement at y is about phi_r(0) + theta y, so the axial modes, which a radial force on the web's midplane hardly
+excites, are driven in proportion to y (Thompson 1993, part II: TWINS drives the wheel at the contact point's own
+position, the lateral offset of the contact coupling the radial force to the axial modes). The shapes at the point
+are the mesh's own: its quadratic boundary edge on the tread that holds the point, interpolated with the edge's shape
+functions (exact at the nodes: at y = 0 the contact node's). The static correction of the surface velocity keeps the
+rolling circle's field (the mesh holds no static field for a force elsewhere): it matters only for the harmonics
+driven far below their first mode, where the rail and sleepers dominate.
+
 Surfaces for radiation (:func:`mean_square_velocity`): the outline's edges facing axially (|n_z| >= |n_r|:
 both faces of the web, the rim's and the hub's sides) and the outward-facing radial ones in the outer half of
 the wheel (the tread and the flange's top, n_r > |n_z|); the bore (on the axle) and the inward-facing cylinders
@@ -85,6 +96,8 @@ __all__ = [
     "mean_square_velocity",
     "static_residual",
     "surfaces",
+    "tread_point",
+    "tread_shapes",
 ]
 
 
@@ -131,6 +144,94 @@ def _frequencies(frequencies) -> np.ndarray:
     return f
 
 
+def tread_point(modes, tread_offset: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Where the contact ``tread_offset`` m along the tread from the rolling circle lies on the mesh: the three
+    nodes of the boundary edge that holds it and their quadratic shape functions there (module docstring).
+
+    Parameters
+    ----------
+    modes : WheelModes
+    tread_offset : float
+        Axial offset from the profile's contact point, m (+ towards the field side): ``contact_offset_wheel``'s
+        range, and on the tread (for a parametric wheel: at least 5 mm from its edges and the flange).
+
+    Returns
+    -------
+    (nodes, weights) : ndarrays (3,)
+        Node indices and their shape functions at the point (at 0: the contact node, weight 1).
+
+    Raises
+    ------
+    WheelrailError
+        An offset outside its range or off the tread, in one line.
+    """
+    from wheelrail.core.inputs.ranges import ACCEPTED
+
+    offset = ACCEPTED["contact_offset_wheel"].check(tread_offset, "tread_offset")
+    if offset == 0.0:
+        return np.array([modes.contact_node] * 3), np.array([1.0, 0.0, 0.0])
+    r0, z0 = modes.profile.contact_point()
+    z = z0 + offset
+    _check_on_tread(modes.profile, offset)
+    nodes, edges = modes.mesh.nodes, modes.mesh.boundary
+    za, zb = nodes[edges[:, 0], 1], nodes[edges[:, 2], 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = 2 * (z - za) / (zb - za) - 1
+    inside = (zb != za) & (np.abs(s) <= 1 + 1e-9)
+    s = np.clip(np.where(inside, s, 0.0), -1, 1)
+    shape = np.stack([s * (s - 1) / 2, 1 - s**2, s * (s + 1) / 2], axis=1)  # (edges, 3)
+    r = np.einsum("ek,ek->e", shape, nodes[edges, 0])
+    outward = zb > za  # counter-clockwise in (r, z), the inside on the left: an outer face runs towards +z
+    found = np.flatnonzero(inside & outward & (np.abs(r - r0) <= _TREAD_TOLERANCE))
+    if not len(found):
+        raise WheelrailError(
+            "the contact moved so far is off the wheel's tread (no outer face within "
+            f"{_TREAD_TOLERANCE * 1e3:g} mm of the rolling circle's radius there)",
+            Blame("contact_offset_wheel", offset, "m"),
+        )
+    edge = found[np.argmin(np.abs(r[found] - r0))]
+    return edges[edge], shape[edge]
+
+
+_TREAD_TOLERANCE = 0.01  # m: a tread point's radius within this of the rolling circle's (a worn or conical tread)
+_TREAD_MARGIN = 0.005  # m: the contact at least this far from the tread's edges and the flange (WheelProfile's rule)
+
+
+def _check_on_tread(profile, offset: float) -> None:
+    """A parametric wheel's contact moved by ``offset`` stays on its tread, :data:`_TREAD_MARGIN` from its edges
+    and the flange (the rule of ``WheelProfile.contact_offset``), else one WheelrailError with the range."""
+    from wheelrail.core.modal_wheel.profile import WheelProfile
+
+    if not isinstance(profile, WheelProfile):
+        return
+    half = profile.tyre_width / 2
+    low = -half + (profile.flange_thickness if profile.flange_thickness > 0 else 0.0) + _TREAD_MARGIN
+    high = half - _TREAD_MARGIN
+    if not low <= profile.contact_offset + offset <= high:
+        raise WheelrailError(
+            None,
+            Blame(
+                "contact_offset_wheel",
+                offset,
+                "m",
+                minimum=low - profile.contact_offset,
+                maximum=high - profile.contact_offset,
+                reason="the contact on this wheel's tread, at least 5 mm from its edges and the flange",
+            ),
+        )
+
+
+def tread_shapes(modes, tread_offset: float = 0.0) -> np.ndarray:
+    """(n_modes, 2): each mode's radial and axial displacement (kg^-1/2) at the contact ``tread_offset`` m along
+    the tread from the rolling circle (:func:`tread_point`; at 0, ``modes.contact_shapes()``)."""
+    if tread_offset == 0.0:
+        return modes.contact_shapes()
+    nodes, weights = tread_point(modes, tread_offset)
+    radial = modes.shapes[:, 3 * nodes] @ weights
+    axial = modes.shapes[:, 3 * nodes + 1] @ weights
+    return np.stack([radial, axial], axis=1)
+
+
 def _modal_denominator(modes, f: np.ndarray, added_loss_factor: float) -> np.ndarray:
     """(nf, n_modes): omega_m^2 (1 + i eta_m) - omega^2, rad^2/s^2."""
     wm2 = (2 * np.pi * modes.frequency) ** 2 * (1 + 1j * modes.loss_factor(added_loss_factor))
@@ -156,7 +257,9 @@ def static_residual(modes) -> np.ndarray:
     return total
 
 
-def contact_receptance(modes, frequencies, added_loss_factor: float = 0.0) -> WheelReceptance:
+def contact_receptance(
+    modes, frequencies, added_loss_factor: float = 0.0, *, tread_offset: float = 0.0
+) -> WheelReceptance:
     """The radial, axial and cross receptances at the contact, without the contact zone's local flexibility
     (module docstring).
 
@@ -168,6 +271,8 @@ def contact_receptance(modes, frequencies, added_loss_factor: float = 0.0) -> Wh
         Hz, >= 0.
     added_loss_factor : float
         A damper's loss factor added to every mode's.
+    tread_offset : float
+        The contact's axial position on the tread from the rolling circle, m (:func:`tread_shapes`; default 0).
 
     Returns
     -------
@@ -180,7 +285,7 @@ def contact_receptance(modes, frequencies, added_loss_factor: float = 0.0) -> Wh
         An input outside its accepted range (the frequencies, the added loss factor), in one line.
     """
     f = _frequencies(frequencies)
-    phi = modes.contact_shapes()
+    phi = tread_shapes(modes, tread_offset)
     denominator = _modal_denominator(modes, f, added_loss_factor)
     terms = np.einsum("ma,mb->mab", phi, phi)
     alpha = np.einsum("fm,mab->fab", 1 / denominator, terms)
@@ -271,7 +376,14 @@ def _residual_fields(modes, harmonic: int) -> np.ndarray:
 
 
 def mean_square_velocity(
-    modes, frequencies, force_radial=1.0, force_axial=0.0, added_loss_factor: float = 0.0, residual: bool = True
+    modes,
+    frequencies,
+    force_radial=1.0,
+    force_axial=0.0,
+    added_loss_factor: float = 0.0,
+    residual: bool = True,
+    *,
+    tread_offset: float = 0.0,
 ) -> SurfaceVelocity:
     """Mean-square normal velocity of the wheel's axially and radially facing surfaces, per harmonic.
 
@@ -287,6 +399,9 @@ def mean_square_velocity(
     residual : bool
         Add each harmonic's static correction (the field of the modes above ``modes.max_frequency``, moving with
         the force): it matters for the harmonics driven far below their first mode.
+    tread_offset : float
+        The contact's axial position on the tread from the rolling circle, m (:func:`tread_shapes`; default 0; the
+        static correction stays the rolling circle's, module docstring).
 
     Returns
     -------
@@ -303,7 +418,7 @@ def mean_square_velocity(
                      dtype=complex), f), axis=-1)[..., :2]  # fmt: skip
     if not np.all(np.isfinite(force)):
         raise WheelrailError("the forces on the wheel must be finite", Blame("force"))
-    modal_force = force @ modes.contact_shapes().T  # (nf, n_modes)
+    modal_force = force @ tread_shapes(modes, tread_offset).T  # (nf, n_modes)
     velocity = 1j * 2 * np.pi * f[:, None] * modal_force / _modal_denominator(modes, f, added_loss_factor)
     harmonics = np.arange(modes.max_harmonic + 1)
     out, areas = {}, {}

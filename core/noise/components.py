@@ -6,7 +6,10 @@ A component is driven by one of two quantities of the TWINS-like chain (:mod:`wh
   sleepers): its ``response`` reads a vibration measure of the lengthened FE track from :class:`TrackResponse`
   (one frequency, one excitation position, a unit force at the contact), and its ``radiation`` turns that measure
   into sound power, W/N^2 per unit of the measure; the chain takes the band mean of their product as the
-  component's sound power per unit mean-square force. A part with its own receptance (the modal wheel) gives
+  component's sound power per unit mean-square force. The rail's lateral vibration (``rail_lateral``, a part of the
+  track driven through the contact's offset on the railhead, :mod:`wheelrail.core.noise.rail_lateral`) reads the
+  unit force itself as its measure and gives its sound power per unit force^2 from the lateral track's receptance
+  in its ``radiation`` (zero for a centred contact). A part with its own receptance (the modal wheel) gives
   that band mean itself (``power_per_force``) and its sound power per axle for 0 dB re 1 um effective roughness
   (``transfer``, computed on its own band sampling). A run's force level times the band mean is the component's
   sound power.
@@ -33,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wheelrail.core.drawing.palette import OKABE_ITO, TOL_WINE
+from wheelrail.core.drawing.palette import OKABE_ITO, TOL_INDIGO, TOL_WINE
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.noise.radiation import (
     AIR_DENSITY,
@@ -111,12 +114,16 @@ class NoiseChain:
     wheel : dict
         The wheel model's chain: ``db`` its transfer per axle (dB re 1 pW for 0 dB re 1 um), ``power_per_force``
         (the modal wheel's band means of W / F^2, W/N^2; None for the directive's), ``source`` in words.
+    contact_position : ContactPosition or None
+        The contact's lateral position on the railhead and the wheel's tread
+        (:class:`wheelrail.core.inputs.contact_position.ContactPosition`; None: centred).
     """
 
     params: object
     numerics: object
     frequencies: np.ndarray
     wheel: dict
+    contact_position: object = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -200,6 +207,18 @@ def _rail_response(state: TrackResponse) -> float:
     return state.rail_radiated
 
 
+def _unit_force_response(state: TrackResponse) -> float:
+    """The mean-square contact force per unit force (1): a part whose vibration comes from a receptance of its own
+    (the rail's lateral, :mod:`wheelrail.core.noise.rail_lateral`), read by its ``radiation``."""
+    return 1.0
+
+
+def _rail_lateral_radiation(chain: NoiseChain) -> np.ndarray:
+    from wheelrail.core.noise.rail_lateral import lateral_rail_power
+
+    return lateral_rail_power(chain)
+
+
 def _sleeper_response(state: TrackResponse) -> float:
     return state.sleeper_velocity_sq
 
@@ -220,6 +239,14 @@ _BUILTIN = (
         driven_by="force",
         response=_rail_response,
         radiation=_rail_radiation,
+    ),
+    NoiseComponent(
+        name="rail_lateral",
+        label="rail, lateral",
+        colour=TOL_INDIGO,
+        driven_by="force",
+        response=_unit_force_response,
+        radiation=_rail_lateral_radiation,
     ),
     NoiseComponent(
         name="sleeper",
@@ -252,7 +279,8 @@ def noise_components() -> tuple[NoiseComponent, ...]:
     Returns
     -------
     tuple of NoiseComponent
-        The built-in rail, sleeper and wheel, then those registered with :func:`register_component`.
+        The built-in rail (vertical), rail (lateral), sleeper and wheel, then those registered with
+        :func:`register_component`.
     """
     return tuple(_REGISTRY.values())
 

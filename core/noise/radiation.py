@@ -22,6 +22,14 @@ cylinder oscillating transversely: sigma = 2 / (pi k a |H1'(k a)|^2) (from the n
 Morse & Ingard, *Theoretical Acoustics*, 1968, section 7.3). It has not been compared with the Southampton
 rail-radiation data set (Knuth, Squicciarini & Thompson 2025), which is not available here.
 
+**Rail, lateral motion.** The same section moving rigidly side to side (``direction="lateral"``: the normal
+velocity v n_x), as TWINS radiates the rail's lateral vibration: the railhead's lateral velocity taken as the whole
+section's, radiating as a 2D body (Thompson, *Railway Noise and Vibration*, 2009, section 6.5, the rail's radiation
+ratios for vertical and lateral motion from 2D boundary elements; Thompson, Jones & Turner, *A study of the sound
+radiation from railway rails*, 2003, the same idealisation). A section that also turns (lateral bending with
+torsion, the foot held by the pads) moves its foot less than its head: taking the head's velocity for the whole
+section overstates the lateral power, most where the rail twists about a point near its foot.
+
 **Sleepers.** Each sleeper is a rigid piston in a rigid baffle (the ballast surface) with the half sleeper's
 area per rail; a baffled circular piston of the same area: sigma = 1 - J1(2 k a) / (k a) (Kinsler et al.,
 *Fundamentals of Acoustics*, 4th ed., 2000, section 7.5; Thompson 2009, ch. 6 uses the same idealisation).
@@ -219,7 +227,25 @@ def vertical_radiation_efficiency(
     boundary: Boundary, frequency, chief_points=None, rho: float = AIR_DENSITY, c: float = SOUND_SPEED
 ) -> np.ndarray:
     """sigma of the section moving rigidly up and down (unit vertical velocity), at each frequency (Hz)."""
-    vn = boundary.normal[:, 1].astype(complex)  # normal component of a unit vertical velocity
+    return section_radiation_efficiency(boundary, frequency, "vertical", chief_points, rho, c)
+
+
+DIRECTIONS = {"lateral": 0, "vertical": 1}  # a rigid section's motion: the component of its normals it moves
+
+
+def section_radiation_efficiency(
+    boundary: Boundary,
+    frequency,
+    direction: str = "vertical",
+    chief_points=None,
+    rho: float = AIR_DENSITY,
+    c: float = SOUND_SPEED,
+) -> np.ndarray:
+    """sigma of the section moving rigidly in ``direction`` ("vertical": up and down; "lateral": side to side),
+    a unit velocity, at each frequency (Hz): W' / (rho c P <v_n^2>) with v_n the normal component of the motion."""
+    if direction not in DIRECTIONS:
+        raise WheelrailError(f"section_radiation_efficiency: direction {direction!r}; one of {', '.join(DIRECTIONS)}")
+    vn = boundary.normal[:, DIRECTIONS[direction]].astype(complex)  # normal component of a unit velocity
     mean_square = 0.5 * float(np.sum(np.abs(vn) ** 2 * boundary.length)) / boundary.perimeter
     out = []
     for f in np.atleast_1d(frequency):
@@ -260,9 +286,9 @@ def rail_boundary(
 
 
 @functools.cache
-def _rail_sigma_table() -> tuple[np.ndarray, np.ndarray]:
-    """sigma of the 60E1 section on :data:`RAIL_TABLE_HZ` (disk-cached by content: a boundary-element solve per
-    frequency of the grid)."""
+def _rail_sigma_table(direction: str = "vertical") -> tuple[np.ndarray, np.ndarray]:
+    """sigma of the 60E1 section moving in ``direction`` on :data:`RAIL_TABLE_HZ` (disk-cached by content: a
+    boundary-element solve per frequency of the grid)."""
     from wheelrail.core.files.cache import cache_key, load_entry, save_entry
 
     f = np.geomspace(*RAIL_TABLE_HZ)
@@ -277,12 +303,15 @@ def _rail_sigma_table() -> tuple[np.ndarray, np.ndarray]:
             "rho": AIR_DENSITY,
             "c": SOUND_SPEED,
             "version": 1,
+            **({} if direction == "vertical" else {"direction": direction}),  # the vertical table's key as it was
         },
     )
     entry = load_entry("rail-radiation", key, ("sigma",))
     if entry is not None:
         return f, entry["sigma"]
-    sigma = np.asarray([vertical_radiation_efficiency(rail_boundary(fi), fi, UIC60_CHIEF_POINTS)[0] for fi in f])
+    sigma = np.asarray(
+        [section_radiation_efficiency(rail_boundary(fi), fi, direction, UIC60_CHIEF_POINTS)[0] for fi in f]
+    )
     save_entry("rail-radiation", key, {"sigma": sigma})
     return f, sigma
 
@@ -291,10 +320,21 @@ def rail_radiation_efficiency(frequency) -> np.ndarray:
     """sigma of the 60E1 rail in vertical motion at ``frequency`` (Hz), from the BEM (interpolated in lg f; below
     the table's 20 Hz as f^3, the 2D dipole's law: sigma = pi (ka)^3 / 2 for a cylinder, from the small-argument
     H1'; :func:`decaying_rail_radiation` asks for the reduced frequencies c k_r / 2 pi down to 0)."""
+    return _rail_sigma(frequency, "vertical")
+
+
+def lateral_rail_radiation_efficiency(frequency) -> np.ndarray:
+    """sigma of the 60E1 rail moving rigidly side to side at ``frequency`` (Hz), from the same BEM (module
+    docstring: the TWINS rail's lateral radiation, the section's rigid lateral motion, Thompson 2009, ch. 6);
+    interpolated in lg f, below the table's 20 Hz as f^3 (the 2D dipole's law)."""
+    return _rail_sigma(frequency, "lateral")
+
+
+def _rail_sigma(frequency, direction: str) -> np.ndarray:
     f = finite_array("rail_radiation_efficiency: frequency", frequency, "Hz")
     if np.any(f <= 0):
         raise WheelrailError("rail_radiation_efficiency: frequency must be positive (Hz)")
-    f_tab, s_tab = _rail_sigma_table()
+    f_tab, s_tab = _rail_sigma_table(direction)
     inside = 10 ** np.interp(np.log10(f), np.log10(f_tab), np.log10(s_tab))
     return np.where(f < f_tab[0], s_tab[0] * (np.minimum(f, f_tab[0]) / f_tab[0]) ** 3, inside)
 
@@ -335,10 +375,17 @@ def decaying_rail_radiation(velocity, dx: float, frequency: float, sigma=None, c
 
 
 def rail_section() -> dict:
-    """What :func:`rail_radiation_efficiency` radiates: perimeter (m), mean of n_y^2 over it, area (m^2)."""
+    """What :func:`rail_radiation_efficiency` and :func:`lateral_rail_radiation_efficiency` radiate: perimeter
+    (m), mean of n_y^2 (vertical) and n_x^2 (lateral) over it, area (m^2)."""
     boundary = discretise(UIC60_POLYGON, max_element=0.002)
     ny2 = float(np.sum(boundary.normal[:, 1] ** 2 * boundary.length) / boundary.perimeter)
-    return {"perimeter_m": boundary.perimeter, "mean_normal_y_squared": ny2, "area_m2": polygon_area(UIC60_POLYGON)}
+    nx2 = float(np.sum(boundary.normal[:, 0] ** 2 * boundary.length) / boundary.perimeter)
+    return {
+        "perimeter_m": boundary.perimeter,
+        "mean_normal_y_squared": ny2,
+        "mean_normal_x_squared": nx2,
+        "area_m2": polygon_area(UIC60_POLYGON),
+    }
 
 
 def piston_radiation_efficiency(frequency, area: float, c: float = SOUND_SPEED) -> np.ndarray:

@@ -1,11 +1,13 @@
 """A finished run (any contact model) to sound power, dB(A), pass-by level and a pass-by you can hear.
 
 One wheel on one rail (what a run simulates), band by band (24 bands 50 Hz .. 10 kHz), for every component of
-the chain (:mod:`wheelrail.core.noise.components`: the rail, the sleepers and the wheel, and any registered):
+the chain (:mod:`wheelrail.core.noise.components`: the rail (vertical; lateral through the contact's offset on the
+railhead, ``contact_position``), the sleepers and the wheel, and any registered):
 
 - contact-force level L_F (dB re 1 N) of the run's dynamic force (:func:`wheelrail.core.spectra.force.force_spectrum`);
-- a component driven by the force (rail, sleepers; the modal wheel): L_W = L_F + 10 lg(T / 1 pW) with T its sound
-  power per unit mean-square force through its own receptance (:func:`wheelrail.core.noise.twins.track_noise_model`,
+- a component driven by the force (rail, rail lateral, sleepers; the modal wheel): L_W = L_F + 10 lg(T / 1 pW),
+  T its sound power per unit mean-square force through its own receptance
+  (:func:`wheelrail.core.noise.twins.track_noise_model`,
   the same wheel, track and contact as the run): for ``wheel_model`` "modal" on a run with the modal wheel, the
   wheel's T is the modal wheel's W / F^2 weighted by the coupled force's shape within the band (the run's own
   wheel, :mod:`wheelrail.core.noise.wheel_power`, step 5);
@@ -297,6 +299,7 @@ def run_noise(
     numerics=None,
     wheel_model: str = "directive",
     wheel_profile=None,
+    contact_position=None,
 ) -> RunNoise:
     """Sound power, dB(A) and pass-by level of a finished run (:class:`wheelrail.core.engine.results.RunResult`).
 
@@ -317,6 +320,11 @@ def run_noise(
     wheel_profile : WheelProfile, optional
         The modal wheel's cross-section (default: the run's own, ``RunHeader.wheel_profile``, for a run with the
         modal wheel; else the named wheel nearest the run's R, at R).
+    contact_position : ContactPosition, optional
+        The contact's lateral position on the railhead (drives the ``rail_lateral`` component) and on the wheel's
+        tread (the modal wheel's axial modes): :class:`wheelrail.core.inputs.contact_position.ContactPosition`,
+        default centred (no lateral rail vibration; the wheel driven at its rolling circle). The run's force is
+        the same: the interaction is vertical.
 
     Returns
     -------
@@ -372,11 +380,13 @@ def run_noise(
         from wheelrail.core.modal_wheel import profile_from_description
 
         # one wheel, track and contact: the run's force drives the modal wheel through its own W / F^2
-        track = track_noise_model(params, numerics, "modal", profile_from_description(result.header.wheel_profile))
+        profile = profile_from_description(result.header.wheel_profile)
+        track = track_noise_model(params, numerics, "modal", profile, contact_position)
     elif wheel_model == "modal":  # the force of another wheel: the modal wheel on its effective roughness
-        track = with_modal_wheel(track_noise_model(params, numerics), params, wheel_profile, numerics)
+        track = track_noise_model(params, numerics, contact_position=contact_position)
+        track = with_modal_wheel(track, params, wheel_profile, numerics, contact_position)
     else:
-        track = track_noise_model(params, numerics)
+        track = track_noise_model(params, numerics, contact_position=contact_position)
     _, force_db = force_spectrum(result, band_range=NOISE_BAND_RANGE)
     force_db = np.asarray(force_db, dtype=float)
     power = sound_power_from_force(force_db, track)
@@ -454,6 +464,7 @@ def _configuration(result, track, train_axles, train_length, undefined) -> dict:
         "receiver": {"distance_m": ISO3095_DISTANCE, "height_m": ISO3095_HEIGHT},
         "wheel_model": track.wheel_model,
         "wheel": track.configuration["wheel"],
+        "contact_position": track.configuration["contact_position"],  # m: on the railhead, on the wheel's tread
         "track": {k: v for k, v in track.configuration.items() if k != "rail_section"},
         "sound_power_per": "one wheel on one rail (axle: +3 dB)",
         # bands the run's force spectrum does not resolve (narrower than 1 / T, or above v / (2 dx)): null, left out

@@ -40,13 +40,23 @@ Chain, per frequency f (time convention e^{i w t}, amplitudes; band values are m
    :func:`wheelrail.core.noise.components.chain_components`): a run's force level times its W / F^2, weighted by
    the coupled force's shape within the band (:mod:`wheelrail.core.noise.wheel_power`, step 5), is its sound
    power. The model used is stated wherever it is (``wheel_transfer_source``).
+7. **The contact's lateral position** (``contact_position``,
+   :class:`wheelrail.core.inputs.contact_position.ContactPosition`; default centred, the chain of steps 1-6): the
+   vertical force off the rail's centreline twists the rail, whose lateral vibration radiates (the
+   ``rail_lateral`` component, :mod:`wheelrail.core.noise.rail_lateral`: the lateral track's cross receptance, its
+   lateral decay rate and the section's lateral radiation efficiency; a part of L_H,tr); off the wheel's nominal
+   rolling circle the radial force drives the modal wheel's axial modes through their radial displacement there
+   (:mod:`wheelrail.core.noise.wheel_power`, step 6).
 
-Only the vertical direction is modelled (no lateral rail or wheel vibration, no cross-coupling); the rail
-radiates in free field (no ground reflection) and the sleepers are rigid.
+The only excitation is the vertical contact force: the lateral (creep) force of the contact, which drives the rail
+and the wheel laterally in TWINS, is not modelled, nor the wheel's rotation (its modes split into forward and
+backward waves), the rail's cross-section deformation, the ground's reflection (the rail radiates in free field)
+or the sleepers' bending (they are rigid).
 
-The rail, the sleepers and the wheel are the entries of :mod:`wheelrail.core.noise.components` (steps 4 and 6 are
-their ``radiation``, ``response`` and ``transfer``); the chain computes every registered component: one driven by
-the force as the rail and sleepers of steps 4-5, one driven by the roughness as the wheel of step 6.
+The rail (vertical and lateral), the sleepers and the wheel are the entries of
+:mod:`wheelrail.core.noise.components` (steps 4, 6 and 7 are their ``radiation``, ``response`` and ``transfer``);
+the chain computes every registered component: one driven by the force as the rail and sleepers of steps 4-5, one
+driven by the roughness as the wheel of step 6.
 """
 
 from __future__ import annotations
@@ -236,11 +246,15 @@ def track_noise_model(
     numerics: NoiseNumerics | None = None,
     wheel_model: str = "directive",
     wheel_profile=None,
+    contact_position=None,
 ) -> TrackNoiseModel:
     """The model track's noise transfer functions (module docstring) for the wheel, track and contact of
     ``params`` (default: the paper's) and the wheel's ``wheel_model`` ("directive" or "modal", step 6; the modal
     wheel's cross-section ``wheel_profile``, a :class:`wheelrail.core.modal_wheel.WheelProfile`, default the named
-    wheel nearest R at R). Cached per process by the parameters."""
+    wheel nearest R at R), with the contact at ``contact_position``
+    (:class:`wheelrail.core.inputs.contact_position.ContactPosition`, default centred: step 7). Cached per process
+    by the parameters."""
+    from wheelrail.core.inputs.contact_position import ContactPosition
     from wheelrail.core.noise.wheel_power import checked_wheel_model
 
     params = ModelParameters() if params is None else params
@@ -248,6 +262,11 @@ def track_noise_model(
         raise WheelrailError(f"track_noise_model: params must be ModelParameters, got {type(params).__name__}")
     if numerics is not None and not isinstance(numerics, NoiseNumerics):
         raise WheelrailError(f"track_noise_model: numerics must be NoiseNumerics, got {type(numerics).__name__}")
+    contact_position = ContactPosition() if contact_position is None else contact_position
+    if not isinstance(contact_position, ContactPosition):
+        raise WheelrailError(
+            f"track_noise_model: contact_position must be ContactPosition, got {type(contact_position).__name__}"
+        )
     # the transfer functions do not depend on the speed: cache on the wheel, track and contact only
     return _track_noise_model(
         ModelParameters(wheel=params.wheel, track=params.track, contact=params.contact),
@@ -255,6 +274,7 @@ def track_noise_model(
         checked_wheel_model(wheel_model),
         _checked_profile(wheel_profile, wheel_model),
         noise_components(),  # in the cache's key: a component registered later has its own chain
+        contact_position,
     )
 
 
@@ -401,16 +421,17 @@ def _decay_rates(vib: dict) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _wheel_receptances(
-    params: ModelParameters, freqs: np.ndarray, wheel_model: str, profile
+    params: ModelParameters, freqs: np.ndarray, wheel_model: str, profile, tread_offset: float = 0.0
 ) -> tuple[np.ndarray, dict]:
-    """alpha_W at ``freqs`` (step 1) for the wheel model (step 6), and the modal wheel's response (else {})."""
+    """alpha_W at ``freqs`` (step 1) for the wheel model (step 6; the modal wheel's at the contact ``tread_offset``
+    m along its tread, step 7), and the modal wheel's response (else {})."""
     from wheelrail.core.noise.wheel_power import modal_wheel_profile, modal_wheel_response
     from wheelrail.core.wheel import wheel_receptance
 
     if wheel_model == "modal":
         if profile is None:
             profile = modal_wheel_profile(params.contact.radius_along)
-        response = modal_wheel_response(profile, freqs, params.wheel.unsprung_mass)
+        response = modal_wheel_response(profile, freqs, params.wheel.unsprung_mass, tread_offset)
         return response["receptance"], response
     alpha = np.empty(freqs.shape, dtype=complex)
     for index, f in np.ndenumerate(freqs):
@@ -418,7 +439,7 @@ def _wheel_receptances(
     return alpha, {}
 
 
-def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.ndarray) -> dict:
+def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.ndarray, tread_offset=0.0) -> dict:
     """Step 6: the wheel's transfer function per axle (dB), its source in words and, for the modal wheel, the
     band means of W / F^2 (W/N^2), on the wheel's own dense band sampling
     (:func:`wheelrail.core.noise.wheel_power.modal_wheel_band_means`) with alpha_R + alpha_C interpolated in
@@ -445,19 +466,20 @@ def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.n
 
     profile = modal["modes"].profile
     dense = band_frequencies(wheel_power.WHEEL_POINTS_PER_BAND)  # read at the call: a test may change it
-    means = modal_wheel_band_means(profile, params.wheel.unsprung_mass, alpha_track, dense)
+    means = modal_wheel_band_means(profile, params.wheel.unsprung_mass, alpha_track, dense, tread_offset)
     return {
         "db": 10 * np.log10(2 * means["power_per_roughness"]),  # (1 um)^2 / 1 pW = 1
         "power_per_force": means["power_per_force_weighted"],  # per a band's force (wheel_power, step 5)
         "source": f"modal wheel ({profile_name(profile)}, 2R = {2e3 * profile.wheel_radius:.0f} mm): axisymmetric "
-        f"FE modes n = 0..{modal['modes'].max_harmonic} and their radiation (wheelrail.core.modal_wheel); "
-        f"not the directive's {directive}",
+        f"FE modes n = 0..{modal['modes'].max_harmonic} and their radiation (wheelrail.core.modal_wheel)"
+        + (f", driven {tread_offset * 1e3:g} mm along the tread from the rolling circle" if tread_offset else "")
+        + f"; not the directive's {directive}",
     }
 
 
 @functools.lru_cache(maxsize=8)
 def _track_noise_model(
-    params: ModelParameters, numerics: NoiseNumerics, wheel_model: str, profile, components: tuple
+    params: ModelParameters, numerics: NoiseNumerics, wheel_model: str, profile, components: tuple, position
 ) -> TrackNoiseModel:
     from wheelrail.core.noise.components import chain_components
 
@@ -467,7 +489,7 @@ def _track_noise_model(
     section = rail_section()
     area = numerics.sleeper_area
     freqs = band_frequencies(numerics.points_per_band)
-    alpha_wheel, modal = _wheel_receptances(params, freqs, wheel_model, profile)
+    alpha_wheel, modal = _wheel_receptances(params, freqs, wheel_model, profile, position.wheel_offset)
     vib = _vibration(params, numerics, k_hertz, freqs, alpha_wheel, components)
     sigma_rail = rail_radiation_efficiency(freqs)
     sigma_sleeper = piston_radiation_efficiency(freqs, area)
@@ -475,8 +497,8 @@ def _track_noise_model(
         sigma_rail[..., None] * vib["rail"], axis=(1, 2)))  # fmt: skip
     force_per_r_sq = 1.0 / vib["alpha_sq"]  # (N/m)^2
     decay, free_decay = _decay_rates(vib)
-    wheel = _wheel_transfer(params, modal, vib, freqs)
-    chain = NoiseChain(params=params, numerics=numerics, frequencies=freqs, wheel=wheel)
+    wheel = _wheel_transfer(params, modal, vib, freqs, position.wheel_offset)
+    chain = NoiseChain(params=params, numerics=numerics, frequencies=freqs, wheel=wheel, contact_position=position)
     power_per_force, transfer_db = _component_transfers(components, chain, vib["responses"], force_per_r_sq)
     track_parts = tuple(entry.name for entry in components if entry.track_part)
     track_power = sum(10 ** (transfer_db[name] / 10) for name in track_parts)
@@ -493,6 +515,7 @@ def _track_noise_model(
         "band_range_hz": list(NOISE_BAND_RANGE),
         "wheel_model": wheel_model,
         "wheel": wheel["source"],
+        "contact_position": position.to_dict(),
     }
     um2 = 1e-12  # (1 um)^2 in m^2
     return TrackNoiseModel(
@@ -530,13 +553,14 @@ def _component_transfers(components: tuple, chain: NoiseChain, responses: dict, 
         elif entry.driven_by == "force":
             power = entry.radiation(chain) * responses[entry.name]  # W/N^2 (rms force, rms velocity), (b, p, 2)
             power_per_force[entry.name] = np.mean(power, axis=(1, 2))
-            transfer_db[entry.name] = 10 * np.log10(2 * np.mean(power * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
+            with np.errstate(divide="ignore"):  # a part that does not radiate (the centred contact's lateral rail)
+                transfer_db[entry.name] = 10 * np.log10(2 * np.mean(power * force_per_r_sq, axis=(1, 2)) * um2 / 1e-12)
         else:
             transfer_db[entry.name] = np.asarray(entry.transfer(chain), dtype=float)
     return power_per_force, transfer_db
 
 
-def with_modal_wheel(track, params, wheel_profile=None, numerics=None):
+def with_modal_wheel(track, params, wheel_profile=None, numerics=None, contact_position=None):
     """``track`` (a :class:`wheelrail.core.noise.twins.TrackNoiseModel` of the 2-DOF wheel, as the force of a run
     with the 2-DOF wheel was computed) with the modal wheel's L_H,veh-equivalent in the place of the directive's,
     driven by the roughness: a given force (a 2-DOF run's, the ``noise`` study's) becomes the effective roughness
@@ -545,10 +569,11 @@ def with_modal_wheel(track, params, wheel_profile=None, numerics=None):
     directly with the modal wheel's W / F^2 would put the 2-DOF wheel's force into the modal wheel's undamped
     resonances, a force the modal wheel's own receptance cuts there; a run with the modal wheel has that force,
     and its noise takes the modal chain itself (:func:`wheelrail.core.noise.run_noise.run_noise`). The rail and
-    sleeper transfer functions and the effective roughness stay the 2-DOF chain's."""
+    sleeper transfer functions and the effective roughness stay the 2-DOF chain's. ``contact_position``: the
+    modal wheel's chain's (step 7; give ``track``'s own)."""
     import dataclasses
 
-    modal = track_noise_model(params, numerics, "modal", wheel_profile)
+    modal = track_noise_model(params, numerics, "modal", wheel_profile, contact_position)
     source = f"{modal.wheel_source}; on the effective roughness of the 2-DOF wheel's force"
     wheels = {name: levels for name, levels in modal.transfer_db.items() if name not in track.power_per_force}
     return dataclasses.replace(

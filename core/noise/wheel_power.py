@@ -27,10 +27,16 @@ Two wheel models (:data:`WHEEL_MODELS`; the command line's ``--wheel-model``, de
      far narrower than a run's spectrum resolves). The plain band mean <W / F^2> is held by those peaks and would
      put a force the wheel does not get into them (on the corrugated rail's modal-wheel run, 12.7 dB(A) more).
 
+  6. the contact off the nominal rolling circle (``tread_offset``, the chain's ``contact_offset_wheel``,
+     :mod:`wheelrail.core.inputs.contact_position`): the radial force acts at that point of the tread, so each
+     mode is driven (and its receptance at the contact read) through its radial displacement there
+     (:func:`wheelrail.core.modal_wheel.receptance.tread_shapes`): the axial modes, which dominate a wheel's
+     noise, are driven in proportion to the offset.
+
   The wheel's profile is given (``wheel_profile``), or the named wheel nearest the model's R, at R
   (:func:`modal_wheel_profile`; :data:`wheelrail.core.modal_wheel.NAMED_WHEELS`: 920, 840, 640 mm). Only radial
-  (vertical) excitation is modelled, as for the track: the lateral force and the rigid wheelset's own radiation
-  are left out.
+  (vertical) excitation is modelled, as for the track: the lateral (creep) force, the wheel's rotation and the
+  rigid wheelset's own radiation are left out.
 """
 
 from __future__ import annotations
@@ -139,9 +145,10 @@ def _on(frequencies: np.ndarray, f_table: np.ndarray, table: np.ndarray) -> np.n
     return 10 ** np.stack([np.interp(lf, lt, log_sigma[:, n]) for n in range(table.shape[1])], axis=1)
 
 
-def modal_wheel_response(profile, frequencies, unsprung_mass: float) -> dict:
+def modal_wheel_response(profile, frequencies, unsprung_mass: float, tread_offset: float = 0.0) -> dict:
     """The modal wheel at ``frequencies`` (Hz, any shape): ``receptance`` alpha_W (m/N, steps 3 of the module
-    docstring), ``power_per_force`` W / F^2 (W/N^2, step 2) and its ``axial`` and ``radial`` parts."""
+    docstring), ``power_per_force`` W / F^2 (W/N^2, step 2) and its ``axial`` and ``radial`` parts, for a radial
+    force at the contact ``tread_offset`` m along the tread from the rolling circle (step 6)."""
     from wheelrail.core.modal_wheel import contact_receptance, mean_square_velocity, wheel_modes
 
     f = np.asarray(frequencies, dtype=float)
@@ -149,8 +156,10 @@ def modal_wheel_response(profile, frequencies, unsprung_mass: float) -> dict:
         raise WheelrailError("modal_wheel_response: frequencies must be positive and finite (Hz)")
     modes = wheel_modes(profile, max_frequency=MAX_FREQUENCY, max_harmonic=MAX_HARMONIC)
     flat = f.ravel()
-    alpha = contact_receptance(modes, flat).radial - 1.0 / (unsprung_mass * (2 * np.pi * flat) ** 2)
-    velocity = mean_square_velocity(modes, flat, force_radial=1.0)
+    alpha = contact_receptance(modes, flat, tread_offset=tread_offset).radial - 1.0 / (
+        unsprung_mass * (2 * np.pi * flat) ** 2
+    )
+    velocity = mean_square_velocity(modes, flat, force_radial=1.0, tread_offset=tread_offset)
     f_table, axial, radial = radiation_table(profile)
     harmonics = np.asarray(velocity.harmonic)
     parts = {
@@ -167,7 +176,7 @@ def modal_wheel_response(profile, frequencies, unsprung_mass: float) -> dict:
     }
 
 
-def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, freqs):
+def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, freqs, tread_offset: float = 0.0):
     """Band means (over axis 1 of ``freqs``, (bands, points) Hz: :data:`WHEEL_POINTS_PER_BAND` per band evenly in
     lg f, ``twins.band_frequencies``) of the modal wheel's W / F^2 (W/N^2) and of W / F^2 |F / r|^2 (W/m^2) with
     |F / r| = 1 / |alpha_W + alpha_T| for each excitation position. ``alpha_track(f)`` gives alpha_R + alpha_C
@@ -177,11 +186,12 @@ def modal_wheel_band_means(profile, unsprung_mass: float, alpha_track, freqs):
     Returns ``power_per_force`` (24,), ``power_per_roughness`` (24,) (the mean over positions too), ``force_sq``
     (24,) the band means of |F / r|^2 (N^2/m^2; over positions too), ``power_per_force_weighted`` (24,) W / F^2
     weighted by the coupled force's shape within the band, <W / F^2 |F / r|^2> / <|F / r|^2> (W/N^2: a band's
-    mean-square force times it is the wheel's sound power; module docstring, step 5), and ``modes``."""
+    mean-square force times it is the wheel's sound power; module docstring, step 5), and ``modes``; the radial
+    force at the contact ``tread_offset`` m along the tread from the rolling circle (step 6)."""
     power, per_roughness, force_mean = np.empty(freqs.shape[0]), np.empty(freqs.shape[0]), np.empty(freqs.shape[0])
     modes = None
     for b, f in enumerate(freqs):  # a band at a time: the modal sums hold (points, modes, surface points)
-        response = modal_wheel_response(profile, f, unsprung_mass)
+        response = modal_wheel_response(profile, f, unsprung_mass, tread_offset)
         modes = response["modes"]
         force_sq = 1.0 / np.abs(response["receptance"][:, None] + alpha_track(f)) ** 2
         power[b] = np.mean(response["power_per_force"])

@@ -392,7 +392,7 @@ def test_the_noise_tab_shows_the_runs_sound_power_beside_cnossos_and_plays_its_p
     assert noise is not None and noise.configuration["run"]["model"] == "hertz"
     tab = app.tab(NoiseTab)
     labels = [label for label, _, _ in tab.power.series]
-    assert labels[:4] == ["hertz: rail", "hertz: sleeper", "hertz: wheel", "hertz: total"]
+    assert labels[:5] == ["hertz: rail", "hertz: rail_lateral", "hertz: sleeper", "hertz: wheel", "hertz: total"]
     assert labels[-3:] == ["CNOSSOS-EU: track", "CNOSSOS-EU: vehicle", "CNOSSOS-EU: total"]
     # the plotted total: one wheel's sound power + 3 dB (an axle) + A-weighting, on the bands the run resolves
     plotted = dict(zip(labels, tab.power.data[1:], strict=True))

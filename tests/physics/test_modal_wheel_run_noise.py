@@ -85,7 +85,8 @@ def test_the_modal_wheel_is_driven_by_the_force(profile, wheel_power_per_force):
     power per unit mean-square force, whatever the effective roughness; the rail's as in the directive's chain."""
     track = track_noise_model(PARAMS, SMALL, "modal", profile)
     assert component("wheel").driven_by == "roughness"  # the registered (directive) wheel stays as it is
-    assert track.track_parts == ("rail", "sleeper") and set(track.power_per_force) == {"rail", "sleeper", "wheel"}
+    assert track.track_parts == ("rail", "rail_lateral", "sleeper")
+    assert set(track.power_per_force) == {"rail", "rail_lateral", "sleeper", "wheel"}
     directive = track_noise_model(PARAMS, SMALL)
     np.testing.assert_allclose(track.power_per_force["rail"], directive.power_per_force["rail"], rtol=1e-12)
     force_db = 60.0 - 3.0 * np.arange(24)

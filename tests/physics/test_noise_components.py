@@ -63,7 +63,11 @@ def damper():
 
 def test_a_registered_component_is_in_the_chain_and_its_outputs(short_run, damper, tmp_path, monkeypatch, capsys):
     noise = run_noise(short_run, numerics=SMALL)
-    assert list(noise.sound_power_db) == ["rail", "sleeper", "wheel", "rail_damper", "total"] == [*sound_power_parts()]
+    assert (
+        list(noise.sound_power_db)
+        == ["rail", "rail_lateral", "sleeper", "wheel", "rail_damper", "total"]
+        == [*sound_power_parts()]
+    )
     # the chain: a quarter of the rail's power in every band, and in the total
     np.testing.assert_allclose(noise.sound_power_db["rail_damper"], noise.sound_power_db["rail"] + QUARTER_DB)
     parts = [noise.sound_power_db[name] for name in component_names()]
@@ -74,7 +78,7 @@ def test_a_registered_component_is_in_the_chain_and_its_outputs(short_run, dampe
     # the JSON and the CSV
     assert set(noise.to_dict()["sound_power_dB"]) == set(sound_power_parts())
     header = next(line for line in noise.csv_text().splitlines() if line.startswith("band,"))
-    assert header == "band,centre_hz,force_dB_re_1N,rail_dB,sleeper_dB,wheel_dB,rail_damper_dB,total_dB"
+    assert header == "band,centre_hz,force_dB_re_1N,rail_dB,rail_lateral_dB,sleeper_dB,wheel_dB,rail_damper_dB,total_dB"
     # the command line's JSON and table (its noise on the coarse track)
     monkeypatch.setattr(run_noise_module, "run_noise", functools.partial(run_noise, numerics=SMALL))
     short_run.save_npz(tmp_path / "run.npz")
@@ -83,7 +87,7 @@ def test_a_registered_component_is_in_the_chain_and_its_outputs(short_run, dampe
     assert printed["sound_power_dBA"]["rail_damper"] == pytest.approx(noise.sound_power_dba["rail_damper"])
     assert main(["noise", "--run", str(tmp_path / "run.npz")]) == 0
     table = capsys.readouterr().out
-    assert "band Hz   force dB   rail sleeper  wheel rail_damper  total" in table
+    assert "band Hz   force dB   rail rail_lateral sleeper  wheel rail_damper  total" in table
     assert f"rail_damper {noise.sound_power_dba['rail_damper']:.1f}" in table
 
 
@@ -93,24 +97,26 @@ def test_a_registered_component_is_in_the_explorers_curves_and_table(short_run, 
     noise = run_noise(short_run, numerics=SMALL)
     curves = power_curves({"hertz": noise}, "hertz", {})
     drawn = {label: (colour, style, levels) for label, colour, style, levels in curves}
-    assert [label for label, *_ in curves][:5] == [f"hertz: {name}" for name in sound_power_parts()]
+    assert [label for label, *_ in curves][:6] == [f"hertz: {name}" for name in sound_power_parts()]
     colour, style, levels = drawn["hertz: rail_damper"]
     assert (colour, style) == (OKABE_ITO["bluish green"], "solid")
     np.testing.assert_allclose(levels, drawn["hertz: rail"][2] + QUARTER_DB)
     table = NoiseTab._totals(None, {"hertz": noise}, "hertz", {}, None, (40, 200.0), None).splitlines()
-    assert table[0] == "| L_WA, dB(A) | rail | sleeper | rail damper | track | wheel (directive) | total | pass-by |"
+    assert table[0] == (
+        "| L_WA, dB(A) | rail | rail, lateral | sleeper | rail damper | track | wheel (directive) | total | pass-by |"
+    )
     row = table[2].split(" | ")
     dba = {name: value + 10 * math.log10(2) for name, value in noise.sound_power_dba.items()}
-    assert row[3] == f"{dba['rail_damper']:.1f}"
-    assert row[4] == f"{energy_sum(dba['rail'], dba['sleeper'], dba['rail_damper']):.1f}"  # the track: its parts
+    assert row[4] == f"{dba['rail_damper']:.1f}"
+    assert row[5] == f"{energy_sum(dba['rail'], dba['sleeper'], dba['rail_damper']):.1f}"  # the track: its parts
 
 
 def test_the_component_leaves_with_its_entry(short_run):
     register_component(DAMPER)
     unregister_component(DAMPER.name)
-    assert component_names() == ("rail", "sleeper", "wheel")
+    assert component_names() == ("rail", "rail_lateral", "sleeper", "wheel")
     noise = run_noise(short_run, numerics=SMALL)
-    assert list(noise.sound_power_db) == ["rail", "sleeper", "wheel", "total"]
+    assert list(noise.sound_power_db) == ["rail", "rail_lateral", "sleeper", "wheel", "total"]
     assert "rail_damper_transfer_dB" not in track_noise_model(ModelParameters(), SMALL).to_dict()
 
 

@@ -14,6 +14,7 @@ ROOT = Path(__file__).resolve().parents[2]
 DOCUMENTED = {
     "wheelrail.core.errors": ["WheelrailError"],
     "wheelrail.core.inputs.declared": ["Input", "model_parameters", "describe"],
+    "wheelrail.core.inputs.contact_position": ["ContactPosition"],
     "wheelrail.core.contact.hertz": ["hertz_force", "hertz_stiffness", "hertz_approach"],
     "wheelrail.core.contact.hertz_model": ["hertz_constant"],
     "wheelrail.core.contact.influence": ["influence_kernel"],
@@ -26,6 +27,7 @@ DOCUMENTED = {
     "wheelrail.core.models": ["model_names"],
     "wheelrail.core.noise.components": ["register_component"],
     "wheelrail.core.noise.run_noise": ["run_noise"],
+    "wheelrail.core.noise.rail_lateral": ["lateral_power_per_force"],
     "wheelrail.core.reference_filters": ["reference_filters"],
     "wheelrail.core.roughness.io": ["load_roughness"],
     "wheelrail.core.roughness.model": ["RoughnessSet"],

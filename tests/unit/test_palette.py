@@ -145,7 +145,7 @@ def test_every_front_end_takes_the_models_and_components_from_the_palette():
         assert figures.model_style(column)["color"] == palette.MODEL_COLOURS[name]
     # each noise component's colour is its registry entry's (the explorer and the study figures read it there),
     # one of the palette's
-    palette_colours = {*palette.OKABE_ITO.values(), palette.TOL_WINE}
+    palette_colours = {*palette.OKABE_ITO.values(), palette.TOL_WINE, palette.TOL_INDIGO}
     assert all(part.colour in palette_colours for part in noise_components())
     assert noise_tab.CNOSSOS_COLOURS == palette.CNOSSOS_COLOURS
 
