@@ -10,7 +10,7 @@ loaded). Prints
 * eqs. 1-2 alone (history and commit, the track convolution of ``_scatter``): the same loop with the law
   replaced by the forces the run found;
 * the contact law alone (``halfspace_model.halfspace_step``: gap assembly and solve), replayed on the
-  approaches the run handed it, from the same start;
+  approaches the run handed it, from the warm state of a fresh run stepped to the same first recorded step;
 * inside the law: how many active-set iterations, additions and drops a step takes (counted by replaying the
   law's solve, ``active_set.solve_step``, on the same approaches) and what each costs at the run's contact
   set (each kernel timed alone in a compiled loop, on the state the run ended with).
@@ -53,15 +53,6 @@ def _loop_without_law(j0, j1, track, wheel, preload, xi_w0, forces, offset):
 def _law_alone_from(first, known, compliance, law):
     total = 0.0
     for s in range(first, known.size):
-        status, force, on_centre, count = halfspace_model.halfspace_step(s, known[s], compliance[s], law)
-        total += force
-    return total
-
-
-@njit
-def _law_alone(known, compliance, law):
-    total = 0.0
-    for s in range(known.size):
         status, force, on_centre, count = halfspace_model.halfspace_step(s, known[s], compliance[s], law)
         total += force
     return total
@@ -148,35 +139,30 @@ def main() -> None:
         f"{n / wall:,.0f} steps/s by the wall clock on the shared machine)"
     )
 
-    # eqs. 1-2 alone, on a fresh history with the run's forces
+    # eqs. 1-2 alone, on a fresh run at the same point (steady start and run-in done) with the run's forces
     forces = loop.force.copy()
-    fresh = prepare_run(SET, model="3d", params=params, length=args.length_m)
-    f = fresh.loop
-    j0, j1 = f.n_hist, f.n_hist + f.n_total
-    _loop_without_law(j0, j0 + 1, f.track, f.wheel, params.contact.preload, f.xi_w0, forces, 0)
-    fresh = prepare_run(SET, model="3d", params=params, length=args.length_m)
-    f = fresh.loop
-    before = _loop_without_law(j0, j0 + r, f.track, f.wheel, params.contact.preload, f.xi_w0, forces, 0)
+    j0, j1 = loop.n_hist + r, loop.n_hist + loop.n_total
+    preload = params.contact.preload
+    warm = _at_record(params, args.length_m)  # compiles the loop (one step), then a fresh one
+    _loop_without_law(j0, j0 + 1, warm.loop.track, warm.loop.wheel, preload, warm.loop.xi_w0, forces, 0)
+    f = _at_record(params, args.length_m).loop
     start = time.process_time()
-    after = _loop_without_law(j0 + r, j1, f.track, f.wheel, params.contact.preload, f.xi_w0, forces, 0)
+    known, compliance = _loop_without_law(j0, j1, f.track, f.wheel, preload, f.xi_w0, forces, 0)
     history = (time.process_time() - start) / n * 1e6
-    known, compliance = (np.concatenate(pair) for pair in zip(before, after, strict=True))
+    known = np.concatenate((np.zeros(r), known))  # indexed by step s, run-in included
+    compliance = np.concatenate((np.zeros(r), compliance))
     print(f"  eqs. 1-2 (history, track convolution of {loop.weights.shape[1]} lags, commit) {history:6.1f} us")
 
-    # the law alone on the same approaches, from the same start
-    _law_alone(known[:1], compliance[:1], prepare_run(SET, model="3d", params=params, length=0.05).law.solver.law)
-    law = fresh.law.solver.law
-    _law_alone(known[:r], compliance[:r], law)  # the run-in's steps, replayed on the 3D law, untimed
-    _law_alone_from(known.size, known, compliance, law)  # compile (no step)
+    # the law alone on the same approaches, from the warm state the recorded steps start from
+    _law_alone_from(known.size, known, compliance, warm.law.solver.law)  # compile (no step)
+    law = _at_record(params, args.length_m).law.solver.law
     start = time.process_time()
     _law_alone_from(r, known, compliance, law)
     law_us = (time.process_time() - start) / n * 1e6
     print(f"  contact law (gap assembly + solve)                        {law_us:6.1f} us")
     print(f"  rest (outputs: pressure map, lengths; not itemised)       {cpu / n * 1e6 - history - law_us:6.1f} us")
 
-    decisions = _decisions(
-        known, compliance, prepare_run(SET, model="3d", params=params, length=args.length_m).law.solver.law
-    )[r:]
+    decisions = _decisions(r, known, compliance, _at_record(params, args.length_m).law.solver.law)[r:]
     iterations, added, dropped, elements = decisions.mean(axis=0)
     m = int(round(elements))
     state_law = run.law.solver.law
@@ -204,13 +190,20 @@ def main() -> None:
     print(f"    per element added and dropped (new factor row + downdate at mid-set) {update:.1f} us")
     itemised = iterations * (forward + backward + penetrating) + 0.5 * (added + dropped) * update
     print(
-        f"    itemised {itemised:.1f} us of the law's {law_us:.1f} us (the rest: gap assembly, tension check, "
-        f"bookkeeping)"
+        f"    itemised {itemised:.1f} us of the law's {law_us:.1f} us (an upper bound: a forward substitution and a "
+        f"deformed gap each iteration, updates at mid-set; not itemised: gap assembly, tension check, bookkeeping)"
     )
 
 
+def _at_record(params, length):
+    """A fresh run of the same length stepped to its first recorded step (steady start and run-in done)."""
+    run = prepare_run(SET, model="3d", params=params, length=length)
+    run._advance_to(run.loop.n_run_in)
+    return run
+
+
 @njit
-def _decisions(known, compliance, law):
+def _decisions(first, known, compliance, law):
     """(iterations, elements added, dropped, in contact) per step of the law replayed on these approaches."""
     _, state, work, track, _ = law
     base, lines, start_index, ramp, half_x, _ = track
@@ -218,7 +211,7 @@ def _decisions(known, compliance, law):
     ny = base.size // nx
     gap, active = work[1], state[1]
     out = np.zeros((known.size, 4))
-    for s in range(known.size):
+    for s in range(first, known.size):
         before = active.copy()
         first = start_index[s] - half_x
         for row in range(ny):

@@ -94,7 +94,8 @@ def displacement_kernel(grid, order, m, pressure, candidates, count, u):
     g, the set's bounding box of pressures (H x W) is laid out with the row stride S = W + g - 1, zero beyond
     column W, and the kernel's offsets that occur are copied with the same stride: the terms of an element
     are then one contiguous slice of that copy, of (H - 1) S + W terms (the zeros drop those that wrap into
-    the next row). Measured at 0.5 mm: ``docs/benchmarks.md``, "The contact solver".
+    the next row); groups of the same spread share the layout of the pressures. Measured at 0.5 mm:
+    ``docs/benchmarks.md``, "The contact solver".
     """
     kernel, flipped, _, rows, columns = grid
     ny = (kernel.shape[0] + 1) // 2
@@ -111,6 +112,7 @@ def displacement_kernel(grid, order, m, pressure, candidates, count, u):
     elements = np.empty(count, dtype=np.int64)
     starts = np.empty(count, dtype=np.int64)
     _, _, first, last = _bounding_box(rows, columns, candidates, count, ny, nx)
+    laid = -1  # the stride the pressures are laid out with (groups of the same spread share it)
     for left in range(first, last + 1, KERNEL_GROUP_COLUMNS):
         size = 0
         for c in range(count):
@@ -127,9 +129,11 @@ def displacement_kernel(grid, order, m, pressure, candidates, count, u):
             row = flipped[r0 - q1 + a + ny - 1]
             for b in range(stride):
                 band[a * stride + b] = row[c0 - d1 + nx - 1 + b]
-        for a in range(height):
-            for b in range(stride):
-                span[a * stride + b] = pressure[(r0 + a) * nx + c0 + b] if b < width else 0.0
+        if stride != laid:
+            for a in range(height):
+                for b in range(stride):
+                    span[a * stride + b] = pressure[(r0 + a) * nx + c0 + b] if b < width else 0.0
+            laid = stride
         for g in range(size):
             starts[g] = (q1 - rows[elements[g]]) * stride + d1 - columns[elements[g]]
         _dot_rows(band, span, starts[:size], group[:size], (height - 1) * stride + width, u)
@@ -144,6 +148,10 @@ def screen(grid, order, m, pressure, gap, candidates, count, limit):
     every j of the block, and u_i >= sum over blocks of C_far P+ (block) - C_0 P- (P+, P-: the sums of the
     positive and negative pressures). An element whose h_i + bound is not below the limit does not penetrate
     and is not computed (most of the rigid overlap outside the set, away from its border).
+
+    The block of each row and column and the farthest offset of each block from each row and column of the
+    window are tabulated once per call; the candidates' bounds are summed four at a time (independent chains
+    of multiply-adds, each in the order of the blocks).
     """
     kernel, _, _, rows, columns = grid
     ny = (kernel.shape[0] + 1) // 2
@@ -156,33 +164,51 @@ def screen(grid, order, m, pressure, gap, candidates, count, limit):
     for b in range(blocks + 1):
         edges[0, b] = r0 + ((r1 + 1 - r0) * b) // blocks
         edges[1, b] = c0 + ((c1 + 1 - c0) * b) // blocks
-    sums = np.zeros((blocks, blocks))
+    row_block = np.empty(r1 + 1 - r0, dtype=np.int64)  # the block b with edges[b] <= row < edges[b + 1], times blocks
+    column_block = np.empty(c1 + 1 - c0, dtype=np.int64)
+    for b in range(blocks):
+        for r in range(edges[0, b], edges[0, b + 1]):
+            row_block[r - r0] = b * blocks
+        for c in range(edges[1, b], edges[1, b + 1]):
+            column_block[c - c0] = b
+    sums = np.zeros(blocks * blocks)  # positive pressure per block, row-major
     negative = 0.0
     for a in range(m):
         i = order[a]
         value = pressure[i]
         if value > 0.0:
-            # the block b with edges[b] <= row < edges[b + 1]
-            br = ((rows[i] - r0 + 1) * blocks + r1 - r0) // (r1 + 1 - r0) - 1
-            bc = ((columns[i] - c0 + 1) * blocks + c1 - c0) // (c1 + 1 - c0) - 1
-            sums[br, bc] += value
+            sums[row_block[rows[i] - r0] + column_block[columns[i] - c0]] += value
         else:
             negative -= value
     slack = kernel[ny - 1, nx - 1] * negative
-    far_rows = np.empty(blocks, dtype=np.int64)
-    far_columns = np.empty(blocks, dtype=np.int64)
+    # the farthest offset of each block from every row (flat index of the kernel's row) and every column
+    width = kernel.shape[1]
+    far_rows = np.empty((ny, blocks), dtype=np.int64)
+    far_columns = np.empty((nx, blocks), dtype=np.int64)
+    for b in range(blocks):
+        last_row, last_column = max(edges[0, b], edges[0, b + 1] - 1), max(edges[1, b], edges[1, b + 1] - 1)
+        for r in range(ny):
+            far_rows[r, b] = (ny - 1 + max(abs(r - edges[0, b]), abs(r - last_row))) * width
+        for c in range(nx):
+            far_columns[c, b] = nx - 1 + max(abs(c - edges[1, b]), abs(c - last_column))
+    flat = kernel.ravel()
     kept = 0
-    for c in range(count):
-        i = candidates[c]
-        for b in range(blocks):
-            last_row, last_column = max(edges[0, b], edges[0, b + 1] - 1), max(edges[1, b], edges[1, b + 1] - 1)
-            far_rows[b] = ny - 1 + max(abs(rows[i] - edges[0, b]), abs(rows[i] - last_row))
-            far_columns[b] = nx - 1 + max(abs(columns[i] - edges[1, b]), abs(columns[i] - last_column))
-        bound = gap[i] - slack
+    for c in range(0, count, 4):
+        i0, i1 = candidates[c], candidates[min(c + 1, count - 1)]
+        i2, i3 = candidates[min(c + 2, count - 1)], candidates[min(c + 3, count - 1)]
+        fr0, fr1, fr2, fr3 = far_rows[rows[i0]], far_rows[rows[i1]], far_rows[rows[i2]], far_rows[rows[i3]]
+        fc0, fc1 = far_columns[columns[i0]], far_columns[columns[i1]]
+        fc2, fc3 = far_columns[columns[i2]], far_columns[columns[i3]]
+        b0, b1, b2, b3 = gap[i0] - slack, gap[i1] - slack, gap[i2] - slack, gap[i3] - slack
         for br in range(blocks):
             for bc in range(blocks):
-                bound += kernel[far_rows[br], far_columns[bc]] * sums[br, bc]
-        if bound < limit:
-            candidates[kept] = i
-            kept += 1
+                weight = sums[br * blocks + bc]
+                b0 += flat[fr0[br] + fc0[bc]] * weight
+                b1 += flat[fr1[br] + fc1[bc]] * weight
+                b2 += flat[fr2[br] + fc2[bc]] * weight
+                b3 += flat[fr3[br] + fc3[bc]] * weight
+        for b, bound, i in ((0, b0, i0), (1, b1, i1), (2, b2, i2), (3, b3, i3)):
+            if c + b < count and bound < limit:  # (kept <= c + b: the candidates still to read are not overwritten)
+                candidates[kept] = i
+                kept += 1
     return kept
