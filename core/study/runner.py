@@ -87,7 +87,8 @@ def run_study(
     length : float, optional
         Run length, m (default: the whole set).
     workers : int
-        Local worker processes (1: in this process).
+        Local workers (1: in this process): threads of this process when every run's law releases the GIL, else
+        worker processes (:func:`~wheelrail.core.study.execution.execute`).
     dask_address : str, optional
         Dask scheduler address; runs go to that cluster instead of the local pool.
     progress : bool
