@@ -3,6 +3,7 @@ side by side, before the runs (``core.study.threads``, ``core.study.precompute``
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 
 import numpy as np
@@ -138,3 +139,50 @@ def test_prepare_track_reads_off_each_speed(monkeypatch):
     track = _track(60e6).track
     study_precompute.prepare_track(TrackTask(track, ((30.0, 3.3e-5), (40.0, 2.5e-5)), new=True))
     assert calls == [(30.0, 3.3e-5, track), (40.0, 2.5e-5, track)]
+
+
+def test_a_studys_noise_chains_are_worked_out_beside_its_runs(monkeypatch, tmp_path):
+    # the track study's tables go through each track's noise chain (a second or two of CPU a track, in the parent
+    # after the runs); with workers to spare they are worked out while the runs go, the last track first
+    from wheelrail.core.study import plans, runner
+
+    chains, during = [], threading.Event()
+    monkeypatch.setattr(plans, "_noise_chain", lambda params: chains.append(params.track.support.pad_stiffness))
+    tracks = [_track(v) for v in (60e6, 200e6, 1000e6)]
+    plan = plan_study("track", ["corrugated-rail"], params=tracks, length=0.6)
+
+    def tabulate(summaries):  # beyond what this test follows
+        raise KeyError("no runs")
+
+    plan = dataclasses.replace(plan, tabulate=tabulate)
+    assert plan_study("filters", ["corrugated-rail"], length=0.6).beside == ()
+
+    def execute(specs, **options):  # the runs: done once the chains are, whichever comes first
+        during.set()
+        return study_execution.ExecutionReport({}, 0, 0, 0.0, "test")
+
+    monkeypatch.setattr(runner, "plan_study", lambda *args, **options: plan)
+    monkeypatch.setattr(runner, "execute", execute)
+    monkeypatch.setattr(runner, "_load_matplotlib", lambda: chains.append("matplotlib"))
+    with pytest.raises(KeyError):
+        runner.run_study("track", ["corrugated-rail"], tmp_path, workers=2, progress=False)
+    assert during.is_set() and chains == [1000e6, 200e6, 60e6, "matplotlib"]
+    chains.clear()
+    with pytest.raises(KeyError):
+        runner.run_study("track", ["corrugated-rail"], tmp_path, workers=1, progress=False)
+    assert chains == []  # one worker: the tabulation works them out itself
+
+
+def test_work_beside_the_runs_is_left_at_an_interrupt():
+    from wheelrail.core.study.runner import _beside
+
+    release, finished = threading.Event(), []
+
+    def slow():
+        assert release.wait(60)
+        finished.append(True)
+
+    with pytest.raises(KeyboardInterrupt), _beside([slow, lambda: finished.append("next")]):
+        raise KeyboardInterrupt  # not waited for: the study stops at once
+    release.set()
+    assert finished in ([], [True])  # the thread ends by itself, without its next item
