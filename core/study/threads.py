@@ -31,10 +31,12 @@ def releases_gil(spec: RunSpec) -> bool:
 
 def read_once(specs: Sequence[RunSpec]) -> list[RunSpec]:
     """The specs with each roughness set named by a file or bundled name read once and shared (a run reads its
-    set again otherwise: a few ms each). The run keys are unchanged: they hash the sets' content."""
-    from wheelrail.core.roughness import load_roughness
+    set again otherwise), and, for a run that takes the set as it is (no line mean, no lateral lines, no wheel set
+    added), already interpolated along to the run's element size, as the run would interpolate it
+    (``roughness.to_model_grid``; once, not once a run). The run keys are unchanged: they hash the sets' content."""
+    from wheelrail.core.roughness import load_roughness, to_model_grid
 
-    loaded: dict[str, object] = {}
+    loaded: dict[object, object] = {}
 
     def read(source):
         if not isinstance(source, str | os.PathLike):
@@ -44,10 +46,20 @@ def read_once(specs: Sequence[RunSpec]) -> list[RunSpec]:
             loaded[key] = load_roughness(source)
         return loaded[key]
 
+    def on_grid(rough, dx: float):
+        key = (id(rough), dx)
+        if key not in loaded:
+            loaded[key] = (rough, to_model_grid(rough, dx))  # the set kept alive with its id
+        return loaded[key][1]
+
     out = []
     for spec in specs:
-        wheel = {} if spec.wheel_source is None else {"wheel_source": read(spec.wheel_source)}
-        out.append(replace(spec, source=read(spec.source), **wheel))
+        if spec.wheel_source is not None:
+            out.append(replace(spec, source=read(spec.source), wheel_source=read(spec.wheel_source)))
+        elif spec.averaged_lines or spec.lateral_lines_mm:
+            out.append(replace(spec, source=read(spec.source)))
+        else:
+            out.append(replace(spec, source=on_grid(read(spec.source), spec.params.run.element_size)))
     return out
 
 

@@ -186,3 +186,18 @@ def test_work_beside_the_runs_is_left_at_an_interrupt():
         raise KeyboardInterrupt  # not waited for: the study stops at once
     release.set()
     assert finished in ([], [True])  # the thread ends by itself, without its next item
+
+
+def test_sets_are_read_once_and_interpolated_along_once_with_the_same_runs():
+    from wheelrail.core.study import compute_run
+    from wheelrail.core.study.threads import read_once
+
+    plan = plan_study("filters", ["sinter-wheel-1"], length=0.6)  # 0.5 mm samples: the runs interpolate to 1 mm
+    specs = [spec for spec in plan.specs if spec.line == 0]
+    shared = read_once(specs)
+    assert len({id(spec.source) for spec in shared}) == 1 and shared[0].source.dx == pytest.approx(1e-3, rel=1e-3)
+    assert [spec.key for spec in shared] == [spec.key for spec in specs]
+    for named, read in zip(specs, shared, strict=True):  # hertz..., 3d: bit for bit the runs of the named set
+        a, b = compute_run(named), compute_run(read)
+        np.testing.assert_array_equal(a.levels, b.levels)
+        assert (a.force_max, a.force_min, a.force_mean) == (b.force_max, b.force_min, b.force_mean)
