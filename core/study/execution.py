@@ -214,9 +214,10 @@ def _single_threaded_blas():
     The workers already run in parallel; OpenBLAS's own threads on top oversubscribe the cores, and the
     3D solver's many small factorisations then wait on each other's threads. Dask's nanny sets the same
     BLAS variables for its workers. A new track's precompute integrates in ``NUMBA_NUM_THREADS`` threads
-    (``track.stationary``); the pool gets two or more tracks side by side, one a worker, and one thread each
-    spends less CPU time than two that share a core with another worker's. The variables are read when the
-    library loads, so they are set in this process while the pool spawns its workers, then restored.
+    (``track.stationary``); the pool gets two or more tracks side by side, one a worker, which with one thread
+    each keep the cores busy (one precompute's two threads keep about one core busy, at the same CPU time). The
+    variables are read when the library loads, so they are set in this process while the pool spawns its workers,
+    then restored.
     """
     saved = {name: os.environ.get(name) for name in _BLAS_THREAD_VARIABLES}
     for name, value in saved.items():
