@@ -201,3 +201,29 @@ def test_sets_are_read_once_and_interpolated_along_once_with_the_same_runs():
         a, b = compute_run(named), compute_run(read)
         np.testing.assert_array_equal(a.levels, b.levels)
         assert (a.force_max, a.force_min, a.force_mean) == (b.force_max, b.force_min, b.force_mean)
+
+
+def test_ctrl_c_stops_the_running_threads_at_their_next_chunk(monkeypatch):
+    # Ctrl-C (or SIGTERM, turned into it) arrives in the study's thread while it waits for the runs: here as the
+    # first finished run is handed back; the other running run sees its cancel event and ends
+    from wheelrail.core.study.threads import execute_threads
+
+    stopped, second = [], threading.Event()
+
+    def compute(spec, cancel):
+        if spec.line == 0:
+            assert second.wait(60)  # both runs going
+            return spec.line
+        second.set()
+        assert cancel.wait(60)
+        stopped.append(spec.line)
+        raise RunCancelled(spec.label())
+
+    def finished(summary):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(study_threads, "compute_run", compute)
+    monkeypatch.setattr(study_threads, "read_once", list)
+    with pytest.raises(KeyboardInterrupt):
+        execute_threads([_spec(line=line) for line in (0, 1)], 2, finished)
+    assert stopped == [1]
