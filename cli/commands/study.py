@@ -65,7 +65,12 @@ def add_parser(sub):
     where = parser.add_mutually_exclusive_group()
     # default None, not 2: argparse lets an option of a mutually exclusive group through when its value
     # equals the default, so `--dask ADDR --workers 2` would be accepted
-    where.add_argument("--workers", type=int, default=None, help="local worker processes (default 2)")
+    where.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="local workers (default 2): threads of this process for the bundled models, else worker processes",
+    )
     where.add_argument(
         "--dask", metavar="ADDR", default=None, help="run on a Dask cluster: scheduler address tcp://HOST:PORT"
     )

@@ -55,7 +55,7 @@ def _scatter(j, f, lo, hi, frac, weights, acc):
         later[m] += a * row_lo[m] + b * row_hi[m]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def scatter_history(j0, j1, track):
     force, lo, hi, frac, weights, acc = track
     for j in range(j0, j1):

@@ -65,7 +65,7 @@ def bay_steps(sleeper_spacing: float, element_size: float) -> int | None:
     return n if n >= 2 and abs(ratio - n) <= 1e-6 * ratio else None
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _fold_lags(weights, n):
     """Each row of the moving Green's functions with its lags summed modulo n: (rows, n)."""
     rows, lags = weights.shape
@@ -77,7 +77,7 @@ def _fold_lags(weights, n):
     return out
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, nogil=True)
 def _circulant_part(folded, lo, hi, frac, wheel):
     """The circulant part of A + B (its mean along each wrapped diagonal d = i - k mod n): the mean over the
     source phases k of (1 - f_k) folded[lo_k, d] + f_k folded[hi_k, d], plus the wheel's wheel[d]."""
@@ -91,7 +91,7 @@ def _circulant_part(folded, lo, hi, frac, wheel):
     return column / n + wheel
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, nogil=True)
 def _history_tail(weights, lo, hi, frac, force, out):
     """out[t] (t = 0..lags-1): the rail's displacement at history index n_hist + t due to the periodic force
     ``force`` (phase k at the indices n_hist + k - q n, q >= 1) before n_hist: eq. 2 as ``scatter_history``
@@ -127,7 +127,7 @@ def _history_tail(weights, lo, hi, frac, force, out):
                 out[t] += w * segment[t]
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True, nogil=True)
 def _product(folded, lo, hi, frac, wheel, x):
     """(A + B) x from the folded rows (no dense matrix: the bay's rows, 256 x n, stay in cache across the
     iterations, where a dense n x n map would be streamed from memory every product):
@@ -146,7 +146,7 @@ def _product(folded, lo, hi, frac, wheel, x):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _powers(phi, first, n):
     """first, phi first, phi^2 first, ... (n + 1 of them). Loops, not ``phi @`` and slice assignments: those
     would make numba compile BLAS's matrix product and the shape checks' error messages for a 4 x 4 product."""

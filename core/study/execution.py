@@ -1,6 +1,8 @@
-"""Running a study's runs: read back the cached ones, compute the missing ones in this process, on a local
-process pool (``concurrent.futures.ProcessPoolExecutor``, spawned workers) or on a Dask cluster
-(``dask.distributed``), and write each finished run at once (:mod:`wheelrail.core.study.store`).
+"""Running a study's runs: read back the cached ones, compute the missing ones in this process, in threads of it
+(:mod:`wheelrail.core.study.threads`: the compiled laws release the GIL), on a local process pool
+(``concurrent.futures.ProcessPoolExecutor``, spawned workers) or on a Dask cluster (``dask.distributed``), and write
+each finished run at once (:mod:`wheelrail.core.study.store`). The tracks the runs need that the disk cache does not
+hold are prepared first, one task per track, side by side on the workers (:mod:`wheelrail.core.study.precompute`).
 
 Shutdown: pool workers exit by themselves within ``PARENT_POLL_INTERVAL`` when the process that started
 them dies (even by kill -9), so no worker and no multiprocessing resource tracker outlives a study; a
@@ -27,14 +29,17 @@ from pathlib import Path
 
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import model_entry
+from wheelrail.core.study.precompute import TrackTask, prepare_track, track_tasks
 from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
 from wheelrail.core.study.store import load_cached, save_cached
+from wheelrail.core.study.threads import execute_threads, read_once, releases_gil
 
 DASK_CONNECT_TIMEOUT = "10s"  # how long to try reaching a Dask scheduler before giving up
 PARENT_POLL_INTERVAL = 0.5  # s, how often a pool worker checks that the process that started it lives
 _ADDRESS = re.compile(r"^(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?$")
 # Dask is an optional extra (pyproject.toml: cluster); the process pool needs nothing more
 NO_DASK = "needs Dask, an optional part of wheelrail: pip install 'wheelrail[cluster]'"
+BACKENDS = ("auto", "threads", "processes")  # the local workers: auto = threads when every run's law releases the GIL
 
 
 class StudyTerminated(KeyboardInterrupt):
@@ -90,6 +95,7 @@ def execute(
     dask_address: str | None = None,
     progress: bool = True,
     description: str = "runs",
+    backend: str = "auto",
 ) -> ExecutionReport:
     """Run every spec not yet in ``cache`` and return all summaries.
 
@@ -101,12 +107,19 @@ def execute(
         Folder of finished runs (``run-<key>.npz``, written atomically as each run finishes; an unusable
         file is recomputed with a warning).
     workers : int
-        Local worker processes (``ProcessPoolExecutor``); 1 runs in this process. Ignored with Dask.
+        Local workers (threads of this process or worker processes, ``backend``); 1 runs in this process. Ignored
+        with Dask.
     dask_address : str, optional
         Scheduler address of a running Dask cluster (``tcp://HOST:PORT``); runs are submitted there with
         ``dask.distributed.Client(address)``. Results come back to this process, which writes the cache.
     progress : bool
         Show a tqdm bar of runs done on stderr.
+    backend : str
+        The local workers: ``"threads"`` (threads of this process, sharing its compiled code, sets and tracks: no
+        worker to start), ``"processes"`` (a kept pool of spawned processes) or ``"auto"``: threads when every
+        missing run's law releases the GIL (``ContactLaw.nogil``: the bundled models), else processes. Either
+        way the tracks not in the disk cache are prepared first, two or more new ones side by side in the
+        process pool (a precompute holds the GIL for part of its time).
 
     Returns
     -------
@@ -116,6 +129,8 @@ def execute(
 
     if isinstance(workers, bool) or int(workers) != workers or workers < 1:
         raise WheelrailError(f"workers must be a positive integer, got {workers!r}")
+    if backend not in BACKENDS:
+        raise WheelrailError(f"backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
     cache = Path(cache)
     cache.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
@@ -133,7 +148,7 @@ def execute(
         bar.update(1)
 
     try:
-        backend = _dispatch(missing, int(workers), dask_address, finished)
+        used = _dispatch(missing, int(workers), dask_address, finished, backend)
     finally:
         bar.close()
     return ExecutionReport(
@@ -141,12 +156,16 @@ def execute(
         computed=len(summaries) - n_cached,
         cached=n_cached,
         wall_time=time.perf_counter() - start,
-        backend=backend,
+        backend=used,
     )
 
 
 def _dispatch(
-    missing: list[RunSpec], workers: int, dask_address: str | None, finished: Callable[[RunSummary], None]
+    missing: list[RunSpec],
+    workers: int,
+    dask_address: str | None,
+    finished: Callable[[RunSummary], None],
+    backend: str = "auto",
 ) -> str:
     """Compute the missing runs where asked; returns the backend's name for the report."""
     if dask_address is not None:  # connect even when all runs are cached: a bad address is an error
@@ -155,29 +174,50 @@ def _dispatch(
     if not missing:
         return "cache"
     if workers == 1 or len(missing) == 1:
-        for spec in missing:
+        for spec in read_once(missing):
             finished(compute_run(spec))
         return "in-process"
+    threads = backend == "threads" or (backend == "auto" and all(releases_gil(spec) for spec in missing))
     with _terminate_as_interrupt():
+        _prepare_tracks(track_tasks(missing), workers)
+        if threads:
+            execute_threads(missing, workers, finished)
+            return f"threads ({workers} workers)"
         _execute_pool(missing, workers, finished)
     return f"process pool ({workers} workers)"
+
+
+def _prepare_tracks(tasks: list[TrackTask], workers: int) -> None:
+    """The tracks the runs need and the disk cache lacks, before the runs: two or more new ones (each a
+    precompute) side by side in the process pool, the others (a reading off a cached track, or one new track,
+    whose precompute runs in threads of its own) in this process."""
+    new = [task for task in tasks if task.new]
+    if len(new) >= 2:
+        _pool_map(prepare_track, new, workers)
+    for task in tasks:
+        if len(new) < 2 or not task.new:
+            prepare_track(task)
 
 
 # --------------------------------------------------------------------------------------------------
 # Local process pool
 # --------------------------------------------------------------------------------------------------
 
-_BLAS_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+_BLAS_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
 
 @contextlib.contextmanager
 def _single_threaded_blas():
-    """One BLAS thread in worker processes started inside this block (unless the user set a number).
+    """One BLAS thread, and one thread for a track's precompute, in worker processes started inside this block
+    (unless the user set a number).
 
     The workers already run in parallel; OpenBLAS's own threads on top oversubscribe the cores, and the
     3D solver's many small factorisations then wait on each other's threads. Dask's nanny sets the same
-    variables for its workers. The variables are read when the library loads, so they are set in this process
-    while the pool spawns its workers, then restored.
+    BLAS variables for its workers. A new track's precompute integrates in ``NUMBA_NUM_THREADS`` threads
+    (``track.stationary``); the pool gets two or more tracks side by side, one a worker, which with one thread
+    each keep the cores busy (one precompute's two threads keep about one core busy, at the same CPU time). The
+    variables are read when the library loads, so they are set in this process while the pool spawns its workers,
+    then restored.
     """
     saved = {name: os.environ.get(name) for name in _BLAS_THREAD_VARIABLES}
     for name, value in saved.items():
@@ -283,15 +323,23 @@ atexit.register(shutdown_pools)
 
 
 def _execute_pool(missing: list[RunSpec], workers: int, finished: Callable[[RunSummary], None]) -> None:
+    _pool_map(compute_run, missing, workers, finished)
+
+
+def _pool_map(task: Callable, items: list, workers: int, finished: Callable | None = None) -> None:
+    """``task`` of each item on the process pool of ``workers`` (in the order given), ``finished(result)`` in this
+    process as each ends."""
     pool = _pool(workers)
     pending = set()
     try:
         with _single_threaded_blas():  # new workers start (and read these variables) on the first submits
-            pending = {pool.submit(compute_run, spec) for spec in missing}
+            pending = {pool.submit(task, item) for item in items}
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
             for future in done:
-                finished(future.result())
+                result = future.result()
+                if finished is not None:
+                    finished(result)
     except BrokenProcessPool:
         _stop_pool(workers, pool)
         raise WheelrailError(
@@ -339,6 +387,9 @@ def _execute_dask(missing: list[RunSpec], address: str, finished: Callable[[RunS
     try:
         if not missing:
             return
+        tracks = track_tasks(missing)  # each new track once, side by side, before the runs that read it
+        for future in as_completed(client.map(prepare_track, tracks, pure=False)):
+            future.result()
         loaded: dict = {}
         missing = [_portable(spec, loaded) for spec in missing]
         keys = [f"wheelrail-run-{spec.key[:32]}" for spec in missing]

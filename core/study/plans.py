@@ -8,6 +8,7 @@ import os
 import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -65,6 +66,9 @@ class StudyPlan:
     wheel_set: SetInfo | None = None  # the wheel set added to every set (combined roughness), if any
     tracks: tuple = ()  # the tracks the runs are on (the track study: several; the others: params.track)
     impact: object = None  # the impact study's ImpactSweep (irregularity cases, models, speeds); else None
+    # the tabulation's own work that needs no run (each track's noise chain: a second or two of CPU a track), done
+    # beside the runs when the study has workers to spare (runner.run_study); the tabulation then finds it cached
+    beside: tuple[Callable[[], object], ...] = ()
 
     @property
     def speed(self) -> float:
@@ -288,6 +292,7 @@ def plan_study(
     else:
         specs, tabulate = _BUILDERS[name](infos, params)
     _check_durations(specs, infos)
+    noise = name in ("track", "impact", "noise")  # their tables go through each track's noise chain
     return StudyPlan(
         name=name,
         sets=infos,
@@ -298,7 +303,16 @@ def plan_study(
         wheel_set=wheel,
         tracks=tracks,
         impact=sweep,
+        # the last track first: where the chains' cache keeps fewer than all, it keeps those the tables ask first
+        beside=tuple(partial(_noise_chain, replace(params, track=track)) for track in tracks[::-1]) if noise else (),
     )
+
+
+def _noise_chain(params: ModelParameters) -> None:
+    """The track's noise chain the study's tables use (``noise.twins.track_noise_model``, kept in this process)."""
+    from wheelrail.core.noise.twins import track_noise_model
+
+    track_noise_model(params)
 
 
 def study_parameters(name: str, params) -> tuple[ModelParameters, tuple]:

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -87,7 +89,8 @@ def run_study(
     length : float, optional
         Run length, m (default: the whole set).
     workers : int
-        Local worker processes (1: in this process).
+        Local workers (1: in this process): threads of this process when every run's law releases the GIL, else
+        worker processes (:func:`~wheelrail.core.study.execution.execute`).
     dask_address : str, optional
         Dask scheduler address; runs go to that cluster instead of the local pool.
     progress : bool
@@ -153,14 +156,16 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
     plan = plan_study(name, sets, params=params, length=length, wheel_set=wheel_set)
-    report = execute(
-        plan.specs,
-        cache=folder / "runs",
-        workers=workers,
-        dask_address=dask_address,
-        progress=progress,
-        description=f"study {name}",
-    )
+    spare = workers > 1 or dask_address is not None  # the tables' own work beside the runs, on a core of its own
+    with _beside((*plan.beside, *((_load_matplotlib,) if figures else ())) if spare else ()):
+        report = execute(
+            plan.specs,
+            cache=folder / "runs",
+            workers=workers,
+            dask_address=dask_address,
+            progress=progress,
+            description=f"study {name}",
+        )
     tables = plan.tabulate(report.summaries)
     with all_or_none():  # the tables, figures and summary appear together, and none over an input
         files = [write_table(table, folder) for table in tables]
@@ -173,6 +178,41 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
         summary["files"].append(str(summary_path))
         refuse_inputs(files, [*sets, wheel_set])
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
+
+
+@contextlib.contextmanager
+def _beside(work):
+    """Call each of ``work`` in a thread while the block runs (its results are kept where they are cached); leaving
+    the block waits for it, but for an error or interrupt. A failure is left to the tabulation, which does the same
+    work again and reports it."""
+    if not work:
+        yield
+        return
+    stop = threading.Event()
+
+    def call_each():
+        for call in work:
+            if stop.is_set():
+                return
+            try:
+                call()
+            except Exception:  # noqa: BLE001 - the tabulation repeats it and reports its error
+                pass
+
+    thread = threading.Thread(target=call_each, name="wheelrail-study-beside", daemon=True)
+    thread.start()
+    try:
+        yield
+    except BaseException:
+        stop.set()
+        raise
+    thread.join()
+
+
+def _load_matplotlib() -> None:
+    """The figures' matplotlib modules, imported before the tables are ready."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: F401
+    from matplotlib.figure import Figure  # noqa: F401
 
 
 def study_caption(name: str, plan: StudyPlan) -> str:

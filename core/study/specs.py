@@ -260,8 +260,15 @@ def _as_used(spec: RunSpec, source, label: str, positions_of=None):
     return rough, spec.line
 
 
-def compute_run(spec: RunSpec) -> RunSummary:
-    """Run one spec (``keep_pressure=False``) and reduce it to its :class:`RunSummary` (the worker task)."""
+class RunCancelled(Exception):
+    """A run stopped by its ``cancel`` event before its end (:func:`compute_run`): it has no summary."""
+
+
+def compute_run(spec: RunSpec, cancel=None) -> RunSummary:
+    """Run one spec (``keep_pressure=False``) and reduce it to its :class:`RunSummary` (the worker task).
+
+    ``cancel``: a ``threading.Event`` that stops the run between two chunks of steps when set (from another
+    thread); the run then raises :class:`RunCancelled`."""
     from wheelrail.core.engine import simulate
     from wheelrail.core.spectra.force import force_spectrum
 
@@ -276,7 +283,10 @@ def compute_run(spec: RunSpec) -> RunSummary:
         length=spec.length,
         run_in_length=spec.run_in_length,
         keep_pressure=False,
+        cancel=cancel,
     )
+    if cancel is not None and cancel.is_set():
+        raise RunCancelled(spec.label())
     centres, levels = force_spectrum(result)
     force = result.force
     return RunSummary(

@@ -4,6 +4,8 @@ bay, and the first-order-hold / trapezoidal weights the interaction loop uses. S
 from __future__ import annotations
 
 import math
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -468,7 +470,8 @@ def moving_weights(
     """``moving_green_functions(speed, track, numerics).weights(time_step, method=method)``, the rows of
     ``bay_rows`` at the loop's step, cached on disk per track, speed, step and method (``core.files.cache``, kind
     ``track-weights``): what a run needs of its track, a few MB read back in milliseconds; bit-identical
-    (the entry holds the very array).
+    (the entry holds the very array). The last ``WEIGHTS_IN_MEMORY`` entries read are kept in memory while their
+    disk entry is unchanged, and the same array is returned again: read it, do not write to it.
 
     Returns
     -------
@@ -481,13 +484,85 @@ def moving_weights(
         raise WheelrailError(f"weights: method must be auto, foh or trapezoidal, got {method!r}")
     shape = (numerics.positions_per_bay * numerics.rows_per_position, int(math.ceil(numerics.duration / time_step)) + 1)
     key = _reading_key("track-weights", track, numerics, speed, time_step=float(time_step), method=method)
+    if use_cache and (remembered := _remembered_weights(key)) is not None:
+        return remembered
     weights = _cached_array("track-weights", key, shape) if use_cache else None
     if weights is None:
         green = moving_green_functions(float(speed), track, numerics, use_cache=use_cache)
         weights = np.ascontiguousarray(green.weights(float(time_step), method=method))
         if use_cache:
             _save_array("track-weights", key, weights, shape)
+    if use_cache:
+        _remember_weights(key, weights)
     return weights
+
+
+# The weights last read, by cache key, with the signature (path, inode, size, modification time) of their disk entry:
+# a study's runs (in threads of one process, or one after another) read the same few entries again and again
+# (each read: the file and its digest). An entry rewritten, removed or in another cache folder is read again.
+# The arrays are shared: the loop only reads them.
+WEIGHTS_IN_MEMORY = 8  # entries (a few MB each at the paper's speeds)
+_WEIGHTS: OrderedDict[str, tuple[tuple, np.ndarray]] = OrderedDict()
+_WEIGHTS_LOCK = threading.Lock()
+
+
+def _entry_signature(key: str) -> tuple | None:
+    from wheelrail.core.files.cache import entry_path
+
+    path = entry_path("track-weights", key)
+    try:
+        stat = path.stat()
+    except OSError:
+        return None
+    return str(path), stat.st_ino, stat.st_size, stat.st_mtime_ns  # an entry is replaced by a rename: a new inode
+
+
+def _remembered_weights(key: str) -> np.ndarray | None:
+    with _WEIGHTS_LOCK:
+        found = _WEIGHTS.get(key)
+    if found is None or found[0] != _entry_signature(key):
+        return None
+    with _WEIGHTS_LOCK:
+        if key in _WEIGHTS:
+            _WEIGHTS.move_to_end(key)
+    return found[1]
+
+
+def _remember_weights(key: str, weights: np.ndarray) -> None:
+    signature = _entry_signature(key)
+    if signature is None:  # not on disk (a cache that cannot be written): nothing to check a later call against
+        return
+    with _WEIGHTS_LOCK:
+        _WEIGHTS[key] = (signature, weights)
+        _WEIGHTS.move_to_end(key)
+        while len(_WEIGHTS) > WEIGHTS_IN_MEMORY:
+            _WEIGHTS.popitem(last=False)
+
+
+def cached_reading(
+    speed: float,
+    time_step: float,
+    track: TrackParameters | None = None,
+    numerics: TrackNumerics | None = None,
+    *,
+    method: str = "auto",
+) -> str:
+    """What the disk cache holds towards :func:`moving_weights` of these arguments, without reading it.
+
+    Returns
+    -------
+    str
+        ``"weights"`` (the weights themselves: read back in milliseconds), ``"responses"`` (the track's stationary
+        responses: the weights are read off them) or ``""`` (neither: the track's one-off precompute).
+    """
+    from wheelrail.core.files.cache import entry_path
+    from wheelrail.core.track.stationary import track_cache_path
+
+    track, numerics = _resolved(speed, track, numerics)
+    key = _reading_key("track-weights", track, numerics, speed, time_step=float(time_step), method=method)
+    if entry_path("track-weights", key).exists():
+        return "weights"
+    return "responses" if track_cache_path(track, numerics).exists() else ""
 
 
 def moving_from_stationary(

@@ -295,9 +295,12 @@ def test_study_wheel_set_is_taken_at_the_rail_sets_lateral_positions():
 
 
 @pytest.mark.slow
-def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
+def test_dask_cluster_gives_the_same_tables_as_the_process_pool_and_threads(tmp_path):
     distributed = pytest.importorskip("distributed")
-    pool = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "pool", length=0.6, progress=False, figures=False)
+    common = {"length": 0.6, "progress": False, "figures": False}
+    plan = plan_study("averaged-input", ["sinter-wheel-1"], length=0.6)
+    on_processes = execute(plan.specs, cache=tmp_path / "pool", workers=2, progress=False, backend="processes")
+    threads = run_study("averaged-input", ["sinter-wheel-1"], tmp_path / "threads", **common)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         dask = run_study(
             "averaged-input",
@@ -309,8 +312,13 @@ def test_dask_cluster_gives_the_same_tables_as_the_process_pool(tmp_path):
             dask_address=cluster.scheduler_address,
         )
     assert dask.report.backend.startswith("dask") and dask.report.computed == 2
-    assert pool.report.backend.startswith("process pool") and pool.report.computed == 2
-    for a, b in zip(pool.tables, dask.tables, strict=True):
+    assert on_processes.backend.startswith("process pool") and on_processes.computed == 2
+    assert threads.report.backend.startswith("threads") and threads.report.computed == 2
+    pool_tables = plan.tabulate(on_processes.summaries)
+    for a, b in zip(pool_tables, threads.tables, strict=True):  # the same code in processes and threads: bit for bit
+        for column in a.columns:
+            np.testing.assert_array_equal(a.columns[column], b.columns[column])
+    for a, b in zip(pool_tables, dask.tables, strict=True):
         assert a.name == b.name and list(a.columns) == list(b.columns)
         for column in a.columns:
             # the runs are deterministic (same code, inputs and machine): equal to rounding, 1e-9 dB

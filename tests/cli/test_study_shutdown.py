@@ -41,7 +41,7 @@ if __name__ == "__main__":
     specs = [RunSpec(source=Blocker(), set_label="blocked", set_digest="0" * 64, model="hertz", line=line)
              for line in (0, 1)]
     try:
-        execute(specs, cache=sys.argv[1], workers=2, progress=False)
+        execute(specs, cache=sys.argv[1], workers=2, progress=False, backend="processes")
     except KeyboardInterrupt as error:
         print(f"stopped by {type(error).__name__}", file=sys.stderr)
         sys.exit(130)

@@ -1,6 +1,8 @@
 """The per-speed cache of what a run reads of its track (the moving Green's functions and their weights at
 the run's step): the very arrays the stationary responses give, read back without them."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -79,3 +81,25 @@ def test_prepare_run_reads_the_cached_weights(cache_with_wedge, response):
 
     run = prepare_run("corrugated-rail", model="hertz", length=0.05, track_numerics=SMALL)
     np.testing.assert_array_equal(run.loop.weights, _direct(response, 100 / 3.6, run.params.run.time_step))
+
+
+def test_weights_read_again_come_from_memory_while_their_entry_is_unchanged(cache_with_wedge, monkeypatch):
+    # a study's runs read the same weights again and again: the file and its digest once, then the array in memory
+    from wheelrail.core.track import moving
+
+    reads = []
+    read = moving._cached_array
+    monkeypatch.setattr(
+        moving, "_cached_array", lambda kind, *args: reads.append(kind == "track-weights") or read(kind, *args)
+    )
+    dt = 1e-3 / SPEED
+    first = track.moving_weights(SPEED, dt, None, SMALL)  # computed from the wedge and written
+    assert track.moving_weights(SPEED, dt, None, SMALL) is first and sum(reads) == 1
+    (entry,) = cache_with_wedge.glob("track-weights-*.npz")
+    stat = entry.stat()
+    os.utime(entry, ns=(stat.st_atime_ns, stat.st_mtime_ns + 10**9))  # touched: read again
+    again = track.moving_weights(SPEED, dt, None, SMALL)
+    assert sum(reads) == 2 and again is not first
+    np.testing.assert_array_equal(again, first)
+    entry.unlink()
+    assert track.moving_weights(SPEED, dt, None, SMALL) is not again and sum(reads) == 3

@@ -65,6 +65,10 @@ class ContactLaw:
     ----------
     chunk : int
         Steps per call of :meth:`advance` (streaming and cancellation granularity).
+    nogil : bool
+        Whether :meth:`advance` spends its time in compiled code that releases the GIL (numba's ``nogil=True``):
+        then runs of this law in parallel threads of one process use every core (``core.study.execution`` runs a
+        study's runs so, sharing the loaded track and compiled code); else each needs a process of its own.
     pressure : numpy.ndarray or None
         The recorded steps' pressure maps (steps, ny, nx) float32, where kept.
 
@@ -74,6 +78,7 @@ class ContactLaw:
     """
 
     chunk: int = 1
+    nogil: bool = False
 
     def __init__(
         self,

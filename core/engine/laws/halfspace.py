@@ -89,6 +89,7 @@ class HalfSpaceLaw(ContactLaw):
     """
 
     chunk = CHUNK_3D
+    nogil = True  # run_chunk_3d releases the GIL
     tabulated_run_in = True
 
     def __init__(self, contact, inputs, history, outputs, keep_pressure=True) -> None:

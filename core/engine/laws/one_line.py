@@ -42,7 +42,7 @@ def _law(law, approach_known, compliance, roughness, s, shape, constants):
 
 
 def _define_law_curve(stamp):
-    @njit(cache=True)
+    @njit(cache=True, nogil=True)
     def law_curve(law, approaches, law_inputs, s):
         """A compiled one-line law's force at step s at the given approaches (compliance 0: F(delta)), N: the
         contact law of the run-in's steady state (``steady_start``)."""
@@ -59,7 +59,7 @@ def _define_law_curve(stamp):
 # The chunk loop calls compiled code of other modules: numba's cache keys it on those sources too
 # (wheelrail.core.engine.compiled).
 def _define_run_chunk(stamp):
-    @njit(cache=True)
+    @njit(cache=True, nogil=True)
     def run_chunk(law, j0, j1, track, wheel, preload, xi_w0, law_inputs, out):
         """Advance a one-line law over history indices j0..j1-1: one compiled function, not a Python loop over
         the steps (the hot loop). ``law`` = ``HERTZ`` or ``BEDDING``; ``law_inputs`` = (roughness, shape,
@@ -94,6 +94,7 @@ class _OneLineLaw(CompiledLaw):
     """A one-line law in :data:`run_chunk`, selected by ``kind``: ``CompiledLaw``'s stepping on it."""
 
     kind: int
+    nogil = True  # run_chunk and law_curve release the GIL
 
     def chunk_loop(self, *args):
         """:data:`run_chunk` of this law's ``kind``."""

@@ -1,0 +1,215 @@
+"""Each study's wall and CPU time on 1 and 2 workers: the filters, track and impact studies.
+
+Run: python3 benchmarks/study_workers.py [--quick] [--studies filters track impact] [--rounds N]
+                                         [--backend auto|threads|processes] [--precompute]
+Target: two workers at least 1.7x faster than one on each study, on a quiet 2-core machine.
+
+Each measurement is a fresh process that runs one study by the API, as one ``wheelrail study`` command does
+(numba's compiled code loaded, matplotlib imported and any worker process started inside the timing), into a fresh
+output folder, so that no run comes from the study's run cache. The 1- and 2-worker measurements of a round run one
+after the other, so that they see the same moments of a shared machine; each line gives the load average before it.
+CPU time is that of the process and of its worker processes (ended before it is read).
+
+Studies (full size; ``--quick``: about a minute in all on a quiet machine):
+
+* ``filters``: paper Fig. 10 on the four bundled sets, whole sets at 100 km/h (116 runs; quick: the same).
+* ``track``: the track study on the corrugated rail with the pad stiffness swept over 10 values (quick: 2, 1 m runs),
+  each a new track: every measurement gets a disk cache of its own with the user's entries but no track (removed
+  afterwards), so each track is a precompute of its Green's functions, spread over the workers.
+* ``impact``: a rounded wheel flat of 20, 30 and 50 mm at 1 m on the corrugated rail, every model at 30-140 km/h,
+  3 m runs (60 runs; quick: 20 and 50 mm at 60 and 140 km/h, 2 m: 20 runs).
+
+``--precompute`` also times two new tracks' precomputes one after the other in one process with two threads each
+(``NUMBA_NUM_THREADS=2``) against two processes side by side with one thread each (what the study's process pool
+does with two or more new tracks).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+SETS = ["corrugated-rail", "cast-iron-wheel", "sinter-wheel-1", "sinter-wheel-2"]
+PAD_STIFFNESS_MN_M = (60, 80, 100, 150, 200, 300, 400, 600, 800, 1000)  # 10 tracks, none the paper's 120 MN/m
+
+
+def cpu_seconds() -> float:
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def study_arguments(name: str, quick: bool) -> tuple[list, dict]:
+    """The sets and keywords of ``run_study`` for a study at the chosen size."""
+    from wheelrail.core.inputs.declared import model_parameters
+    from wheelrail.core.irregularities.shapes import WheelFlat
+    from wheelrail.core.parameters import KMH, ModelParameters
+    from wheelrail.core.study.impact_plan import ImpactSweep
+
+    if name == "filters":
+        return SETS, {}
+    if name == "track":
+        values = PAD_STIFFNESS_MN_M[:2] if quick else PAD_STIFFNESS_MN_M
+        params = [model_parameters({"pad_stiffness": v * 1e6}) for v in values]
+        return ["corrugated-rail"], {"params": params, "length": 1.0 if quick else None}
+    flats = (0.02, 0.05) if quick else (0.02, 0.03, 0.05)  # a 100 mm flat leaves 3d's window
+    speeds = (60.0, 140.0) if quick else (30.0, 60.0, 100.0, 140.0)
+    sweep = ImpactSweep(
+        ModelParameters(),
+        cases=tuple((WheelFlat(length=v, position=1.0),) for v in flats),
+        speeds=tuple(v * KMH for v in speeds),
+    )
+    return ["corrugated-rail"], {"params": sweep, "length": 2.0 if quick else 3.0}
+
+
+def child_study(name: str, workers: int, quick: bool, backend: str) -> None:
+    """One study in this (fresh) process; prints its figures as one JSON line."""
+    import functools
+
+    from wheelrail.core.study import execute, run_study, runner, shutdown_pools
+
+    runner.execute = functools.partial(execute, backend=backend)  # run_study's choice of local workers
+    sets, keywords = study_arguments(name, quick)
+    out = tempfile.mkdtemp(prefix="wheelrail-bench-workers-")
+    load = os.getloadavg()[0]
+    cpu, start = cpu_seconds(), time.perf_counter()
+    result = run_study(name, sets, out, workers=workers, progress=False, **keywords)
+    wall = time.perf_counter() - start
+    shutdown_pools()  # the workers' CPU time is counted once they have ended
+    shutil.rmtree(out, ignore_errors=True)
+    report = result.report
+    figures = {"wall": wall, "cpu": cpu_seconds() - cpu, "load": load, "backend": report.backend}
+    print(json.dumps({**figures, "runs": report.computed}))
+
+
+def child_precompute(values: list[float]) -> None:
+    """Each track's precompute (pad stiffness ``values``, MN/m) in turn in this process; prints wall and CPU."""
+    from wheelrail.core.inputs.declared import model_parameters
+    from wheelrail.core.track import moving_weights
+
+    cpu, start = cpu_seconds(), time.perf_counter()
+    for value in values:
+        params = model_parameters({"pad_stiffness": value * 1e6})
+        moving_weights(params.run.speed, params.run.time_step, params.track)
+    print(json.dumps({"wall": time.perf_counter() - start, "cpu": cpu_seconds() - cpu}))
+
+
+def _spawn(arguments: list[str], environment: dict | None = None) -> subprocess.Popen:
+    env = {**os.environ, **(environment or {})}
+    command = [sys.executable, str(Path(__file__).resolve()), *arguments]
+    return subprocess.Popen(command, env=env, stdout=subprocess.PIPE, text=True)
+
+
+def _result(process: subprocess.Popen) -> dict:
+    out, _ = process.communicate()
+    if process.returncode != 0:
+        raise SystemExit(f"a measurement failed (exit {process.returncode})")
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def cache_without_tracks() -> str:
+    """A disk cache of its own holding the user's entries but the tracks' (the wheel's modes, the rail's radiation:
+    what every track shares), linked, not copied: every track a new one."""
+    from wheelrail.core.files.cache import cache_dir
+
+    folder = tempfile.mkdtemp(prefix="wheelrail-bench-cache-")
+    for entry in cache_dir().glob("*.npz"):
+        if not entry.name.startswith("track-"):
+            try:
+                os.link(entry, Path(folder) / entry.name)
+            except OSError:
+                shutil.copy2(entry, Path(folder) / entry.name)
+    return folder
+
+
+def measure(name: str, workers: int, quick: bool, backend: str) -> dict:
+    """The study in a fresh process (the track study with a disk cache of its own without tracks)."""
+    cache = cache_without_tracks() if name == "track" else None
+    try:
+        arguments = ["--child", name, "--workers", str(workers), "--backend", backend, *(["--quick"] * quick)]
+        return _result(_spawn(arguments, {"WHEELRAIL_CACHE_DIR": cache} if cache else None))
+    finally:
+        if cache:
+            shutil.rmtree(cache, ignore_errors=True)
+
+
+def precompute_comparison() -> None:
+    """Two new tracks: one process, two threads, one after the other; against two processes side by side, one
+    thread each."""
+    values = PAD_STIFFNESS_MN_M[:2]
+    cache = cache_without_tracks()
+    try:
+        load, start = os.getloadavg()[0], time.perf_counter()
+        serial = _result(_spawn(["--precompute-child", *map(str, values)], {"WHEELRAIL_CACHE_DIR": cache}))
+        print(
+            f"  2 new tracks, 1 process x 2 threads, one after the other: {time.perf_counter() - start:6.1f} s wall, "
+            f"{serial['cpu']:6.1f} s CPU (load {load:.1f})"
+        )
+    finally:
+        shutil.rmtree(cache, ignore_errors=True)
+    caches = [cache_without_tracks() for _ in values]
+    try:
+        load, start = os.getloadavg()[0], time.perf_counter()
+        processes = [
+            _spawn(["--precompute-child", str(v)], {"WHEELRAIL_CACHE_DIR": c, "NUMBA_NUM_THREADS": "1"})
+            for v, c in zip(values, caches, strict=True)
+        ]
+        found = [_result(process) for process in processes]
+        print(
+            f"  2 new tracks, 2 processes x 1 thread, side by side:      {time.perf_counter() - start:6.1f} s wall, "
+            f"{sum(f['cpu'] for f in found):6.1f} s CPU (load {load:.1f})"
+        )
+    finally:
+        for cache in caches:
+            shutil.rmtree(cache, ignore_errors=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="smaller studies: about a minute in all")
+    parser.add_argument("--studies", nargs="+", default=["filters", "track", "impact"])
+    parser.add_argument("--workers", nargs="+", type=int, default=[1, 2])
+    parser.add_argument("--rounds", type=int, default=1)
+    parser.add_argument("--backend", default="auto", choices=("auto", "threads", "processes"))
+    parser.add_argument("--precompute", action="store_true", help="also 2 tracks x 1 thread against 1 x 2")
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    parser.add_argument("--precompute-child", nargs="+", type=float, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        child_study(args.child, args.workers[0], args.quick, args.backend)
+        return
+    if args.precompute_child:
+        child_precompute(args.precompute_child)
+        return
+    size = "quick sizes" if args.quick else "full sizes"
+    print(
+        f"studies on 1 and 2 workers ({size}, backend {args.backend}); {os.cpu_count()} CPUs; python "
+        f"{sys.version.split()[0]}; each a fresh process, its wall time from run_study's call to its return"
+    )
+    for name in args.studies:
+        walls: dict[int, list[float]] = {}
+        for _ in range(args.rounds):
+            for workers in args.workers:
+                found = measure(name, workers, args.quick, args.backend)
+                walls.setdefault(workers, []).append(found["wall"])
+                plural = "s" * (workers > 1)
+                print(
+                    f"  {name:8s} {workers} worker{plural}: {found['wall']:6.1f} s wall, {found['cpu']:6.1f} s CPU, "
+                    f"{found['runs']} runs on {found['backend']} (load {found['load']:.1f})",
+                    flush=True,
+                )
+        if 1 in walls and 2 in walls:
+            print(f"  {name:8s} speed-up 1 -> 2 workers (best wall times): {min(walls[1]) / min(walls[2]):.2f}x")
+    if args.precompute:
+        precompute_comparison()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,57 @@
+"""The tracks a study's runs need that the disk cache does not hold yet, each prepared once before the runs.
+
+A run reads its track's moving Green's functions (``track.moving_weights``) from the disk cache, computing them on
+a miss: a new track's one-off precompute. Left to the runs, two workers taking runs on the same new track would
+both compute it, and a study of several new tracks would compute them in whatever order its runs come. So
+:func:`track_tasks` groups the runs by track, and :func:`prepare_track` (a worker task) computes a track's
+responses once and reads off the weights at every speed and time step its runs use; the tracks go to the workers
+(processes or Dask workers) side by side, then the runs read them back.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from wheelrail.core.parameters import TrackParameters
+from wheelrail.core.study.specs import RunSpec
+
+__all__ = ["TrackTask", "prepare_track", "track_tasks"]
+
+
+@dataclass(frozen=True)
+class TrackTask:
+    """One track to prepare: its parameters, the (speed m/s, time step s) pairs whose weights its runs read, and
+    whether its stationary responses are to be computed (``new``: the one-off precompute) or only read off."""
+
+    track: TrackParameters
+    readings: tuple[tuple[float, float], ...]
+    new: bool
+
+
+def track_tasks(specs: Sequence[RunSpec]) -> list[TrackTask]:
+    """The tracks of ``specs`` whose weights are not all in the disk cache, new ones (a precompute) first, in the
+    order their runs come."""
+    from wheelrail.core.track.moving import cached_reading
+
+    readings: dict[TrackParameters, dict[tuple[float, float], None]] = {}
+    for spec in specs:
+        run = spec.params.run
+        readings.setdefault(spec.params.track, {})[(float(run.speed), float(run.time_step))] = None
+    tasks = []
+    for track, pairs in readings.items():
+        held = {pair: cached_reading(*pair, track) for pair in pairs}
+        missing = tuple(pair for pair, what in held.items() if what != "weights")
+        if missing:
+            tasks.append(TrackTask(track, missing, new=any(held[pair] == "" for pair in missing)))
+    return sorted(tasks, key=lambda task: not task.new)
+
+
+def prepare_track(task: TrackTask) -> TrackTask:
+    """Compute (or read off) the track's weights at each of its readings into the disk cache (the worker task);
+    returns the task."""
+    from wheelrail.core.track import moving_weights
+
+    for speed, time_step in task.readings:
+        moving_weights(speed, time_step, task.track)
+    return task

@@ -1,0 +1,85 @@
+"""Running a study's runs in threads of this process: the compiled laws' loops release the GIL, so parallel threads
+use every core while sharing what a process loads once (the compiled code, the roughness sets, the track), with
+no worker process to start.
+
+:func:`execute_threads` is the local backend of :func:`~wheelrail.core.study.execution.execute` for runs whose law
+releases the GIL (:func:`releases_gil`); :func:`read_once` gives every run of a study its set already read.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Callable, Sequence
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from dataclasses import replace
+
+from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
+
+__all__ = ["execute_threads", "read_once", "releases_gil"]
+
+
+def releases_gil(spec: RunSpec) -> bool:
+    """Whether the run's contact law steps in compiled code without the GIL (``ContactLaw.nogil``): runs of it in
+    parallel threads then use every core; a law stepped from Python (a plug-in's per-step ``solve``) needs a
+    process per worker."""
+    from wheelrail.core.engine.laws.base import law_class
+    from wheelrail.core.models import model_entry
+
+    return bool(law_class(model_entry(spec.model).traits).nogil)
+
+
+def read_once(specs: Sequence[RunSpec]) -> list[RunSpec]:
+    """The specs with each roughness set named by a file or bundled name read once and shared (a run reads its
+    set again otherwise), and, for a run that takes the set as it is (no line mean, no lateral lines, no wheel set
+    added), already interpolated along to the run's element size, as the run would interpolate it
+    (``roughness.to_model_grid``; once, not once a run). The run keys are unchanged: they hash the sets' content."""
+    from wheelrail.core.roughness import load_roughness, to_model_grid
+
+    loaded: dict[object, object] = {}
+
+    def read(source):
+        if not isinstance(source, str | os.PathLike):
+            return source
+        key = os.fspath(source)
+        if key not in loaded:
+            loaded[key] = load_roughness(source)
+        return loaded[key]
+
+    def on_grid(rough, dx: float):
+        key = (id(rough), dx)
+        if key not in loaded:
+            loaded[key] = (rough, to_model_grid(rough, dx))  # the set kept alive with its id
+        return loaded[key][1]
+
+    out = []
+    for spec in specs:
+        if spec.wheel_source is not None:
+            out.append(replace(spec, source=read(spec.source), wheel_source=read(spec.wheel_source)))
+        elif spec.averaged_lines or spec.lateral_lines_mm:
+            out.append(replace(spec, source=read(spec.source)))
+        else:
+            out.append(replace(spec, source=on_grid(read(spec.source), spec.params.run.element_size)))
+    return out
+
+
+def execute_threads(specs: Sequence[RunSpec], workers: int, finished: Callable[[RunSummary], None]) -> None:
+    """Compute ``specs`` in ``workers`` threads of this process, in the order given (longest first), calling
+    ``finished(summary)`` in this thread as each run ends.
+
+    A failed run, Ctrl-C or SIGTERM (``execution``) stops the others at their next chunk of steps (their
+    ``cancel`` event) and drops the queued ones; the runs already finished stay cached.
+    """
+    cancel = threading.Event()
+    with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="wheelrail-study") as pool:
+        pending = {pool.submit(compute_run, spec, cancel) for spec in read_once(specs)}
+        try:
+            while pending:
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for future in done:
+                    finished(future.result())
+        except BaseException:
+            cancel.set()  # the running runs end within a chunk; leaving the block waits for them
+            for future in pending:
+                future.cancel()
+            raise
