@@ -8,7 +8,7 @@ import pytest
 
 from wheelrail.core.drawing import palette
 from wheelrail.core.inputs.declared import model_parameters
-from wheelrail.core.noise.components import component_names
+from wheelrail.core.noise.components import component_names, noise_components
 from wheelrail.core.study.figures import study_figures
 from wheelrail.core.study.noise_plan import noise_models
 from wheelrail.core.study.tables import Table
@@ -57,7 +57,8 @@ def test_the_track_summary_puts_the_swept_value_on_the_axis_and_units_on_every_p
         assert [t.get_text() for t in ax.get_xticklabels()] == ["60", "120"]
         assert ax.get_ylabel() and ("dB re 1 N" in ax.get_ylabel()) != ("dB(A)" in ax.get_ylabel())
     legends = [text.get_text() for ax in figure.axes if ax.get_legend() for text in ax.get_legend().get_texts()]
-    assert set(noise_models()) | set(component_names()) == set(legends)  # the models and the parts, no column names
+    parts = {part.label for part in noise_components()}  # a part's legend is its label (rail_lateral: 'rail, lateral')
+    assert set(noise_models()) | parts == set(legends)  # the models and the parts, no column names
     colours = {line.get_label(): line.get_color() for line in figure.axes[0].get_lines()}
     assert colours == {model: palette.MODEL_COLOURS[model] for model in noise_models()}
 
