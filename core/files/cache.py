@@ -261,9 +261,14 @@ def save_entry_behind(kind: str, key: str, arrays: dict[str, np.ndarray], *, inf
 
     # not a daemon: the interpreter joins it before the process exits
     pending._thread = threading.Thread(target=write, name=f"wheelrail-cache-write {path.name}", daemon=False)
-    with _PENDING_LOCK:
+    with _PENDING_LOCK:  # listed and started together: a reader never joins a thread not yet started
         _PENDING.append(pending)
-    pending._thread.start()
+        try:
+            pending._thread.start()
+        except RuntimeError:  # no new thread to be had: written below, in the caller's
+            pending._thread = None
+    if pending._thread is None:
+        write()
     return pending
 
 
