@@ -2,7 +2,8 @@
 
 Run: python3 benchmarks/track_green.py   (uses a private temporary cache, so the precompute is real)
 Targets: precompute <= 3 s wall on 2 cores (both used: the output says), <= 6 s with a pad width; new speed
-< 1 s, reload < 0.2 s.
+< 1 s, reload < 0.2 s. The precompute is timed until the responses are returned; its cache entry is written in
+the background, and the time until it is on disk is printed beside it.
 
 Side by side with another checkout (e.g. the commit before a change), the precompute alone, point support and a
 150 mm pad, each in a fresh process of its checkout (its ``.venv``), the checkouts interleaved in each round:
@@ -96,9 +97,19 @@ def numba_threads() -> int:
     return numba.get_num_threads()
 
 
+def wait_for_cache_writes() -> None:
+    """Wait for the cache entries being written in the background (a checkout that writes them before returning
+    has none)."""
+    from wheelrail.core.files import cache
+
+    getattr(cache, "wait_for_writes", lambda: None)()
+
+
 def precompute(pad_width: float) -> dict:
     """One precompute of the default numerics for the paper's track with pads ``pad_width`` (m) wide, in a
-    private cache, after the compiled code is loaded: wall and CPU s, CPU s per busy thread, load before."""
+    private cache, after the compiled code is loaded: wall and CPU s until the responses are returned, CPU s per
+    busy thread, load before; wall and CPU s until the cache entry is on disk (the same where it is written
+    before the call returns)."""
     from wheelrail.core.parameters import SupportParameters
 
     params, numerics = TrackParameters(support=SupportParameters(pad_width=pad_width)), TrackNumerics()
@@ -109,15 +120,18 @@ def precompute(pad_width: float) -> dict:
         start, cpu_start = time.perf_counter(), time.process_time()
         track.stationary_track_response(params, numerics)
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu_start
+        wait_for_cache_writes()
+        wall_disk, cpu_disk = time.perf_counter() - start, time.process_time() - cpu_start
     spent = sorted((sampler.seen[t] - threads_before.get(t, 0.0) for t in sampler.seen), reverse=True)
-    return {"wall": wall, "cpu": cpu, "threads": [s for s in spent if s > 0.1 * cpu], "load": load}
+    busy = [s for s in spent if s > 0.1 * cpu]
+    return {"wall": wall, "cpu": cpu, "threads": busy, "load": load, "wall_disk": wall_disk, "cpu_disk": cpu_disk}
 
 
 def side_by_side(base: Path, rounds: int) -> None:
     """The precompute of this checkout and of ``base`` (its .venv), point support and 150 mm pads, interleaved."""
     checkouts = {"this": sys.executable, "base": str(base.resolve() / ".venv" / "bin" / "python")}
     print(f"precompute side by side (this: {Path(__file__).resolve().parents[1]}, base: {base.resolve()}), 2 cores")
-    print("  checkout  pad     wall s   CPU s   CPU s per busy thread   load (1 min) before")
+    print("  checkout  pad     wall s   CPU s   CPU s per busy thread   load (1 min) before   on disk: wall s, CPU s")
     for _ in range(rounds):
         for width in (0.0, 0.15):
             for name, python in checkouts.items():
@@ -132,7 +146,8 @@ def side_by_side(base: Path, rounds: int) -> None:
                 pad = "point" if width == 0 else f"{width * 1e3:.0f} mm"
                 print(
                     f"  {name:8s}  {pad:6s} {got['wall']:6.2f}  {got['cpu']:6.2f}   "
-                    f"{', '.join(f'{t:.2f}' for t in got['threads']):22s}  {got['load']:.1f}",
+                    f"{', '.join(f'{t:.2f}' for t in got['threads']):22s}  {got['load']:5.1f}"
+                    f"                 {got.get('wall_disk', got['wall']):6.2f}, {got.get('cpu_disk', got['cpu']):.2f}",
                     flush=True,
                 )
 
@@ -168,6 +183,8 @@ def main() -> None:
         start, cpu_start = time.perf_counter(), time.process_time()
         response = track.stationary_track_response(params, numerics)
         t_build, cpu_build = time.perf_counter() - start, time.process_time() - cpu_start
+        wait_for_cache_writes()
+        t_disk = time.perf_counter() - start
     size = Path(response.cache_path).stat().st_size
     print(
         f"one-off precompute (70 bays, {numerics.positions_per_bay} positions, "
@@ -175,11 +192,13 @@ def main() -> None:
         f"{cpu_build:.2f} s CPU, load {load:.1f} before   target <= 3 s on 2 cores"
     )
     print("  " + cores_used(threads_before, sampler.seen, cpu_build))
+    print(f"  the cache entry on disk (written in the background) {t_disk:6.2f} s after the call began")
     print(f"cache on disk: {size / 1e6:.1f} MB  ({response.cache_path})")
     pad = precompute(0.15)
     print(
         f"one-off precompute with 150 mm pads: {pad['wall']:6.2f} s wall, {pad['cpu']:.2f} s CPU, CPU s per busy "
-        f"thread {', '.join(f'{t:.1f}' for t in pad['threads'])}, load {pad['load']:.1f} before   target <= 6 s"
+        f"thread {', '.join(f'{t:.1f}' for t in pad['threads'])}, load {pad['load']:.1f} before   target <= 6 s; "
+        f"entry on disk after {pad['wall_disk']:.2f} s"
     )
 
     times = []

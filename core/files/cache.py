@@ -17,6 +17,13 @@ consistent entry), and arrays are never unpickled.
 A cache that cannot be written (a read-only or full folder) never aborts a run: the result is kept in
 memory and one warning per folder names ``WHEELRAIL_CACHE_DIR``.
 
+A large entry (a track's Green's functions) can be written in the background (:func:`save_entry_behind`): its
+temporary file is made at once (a folder that cannot be written is known, and warned about, before the call
+returns), its digest and its arrays are written by a thread of its own, and the caller goes on with the result in
+memory. The thread is no daemon, so the interpreter waits for it before the process exits. In this process,
+whatever reads the folder waits for the writes under way there first (:func:`load_entry` for its own entry,
+:func:`entries`, :func:`clear`); :func:`wait_for_writes` waits for them all, :meth:`PendingEntry.wait` for one.
+
 Bounded: after each write the least recently used entries (by modification time, which every load
 refreshes) are removed until the folder's entries take at most ``WHEELRAIL_CACHE_MAX_GB`` (default
 ``DEFAULT_MAX_GB``); the entry just written is never removed. ``wheelrail cache`` lists and clears them.
@@ -38,6 +45,7 @@ import json
 import math
 import os
 import re
+import threading
 import time
 import warnings
 from dataclasses import dataclass
@@ -59,6 +67,9 @@ _TEMPORARY_NAME = re.compile(
 _INTERNAL = ("cache_digest", "cache_meta")
 _DESCRIPTIONS: dict[str, tuple[str, dict]] = {}  # key -> (kind, description) of the keys made in this process
 _WARNED_UNWRITABLE: set[str] = set()
+_WARNING = threading.Lock()  # held while a folder is checked, noted and warned about: two writers warn once
+_PENDING: list[PendingEntry] = []  # this process's writes under way (save_entry_behind)
+_PENDING_LOCK = threading.Lock()
 
 
 def cache_dir() -> Path:
@@ -117,7 +128,11 @@ def cache_key(kind: str, description: dict) -> str:
 
 
 def entry_path(kind: str, key: str) -> Path:
-    return cache_dir() / f"{kind}-{key[:24]}.npz"
+    """The file of the entry of ``kind`` and ``key``, once this process's write of it under way, if any, has ended
+    (:func:`save_entry_behind`): it names the complete entry or none."""
+    path = cache_dir() / f"{kind}-{key[:24]}.npz"
+    _wait_for(lambda pending: pending.path == path)
+    return path
 
 
 def array_digest(arrays: dict[str, np.ndarray], digest=None) -> str:
@@ -137,7 +152,7 @@ def load_entry(kind: str, key: str, required: tuple[str, ...]) -> dict[str, np.n
 
     A valid entry's modification time is set to now (the cache's least-recently-used order)."""
     max_bytes()  # a bad WHEELRAIL_CACHE_MAX_GB is refused at the first lookup, before anything is computed
-    path = entry_path(kind, key)
+    path = entry_path(kind, key)  # this process's write of it, if under way, ended
     remove_stale_temporaries(path.parent)
     if not path.exists():
         return None
@@ -184,30 +199,137 @@ def save_entry(kind: str, key: str, arrays: dict[str, np.ndarray], *, info: dict
     """
     folder = cache_dir()
     path = folder / f"{kind}-{key[:24]}.npz"
+    temporary = _claim(folder, path)
+    return None if temporary is None else _write(key, arrays, _meta(kind, key, info), temporary, path)
+
+
+class PendingEntry:
+    """A cache entry being written by a thread of its own (:func:`save_entry_behind`).
+
+    Attributes
+    ----------
+    path : Path
+        Where the entry appears, complete, when the write ends (if it can be written).
+    """
+
+    def __init__(self, path: Path, thread: threading.Thread | None = None) -> None:
+        self.path = path
+        self._thread = thread
+        self._written: Path | None = None
+
+    def done(self) -> bool:
+        """Whether the write has ended (written or not)."""
+        return self._thread is None or not self._thread.is_alive()
+
+    def wait(self) -> Path | None:
+        """Wait for the write to end; the entry's path, or None if it could not be written (warned about)."""
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join()
+        return self._written
+
+
+def save_entry_behind(kind: str, key: str, arrays: dict[str, np.ndarray], *, info: dict | None = None) -> PendingEntry:
+    """:func:`save_entry` with the digest and the write in a thread of its own: returns at once.
+
+    The temporary file is made, the description taken and the size limit read before it returns (a folder that
+    cannot be written is warned about now, and the returned entry is done, its path None). The thread is no
+    daemon: the process ends only once the entry is written. ``arrays`` must not change until it is.
+
+    Returns
+    -------
+    PendingEntry
+        The write: :meth:`PendingEntry.wait` gives the entry's path once it is on disk.
+    """
+    max_bytes()  # a bad WHEELRAIL_CACHE_MAX_GB is refused here, in the caller's thread
+    folder = cache_dir()
+    path = folder / f"{kind}-{key[:24]}.npz"
+    pending = PendingEntry(path)
+    temporary = _claim(folder, path)
+    if temporary is None:
+        return pending
+    meta = _meta(kind, key, info)
+
+    def write() -> None:
+        try:
+            pending._written = _write(key, arrays, meta, temporary, path)
+        except Exception as error:  # noqa: BLE001 - a thread's error would print a traceback: one line instead
+            temporary.unlink(missing_ok=True)
+            warnings.warn(f"could not write the cache entry {path}: {error}", stacklevel=1)
+        finally:
+            with _PENDING_LOCK:
+                _PENDING.remove(pending)
+
+    # not a daemon: the interpreter joins it before the process exits
+    pending._thread = threading.Thread(target=write, name=f"wheelrail-cache-write {path.name}", daemon=False)
+    with _PENDING_LOCK:  # listed and started together: a reader never joins a thread not yet started
+        _PENDING.append(pending)
+        try:
+            pending._thread.start()
+        except RuntimeError:  # no new thread to be had: written below, in the caller's
+            pending._thread = None
+    if pending._thread is None:
+        write()
+    return pending
+
+
+def wait_for_writes(folder: Path | None = None) -> None:
+    """Wait for this process's cache writes under way (:func:`save_entry_behind`), into ``folder`` only if given
+    (a write does not wait for itself)."""
+    folder = None if folder is None else Path(folder)
+    _wait_for(lambda pending: folder is None or pending.path.parent == folder)
+
+
+def _wait_for(which) -> None:
+    """Wait for the writes under way for which ``which(pending)`` is true."""
+    with _PENDING_LOCK:
+        found = [pending for pending in _PENDING if which(pending)]
+    for pending in found:
+        pending.wait()
+
+
+def _claim(folder: Path, path: Path) -> Path | None:
+    """A new temporary file beside ``path`` for its entry, or None (warned about) if the folder cannot be
+    written."""
     try:
         remove_stale_temporaries(folder)
-        temporary = temporary_beside(path)  # .wheelrail-NAME.XXXXXXXX.HOST-PID.tmp
+        return temporary_beside(path)  # .wheelrail-NAME.XXXXXXXX.HOST-PID.tmp
+    except OSError as error:
+        _unwritable(folder, error)
+        return None
+
+
+def _write(key: str, arrays: dict[str, np.ndarray], meta: str, temporary: Path, path: Path) -> Path | None:
+    """The entry's digest and arrays written into ``temporary``, published as ``path``, the cache evicted down to
+    its limit; ``path``, or None (warned about) if it could not be written."""
+    try:
         try:
             with open(temporary, "wb") as handle:
-                stored = {**arrays, "cache_key": np.array(key), "cache_meta": np.array(_meta(kind, key, info))}
+                stored = {**arrays, "cache_key": np.array(key), "cache_meta": np.array(meta)}
                 np.savez(handle, cache_digest=np.array(array_digest(stored)), **stored)
             publish(temporary, path)
         finally:
             temporary.unlink(missing_ok=True)
     except OSError as error:
-        if str(folder) not in _WARNED_UNWRITABLE:
-            _WARNED_UNWRITABLE.add(str(folder))
-            warnings.warn(
-                f"could not write the cache in {folder} ({error.strerror or error}): results are kept in memory "
-                "for this run only; set WHEELRAIL_CACHE_DIR to a writable folder",
-                stacklevel=2,
-            )
+        _unwritable(path.parent, error)
         return None
     try:
         evict(keep=path)
     except OSError:  # the folder cannot be listed or changed now: the next write evicts
         pass
     return path
+
+
+def _unwritable(folder: Path, error: OSError) -> None:
+    """The one warning per folder that the cache cannot be written there."""
+    with _WARNING:
+        if str(folder) in _WARNED_UNWRITABLE:
+            return
+        _WARNED_UNWRITABLE.add(str(folder))
+        warnings.warn(
+            f"could not write the cache in {folder} ({error.strerror or error}): results are kept in memory "
+            "for this run only; set WHEELRAIL_CACHE_DIR to a writable folder",
+            stacklevel=4,
+        )
 
 
 def _meta(kind: str, key: str, info: dict | None) -> str:
@@ -256,8 +378,15 @@ def entries(folder: Path | None = None, *, describe: bool = False) -> list[Entry
     """The cache's entries (files named as this module names them and holding their key:
     :func:`written_by_the_cache`), least recently used first.
 
-    ``describe``: read each entry's stored description (a few kB from its ZIP; None for an old entry)."""
+    ``describe``: read each entry's stored description (a few kB from its ZIP; None for an old entry). This
+    process's writes under way into the folder are waited for (:func:`wait_for_writes`)."""
     folder = cache_dir() if folder is None else Path(folder)
+    wait_for_writes(folder)
+    return _listed(folder, describe)
+
+
+def _listed(folder: Path, describe: bool) -> list[Entry]:
+    """:func:`entries` without waiting for the writes under way (what a write's own eviction lists)."""
     found = []
     for path in folder.iterdir() if folder.is_dir() else ():
         match = _ENTRY_NAME.match(path.name)
@@ -283,9 +412,9 @@ def stored_meta(path: Path) -> dict | None:
 
 def evict(limit: int | None = None, *, keep: Path | None = None) -> list[Path]:
     """Remove least recently used entries until they take at most ``limit`` bytes (default ``max_bytes()``),
-    never ``keep``; returns the removed files."""
+    never ``keep``; returns the removed files. Writes under way are not waited for (a write evicts when it ends)."""
     limit = max_bytes() if limit is None else limit
-    found = entries(keep.parent if keep is not None else None)
+    found = _listed(keep.parent if keep is not None else cache_dir(), False)
     total = sum(entry.size for entry in found)
     removed = []
     for entry in found:
@@ -305,7 +434,9 @@ def evict(limit: int | None = None, *, keep: Path | None = None) -> list[Path]:
 
 
 def clear(kind: str | None = None) -> list[Path]:
-    """Remove the cache's entries (of ``kind`` only, if given) and the temporaries of finished writes."""
+    """Remove the cache's entries (of ``kind`` only, if given) and the temporaries of finished writes (this
+    process's writes under way are waited for, then removed)."""
+    wait_for_writes(cache_dir())
     removed = remove_stale_temporaries(cache_dir())
     for entry in entries():
         if kind is None or entry.kind == kind:

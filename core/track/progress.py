@@ -8,7 +8,7 @@ when the cache knows how fast this machine computed an earlier track, an estimat
 are ``PHASES``: the FE track assembled and factorised, the integration's compiled code loaded (numba compiles it
 on a fresh install: that wait is named, not counted in the integration), the impulse responses integrated (one
 call at the start and one as each block of excitation positions, integrated in parallel threads, ends), the
-entry written to the cache.
+entry's write to the cache started (it goes on in the background: ``cache.save_entry_behind``).
 
 A caller that does not call these functions itself (the command line prepares a run through
 ``prepare_run``) sets the callable for everything below it with ``with track_progress(callback): ...``.

@@ -5,6 +5,7 @@ See ``wheelrail.core.track``."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
@@ -14,6 +15,9 @@ from wheelrail.core.parameters import TrackNumerics, TrackParameters
 from wheelrail.core.track.fe import POINT_PAD_WIDTH, TrackFEModel, assemble_track, rail_relaxation
 from wheelrail.core.track.newmark import newmark_responses, step_operators
 from wheelrail.core.track.progress import Progress, current_progress
+
+if TYPE_CHECKING:
+    from wheelrail.core.files.cache import PendingEntry
 
 NEGLIGIBLE_LOSS_FACTOR = 1e-12
 """A rail loss factor below this is the undamped rail in the time domain: its relaxation terms (weights of the
@@ -84,8 +88,9 @@ class StationaryTrackResponse:
         Number of stored points and their start in ``data`` for each position and stored time sample.
     data : ndarray float32 (sum(counts), 2)
         Rail displacement w (m/(N s)) and rotation theta (1/(N s)) at the stored points.
-    cache_path : str
-        The disk cache file ('' when not cached).
+    cache_entry : str or PendingEntry
+        The disk cache file ('' when not cached), or its write under way (``cache.save_entry_behind``): read
+        ``cache_path``.
     """
 
     track: TrackParameters
@@ -96,11 +101,19 @@ class StationaryTrackResponse:
     counts: np.ndarray
     offsets: np.ndarray
     data: np.ndarray
-    cache_path: str = ""
+    cache_entry: str | PendingEntry = ""
 
     @property
     def n_samples(self) -> int:
         return self.counts.shape[1]
+
+    @property
+    def cache_path(self) -> str:
+        """The disk cache file ('' when not cached); if it is being written in the background, once written."""
+        if isinstance(self.cache_entry, str):
+            return self.cache_entry
+        path = self.cache_entry.wait()
+        return "" if path is None else str(path)
 
 
 def numerics_model(track: TrackParameters, numerics: TrackNumerics) -> TrackFEModel:
@@ -352,7 +365,7 @@ def stationary_track_response(
             counts=arrays["counts"],
             offsets=arrays["offsets"],
             data=arrays["data"],
-            cache_path=str(cache.entry_path("track-wedge", key)),
+            cache_entry=str(cache.entry_path("track-wedge", key)),
         )
     else:
         response = _computed(track, numerics, key, use_cache, progress or current_progress())
@@ -362,8 +375,12 @@ def stationary_track_response(
     return response
 
 
+WRITING_PHASE = "writing the cache entry (in the background)"
+
+
 def _computed(track, numerics, key: str, use_cache: bool, progress: Progress | None) -> StationaryTrackResponse:
-    """The responses computed and, with ``use_cache``, written to the cache (its path kept if written)."""
+    """The responses computed and, with ``use_cache``, their cache entry written in the background (the response
+    returned at once: its ``cache_path`` waits for the write)."""
     import time
 
     from wheelrail.core.files import cache
@@ -373,16 +390,15 @@ def _computed(track, numerics, key: str, use_cache: bool, progress: Progress | N
     if not use_cache:
         return response
     if progress is not None:
-        progress("writing the cache entry", 0, 1)
+        progress(WRITING_PHASE, 0, 1)
     info = {
         "compute_s": time.perf_counter() - start,
         # what the estimate of the next track scales with (``track.progress.estimate_s``)
         "work": float(len(response.excitation_positions)) * stored_times(numerics)[1] * _node_count(track, numerics),
     }
-    path = cache.save_entry("track-wedge", key, {name: getattr(response, name) for name in _WEDGE_ARRAYS}, info=info)
-    if progress is not None:
-        progress("writing the cache entry", 1, 1)
-    return StationaryTrackResponse(**{**response.__dict__, "cache_path": str(path) if path is not None else ""})
+    arrays = {name: getattr(response, name) for name in _WEDGE_ARRAYS}
+    pending = cache.save_entry_behind("track-wedge", key, arrays, info=info)
+    return StationaryTrackResponse(**{**response.__dict__, "cache_entry": pending})
 
 
 def _node_count(track: TrackParameters, numerics: TrackNumerics) -> int:

@@ -16,7 +16,9 @@ COARSE = TrackParameters(n_bays=20)
 
 def _fresh(numerics=SMALL, parameters=COARSE):
     track.clear_memory()
-    return track.stationary_track_response(parameters, numerics)
+    response = track.stationary_track_response(parameters, numerics)
+    cache.wait_for_writes()  # its entry is written in the background; these tests read and edit the file
+    return response
 
 
 def test_cache_lives_where_the_environment_says(tmp_path, monkeypatch):
