@@ -49,9 +49,12 @@ def track_tasks(specs: Sequence[RunSpec]) -> list[TrackTask]:
 
 def prepare_track(task: TrackTask) -> TrackTask:
     """Compute (or read off) the track's weights at each of its readings into the disk cache (the worker task);
-    returns the task."""
+    returns the task once every entry it wrote is on disk (a new track's responses are written in the
+    background: another process reads them from the disk, ``cache.wait_for_writes``)."""
+    from wheelrail.core.files import cache
     from wheelrail.core.track import moving_weights
 
     for speed, time_step in task.readings:
         moving_weights(speed, time_step, task.track)
+    cache.wait_for_writes()
     return task
