@@ -24,6 +24,8 @@ def _track(key: str, value: float, base: TrackParameters = PAPER) -> TrackParame
     part, field = entry.path.split(".")[1:]
     if part == "rail":
         return replace(base, rail=replace(base.rail, **{field: value}))
+    if part == "lateral":  # the lateral rail's supports (track.lateral): the vertical resonances must not mind them
+        return replace(base, lateral=replace(base.lateral, **{field: value}))
     return replace(base, support=replace(base.support, **{field: value}))
 
 
