@@ -230,14 +230,14 @@ class TrackNumerics:
         same rail point (``track.bay_rows``). 32 (every 20.3 mm) is converged to 0.2 dB per third-octave
         band against 64 (``validation/bay_convergence.py``).
     refined_elements_per_bay : int
-        Elements per bay in the central bay (where the excitation positions are) and the
-        ``refined_bays - 1`` bays after it; a multiple of ``positions_per_bay`` and ``elements_per_bay``.
+        Elements per bay in the central bay (where the excitation positions are), the ``refined_bays - 1`` after
+        it and the one before it (``fe.REFINED_LEAD_IN_BAYS``); a multiple of the two counts per bay.
         A receiver moving through the elements near the load sees their size: the force carries a tone
         at the element-passing frequency v / h (1.37 kHz at 100 km/h for 32 elements per bay, +2.6 dB in
         that band); 64 elements put it at 2.7 kHz at 100 km/h and 5.5 kHz at 200 km/h.
     refined_bays : int
-        Bays meshed with ``refined_elements_per_bay``: the central bay and the ones after it (the
-        receiver's path during the first ~23 ms at 100 km/h per bay).
+        Bays meshed with ``refined_elements_per_bay`` from the central bay on (the receiver's path during the
+        first ~23 ms at 100 km/h per bay), besides the bay before the central one.
     near_field : float
         The response is stored at every node of the refined mesh up to this distance after the
         excitation point, m; beyond it at the nodes of the coarse grid, read with the shape functions of a

@@ -136,6 +136,30 @@ def add_input_options(
     return added
 
 
+def add_track_numerics_option(parser) -> None:
+    """``--track-numerics``: the track's numerics as comma-separated ``name=value`` pairs (declared once in
+    ``wheelrail.core.inputs.numerics``); read back by :func:`track_numerics_from_args`."""
+    from wheelrail.core.inputs.numerics import NUMERICS_FIELDS, NUMERICS_OPTION
+
+    names = "; ".join(
+        f"{entry.name} ({entry.help}; {entry.accepted_text()})".replace("%", "%%") for entry in NUMERICS_FIELDS
+    )
+    parser.add_argument(
+        NUMERICS_OPTION,
+        metavar="NAME=VALUE,...",
+        default=None,
+        help="the track's numerics, to check a result against finer ones (each change is a new one-off precompute "
+        f"of the track, longer for finer numerics; default the converged defaults of docs/validation.md): {names}",
+    )
+
+
+def track_numerics_from_args(args):
+    """The ``TrackNumerics`` of ``--track-numerics`` (:func:`add_track_numerics_option`); the default when absent."""
+    from wheelrail.core.inputs.numerics import parse_track_numerics
+
+    return parse_track_numerics(getattr(args, "track_numerics", None))
+
+
 def add_irregularity_options(parser, several: bool = False) -> None:
     """The options of the discrete irregularities (``wheelrail.core.inputs.irregular``: each number declared once,
     with --flat-shape and --irregularity-input), one argparse group; read back by :func:`irregularities_from_args`.

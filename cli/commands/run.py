@@ -17,10 +17,12 @@ from wheelrail.cli.commands._common import (
     add_choice_option,
     add_input_options,
     add_irregularity_options,
+    add_track_numerics_option,
     cli_error_names,
     irregularities_from_args,
     params_from_args,
     print_json,
+    track_numerics_from_args,
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs.declared import describe, describe_contact, describe_words
@@ -97,6 +99,7 @@ def add_parser(sub):
     parser.add_argument("--json", action="store_true", help="print a machine-readable summary (SI units)")
     add_input_options(parser, *RUN_INPUT_GROUPS)
     add_irregularity_options(parser)
+    add_track_numerics_option(parser)
     add_recording_arguments(parser)
     add_choice_option(  # the sound power's wheel: one declaration (CHOICES), named apart from --wheel-model here
         parser, "noise_wheel_model", "with --sound-power, the recorded sound power's wheel: ", "--noise-wheel-model"
@@ -138,14 +141,14 @@ class _StopOnCtrlC:
 
 
 def _checked_args(args):
-    """The run's parameters and output paths, checked before any work: (params, out)."""
+    """The run's parameters, track numerics and output paths, checked before any work: (params, numerics, out)."""
     params = irregularities_from_args(args, params_from_args(args, *RUN_INPUT_GROUPS))
     if args.length_m is not None and (not math.isfinite(args.length_m) or args.length_m <= 0):
         raise WheelrailError(f"--length-m must be a positive length in m, got {args.length_m}")
     out = Path(args.out) if args.out is not None else None  # the files: checked by the dispatcher (FILES)
     if args.noise_wheel_model != "directive" and not getattr(args, "sound_power", False):
         raise WheelrailError("--noise-wheel-model needs --sound-power (the recording's sound power)")
-    return params, out
+    return params, track_numerics_from_args(args), out
 
 
 def modal_wheel_of(params):
@@ -156,7 +159,7 @@ def modal_wheel_of(params):
     return wheel_profile_for(params.contact.radius_along)
 
 
-def _prepare(args, params, out, sink):
+def _prepare(args, params, numerics, out, sink):
     """The prepared run, and the recording started on it (aborted if preparing fails)."""
     from wheelrail.cli.commands._progress import announce_track_precompute
     from wheelrail.core.engine import prepare_run
@@ -174,6 +177,7 @@ def _prepare(args, params, out, sink):
                 length=args.length_m,
                 keep_pressure=out is not None,
                 wheel_system=wheel_system,
+                track_numerics=numerics,
             )
         if sink is not None and sink.options.record_every > interaction.n_steps:
             raise WheelrailError(
@@ -247,6 +251,8 @@ def _summary(args, result, params, times) -> dict:
         "wheel_model": result.header.wheel_model,
         **({"modal_wheel": result.header.wheel_profile} if result.header.wheel_profile is not None else {}),
         **describe(params, "geometry", "track"),  # the contact geometry and track it ran on, SI
+        # the track's numerics that differ from the default, as --track-numerics names them ({}: the default)
+        "track_numerics": dict(result.header.track_numerics),
         "hertz_semi_axes_m": list(params.contact.hertz_semi_axes()),  # a along the rail, b across, at the preload
         "element_size_m": result.element_size,  # the contact grid and step along the rail (--element-mm)
         "steps": result.n_steps,
@@ -292,6 +298,8 @@ def _print_summary(args, result, params, summary, sink) -> None:
         f"{summary['length_m']:.3f} m"
     )
     print(f"  track: {describe_words(params, 'track')}")
+    if result.header.track_numerics:
+        print(f"  track numerics: {result.header.numerics_words()} (the others the default)")
     modal = result.header.wheel_model == "modal"
     wheel = ", with the paper's wheelset mass and suspension (wheelrail wheel shows it)" if modal else ""
     print(f"  wheel: {result.header.wheel_words()}{wheel}")
@@ -358,11 +366,11 @@ def _write_outputs(args, result, out, sink) -> None:
 
 
 def run(args) -> int:
-    params, out = _checked_args(args)
+    params, numerics, out = _checked_args(args)
     sink = sink_from_args(args, description=f"{args.model} on {args.set} line {args.line}", names=cli_error_names())
 
     start = time.perf_counter()
-    interaction = _prepare(args, params, out, sink)
+    interaction = _prepare(args, params, numerics, out, sink)
     prepared = time.perf_counter()
     result = _execute(args, interaction, sink)
     finished = time.perf_counter()

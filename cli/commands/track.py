@@ -13,9 +13,11 @@ from wheelrail.cli.commands._common import (
     Output,
     add_input_options,
     add_speed_option,
+    add_track_numerics_option,
     params_from_args,
     print_json,
     speed_from_kmh,
+    track_numerics_from_args,
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs.declared import describe
@@ -70,6 +72,7 @@ def add_parser(sub):
         "--plot", metavar="FILE.png", help="plot receptances, decay rate and moving Green's functions (Fig. 4)"
     )
     add_input_options(parser, "track")
+    add_track_numerics_option(parser)
     return parser
 
 
@@ -246,6 +249,10 @@ def _print_summary(track, summary: dict, peaks: dict) -> None:
         f"laterally, {lat.pad_rotational_stiffness / 1e3:g} kNm/rad in roll, loss factor "
         f"{lat.pad_lateral_loss_factor:g}; ballast {lat.ballast_lateral_stiffness / 1e6:g} MN/m laterally"
     )
+    if summary["track_numerics"]:
+        from wheelrail.core.inputs.numerics import numerics_words
+
+        print(f"  track numerics: {numerics_words(summary['track_numerics'])} (the others the default)")
     _print_resonances(track, peaks)
     print(f"  sleeper-passing frequency     {summary['sleeper_passing_frequency_hz']:7.1f} Hz  at {speed_kmh:g} km/h")
     print(
@@ -320,8 +327,8 @@ def _lateral_cells(lateral: dict, f: float) -> str:
 
 
 def run(args) -> int:
-
-    from wheelrail.core.parameters import TrackNumerics, as_dict
+    from wheelrail.core.inputs.numerics import numerics_changes
+    from wheelrail.core.parameters import as_dict
 
     speed = speed_from_kmh(args.speed_kmh)
     if not math.isfinite(args.df_hz) or not MIN_DF_HZ <= args.df_hz <= 100:
@@ -330,7 +337,8 @@ def run(args) -> int:
     plot_path = Path(args.plot) if args.plot is not None else None
 
     track = params_from_args(args, "track").track
-    numerics = TrackNumerics()
+    numerics = track_numerics_from_args(args)
+    changed = numerics_changes(numerics)
     peaks = _peaks(track, numerics)
     if speed > numerics.max_speed:
         from dataclasses import replace
@@ -358,6 +366,8 @@ def run(args) -> int:
     summary = {
         **describe(params_from_args(args, "track"), "track"),
         "track_parameters": as_dict(track),
+        # the track's numerics that differ from the default, as --track-numerics names them ({}: the default)
+        "track_numerics": changed,
         "speed_m_per_s": speed,
         "speed_kmh": args.speed_kmh,
         "resonances_hz": {f"{kind}_hz": peak.frequency_hz for kind, peak in peaks.items()},

@@ -151,7 +151,8 @@ def prepare_run(
     keep_pressure : bool
         Keep every pressure map in the result (steps x ny x nx float32), for models that have them.
     track_numerics : TrackNumerics, optional
-        Numerics of the track's Green's functions.
+        Numerics of the track's Green's functions (default ``TrackNumerics()``); the header records the fields
+        that differ from the default.
     wheel_system : WheelProfile, OutlineProfile or tuple, optional
         Default the paper's 2-DOF wheel; a modal wheel's cross-section, or a ``(Phi, Gamma0, Gamma1)``
         (``modal_wheel.time_domain.modal_wheel_system``); the header says which (:func:`interaction_wheel`).
@@ -194,6 +195,8 @@ def prepare_run(
         raise WheelrailError(
             f"prepare_run: track_numerics must be TrackNumerics or None, got {type(track_numerics).__name__}"
         )
+    from wheelrail.core.inputs.numerics import numerics_changes
+
     if wheel_system is not None:  # the modal wheel's modules (and scipy's) load only for a run that uses them
         from wheelrail.core.modal_wheel.profile import OutlineProfile, WheelProfile
 
@@ -224,6 +227,7 @@ def prepare_run(
         wheel_roughness_name=wheel_name,
         wheel_model=wheel_model,
         wheel_profile=wheel_profile,
+        track_numerics=numerics_changes(track_numerics),
     )
     return InteractionRun(
         header=header,

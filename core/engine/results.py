@@ -47,6 +47,9 @@ class RunHeader:
     wheel_profile : dict or None
         The modal wheel's cross-section (``WheelProfile.describe()``, SI; ``modal_wheel.profile_from_description``
         reads it back), or None (the 2-DOF wheel, or a modal wheel system given without its profile).
+    track_numerics : dict
+        The fields of the track's numerics that differ from ``TrackNumerics()``, as ``--track-numerics`` names
+        them (``wheelrail.core.inputs.numerics.numerics_changes``); empty: the default numerics.
     """
 
     model: str
@@ -57,6 +60,7 @@ class RunHeader:
     wheel_roughness_name: str | None = None
     wheel_model: str = "2dof"
     wheel_profile: dict | None = None
+    track_numerics: dict = field(default_factory=dict)
 
     @property
     def speed(self) -> float:
@@ -96,6 +100,8 @@ class RunHeader:
             values["wheel_profile"] = self.wheel_profile
         if self.wheel_roughness_name is not None:
             values["wheel_roughness"] = self.wheel_roughness_name
+        if self.track_numerics:
+            values["track_numerics"] = dict(self.track_numerics)
         return values
 
     def wheel_words(self) -> str:
@@ -126,8 +132,15 @@ class RunHeader:
             f"{'flat' if tread == float('inf') else f'{tread * 1e3:g} mm'}; track {self.params.track.n_bays} bays "
             f"of {support.sleeper_spacing:g} m, pads {support.pad_stiffness / 1e6:g} MN/m, ballast "
             f"{support.ballast_stiffness / 1e6:g} MN/m, sleepers {support.sleeper_mass:g} kg; {self.wheel_words()}"
-            f"{self.irregularity_words()}"
+            f"{self.irregularity_words()}{'; track numerics ' + self.numerics_words() if self.track_numerics else ''}"
         )
+
+    def numerics_words(self) -> str:
+        """The track's numerics that differ from the default, as ``--track-numerics`` takes them
+        ("elements_per_bay=32, time_step_us=2.5"), or "the default"."""
+        from wheelrail.core.inputs.numerics import numerics_words
+
+        return numerics_words(self.track_numerics)
 
     def irregularity_words(self) -> str:
         """The run's discrete irregularities in words ("; irregularities (Hertz on the trajectory): flat 50 mm
@@ -164,6 +177,7 @@ class RunHeader:
                 wheel_roughness_name=None if wheel is None else str(wheel),
                 wheel_model=_checked_wheel_model(values.get("wheel_model") or "2dof"),
                 wheel_profile=None if profile is None else dict(profile),
+                track_numerics=_numerics_changes(values.get("track_numerics")),
             )
         except WheelrailError as error:
             raise WheelrailError(f"run header is damaged: {error}") from None
@@ -206,6 +220,18 @@ def _checked_model(value) -> str:
     if not isinstance(value, str) or value not in model_names():
         raise ValueError(f"model {value!r} is not a known contact model ({', '.join(model_names())})")
     return value
+
+
+def _numerics_changes(value) -> dict:
+    """A header's ``track_numerics`` checked as ``--track-numerics`` checks them (None, as before they were
+    recorded: the default)."""
+    from wheelrail.core.inputs.numerics import numerics_changes, parse_track_numerics
+
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise ValueError(f"track_numerics {value!r} is not a JSON object")
+    return numerics_changes(parse_track_numerics(",".join(f"{name}={number}" for name, number in value.items())))
 
 
 def _whole_number(key: str, value) -> int:

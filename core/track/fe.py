@@ -263,6 +263,14 @@ def _number_dofs(n_nodes: int, support_nodes):
     return w_dof, th_dof, sleeper_dof
 
 
+REFINED_LEAD_IN_BAYS = 1
+"""Bays before the refined bays of ``assemble_track`` meshed with the refined elements too. The first excitation
+position is the first refined bay's first sleeper: at the edge of the refined mesh (coarse elements on one side)
+its impulse response would begin unlike every other position's (its first sample 1.5 times theirs), and that one
+row's error, met once per bay, would put 5-16 N into every sleeper-passing harmonic k = 8-20 with a 150 mm pad,
+where the first-order estimate is 0.1-2 N (``validation/pad_harmonics.py``, docs/validation.md)."""
+
+
 def assemble_track(
     track: TrackParameters, elements_per_bay: int = 16, refined: tuple[int, int, int] | None = None
 ) -> TrackFEModel:
@@ -275,7 +283,8 @@ def assemble_track(
         Beam elements per sleeper bay.
     refined : (first_bay, n_bays, elements_per_bay), optional
         Bays first_bay .. first_bay + n_bays - 1 meshed with this many elements instead (where the
-        excitation positions and the response near them are: ``TrackNumerics.refined_elements_per_bay``).
+        excitation positions and the response near them are: ``TrackNumerics.refined_elements_per_bay``),
+        and the ``REFINED_LEAD_IN_BAYS`` bays before them.
 
     Returns
     -------
@@ -288,7 +297,7 @@ def assemble_track(
     per_bay = np.full(track.n_bays, elements_per_bay, dtype=np.int64)
     if refined is not None:
         first, count, fine = refined
-        per_bay[first : first + count] = fine
+        per_bay[max(first - REFINED_LEAD_IN_BAYS, 0) : first + count] = fine
     node_x = np.concatenate([j * L + np.arange(n) * (L / n) for j, n in enumerate(per_bay)] + [[track.n_bays * L]])
     n_el = len(node_x) - 1
     support_nodes = np.concatenate([[0], np.cumsum(per_bay)])

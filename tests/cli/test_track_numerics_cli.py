@@ -1,0 +1,96 @@
+"""`--track-numerics` on `wheelrail run` and `wheelrail track`: parsed from one declaration, bad input one line,
+and every output of a run stating the numerics that differ from the default."""
+
+import json
+
+import numpy as np
+import pytest
+
+from wheelrail.core.engine.results import RunHeader
+from wheelrail.core.inputs.numerics import numerics_changes, parse_track_numerics
+from wheelrail.core.parameters import TrackNumerics
+
+# small numerics: a precompute of well under a second (the tests' own cache keeps it)
+SMALL = "elements_per_bay=8,refined_elements_per_bay=16,positions_per_bay=8,duration_ms=10,time_step_us=20"
+SMALL_CHANGES = {
+    "elements_per_bay": 8,
+    "refined_elements_per_bay": 16,
+    "positions_per_bay": 8,
+    "time_step_us": 20.0,
+    "duration_ms": 10.0,
+}
+
+
+def test_the_names_set_their_fields_in_their_units():
+    numerics = parse_track_numerics("elements_per_bay=32, near_field_m=0.2,time_step_us=2.5,duration_ms=60")
+    assert (numerics.elements_per_bay, numerics.near_field) == (32, 0.2)
+    assert numerics.time_step == pytest.approx(2.5e-6) and numerics.duration == pytest.approx(0.06)
+    assert numerics_changes(numerics) == {
+        "elements_per_bay": 32,
+        "near_field_m": 0.2,
+        "time_step_us": 2.5,
+        "duration_ms": 60.0,
+    }
+    assert parse_track_numerics(None) == parse_track_numerics("") == TrackNumerics()
+    assert numerics_changes(TrackNumerics()) == {}
+
+
+def test_a_header_keeps_the_numerics_through_its_dictionary():
+    header = RunHeader(model="hertz", line=0, roughness_name="corrugated-rail", track_numerics=SMALL_CHANGES)
+    again = RunHeader.from_dict(json.loads(json.dumps(header.to_dict())))
+    assert again.track_numerics == SMALL_CHANGES
+    assert "track numerics elements_per_bay=8" in again.description()
+    default = RunHeader(model="hertz", line=0, roughness_name="corrugated-rail")
+    assert "track_numerics" not in default.to_dict() and "numerics" not in default.description()
+
+
+@pytest.mark.parametrize("command", [["run", "--set", "corrugated-rail"], ["track"]])
+@pytest.mark.parametrize(
+    "value, fragment",
+    [
+        ("foo=1", "unknown name 'foo'; the names are elements_per_bay"),
+        ("elements_per_bay=x", "elements_per_bay must be a whole number from 4 to 256, got 'x'"),
+        ("elements_per_bay=32.5", "must be a whole number"),
+        ("time_step_us=0.1", "time_step_us must be a number from 0.5 to 20 us"),
+        ("near_field_m=nan", "near_field_m must be a number"),
+        ("positions_per_bay=48", "positions_per_bay (48) must divide refined_elements_per_bay (64)"),
+        ("elements_per_bay=32,elements_per_bay=16", "elements_per_bay is given twice"),
+        ("elements_per_bay", "'elements_per_bay' is not name=value"),
+    ],
+)
+def test_bad_numerics_are_one_line(command, value, fragment, cli):
+    code, out, err = cli(*command, "--track-numerics", value)
+    assert code != 0 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "--track-numerics" in lines[0] and fragment in lines[0], err
+    assert "Traceback" not in err and "Error:" not in err.split("error:", 1)[-1]
+
+
+def test_a_run_states_its_numerics_in_every_output(tmp_path, cli):
+    out_csv, out_npz = tmp_path / "run.csv", tmp_path / "run.npz"
+    argv = ["run", "--set", "corrugated-rail", "--length-m", "0.2", "--track-numerics", SMALL]
+    code, out, err = cli(*argv, "--json", "--csv", str(out_csv), "--out", str(out_npz))
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["track_numerics"] == SMALL_CHANGES
+    assert "track numerics elements_per_bay=8" in out_csv.read_text().splitlines()[0]
+    from wheelrail.core.engine.results import RunResult
+
+    assert RunResult.load_npz(out_npz).header.track_numerics == SMALL_CHANGES
+    code, out, err = cli(*argv)
+    assert code == 0, err
+    assert "  track numerics: elements_per_bay=8, refined_elements_per_bay=16, positions_per_bay=8" in out
+
+
+def test_the_track_command_uses_and_states_its_numerics(cli):
+    code, out, err = cli("track", "--track-numerics", SMALL, "--json")
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["track_numerics"] == SMALL_CHANGES
+    green = summary["green_functions"]
+    assert green["excitation_positions_per_bay"] == 8 and green["rows_per_bay"] == 8 * 4
+    assert green["duration_s"] == pytest.approx(0.01, abs=2e-5)
+    assert np.isfinite(summary["static_moving_compliance_m_per_n"]["midspan"])
+    code, out, err = cli("track", "--track-numerics", SMALL)
+    assert code == 0, err
+    assert "  track numerics: elements_per_bay=8" in out
