@@ -200,14 +200,11 @@ def _green_functions(track, numerics, speed: float) -> dict:
     start = time.perf_counter()
     green = moving_from_stationary(response, speed)
     t_speed = time.perf_counter() - start
-    cache_size = Path(response.cache_path).stat().st_size if response.cache_path else 0
     return {
         "response": response,
         "green": green,
         "static": green.weights(1e-3 / speed).sum(axis=1),
         "cache": {
-            "path": response.cache_path,
-            "size_bytes": cache_size,
             "was_cached": bool(cached_before),
             "stationary_time_s": t_stationary,
             "speed_time_s": t_speed,
@@ -384,7 +381,8 @@ def run(args) -> int:
             "rows_per_bay": len(green.excitation_positions),
             "max_speed_m_per_s": numerics.max_speed,
         },
-        "cache": built["cache"],
+        # read last: a new track's entry is written in the background while the tables above are worked out
+        "cache": _cache_summary(built),
         "decay_rate": decay,
         "bands": band_receptances(track, numerics.elements_per_bay),
         "lateral_decay_rate": lateral["decay"],
@@ -396,6 +394,13 @@ def run(args) -> int:
         return 0
     _print_summary(track, summary, peaks)
     return 0
+
+
+def _cache_summary(built: dict) -> dict:
+    """The track's cache entry: its path and size (both wait for a background write of a new track's entry to
+    finish, hence asked for last), whether it was cached and the times taken."""
+    path = built["response"].cache_path
+    return {"path": path, "size_bytes": Path(path).stat().st_size if path else 0, **built["cache"]}
 
 
 def _outputs_named(summary: dict, receptances, csv_path, plot_path) -> None:

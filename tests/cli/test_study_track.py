@@ -108,8 +108,8 @@ def _values(start: float, count: int) -> list[str]:
                 "--ballast-stiffness-mn-m",
                 *_values(100, 10),
             ],
-            "a track study of 1000 tracks (each a Green's-function precompute of about 16 s of CPU and a 208 MB "
-            "cache entry: 4.4 h, 208 GB) is over the limit of 100 tracks; sweep fewer values",
+            "a track study of 1000 tracks (each a Green's-function precompute of about 7 s of CPU and a 208 MB "
+            "cache entry: 1.9 h, 208 GB) is over the limit of 100 tracks; sweep fewer values",
         ),
         (  # within the limit of tracks, beyond what the disk cache holds
             ["--pad-stiffness-mn-m", *_values(60, 5), "--sleeper-mass-kg", *_values(100, 4)],
