@@ -143,8 +143,8 @@ def test_a_track_study_says_what_it_will_cost_before_it_starts(tmp_path, capsys,
     err = capsys.readouterr().err.splitlines()
     runs = 3 * len(noise_models())
     assert err[0] == (
-        f"wheelrail study: 3 tracks, {runs} runs; 3 not in the disk cache: about 0.8 min of CPU for their Green's "
-        "functions (0.8 min on 1 worker), 0.6 GB of cache (limit 4 GB)"
+        f"wheelrail study: 3 tracks, {runs} runs; 3 not in the disk cache: about 0.3 min of CPU for their Green's "
+        "functions (0.3 min on 1 worker), 0.6 GB of cache (limit 4 GB)"
     )
     assert err[1] == "started"  # said before the study starts
     # the API is bounded too

@@ -101,13 +101,13 @@ def test_a_wheel_built_from_the_repository_holds_every_sub_package(tmp_path):
     sets = {f"wheelrail/sample_data/{path.name}" for path in (ROOT / "sample_data").glob("*.npz")}
     assert len(sets) == 4 and sets <= names
     # the data files read at run time: the CNOSSOS-EU tables of the noise source (wheelrail.core.noise.tables)
-    # and EN ISO 3095's track decay limit (wheelrail.core.noise.decay)
+    # and EN ISO 3095's vertical and lateral track decay limits (wheelrail.core.noise.decay)
     tables = {
         f"wheelrail/core/noise/data/{path.name}"
         for path in (ROOT / "core" / "noise" / "data").iterdir()
         if path.is_file()
     }
-    assert len(tables) == 6 and tables <= names, sorted(tables - names)
+    assert len(tables) == 7 and tables <= names, sorted(tables - names)
     info = next(name.split("/")[0] for name in names if name.endswith(".dist-info/METADATA"))
     metadata = email.message_from_bytes(zipfile.ZipFile(wheel).read(f"{info}/METADATA"))
     assert metadata["Version"] == wheelrail.__version__
