@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 
 from wheelrail.core.errors import Name
-from wheelrail.core.inputs.declared import MM, Unit
+from wheelrail.core.inputs.declared import MM, OptionNamed, Unit
 from wheelrail.core.inputs.ranges import ACCEPTED
 
 __all__ = ["CONTACT_POSITION_INPUTS", "ContactPosition", "PositionInput", "contact_position_cli_names"]
@@ -75,7 +75,7 @@ class ContactPosition:
 
 
 @dataclass(frozen=True)
-class PositionInput:
+class PositionInput(OptionNamed):
     """One number of the contact's position a user can set, declared once: its stable ``key`` (the ``parameter``
     of its errors and of its range in ``ACCEPTED``), the :class:`ContactPosition` ``field``, the unit front ends
     show it in, a page ``label`` and a sentence of help."""
@@ -85,16 +85,6 @@ class PositionInput:
     shown: Unit
     label: str
     help: str
-
-    @property
-    def option(self) -> str:
-        """The command-line option: ``--`` + the key + the unit's token (``--contact-offset-rail-mm``)."""
-        return f"--{self.key.replace('_', '-')}-{self.shown.token}"
-
-    @property
-    def dest(self) -> str:
-        """The option's attribute name in argparse's namespace (``contact_offset_rail_mm``)."""
-        return self.option[2:].replace("-", "_")
 
     def shown_default(self) -> float:
         """The default (:class:`ContactPosition`'s) in the shown unit."""

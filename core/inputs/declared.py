@@ -74,12 +74,34 @@ KG = Unit("kg", 1.0, "kg")
 METRE = Unit("m", 1.0, "m")
 NUMBER = Unit("", 1.0, "")
 
+
+class OptionNamed:
+    """The command-line name of a declared input (its ``key``, its ``shown`` unit if it has one, and its ``cli``
+    name if it has one): ``cli``, else ``--`` + the key + the unit's token (``--pad-stiffness-mn-m``,
+    ``--flat-length-mm``); ``dest`` is argparse's attribute name for it (``pad_stiffness_mn_m``)."""
+
+    @property
+    def option(self) -> str:
+        """The command-line option (``--pad-stiffness-mn-m``)."""
+        cli = getattr(self, "cli", "")
+        if cli:
+            return cli
+        words = self.key.replace("_", "-")
+        shown = getattr(self, "shown", None)
+        return f"--{words}-{shown.token}" if shown is not None and shown.token else f"--{words}"
+
+    @property
+    def dest(self) -> str:
+        """The option's attribute name in argparse's namespace (``pad_stiffness_mn_m``)."""
+        return self.option[2:].replace("-", "_")
+
+
 GROUPS = {"run": "Run", "geometry": "Contact geometry", "track": "Track"}
 """Input groups, in order, and their titles (the command line's option groups, the explorer's folders)."""
 
 
 @dataclass(frozen=True)
-class Input:
+class Input(OptionNamed):
     """One user-facing input, declared once (module docstring): its key, place, units, label and group.
 
     Attributes
@@ -130,20 +152,6 @@ class Input:
     stem: str = ""
     always_shown: bool = False
     cli: str = ""
-
-    @property
-    def option(self) -> str:
-        """The command-line option: ``cli`` if given, else ``--`` + the key + the unit's token
-        (``--pad-stiffness-mn-m``)."""
-        if self.cli:
-            return self.cli
-        words = self.key.replace("_", "-")
-        return f"--{words}-{self.shown.token}" if self.shown.token else f"--{words}"
-
-    @property
-    def dest(self) -> str:
-        """The option's attribute name in argparse's namespace (``pad_stiffness_mn_m``)."""
-        return self.option[2:].replace("-", "_")
 
     def default(self) -> float | None:
         """Its default, read from ``ModelParameters()``.
@@ -537,7 +545,7 @@ def describe_contact(params) -> str:
 
 
 @dataclass(frozen=True)
-class Choice:
+class Choice(OptionNamed):
     """One user-facing choice among named values (not a number): its stable ``key`` (the ``parameter`` of its
     errors), the ``values`` in the order front ends offer them, the ``default``, a page ``label``, a ``help``
     sentence and ``words``: what each value means, for help texts and hints."""
@@ -549,17 +557,6 @@ class Choice:
     help: str
     words: tuple[str, ...]
     cli: str = ""
-
-    @property
-    def option(self) -> str:
-        """The command-line option: ``cli`` if given (``--wheel-model`` for ``noise_wheel_model``: the command
-        names its own wheel), else ``--`` + the key."""
-        return self.cli or "--" + self.key.replace("_", "-")
-
-    @property
-    def dest(self) -> str:
-        """The option's attribute name in argparse's namespace (``wheel_model``)."""
-        return self.option[2:].replace("-", "_")
 
     def check(self, value) -> str:
         """``value`` if it is one of ``values``, else one WheelrailError keyed by ``key``."""

@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from wheelrail.core.errors import Blame, Name, WheelrailError
-from wheelrail.core.inputs.declared import METRE, MM, Unit
+from wheelrail.core.inputs.declared import METRE, MM, OptionNamed, Unit
 
 __all__ = [
     "FLAT_SHAPE_HELP",
@@ -26,7 +26,7 @@ __all__ = [
 
 
 @dataclass(frozen=True)
-class IrregularityInput:
+class IrregularityInput(OptionNamed):
     """One number of a discrete irregularity a user can set, declared once: its stable ``key`` (the ``parameter``
     of its errors: ``"flat_length"``), the irregularity's ``kind`` ("flat", "joint", "weld", "squat") and
     ``field`` (of ``WheelFlat``, ``RailJoint``, ``DippedWeld``, ``Squat``), the unit front ends show it in, a
@@ -38,16 +38,6 @@ class IrregularityInput:
     shown: Unit
     help: str
     required: bool = False
-
-    @property
-    def option(self) -> str:
-        """The command-line option: ``--`` + the key + the unit's token (``--flat-length-mm``)."""
-        return f"--{self.key.replace('_', '-')}-{self.shown.token}"
-
-    @property
-    def dest(self) -> str:
-        """The option's attribute name in argparse's namespace (``flat_length_mm``)."""
-        return self.option[2:].replace("-", "_")
 
 
 MRAD = Unit("mrad", 1e-3, "mrad")
