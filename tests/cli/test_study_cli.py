@@ -315,9 +315,11 @@ def test_dask_cluster_gives_the_same_tables_as_the_process_pool_and_threads(tmp_
     assert on_processes.backend.startswith("process pool") and on_processes.computed == 2
     assert threads.report.backend.startswith("threads") and threads.report.computed == 2
     pool_tables = plan.tabulate(on_processes.summaries)
-    for a, b in zip(pool_tables, threads.tables, strict=True):  # the same code in processes and threads: bit for bit
+    for a, b in zip(pool_tables, threads.tables, strict=True):
         for column in a.columns:
-            np.testing.assert_array_equal(a.columns[column], b.columns[column])
+            # the same code in processes and threads, equal to rounding (1e-9 dB): on a fresh machine a process that
+            # compiled the kernels itself and one that loaded them from numba's cache differ ~1e-12 relative
+            np.testing.assert_allclose(a.columns[column], b.columns[column], atol=1e-9, equal_nan=True)
     for a, b in zip(pool_tables, dask.tables, strict=True):
         assert a.name == b.name and list(a.columns) == list(b.columns)
         for column in a.columns:

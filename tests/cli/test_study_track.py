@@ -89,7 +89,9 @@ def test_the_track_study_on_dask_gives_the_pools_tables(tmp_path):
     assert dask.report.backend.startswith("dask") and dask.report.computed == pool.report.computed
     for mine, theirs in zip(pool.tables, dask.tables, strict=True):
         for column in mine.columns:
-            np.testing.assert_allclose(theirs.columns[column], mine.columns[column], rtol=1e-12, equal_nan=True)
+            # equal to rounding, 1e-9 dB: a process whose numba cache was cold compiles the kernels itself and
+            # gives levels ~1e-12 relative apart from one that loaded them (docs/limitations.md)
+            np.testing.assert_allclose(theirs.columns[column], mine.columns[column], atol=1e-9, equal_nan=True)
 
 
 def _values(start: float, count: int) -> list[str]:
