@@ -462,7 +462,7 @@ def lateral_receptances(
     frequency : array_like
         f, Hz (finite, >= 0).
     contact_offset : float
-        d, the vertical force's lateral distance from the rail's centreline, m (|d| <= half the head's width,
+        d, the vertical force's lateral distance from the rail's centreline, m (``|d|`` <= half the head's width,
         0.036 m for 60E1); 0: no torque, ``vertical_to_lateral`` is zero.
     x_response : float or array_like
         Where the response is read: m along the rail from the load (either way, within the model); 0: the point
@@ -535,9 +535,9 @@ def lateral_decay_rate(
 ) -> np.ndarray:
     """The lateral track decay rate of the railhead, EN 15461's formula, dB/m.
 
-    DR = 10 lg(e) / sum_n (|A(x_n)|^2 / |A(x_0)|^2) dx_n on the railhead's lateral transfer receptances A for a
+    ``DR = 10 lg(e) / sum_n (|A(x_n)|^2 / |A(x_0)|^2) dx_n`` on the railhead's lateral transfer receptances A for a
     lateral force at the railhead at midspan of the central bay, summed over the model's nodes along
-    ``numerics.decay_length`` of rail on one side; band values from |A|^2 summed over ``points_per_band``
+    ``numerics.decay_length`` of rail on one side; band values from ``|A|^2`` summed over ``points_per_band``
     frequencies across each band.
 
     Parameters
