@@ -148,8 +148,8 @@ def track_decay(track) -> dict:
 
 
 LATERAL_CROSS_OFFSET = 0.01
-"""m: the contact offset at which ``lateral_band_receptances`` states the vertical-to-lateral receptance (it is
-proportional to the offset)."""
+"""m: the contact offset at which ``lateral_band_receptances`` states the vertical-to-lateral receptance and at which
+the noise chain computes it (``rail_lateral``; it is proportional to the offset)."""
 
 
 def track_lateral_decay(track) -> dict:
