@@ -11,9 +11,11 @@ from wheelrail.cli.commands._common import (
     Files,
     add_input_options,
     add_irregularity_options,
+    add_track_numerics_option,
     irregularities_from_args,
     params_from_args,
     print_json,
+    track_numerics_from_args,
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs.declared import describe_contact, describe_track, describe_words
@@ -97,6 +99,7 @@ def add_parser(sub):
         several=("track",),
     )
     add_irregularity_options(parser, several=True)
+    add_track_numerics_option(parser)
     return parser
 
 
@@ -188,6 +191,7 @@ def run(args) -> int:
 
     if args.name not in STUDIES:
         raise WheelrailError(f"unknown study {args.name!r}; choose one of {', '.join(STUDIES)}")
+    numerics = track_numerics_from_args(args)  # every run's (and the tables' noise chains')
     tracks = _tracks(args)  # several values of a track input: the track study's sweep
     sweep = _impact(args, params_from_args(args, *RUN_INPUT_GROUPS))  # impact: the irregularities' sweep
     params = getattr(sweep, "params", sweep)  # the parameters every run shares (but for what is swept)
@@ -209,6 +213,7 @@ def run(args) -> int:
         workers=workers,
         dask_address=address,
         progress=not args.json and sys.stderr.isatty(),
+        track_numerics=numerics,
     )
     summary = result.summary
     if args.json:
@@ -234,6 +239,10 @@ def run(args) -> int:
             )
         print(f"  {describe_track(params, leave_out=tuple(entry.key for entry in swept))}")
     print(f"  contact geometry: {describe_contact(params)}")
+    if summary["track_numerics"]:
+        from wheelrail.core.inputs.numerics import numerics_words
+
+        print(f"  track numerics: {numerics_words(summary['track_numerics'])} (the others the default)")
     if summary.get("irregularity_cases"):
         _say_impact(result)
     if summary["loss_of_contact_steps"]:

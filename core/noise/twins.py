@@ -124,6 +124,14 @@ class NoiseNumerics:
                 raise WheelrailError(f"NoiseNumerics.{name} must be a positive number, got {value!r}")
 
 
+def chain_numerics(track_numerics=None) -> NoiseNumerics:
+    """The default's, with the fields of ``track_numerics`` (a TrackNumerics; None: the default) the frequency-domain
+    track takes (``inputs.numerics.frequency_domain_fields``): one track for a run's force and its noise."""
+    from wheelrail.core.inputs.numerics import frequency_domain_fields
+
+    return NoiseNumerics(**frequency_domain_fields(track_numerics))
+
+
 def band_frequencies(points_per_band: int) -> np.ndarray:
     """(24, points) frequencies, Hz: each band's width split evenly in lg f, the middle of each part."""
     from wheelrail.core.inputs.checks import integer

@@ -144,9 +144,10 @@ def plan_track(infos, params, tracks, spec_of):
         from wheelrail.core.noise.components import component_names, noise_components
         from wheelrail.core.noise.run_noise import AXLE_DB, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, pass_by_level
         from wheelrail.core.noise.run_noise import sound_power_from_force as power
-        from wheelrail.core.noise.twins import track_noise_model
+        from wheelrail.core.noise.twins import chain_numerics, track_noise_model
 
-        noise_tracks = [track_noise_model(p) for p in on_track]  # cached on disk by track, wheel and contact
+        numerics = chain_numerics(specs[0].track_numerics)  # the runs' track
+        noise_tracks = [track_noise_model(p, numerics) for p in on_track]
         swept = swept_inputs(tracks)
         labels = [part.label for part in noise_components()]
         parts = ", ".join(labels[:-1]) + f" and {labels[-1]}"  # "rail, sleeper and wheel"
