@@ -209,6 +209,8 @@ def frequency_domain_fields(numerics: TrackNumerics | None, *, only: str | None 
     from wheelrail.core.parameters import TrackNumerics
 
     numerics = TrackNumerics() if numerics is None else numerics
+    if not isinstance(numerics, TrackNumerics):
+        raise WheelrailError(f"track_numerics must be TrackNumerics or None, got {type(numerics).__name__}")
     taken = [entry for entry in NUMERICS_FIELDS if entry.frequency_domain]
     if only is not None:
         other = [name for name in numerics_changes(numerics) if not _field(name).frequency_domain]

@@ -39,10 +39,10 @@ import math
 
 import numpy as np
 
-from wheelrail.core.noise.decay import LATERAL_CROSS_OFFSET
 from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED, lateral_rail_radiation_efficiency, rail_section
 
 __all__ = [
+    "LATERAL_CROSS_OFFSET",
     "LOG10_E",
     "clear_lateral_cache",
     "lateral_power_per_force",
@@ -51,6 +51,9 @@ __all__ = [
 ]
 
 LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
+LATERAL_CROSS_OFFSET = 0.01
+"""m: the contact offset at which the lateral track's vertical-to-lateral receptance is computed and stated (the
+chain's, scaled to the contact's offset, and ``noise.decay.lateral_band_receptances``'): it is proportional to it."""
 
 
 def lateral_velocity_integral(frequency, vertical_to_lateral, decay_rate_db_per_m) -> np.ndarray:
