@@ -239,7 +239,7 @@ def run(args) -> int:
             )
         print(f"  {describe_track(params, leave_out=tuple(entry.key for entry in swept))}")
     print(f"  contact geometry: {describe_contact(params)}")
-    if summary["track_numerics"]:
+    if summary.get("track_numerics"):  # those of every run that differ from the default
         from wheelrail.core.inputs.numerics import numerics_words
 
         print(f"  track numerics: {numerics_words(summary['track_numerics'])} (the others the default)")
