@@ -164,12 +164,12 @@ def _tracks(args):
     return tracks
 
 
-def _say_track_cost(tracks, sets: int, workers: int, quiet: bool) -> None:
+def _say_track_cost(tracks, sets: int, workers: int, quiet: bool, numerics=None) -> None:
     """Refuse a track study over its limits, else say on stderr what it will cost before it starts."""
     from wheelrail.core.study.track_plan import check_track_count, track_study_cost
 
     check_track_count(tracks)
-    cost = track_study_cost(tracks, sets, workers)
+    cost = track_study_cost(tracks, sets, workers, numerics)
     if quiet:
         return
     new = cost["new_tracks"]
@@ -202,7 +202,7 @@ def run(args) -> int:
         raise WheelrailError(f"--workers must be at least 1, got {workers}")
     address = parse_dask_address(args.dask) if args.dask is not None else None
     if tracks is not None:
-        _say_track_cost(tracks, len(args.sets), workers, args.json)
+        _say_track_cost(tracks, len(args.sets), workers, args.json, numerics)
     result = run_study(
         args.name,
         args.sets,

@@ -188,3 +188,16 @@ def test_a_study_runs_on_and_states_its_numerics(tmp_path, cli):
     assert code == 0, err
     assert "runs (0 computed, 5 from" in out  # the runs on these numerics, kept
     assert "  track numerics: elements_per_bay=8, refined_elements_per_bay=16, positions_per_bay=8" in out
+
+
+def test_a_track_studys_cost_looks_for_the_tracks_on_its_numerics(monkeypatch, tmp_path):
+    from wheelrail.core import track
+    from wheelrail.core.parameters import TrackParameters
+    from wheelrail.core.study.track_plan import track_study_cost
+
+    asked = []
+    monkeypatch.setattr(track, "track_cache_path", lambda t, numerics: asked.append(numerics) or tmp_path / "no")
+    numerics = parse_track_numerics(SMALL)
+    assert track_study_cost([TrackParameters()], numerics=numerics)["new_tracks"] == 1
+    assert track_study_cost([TrackParameters()])["new_tracks"] == 1
+    assert asked == [numerics, TrackNumerics()]
