@@ -89,7 +89,7 @@ def test_the_run_and_the_tracks_precompute_are_given_the_numerics():
 
 
 @pytest.mark.slow
-def test_the_track_folder_has_the_field_and_a_session_keeps_it(app):
+def test_the_track_folder_has_the_field_and_a_session_keeps_it(app, finish_run):
     form = app.form
     field = form.numerics_text
     assert field.label == "Track numerics" and field.value == "" and "elements_per_bay=32" in field.hint
@@ -108,5 +108,10 @@ def test_the_track_folder_has_the_field_and_a_session_keeps_it(app):
         assert app.shown != saved and app.shown.run_options() == {}
         app.session.load(content)
         assert field.value == "elements_per_bay=32" and app.shown == saved
+        field.value = SMALL  # a run on them: its header and the result line state them
+        form.length_text.value = "0.6"
+        result = finish_run(app)
+        assert result.header.track_numerics == dict(app.shown.track_numerics) != {}
+        assert "track numerics elements_per_bay=8" in app.page.status_md.content
     finally:
         field.value = ""
