@@ -287,7 +287,8 @@ def plan_study(
     labels = [info.label for info in infos]
     if len(set(labels)) != len(labels):
         raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")
-    spec_of = partial(_spec, track_numerics=checked_numerics(track_numerics))  # every run on the same numerics
+    numerics = checked_numerics(track_numerics)
+    spec_of = partial(_spec, track_numerics=numerics)  # every run on the same numerics
     if name == "track":
         from wheelrail.core.study.track_plan import plan_track
 
@@ -310,14 +311,9 @@ def plan_study(
         wheel_set=wheel,
         tracks=tracks,
         impact=sweep,
-        track_numerics=spec_of.keywords["track_numerics"],
+        track_numerics=numerics,
         # the last track first: where the chains' cache keeps fewer than all, it keeps those the tables ask first
-        beside=tuple(
-            partial(_noise_chain, replace(params, track=track), spec_of.keywords["track_numerics"])
-            for track in tracks[::-1]
-        )
-        if noise
-        else (),
+        beside=tuple(partial(_noise_chain, replace(params, track=t), numerics) for t in tracks[::-1]) if noise else (),
     )
 
 
