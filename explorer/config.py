@@ -27,6 +27,7 @@ from wheelrail.core.inputs.declared import (
     model_parameters,
     page_names,
 )
+from wheelrail.core.inputs.numerics import numerics_changes, parse_track_numerics
 from wheelrail.core.inputs.ranges import ACCEPTED, check_wheel_circumference
 from wheelrail.core.inputs.run_records import IRREGULARITY_INPUT_VALUES
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
@@ -45,6 +46,7 @@ __all__ = [
     "accepted_text",
     "length_range",
     "models_of",
+    "numerics_hint",
     "offered_lines",
     "page_message",
     "read_config",
@@ -99,6 +101,7 @@ NEAREST_WHEEL = "nearest"  # the Wheel tab's choice of the named wheel nearest t
 WHEEL_SHAPE_KEYS = tuple(k for k in ACCEPTED if k.startswith("wheel_") and k not in page_names())
 """The modal wheel's shape inputs besides its radius (the Wheel tab's fields): ``wheel_tyre_width``, ..."""
 NO_LINE_FITS = "no line fits"  # the Line menu when the model cannot run on any line of the set(s)
+NUMERICS_LABEL = "Track numerics"  # the Track folder's field of core's --track-numerics (core.inputs.numerics)
 
 
 def accepted_text(key: str) -> str:
@@ -110,6 +113,17 @@ def field_hint(entry: Input) -> str:
     """A declared input's field hint: what it is, its range and its default ("Rail pad stiffness, per support,
     10 to 3000 MN/m; default 120 MN/m")."""
     return f"{entry.help[0].upper()}{entry.help[1:]}, {entry.accepted_text()}; default {entry.default_text()}"
+
+
+def numerics_hint() -> str:
+    """The Track numerics field's hint: what it takes (core's declaration of ``--track-numerics``), its default."""
+    from wheelrail.core.inputs.numerics import NUMERICS_FIELDS
+
+    names = ", ".join(entry.name for entry in NUMERICS_FIELDS)
+    return (
+        f"The track's numerics as name=value pairs, e.g. elements_per_bay=32 (names: {names}; ranges in the user "
+        "guide); each change is a new one-off precompute of the track. Empty: the converged defaults."
+    )
 
 
 def field_text(entry: Input) -> str:
@@ -140,6 +154,7 @@ class RunConfig:
     inputs: tuple[tuple[str, float], ...] = ()
     irregularities: tuple = ()  # core's WheelFlat, RailJoint, DippedWeld, Squat (the Irregularity folder)
     irregularity_input: str = IRREGULARITY_INPUT_VALUES[0]  # what the Hertz models are driven by over them
+    track_numerics: tuple[tuple[str, float], ...] = ()  # those that differ from the default, as typed (name, value)
 
     def value(self, key: str):
         """A declared input's value, SI (its default where not given)."""
@@ -159,6 +174,7 @@ class RunConfig:
         """Everything but the model: results of one case compare (spectra, contact filters)."""
         inputs = tuple((key, round(value, 12)) for key, value in self.inputs)
         case = (self.set_label, self.wheel_set_label, self.line, round(self.length, 9), inputs)
+        case += (self.track_numerics,) if self.track_numerics else ()
         return (*case, self.irregularities, self.irregularity_input) if self._irregular() else case
 
     def for_model(self, model: str) -> RunConfig:
@@ -175,6 +191,19 @@ class RunConfig:
             return params
         run = replace(params.run, irregularities=self.irregularities, irregularity_input=self.irregularity_input)
         return replace(params, run=run)
+
+    def run_options(self) -> dict:
+        """The run's keywords of ``prepare_run`` besides its parameters: ``track_numerics`` when given (else {})."""
+        if not self.track_numerics:
+            return {}
+        text = ",".join(f"{name}={value!r}" for name, value in self.track_numerics)
+        return {"track_numerics": parse_track_numerics(text, label=NUMERICS_LABEL)}
+
+    def numerics_words(self) -> str:
+        """The track numerics given, as core words them ("track numerics elements_per_bay=32"), or ""."""
+        from wheelrail.core.inputs.numerics import numerics_words
+
+        return f"track numerics {numerics_words(dict(self.track_numerics))}" if self.track_numerics else ""
 
     def irregularity_words(self) -> str:
         """The irregularities in core's words ("flat 50 mm rounded at x = 0.5 m (Hertz on the trajectory)"), or
@@ -204,7 +233,8 @@ class RunConfig:
         head = [entry.words(self.value(entry.key)) for entry in shown if entry.always_shown]
         rest = [entry.words(self.value(entry.key)) for entry in shown if not entry.always_shown]
         irregular = [self.irregularity_words()] if self.irregularities else []
-        return ", ".join([sets, f"line {self.line}", *head, f"{self.length:g} m", *rest, *irregular])
+        numerics = [self.numerics_words()] if self.track_numerics else []
+        return ", ".join([sets, f"line {self.line}", *head, f"{self.length:g} m", *rest, *numerics, *irregular])
 
     def title_label(self) -> str:
         """The case as a plot's title names it: its case label without the track's inputs, then the track in core's
@@ -222,7 +252,9 @@ class RunConfig:
         head = [entry.file_part(self.value(entry.key)) for entry in self._shown() if entry.always_shown]
         rest = [entry.file_part(self.value(entry.key)) for entry in self._shown() if not entry.always_shown]
         irregular = [f"{type(item).__name__}{item.position:g}m" for item in self.irregularities]
-        parts = ["wheelrail", self.model, *sets, f"line{self.line}", *head, f"{self.length:g}m", *rest, *irregular]
+        numerics = [f"{name}{value:g}" for name, value in self.track_numerics]
+        parts = ["wheelrail", self.model, *sets, f"line{self.line}", *head, f"{self.length:g}m", *rest, *numerics]
+        parts += irregular
         return re.sub(r"[^A-Za-z0-9.+-]+", "_", "-".join(parts)).replace("_-", "-").strip("_")
 
     def as_dict(self) -> dict:
@@ -231,6 +263,8 @@ class RunConfig:
         if self.wheel_set_label is not None:
             values["wheel_set"] = self.wheel_set_label
         values.update((entry.dest, entry.to_shown(self.value(entry.key))) for entry in self._shown())
+        if self.track_numerics:
+            values["track_numerics"] = dict(self.track_numerics)
         if self._irregular():
             from wheelrail.core.irregularities.shapes import as_record
 
@@ -362,6 +396,7 @@ def read_config(
     wheel=None,
     wheel_label: str | None = None,
     irregular: tuple = ((), IRREGULARITY_INPUT_VALUES[0]),
+    track_numerics: str = "",
     **typed,
 ) -> RunConfig:
     """The run the page's fields ask for, or one WheelrailError in the page's words (what to type instead).
@@ -370,10 +405,12 @@ def read_config(
     ``pad_stiffness_mn_m="60"``, ...); ``wheel`` (labelled ``wheel_label``) a wheel set added to the rail set
     ``roughness``, or None; ``irregular`` the irregularities and the Hertz models' input
     (``wheelrail.explorer.irregularity.read_irregularities``), checked here against the wheel, the track and a
-    run from 0 to the run length (the run checks them against its exact first and last wheel positions)."""
+    run from 0 to the run length (the run checks them against its exact first and last wheel positions);
+    ``track_numerics`` the Track numerics field as typed (``name=value,...``, core's ``--track-numerics``)."""
     if model not in MODEL_CHOICES:
         raise WheelrailError(f"unknown contact model '{model}'; choose one of {', '.join(MODEL_CHOICES)}")
     inputs = read_inputs(**typed)
+    numerics = numerics_changes(parse_track_numerics(str(track_numerics or ""), label=NUMERICS_LABEL))
     params = model_parameters(dict(inputs))
     speed_kmh, preload_kn = params.run.speed / KMH, params.contact.preload / 1e3
     if wheel is not None:
@@ -417,17 +454,8 @@ def read_config(
     length = _number(length_m, "length")
     shortest, longest = length_range(roughness, speed_kmh * KMH, params.run.element_size)
     if not shortest - 1e-9 <= length <= longest + 1e-9:
-        raise WheelrailError(
-            None,
-            Blame(
-                "length",
-                length,
-                unit="m",
-                minimum=shortest,
-                maximum=longest,
-                reason=f"on {set_label} at {speed_kmh:g} km/h: long enough for a force spectrum, within the data",
-            ),
-        )
+        reason = f"on {set_label} at {speed_kmh:g} km/h: long enough for a force spectrum, within the data"
+        raise WheelrailError(None, Blame("length", length, unit="m", minimum=shortest, maximum=longest, reason=reason))
     items, irregularity_input = _checked_irregular(irregular, params, length)
     return RunConfig(
         set_label=set_label,
@@ -438,11 +466,15 @@ def read_config(
         inputs=inputs,
         irregularities=items,
         irregularity_input=irregularity_input,
+        track_numerics=tuple(numerics.items()),
     )
 
 
-SESSION_KEYS = ("wheelrail_session", "set", "wheel_set", "model", "line", "length_m", "inputs", "irregularity")
+SESSION_KEYS = (
+    "wheelrail_session", "set", "wheel_set", "model", "line", "length_m", "inputs", "irregularity", "track_numerics"
+)  # fmt: skip
 """The settings of a session document (``SessionFiles.session``), in the order it writes them."""
+SESSION_OPTIONAL = ("inputs", "irregularity", "track_numerics")  # a session without them has them as a new page
 
 
 def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, ...]) -> dict:
@@ -466,11 +498,12 @@ def read_session(content: bytes, sets: tuple[str, ...], wheel_sets: tuple[str, .
             f"session file: unknown setting(s) {', '.join(map(repr, unknown))}; a session holds "
             f"{', '.join(SESSION_KEYS)}"
         )
-    missing = [key for key in SESSION_KEYS if key not in session and key not in ("inputs", "irregularity")]
+    missing = [key for key in SESSION_KEYS if key not in session and key not in SESSION_OPTIONAL]
     if missing:
         raise WheelrailError(f"session file: no {', '.join(missing)}")
     fields = {key: session[key] for key in ("set", "wheel_set", "model", "line", "length_m")}
     inputs = session.get("inputs", {})
+    fields["track_numerics"] = session.get("track_numerics", "")
     if not all(isinstance(value, str) for value in fields.values()) or not isinstance(inputs, dict):
         raise WheelrailError("session file: the settings must be text as the page's fields hold them")
     if fields["set"] not in sets:
@@ -506,6 +539,7 @@ def session_config(session: dict, roughness, wheel=None, wheel_label: str | None
             wheel=wheel,
             wheel_label=wheel_label,
             irregular=session_read(session.get("irregularity", {})),
+            track_numerics=session.get("track_numerics", ""),
             **typed,
         )
     except WheelrailError as error:

@@ -189,7 +189,7 @@ class RunController:
             with self._first_preparation, track_progress(report):
                 try:
                     if self._precompute is not None:
-                        self._precompute(config.params())
+                        self._precompute(config.params(), **config.run_options())
                     report(SOLVER_PHASE, 0, 1)
                     run = self._prepare(
                         _source(roughness, config.set_label),
@@ -197,6 +197,7 @@ class RunController:
                         line=config.line,
                         params=config.params(),
                         length=config.length,
+                        **config.run_options(),
                     )
                     # its first step (after the run-in): the compiled chunk loop, which a run loads (or a fresh
                     # install compiles) on its first step, not when it is prepared
@@ -306,6 +307,7 @@ class RunController:
         later ones only set up."""
         roughness, wheel = roughness
         combined = {} if wheel is None else {"wheel_roughness": _source(wheel, config.wheel_set_label)}
+        combined.update(config.run_options())  # prepare_run's other keywords: the track's numerics, if given
         source = _source(roughness, config.set_label)
         speed = f"Preparing the track for {config.speed / KMH:g} km/h"
         steps = 3 if self._loads_solver else 2
@@ -321,7 +323,7 @@ class RunController:
                 try:
                     if self._precompute is not None and self._current(generation):
                         with track_progress(progress):
-                            self._precompute(config.params())
+                            self._precompute(config.params(), **config.run_options())
                 finally:
                     self._first_preparation.release()
             if not self._current(generation):
@@ -477,15 +479,16 @@ class _Stop:
 
 
 def _track_case(config: RunConfig) -> tuple:
-    """What a run's Green's functions depend on: its track and speed (a new one is a first preparation)."""
-    return config.params().track, round(config.speed, 6)
+    """What a run's Green's functions depend on: its track, its numerics and speed (a new one: a first preparation)."""
+    return config.params().track, config.track_numerics, round(config.speed, 6)
 
 
-def _track_green_functions(params) -> None:
-    """The track's moving Green's functions at the run's speed (core computes them once and caches them)."""
+def _track_green_functions(params, track_numerics=None) -> None:
+    """The track's moving Green's functions at the run's speed on its numerics (core computes them once and caches
+    them)."""
     from wheelrail.core.track import moving_green_functions
 
-    moving_green_functions(params.run.speed, params.track)
+    moving_green_functions(params.run.speed, params.track, track_numerics)
 
 
 def _rolling_noise(result):

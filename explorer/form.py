@@ -26,10 +26,12 @@ from wheelrail.explorer.config import (
     MODEL_CHOICES,
     NO_LINE_FITS,
     NO_WHEEL_SET,
+    NUMERICS_LABEL,
     RunConfig,
     field_hint,
     field_text,
     length_range,
+    numerics_hint,
     offered_lines,
     page_message,
     read_config,
@@ -86,8 +88,11 @@ class RunForm:
                 if group != "run":
                     with gui.add_folder(GROUPS[group], expand_by_default=False):
                         self.fields.update(self._input_fields(group))
+                        if group == "track":
+                            self.numerics_text = gui.add_text(NUMERICS_LABEL, "", hint=numerics_hint())
             self.irregularity = IrregularityFolder(gui)
-            controls = (self.model_dropdown, self.line_dropdown, self.length_text, *self.fields.values())
+            controls = (self.model_dropdown, self.line_dropdown, self.length_text, self.numerics_text,
+                        *self.fields.values())  # fmt: skip
             for handle in (*controls, *self.irregularity.handles):
                 handle.on_update(lambda event: page.guarded(self.refresh))
             self.check_md = gui.add_markdown("")
@@ -301,6 +306,7 @@ class RunForm:
             wheel=wheel,
             wheel_label=wheel_label,
             irregular=self.irregularity.read(),
+            track_numerics=self.numerics_text.value,
         )
 
     def show_running(self, running: bool) -> None:
@@ -330,6 +336,7 @@ class RunForm:
             self.length_text.value = session["length_m"]
             for entry in inputs_of():
                 self.fields[entry.key].value = session["inputs"].get(entry.dest, field_text(entry))
+            self.numerics_text.value = session.get("track_numerics", "")
             self.irregularity.show_session(session.get("irregularity", {}))
         self.select_set(session["set"])
         with self.page.quietly():

@@ -50,6 +50,7 @@ class SessionFiles:
             "length_m": form.length_text.value,
             "inputs": form.typed(),
             **({} if irregularity is None else {"irregularity": irregularity}),
+            **({"track_numerics": form.numerics_text.value} if form.numerics_text.value.strip() else {}),
         }
 
     def download(self, client=None) -> tuple[str, bytes]:

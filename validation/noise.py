@@ -25,7 +25,7 @@ from wheelrail.core.engine import simulate
 from wheelrail.core.noise.cnossos import TRACK_TYPES, cnossos_rolling_noise, interpolation_difference, track_transfer
 from wheelrail.core.noise.run_noise import laeq_of_pressure, run_noise
 from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
-from wheelrail.core.noise.twins import _track_noise_model, track_noise_model
+from wheelrail.core.noise.twins import clear_chain_caches, track_noise_model
 
 
 def _timed(function, repeats: int) -> tuple[float, float, object]:
@@ -152,7 +152,7 @@ def timings(repeats: int, set_name: str) -> None:
     print(f"  CNOSSOS-EU source, one call: {best:.4f} ({best:.4f}-{worst:.4f})")
 
     def fresh():
-        _track_noise_model.cache_clear()
+        clear_chain_caches()
         return track_noise_model()
 
     best, worst, _ = _timed(fresh, repeats)

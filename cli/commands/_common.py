@@ -136,21 +136,23 @@ def add_input_options(
     return added
 
 
-def add_track_numerics_option(parser) -> None:
+def add_track_numerics_option(parser, *, frequency_domain: str | None = None):
     """``--track-numerics``: the track's numerics as comma-separated ``name=value`` pairs (declared once in
-    ``wheelrail.core.inputs.numerics``); read back by :func:`track_numerics_from_args`."""
+    ``wheelrail.core.inputs.numerics``); read back by :func:`track_numerics_from_args`. ``frequency_domain``: the
+    mode of a command whose track is solved in the frequency domain ("--method twins"), which takes only the
+    fields marked so. Returns the argparse action."""
     from wheelrail.core.inputs.numerics import NUMERICS_FIELDS, NUMERICS_OPTION
 
-    names = "; ".join(
-        f"{entry.name} ({entry.help}; {entry.accepted_text()})".replace("%", "%%") for entry in NUMERICS_FIELDS
+    fields = [entry for entry in NUMERICS_FIELDS if entry.frequency_domain or frequency_domain is None]
+    names = "; ".join(f"{entry.name} ({entry.help}; {entry.accepted_text()})".replace("%", "%%") for entry in fields)
+    what = (
+        "the track's numerics, to check a result against finer ones (each change is a new one-off precompute "
+        "of the track, longer for finer numerics; default the converged defaults of docs/validation.md)"
+        if frequency_domain is None
+        else f"{frequency_domain}: the track's numerics, to check a result against finer ones (default the "
+        "converged defaults of docs/validation.md)"
     )
-    parser.add_argument(
-        NUMERICS_OPTION,
-        metavar="NAME=VALUE,...",
-        default=None,
-        help="the track's numerics, to check a result against finer ones (each change is a new one-off precompute "
-        f"of the track, longer for finer numerics; default the converged defaults of docs/validation.md): {names}",
-    )
+    return parser.add_argument(NUMERICS_OPTION, metavar="NAME=VALUE,...", default=None, help=f"{what}: {names}")
 
 
 def track_numerics_from_args(args):

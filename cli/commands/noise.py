@@ -22,9 +22,11 @@ from wheelrail.cli.commands._common import (
     accepted_help,
     add_choice_option,
     add_input_options,
+    add_track_numerics_option,
     params_from_args,
     print_json,
     speed_from_kmh,
+    track_numerics_from_args,
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs.contact_position import CONTACT_POSITION_INPUTS
@@ -67,6 +69,7 @@ def add_parser(sub):
         add_choice_option(parser, "noise_wheel_model", "--method twins and --run: "),
         *_add_contact_position_options(parser),
         *add_input_options(parser, "geometry", "track", helps=_TRACK_HELP),
+        add_track_numerics_option(parser, frequency_domain="--method twins"),
         parser.add_argument("--json", action="store_true", help="print a machine-readable summary on stdout"),
     ]
     parser.set_defaults(_options={action.dest: (action.option_strings[-1], action.default) for action in added})
@@ -86,7 +89,7 @@ _USED_BY = {  # the options each mode uses (besides _ALWAYS); any other given is
         "axles",
         "roughness_interpolation",
     },
-    "twins": {"wheel_model", *_POSITION_DESTS},  # and the track's and contact geometry's inputs (below)
+    "twins": {"wheel_model", "track_numerics", *_POSITION_DESTS},  # and the track's and contact geometry's inputs
     "run": {"train_axles", "train_length_m", "wav", "csv", "wheel_model", *_POSITION_DESTS},
 }
 
@@ -365,6 +368,11 @@ def _run_file(args) -> int:
     print(f"  the run's wheel (its force): {result.header.wheel_words()}{result.header.irregularity_words()}")
     print(f"  track (its force and the rail's and sleepers' sound): {describe_track(result.header.params)}")
     print(f"  {position.words()} (the rail's lateral vibration and the wheel's axial modes)")
+    track = noise.configuration["track"]
+    print(
+        f"  track numerics: {result.header.numerics_words()} (the run's; the noise chain's track "
+        f"{track['track_bays']} bays, {track['elements_per_bay']} elements per bay)"
+    )
     widths = {name: max(6, len(name)) for name in noise.sound_power_db}
     print("  band Hz   force dB " + " ".join(f"{name:>{width}}" for name, width in widths.items()))
     for i, f in enumerate(NOMINAL_FREQUENCIES_HZ):
@@ -439,15 +447,19 @@ def beside_words(cfg: dict) -> str:
 
 def _twins(args) -> int:
     """``wheelrail noise --method twins``: print the model track's transfer function beside the directive's."""
+    from wheelrail.core.inputs.numerics import frequency_domain_fields, numerics_changes, numerics_words
     from wheelrail.core.noise.cnossos import TRACK_TYPES, track_transfer, vehicle_transfer
     from wheelrail.core.noise.tables import NOMINAL_FREQUENCIES_HZ
-    from wheelrail.core.noise.twins import track_noise_model
+    from wheelrail.core.noise.twins import NoiseNumerics, track_noise_model
 
     params = params_from_args(args, "track", "geometry")
     position = contact_position_from_args(args)
-    result = track_noise_model(params, wheel_model=args.wheel_model, contact_position=position)
+    numerics = track_numerics_from_args(args)
+    chain = NoiseNumerics(**frequency_domain_fields(numerics, only="--method twins"))
+    result = track_noise_model(params, chain, wheel_model=args.wheel_model, contact_position=position)
     summary = {
         "frequency_hz": np.asarray(NOMINAL_FREQUENCIES_HZ),
+        "track_numerics": numerics_changes(numerics),
         "twins": result.to_dict(),
         "cnossos_track_transfer_dB": {name: track_transfer(name) for name in TRACK_TYPES},
         "cnossos_vehicle_transfer_dB": vehicle_transfer(result.wheel_diameter_mm),
@@ -463,6 +475,10 @@ def _twins(args) -> int:
     )
     print(f"  track: {describe_words(params, 'track')}; contact: {describe_words(params, 'geometry')}")
     print(f"  {position.words()}")
+    print(
+        f"  track numerics: {numerics_words(summary['track_numerics'])} ({chain.track_bays} bays, "
+        f"{chain.elements_per_bay} elements per bay, {chain.points_per_band} frequencies per band)"
+    )
     veh = summary["cnossos_vehicle_transfer_dB"]
     # the components' transfers (wheelrail.core.noise.components): the track's beside L_H,tr, the wheel's beside L_H,veh
     track_parts = {name: max(6, len(name) + 1) for name in result.track_parts}

@@ -11,9 +11,11 @@ from wheelrail.cli.commands._common import (
     Files,
     add_input_options,
     add_irregularity_options,
+    add_track_numerics_option,
     irregularities_from_args,
     params_from_args,
     print_json,
+    track_numerics_from_args,
 )
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.inputs.declared import describe_contact, describe_track, describe_words
@@ -97,6 +99,7 @@ def add_parser(sub):
         several=("track",),
     )
     add_irregularity_options(parser, several=True)
+    add_track_numerics_option(parser)
     return parser
 
 
@@ -161,12 +164,12 @@ def _tracks(args):
     return tracks
 
 
-def _say_track_cost(tracks, sets: int, workers: int, quiet: bool) -> None:
+def _say_track_cost(tracks, sets: int, workers: int, quiet: bool, numerics=None) -> None:
     """Refuse a track study over its limits, else say on stderr what it will cost before it starts."""
     from wheelrail.core.study.track_plan import check_track_count, track_study_cost
 
     check_track_count(tracks)
-    cost = track_study_cost(tracks, sets, workers)
+    cost = track_study_cost(tracks, sets, workers, numerics)
     if quiet:
         return
     new = cost["new_tracks"]
@@ -188,6 +191,7 @@ def run(args) -> int:
 
     if args.name not in STUDIES:
         raise WheelrailError(f"unknown study {args.name!r}; choose one of {', '.join(STUDIES)}")
+    numerics = track_numerics_from_args(args)  # every run's (and the tables' noise chains')
     tracks = _tracks(args)  # several values of a track input: the track study's sweep
     sweep = _impact(args, params_from_args(args, *RUN_INPUT_GROUPS))  # impact: the irregularities' sweep
     params = getattr(sweep, "params", sweep)  # the parameters every run shares (but for what is swept)
@@ -198,7 +202,7 @@ def run(args) -> int:
         raise WheelrailError(f"--workers must be at least 1, got {workers}")
     address = parse_dask_address(args.dask) if args.dask is not None else None
     if tracks is not None:
-        _say_track_cost(tracks, len(args.sets), workers, args.json)
+        _say_track_cost(tracks, len(args.sets), workers, args.json, numerics)
     result = run_study(
         args.name,
         args.sets,
@@ -209,6 +213,7 @@ def run(args) -> int:
         workers=workers,
         dask_address=address,
         progress=not args.json and sys.stderr.isatty(),
+        track_numerics=numerics,
     )
     summary = result.summary
     if args.json:
@@ -234,6 +239,10 @@ def run(args) -> int:
             )
         print(f"  {describe_track(params, leave_out=tuple(entry.key for entry in swept))}")
     print(f"  contact geometry: {describe_contact(params)}")
+    if summary.get("track_numerics"):  # those of every run that differ from the default
+        from wheelrail.core.inputs.numerics import numerics_words
+
+        print(f"  track numerics: {numerics_words(summary['track_numerics'])} (the others the default)")
     if summary.get("irregularity_cases"):
         _say_impact(result)
     if summary["loss_of_contact_steps"]:

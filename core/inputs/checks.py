@@ -8,6 +8,7 @@ same way wherever it enters.
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 
@@ -18,6 +19,7 @@ __all__ = [
     "check_positive",
     "finite_array",
     "integer",
+    "keyed_real",
     "level_arrays",
     "mean_squares",
     "parts",
@@ -32,10 +34,10 @@ LEVEL_LIMIT_DB = 1000.0
 air ends near 194 dB re 20 uPa, a force of 1e10 N is 200 dB re 1 N), and far enough inside float64 (10^308) that
 energetic sums of levels, 10^(L/10), never overflow. -inf (no power) and NaN (no estimate) pass."""
 
-_SIGNS = {
-    "positive": ("positive and finite", lambda v: v > 0.0),
-    "nonnegative": ("zero or positive and finite", lambda v: v >= 0.0),
-    "any": ("finite", lambda v: True),
+_SIGNS = {  # sign: (its words in a label's message, the problem a keyed error states, the test)
+    "positive": ("positive and finite", "must be positive", lambda v: v > 0.0),
+    "nonnegative": ("zero or positive and finite", "must not be negative", lambda v: v >= 0.0),
+    "any": ("finite", "must be finite", lambda v: True),
 }
 
 
@@ -45,19 +47,46 @@ def _shown(value) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def real(label: str, value, unit: str, *, sign: str = "positive") -> float:
-    """``value`` as a finite float of the given sign ("positive", "nonnegative" or "any")."""
+def _reading(value, sign: str, *, text: bool) -> tuple[float, str | None]:
+    """``value`` as a float and what is wrong with it: None (a finite number of the sign), "number" (not a number:
+    a bool, an array, or what ``float`` cannot read; with ``text`` False anything but a real number), "finite"
+    (NaN or infinite, an integer beyond float64 included) or "sign". Its sign is :data:`_SIGNS`' key."""
     if isinstance(value, bool) or (isinstance(value, np.ndarray) and value.ndim > 0):
-        raise WheelrailError(f"{label} must be a number in {unit}, got {_shown(value)}")
-    words, accept = _SIGNS[sign]
+        return math.nan, "number"
+    if not (text or isinstance(value, numbers.Real)):
+        return math.nan, "number"
     try:
         number = float(value)
     except OverflowError:  # an integer beyond float64
-        raise WheelrailError(f"{label} must be {words} ({unit}), got {_shown(value)}") from None
+        return (math.inf if value > 0 else -math.inf), "finite"
     except (TypeError, ValueError):
-        raise WheelrailError(f"{label} must be a number in {unit}, got {_shown(value)}") from None
-    if not (math.isfinite(number) and accept(number)):
-        raise WheelrailError(f"{label} must be {words} ({unit}), got {_shown(value)}")
+        return math.nan, "number"
+    if not math.isfinite(number):
+        return number, "finite"
+    return number, None if _SIGNS[sign][2](number) else "sign"
+
+
+def real(label: str, value, unit: str, *, sign: str = "positive") -> float:
+    """``value`` as a finite float of the given sign ("positive", "nonnegative" or "any")."""
+    number, fault = _reading(value, sign, text=True)
+    if fault == "number":
+        raise WheelrailError(f"{label} must be a number in {unit}, got {_shown(value)}")
+    if fault is not None:
+        raise WheelrailError(f"{label} must be {_SIGNS[sign][0]} ({unit}), got {_shown(value)}")
+    return number
+
+
+def keyed_real(key: str, value, unit: str, *, argument: str, sign: str = "positive") -> float:
+    """``value`` as a finite float of the given sign (as :func:`real`; text refused), else one WheelrailError that
+    blames the input ``key`` (:class:`~wheelrail.core.errors.Blame`, the Python API's name ``argument``), so that
+    each front end names it in its own terms: "must be a number in m", "must be finite", "must be positive",
+    "must not be negative"."""
+    number, fault = _reading(value, sign, text=False)
+    if fault == "number":
+        raise WheelrailError(f"must be a number in {unit}", Blame(key, value=str(value), argument=argument))
+    if fault is not None:
+        problem = _SIGNS["any" if fault == "finite" else sign][1]
+        raise WheelrailError(problem, Blame(key, value=number, unit=unit, argument=argument))
     return number
 
 

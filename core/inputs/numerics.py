@@ -5,9 +5,11 @@ across the bay, the excitation positions, the rows read between them, the near f
 integration's step and length). Its defaults are converged for the force's third-octave levels and the
 sleeper-passing harmonics a run resolves (``docs/validation.md``); a user checks a result against finer numerics
 by naming the fields to change, each declared once here with its unit and accepted range
-(:data:`NUMERICS_FIELDS`). The command line's ``--track-numerics`` (``run`` and ``track``) reads them with
-:func:`parse_track_numerics` and every output states the fields that differ from the default
-(:func:`numerics_changes`, :func:`numerics_words`). The cache key of the track's responses holds every field.
+(:data:`NUMERICS_FIELDS`). The command line's ``--track-numerics`` (``run``, ``track``, ``study`` and ``noise``) and
+the explorer's Track numerics field read them with :func:`parse_track_numerics` and every output states the fields
+that differ from the default (:func:`numerics_changes`, :func:`numerics_words`). The cache key of the track's
+responses holds every field. The frequency-domain models of the track (the noise chain's, the receptances) take the
+fields marked ``frequency_domain`` (:func:`frequency_domain_fields`): the elements per bay.
 """
 
 from __future__ import annotations
@@ -25,20 +27,22 @@ __all__ = [
     "NUMERICS_FIELDS",
     "NUMERICS_OPTION",
     "NumericsField",
+    "frequency_domain_fields",
     "numerics_changes",
     "numerics_words",
     "parse_track_numerics",
 ]
 
 NUMERICS_OPTION = "--track-numerics"
-"""The command line's option (``run`` and ``track``)."""
+"""The command line's option (``run``, ``track``, ``study`` and ``noise``)."""
 
 
 @dataclass(frozen=True)
 class NumericsField:
     """One field of ``TrackNumerics`` a user can set: the ``name`` typed (with its unit where it has one), the
-    dataclass ``field``, the unit typed and its ``si`` value (1e-6 for us), whether it is a whole number, and
-    the accepted range in the unit typed (the upper ends keep a precompute within minutes and memory)."""
+    dataclass ``field``, the unit typed and its ``si`` value (1e-6 for us), whether it is a whole number, the
+    accepted range in the unit typed (the upper ends keep a precompute within minutes and memory), and whether the
+    frequency-domain models of the track take it too (``frequency_domain``; the others are the time integration's)."""
 
     name: str
     field: str
@@ -48,6 +52,7 @@ class NumericsField:
     minimum: float
     maximum: float
     help: str
+    frequency_domain: bool = False
 
     def accepted_text(self) -> str:
         kind = "a whole number" if self.whole else "a number"
@@ -57,7 +62,8 @@ class NumericsField:
 
 NUMERICS_FIELDS: tuple[NumericsField, ...] = (
     NumericsField("elements_per_bay", "elements_per_bay", "", 1.0, True, 4, 256,
-                  "elements per bay outside the refined bays, and the grid stored beyond the near field"),
+                  "elements per bay outside the refined bays, and the grid stored beyond the near field; the "
+                  "frequency-domain track's elements per bay", frequency_domain=True),
     NumericsField("refined_elements_per_bay", "refined_elements_per_bay", "", 1.0, True, 4, 1024,
                   "elements per bay in the refined bays (a multiple of the two counts per bay)"),
     NumericsField("refined_bays", "refined_bays", "", 1.0, True, 1, 16, "bays meshed with the refined elements"),
@@ -75,16 +81,16 @@ NUMERICS_FIELDS: tuple[NumericsField, ...] = (
 """The fields of ``TrackNumerics`` ``--track-numerics`` sets, in the order outputs state them."""
 
 
-def _field(name: str) -> NumericsField:
+def _field(name: str, label: str = NUMERICS_OPTION) -> NumericsField:
     for entry in NUMERICS_FIELDS:
         if entry.name == name:
             return entry
     names = ", ".join(entry.name for entry in NUMERICS_FIELDS)
-    raise WheelrailError(f"{NUMERICS_OPTION}: unknown name {name!r}; the names are {names}")
+    raise WheelrailError(f"{label}: unknown name {name!r}; the names are {names}")
 
 
-def _value(entry: NumericsField, text: str) -> float | int:
-    wanted = f"{NUMERICS_OPTION}: {entry.name} must be {entry.accepted_text()}, got {text!r}"
+def _value(entry: NumericsField, text: str, label: str) -> float | int:
+    wanted = f"{label}: {entry.name} must be {entry.accepted_text()}, got {text!r}"
     try:
         number = float(text)
     except ValueError:
@@ -98,7 +104,9 @@ def _value(entry: NumericsField, text: str) -> float | int:
     return number * entry.si
 
 
-def parse_track_numerics(text: str | None, base: TrackNumerics | None = None) -> TrackNumerics:
+def parse_track_numerics(
+    text: str | None, base: TrackNumerics | None = None, *, label: str = NUMERICS_OPTION
+) -> TrackNumerics:
     """``TrackNumerics`` from comma-separated ``name=value`` pairs (:data:`NUMERICS_FIELDS`), the others ``base``'s.
 
     Parameters
@@ -107,6 +115,9 @@ def parse_track_numerics(text: str | None, base: TrackNumerics | None = None) ->
         ``"elements_per_bay=32,positions_per_bay=128"``; None or empty: ``base`` unchanged.
     base : TrackNumerics, optional
         Default ``TrackNumerics()``.
+    label : str
+        How the front end names the input, first in every message (the command line's ``--track-numerics``, the
+        explorer's field).
 
     Returns
     -------
@@ -115,9 +126,9 @@ def parse_track_numerics(text: str | None, base: TrackNumerics | None = None) ->
     Raises
     ------
     WheelrailError
-        One line naming the option, the name or value and what is accepted: an unknown name, a name given twice,
-        a value that is not a number in its range, or counts that do not go together (the refined mesh must hold
-        every excitation position and stored grid point as a node).
+        One line naming the input (``label``), the name or value and what is accepted: an unknown name, a name
+        given twice, a value that is not a number in its range, or counts that do not go together (the refined mesh
+        must hold every excitation position and stored grid point as a node).
 
     Examples
     --------
@@ -137,17 +148,17 @@ def parse_track_numerics(text: str | None, base: TrackNumerics | None = None) ->
     for item in text.split(","):
         name, equals, value = (part.strip() for part in item.partition("="))
         if not equals or not name or not value:
-            raise WheelrailError(f"{NUMERICS_OPTION}: {item.strip()!r} is not name=value (e.g. elements_per_bay=32)")
-        entry = _field(name)
+            raise WheelrailError(f"{label}: {item.strip()!r} is not name=value (e.g. elements_per_bay=32)")
+        entry = _field(name, label)
         if entry.field in changes:
-            raise WheelrailError(f"{NUMERICS_OPTION}: {name} is given twice")
-        changes[entry.field] = _value(entry, value)
+            raise WheelrailError(f"{label}: {name} is given twice")
+        changes[entry.field] = _value(entry, value, label)
     refined = changes.get("refined_elements_per_bay", numerics.refined_elements_per_bay)
     for name in ("positions_per_bay", "elements_per_bay"):
         count = changes.get(name, getattr(numerics, name))
         if refined % count:
             raise WheelrailError(
-                f"{NUMERICS_OPTION}: {name} ({count}) must divide refined_elements_per_bay ({refined}), so that "
+                f"{label}: {name} ({count}) must divide refined_elements_per_bay ({refined}), so that "
                 f"every excitation position and stored grid point is a node; set refined_elements_per_bay too"
             )
     return replace(numerics, **changes)
@@ -174,3 +185,39 @@ def numerics_words(changes: dict[str, float | int]) -> str:
     if not changes:
         return "the default"
     return ", ".join(f"{name}={value:g}" for name, value in changes.items())
+
+
+def frequency_domain_fields(numerics: TrackNumerics | None, *, only: str | None = None) -> dict[str, int | float]:
+    """The fields of ``numerics`` the frequency-domain models of the track take (``NumericsField.frequency_domain``),
+    by their dataclass name, SI: ``{"elements_per_bay": 16}``.
+
+    Parameters
+    ----------
+    numerics : TrackNumerics or None
+        None: the default.
+    only : str, optional
+        What takes no other fields, in words ("--method twins"): a field changed from its default that the frequency
+        domain does not take is then one WheelrailError naming it and ``only``; None: the others are left aside (a
+        run's numerics, whose force took them).
+
+    Examples
+    --------
+    >>> from wheelrail.core.inputs.numerics import frequency_domain_fields, parse_track_numerics
+    >>> frequency_domain_fields(parse_track_numerics("elements_per_bay=32,time_step_us=2.5"))
+    {'elements_per_bay': 32}
+    """
+    from wheelrail.core.parameters import TrackNumerics
+
+    numerics = TrackNumerics() if numerics is None else numerics
+    if not isinstance(numerics, TrackNumerics):
+        raise WheelrailError(f"track_numerics must be TrackNumerics or None, got {type(numerics).__name__}")
+    taken = [entry for entry in NUMERICS_FIELDS if entry.frequency_domain]
+    if only is not None:
+        other = [name for name in numerics_changes(numerics) if not _field(name).frequency_domain]
+        if other:
+            names = ", ".join(entry.name for entry in taken)
+            raise WheelrailError(
+                f"{NUMERICS_OPTION}: {', '.join(other)} not used by {only} (the track in the frequency domain, no time "
+                f"integration); it takes {names}"
+            )
+    return {entry.field: getattr(numerics, entry.field) for entry in taken}

@@ -13,10 +13,10 @@ positive where material pushes wheel and rail together (a bump on either), negat
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass
 
 from wheelrail.core.errors import Blame, WheelrailError
+from wheelrail.core.inputs.checks import keyed_real
 
 __all__ = [
     "FLAT_SHAPES",
@@ -45,18 +45,9 @@ _CHORD_TOLERANCE = 0.01
 
 
 def _number(owner, name: str, key: str, unit: str, *, sign: str = "positive") -> None:
-    """One field: a finite real number of the given sign ("positive", "nonnegative", "any"), else one error."""
-    value = getattr(owner, name)
-    argument = f"{type(owner).__name__}.{name}"
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise WheelrailError(f"must be a number in {unit}", Blame(key, value=str(value), argument=argument))
-    value = float(value)
-    if not math.isfinite(value):
-        raise WheelrailError("must be finite", Blame(key, value=value, unit=unit, argument=argument))
-    if sign == "positive" and value <= 0.0:
-        raise WheelrailError("must be positive", Blame(key, value=value, unit=unit, argument=argument))
-    if sign == "nonnegative" and value < 0.0:
-        raise WheelrailError("must not be negative", Blame(key, value=value, unit=unit, argument=argument))
+    """One field: a finite real number of the given sign ("positive", "nonnegative", "any"), else one error keyed
+    ``key`` (:func:`wheelrail.core.inputs.checks.keyed_real`)."""
+    keyed_real(key, getattr(owner, name), unit, argument=f"{type(owner).__name__}.{name}", sign=sign)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -147,11 +147,6 @@ def track_decay(track) -> dict:
     return out
 
 
-LATERAL_CROSS_OFFSET = 0.01
-"""m: the contact offset at which ``lateral_band_receptances`` states the vertical-to-lateral receptance (it is
-proportional to the offset)."""
-
-
 def track_lateral_decay(track) -> dict:
     """The lateral decay rate of the railhead per band (EN 15461 on the lateral track,
     :func:`wheelrail.core.track.lateral.lateral_decay_rate`) of ``track`` (``TrackParameters``) beside the
@@ -173,7 +168,10 @@ def lateral_band_receptances(track) -> dict:
     """The railhead's lateral receptances of ``track`` at midspan at the exact band centres 50 Hz-10 kHz, kept in
     the disk cache with the lateral decay rate: ``frequency_hz``, ``lateral_point_m_per_n`` (|.|, per lateral force
     at the railhead) and ``vertical_to_lateral_m_per_n`` (|.|, per vertical force ``LATERAL_CROSS_OFFSET`` from
-    the rail's centreline; proportional to the offset), ``contact_offset_m``."""
+    the rail's centreline, :mod:`wheelrail.core.noise.rail_lateral`; proportional to the offset),
+    ``contact_offset_m``."""
+    from wheelrail.core.noise.rail_lateral import LATERAL_CROSS_OFFSET
+
     arrays = _lateral_arrays(track, "lateral_band_receptances")
     return {
         "frequency_hz": arrays["frequency_hz"],
@@ -191,6 +189,7 @@ def _lateral_arrays(track, where: str) -> dict:
     from dataclasses import asdict
 
     from wheelrail.core.files import cache
+    from wheelrail.core.noise.rail_lateral import LATERAL_CROSS_OFFSET
     from wheelrail.core.spectra.bands import noise_bands
     from wheelrail.core.track import fe, lateral
 

@@ -9,7 +9,8 @@ sleeper, midspan: the vertical chain's):
 1. the railhead's lateral velocity at the contact, v_0 = i w alpha_vl F, with alpha_vl the lateral track's
    ``vertical_to_lateral`` receptance (:func:`wheelrail.core.track.lateral.lateral_receptances`: lateral bending
    and torsion of the rail on the pads' lateral and rotational stiffness, the load at that position of the bay);
-   alpha_vl is proportional to d, so the component's power to d^2 (+6 dB per doubling; none at d = 0);
+   alpha_vl is proportional to d, so the component's power to d^2 (+6 dB per doubling; none at d = 0): the
+   lateral track is solved once per track, at ``LATERAL_CROSS_OFFSET``, and scaled to d;
 2. its decay along the rail, the lateral track decay rate Delta (dB/m, EN 15461's formula on the railhead's
    lateral transfer receptances, :func:`wheelrail.core.track.lateral.lateral_decay_rate`, per band): a field
    |v(x)|^2 = |v_0|^2 10^(-Delta |x| / 10) either side of the contact, whose integral along the rail is
@@ -33,15 +34,26 @@ foot moves less); the ground's reflection.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
 from wheelrail.core.noise.radiation import AIR_DENSITY, SOUND_SPEED, lateral_rail_radiation_efficiency, rail_section
 
-__all__ = ["LOG10_E", "lateral_power_per_force", "lateral_rail_power", "lateral_velocity_integral"]
+__all__ = [
+    "LATERAL_CROSS_OFFSET",
+    "LOG10_E",
+    "clear_lateral_cache",
+    "lateral_power_per_force",
+    "lateral_rail_power",
+    "lateral_velocity_integral",
+]
 
 LOG10_E = 10.0 * math.log10(math.e)  # 4.343 dB per neper of energy decay
+LATERAL_CROSS_OFFSET = 0.01
+"""m: the contact offset at which the lateral track's vertical-to-lateral receptance is computed and stated (the
+chain's, scaled to the contact's offset, and ``noise.decay.lateral_band_receptances``'): it is proportional to it."""
 
 
 def lateral_velocity_integral(frequency, vertical_to_lateral, decay_rate_db_per_m) -> np.ndarray:
@@ -105,7 +117,7 @@ def lateral_rail_power(chain) -> np.ndarray:
     position = chain.contact_position or ContactPosition()
     if position.rail_offset == 0.0:
         return np.zeros((*f.shape, 2))
-    from wheelrail.core.track.lateral import LateralNumerics, lateral_decay_rate, lateral_receptances
+    from wheelrail.core.track.lateral import LateralNumerics
 
     numerics = chain.numerics
     lateral = LateralNumerics(
@@ -116,18 +128,36 @@ def lateral_rail_power(chain) -> np.ndarray:
         points_per_band=numerics.points_per_band,
         decay_length=numerics.decay_length,
     )
-    track = chain.params.track
-    decay = lateral_decay_rate(track, _band_centres(f), numerics=lateral)  # (bands,)
+    decay, receptance = _lateral_track(chain.params.track, lateral, f.shape, f.tobytes())
+    scale = position.rail_offset / LATERAL_CROSS_OFFSET  # alpha_vl is proportional to the offset (step 1)
+    return lateral_power_per_force(f[..., None], receptance * scale, decay[:, None, None])
+
+
+@functools.lru_cache(maxsize=4)
+def _lateral_track(track, lateral, shape: tuple, frequencies: bytes) -> tuple[np.ndarray, np.ndarray]:
+    """The lateral track's decay rate per band (bands,) and its vertical-to-lateral receptance for a contact
+    ``LATERAL_CROSS_OFFSET`` off the centreline at the chain's frequencies (bytes of a float array of ``shape``:
+    (bands, points)) and both excitation positions, (bands, points, 2) m/N: what the lateral rail needs of the
+    track, kept per process, so that another offset on the railhead only scales it."""
+    from wheelrail.core.track.lateral import lateral_decay_rate, lateral_receptances
+
+    f = np.frombuffer(frequencies).reshape(shape)
+    decay = lateral_decay_rate(track, _band_centres(f), numerics=lateral)
     receptance = np.stack(
         [
             lateral_receptances(
-                track, f.ravel(), contact_offset=position.rail_offset, excitation=where, numerics=lateral
+                track, f.ravel(), contact_offset=LATERAL_CROSS_OFFSET, excitation=where, numerics=lateral
             ).vertical_to_lateral.reshape(f.shape)
             for where in (0.0, 0.5)  # above a sleeper, midspan: the vertical chain's excitation positions
         ],
         axis=-1,
     )
-    return lateral_power_per_force(f[..., None], receptance, decay[:, None, None])
+    return decay, receptance
+
+
+def clear_lateral_cache() -> None:
+    """Empty the lateral track's entries this process keeps (:func:`lateral_rail_power`)."""
+    _lateral_track.cache_clear()
 
 
 def _band_centres(frequencies: np.ndarray) -> np.ndarray:

@@ -312,7 +312,9 @@ def run_noise(
     train_length : float
         Train length, m.
     numerics : NoiseNumerics, optional
-        How the track's transfer functions are computed (default :class:`wheelrail.core.noise.twins.NoiseNumerics`).
+        How the track's transfer functions are computed (default :class:`wheelrail.core.noise.twins.NoiseNumerics`
+        with the run's own elements per bay: its track numerics' frequency-domain fields,
+        :func:`wheelrail.core.inputs.numerics.frequency_domain_fields`).
     wheel_model : str
         "directive" (CNOSSOS-EU's L_H,veh on the effective roughness) or "modal" (the modal wheel: on a run with
         the modal wheel of the same cross-section, driven by the run's force through its W / F^2; on another run,
@@ -376,6 +378,7 @@ def run_noise(
     _check_run_length(result)  # before the track's transfer functions (the costly part on a cold cache)
     check_fluctuating(result.force, spectrum_record(result).skipped_steps, f"the {result.model} run")  # else silence
     params = result.header.params
+    numerics = _run_numerics(result) if numerics is None else numerics
     if checked_wheel_model(wheel_model) == "modal" and _own_modal_wheel(result, wheel_profile):
         from wheelrail.core.modal_wheel import profile_from_description
 
@@ -412,6 +415,16 @@ def run_noise(
         _pressure_per_force_sq=AIR_DENSITY * SOUND_SPEED * t_total / (2 * np.pi * d**2),
         _revolution_steps=_revolution_steps(result),
     )
+
+
+def _run_numerics(result):
+    """The noise chain's numerics of a run: the default's, with the elements per bay of the run's own track
+    numerics (one track for the force and the transfer functions)."""
+    from wheelrail.core.inputs.numerics import parse_track_numerics
+    from wheelrail.core.noise.twins import chain_numerics
+
+    changes = result.header.track_numerics
+    return chain_numerics(parse_track_numerics(",".join(f"{name}={value!r}" for name, value in changes.items())))
 
 
 def _revolution_steps(result) -> int:
@@ -456,6 +469,7 @@ def _configuration(result, track, train_axles, train_length, undefined) -> dict:
             **({"wheel_profile": result.header.wheel_profile} if result.header.wheel_profile is not None else {}),
             "speed_m_s": result.speed,
             "element_size_m": result.element_size,
+            "track_numerics": dict(result.header.track_numerics),  # those that differ from the default
             **_irregularities(result),
         },
         "parameters": result.parameters,

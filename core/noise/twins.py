@@ -124,6 +124,14 @@ class NoiseNumerics:
                 raise WheelrailError(f"NoiseNumerics.{name} must be a positive number, got {value!r}")
 
 
+def chain_numerics(track_numerics=None) -> NoiseNumerics:
+    """The default's, with the fields of ``track_numerics`` (a TrackNumerics; None: the default) the frequency-domain
+    track takes (``inputs.numerics.frequency_domain_fields``): one track for a run's force and its noise."""
+    from wheelrail.core.inputs.numerics import frequency_domain_fields
+
+    return NoiseNumerics(**frequency_domain_fields(track_numerics))
+
+
 def band_frequencies(points_per_band: int) -> np.ndarray:
     """(24, points) frequencies, Hz: each band's width split evenly in lg f, the middle of each part."""
     from wheelrail.core.inputs.checks import integer
@@ -253,7 +261,8 @@ def track_noise_model(
     wheel's cross-section ``wheel_profile``, a :class:`wheelrail.core.modal_wheel.WheelProfile`, default the named
     wheel nearest R at R), with the contact at ``contact_position``
     (:class:`wheelrail.core.inputs.contact_position.ContactPosition`, default centred: step 7). Cached per process
-    by the parameters."""
+    by the parameters, and in parts by what each depends on (the track's vibration, the wheel by its position on
+    the tread, the lateral track), so that a new position computes only what it changes."""
     from wheelrail.core.inputs.contact_position import ContactPosition
     from wheelrail.core.noise.wheel_power import checked_wheel_model
 
@@ -293,19 +302,26 @@ def _checked_profile(wheel_profile, wheel_model: str):
     return wheel_profile
 
 
+@functools.lru_cache(maxsize=4)
+def _track_part(track: TrackParameters, contact, numerics: NoiseNumerics, driven: tuple) -> dict:
+    """:func:`_vibration` of ``track`` and ``contact`` for the track's parts ``driven``, kept per process: it depends
+    on neither the wheel nor the contact's lateral position (every wheel model and position reads the same)."""
+    k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
+    freqs = band_frequencies(numerics.points_per_band)
+    return _vibration(ModelParameters(track=track, contact=contact), numerics, k_hertz, freqs, driven)
+
+
 def _vibration(
     params: ModelParameters,
     numerics: NoiseNumerics,
     k_hertz: float,
     freqs: np.ndarray,
-    alpha_wheel: np.ndarray,
     components: tuple,
 ) -> dict:
-    """Steps 1-3 of the module docstring at every frequency of ``freqs`` (bands, points) and both excitation
-    positions, with the wheel's receptance ``alpha_wheel`` (m/N, shaped as ``freqs``): the ``response`` of each
-    of ``components`` driven by the force (``responses``), the rail's velocity integral and its field radiated
-    in the wavenumber domain, |alpha_W + alpha_R + alpha_C|^2 (each (b, p, 2)), and per band the midspan
-    transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
+    """Steps 1-3 of the module docstring for the track at every frequency of ``freqs`` (bands, points) and both
+    excitation positions: each force-driven part's ``response`` (``responses``), the rail's velocity integral and its
+    field radiated in the wavenumber domain, alpha_R + alpha_C (``alpha_track``; each (b, p, 2)), and per band the
+    midspan transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
     from wheelrail.core.track import assemble_track
     from wheelrail.core.track.fe import timoshenko_shape_functions
 
@@ -331,7 +347,6 @@ def _vibration(
         "responses": {c.name: np.empty(shape) for c in driven},
         "rail": np.empty(shape),
         "rail_radiated": np.empty(shape),
-        "alpha_sq": np.empty(shape),
         "alpha_track": np.empty(shape, dtype=complex),
         "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
         "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
@@ -340,7 +355,6 @@ def _vibration(
     }
     for (b, p), f in np.ndenumerate(freqs):
         w = 2 * np.pi * f
-        alpha_w = alpha_wheel[b, p]
         solutions = solve(f, loads)  # one factorisation for both excitation positions
         for j, (shape_n, dofs) in enumerate(point_dofs):
             u = solutions[:, j]
@@ -351,7 +365,6 @@ def _vibration(
             for c in driven:
                 out["responses"][c.name][b, p, j] = c.response(state)
             out["alpha_track"][b, p, j] = shape_n @ u[dofs] + 1.0 / k_hertz
-            out["alpha_sq"][b, p, j] = abs(alpha_w + out["alpha_track"][b, p, j]) ** 2
             if j == 1:  # midspan excitation: EN 15461 and the free wave
                 out["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
                 out["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
@@ -478,6 +491,28 @@ def _wheel_transfer(params: ModelParameters, modal: dict, vib: dict, freqs: np.n
 
 
 @functools.lru_cache(maxsize=8)
+def _wheel_part(
+    params: ModelParameters, numerics: NoiseNumerics, wheel_model: str, profile, tread_offset: float, driven: tuple
+) -> tuple[np.ndarray, dict]:
+    """alpha_W (step 1) and the wheel's transfer (step 6, :func:`_wheel_transfer`), kept per process: they depend on
+    the wheel, the track and, for the modal wheel, the contact's position on the tread, not on the railhead's."""
+    freqs = band_frequencies(numerics.points_per_band)
+    vib = _track_part(params.track, params.contact, numerics, driven)
+    alpha_wheel, modal = _wheel_receptances(params, freqs, wheel_model, profile, tread_offset)
+    return alpha_wheel, _wheel_transfer(params, modal, vib, freqs, tread_offset)
+
+
+def clear_chain_caches() -> None:
+    """Empty the chain's caches of this process (the chains by position, the parts they share and the lateral
+    track's): for a test or a benchmark that changes a module's numerics or wants a fresh chain."""
+    from wheelrail.core.noise.rail_lateral import clear_lateral_cache
+
+    for cached in (_track_noise_model, _wheel_part, _track_part):
+        cached.cache_clear()
+    clear_lateral_cache()
+
+
+@functools.lru_cache(maxsize=8)
 def _track_noise_model(
     params: ModelParameters, numerics: NoiseNumerics, wheel_model: str, profile, components: tuple, position
 ) -> TrackNoiseModel:
@@ -485,19 +520,19 @@ def _track_noise_model(
 
     components = chain_components(components, wheel_model)  # the wheel of the wheel model
     contact = params.contact
-    k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
-    section = rail_section()
-    area = numerics.sleeper_area
     freqs = band_frequencies(numerics.points_per_band)
-    alpha_wheel, modal = _wheel_receptances(params, freqs, wheel_model, profile, position.wheel_offset)
-    vib = _vibration(params, numerics, k_hertz, freqs, alpha_wheel, components)
+    driven = tuple(entry for entry in components if entry.track_part)
+    vib = _track_part(params.track, contact, numerics, driven)  # the same for every wheel and position
+    k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
+    tread = position.wheel_offset if wheel_model == "modal" else 0.0  # the directive's wheel has no position
+    alpha_wheel, wheel = _wheel_part(params, numerics, wheel_model, profile, tread, driven)
+    alpha_sq = np.abs(alpha_wheel[..., None] + vib["alpha_track"]) ** 2  # |alpha_W + alpha_R + alpha_C|^2
     sigma_rail = rail_radiation_efficiency(freqs)
-    sigma_sleeper = piston_radiation_efficiency(freqs, area)
+    sigma_sleeper = piston_radiation_efficiency(freqs, numerics.sleeper_area)
     decay_correction = 10 * np.log10(np.mean(vib["rail_radiated"], axis=(1, 2)) / np.mean(
         sigma_rail[..., None] * vib["rail"], axis=(1, 2)))  # fmt: skip
-    force_per_r_sq = 1.0 / vib["alpha_sq"]  # (N/m)^2
+    force_per_r_sq = 1.0 / alpha_sq  # (N/m)^2
     decay, free_decay = _decay_rates(vib)
-    wheel = _wheel_transfer(params, modal, vib, freqs, position.wheel_offset)
     chain = NoiseChain(params=params, numerics=numerics, frequencies=freqs, wheel=wheel, contact_position=position)
     power_per_force, transfer_db = _component_transfers(components, chain, vib["responses"], force_per_r_sq)
     track_parts = tuple(entry.name for entry in components if entry.track_part)
@@ -507,11 +542,11 @@ def _track_noise_model(
         "track_bays": numerics.track_bays,
         "elements_per_bay": numerics.elements_per_bay,
         "points_per_band": numerics.points_per_band,
-        "sleeper_area_m2": area,
+        "sleeper_area_m2": numerics.sleeper_area,
         "excitation": "mean of above a sleeper and midspan",
         "preload_n": contact.preload,
         "contact_stiffness_n_per_m": k_hertz,
-        "rail_section": section,
+        "rail_section": rail_section(),
         "band_range_hz": list(NOISE_BAND_RANGE),
         "wheel_model": wheel_model,
         "wheel": wheel["source"],
@@ -522,7 +557,7 @@ def _track_noise_model(
         frequency_hz=noise_bands(),
         power_per_force=power_per_force,
         force_per_roughness_db=10 * np.log10(np.mean(force_per_r_sq, axis=(1, 2)) * um2),
-        effective_roughness_per_force_db=10 * np.log10(np.mean(vib["alpha_sq"], axis=(1, 2)) / um2),
+        effective_roughness_per_force_db=10 * np.log10(np.mean(alpha_sq, axis=(1, 2)) / um2),
         track_transfer_db=10 * np.log10(track_power),
         transfer_db=transfer_db,
         decay_rate_db_per_m=decay,

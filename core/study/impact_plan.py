@@ -197,9 +197,9 @@ def plan_impact(infos, sweep: ImpactSweep, spec_of, params_of):
     def tabulate(summaries):
         from wheelrail.core.noise.run_noise import DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, pass_by_level
         from wheelrail.core.noise.run_noise import sound_power_from_force as power
-        from wheelrail.core.noise.twins import track_noise_model
+        from wheelrail.core.noise.twins import chain_numerics, track_noise_model
 
-        noise_track = track_noise_model(base)  # cached on disk by track, wheel and contact
+        noise_track = track_noise_model(base, chain_numerics(specs[0].track_numerics))  # on the runs' track
         speeds_kmh = np.array([v / KMH for v in sweep.speeds])
         swept = swept_irregularity_inputs(sweep.cases)
         tables = []

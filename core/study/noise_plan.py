@@ -88,10 +88,12 @@ def plan_noise(infos, study_params, spec_of, params_of):
         from wheelrail.core.noise.cnossos import contact_filter_a3
         from wheelrail.core.noise.cnossos_run import cnossos_beside
         from wheelrail.core.noise.run_noise import sound_power_from_force
-        from wheelrail.core.noise.twins import track_noise_model, with_modal_wheel
+        from wheelrail.core.noise.twins import chain_numerics, track_noise_model, with_modal_wheel
 
-        track = track_noise_model(study_params)
-        modal = with_modal_wheel(track, study_params)  # the modal wheel's L_H,veh-equivalent in the place of the table
+        numerics = chain_numerics(specs[0].track_numerics)  # the runs' track
+        track = track_noise_model(study_params, numerics)
+        # the modal wheel's L_H,veh-equivalent in the place of the table
+        modal = with_modal_wheel(track, study_params, numerics=numerics)
         tables = []
         for label, (info, runs) in layout.items():
             lwa = {f"{_column(m)}_LWA_dBA": np.full(len(speeds), np.nan) for m in models}

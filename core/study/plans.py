@@ -30,6 +30,7 @@ from wheelrail.core.study.specs import (
     STUDIES,
     RunSpec,
     RunSummary,
+    checked_numerics,
     one_line_models,
     roughness_digest,
 )
@@ -66,6 +67,7 @@ class StudyPlan:
     wheel_set: SetInfo | None = None  # the wheel set added to every set (combined roughness), if any
     tracks: tuple = ()  # the tracks the runs are on (the track study: several; the others: params.track)
     impact: object = None  # the impact study's ImpactSweep (irregularity cases, models, speeds); else None
+    track_numerics: object = None  # the TrackNumerics of every run (None: the default)
     # the tabulation's own work that needs no run (each track's noise chain: a second or two of CPU a track), done
     # beside the runs when the study has workers to spare (runner.run_study); the tabulation then finds it cached
     beside: tuple[Callable[[], object], ...] = ()
@@ -213,6 +215,7 @@ def plan_study(
     params: ModelParameters | Sequence[ModelParameters] | None = None,
     length: float | None = None,
     wheel_set=None,
+    track_numerics=None,
 ) -> StudyPlan:
     """Build a named study's run specs and table builder.
 
@@ -239,6 +242,9 @@ def plan_study(
         (``simulate(wheel_roughness=...)``, paired by lateral position); a line mean or lateral lines of a
         study are taken of both sets at the rail set's lateral positions.
         Its label and digest are part of every run key. Default: a smooth wheel (the paper's case).
+    track_numerics : TrackNumerics, optional
+        The track's numerics of every run (``prepare_run``'s) and of the tables' noise chains (their
+        frequency-domain fields); part of every run key when not the default. Default ``TrackNumerics()``.
 
     Returns
     -------
@@ -281,16 +287,18 @@ def plan_study(
     labels = [info.label for info in infos]
     if len(set(labels)) != len(labels):
         raise WheelrailError(f"roughness sets must have distinct names, got {', '.join(labels)}")
+    numerics = checked_numerics(track_numerics)
+    spec_of = partial(_spec, track_numerics=numerics)  # every run on the same numerics
     if name == "track":
         from wheelrail.core.study.track_plan import plan_track
 
-        specs, tabulate = plan_track(infos, params, tracks, _spec)
+        specs, tabulate = plan_track(infos, params, tracks, spec_of)
     elif sweep is not None:
         from wheelrail.core.study.impact_plan import plan_impact
 
-        specs, tabulate = plan_impact(infos, sweep, _spec, _params)
+        specs, tabulate = plan_impact(infos, sweep, spec_of, _params)
     else:
-        specs, tabulate = _BUILDERS[name](infos, params)
+        specs, tabulate = _BUILDERS[name](infos, params, spec_of)
     _check_durations(specs, infos)
     noise = name in ("track", "impact", "noise")  # their tables go through each track's noise chain
     return StudyPlan(
@@ -303,16 +311,18 @@ def plan_study(
         wheel_set=wheel,
         tracks=tracks,
         impact=sweep,
+        track_numerics=numerics,
         # the last track first: where the chains' cache keeps fewer than all, it keeps those the tables ask first
-        beside=tuple(partial(_noise_chain, replace(params, track=track)) for track in tracks[::-1]) if noise else (),
+        beside=tuple(partial(_noise_chain, replace(params, track=t), numerics) for t in tracks[::-1]) if noise else (),
     )
 
 
-def _noise_chain(params: ModelParameters) -> None:
-    """The track's noise chain the study's tables use (``noise.twins.track_noise_model``, kept in this process)."""
-    from wheelrail.core.noise.twins import track_noise_model
+def _noise_chain(params: ModelParameters, track_numerics=None) -> None:
+    """The track's noise chain the study's tables use (``noise.twins.track_noise_model`` on the runs' numerics,
+    kept in this process)."""
+    from wheelrail.core.noise.twins import chain_numerics, track_noise_model
 
-    track_noise_model(params)
+    track_noise_model(params, chain_numerics(track_numerics))
 
 
 def study_parameters(name: str, params) -> tuple[ModelParameters, tuple]:
@@ -374,12 +384,12 @@ def _reference_columns(params: ModelParameters, centres: np.ndarray) -> dict[str
     }
 
 
-def _plan_filters(infos, params):
+def _plan_filters(infos, params, spec_of):
     models = one_line_models()  # the registry's, plug-ins included; the reference (hertz) among them
     specs, layout = [], {}
     for info in infos:
-        one_line = {(model, line): _spec(info, model, params, line) for model in models for line in info.lines}
-        three_d = _spec(info, HALFSPACE_MODEL, params, 0)
+        one_line = {(model, line): spec_of(info, model, params, line) for model in models for line in info.lines}
+        three_d = spec_of(info, HALFSPACE_MODEL, params, 0)
         layout[info.label] = (info, one_line, three_d)
         specs += [*one_line.values(), three_d]
 
@@ -431,15 +441,15 @@ _PAIRS = (  # Figs 12-14: (figure, model a, model b)
 )
 
 
-def _plan_line_spread(infos, params):
+def _plan_line_spread(infos, params, spec_of):
     specs, layout = [], {}
     for info in infos:
         runs = {
-            (model, line): _spec(info, model, params, line)
+            (model, line): spec_of(info, model, params, line)
             for model in (BEDDING_MODEL, WINKLER_FILTER_MODEL, AVERAGE_FILTER_MODEL)
             for line in info.lines
         }
-        runs[HALFSPACE_MODEL, None] = _spec(info, HALFSPACE_MODEL, params, 0)
+        runs[HALFSPACE_MODEL, None] = spec_of(info, HALFSPACE_MODEL, params, 0)
         layout[info.label] = (info, runs)
         specs += list(runs.values())
 
@@ -469,11 +479,11 @@ def _plan_line_spread(infos, params):
     return specs, tabulate
 
 
-def _plan_averaged_input(infos, params):
+def _plan_averaged_input(infos, params, spec_of):
     layout = {
         info.label: (
-            _spec(info, HALFSPACE_MODEL, params, 0),
-            _spec(info, BEDDING_MODEL, params, 0, averaged_lines=info.lines),
+            spec_of(info, HALFSPACE_MODEL, params, 0),
+            spec_of(info, BEDDING_MODEL, params, 0, averaged_lines=info.lines),
         )
         for info in infos
     }
@@ -500,12 +510,12 @@ def _mm(values) -> str:
     return ", ".join(f"{v:g}" for v in values)
 
 
-def _plan_lateral_resolution(infos, params):
+def _plan_lateral_resolution(infos, params, spec_of):
     layout = {}
     for info in infos:
-        runs = {"original": _spec(info, HALFSPACE_MODEL, params, 0)}
+        runs = {"original": spec_of(info, HALFSPACE_MODEL, params, 0)}
         for resolution, kept in LOW_RESOLUTION_LINES_MM.items():
-            runs[resolution] = _spec(info, HALFSPACE_MODEL, params, 0, lateral_lines_mm=kept)
+            runs[resolution] = spec_of(info, HALFSPACE_MODEL, params, 0, lateral_lines_mm=kept)
         layout[info.label] = runs
 
     def tabulate(summaries):
@@ -538,10 +548,10 @@ def _speed_cases(speed):
     return cases
 
 
-def _plan_speeds(infos, params):
+def _plan_speeds(infos, params, spec_of):
     layout = {
         info.label: {
-            column: _spec(info, BEDDING_MODEL, _params(params, v, mass), 0)
+            column: spec_of(info, BEDDING_MODEL, _params(params, v, mass), 0)
             for column, v, mass in _speed_cases(params.run.speed)
         }
         for info in infos
@@ -567,10 +577,10 @@ def _plan_speeds(infos, params):
     return [spec for runs in layout.values() for spec in runs.values()], tabulate
 
 
-def _plan_noise(infos, params):
+def _plan_noise(infos, params, spec_of):
     from wheelrail.core.study.noise_plan import plan_noise
 
-    return plan_noise(infos, params, _spec, _params)
+    return plan_noise(infos, params, spec_of, _params)
 
 
 _BUILDERS = {

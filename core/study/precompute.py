@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from wheelrail.core.parameters import TrackParameters
+from wheelrail.core.parameters import TrackNumerics, TrackParameters
 from wheelrail.core.study.specs import RunSpec
 
 __all__ = ["TrackTask", "prepare_track", "track_tasks"]
@@ -27,6 +27,7 @@ class TrackTask:
     track: TrackParameters
     readings: tuple[tuple[float, float], ...]
     new: bool
+    numerics: TrackNumerics | None = None  # the runs' track numerics (None: the default)
 
 
 def track_tasks(specs: Sequence[RunSpec]) -> list[TrackTask]:
@@ -34,16 +35,16 @@ def track_tasks(specs: Sequence[RunSpec]) -> list[TrackTask]:
     order their runs come."""
     from wheelrail.core.track.moving import cached_reading
 
-    readings: dict[TrackParameters, dict[tuple[float, float], None]] = {}
+    readings: dict[tuple, dict[tuple[float, float], None]] = {}
     for spec in specs:
-        run = spec.params.run
-        readings.setdefault(spec.params.track, {})[(float(run.speed), float(run.time_step))] = None
+        run, track = spec.params.run, (spec.params.track, spec.track_numerics)
+        readings.setdefault(track, {})[(float(run.speed), float(run.time_step))] = None
     tasks = []
-    for track, pairs in readings.items():
-        held = {pair: cached_reading(*pair, track) for pair in pairs}
+    for (track, numerics), pairs in readings.items():
+        held = {pair: cached_reading(*pair, track, numerics) for pair in pairs}
         missing = tuple(pair for pair, what in held.items() if what != "weights")
         if missing:
-            tasks.append(TrackTask(track, missing, new=any(held[pair] == "" for pair in missing)))
+            tasks.append(TrackTask(track, missing, new=any(held[pair] == "" for pair in missing), numerics=numerics))
     return sorted(tasks, key=lambda task: not task.new)
 
 
@@ -55,6 +56,6 @@ def prepare_track(task: TrackTask) -> TrackTask:
     from wheelrail.core.track import moving_weights
 
     for speed, time_step in task.readings:
-        moving_weights(speed, time_step, task.track)
+        moving_weights(speed, time_step, task.track, task.numerics)
     cache.wait_for_writes()
     return task

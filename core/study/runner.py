@@ -68,6 +68,7 @@ def run_study(
     dask_address: str | None = None,
     progress: bool = True,
     figures: bool = True,
+    **plan,
 ) -> StudyResult:
     """Plan, execute and tabulate a named study; write its CSV tables, PNG figure(s) and JSON summary.
 
@@ -97,6 +98,9 @@ def run_study(
         tqdm bar of runs done on stderr.
     figures : bool
         Draw the PNG figure(s) (matplotlib); the CSV tables and JSON are always written.
+    **plan
+        The other keywords of :func:`plan_study`: ``track_numerics``, the track's numerics of every run and of the
+        tables' noise chains (the summary's ``track_numerics`` states those that differ from the default).
 
     Returns
     -------
@@ -127,7 +131,8 @@ def run_study(
     created = _missing_folders(Path(out))
     folder = check_output_folder(out)
     try:
-        return _run_study(name, sets, folder, params, wheel_set, length, workers, dask_address, progress, figures)
+        plan.update(params=params, wheel_set=wheel_set, length=length)
+        return _run_study(name, sets, folder, plan, workers, dask_address, progress, figures)
     except BaseException:
         _remove_if_empty(created)  # a refused or failed study leaves no empty folder of its own behind
         raise
@@ -151,11 +156,11 @@ def _remove_if_empty(created: list[Path]) -> None:
             pass
 
 
-def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_address, progress, figures) -> StudyResult:
-    """:func:`run_study` in its checked output folder."""
+def _run_study(name, sets, folder, planned: dict, workers, dask_address, progress, figures) -> StudyResult:
+    """:func:`run_study` in its checked output folder (``planned``: :func:`plan_study`'s keywords)."""
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
-    plan = plan_study(name, sets, params=params, length=length, wheel_set=wheel_set)
+    plan = plan_study(name, sets, **planned)
     spare = workers > 1 or dask_address is not None  # the tables' own work beside the runs, on a core of its own
     with _beside((*plan.beside, *((_load_matplotlib,) if figures else ())) if spare else ()):
         report = execute(
@@ -176,7 +181,7 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
         atomic_write(summary_path, lambda handle: handle.write(strict_json(summary, indent=2)), mode="w")
         files.append(summary_path)
         summary["files"].append(str(summary_path))
-        refuse_inputs(files, [*sets, wheel_set])
+        refuse_inputs(files, [*sets, planned["wheel_set"]])
     return StudyResult(name=name, tables=tables, files=files, report=report, summary=summary)
 
 
@@ -258,6 +263,7 @@ def _summary_document(
     files: list[Path],
 ) -> dict:
     """The JSON summary of a study (SI units; what ``wheelrail study --json`` prints)."""
+    from wheelrail.core.inputs.numerics import numerics_changes
     from wheelrail.core.spectra.bands import band_labels
 
     summaries = [report.summaries[spec.key] for spec in plan.specs]
@@ -269,6 +275,7 @@ def _summary_document(
         "speed_m_per_s": speed,
         "speed_kmh": speed / KMH,
         "element_size_m": plan.params.run.element_size,  # every run's contact grid and step along the rail
+        "track_numerics": numerics_changes(plan.track_numerics),  # those of every run that differ from the default
         "length_m": {info.label: info.length for info in plan.sets},
         "contact": as_dict(plan.contact),
         **track_description(plan.params, plan.tracks),  # what the tracks share, and each one's swept values

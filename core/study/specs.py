@@ -13,7 +13,7 @@ import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names  # noqa: F401 - REFERENCE_MODEL re-exported
-from wheelrail.core.parameters import KMH, ModelParameters, as_dict
+from wheelrail.core.parameters import KMH, ModelParameters, TrackNumerics, as_dict
 
 if TYPE_CHECKING:  # the roughness package is imported when a set is read
     from wheelrail.core.roughness import RoughnessLike
@@ -66,6 +66,9 @@ class RunSpec:
         A wheel set added to the rail set (combined roughness, ``simulate(wheel_roughness=...)``): as
         ``source``, ``set_label`` and ``set_digest``; None: a smooth wheel (the paper's case). Its label and
         digest are part of the run key when given (a run without one keeps the key it always had).
+    track_numerics : TrackNumerics or None
+        The track's numerics (``prepare_run``'s); None: the default. The fields that differ from the default are
+        part of the run key (a run at the default keeps the key it always had).
     """
 
     source: RoughnessLike
@@ -81,9 +84,11 @@ class RunSpec:
     wheel_source: RoughnessLike | None = None
     wheel_label: str | None = None
     wheel_digest: str | None = None
+    track_numerics: TrackNumerics | None = None
 
     def __post_init__(self) -> None:
         model_entry(self.model)  # an unknown name: one WheelrailError listing the registered models
+        checked_numerics(self.track_numerics)
         object.__setattr__(self, "averaged_lines", tuple(int(v) for v in self.averaged_lines))
         object.__setattr__(self, "lateral_lines_mm", tuple(float(v) for v in self.lateral_lines_mm))
         if (self.wheel_source is None) != (self.wheel_digest is None) or (self.wheel_source is None) != (
@@ -93,14 +98,17 @@ class RunSpec:
 
     def description(self) -> dict:
         """Everything that determines the run's summary (JSON-able); the key hashes this."""
+        from wheelrail.core.inputs.numerics import numerics_changes
         from wheelrail.core.spectra.bands import FORCE_BAND_RANGE
         from wheelrail.core.spectra.force import FORCE_SKIP
 
         wheel = (
             {} if self.wheel_source is None else {"wheel_set": {"label": self.wheel_label, "digest": self.wheel_digest}}
         )
+        numerics = numerics_changes(self.track_numerics)
         return {
             **wheel,
+            **({"track_numerics": numerics} if numerics else {}),
             "version": STUDY_FORMAT_VERSION,
             "set_digest": self.set_digest,
             "model": self.model,
@@ -260,6 +268,15 @@ def _as_used(spec: RunSpec, source, label: str, positions_of=None):
     return rough, spec.line
 
 
+def checked_numerics(track_numerics) -> TrackNumerics | None:
+    """``track_numerics`` if a TrackNumerics or None, else one WheelrailError."""
+    if track_numerics is not None and not isinstance(track_numerics, TrackNumerics):
+        raise WheelrailError(
+            f"a study's track_numerics must be TrackNumerics or None, got {type(track_numerics).__name__}"
+        )
+    return track_numerics
+
+
 class RunCancelled(Exception):
     """A run stopped by its ``cancel`` event before its end (:func:`compute_run`): it has no summary."""
 
@@ -284,6 +301,7 @@ def compute_run(spec: RunSpec, cancel=None) -> RunSummary:
         run_in_length=spec.run_in_length,
         keep_pressure=False,
         cancel=cancel,
+        track_numerics=spec.track_numerics,
     )
     if cancel is not None and cancel.is_set():
         raise RunCancelled(spec.label())

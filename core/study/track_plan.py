@@ -61,14 +61,15 @@ def track_description(params, tracks) -> dict:
     }
 
 
-def track_study_cost(tracks, sets: int = 1, workers: int = 1) -> dict:
+def track_study_cost(tracks, sets: int = 1, workers: int = 1, numerics=None) -> dict:
     """What a track study on ``tracks`` will cost, from the project's own figures (``core.track.progress``).
 
     Returns
     -------
     dict
         ``tracks``; ``runs`` (every model of the study on each track and set); ``new_tracks`` (not in the disk
-        cache at the default numerics: each a precompute); ``precompute_cpu_s`` and ``precompute_wall_s`` (on
+        cache at ``numerics``, a TrackNumerics, default the default: each a precompute, costed at the default
+        numerics'); ``precompute_cpu_s`` and ``precompute_wall_s`` (on
         ``workers`` processes, at most one per core); ``cache_bytes`` (every track's entry) and
         ``cache_limit_bytes`` (``WHEELRAIL_CACHE_MAX_GB``).
     """
@@ -79,7 +80,7 @@ def track_study_cost(tracks, sets: int = 1, workers: int = 1) -> dict:
     from wheelrail.core.track import track_cache_path
     from wheelrail.core.track.progress import ENTRY_BYTES, PRECOMPUTE_CPU_S
 
-    new = sum(not track_cache_path(track, TrackNumerics()).exists() for track in tracks)
+    new = sum(not track_cache_path(track, numerics or TrackNumerics()).exists() for track in tracks)
     parallel = max(1, min(workers, os.cpu_count() or 1))
     return {
         "tracks": len(tracks),
@@ -144,9 +145,10 @@ def plan_track(infos, params, tracks, spec_of):
         from wheelrail.core.noise.components import component_names, noise_components
         from wheelrail.core.noise.run_noise import AXLE_DB, DEFAULT_TRAIN_AXLES, DEFAULT_TRAIN_LENGTH, pass_by_level
         from wheelrail.core.noise.run_noise import sound_power_from_force as power
-        from wheelrail.core.noise.twins import track_noise_model
+        from wheelrail.core.noise.twins import chain_numerics, track_noise_model
 
-        noise_tracks = [track_noise_model(p) for p in on_track]  # cached on disk by track, wheel and contact
+        numerics = chain_numerics(specs[0].track_numerics)  # the runs' track
+        noise_tracks = [track_noise_model(p, numerics) for p in on_track]
         swept = swept_inputs(tracks)
         labels = [part.label for part in noise_components()]
         parts = ", ".join(labels[:-1]) + f" and {labels[-1]}"  # "rail, sleeper and wheel"

@@ -97,7 +97,7 @@ def _track(pad_stiffness: float):
 def test_runs_are_grouped_by_track_and_the_new_tracks_come_first(monkeypatch):
     held = {}  # (pad stiffness, speed) -> what the disk cache holds
 
-    def cached_reading(speed, time_step, track):
+    def cached_reading(speed, time_step, track, numerics=None):
         return held[track.support.pad_stiffness, speed]
 
     monkeypatch.setattr("wheelrail.core.track.moving.cached_reading", cached_reading)
@@ -135,7 +135,7 @@ def test_two_new_tracks_are_prepared_side_by_side_in_the_pool_one_in_this_proces
 
 def test_prepare_track_reads_off_each_speed(monkeypatch):
     calls = []
-    monkeypatch.setattr("wheelrail.core.track.moving_weights", lambda *args: calls.append(args))
+    monkeypatch.setattr("wheelrail.core.track.moving_weights", lambda *args: calls.append(args[:3]))
     track = _track(60e6).track
     study_precompute.prepare_track(TrackTask(track, ((30.0, 3.3e-5), (40.0, 2.5e-5)), new=True))
     assert calls == [(30.0, 3.3e-5, track), (40.0, 2.5e-5, track)]
@@ -147,7 +147,9 @@ def test_a_studys_noise_chains_are_worked_out_beside_its_runs(monkeypatch, tmp_p
     from wheelrail.core.study import plans, runner
 
     chains, during = [], threading.Event()
-    monkeypatch.setattr(plans, "_noise_chain", lambda params: chains.append(params.track.support.pad_stiffness))
+    monkeypatch.setattr(
+        plans, "_noise_chain", lambda params, numerics: chains.append(params.track.support.pad_stiffness)
+    )
     tracks = [_track(v) for v in (60e6, 200e6, 1000e6)]
     plan = plan_study("track", ["corrugated-rail"], params=tracks, length=0.6)
 

@@ -52,16 +52,16 @@ def test_wheel_band_sampling_is_converged(modal_920):
     """1 000 points per band against 4 000: the L_H,veh-equivalent moves by <= 0.6 dB per band 500 Hz-5 kHz
     (measured 0.31 dB; 250 points moved it by up to 2.1 dB: the modes' half-power widths are 1e-4 f)."""
     import wheelrail.core.noise.wheel_power as wheel_power
-    from wheelrail.core.noise.twins import _track_noise_model
+    from wheelrail.core.noise.twins import clear_chain_caches
 
     points = wheel_power.WHEEL_POINTS_PER_BAND
     try:
         wheel_power.WHEEL_POINTS_PER_BAND = 4000
-        _track_noise_model.cache_clear()
+        clear_chain_caches()
         finer = track_noise_model(WHEEL_920, TRACK, wheel_model="modal")
     finally:
         wheel_power.WHEEL_POINTS_PER_BAND = points
-        _track_noise_model.cache_clear()
+        clear_chain_caches()
     f = noise_bands()
     bands = (f > 450) & (f < 5700)
     assert np.all(np.abs(finer.transfer_db["wheel"][bands] - modal_920.transfer_db["wheel"][bands]) < 0.6)

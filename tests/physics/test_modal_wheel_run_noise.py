@@ -33,10 +33,10 @@ def coarse_wheel():
         patch.setattr(wheel_power, "MAX_HARMONIC", 4)
         patch.setattr(wheel_power, "WHEEL_POINTS_PER_BAND", WHEEL_POINTS)
         wheel_power.radiation_table.cache_clear()
-        twins._track_noise_model.cache_clear()
+        twins.clear_chain_caches()
         yield
     wheel_power.radiation_table.cache_clear()
-    twins._track_noise_model.cache_clear()
+    twins.clear_chain_caches()
 
 
 @pytest.fixture(scope="module")

@@ -85,9 +85,9 @@ def fake_lateral(monkeypatch):
     receptances, decay = _fake_lateral(calls)
     monkeypatch.setattr(lateral, "lateral_receptances", receptances)
     monkeypatch.setattr(lateral, "lateral_decay_rate", decay)
-    twins._track_noise_model.cache_clear()
+    twins.clear_chain_caches()
     yield calls
-    twins._track_noise_model.cache_clear()
+    twins.clear_chain_caches()
 
 
 def test_the_chains_band_means_and_a_runs_power_come_from_the_lateral_track(fake_lateral):

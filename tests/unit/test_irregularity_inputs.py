@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.inputs import checks
 from wheelrail.core.irregularities import (
     DippedWeld,
     RailJoint,
@@ -53,6 +56,32 @@ def test_each_dataclass_refuses_bad_numbers_in_one_line(build, key, words):
     error = _refused(build)
     assert error.parameter == key
     assert words in str(error)
+
+
+def test_an_integer_beyond_float64_is_refused_in_one_line():
+    error = _refused(WheelFlat, length=10**400)
+    assert error.parameter == "flat_length" and "must be finite" in str(error)
+
+
+@pytest.mark.parametrize(
+    "value",
+    [0.05, 3, np.float64(0.2), -0.1, 0.0, float("nan"), float("inf"), -math.inf, 10**400, True, np.ones(2)],
+    ids=lambda value: repr(value)[:12],
+)
+@pytest.mark.parametrize("sign", ["positive", "nonnegative", "any"])
+def test_a_shapes_number_is_the_checks_modules_real(value, sign):
+    """The dataclasses' fields go through the one check of core.inputs.checks: what ``real`` accepts (a number),
+    ``keyed_real`` accepts as the same float, and what it refuses, ``keyed_real`` refuses keyed by the input."""
+    try:
+        expected = checks.real("x", value, "m", sign=sign)
+    except WheelrailError:
+        expected = None
+    try:
+        got = checks.keyed_real("flat_length", value, "m", argument="WheelFlat.length", sign=sign)
+    except WheelrailError as error:
+        assert expected is None and error.parameter == "flat_length" and "\n" not in str(error)
+    else:
+        assert got == expected
 
 
 def test_a_flat_longer_than_the_wheel_can_hold_is_refused():
