@@ -270,7 +270,7 @@ def _newmark_steps(
     n, m = load.shape
     relax = len(weights) > 0
     # u, u_prev and y padded to rows of a multiple of 8 values (64 bytes), the m columns used: each row's loads and
-    # stores are then aligned vectors (13-15 % less time per step at 16, 17 and 32 columns, the same numbers)
+    # stores are then aligned vectors (docs/benchmarks.md); the arithmetic is the same
     width = (m + 7) // 8 * 8
     u_prev = np.zeros((n, width))[:, :m]
     u = np.zeros((n, width))[:, :m]
