@@ -187,7 +187,7 @@ def main() -> None:
         t_disk = time.perf_counter() - start
     size = Path(response.cache_path).stat().st_size
     print(
-        f"one-off precompute (70 bays, {numerics.positions_per_bay} positions, "
+        f"one-off precompute ({params.n_bays} bays, {numerics.positions_per_bay} positions, "
         f"{numerics.duration * 1e3:.0f} ms at {numerics.time_step * 1e6:.0f} us): {t_build:6.2f} s wall, "
         f"{cpu_build:.2f} s CPU, load {load:.1f} before   target <= 3 s on 2 cores"
     )

@@ -2,8 +2,8 @@
 
 The moving Green's functions are computed at ``positions_per_bay`` excitation positions on an FE mesh of
 ``elements_per_bay`` elements and read in between at ``rows_per_position`` rows per position
-(``wheelrail.core.track.bay_rows``). This script runs the ``hertz`` model on the default 70-bay track for
-each discretisation and prints
+(``wheelrail.core.track.bay_rows``). This script runs the ``hertz`` model on the default 70-bay track (its Green's
+functions' FE model has 71: ``stationary.model_bays``) for each discretisation and prints
 
 - on a smooth rail: the amplitudes (N) of the force at the sleeper-passing harmonics k v / L_S (the
   parametric excitation of the discrete supports) and its peak-to-peak;
@@ -149,7 +149,8 @@ def main() -> None:
         build = time.perf_counter() - start
         for kmh in ARGS.speeds:
             table[config, kmh] = _levels(numerics, kmh)
-        print(f"# {config}: precompute {build:.1f} s (70 bays, up to {numerics.max_speed * 3.6:g} km/h)", flush=True)
+        reach = f"{_track().n_bays} bays, up to {numerics.max_speed * 3.6:g} km/h"
+        print(f"# {config}: precompute {build:.1f} s ({reach})", flush=True)
         track.clear_memory()
     for kmh in ARGS.speeds:
         print(f"\n## {kmh:g} km/h, smooth rail: force amplitude at k v/L_S (N), k = {HARMONICS}; peak-to-peak (N)")

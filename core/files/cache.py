@@ -56,7 +56,9 @@ import numpy as np
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.files.atomic import publish, running, temporary_beside, writer
 
-FORMAT_VERSION = 2  # in every key: bump when what an entry holds changes without its parameters (2: the track's mesh)
+# in every key: bump when what an entry holds changes without its parameters (2: the track's mesh; 3: the track's
+# model mirror-symmetric about its central bay)
+FORMAT_VERSION = 3
 STALE_TEMPORARY_S = 3600.0  # s: a temporary file of ours this old is a leftover whoever wrote it
 DEFAULT_MAX_GB = 4.0  # GB (1e9 bytes): about 19 track entries of 208 MB
 _ENTRY_NAME = re.compile(r"^(?P<kind>[a-z0-9]+(?:-[a-z0-9]+)*)-(?P<key>[0-9a-f]{24})\.npz$")

@@ -201,17 +201,17 @@ def step_operators(model, time_step: float, relaxation) -> StepOperators:
 
 
 @njit(cache=True, fastmath=True)
-def _record(u, k, stride, w_dof, th_dof, nodes, counts, offsets, out):
-    """u's w and theta at the wedge's nodes into ``out`` if step k is a stored one (``_newmark_steps``)."""
-    if k % stride != 0:
-        return
-    s = k // stride
-    for e in range(u.shape[1]):
+def _record(u, s, w_dof, th_dof, nodes, counts, offsets, source, sign, out):
+    """u's w and theta at the wedge's nodes into ``out`` as stored sample s (``_newmark_steps``): wedge e from
+    column source[e], its theta times sign[e] (-1 for a mirror image: ``stationary.mirror_plan``)."""
+    for e in range(len(source)):
         base = offsets[e, s]
+        col = source[e]
+        g = sign[e]
         for r in range(counts[e, s]):
             node = nodes[e, r]
-            out[base + r, 0] = u[w_dof[node], e]
-            out[base + r, 1] = u[th_dof[node], e]
+            out[base + r, 0] = u[w_dof[node], col]
+            out[base + r, 1] = g * u[th_dof[node], col]
 
 
 @njit(cache=True, fastmath=True)
@@ -252,7 +252,8 @@ def _relaxation_rhs(weights, b, q, u, u_prev, r, r_prev, w):
 @njit(cache=True, fastmath=True, nogil=True)
 def _newmark_steps(
     k_ptr, k_idx, k_val, c_ptr, c_idx, c_val, r_ptr, r_idx, r_val, first, start, off, inv_diag, u_ptr, u_idx,
-    u_val, weights, b, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, out, impulse,
+    u_val, weights, b, load, dt, n_steps, stride, w_dof, th_dof, nodes, counts, offsets, source, sign, out,
+    impulse,
 ):  # fmt: skip
     """Newmark (average acceleration) responses to the loads in the columns of ``load``, steps 0 .. n_steps - 1.
 
@@ -263,13 +264,17 @@ def _newmark_steps(
     and by rows (u_*) for the back substitution (``StepOperators``). Each step makes two passes over the rows: the
     right-hand side and the forward substitution row by row, then the back substitution and the update of u.
     The responses are stored as ``out``'s dtype (float32: each value rounded once). Recorded on the wedge: stored
-    step s = k / stride keeps, for column e, w and theta of the nodes nodes[e, 0 .. counts[e, s] - 1] in
-    out[offsets[e, s] + r, 0:2].
+    step s = k / stride keeps, for wedge e, w and theta (times sign[e]) of column source[e] at the nodes
+    nodes[e, 0 .. counts[e, s] - 1] in out[offsets[e, s] + r, 0:2].
     """
     n, m = load.shape
     relax = len(weights) > 0
-    u_prev = np.zeros((n, m))
-    u = load * (4.0 / dt) if impulse else load.copy()
+    # u, u_prev and y padded to rows of a multiple of 8 values (64 bytes), the m columns used: each row's loads and
+    # stores are then aligned vectors (docs/benchmarks.md); the arithmetic is the same
+    width = (m + 7) // 8 * 8
+    u_prev = np.zeros((n, width))[:, :m]
+    u = np.zeros((n, width))[:, :m]
+    u[:, :] = load * (4.0 / dt) if impulse else load
     _forward(first, start, off, inv_diag, u)
     _backward(first, start, off, inv_diag, u)
     q = np.zeros((len(weights), n, m))
@@ -280,10 +285,10 @@ def _newmark_steps(
         _relaxation_state(weights, b, q, u_prev, u, r)
     k0 = 1 if impulse else 0
     if impulse:
-        _record(u_prev, 0, stride, w_dof, th_dof, nodes, counts, offsets, out)
-    if k0 < n_steps:
-        _record(u, k0, stride, w_dof, th_dof, nodes, counts, offsets, out)
-    y = np.empty((n, m))
+        _record(u_prev, 0, w_dof, th_dof, nodes, counts, offsets, source, sign, out)
+    if k0 < n_steps and k0 % stride == 0:
+        _record(u, k0 // stride, w_dof, th_dof, nodes, counts, offsets, source, sign, out)
+    y = np.empty((n, width))[:, :m]
     for k in range(k0, n_steps - 1):  # u_{k+1} from u_k (u) and u_{k-1} (u_prev)
         if relax:
             _relaxation_rhs(weights, b, q, u, u_prev, r, r_prev, w)
@@ -332,16 +337,22 @@ def _newmark_steps(
             r_prev[:, :] = r
             _relaxation_state(weights, b, q, u, u_prev, r)
         u, u_prev = u_prev, u
-        _record(u, k + 1, stride, w_dof, th_dof, nodes, counts, offsets, out)
+        if (k + 1) % stride == 0:
+            _record(u, (k + 1) // stride, w_dof, th_dof, nodes, counts, offsets, source, sign, out)
 
 
 def newmark_responses(operators: StepOperators, load, dt, n_steps, stride, w_dof, th_dof, wedge, out, impulse):
     """Run ``_newmark_steps`` for the columns of ``load`` (n, m), recording into ``out``; ``wedge`` =
-    (nodes, counts, offsets) of these columns."""
-    nodes, counts, offsets = wedge
+    (nodes, counts, offsets) of these columns, or (nodes, counts, offsets, source, sign) of wedges recorded from
+    them (``_record``)."""
+    nodes, counts, offsets = wedge[:3]
+    if len(wedge) == 3:
+        source, sign = np.arange(len(nodes), dtype=np.int64), np.ones(len(nodes))
+    else:
+        source, sign = np.asarray(wedge[3], dtype=np.int64), np.asarray(wedge[4], dtype=float)
     load = np.ascontiguousarray(load, dtype=float)
     _newmark_steps(
         *operators.stiffness.arrays, *operators.damping.arrays, *operators.rail.arrays, *operators.factor.arrays,
         *operators.factor.rows.arrays, operators.weights, operators.b, load, float(dt), int(n_steps), int(stride),
-        w_dof, th_dof, nodes, counts, offsets, out, bool(impulse),
+        w_dof, th_dof, nodes, counts, offsets, source, sign, out, bool(impulse),
     )  # fmt: skip

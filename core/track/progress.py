@@ -20,7 +20,7 @@ import contextlib
 import contextvars
 from collections.abc import Callable, Iterator
 
-PRECOMPUTE_CPU_S = 7.0
+PRECOMPUTE_CPU_S = 4.5
 """CPU seconds of one track's precompute at the default numerics (``docs/benchmarks.md``): what a job that
 needs new tracks is estimated at before it starts."""
 ENTRY_BYTES = 208e6

@@ -4,7 +4,7 @@ See ``wheelrail.core.track``."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numba
@@ -12,7 +12,7 @@ import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
-from wheelrail.core.track.fe import POINT_PAD_WIDTH, TrackFEModel, assemble_track, rail_relaxation
+from wheelrail.core.track.fe import POINT_PAD_WIDTH, REFINED_LEAD_IN_BAYS, TrackFEModel, assemble_track, rail_relaxation
 from wheelrail.core.track.newmark import newmark_responses, step_operators
 from wheelrail.core.track.progress import Progress, current_progress
 
@@ -118,12 +118,21 @@ class StationaryTrackResponse:
 
 def numerics_model(track: TrackParameters, numerics: TrackNumerics) -> TrackFEModel:
     """The FE track of these numerics: ``elements_per_bay`` elements per bay, ``refined_elements_per_bay`` in
-    the central bay (where the excitation positions are) and the ``refined_bays - 1`` bays after it."""
+    the central bay (where the excitation positions are), the ``refined_bays - 1`` bays after it and the one
+    before it; ``model_bays`` bays, ``track.n_bays // 2`` on either side of the central bay, so that the model
+    is its own mirror image about the central bay's middle when the refined bays are too (``refined_bays`` 2,
+    the default: ``mirror_plan``)."""
     return assemble_track(
-        track,
+        replace(track, n_bays=model_bays(track)),
         numerics.elements_per_bay,
         refined=(track.n_bays // 2, numerics.refined_bays, numerics.refined_elements_per_bay),
     )
+
+
+def model_bays(track: TrackParameters) -> int:
+    """Bays of ``numerics_model``: ``track.n_bays``, or one more at the far end when it is even (a central bay
+    with as many bays before it as after it)."""
+    return 2 * (track.n_bays // 2) + 1
 
 
 def excitation_nodes(model: TrackFEModel, numerics: TrackNumerics):
@@ -188,10 +197,49 @@ def integrate_responses(
     progress: Progress | None = None,
 ) -> np.ndarray:
     """Newmark responses to unit loads at x_e, stored at ``nodes`` (see ``newmark._newmark_steps``), float64:
-    the ``column_blocks`` in as many threads as numba would use (all cores, or ``NUMBA_NUM_THREADS``). With
-    ``progress``, ``progress("integrating ...", done, total)`` is called at the start and as each block ends
-    (``done`` columns of ``total``)."""
+    the ``column_blocks`` in as many threads as numba would use (all cores, or ``NUMBA_NUM_THREADS``). The loads
+    whose mirror images are among them on a mirror-symmetric model are not integrated but read from their images
+    (``mirror_plan``; every load with ``MIRROR_SYMMETRY`` False). With ``progress``, ``progress("integrating ...", done,
+    total)`` is called at the start and as each block ends (``done`` columns of ``total`` integrated)."""
     return _integrate(model, x_e, (dt, n_steps, stride), (nodes, counts, offsets), impulse, progress, np.float64)
+
+
+MIRROR_SYMMETRY = True
+"""Integrate only the loads whose mirror images are not among them (``mirror_plan``); False: every load (the
+reference of ``tests/physics/test_track_mirror.py`` and ``validation/track_newmark_identity.py --full``)."""
+
+
+def mirror_plan(model: TrackFEModel, x_e, nodes=None):
+    """Which loads to integrate, and each wedge's source: (columns, source, sign, nodes).
+
+    On a model that is its own mirror image about its middle x_c (its rail nodes at x and 2 x_c - x: the bays,
+    supports and pads are all alike, so the mesh decides), the response to a load at 2 x_c - x_e at the node at
+    2 x_c - x is the response to the load at x_e at x, w equal and theta = dw/dx of the opposite sign. A load
+    whose image is an earlier load of ``x_e`` is then not integrated: its wedge is read from its image's column
+    at the mirrored nodes, its theta negated. ``columns`` are the indices of the loads integrated, ``source[e]``
+    the column (an index into ``columns``) wedge e is read from, ``sign[e]`` -1 for a mirror image and 1
+    otherwise, ``nodes`` the wedges' nodes in the source's frame (``nodes`` as given, rows of images mirrored).
+    On a model that is not symmetric (or for a single load), every load is integrated.
+    """
+    x_e = np.asarray(x_e, dtype=float)
+    m = len(x_e)
+    x = model.node_x
+    L = model.params.support.sleeper_spacing
+    columns, source, sign = list(range(m)), np.arange(m, dtype=np.int64), np.ones(m)
+    mirrored = None if nodes is None else np.array(nodes, dtype=np.int64, copy=True)
+    if m < 2 or np.max(np.abs(x + x[::-1] - x[-1])) > 1e-9 * L:
+        return np.asarray(columns, dtype=np.int64), source, sign, mirrored
+    columns = []
+    for e in range(m):
+        image = np.flatnonzero(np.abs(x_e[:e] + x_e[e] - x[-1]) <= 1e-9 * L)
+        if len(image):
+            source[e], sign[e] = columns.index(int(image[0])), -1.0
+            if mirrored is not None:
+                mirrored[e] = len(x) - 1 - mirrored[e]
+        else:
+            source[e] = len(columns)
+            columns.append(e)
+    return np.asarray(columns, dtype=np.int64), source, sign, mirrored
 
 
 def _integrate(model, x_e, steps, wedge, impulse: bool, progress: Progress | None, dtype) -> np.ndarray:
@@ -202,12 +250,17 @@ def _integrate(model, x_e, steps, wedge, impulse: bool, progress: Progress | Non
     dt, n_steps, stride = steps
     nodes, counts, offsets = wedge
     operators = step_operators(model, dt, _relaxation_terms(model.params.rail.loss_factor, dt))
-    loads = np.stack([model.load_vector(float(x)) for x in x_e], axis=1)
+    if MIRROR_SYMMETRY:
+        columns, source, sign, nodes = mirror_plan(model, x_e, nodes)
+    else:
+        columns, source, sign = np.arange(len(x_e)), np.arange(len(x_e)), np.ones(len(x_e))
+    loads = np.stack([model.load_vector(float(x_e[c])) for c in columns], axis=1)
     out = np.zeros((int(counts.sum()), 2), dtype=dtype)
     m = loads.shape[1]
 
     def block(c0: int, c1: int, steps: int, into: np.ndarray) -> int:
-        wedge = (nodes[c0:c1], counts[c0:c1], offsets[c0:c1])
+        mine = np.flatnonzero((source >= c0) & (source < c1))  # the wedges read from these columns
+        wedge = (nodes[mine], counts[mine], offsets[mine], source[mine] - c0, sign[mine])
         newmark_responses(
             operators, loads[:, c0:c1], dt, steps, stride, model.w_dof, model.theta_dof, wedge, into, impulse
         )
@@ -216,9 +269,12 @@ def _integrate(model, x_e, steps, wedge, impulse: bool, progress: Progress | Non
     if progress is not None:  # numba's code for the loop loaded (compiled on a fresh install) as a phase of its own
         progress(LOADING_PHASE, 0, 1)
         scratch = np.zeros((int(counts[0, 0]), 2), dtype=dtype)
-        block(0, 1, 1, scratch)  # one step of one column (offsets[0, 0] is 0)
+        newmark_responses(
+            operators, loads[:, :1], dt, 1, stride, model.w_dof, model.theta_dof,
+            (nodes[:1], counts[:1], offsets[:1]), scratch, impulse,
+        )  # fmt: skip  # one step of one column (offsets[0, 0] is 0; wedge 0 is column 0's)
         progress(LOADING_PHASE, 1, 1)
-        phase = _integrating_phase(m, n_steps, len(model.node_x))
+        phase = _integrating_phase(m, len(x_e), n_steps, len(model.node_x))
         progress(phase, 0, m)
     done = 0
     with ThreadPoolExecutor(max_workers=max(1, numba.config.NUMBA_NUM_THREADS)) as pool:
@@ -233,13 +289,14 @@ def _integrate(model, x_e, steps, wedge, impulse: bool, progress: Progress | Non
 LOADING_PHASE = "loading the integration's compiled code (compiled once after installation)"
 
 
-def _integrating_phase(columns: int, n_steps: int, n_nodes: int) -> str:
+def _integrating_phase(columns: int, positions: int, n_steps: int, n_nodes: int) -> str:
     """The integration announced: its size and, if the cache knows this machine's speed, its time."""
     from wheelrail.core.track.progress import estimate_s
 
     estimate = estimate_s(float(columns) * n_steps * n_nodes)
     about = f", about {estimate:.0f} s" if estimate is not None else ""
-    return f"integrating the track's impulse responses ({columns} load positions x {n_steps} steps{about})"
+    images = f", the other {positions - columns} their mirror images" if positions > columns else ""
+    return f"integrating the track's impulse responses ({columns} load positions x {n_steps} steps{images}{about})"
 
 
 def stored_times(numerics: TrackNumerics) -> tuple[np.ndarray, int]:
@@ -394,7 +451,7 @@ def _computed(track, numerics, key: str, use_cache: bool, progress: Progress | N
     info = {
         "compute_s": time.perf_counter() - start,
         # what the estimate of the next track scales with (``track.progress.estimate_s``)
-        "work": float(len(response.excitation_positions)) * stored_times(numerics)[1] * _node_count(track, numerics),
+        "work": float(integrated_positions(track, numerics)) * stored_times(numerics)[1] * _node_count(track, numerics),
     }
     arrays = {name: getattr(response, name) for name in _WEDGE_ARRAYS}
     pending = cache.save_entry_behind("track-wedge", key, arrays, info=info)
@@ -403,8 +460,18 @@ def _computed(track, numerics, key: str, use_cache: bool, progress: Progress | N
 
 def _node_count(track: TrackParameters, numerics: TrackNumerics) -> int:
     """Rail nodes of ``numerics_model`` (without assembling it)."""
-    refined = min(numerics.refined_bays, track.n_bays - track.n_bays // 2)
-    return (track.n_bays - refined) * numerics.elements_per_bay + refined * numerics.refined_elements_per_bay + 1
+    bays = model_bays(track)
+    first = track.n_bays // 2
+    refined = min(first + numerics.refined_bays, bays) - max(first - REFINED_LEAD_IN_BAYS, 0)
+    return (bays - refined) * numerics.elements_per_bay + refined * numerics.refined_elements_per_bay + 1
+
+
+def integrated_positions(track: TrackParameters, numerics: TrackNumerics) -> int:
+    """Excitation positions ``compute_stationary_response`` integrates (without assembling the model): on a
+    mirror-symmetric model (``mirror_plan``: the refined bays symmetric about the central one) positions 0 ..
+    P / 2, the others being their mirror images; otherwise all P."""
+    P = numerics.positions_per_bay
+    return P // 2 + 1 if numerics.refined_bays - 1 == REFINED_LEAD_IN_BAYS and P > 1 else P
 
 
 def rail_impulse_responses(

@@ -114,9 +114,9 @@ def test_a_new_track_is_announced_on_a_terminal(folder):
         track.stationary_track_response(short, numerics)
     text = screen.getvalue()
     assert "wheelrail run: this track is not in the disk cache" in text and str(folder) in text
-    for phase in ("assembling the FE track", "integrating the track's impulse responses (16 load", "writing"):
+    for phase in ("assembling the FE track", "integrating the track's impulse responses (9 load", "writing"):
         assert f"wheelrail run: {phase}" in text
-    assert "0/16 [" in text and "load position/s" in text  # the integration's bar
+    assert "0/9 [" in text and "load position/s" in text  # the bar: 9 positions integrated, 7 mirrored
     piped = io.StringIO()  # not a terminal: nothing (pipes and --json stay clean)
     with announce_track_precompute("run", piped):
         track.clear_memory()

@@ -110,8 +110,8 @@ def _values(start: float, count: int) -> list[str]:
                 "--ballast-stiffness-mn-m",
                 *_values(100, 10),
             ],
-            "a track study of 1000 tracks (each a Green's-function precompute of about 7 s of CPU and a 208 MB "
-            "cache entry: 1.9 h, 208 GB) is over the limit of 100 tracks; sweep fewer values",
+            "a track study of 1000 tracks (each a Green's-function precompute of about 4.5 s of CPU and a 208 MB "
+            "cache entry: 1.2 h, 208 GB) is over the limit of 100 tracks; sweep fewer values",
         ),
         (  # within the limit of tracks, beyond what the disk cache holds
             ["--pad-stiffness-mn-m", *_values(60, 5), "--sleeper-mass-kg", *_values(100, 4)],
@@ -145,8 +145,8 @@ def test_a_track_study_says_what_it_will_cost_before_it_starts(tmp_path, capsys,
     err = capsys.readouterr().err.splitlines()
     runs = 3 * len(noise_models())
     assert err[0] == (
-        f"wheelrail study: 3 tracks, {runs} runs; 3 not in the disk cache: about 0.3 min of CPU for their Green's "
-        "functions (0.3 min on 1 worker), 0.6 GB of cache (limit 4 GB)"
+        f"wheelrail study: 3 tracks, {runs} runs; 3 not in the disk cache: about 0.2 min of CPU for their Green's "
+        "functions (0.2 min on 1 worker), 0.6 GB of cache (limit 4 GB)"
     )
     assert err[1] == "started"  # said before the study starts
     # the API is bounded too

@@ -278,7 +278,7 @@ def integrating_phase(events) -> str:
 def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
     # before: a cold first run showed "1 of 2" for minutes; the integration now reports per block
     monkeypatch.setenv("WHEELRAIL_CACHE_DIR", str(tmp_path))
-    numerics = dataclasses.replace(SMALL, positions_per_bay=32)  # 2 blocks of 16 load positions
+    numerics = dataclasses.replace(SMALL, positions_per_bay=32)  # 2 blocks of 9 and 8 load positions
     events = []
     track.clear_memory()
     reported = track.stationary_track_response(COARSE, numerics, progress=lambda *event: events.append(event))
@@ -292,9 +292,11 @@ def test_the_precompute_reports_its_phases(tmp_path, monkeypatch):
     integrating = [(done, total) for phase, done, total in events if phase.startswith("integrating")]
     from wheelrail.core.track.stationary import column_blocks
 
-    # at the start, then as each block of load positions ends (in parallel threads: the columns done add up)
-    assert integrating == [(0, 32)] + [(end, 32) for _, end in column_blocks(32)]
-    assert "32 load positions x 1001 steps" in integrating_phase(events)
+    # at the start, then as each block of load positions ends (in parallel threads: the columns done add up);
+    # positions 0 .. 16 integrated, 17 .. 31 their mirror images (stationary.mirror_plan)
+    blocks = [end - first for first, end in column_blocks(17)]  # 9 and 8, ending in either order
+    assert integrating in ([(0, 17), (blocks[0], 17), (17, 17)], [(0, 17), (blocks[1], 17), (17, 17)])
+    assert "17 load positions x 1001 steps, the other 15 their mirror images" in integrating_phase(events)
     quiet = track.compute_stationary_response(COARSE, numerics)  # one call, no groups
     np.testing.assert_array_equal(reported.data, quiet.data)  # the same blocks, the same numbers
     # a second track: the cache knows how fast this machine integrates, so the phase carries an estimate
