@@ -25,7 +25,13 @@ from numba import njit
 import wheelrail.core.contact.cholesky as cholesky  # (not `from the package import`: the package imports this lazily)
 import wheelrail.core.contact.deformed_gap as deformed_gap
 from wheelrail.core.contact.cholesky import append, backward, factorize, forward, remove
-from wheelrail.core.contact.deformed_gap import displacement_kernel, displacement_matrix, screen
+from wheelrail.core.contact.deformed_gap import (
+    displacement_kernel,
+    displacement_kernel32,
+    displacement_matrix,
+    float32_error,
+    screen,
+)
 from wheelrail.core.engine.compiled import sources_stamp
 
 __all__ = [
@@ -284,6 +290,42 @@ def _pressure_on_set(upper, order, m, gap, z, vectors, pressure, law):
     return delta, pmax
 
 
+@njit(cache=True)
+def _displacement_decided(grid, order, m, work, count, limits):
+    """u = C p at the candidates ``work[3][:count]`` into ``work[5]``, in float32 (``displacement_kernel32``) where
+    that decides d = h - delta + u against ``glimit`` as float64 would, else in float64.
+
+    An element is computed again in float64 where d is within the float32 sum's error bound
+    (``deformed_gap.float32_error``) plus 1e-12 of |h| + |delta| + |u| (float64's own rounding) of ``glimit``:
+    the decisions are float64's. ``limits`` = (delta, glimit).
+    """
+    pressure, gap, _, changes, _, u, _ = work
+    delta, glimit = limits
+    kernel = grid[0]
+    displacement_kernel32(grid, order, m, pressure, changes, count, u)
+    negative = 0.0
+    for a in range(m):
+        negative -= min(pressure[order[a]], 0.0)
+    scale = 2.0 * kernel[kernel.shape[0] // 2, kernel.shape[1] // 2] * negative
+    again = np.empty(count, dtype=np.int64)
+    n_again = 0
+    for c in range(count):
+        i = changes[c]
+        d = gap[i] - delta + u[c]
+        bound = float32_error(u[c], m, scale) + 1e-12 * (abs(gap[i]) + abs(delta) + abs(u[c]))
+        if abs(d - glimit) <= bound:
+            again[n_again] = c
+            n_again += 1
+    if n_again > 0:
+        elements = np.empty(n_again, dtype=np.int64)
+        exact = np.empty(n_again)
+        for e in range(n_again):
+            elements[e] = changes[again[e]]
+        displacement_kernel(grid, order, m, pressure, elements, n_again, exact)
+        for e in range(n_again):
+            u[again[e]] = exact[e]
+
+
 @njit(cache=True, inline="always")
 def _penetrating(grid, order, m, work, active, limits):
     """Elements outside the set that penetrate (eq. 10: d >= 0, d below ``glimit``) into ``work[3]``; their
@@ -301,7 +343,7 @@ def _penetrating(grid, order, m, work, active, limits):
     if grid[2].shape[0] > 0:
         displacement_matrix(grid[2], order, m, pressure, changes, count, u)
     else:
-        displacement_kernel(grid, order, m, pressure, changes, count, u)
+        _displacement_decided(grid, order, m, work, count, (delta, glimit))
     n_add = 0
     worst = 0.0
     for c in range(count):
