@@ -352,6 +352,15 @@ def _displacement_kept(grid, order, m, work, count, limits):
     if cx > 0:
         nearest = max(nearest, kernel[cy, cx - 1], kernel[cy, cx + 1])
     fall = nearest * since[0]
+    if since[1] == 0.0:  # no bounds kept (a step's first check): all computed, in place
+        lower = np.empty(count)
+        _displacement_decided(grid, order, m, pressure, gap, changes[:count], count, u, lower, limits)
+        for c in range(count):
+            listed[c] = changes[c]
+            known[changes[c]] = lower[c]
+        since[0] = 0.0
+        since[1] = count
+        return
     compute = np.empty(count, dtype=np.int64)
     n_compute = 0
     for c in range(count):

@@ -134,7 +134,7 @@ def _kernel_products(grid, order, m, pressure, candidates, count, u, zero):
     ny = (kernel.shape[0] + 1) // 2
     nx = (kernel.shape[1] + 1) // 2
     r0, r1, c0, c1 = _bounding_box(rows, columns, order, m, ny, nx)
-    if r1 < 0:
+    if r1 < 0 or count == 0:
         for c in range(count):
             u[c] = 0.0
         return

@@ -76,6 +76,13 @@ def test_kernel_displacement_equals_the_matrix(shape):
         assert np.max(np.abs(u - expected)) <= 1e-12 * expected.max()
 
 
+def test_kernel_displacement_of_no_candidates():
+    grid = active_set.influence_grid(influence_kernel((19, 25), 5e-4), full_matrix=False)
+    order, pressure = _random_state(np.random.default_rng(1), (19, 25))
+    for products in (deformed_gap.displacement_kernel, deformed_gap.displacement_kernel32):
+        products(grid, order, order.size, pressure, np.zeros(0, dtype=np.int64), 0, np.empty(0))  # no error
+
+
 @pytest.mark.parametrize("shape", [(4, 9), (37, 49)])
 def test_float32_displacement_within_its_bound(shape):
     rng = np.random.default_rng(11)
