@@ -7,10 +7,12 @@ adds the elements that penetrate (eq. 10: d >= 0) until neither happens. The fac
 recomputed, when few elements change (a new row per added element, rotations per dropped one), and
 z = U^-T 1 and, within a step, y = U^-T h_A are kept with it, so a warm-started solve costs one forward
 substitution per step and one backward substitution per iteration. The deformed gap outside the set is
-``contact.deformed_gap``'s. :class:`ActiveSetSolver` holds the warm state (set, factor, z, pressure) in arrays that the
-``3d`` model's compiled loop steps in place (``halfspace_model``) and that one-off solves
-(``window.HalfSpaceWindow``) fill from a start. Design and measurements: ``docs/benchmarks.md``, "The 3D
-contact solver".
+``contact.deformed_gap``'s; on windows without the influence matrix u = C p is summed in float32 where a
+rigorous bound shows that float64 would decide the same (:func:`_displacement_decided`), and a step's later
+checks keep lower bounds of u from its earlier ones (:func:`_displacement_kept`). :class:`ActiveSetSolver`
+holds the warm state (set, factor, z, pressure) in arrays that the ``3d`` model's compiled loop steps in place
+(``halfspace_model``) and that one-off solves (``window.HalfSpaceWindow``) fill from a start. Design and
+measurements: ``docs/benchmarks.md``, "The 3D contact solver".
 
 Conventions of the compiled functions (no input checks: ``window`` does them): the window of ny x nx
 elements is flattened row by row (element i is row i // nx, column i % nx); the contact set is ``order[:m]``
