@@ -7,10 +7,12 @@ adds the elements that penetrate (eq. 10: d >= 0) until neither happens. The fac
 recomputed, when few elements change (a new row per added element, rotations per dropped one), and
 z = U^-T 1 and, within a step, y = U^-T h_A are kept with it, so a warm-started solve costs one forward
 substitution per step and one backward substitution per iteration. The deformed gap outside the set is
-``contact.deformed_gap``'s. :class:`ActiveSetSolver` holds the warm state (set, factor, z, pressure) in arrays that the
-``3d`` model's compiled loop steps in place (``halfspace_model``) and that one-off solves
-(``window.HalfSpaceWindow``) fill from a start. Design and measurements: ``docs/benchmarks.md``, "The 3D
-contact solver".
+``contact.deformed_gap``'s; on windows without the influence matrix u = C p is summed in float32 where a
+rigorous bound shows that float64 would decide the same (:func:`_displacement_decided`), and a step's later
+checks keep lower bounds of u from its earlier ones (:func:`_displacement_kept`). :class:`ActiveSetSolver`
+holds the warm state (set, factor, z, pressure) in arrays that the ``3d`` model's compiled loop steps in place
+(``halfspace_model``) and that one-off solves (``window.HalfSpaceWindow``) fill from a start. Design and
+measurements: ``docs/benchmarks.md``, "The 3D contact solver".
 
 Conventions of the compiled functions (no input checks: ``window`` does them): the window of ny x nx
 elements is flattened row by row (element i is row i // nx, column i % nx); the contact set is ``order[:m]``
@@ -25,7 +27,13 @@ from numba import njit
 import wheelrail.core.contact.cholesky as cholesky  # (not `from the package import`: the package imports this lazily)
 import wheelrail.core.contact.deformed_gap as deformed_gap
 from wheelrail.core.contact.cholesky import append, backward, factorize, forward, remove
-from wheelrail.core.contact.deformed_gap import displacement_kernel, displacement_matrix, screen
+from wheelrail.core.contact.deformed_gap import (
+    displacement_kernel,
+    displacement_kernel32,
+    displacement_matrix,
+    float32_error,
+    screen,
+)
 from wheelrail.core.engine.compiled import sources_stamp
 
 __all__ = [
@@ -161,9 +169,10 @@ class ActiveSetSolver:
     Notes
     -----
     ``law`` is the tuple the compiled functions take: (grid, state, work, track, limits) with state = (set
-    in factor order, its mask, z = U^-T 1, [m, factored], factor buffer) and work = (pressure, gap, three
-    scratch vectors); ``pressure`` is the current pressure on the flattened window (Pa; stale after a
-    coupled solve without contact, whose pressure is zero) and ``gap`` the gap a solve reads (m).
+    in factor order, its mask, z = U^-T 1, [m, factored], factor buffer) and work = (pressure, gap, five
+    scratch vectors, the bounds of u kept across a step's checks: :func:`_displacement_kept`); ``pressure`` is
+    the current pressure on the flattened window (Pa; stale after a coupled solve without contact, whose
+    pressure is zero) and ``gap`` the gap a solve reads (m).
     """
 
     def __init__(self, grid, start, limits, *, factor=None, track=None, capacity=None) -> None:
@@ -186,6 +195,7 @@ class ActiveSetSolver:
             np.empty(n),
             np.empty(n),
             np.empty(n),
+            (np.full(n, np.nan), np.empty(n, dtype=np.int64), np.zeros(2)),  # kept bounds (_penetrating)
         )
         if track is None:  # the one-off solves' placeholder (of the types of the model's)
             track = (np.zeros(1), np.zeros((1, 1)), np.zeros(1, dtype=np.int64), np.zeros(1), 0, 0)
@@ -251,7 +261,7 @@ class ActiveSetSolver:
 @njit(cache=True, fastmath=True)
 def _pressure_on_set(upper, order, m, gap, z, vectors, pressure, law):
     """Pressure on the set with d = 0 there (eqs. 8, 11) and the approach from ``law``; returns (delta, max
-    pressure).
+    pressure, the sum of the decreases of the pressures it changed).
 
     With y = U^-T h_A: sum(p) = delta z.z - z.y and p_A = U^-1 (delta z - y). ``vectors`` = (y, its state,
     scratch): y is computed here unless its state is 1 (kept from this step's last solve and updated with the
@@ -278,10 +288,110 @@ def _pressure_on_set(upper, order, m, gap, z, vectors, pressure, law):
         y[a] = delta * z[a] - kept[a]
     backward(upper, m, y)
     pmax = 0.0
+    decrease = 0.0
     for a in range(m):
+        decrease += max(pressure[order[a]] - y[a], 0.0)
         pressure[order[a]] = y[a]
         pmax = max(pmax, y[a])
-    return delta, pmax
+    return delta, pmax, decrease
+
+
+@njit(cache=True)
+def _displacement_decided(grid, order, m, pressure, gap, elements, count, u, lower, limits):
+    """u = C p at ``elements[:count]`` into ``u``, in float32 (``displacement_kernel32``) where that decides
+    d = h - delta + u against ``glimit`` as float64 would, else in float64; a lower bound of each exact u into
+    ``lower``.
+
+    An element is computed again in float64 where d is within the float32 sum's error bound
+    (``deformed_gap.float32_error``) plus 1e-12 of |h| + |delta| + |u| (float64's own rounding) of ``glimit``:
+    the decisions are float64's. ``limits`` = (delta, glimit).
+    """
+    delta, glimit = limits
+    kernel = grid[0]
+    displacement_kernel32(grid, order, m, pressure, elements, count, u)
+    negative = 0.0
+    for a in range(m):
+        negative -= min(pressure[order[a]], 0.0)
+    scale = 2.0 * kernel[kernel.shape[0] // 2, kernel.shape[1] // 2] * negative
+    again = np.empty(count, dtype=np.int64)
+    n_again = 0
+    for c in range(count):
+        i = elements[c]
+        d = gap[i] - delta + u[c]
+        bound = float32_error(u[c], m, scale) + 1e-12 * (abs(gap[i]) + abs(delta) + abs(u[c]))
+        lower[c] = u[c] - bound
+        if abs(d - glimit) <= bound:
+            again[n_again] = c
+            n_again += 1
+    if n_again > 0:
+        chosen = np.empty(n_again, dtype=np.int64)
+        exact = np.empty(n_again)
+        for e in range(n_again):
+            chosen[e] = elements[again[e]]
+        displacement_kernel(grid, order, m, pressure, chosen, n_again, exact)
+        for e in range(n_again):
+            u[again[e]] = exact[e]
+
+
+@njit(cache=True)
+def _displacement_kept(grid, order, m, work, count, limits):
+    """u = C p at the candidates ``work[3][:count]`` into ``work[5]`` where a step's earlier check leaves it
+    undecided (:func:`_displacement_decided`), else a lower bound of u that shows d = h - delta + u >= glimit.
+
+    ``work[7]`` = (a lower bound of u per element as of the step's last check or NaN, the elements that have
+    one, [sum of the pressures' decreases since, how many have one]). A pressure change lowers u_i (i outside the
+    set) by at most C_1 times the sum of the decreases, C_1 the kernel's largest value off its centre (the
+    kernel decreases with each offset): a kept bound less that is a bound now. ``limits`` = (delta, glimit).
+    """
+    pressure, gap, _, changes, _, u, _, bounds = work
+    known, listed, since = bounds
+    delta, glimit = limits
+    kernel = grid[0]
+    cy, cx = kernel.shape[0] // 2, kernel.shape[1] // 2
+    nearest = 0.0
+    if cy > 0:
+        nearest = max(kernel[cy - 1, cx], kernel[cy + 1, cx])
+    if cx > 0:
+        nearest = max(nearest, kernel[cy, cx - 1], kernel[cy, cx + 1])
+    fall = nearest * since[0]
+    if since[1] == 0.0:  # no bounds kept (a step's first check): all computed, in place
+        lower = np.empty(count)
+        _displacement_decided(grid, order, m, pressure, gap, changes[:count], count, u, lower, limits)
+        for c in range(count):
+            listed[c] = changes[c]
+            known[changes[c]] = lower[c]
+        since[0] = 0.0
+        since[1] = count
+        return
+    compute = np.empty(count, dtype=np.int64)
+    n_compute = 0
+    for c in range(count):
+        i = changes[c]
+        bound = known[i] - fall
+        slack = 1e-12 * (abs(gap[i]) + abs(delta) + abs(known[i]) + fall)
+        if bound == bound and gap[i] - delta + bound >= glimit + slack:
+            u[c] = bound  # (NaN fails the test: no bound kept)
+            known[i] = bound
+        else:
+            compute[n_compute] = c
+            n_compute += 1
+    if n_compute > 0:
+        elements = np.empty(n_compute, dtype=np.int64)
+        values = np.empty(n_compute)
+        lower = np.empty(n_compute)
+        for e in range(n_compute):
+            elements[e] = changes[compute[e]]
+        _displacement_decided(grid, order, m, pressure, gap, elements, n_compute, values, lower, limits)
+        n_listed = int(since[1])
+        for e in range(n_compute):
+            i = elements[e]
+            u[compute[e]] = values[e]
+            if known[i] != known[i]:
+                listed[n_listed] = i
+                n_listed += 1
+            known[i] = lower[e]
+        since[1] = n_listed
+    since[0] = 0.0
 
 
 @njit(cache=True, inline="always")
@@ -290,7 +400,7 @@ def _penetrating(grid, order, m, work, active, limits):
     count. d = h - delta + C p (eq. 11) is computed where h - delta < ``margin`` only (u = C p >= 0
     elsewhere). ``limits`` = (delta, margin, glimit, one_at_a_time): as in :func:`solve_step`.
     """
-    pressure, gap, _, changes, _, u, _ = work
+    pressure, gap, _, changes, _, u, _, _ = work
     delta, margin, glimit, one_at_a_time = limits
     count = 0
     for i in range(gap.size):
@@ -301,7 +411,7 @@ def _penetrating(grid, order, m, work, active, limits):
     if grid[2].shape[0] > 0:
         displacement_matrix(grid[2], order, m, pressure, changes, count, u)
     else:
-        displacement_kernel(grid, order, m, pressure, changes, count, u)
+        _displacement_kept(grid, order, m, work, count, (delta, glimit))
     n_add = 0
     worst = 0.0
     for c in range(count):
@@ -374,8 +484,13 @@ def solve_step(law, coupled, target, compliance):
     grid, state, work, _, limits = law
     grid3 = (grid[0], grid[3], grid[4])
     order, active, z, counts, upper = state
-    pressure, gap, y, changes, scratch, _, kept = work
+    pressure, gap, y, changes, scratch, _, kept, bounds = work
     tol, max_iter, area, cautious_after = limits
+    known, listed, since = bounds  # a new gap: no bound of u kept (_displacement_kept)
+    for k in range(int(since[1])):
+        known[listed[k]] = np.nan
+    since[0] = 0.0
+    since[1] = 0.0
     gap_min = gap.min()
     if coupled and target <= gap_min:  # no element penetrates at delta = delta_known: F = 0 (module docstring)
         return STEP_CONVERGED, 0.0, target, 0
@@ -408,10 +523,13 @@ def solve_step(law, coupled, target, compliance):
                 forward(upper, m, z)
                 factored = True
                 valid = False
-            delta, pmax = _pressure_on_set(upper, order, m, gap, z, (kept, valid, y), pressure, on_set)
+            delta, pmax, decrease = _pressure_on_set(upper, order, m, gap, z, (kept, valid, y), pressure, on_set)
+            since[0] += decrease
             valid = True
             n_drop = _tension_elements(pressure, order, m, pmax, tol, one_at_a_time, changes)
             if n_drop > 0:
+                for r in range(n_drop):
+                    since[0] += max(pressure[order[changes[r]]], 0.0)
                 m, factored = _drop(state, m, pressure, changes, n_drop, (kept, scratch))
                 valid = valid and factored
                 continue
@@ -420,6 +538,9 @@ def solve_step(law, coupled, target, compliance):
         if n_add == 0:
             status = STEP_CONVERGED
             break
+        for r in range(n_add):  # in the set now: a kept bound no longer holds (computed again if it leaves)
+            if known[changes[r]] == known[changes[r]]:
+                known[changes[r]] = -np.inf
         m, factored = _add(grid, state, m, factored, changes, n_add, (kept, scratch, gap))
         valid = valid and factored
     counts[0], counts[1] = m, 1 if factored else 0

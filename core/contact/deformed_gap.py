@@ -15,7 +15,15 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["KERNEL_GROUP_COLUMNS", "SCREEN_BLOCKS", "displacement_kernel", "displacement_matrix", "screen"]
+__all__ = [
+    "KERNEL_GROUP_COLUMNS",
+    "SCREEN_BLOCKS",
+    "displacement_kernel",
+    "displacement_kernel32",
+    "displacement_matrix",
+    "float32_error",
+    "screen",
+]
 
 SCREEN_BLOCKS = 4  # blocks per side of the set's bounding box in the lower bound of u = C p (screen)
 KERNEL_GROUP_COLUMNS = 8  # candidates' columns per group in u = C p from the kernel (displacement_kernel)
@@ -66,14 +74,15 @@ def _bounding_box(rows, columns, elements, count, ny, nx):
 
 
 @njit(cache=True, fastmath=True)
-def _dot_rows(band, span, starts, group, size, u):
-    """u[group[g]] = band[starts[g] : starts[g] + size] . span, four at a time (sharing the loads of span)."""
+def _dot_rows(band, span, starts, group, size, u, zero):
+    """u[group[g]] = band[starts[g] : starts[g] + size] . span, four at a time (sharing the loads of span), summed
+    in the type of ``zero`` (that of ``band`` and ``span``)."""
     count = group.size
     for c in range(0, count, 4):
         s0, s1 = starts[c], starts[min(c + 1, count - 1)]
         s2, s3 = starts[min(c + 2, count - 1)], starts[min(c + 3, count - 1)]
         k0, k1, k2, k3 = band[s0 : s0 + size], band[s1 : s1 + size], band[s2 : s2 + size], band[s3 : s3 + size]
-        u0 = u1 = u2 = u3 = 0.0
+        u0 = u1 = u2 = u3 = zero
         for k in range(size):
             x = span[k]
             u0 += k0[k] * x
@@ -97,32 +106,65 @@ def displacement_kernel(grid, order, m, pressure, candidates, count, u):
     the next row); groups of the same spread share the layout of the pressures. Measured at 0.5 mm:
     ``docs/benchmarks.md``, "The contact solver".
     """
+    _kernel_products(grid, order, m, pressure, candidates, count, u, 0.0)
+
+
+@njit(cache=True)
+def displacement_kernel32(grid, order, m, pressure, candidates, count, u):
+    """u = C p at ``candidates[:count]`` as :func:`displacement_kernel`, with the kernel, the pressures and the
+    sums in float32 (twice the lanes a vector instruction holds); the error bound is :func:`float32_error`."""
+    _kernel_products(grid, order, m, pressure, candidates, count, u, np.float32(0.0))
+
+
+@njit(cache=True, inline="always")
+def float32_error(u, terms, scale):
+    """Bound of |u - C p| for u from :func:`displacement_kernel32`: 2 gamma (|u| + ``scale``) with gamma =
+    k 2^-24 / (1 - k 2^-24), k = ``terms`` + 8 (the nonzero pressures; each term's kernel value, pressure and
+    product rounded once, each partial sum it enters once, in any order of summation; Higham, *Accuracy and
+    Stability of Numerical Algorithms*, 2nd ed., section 3.1), twice for margin. ``scale`` = 2 C_0 P- bounds
+    what the negative pressures P- add to sum |C_ij p_j| beyond |u| (C_ij <= C_0)."""
+    k = (terms + 8) * 5.9604644775390625e-08
+    return 2.0 * k / (1.0 - k) * (abs(u) + scale)
+
+
+@njit(cache=True, inline="always")
+def _kernel_products(grid, order, m, pressure, candidates, count, u, zero):
+    """:func:`displacement_kernel` with the layouts and sums in the type of ``zero``."""
     kernel, flipped, _, rows, columns = grid
     ny = (kernel.shape[0] + 1) // 2
     nx = (kernel.shape[1] + 1) // 2
     r0, r1, c0, c1 = _bounding_box(rows, columns, order, m, ny, nx)
-    if r1 < 0:
+    if r1 < 0 or count == 0:
         for c in range(count):
             u[c] = 0.0
         return
     height, width = r1 + 1 - r0, c1 + 1 - c0
-    band = np.empty((height + ny - 1) * (width + KERNEL_GROUP_COLUMNS))
-    span = np.zeros(height * (width + KERNEL_GROUP_COLUMNS))
-    group = np.empty(count, dtype=np.int64)
+    band = np.full((height + ny - 1) * (width + KERNEL_GROUP_COLUMNS), zero)
+    span = np.full(height * (width + KERNEL_GROUP_COLUMNS), zero)
+    group = np.empty(count, dtype=np.int64)  # the candidates by group (ascending within one)
     elements = np.empty(count, dtype=np.int64)
     starts = np.empty(count, dtype=np.int64)
     _, _, first, last = _bounding_box(rows, columns, candidates, count, ny, nx)
+    groups = (last - first) // KERNEL_GROUP_COLUMNS + 1
+    ends = np.zeros(groups + 1, dtype=np.int64)  # the candidates of group k: group[ends[k] : ends[k + 1]]
+    for c in range(count):
+        ends[(columns[candidates[c]] - first) // KERNEL_GROUP_COLUMNS + 1] += 1
+    for k in range(groups):
+        ends[k + 1] += ends[k]
+    for c in range(count):
+        k = (columns[candidates[c]] - first) // KERNEL_GROUP_COLUMNS
+        group[ends[k]] = c
+        elements[ends[k]] = candidates[c]
+        ends[k] += 1
     laid = -1  # the stride the pressures are laid out with (groups of the same spread share it)
-    for left in range(first, last + 1, KERNEL_GROUP_COLUMNS):
-        size = 0
-        for c in range(count):
-            if left <= columns[candidates[c]] < left + KERNEL_GROUP_COLUMNS:
-                group[size] = c
-                elements[size] = candidates[c]
-                size += 1
+    begin = 0
+    for k in range(groups):
+        end = ends[k]  # (moved on to the next group's start by the fill above)
+        size = end - begin
         if size == 0:
             continue
-        q0, q1, d0, d1 = _bounding_box(rows, columns, elements, size, ny, nx)
+        members = elements[begin:end]
+        q0, q1, d0, d1 = _bounding_box(rows, columns, members, size, ny, nx)
         stride, depth = width + d1 - d0, height + q1 - q0
         # band[a S + b] = reversed[r0 - q1 + a + ny - 1, c0 - d1 + b + nx - 1]: offset (rj - ri, cj - ci)
         for a in range(depth):  # (loops, not slice assignments: those cost numba seconds of compilation)
@@ -131,12 +173,16 @@ def displacement_kernel(grid, order, m, pressure, candidates, count, u):
                 band[a * stride + b] = row[c0 - d1 + nx - 1 + b]
         if stride != laid:
             for a in range(height):
-                for b in range(stride):
-                    span[a * stride + b] = pressure[(r0 + a) * nx + c0 + b] if b < width else 0.0
+                line = pressure[(r0 + a) * nx + c0 : (r0 + a) * nx + c0 + width]
+                for b in range(width):
+                    span[a * stride + b] = line[b]
+                for b in range(width, stride):
+                    span[a * stride + b] = zero
             laid = stride
         for g in range(size):
-            starts[g] = (q1 - rows[elements[g]]) * stride + d1 - columns[elements[g]]
-        _dot_rows(band, span, starts[:size], group[:size], (height - 1) * stride + width, u)
+            starts[begin + g] = (q1 - rows[members[g]]) * stride + d1 - columns[members[g]]
+        _dot_rows(band, span, starts[begin:end], group[begin:end], (height - 1) * stride + width, u, zero)
+        begin = end
 
 
 @njit(cache=True)

@@ -6,6 +6,10 @@
 * u = C p from the kernel (``deformed_gap.displacement_kernel``: one contiguous slice per element, the candidates in
   groups of columns) equals u from the full influence matrix: tolerance 1e-12 of max u, round-off of
   reordered sums of positive terms (measured below 5e-16);
+* u in float32 (``deformed_gap.displacement_kernel32``) lies within its error bound (``deformed_gap.float32_error``)
+  of u in float64, and the solver's penetration decisions made from it (``active_set._displacement_decided``:
+  float64 again where the bound cannot decide) are float64's, on gaps put at the decision's edge; so are those of
+  a later check that keeps the earlier one's bounds (``active_set._displacement_kept``) after the pressure changed;
 * steps of the ``3d`` law on a 31 x 41 window at 0.5 mm (over ``FULL_MATRIX_ELEMENTS``: the kernel path and the
   screen) agree with the dense NNLS oracle (``halfspace_oracle``) to 1e-9 of the preload, as the 1 mm runs in
   ``test_halfspace_loop.py``: the same equations, round-off of reordered sums left.
@@ -70,6 +74,92 @@ def test_kernel_displacement_equals_the_matrix(shape):
         expected = active_set.displacement(by_matrix, pressure)[candidates]
         # round-off of reordered sums of positive terms (module docstring)
         assert np.max(np.abs(u - expected)) <= 1e-12 * expected.max()
+
+
+def test_kernel_displacement_of_no_candidates():
+    grid = active_set.influence_grid(influence_kernel((19, 25), 5e-4), full_matrix=False)
+    order, pressure = _random_state(np.random.default_rng(1), (19, 25))
+    for products in (deformed_gap.displacement_kernel, deformed_gap.displacement_kernel32):
+        products(grid, order, order.size, pressure, np.zeros(0, dtype=np.int64), 0, np.empty(0))  # no error
+
+
+@pytest.mark.parametrize("shape", [(4, 9), (37, 49)])
+def test_float32_displacement_within_its_bound(shape):
+    rng = np.random.default_rng(11)
+    kernel = influence_kernel(shape, 5e-4)
+    by_kernel = active_set.influence_grid(kernel, full_matrix=False)
+    by_matrix = active_set.influence_grid(kernel, full_matrix=True)
+    centre = kernel[kernel.shape[0] // 2, kernel.shape[1] // 2]
+    for _ in range(10):
+        order, pressure = _random_state(rng, shape)  # some pressures slightly negative
+        candidates = rng.permutation(pressure.size)[: rng.integers(1, pressure.size + 1)]
+        u = np.empty(candidates.size)
+        deformed_gap.displacement_kernel32(by_kernel, order, order.size, pressure, candidates, candidates.size, u)
+        expected = active_set.displacement(by_matrix, pressure)[candidates]
+        negative = -np.minimum(pressure[order], 0.0).sum()
+        bound = np.array([deformed_gap.float32_error(value, order.size, 2 * centre * negative) for value in u])
+        assert np.all(np.abs(u - expected) <= bound)
+        assert np.max(np.abs(u - expected)) > 1e-12 * np.abs(expected).max()  # float32 indeed (not float64)
+
+
+def test_penetration_decided_in_float32_as_in_float64():
+    shape = (37, 49)
+    rng = np.random.default_rng(5)
+    grid = active_set.influence_grid(influence_kernel(shape, 5e-4), full_matrix=False)
+    n = shape[0] * shape[1]
+    flipped = 0
+    for _ in range(10):
+        order, pressure = _random_state(rng, shape)
+        outside = np.setdiff1d(np.arange(n), order)
+        u = active_set.displacement(grid, pressure)
+        delta, glimit = 1e-5, -1e-9 * 1e-5
+        # gaps that put d = h - delta + u at glimit within a few float32 roundings of u, on either side
+        gap = glimit + delta - u + rng.choice([-1, 1], n) * rng.uniform(0, 3e-7, n) * np.abs(u)
+        values, lower = np.empty(outside.size), np.empty(outside.size)
+        limits = (delta, glimit)
+        active_set._displacement_decided(
+            grid, order, order.size, pressure, gap, outside, outside.size, values, lower, limits
+        )
+        decided = gap[outside] - delta + values < glimit
+        expected = gap[outside] - delta + u[outside] < glimit
+        np.testing.assert_array_equal(decided, expected)
+        assert np.all(lower <= u[outside])  # the lower bounds a step's later checks keep
+        single = np.empty(outside.size)
+        deformed_gap.displacement_kernel32(grid, order, order.size, pressure, outside, outside.size, single)
+        flipped += np.count_nonzero((gap[outside] - delta + single < glimit) != expected)
+    assert flipped > 0  # float32 alone would have decided some of them otherwise
+
+
+def test_a_later_check_keeps_bounds_and_decides_as_float64():
+    shape = (37, 49)
+    rng = np.random.default_rng(9)
+    grid = active_set.influence_grid(influence_kernel(shape, 5e-4), full_matrix=False)
+    n = shape[0] * shape[1]
+    for _ in range(5):
+        order, pressure = _random_state(rng, shape)
+        outside = np.setdiff1d(np.arange(n), order)
+        delta, glimit = 1e-5, -1e-11
+        u = active_set.displacement(grid, pressure)
+        # none penetrates; half near the edge (d within 1e-3 of max u), half farther (within 0.1)
+        gap = glimit + delta - u + rng.uniform(0, 1.0, n) * rng.choice([1e-3, 0.1], n) * u.max()
+        bounds = (np.full(n, np.nan), np.empty(n, dtype=np.int64), np.zeros(2))
+        changes = np.zeros(n, dtype=np.int64)
+        work = (pressure, gap, None, changes, None, np.empty(n), None, bounds)
+        changes[: outside.size] = outside
+        active_set._displacement_kept(grid, order, order.size, work, outside.size, (delta, glimit))  # a first check
+        # the pressure changes (some of it decreases, as when elements join the set); the gap stays
+        before = pressure[order].copy()
+        pressure[order] *= 1.0 - rng.uniform(-1e-3, 2e-3, order.size)
+        bounds[2][0] = np.sum(np.maximum(before - pressure[order], 0.0))
+        changes[: outside.size] = outside
+        active_set._displacement_kept(grid, order, order.size, work, outside.size, (delta, glimit))
+        u = active_set.displacement(grid, pressure)
+        decided = gap[outside] - delta + work[5][: outside.size] < glimit
+        np.testing.assert_array_equal(decided, gap[outside] - delta + u[outside] < glimit)
+        assert decided.any()  # some penetrate now
+        assert np.all(bounds[0][outside] <= u[outside])  # the bounds kept hold
+        # some were decided by the bounds kept (not computed again)
+        assert np.count_nonzero(work[5][: outside.size] < u[outside] - 1e-6 * u.max()) > outside.size // 10
 
 
 @pytest.mark.slow  # ~5 s: the oracle's dense NNLS on ~700 elements per step
