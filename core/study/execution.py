@@ -29,7 +29,7 @@ from pathlib import Path
 
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import model_entry
-from wheelrail.core.study.precompute import TrackTask, prepare_track, track_tasks
+from wheelrail.core.study.precompute import TrackTask, integration_threads, prepare_track, track_tasks
 from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
 from wheelrail.core.study.store import load_cached, save_cached
 from wheelrail.core.study.threads import execute_threads, read_once, releases_gil
@@ -174,6 +174,7 @@ def _dispatch(
     if not missing:
         return "cache"
     if workers == 1 or len(missing) == 1:
+        _prepare_tracks(track_tasks(missing), workers)  # one worker: a new track's precompute on one core
         for spec in read_once(missing):
             finished(compute_run(spec))
         return "in-process"
@@ -188,15 +189,18 @@ def _dispatch(
 
 
 def _prepare_tracks(tasks: list[TrackTask], workers: int) -> None:
-    """The tracks the runs need and the disk cache lacks, before the runs: two or more new ones (each a
-    precompute) side by side in the process pool, the others (a reading off a cached track, or one new track,
-    whose precompute runs in threads of its own) in this process."""
+    """The tracks the runs need and the disk cache lacks, before the runs: with two or more workers, two or more new
+    ones (each a precompute) side by side in the process pool, one thread each; the others (a reading off a cached
+    track, or one new track) in this process, a precompute there in at most ``workers`` threads (``workers`` are the
+    cores the study may use: one worker integrates in one thread)."""
     new = [task for task in tasks if task.new]
-    if len(new) >= 2:
-        _pool_map(prepare_track, new, workers)
-    for task in tasks:
-        if len(new) < 2 or not task.new:
-            prepare_track(task)
+    pooled = new if workers >= 2 and len(new) >= 2 else []
+    if pooled:
+        _pool_map(prepare_track, pooled, workers)
+    with integration_threads(workers):
+        for task in tasks:
+            if task not in pooled:
+                prepare_track(task)
 
 
 # --------------------------------------------------------------------------------------------------

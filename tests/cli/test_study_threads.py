@@ -133,6 +133,20 @@ def test_two_new_tracks_are_prepared_side_by_side_in_the_pool_one_in_this_proces
         assert pooled == [] and here == tasks
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_new_track_in_this_process_integrates_on_the_workers_cores(monkeypatch, tmp_path, workers):
+    # workers are the cores a study may use: one worker's precompute integrates in one thread, not all cores
+    from numba import config
+
+    monkeypatch.setattr(config, "NUMBA_NUM_THREADS", 2)
+    seen = []
+    monkeypatch.setattr(study_execution, "track_tasks", lambda specs: [TrackTask(_track(60e6).track, (), new=True)])
+    monkeypatch.setattr(study_execution, "prepare_track", lambda task: seen.append(config.NUMBA_NUM_THREADS))
+    monkeypatch.setattr(study_execution, "compute_run", lambda spec: None)
+    study_execution._dispatch([_spec()], workers, None, lambda summary: None)
+    assert seen == [workers] and config.NUMBA_NUM_THREADS == 2
+
+
 def test_prepare_track_reads_off_each_speed(monkeypatch):
     calls = []
     monkeypatch.setattr("wheelrail.core.track.moving_weights", lambda *args: calls.append(args))
