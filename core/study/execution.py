@@ -96,6 +96,7 @@ def execute(
     progress: bool = True,
     description: str = "runs",
     backend: str = "auto",
+    started: Callable[[], None] | None = None,
 ) -> ExecutionReport:
     """Run every spec not yet in ``cache`` and return all summaries.
 
@@ -120,6 +121,11 @@ def execute(
         missing run's law releases the GIL (``ContactLaw.nogil``: the bundled models), else processes. Either
         way the tracks not in the disk cache are prepared first, two or more new ones side by side in the
         process pool (a precompute holds the GIL for part of its time).
+    started : callable, optional
+        Called when this process has GIL to spare for the caller's own work beside the runs (``runner.run_study``):
+        once a run has finished where the runs are computed in this process (their first load of numba's compiled
+        code holds the GIL), at once where they or the new tracks' precomputes go to worker processes or Dask, and
+        at the end; it may be called more than once.
 
     Returns
     -------
@@ -146,11 +152,15 @@ def execute(
         save_cached(cache, summary)
         summaries[summary.key] = summary
         bar.update(1)
+        if started is not None:
+            started()
 
     try:
-        used = _dispatch(missing, int(workers), dask_address, finished, backend)
+        used = _dispatch(missing, int(workers), dask_address, finished, backend, started)
     finally:
         bar.close()
+        if started is not None:
+            started()
     return ExecutionReport(
         summaries=summaries,
         computed=len(summaries) - n_cached,
@@ -166,9 +176,13 @@ def _dispatch(
     dask_address: str | None,
     finished: Callable[[RunSummary], None],
     backend: str = "auto",
+    started: Callable[[], None] | None = None,
 ) -> str:
-    """Compute the missing runs where asked; returns the backend's name for the report."""
+    """Compute the missing runs where asked; returns the backend's name for the report. ``started``: as
+    :func:`execute`'s, called here where this process only waits (Dask, worker processes)."""
+    started = started or (lambda: None)
     if dask_address is not None:  # connect even when all runs are cached: a bad address is an error
+        started()
         _execute_dask(missing, dask_address, finished)
         return f"dask {dask_address}"
     if not missing:
@@ -180,15 +194,16 @@ def _dispatch(
         return "in-process"
     threads = backend == "threads" or (backend == "auto" and all(releases_gil(spec) for spec in missing))
     with _terminate_as_interrupt():
-        _prepare_tracks(track_tasks(missing), workers)
+        _prepare_tracks(track_tasks(missing), workers, started)
         if threads:
             execute_threads(missing, workers, finished)
             return f"threads ({workers} workers)"
+        started()
         _execute_pool(missing, workers, finished)
     return f"process pool ({workers} workers)"
 
 
-def _prepare_tracks(tasks: list[TrackTask], workers: int) -> None:
+def _prepare_tracks(tasks: list[TrackTask], workers: int, started: Callable[[], None] | None = None) -> None:
     """The tracks the runs need and the disk cache lacks, before the runs: with two or more workers, two or more new
     ones (each a precompute) side by side in the process pool, one thread each; the others (a reading off a cached
     track, or one new track) in this process, a precompute there in at most ``workers`` threads (``workers`` are the
@@ -196,6 +211,8 @@ def _prepare_tracks(tasks: list[TrackTask], workers: int) -> None:
     new = [task for task in tasks if task.new]
     pooled = new if workers >= 2 and len(new) >= 2 else []
     if pooled:
+        if started is not None:
+            started()  # this process waits on the pool meanwhile
         _pool_map(prepare_track, pooled, workers)
     with integration_threads(workers):
         for task in tasks:

@@ -157,7 +157,7 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
         dask_address = parse_dask_address(dask_address)
     plan = plan_study(name, sets, params=params, length=length, wheel_set=wheel_set)
     spare = workers > 1 or dask_address is not None  # the tables' own work beside the runs, on a core of its own
-    with _beside((*plan.beside, *((_load_matplotlib,) if figures else ())) if spare else ()):
+    with _beside((*plan.beside, *((_load_matplotlib,) if figures else ())) if spare else ()) as start_beside:
         report = execute(
             plan.specs,
             cache=folder / "runs",
@@ -165,6 +165,7 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
             dask_address=dask_address,
             progress=progress,
             description=f"study {name}",
+            started=start_beside,
         )
     tables = plan.tabulate(report.summaries)
     with all_or_none():  # the tables, figures and summary appear together, and none over an input
@@ -182,15 +183,19 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
 
 @contextlib.contextmanager
 def _beside(work):
-    """Call each of ``work`` in a thread while the block runs (its results are kept where they are cached); leaving
-    the block waits for it, but for an error or interrupt. A failure is left to the tabulation, which does the same
-    work again and reports it."""
+    """Call each of ``work`` in a thread while the block runs (its results are kept where they are cached), from when
+    the block calls the callable it is given (``execute``'s ``started``: once a run has finished, so that the work,
+    which holds the GIL, does not lengthen the first runs' load of numba's compiled code, which holds it too and
+    comes before any parallel step) or the block ends; leaving the block waits for it, but for an error or
+    interrupt. A failure is left to the tabulation, which does the same work again and reports it."""
+    go = threading.Event()
     if not work:
-        yield
+        yield go.set
         return
     stop = threading.Event()
 
     def call_each():
+        go.wait()
         for call in work:
             if stop.is_set():
                 return
@@ -202,10 +207,12 @@ def _beside(work):
     thread = threading.Thread(target=call_each, name="wheelrail-study-beside", daemon=True)
     thread.start()
     try:
-        yield
+        yield go.set
     except BaseException:
         stop.set()
+        go.set()
         raise
+    go.set()
     thread.join()
 
 

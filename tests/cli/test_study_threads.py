@@ -123,14 +123,14 @@ def test_runs_are_grouped_by_track_and_the_new_tracks_come_first(monkeypatch):
 def test_two_new_tracks_are_prepared_side_by_side_in_the_pool_one_in_this_process(monkeypatch, new_tracks):
     tasks = [TrackTask(_track(v).track, ((30.0, 3.6e-5),), new=True) for v in (60e6, 80e6)[:new_tracks]]
     tasks.append(TrackTask(_track(100e6).track, ((30.0, 3.6e-5),), new=False))
-    pooled, here = [], []
+    pooled, here, started = [], [], []
     monkeypatch.setattr(study_execution, "_pool_map", lambda task, items, workers: pooled.extend(items))
     monkeypatch.setattr(study_execution, "prepare_track", here.append)
-    study_execution._prepare_tracks(tasks, 2)
-    if new_tracks == 2:
-        assert pooled == tasks[:2] and here == tasks[2:]
+    study_execution._prepare_tracks(tasks, 2, lambda: started.append(len(pooled)))
+    if new_tracks == 2:  # the work beside the runs starts as this process waits on the pool
+        assert pooled == tasks[:2] and here == tasks[2:] and started == [0]
     else:
-        assert pooled == [] and here == tasks
+        assert pooled == [] and here == tasks and started == []
 
 
 @pytest.mark.parametrize("workers", [1, 2])
@@ -185,6 +185,26 @@ def test_a_studys_noise_chains_are_worked_out_beside_its_runs(monkeypatch, tmp_p
     with pytest.raises(KeyError):
         runner.run_study("track", ["corrugated-rail"], tmp_path, workers=1, progress=False)
     assert chains == []  # one worker: the tabulation works them out itself
+
+
+def test_work_beside_the_runs_waits_for_a_finished_run(monkeypatch, tmp_path):
+    # the first runs load numba's compiled code, holding the GIL, before any step runs in parallel: the study's own
+    # work beside them (matplotlib's import, the noise chains), which holds it too, starts once a run has finished
+    from wheelrail.core.study import runner
+
+    ran, seen = threading.Event(), []
+    monkeypatch.setattr(runner, "_load_matplotlib", ran.set)
+
+    def execute(specs, *, started, **options):
+        seen.append(ran.is_set())
+        started()
+        seen.append(ran.wait(60))
+        raise KeyError("no runs")
+
+    monkeypatch.setattr(runner, "execute", execute)
+    with pytest.raises(KeyError):
+        runner.run_study("filters", ["corrugated-rail"], tmp_path, workers=2, progress=False, length=0.6)
+    assert seen == [False, True]
 
 
 def test_work_beside_the_runs_is_left_at_an_interrupt():
