@@ -11,8 +11,8 @@ best wall times' ratio, and that ratio without the figures. ``--pin`` pins each 
 worker processes it starts) to as many CPUs as it has workers: 1 core against 2 cores.
 
 Each measurement is a fresh process that runs one study by the API, as one ``wheelrail study`` command does (its
-start-up as the command line's, ``core.startup``; numba's compiled code loaded, matplotlib imported and any worker
-process started inside the timing), into a fresh
+start-up as the command line's, ``core.startup``, unless ``STUDY_WORKERS_API_START=1``; numba's compiled code
+loaded, matplotlib imported and any worker process started inside the timing), into a fresh
 output folder, so that no run comes from the study's run cache. The 1- and 2-worker measurements of a round run one
 after the other, so that they see the same moments of a shared machine; each line gives the load average before it.
 CPU time is that of the process and of its worker processes (ended before it is read).
@@ -81,9 +81,10 @@ def child_study(name: str, workers: int, quick: bool, backend: str, pin: bool = 
     wall time of its figures, s)."""
     import functools
 
-    from wheelrail.core.startup import fast_start_on_import
+    if os.environ.get("STUDY_WORKERS_API_START") != "1":  # 1: start as a library user's process does
+        from wheelrail.core.startup import fast_start_on_import
 
-    fast_start_on_import()  # as the command line starts (numba's first load without scipy.linalg's package)
+        fast_start_on_import()  # as the command line starts (numba's first load without scipy.linalg's package)
     from wheelrail.core.study import execute, run_study, runner, shutdown_pools
 
     if pin:  # this process and the workers it starts on the first `workers` CPUs

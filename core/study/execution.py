@@ -188,9 +188,9 @@ def _dispatch(
     if not missing:
         return "cache"
     if workers == 1 or len(missing) == 1:
-        _prepare_tracks(track_tasks(missing), workers)  # one worker: a new track's precompute on one core
-        for spec in read_once(missing):
-            finished(compute_run(spec))
+        with integration_threads(workers):  # one worker: a new track's precompute (in its first run) on one core
+            for spec in read_once(missing):
+                finished(compute_run(spec))
         return "in-process"
     threads = backend == "threads" or (backend == "auto" and all(releases_gil(spec) for spec in missing))
     with _terminate_as_interrupt():

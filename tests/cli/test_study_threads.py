@@ -140,9 +140,7 @@ def test_a_new_track_in_this_process_integrates_on_the_workers_cores(monkeypatch
 
     monkeypatch.setattr(config, "NUMBA_NUM_THREADS", 2)
     seen = []
-    monkeypatch.setattr(study_execution, "track_tasks", lambda specs: [TrackTask(_track(60e6).track, (), new=True)])
-    monkeypatch.setattr(study_execution, "prepare_track", lambda task: seen.append(config.NUMBA_NUM_THREADS))
-    monkeypatch.setattr(study_execution, "compute_run", lambda spec: None)
+    monkeypatch.setattr(study_execution, "compute_run", lambda spec: seen.append(config.NUMBA_NUM_THREADS))
     study_execution._dispatch([_spec()], workers, None, lambda summary: None)
     assert seen == [workers] and config.NUMBA_NUM_THREADS == 2
 
