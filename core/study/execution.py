@@ -124,8 +124,8 @@ def execute(
     started : callable, optional
         Called when this process has GIL to spare for the caller's own work beside the runs (``runner.run_study``):
         once a run has finished where the runs are computed in this process (their first load of numba's compiled
-        code holds the GIL), at once where they or the new tracks' precomputes go to worker processes or Dask, and
-        at the end; it may be called more than once.
+        code holds the GIL), at once where a new track's precompute comes first or the runs go to worker processes
+        or Dask, and at the end; it may be called more than once.
 
     Returns
     -------
@@ -210,9 +210,9 @@ def _prepare_tracks(tasks: list[TrackTask], workers: int, started: Callable[[], 
     cores the study may use: one worker integrates in one thread)."""
     new = [task for task in tasks if task.new]
     pooled = new if workers >= 2 and len(new) >= 2 else []
+    if new and started is not None:
+        started()  # a precompute takes seconds, mostly in threads or processes that leave the GIL free
     if pooled:
-        if started is not None:
-            started()  # this process waits on the pool meanwhile
         _pool_map(prepare_track, pooled, workers)
     with integration_threads(workers):
         for task in tasks:
