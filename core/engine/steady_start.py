@@ -199,14 +199,19 @@ def _circular(kernel, x):
     return out
 
 
+_EPS = float(np.finfo(np.float64).eps)
+
+
 @njit(cache=True, nogil=True)
 def _least_squares(a, b):
     """The least-squares solution of a x = b of least norm, a (n, m) with m small: numpy's ``lstsq`` (singular
     values below eps max(n, m) of the largest taken as zero), by one-sided Jacobi rotations of a's columns
-    (a's SVD: U S = a V). Loops over the columns; no LAPACK, so numba compiles no BLAS for it."""
+    (a's SVD: U S = a V). Plain loops (no LAPACK, no array expressions: numba compiles them quickly)."""
     n, m = a.shape
     u = a.copy()
-    v = np.eye(m)
+    v = np.zeros((m, m))
+    for i in range(m):
+        v[i, i] = 1.0
     for _ in range(60):
         rotated = False
         for p in range(m - 1):
@@ -220,19 +225,28 @@ def _least_squares(a, b):
                     continue
                 rotated = True
                 zeta = (beta - alpha) / (2.0 * gamma)
-                t = np.sign(zeta) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta)) if zeta != 0.0 else 1.0
+                t = 1.0 / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
+                if zeta < 0.0:
+                    t = -t
                 c = 1.0 / np.sqrt(1.0 + t * t)
                 s = c * t
                 for i in range(n):
                     up, uq = u[i, p], u[i, q]
-                    u[i, p], u[i, q] = c * up - s * uq, s * up + c * uq
+                    u[i, p] = c * up - s * uq
+                    u[i, q] = s * up + c * uq
                 for i in range(m):
                     vp, vq = v[i, p], v[i, q]
-                    v[i, p], v[i, q] = c * vp - s * vq, s * vp + c * vq
+                    v[i, p] = c * vp - s * vq
+                    v[i, q] = s * vp + c * vq
         if not rotated:
             break
-    sigma = np.sqrt((u * u).sum(axis=0))
-    cutoff = np.finfo(np.float64).eps * max(n, m) * sigma.max()
+    sigma = np.zeros(m)
+    for j in range(m):
+        total = 0.0
+        for i in range(n):
+            total += u[i, j] * u[i, j]
+        sigma[j] = np.sqrt(total)
+    cutoff = _EPS * max(n, m) * sigma.max()
     x = np.zeros(m)
     for j in range(m):
         if sigma[j] > cutoff:
@@ -252,35 +266,48 @@ def _iterate(deviation, forces, preload, limit, inverse, mixing, iteration):
     ``deviation`` moved to the next iterate and True. ``mixing`` = (steps, changes, last, count): the last
     differences of the deviation and of the preconditioned residual (rows, oldest first; as many rows as the
     mixing's depth), the previous deviation and change (rows 0 and 1 of ``last``) and how many differences are
-    held (``count[0]``)."""
+    held (``count[0]``). Plain loops, as numpy's expressions would compute each value."""
     steps, changes, last, count = mixing
     n = deviation.size
-    residual = deviation + preload - forces
-    if np.max(np.abs(residual)) <= limit:
+    residual = np.empty(n)
+    largest = 0.0
+    for i in range(n):
+        residual[i] = deviation[i] + preload - forces[i]
+        largest = max(largest, abs(residual[i]))
+    if largest <= limit:
         return False
-    change = -_circular(inverse, residual)
+    change = _circular(inverse, residual)
+    for i in range(n):
+        change[i] = -change[i]
     depth = steps.shape[0]
     if iteration and depth:
         if count[0] == depth:  # the oldest difference out
             for r in range(depth - 1):
-                steps[r] = steps[r + 1]
-                changes[r] = changes[r + 1]
+                for i in range(n):
+                    steps[r, i] = steps[r + 1, i]
+                    changes[r, i] = changes[r + 1, i]
             count[0] -= 1
-        steps[count[0]] = deviation - last[0]
-        changes[count[0]] = change - last[1]
-        count[0] += 1
-    last[0] = deviation
-    last[1] = change
-    held = count[0]
-    if held:
-        mix = _least_squares(changes[:held].T.copy(), change)
+        row = count[0]
         for i in range(n):
-            total = 0.0
-            for r in range(held):
-                total += (steps[r, i] + changes[r, i]) * mix[r]
-            deviation[i] += change[i] - total
-    else:
-        deviation += change
+            steps[row, i] = deviation[i] - last[0, i]
+            changes[row, i] = change[i] - last[1, i]
+        count[0] += 1
+    for i in range(n):
+        last[0, i] = deviation[i]
+        last[1, i] = change[i]
+    held = count[0]
+    mix = np.zeros(0)
+    if held:
+        columns = np.empty((n, held))
+        for r in range(held):
+            for i in range(n):
+                columns[i, r] = changes[r, i]
+        mix = _least_squares(columns, change)
+    for i in range(n):
+        total = 0.0
+        for r in range(held):
+            total += (steps[r, i] + changes[r, i]) * mix[r]
+        deviation[i] += change[i] - total
     return True
 
 
