@@ -21,6 +21,7 @@ from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_
 from wheelrail.core.study.figures import plot_study
 from wheelrail.core.study.plans import StudyPlan, plan_study
 from wheelrail.core.study.tables import Table, write_table
+from wheelrail.core.study.threads import blas_threads
 from wheelrail.core.study.track_plan import swept_inputs, track_description
 
 if TYPE_CHECKING:  # the roughness package is imported when a set is read
@@ -156,6 +157,13 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
     plan = plan_study(name, sets, params=params, length=length, wheel_set=wheel_set)
+    # one worker, one core: its runs and tables call BLAS in one thread (threads.blas_threads)
+    with blas_threads(1 if workers == 1 and dask_address is None else None):
+        return _execute_and_write(name, sets, folder, plan, wheel_set, workers, dask_address, progress, figures)
+
+
+def _execute_and_write(name, sets, folder, plan, wheel_set, workers, dask_address, progress, figures) -> StudyResult:
+    """:func:`_run_study` with its plan: the runs, then the tables, figures and summary."""
     spare = workers > 1 or dask_address is not None  # the tables' own work beside the runs, on a core of its own
     with _beside((*plan.beside, *((_load_matplotlib,) if figures else ())) if spare else ()) as start_beside:
         report = execute(
@@ -195,6 +203,9 @@ def _beside(work):
     stop = threading.Event()
 
     def call_each():
+        from wheelrail.core.study.threads import set_blas_threads_local
+
+        set_blas_threads_local(1)  # beside the runs' threads, on the study's cores
         go.wait()
         for call in work:
             if stop.is_set():

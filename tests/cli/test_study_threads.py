@@ -206,6 +206,28 @@ def test_work_beside_the_runs_waits_for_a_finished_run(monkeypatch, tmp_path):
     assert seen == [False, True]
 
 
+def test_a_study_thread_calls_blas_in_one_thread(monkeypatch):
+    # workers are the study's cores: OpenBLAS's own threads under each study thread would oversubscribe them
+    seen = []
+    monkeypatch.setattr(study_threads, "set_blas_threads_local", lambda n: seen.append(n) or [])
+    monkeypatch.setattr(study_threads, "compute_run", lambda spec, cancel: spec.key)
+    study_threads.execute_threads([_spec(line=k) for k in range(4)], 2, lambda summary: None)
+    assert seen and set(seen) == {1}
+
+
+def test_blas_threads_are_this_threads_and_restored():
+    if not study_threads._openblas_libraries():
+        pytest.skip("no OpenBLAS that sets a thread's own number")
+    before = study_threads.set_blas_threads_local(3)
+    try:
+        with study_threads.blas_threads(1):
+            assert study_threads.set_blas_threads_local(1) == [1] * len(before)
+        assert study_threads.set_blas_threads_local(3) == [3] * len(before)
+    finally:
+        for setter, value in zip(study_threads._openblas_libraries(), before, strict=True):
+            setter(value)
+
+
 def test_work_beside_the_runs_is_left_at_an_interrupt():
     from wheelrail.core.study.runner import _beside
 
