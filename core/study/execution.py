@@ -32,7 +32,7 @@ from wheelrail.core.models import model_entry
 from wheelrail.core.study.precompute import TrackTask, integration_threads, prepare_track, track_tasks
 from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
 from wheelrail.core.study.store import load_cached, save_cached
-from wheelrail.core.study.threads import execute_threads, read_once, releases_gil
+from wheelrail.core.study.threads import blas_threads, execute_threads, read_once, releases_gil
 
 DASK_CONNECT_TIMEOUT = "10s"  # how long to try reaching a Dask scheduler before giving up
 PARENT_POLL_INTERVAL = 0.5  # s, how often a pool worker checks that the process that started it lives
@@ -188,7 +188,8 @@ def _dispatch(
     if not missing:
         return "cache"
     if workers == 1 or len(missing) == 1:
-        with integration_threads(workers):  # one worker: a new track's precompute (in its first run) on one core
+        # one worker, one core: a new track's precompute (in its first run) in one thread, BLAS in one
+        with integration_threads(workers), blas_threads(1 if workers == 1 else None):
             for spec in read_once(missing):
                 finished(compute_run(spec))
         return "in-process"

@@ -157,13 +157,6 @@ def _run_study(name, sets, folder, params, wheel_set, length, workers, dask_addr
     if dask_address is not None:
         dask_address = parse_dask_address(dask_address)
     plan = plan_study(name, sets, params=params, length=length, wheel_set=wheel_set)
-    # one worker, one core: its runs and tables call BLAS in one thread (threads.blas_threads)
-    with blas_threads(1 if workers == 1 and dask_address is None else None):
-        return _execute_and_write(name, sets, folder, plan, wheel_set, workers, dask_address, progress, figures)
-
-
-def _execute_and_write(name, sets, folder, plan, wheel_set, workers, dask_address, progress, figures) -> StudyResult:
-    """:func:`_run_study` with its plan: the runs, then the tables, figures and summary."""
     spare = workers > 1 or dask_address is not None  # the tables' own work beside the runs, on a core of its own
     with _beside((*plan.beside, *((_load_matplotlib,) if figures else ())) if spare else ()) as start_beside:
         report = execute(
@@ -175,7 +168,8 @@ def _execute_and_write(name, sets, folder, plan, wheel_set, workers, dask_addres
             description=f"study {name}",
             started=start_beside,
         )
-    tables = plan.tabulate(report.summaries)
+    with blas_threads(1 if workers == 1 and dask_address is None else None):  # one worker, one core
+        tables = plan.tabulate(report.summaries)
     with all_or_none():  # the tables, figures and summary appear together, and none over an input
         files = [write_table(table, folder) for table in tables]
         if figures:

@@ -140,10 +140,13 @@ def test_a_new_track_in_this_process_integrates_on_the_workers_cores(monkeypatch
     from numba import config
 
     monkeypatch.setattr(config, "NUMBA_NUM_THREADS", 2)
-    seen = []
+    seen, blas = [], []
+    monkeypatch.setattr(study_threads, "_openblas_libraries", lambda: ())
+    monkeypatch.setattr(study_threads, "set_blas_threads_local", lambda n: blas.append(n) or [])
     monkeypatch.setattr(study_execution, "compute_run", lambda spec: seen.append(config.NUMBA_NUM_THREADS))
     study_execution._dispatch([_spec()], workers, None, lambda summary: None)
     assert seen == [workers] and config.NUMBA_NUM_THREADS == 2
+    assert blas == ([1] if workers == 1 else [])  # and BLAS in one thread
 
 
 def test_prepare_track_reads_off_each_speed(monkeypatch):
