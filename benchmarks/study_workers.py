@@ -1,11 +1,18 @@
 """Each study's wall and CPU time on 1 and 2 workers: the filters, track and impact studies.
 
 Run: python3 benchmarks/study_workers.py [--quick] [--studies filters track impact] [--rounds N]
-                                         [--backend auto|threads|processes] [--precompute]
+                                         [--backend auto|threads|processes] [--pin] [--precompute]
 Target: two workers at least 1.7x faster than one on each study, on a quiet 2-core machine.
 
-Each measurement is a fresh process that runs one study by the API, as one ``wheelrail study`` command does
-(numba's compiled code loaded, matplotlib imported and any worker process started inside the timing), into a fresh
+A study's ``workers`` are the cores it may use (a new track's precompute in the study's process integrates in at
+most that many threads). Each line gives the study's wall and CPU time, the load average before it and the wall time
+of its figures (drawn after the last run: the part two workers cannot share); each study's speed-up line gives the
+best wall times' ratio, and that ratio without the figures. ``--pin`` pins each measurement's process (and the
+worker processes it starts) to as many CPUs as it has workers: 1 core against 2 cores.
+
+Each measurement is a fresh process that runs one study by the API, as one ``wheelrail study`` command does (its
+start-up as the command line's, ``core.startup``, unless ``STUDY_WORKERS_API_START=1``; numba's compiled code
+loaded, matplotlib imported and any worker process started inside the timing), into a fresh
 output folder, so that no run comes from the study's run cache. The 1- and 2-worker measurements of a round run one
 after the other, so that they see the same moments of a shared machine; each line gives the load average before it.
 CPU time is that of the process and of its worker processes (ended before it is read).
@@ -69,13 +76,31 @@ def study_arguments(name: str, quick: bool) -> tuple[list, dict]:
     return ["corrugated-rail"], {"params": sweep, "length": 2.0 if quick else 3.0}
 
 
-def child_study(name: str, workers: int, quick: bool, backend: str) -> None:
-    """One study in this (fresh) process; prints its figures as one JSON line."""
+def child_study(name: str, workers: int, quick: bool, backend: str, pin: bool = False) -> None:
+    """One study in this (fresh) process; prints its figures as one JSON line (wall and CPU time, s; the load; the
+    wall time of its figures, s)."""
     import functools
 
+    if os.environ.get("STUDY_WORKERS_API_START") != "1":  # 1: start as a library user's process does
+        from wheelrail.core.startup import fast_start_on_import
+
+        fast_start_on_import()  # as the command line starts (numba's first load without scipy.linalg's package)
     from wheelrail.core.study import execute, run_study, runner, shutdown_pools
 
+    if pin:  # this process and the workers it starts on the first `workers` CPUs
+        os.sched_setaffinity(0, sorted(os.sched_getaffinity(0))[:workers])
     runner.execute = functools.partial(execute, backend=backend)  # run_study's choice of local workers
+    plotted = [0.0]
+    plot_study = runner.plot_study
+
+    def timed_plot(*args, **kwargs):
+        start = time.perf_counter()
+        try:
+            return plot_study(*args, **kwargs)
+        finally:
+            plotted[0] += time.perf_counter() - start
+
+    runner.plot_study = timed_plot
     sets, keywords = study_arguments(name, quick)
     out = tempfile.mkdtemp(prefix="wheelrail-bench-workers-")
     load = os.getloadavg()[0]
@@ -85,7 +110,7 @@ def child_study(name: str, workers: int, quick: bool, backend: str) -> None:
     shutdown_pools()  # the workers' CPU time is counted once they have ended
     shutil.rmtree(out, ignore_errors=True)
     report = result.report
-    figures = {"wall": wall, "cpu": cpu_seconds() - cpu, "load": load, "backend": report.backend}
+    figures = {"wall": wall, "cpu": cpu_seconds() - cpu, "load": load, "backend": report.backend, "figure": plotted[0]}
     print(json.dumps({**figures, "runs": report.computed}))
 
 
@@ -129,11 +154,12 @@ def cache_without_tracks() -> str:
     return folder
 
 
-def measure(name: str, workers: int, quick: bool, backend: str) -> dict:
+def measure(name: str, workers: int, quick: bool, backend: str, pin: bool = False) -> dict:
     """The study in a fresh process (the track study with a disk cache of its own without tracks)."""
     cache = cache_without_tracks() if name == "track" else None
     try:
         arguments = ["--child", name, "--workers", str(workers), "--backend", backend, *(["--quick"] * quick)]
+        arguments += ["--pin"] * pin
         return _result(_spawn(arguments, {"WHEELRAIL_CACHE_DIR": cache} if cache else None))
     finally:
         if cache:
@@ -178,35 +204,43 @@ def main() -> None:
     parser.add_argument("--workers", nargs="+", type=int, default=[1, 2])
     parser.add_argument("--rounds", type=int, default=1)
     parser.add_argument("--backend", default="auto", choices=("auto", "threads", "processes"))
+    parser.add_argument("--pin", action="store_true", help="pin each study to as many CPUs as it has workers")
     parser.add_argument("--precompute", action="store_true", help="also 2 tracks x 1 thread against 1 x 2")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     parser.add_argument("--precompute-child", nargs="+", type=float, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
-        child_study(args.child, args.workers[0], args.quick, args.backend)
+        child_study(args.child, args.workers[0], args.quick, args.backend, args.pin)
         return
     if args.precompute_child:
         child_precompute(args.precompute_child)
         return
     size = "quick sizes" if args.quick else "full sizes"
+    pinned = ", each pinned to as many CPUs as workers" if args.pin else ""
     print(
-        f"studies on 1 and 2 workers ({size}, backend {args.backend}); {os.cpu_count()} CPUs; python "
+        f"studies on 1 and 2 workers ({size}, backend {args.backend}{pinned}); {os.cpu_count()} CPUs; python "
         f"{sys.version.split()[0]}; each a fresh process, its wall time from run_study's call to its return"
     )
     for name in args.studies:
         walls: dict[int, list[float]] = {}
+        rest: dict[int, list[float]] = {}  # the wall time but the figures'
         for _ in range(args.rounds):
             for workers in args.workers:
-                found = measure(name, workers, args.quick, args.backend)
+                found = measure(name, workers, args.quick, args.backend, args.pin)
                 walls.setdefault(workers, []).append(found["wall"])
+                rest.setdefault(workers, []).append(found["wall"] - found["figure"])
                 plural = "s" * (workers > 1)
                 print(
                     f"  {name:8s} {workers} worker{plural}: {found['wall']:6.1f} s wall, {found['cpu']:6.1f} s CPU, "
-                    f"{found['runs']} runs on {found['backend']} (load {found['load']:.1f})",
+                    f"figures {found['figure']:4.1f} s wall, {found['runs']} runs on {found['backend']} "
+                    f"(load {found['load']:.1f})",
                     flush=True,
                 )
         if 1 in walls and 2 in walls:
-            print(f"  {name:8s} speed-up 1 -> 2 workers (best wall times): {min(walls[1]) / min(walls[2]):.2f}x")
+            print(
+                f"  {name:8s} speed-up 1 -> 2 workers (best wall times): {min(walls[1]) / min(walls[2]):.2f}x; "
+                f"without the figures {min(rest[1]) / min(rest[2]):.2f}x"
+            )
     if args.precompute:
         precompute_comparison()
 

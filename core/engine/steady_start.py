@@ -175,11 +175,146 @@ def folded_wheel(phi: np.ndarray, gamma0: np.ndarray, gamma1: np.ndarray, n: int
     return h[:n]
 
 
-def _circulant_solver(column: np.ndarray, stiffness: float):
-    """x -> (I + k C)^-1 x for the circulant C of first column ``column``, by FFT."""
+def _circulant_inverse(column: np.ndarray, stiffness: float) -> np.ndarray:
+    """The first column of (I + k C)^-1 for the circulant C of first column ``column`` (by FFT, once a start): the
+    preconditioner's circulant, applied by :func:`_circular`."""
     n = column.size
-    spectrum = 1.0 + stiffness * np.fft.rfft(column)
-    return lambda x: np.fft.irfft(np.fft.rfft(x) / spectrum, n)
+    return np.fft.irfft(1.0 / (1.0 + stiffness * np.fft.rfft(column)), n)
+
+
+@njit(cache=True, fastmath=True, nogil=True)
+def _circular(kernel, x):
+    """The circular convolution of ``kernel`` (a circulant's first column) with x: out[(k + d) mod n] +=
+    x_k kernel[d] (as :func:`_product`, a view from index 0 so that it vectorises)."""
+    n = x.size
+    out = np.zeros(n)
+    for k in range(n):
+        c = x[k]
+        head = out[k:]
+        for d in range(n - k):
+            head[d] += c * kernel[d]
+        tail = kernel[n - k :]
+        for d in range(k):
+            out[d] += c * tail[d]
+    return out
+
+
+_EPS = float(np.finfo(np.float64).eps)
+
+
+@njit(cache=True, nogil=True)
+def _least_squares(a, b):
+    """The least-squares solution of a x = b of least norm, a (n, m) with m small: numpy's ``lstsq`` (singular
+    values below eps max(n, m) of the largest taken as zero), by one-sided Jacobi rotations of a's columns
+    (a's SVD: U S = a V). Plain loops (no LAPACK, no array expressions: numba compiles them quickly)."""
+    n, m = a.shape
+    u = a.copy()
+    v = np.zeros((m, m))
+    for i in range(m):
+        v[i, i] = 1.0
+    for _ in range(60):
+        rotated = False
+        for p in range(m - 1):
+            for q in range(p + 1, m):
+                alpha = beta = gamma = 0.0
+                for i in range(n):
+                    alpha += u[i, p] * u[i, p]
+                    beta += u[i, q] * u[i, q]
+                    gamma += u[i, p] * u[i, q]
+                if gamma == 0.0 or abs(gamma) <= 1e-15 * np.sqrt(alpha * beta):
+                    continue
+                rotated = True
+                zeta = (beta - alpha) / (2.0 * gamma)
+                t = 1.0 / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
+                if zeta < 0.0:
+                    t = -t
+                c = 1.0 / np.sqrt(1.0 + t * t)
+                s = c * t
+                for i in range(n):
+                    up, uq = u[i, p], u[i, q]
+                    u[i, p] = c * up - s * uq
+                    u[i, q] = s * up + c * uq
+                for i in range(m):
+                    vp, vq = v[i, p], v[i, q]
+                    v[i, p] = c * vp - s * vq
+                    v[i, q] = s * vp + c * vq
+        if not rotated:
+            break
+    sigma = np.zeros(m)
+    for j in range(m):
+        total = 0.0
+        for i in range(n):
+            total += u[i, j] * u[i, j]
+        sigma[j] = np.sqrt(total)
+    cutoff = _EPS * max(n, m) * sigma.max()
+    x = np.zeros(m)
+    for j in range(m):
+        if sigma[j] > cutoff:
+            coefficient = 0.0
+            for i in range(n):
+                coefficient += u[i, j] * b[i]
+            coefficient /= sigma[j] * sigma[j]
+            for i in range(m):
+                x[i] += v[i, j] * coefficient
+    return x
+
+
+@njit(cache=True, nogil=True)
+def _iterate(deviation, forces, preload, limit, inverse, mixing, iteration):
+    """One chord iteration of :func:`steady_state` with Anderson mixing, in place: False when the residual
+    R = F - law(delta) (``forces`` = law(delta) at ``deviation``) is within ``limit`` everywhere (converged), else
+    ``deviation`` moved to the next iterate and True. ``mixing`` = (steps, changes, last, count): the last
+    differences of the deviation and of the preconditioned residual (rows, oldest first; as many rows as the
+    mixing's depth), the previous deviation and change (rows 0 and 1 of ``last``) and how many differences are
+    held (``count[0]``). Plain loops, as numpy's expressions would compute each value."""
+    steps, changes, last, count = mixing
+    n = deviation.size
+    residual = np.empty(n)
+    largest = 0.0
+    for i in range(n):
+        residual[i] = deviation[i] + preload - forces[i]
+        largest = max(largest, abs(residual[i]))
+    if largest <= limit:
+        return False
+    change = _circular(inverse, residual)
+    for i in range(n):
+        change[i] = -change[i]
+    depth = steps.shape[0]
+    if iteration and depth:
+        if count[0] == depth:  # the oldest difference out
+            for r in range(depth - 1):
+                for i in range(n):
+                    steps[r, i] = steps[r + 1, i]
+                    changes[r, i] = changes[r + 1, i]
+            count[0] -= 1
+        row = count[0]
+        for i in range(n):
+            steps[row, i] = deviation[i] - last[0, i]
+            changes[row, i] = change[i] - last[1, i]
+        count[0] += 1
+    for i in range(n):
+        last[0, i] = deviation[i]
+        last[1, i] = change[i]
+    held = count[0]
+    mix = np.zeros(0)
+    if held:
+        columns = np.empty((n, held))
+        for r in range(held):
+            for i in range(n):
+                columns[i, r] = changes[r, i]
+        mix = _least_squares(columns, change)
+    for i in range(n):
+        total = 0.0
+        for r in range(held):
+            total += (steps[r, i] + changes[r, i]) * mix[r]
+        deviation[i] += change[i] - total
+    return True
+
+
+@njit(cache=True, fastmath=True, nogil=True)
+def _approach(folded, lo, hi, frac, wheel, known, deviation):
+    """The approach at ``deviation``: xi_W0 - M (F - P) - A P (``known``) less (A + B) times the deviation."""
+    return known - _product(folded, lo, hi, frac, wheel, deviation)
 
 
 def steady_state(
@@ -190,9 +325,10 @@ def steady_state(
     differences in the Anderson mixing (0: the plain chord iterations), at most ``iterations`` of them.
 
     Solves R(F) = F - law(xi_W0 + B P - (A + B) F) = 0 by chord iterations F -= (I + k C)^-1 R(F) (k the law's
-    slope at the preload, C the circulant part of A + B: the track's mean over the bay, diagonal by FFT), with
-    Anderson mixing of the last ``ANDERSON_DEPTH`` iterations (the bay's variation of the supports, which C
-    leaves out, slows the plain iteration to a factor 0.4 a step: 24 iterations, measured).
+    slope at the preload, C the circulant part of A + B: the track's mean over the bay, its inverse worked out by
+    FFT once), with Anderson mixing of the last ``ANDERSON_DEPTH`` iterations (the bay's variation of the
+    supports, which C leaves out, slows the plain iteration to a factor 0.4 a step: 24 iterations, measured). An
+    iteration is two compiled calls that release the GIL (:func:`_approach`, :func:`_iterate`) around the law's.
 
     Raises WheelrailError if they do not converge (a law without a steady state near the preload)."""
     n = bay_steps_of(history)
@@ -207,28 +343,14 @@ def steady_state(
     deviation = np.zeros(n)
     step = 1e-9 * float(np.mean(np.abs(known))) + 1e-15
     stiffness = float(np.mean(law(known + step) - law(known - step))) / (2 * step)
-    precondition = _circulant_solver(column, stiffness)
-    steps, changes, last = [], [], None  # Anderson's: differences of the deviation and of the preconditioned residual
+    inverse = _circulant_inverse(column, stiffness)
+    mixing = (np.zeros((depth, n)), np.zeros((depth, n)), np.zeros((2, n)), np.zeros(1, dtype=np.int64))
+    limit = STEADY_TOLERANCE * preload
     for iteration in range(iterations):
-        approach = known - _product(folded, lo, hi, frac, wheel, deviation)
-        residual = deviation + preload - law(approach)
-        if np.max(np.abs(residual)) <= STEADY_TOLERANCE * preload:
+        approach = _approach(folded, lo, hi, frac, wheel, known, deviation)
+        if not _iterate(deviation, np.asarray(law(approach), dtype=float), preload, limit, inverse, mixing, iteration):
             state = h[(n - 1 - np.arange(n)) % n].T @ deviation
             return SteadyState(force=deviation + preload, approach=approach, state=state, iterations=iteration)
-        change = -precondition(residual)
-        if iteration and depth:
-            steps.append(deviation - last[0])
-            changes.append(change - last[1])
-            del steps[:-depth], changes[:-depth]
-        last = (deviation, change)
-        if steps:
-            differences = np.array(changes)
-            # least squares of the few columns; lstsq, not the normal equations: two equal changes (a law that
-            # is flat, 3d at 1 kN) make those singular
-            mix = np.linalg.lstsq(differences.T, change, rcond=None)[0]
-            deviation = deviation + change - (np.array(steps) + differences).T @ mix
-        else:
-            deviation = deviation + change
     raise WheelrailError(
         "the run's steady state on the run-in's gap could not be found (its iterations did not converge on this "
         "track and contact); the Python API starts such a run from the preload at rest instead: "

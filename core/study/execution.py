@@ -29,10 +29,10 @@ from pathlib import Path
 
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import model_entry
-from wheelrail.core.study.precompute import TrackTask, prepare_track, track_tasks
+from wheelrail.core.study.precompute import TrackTask, integration_threads, prepare_track, track_tasks
 from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
 from wheelrail.core.study.store import load_cached, save_cached
-from wheelrail.core.study.threads import execute_threads, read_once, releases_gil
+from wheelrail.core.study.threads import blas_threads, execute_threads, read_once, releases_gil
 
 DASK_CONNECT_TIMEOUT = "10s"  # how long to try reaching a Dask scheduler before giving up
 PARENT_POLL_INTERVAL = 0.5  # s, how often a pool worker checks that the process that started it lives
@@ -96,6 +96,7 @@ def execute(
     progress: bool = True,
     description: str = "runs",
     backend: str = "auto",
+    started: Callable[[], None] | None = None,
 ) -> ExecutionReport:
     """Run every spec not yet in ``cache`` and return all summaries.
 
@@ -120,6 +121,11 @@ def execute(
         missing run's law releases the GIL (``ContactLaw.nogil``: the bundled models), else processes. Either
         way the tracks not in the disk cache are prepared first, two or more new ones side by side in the
         process pool (a precompute holds the GIL for part of its time).
+    started : callable, optional
+        Called when this process has GIL to spare for the caller's own work beside the runs (``runner.run_study``):
+        once a run has finished where the runs are computed in this process (their first load of numba's compiled
+        code holds the GIL), at once where a new track's precompute comes first or the runs go to worker processes
+        or Dask, and at the end; it may be called more than once.
 
     Returns
     -------
@@ -146,11 +152,15 @@ def execute(
         save_cached(cache, summary)
         summaries[summary.key] = summary
         bar.update(1)
+        if started is not None:
+            started()
 
     try:
-        used = _dispatch(missing, int(workers), dask_address, finished, backend)
+        used = _dispatch(missing, int(workers), dask_address, finished, backend, started)
     finally:
         bar.close()
+        if started is not None:
+            started()
     return ExecutionReport(
         summaries=summaries,
         computed=len(summaries) - n_cached,
@@ -166,37 +176,49 @@ def _dispatch(
     dask_address: str | None,
     finished: Callable[[RunSummary], None],
     backend: str = "auto",
+    started: Callable[[], None] | None = None,
 ) -> str:
-    """Compute the missing runs where asked; returns the backend's name for the report."""
+    """Compute the missing runs where asked; returns the backend's name for the report. ``started``: as
+    :func:`execute`'s, called here where this process only waits (Dask, worker processes)."""
+    started = started or (lambda: None)
     if dask_address is not None:  # connect even when all runs are cached: a bad address is an error
+        started()
         _execute_dask(missing, dask_address, finished)
         return f"dask {dask_address}"
     if not missing:
         return "cache"
     if workers == 1 or len(missing) == 1:
-        for spec in read_once(missing):
-            finished(compute_run(spec))
+        # one worker, one core: a new track's precompute (in its first run) in one thread, BLAS in one
+        with integration_threads(workers), blas_threads(1 if workers == 1 else None):
+            for spec in read_once(missing):
+                finished(compute_run(spec))
         return "in-process"
     threads = backend == "threads" or (backend == "auto" and all(releases_gil(spec) for spec in missing))
     with _terminate_as_interrupt():
-        _prepare_tracks(track_tasks(missing), workers)
+        _prepare_tracks(track_tasks(missing), workers, started)
         if threads:
             execute_threads(missing, workers, finished)
             return f"threads ({workers} workers)"
+        started()
         _execute_pool(missing, workers, finished)
     return f"process pool ({workers} workers)"
 
 
-def _prepare_tracks(tasks: list[TrackTask], workers: int) -> None:
-    """The tracks the runs need and the disk cache lacks, before the runs: two or more new ones (each a
-    precompute) side by side in the process pool, the others (a reading off a cached track, or one new track,
-    whose precompute runs in threads of its own) in this process."""
+def _prepare_tracks(tasks: list[TrackTask], workers: int, started: Callable[[], None] | None = None) -> None:
+    """The tracks the runs need and the disk cache lacks, before the runs: with two or more workers, two or more new
+    ones (each a precompute) side by side in the process pool, one thread each; the others (a reading off a cached
+    track, or one new track) in this process, a precompute there in at most ``workers`` threads (``workers`` are the
+    cores the study may use: one worker integrates in one thread)."""
     new = [task for task in tasks if task.new]
-    if len(new) >= 2:
-        _pool_map(prepare_track, new, workers)
-    for task in tasks:
-        if len(new) < 2 or not task.new:
-            prepare_track(task)
+    pooled = new if workers >= 2 and len(new) >= 2 else []
+    if new and started is not None:
+        started()  # a precompute takes seconds, mostly in threads or processes that leave the GIL free
+    if pooled:
+        _pool_map(prepare_track, pooled, workers)
+    with integration_threads(workers):
+        for task in tasks:
+            if task not in pooled:
+                prepare_track(task)
 
 
 # --------------------------------------------------------------------------------------------------

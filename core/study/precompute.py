@@ -6,17 +6,21 @@ both compute it, and a study of several new tracks would compute them in whateve
 :func:`track_tasks` groups the runs by track, and :func:`prepare_track` (a worker task) computes a track's
 responses once and reads off the weights at every speed and time step its runs use; the tracks go to the workers
 (processes or Dask workers) side by side, then the runs read them back.
+
+A study's ``workers`` are the cores it may use: a precompute in the study's own process integrates in at most that
+many threads (:func:`integration_threads`; one worker, one thread), the pool's workers in one thread each.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import contextlib
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
 from wheelrail.core.study.specs import RunSpec
 
-__all__ = ["TrackTask", "prepare_track", "track_tasks"]
+__all__ = ["TrackTask", "integration_threads", "prepare_track", "track_tasks"]
 
 
 @dataclass(frozen=True)
@@ -59,3 +63,19 @@ def prepare_track(task: TrackTask) -> TrackTask:
         moving_weights(speed, time_step, task.track, task.numerics)
     cache.wait_for_writes()
     return task
+
+
+@contextlib.contextmanager
+def integration_threads(cores: int) -> Iterator[None]:
+    """A new track's precompute in this process integrates in at most ``cores`` threads while the block runs (the
+    integration's blocks run in ``numba.config.NUMBA_NUM_THREADS`` threads, ``track.stationary``: all cores, or the
+    environment's ``NUMBA_NUM_THREADS``); the number is restored after it. The study's process holds no other
+    precompute meanwhile (a study prepares its tracks before its runs)."""
+    from numba import config
+
+    saved = config.NUMBA_NUM_THREADS
+    config.NUMBA_NUM_THREADS = max(1, min(saved, int(cores)))
+    try:
+        yield
+    finally:
+        config.NUMBA_NUM_THREADS = saved

@@ -21,6 +21,7 @@ from wheelrail.core.study.execution import ExecutionReport, execute, parse_dask_
 from wheelrail.core.study.figures import plot_study
 from wheelrail.core.study.plans import StudyPlan, plan_study
 from wheelrail.core.study.tables import Table, write_table
+from wheelrail.core.study.threads import blas_threads
 from wheelrail.core.study.track_plan import swept_inputs, track_description
 
 if TYPE_CHECKING:  # the roughness package is imported when a set is read
@@ -162,7 +163,7 @@ def _run_study(name, sets, folder, planned: dict, workers, dask_address, progres
         dask_address = parse_dask_address(dask_address)
     plan = plan_study(name, sets, **planned)
     spare = workers > 1 or dask_address is not None  # the tables' own work beside the runs, on a core of its own
-    with _beside((*plan.beside, *((_load_matplotlib,) if figures else ())) if spare else ()):
+    with _beside((*plan.beside, *((_load_matplotlib,) if figures else ())) if spare else ()) as start_beside:
         report = execute(
             plan.specs,
             cache=folder / "runs",
@@ -170,8 +171,10 @@ def _run_study(name, sets, folder, planned: dict, workers, dask_address, progres
             dask_address=dask_address,
             progress=progress,
             description=f"study {name}",
+            started=start_beside,
         )
-    tables = plan.tabulate(report.summaries)
+    with blas_threads(1 if workers == 1 and dask_address is None else None):  # one worker, one core
+        tables = plan.tabulate(report.summaries)
     with all_or_none():  # the tables, figures and summary appear together, and none over an input
         files = [write_table(table, folder) for table in tables]
         if figures:
@@ -187,15 +190,22 @@ def _run_study(name, sets, folder, planned: dict, workers, dask_address, progres
 
 @contextlib.contextmanager
 def _beside(work):
-    """Call each of ``work`` in a thread while the block runs (its results are kept where they are cached); leaving
-    the block waits for it, but for an error or interrupt. A failure is left to the tabulation, which does the same
-    work again and reports it."""
+    """Call each of ``work`` in a thread while the block runs (its results are kept where they are cached), from when
+    the block calls the callable it is given (``execute``'s ``started``: once a run has finished, so that the work,
+    which holds the GIL, does not lengthen the first runs' load of numba's compiled code, which holds it too and
+    comes before any parallel step) or the block ends; leaving the block waits for it, but for an error or
+    interrupt. A failure is left to the tabulation, which does the same work again and reports it."""
+    go = threading.Event()
     if not work:
-        yield
+        yield go.set
         return
     stop = threading.Event()
 
     def call_each():
+        from wheelrail.core.study.threads import set_blas_threads_local
+
+        set_blas_threads_local(1)  # beside the runs' threads, on the study's cores
+        go.wait()
         for call in work:
             if stop.is_set():
                 return
@@ -207,10 +217,12 @@ def _beside(work):
     thread = threading.Thread(target=call_each, name="wheelrail-study-beside", daemon=True)
     thread.start()
     try:
-        yield
+        yield go.set
     except BaseException:
         stop.set()
+        go.set()
         raise
+    go.set()
     thread.join()
 
 

@@ -7,6 +7,7 @@ import hashlib
 import json
 import time
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -128,9 +129,10 @@ class RunSpec:
 
         return default_run_in_length(self.params) if self.run_in_length is None else float(self.run_in_length)
 
-    @property
+    @cached_property
     def key(self) -> str:
-        """SHA-256 hex digest of :meth:`description` (sorted keys, floats by repr)."""
+        """SHA-256 hex digest of :meth:`description` (sorted keys, floats by repr), worked out once a spec (a
+        study reads it several times a run; everything it hashes is frozen)."""
         text = json.dumps(self.description(), sort_keys=True, default=repr)
         return hashlib.sha256(text.encode()).hexdigest()
 

@@ -8,15 +8,19 @@ releases the GIL (:func:`releases_gil`); :func:`read_once` gives every run of a 
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
+import functools
 import os
 import threading
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import replace
+from pathlib import Path
 
 from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
 
-__all__ = ["execute_threads", "read_once", "releases_gil"]
+__all__ = ["blas_threads", "execute_threads", "read_once", "releases_gil"]
 
 
 def releases_gil(spec: RunSpec) -> bool:
@@ -63,15 +67,57 @@ def read_once(specs: Sequence[RunSpec]) -> list[RunSpec]:
     return out
 
 
+@functools.cache
+def _openblas_libraries() -> tuple:
+    """numpy's and scipy's OpenBLAS (the wheels' ``numpy.libs`` and ``scipy.libs``) that can set a thread's own
+    number of BLAS threads (``openblas_set_num_threads_local``, OpenBLAS 0.3.27 on); none elsewhere (another BLAS)."""
+    import numpy
+
+    found = []
+    site = Path(numpy.__file__).resolve().parent.parent
+    for folder in ("numpy.libs", "scipy.libs"):
+        for path in sorted((site / folder).glob("*openblas*.so*")):
+            try:
+                setter = ctypes.CDLL(str(path)).openblas_set_num_threads_local
+            except (OSError, AttributeError):
+                continue
+            setter.restype, setter.argtypes = ctypes.c_int, [ctypes.c_int]
+            found.append(setter)
+    return tuple(found)
+
+
+def set_blas_threads_local(threads: int) -> list[int]:
+    """This thread's BLAS calls in ``threads`` threads of OpenBLAS's (numpy's and scipy's); returns the numbers they
+    had (for :func:`blas_threads` to restore)."""
+    return [setter(int(threads)) for setter in _openblas_libraries()]
+
+
+@contextlib.contextmanager
+def blas_threads(threads: int | None) -> Iterator[None]:
+    """This thread's BLAS calls in ``threads`` threads while the block runs (None: as they are), restored after it:
+    a study's ``workers`` are the cores it may use, and OpenBLAS's own threads on top of a study's threads would
+    oversubscribe them (the noise chain's solves, the ``3d`` model's factorisations)."""
+    if threads is None:
+        yield
+        return
+    saved = set_blas_threads_local(threads)
+    try:
+        yield
+    finally:
+        for setter, value in zip(_openblas_libraries(), saved, strict=True):
+            setter(max(1, value))
+
+
 def execute_threads(specs: Sequence[RunSpec], workers: int, finished: Callable[[RunSummary], None]) -> None:
     """Compute ``specs`` in ``workers`` threads of this process, in the order given (longest first), calling
-    ``finished(summary)`` in this thread as each run ends.
+    ``finished(summary)`` in this thread as each run ends. Each thread's BLAS calls run in one thread.
 
     A failed run, Ctrl-C or SIGTERM (``execution``) stops the others at their next chunk of steps (their
     ``cancel`` event) and drops the queued ones; the runs already finished stay cached.
     """
     cancel = threading.Event()
-    with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="wheelrail-study") as pool:
+    one = functools.partial(set_blas_threads_local, 1)
+    with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="wheelrail-study", initializer=one) as pool:
         pending = {pool.submit(compute_run, spec, cancel) for spec in read_once(specs)}
         try:
             while pending:

@@ -123,14 +123,30 @@ def test_runs_are_grouped_by_track_and_the_new_tracks_come_first(monkeypatch):
 def test_two_new_tracks_are_prepared_side_by_side_in_the_pool_one_in_this_process(monkeypatch, new_tracks):
     tasks = [TrackTask(_track(v).track, ((30.0, 3.6e-5),), new=True) for v in (60e6, 80e6)[:new_tracks]]
     tasks.append(TrackTask(_track(100e6).track, ((30.0, 3.6e-5),), new=False))
-    pooled, here = [], []
+    pooled, here, started = [], [], []
     monkeypatch.setattr(study_execution, "_pool_map", lambda task, items, workers: pooled.extend(items))
     monkeypatch.setattr(study_execution, "prepare_track", here.append)
-    study_execution._prepare_tracks(tasks, 2)
+    study_execution._prepare_tracks(tasks, 2, lambda: started.append(len(pooled)))
+    assert started == [0]  # the work beside the runs starts with a precompute, before the pool's or this process's
     if new_tracks == 2:
         assert pooled == tasks[:2] and here == tasks[2:]
     else:
         assert pooled == [] and here == tasks
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_new_track_in_this_process_integrates_on_the_workers_cores(monkeypatch, tmp_path, workers):
+    # workers are the cores a study may use: one worker's precompute integrates in one thread, not all cores
+    from numba import config
+
+    monkeypatch.setattr(config, "NUMBA_NUM_THREADS", 2)
+    seen, blas = [], []
+    monkeypatch.setattr(study_threads, "_openblas_libraries", lambda: ())
+    monkeypatch.setattr(study_threads, "set_blas_threads_local", lambda n: blas.append(n) or [])
+    monkeypatch.setattr(study_execution, "compute_run", lambda spec: seen.append(config.NUMBA_NUM_THREADS))
+    study_execution._dispatch([_spec()], workers, None, lambda summary: None)
+    assert seen == [workers] and config.NUMBA_NUM_THREADS == 2
+    assert blas == ([1] if workers == 1 else [])  # and BLAS in one thread
 
 
 def test_prepare_track_reads_off_each_speed(monkeypatch):
@@ -173,6 +189,48 @@ def test_a_studys_noise_chains_are_worked_out_beside_its_runs(monkeypatch, tmp_p
     with pytest.raises(KeyError):
         runner.run_study("track", ["corrugated-rail"], tmp_path, workers=1, progress=False)
     assert chains == []  # one worker: the tabulation works them out itself
+
+
+def test_work_beside_the_runs_waits_for_a_finished_run(monkeypatch, tmp_path):
+    # the first runs load numba's compiled code, holding the GIL, before any step runs in parallel: the study's own
+    # work beside them (matplotlib's import, the noise chains), which holds it too, starts once a run has finished
+    from wheelrail.core.study import runner
+
+    ran, seen = threading.Event(), []
+    monkeypatch.setattr(runner, "_load_matplotlib", ran.set)
+
+    def execute(specs, *, started, **options):
+        seen.append(ran.is_set())
+        started()
+        seen.append(ran.wait(60))
+        raise KeyError("no runs")
+
+    monkeypatch.setattr(runner, "execute", execute)
+    with pytest.raises(KeyError):
+        runner.run_study("filters", ["corrugated-rail"], tmp_path, workers=2, progress=False, length=0.6)
+    assert seen == [False, True]
+
+
+def test_a_study_thread_calls_blas_in_one_thread(monkeypatch):
+    # workers are the study's cores: OpenBLAS's own threads under each study thread would oversubscribe them
+    seen = []
+    monkeypatch.setattr(study_threads, "set_blas_threads_local", lambda n: seen.append(n) or [])
+    monkeypatch.setattr(study_threads, "compute_run", lambda spec, cancel: spec.key)
+    study_threads.execute_threads([_spec(line=k) for k in range(4)], 2, lambda summary: None)
+    assert seen and set(seen) == {1}
+
+
+def test_blas_threads_are_this_threads_and_restored():
+    if not study_threads._openblas_libraries():
+        pytest.skip("no OpenBLAS that sets a thread's own number")
+    before = study_threads.set_blas_threads_local(3)
+    try:
+        with study_threads.blas_threads(1):
+            assert study_threads.set_blas_threads_local(1) == [1] * len(before)
+        assert study_threads.set_blas_threads_local(3) == [3] * len(before)
+    finally:
+        for setter, value in zip(study_threads._openblas_libraries(), before, strict=True):
+            setter(value)
 
 
 def test_work_beside_the_runs_is_left_at_an_interrupt():

@@ -67,3 +67,15 @@ def test_an_edited_run_file_is_recomputed_with_a_warning(tmp_path, change):
     _rewrite(cache_path(tmp_path, spec.key), change)
     with pytest.warns(UserWarning, match=r"unusable study run file .*(digest|missing arrays digest)"):
         assert load_cached(tmp_path, spec) is None
+
+
+def test_a_specs_key_is_worked_out_once(monkeypatch):
+    # a study reads each run's key several times (unique runs, its run file, the summary, the tables): the key
+    # hashes the run's whole description once a spec
+    spec, _ = _spec_and_summary()
+    calls = []
+    described = RunSpec.description
+    monkeypatch.setattr(RunSpec, "description", lambda self: calls.append(1) or described(self))
+    fresh = RunSpec(source="corrugated-rail", set_label="r", set_digest="0" * 64, model="hertz", length=2.0)
+    assert fresh.key == fresh.key != spec.key
+    assert len(calls) == 1
