@@ -55,28 +55,77 @@ def fast_start() -> None:
 
 
 class _OnFirstImport(importlib.abc.MetaPathFinder):
-    """A finder first on ``sys.meta_path`` that finds nothing: it sees the first import of numba (then runs
-    :func:`fast_start`) and of scipy (then runs :func:`defer_numpy_submodules`) before the finders that load
-    them. It stays on ``sys.meta_path`` (the import system iterates that list while it asks each finder), its
-    work done once."""
+    """A finder first on ``sys.meta_path`` that sees the first import of numba (then :func:`fast_start` runs) and of
+    scipy (then :func:`defer_numpy_submodules` runs), before the package's own code. It returns the spec the other
+    finders give with its loader wrapped (:class:`_WorkFirst`): the work runs when the package's module is executed,
+    under that module's import lock like the package's own imports, never in ``find_spec``, which the import system
+    calls holding its global lock (an import there waits on every other thread's import, and one of those may wait
+    on it: a deadlock). It stays on ``sys.meta_path`` (the import system iterates that list while it asks each
+    finder), its work done once."""
 
     def __init__(self) -> None:
-        self._lock = threading.RLock()
-        self.started = False  # fast_start has run
-        self.deferred = False  # defer_numpy_submodules has run
+        self._lock = threading.Lock()  # held only to claim the work, never around an import
+        self.started = False  # fast_start claimed
+        self.deferred = False  # defer_numpy_submodules claimed
+
+    def run_work(self, fullname: str) -> None:
+        """The work of the first import of ``fullname``, if not claimed yet (claimed under the lock, run outside it)."""
+        with self._lock:
+            work = None
+            if fullname == "numba" and not self.started:
+                self.started = self.deferred = True
+                work = fast_start
+            elif fullname == "scipy" and not self.deferred:
+                self.deferred = True
+                work = defer_numpy_submodules
+        if work is not None:
+            work()
 
     def find_spec(self, fullname, path=None, target=None):
-        if fullname == "numba" and not self.started:
-            with self._lock:
-                if not self.started:
-                    self.started = self.deferred = True
-                    fast_start()
-        elif fullname == "scipy" and not self.deferred:
-            with self._lock:
-                if not self.deferred:
-                    self.deferred = True
-                    defer_numpy_submodules()
-        return None
+        if fullname == "numba" and self.started or fullname == "scipy" and self.deferred:
+            return None
+        if fullname not in ("numba", "scipy"):
+            return None
+        spec = _spec_of_others(self, fullname, path, target)
+        if spec is None or spec.loader is None:
+            return None
+        spec.loader = _WorkFirst(spec.loader, lambda: self.run_work(fullname))
+        return spec
+
+
+def _spec_of_others(finder, fullname, path, target):
+    """The spec the finders on ``sys.meta_path`` after ``finder`` give for ``fullname`` (None if none does)."""
+    for other in list(sys.meta_path):
+        if other is finder:
+            continue
+        find_spec = getattr(other, "find_spec", None)
+        if find_spec is None:
+            continue
+        spec = find_spec(fullname, path, target)
+        if spec is not None:
+            return spec
+    return None
+
+
+class _WorkFirst(importlib.abc.Loader):
+    """A package's loader that runs ``work`` before the package's own code (then hands the module its own loader)."""
+
+    def __init__(self, loader, work) -> None:
+        self._loader = loader
+        self._work = work
+
+    def create_module(self, spec):
+        return self._loader.create_module(spec)
+
+    def exec_module(self, module) -> None:
+        self._work()
+        module.__loader__ = self._loader
+        if module.__spec__ is not None:
+            module.__spec__.loader = self._loader
+        self._loader.exec_module(module)
+
+    def __getattr__(self, name):
+        return getattr(self._loader, name)
 
 
 def fast_start_on_import() -> None:
@@ -91,7 +140,8 @@ def fast_start_on_import() -> None:
     finder = _OnFirstImport()
     sys.meta_path.insert(0, finder)
     if "scipy" in sys.modules:
-        finder.find_spec("scipy")
+        finder.deferred = True
+        defer_numpy_submodules()
 
 
 def load_cython_blas_alone() -> None:

@@ -101,3 +101,44 @@ def test_the_command_lines_start_up_runs_when_numba_or_scipy_is_first_imported()
     assert done.stdout.splitlines() == ["before: []", "numba: False module _LazyModule"], done.stdout
     done = subprocess.run([sys.executable, "-c", _SCIPY_FIRST], capture_output=True, text=True, check=True, timeout=300)
     assert done.stdout.splitlines() == ["scipy: _LazyModule False"], done.stdout
+
+
+_BESIDE = """
+import sys, threading
+from wheelrail.core import startup
+startup.fast_start_on_import()
+inside, other_done = threading.Event(), threading.Event()
+real = startup.fast_start
+
+def held():  # numba's start-up, waiting for the other thread's import before it goes on
+    inside.set()
+    print("other import done during the start-up:", other_done.wait(60))
+    real()
+
+startup.fast_start = held
+assert "colorsys" not in sys.modules
+
+def other():
+    inside.wait(60)
+    import colorsys  # any import in another thread needs the import system's global lock for a moment
+    other_done.set()
+
+thread = threading.Thread(target=other)
+thread.start()
+import numba
+thread.join(60)
+print("numba:", type(sys.modules["scipy.linalg.cython_blas"]).__name__, "scipy.linalg" in sys.modules)
+"""
+
+
+def test_the_start_up_lets_other_threads_import_while_it_runs():
+    """The start-up's imports run as numba's package executes (under its module lock), not inside the finder's
+    ``find_spec``, which the import system calls holding its global lock: there, a study thread importing scipy
+    while the main thread's first ``import numba`` loaded the BLAS module deadlocked the two (the BLAS module waited
+    on scipy's module lock, the other thread on the global lock). The other thread's import here finishes while the
+    start-up waits for it (``Event.wait`` returns at once when it does; its 60 s only bound a regression)."""
+    done = subprocess.run([sys.executable, "-c", _BESIDE], capture_output=True, text=True, check=True, timeout=300)
+    assert done.stdout.splitlines() == [
+        "other import done during the start-up: True",
+        "numba: module False",
+    ], done.stdout
