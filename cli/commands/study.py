@@ -71,7 +71,8 @@ def add_parser(sub):
         "--workers",
         type=int,
         default=None,
-        help="local workers (default 2): threads of this process for the bundled models, else worker processes",
+        help="local workers, the cores the study may use (default 2): threads of this process for the bundled models, "
+        "else worker processes; a new track's precompute integrates in at most that many threads",
     )
     where.add_argument(
         "--dask", metavar="ADDR", default=None, help="run on a Dask cluster: scheduler address tcp://HOST:PORT"
