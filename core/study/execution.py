@@ -2,7 +2,8 @@
 (:mod:`wheelrail.core.study.threads`: the compiled laws release the GIL), on a local process pool
 (``concurrent.futures.ProcessPoolExecutor``, spawned workers) or on a Dask cluster (``dask.distributed``), and write
 each finished run at once (:mod:`wheelrail.core.study.store`). The tracks the runs need that the disk cache does not
-hold are prepared first, one task per track, side by side on the workers (:mod:`wheelrail.core.study.precompute`).
+hold are prepared before their runs, one task per track, side by side on the workers
+(:mod:`wheelrail.core.study.precompute`).
 
 Shutdown: pool workers exit by themselves within ``PARENT_POLL_INTERVAL`` when the process that started
 them dies (even by kill -9), so no worker and no multiprocessing resource tracker outlives a study; a
@@ -118,9 +119,10 @@ def execute(
     backend : str
         The local workers: ``"threads"`` (threads of this process, sharing its compiled code, sets and tracks: no
         worker to start), ``"processes"`` (a kept pool of spawned processes) or ``"auto"``: threads when every
-        missing run's law releases the GIL (``ContactLaw.nogil``: the bundled models), else processes. Either
-        way the tracks not in the disk cache are prepared first, two or more new ones side by side in the
-        process pool (a precompute holds the GIL for part of its time).
+        missing run's law releases the GIL (``ContactLaw.nogil``: the bundled models), else processes. The tracks
+        not in the disk cache are prepared before their runs: with threads, in the same threads (a precompute in
+        each, integrating in one thread), each track's runs queued as soon as it is ready; with processes, first,
+        two or more new ones side by side in the process pool.
     started : callable, optional
         Called when this process has GIL to spare for the caller's own work beside the runs (``runner.run_study``):
         once a run has finished where the runs are computed in this process (their first load of numba's compiled
@@ -195,10 +197,13 @@ def _dispatch(
         return "in-process"
     threads = backend == "threads" or (backend == "auto" and all(releases_gil(spec) for spec in missing))
     with _terminate_as_interrupt():
-        _prepare_tracks(track_tasks(missing), workers, started)
-        if threads:
-            execute_threads(missing, workers, finished)
+        if threads:  # the tracks prepared in the same threads, each track's runs started once it is ready
+            tasks = track_tasks(missing)
+            if any(task.new for task in tasks):
+                started()  # a precompute takes seconds, mostly in compiled code that leaves the GIL free
+            execute_threads(missing, workers, finished, tasks)
             return f"threads ({workers} workers)"
+        _prepare_tracks(track_tasks(missing), workers, started)
         started()
         _execute_pool(missing, workers, finished)
     return f"process pool ({workers} workers)"

@@ -8,7 +8,9 @@ responses once and reads off the weights at every speed and time step its runs u
 (processes or Dask workers) side by side, then the runs read them back.
 
 A study's ``workers`` are the cores it may use: a precompute in the study's own process integrates in at most that
-many threads (:func:`integration_threads`; one worker, one thread), the pool's workers in one thread each.
+many threads (:func:`integration_threads`; one worker, one thread), the pool's workers in one thread each. With the
+thread backend (``study.threads``) the new tracks are prepared in the study's threads, one integrating thread each,
+and each track's runs start as soon as it is ready.
 """
 
 from __future__ import annotations
@@ -67,15 +69,10 @@ def prepare_track(task: TrackTask) -> TrackTask:
 
 @contextlib.contextmanager
 def integration_threads(cores: int) -> Iterator[None]:
-    """A new track's precompute in this process integrates in at most ``cores`` threads while the block runs (the
-    integration's blocks run in ``numba.config.NUMBA_NUM_THREADS`` threads, ``track.stationary``: all cores, or the
-    environment's ``NUMBA_NUM_THREADS``); the number is restored after it. The study's process holds no other
-    precompute meanwhile (a study prepares its tracks before its runs)."""
-    from numba import config
+    """A new track's precompute started in this thread integrates in at most ``cores`` threads while the block runs
+    (``track.stationary.integration_threads``: this thread's number, so that precomputes in other threads of the
+    study, each in its own number of threads, run side by side)."""
+    from wheelrail.core.track.stationary import integration_threads as threads
 
-    saved = config.NUMBA_NUM_THREADS
-    config.NUMBA_NUM_THREADS = max(1, min(saved, int(cores)))
-    try:
+    with threads(cores):
         yield
-    finally:
-        config.NUMBA_NUM_THREADS = saved

@@ -108,24 +108,52 @@ def blas_threads(threads: int | None) -> Iterator[None]:
             setter(max(1, value))
 
 
-def execute_threads(specs: Sequence[RunSpec], workers: int, finished: Callable[[RunSummary], None]) -> None:
+def execute_threads(
+    specs: Sequence[RunSpec], workers: int, finished: Callable[[RunSummary], None], tracks: Sequence = ()
+) -> None:
     """Compute ``specs`` in ``workers`` threads of this process, in the order given (longest first), calling
     ``finished(summary)`` in this thread as each run ends. Each thread's BLAS calls run in one thread.
+
+    ``tracks`` (``precompute.TrackTask``: the tracks the disk cache lacks) are prepared first, in the same threads,
+    a new track's precompute integrating in one thread (:func:`~wheelrail.core.study.precompute.integration_threads`)
+    and sharing this process's compiled code: a run on such a track is queued as soon as its track is ready, while
+    the next tracks are being prepared (the runs whose tracks are all held start at once, after the tracks queued).
 
     A failed run, Ctrl-C or SIGTERM (``execution``) stops the others at their next chunk of steps (their
     ``cancel`` event) and drops the queued ones; the runs already finished stay cached.
     """
+    from wheelrail.core.study.precompute import prepare_track
+
     cancel = threading.Event()
     one = functools.partial(set_blas_threads_local, 1)
+    waiting: dict[tuple, list[RunSpec]] = {(task.track, task.numerics): [] for task in tracks}
+    ready = []
+    for spec in read_once(specs):
+        waiting.get((spec.params.track, spec.track_numerics), ready).append(spec)
     with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="wheelrail-study", initializer=one) as pool:
-        pending = {pool.submit(compute_run, spec, cancel) for spec in read_once(specs)}
+        preparing = {pool.submit(_prepared, prepare_track, task): task for task in tracks}
+        pending = set(preparing) | {pool.submit(compute_run, spec, cancel) for spec in ready}
         try:
             while pending:
                 done, pending = wait(pending, return_when=FIRST_COMPLETED)
                 for future in done:
-                    finished(future.result())
+                    result = future.result()
+                    if future in preparing:  # a track ready: its runs
+                        task = preparing.pop(future)
+                        runs = waiting.pop((task.track, task.numerics))
+                        pending |= {pool.submit(compute_run, spec, cancel) for spec in runs}
+                    else:
+                        finished(result)
         except BaseException:
             cancel.set()  # the running runs end within a chunk; leaving the block waits for them
             for future in pending:
                 future.cancel()
             raise
+
+
+def _prepared(prepare: Callable, task):
+    """``prepare(task)`` in this thread, a precompute integrating in one thread (a study's thread is one core)."""
+    from wheelrail.core.study.precompute import integration_threads
+
+    with integration_threads(1):
+        return prepare(task)

@@ -4,6 +4,9 @@ See ``wheelrail.core.track``."""
 
 from __future__ import annotations
 
+import contextlib
+import threading
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -49,10 +52,32 @@ def _relaxation_terms(loss_factor: float, dt: float) -> tuple[float, np.ndarray,
 COLUMN_BLOCK = 32
 
 
+_LOCAL = threading.local()  # this thread's integration threads (``integration_threads``)
+
+
+def _threads() -> int:
+    """The threads a precompute in this thread integrates in: ``integration_threads``'s number, else all cores (or
+    ``NUMBA_NUM_THREADS``)."""
+    return max(1, getattr(_LOCAL, "threads", None) or numba.config.NUMBA_NUM_THREADS)
+
+
+@contextlib.contextmanager
+def integration_threads(threads: int) -> Iterator[None]:
+    """A precompute started in this thread while the block runs integrates in at most ``threads`` threads (at most
+    ``NUMBA_NUM_THREADS``); other threads' precomputes are not affected (two can run side by side)."""
+    saved = getattr(_LOCAL, "threads", None)
+    _LOCAL.threads = max(1, min(numba.config.NUMBA_NUM_THREADS, int(threads)))
+    try:
+        yield
+    finally:
+        _LOCAL.threads = saved
+
+
 def column_blocks(columns: int, threads: int | None = None) -> list[tuple[int, int]]:
-    """The blocks (first, end) of columns ``integrate_responses`` runs: as many as the threads (all cores, or
-    ``NUMBA_NUM_THREADS``) or more, of at most ``COLUMN_BLOCK`` columns and about equal."""
-    threads = max(1, numba.config.NUMBA_NUM_THREADS if threads is None else threads)
+    """The blocks (first, end) of columns ``integrate_responses`` runs: as many as the threads (``_threads``: this
+    thread's ``integration_threads``, else all cores or ``NUMBA_NUM_THREADS``) or more, of at most ``COLUMN_BLOCK``
+    columns and about equal."""
+    threads = max(1, _threads() if threads is None else threads)
     size = max(1, min(COLUMN_BLOCK, -(-columns // threads)))
     return [(c0, min(columns, c0 + size)) for c0 in range(0, columns, size)]
 
@@ -197,10 +222,11 @@ def integrate_responses(
     progress: Progress | None = None,
 ) -> np.ndarray:
     """Newmark responses to unit loads at x_e, stored at ``nodes`` (see ``newmark._newmark_steps``), float64:
-    the ``column_blocks`` in as many threads as numba would use (all cores, or ``NUMBA_NUM_THREADS``). The loads
-    whose mirror images are among them on a mirror-symmetric model are not integrated but read from their images
-    (``mirror_plan``; every load with ``MIRROR_SYMMETRY`` False). With ``progress``, ``progress("integrating ...", done,
-    total)`` is called at the start and as each block ends (``done`` columns of ``total`` integrated)."""
+    the ``column_blocks`` in ``_threads()`` threads (``integration_threads``, else all cores or
+    ``NUMBA_NUM_THREADS``). The loads whose mirror images are among them on a mirror-symmetric model are not
+    integrated but read from their images (``mirror_plan``; every load with ``MIRROR_SYMMETRY`` False). With
+    ``progress``, ``progress("integrating ...", done, total)`` is called at the start and as each block ends
+    (``done`` columns of ``total`` integrated)."""
     return _integrate(model, x_e, (dt, n_steps, stride), (nodes, counts, offsets), impulse, progress, np.float64)
 
 
@@ -277,7 +303,7 @@ def _integrate(model, x_e, steps, wedge, impulse: bool, progress: Progress | Non
         phase = _integrating_phase(m, len(x_e), n_steps, len(model.node_x))
         progress(phase, 0, m)
     done = 0
-    with ThreadPoolExecutor(max_workers=max(1, numba.config.NUMBA_NUM_THREADS)) as pool:
+    with ThreadPoolExecutor(max_workers=_threads()) as pool:
         futures = [pool.submit(block, c0, c1, n_steps, out) for c0, c1 in column_blocks(m)]
         for future in as_completed(futures):
             done += future.result()

@@ -1,9 +1,10 @@
 """A study's runs in threads of one process (the compiled laws release the GIL) and its new tracks prepared once,
-side by side, before the runs (``core.study.threads``, ``core.study.precompute``, ``core.study.execution``)."""
+side by side, before their runs (``core.study.threads``, ``core.study.precompute``, ``core.study.execution``)."""
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import threading
 
 import numpy as np
@@ -139,14 +140,108 @@ def test_a_new_track_in_this_process_integrates_on_the_workers_cores(monkeypatch
     # workers are the cores a study may use: one worker's precompute integrates in one thread, not all cores
     from numba import config
 
+    from wheelrail.core.track import stationary
+
     monkeypatch.setattr(config, "NUMBA_NUM_THREADS", 2)
     seen, blas = [], []
     monkeypatch.setattr(study_threads, "_openblas_libraries", lambda: ())
     monkeypatch.setattr(study_threads, "set_blas_threads_local", lambda n: blas.append(n) or [])
-    monkeypatch.setattr(study_execution, "compute_run", lambda spec: seen.append(config.NUMBA_NUM_THREADS))
+    monkeypatch.setattr(study_execution, "compute_run", lambda spec: seen.append(stationary._threads()))
     study_execution._dispatch([_spec()], workers, None, lambda summary: None)
-    assert seen == [workers] and config.NUMBA_NUM_THREADS == 2
+    assert seen == [workers] and stationary._threads() == 2
     assert blas == ([1] if workers == 1 else [])  # and BLAS in one thread
+
+
+def test_precomputes_in_two_threads_integrate_in_their_own_numbers_of_threads(monkeypatch):
+    # two precomputes side by side in a study's threads: each thread's number, not a process-wide one
+    from numba import config
+
+    from wheelrail.core.track import stationary
+
+    monkeypatch.setattr(config, "NUMBA_NUM_THREADS", 4)
+    both, seen = threading.Barrier(2, timeout=60), {}
+
+    def precompute(threads):
+        with stationary.integration_threads(threads):
+            both.wait()  # the other thread's number set too
+            seen[threads] = (stationary._threads(), len(stationary.column_blocks(8)))
+
+    workers = [threading.Thread(target=precompute, args=(n,)) for n in (1, 2)]
+    for worker in workers:
+        worker.start()
+    for worker in workers:
+        worker.join()
+    assert seen == {1: (1, 1), 2: (2, 2)} and stationary._threads() == 4
+
+
+def test_with_threads_a_tracks_runs_start_once_it_is_ready_while_the_next_is_prepared(monkeypatch, tmp_path):
+    # two new tracks, two workers: the tracks are prepared in the study's threads (no process pool), one
+    # integrating thread each, and the second track's precompute is still going when the first track's run starts
+    from wheelrail.core.track import stationary
+
+    a, b = _track(60e6), _track(200e6)
+    tasks = [TrackTask(p.track, ((p.run.speed, p.run.time_step),), new=True) for p in (a, b)]
+    first_run, prepared, ran = threading.Event(), [], []
+
+    def prepare(task):
+        prepared.append((task.track, stationary._threads()))
+        if task.track == b.track:
+            assert first_run.wait(60)  # a's run started while b is prepared
+        return task
+
+    def compute(spec, cancel):
+        ran.append(spec.params.track)
+        first_run.set()
+        return spec
+
+    monkeypatch.setattr(study_execution, "track_tasks", lambda specs: tasks)
+    monkeypatch.setattr(study_execution, "_pool_map", lambda *args: pytest.fail("the process pool was used"))
+    monkeypatch.setattr(study_precompute, "prepare_track", prepare)
+    monkeypatch.setattr(study_threads, "compute_run", compute)
+    monkeypatch.setattr(study_threads, "read_once", list)
+    done = []
+    used = study_execution._dispatch([_spec(params=b), _spec(params=a)], 2, None, done.append, "threads")
+    assert used == "threads (2 workers)" and sorted(p[1] for p in prepared) == [1, 1]
+    assert ran == [a.track, b.track] and len(done) == 2
+
+
+@pytest.mark.slow
+def test_a_track_study_in_threads_gives_the_process_pools_numbers(monkeypatch, tmp_path):
+    # the tracks prepared in the study's threads give the same tables, to the bit, as prepared in the process pool
+    # (each in a fresh cache holding no track, so each study computes both tracks)
+    import os
+    import shutil
+
+    from wheelrail.core.files.cache import cache_dir
+    from wheelrail.core.study import run_study, runner
+    from wheelrail.core.track import stationary
+
+    shared = cache_dir()
+    tables, computed = {}, []  # the precomputes in this process
+    compute = stationary.compute_stationary_response
+    monkeypatch.setattr(stationary, "compute_stationary_response", lambda *a: computed.append(1) or compute(*a))
+    for backend in ("threads", "processes"):
+        folder = tmp_path / f"cache-{backend}"
+        folder.mkdir()
+        for entry in shared.glob("*.npz"):
+            if not entry.name.startswith("track-"):
+                shutil.copy2(entry, folder / entry.name)
+        monkeypatch.setenv("WHEELRAIL_CACHE_DIR", os.fspath(folder))
+        stationary.clear_memory()
+        computed.clear()
+        monkeypatch.setattr(runner, "execute", functools.partial(study_execution.execute, backend=backend))
+        result = run_study(
+            "track", ["corrugated-rail"], tmp_path / backend, length=0.6, params=[_track(60e6), _track(1000e6)],
+            workers=2, progress=False, figures=False,
+        )  # fmt: skip
+        assert result.report.backend == {"threads": "threads", "processes": "process pool"}[backend] + " (2 workers)"
+        assert len(list(folder.glob("track-wedge*"))) == 2  # both tracks computed here, each once
+        assert len(computed) == (2 if backend == "threads" else 0)  # (the pool's in its worker processes)
+        tables[backend] = result.tables
+    for mine, theirs in zip(tables["threads"], tables["processes"], strict=True):
+        for column in mine.columns:
+            np.testing.assert_array_equal(np.asarray(mine.columns[column]), np.asarray(theirs.columns[column]))
+    stationary.clear_memory()
 
 
 def test_prepare_track_reads_off_each_speed(monkeypatch):
