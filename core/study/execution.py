@@ -305,15 +305,24 @@ def _start_worker(parent_pid: int) -> None:
     fast_start()  # the worker's first numba load without scipy.linalg's package and numpy.f2py (core/startup.py)
 
 
-_POOLS: dict[int, ProcessPoolExecutor] = {}
+_POOLS: dict[tuple[int, str], ProcessPoolExecutor] = {}
+
+
+def _pool_key(workers: int) -> tuple[int, str]:
+    """A kept pool's key: its workers and the disk cache its workers read and write (the folder is read from the
+    environment when a worker starts: a process that changes it needs new workers)."""
+    from wheelrail.core.files.cache import cache_dir
+
+    return workers, os.fspath(cache_dir())
 
 
 def _pool(workers: int) -> ProcessPoolExecutor:
     """The process pool of ``workers`` workers, kept for later studies in this process (their start-up,
-    imports and numba's cached kernels, is paid once)."""
+    imports and numba's cached kernels, is paid once) while the disk cache folder is the same."""
     import multiprocessing
 
-    pool = _POOLS.get(workers)
+    key = _pool_key(workers)
+    pool = _POOLS.get(key)
     if pool is None or getattr(pool, "_broken", False):
         # spawn, not fork: the parent may hold threads (tqdm monitor, a Dask client, the GUI's server)
         # that a forked child would inherit in an undefined state
@@ -323,13 +332,15 @@ def _pool(workers: int) -> ProcessPoolExecutor:
             initializer=_start_worker,
             initargs=(os.getpid(),),
         )
-        _POOLS[workers] = pool
+        _POOLS[key] = pool
     return pool
 
 
 def _stop_pool(workers: int, pool: ProcessPoolExecutor) -> None:
     """Drop the pool and end its workers now, including those in the middle of a run."""
-    _POOLS.pop(workers, None)
+    for key, kept in list(_POOLS.items()):
+        if kept is pool:
+            del _POOLS[key]
     # the executor has no public way to end a running task: its worker processes are stopped directly
     processes = list((getattr(pool, "_processes", None) or {}).values())
     pool.shutdown(wait=False, cancel_futures=True)

@@ -212,6 +212,7 @@ def test_a_track_study_in_threads_gives_the_process_pools_numbers(monkeypatch, t
     import os
     import shutil
 
+    from wheelrail.core.files import cache
     from wheelrail.core.files.cache import cache_dir
     from wheelrail.core.study import run_study, runner
     from wheelrail.core.track import stationary
@@ -235,6 +236,7 @@ def test_a_track_study_in_threads_gives_the_process_pools_numbers(monkeypatch, t
             workers=2, progress=False, figures=False,
         )  # fmt: skip
         assert result.report.backend == {"threads": "threads", "processes": "process pool"}[backend] + " (2 workers)"
+        cache.wait_for_writes()  # a new track's entry is written in the background (cache.save_entry_behind)
         assert len(list(folder.glob("track-wedge*"))) == 2  # both tracks computed here, each once
         assert len(computed) == (2 if backend == "threads" else 0)  # (the pool's in its worker processes)
         tables[backend] = result.tables
