@@ -207,7 +207,7 @@ def test_with_threads_a_tracks_runs_start_once_it_is_ready_while_the_next_is_pre
 
 @pytest.mark.slow
 def test_a_track_study_in_threads_gives_the_process_pools_numbers(monkeypatch, tmp_path):
-    # the tracks prepared in the study's threads give the same tables, to the bit, as prepared in the process pool
+    # the tracks prepared in the study's threads give the same tables as prepared in the process pool
     # (each in a fresh cache holding no track, so each study computes both tracks)
     import os
     import shutil
@@ -240,9 +240,11 @@ def test_a_track_study_in_threads_gives_the_process_pools_numbers(monkeypatch, t
         assert len(list(folder.glob("track-wedge*"))) == 2  # both tracks computed here, each once
         assert len(computed) == (2 if backend == "threads" else 0)  # (the pool's in its worker processes)
         tables[backend] = result.tables
+    # to 1e-9 dB, as the other backends' tests: a process that compiled numba's kernels and one that loaded them from
+    # its cache give levels ~1e-12 relative apart (docs/limitations.md), e.g. the pool's fresh workers on a new machine
     for mine, theirs in zip(tables["threads"], tables["processes"], strict=True):
         for column in mine.columns:
-            np.testing.assert_array_equal(np.asarray(mine.columns[column]), np.asarray(theirs.columns[column]))
+            np.testing.assert_allclose(mine.columns[column], theirs.columns[column], atol=1e-9, equal_nan=True)
     stationary.clear_memory()
 
 
