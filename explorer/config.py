@@ -27,7 +27,7 @@ from wheelrail.core.inputs.declared import (
     model_parameters,
     page_names,
 )
-from wheelrail.core.inputs.numerics import numerics_changes, parse_track_numerics
+from wheelrail.core.inputs.numerics import numerics_changes, numerics_from_changes, parse_track_numerics
 from wheelrail.core.inputs.ranges import ACCEPTED, check_wheel_circumference
 from wheelrail.core.inputs.run_records import IRREGULARITY_INPUT_VALUES
 from wheelrail.core.models import REFERENCE_MODEL, model_entry, model_names
@@ -196,8 +196,7 @@ class RunConfig:
         """The run's keywords of ``prepare_run`` besides its parameters: ``track_numerics`` when given (else {})."""
         if not self.track_numerics:
             return {}
-        text = ",".join(f"{name}={value!r}" for name, value in self.track_numerics)
-        return {"track_numerics": parse_track_numerics(text, label=NUMERICS_LABEL)}
+        return {"track_numerics": numerics_from_changes(self.track_numerics, label=NUMERICS_LABEL)}
 
     def numerics_words(self) -> str:
         """The track numerics given, as core words them ("track numerics elements_per_bay=32"), or ""."""

@@ -225,13 +225,13 @@ def _checked_model(value) -> str:
 def _numerics_changes(value) -> dict:
     """A header's ``track_numerics`` checked as ``--track-numerics`` checks them (None, as before they were
     recorded: the default)."""
-    from wheelrail.core.inputs.numerics import numerics_changes, parse_track_numerics
+    from wheelrail.core.inputs.numerics import numerics_changes, numerics_from_changes
 
     if value is None:
         return {}
     if not isinstance(value, dict):
         raise ValueError(f"track_numerics {value!r} is not a JSON object")
-    return numerics_changes(parse_track_numerics(",".join(f"{name}={number}" for name, number in value.items())))
+    return numerics_changes(numerics_from_changes(value))
 
 
 def _whole_number(key: str, value) -> int:

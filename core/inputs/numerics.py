@@ -29,6 +29,7 @@ __all__ = [
     "NumericsField",
     "frequency_domain_fields",
     "numerics_changes",
+    "numerics_from_changes",
     "numerics_words",
     "parse_track_numerics",
 ]
@@ -162,6 +163,14 @@ def parse_track_numerics(
                 f"every excitation position and stored grid point is a node; set refined_elements_per_bay too"
             )
     return replace(numerics, **changes)
+
+
+def numerics_from_changes(changes, *, label: str = NUMERICS_OPTION) -> TrackNumerics:
+    """``TrackNumerics`` from changed fields by their typed names and units (a dict as :func:`numerics_changes` gives,
+    or its items), checked as :func:`parse_track_numerics` checks ``--track-numerics``: what a run's header, a saved
+    session or a noise chain read back."""
+    items = changes.items() if isinstance(changes, dict) else changes
+    return parse_track_numerics(",".join(f"{name}={value}" for name, value in items), label=label)
 
 
 def numerics_changes(numerics: TrackNumerics | None) -> dict[str, float | int]:

@@ -420,11 +420,10 @@ def run_noise(
 def _run_numerics(result):
     """The noise chain's numerics of a run: the default's, with the elements per bay of the run's own track
     numerics (one track for the force and the transfer functions)."""
-    from wheelrail.core.inputs.numerics import parse_track_numerics
+    from wheelrail.core.inputs.numerics import numerics_from_changes
     from wheelrail.core.noise.twins import chain_numerics
 
-    changes = result.header.track_numerics
-    return chain_numerics(parse_track_numerics(",".join(f"{name}={value!r}" for name, value in changes.items())))
+    return chain_numerics(numerics_from_changes(result.header.track_numerics))
 
 
 def _revolution_steps(result) -> int:
