@@ -320,8 +320,9 @@ def _vibration(
 ) -> dict:
     """Steps 1-3 of the module docstring for the track at every frequency of ``freqs`` (bands, points) and both
     excitation positions: each force-driven part's ``response`` (``responses``), the rail's velocity integral and its
-    field radiated in the wavenumber domain, alpha_R + alpha_C (``alpha_track``; each (b, p, 2)), and per band the
-    midspan transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
+    field radiated in the wavenumber domain, alpha_R + alpha_C (``alpha_track``; each (b, p, 2)) with alpha_C =
+    1 / ``k_hertz`` (kept as ``contact_stiffness``), and per band the midspan transfer |u|^2 along the rail (EN 15461)
+    and at the sleepers 3..20 bays on."""
     from wheelrail.core.track import assemble_track
     from wheelrail.core.track.fe import timoshenko_shape_functions
 
@@ -348,6 +349,7 @@ def _vibration(
         "rail": np.empty(shape),
         "rail_radiated": np.empty(shape),
         "alpha_track": np.empty(shape, dtype=complex),
+        "contact_stiffness": k_hertz,
         "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
         "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
         "free_distance": free_distance,
@@ -523,7 +525,7 @@ def _track_noise_model(
     freqs = band_frequencies(numerics.points_per_band)
     driven = tuple(entry for entry in components if entry.track_part)
     vib = _track_part(params.track, contact, numerics, driven)  # the same for every wheel and position
-    k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
+    k_hertz = vib["contact_stiffness"]  # dF/d delta at the preload (eq. 12), in alpha_track
     tread = position.wheel_offset if wheel_model == "modal" else 0.0  # the directive's wheel has no position
     alpha_wheel, wheel = _wheel_part(params, numerics, wheel_model, profile, tread, driven)
     alpha_sq = np.abs(alpha_wheel[..., None] + vib["alpha_track"]) ** 2  # |alpha_W + alpha_R + alpha_C|^2
