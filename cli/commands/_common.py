@@ -162,6 +162,15 @@ def track_numerics_from_args(args):
     return parse_track_numerics(getattr(args, "track_numerics", None))
 
 
+def print_track_numerics(changes: dict) -> None:
+    """The summary's line of the track numerics that differ from the default (``inputs.numerics.numerics_changes``),
+    none when there are none."""
+    from wheelrail.core.inputs.numerics import numerics_words
+
+    if changes:
+        print(f"  track numerics: {numerics_words(changes)} (the others the default)")
+
+
 def add_irregularity_options(parser, several: bool = False) -> None:
     """The options of the discrete irregularities (``wheelrail.core.inputs.irregular``: each number declared once,
     with --flat-shape and --irregularity-input), one argparse group; read back by :func:`irregularities_from_args`.

@@ -22,6 +22,7 @@ from wheelrail.cli.commands._common import (
     irregularities_from_args,
     params_from_args,
     print_json,
+    print_track_numerics,
     track_numerics_from_args,
 )
 from wheelrail.core.errors import WheelrailError
@@ -298,8 +299,7 @@ def _print_summary(args, result, params, summary, sink) -> None:
         f"{summary['length_m']:.3f} m"
     )
     print(f"  track: {describe_words(params, 'track')}")
-    if result.header.track_numerics:
-        print(f"  track numerics: {result.header.numerics_words()} (the others the default)")
+    print_track_numerics(result.header.track_numerics)
     modal = result.header.wheel_model == "modal"
     wheel = ", with the paper's wheelset mass and suspension (wheelrail wheel shows it)" if modal else ""
     print(f"  wheel: {result.header.wheel_words()}{wheel}")

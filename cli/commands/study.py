@@ -15,6 +15,7 @@ from wheelrail.cli.commands._common import (
     irregularities_from_args,
     params_from_args,
     print_json,
+    print_track_numerics,
     track_numerics_from_args,
 )
 from wheelrail.core.errors import WheelrailError
@@ -240,10 +241,7 @@ def run(args) -> int:
             )
         print(f"  {describe_track(params, leave_out=tuple(entry.key for entry in swept))}")
     print(f"  contact geometry: {describe_contact(params)}")
-    if summary.get("track_numerics"):  # those of every run that differ from the default
-        from wheelrail.core.inputs.numerics import numerics_words
-
-        print(f"  track numerics: {numerics_words(summary['track_numerics'])} (the others the default)")
+    print_track_numerics(summary.get("track_numerics"))  # those of every run that differ from the default
     if summary.get("irregularity_cases"):
         _say_impact(result)
     if summary["loss_of_contact_steps"]:

@@ -16,6 +16,7 @@ from wheelrail.cli.commands._common import (
     add_track_numerics_option,
     params_from_args,
     print_json,
+    print_track_numerics,
     speed_from_kmh,
     track_numerics_from_args,
 )
@@ -246,10 +247,7 @@ def _print_summary(track, summary: dict, peaks: dict) -> None:
         f"laterally, {lat.pad_rotational_stiffness / 1e3:g} kNm/rad in roll, loss factor "
         f"{lat.pad_lateral_loss_factor:g}; ballast {lat.ballast_lateral_stiffness / 1e6:g} MN/m laterally"
     )
-    if summary["track_numerics"]:
-        from wheelrail.core.inputs.numerics import numerics_words
-
-        print(f"  track numerics: {numerics_words(summary['track_numerics'])} (the others the default)")
+    print_track_numerics(summary["track_numerics"])
     _print_resonances(track, peaks)
     print(f"  sleeper-passing frequency     {summary['sleeper_passing_frequency_hz']:7.1f} Hz  at {speed_kmh:g} km/h")
     print(
