@@ -16,7 +16,7 @@ and each track's runs start as soon as it is ready.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
@@ -67,12 +67,10 @@ def prepare_track(task: TrackTask) -> TrackTask:
     return task
 
 
-@contextlib.contextmanager
-def integration_threads(cores: int) -> Iterator[None]:
+def integration_threads(cores: int) -> contextlib.AbstractContextManager[None]:
     """A new track's precompute started in this thread integrates in at most ``cores`` threads while the block runs
     (``track.stationary.integration_threads``: this thread's number, so that precomputes in other threads of the
-    study, each in its own number of threads, run side by side)."""
+    study, each in its own number of threads, run side by side; imported when used, as the precompute is)."""
     from wheelrail.core.track.stationary import integration_threads as threads
 
-    with threads(cores):
-        yield
+    return threads(cores)
