@@ -235,7 +235,7 @@ MIRROR_SYMMETRY = True
 reference of ``tests/physics/test_track_mirror.py`` and ``validation/track_newmark_identity.py --full``)."""
 
 
-def mirror_plan(model: TrackFEModel, x_e, nodes=None):
+def mirror_plan(model: TrackFEModel, x_e, nodes=None, *, symmetry: bool = True):
     """Which loads to integrate, and each wedge's source: (columns, source, sign, nodes).
 
     On a model that is its own mirror image about its middle x_c (its rail nodes at x and 2 x_c - x: the bays,
@@ -245,7 +245,7 @@ def mirror_plan(model: TrackFEModel, x_e, nodes=None):
     at the mirrored nodes, its theta negated. ``columns`` are the indices of the loads integrated, ``source[e]``
     the column (an index into ``columns``) wedge e is read from, ``sign[e]`` -1 for a mirror image and 1
     otherwise, ``nodes`` the wedges' nodes in the source's frame (``nodes`` as given, rows of images mirrored).
-    On a model that is not symmetric (or for a single load), every load is integrated.
+    On a model that is not symmetric (or for a single load, or with ``symmetry`` False), every load is integrated.
     """
     x_e = np.asarray(x_e, dtype=float)
     m = len(x_e)
@@ -253,7 +253,7 @@ def mirror_plan(model: TrackFEModel, x_e, nodes=None):
     L = model.params.support.sleeper_spacing
     columns, source, sign = list(range(m)), np.arange(m, dtype=np.int64), np.ones(m)
     mirrored = None if nodes is None else np.array(nodes, dtype=np.int64, copy=True)
-    if m < 2 or np.max(np.abs(x + x[::-1] - x[-1])) > 1e-9 * L:
+    if not symmetry or m < 2 or np.max(np.abs(x + x[::-1] - x[-1])) > 1e-9 * L:
         return np.asarray(columns, dtype=np.int64), source, sign, mirrored
     columns = []
     for e in range(m):
@@ -276,10 +276,7 @@ def _integrate(model, x_e, steps, wedge, impulse: bool, progress: Progress | Non
     dt, n_steps, stride = steps
     nodes, counts, offsets = wedge
     operators = step_operators(model, dt, _relaxation_terms(model.params.rail.loss_factor, dt))
-    if MIRROR_SYMMETRY:
-        columns, source, sign, nodes = mirror_plan(model, x_e, nodes)
-    else:
-        columns, source, sign = np.arange(len(x_e)), np.arange(len(x_e)), np.ones(len(x_e))
+    columns, source, sign, nodes = mirror_plan(model, x_e, nodes, symmetry=MIRROR_SYMMETRY)
     loads = np.stack([model.load_vector(float(x_e[c])) for c in columns], axis=1)
     out = np.zeros((int(counts.sum()), 2), dtype=dtype)
     m = loads.shape[1]
