@@ -320,9 +320,8 @@ def _vibration(
 ) -> dict:
     """Steps 1-3 of the module docstring for the track at every frequency of ``freqs`` (bands, points) and both
     excitation positions: each force-driven part's ``response`` (``responses``), the rail's velocity integral and its
-    field radiated in the wavenumber domain, alpha_R + alpha_C (``alpha_track``; each (b, p, 2)) with alpha_C =
-    1 / ``k_hertz`` (kept as ``contact_stiffness``), and per band the midspan transfer |u|^2 along the rail (EN 15461)
-    and at the sleepers 3..20 bays on."""
+    field radiated in the wavenumber domain, alpha_R + alpha_C (``alpha_track``; each (b, p, 2)), and per band the
+    midspan transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
     from wheelrail.core.track import assemble_track
     from wheelrail.core.track.fe import timoshenko_shape_functions
 
@@ -349,7 +348,7 @@ def _vibration(
         "rail": np.empty(shape),
         "rail_radiated": np.empty(shape),
         "alpha_track": np.empty(shape, dtype=complex),
-        "contact_stiffness": k_hertz,
+        "contact_stiffness": k_hertz,  # alpha_C = 1 / k_hertz in alpha_track
         "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
         "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
         "free_distance": free_distance,
@@ -525,7 +524,6 @@ def _track_noise_model(
     freqs = band_frequencies(numerics.points_per_band)
     driven = tuple(entry for entry in components if entry.track_part)
     vib = _track_part(params.track, contact, numerics, driven)  # the same for every wheel and position
-    k_hertz = vib["contact_stiffness"]  # dF/d delta at the preload (eq. 12), in alpha_track
     tread = position.wheel_offset if wheel_model == "modal" else 0.0  # the directive's wheel has no position
     alpha_wheel, wheel = _wheel_part(params, numerics, wheel_model, profile, tread, driven)
     alpha_sq = np.abs(alpha_wheel[..., None] + vib["alpha_track"]) ** 2  # |alpha_W + alpha_R + alpha_C|^2
@@ -547,7 +545,7 @@ def _track_noise_model(
         "sleeper_area_m2": numerics.sleeper_area,
         "excitation": "mean of above a sleeper and midspan",
         "preload_n": contact.preload,
-        "contact_stiffness_n_per_m": k_hertz,
+        "contact_stiffness_n_per_m": vib["contact_stiffness"],  # dF/d delta at the preload (eq. 12)
         "rail_section": rail_section(),
         "band_range_hz": list(NOISE_BAND_RANGE),
         "wheel_model": wheel_model,
