@@ -59,22 +59,21 @@ def test_the_longest_and_shortest_steps_run_and_stay_smooth(speed_kmh, element_s
 def test_the_memory_estimate_bounds_a_half_millimetre_3d_run():
     # the 3d window at 0.5 mm is 49 x 49 elements (four times the maps of 1 mm per step, twice the steps per metre):
     # the estimate (core/engine/memory.py, from the element size) must bound the traced growth, within a factor two
-    import tracemalloc
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
 
-    from wheelrail.core.engine import memory, prepare_run
+    from wheelrail.core.engine import memory
     from wheelrail.core.models import model_entry
 
     params = ModelParameters(run=RunParameters(element_size=SIZES[0]))
-
-    def peak(length):
-        tracemalloc.start()
-        try:
-            prepare_run("cast-iron-wheel", model="3d", length=length, run_in_length=0.1, params=params).run()
-            return tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
-
-    peak(0.01)  # the fixed costs (Green's functions, compiled kernels) out of the way
-    measured = peak(1.0) - peak(0.5)
+    script = Path(__file__).parents[1] / "traced_peaks.py"  # in a fresh interpreter: the script says why
+    done = subprocess.run(
+        [sys.executable, str(script), "3d", str(SIZES[0]), "0.5", "1.0"], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    short, long = json.loads(done.stdout.splitlines()[-1])
+    measured = long - short
     estimate = [memory.check_run_memory(model_entry("3d"), params, length, 0.1, True) for length in (0.5, 1.0)]
     assert measured <= estimate[1] - estimate[0] <= 2 * measured

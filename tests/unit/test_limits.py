@@ -3,6 +3,7 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -10,33 +11,12 @@ from wheelrail.core.engine import memory as limits
 from wheelrail.core.engine import prepare_run
 from wheelrail.core.errors import WheelrailError
 
-_PEAKS = """
-import json, sys, tracemalloc
-from wheelrail.core.engine import prepare_run
-from wheelrail.core.files.cache import wait_for_writes
-
-def peak(model, length):
-    tracemalloc.start()
-    try:
-        prepare_run("cast-iron-wheel", model=model, length=length, run_in_length=0.1).run()
-        return tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
-
-model = sys.argv[1]
-peak(model, 0.01)  # Green's functions into memory, kernels compiled: fixed costs out of the way
-wait_for_writes()  # a new track's cache entry is written in a thread of its own: not while a run is traced
-print(json.dumps([peak(model, float(length)) for length in sys.argv[2:]]))
-"""
-
 
 def _peaks(model, *lengths):
-    """The traced peak of each run, bytes, in a fresh interpreter whose only other thread, a new track's cache
-    write, has ended: tracemalloc counts every thread's allocations. With an empty cache the write overlapped the
-    first traced run (its peak 43.0 MB against 26.9 MB alone); in a test process other tests' threads (a study's
-    work beside its runs, a GUI server) may allocate too."""
+    """The traced peak of each 1 mm run, bytes, in a fresh interpreter (tests/traced_peaks.py: why)."""
+    script = Path(__file__).parents[1] / "traced_peaks.py"
     done = subprocess.run(
-        [sys.executable, "-c", _PEAKS, model, *map(str, lengths)], capture_output=True, text=True, check=False
+        [sys.executable, str(script), model, "1e-3", *map(str, lengths)], capture_output=True, text=True, check=False
     )
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.splitlines()[-1])

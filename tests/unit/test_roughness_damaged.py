@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from wheelrail.core.errors import WheelrailError
+from wheelrail.core.files.cache import wait_for_writes
 from wheelrail.core.roughness import (
     MAX_LINE_CHARS,
     MAX_VALUES,
@@ -169,6 +170,7 @@ def test_declared_size_over_the_limit_allocates_nothing(tmp_path):
     # also sees numpy's data buffers; 10 MB is far above the reader's own few kB and far below 160 MB.
     header = f"{{'descr': '<f8', 'fortran_order': False, 'shape': (1, {MAX_VALUES + 1}), }}"
     path = _zip(tmp_path / "bomb.npz", {"z_m": _raw_npy(header, bytes(1024))}, zipfile.ZIP_DEFLATED)
+    wait_for_writes()  # another test's cache write (a thread of its own) would be traced too
     tracemalloc.start()
     try:
         with pytest.raises(WheelrailError, match="more than the limit"):

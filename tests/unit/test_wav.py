@@ -90,10 +90,12 @@ def test_the_wav_written_in_blocks_is_the_wav_computed_whole(monkeypatch):
 def test_writing_a_long_wav_holds_a_block_not_the_pass_by(monkeypatch, tmp_path):
     import tracemalloc
 
+    from wheelrail.core.files.cache import wait_for_writes
     from wheelrail.core.noise import wav
 
     noise = _slow_noise(40.0)  # 29 s: 1.4 million samples, 11 MB as float64 and 55 MB computed whole
     monkeypatch.setattr(wav, "BLOCK_SAMPLES", 1 << 16)
+    wait_for_writes()  # another test's cache write (a thread of its own) would be traced too
     tracemalloc.start()
     try:
         with open(tmp_path / "p.wav", "wb") as handle:
