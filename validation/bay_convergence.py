@@ -34,6 +34,7 @@ import tempfile
 import time
 
 import numpy as np
+from sleeper_harmonics import harmonics, whole_bays  # validation/sleeper_harmonics.py
 
 HARMONICS = (1, 2, 4, 8, 10, 12, 15, 17, 22, 29, 30, 40, 47, 64, 128)
 
@@ -67,30 +68,6 @@ DOUBLED = (
 )
 
 
-def _smooth_rail(length: float):
-    from wheelrail.core.roughness import RoughnessSet
-
-    n = int(round(length / 1e-3)) + 1
-    return RoughnessSet(heights=np.zeros((1, n)), dx=1e-3, y=np.zeros(1), kind="rail", description="smooth rail")
-
-
-def _harmonics(result, sleeper_spacing: float) -> tuple[np.ndarray, float]:
-    """Amplitudes of the force at k v / L_S over a whole number of bays (after the first 0.02 s)."""
-    from wheelrail.core.spectra.force import FORCE_SKIP
-
-    force = np.asarray(result.force)
-    dt = result.time[1] - result.time[0]
-    v = result.header.params.run.speed
-    start = int(np.ceil(FORCE_SKIP / dt))
-    per_bay = sleeper_spacing / (v * dt)
-    n_bays = int((len(force) - start) / per_bay)
-    n = int(round(n_bays * per_bay))
-    seg = force[start : start + n] - np.mean(force[start : start + n])
-    t = np.arange(n) * dt
-    amps = [2 * abs(np.mean(seg * np.exp(-2j * np.pi * k * v / sleeper_spacing * t))) for k in HARMONICS]
-    return np.array(amps), float(np.ptp(seg))
-
-
 def _track():
     """The track of ``--pad-width-mm`` and ``--rail-loss-factor`` (default the paper's)."""
     from wheelrail.core.parameters import RailParameters, SupportParameters, TrackParameters
@@ -104,13 +81,16 @@ def _track():
 def _levels(numerics, kmh: float):
     from wheelrail.core.engine import simulate
     from wheelrail.core.parameters import ModelParameters, RunParameters
-    from wheelrail.core.spectra.force import force_spectrum
+    from wheelrail.core.roughness import RoughnessSet
+    from wheelrail.core.spectra.force import FORCE_SKIP, force_spectrum
 
     params = ModelParameters(track=_track(), run=RunParameters(speed=kmh / 3.6))
     smooth = simulate(
-        _smooth_rail(ARGS.length), model="hertz", params=params, track_numerics=numerics, keep_pressure=False
+        RoughnessSet.smooth(ARGS.length), model="hertz", params=params, track_numerics=numerics, keep_pressure=False
     )
-    amps, ptp = _harmonics(smooth, params.track.support.sleeper_spacing)
+    spacing = params.track.support.sleeper_spacing
+    amps = harmonics(smooth, spacing, HARMONICS, skip=FORCE_SKIP)  # after the first 0.02 s
+    ptp = float(np.ptp(whole_bays(smooth, spacing, skip=FORCE_SKIP)[0]))
     per_line = []
     for line in range(-3, 4):
         result = simulate(

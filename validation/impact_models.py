@@ -17,8 +17,6 @@ from __future__ import annotations
 import sys
 import time
 
-import numpy as np
-
 from wheelrail.core.engine import impact_summary, simulate
 from wheelrail.core.irregularities import WheelFlat
 from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
@@ -31,8 +29,7 @@ BAY = ModelParameters().track.support.sleeper_spacing
 
 def flat_run(model: str, speed_kmh: float, irregularity_input: str = "trajectory", element_size: float = 1e-3):
     """A run of two bays with the flat's first meeting at the midspan in between; its impact summary."""
-    heights = np.zeros((41, int(round((3 * BAY + 0.1) / 1e-3)) + 1))  # 40 mm across: the 3D window's rows at 2.4 P
-    smooth = RoughnessSet(heights=heights, dx=1e-3, y=(np.arange(41) - 20) * 1e-3, kind="rail", description="smooth")
+    smooth = RoughnessSet.smooth(3 * BAY + 0.1, lines=41)  # 40 mm across: the 3D window's rows at 2.4 P
     flat = WheelFlat(length=0.05, position=1.5 * BAY)
     run = RunParameters(speed=speed_kmh * KMH, element_size=element_size, irregularities=(flat,),
                         irregularity_input=irregularity_input)  # fmt: skip

@@ -15,8 +15,6 @@ from __future__ import annotations
 import math
 import sys
 
-import numpy as np
-
 from wheelrail.core.engine import simulate
 from wheelrail.core.irregularities import WheelFlat
 from wheelrail.core.noise.run_noise import run_noise
@@ -28,8 +26,7 @@ BAY = ModelParameters().track.support.sleeper_spacing
 
 def flat_noise(speed_kmh: float, model: str = "hertz", numerics=None):
     """The noise of a run of two bays with the flat's first meeting at the midspan in between."""
-    heights = np.zeros((41, int(round((3 * BAY + 0.1) / 1e-3)) + 1))
-    smooth = RoughnessSet(heights=heights, dx=1e-3, y=(np.arange(41) - 20) * 1e-3, kind="rail", description="smooth")
+    smooth = RoughnessSet.smooth(3 * BAY + 0.1, lines=41)
     flat = WheelFlat(length=0.05, position=1.5 * BAY)
     params = ModelParameters(run=RunParameters(speed=speed_kmh * KMH, element_size=1e-3, irregularities=(flat,)))
     result = simulate(smooth, model=model, params=params, length=round(2 * BAY / 1e-3) * 1e-3)

@@ -32,6 +32,7 @@ import tempfile
 import time
 
 import numpy as np
+from sleeper_harmonics import harmonics  # validation/sleeper_harmonics.py
 
 HARMONICS = np.arange(1, 21)
 DEFAULT_CONFIGS = (
@@ -45,25 +46,6 @@ DEFAULT_CONFIGS = (
 )
 
 
-def _smooth_rail(length: float):
-    from wheelrail.core.roughness import RoughnessSet
-
-    n = int(round(length / 1e-3)) + 1
-    return RoughnessSet(heights=np.zeros((1, n)), dx=1e-3, y=np.zeros(1), kind="rail", description="smooth rail")
-
-
-def harmonics(result, sleeper_spacing: float, orders=HARMONICS) -> np.ndarray:
-    """Amplitudes (N) of the force of ``result`` at k v / L_S for the ``orders`` k, over a whole number of bays."""
-    force = np.asarray(result.force)
-    dt = result.time[1] - result.time[0]
-    v = result.header.params.run.speed
-    per_bay = sleeper_spacing / (v * dt)
-    n = int(round(int(len(force) / per_bay) * per_bay))
-    seg = force[:n] - np.mean(force[:n])
-    t = np.arange(n) * dt
-    return np.array([2 * abs(np.mean(seg * np.exp(-2j * np.pi * k * v / sleeper_spacing * t))) for k in orders])
-
-
 def first_order_estimate(point: np.ndarray, width: float, sleeper_spacing: float, orders=HARMONICS) -> np.ndarray:
     """The point support's harmonics times |sinc(k b / L_S)|: a pad of width b to first order (module docstring)."""
     return point * np.abs(np.sinc(np.asarray(orders) * width / sleeper_spacing))
@@ -73,15 +55,16 @@ def smooth_rail_harmonics(width: float, kmh: float, length: float, numerics) -> 
     """k = 1-20 of a ``hertz`` run on a smooth rail, pads ``width`` m wide (0: point supports), at ``kmh``."""
     from wheelrail.core.engine import simulate
     from wheelrail.core.parameters import ModelParameters, RunParameters, SupportParameters, TrackParameters
+    from wheelrail.core.roughness import RoughnessSet
 
     params = ModelParameters(
         track=TrackParameters(support=SupportParameters(pad_width=width)), run=RunParameters(speed=kmh / 3.6)
     )
     result = simulate(
-        _smooth_rail(length + 1.0), model="hertz", params=params, length=length, track_numerics=numerics,
+        RoughnessSet.smooth(length + 1.0), model="hertz", params=params, length=length, track_numerics=numerics,
         keep_pressure=False,
     )  # fmt: skip
-    return harmonics(result, params.track.support.sleeper_spacing)
+    return harmonics(result, params.track.support.sleeper_spacing, HARMONICS)
 
 
 def main() -> None:

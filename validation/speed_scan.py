@@ -21,8 +21,7 @@ from wheelrail.core.roughness import RoughnessSet
 def main() -> None:
     fine = float(sys.argv[1]) if len(sys.argv) > 1 else 0.05
     speeds = np.concatenate([np.arange(MIN_SPEED_KMH, 20.0, fine), np.arange(20.0, MAX_SPEED_KMH + 1e-9, 1.0)])
-    n = 501
-    smooth = RoughnessSet(heights=np.zeros((1, n)), dx=1e-3, y=np.zeros(1), kind="rail", description="smooth")
+    smooth = RoughnessSet.smooth(0.5)
     start = time.perf_counter()
     worst = []
     for kmh in speeds:

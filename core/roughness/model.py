@@ -163,6 +163,75 @@ class RoughnessSet:
         object.__setattr__(self, "dx", dx)
         object.__setattr__(self, "description", str(self.description))
 
+    @classmethod
+    def smooth(
+        cls,
+        length: float,
+        *,
+        dx: float = 1e-3,
+        lines: int = 1,
+        line_spacing: float = 1e-3,
+        kind: str = "rail",
+        description: str = "smooth",
+    ) -> RoughnessSet:
+        """A set of zero heights: a smooth rail (or wheel) for runs that study the track or an irregularity alone.
+
+        Parameters
+        ----------
+        length : float
+            What the heights cover, m: a rail's samples reach x = ``length`` (``round(length / dx) + 1`` of them);
+            a wheel's are one circumference of ``length`` (``round(length / dx)``).
+        dx : float
+            Longitudinal sample spacing, m.
+        lines : int
+            Number of lines; ``line_spacing`` apart, line 0 at y = 0 with ``lines // 2`` lines before it (a
+            3D window needs the lines its rows reach).
+        line_spacing : float
+            Lateral spacing of the lines, m.
+        kind, description : str
+            As for :class:`RoughnessSet`.
+
+        Returns
+        -------
+        RoughnessSet
+
+        Raises
+        ------
+        WheelrailError
+            For a length or a spacing that is not a positive finite number of m, a line count that is not a
+            positive integer, fewer than 2 samples, or more heights than :data:`MAX_VALUES`.
+
+        Examples
+        --------
+        >>> from wheelrail.core.roughness import RoughnessSet
+        >>> rail = RoughnessSet.smooth(0.5, lines=3)
+        >>> rail.heights.shape, rail.y.tolist(), float(rail.heights.max())
+        ((3, 501), [-0.001, 0.0, 0.001], 0.0)
+        """
+        where = "RoughnessSet.smooth"
+        for name, value in (("length", length), ("dx", dx), ("line_spacing", line_spacing)):
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+                raise WheelrailError(f"{where}: {name} must be a positive number of m, got {value!r}")
+            if not (math.isfinite(value) and value > 0):
+                raise WheelrailError(f"{where}: {name} must be a positive finite number of m, got {value!r}")
+        if isinstance(lines, bool) or not isinstance(lines, (int, np.integer)) or lines < 1:
+            raise WheelrailError(f"{where}: lines must be a positive whole number, got {lines!r}")
+        if kind not in KINDS:
+            raise WheelrailError(f"{where}: kind must be one of {', '.join(KINDS)}, got {kind!r}")
+        check_value_count(int(lines) * (length / dx + 1), "a smooth set")  # before rounding: an infinite ratio
+        samples = int(round(length / dx)) + (0 if kind == "wheel" else 1)
+        if samples < 2:
+            raise WheelrailError(
+                f"{where}: length {length:g} m holds {samples} sample(s) at dx {dx:g} m; at least 2 are needed"
+            )
+        return cls(
+            heights=np.zeros((int(lines), samples)),
+            dx=dx,
+            y=(np.arange(int(lines)) - int(lines) // 2) * line_spacing,
+            kind=kind,
+            description=description,
+        )
+
     # -- shape and positions ------------------------------------------------------------------------
     @property
     def n_lines(self) -> int:

@@ -27,8 +27,9 @@ LOW_RESOLUTION_LINES_MM = {  # Fig. 17: lateral offsets from line 0 kept, mm
 }
 PAPER_SPEEDS_KMH = (75.0, 100.0, 140.0, 200.0)  # Fig. 11
 HALF_WHEEL_MASS = 296.3  # kg, Fig. 11: half of M_W = 592.5 kg
-STUDY_FORMAT_VERSION = 3  # part of every run key: bump when a run's summary changes meaning (2: wheel sets paired
-# by lateral position; 3: a band resolved by its width against the analysed record, core.spectra.record)
+STUDY_FORMAT_VERSION = 4  # part of every run key: bump when a run's summary changes meaning (2: wheel sets paired
+# by lateral position; 3: a band resolved by its width against the analysed record, core.spectra.record; 4: a set
+# finer than the grid low-passed before it is read, roughness.grid.anti_alias)
 SUMMARY_SCALARS = ("force_mean", "force_std", "force_min", "force_max", "loss_of_contact_steps", "n_steps", "run_time")
 
 

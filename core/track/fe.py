@@ -271,6 +271,20 @@ row's error, met once per bay, would put 5-16 N into every sleeper-passing harmo
 where the first-order estimate is 0.1-2 N (``validation/pad_harmonics.py``, docs/validation.md)."""
 
 
+def track_mesh(
+    n_bays: int, sleeper_spacing: float, elements_per_bay: int, refined: tuple[int, int, int] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh of :func:`assemble_track` (its arguments), without the matrices: the elements of each bay and the
+    rail nodes' positions, m (bay j's ``per_bay[j]`` equal elements from its sleeper at j ``sleeper_spacing``)."""
+    L = sleeper_spacing
+    per_bay = np.full(n_bays, elements_per_bay, dtype=np.int64)
+    if refined is not None:
+        first, count, fine = refined
+        per_bay[max(first - REFINED_LEAD_IN_BAYS, 0) : first + count] = fine
+    node_x = np.concatenate([j * L + np.arange(n) * (L / n) for j, n in enumerate(per_bay)] + [[n_bays * L]])
+    return per_bay, node_x
+
+
 def assemble_track(
     track: TrackParameters, elements_per_bay: int = 16, refined: tuple[int, int, int] | None = None
 ) -> TrackFEModel:
@@ -294,11 +308,7 @@ def assemble_track(
 
     rail, sup = track.rail, track.support
     L = sup.sleeper_spacing
-    per_bay = np.full(track.n_bays, elements_per_bay, dtype=np.int64)
-    if refined is not None:
-        first, count, fine = refined
-        per_bay[max(first - REFINED_LEAD_IN_BAYS, 0) : first + count] = fine
-    node_x = np.concatenate([j * L + np.arange(n) * (L / n) for j, n in enumerate(per_bay)] + [[track.n_bays * L]])
+    per_bay, node_x = track_mesh(track.n_bays, L, elements_per_bay, refined)
     n_el = len(node_x) - 1
     support_nodes = np.concatenate([[0], np.cumsum(per_bay)])
     w_dof, th_dof, sleeper_dof = _number_dofs(n_el + 1, support_nodes)

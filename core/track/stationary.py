@@ -15,7 +15,7 @@ import numpy as np
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.parameters import TrackNumerics, TrackParameters
-from wheelrail.core.track.fe import POINT_PAD_WIDTH, REFINED_LEAD_IN_BAYS, TrackFEModel, assemble_track, rail_relaxation
+from wheelrail.core.track.fe import POINT_PAD_WIDTH, TrackFEModel, assemble_track, rail_relaxation, track_mesh
 from wheelrail.core.track.newmark import newmark_responses, step_operators
 from wheelrail.core.track.progress import Progress, current_progress
 
@@ -147,11 +147,19 @@ def numerics_model(track: TrackParameters, numerics: TrackNumerics) -> TrackFEMo
     before it; ``model_bays`` bays, ``track.n_bays // 2`` on either side of the central bay, so that the model
     is its own mirror image about the central bay's middle when the refined bays are too (``refined_bays`` 2,
     the default: ``mirror_plan``)."""
-    return assemble_track(
-        replace(track, n_bays=model_bays(track)),
-        numerics.elements_per_bay,
-        refined=(track.n_bays // 2, numerics.refined_bays, numerics.refined_elements_per_bay),
-    )
+    bays = model_bays(track)
+    return assemble_track(replace(track, n_bays=bays), numerics.elements_per_bay, _refined(track, numerics))
+
+
+def _refined(track: TrackParameters, numerics: TrackNumerics) -> tuple[int, int, int]:
+    """``assemble_track``'s ``refined`` of ``numerics_model``: the central bay first."""
+    return (track.n_bays // 2, numerics.refined_bays, numerics.refined_elements_per_bay)
+
+
+def numerics_mesh(track: TrackParameters, numerics: TrackNumerics) -> np.ndarray:
+    """The rail nodes' positions of ``numerics_model`` (m), without assembling it (``fe.track_mesh``)."""
+    bays = model_bays(track)
+    return track_mesh(bays, track.support.sleeper_spacing, numerics.elements_per_bay, _refined(track, numerics))[1]
 
 
 def model_bays(track: TrackParameters) -> int:
@@ -163,14 +171,20 @@ def model_bays(track: TrackParameters) -> int:
 def excitation_nodes(model: TrackFEModel, numerics: TrackNumerics):
     """Excitation positions within the central bay (m from its first sleeper), on the track (m), and their
     FE nodes (the positions are nodes of the refined mesh: TrackNumerics checks)."""
-    track = model.params
-    L = track.support.sleeper_spacing
-    positions = np.arange(numerics.positions_per_bay) * (L / numerics.positions_per_bay)
-    x_e = (track.n_bays // 2) * L + positions
+    L = model.params.support.sleeper_spacing
+    positions, x_e = _excitation_x(model.params, numerics)
     nodes = np.searchsorted(model.node_x, x_e - 1e-9 * L)
     if np.any(np.abs(model.node_x[nodes] - x_e) > 1e-9 * L):
         raise WheelrailError("excitation positions must be FE nodes")  # TrackNumerics guarantees it
     return positions, x_e, nodes
+
+
+def _excitation_x(track: TrackParameters, numerics: TrackNumerics) -> tuple[np.ndarray, np.ndarray]:
+    """The excitation positions within the central bay and on the track, m (``excitation_nodes``); ``track``
+    the model's or the one it is made for (their central bay is the same: ``model_bays``)."""
+    L = track.support.sleeper_spacing
+    positions = np.arange(numerics.positions_per_bay) * (L / numerics.positions_per_bay)
+    return positions, (track.n_bays // 2) * L + positions
 
 
 def stored_nodes(model: TrackFEModel, numerics: TrackNumerics, x_e: np.ndarray, speed: float, t_samples: np.ndarray):
@@ -247,10 +261,13 @@ def mirror_plan(model: TrackFEModel, x_e, nodes=None, *, symmetry: bool = True):
     otherwise, ``nodes`` the wedges' nodes in the source's frame (``nodes`` as given, rows of images mirrored).
     On a model that is not symmetric (or for a single load, or with ``symmetry`` False), every load is integrated.
     """
+    return _mirror_plan(model.node_x, model.params.support.sleeper_spacing, x_e, nodes, symmetry)
+
+
+def _mirror_plan(x: np.ndarray, L: float, x_e, nodes, symmetry: bool):
+    """``mirror_plan`` on rail nodes at ``x`` (m) with sleepers ``L`` apart: the mesh alone decides."""
     x_e = np.asarray(x_e, dtype=float)
     m = len(x_e)
-    x = model.node_x
-    L = model.params.support.sleeper_spacing
     columns, source, sign = list(range(m)), np.arange(m, dtype=np.int64), np.ones(m)
     mirrored = None if nodes is None else np.array(nodes, dtype=np.int64, copy=True)
     if not symmetry or m < 2 or np.max(np.abs(x + x[::-1] - x[-1])) > 1e-9 * L:
@@ -483,18 +500,17 @@ def _computed(track, numerics, key: str, use_cache: bool, progress: Progress | N
 
 def _node_count(track: TrackParameters, numerics: TrackNumerics) -> int:
     """Rail nodes of ``numerics_model`` (without assembling it)."""
-    bays = model_bays(track)
-    first = track.n_bays // 2
-    refined = min(first + numerics.refined_bays, bays) - max(first - REFINED_LEAD_IN_BAYS, 0)
-    return (bays - refined) * numerics.elements_per_bay + refined * numerics.refined_elements_per_bay + 1
+    return len(numerics_mesh(track, numerics))
 
 
 def integrated_positions(track: TrackParameters, numerics: TrackNumerics) -> int:
-    """Excitation positions ``compute_stationary_response`` integrates (without assembling the model): on a
-    mirror-symmetric model (``mirror_plan``: the refined bays symmetric about the central one) positions 0 ..
-    P / 2, the others being their mirror images; otherwise all P."""
-    P = numerics.positions_per_bay
-    return P // 2 + 1 if numerics.refined_bays - 1 == REFINED_LEAD_IN_BAYS and P > 1 else P
+    """Excitation positions ``compute_stationary_response`` integrates: the columns of ``mirror_plan``'s plan on
+    ``numerics_model``'s mesh (``numerics_mesh``: without assembling the model), as the integration reads it
+    (``MIRROR_SYMMETRY``). On a mirror-symmetric mesh (the refined bays symmetric about the central one)
+    positions 0 .. P / 2, the others being their mirror images; otherwise all P."""
+    x_e = _excitation_x(track, numerics)[1]
+    plan = _mirror_plan(numerics_mesh(track, numerics), track.support.sleeper_spacing, x_e, None, MIRROR_SYMMETRY)
+    return len(plan[0])
 
 
 def rail_impulse_responses(

@@ -17,7 +17,6 @@ same case over two sleeper bays, and ``wheelrail study impact`` sweeps the flat'
 """
 
 import matplotlib.pyplot as plt
-import numpy as np
 
 from wheelrail.core.drawing.palette import model_colour
 from wheelrail.core.engine import impact_summary, simulate
@@ -27,8 +26,7 @@ from wheelrail.core.parameters import KMH, ModelParameters, RunParameters
 from wheelrail.core.roughness import RoughnessSet
 
 # a smooth rail: 41 lines 1 mm apart (the 3D window's width), 0.7 m long
-heights = np.zeros((41, 701))
-smooth = RoughnessSet(heights=heights, dx=1e-3, y=(np.arange(41) - 20) * 1e-3, kind="rail", description="smooth")
+smooth = RoughnessSet.smooth(0.7, lines=41)
 bay = ModelParameters().track.support.sleeper_spacing
 flat = WheelFlat(length=0.05, position=0.35)
 

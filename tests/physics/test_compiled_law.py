@@ -8,11 +8,12 @@ import json
 import os
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
-from spring_law import SPRING, SpringLaw
+from spring_law import SPRING, SpringLaw, SpringModel
 from test_contact_models import LinearSpring
 
 from wheelrail.core.engine import prepare_run, simulate
@@ -52,6 +53,32 @@ def test_surface_input_is_what_each_law_reads_of_the_surface(model):
     law = run.law
     read = law.solver.track[1] if model == "3d" else law.law_inputs[0]
     np.testing.assert_array_equal(law.surface_input(law.inputs.lines), read)
+
+
+class _MeanSpring(SpringModel):
+    """The spring on the chosen line's roughness less its mean over 5 elements: a model whose treatment of the
+    surface is its own (a pre-filter in ``prepare``) on the plain ``SpringLaw``."""
+
+    def prepare(self, inputs):
+        approach = super().prepare(inputs)
+        line = np.convolve(inputs.centre_line, np.ones(5) / 5, mode="same")
+        roughness = np.ascontiguousarray((line[inputs.start_index] * inputs.ramp)[:, None])
+        self._law = replace(self._law, roughness=roughness)
+        return approach
+
+
+@pytest.mark.parametrize("model", [*MODELS, "mean-spring"])
+def test_surface_input_on_other_lines_is_what_the_model_prepared_on_them_reads(model):
+    # the hook reads any surface through the model's own treatment (its prepare), a compiled law's of a plug-in
+    # with a pre-filter of its own too: the law's inputs of a run prepared on those lines
+    entry = register(ModelEntry(name="mean-spring", label="x", traits=SPRING.traits, implementation=_MeanSpring))
+    try:
+        law = prepare_run("corrugated-rail", model=model, length=0.05).law
+        other = prepare_run("sinter-wheel-1", model=model, length=0.05).law
+        read = other.solver.track[1] if model == "3d" else other.law_inputs[0]
+        np.testing.assert_array_equal(law.surface_input(other.inputs.lines), read)
+    finally:
+        unregister(entry.name)
 
 
 def test_a_compiled_law_from_one_module_and_one_entry_runs_in_the_loop(spring):

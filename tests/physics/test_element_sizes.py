@@ -49,7 +49,7 @@ def test_the_longest_and_shortest_steps_run_and_stay_smooth(speed_kmh, element_s
     # smooth rail the force stays at the preload (no period-two chatter: the second difference stays small)
     from wheelrail.core.roughness import RoughnessSet
 
-    smooth = RoughnessSet(heights=np.zeros((1, 2001)), dx=0.5e-3, y=np.zeros(1), kind="rail", description="smooth")
+    smooth = RoughnessSet.smooth(1.0, dx=0.5e-3)
     result = _run(smooth, "hertz", element_size, speed_kmh, length=0.1)
     assert result.time_step == pytest.approx(element_size / (speed_kmh * KMH))
     assert np.all(np.isfinite(result.force)) and np.max(np.abs(np.diff(result.force, 2))) < 500.0

@@ -91,8 +91,7 @@ def flat_noise():
     from wheelrail.core.roughness import RoughnessSet
 
     bay = ModelParameters().track.support.sleeper_spacing
-    heights = np.zeros((5, int(round((3 * bay + 0.1) / 1e-3)) + 1))
-    smooth = RoughnessSet(heights=heights, dx=1e-3, y=(np.arange(5) - 2) * 1e-3, kind="rail", description="smooth")
+    smooth = RoughnessSet.smooth(3 * bay + 0.1, lines=5)
     flat = WheelFlat(length=0.05, position=1.5 * bay)
     params = ModelParameters(run=RunParameters(speed=100 * KMH, element_size=1e-3, irregularities=(flat,)))
     result = simulate(smooth, model="hertz", params=params, length=round(2 * bay / 1e-3) * 1e-3)

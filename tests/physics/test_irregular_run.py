@@ -20,9 +20,7 @@ REFERENCE_PEAK_KN = {30.0: 97.6, 60.0: 116.2, 100.0: 155.1}
 
 
 def _smooth(length=3 * BAY + 0.1, lines=19):
-    heights = np.zeros((lines, int(round(length / 1e-3)) + 1))
-    return RoughnessSet(heights=heights, dx=1e-3, y=(np.arange(lines) - lines // 2) * 1e-3, kind="rail",
-                        description="smooth")  # fmt: skip
+    return RoughnessSet.smooth(length, lines=lines)
 
 
 def _params(items, speed_kmh=100.0, element_size=1e-3, irregularity_input="trajectory"):
@@ -166,8 +164,7 @@ def test_an_irregularity_widens_the_window_by_how_far_it_moves_the_contact():
 
 @pytest.mark.slow
 def test_the_3d_model_loses_contact_over_the_flat_and_lands_again():
-    heights = np.zeros((41, int(round((3 * BAY + 0.1) / 1e-3)) + 1))  # 40 mm across: the patch at 2.4 P
-    wide = RoughnessSet(heights=heights, dx=1e-3, y=(np.arange(41) - 20) * 1e-3, kind="rail", description="smooth")
+    wide = RoughnessSet.smooth(3 * BAY + 0.1, lines=41)  # 40 mm across: the patch at 2.4 P
     result = simulate(wide, model="3d", params=_params([FLAT]), length=2 * BAY)
     summary = impact_summary(result)
     assert np.all(np.isfinite(result.force)) and summary.minimum == 0.0 and summary.time_without_contact > 0
@@ -205,8 +202,7 @@ def test_at_walking_speed_the_force_follows_the_static_solution_of_the_geometry(
     # the track's ringing under the moving load)
     reference = _impact_reference()
     centre = 3.5 * BAY
-    flat_rail = RoughnessSet(heights=np.zeros((1, int(round(7 * BAY / 1e-3)) + 1)), dx=1e-3, y=np.zeros(1),
-                             kind="rail", description="smooth")  # fmt: skip
+    flat_rail = RoughnessSet.smooth(7 * BAY)
     weld = DippedWeld(position=centre, length=1.8, depth=3e-3)
     result = simulate(flat_rail, params=_params([weld], speed_kmh=5.0), length=round(6 * BAY / 1e-3) * 1e-3)
     x, force = result.x[::50], result.force[::50]

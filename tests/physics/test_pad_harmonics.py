@@ -24,7 +24,7 @@ def _harmonics(pad_width: float) -> np.ndarray:
     """Force amplitudes (N) at k v / L_S, k = 1-12, of a hertz run on a smooth rail over one bay (the run starts in
     the moving load's steady state, so one bay is the periodic force)."""
     params = ModelParameters(track=TrackParameters(support=SupportParameters(pad_width=pad_width)))
-    smooth = RoughnessSet(heights=np.zeros((1, 2001)), dx=1e-3, y=np.zeros(1), kind="rail", description="smooth")
+    smooth = RoughnessSet.smooth(2.0)
     result = simulate(smooth, model="hertz", params=params, length=SPACING, track_numerics=SMALL, keep_pressure=False)
     force = result.force - result.force.mean()
     x = np.arange(len(force)) * result.element_size

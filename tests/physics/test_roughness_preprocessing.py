@@ -113,6 +113,27 @@ def test_longitudinal_interpolation_wheel_keeps_circumference():
     np.testing.assert_allclose(out.heights[0], z[::2], atol=1e-18)
 
 
+@pytest.mark.parametrize("kind", ["rail", "wheel"])
+def test_a_tone_above_the_grids_nyquist_does_not_appear_at_its_alias(kind):
+    # 0.5 mm data on a 1 mm grid (a bundled wheel set at the default element): a 1.25 mm tone lies above the
+    # grid's Nyquist wavenumber 1 / (2 mm) and, sample-picked, would read as a tone of its full amplitude at
+    # 1 / (1 / 1 mm - 1 / 1.25 mm) = 5 mm; low-passed first it is gone, and a 20 mm tone is kept to 1e-4 (2 m: whole
+    # periods of both, for the wheel's wrap; the rail's ends, reflected, left out)
+    x = np.arange(4000) * 0.5e-3
+    short, long = np.sin(2 * np.pi * x / 1.25e-3), np.sin(2 * np.pi * x / 20e-3)
+    s = RoughnessSet(heights=5e-6 * np.stack([short, long]), dx=0.5e-3, y=[0.0, 1e-3], kind=kind)
+    out = resample_longitudinal(s, 1e-3)
+    inner = slice(100, -100)
+    assert out.n_samples == 2000
+    assert np.max(np.abs(out.heights[0, inner])) < 1e-3 * 5e-6  # at most -60 dB of the tone at its alias
+    np.testing.assert_allclose(out.heights[1, inner], 5e-6 * long[::2][inner], rtol=0, atol=1e-4 * 5e-6)
+    assert "low-passed" in out.description
+    # onto a finer grid nothing is filtered: linear interpolation, the set's own samples kept
+    finer = resample_longitudinal(s, 0.25e-3)
+    np.testing.assert_array_equal(finer.heights[:, ::2][:, : s.n_samples], s.heights)
+    assert "low-passed" not in finer.description
+
+
 def test_lateral_interpolation_two_to_one_mm():
     y = np.arange(-6, 7, 2) * 1e-3
     z = np.outer(y, np.ones(10)) * 1e-3  # heights linear in y: reproduced exactly by linear interpolation

@@ -31,8 +31,7 @@ K_HERTZ = 1.5 * P.contact.preload / P.contact.hertz_approach()  # contact stiffn
 
 
 def _smooth(length: float) -> RoughnessSet:
-    n = int(round(length / 1e-3)) + 1
-    return RoughnessSet(heights=np.zeros((1, n)), dx=1e-3, y=np.zeros(1), kind="rail", description="smooth")
+    return RoughnessSet.smooth(length)
 
 
 def _params(kmh: float) -> ModelParameters:

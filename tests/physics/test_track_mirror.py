@@ -79,3 +79,20 @@ def test_the_model_has_as_many_bays_on_either_side_of_the_central_bay():
         np.testing.assert_allclose(x + x[::-1], x[-1], rtol=0, atol=1e-9)
         assert len(x) == stationary._node_count(_track(n_bays=n_bays), NUMERICS)
     assert assemble_track(_track(n_bays=70)).params.n_bays == 70  # the track's own model (receptances) as given
+
+
+@pytest.mark.parametrize(
+    ("changes", "n_bays", "integrated"),
+    [({}, 10, 5), ({"refined_bays": 3}, 7, 8), ({"refined_bays": 3, "refined_elements_per_bay": 8}, 10, 5)],
+)
+def test_the_precompute_estimate_reads_the_plan_of_the_mesh(changes, n_bays, integrated, monkeypatch):
+    # integrated_positions (the work a precompute's estimate scales with) is mirror_plan's plan on numerics_model's
+    # mesh, not a second decision from the numerics: refined bays as fine as the others give a uniform mesh, its
+    # own mirror image whatever refined_bays says
+    numerics = TrackNumerics(**{**NUMERICS.__dict__, **changes})
+    model = stationary.numerics_model(_track(n_bays=n_bays), numerics)
+    np.testing.assert_array_equal(stationary.numerics_mesh(_track(n_bays=n_bays), numerics), model.node_x)
+    columns = stationary.mirror_plan(model, stationary.excitation_nodes(model, numerics)[1])[0]
+    assert stationary.integrated_positions(_track(n_bays=n_bays), numerics) == len(columns) == integrated
+    monkeypatch.setattr(stationary, "MIRROR_SYMMETRY", False)  # every load integrated: so the estimate says
+    assert stationary.integrated_positions(_track(n_bays=n_bays), numerics) == 8

@@ -74,6 +74,39 @@ def test_data_model_rejects_bad_values(kwargs, message):
         RoughnessSet(**base)
 
 
+def test_a_smooth_set_is_declared_once():
+    # a rail's samples reach x = length; a wheel's are one circumference; lines centred on line 0 at y = 0
+    rail = RoughnessSet.smooth(0.3, lines=41)
+    assert rail.heights.shape == (41, 301) and not rail.heights.any() and rail.kind == "rail"
+    np.testing.assert_array_equal(rail.y, (np.arange(41) - 20) * 1e-3)
+    assert rail.centre_row == 20 and rail.description == "smooth"
+    wheel = RoughnessSet.smooth(2.45, dx=0.5e-3, lines=4, line_spacing=2e-3, kind="wheel", description="flat")
+    assert wheel.n_samples == 4900 and wheel.length == pytest.approx(2.45) and wheel.periodic
+    assert wheel.y.tolist() == pytest.approx([-4e-3, -2e-3, 0.0, 2e-3]) and wheel.description == "flat"
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"length": 0.0}, "RoughnessSet.smooth: length must be a positive finite number of m, got 0.0"),
+        ({"length": float("nan")}, "length must be a positive finite number of m, got nan"),
+        ({"length": "1 m"}, "length must be a positive number of m, got '1 m'"),
+        ({"dx": -1e-3}, "dx must be a positive finite number of m, got -0.001"),
+        ({"line_spacing": float("inf"), "lines": 3}, "line_spacing must be a positive finite number of m, got inf"),
+        ({"lines": 0}, "lines must be a positive whole number, got 0"),
+        ({"lines": 2.5}, "lines must be a positive whole number, got 2.5"),
+        ({"kind": "tram"}, "kind must be one of rail, wheel, got 'tram'"),
+        ({"length": 1e-3, "kind": "wheel"}, "length 0.001 m holds 1 sample(s) at dx 0.001 m; at least 2 are needed"),
+        ({"length": 1e6, "lines": 41}, "a smooth set would hold 4.1e+10 heights"),
+        ({"length": 1e300, "dx": 1e-300}, "a smooth set would hold inf heights"),
+    ],
+)
+def test_a_smooth_set_refuses_bad_input(kwargs, message):
+    with pytest.raises(WheelrailError) as info:
+        RoughnessSet.smooth(**{"length": 1.0, **kwargs})
+    assert message in str(info.value) and "\n" not in str(info.value)
+
+
 # ----------------------------------------------------------------------------- round trips
 def test_csv_round_trip(tmp_path):
     s = _set()

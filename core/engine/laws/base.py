@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable
+from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
@@ -207,10 +208,13 @@ class CompiledLaw(ContactLaw):
         raise NotImplementedError
 
     def surface_input(self, lines: np.ndarray) -> np.ndarray:
-        """The surface under the chosen line at every step, faded in over the run-in: (steps, 1), m."""
-        inputs = self.inputs
-        line = lines[inputs.centre_row]
-        return np.ascontiguousarray((line[inputs.start_index] * inputs.ramp)[:, None])
+        """What the kernel reads of the surface ``lines`` at every step: the roughness of the law's inputs
+        (``LawInputs.roughness``, faded in over the run-in) of a fresh model of the same kind prepared on
+        ``lines`` (``ContactModel.prepare``: the one statement of the model's treatment of the surface, r_eq
+        under a Hertz spring or the bedding's window on the chosen line), m."""
+        model = type(self.contact)()
+        model.prepare(replace(self.inputs, lines=lines))
+        return model.law_inputs().roughness
 
     def advance(self, s0: int, s1: int) -> None:
         loop = self.history

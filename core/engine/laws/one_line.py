@@ -118,16 +118,6 @@ class HertzLaw(_OneLineLaw):
         and the irregularity do not overlap (the documentation's physics page, "Discrete irregularities")."""
         return lines, centre_input()
 
-    def surface_input(self, lines: np.ndarray) -> np.ndarray:
-        """The model's equivalent roughness of the chosen line of ``lines`` under the wheel at every step, faded in
-        over the run-in: (steps, 1), m (the model's pre-filter, ``equivalent_roughness``, on the line, plus the
-        irregularities' input ``ModelInputs.equivalent_offset`` where the run has one)."""
-        inputs = self.inputs
-        r_eq = self.contact.equivalent_roughness(inputs, lines[inputs.centre_row])
-        if inputs.equivalent_offset is not None:
-            r_eq = r_eq + inputs.equivalent_offset
-        return np.ascontiguousarray((r_eq[inputs.start_index] * inputs.ramp).reshape(-1, 1))
-
 
 class BeddingLaw(_OneLineLaw):
     """The Winkler bedding of 2 half_x + 1 springs on the chosen line under the wheel."""
@@ -138,11 +128,3 @@ class BeddingLaw(_OneLineLaw):
     def memory_columns(cls, window_width: int) -> int:
         """The bedding's window of each step (and its temporary): ``window_width`` columns."""
         return window_width
-
-    def surface_input(self, lines: np.ndarray) -> np.ndarray:
-        """The chosen line of ``lines`` under the bedding at every step, faded in over the run-in: (steps,
-        2 half_x + 1), m."""
-        inputs = self.inputs
-        offsets = np.arange(-inputs.half_x, inputs.half_x + 1)
-        line = lines[inputs.centre_row]
-        return np.ascontiguousarray(line[inputs.start_index[:, None] + offsets[None, :]] * inputs.ramp[:, None])
