@@ -49,7 +49,7 @@ def test_small_roughness_superposes(model):
     # Linear regime: the dynamic force of the combined run (minus the smooth run's, which holds the
     # sleeper-passing excitation common to all runs) is the sum of those of the rail alone and the wheel
     # alone, sample by sample. What is left is the contact's non-linearity, of the order of r / delta:
-    # measured 0.16 % (hertz), 7e-12 (2d: the same springs stay compressed, a linear law) and 0.57 % (3d) of
+    # measured 0.14 % (hertz), 1e-11 (2d: the same springs stay compressed, a linear law) and 0.33 % (3d) of
     # the rms dynamic force. Bound 1 %.
     length = 1.0 if model == "3d" else 3.0
     smooth = _scaled(RAIL, 0.0)
@@ -72,8 +72,8 @@ def test_force_spectrum_is_the_energy_sum_of_independent_sets(model):
     # is the energy sum of the two separate runs per third-octave band from 100 Hz to 2 kHz. Within 1 dB
     # is the aim; over the 7.9 m rail (0.28 s after the start-up skip) a band holds few independent estimates
     # (bandwidth x duration = 6 at 100 Hz, 75 at 1.25 kHz), so the cross term of the two finite records is
-    # not negligible where their levels are within ~10 dB: measured 0.72 dB worst (250 Hz, hertz and 2d),
-    # within 0.7 dB in the other 13 bands. Superposition itself holds to 1 %
+    # not negligible where their levels are within ~10 dB: measured 0.73 dB worst (250 Hz, hertz and 2d),
+    # within 0.71 dB in the other 13 bands. Superposition itself holds to 1 %
     # (test above), so the excess is the data's cross-correlation, not the model. Bound 1.5 dB.
     smooth = _scaled(RAIL, 0.0)
     rail, wheel = _scaled(RAIL, SMALL), _scaled(WHEEL, SMALL)
