@@ -76,7 +76,7 @@ def _repeat_backward(upper, m, rhs, reps):
 
 @njit
 def _repeat_penetrating(law, m, limits, reps):
-    """The first check of a step: no bounds of u kept from an earlier check (``active_set._displacement_kept``)."""
+    """The first check of a step: no bounds of u kept from an earlier check (``deformed_gap.displacement_kept``)."""
     grid, state, work, _, _ = law
     known, _, since = work[7]
     n = 0
@@ -91,7 +91,7 @@ def _repeat_penetrating(law, m, limits, reps):
 def _repeat_append_remove(law, m, reps):
     """Remove the element at the middle of the factor and append it again (z kept with it)."""
     grid, state, work, _, _ = law
-    order, active, z, counts, upper = state
+    order, active, z, counts, upper = state[:5]
     for _ in range(reps):
         element = order[m // 2]
         cholesky.remove(order, m, upper, (z, work[6]), work[4], m // 2)
