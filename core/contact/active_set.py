@@ -27,7 +27,14 @@ from numba import njit
 import wheelrail.core.contact.capacitance as capacitance
 import wheelrail.core.contact.cholesky as cholesky  # (not `from the package import`: the package imports this lazily)
 import wheelrail.core.contact.deformed_gap as deformed_gap
-from wheelrail.core.contact.capacitance import capacitance_state, change, prepare_gap, pressure_on_set, rebase
+from wheelrail.core.contact.capacitance import (
+    capacitance_on,
+    capacitance_state,
+    change,
+    prepare_gap,
+    pressure_on_set,
+    rebase,
+)
 from wheelrail.core.contact.cholesky import append, backward, factorize, forward, remove
 from wheelrail.core.contact.deformed_gap import displacement_kept, displacement_kernel, displacement_matrix, screen
 from wheelrail.core.engine.compiled import sources_stamp
@@ -363,16 +370,16 @@ def _drop(grid, state, m, pressure, changes, n_drop, vectors):
         active[order[changes[r]]] = False
         pressure[order[changes[r]]] = 0.0
     factored = True
-    if cap[0][0]:  # capacitance: the reference's factor stays; each element leaves the small system
+    if capacitance_on(cap):  # capacitance: the reference's factor stays; each element leaves the small system
         for r in range(n_drop):
             factored = factored and change(grid, upper, cap, order[changes[r]], False)
-    if cap[0][0] or 8 * n_drop > m:
+    if capacitance_on(cap) or 8 * n_drop > m:
         kept = 0
         for a in range(m):
             if active[order[a]]:
                 order[kept] = order[a]
                 kept += 1
-        return kept, cap[0][0] and factored
+        return kept, capacitance_on(cap) and factored
     for r in range(n_drop - 1, -1, -1):
         remove(order, m, upper, (z, vectors[0]), vectors[1], changes[r])
         m -= 1
@@ -390,7 +397,7 @@ def _add(grid, state, m, factored, changes, n_add, vectors):
     order, active, z, counts, upper, cap = state
     for r in range(n_add):
         active[changes[r]] = True
-    if cap[0][0]:  # capacitance: each element joins the set's small system
+    if capacitance_on(cap):  # capacitance: each element joins the set's small system
         for r in range(n_add):
             factored = factored and change(grid, upper, cap, changes[r], True)
             order[m] = changes[r]
@@ -450,16 +457,18 @@ def solve_step(law, coupled, target, compliance):
                 if m > upper.shape[0]:
                     status = STEP_NEEDS_ROOM
                     break
-                if not (rebase(grid3, order, m, upper, cap) if cap[0][0] else factorize(grid3, order, m, upper)):
+                if not (
+                    rebase(grid3, order, m, upper, cap) if capacitance_on(cap) else factorize(grid3, order, m, upper)
+                ):
                     status = STEP_NOT_DEFINITE
                     break
-                if not cap[0][0]:
+                if not capacitance_on(cap):
                     for a in range(m):
                         z[a] = 1.0
                     forward(upper, m, z)
                 factored = True
                 valid = False
-            if cap[0][0]:  # through the reference's factor (contact.capacitance); valid: x_h of this gap
+            if capacitance_on(cap):  # through the reference's factor (contact.capacitance); valid: x_h of this gap
                 if not valid:
                     prepare_gap(gap, upper, cap)
                 delta, pmax, decrease = pressure_on_set(cap, gap, active, pressure, on_set)

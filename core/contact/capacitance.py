@@ -31,7 +31,8 @@ used, member changes since R was factored, references factored, kept vectors com
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 
 from wheelrail.core.contact.cholesky import backward, factorize, forward
 
@@ -39,6 +40,7 @@ __all__ = [
     "CAPACITANCE_MEMBERS",
     "CAPACITANCE_REFRESH",
     "CAPACITANCE_VECTORS",
+    "capacitance_on",
     "capacitance_state",
     "change",
     "prepare_gap",
@@ -47,8 +49,8 @@ __all__ = [
 ]
 
 CAPACITANCE_MEMBERS = 128  # largest k (elements by which the set differs from the reference)
-CAPACITANCE_VECTORS = 192  # kept vectors per reference
-CAPACITANCE_REFRESH = 4096  # changes of members after which the reference is factored afresh
+CAPACITANCE_VECTORS = 384  # kept vectors per reference
+CAPACITANCE_REFRESH = 1 << 16  # changes of members after which the reference is factored afresh
 
 # info's fields
 _ON, _SIZE, _K, _SLOTS, _CHANGES, _REFERENCES, _VECTORS = 0, 1, 2, 3, 4, 5, 6
@@ -56,12 +58,13 @@ _ON, _SIZE, _K, _SLOTS, _CHANGES, _REFERENCES, _VECTORS = 0, 1, 2, 3, 4, 5, 6
 
 def capacitance_state(n: int, rows: int, enabled: bool) -> tuple:
     """The arrays of the capacitance solve for a window of ``n`` elements and a factor buffer of ``rows`` rows;
-    placeholders of the same types (one row, no slots) where not ``enabled``."""
+    where not ``enabled``, placeholders (one row, no slots) whose ``info`` is int32: :func:`capacitance_on` is
+    then False at compile time, and the solver's code for the capacitance solve is not in its compiled code."""
     slots, members = (CAPACITANCE_VECTORS, CAPACITANCE_MEMBERS) if enabled else (1, 1)
     rows = rows if enabled else 1
     size = n if enabled else 1
     return (
-        np.zeros(8, dtype=np.int64),
+        np.zeros(8, dtype=np.int64 if enabled else np.int32),
         np.zeros(size, dtype=np.int64),
         np.full(size, -1, dtype=np.int64),
         np.full(size, -1, dtype=np.int64),
@@ -76,6 +79,19 @@ def capacitance_state(n: int, rows: int, enabled: bool) -> tuple:
         np.empty((7, members)),
         np.zeros(2),
     )
+
+
+def capacitance_on(cap) -> bool:
+    """Whether the capacitance solve is on for this state (:func:`capacitance_state`); in compiled code a
+    constant False for the placeholder's type."""
+    return cap[0].dtype == np.int64 and bool(cap[0][0])
+
+
+@overload(capacitance_on, inline="always")
+def _capacitance_on(cap):
+    if cap[0].dtype == types.int64:
+        return lambda cap: cap[0][0] != 0
+    return lambda cap: False
 
 
 @njit(cache=True, fastmath=True)
