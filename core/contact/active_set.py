@@ -9,7 +9,9 @@ z = U^-T 1 and, within a step, y = U^-T h_A are kept with it, so a warm-started 
 substitution per step and one backward substitution per iteration. The deformed gap outside the set is
 ``contact.deformed_gap``'s; on windows without the influence matrix u = C p is summed in float32 where a
 rigorous bound shows that float64 would decide the same (``deformed_gap.displacement_decided``), and a step's later
-checks keep lower bounds of u from its earlier ones (``deformed_gap.displacement_kept``). :class:`ActiveSetSolver`
+checks keep lower bounds of u from its earlier ones (``deformed_gap.displacement_kept``). With ``capacitance``
+on (the ``3d`` model on windows without the influence matrix) the set is solved through a reference set's factor
+and a small capacitance system instead of its own factor (``contact.capacitance``). :class:`ActiveSetSolver`
 holds the warm state (set, factor, z, pressure) in arrays that the ``3d`` model's compiled loop steps in place
 (``halfspace_model``) and that one-off solves (``window.HalfSpaceWindow``) fill from a start. Design and
 measurements: ``docs/benchmarks.md``, "The 3D contact solver".
@@ -163,9 +165,6 @@ class ActiveSetSolver:
         itself does not use it.
     capacity : int, optional
         Rows of the factor's first buffer (default: twice the start set plus 64, at most the window).
-    capacitance : bool, optional
-        Solve on the set through a reference factor and a small capacitance system (``contact.capacitance``)
-        instead of the set's own factor (default False; switched by :meth:`use_capacitance`).
 
     See Also
     --------
@@ -182,7 +181,7 @@ class ActiveSetSolver:
     pressure is zero) and ``gap`` the gap a solve reads (m).
     """
 
-    def __init__(self, grid, start, limits, *, factor=None, track=None, capacity=None, capacitance=False) -> None:
+    def __init__(self, grid, start, limits, *, factor=None, track=None, capacity=None) -> None:
         n = grid[3].size
         order = np.zeros(n, dtype=np.int64)
         active = np.zeros(n, dtype=np.bool_)
@@ -209,7 +208,7 @@ class ActiveSetSolver:
         tolerance, max_iterations, area, *cautious = limits
         limits = (float(tolerance), int(max_iterations), float(area), int(cautious[0] if cautious else CAUTIOUS_AFTER))
         self._parts = (grid, work, track, limits)
-        self._capacitance = bool(capacitance)
+        self._capacitance = False  # whether the law holds the capacitance solve's arrays (use_capacitance)
         self.grow(min(n, 2 * start.size + 64) if capacity is None else int(capacity))
         if factor is not None:
             m = start.size
@@ -233,13 +232,17 @@ class ActiveSetSolver:
         self.law = (grid, (order, active, z, counts, np.empty((capacity, capacity)), cap), work, track, limits)
 
     def use_capacitance(self, on: bool) -> bool:
-        """Switch the capacitance solve on or off (where it was chosen at construction; the next solve factors
-        afresh); returns whether it was on."""
-        info, counts = self.law[1][5][0], self._state[3]
-        was = bool(info[0])
-        if self._capacitance and bool(on) != was:
-            info[0] = int(bool(on))
-            counts[1] = 0
+        """Solve on the set through a reference factor and a small capacitance system (``contact.capacitance``)
+        or, ``on`` False, through the set's own factor (the default); the next solve factors afresh. Returns
+        whether it was on."""
+        was = self._capacitance and bool(self.law[1][5][0][0])
+        if bool(on) == was:
+            return was
+        if on and not self._capacitance:
+            self._capacitance = True
+            self.grow(self.law[1][4].shape[0])  # the same buffer's size, with the capacitance solve's arrays
+        self.law[1][5][0][0] = int(bool(on))
+        self._state[3][1] = 0
         return was
 
     def capacitance_counts(self) -> dict:

@@ -17,7 +17,7 @@ With b = delta 1 - h the pressure is p = delta q_1 - q_h: x_1 = C_RR^-1 1 is kep
 C_RR^-1 h_R computed once per gap, so an iteration of the active set costs O(k m + k^2) instead of a
 substitution with an m x m factor, and a change of the set O(k^2) instead of a new factor row or a downdate.
 
-R becomes the current set (a fresh factor, 1.5 ms at 385 elements) when a member has no room
+R becomes the current set (a fresh factor) when a member has no room
 (``CAPACITANCE_MEMBERS``, ``CAPACITANCE_VECTORS``), after ``CAPACITANCE_REFRESH`` changes of members (the
 bordered inverse's round-off) or where a bordering pivot is not clearly nonzero. Design and measured figures:
 ``docs/benchmarks.md``, "The contact solver".

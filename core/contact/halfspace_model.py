@@ -62,7 +62,7 @@ class HalfSpaceModel(ContactModel):
         smooth = window.solve(self._base_gap, load=contact.preload)
         options = dict(self.step_options)
         grid = influence_grid(window.kernel, options.pop("full_matrix", None))
-        options.setdefault("capacitance", grid[2].shape[0] == 0)  # windows without C: contact.capacitance
+        capacitance_on = options.pop("capacitance", grid[2].shape[0] == 0)  # windows without C: contact.capacitance
         self._steps = ActiveSetSolver(
             grid,
             np.flatnonzero(smooth.contact),  # the first step from the preload's set, factored afresh
@@ -70,6 +70,7 @@ class HalfSpaceModel(ContactModel):
             track=track_inputs(self._base_gap, inputs),
             **options,
         )
+        self._steps.use_capacitance(capacitance_on)
         return float(smooth.approach)
 
     def law_inputs(self) -> ActiveSetSolver:
