@@ -59,7 +59,7 @@ _ON, _SIZE, _K, _SLOTS, _CHANGES, _REFERENCES, _VECTORS = 0, 1, 2, 3, 4, 5, 6
 def capacitance_state(n: int, rows: int, enabled: bool) -> tuple:
     """The arrays of the capacitance solve for a window of ``n`` elements and a factor buffer of ``rows`` rows;
     where not ``enabled``, placeholders (one row, no slots) whose ``info`` is int32: :func:`capacitance_on` is
-    then False at compile time, and the solver's code for the capacitance solve is not in its compiled code."""
+    then False at compile time, and the solver's branches for the capacitance solve fold away when compiled."""
     slots, members = (CAPACITANCE_VECTORS, CAPACITANCE_MEMBERS) if enabled else (1, 1)
     rows = rows if enabled else 1
     size = n if enabled else 1
