@@ -3,12 +3,12 @@
 Run: python3 benchmarks/engine_identity.py save DIR     (writes one .npz per case into DIR)
      python3 benchmarks/engine_identity.py compare DIR  (prints the largest relative difference per case and array)
 
-Each case is a short run on the bundled corrugated rail: every built-in model from the steady start (the
-default) and from the preload at rest (an explicit run-in), and for ``3d`` a run-in long enough for its
-tabulated law and a run that keeps no pressure maps (recorded by chunks). The arrays compared are the force, the
-wheel and rail displacements, the contact length and area, and the pressure maps where the model has them. Save
-on one checkout, compare on another: ``compare`` exits 1 where a difference exceeds 1e-12 of the array's largest
-magnitude.
+Each case is a short run on the bundled corrugated rail: every built-in model from the steady start (the default)
+and from the preload at rest (an explicit run-in), and for ``3d`` a run-in long enough for its tabulated law, a
+run that keeps no pressure maps (recorded by chunks) and a run on 0.5 mm elements. The arrays compared are the
+force, the wheel and rail displacements, the contact length and area, and the pressure maps where the model has
+them. Save on one checkout, compare on another: ``compare`` exits 1 where a difference exceeds 1e-12 of the
+array's largest magnitude.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from wheelrail.core.models import MODELS
+from wheelrail.core.parameters import ModelParameters, RunParameters
 
 ARRAYS = ("force", "xi_wheel", "xi_rail", "contact_length", "contact_area", "pressure")
 TOLERANCE = 1e-12
@@ -41,6 +42,8 @@ def cases():
         out.append((f"{model}-preload", {"model": model, "length": 0.06, "run_in_length": 0.03}, False))
     out.append(("3d-tabulated", {"model": "3d", "length": 0.04, "run_in_length": 2.8}, False))
     out.append(("3d-chunks", {"model": "3d", "length": 0.3, "keep_pressure": False}, True))
+    fine = ModelParameters(run=RunParameters(element_size=0.5e-3))  # the window without C: contact.capacitance
+    out.append(("3d-0.5mm", {"model": "3d", "length": 0.1, "params": fine}, False))
     return out
 
 

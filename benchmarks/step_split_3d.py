@@ -13,7 +13,11 @@ loaded). Prints
   approaches the run handed it, from the warm state of a fresh run stepped to the same first recorded step;
 * inside the law: how many active-set iterations, additions and drops a step takes (counted by replaying the
   law's solve, ``active_set.solve_step``, on the same approaches) and what each costs at the run's contact
-  set (each kernel timed alone in a compiled loop, on the state the run ended with).
+  set (each kernel timed alone in a compiled loop, on the state the run ended with);
+* where the law solves through ``contact.capacitance`` (windows without the influence matrix, 0.5 mm): the
+  references factored and kept vectors computed per recorded step, the members at the end, and the costs of
+  x_h = C_RR^-1 h_R (once a step) and of the set's pressure from the small system (once an iteration); the
+  itemised substitutions and factor updates are then those of the factor path, which the law does not take.
 
 The sum of the itemised costs is printed against the measured law: the difference is what is not
 itemised (the tension check, bookkeeping, cache misses between the pieces).
@@ -28,7 +32,7 @@ import numpy as np
 from numba import njit
 
 from wheelrail.core.contact import active_set as steps
-from wheelrail.core.contact import cholesky, halfspace_model
+from wheelrail.core.contact import capacitance, cholesky, halfspace_model
 from wheelrail.core.engine import prepare_run
 from wheelrail.core.engine.kernels import commit_force, known_approach
 from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
@@ -76,7 +80,7 @@ def _repeat_backward(upper, m, rhs, reps):
 
 @njit
 def _repeat_penetrating(law, m, limits, reps):
-    """The first check of a step: no bounds of u kept from an earlier check (``active_set._displacement_kept``)."""
+    """The first check of a step: no bounds of u kept from an earlier check (``deformed_gap.displacement_kept``)."""
     grid, state, work, _, _ = law
     known, _, since = work[7]
     n = 0
@@ -88,10 +92,22 @@ def _repeat_penetrating(law, m, limits, reps):
 
 
 @njit
+def _repeat_capacitance(law, reps):
+    """x_h for the gap (``capacitance.prepare_gap``), then the set's pressure (``capacitance.pressure_on_set``)."""
+    _, state, work, _, _ = law
+    cap, upper, active = state[5], state[4], state[1]
+    pressure = work[0].copy()
+    for _ in range(reps):
+        capacitance.prepare_gap(work[1], upper, cap)
+    for _ in range(reps):
+        capacitance.pressure_on_set(cap, work[1], active, pressure, (True, 0.0, 0.0))
+
+
+@njit
 def _repeat_append_remove(law, m, reps):
     """Remove the element at the middle of the factor and append it again (z kept with it)."""
     grid, state, work, _, _ = law
-    order, active, z, counts, upper = state
+    order, active, z, counts, upper = state[:5]
     for _ in range(reps):
         element = order[m // 2]
         cholesky.remove(order, m, upper, (z, work[6]), work[4], m // 2)
@@ -166,7 +182,10 @@ def main() -> None:
     print(f"  contact law (gap assembly + solve)                        {law_us:6.1f} us")
     print(f"  rest (outputs: pressure map, lengths; not itemised)       {cpu / n * 1e6 - history - law_us:6.1f} us")
 
-    decisions = _decisions(r, known, compliance, _at_record(params, args.length_m).law.solver.law)[r:]
+    replayed = _at_record(params, args.length_m).law.solver
+    before = replayed.capacitance_counts()
+    decisions = _decisions(r, known, compliance, replayed.law)[r:]
+    after = replayed.capacitance_counts()
     iterations, added, dropped, elements = decisions.mean(axis=0)
     m = int(round(elements))
     state_law = run.law.solver.law
@@ -192,6 +211,14 @@ def main() -> None:
         f"outside the set {penetrating:.1f} us (a step's first check; later ones keep bounds of u)"
     )
     print(f"    per element added and dropped (new factor row + downdate at mid-set) {update:.1f} us")
+    if replayed.law[1][5][0].dtype == np.int64:  # the law solves through contact.capacitance
+        both = _per_call(_repeat_capacitance, state_law, 5000, reps=5000)
+        print(
+            f"    capacitance: {after['references'] - before['references']} reference(s) factored, "
+            f"{(after['vectors'] - before['vectors']) / n:.2f} kept vectors computed per step, "
+            f"{after['members']} members at the end; x_h + the set's pressure {both:.1f} us (timed alone); "
+            "the substitutions and updates above are the factor path's"
+        )
     itemised = iterations * (forward + backward + penetrating) + 0.5 * (added + dropped) * update
     print(
         f"    itemised {itemised:.1f} us of the law's {law_us:.1f} us (an upper bound: a forward substitution and a "

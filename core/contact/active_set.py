@@ -8,8 +8,10 @@ recomputed, when few elements change (a new row per added element, rotations per
 z = U^-T 1 and, within a step, y = U^-T h_A are kept with it, so a warm-started solve costs one forward
 substitution per step and one backward substitution per iteration. The deformed gap outside the set is
 ``contact.deformed_gap``'s; on windows without the influence matrix u = C p is summed in float32 where a
-rigorous bound shows that float64 would decide the same (:func:`_displacement_decided`), and a step's later
-checks keep lower bounds of u from its earlier ones (:func:`_displacement_kept`). :class:`ActiveSetSolver`
+rigorous bound shows that float64 would decide the same (``deformed_gap.displacement_decided``), and a step's later
+checks keep lower bounds of u from its earlier ones (``deformed_gap.displacement_kept``). With ``capacitance``
+on (the ``3d`` model on windows without the influence matrix) the set is solved through a reference set's factor
+and a small capacitance system instead of its own factor (``contact.capacitance``). :class:`ActiveSetSolver`
 holds the warm state (set, factor, z, pressure) in arrays that the ``3d`` model's compiled loop steps in place
 (``halfspace_model``) and that one-off solves (``window.HalfSpaceWindow``) fill from a start. Design and
 measurements: ``docs/benchmarks.md``, "The 3D contact solver".
@@ -24,16 +26,19 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+import wheelrail.core.contact.capacitance as capacitance
 import wheelrail.core.contact.cholesky as cholesky  # (not `from the package import`: the package imports this lazily)
 import wheelrail.core.contact.deformed_gap as deformed_gap
-from wheelrail.core.contact.cholesky import append, backward, factorize, forward, remove
-from wheelrail.core.contact.deformed_gap import (
-    displacement_kernel,
-    displacement_kernel32,
-    displacement_matrix,
-    float32_error,
-    screen,
+from wheelrail.core.contact.capacitance import (
+    capacitance_on,
+    capacitance_state,
+    change,
+    prepare_gap,
+    pressure_on_set,
+    rebase,
 )
+from wheelrail.core.contact.cholesky import append, backward, factorize, forward, remove
+from wheelrail.core.contact.deformed_gap import displacement_kept, displacement_kernel, displacement_matrix, screen
 from wheelrail.core.engine.compiled import sources_stamp
 
 __all__ = [
@@ -169,8 +174,9 @@ class ActiveSetSolver:
     Notes
     -----
     ``law`` is the tuple the compiled functions take: (grid, state, work, track, limits) with state = (set
-    in factor order, its mask, z = U^-T 1, [m, factored], factor buffer) and work = (pressure, gap, five
-    scratch vectors, the bounds of u kept across a step's checks: :func:`_displacement_kept`); ``pressure`` is
+    in factor order, its mask, z = U^-T 1, [m, factored], factor buffer, ``contact.capacitance``'s state; with
+    it on, the buffer holds the reference's factor and z is not kept) and work = (pressure, gap, five
+    scratch vectors, the bounds of u kept across a step's checks: ``deformed_gap.displacement_kept``); ``pressure`` is
     the current pressure on the flattened window (Pa; stale after a coupled solve without contact, whose
     pressure is zero) and ``gap`` the gap a solve reads (m).
     """
@@ -202,6 +208,7 @@ class ActiveSetSolver:
         tolerance, max_iterations, area, *cautious = limits
         limits = (float(tolerance), int(max_iterations), float(area), int(cautious[0] if cautious else CAUTIOUS_AFTER))
         self._parts = (grid, work, track, limits)
+        self._capacitance = False  # whether the law holds the capacitance solve's arrays (use_capacitance)
         self.grow(min(n, 2 * start.size + 64) if capacity is None else int(capacity))
         if factor is not None:
             m = start.size
@@ -217,7 +224,31 @@ class ActiveSetSolver:
         capacity = min(order.size, m + m // 2 + 8) if capacity is None else int(capacity)
         counts[1] = 0
         grid, work, track, limits = self._parts
-        self.law = (grid, (order, active, z, counts, np.empty((capacity, capacity))), work, track, limits)
+        cap = capacitance_state(order.size, capacity, self._capacitance)
+        if hasattr(self, "law"):  # the switch and the counters carry over
+            cap[0][[0, 5, 6]] = self.law[1][5][0][[0, 5, 6]]
+        else:
+            cap[0][0] = int(self._capacitance)
+        self.law = (grid, (order, active, z, counts, np.empty((capacity, capacity)), cap), work, track, limits)
+
+    def use_capacitance(self, on: bool) -> bool:
+        """Solve on the set through a reference factor and a small capacitance system (``contact.capacitance``)
+        or, ``on`` False, through the set's own factor (the default); the next solve factors afresh. Returns
+        whether it was on."""
+        was = self._capacitance and bool(self.law[1][5][0][0])
+        if bool(on) == was:
+            return was
+        if on and not self._capacitance:
+            self._capacitance = True
+            self.grow(self.law[1][4].shape[0])  # the same buffer's size, with the capacitance solve's arrays
+        self.law[1][5][0][0] = int(bool(on))
+        self._state[3][1] = 0
+        return was
+
+    def capacitance_counts(self) -> dict:
+        """The capacitance solve's counters: references factored, kept vectors computed, members now."""
+        info = self.law[1][5][0]
+        return {"references": int(info[5]), "vectors": int(info[6]), "members": int(info[2])}
 
     def solve(self, coupled: bool, target: float, compliance: float = 0.0) -> tuple[int, float, float, int]:
         """Solve on the gap in :attr:`gap` from the warm state: coupled (``target`` = delta_known, m;
@@ -250,7 +281,7 @@ class ActiveSetSolver:
         """(U, z) of the current set, copies, or None if the buffer does not hold its factor."""
         order, _, z, counts = self._state
         m = int(counts[0])
-        if counts[1] != 1 or m == 0:
+        if counts[1] != 1 or m == 0 or self.law[1][5][0][0]:
             return None
         return self.law[1][4][:m, :m].copy(), z[:m].copy()
 
@@ -296,104 +327,6 @@ def _pressure_on_set(upper, order, m, gap, z, vectors, pressure, law):
     return delta, pmax, decrease
 
 
-@njit(cache=True)
-def _displacement_decided(grid, order, m, pressure, gap, elements, count, u, lower, limits):
-    """u = C p at ``elements[:count]`` into ``u``, in float32 (``displacement_kernel32``) where that decides
-    d = h - delta + u against ``glimit`` as float64 would, else in float64; a lower bound of each exact u into
-    ``lower``.
-
-    An element is computed again in float64 where d is within the float32 sum's error bound
-    (``deformed_gap.float32_error``) plus 1e-12 of |h| + |delta| + |u| (float64's own rounding) of ``glimit``:
-    the decisions are float64's. ``limits`` = (delta, glimit).
-    """
-    delta, glimit = limits
-    kernel = grid[0]
-    displacement_kernel32(grid, order, m, pressure, elements, count, u)
-    negative = 0.0
-    for a in range(m):
-        negative -= min(pressure[order[a]], 0.0)
-    scale = 2.0 * kernel[kernel.shape[0] // 2, kernel.shape[1] // 2] * negative
-    again = np.empty(count, dtype=np.int64)
-    n_again = 0
-    for c in range(count):
-        i = elements[c]
-        d = gap[i] - delta + u[c]
-        bound = float32_error(u[c], m, scale) + 1e-12 * (abs(gap[i]) + abs(delta) + abs(u[c]))
-        lower[c] = u[c] - bound
-        if abs(d - glimit) <= bound:
-            again[n_again] = c
-            n_again += 1
-    if n_again > 0:
-        chosen = np.empty(n_again, dtype=np.int64)
-        exact = np.empty(n_again)
-        for e in range(n_again):
-            chosen[e] = elements[again[e]]
-        displacement_kernel(grid, order, m, pressure, chosen, n_again, exact)
-        for e in range(n_again):
-            u[again[e]] = exact[e]
-
-
-@njit(cache=True)
-def _displacement_kept(grid, order, m, work, count, limits):
-    """u = C p at the candidates ``work[3][:count]`` into ``work[5]`` where a step's earlier check leaves it
-    undecided (:func:`_displacement_decided`), else a lower bound of u that shows d = h - delta + u >= glimit.
-
-    ``work[7]`` = (a lower bound of u per element as of the step's last check or NaN, the elements that have
-    one, [sum of the pressures' decreases since, how many have one]). A pressure change lowers u_i (i outside the
-    set) by at most C_1 times the sum of the decreases, C_1 the kernel's largest value off its centre (the
-    kernel decreases with each offset): a kept bound less that is a bound now. ``limits`` = (delta, glimit).
-    """
-    pressure, gap, _, changes, _, u, _, bounds = work
-    known, listed, since = bounds
-    delta, glimit = limits
-    kernel = grid[0]
-    cy, cx = kernel.shape[0] // 2, kernel.shape[1] // 2
-    nearest = 0.0
-    if cy > 0:
-        nearest = max(kernel[cy - 1, cx], kernel[cy + 1, cx])
-    if cx > 0:
-        nearest = max(nearest, kernel[cy, cx - 1], kernel[cy, cx + 1])
-    fall = nearest * since[0]
-    if since[1] == 0.0:  # no bounds kept (a step's first check): all computed, in place
-        lower = np.empty(count)
-        _displacement_decided(grid, order, m, pressure, gap, changes[:count], count, u, lower, limits)
-        for c in range(count):
-            listed[c] = changes[c]
-            known[changes[c]] = lower[c]
-        since[0] = 0.0
-        since[1] = count
-        return
-    compute = np.empty(count, dtype=np.int64)
-    n_compute = 0
-    for c in range(count):
-        i = changes[c]
-        bound = known[i] - fall
-        slack = 1e-12 * (abs(gap[i]) + abs(delta) + abs(known[i]) + fall)
-        if bound == bound and gap[i] - delta + bound >= glimit + slack:
-            u[c] = bound  # (NaN fails the test: no bound kept)
-            known[i] = bound
-        else:
-            compute[n_compute] = c
-            n_compute += 1
-    if n_compute > 0:
-        elements = np.empty(n_compute, dtype=np.int64)
-        values = np.empty(n_compute)
-        lower = np.empty(n_compute)
-        for e in range(n_compute):
-            elements[e] = changes[compute[e]]
-        _displacement_decided(grid, order, m, pressure, gap, elements, n_compute, values, lower, limits)
-        n_listed = int(since[1])
-        for e in range(n_compute):
-            i = elements[e]
-            u[compute[e]] = values[e]
-            if known[i] != known[i]:
-                listed[n_listed] = i
-                n_listed += 1
-            known[i] = lower[e]
-        since[1] = n_listed
-    since[0] = 0.0
-
-
 @njit(cache=True, inline="always")
 def _penetrating(grid, order, m, work, active, limits):
     """Elements outside the set that penetrate (eq. 10: d >= 0, d below ``glimit``) into ``work[3]``; their
@@ -411,7 +344,7 @@ def _penetrating(grid, order, m, work, active, limits):
     if grid[2].shape[0] > 0:
         displacement_matrix(grid[2], order, m, pressure, changes, count, u)
     else:
-        _displacement_kept(grid, order, m, work, count, (delta, glimit))
+        displacement_kept(grid, order, m, work, count, (delta, glimit))
     n_add = 0
     worst = 0.0
     for c in range(count):
@@ -429,22 +362,27 @@ def _penetrating(grid, order, m, work, active, limits):
 
 
 @njit(cache=True, inline="always")
-def _drop(state, m, pressure, changes, n_drop, vectors):
+def _drop(grid, state, m, pressure, changes, n_drop, vectors):
     """Drop the elements at positions ``changes[:n_drop]`` (ascending); returns (m, factored).
 
-    Few: downdates of the factor and z. Many (more than m / 8): compact the set, factor afresh next time.
+    Few: downdates of the factor and z. Many (more than m / 8): compact the set, factor afresh next time. With
+    the capacitance solve on: compact the set, the elements leave its small system.
     """
-    order, active, z, counts, upper = state
+    order, active, z, counts, upper, cap = state
     for r in range(n_drop):
         active[order[changes[r]]] = False
         pressure[order[changes[r]]] = 0.0
-    if 8 * n_drop > m:
+    factored = True
+    if capacitance_on(cap):  # capacitance: the reference's factor stays; each element leaves the small system
+        for r in range(n_drop):
+            factored = factored and change(grid, upper, cap, order[changes[r]], False)
+    if capacitance_on(cap) or 8 * n_drop > m:
         kept = 0
         for a in range(m):
             if active[order[a]]:
                 order[kept] = order[a]
                 kept += 1
-        return kept, False
+        return kept, capacitance_on(cap) and factored
     for r in range(n_drop - 1, -1, -1):
         remove(order, m, upper, (z, vectors[0]), vectors[1], changes[r])
         m -= 1
@@ -456,11 +394,18 @@ def _add(grid, state, m, factored, changes, n_add, vectors):
     """Add the elements ``changes[:n_add]`` to the set; returns (m, factored).
 
     Few, to a factored set with room in its buffer: new rows of the factor (O(m^2) each) and new entries of
-    z. Many, or no room: factor afresh next time.
+    z. Many, or no room: factor afresh next time. With the capacitance solve on: the elements join its small
+    system (the reference factored afresh next time where one has no room).
     """
-    order, active, z, counts, upper = state
+    order, active, z, counts, upper, cap = state
     for r in range(n_add):
         active[changes[r]] = True
+    if capacitance_on(cap):  # capacitance: each element joins the set's small system
+        for r in range(n_add):
+            factored = factored and change(grid, upper, cap, changes[r], True)
+            order[m] = changes[r]
+            m += 1
+        return m, factored
     if factored and 8 * n_add <= m and m + n_add <= upper.shape[0]:
         for r in range(n_add):
             if not (factored and append(grid, order, m, upper, (z, vectors[0], vectors[2]), vectors[1], changes[r])):
@@ -483,10 +428,10 @@ def solve_step(law, coupled, target, compliance):
     """
     grid, state, work, _, limits = law
     grid3 = (grid[0], grid[3], grid[4])
-    order, active, z, counts, upper = state
+    order, active, z, counts, upper, cap = state
     pressure, gap, y, changes, scratch, _, kept, bounds = work
     tol, max_iter, area, cautious_after = limits
-    known, listed, since = bounds  # a new gap: no bound of u kept (_displacement_kept)
+    known, listed, since = bounds  # a new gap: no bound of u kept (displacement_kept)
     for k in range(int(since[1])):
         known[listed[k]] = np.nan
     since[0] = 0.0
@@ -515,22 +460,30 @@ def solve_step(law, coupled, target, compliance):
                 if m > upper.shape[0]:
                     status = STEP_NEEDS_ROOM
                     break
-                if not factorize(grid3, order, m, upper):
+                if not (
+                    rebase(grid3, order, m, upper, cap) if capacitance_on(cap) else factorize(grid3, order, m, upper)
+                ):
                     status = STEP_NOT_DEFINITE
                     break
-                for a in range(m):
-                    z[a] = 1.0
-                forward(upper, m, z)
+                if not capacitance_on(cap):
+                    for a in range(m):
+                        z[a] = 1.0
+                    forward(upper, m, z)
                 factored = True
                 valid = False
-            delta, pmax, decrease = _pressure_on_set(upper, order, m, gap, z, (kept, valid, y), pressure, on_set)
+            if capacitance_on(cap):  # through the reference's factor (contact.capacitance); valid: x_h of this gap
+                if not valid:
+                    prepare_gap(gap, upper, cap)
+                delta, pmax, decrease = pressure_on_set(cap, gap, active, pressure, on_set)
+            else:
+                delta, pmax, decrease = _pressure_on_set(upper, order, m, gap, z, (kept, valid, y), pressure, on_set)
             since[0] += decrease
             valid = True
             n_drop = _tension_elements(pressure, order, m, pmax, tol, one_at_a_time, changes)
             if n_drop > 0:
                 for r in range(n_drop):
                     since[0] += max(pressure[order[changes[r]]], 0.0)
-                m, factored = _drop(state, m, pressure, changes, n_drop, (kept, scratch))
+                m, factored = _drop(grid, state, m, pressure, changes, n_drop, (kept, scratch))
                 valid = valid and factored
                 continue
         scale = max(delta - gap_min, 1e-30)
@@ -560,7 +513,7 @@ def _define_solve_gap(stamp):
     return solve_gap
 
 
-_solve_gap = _define_solve_gap(sources_stamp(cholesky, deformed_gap))
+_solve_gap = _define_solve_gap(sources_stamp(capacitance, cholesky, deformed_gap))
 
 
 def cold_start_set(

@@ -18,6 +18,8 @@ from numba import njit
 __all__ = [
     "KERNEL_GROUP_COLUMNS",
     "SCREEN_BLOCKS",
+    "displacement_decided",
+    "displacement_kept",
     "displacement_kernel",
     "displacement_kernel32",
     "displacement_matrix",
@@ -258,3 +260,101 @@ def screen(grid, order, m, pressure, gap, candidates, count, limit):
                 candidates[kept] = i
                 kept += 1
     return kept
+
+
+@njit(cache=True)
+def displacement_decided(grid, order, m, pressure, gap, elements, count, u, lower, limits):
+    """u = C p at ``elements[:count]`` into ``u``, in float32 (``displacement_kernel32``) where that decides
+    d = h - delta + u against ``glimit`` as float64 would, else in float64; a lower bound of each exact u into
+    ``lower``.
+
+    An element is computed again in float64 where d is within the float32 sum's error bound
+    (:func:`float32_error`) plus 1e-12 of |h| + |delta| + |u| (float64's own rounding) of ``glimit``:
+    the decisions are float64's. ``limits`` = (delta, glimit).
+    """
+    delta, glimit = limits
+    kernel = grid[0]
+    displacement_kernel32(grid, order, m, pressure, elements, count, u)
+    negative = 0.0
+    for a in range(m):
+        negative -= min(pressure[order[a]], 0.0)
+    scale = 2.0 * kernel[kernel.shape[0] // 2, kernel.shape[1] // 2] * negative
+    again = np.empty(count, dtype=np.int64)
+    n_again = 0
+    for c in range(count):
+        i = elements[c]
+        d = gap[i] - delta + u[c]
+        bound = float32_error(u[c], m, scale) + 1e-12 * (abs(gap[i]) + abs(delta) + abs(u[c]))
+        lower[c] = u[c] - bound
+        if abs(d - glimit) <= bound:
+            again[n_again] = c
+            n_again += 1
+    if n_again > 0:
+        chosen = np.empty(n_again, dtype=np.int64)
+        exact = np.empty(n_again)
+        for e in range(n_again):
+            chosen[e] = elements[again[e]]
+        displacement_kernel(grid, order, m, pressure, chosen, n_again, exact)
+        for e in range(n_again):
+            u[again[e]] = exact[e]
+
+
+@njit(cache=True)
+def displacement_kept(grid, order, m, work, count, limits):
+    """u = C p at the candidates ``work[3][:count]`` into ``work[5]`` where a step's earlier check leaves it
+    undecided (:func:`displacement_decided`), else a lower bound of u that shows d = h - delta + u >= glimit.
+
+    ``work[7]`` = (a lower bound of u per element as of the step's last check or NaN, the elements that have
+    one, [sum of the pressures' decreases since, how many have one]). A pressure change lowers u_i (i outside the
+    set) by at most C_1 times the sum of the decreases, C_1 the kernel's largest value off its centre (the
+    kernel decreases with each offset): a kept bound less that is a bound now. ``limits`` = (delta, glimit).
+    """
+    pressure, gap, _, changes, _, u, _, bounds = work
+    known, listed, since = bounds
+    delta, glimit = limits
+    kernel = grid[0]
+    cy, cx = kernel.shape[0] // 2, kernel.shape[1] // 2
+    nearest = 0.0
+    if cy > 0:
+        nearest = max(kernel[cy - 1, cx], kernel[cy + 1, cx])
+    if cx > 0:
+        nearest = max(nearest, kernel[cy, cx - 1], kernel[cy, cx + 1])
+    fall = nearest * since[0]
+    if since[1] == 0.0:  # no bounds kept (a step's first check): all computed, in place
+        lower = np.empty(count)
+        displacement_decided(grid, order, m, pressure, gap, changes[:count], count, u, lower, limits)
+        for c in range(count):
+            listed[c] = changes[c]
+            known[changes[c]] = lower[c]
+        since[0] = 0.0
+        since[1] = count
+        return
+    compute = np.empty(count, dtype=np.int64)
+    n_compute = 0
+    for c in range(count):
+        i = changes[c]
+        bound = known[i] - fall
+        slack = 1e-12 * (abs(gap[i]) + abs(delta) + abs(known[i]) + fall)
+        if bound == bound and gap[i] - delta + bound >= glimit + slack:
+            u[c] = bound  # (NaN fails the test: no bound kept)
+            known[i] = bound
+        else:
+            compute[n_compute] = c
+            n_compute += 1
+    if n_compute > 0:
+        elements = np.empty(n_compute, dtype=np.int64)
+        values = np.empty(n_compute)
+        lower = np.empty(n_compute)
+        for e in range(n_compute):
+            elements[e] = changes[compute[e]]
+        displacement_decided(grid, order, m, pressure, gap, elements, n_compute, values, lower, limits)
+        n_listed = int(since[1])
+        for e in range(n_compute):
+            i = elements[e]
+            u[compute[e]] = values[e]
+            if known[i] != known[i]:
+                listed[n_listed] = i
+                n_listed += 1
+            known[i] = lower[e]
+        since[1] = n_listed
+    since[0] = 0.0

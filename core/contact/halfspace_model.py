@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from wheelrail.core.contact import active_set, cholesky, deformed_gap
+from wheelrail.core.contact import active_set, capacitance, cholesky, deformed_gap
 from wheelrail.core.contact.active_set import (
     STEP_AT_EDGE,
     STEP_CONVERGED,
@@ -41,7 +41,7 @@ class HalfSpaceModel(ContactModel):
     wheelrail.core.contact.window.HalfSpaceWindow : one-off solves of the same equations.
     """
 
-    step_options: dict = {}  # the solver's options (tests: full_matrix, capacity)
+    step_options: dict = {}  # the solver's options (tests: full_matrix, capacity, capacitance)
 
     def prepare(self, inputs: ModelInputs) -> float:
         """The window's geometry, the static solve under the preload and the solver's first state; returns the
@@ -61,13 +61,16 @@ class HalfSpaceModel(ContactModel):
         window = HalfSpaceWindow(self._base_gap.shape, dx, contact=contact)
         smooth = window.solve(self._base_gap, load=contact.preload)
         options = dict(self.step_options)
+        grid = influence_grid(window.kernel, options.pop("full_matrix", None))
+        capacitance_on = options.pop("capacitance", grid[2].shape[0] == 0)  # windows without C: contact.capacitance
         self._steps = ActiveSetSolver(
-            influence_grid(window.kernel, options.pop("full_matrix", None)),
+            grid,
             np.flatnonzero(smooth.contact),  # the first step from the preload's set, factored afresh
             (window.tolerance, window.max_iterations, dx**2),
             track=track_inputs(self._base_gap, inputs),
             **options,
         )
+        self._steps.use_capacitance(capacitance_on)
         return float(smooth.approach)
 
     def law_inputs(self) -> ActiveSetSolver:
@@ -160,4 +163,4 @@ def _define_python_step(stamp):
     return python_step
 
 
-_python_step = _define_python_step(sources_stamp(active_set, cholesky, deformed_gap))
+_python_step = _define_python_step(sources_stamp(active_set, capacitance, cholesky, deformed_gap))

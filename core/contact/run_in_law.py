@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from wheelrail.core.contact import active_set, cholesky, deformed_gap, halfspace_model
+from wheelrail.core.contact import active_set, capacitance, cholesky, deformed_gap, halfspace_model
 from wheelrail.core.contact.active_set import STEP_AT_EDGE, STEP_CONVERGED, STEP_NEEDS_ROOM, ActiveSetSolver
 from wheelrail.core.contact.halfspace_model import halfspace_step
 from wheelrail.core.engine import kernels
@@ -66,7 +66,7 @@ def _define_sweep(stamp):
     return sweep
 
 
-_sweep = _define_sweep(sources_stamp(halfspace_model, active_set, cholesky, deformed_gap))
+_sweep = _define_sweep(sources_stamp(halfspace_model, active_set, capacitance, cholesky, deformed_gap))
 
 
 def _solve_at(steps: ActiveSetSolver, s: int, deltas: np.ndarray, force_stop: float = math.inf):

@@ -7,9 +7,9 @@
   groups of columns) equals u from the full influence matrix: tolerance 1e-12 of max u, round-off of
   reordered sums of positive terms (measured below 5e-16);
 * u in float32 (``deformed_gap.displacement_kernel32``) lies within its error bound (``deformed_gap.float32_error``)
-  of u in float64, and the solver's penetration decisions made from it (``active_set._displacement_decided``:
+  of u in float64, and the solver's penetration decisions made from it (``deformed_gap.displacement_decided``:
   float64 again where the bound cannot decide) are float64's, on gaps put at the decision's edge; so are those of
-  a later check that keeps the earlier one's bounds (``active_set._displacement_kept``) after the pressure changed;
+  a later check that keeps the earlier one's bounds (``deformed_gap.displacement_kept``) after the pressure changed;
 * steps of the ``3d`` law on a 31 x 41 window at 0.5 mm (over ``FULL_MATRIX_ELEMENTS``: the kernel path and the
   screen) agree with the dense NNLS oracle (``halfspace_oracle``) to 1e-9 of the preload, as the 1 mm runs in
   ``test_halfspace_loop.py``: the same equations, round-off of reordered sums left.
@@ -117,7 +117,7 @@ def test_penetration_decided_in_float32_as_in_float64():
         gap = glimit + delta - u + rng.choice([-1, 1], n) * rng.uniform(0, 3e-7, n) * np.abs(u)
         values, lower = np.empty(outside.size), np.empty(outside.size)
         limits = (delta, glimit)
-        active_set._displacement_decided(
+        deformed_gap.displacement_decided(
             grid, order, order.size, pressure, gap, outside, outside.size, values, lower, limits
         )
         decided = gap[outside] - delta + values < glimit
@@ -146,13 +146,13 @@ def test_a_later_check_keeps_bounds_and_decides_as_float64():
         changes = np.zeros(n, dtype=np.int64)
         work = (pressure, gap, None, changes, None, np.empty(n), None, bounds)
         changes[: outside.size] = outside
-        active_set._displacement_kept(grid, order, order.size, work, outside.size, (delta, glimit))  # a first check
+        deformed_gap.displacement_kept(grid, order, order.size, work, outside.size, (delta, glimit))  # a first check
         # the pressure changes (some of it decreases, as when elements join the set); the gap stays
         before = pressure[order].copy()
         pressure[order] *= 1.0 - rng.uniform(-1e-3, 2e-3, order.size)
         bounds[2][0] = np.sum(np.maximum(before - pressure[order], 0.0))
         changes[: outside.size] = outside
-        active_set._displacement_kept(grid, order, order.size, work, outside.size, (delta, glimit))
+        deformed_gap.displacement_kept(grid, order, order.size, work, outside.size, (delta, glimit))
         u = active_set.displacement(grid, pressure)
         decided = gap[outside] - delta + work[5][: outside.size] < glimit
         np.testing.assert_array_equal(decided, gap[outside] - delta + u[outside] < glimit)

@@ -32,6 +32,8 @@ def test_3d_law_answers_as_before_the_speed_ups(element_mm):
     params = ModelParameters(run=RunParameters(element_size=element_mm * 1e-3))
     model = prepare_run("corrugated-rail", model="3d", params=params, length=float(reference["length"])).law.contact
     states = [model.solve(first + k, known[k], compliance[k]) for k in range(known.size)]
+    # 0.5 mm: the window has no influence matrix, and the law solves through contact.capacitance
+    assert (model.law_inputs().capacitance_counts()["references"] > 0) == (element_mm == 0.5)
     force = np.array([state.force for state in states])
     # 1e-9 of the preload: the solver's relative tolerance of eq. 10 (HalfSpaceWindow's default). The active set's
     # answer is unique, so what may differ is round-off of sums taken in another order or from another start

@@ -9,10 +9,12 @@ state put at the run-in's last approach, and the steady start on its law tabulat
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 import numpy as np
 from numba import njit
 
-from wheelrail.core.contact import active_set, cholesky, deformed_gap, halfspace_model
+from wheelrail.core.contact import active_set, capacitance, cholesky, deformed_gap, halfspace_model
 from wheelrail.core.contact.active_set import STEP_CONVERGED, STEP_NEEDS_ROOM
 from wheelrail.core.contact.halfspace_model import halfspace_step
 from wheelrail.core.contact.run_in_law import run_in_chunk, run_in_table, step_law, warm_start
@@ -71,7 +73,20 @@ def _define_run_chunk_3d(stamp):
     return run_chunk_3d
 
 
-run_chunk_3d = _define_run_chunk_3d(sources_stamp(halfspace_model, active_set, cholesky, deformed_gap, kernels))
+run_chunk_3d = _define_run_chunk_3d(
+    sources_stamp(halfspace_model, active_set, capacitance, cholesky, deformed_gap, kernels)
+)
+
+
+@contextmanager
+def _factor_path(solver):
+    """The solver on its set's own factor meanwhile: ``contact.run_in_law`` reads z = U^-T 1, which the
+    capacitance solve does not keep."""
+    was = solver.use_capacitance(False)
+    try:
+        yield
+    finally:
+        solver.use_capacitance(was)
 
 
 class HalfSpaceLaw(ContactLaw):
@@ -149,13 +164,15 @@ class HalfSpaceLaw(ContactLaw):
         state is put at the last approach, on the first recorded step's gap."""
         loop, preload = self.history, self.preload
         if self.table is None:  # the static approach under the preload as scale
-            self.table = run_in_table(self.solver, loop.n_run_in, preload, loop.static_approach)
+            with _factor_path(self.solver):
+                self.table = run_in_table(self.solver, loop.n_run_in, preload, loop.static_approach)
         j0, j1, constants = loop.n_hist + s0, loop.n_hist + s1, (preload, loop.xi_w0, loop.n_hist)
         approach = run_in_chunk(
             j0, j1, loop.track, loop.wheel, constants, self.table, loop.ramp, self._segment, self.outputs[:2]
         )
         if s1 == loop.n_run_in:
-            warm_start(self.solver, loop.n_run_in, approach)
+            with _factor_path(self.solver):
+                warm_start(self.solver, loop.n_run_in, approach)
 
     def chunk_pressure(self, s0: int, s1: int) -> np.ndarray | None:
         if self._maps is None:
@@ -165,7 +182,10 @@ class HalfSpaceLaw(ContactLaw):
     def steady_law(self, band=STEADY_TABLE):
         """The law tabulated exactly within ``band`` = ((low, high) x P, start x static approach) on the run-in's
         gap (``run_in_law.step_law``), extended linearly above."""
-        delta, force = step_law(self.solver, self.history.n_run_in, self.preload, self.history.static_approach, *band)
+        with _factor_path(self.solver):
+            delta, force = step_law(
+                self.solver, self.history.n_run_in, self.preload, self.history.static_approach, *band
+            )
         slope = (force[-1] - force[-2]) / (delta[-1] - delta[-2])
         return lambda d: np.where(d > delta[-1], force[-1] + slope * (d - delta[-1]), np.interp(d, delta, force))
 
@@ -187,5 +207,6 @@ class HalfSpaceLaw(ContactLaw):
             if not (band[0] <= low and high <= band[1]):
                 steady = start_state(loop, self.steady_law(((max(0.05, low - 0.1), high + 0.1), 0.0)), preload)
         fill_history(loop, steady)
-        warm_start(self.solver, 0, float(steady.approach[0]))
+        with _factor_path(self.solver):
+            warm_start(self.solver, 0, float(steady.approach[0]))
         return steady
