@@ -190,22 +190,21 @@ def _run_study(name, sets, folder, planned: dict, workers, dask_address, progres
 
 @contextlib.contextmanager
 def _beside(work):
-    """Call each of ``work`` in a thread while the block runs (its results are kept where they are cached), from when
-    the block calls the callable it is given (``execute``'s ``started``: once a run has finished, so that the work,
-    which holds the GIL, does not lengthen the first runs' load of numba's compiled code, which holds it too and
-    comes before any parallel step) or the block ends; leaving the block waits for it, but for an error or
-    interrupt. A failure is left to the tabulation, which does the same work again and reports it."""
-    go = threading.Event()
+    """Call each of ``work`` in a thread while the block runs (its results are kept where they are cached), started
+    when the block calls the callable it is given (``execute``'s ``started``: once a run has finished, so that the
+    work, which holds the GIL, does not lengthen the first runs' load of numba's compiled code, which holds it too and
+    comes before any parallel step; never before ``execute`` forks its workers, whose process must have no other
+    thread) or when the block ends; leaving the block waits for it, but for an error or interrupt. A failure is left
+    to the tabulation, which does the same work again and reports it."""
     if not work:
-        yield go.set
+        yield lambda: None
         return
-    stop = threading.Event()
+    stop, lock, threads = threading.Event(), threading.Lock(), []
 
     def call_each():
         from wheelrail.core.study.threads import set_blas_threads_local
 
         set_blas_threads_local(1)  # beside the runs' threads, on the study's cores
-        go.wait()
         for call in work:
             if stop.is_set():
                 return
@@ -214,16 +213,19 @@ def _beside(work):
             except Exception:  # noqa: BLE001 - the tabulation repeats it and reports its error
                 pass
 
-    thread = threading.Thread(target=call_each, name="wheelrail-study-beside", daemon=True)
-    thread.start()
+    def start():
+        with lock:
+            if not threads:
+                threads.append(threading.Thread(target=call_each, name="wheelrail-study-beside", daemon=True))
+                threads[0].start()
+
     try:
-        yield go.set
+        yield start
     except BaseException:
         stop.set()
-        go.set()
         raise
-    go.set()
-    thread.join()
+    start()
+    threads[0].join()
 
 
 def _load_matplotlib() -> None:
