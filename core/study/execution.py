@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import functools
 import importlib.util
 import os
 import re
@@ -160,15 +161,16 @@ def execute(
     n_cached = len(summaries)
     bar = Bar(total=len(unique), initial=n_cached, unit="run", desc=description, disable=not progress, file=sys.stderr)
 
-    def finished(summary: RunSummary) -> None:
-        save_cached(cache, summary)
+    def finished(summary: RunSummary, saved: bool = False) -> None:
+        if not saved:  # forked workers write their own
+            save_cached(cache, summary)
         summaries[summary.key] = summary
         bar.update(1)
         if started is not None:
             started()
 
     try:
-        used = _dispatch(missing, int(workers), dask_address, finished, backend, started)
+        used = _dispatch(missing, int(workers), dask_address, finished, backend, started, cache)
     finally:
         bar.close()
         if started is not None:
@@ -189,9 +191,11 @@ def _dispatch(
     finished: Callable[[RunSummary], None],
     backend: str = "auto",
     started: Callable[[], None] | None = None,
+    cache: Path | None = None,
 ) -> str:
     """Compute the missing runs where asked; returns the backend's name for the report. ``started``: as
-    :func:`execute`'s, called here where this process only waits (Dask, worker processes)."""
+    :func:`execute`'s, called here where this process only waits (Dask, worker processes). ``cache``: the folder
+    of run files, which forked workers write themselves (``finished(summary, saved=True)`` then)."""
     started = started or (lambda: None)
     if dask_address is not None:  # connect even when all runs are cached: a bad address is an error
         started()
@@ -211,7 +215,12 @@ def _dispatch(
     threads = backend == "threads" or (backend == "auto" and all(releases_gil(spec) for spec in missing))
     with _terminate_as_interrupt():
         if refusal is None:  # copies of this process, started in milliseconds with what it has loaded
-            execute_forked(missing, workers, finished, track_tasks(missing), started)
+            if cache is None:
+                execute_forked(missing, workers, finished, track_tasks(missing), started)
+            else:
+                saved = functools.partial(finished, saved=True)
+                save = functools.partial(save_cached, cache)
+                execute_forked(missing, workers, saved, track_tasks(missing), started, save)
             return f"forked processes ({workers} workers)"
         if threads:  # the tracks prepared in the same threads, each track's runs started once it is ready
             tasks = track_tasks(missing)

@@ -21,19 +21,20 @@ when the study's process is gone (:func:`watch_parent`).
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import signal
 import sys
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from multiprocessing.connection import wait
 
 from wheelrail.core.errors import WheelrailError
 from wheelrail.core.study.specs import RunSpec, RunSummary
 
-__all__ = ["Board", "PARENT_POLL_INTERVAL", "execute_forked", "fork_refusal", "watch_parent"]
+__all__ = ["Board", "PARENT_POLL_INTERVAL", "execute_forked", "fork_refusal", "forked_call", "watch_parent"]
 
 PARENT_POLL_INTERVAL = 0.5  # s, how often a worker process checks that the process that started it lives
 _WAIT = 0.5  # s, the longest a worker waits on the board before it looks at the stop flag again
@@ -115,10 +116,11 @@ class Board:
         self.stopped.value = 1
 
 
-def _work(board: Board, start: int, connection, cancel=None, threads: int = 1) -> None:
-    """Take tasks from ``board`` (from ``start`` on) and do them, sending ``("run", k, summary)`` or ``("track", k,
-    None)`` for each, ``("end", None, None)`` when none is left, ``("failed", k, error)`` on an error (the board
-    then stopped). A new track's precompute integrates in ``threads`` threads."""
+def _work(board: Board, start: int, connection, cancel=None, threads: int = 1, save=None) -> None:
+    """Take tasks from ``board`` (from ``start`` on) and do them, sending ``("run", k, summary)`` (the summary first
+    given to ``save``, if any) or ``("track", k, None)`` for each, ``("end", None, None)`` when none is left,
+    ``("failed", k, error)`` on an error (the board then stopped). A new track's precompute integrates in ``threads``
+    threads."""
     from wheelrail.core.study.precompute import integration_threads, prepare_track
     from wheelrail.core.study.specs import compute_run
 
@@ -132,7 +134,10 @@ def _work(board: Board, start: int, connection, cancel=None, threads: int = 1) -
                 board.track_ready(k)
                 connection.send(("track", k, None))
             else:
-                connection.send(("run", k, compute_run(item, cancel)))
+                summary = compute_run(item, cancel)
+                if save is not None:
+                    save(summary)
+                connection.send(("run", k, summary))
         connection.send(("end", None, None))
     except BaseException as error:  # noqa: BLE001 - every failure goes back to the study's process
         board.stop()
@@ -144,7 +149,7 @@ def _work(board: Board, start: int, connection, cancel=None, threads: int = 1) -
         connection.close()
 
 
-def _child(board: Board, start: int, connection, parent_pid: int, threads: int) -> None:
+def _child(board: Board, start: int, connection, parent_pid: int, threads: int, save=None) -> None:
     """A forked worker: Ctrl-C left to the study's process (which ends this one), SIGTERM ends it, and it ends by
     itself when the study's process is gone; BLAS in one thread."""
     from wheelrail.core.study.threads import set_blas_threads_local
@@ -153,7 +158,7 @@ def _child(board: Board, start: int, connection, parent_pid: int, threads: int) 
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the study's own handler, inherited
     threading.Thread(target=watch_parent, args=(parent_pid,), name="wheelrail-parent-watch", daemon=True).start()
     set_blas_threads_local(1)
-    _work(board, start, connection, None, threads)
+    _work(board, start, connection, None, threads, save)
 
 
 def execute_forked(
@@ -162,17 +167,20 @@ def execute_forked(
     finished: Callable[[RunSummary], None],
     tracks: Sequence = (),
     started: Callable[[], None] | None = None,
+    save: Callable[[RunSummary], None] | None = None,
 ) -> None:
     """Compute ``specs`` on ``workers`` workers: this process (a thread of its own) and ``workers - 1`` forked
-    children, ``finished(summary)`` called in this thread as each run ends. ``tracks`` (``precompute.TrackTask``: the
+    children, ``finished(summary)`` called in this thread as each run ends (``save(summary)`` first, in the worker
+    that computed it: each writes its own run files). ``tracks`` (``precompute.TrackTask``: the
     tracks the disk cache lacks) are prepared first, one a worker (one integrating thread each; a single new track in
     ``workers`` threads), each track's runs taken once it is ready. ``started`` (:func:`execute`'s) is called once the
-    children run, when this process may start threads again. Call it only where :func:`fork_refusal` is None.
+    children run, when this process may start threads again; a thread it returns (the caller's work beside the runs)
+    is waited for before this process takes tasks. Call it only where :func:`fork_refusal` is None.
 
     A failed task, Ctrl-C or SIGTERM stops the board, ends the children (SIGTERM), stops this process's run at its next
     chunk of steps and re-raises; a child that dies without a word is a WheelrailError.
     """
-    from wheelrail.core.study.threads import read_once, set_blas_threads_local
+    from wheelrail.core.study.threads import read_once
 
     context = multiprocessing.get_context("fork")
     runs = read_once(specs)  # read before the fork: the children share them
@@ -192,7 +200,7 @@ def execute_forked(
             start = worker * len(board.tasks) // workers
             child = context.Process(
                 target=_child,
-                args=(board, start, writer, os.getpid(), threads),
+                args=(board, start, writer, os.getpid(), threads, save),
                 name=f"wheelrail-study-{worker}",
                 daemon=True,
             )
@@ -201,13 +209,12 @@ def execute_forked(
             children.append(child)
             readers[reader] = child
         reader, writer = context.Pipe(duplex=False)
+        beside = started() if started is not None else None
         own = threading.Thread(
-            target=_own_share, args=(board, writer, cancel, threads, set_blas_threads_local), name="wheelrail-study-0"
+            target=_own_share, args=(board, writer, cancel, threads, save, beside), name="wheelrail-study-0"
         )
         own.start()
         readers[reader] = None
-        if started is not None:
-            started()
         _collect(board, readers, finished)
     except BaseException:
         board.stop()
@@ -224,10 +231,16 @@ def execute_forked(
             reader.close()
 
 
-def _own_share(board: Board, connection, cancel, threads: int, set_blas_threads_local) -> None:
-    """This process's share of the board, in a thread of its own, BLAS in one thread."""
+def _own_share(board: Board, connection, cancel, threads: int, save, beside=None) -> None:
+    """This process's share of the board, in a thread of its own, BLAS in one thread, once the thread ``beside``
+    (the caller's own work beside the runs, if ``started`` returned it) has ended: the children take the runs
+    meanwhile, and the work beside them does not share this process's GIL with runs."""
+    from wheelrail.core.study.threads import set_blas_threads_local
+
+    if isinstance(beside, threading.Thread):
+        beside.join()
     set_blas_threads_local(1)
-    _work(board, 0, connection, cancel, threads)
+    _work(board, 0, connection, cancel, threads, save)
 
 
 def _collect(board: Board, readers: dict, finished: Callable[[RunSummary], None]) -> None:
@@ -251,3 +264,53 @@ def _collect(board: Board, readers: dict, finished: Callable[[RunSummary], None]
                 open_readers.discard(reader)
             elif kind == "run":
                 finished(payload)
+
+
+@contextlib.contextmanager
+def forked_call(call: Callable[[], object]) -> Iterator[Callable[[], object]]:
+    """``call()`` in a forked child started now (only where :func:`fork_refusal` is None), while the block runs;
+    yields a function that waits for its result (raising its error, or a WheelrailError if it died). Leaving the block
+    before the result came back (an error, Ctrl-C) ends the child."""
+    context = multiprocessing.get_context("fork")
+    reader, writer = context.Pipe(duplex=False)
+    child = context.Process(
+        target=_call_child, args=(call, writer, os.getpid()), name="wheelrail-study-call", daemon=True
+    )
+    child.start()
+    writer.close()
+    received = []
+
+    def result():
+        try:
+            kind, payload = reader.recv()
+        except EOFError:
+            child.join()
+            raise WheelrailError(f"a study worker process ended before its work (exit code {child.exitcode})") from None
+        received.append(kind)
+        if kind == "failed":
+            raise payload
+        return payload
+
+    try:
+        yield result
+    finally:
+        if not received:
+            child.terminate()
+        child.join()
+        reader.close()
+
+
+def _call_child(call: Callable[[], object], connection, parent_pid: int) -> None:
+    """A forked child's one call, its result or error sent back (as :func:`_child`'s tasks)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    threading.Thread(target=watch_parent, args=(parent_pid,), name="wheelrail-parent-watch", daemon=True).start()
+    try:
+        connection.send(("done", call()))
+    except BaseException as error:  # noqa: BLE001 - every failure goes back to the study's process
+        try:
+            connection.send(("failed", error))
+        except Exception:  # noqa: BLE001 - an error that does not pickle: its words
+            connection.send(("failed", WheelrailError(f"{type(error).__name__}: {error}")))
+    finally:
+        connection.close()

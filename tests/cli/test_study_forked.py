@@ -140,7 +140,7 @@ def test_work_beside_the_runs_starts_after_the_fork(tmp_path, monkeypatch):
     seen, beside = [], threading.Event()
     monkeypatch.setattr(runner, "_load_matplotlib", beside.set)
 
-    def execute_fork(specs_, workers, finished, tracks=(), started=None):
+    def execute_fork(specs_, workers, finished, tracks=(), started=None, save=None):
         seen.append(forked.fork_refusal())  # no thread of the study's at the fork
         started()
         seen.append(beside.wait(60))
