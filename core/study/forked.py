@@ -84,19 +84,19 @@ class Board:
         self.stopped = context.RawValue("b", 0)
         self.changed = context.Condition(context.Lock())
 
-    def take(self, start: int) -> int | None:
+    def take(self, start: int, runs: bool = True) -> int | None:
         """Claim the first free task from ``start`` on (wrapping round) whose track is ready, and return its index;
         wait while the only free tasks are runs on tracks still being prepared; None when none is left or the board
-        is stopped."""
+        is stopped. ``runs`` False: tracks only (None when no track is left)."""
         count = len(self.tasks)
         with self.changed:
             while not self.stopped.value:
                 waiting = False
                 for k in (*range(start, count), *range(start)):
-                    if self.taken[k]:
+                    if self.taken[k] or (not runs and self.tasks[k][0] != "track"):
                         continue
                     if self.needs[k] >= 0 and not self.ready[self.needs[k]]:
-                        waiting = True
+                        waiting = runs
                         continue
                     self.taken[k] = 1
                     return k
@@ -116,17 +116,18 @@ class Board:
         self.stopped.value = 1
 
 
-def _work(board: Board, start: int, connection, cancel=None, threads: int = 1, save=None) -> None:
+def _work(board: Board, start: int, connection, cancel=None, threads: int = 1, save=None, beside=None) -> None:
     """Take tasks from ``board`` (from ``start`` on) and do them, sending ``("run", k, summary)`` (the summary first
     given to ``save``, if any) or ``("track", k, None)`` for each, ``("end", None, None)`` when none is left,
     ``("failed", k, error)`` on an error (the board then stopped). A new track's precompute integrates in ``threads``
-    threads."""
+    threads. Runs are taken once the thread ``beside`` (if any) has ended (a precompute, in compiled code that leaves
+    the GIL free, goes on beside it)."""
     from wheelrail.core.study.precompute import integration_threads, prepare_track
     from wheelrail.core.study.specs import compute_run
 
     k = None
     try:
-        while (k := board.take(start)) is not None:
+        while (k := board.take(start, runs=beside is None or not beside.is_alive())) is not None:
             kind, item = board.tasks[k]
             if kind == "track":
                 with integration_threads(threads):
@@ -232,15 +233,30 @@ def execute_forked(
 
 
 def _own_share(board: Board, connection, cancel, threads: int, save, beside=None) -> None:
-    """This process's share of the board, in a thread of its own, BLAS in one thread, once the thread ``beside``
-    (the caller's own work beside the runs, if ``started`` returned it) has ended: the children take the runs
-    meanwhile, and the work beside them does not share this process's GIL with runs."""
+    """This process's share of the board, in a thread of its own, BLAS in one thread: the new tracks at once, the
+    runs once the thread ``beside`` (the caller's own work beside the runs, if ``started`` returned it) has ended, so
+    that the work beside them does not share this process's GIL with runs (the children take them meanwhile)."""
     from wheelrail.core.study.threads import set_blas_threads_local
 
-    if isinstance(beside, threading.Thread):
-        beside.join()
     set_blas_threads_local(1)
+    if isinstance(beside, threading.Thread):
+        _work(board, 0, _Kept(connection), cancel, threads, save, beside)  # the tracks, while it goes on
+        beside.join()
     _work(board, 0, connection, cancel, threads, save)
+
+
+class _Kept:
+    """A connection whose ``close`` and end message wait for the last pass (:func:`_own_share`'s two passes)."""
+
+    def __init__(self, connection) -> None:
+        self.connection = connection
+
+    def send(self, message) -> None:
+        if message[0] != "end":
+            self.connection.send(message)
+
+    def close(self) -> None:
+        pass
 
 
 def _collect(board: Board, readers: dict, finished: Callable[[RunSummary], None]) -> None:

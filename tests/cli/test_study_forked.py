@@ -150,3 +150,39 @@ def test_work_beside_the_runs_starts_after_the_fork(tmp_path, monkeypatch):
     with pytest.raises(KeyError):
         runner.run_study("filters", ["corrugated-rail"], tmp_path, workers=2, progress=False, length=0.6)
     assert seen == [None, True]
+
+
+def test_this_process_prepares_a_track_beside_its_other_work_and_takes_runs_after_it(monkeypatch):
+    # the work beside the runs (the tables' noise chains) holds this process's GIL: a precompute, in compiled code,
+    # goes on beside it at once, but this process takes no run before it has ended (the child takes them meanwhile)
+    from wheelrail.core.inputs.declared import model_parameters
+
+    context, parent = multiprocessing.get_context("fork"), os.getpid()
+    took, release = context.Event(), threading.Event()
+    beside = threading.Thread(target=release.wait, args=(60,))
+    seen, ran_here = [], []
+
+    def prepare(task):
+        if os.getpid() == parent:
+            seen.append(beside.is_alive())
+            took.set()
+            release.set()  # the work beside ends now
+        else:
+            assert took.wait(60)  # the child holds its track until this process has taken the other
+        return task
+
+    def compute(spec, cancel=None):
+        if os.getpid() == parent:
+            ran_here.append(beside.is_alive())
+        return _summary(spec)
+
+    monkeypatch.setattr("wheelrail.core.study.precompute.prepare_track", prepare)
+    monkeypatch.setattr(specs, "compute_run", compute)
+    monkeypatch.setattr(study_threads, "read_once", list)
+    params = [model_parameters({"pad_stiffness": value}) for value in (60e6, 200e6)]
+    tracks = [TrackTask(p.track, ((p.run.speed, p.run.time_step),), new=True) for p in params]
+    runs = [RunSpec(source="sinter-wheel-1", set_label="w", set_digest="0" * 64, model="hertz", line=line, params=p)
+            for p in params for line in (0, 1, 2)]  # fmt: skip
+    done = []
+    forked.execute_forked(runs, 2, done.append, tracks, started=lambda: beside.start() or beside)
+    assert seen[0] and not any(ran_here) and len(done) == len(runs)  # (it may prepare both tracks)
