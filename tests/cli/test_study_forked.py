@@ -21,6 +21,14 @@ from wheelrail.core.study.specs import RunCancelled
 pytestmark = pytest.mark.skipif(forked.fork_refusal() == "forked workers need Linux", reason="forks on Linux only")
 
 
+@pytest.fixture(autouse=True)
+def no_kept_pool():
+    """No process pool kept by an earlier test (its manager thread would rule the fork out)."""
+    from wheelrail.core.study import shutdown_pools
+
+    shutdown_pools()
+
+
 def _spec(line=0, model="hertz"):
     return RunSpec(source="sinter-wheel-1", set_label="w", set_digest="0" * 64, model=model, line=line)
 

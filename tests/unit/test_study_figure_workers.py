@@ -16,6 +16,14 @@ from wheelrail.core.study.tables import Table
 
 pytestmark = pytest.mark.skipif(forked.fork_refusal() == "forked workers need Linux", reason="forks on Linux only")
 
+
+@pytest.fixture(autouse=True)
+def no_kept_pool():
+    """No process pool kept by an earlier test (its manager thread would rule the fork out)."""
+    from wheelrail.core.study import shutdown_pools
+
+    shutdown_pools()
+
 CENTRES = 1000.0 * 10.0 ** (np.arange(-13, 10) / 10)
 
 
