@@ -2,10 +2,11 @@
 (:func:`~wheelrail.core.study.forked.forked_call`, where :func:`~wheelrail.core.study.forked.fork_refusal` allows it).
 
 Several figures are shared out whole (the most panels first, each to the process with fewer panels so far). One
-figure of two or more rows of panels is cut between two rows: each process works its layout out (the layout engine's
-``execute``, then no engine: the same figure and code give the same layout and cut in both), the child draws the
-panels below the cut and the study's process those above it (each with the other's panels hidden), and the two
-halves of the pixel buffer are put together and written as matplotlib writes a PNG (``matplotlib.image.imsave``).
+figure of two or more rows of panels is cut between two rows: its layout is worked out once, in the study's process
+before the fork (the layout engine's ``execute``, then no engine: laid out on both sides at the same cost, but twice
+the CPU), the child draws the panels below the cut and the study's process those above it (each with the other's
+panels hidden), and the two halves of the pixel buffer are put together and written as matplotlib writes a PNG
+(``matplotlib.image.imsave``).
 The cut lies in the middle of the gap between the two rows' tight boxes (titles, tick and axis labels, legends
 included), at least ``_MARGIN`` pixels from each, so that no pixel is drawn by both halves: the file is byte for byte
 the one ``savefig`` writes. A figure of one row, or whose rows leave no such gap, is drawn whole in the study's
@@ -45,26 +46,13 @@ def png_files(figures: dict, dpi: float, workers: int = 1) -> dict[str, bytes]:
             drawn = {**mine, **result()}
         return {name: drawn[name] for name in names}
     figure = figures[names[0]]
-    if _rows(figure) < 2:
+    cut = _cut(figure, dpi)  # laid out once, here: the child inherits the layout
+    if cut is None:
         return {names[0]: _png(figure, dpi)}
-    with forked_call(lambda: _lower_half(figure, dpi)) as result:
-        cut = _cut(figure, dpi)  # the same in both processes: the same figure, laid out by the same code
-        if cut is None:
-            return {names[0]: _png(figure, dpi)}
-        upper = _drawn(figure, cut[2])[: cut[0]]
+    row, above, below = cut
+    with forked_call(lambda: _drawn(figure, above)[row:].copy()) as result:
+        upper = _drawn(figure, below)[:row]
         return {names[0]: _encoded(np.vstack([upper, result()]), dpi)}
-
-
-def _rows(figure) -> int:
-    """The rows of panels of the figure's grid (1 without panels)."""
-    specs = [ax.get_subplotspec() for ax in figure.axes]
-    return max((spec.get_gridspec().nrows for spec in specs if spec is not None), default=1)
-
-
-def _lower_half(figure, dpi: float) -> np.ndarray | None:
-    """The child's share of a cut figure: the rows below the cut, the panels above it hidden (None: no cut)."""
-    cut = _cut(figure, dpi)
-    return None if cut is None else _drawn(figure, cut[1])[cut[0] :].copy()
 
 
 def _shared_out(figures: dict) -> set[str]:
@@ -82,6 +70,8 @@ def _cut(figure, dpi: float):
     """Lay the figure out at ``dpi`` (once; no layout engine after it) and find the pixel row between two rows of
     panels, the middle pair: ``(row from the top, the artists above it, the axes below it)`` (the figure's own texts
     and legends, its title, above), or None (one row; no gap)."""
+    if len({ax.get_position().y0 for ax in figure.axes}) < 2:
+        return None  # one row (nothing laid out: savefig does it)
     figure.dpi = dpi
     engine = figure.get_layout_engine()
     if engine is not None:

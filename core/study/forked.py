@@ -192,6 +192,7 @@ def execute_forked(
         [*(-1 for _ in tracks), *(index.get((spec.params.track, spec.track_numerics), -1) for spec in runs)],
     )
     threads = workers if sum(task.new for task in tracks) == 1 else 1  # one new track: on every core
+    workers = max(1, min(workers, len(board.tasks)))  # no child without a task to take
     children, readers = [], {}
     cancel = threading.Event()
     own = None
