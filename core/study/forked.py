@@ -184,7 +184,7 @@ def execute_forked(
     from wheelrail.core.study.threads import read_once
 
     context = multiprocessing.get_context("fork")
-    runs = read_once(specs)  # read before the fork: the children share them
+    runs = read_once(_by_model(specs))  # read before the fork: the children share them
     index = {(task.track, task.numerics): k for k, task in enumerate(tracks)}
     board = Board(
         context,
@@ -231,6 +231,15 @@ def execute_forked(
             own.join()
         for reader in readers:
             reader.close()
+
+
+def _by_model(specs: Sequence[RunSpec]) -> list[RunSpec]:
+    """The runs grouped by model, each model's in the order given, the models in the order of their first run: a
+    worker's stretch of the board then holds few models, and it loads fewer models' compiled code."""
+    first: dict[str, int] = {}
+    for spec in specs:
+        first.setdefault(spec.model, len(first))
+    return sorted(specs, key=lambda spec: first[spec.model])
 
 
 def _own_share(board: Board, connection, cancel, threads: int, save, beside=None) -> None:
