@@ -194,3 +194,10 @@ def test_this_process_prepares_a_track_beside_its_other_work_and_takes_runs_afte
     done = []
     forked.execute_forked(runs, 2, done.append, tracks, started=lambda: beside.start() or beside)
     assert seen[0] and not any(ran_here) and len(done) == len(runs)  # (it may prepare both tracks)
+
+
+def test_the_boards_runs_are_grouped_by_model_in_the_order_given():
+    given = [_spec(0, "3d"), _spec(0), _spec(0, "2d"), _spec(1), _spec(1, "2d"), _spec(1, "3d")]
+    grouped = forked._by_model(given)
+    assert [(s.model, s.line) for s in grouped] == [("3d", 0), ("3d", 1), ("hertz", 0), ("hertz", 1), ("2d", 0),
+                                                    ("2d", 1)]  # fmt: skip
