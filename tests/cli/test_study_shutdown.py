@@ -119,7 +119,9 @@ def study_process(tmp_path, request):
     forked one child (the study's process the other worker): (process, their pids)."""
     script = tmp_path / "blocked_study.py"
     script.write_text(SCRIPT if request.param == "processes" else FORK_SCRIPT)
-    process = subprocess.Popen([sys.executable, str(script), str(tmp_path / "runs")], stderr=subprocess.PIPE, text=True)
+    command = [sys.executable, str(script), str(tmp_path / "runs")]
+    # a session of its own: Ctrl-C reaches the study's process group only (test_ctrl_c_...)
+    process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True, start_new_session=True)
     helpers: dict[int, str] = {}
 
     def started() -> bool:
@@ -159,3 +161,18 @@ def test_sigterm_stops_the_study_like_ctrl_c(study_process):
         pytest.fail(f"the study did not stop within {DEADLINE_S:g} s of SIGTERM")
     assert code == 130 and "stopped by StudyTerminated" in process.stderr.read()
     _wait_until(lambda: not any(_alive(pid) for pid in helpers), "every worker and the tracker ended")
+
+
+def test_ctrl_c_to_the_process_group_stops_forked_workers(study_process, request):
+    # a terminal's Ctrl-C is SIGINT to the whole foreground group: the forked children ignore it, the study's
+    # process stops them and exits as interrupted
+    if request.node.callspec.params["study_process"] != "fork":
+        pytest.skip("the process pool's spawned workers are covered by the SIGTERM and kill -9 tests")
+    process, helpers = study_process
+    os.killpg(process.pid, signal.SIGINT)
+    try:
+        code = process.wait(timeout=DEADLINE_S)
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"the study did not stop within {DEADLINE_S:g} s of Ctrl-C")
+    assert code == 130 and "stopped by KeyboardInterrupt" in process.stderr.read()
+    _wait_until(lambda: not any(_alive(pid) for pid in helpers), "every forked worker ended")
