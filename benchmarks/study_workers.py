@@ -1,14 +1,14 @@
 """Each study's wall and CPU time on 1 and 2 workers: the filters, track and impact studies.
 
 Run: python3 benchmarks/study_workers.py [--quick] [--studies filters track impact] [--rounds N]
-                                         [--backend auto|threads|processes] [--pin] [--precompute]
+                                         [--backend auto|fork|threads|processes] [--pin] [--precompute]
 Target: two workers at least 1.7x faster than one on each study, on a quiet 2-core machine.
 
 A study's ``workers`` are the cores it may use (a new track's precompute in the study's process integrates in at
 most that many threads). Each line gives the study's wall and CPU time, the load average before it and the wall time
-of its figures (drawn after the last run: the part two workers cannot share); each study's speed-up line gives the
-best wall times' ratio, and that ratio without the figures. ``--pin`` pins each measurement's process (and the
-worker processes it starts) to as many CPUs as it has workers: 1 core against 2 cores.
+of its figures (drawn after the last run, on two processes with two workers where the study forks); each study's
+speed-up line gives the best wall times' ratio, and that ratio without the figures. ``--pin`` pins each
+measurement's process (and the worker processes it starts) to as many CPUs as it has workers: 1 core against 2.
 
 Each measurement is a fresh process that runs one study by the API, as one ``wheelrail study`` command does (its
 start-up as the command line's, ``core.startup``, unless ``STUDY_WORKERS_API_START=1``; numba's compiled code
@@ -203,7 +203,7 @@ def main() -> None:
     parser.add_argument("--studies", nargs="+", default=["filters", "track", "impact"])
     parser.add_argument("--workers", nargs="+", type=int, default=[1, 2])
     parser.add_argument("--rounds", type=int, default=1)
-    parser.add_argument("--backend", default="auto", choices=("auto", "threads", "processes"))
+    parser.add_argument("--backend", default="auto", choices=("auto", "fork", "threads", "processes"))
     parser.add_argument("--pin", action="store_true", help="pin each study to as many CPUs as it has workers")
     parser.add_argument("--precompute", action="store_true", help="also 2 tracks x 1 thread against 1 x 2")
     parser.add_argument("--child", help=argparse.SUPPRESS)

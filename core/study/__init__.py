@@ -33,8 +33,9 @@ Named studies (``STUDIES``):
     model and speed on line 0: peak and minimum force, time without contact, the lowest speed with loss of contact,
     the run's sound power and its slope in dB per doubling of speed (:mod:`wheelrail.core.study.impact_plan`).
 
-Runs are executed by :func:`execute`: already cached runs are read back, the missing ones run in threads of this
-process (the compiled laws release the GIL), on a local process pool (``concurrent.futures.ProcessPoolExecutor``)
+Runs are executed by :func:`execute`: already cached runs are read back, the missing ones run on forked copies of
+this process (Linux, where no other thread is alive), in threads of it (the compiled laws release the GIL), on a
+local process pool (``concurrent.futures.ProcessPoolExecutor``)
 or on a Dask cluster (``dask.distributed``), the new tracks they need prepared once each beforehand, and
 each finished run is written at once, atomically, to ``<cache>/<key>.npz`` where the key is a SHA-256
 hash of the full run spec (roughness content, model, line, input transform, all model parameters, run
@@ -42,7 +43,8 @@ and spectrum settings). An interrupted study therefore resumes and only computes
 unusable run file (damaged, wrong shapes, NaN) is computed again with a warning.
 
 Modules, by concern: ``specs`` (run specs, summaries, the worker task), ``store`` (run files),
-``execution`` (threads, process pool, Dask, shutdown), ``threads`` (runs in threads of one process),
+``execution`` (the choice of workers, process pool, Dask, shutdown), ``forked`` (runs on forked copies of the
+study's process), ``figure_workers`` (figures on two processes), ``threads`` (runs in threads of one process),
 ``precompute`` (new tracks, once each), ``plans`` (the named studies and their tables), ``tables``
 (CSV), ``figures`` (PNG), ``runner`` (:func:`run_study`). The level arithmetic (:func:`mean_level`,
 :func:`contact_filter`, :func:`level_difference`) lives in :mod:`wheelrail.core.spectra.levels` and is re-exported.

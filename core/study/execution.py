@@ -1,5 +1,6 @@
-"""Running a study's runs: read back the cached ones, compute the missing ones in this process, in threads of it
-(:mod:`wheelrail.core.study.threads`: the compiled laws release the GIL), on a local process pool
+"""Running a study's runs: read back the cached ones, compute the missing ones in this process, on forked copies of
+it (:mod:`wheelrail.core.study.forked`, Linux), in threads of it (:mod:`wheelrail.core.study.threads`: the compiled
+laws release the GIL), on a local process pool
 (``concurrent.futures.ProcessPoolExecutor``, spawned workers) or on a Dask cluster (``dask.distributed``), and write
 each finished run at once (:mod:`wheelrail.core.study.store`). The tracks the runs need that the disk cache does not
 hold are prepared before their runs, one task per track, side by side on the workers
@@ -15,6 +16,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import functools
 import importlib.util
 import os
 import re
@@ -30,17 +32,19 @@ from pathlib import Path
 
 from wheelrail.core.errors import Blame, WheelrailError
 from wheelrail.core.models import model_entry
+from wheelrail.core.study.forked import execute_forked, fork_refusal, watch_parent
 from wheelrail.core.study.precompute import TrackTask, integration_threads, prepare_track, track_tasks
 from wheelrail.core.study.specs import RunSpec, RunSummary, compute_run
 from wheelrail.core.study.store import load_cached, save_cached
 from wheelrail.core.study.threads import blas_threads, execute_threads, read_once, releases_gil
 
 DASK_CONNECT_TIMEOUT = "10s"  # how long to try reaching a Dask scheduler before giving up
-PARENT_POLL_INTERVAL = 0.5  # s, how often a pool worker checks that the process that started it lives
 _ADDRESS = re.compile(r"^(tcp|tls|inproc|ucx)://[^\s:/]+(:\d{1,5})?$")
 # Dask is an optional extra (pyproject.toml: cluster); the process pool needs nothing more
 NO_DASK = "needs Dask, an optional part of wheelrail: pip install 'wheelrail[cluster]'"
-BACKENDS = ("auto", "threads", "processes")  # the local workers: auto = threads when every run's law releases the GIL
+# the local workers: auto = forked processes where this process may fork (forked.fork_refusal), else threads when every
+# run's law releases the GIL, else the process pool
+BACKENDS = ("auto", "fork", "threads", "processes")
 
 
 class StudyTerminated(KeyboardInterrupt):
@@ -117,23 +121,30 @@ def execute(
     progress : bool
         Show a tqdm bar of runs done on stderr.
     backend : str
-        The local workers: ``"threads"`` (threads of this process, sharing its compiled code, sets and tracks: no
-        worker to start), ``"processes"`` (a kept pool of spawned processes) or ``"auto"``: threads when every
-        missing run's law releases the GIL (``ContactLaw.nogil``: the bundled models), else processes. The tracks
-        not in the disk cache are prepared before their runs: with threads, in the same threads (a precompute in
-        each, integrating in one thread), each track's runs queued as soon as it is ready; with processes, first,
-        two or more new ones side by side in the process pool.
+        The local workers: ``"fork"`` (this process and ``workers - 1`` forked copies of it, which start in
+        milliseconds with what it has loaded: :mod:`~wheelrail.core.study.forked`; Linux, from the main thread
+        with no other thread alive, else a WheelrailError), ``"threads"`` (threads of this process, sharing its
+        compiled code, sets and tracks, and its GIL), ``"processes"`` (a kept pool of spawned processes) or
+        ``"auto"``: fork where it can be used (:func:`~wheelrail.core.study.forked.fork_refusal`), else threads
+        when every missing run's law releases the GIL (``ContactLaw.nogil``: the bundled models), else processes.
+        The tracks not in the disk cache are prepared before their runs: forked or on threads, by the same workers
+        (a precompute in each, integrating in one thread), each track's runs taken as soon as it is ready; with
+        processes, first, two or more new ones side by side in the process pool.
     started : callable, optional
-        Called when this process has GIL to spare for the caller's own work beside the runs (``runner.run_study``):
-        once a run has finished where the runs are computed in this process (their first load of numba's compiled
-        code holds the GIL), at once where a new track's precompute comes first or the runs go to worker processes
-        or Dask, and at the end; it may be called more than once.
+        Called when this process has GIL to spare for the caller's own work beside the runs (``runner.run_study``),
+        which may start a thread: once a run has finished where the runs are computed in this process (their first
+        load of numba's compiled code holds the GIL), once the forked workers run (never before the fork), at once
+        where a new track's precompute comes first or the runs go to worker processes or Dask, and at the end; it
+        may be called more than once.
 
     Returns
     -------
     ExecutionReport
     """
     from tqdm import tqdm
+
+    class Bar(tqdm):
+        monitor_interval = 0  # no monitor thread: the study's process may fork its workers
 
     if isinstance(workers, bool) or int(workers) != workers or workers < 1:
         raise WheelrailError(f"workers must be a positive integer, got {workers!r}")
@@ -148,17 +159,18 @@ def execute(
     summaries = {key: found for key, spec in unique.items() if (found := load_cached(cache, spec)) is not None}
     missing = sorted((spec for key, spec in unique.items() if key not in summaries), key=_cost, reverse=True)
     n_cached = len(summaries)
-    bar = tqdm(total=len(unique), initial=n_cached, unit="run", desc=description, disable=not progress, file=sys.stderr)
+    bar = Bar(total=len(unique), initial=n_cached, unit="run", desc=description, disable=not progress, file=sys.stderr)
 
-    def finished(summary: RunSummary) -> None:
-        save_cached(cache, summary)
+    def finished(summary: RunSummary, saved: bool = False) -> None:
+        if not saved:  # forked workers write their own
+            save_cached(cache, summary)
         summaries[summary.key] = summary
         bar.update(1)
         if started is not None:
             started()
 
     try:
-        used = _dispatch(missing, int(workers), dask_address, finished, backend, started)
+        used = _dispatch(missing, int(workers), dask_address, finished, backend, started, cache)
     finally:
         bar.close()
         if started is not None:
@@ -179,9 +191,11 @@ def _dispatch(
     finished: Callable[[RunSummary], None],
     backend: str = "auto",
     started: Callable[[], None] | None = None,
+    cache: Path | None = None,
 ) -> str:
     """Compute the missing runs where asked; returns the backend's name for the report. ``started``: as
-    :func:`execute`'s, called here where this process only waits (Dask, worker processes)."""
+    :func:`execute`'s, called here where this process only waits (Dask, worker processes). ``cache``: the folder
+    of run files, which forked workers write themselves (``finished(summary, saved=True)`` then)."""
     started = started or (lambda: None)
     if dask_address is not None:  # connect even when all runs are cached: a bad address is an error
         started()
@@ -195,8 +209,19 @@ def _dispatch(
             for spec in read_once(missing):
                 finished(compute_run(spec))
         return "in-process"
+    refusal = fork_refusal() if backend in ("auto", "fork") else backend
+    if backend == "fork" and refusal is not None:
+        raise WheelrailError(f"the fork backend cannot be used here: {refusal}")
     threads = backend == "threads" or (backend == "auto" and all(releases_gil(spec) for spec in missing))
     with _terminate_as_interrupt():
+        if refusal is None:  # copies of this process, started in milliseconds with what it has loaded
+            if cache is None:
+                execute_forked(missing, workers, finished, track_tasks(missing), started)
+            else:
+                saved = functools.partial(finished, saved=True)
+                save = functools.partial(save_cached, cache)
+                execute_forked(missing, workers, saved, track_tasks(missing), started, save)
+            return f"forked processes ({workers} workers)"
         if threads:  # the tracks prepared in the same threads, each track's runs started once it is ready
             tasks = track_tasks(missing)
             if any(task.new for task in tasks):
@@ -210,12 +235,12 @@ def _dispatch(
 
 
 def _prepare_tracks(tasks: list[TrackTask], workers: int, started: Callable[[], None] | None = None) -> None:
-    """The tracks the runs need and the disk cache lacks, before the runs: with two or more workers, two or more new
-    ones (each a precompute) side by side in the process pool, one thread each; the others (a reading off a cached
-    track, or one new track) in this process, a precompute there in at most ``workers`` threads (``workers`` are the
-    cores the study may use: one worker integrates in one thread)."""
+    """The tracks the runs need and the disk cache lacks, before the runs on the process pool (``workers``, two or
+    more): two or more new ones (each a precompute) side by side in the pool, one thread each; the others (a reading
+    off a cached track, or one new track) in this process, a precompute there in at most ``workers`` threads
+    (``workers`` are the cores the study may use)."""
     new = [task for task in tasks if task.new]
-    pooled = new if workers >= 2 and len(new) >= 2 else []
+    pooled = new if len(new) >= 2 else []
     if new and started is not None:
         started()  # a precompute takes seconds, mostly in threads or processes that leave the GIL free
     if pooled:
@@ -282,13 +307,6 @@ def _terminate_as_interrupt():
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
-def _watch_parent(parent_pid: int) -> None:
-    """Worker side: end this process as soon as its parent is gone (its parent pid changes)."""
-    while os.getppid() == parent_pid:
-        time.sleep(PARENT_POLL_INTERVAL)
-    os._exit(1)  # no clean-up to do: the run in progress is lost anyway and its parent wrote the rest
-
-
 def _start_worker(parent_pid: int) -> None:
     """Pool initializer: a daemon thread watches the parent, so that the worker does not outlive it.
 
@@ -299,7 +317,7 @@ def _start_worker(parent_pid: int) -> None:
     fires when the parent *thread* that spawned the worker ends, which in a threaded program (the
     explorer) is not the end of the process.
     """
-    threading.Thread(target=_watch_parent, args=(parent_pid,), name="wheelrail-parent-watch", daemon=True).start()
+    threading.Thread(target=watch_parent, args=(parent_pid,), name="wheelrail-parent-watch", daemon=True).start()
     from wheelrail.core.startup import fast_start
 
     fast_start()  # the worker's first numba load without scipy.linalg's package and numpy.f2py (core/startup.py)

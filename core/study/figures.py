@@ -333,12 +333,15 @@ def study_figures(name: str, tables: list[Table], caption: str = "") -> dict[str
     return figures
 
 
-def plot_study(name: str, tables: list[Table], folder: Path, caption: str = "") -> list[Path]:
+def plot_study(name: str, tables: list[Table], folder: Path, caption: str = "", workers: int = 1) -> list[Path]:
     """Draw the study's figure(s) like the paper's (:func:`study_figures`; Agg backend, PNG) into ``folder``;
-    returns the paths."""
+    returns the paths. With two or more ``workers`` they are drawn on two processes where the study's process may
+    fork (:func:`~wheelrail.core.study.figure_workers.png_files`: the same bytes)."""
+    from wheelrail.core.study.figure_workers import png_files
+
     paths = []
-    for file_name, figure in study_figures(name, tables, caption).items():
+    for file_name, png in png_files(study_figures(name, tables, caption), dpi=110, workers=workers).items():
         path = folder / file_name
-        atomic_write(path, lambda handle, fig=figure: fig.savefig(handle, format="png", dpi=110))
+        atomic_write(path, lambda handle, data=png: handle.write(data))
         paths.append(path)
     return paths

@@ -178,7 +178,7 @@ def _run_study(name, sets, folder, planned: dict, workers, dask_address, progres
     with all_or_none():  # the tables, figures and summary appear together, and none over an input
         files = [write_table(table, folder) for table in tables]
         if figures:
-            files += plot_study(name, tables, folder, caption=study_caption(name, plan))
+            files += plot_study(name, tables, folder, caption=study_caption(name, plan), workers=workers)
         summary = _summary_document(name, plan, report, tables, folder=folder, files=files)
         summary_path = folder / f"{name}_summary.json"
         atomic_write(summary_path, lambda handle: handle.write(strict_json(summary, indent=2)), mode="w")
@@ -190,22 +190,22 @@ def _run_study(name, sets, folder, planned: dict, workers, dask_address, progres
 
 @contextlib.contextmanager
 def _beside(work):
-    """Call each of ``work`` in a thread while the block runs (its results are kept where they are cached), from when
-    the block calls the callable it is given (``execute``'s ``started``: once a run has finished, so that the work,
-    which holds the GIL, does not lengthen the first runs' load of numba's compiled code, which holds it too and
-    comes before any parallel step) or the block ends; leaving the block waits for it, but for an error or
-    interrupt. A failure is left to the tabulation, which does the same work again and reports it."""
-    go = threading.Event()
+    """Call each of ``work`` in a thread while the block runs (its results are kept where they are cached), started
+    when the block calls the callable it is given (``execute``'s ``started``: once a run has finished, so that the
+    work, which holds the GIL, does not lengthen the first runs' load of numba's compiled code, which holds it too and
+    comes before any parallel step; never before ``execute`` forks its workers, whose process must have no other
+    thread) or when the block ends; that callable returns the thread (forked workers' share in this process waits
+    for it before it takes runs). Leaving the block waits for it, but for an error or interrupt. A failure is left
+    to the tabulation, which does the same work again and reports it."""
     if not work:
-        yield go.set
+        yield lambda: None
         return
-    stop = threading.Event()
+    stop, lock, threads = threading.Event(), threading.Lock(), []
 
     def call_each():
         from wheelrail.core.study.threads import set_blas_threads_local
 
         set_blas_threads_local(1)  # beside the runs' threads, on the study's cores
-        go.wait()
         for call in work:
             if stop.is_set():
                 return
@@ -214,16 +214,20 @@ def _beside(work):
             except Exception:  # noqa: BLE001 - the tabulation repeats it and reports its error
                 pass
 
-    thread = threading.Thread(target=call_each, name="wheelrail-study-beside", daemon=True)
-    thread.start()
+    def start() -> threading.Thread:
+        with lock:
+            if not threads:
+                threads.append(threading.Thread(target=call_each, name="wheelrail-study-beside", daemon=True))
+                threads[0].start()
+        return threads[0]
+
     try:
-        yield go.set
+        yield start
     except BaseException:
         stop.set()
-        go.set()
         raise
-    go.set()
-    thread.join()
+    start()
+    threads[0].join()
 
 
 def _load_matplotlib() -> None:

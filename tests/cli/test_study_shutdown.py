@@ -1,7 +1,9 @@
-"""A study's process pool ends with the process that runs the study: kill -9 and SIGTERM of a real process.
+"""A study's worker processes end with the process that runs the study: kill -9 and SIGTERM of a real process, with
+the process pool and with forked workers.
 
-The study process is a small script whose two runs never finish: their roughness source unpickles by
-blocking forever, so each worker is busy inside its task, deterministically, however fast the machine is.
+The study process is a small script whose two runs never finish: with the pool their roughness source unpickles by
+blocking forever, forked the run itself blocks, so each worker is busy inside its task, deterministically, however
+fast the machine is.
 The test then follows the processes' states in /proc (polling with a generous deadline, no fixed sleep).
 """
 
@@ -84,20 +86,52 @@ def _wait_until(condition, what: str) -> None:
         time.sleep(0.05)
 
 
-@pytest.fixture
-def study_process(tmp_path):
-    """The blocked study, once its two workers and the resource tracker run: (process, their pids)."""
+FORK_SCRIPT = """
+import sys
+import threading
+
+from wheelrail.core.study import RunSpec, execute, specs, threads
+
+
+def blocked(spec, cancel=None):
+    if cancel is not None:  # the study's process's own share: stops when the study does, as a run at its next chunk
+        cancel.wait()
+        raise specs.RunCancelled(spec.label())
+    threading.Event().wait()  # a forked worker stays here until its process ends
+
+
+if __name__ == "__main__":
+    specs.compute_run = blocked  # what the forked workers (and the study's own thread) call
+    threads.read_once = list
+    runs = [RunSpec(source="sinter-wheel-1", set_label="blocked", set_digest="0" * 64, model="hertz", line=line)
+            for line in (0, 1)]
+    try:
+        execute(runs, cache=sys.argv[1], workers=2, progress=False, backend="fork")
+    except KeyboardInterrupt as error:
+        print(f"stopped by {type(error).__name__}", file=sys.stderr)
+        sys.exit(130)
+"""
+
+
+@pytest.fixture(params=["processes", "fork"])
+def study_process(tmp_path, request):
+    """The blocked study, once its workers run: with the process pool two spawned workers and the resource tracker,
+    forked one child (the study's process the other worker): (process, their pids)."""
     script = tmp_path / "blocked_study.py"
-    script.write_text(SCRIPT)
-    process = subprocess.Popen([sys.executable, str(script), str(tmp_path / "runs")], stderr=subprocess.PIPE, text=True)
+    script.write_text(SCRIPT if request.param == "processes" else FORK_SCRIPT)
+    command = [sys.executable, str(script), str(tmp_path / "runs")]
+    # a session of its own: Ctrl-C reaches the study's process group only (test_ctrl_c_...)
+    process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True, start_new_session=True)
     helpers: dict[int, str] = {}
 
     def started() -> bool:
         helpers.update(_children(process.pid))
-        workers = [pid for pid, cmd in helpers.items() if "spawn_main" in cmd]
-        trackers = [pid for pid, cmd in helpers.items() if "resource_tracker" in cmd]
         if process.poll() is not None:
             pytest.fail(f"the study process ended early: {process.stderr.read()}")
+        if request.param == "fork":
+            return len(helpers) == 1
+        workers = [pid for pid, cmd in helpers.items() if "spawn_main" in cmd]
+        trackers = [pid for pid, cmd in helpers.items() if "resource_tracker" in cmd]
         return len(workers) == 2 and len(trackers) == 1
 
     try:
@@ -127,3 +161,18 @@ def test_sigterm_stops_the_study_like_ctrl_c(study_process):
         pytest.fail(f"the study did not stop within {DEADLINE_S:g} s of SIGTERM")
     assert code == 130 and "stopped by StudyTerminated" in process.stderr.read()
     _wait_until(lambda: not any(_alive(pid) for pid in helpers), "every worker and the tracker ended")
+
+
+def test_ctrl_c_to_the_process_group_stops_forked_workers(study_process, request):
+    # a terminal's Ctrl-C is SIGINT to the whole foreground group: the forked children ignore it, the study's
+    # process stops them and exits as interrupted
+    if request.node.callspec.params["study_process"] != "fork":
+        pytest.skip("the process pool's spawned workers are covered by the SIGTERM and kill -9 tests")
+    process, helpers = study_process
+    os.killpg(process.pid, signal.SIGINT)
+    try:
+        code = process.wait(timeout=DEADLINE_S)
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"the study did not stop within {DEADLINE_S:g} s of Ctrl-C")
+    assert code == 130 and "stopped by KeyboardInterrupt" in process.stderr.read()
+    _wait_until(lambda: not any(_alive(pid) for pid in helpers), "every forked worker ended")

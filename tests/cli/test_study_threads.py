@@ -34,7 +34,7 @@ def test_threads_give_the_summaries_of_one_process(tmp_path):
     specs = [spec for spec in plan.specs if spec.line in (0, 1)]
     assert {spec.model for spec in specs} == set(MODELS)
     one = execute(specs, cache=tmp_path / "one", workers=1, progress=False)
-    two = execute(specs, cache=tmp_path / "two", workers=2, progress=False)
+    two = execute(specs, cache=tmp_path / "two", workers=2, progress=False, backend="threads")
     assert one.backend == "in-process" and two.backend == "threads (2 workers)"
     assert two.computed == len(specs) == len(one.summaries)
     for key, summary in one.summaries.items():
@@ -60,7 +60,7 @@ def test_the_bundled_laws_release_the_gil_and_a_law_stepped_from_python_does_not
 
 
 def test_an_unknown_backend_is_refused(tmp_path):
-    with pytest.raises(WheelrailError, match="backend must be one of auto, threads, processes, got 'gpu'"):
+    with pytest.raises(WheelrailError, match="backend must be one of auto, fork, threads, processes, got 'gpu'"):
         execute([_spec()], cache=tmp_path, workers=2, progress=False, backend="gpu")
 
 
