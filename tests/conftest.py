@@ -34,6 +34,8 @@ CACHED_CODE = (
     "core/noise/radiation.py",
     "core/noise/decay.py",
     "core/noise/twins.py",
+    "core/noise/track_part_store.py",
+    "core/noise/track_vibration.py",
     "core/noise/wheel_power.py",
     "cli/commands/track.py",
 )

@@ -68,8 +68,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from wheelrail.core.errors import WheelrailError
-from wheelrail.core.noise.components import NoiseChain, TrackResponse, noise_components
+from wheelrail.core.noise.components import NoiseChain, noise_components
 from wheelrail.core.noise.radiation import piston_radiation_efficiency, rail_radiation_efficiency, rail_section
+from wheelrail.core.noise.track_part_store import stored_track_part
+from wheelrail.core.noise.track_vibration import banded_solver, decay_grid, track_vibration
 from wheelrail.core.parameters import ModelParameters, TrackParameters
 from wheelrail.core.spectra.bands import BAND_HALF_WIDTH, NOISE_BAND_RANGE, noise_bands
 
@@ -140,16 +142,6 @@ def band_frequencies(points_per_band: int) -> np.ndarray:
     centres = noise_bands()
     parts = (np.arange(points_per_band) + 0.5) / points_per_band  # fractions of the band's width in lg f
     return centres[:, None] / BAND_HALF_WIDTH * BAND_HALF_WIDTH ** (2 * parts[None, :])
-
-
-def _banded_solver(model):
-    """Displacements for loads at a frequency; the rail's loss factor exact (hysteretic, K_rail (1 + i eta))."""
-    bands = model.frequency_domain_bands()
-
-    def solve(frequency: float, load: np.ndarray) -> np.ndarray:
-        return model.solve(*bands, frequency, load)
-
-    return solve
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -304,87 +296,13 @@ def _checked_profile(wheel_profile, wheel_model: str):
 
 @functools.lru_cache(maxsize=4)
 def _track_part(track: TrackParameters, contact, numerics: NoiseNumerics, driven: tuple) -> dict:
-    """:func:`_vibration` of ``track`` and ``contact`` for the track's parts ``driven``, kept per process: it depends
-    on neither the wheel nor the contact's lateral position (every wheel model and position reads the same)."""
+    """:func:`~wheelrail.core.noise.track_vibration.track_vibration` of ``track`` and ``contact`` for the track's
+    parts ``driven``, kept per process: it depends on neither the wheel nor the contact's lateral position (every
+    wheel model and position reads the same); on disk too (:mod:`~wheelrail.core.noise.track_part_store`)."""
     k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
     freqs = band_frequencies(numerics.points_per_band)
-    return _vibration(ModelParameters(track=track, contact=contact), numerics, k_hertz, freqs, driven)
-
-
-def _vibration(
-    params: ModelParameters,
-    numerics: NoiseNumerics,
-    k_hertz: float,
-    freqs: np.ndarray,
-    components: tuple,
-) -> dict:
-    """Steps 1-3 of the module docstring for the track at every frequency of ``freqs`` (bands, points) and both
-    excitation positions: each force-driven part's ``response`` (``responses``), the rail's velocity integral and its
-    field radiated in the wavenumber domain, alpha_R + alpha_C (``alpha_track``; each (b, p, 2)), and per band the
-    midspan transfer |u|^2 along the rail (EN 15461) and at the sleepers 3..20 bays on."""
-    from wheelrail.core.track import assemble_track
-    from wheelrail.core.track.fe import timoshenko_shape_functions
-
-    model = assemble_track(replace(params.track, n_bays=numerics.track_bays), numerics.elements_per_bay)
-    solve = _banded_solver(model)
-    positions, decay_nodes, free_nodes, free_distance = _decay_grid(model, numerics)
-    weights = np.gradient(model.node_x)  # trapezoid weights on the uniform node grid (half at the ends)
-    weights[[0, -1]] *= 0.5
-    point_dofs = []
-    for x0 in positions:
-        element, xi = model.locate(x0)
-        e = int(element)
-        point_dofs.append(
-            (
-                timoshenko_shape_functions(xi, model.element_length, model.shear_parameter),
-                [model.w_dof[e], model.theta_dof[e], model.w_dof[e + 1], model.theta_dof[e + 1]],
-            )
-        )
-    loads = np.stack([model.load_vector(x) for x in positions], axis=1)
-    shape = (*freqs.shape, len(positions))
-    driven = [c for c in components if c.track_part]
-    out = {
-        "responses": {c.name: np.empty(shape) for c in driven},
-        "rail": np.empty(shape),
-        "rail_radiated": np.empty(shape),
-        "alpha_track": np.empty(shape, dtype=complex),
-        "contact_stiffness": k_hertz,  # alpha_C = 1 / k_hertz in alpha_track
-        "transfer_sq": np.zeros((freqs.shape[0], decay_nodes.stop - decay_nodes.start)),
-        "free_sq": np.zeros((freqs.shape[0], len(free_nodes))),
-        "free_distance": free_distance,
-        "dx": model.element_length,
-    }
-    for (b, p), f in np.ndenumerate(freqs):
-        w = 2 * np.pi * f
-        solutions = solve(f, loads)  # one factorisation for both excitation positions
-        for j, (shape_n, dofs) in enumerate(point_dofs):
-            u = solutions[:, j]
-            state = TrackResponse(model, u, f)
-            rail = state.rail
-            out["rail"][b, p, j] = w**2 * np.sum(weights * np.abs(rail) ** 2)
-            out["rail_radiated"][b, p, j] = state.rail_radiated
-            for c in driven:
-                out["responses"][c.name][b, p, j] = c.response(state)
-            out["alpha_track"][b, p, j] = shape_n @ u[dofs] + 1.0 / k_hertz
-            if j == 1:  # midspan excitation: EN 15461 and the free wave
-                out["transfer_sq"][b] += np.abs(rail[decay_nodes]) ** 2
-                out["free_sq"][b] += np.abs(rail[free_nodes]) ** 2
-    return out
-
-
-def _decay_grid(model, numerics: NoiseNumerics):
-    """The excitation positions (above the central sleeper, midspan), the rail nodes of EN 15461's sum (from
-    midspan over ``decay_length``), the sleeper nodes 3 to 20 bays on (the free wave) and their distances."""
-    spacing = model.params.support.sleeper_spacing
-    centre_bay = model.params.n_bays // 2
-    positions = (centre_bay * spacing, (centre_bay + 0.5) * spacing)
-    x_nodes = model.node_x
-    decay_nodes = slice(
-        np.searchsorted(x_nodes, positions[1]), np.searchsorted(x_nodes, positions[1] + numerics.decay_length)
-    )
-    free_bays = np.arange(3, 21)
-    free_nodes = np.arange(0, len(x_nodes), numerics.elements_per_bay)[centre_bay + free_bays]
-    return positions, decay_nodes, free_nodes, free_bays * spacing
+    vibration = functools.partial(track_vibration, ModelParameters(track=track, contact=contact), numerics, k_hertz)
+    return stored_track_part(track, k_hertz, numerics, driven, lambda: vibration(freqs, driven))
 
 
 def track_decay_rates(
@@ -408,8 +326,8 @@ def track_decay_rates(
     if not isinstance(numerics, NoiseNumerics):
         raise WheelrailError(f"track_decay_rates: numerics must be NoiseNumerics, got {type(numerics).__name__}")
     model = assemble_track(replace(track, n_bays=numerics.track_bays), numerics.elements_per_bay)
-    solve = _banded_solver(model)
-    positions, decay_nodes, free_nodes, free_distance = _decay_grid(model, numerics)
+    solve = banded_solver(model)
+    positions, decay_nodes, free_nodes, free_distance = decay_grid(model, numerics)
     load = model.load_vector(positions[1])
     freqs = band_frequencies(numerics.points_per_band)
     vib = {

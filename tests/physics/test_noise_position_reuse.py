@@ -76,7 +76,7 @@ def _counted(monkeypatch, module, name: str) -> list:
 
 
 def test_a_new_position_does_not_recompute_the_vertical_chain(monkeypatch):
-    vertical = _counted(monkeypatch, twins, "_vibration")
+    vertical = _counted(monkeypatch, twins, "stored_track_part")  # computed, or read from the disk cache
     lateral_track = _counted(monkeypatch, lateral, "lateral_receptances")
     wheel_means = _counted(monkeypatch, wheel_power, "modal_wheel_band_means")
     centred = track_noise_model(PARAMS, SMALL, wheel_model="modal")
