@@ -21,6 +21,10 @@ loaded). Prints
 
 The sum of the itemised costs is printed against the measured law: the difference is what is not
 itemised (the tension check, bookkeeping, cache misses between the pieces).
+
+With ``--in-situ`` each piece of a step is also timed where the run has it: the law replayed again with the piece
+run ``IN_SITU_TIMES`` more times after each step (on that step's state, in the cache state the step leaves),
+its cost the replay's extra time divided by that (best of ``--rounds``).
 """
 
 from __future__ import annotations
@@ -38,6 +42,18 @@ from wheelrail.core.engine.kernels import commit_force, known_approach
 from wheelrail.core.parameters import ContactParameters, ModelParameters, RunParameters
 
 SET = "corrugated-rail"
+IN_SITU_TIMES = 4  # extra runs of a piece after each replayed step (--in-situ)
+IN_SITU = (
+    "gap assembly from the roughness lines",
+    "the gap's minimum",
+    "x_h = C_RR^-1 h_R (a forward and a backward substitution)",
+    "the set's pressure from the small system (per iteration)",
+    "tension check (per iteration)",
+    "a step's first deformed-gap check",
+    "a later check (bounds of u kept)",
+    "the window's pressure summed, the edge and centre-row count",
+    "the float32 pressure map written (recorded run)",
+)
 
 
 @njit
@@ -114,6 +130,88 @@ def _repeat_append_remove(law, m, reps):
         cholesky.append(grid, order, m - 1, upper, (z, work[6], work[1]), work[4], element)
 
 
+@njit
+def _in_situ(first, known, compliance, law, piece, maps):
+    """The law replayed on these approaches with piece ``piece`` (1-based in ``IN_SITU``, 0 none) run
+    ``IN_SITU_TIMES`` more times after each step, on that step's state."""
+    grid, state, work, track, limits = law
+    base, lines, start_index, ramp, half_x, centre_row = track
+    pressure, gap = work[0], work[1]
+    nx = 2 * half_x + 1
+    ny = base.size // nx
+    order, active, _, counts, upper, cap = state
+    tol, _, area, _ = limits
+    total = 0.0
+    for s in range(first, known.size):
+        _, f, _, _ = halfspace_model.halfspace_step(s, known[s], compliance[s], law)
+        m = counts[0]
+        for _ in range(IN_SITU_TIMES if piece > 0 else 0):
+            if piece == 1:
+                begin = start_index[s] - half_x
+                for row in range(ny):
+                    for column in range(nx):
+                        gap[row * nx + column] = base[row * nx + column] - ramp[s] * lines[row, begin + column]
+            elif piece == 2:
+                total += steps._lowest(gap)
+            elif piece == 3:
+                capacitance.prepare_gap(gap, upper, cap)
+            elif piece == 4:
+                total += capacitance.pressure_on_set(
+                    cap, gap, active, pressure, (True, known[s], compliance[s] * area)
+                )[0]
+            elif piece == 5:
+                pmax = 0.0
+                for a in range(m):
+                    pmax = max(pmax, pressure[order[a]])
+                total += steps._tension_elements(pressure, order, m, pmax, tol, False, work[3])
+            elif piece == 6 or piece == 7:
+                known_u, listed, since = work[7]
+                if piece == 6:  # as a step's start: no bounds of u kept
+                    for k in range(int(since[1])):
+                        known_u[listed[k]] = np.nan
+                    since[0] = since[1] = 0.0
+                delta = known[s] - compliance[s] * f
+                scale = max(delta - steps._lowest(gap), 1e-30)
+                limits_check = (delta, 1e-6 * scale, -tol * scale, False)
+                total += steps._penetrating(grid, order, m, work, active, limits_check)
+            elif piece == 8:
+                total += steps._sum(pressure)
+                rows, columns = grid[3], grid[4]
+                for a in range(m):
+                    i = order[a]
+                    if rows[i] == 0 or rows[i] == ny - 1 or columns[i] == 0 or columns[i] == nx - 1:
+                        total += 1.0
+                    if rows[i] == centre_row:
+                        total += 1.0
+            elif piece == 9:
+                flat = maps[s - first].reshape(pressure.size)
+                for i in range(pressure.size):
+                    flat[i] = pressure[i]
+    return total
+
+
+def _report_in_situ(params, args, known, compliance, first, window) -> None:
+    """The pieces of a recorded step timed in situ (``_in_situ``), best of ``args.rounds``."""
+    n = known.size - first
+    shape = (n, *window)
+    warm = _at_record(params, args.length_m).law.solver.law
+    for piece in range(len(IN_SITU) + 1):  # compile every branch (no step)
+        _in_situ(known.size, known, compliance, warm, piece, np.zeros((1, 1, 1), dtype=np.float32))
+    best = np.full(len(IN_SITU) + 1, np.inf)
+    for _ in range(args.rounds):
+        for piece in range(len(IN_SITU) + 1):
+            law = _at_record(params, args.length_m).law.solver.law
+            maps = np.zeros(shape, dtype=np.float32)
+            start = time.process_time()
+            _in_situ(first, known, compliance, law, piece, maps)
+            best[piece] = min(best[piece], (time.process_time() - start) / n * 1e6)
+    print(
+        f"  in situ (the law replayed: best {best[0]:.1f} us a step; each piece's extra time, best of {args.rounds}):"
+    )
+    for name, extra in zip(IN_SITU, best[1:], strict=True):
+        print(f"    {name:62s} {(extra - best[0]) / IN_SITU_TIMES:6.2f} us")
+
+
 def _params(args) -> ModelParameters:
     geometry = {
         name: value * 1e-3
@@ -138,6 +236,8 @@ def main() -> None:
     parser.add_argument("--wheel-radius-mm", type=float, default=None)
     parser.add_argument("--rail-crown-radius-mm", type=float, default=None)
     parser.add_argument("--element-mm", type=float, default=1.0)
+    parser.add_argument("--in-situ", action="store_true", help="also time each piece of a step where the run has it")
+    parser.add_argument("--rounds", type=int, default=3, help="rounds of the in-situ timings (best of)")
     args = parser.parse_args()
     params = _params(args)
     prepare_run(SET, model="3d", params=params, length=0.05).run()  # warm-up
@@ -224,6 +324,8 @@ def main() -> None:
         f"    itemised {itemised:.1f} us of the law's {law_us:.1f} us (an upper bound: a forward substitution and a "
         f"deformed gap each iteration, updates at mid-set; not itemised: gap assembly, tension check, bookkeeping)"
     )
+    if args.in_situ:
+        _report_in_situ(params, args, known, compliance, r, run.law.solver.shape)
 
 
 def _at_record(params, length):

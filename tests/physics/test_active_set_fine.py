@@ -201,3 +201,17 @@ def test_3d_law_at_half_a_millimetre_agrees_with_the_oracle():
         assert theirs.sum() > 0.0
         assert abs(ours.force - theirs.sum() * dx * dx) <= TOLERANCE * preload
         assert np.max(np.abs(ours.pressure.ravel() - theirs)) <= TOLERANCE * theirs.max()
+
+
+@pytest.mark.parametrize("size", [1, 2, 3, 4, 5, 7, 8, 9, 1813])
+def test_the_solvers_minimum_and_sum_of_a_window(size):
+    """The gap's minimum a step starts from (four chains of comparisons) is numpy's to the bit, wherever the lowest
+    element lies; the window's pressure summed in any order is numpy's sum to round-off."""
+    rng = np.random.default_rng(size)
+    values = rng.normal(size=size) * 1e-4
+    for where in {0, size // 2, size - 1}:
+        trial = values.copy()
+        trial[where] = -1.0
+        assert active_set._lowest(trial) == trial.min()
+    assert active_set._lowest(values) == values.min()
+    assert active_set._sum(values) == pytest.approx(values.sum(), rel=0, abs=1e-15 * size * np.abs(values).max())

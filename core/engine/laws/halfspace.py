@@ -65,8 +65,12 @@ def _define_run_chunk_3d(stamp):
             k = s - first_map
             if 0 <= k < maps.shape[0]:
                 flat = maps[k].reshape(n)
-                for i in range(n):
-                    flat[i] = pressure[i] if f > 0.0 else 0.0
+                if f > 0.0:
+                    for i in range(n):
+                        flat[i] = pressure[i]
+                else:
+                    for i in range(n):
+                        flat[i] = 0.0
             xi_wheel[s], xi_rail[s] = commit_force(j, f, track, wheel, s_pred, preload, xi_w0, q, w0)
         return -1, STEP_CONVERGED
 
