@@ -3,8 +3,11 @@ child's error raised in the study's process (no hang), and the fallback where fo
 
 from __future__ import annotations
 
+import functools
 import multiprocessing
 import os
+import subprocess
+import sys
 import threading
 
 import numpy as np
@@ -29,6 +32,30 @@ def no_kept_pool():
     shutdown_pools()
 
 
+_HERE = "WHEELRAIL_TEST_FORK_HERE"
+
+
+def _where_it_can_fork(test):
+    """Run ``test`` in this process where it may fork a study's workers, else in a fresh interpreter of its own.
+
+    An earlier test may leave threads alive in the process (a Dask client's: its IO loop and offload threads live as
+    long as the process), and a study then rightly refuses to fork (``forked.fork_refusal``); the test is then run
+    alone by a new pytest, which has none, instead of being skipped.
+    """
+
+    @functools.wraps(test)
+    def wrapper(*args, **kwargs):
+        if forked.fork_refusal() is None or os.environ.get(_HERE):
+            return test(*args, **kwargs)
+        node = f"{__file__}::{test.__name__}"
+        command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", node]
+        done = subprocess.run(command, env={**os.environ, _HERE: "1"}, capture_output=True, text=True, check=False)
+        assert done.returncode == 0, done.stdout[-4000:] + done.stderr[-2000:]
+        return None
+
+    return wrapper
+
+
 def _spec(line=0, model="hertz"):
     return RunSpec(source="sinter-wheel-1", set_label="w", set_digest="0" * 64, model=model, line=line)
 
@@ -48,6 +75,7 @@ def _summary(spec, run_time=0.0):
     )
 
 
+@_where_it_can_fork
 def test_forked_workers_give_the_summaries_of_one_process(tmp_path):
     # every bundled model (3d's window too) on a short piece of a wheel set; to 1e-9 dB as the other backends' tests
     # (a process that compiled numba's kernels and one that loaded them differ ~1e-12)
@@ -76,6 +104,7 @@ def test_every_task_is_done_once_by_some_worker(tmp_path, monkeypatch):
     assert sorted(float(s.levels[0]) for s in done) == list(range(-3, 4))
 
 
+@_where_it_can_fork
 def test_a_failed_run_in_a_child_is_raised_here_and_stops_this_process_run(tmp_path, monkeypatch):
     # this process's own run waits on its cancel event; the child fails its first run: the error comes back here,
     # the board stops, this process's run is cancelled and the child ended (no hang, no sleep)
@@ -96,6 +125,7 @@ def test_a_failed_run_in_a_child_is_raised_here_and_stops_this_process_run(tmp_p
     assert not [child for child in multiprocessing.active_children() if child.name.startswith("wheelrail")]
 
 
+@_where_it_can_fork
 def test_a_child_that_dies_is_a_clear_error(tmp_path, monkeypatch):
     parent = os.getpid()
 
@@ -112,6 +142,7 @@ def test_a_child_that_dies_is_a_clear_error(tmp_path, monkeypatch):
         execute([_spec(line) for line in (0, 1)], cache=tmp_path, workers=2, progress=False, backend="fork")
 
 
+@_where_it_can_fork
 def test_another_thread_alive_means_no_fork(tmp_path, monkeypatch):
     # a thread of the caller's (a server, a client, a progress monitor) could hold a lock at the fork: the study
     # falls back to threads (auto) or refuses the fork backend in words
@@ -141,6 +172,7 @@ def test_no_fork_from_a_thread_other_than_the_main_thread():
     assert found == ["the study runs in a thread other than the main thread"]
 
 
+@_where_it_can_fork
 def test_work_beside_the_runs_starts_after_the_fork(tmp_path, monkeypatch):
     # the runner's work beside the runs is a thread: it starts only when execute calls started, after the fork
     from wheelrail.core.study import runner
