@@ -235,7 +235,39 @@ def phase_table(path: str) -> list[str]:
         for name, (first, last, cpu, calls, _) in sorted(phases.items(), key=lambda item: item[1][0]):
             times = f" x{calls}" if calls > 1 else ""
             lines.append(f"    {name:14s}{times:6s} {first - origin:6.2f} -> {last - origin:6.2f} s, CPU {cpu:5.2f} s")
-    return lines
+    return [*lines, critical_path(stamps, order)]
+
+
+def critical_path(stamps: list[tuple], order: list[int]) -> str:
+    """The study's longest path in CPU seconds (what its wall time would be with a core for each process): the
+    study's process before its runs' dispatch, the longer of its CPU in the dispatch and the run workers' CPU, its CPU
+    after the dispatch but for its half of the figure's drawing, the longer of the two halves' drawing."""
+    main = order[0]
+
+    def cpu_at(label: str, pid: int = main, last: bool = False) -> float:
+        found = [item[3] for item in stamps if item[0] == pid and item[1] == label]
+        return found[-1] if last else found[0]
+
+    def total(pid: int) -> float:
+        return max(item[3] for item in stamps if item[0] == pid)
+
+    def drawing(pid: int) -> float:
+        starts = [item[3] for item in stamps if item[0] == pid and item[1] == "figure-draw+"]
+        ends = [item[3] for item in stamps if item[0] == pid and item[1] == "figure-draw-"]
+        return sum(end - start for start, end in zip(starts, ends, strict=False))
+
+    labels = {pid: {item[1] for item in stamps if item[0] == pid} for pid in order}
+    runners = [pid for pid in order[1:] if "child+" in labels[pid]]
+    drawers = [pid for pid in order[1:] if "figure-child+" in labels[pid]]
+    before = cpu_at("dispatch+") - cpu_at("study+")
+    runs = max([cpu_at("dispatch-", last=True) - cpu_at("dispatch+"), *(total(pid) for pid in runners)])
+    own_drawing = drawing(main)
+    after = cpu_at("study-") - cpu_at("dispatch-", last=True) - own_drawing
+    draw = max([own_drawing, *(drawing(pid) for pid in drawers)])
+    return (
+        f"  CPU critical path: {before:.2f} before the runs + {runs:.2f} runs + {after:.2f} after them + {draw:.2f} "
+        f"drawing = {before + runs + after + draw:.2f} s"
+    )
 
 
 def _spawn(arguments: list[str], environment: dict | None = None) -> subprocess.Popen:
