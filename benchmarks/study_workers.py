@@ -260,12 +260,15 @@ def critical_path(stamps: list[tuple], order: list[int]) -> str:
     runners = [pid for pid in order[1:] if "child+" in labels[pid]]
     drawers = [pid for pid in order[1:] if "figure-child+" in labels[pid]]
     before = cpu_at("dispatch+") - cpu_at("study+")
-    runs = max([cpu_at("dispatch-", last=True) - cpu_at("dispatch+"), *(total(pid) for pid in runners)])
+    shares = [cpu_at("dispatch-", last=True) - cpu_at("dispatch+"), *(total(pid) for pid in runners)]
+    runs = max(shares)
     own_drawing = drawing(main)
     after = cpu_at("study-") - cpu_at("dispatch-", last=True) - own_drawing
     draw = max([own_drawing, *(drawing(pid) for pid in drawers)])
+    each = " / ".join(f"{value:.2f}" for value in shares)
     return (
-        f"  CPU critical path: {before:.2f} before the runs + {runs:.2f} runs + {after:.2f} after them + {draw:.2f} "
+        f"  CPU critical path: {before:.2f} before the runs + {runs:.2f} runs (of {each})"
+        f" + {after:.2f} after them + {draw:.2f} "
         f"drawing = {before + runs + after + draw:.2f} s"
     )
 
