@@ -76,6 +76,78 @@ def study_arguments(name: str, quick: bool) -> tuple[list, dict]:
     return ["corrugated-rail"], {"params": sweep, "length": 2.0 if quick else 3.0}
 
 
+_PHASES: list = []  # the file phase stamps go to (``--phases``), in every process of the study
+
+
+def stamp(label: str) -> None:
+    """One phase stamp: this process's pid, the label, ``perf_counter`` (one clock for all processes on Linux) and
+    this process's CPU time, appended to the phases file (one write: lines of several processes do not mix)."""
+    if _PHASES:
+        line = f"{os.getpid()} {label} {time.perf_counter():.6f} {time.process_time():.6f}\n"
+        handle = os.open(_PHASES[0], os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+        try:
+            os.write(handle, line.encode())
+        finally:
+            os.close(handle)
+
+
+def _stamped(module, attribute: str, label: str, each: bool = True) -> None:
+    """Wrap ``module.attribute`` so that its calls are stamped ``label+`` and ``label-`` (``each`` False: its first
+    call's start and its last call's end only matter; every call is still stamped)."""
+    function = getattr(module, attribute)
+
+    def wrapper(*args, **kwargs):
+        stamp(f"{label}+")
+        try:
+            return function(*args, **kwargs)
+        finally:
+            stamp(f"{label}-")
+
+    setattr(module, attribute, wrapper)
+
+
+def install_phase_stamps(path: str) -> None:
+    """Stamp each phase of a study in every process (wrappers round the study's functions, inherited by a fork)."""
+    from wheelrail.core.study import execution, figure_workers, figures, forked, plans, runner, specs, threads
+
+    _PHASES.append(path)
+    _stamped(runner, "plan_study", "plan")
+    _stamped(execution, "_dispatch", "dispatch")  # begins once the run keys and the run cache are looked at
+    _stamped(forked, "execute_forked", "forked")
+    _stamped(forked, "_work", "work")
+    _stamped(forked, "_child", "child")
+    _stamped(forked, "_call_child", "figure-child")
+    _stamped(threads, "read_once", "read-sets")
+    _stamped(execution, "read_once", "read-sets")
+    _stamped(execution, "compute_run", "run")
+    _stamped(specs, "compute_run", "run")
+    _stamped(runner, "_load_matplotlib", "matplotlib")
+    _stamped(plans, "_noise_chain", "noise-chain")
+    _stamped(figures, "study_figures", "figure-build")
+    _stamped(figure_workers, "_cut", "figure-layout")
+    _stamped(figure_workers, "_drawn", "figure-draw")
+    _stamped(figure_workers, "_png", "figure-png")
+    _stamped(figure_workers, "_encoded", "figure-stitch")
+    plan_study = runner.plan_study
+
+    def plan_with_tables(*args, **kwargs):
+        import dataclasses
+
+        plan = plan_study(*args, **kwargs)
+        tabulate = plan.tabulate
+
+        def tables(summaries):
+            stamp("tables+")
+            try:
+                return tabulate(summaries)
+            finally:
+                stamp("tables-")
+
+        return dataclasses.replace(plan, tabulate=tables)
+
+    runner.plan_study = plan_with_tables
+
+
 def child_study(name: str, workers: int, quick: bool, backend: str, pin: bool = False) -> None:
     """One study in this (fresh) process; prints its figures as one JSON line (wall and CPU time, s; the load; the
     wall time of its figures, s)."""
@@ -87,6 +159,8 @@ def child_study(name: str, workers: int, quick: bool, backend: str, pin: bool = 
         fast_start_on_import()  # as the command line starts (numba's first load without scipy.linalg's package)
     from wheelrail.core.study import execute, run_study, runner, shutdown_pools
 
+    if os.environ.get("STUDY_WORKERS_PHASES"):
+        install_phase_stamps(os.environ["STUDY_WORKERS_PHASES"])
     if pin:  # this process and the workers it starts on the first `workers` CPUs
         os.sched_setaffinity(0, sorted(os.sched_getaffinity(0))[:workers])
     runner.execute = functools.partial(execute, backend=backend)  # run_study's choice of local workers
@@ -105,7 +179,9 @@ def child_study(name: str, workers: int, quick: bool, backend: str, pin: bool = 
     out = tempfile.mkdtemp(prefix="wheelrail-bench-workers-")
     load = os.getloadavg()[0]
     cpu, start = cpu_seconds(), time.perf_counter()
+    stamp("study+")
     result = run_study(name, sets, out, workers=workers, progress=False, **keywords)
+    stamp("study-")
     wall = time.perf_counter() - start
     shutdown_pools()  # the workers' CPU time is counted once they have ended
     shutil.rmtree(out, ignore_errors=True)
@@ -124,6 +200,77 @@ def child_precompute(values: list[float]) -> None:
         params = model_parameters({"pad_stiffness": value * 1e6})
         moving_weights(params.run.speed, params.run.time_step, params.track)
     print(json.dumps({"wall": time.perf_counter() - start, "cpu": cpu_seconds() - cpu}))
+
+
+def phase_table(path: str) -> list[str]:
+    """The phases file's stamps as lines: each process (the study's first, then the workers in the order they
+    started), each phase's first start and last end (s from the study's start) and its CPU time (s: the process's
+    CPU time across each call, summed; in the study's process a phase beside another counts both's CPU)."""
+    stamps = []
+    with open(path) as handle:
+        for line in handle:
+            pid, label, wall, cpu = line.split()
+            stamps.append((int(pid), label, float(wall), float(cpu)))
+    origin = next(wall for _, label, wall, _ in stamps if label == "study+")
+    order: list[int] = []
+    for pid, *_ in sorted(stamps, key=lambda item: item[2]):
+        if pid not in order:
+            order.append(pid)
+    lines = []
+    for number, pid in enumerate(order):
+        own = [item for item in stamps if item[0] == pid]
+        phases: dict[str, list] = {}  # label: [first start, last end, CPU, calls, open starts]
+        for _, label, wall, cpu in own:
+            name, edge = label[:-1], label[-1]
+            entry = phases.setdefault(name, [wall, wall, 0.0, 0, []])
+            if edge == "+":
+                entry[0] = min(entry[0], wall)
+                entry[4].append(cpu)
+            elif entry[4]:
+                entry[1], entry[2], entry[3] = wall, entry[2] + cpu - entry[4].pop(), entry[3] + 1
+        who = "study's process" if number == 0 else f"worker process {number}"
+        lines.append(
+            f"  {who} (pid {pid}), CPU {own[-1][3] - (own[0][3] if number == 0 else 0.0):.2f} s to its last stamp:"
+        )
+        for name, (first, last, cpu, calls, _) in sorted(phases.items(), key=lambda item: item[1][0]):
+            times = f" x{calls}" if calls > 1 else ""
+            lines.append(f"    {name:14s}{times:6s} {first - origin:6.2f} -> {last - origin:6.2f} s, CPU {cpu:5.2f} s")
+    return [*lines, critical_path(stamps, order)]
+
+
+def critical_path(stamps: list[tuple], order: list[int]) -> str:
+    """The study's longest path in CPU seconds (what its wall time would be with a core for each process): the
+    study's process before its runs' dispatch, the longer of its CPU in the dispatch and the run workers' CPU, its CPU
+    after the dispatch but for its half of the figure's drawing, the longer of the two halves' drawing."""
+    main = order[0]
+
+    def cpu_at(label: str, pid: int = main, last: bool = False) -> float:
+        found = [item[3] for item in stamps if item[0] == pid and item[1] == label]
+        return found[-1] if last else found[0]
+
+    def total(pid: int) -> float:
+        return max(item[3] for item in stamps if item[0] == pid)
+
+    def drawing(pid: int) -> float:
+        starts = [item[3] for item in stamps if item[0] == pid and item[1] == "figure-draw+"]
+        ends = [item[3] for item in stamps if item[0] == pid and item[1] == "figure-draw-"]
+        return sum(end - start for start, end in zip(starts, ends, strict=False))
+
+    labels = {pid: {item[1] for item in stamps if item[0] == pid} for pid in order}
+    runners = [pid for pid in order[1:] if "child+" in labels[pid]]
+    drawers = [pid for pid in order[1:] if "figure-child+" in labels[pid]]
+    before = cpu_at("dispatch+") - cpu_at("study+")
+    shares = [cpu_at("dispatch-", last=True) - cpu_at("dispatch+"), *(total(pid) for pid in runners)]
+    runs = max(shares)
+    own_drawing = drawing(main)
+    after = cpu_at("study-") - cpu_at("dispatch-", last=True) - own_drawing
+    draw = max([own_drawing, *(drawing(pid) for pid in drawers)])
+    each = " / ".join(f"{value:.2f}" for value in shares)
+    return (
+        f"  CPU critical path: {before:.2f} before the runs + {runs:.2f} runs (of {each})"
+        f" + {after:.2f} after them + {draw:.2f} "
+        f"drawing = {before + runs + after + draw:.2f} s"
+    )
 
 
 def _spawn(arguments: list[str], environment: dict | None = None) -> subprocess.Popen:
@@ -154,16 +301,25 @@ def cache_without_tracks() -> str:
     return folder
 
 
-def measure(name: str, workers: int, quick: bool, backend: str, pin: bool = False) -> dict:
-    """The study in a fresh process (the track study with a disk cache of its own without tracks)."""
+def measure(name: str, workers: int, quick: bool, backend: str, pin: bool = False, phases: bool = False) -> dict:
+    """The study in a fresh process (the track study with a disk cache of its own without tracks); ``phases``: each
+    process's phases stamped, printed after the measurement's line (``"phases"``: the lines)."""
     cache = cache_without_tracks() if name == "track" else None
+    stamps = tempfile.mkstemp(prefix="wheelrail-bench-phases-")[1] if phases else None
     try:
         arguments = ["--child", name, "--workers", str(workers), "--backend", backend, *(["--quick"] * quick)]
         arguments += ["--pin"] * pin
-        return _result(_spawn(arguments, {"WHEELRAIL_CACHE_DIR": cache} if cache else None))
+        environment = {
+            **({"WHEELRAIL_CACHE_DIR": cache} if cache else {}),
+            **({"STUDY_WORKERS_PHASES": stamps} if stamps else {}),
+        }
+        found = _result(_spawn(arguments, environment))
+        return {**found, "phases": phase_table(stamps) if stamps else []}
     finally:
         if cache:
             shutil.rmtree(cache, ignore_errors=True)
+        if stamps:
+            os.unlink(stamps)
 
 
 def precompute_comparison() -> None:
@@ -205,6 +361,7 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=1)
     parser.add_argument("--backend", default="auto", choices=("auto", "fork", "threads", "processes"))
     parser.add_argument("--pin", action="store_true", help="pin each study to as many CPUs as it has workers")
+    parser.add_argument("--phases", action="store_true", help="each process's phases (start, end, CPU) printed")
     parser.add_argument("--precompute", action="store_true", help="also 2 tracks x 1 thread against 1 x 2")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     parser.add_argument("--precompute-child", nargs="+", type=float, help=argparse.SUPPRESS)
@@ -226,7 +383,7 @@ def main() -> None:
         rest: dict[int, list[float]] = {}  # the wall time but the figures'
         for _ in range(args.rounds):
             for workers in args.workers:
-                found = measure(name, workers, args.quick, args.backend, args.pin)
+                found = measure(name, workers, args.quick, args.backend, args.pin, args.phases)
                 walls.setdefault(workers, []).append(found["wall"])
                 rest.setdefault(workers, []).append(found["wall"] - found["figure"])
                 plural = "s" * (workers > 1)
@@ -236,6 +393,8 @@ def main() -> None:
                     f"(load {found['load']:.1f})",
                     flush=True,
                 )
+                if found["phases"]:
+                    print("\n".join(found["phases"]), flush=True)
         if 1 in walls and 2 in walls:
             print(
                 f"  {name:8s} speed-up 1 -> 2 workers (best wall times): {min(walls[1]) / min(walls[2]):.2f}x; "

@@ -85,11 +85,32 @@ def _cut(figure, dpi: float):
     below = [ax for ax in figure.axes if ax not in above]
     above += [*figure.texts, *figure.legends]
     renderer = figure.canvas.get_renderer()
-    top_of_below = max(ax.get_tightbbox(renderer).y1 for ax in below)
-    bottom_of_above = min(artist.get_tightbbox(renderer).y0 for artist in above if artist.get_visible())
+    top_of_below = max(ax.get_tightbbox(renderer).y1 for ax in _beside_cut(below, top=True))
+    bottom_of_above = min(
+        artist.get_tightbbox(renderer).y0
+        for artist in [
+            *_beside_cut([ax for ax in above if ax in figure.axes], top=False),
+            *figure.texts,
+            *figure.legends,
+        ]
+        if artist.get_visible()
+    )
     if bottom_of_above - top_of_below < 2 * _MARGIN + 1:
         return None
     return int(round(figure.bbox.height - (bottom_of_above + top_of_below) / 2)), above, below
+
+
+def _beside_cut(axes: list, top: bool) -> list:
+    """The axes of ``axes`` that reach into the band of its row nearest the cut (``top``: the highest row, below the
+    cut; else the lowest, above it), by their laid-out positions: the rows further away lie in bands of their own
+    (a layout engine keeps rows apart, their tick labels and titles included), so their tight boxes, the costly
+    part of the cut, are not worked out."""
+    positions = [ax.get_position() for ax in axes]
+    if top:
+        edge = max(position.y0 for position in positions)
+        return [ax for ax, position in zip(axes, positions, strict=True) if position.y1 > edge]
+    edge = min(position.y1 for position in positions)
+    return [ax for ax, position in zip(axes, positions, strict=True) if position.y0 < edge]
 
 
 def _drawn(figure, hidden) -> np.ndarray:

@@ -301,6 +301,7 @@ def plan_study(
         specs, tabulate = _BUILDERS[name](infos, params, spec_of)
     _check_durations(specs, infos)
     noise = name in ("track", "impact", "noise")  # their tables go through each track's noise chain
+    beside = tuple(partial(_noise_chain, replace(params, track=t), numerics) for t in tracks[::-1]) if noise else ()
     return StudyPlan(
         name=name,
         sets=infos,
@@ -312,9 +313,15 @@ def plan_study(
         tracks=tracks,
         impact=sweep,
         track_numerics=numerics,
-        # the last track first: where the chains' cache keeps fewer than all, it keeps those the tables ask first
-        beside=tuple(partial(_noise_chain, replace(params, track=t), numerics) for t in tracks[::-1]) if noise else (),
+        # the last track first: where the chains' cache keeps fewer than all, it keeps those the tables ask first;
+        # Fig. 10's reference filters import scipy.special
+        beside=beside if name != "filters" else (_import_reference_filters,),
     )
+
+
+def _import_reference_filters() -> None:
+    """The reference filters' modules (scipy.special), imported before Fig. 10's tables are made."""
+    import wheelrail.core.reference_filters  # noqa: F401
 
 
 def _noise_chain(params: ModelParameters, track_numerics=None) -> None:
@@ -394,7 +401,7 @@ def _plan_filters(infos, params, spec_of):
         specs += [*one_line.values(), three_d]
 
     def tabulate(summaries):
-        tables = []
+        tables, references = [], {}  # the reference filters by band range: the same for sets on the same bands
         for label, (info, one_line, three_d) in layout.items():
             centres = _centres(summaries, three_d)
             level = {model: [_levels(summaries, one_line[model, line]) for line in info.lines] for model in models}
@@ -406,7 +413,10 @@ def _plan_filters(infos, params, spec_of):
                 filters[f"{model.replace('-', '_')}_db"] = mean_level(
                     [contact_filter(v, h) for v, h in zip(level[model], level[REFERENCE_MODEL], strict=True)]
                 )
-            filters.update(_reference_columns(params, centres))
+            bands = tuple(float(f) for f in centres)
+            if bands not in references:
+                references[bands] = _reference_columns(params, centres)
+            filters.update({column: values.copy() for column, values in references[bands].items()})
             lines = f"lines {info.lines[0]}..{info.lines[-1]}"
             tables.append(
                 Table(
