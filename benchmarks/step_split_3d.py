@@ -16,7 +16,8 @@ loaded). Prints
   set (each kernel timed alone in a compiled loop, on the state the run ended with);
 * where the law solves through ``contact.capacitance`` (windows without the influence matrix, 0.5 mm): the
   references factored and kept vectors computed per recorded step, the members at the end, and the costs of
-  x_h = C_RR^-1 h_R (once a step) and of the set's pressure from the small system (once an iteration); the
+  x_h = C_RR^-1 h_R (once a step: one product with the kept inverse, ``capacitance.prepare_gap``) alone and with
+  the set's pressure from the small system (once an iteration); the
   itemised substitutions and factor updates are then those of the factor path, which the law does not take.
 
 The sum of the itemised costs is printed against the measured law: the difference is what is not
@@ -46,7 +47,7 @@ IN_SITU_TIMES = 4  # extra runs of a piece after each replayed step (--in-situ)
 IN_SITU = (
     "gap assembly from the roughness lines",
     "the gap's minimum",
-    "x_h = C_RR^-1 h_R (a forward and a backward substitution)",
+    "x_h = C_RR^-1 h_R (one product with the kept C_RR^-1)",
     "the set's pressure from the small system (per iteration)",
     "tension check (per iteration)",
     "a step's first deformed-gap check",
@@ -117,6 +118,14 @@ def _repeat_capacitance(law, reps):
         capacitance.prepare_gap(work[1], upper, cap)
     for _ in range(reps):
         capacitance.pressure_on_set(cap, work[1], active, pressure, (True, 0.0, 0.0))
+
+
+@njit
+def _repeat_prepare_gap(law, reps):
+    """x_h for the gap alone (``capacitance.prepare_gap``)."""
+    _, state, work, _, _ = law
+    for _ in range(reps):
+        capacitance.prepare_gap(work[1], state[4], state[5])
 
 
 @njit
@@ -313,6 +322,8 @@ def main() -> None:
     print(f"    per element added and dropped (new factor row + downdate at mid-set) {update:.1f} us")
     if replayed.law[1][5][0].dtype == np.int64:  # the law solves through contact.capacitance
         both = _per_call(_repeat_capacitance, state_law, 5000, reps=5000)
+        xh = _per_call(_repeat_prepare_gap, state_law, 5000, reps=5000)
+        print(f"    capacitance: x_h alone {xh:.1f} us (the two substitutions above: {forward + backward:.1f} us)")
         print(
             f"    capacitance: {after['references'] - before['references']} reference(s) factored, "
             f"{(after['vectors'] - before['vectors']) / n:.2f} kept vectors computed per step, "

@@ -16,6 +16,10 @@ again cost nothing new. The inverse of the k x k matrix is kept and bordered (O(
 With b = delta 1 - h the pressure is p = delta q_1 - q_h: x_1 = C_RR^-1 1 is kept per reference and x_h =
 C_RR^-1 h_R computed once per gap, so an iteration of the active set costs O(k m + k^2) instead of a
 substitution with an m x m factor, and a change of the set O(k^2) instead of a new factor row or a downdate.
+C_RR^-1 itself is kept, computed from the factor when R is factored (``cholesky.invert``, O(m^3)): x_h is one
+symmetric matrix-vector product that reads its upper triangle once (``cholesky.symmetric_product``) instead of
+a forward and a backward substitution, the kept vector of a D member is a row of it, that of an E member one
+product.
 
 R becomes the current set (a fresh factor) when a member has no room
 (``CAPACITANCE_MEMBERS``, ``CAPACITANCE_VECTORS``), after ``CAPACITANCE_REFRESH`` changes of members (the
@@ -24,7 +28,7 @@ bordered inverse's round-off) or where a bordering pivot is not clearly nonzero.
 
 The state (:func:`capacitance_state`) is a tuple of arrays: (info, reference, position in R, slot of each
 element, kept vectors, c_Rj of E members, per-slot scalars, E-E entries of the matrix, members, their slots,
-the inverse, (x_1, x_h, scratch), the small system's scratch, (1^T x_1, 1^T x_h)); info = [on, |R|, k, slots
+the inverse, (x_1, x_h, scratch), the small system's scratch, (1^T x_1, 1^T x_h), C_RR^-1); info = [on, |R|, k, slots
 used, member changes since R was factored, references factored, kept vectors computed, 0].
 """
 
@@ -34,7 +38,7 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from wheelrail.core.contact.cholesky import backward, factorize, forward
+from wheelrail.core.contact.cholesky import factorize, invert, symmetric_product
 
 __all__ = [
     "CAPACITANCE_MEMBERS",
@@ -78,6 +82,7 @@ def capacitance_state(n: int, rows: int, enabled: bool) -> tuple:
         np.empty((3, rows)),
         np.empty((7, members)),
         np.zeros(2),
+        np.empty((rows, rows)),
     )
 
 
@@ -126,9 +131,9 @@ def _combine(vectors, slots, k, coefficients, m, out):
 
 @njit(cache=True)
 def rebase(grid3, order, m, upper, cap):
-    """The set ``order[:m]`` as the reference: its factor into ``upper``, x_1 = C_RR^-1 1, no members, no kept
-    vectors. ``grid3`` = (kernel, rows, columns). Returns False if C_RR is not positive definite."""
-    info, reference, position, slot, _, _, scalars, pair, _, _, _, vectors, _, sums = cap
+    """The set ``order[:m]`` as the reference: its factor into ``upper``, C_RR^-1 from it, x_1 = C_RR^-1 1, no
+    members, no kept vectors. ``grid3`` = (kernel, rows, columns). Returns False if C_RR is not positive definite."""
+    info, reference, position, slot, _, _, scalars, pair, _, _, _, vectors, _, sums, inverse_rr = cap
     for a in range(info[_SIZE]):
         position[reference[a]] = -1
     for s in range(info[_SLOTS]):
@@ -145,11 +150,13 @@ def rebase(grid3, order, m, upper, cap):
         return False
     info[_SIZE] = m
     info[_REFERENCES] += 1
+    invert(upper, m, inverse_rr)
     x1 = vectors[0]
     for a in range(m):
-        x1[a] = 1.0
-    forward(upper, m, x1)
-    backward(upper, m, x1)
+        row = inverse_rr[a, :m]
+        x1[a] = 0.0
+        for b in range(m):
+            x1[a] += row[b]
     sums[0] = 0.0
     for a in range(m):
         sums[0] += x1[a]
@@ -159,13 +166,12 @@ def rebase(grid3, order, m, upper, cap):
 @njit(cache=True)
 def prepare_gap(gap, upper, cap):
     """x_h = C_RR^-1 h_R for the gap ``gap`` (m, the flattened window), 1^T x_h and c_Rj^T x_h of the E members."""
-    info, reference, position, _, _, columns, scalars, _, members, slots, _, vectors, _, sums = cap
+    info, reference, position, _, _, columns, scalars, _, members, slots, _, vectors, _, sums, inverse_rr = cap
     m = info[_SIZE]
-    xh = vectors[1]
+    xh, h = vectors[1], vectors[2]
     for a in range(m):
-        xh[a] = gap[reference[a]]
-    forward(upper, m, xh)
-    backward(upper, m, xh)
+        h[a] = gap[reference[a]]
+    symmetric_product(inverse_rr, m, h, xh)
     sums[1] = 0.0
     for a in range(m):
         sums[1] += xh[a]
@@ -177,7 +183,7 @@ def prepare_gap(gap, upper, cap):
 @njit(cache=True)
 def _kept_vector(grid, upper, cap, element):
     """The slot of ``element``'s kept vector, computed if it has none; -1 if no slot is free."""
-    info, reference, position, slot, kept, columns, scalars, _, _, _, _, _, _, _ = cap
+    info, reference, position, slot, kept, columns, scalars, _, _, _, _, _, _, _, inverse_rr = cap
     if slot[element] >= 0:
         return slot[element]
     s = info[_SLOTS]
@@ -185,12 +191,10 @@ def _kept_vector(grid, upper, cap, element):
         return -1
     m = info[_SIZE]
     v = kept[s]
-    if position[element] >= 0:  # in R: C_RR^-1 e_j
+    if position[element] >= 0:  # in R: C_RR^-1 e_j, a row of the inverse
+        row = inverse_rr[position[element]]
         for a in range(m):
-            v[a] = 0.0
-        v[position[element]] = 1.0
-        forward(upper, m, v)
-        backward(upper, m, v)
+            v[a] = row[a]
         scalars[1, s] = -v[position[element]]
     else:  # outside R: C_RR^-1 c_Rj, c_Rj kept
         kernel, _, _, rows, cols = grid
@@ -199,9 +203,7 @@ def _kept_vector(grid, upper, cap, element):
         for a in range(m):
             j = reference[a]
             column[a] = kernel[rows[element] - rows[j] + ny - 1, cols[element] - cols[j] + nx - 1]
-            v[a] = column[a]
-        forward(upper, m, v)
-        backward(upper, m, v)
+        symmetric_product(inverse_rr, m, column, v)
         scalars[1, s] = kernel[ny - 1, nx - 1] - _dot(column, v, m)
     scalars[0, s] = 0.0
     for a in range(m):
@@ -217,7 +219,7 @@ def _kept_vector(grid, upper, cap, element):
 def _enter(grid, upper, cap, element):
     """``element`` becomes a member: the inverse bordered by its row. Returns False where it cannot (no room, or
     a pivot not clearly nonzero): the reference must be factored afresh."""
-    info, _, position, _, kept, columns, scalars, pair, members, slots, inverse, vectors, small, _ = cap
+    info, _, position, _, kept, columns, scalars, pair, members, slots, inverse, vectors, small, _, _ = cap
     k = info[_K]
     if k == members.size:
         return False
@@ -265,7 +267,7 @@ def _enter(grid, upper, cap, element):
 def _leave(cap, element):
     """``element`` is no longer a member: the inverse with its row and column eliminated; the last member takes
     its place. Returns False if its diagonal entry of the inverse is zero."""
-    info, _, _, _, _, _, _, _, members, slots, inverse, _, _, _ = cap
+    info, _, _, _, _, _, _, _, members, slots, inverse, _, _, _, _ = cap
     k = info[_K]
     q0 = 0
     while members[q0] != element:
@@ -294,7 +296,7 @@ def _leave(cap, element):
 def change(grid, upper, cap, element, joins):
     """``element`` joins the set (``joins``) or leaves it. Returns False where the reference must be factored
     afresh before the next solve (no room for a member, a pivot, or ``CAPACITANCE_REFRESH`` changes since)."""
-    info, _, position, _, _, _, _, _, _, _, _, _, _, _ = cap
+    info, _, position, _, _, _, _, _, _, _, _, _, _, _, _ = cap
     info[_CHANGES] += 1
     if info[_CHANGES] > CAPACITANCE_REFRESH:
         return False
@@ -309,7 +311,7 @@ def pressure_on_set(cap, gap, active, pressure, law):
     ``active_set._pressure_on_set``); returns (delta, max pressure, the sum of the decreases of the pressures
     it changed). Needs :func:`prepare_gap` for this gap."""
     coupled, target, compliance_area = law
-    info, reference, position, _, kept, _, scalars, _, members, slots, inverse, vectors, small, sums = cap
+    info, reference, position, _, kept, _, scalars, _, members, slots, inverse, vectors, small, sums, _ = cap
     m, k = info[_SIZE], info[_K]
     x1, xh, p = vectors[0], vectors[1], vectors[2]
     r1, rh, s1, sh, coefficients = small[2], small[3], small[4], small[5], small[6]

@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["append", "backward", "factorize", "forward", "remove"]
+__all__ = ["append", "backward", "factorize", "forward", "invert", "remove", "symmetric_product"]
 
 
 @njit(cache=True, fastmath=True)
@@ -191,3 +191,76 @@ def remove(order, m, upper, vectors, scratch, position):
         z[i] = z[i + 1]
         y[i] = y[i + 1]
         order[i] = order[i + 1]
+
+
+@njit(cache=True, fastmath=True)
+def invert(upper, m, inverse):
+    """C_AA^-1 = U^-1 U^-T into ``inverse[:m, :m]`` (both triangles) from the factor ``upper``, O(m^3).
+
+    Row i of W = U^-1 solves U^T w = e_i (zero before i: a forward substitution on the trailing rows), stored in
+    row i; then entry (i, j >= i) of W W^T is the dot product of rows i and j of W from column j on, written
+    over row i in ascending j (which later entries of row i and later rows no longer read); the lower triangle
+    is mirrored from the upper.
+    """
+    for i in range(m):
+        row = inverse[i]
+        for a in range(i, m):
+            row[a] = 0.0
+        row[i] = 1.0
+        for a in range(i, m):
+            y = row[a] / upper[a, a]
+            row[a] = y
+            factor_row = upper[a, a + 1 : m]
+            tail = row[a + 1 : m]
+            for b in range(tail.size):
+                tail[b] -= factor_row[b] * y
+    for i in range(m):
+        row = inverse[i]
+        for j in range(i, m):
+            left, right = row[j:m], inverse[j, j:m]
+            total = 0.0
+            for b in range(left.size):
+                total += left[b] * right[b]
+            row[j] = total
+    for i in range(m):
+        for j in range(i):
+            inverse[i, j] = inverse[j, i]
+
+
+@njit(cache=True, fastmath=True)
+def symmetric_product(matrix, m, x, out):
+    """out[:m] = S x for the symmetric S = ``matrix[:m, :m]`` read from its upper triangle only, once: for
+    each block of four rows, their dot products with x's tail and their axpys into out's tail in one pass."""
+    for a in range(m):
+        out[a] = 0.0
+    i = 0
+    while i + 4 <= m:
+        for p in range(4):
+            s = matrix[i + p, i + p] * x[i + p]
+            for q in range(p + 1, 4):
+                s += matrix[i + p, i + q] * x[i + q]
+                out[i + q] += matrix[i + p, i + q] * x[i + p]
+            out[i + p] += s
+        r0, r1 = matrix[i, i + 4 : m], matrix[i + 1, i + 4 : m]
+        r2, r3 = matrix[i + 2, i + 4 : m], matrix[i + 3, i + 4 : m]
+        xt, yt = x[i + 4 : m], out[i + 4 : m]
+        x0, x1, x2, x3 = x[i], x[i + 1], x[i + 2], x[i + 3]
+        s0 = s1 = s2 = s3 = 0.0
+        for a in range(xt.size):
+            v = xt[a]
+            s0 += r0[a] * v
+            s1 += r1[a] * v
+            s2 += r2[a] * v
+            s3 += r3[a] * v
+            yt[a] += x0 * r0[a] + x1 * r1[a] + x2 * r2[a] + x3 * r3[a]
+        out[i] += s0
+        out[i + 1] += s1
+        out[i + 2] += s2
+        out[i + 3] += s3
+        i += 4
+    for a in range(i, m):
+        s = matrix[a, a] * x[a]
+        for b in range(a + 1, m):
+            s += matrix[a, b] * x[b]
+            out[b] += matrix[a, b] * x[a]
+        out[a] += s

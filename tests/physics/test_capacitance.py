@@ -114,3 +114,30 @@ def test_reference_factored_afresh_when_the_set_moves_past_the_bound():
     assert solvers[0].contact_set().size > CAPACITANCE_MEMBERS + 1
     assert solvers[1].capacitance_counts()["references"] >= 2
     _same(*solvers, *forces)
+
+
+def _reference_inverse_error(solver, kernel):
+    """max |M - C_RR^-1| / max |C_RR^-1| for the reference's kept inverse M (``capacitance`` state)."""
+    cap = solver.law[1][5]
+    m = int(cap[0][1])
+    reference = cap[1][:m]
+    rows, columns = solver.law[0][3][reference], solver.law[0][4][reference]
+    cy, cx = kernel.shape[0] // 2, kernel.shape[1] // 2
+    c_rr = kernel[rows[:, None] - rows[None, :] + cy, columns[:, None] - columns[None, :] + cx]
+    exact = np.linalg.inv(c_rr)
+    return np.abs(cap[14][:m, :m] - exact).max() / np.abs(exact).max()
+
+
+def test_reference_inverse_computed_again_with_each_reference():
+    """The kept C_RR^-1 is that of the reference now, after the reference is factored again."""
+    shape = (25, 25)
+    base, grid = _window(shape)
+    solver = _solvers(grid, [int(np.argmin(base))])[1]
+    references = []
+    for approach in (1.0e-5, 4.5e-5):  # the second set exceeds CAPACITANCE_MEMBERS changes: a new reference
+        solver.gap[:] = base
+        status, _, _, _ = solver.solve(True, approach, 0.0)
+        assert status == active_set.STEP_CONVERGED
+        assert _reference_inverse_error(solver, grid[0]) < 1e-12
+        references.append(solver.capacitance_counts()["references"])
+    assert references[1] > references[0]
