@@ -37,7 +37,13 @@ from wheelrail.core.study.specs import RunSpec, RunSummary
 __all__ = ["Board", "PARENT_POLL_INTERVAL", "execute_forked", "fork_refusal", "forked_call", "watch_parent"]
 
 PARENT_POLL_INTERVAL = 0.5  # s, how often a worker process checks that the process that started it lives
-_WAIT = 0.5  # s, the longest a worker waits on the board before it looks at the stop flag again
+_WAIT = 0.5  # s, the longest a worker waits for the board's lock before it looks at the stop flag again
+_POLL = 0.01  # s, how often a worker waiting for a track looks at the board again
+
+
+def _look_again() -> None:
+    """Wait ``_POLL`` s before a waiting worker looks at the board again."""
+    time.sleep(_POLL)
 
 
 def watch_parent(parent_pid: int) -> None:
@@ -82,15 +88,22 @@ class Board:
         self.taken = context.RawArray("b", max(1, len(self.tasks)))
         self.ready = context.RawArray("b", max(1, len(self.tasks)))  # by task index: a track task done
         self.stopped = context.RawValue("b", 0)
-        self.changed = context.Condition(context.Lock())
+        self.lock = context.Lock()  # a claim's scan and mark; no condition variable (see take)
 
     def take(self, start: int, runs: bool = True) -> int | None:
         """Claim the first free task from ``start`` on (wrapping round) whose track is ready, and return its index;
         wait while the only free tasks are runs on tracks still being prepared; None when none is left or the board
-        is stopped. ``runs`` False: tracks only (None when no track is left)."""
+        is stopped. ``runs`` False: tracks only (None when no track is left).
+
+        A waiting worker looks at the board again every ``_POLL`` s (a track takes seconds): a cross-process
+        condition variable's ``notify_all`` waits for every waiter to wake, and hung for good on a worker ended while
+        it waited (a stopped study's SIGTERM); the lock is taken with a timeout, so that a worker ended while it held
+        it leaves the others the stop flag to see."""
         count = len(self.tasks)
-        with self.changed:
-            while not self.stopped.value:
+        while not self.stopped.value:
+            if not self.lock.acquire(timeout=_WAIT):
+                continue
+            try:
                 waiting = False
                 for k in (*range(start, count), *range(start)):
                     if self.taken[k] or (not runs and self.tasks[k][0] != "track"):
@@ -100,19 +113,19 @@ class Board:
                         continue
                     self.taken[k] = 1
                     return k
-                if not waiting:
-                    return None
-                self.changed.wait(_WAIT)  # woken when a track is ready; the timeout looks at the stop flag
+            finally:
+                self.lock.release()
+            if not waiting:
+                return None
+            _look_again()
         return None
 
     def track_ready(self, k: int) -> None:
-        """Task ``k``, a track, is done: its runs may start."""
-        with self.changed:
-            self.ready[k] = 1
-            self.changed.notify_all()
+        """Task ``k``, a track, is done: its runs may start (one byte, which :meth:`take` reads under its lock)."""
+        self.ready[k] = 1
 
     def stop(self) -> None:
-        """No task is taken any more (the waiting workers see it within ``_WAIT``)."""
+        """No task is taken any more (a waiting worker sees it within ``_POLL``; ``_WAIT`` while the lock is held)."""
         self.stopped.value = 1
 
 

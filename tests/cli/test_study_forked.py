@@ -233,3 +233,27 @@ def test_the_boards_runs_are_grouped_by_model_in_the_order_given():
     grouped = forked._by_model(given)
     assert [(s.model, s.line) for s in grouped] == [("3d", 0), ("3d", 1), ("hertz", 0), ("hertz", 1), ("2d", 0),
                                                     ("2d", 1)]  # fmt: skip
+
+
+def test_a_worker_ended_while_it_waits_for_a_track_leaves_the_board_working(monkeypatch):
+    # a stopped study ends its children (SIGTERM), one perhaps waiting for a track this process prepares: the board's
+    # cross-process condition variable then hung this process's track_ready for good (notify_all waits for every
+    # waiter to wake); the board is now looked at again, and a track made ready reaches the runs still to take
+    context = multiprocessing.get_context("fork")
+    task = TrackTask(ModelParameters().track, (), True)
+    board = forked.Board(context, [("track", task), ("run", _spec())], [-1, 0])
+    assert board.take(0) == 0  # this process prepares the track
+    reader, writer = context.Pipe(duplex=False)
+
+    def waiting():  # in the child: tell this process it is in the board's waiting loop, then wait there
+        writer.send("waiting")
+        monkeypatch.setattr(forked, "_look_again", lambda: threading.Event().wait())
+
+    monkeypatch.setattr(forked, "_look_again", waiting)
+    child = context.Process(target=board.take, args=(0,), daemon=True)
+    child.start()
+    assert reader.recv() == "waiting"
+    child.terminate()
+    child.join()
+    board.track_ready(0)
+    assert board.take(0) == 1 and board.take(0) is None
