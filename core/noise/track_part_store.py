@@ -7,11 +7,11 @@ numerics and the components it drives, not on the wheel, the speed or the roughn
 (``twins._track_part``); this module keeps it on disk as well (:mod:`wheelrail.core.files.cache`, kind
 ``noise-track``), so that every ``wheelrail noise`` and study after the first on a track reads it.
 
-The entry's key holds the track's parameters, the contact stiffness, the numerics, the driven components' names
-and the source of the modules the computation runs (the chain, the FE track, the components, the radiation), so
-that a change of any of them computes it afresh. A component whose ``response`` is not a plain function of
-wheelrail's own (a plug-in's, a lambda or a closure: its code or captured values are not in the key) keeps the
-part in memory only.
+The entry's key holds the track's parameters, the contact stiffness, the numerics, the frequencies (bit for bit),
+the driven components' names and the source of the modules the computation runs (the track's vibration, the FE
+track, the components, the radiation), so that a change of any of them computes it afresh. A component whose
+``response`` is not a plain function of wheelrail's own (a plug-in's, a lambda or a closure: its code or captured
+values are not in the key) keeps the part in memory only.
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ def _storable(driven: tuple) -> bool:
     )
 
 
-def stored_track_part(track, k_hertz: float, numerics, driven: tuple, compute) -> dict:
+def stored_track_part(track, k_hertz: float, numerics, freqs: np.ndarray, driven: tuple, compute) -> dict:
     """The track part of the chain (:func:`~wheelrail.core.noise.track_vibration.track_vibration`) from the disk
     cache, or ``compute()`` and kept there.
 
@@ -61,7 +61,9 @@ def stored_track_part(track, k_hertz: float, numerics, driven: tuple, compute) -
     k_hertz : float
         The contact's stiffness at the preload, dF/d delta (eq. 12), N/m: alpha_C = 1 / ``k_hertz``.
     numerics : NoiseNumerics
-        The chain's numerics (its frequencies: ``points_per_band`` in each band).
+        The chain's numerics.
+    freqs : numpy.ndarray
+        The frequencies it is solved at, (bands, points), Hz (``twins.band_frequencies``), in the key bit for bit.
     driven : tuple of NoiseComponent
         The track's parts the chain drives (their ``response`` read at every frequency).
     compute : callable
@@ -84,6 +86,7 @@ def stored_track_part(track, k_hertz: float, numerics, driven: tuple, compute) -
             "track": asdict(track),
             "contact_stiffness": float(k_hertz),
             "numerics": asdict(numerics),
+            "frequencies": hashlib.sha256(np.ascontiguousarray(freqs, dtype=np.float64).tobytes()).hexdigest(),
             "components": names,
             "code": _code_digest(),
         },

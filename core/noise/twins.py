@@ -302,7 +302,7 @@ def _track_part(track: TrackParameters, contact, numerics: NoiseNumerics, driven
     k_hertz = 1.5 * contact.preload / contact.hertz_approach()  # dF/d delta at the preload (eq. 12)
     freqs = band_frequencies(numerics.points_per_band)
     vibration = functools.partial(track_vibration, ModelParameters(track=track, contact=contact), numerics, k_hertz)
-    return stored_track_part(track, k_hertz, numerics, driven, lambda: vibration(freqs, driven))
+    return stored_track_part(track, k_hertz, numerics, freqs, driven, lambda: vibration(freqs, driven))
 
 
 def track_decay_rates(
