@@ -197,7 +197,7 @@ def remove(order, m, upper, vectors, scratch, position):
 def invert(upper, m, inverse):
     """C_AA^-1 = U^-1 U^-T into ``inverse[:m, :m]`` (both triangles) from the factor ``upper``, O(m^3).
 
-    Row i of W = U^-1 solves U^T w = e_i (zero before i: a forward substitution on the trailing rows), stored in
+    Row i of W = U^-1 solves U^T w = e_i (zero before i: :func:`forward` on the trailing block), stored in
     row i; then entry (i, j >= i) of W W^T is the dot product of rows i and j of W from column j on, written
     over row i in ascending j (which later entries of row i and later rows no longer read); the lower triangle
     is mirrored from the upper.
@@ -207,13 +207,7 @@ def invert(upper, m, inverse):
         for a in range(i, m):
             row[a] = 0.0
         row[i] = 1.0
-        for a in range(i, m):
-            y = row[a] / upper[a, a]
-            row[a] = y
-            factor_row = upper[a, a + 1 : m]
-            tail = row[a + 1 : m]
-            for b in range(tail.size):
-                tail[b] -= factor_row[b] * y
+        forward(upper[i:, i:], m - i, row[i:])
     for i in range(m):
         row = inverse[i]
         for j in range(i, m):
