@@ -215,12 +215,9 @@ def _dispatch(
     threads = backend == "threads" or (backend == "auto" and all(releases_gil(spec) for spec in missing))
     with _terminate_as_interrupt():
         if refusal is None:  # copies of this process, started in milliseconds with what it has loaded
-            if cache is None:
-                execute_forked(missing, workers, finished, track_tasks(missing), started)
-            else:
-                saved = functools.partial(finished, saved=True)
-                save = functools.partial(save_cached, cache)
-                execute_forked(missing, workers, saved, track_tasks(missing), started, save)
+            save = None if cache is None else functools.partial(save_cached, cache)  # each worker its run files
+            done = finished if cache is None else functools.partial(finished, saved=True)
+            execute_forked(missing, workers, done, track_tasks(missing), started, save)
             return f"forked processes ({workers} workers)"
         if threads:  # the tracks prepared in the same threads, each track's runs started once it is ready
             tasks = track_tasks(missing)
