@@ -155,12 +155,25 @@ def _work(board: Board, start: int, connection, cancel=None, threads: int = 1, s
         connection.send(("end", None, None))
     except BaseException as error:  # noqa: BLE001 - every failure goes back to the study's process
         board.stop()
-        try:
-            connection.send(("failed", k, error))
-        except Exception:  # noqa: BLE001 - an error that does not pickle: its words
-            connection.send(("failed", k, WheelrailError(f"{type(error).__name__}: {error}")))
+        _send_failed(connection, ("failed", k), error)
     finally:
         connection.close()
+
+
+def _send_failed(connection, head: tuple, error: BaseException) -> None:
+    """Send ``(*head, error)`` to the study's process; an error that does not pickle as its words."""
+    try:
+        connection.send((*head, error))
+    except Exception:  # noqa: BLE001 - an error that does not pickle: its words
+        connection.send((*head, WheelrailError(f"{type(error).__name__}: {error}")))
+
+
+def _become_child(parent_pid: int) -> None:
+    """A forked child's signals and watch: Ctrl-C left to the study's process (which ends this one), SIGTERM ends
+    it (not the study's own handler, inherited), and it ends by itself when the study's process is gone."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    threading.Thread(target=watch_parent, args=(parent_pid,), name="wheelrail-parent-watch", daemon=True).start()
 
 
 def _child(board: Board, start: int, connection, parent_pid: int, threads: int, save=None) -> None:
@@ -168,9 +181,7 @@ def _child(board: Board, start: int, connection, parent_pid: int, threads: int, 
     itself when the study's process is gone; BLAS in one thread."""
     from wheelrail.core.study.threads import set_blas_threads_local
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the study's own handler, inherited
-    threading.Thread(target=watch_parent, args=(parent_pid,), name="wheelrail-parent-watch", daemon=True).start()
+    _become_child(parent_pid)
     set_blas_threads_local(1)
     _work(board, start, connection, None, threads, save)
 
@@ -341,15 +352,10 @@ def forked_call(call: Callable[[], object]) -> Iterator[Callable[[], object]]:
 
 def _call_child(call: Callable[[], object], connection, parent_pid: int) -> None:
     """A forked child's one call, its result or error sent back (as :func:`_child`'s tasks)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    threading.Thread(target=watch_parent, args=(parent_pid,), name="wheelrail-parent-watch", daemon=True).start()
+    _become_child(parent_pid)
     try:
         connection.send(("done", call()))
     except BaseException as error:  # noqa: BLE001 - every failure goes back to the study's process
-        try:
-            connection.send(("failed", error))
-        except Exception:  # noqa: BLE001 - an error that does not pickle: its words
-            connection.send(("failed", WheelrailError(f"{type(error).__name__}: {error}")))
+        _send_failed(connection, ("failed",), error)
     finally:
         connection.close()
